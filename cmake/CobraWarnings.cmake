@@ -1,0 +1,25 @@
+# Warning and sanitizer flags shared by every cobra target.
+add_library(cobra_build_flags INTERFACE)
+target_compile_options(cobra_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+  -Wno-sign-conversion -Wnon-virtual-dtor -Woverloaded-virtual)
+if(COBRA_WARNINGS_AS_ERRORS)
+  target_compile_options(cobra_build_flags INTERFACE -Werror)
+endif()
+if(COBRA_SANITIZER STREQUAL "address")
+  target_compile_options(cobra_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+    -fno-sanitize-recover=undefined)
+  target_link_options(cobra_build_flags INTERFACE -fsanitize=address,undefined)
+elseif(COBRA_SANITIZER STREQUAL "thread")
+  target_compile_options(cobra_build_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(cobra_build_flags INTERFACE -fsanitize=thread)
+elseif(NOT COBRA_SANITIZER STREQUAL "")
+  message(FATAL_ERROR "COBRA_SANITIZER must be '', 'address' or 'thread', not '${COBRA_SANITIZER}'")
+endif()
+
+# cobra_add_test(<name> SOURCES ... LIBS ...): one executable per unit, registered with CTest.
+function(cobra_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main cobra_build_flags)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
+endfunction()

@@ -1,0 +1,155 @@
+#pragma once
+/// @file
+/// Activities decide when a component's update runs: periodic thread, event-driven thread,
+/// slave (stepped by a master), or the lockstep simulation clock (lockstep_clock.hpp).
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <thread>
+
+namespace cobra::core {
+
+class Component;
+
+/// Base class. An activity belongs to one component (`Component::setActivity`); the component
+/// starts it after startHook and stops it before stopHook.
+class Activity {
+ public:
+  virtual ~Activity() = default;
+  Activity(const Activity&) = delete;
+  Activity& operator=(const Activity&) = delete;
+
+  /// e.g. "periodic 1 ms, SCHED_FIFO priority 80".
+  virtual std::string describe() const = 0;
+  /// Period in s of simulated or real time; zero for activities that are not periodic.
+  virtual std::chrono::nanoseconds period() const { return std::chrono::nanoseconds(0); }
+  /// The clock components read with `Component::now()`; steady-clock time by default.
+  virtual std::chrono::nanoseconds now() const;
+  /// Asks for a step soon (event-port data, operation requests). Real-time safe.
+  virtual void trigger() noexcept {}
+  /// True while a thread of this activity is stepping the component.
+  virtual bool hasRunningThread() const { return false; }
+  /// True when called from this activity's own thread.
+  virtual bool isActivityThread() const { return false; }
+
+ protected:
+  Activity() = default;
+  friend class Component;
+  /// Begins stepping (threaded activities spawn their thread). Called by Component::start.
+  virtual void startStepping() {}
+  /// Stops stepping and joins the thread. Called by Component::stop/recover, never from the
+  /// activity's own thread.
+  virtual void stopStepping() {}
+  /// Runs one step of the owner: pending changes, then updateHook when Running.
+  void stepComponent() noexcept;
+
+  Component* component_ = nullptr;
+};
+
+/// No thread: the component steps when its master calls `step()`. The default activity.
+class SlaveActivity final : public Activity {
+ public:
+  SlaveActivity() = default;
+  std::string describe() const override { return "slave"; }
+  void trigger() noexcept override { triggered_.store(true, std::memory_order_release); }
+  /// Runs one step now, in the caller's thread.
+  void step() noexcept {
+    triggered_.store(false, std::memory_order_relaxed);
+    stepComponent();
+  }
+  /// True when something asked for a step since the last one.
+  bool triggered() const { return triggered_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<bool> triggered_{false};
+};
+
+/// Scheduling class of an activity thread.
+enum class Scheduler { Fifo, Other };
+
+/// Statistics of a threaded activity, readable from any thread.
+struct ActivityStats {
+  std::uint64_t steps = 0;
+  std::uint64_t overruns = 0;   ///< periods skipped because a step ended after the next deadline
+  std::int64_t max_lateness_ns = 0;  ///< worst wake-up delay after the deadline, in ns
+};
+
+/// Common part of the threaded activities: thread creation with the requested scheduler.
+/// SCHED_FIFO needs CAP_SYS_NICE or an rtprio limit; when refused, one warning is printed for
+/// the whole process and the thread runs SCHED_OTHER.
+class ThreadActivity : public Activity {
+ public:
+  ~ThreadActivity() override;
+  bool hasRunningThread() const override { return running_.load(std::memory_order_acquire); }
+  bool isActivityThread() const override { return running_.load(std::memory_order_acquire) && std::this_thread::get_id() == thread_.get_id(); }
+  int priority() const { return priority_; }
+  Scheduler scheduler() const { return scheduler_; }
+  /// The scheduler the thread actually got (Other when Fifo was refused).
+  Scheduler effectiveScheduler() const { return effective_.load(std::memory_order_relaxed); }
+  ActivityStats stats() const;
+
+ protected:
+  ThreadActivity(int priority, Scheduler scheduler);
+  void startStepping() override;
+  void stopStepping() override;
+  /// The thread body; returns when `stopRequested()`.
+  virtual void loop() = 0;
+  bool stopRequested() const { return stop_.load(std::memory_order_acquire); }
+  /// Wakes the loop so it notices a stop request.
+  virtual void wake() noexcept {}
+  std::string schedulerText() const;
+
+  std::atomic<std::uint64_t> steps_{0};
+  std::atomic<std::uint64_t> overruns_{0};
+  std::atomic<std::int64_t> max_lateness_ns_{0};
+
+ private:
+  void applyScheduling();
+  int priority_;
+  Scheduler scheduler_;
+  std::atomic<Scheduler> effective_{Scheduler::Other};
+  std::thread thread_;
+  std::atomic<bool> running_{false};
+  std::atomic<bool> stop_{false};
+};
+
+/// Steps the component every `period` on its own thread, sleeping until absolute deadlines
+/// (CLOCK_MONOTONIC), so the period does not drift with the step duration. A step that ends
+/// after the next deadline skips the missed periods (counted as overruns).
+class PeriodicActivity final : public ThreadActivity {
+ public:
+  /// @param period in ns (> 0); @param priority 1..99 for SCHED_FIFO, ignored for Other.
+  /// @throws Error when period is not positive or priority is outside 1..99 for Fifo.
+  explicit PeriodicActivity(std::chrono::nanoseconds period, int priority = 50, Scheduler scheduler = Scheduler::Fifo);
+  ~PeriodicActivity() override;
+  std::string describe() const override;
+  std::chrono::nanoseconds period() const override { return period_; }
+
+ protected:
+  void loop() override;
+
+ private:
+  std::chrono::nanoseconds period_;
+};
+
+/// Steps the component on its own thread whenever it is triggered: new data on an event port,
+/// an own-thread operation call, or a property change. Several triggers before the thread
+/// wakes give one step.
+class EventActivity final : public ThreadActivity {
+ public:
+  explicit EventActivity(int priority = 50, Scheduler scheduler = Scheduler::Fifo);
+  ~EventActivity() override;
+  std::string describe() const override;
+  void trigger() noexcept override;
+
+ protected:
+  void loop() override;
+  void wake() noexcept override { trigger(); }
+
+ private:
+  std::atomic<std::uint32_t> triggers_{0};
+};
+
+}  // namespace cobra::core

@@ -1,0 +1,154 @@
+#pragma once
+/// @file
+/// The lock-free storage of one connection (one writer thread, one reader thread).
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "cobra/core/conn_policy.hpp"
+
+namespace cobra::core {
+
+class PortBase;
+
+/// Untyped part of a connection: the two ports it links and its policy.
+class ChannelBase {
+ public:
+  ChannelBase(ConnPolicy policy, PortBase& writer, PortBase& reader)
+      : policy_(policy), writer_(&writer), reader_(&reader) {}
+  virtual ~ChannelBase() = default;
+  ChannelBase(const ChannelBase&) = delete;
+  ChannelBase& operator=(const ChannelBase&) = delete;
+
+  const ConnPolicy& policy() const { return policy_; }
+  PortBase& writer() const { return *writer_; }
+  PortBase& reader() const { return *reader_; }
+
+ private:
+  ConnPolicy policy_;
+  PortBase* writer_;
+  PortBase* reader_;
+};
+
+/// Lock-free single-producer single-consumer channel holding up to `n` samples of T.
+///
+/// Samples live in n + 3 preallocated slots that are copy-assigned, never reallocated: once the
+/// slots have the size of the data (see `OutputPort::setDataSample`), push and pop allocate
+/// nothing. Slot ownership moves between the writer, the queue and the reader through atomic
+/// indices, so a value is never read while it is being written (no torn values, whatever T is).
+/// The queue head is the only contended word: the reader takes the oldest sample, and in
+/// circular mode the writer may take it first to overwrite it; a compare-and-swap decides.
+/// Slots: n in the queue, 2 held by the reader (the last value and, briefly, the next one),
+/// 1 held by the writer.
+template <class T>
+class Channel final : public ChannelBase {
+ public:
+  Channel(ConnPolicy policy, PortBase& writer, PortBase& reader, const T& sample)
+      : ChannelBase(policy, writer, reader),
+        capacity_(policy.size),
+        overwrite_(policy.kind != ConnPolicy::Kind::Buffer),
+        free_capacity_(policy.size + 3),
+        slots_(policy.size + 3, sample),
+        queue_(new std::atomic<std::uint32_t>[capacity_]),
+        free_(new std::atomic<std::uint32_t>[free_capacity_]) {
+    for (std::size_t i = 0; i < capacity_; ++i) queue_[i].store(0, std::memory_order_relaxed);
+    writer_spare_ = 0;
+    // Slot 0 is the writer's spare; slots 1 .. n+2 start on the free list.
+    for (std::size_t i = 0; i < free_capacity_; ++i)
+      free_[i].store(static_cast<std::uint32_t>((i + 1) % free_capacity_), std::memory_order_relaxed);
+    free_tail_.store(free_capacity_ - 1, std::memory_order_release);
+  }
+
+  /// Writer side. Real-time safe: no allocation once slots are sized, no lock, no throw
+  /// (unless T's copy assignment throws, which the built-in types do not).
+  WriteStatus push(const T& value) {
+    const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
+    if (!overwrite_ && tail - head_.load(std::memory_order_acquire) >= capacity_) return WriteStatus::Dropped;
+    const std::uint32_t slot = writer_spare_;
+    slots_[slot] = value;
+    std::uint64_t head = head_.load(std::memory_order_acquire);
+    if (tail - head >= capacity_) {
+      // Circular and full: take the oldest sample away from the reader and reuse its slot.
+      const std::uint32_t oldest = queue_[head % capacity_].load(std::memory_order_relaxed);
+      if (head_.compare_exchange_strong(head, head + 1, std::memory_order_acq_rel)) {
+        publish(tail, slot);
+        writer_spare_ = oldest;
+        return WriteStatus::Written;
+      }
+      // The reader took it first; there is room now.
+    }
+    publish(tail, slot);
+    writer_spare_ = takeFree();
+    return WriteStatus::Written;
+  }
+
+  /// Reader side. Copies the oldest unread sample into `out` (NewData); when there is none,
+  /// copies the last sample read again if `copy_old` (OldData), or returns NoData when nothing
+  /// was ever read. Real-time safe like push.
+  FlowStatus pop(T& out, bool copy_old = true) {
+    for (;;) {
+      std::uint64_t head = head_.load(std::memory_order_acquire);
+      const std::uint64_t tail = tail_.load(std::memory_order_acquire);
+      if (head == tail) {
+        if (reader_last_ == kNone) return FlowStatus::NoData;
+        if (copy_old) out = slots_[reader_last_];
+        return FlowStatus::OldData;
+      }
+      const std::uint32_t slot = queue_[head % capacity_].load(std::memory_order_relaxed);
+      if (head_.compare_exchange_weak(head, head + 1, std::memory_order_acq_rel, std::memory_order_relaxed)) {
+        if (reader_last_ != kNone) giveFree(reader_last_);
+        reader_last_ = slot;
+        out = slots_[slot];
+        return FlowStatus::NewData;
+      }
+    }
+  }
+
+  /// Number of unread samples (approximate while the writer is active).
+  std::size_t unread() const {
+    return static_cast<std::size_t>(tail_.load(std::memory_order_acquire) - head_.load(std::memory_order_acquire));
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = UINT32_MAX;
+
+  void publish(std::uint64_t tail, std::uint32_t slot) {
+    queue_[tail % capacity_].store(slot, std::memory_order_relaxed);
+    tail_.store(tail + 1, std::memory_order_release);
+  }
+
+  // Free list: the reader gives slots back, the writer takes them (single producer, single
+  // consumer).
+  std::uint32_t takeFree() {
+    const std::uint64_t head = free_head_.load(std::memory_order_relaxed);
+    // The slot count guarantees a free slot exists; the loop only waits until the reader's
+    // release store of it is visible on this core (acquire pairs with giveFree's release).
+    while (free_tail_.load(std::memory_order_acquire) == head) {
+    }
+    const std::uint32_t slot = free_[head % free_capacity_].load(std::memory_order_relaxed);
+    free_head_.store(head + 1, std::memory_order_relaxed);
+    return slot;
+  }
+  void giveFree(std::uint32_t slot) {
+    const std::uint64_t tail = free_tail_.load(std::memory_order_relaxed);
+    free_[tail % free_capacity_].store(slot, std::memory_order_relaxed);
+    free_tail_.store(tail + 1, std::memory_order_release);
+  }
+
+  const std::size_t capacity_;
+  const bool overwrite_;
+  const std::size_t free_capacity_;
+  std::vector<T> slots_;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> queue_;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> free_;
+  alignas(64) std::atomic<std::uint64_t> head_{0};
+  alignas(64) std::atomic<std::uint64_t> tail_{0};
+  alignas(64) std::atomic<std::uint64_t> free_head_{0};
+  std::atomic<std::uint64_t> free_tail_{0};
+  alignas(64) std::uint32_t writer_spare_ = 0;  // writer thread only
+  alignas(64) std::uint32_t reader_last_ = kNone;  // reader thread only
+};
+
+}  // namespace cobra::core

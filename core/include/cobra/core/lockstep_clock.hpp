@@ -1,0 +1,69 @@
+#pragma once
+/// @file
+/// Deterministic simulated time: steps a set of components in a fixed order, as fast as the CPU
+/// allows, honouring each one's period in simulated time. Tests use this, not wall-clock sleeps.
+
+#include <chrono>
+#include <cstdint>
+#include <vector>
+
+#include "cobra/core/activity.hpp"
+
+namespace cobra::core {
+
+class LockstepClock;
+
+/// The activity a LockstepClock gives each of its components.
+class LockstepActivity final : public Activity {
+ public:
+  LockstepActivity(LockstepClock& clock, std::chrono::nanoseconds period) : clock_(&clock), period_(period) {}
+  std::string describe() const override;
+  std::chrono::nanoseconds period() const override { return period_; }
+  std::chrono::nanoseconds now() const override;
+  void trigger() noexcept override { triggered_ = true; }
+
+ private:
+  friend class LockstepClock;
+  LockstepClock* clock_;
+  std::chrono::nanoseconds period_;
+  std::chrono::nanoseconds next_due_{0};
+  bool triggered_ = false;
+};
+
+/// One thread, one simulated clock. A component added with period p > 0 steps at every
+/// multiple of p; with period 0 it steps only when triggered (event ports, operations), in the
+/// same instant as the writer, after the periodic components. Within an instant, components
+/// step in the order they were added. Two runs with the same inputs give identical traces.
+class LockstepClock {
+ public:
+  LockstepClock() = default;
+  LockstepClock(const LockstepClock&) = delete;
+  LockstepClock& operator=(const LockstepClock&) = delete;
+
+  /// Gives `component` a LockstepActivity on this clock. The component must outlive the clock
+  /// or be removed first. @throws Error when the component is Running or already added.
+  void add(Component& component, std::chrono::nanoseconds period);
+  void remove(Component& component);
+
+  /// Simulated time, in ns since the clock was made.
+  std::chrono::nanoseconds now() const { return now_; }
+  /// Runs every step due in [now, now + duration), then sets now to now + duration.
+  void advance(std::chrono::nanoseconds duration);
+  /// Number of component steps run so far.
+  std::uint64_t steps() const { return steps_; }
+  /// Most rounds of triggered steps in one instant before the clock reports a trigger loop.
+  static constexpr int kMaxTriggerRounds = 100;
+
+ private:
+  void runInstant(std::chrono::nanoseconds t);
+
+  struct Entry {
+    Component* component;
+    LockstepActivity* activity;
+  };
+  std::vector<Entry> entries_;
+  std::chrono::nanoseconds now_{0};
+  std::uint64_t steps_ = 0;
+};
+
+}  // namespace cobra::core

@@ -1,0 +1,163 @@
+#include "cobra/core/activity.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "cobra/core/component.hpp"
+#include "cobra/core/error.hpp"
+
+namespace cobra::core {
+namespace {
+
+std::chrono::nanoseconds monotonicNow() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
+
+timespec toTimespec(std::chrono::nanoseconds t) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(t.count() / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(t.count() % 1'000'000'000);
+  return ts;
+}
+
+std::string formatPeriod(std::chrono::nanoseconds p) {
+  const auto ns = p.count();
+  if (ns % 1'000'000'000 == 0) return std::to_string(ns / 1'000'000'000) + " s";
+  if (ns % 1'000'000 == 0) return std::to_string(ns / 1'000'000) + " ms";
+  if (ns % 1'000 == 0) return std::to_string(ns / 1'000) + " us";
+  return std::to_string(ns) + " ns";
+}
+
+std::atomic<bool> fifo_warning_printed{false};
+
+}  // namespace
+
+std::chrono::nanoseconds Activity::now() const { return monotonicNow(); }
+
+void Activity::stepComponent() noexcept {
+  if (component_ != nullptr) component_->step();
+}
+
+ThreadActivity::ThreadActivity(int priority, Scheduler scheduler) : priority_(priority), scheduler_(scheduler) {
+  if (scheduler == Scheduler::Fifo && (priority < 1 || priority > 99))
+    throw Error("SCHED_FIFO priority must be in 1..99, got " + std::to_string(priority));
+}
+
+ThreadActivity::~ThreadActivity() {
+  // Subclasses stop their thread in their own destructor, before their loop() is gone.
+}
+
+ActivityStats ThreadActivity::stats() const {
+  return {steps_.load(std::memory_order_relaxed), overruns_.load(std::memory_order_relaxed),
+          max_lateness_ns_.load(std::memory_order_relaxed)};
+}
+
+std::string ThreadActivity::schedulerText() const {
+  if (scheduler_ == Scheduler::Other) return "SCHED_OTHER";
+  std::string text = "SCHED_FIFO priority " + std::to_string(priority_);
+  if (running_.load() && effective_.load() != Scheduler::Fifo) text += " (refused: running SCHED_OTHER)";
+  return text;
+}
+
+void ThreadActivity::applyScheduling() {
+  if (scheduler_ != Scheduler::Fifo) {
+    effective_.store(Scheduler::Other);
+    return;
+  }
+  sched_param param{};
+  param.sched_priority = priority_;
+  const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+  if (rc == 0) {
+    effective_.store(Scheduler::Fifo);
+    return;
+  }
+  effective_.store(Scheduler::Other);
+  if (!fifo_warning_printed.exchange(true)) {
+    std::fprintf(stderr,
+                 "[cobra] warning: SCHED_FIFO priority %d refused (%s); activities run SCHED_OTHER without "
+                 "real-time guarantees. Grant CAP_SYS_NICE or an rtprio limit (/etc/security/limits.conf) to fix. "
+                 "This warning is printed once.\n",
+                 priority_, std::strerror(rc));
+  }
+}
+
+void ThreadActivity::startStepping() {
+  if (running_.load()) return;
+  if (thread_.joinable()) thread_.join();
+  stop_.store(false, std::memory_order_release);
+  running_.store(true, std::memory_order_release);
+  thread_ = std::thread([this] {
+    applyScheduling();
+    loop();
+  });
+}
+
+void ThreadActivity::stopStepping() {
+  if (!thread_.joinable()) return;
+  stop_.store(true, std::memory_order_release);
+  wake();
+  thread_.join();
+  running_.store(false, std::memory_order_release);
+}
+
+PeriodicActivity::PeriodicActivity(std::chrono::nanoseconds period, int priority, Scheduler scheduler)
+    : ThreadActivity(priority, scheduler), period_(period) {
+  if (period.count() <= 0) throw Error("a periodic activity needs a period > 0 s, got " + std::to_string(period.count()) + " ns");
+}
+
+PeriodicActivity::~PeriodicActivity() { stopStepping(); }
+
+std::string PeriodicActivity::describe() const { return "periodic " + formatPeriod(period_) + ", " + schedulerText(); }
+
+void PeriodicActivity::loop() {
+  auto deadline = monotonicNow();
+  while (!stopRequested()) {
+    const auto woke = monotonicNow();
+    const auto late = (woke - deadline).count();
+    if (late > max_lateness_ns_.load(std::memory_order_relaxed)) max_lateness_ns_.store(late, std::memory_order_relaxed);
+    stepComponent();
+    steps_.fetch_add(1, std::memory_order_relaxed);
+    deadline += period_;
+    const auto after = monotonicNow();
+    if (after > deadline) {
+      // Skip the periods we missed instead of running a burst of late steps.
+      const auto missed = (after - deadline) / period_ + 1;
+      overruns_.fetch_add(static_cast<std::uint64_t>(missed), std::memory_order_relaxed);
+      deadline += missed * period_;
+    }
+    const timespec ts = toTimespec(deadline);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+  }
+}
+
+EventActivity::EventActivity(int priority, Scheduler scheduler) : ThreadActivity(priority, scheduler) {}
+
+EventActivity::~EventActivity() { stopStepping(); }
+
+std::string EventActivity::describe() const { return "event-driven, " + schedulerText(); }
+
+void EventActivity::trigger() noexcept {
+  triggers_.fetch_add(1, std::memory_order_release);
+  triggers_.notify_one();
+}
+
+void EventActivity::loop() {
+  std::uint32_t seen = triggers_.load(std::memory_order_acquire);
+  while (!stopRequested()) {
+    triggers_.wait(seen, std::memory_order_acquire);
+    seen = triggers_.load(std::memory_order_acquire);
+    if (stopRequested()) break;
+    stepComponent();
+    steps_.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+}  // namespace cobra::core

@@ -1,0 +1,345 @@
+#include "cobra/core/component.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "cobra/core/activity.hpp"
+
+namespace cobra::core {
+
+/// A change queued for the activity thread; lives on the waiting caller's stack, so the
+/// activity thread neither allocates nor frees anything to run it.
+struct Component::PendingChange {
+  const std::function<void()>* change;
+  std::exception_ptr error;
+  std::atomic<bool> done{false};
+};
+
+std::string_view toString(Role role) {
+  switch (role) {
+    case Role::Calculation: return "Calculation";
+    case Role::Supervision: return "Supervision";
+    case Role::Decision: return "Decision";
+    case Role::Bridge: return "Bridge";
+  }
+  return "?";
+}
+
+std::string_view toString(State state) {
+  switch (state) {
+    case State::PreOperational: return "PreOperational";
+    case State::Stopped: return "Stopped";
+    case State::Running: return "Running";
+    case State::Exception: return "Exception";
+    case State::FatalError: return "FatalError";
+  }
+  return "?";
+}
+
+Component::Component(std::string name, Role role, std::string doc)
+    : name_(std::move(name)), role_(role), doc_(std::move(doc)), activity_(std::make_unique<SlaveActivity>()) {
+  if (name_.empty()) throw Error("a component needs a non-empty name");
+  if (name_.find_first_of(". \t\n") != std::string::npos)
+    throw Error("component name '" + name_ + "' may not contain '.' or spaces (it is used in paths like Name.port)");
+  activity_->component_ = this;
+  pending_.reserve(16);
+  addPort(events_);
+}
+
+Component::~Component() {
+  if (activity_->hasRunningThread() && !activity_->isActivityThread()) activity_->stopStepping();
+}
+
+std::string Component::refusal(std::string_view action, std::string_view need) const {
+  return "component '" + name_ + "': cannot " + std::string(action) + ": it is " + std::string(toString(state())) +
+         (need.empty() ? "" : "; " + std::string(need));
+}
+
+void Component::setLastError(std::string message) {
+  std::lock_guard lock(error_mutex_);
+  last_error_ = std::move(message);
+}
+
+std::string Component::lastError() const {
+  std::lock_guard lock(error_mutex_);
+  return last_error_;
+}
+
+bool Component::runHook(std::string_view hook, const std::function<bool()>& body) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    enterException(hook, e.what());
+  } catch (...) {
+    enterException(hook, "unknown exception");
+  }
+  return false;
+}
+
+Result Component::configure() {
+  const State s = state();
+  if (s != State::PreOperational && s != State::Stopped)
+    return Result::failure(refusal("configure", s == State::Running ? "stop it first" : "recover it first"));
+  if (!runHook("configureHook", [this] { return configureHook(); })) {
+    if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
+    setLastError("component '" + name_ + "': configureHook refused the configuration");
+    return Result::failure(lastError());
+  }
+  state_.store(State::Stopped, std::memory_order_release);
+  return Result::success();
+}
+
+Result Component::start() {
+  const State s = state();
+  if (s != State::Stopped)
+    return Result::failure(refusal("start", s == State::PreOperational ? "configure it first" :
+                                            s == State::Running           ? "it is already running" :
+                                                                             "recover and configure it first"));
+  if (!runHook("startHook", [this] { return startHook(); })) {
+    if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
+    setLastError("component '" + name_ + "': startHook refused to start");
+    return Result::failure(lastError());
+  }
+  state_.store(State::Running, std::memory_order_release);
+  activity_->startStepping();
+  return Result::success();
+}
+
+Result Component::stop() {
+  if (state() != State::Running) return Result::failure(refusal("stop", "only a Running component can stop"));
+  if (activity_->isActivityThread())
+    return Result::failure("component '" + name_ + "': cannot stop from its own activity thread; throw from "
+                           "updateHook to enter Exception, or stop it from the deployer");
+  activity_->stopStepping();
+  // The activity thread may have moved the component to Exception while we joined it.
+  if (state() != State::Running) return Result::failure(lastError());
+  state_.store(State::Stopped, std::memory_order_release);
+  runHook("stopHook", [this] {
+    stopHook();
+    return true;
+  });
+  if (state() != State::Stopped) return Result::failure(lastError());
+  return Result::success();
+}
+
+Result Component::cleanup() {
+  if (state() != State::Stopped) return Result::failure(refusal("clean up", "stop it first"));
+  runHook("cleanupHook", [this] {
+    cleanupHook();
+    return true;
+  });
+  if (state() != State::Stopped) return Result::failure(lastError());
+  state_.store(State::PreOperational, std::memory_order_release);
+  return Result::success();
+}
+
+Result Component::recover() {
+  if (state() != State::Exception) return Result::failure(refusal("recover", "only a component in Exception can recover"));
+  if (activity_->isActivityThread())
+    return Result::failure("component '" + name_ + "': cannot recover from its own activity thread");
+  activity_->stopStepping();
+  try {
+    cleanupHook();
+  } catch (const std::exception& e) {
+    setLastError("component '" + name_ + "': cleanupHook threw during recover: " + e.what());
+    state_.store(State::FatalError, std::memory_order_release);
+    emitEvent("e_fatal_error");
+    return Result::failure(lastError());
+  } catch (...) {
+    setLastError("component '" + name_ + "': cleanupHook threw during recover");
+    state_.store(State::FatalError, std::memory_order_release);
+    emitEvent("e_fatal_error");
+    return Result::failure(lastError());
+  }
+  state_.store(State::PreOperational, std::memory_order_release);
+  return Result::success();
+}
+
+void Component::enterException(std::string_view hook, const std::string& what) noexcept {
+  try {
+    const bool was_running = state() == State::Running;
+    setLastError("component '" + name_ + "': " + std::string(hook) + " threw: " + what);
+    std::fprintf(stderr, "[cobra] %s; component is now in Exception\n", lastError().c_str());
+    state_.store(State::Exception, std::memory_order_release);
+    emitEvent("e_exception");
+    try {
+      if (was_running && hook != "stopHook") stopHook();
+      exceptionHook();
+    } catch (const std::exception& e) {
+      setLastError("component '" + name_ + "': failed while handling an exception (" + lastError() + "): " + e.what());
+      state_.store(State::FatalError, std::memory_order_release);
+      emitEvent("e_fatal_error");
+    } catch (...) {
+      setLastError("component '" + name_ + "': failed while handling an exception: " + lastError());
+      state_.store(State::FatalError, std::memory_order_release);
+      emitEvent("e_fatal_error");
+    }
+  } catch (...) {
+    // Out of memory while building a message: the state must still change.
+    state_.store(State::FatalError, std::memory_order_release);
+  }
+}
+
+void Component::emitEvent(std::string_view name) noexcept {
+  Event event;
+  event.name = name;
+  event.source = std::string_view(name_);
+  event.stamp = now();
+  events_.write(event);
+}
+
+std::chrono::nanoseconds Component::now() const { return activity_->now(); }
+
+void Component::setActivity(std::unique_ptr<Activity> activity) {
+  if (!activity) throw Error("component '" + name_ + "': setActivity needs an activity, got none");
+  if (state() == State::Running || activity_->hasRunningThread())
+    throw Error("component '" + name_ + "': cannot change the activity while it is " + std::string(toString(state())) +
+                "; stop it first");
+  if (activity->component_ != nullptr && activity->component_ != this)
+    throw Error("component '" + name_ + "': this activity already belongs to component '" +
+                activity->component_->name() + "'");
+  activity->component_ = this;
+  activity_ = std::move(activity);
+}
+
+void Component::step() noexcept {
+  if (has_pending_.load(std::memory_order_acquire)) applyPendingChanges();
+  if (state() != State::Running) return;
+  try {
+    updateHook();
+    update_count_.fetch_add(1, std::memory_order_relaxed);
+  } catch (const std::exception& e) {
+    enterException("updateHook", e.what());
+  } catch (...) {
+    enterException("updateHook", "unknown exception");
+  }
+}
+
+void Component::applyPendingChanges() noexcept {
+  std::unique_lock lock(pending_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;  // a caller is queueing; take it on the next step
+  for (PendingChange* pending : pending_) {
+    try {
+      (*pending->change)();
+    } catch (...) {
+      pending->error = std::current_exception();
+    }
+    pending->done.store(true, std::memory_order_release);
+    pending->done.notify_all();
+  }
+  pending_.clear();  // keeps capacity: no deallocation here
+  has_pending_.store(false, std::memory_order_release);
+}
+
+void Component::runBetweenSteps(const std::function<void()>& change) {
+  if (!activity_->hasRunningThread() || activity_->isActivityThread()) {
+    std::lock_guard lock(pending_mutex_);
+    change();
+    return;
+  }
+  PendingChange pending{&change, nullptr, {}};
+  {
+    std::lock_guard lock(pending_mutex_);
+    pending_.push_back(&pending);
+    has_pending_.store(true, std::memory_order_release);
+  }
+  activity_->trigger();
+  // The activity thread may stop before taking the change (stop() races with us); then the
+  // change runs here, since nothing steps the component any more.
+  while (!pending.done.load(std::memory_order_acquire)) {
+    if (!activity_->hasRunningThread()) {
+      std::lock_guard lock(pending_mutex_);
+      auto it = std::find(pending_.begin(), pending_.end(), &pending);
+      if (it != pending_.end()) {
+        pending_.erase(it);
+        change();
+        return;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+  }
+  if (pending.error) std::rethrow_exception(pending.error);
+}
+
+void Component::addPort(PortBase& port) {
+  if (findPort(port.name()) != nullptr)
+    throw Error("component '" + name_ + "' already has a port named '" + port.name() + "'");
+  if (port.owner_ != nullptr && port.owner_ != this)
+    throw Error("port '" + port.name() + "' already belongs to component '" + port.owner_->name() + "'");
+  port.owner_ = this;
+  ports_.push_back(&port);
+}
+
+void Component::addEventPort(PortBase& input) {
+  if (input.direction() != PortDirection::Input)
+    throw Error("component '" + name_ + "': port '" + input.name() + "' is an output; only inputs can be event ports");
+  addPort(input);
+  input.event_port_ = true;
+}
+
+void Component::addProperty(PropertyBase& property) {
+  if (findProperty(property.name()) != nullptr)
+    throw Error("component '" + name_ + "' already has a property named '" + property.name() + "'");
+  property.owner_ = this;
+  properties_.push_back(&property);
+}
+
+void Component::registerOperation(std::unique_ptr<OperationBase> operation) {
+  if (findOperation(operation->name()) != nullptr)
+    throw Error("component '" + name_ + "' already has an operation named '" + operation->name() + "'");
+  operation->owner_ = this;
+  operations_.push_back(std::move(operation));
+}
+
+std::vector<OperationBase*> Component::operations() const {
+  std::vector<OperationBase*> out;
+  for (const auto& op : operations_) out.push_back(op.get());
+  return out;
+}
+
+namespace {
+template <class List>
+std::string namesOf(const List& list) {
+  std::string names;
+  for (const auto& item : list) names += (names.empty() ? "" : ", ") + item->name();
+  return names.empty() ? "(none)" : names;
+}
+}  // namespace
+
+PortBase* Component::findPort(std::string_view name) const {
+  for (PortBase* p : ports_)
+    if (p->name() == name) return p;
+  return nullptr;
+}
+PropertyBase* Component::findProperty(std::string_view name) const {
+  for (PropertyBase* p : properties_)
+    if (p->name() == name) return p;
+  return nullptr;
+}
+OperationBase* Component::findOperation(std::string_view name) const {
+  for (const auto& op : operations_)
+    if (op->name() == name) return op.get();
+  return nullptr;
+}
+
+PortBase& Component::port(std::string_view name) const {
+  if (PortBase* p = findPort(name)) return *p;
+  throw Error("component '" + name_ + "' has no port '" + std::string(name) + "'; its ports are: " + namesOf(ports_));
+}
+PropertyBase& Component::property(std::string_view name) const {
+  if (PropertyBase* p = findProperty(name)) return *p;
+  throw Error("component '" + name_ + "' has no property '" + std::string(name) +
+              "'; its properties are: " + namesOf(properties_));
+}
+OperationBase& Component::operation(std::string_view name) const {
+  if (OperationBase* op = findOperation(name)) return *op;
+  throw Error("component '" + name_ + "' has no operation '" + std::string(name) +
+              "'; its operations are: " + namesOf(operations_));
+}
+
+void Component::throwPropertyType(const PropertyBase& property, std::string_view given) const {
+  throw Error(property.where() + " is a " + std::string(property.type().name) + ": cannot set it from a " +
+              std::string(given) + "; expected " + std::string(property.type().format));
+}
+
+}  // namespace cobra::core

@@ -1,0 +1,270 @@
+#include "cobra/core/data_type.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
+
+namespace cobra::core {
+namespace {
+
+std::string_view trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t\r\n");
+  return text.substr(first, last - first + 1);
+}
+
+bool parseNumber(std::string_view text, double& out) {
+  text = trim(text);
+  if (text.empty()) return false;
+  if (text.front() == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size()) return false;
+  out = value;
+  return true;
+}
+
+/// Parses "[a, b, c]" (brackets optional, commas or spaces between numbers).
+bool parseList(std::string_view text, std::vector<double>& out) {
+  text = trim(text);
+  if (!text.empty() && text.front() == '[') {
+    if (text.back() != ']') return false;
+    text = trim(text.substr(1, text.size() - 2));
+  }
+  std::vector<double> values;
+  while (!text.empty()) {
+    const auto sep = text.find_first_of(", \t");
+    double v = 0.0;
+    if (!parseNumber(text.substr(0, sep), v)) return false;
+    values.push_back(v);
+    if (sep == std::string_view::npos) break;
+    text = trim(text.substr(sep));
+    if (!text.empty() && text.front() == ',') text = trim(text.substr(1));
+    else if (text.empty()) break;
+  }
+  out = std::move(values);
+  return true;
+}
+
+bool parseFixedList(std::string_view text, std::size_t count, std::vector<double>& out) {
+  return parseList(text, out) && out.size() == count;
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  std::string text = s.str();
+  // Keep the shortest text that reads back to the same double.
+  for (int precision = 1; precision < 17; ++precision) {
+    std::ostringstream shorter;
+    shorter.precision(precision);
+    shorter << v;
+    double back = 0.0;
+    if (parseNumber(shorter.str(), back) && back == v) return shorter.str();
+  }
+  return text;
+}
+
+std::string formatList(const double* values, std::size_t count) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i > 0) text += ", ";
+    text += formatNumber(values[i]);
+  }
+  return text + "]";
+}
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string_view, TypeInfo, std::less<>> by_name;
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+void registerBuiltins() {
+  static const bool done = [] {
+    typeInfo<double>();
+    typeInfo<int>();
+    typeInfo<bool>();
+    typeInfo<std::string>();
+    typeInfo<std::vector<double>>();
+    typeInfo<KDL::Vector>();
+    typeInfo<KDL::Rotation>();
+    typeInfo<KDL::Frame>();
+    typeInfo<KDL::Twist>();
+    typeInfo<KDL::Wrench>();
+    typeInfo<KDL::JntArray>();
+    typeInfo<Event>();
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
+
+std::string_view toString(DataKind kind) { return kind == DataKind::Pure ? "pure data" : "logic data"; }
+
+void TypeRegistry::add(const TypeInfo& info) {
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  r.by_name.emplace(info.name, info);
+}
+
+const TypeInfo* TypeRegistry::find(std::string_view name) {
+  registerBuiltins();
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  const auto it = r.by_name.find(name);
+  return it == r.by_name.end() ? nullptr : &it->second;
+}
+
+std::vector<const TypeInfo*> TypeRegistry::all() {
+  registerBuiltins();
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  std::vector<const TypeInfo*> out;
+  for (const auto& [name, info] : r.by_name) out.push_back(&info);
+  return out;
+}
+
+std::string DataTypeTraits<double>::print(const double& value) { return formatNumber(value); }
+bool DataTypeTraits<double>::parse(std::string_view text, double& out) { return parseNumber(text, out); }
+
+std::string DataTypeTraits<int>::print(const int& value) { return std::to_string(value); }
+bool DataTypeTraits<int>::parse(std::string_view text, int& out) {
+  text = trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  int value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return false;
+  out = value;
+  return true;
+}
+
+std::string DataTypeTraits<bool>::print(const bool& value) { return value ? "true" : "false"; }
+bool DataTypeTraits<bool>::parse(std::string_view text, bool& out) {
+  text = trim(text);
+  if (text == "true") out = true;
+  else if (text == "false") out = false;
+  else return false;
+  return true;
+}
+
+std::string DataTypeTraits<std::string>::print(const std::string& value) { return value; }
+bool DataTypeTraits<std::string>::parse(std::string_view text, std::string& out) {
+  out = std::string(text);
+  return true;
+}
+
+std::string DataTypeTraits<std::vector<double>>::print(const std::vector<double>& value) {
+  return formatList(value.data(), value.size());
+}
+bool DataTypeTraits<std::vector<double>>::parse(std::string_view text, std::vector<double>& out) {
+  return parseList(text, out);
+}
+
+std::string DataTypeTraits<KDL::Vector>::print(const KDL::Vector& value) { return formatList(value.data, 3); }
+bool DataTypeTraits<KDL::Vector>::parse(std::string_view text, KDL::Vector& out) {
+  std::vector<double> v;
+  if (!parseFixedList(text, 3, v)) return false;
+  out = KDL::Vector(v[0], v[1], v[2]);
+  return true;
+}
+
+namespace {
+bool quaternionFrom(const double* q, KDL::Rotation& out) {
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (std::abs(norm - 1.0) > 1e-6) return false;  // a quaternion that is not unit is a typo
+  out = KDL::Rotation::Quaternion(q[0], q[1], q[2], q[3]);
+  return true;
+}
+std::vector<double> quaternionOf(const KDL::Rotation& r) {
+  std::vector<double> q(4);
+  r.GetQuaternion(q[0], q[1], q[2], q[3]);
+  return q;
+}
+}  // namespace
+
+std::string DataTypeTraits<KDL::Rotation>::print(const KDL::Rotation& value) {
+  const auto q = quaternionOf(value);
+  return formatList(q.data(), 4);
+}
+bool DataTypeTraits<KDL::Rotation>::parse(std::string_view text, KDL::Rotation& out) {
+  std::vector<double> v;
+  return parseFixedList(text, 4, v) && quaternionFrom(v.data(), out);
+}
+
+std::string DataTypeTraits<KDL::Frame>::print(const KDL::Frame& value) {
+  auto all = std::vector<double>{value.p.x(), value.p.y(), value.p.z()};
+  const auto q = quaternionOf(value.M);
+  all.insert(all.end(), q.begin(), q.end());
+  return formatList(all.data(), all.size());
+}
+bool DataTypeTraits<KDL::Frame>::parse(std::string_view text, KDL::Frame& out) {
+  std::vector<double> v;
+  KDL::Rotation r;
+  if (!parseFixedList(text, 7, v) || !quaternionFrom(v.data() + 3, r)) return false;
+  out = KDL::Frame(r, KDL::Vector(v[0], v[1], v[2]));
+  return true;
+}
+
+std::string DataTypeTraits<KDL::Twist>::print(const KDL::Twist& value) {
+  const double v[6] = {value.vel.x(), value.vel.y(), value.vel.z(), value.rot.x(), value.rot.y(), value.rot.z()};
+  return formatList(v, 6);
+}
+bool DataTypeTraits<KDL::Twist>::parse(std::string_view text, KDL::Twist& out) {
+  std::vector<double> v;
+  if (!parseFixedList(text, 6, v)) return false;
+  out = KDL::Twist(KDL::Vector(v[0], v[1], v[2]), KDL::Vector(v[3], v[4], v[5]));
+  return true;
+}
+
+std::string DataTypeTraits<KDL::Wrench>::print(const KDL::Wrench& value) {
+  const double v[6] = {value.force.x(), value.force.y(), value.force.z(),
+                       value.torque.x(), value.torque.y(), value.torque.z()};
+  return formatList(v, 6);
+}
+bool DataTypeTraits<KDL::Wrench>::parse(std::string_view text, KDL::Wrench& out) {
+  std::vector<double> v;
+  if (!parseFixedList(text, 6, v)) return false;
+  out = KDL::Wrench(KDL::Vector(v[0], v[1], v[2]), KDL::Vector(v[3], v[4], v[5]));
+  return true;
+}
+
+std::string DataTypeTraits<KDL::JntArray>::print(const KDL::JntArray& value) {
+  return formatList(value.data.data(), value.rows());
+}
+bool DataTypeTraits<KDL::JntArray>::parse(std::string_view text, KDL::JntArray& out) {
+  std::vector<double> v;
+  if (!parseList(text, v)) return false;
+  out.resize(static_cast<unsigned>(v.size()));
+  std::copy(v.begin(), v.end(), out.data.data());
+  return true;
+}
+
+std::string DataTypeTraits<Event>::print(const Event& value) {
+  std::string text = value.name.str();
+  if (!value.source.empty()) text += " from " + value.source.str();
+  return text + " at " + formatNumber(std::chrono::duration<double>(value.stamp).count()) + " s";
+}
+bool DataTypeTraits<Event>::parse(std::string_view text, Event& out) {
+  text = trim(text);
+  if (text.empty() || text.size() > decltype(out.name)::capacity() ||
+      text.find_first_of(" \t") != std::string_view::npos)
+    return false;
+  out = Event{text, {}, std::chrono::nanoseconds(0)};
+  return true;
+}
+
+}  // namespace cobra::core

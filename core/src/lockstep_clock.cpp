@@ -1,0 +1,82 @@
+#include "cobra/core/lockstep_clock.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include "cobra/core/component.hpp"
+#include "cobra/core/error.hpp"
+
+namespace cobra::core {
+
+std::string LockstepActivity::describe() const {
+  return period_.count() > 0 ? "lockstep every " + std::to_string(period_.count()) + " ns of simulated time"
+                             : "lockstep, when triggered";
+}
+
+std::chrono::nanoseconds LockstepActivity::now() const { return clock_->now(); }
+
+void LockstepClock::add(Component& component, std::chrono::nanoseconds period) {
+  if (period.count() < 0) throw Error("lockstep clock: component '" + component.name() + "' needs a period >= 0");
+  for (const Entry& e : entries_)
+    if (e.component == &component)
+      throw Error("lockstep clock: component '" + component.name() + "' is already on this clock");
+  auto activity = std::make_unique<LockstepActivity>(*this, period);
+  if (period.count() > 0) {
+    // First step at the first multiple of the period not before now.
+    activity->next_due_ = ((now_ + period - std::chrono::nanoseconds(1)) / period) * period;
+  }
+  LockstepActivity* raw = activity.get();
+  component.setActivity(std::move(activity));
+  entries_.push_back({&component, raw});
+}
+
+void LockstepClock::remove(Component& component) {
+  std::erase_if(entries_, [&](const Entry& e) { return e.component == &component; });
+}
+
+void LockstepClock::advance(std::chrono::nanoseconds duration) {
+  if (duration.count() < 0) throw Error("lockstep clock: cannot advance by a negative duration");
+  const auto end = now_ + duration;
+  for (;;) {
+    auto next = std::chrono::nanoseconds(std::numeric_limits<std::int64_t>::max());
+    for (const Entry& e : entries_)
+      if (e.activity->period_.count() > 0) next = std::min(next, e.activity->next_due_);
+    if (next >= end) break;
+    runInstant(next);
+  }
+  now_ = end;
+}
+
+void LockstepClock::runInstant(std::chrono::nanoseconds t) {
+  now_ = t;
+  for (const Entry& e : entries_) {
+    LockstepActivity& a = *e.activity;
+    if (a.period_.count() > 0 && a.next_due_ == t) {
+      a.next_due_ += a.period_;
+      a.triggered_ = false;
+      a.stepComponent();
+      ++steps_;
+    }
+  }
+  // Event-driven components react in the same instant, in the order they were added, until
+  // no more triggers arrive.
+  for (int round = 0; round < kMaxTriggerRounds; ++round) {
+    bool any = false;
+    for (const Entry& e : entries_) {
+      LockstepActivity& a = *e.activity;
+      if (a.period_.count() == 0 && a.triggered_) {
+        a.triggered_ = false;
+        a.stepComponent();
+        ++steps_;
+        any = true;
+      }
+    }
+    if (!any) return;
+  }
+  throw Error("lockstep clock: event-driven components kept triggering each other for " +
+              std::to_string(kMaxTriggerRounds) + " rounds at t = " + std::to_string(t.count()) +
+              " ns; look for a cycle of event ports");
+}
+
+}  // namespace cobra::core
