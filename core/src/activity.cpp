@@ -27,17 +27,17 @@ timespec toTimespec(std::chrono::nanoseconds t) {
   return ts;
 }
 
-std::string formatPeriod(std::chrono::nanoseconds p) {
-  const auto ns = p.count();
-  if (ns % 1'000'000'000 == 0) return std::to_string(ns / 1'000'000'000) + " s";
-  if (ns % 1'000'000 == 0) return std::to_string(ns / 1'000'000) + " ms";
-  if (ns % 1'000 == 0) return std::to_string(ns / 1'000) + " us";
-  return std::to_string(ns) + " ns";
-}
-
 std::atomic<bool> fifo_warning_printed{false};
 
 }  // namespace
+
+std::string formatDuration(std::chrono::nanoseconds duration) {
+  const auto ns = duration.count();
+  if (ns != 0 && ns % 1'000'000'000 == 0) return std::to_string(ns / 1'000'000'000) + " s";
+  if (ns != 0 && ns % 1'000'000 == 0) return std::to_string(ns / 1'000'000) + " ms";
+  if (ns != 0 && ns % 1'000 == 0) return std::to_string(ns / 1'000) + " us";
+  return std::to_string(ns) + " ns";
+}
 
 std::chrono::nanoseconds Activity::now() const { return monotonicNow(); }
 
@@ -114,7 +114,7 @@ PeriodicActivity::PeriodicActivity(std::chrono::nanoseconds period, int priority
 
 PeriodicActivity::~PeriodicActivity() { stopStepping(); }
 
-std::string PeriodicActivity::describe() const { return "periodic " + formatPeriod(period_) + ", " + schedulerText(); }
+std::string PeriodicActivity::describe() const { return "periodic " + formatDuration(period_) + ", " + schedulerText(); }
 
 void PeriodicActivity::loop() {
   auto deadline = monotonicNow();

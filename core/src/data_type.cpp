@@ -5,7 +5,6 @@
 #include <cmath>
 #include <map>
 #include <mutex>
-#include <sstream>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
@@ -58,19 +57,10 @@ bool parseFixedList(std::string_view text, std::size_t count, std::vector<double
 }
 
 std::string formatNumber(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  std::string text = s.str();
-  // Keep the shortest text that reads back to the same double.
-  for (int precision = 1; precision < 17; ++precision) {
-    std::ostringstream shorter;
-    shorter.precision(precision);
-    shorter << v;
-    double back = 0.0;
-    if (parseNumber(shorter.str(), back) && back == v) return shorter.str();
-  }
-  return text;
+  // Shortest text that reads back to the same double.
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return ec == std::errc() ? std::string(buffer, end) : std::string("?");
 }
 
 std::string formatList(const double* values, std::size_t count) {

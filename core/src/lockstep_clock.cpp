@@ -10,7 +10,7 @@
 namespace cobra::core {
 
 std::string LockstepActivity::describe() const {
-  return period_.count() > 0 ? "lockstep every " + std::to_string(period_.count()) + " ns of simulated time"
+  return period_.count() > 0 ? "lockstep every " + formatDuration(period_) + " of simulated time"
                              : "lockstep, when triggered";
 }
 
@@ -38,6 +38,8 @@ void LockstepClock::remove(Component& component) {
 void LockstepClock::advance(std::chrono::nanoseconds duration) {
   if (duration.count() < 0) throw Error("lockstep clock: cannot advance by a negative duration");
   const auto end = now_ + duration;
+  // Components triggered from outside the clock (a write by the caller) react first, at now.
+  runTriggered(now_);
   for (;;) {
     auto next = std::chrono::nanoseconds(std::numeric_limits<std::int64_t>::max());
     for (const Entry& e : entries_)
@@ -59,6 +61,10 @@ void LockstepClock::runInstant(std::chrono::nanoseconds t) {
       ++steps_;
     }
   }
+  runTriggered(t);
+}
+
+void LockstepClock::runTriggered(std::chrono::nanoseconds t) {
   // Event-driven components react in the same instant, in the order they were added, until
   // no more triggers arrive.
   for (int round = 0; round < kMaxTriggerRounds; ++round) {

@@ -13,6 +13,9 @@ namespace cobra::core {
 
 class Component;
 
+/// "1 ms", "250 us", "3 s": the shortest exact text of a duration.
+std::string formatDuration(std::chrono::nanoseconds duration);
+
 /// Base class. An activity belongs to one component (`Component::setActivity`); the component
 /// starts it after startHook and stops it before stopHook.
 class Activity {

@@ -38,6 +38,7 @@ class BoundedString {
     return a.view() == b.view();
   }
   friend constexpr bool operator==(const BoundedString& a, std::string_view b) { return a.view() == b; }
+  friend constexpr bool operator==(const BoundedString& a, const char* b) { return a.view() == std::string_view(b); }
 
  private:
   std::array<char, Capacity> chars_{};

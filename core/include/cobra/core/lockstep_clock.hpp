@@ -32,8 +32,10 @@ class LockstepActivity final : public Activity {
 
 /// One thread, one simulated clock. A component added with period p > 0 steps at every
 /// multiple of p; with period 0 it steps only when triggered (event ports, operations), in the
-/// same instant as the writer, after the periodic components. Within an instant, components
-/// step in the order they were added. Two runs with the same inputs give identical traces.
+/// same instant as the writer, after the periodic components (components triggered by a write
+/// from outside the clock step at the start of the next `advance`). Within an instant,
+/// components step in the order they were added. Two runs with the same inputs give identical
+/// traces.
 class LockstepClock {
  public:
   LockstepClock() = default;
@@ -56,6 +58,7 @@ class LockstepClock {
 
  private:
   void runInstant(std::chrono::nanoseconds t);
+  void runTriggered(std::chrono::nanoseconds t);
 
   struct Entry {
     Component* component;

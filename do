@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# cobra's one entry point. Usage: ./do <command> [options]
+#   setup            install the Debian packages cobra needs (idempotent; quick when present)
+#   build [preset]   configure and build (presets: release (default), asan, tsan)
+#   test             build and run every test (unit tests, examples)
+#   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
+#   test --tsan      the concurrency tests under ThreadSanitizer
+#   demo             build and run the demo deployment
+#   bench            build and run the benchmarks (Google Benchmark; median and max)
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev)
+
+say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
+
+setup() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  say "installing Debian packages: ${missing[*]}"
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "do: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+    sudo=(sudo)
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+build() {
+  local preset="${1:-release}"
+  setup
+  if [ ! -f "build/$preset/build.ninja" ]; then
+    cmake --preset "$preset" >/dev/null
+  fi
+  cmake --build --preset "$preset" "${@:2}"
+}
+
+run_tests() {
+  case "${1:-}" in
+    "")
+      build release
+      ctest --test-dir build/release --output-on-failure -j2 --timeout 300 ;;
+    --asan)
+      build asan
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        ctest --test-dir build/asan --output-on-failure -j2 --timeout 600 ;;
+    --tsan)
+      # Only the concurrency tests: the rest is single-threaded and covered by the other builds.
+      build tsan --target core_port_stress_test
+      TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+        ctest --test-dir build/tsan --output-on-failure -L concurrency --timeout 600 ;;
+    *) echo "do test: unknown option '$1' (expected --asan or --tsan)" >&2; exit 2 ;;
+  esac
+}
+
+case "${1:-help}" in
+  setup) setup ;;
+  build) shift; build "${1:-release}" ;;
+  test) shift; run_tests "${1:-}" ;;
+  demo)
+    log=$(mktemp)
+    say "building the demo (first time: installs packages and compiles, a few minutes)"
+    build release --target cobra-demo >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+    rm -f "$log"
+    ./build/release/apps/demo/cobra-demo ;;
+  bench)
+    build release
+    for b in build/release/bench/*_bench; do
+      say "$b"
+      "$b" --benchmark_counters_tabular=true
+    done ;;
+  help|-h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+esac
