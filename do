@@ -7,16 +7,18 @@
 #   test --tsan      the concurrency tests under ThreadSanitizer
 #   demo             build and run the demo deployment
 #   bench            build and run the benchmarks (Google Benchmark; median and max)
+#   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev)
+FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
 
 setup() {
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "${PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -33,7 +35,7 @@ setup() {
 
 build() {
   local preset="${1:-release}"
-  setup
+  if [ "$preset" = fuzz ]; then setup "${FUZZ_PACKAGES[@]}"; else setup; fi
   if [ ! -f "build/$preset/build.ninja" ]; then
     cmake --preset "$preset" >/dev/null
   fi
@@ -74,6 +76,21 @@ case "${1:-help}" in
       say "$b"
       "$b" --benchmark_counters_tabular=true
     done ;;
-  help|-h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "do: unknown command '$1'" >&2; sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+  fuzz)
+    seconds="${2:-60}"
+    build fuzz --target value_text_fuzz channel_fuzz
+    mkdir -p build/fuzz/corpus
+    for f in value_text_fuzz channel_fuzz; do
+      say "$f for ${seconds} s"
+      mkdir -p "build/fuzz/corpus/$f"
+      if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
+          "build/fuzz/corpus/$f" >build/fuzz/$f.log 2>&1; then
+        tail -n 40 "build/fuzz/$f.log"
+        echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ (see above)" >&2
+        exit 1
+      fi
+      grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
+    done ;;
+  help|-h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
 esac

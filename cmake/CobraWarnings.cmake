@@ -12,8 +12,13 @@ if(COBRA_SANITIZER STREQUAL "address")
 elseif(COBRA_SANITIZER STREQUAL "thread")
   target_compile_options(cobra_build_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
   target_link_options(cobra_build_flags INTERFACE -fsanitize=thread)
+elseif(COBRA_SANITIZER STREQUAL "fuzzer")
+  # Coverage instrumentation for libFuzzer everywhere, plus ASan/UBSan to turn bugs into crashes.
+  target_compile_options(cobra_build_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+    -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(cobra_build_flags INTERFACE -fsanitize=address,undefined)
 elseif(NOT COBRA_SANITIZER STREQUAL "")
-  message(FATAL_ERROR "COBRA_SANITIZER must be '', 'address' or 'thread', not '${COBRA_SANITIZER}'")
+  message(FATAL_ERROR "COBRA_SANITIZER must be '', 'address', 'thread' or 'fuzzer', not '${COBRA_SANITIZER}'")
 endif()
 
 # cobra_add_test(<name> SOURCES ... LIBS ...): one executable per unit, registered with CTest.
