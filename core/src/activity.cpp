@@ -149,8 +149,16 @@ void EventActivity::trigger() noexcept {
   triggers_.notify_one();
 }
 
+void EventActivity::startStepping() {
+  // Taken before the thread exists: a trigger that arrives while the thread is starting (e.g. a
+  // change queued by runBetweenSteps right after start) must still wake it.
+  if (hasRunningThread()) return;
+  seen_at_start_ = triggers_.load(std::memory_order_acquire);
+  ThreadActivity::startStepping();
+}
+
 void EventActivity::loop() {
-  std::uint32_t seen = triggers_.load(std::memory_order_acquire);
+  std::uint32_t seen = seen_at_start_;
   while (!stopRequested()) {
     triggers_.wait(seen, std::memory_order_acquire);
     seen = triggers_.load(std::memory_order_acquire);

@@ -48,7 +48,13 @@ Component::Component(std::string name, Role role, std::string doc)
 
 Component::~Component() {
   if (activity_->hasRunningThread() && !activity_->isActivityThread()) activity_->stopStepping();
+  // Now, while every member is alive: events_ outlives pending_mutex_, which disconnecting locks.
+  events_.disconnect();
 }
+
+namespace {
+constexpr std::string_view kFatalAdvice = "a component in FatalError cannot be used again; remove it and create a new one";
+}  // namespace
 
 std::string Component::refusal(std::string_view action, std::string_view need) const {
   return "component '" + name_ + "': cannot " + std::string(action) + ": it is " + std::string(toString(state())) +
@@ -79,7 +85,9 @@ bool Component::runHook(std::string_view hook, const std::function<bool()>& body
 Result Component::configure() {
   const State s = state();
   if (s != State::PreOperational && s != State::Stopped)
-    return Result::failure(refusal("configure", s == State::Running ? "stop it first" : "recover it first"));
+    return Result::failure(refusal("configure", s == State::Running   ? "stop it first" :
+                                                s == State::Exception ? "recover it first" :
+                                                                        kFatalAdvice));
   if (!runHook("configureHook", [this] { return configureHook(); })) {
     if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
     setLastError("component '" + name_ + "': configureHook refused the configuration");
@@ -94,7 +102,8 @@ Result Component::start() {
   if (s != State::Stopped)
     return Result::failure(refusal("start", s == State::PreOperational ? "configure it first" :
                                             s == State::Running           ? "it is already running" :
-                                                                             "recover and configure it first"));
+                                            s == State::Exception         ? "recover and configure it first" :
+                                                                             kFatalAdvice));
   if (!runHook("startHook", [this] { return startHook(); })) {
     if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
     setLastError("component '" + name_ + "': startHook refused to start");
@@ -162,15 +171,19 @@ void Component::enterException(std::string_view hook, const std::string& what) n
     std::fprintf(stderr, "[cobra] %s; component is now in Exception\n", lastError().c_str());
     state_.store(State::Exception, std::memory_order_release);
     emitEvent("e_exception");
+    std::string_view handler = "stopHook";
     try {
       if (was_running && hook != "stopHook") stopHook();
+      handler = "exceptionHook";
       exceptionHook();
     } catch (const std::exception& e) {
-      setLastError("component '" + name_ + "': failed while handling an exception (" + lastError() + "): " + e.what());
+      setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
+                   lastError() + "): " + e.what());
       state_.store(State::FatalError, std::memory_order_release);
       emitEvent("e_fatal_error");
     } catch (...) {
-      setLastError("component '" + name_ + "': failed while handling an exception: " + lastError());
+      setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
+                   lastError() + "): unknown exception");
       state_.store(State::FatalError, std::memory_order_release);
       emitEvent("e_fatal_error");
     }

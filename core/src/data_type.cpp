@@ -19,10 +19,16 @@ std::string_view trim(std::string_view text) {
   return text.substr(first, last - first + 1);
 }
 
+/// Removes one leading '+' (from_chars does not take it); false when a sign follows it ("+-1").
+bool dropPlus(std::string_view& text) {
+  if (text.empty() || text.front() != '+') return true;
+  text.remove_prefix(1);
+  return text.empty() || (text.front() != '+' && text.front() != '-');
+}
+
 bool parseNumber(std::string_view text, double& out) {
   text = trim(text);
-  if (text.empty()) return false;
-  if (text.front() == '+') text.remove_prefix(1);
+  if (text.empty() || !dropPlus(text)) return false;
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size()) return false;
@@ -134,7 +140,7 @@ bool DataTypeTraits<double>::parse(std::string_view text, double& out) { return 
 std::string DataTypeTraits<int>::print(const int& value) { return std::to_string(value); }
 bool DataTypeTraits<int>::parse(std::string_view text, int& out) {
   text = trim(text);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (!dropPlus(text)) return false;
   int value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return false;
@@ -249,11 +255,30 @@ std::string DataTypeTraits<Event>::print(const Event& value) {
   return text + " at " + formatNumber(std::chrono::duration<double>(value.stamp).count()) + " s";
 }
 bool DataTypeTraits<Event>::parse(std::string_view text, Event& out) {
-  text = trim(text);
-  if (text.empty() || text.size() > decltype(out.name)::capacity() ||
-      text.find_first_of(" \t") != std::string_view::npos)
-    return false;
-  out = Event{text, {}, std::chrono::nanoseconds(0)};
+  // A bare name ("e_done"), or everything print writes: "e_done from Planner at 1.5 s".
+  std::vector<std::string_view> words;
+  for (text = trim(text); !text.empty(); text = trim(text.substr(std::min(text.size(), text.find_first_of(" \t")))))
+    words.push_back(text.substr(0, text.find_first_of(" \t")));
+  constexpr std::size_t capacity = decltype(out.name)::capacity();
+  if (words.empty() || words[0].size() > capacity) return false;
+  Event event{words[0], {}, std::chrono::nanoseconds(0)};
+  std::size_t i = 1;
+  if (i < words.size() && words[i] == "from") {
+    if (i + 1 >= words.size() || words[i + 1].size() > capacity) return false;
+    event.source = words[i + 1];
+    i += 2;
+  }
+  if (i < words.size() && words[i] == "at") {
+    double seconds = 0.0;
+    // |stamp| below 9e18 ns (285 years) fits the nanosecond count.
+    if (i + 2 >= words.size() || words[i + 2] != "s" || !parseNumber(words[i + 1], seconds) ||
+        !(std::abs(seconds) < 9e9))
+      return false;
+    event.stamp = std::chrono::nanoseconds(std::llround(seconds * 1e9));
+    i += 3;
+  }
+  if (i != words.size()) return false;
+  out = event;
   return true;
 }
 

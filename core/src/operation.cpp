@@ -68,6 +68,8 @@ std::any OperationBase::invoke(const std::vector<std::any>& arguments) {
       throw;
     } catch (const std::exception& e) {
       throw Error(where() + " failed: " + e.what());
+    } catch (...) {
+      throw Error(where() + " failed: unknown exception");
     }
   };
   if (thread_ == ExecutionThread::Own && owner_ != nullptr) {

@@ -148,11 +148,14 @@ class EventActivity final : public ThreadActivity {
   void trigger() noexcept override;
 
  protected:
+  void startStepping() override;
   void loop() override;
   void wake() noexcept override { trigger(); }
 
  private:
   std::atomic<std::uint32_t> triggers_{0};
+  /// Trigger count when stepping started: triggers after it (even before the thread runs) step.
+  std::uint32_t seen_at_start_ = 0;
 };
 
 }  // namespace cobra::core
