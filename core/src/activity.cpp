@@ -94,8 +94,10 @@ void ThreadActivity::startStepping() {
   stop_.store(false, std::memory_order_release);
   running_.store(true, std::memory_order_release);
   thread_ = std::thread([this] {
+    thread_id_.store(std::this_thread::get_id(), std::memory_order_release);
     applyScheduling();
     loop();
+    thread_id_.store(std::thread::id(), std::memory_order_release);  // before the id can be reused
   });
 }
 

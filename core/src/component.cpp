@@ -72,6 +72,9 @@ std::string Component::lastError() const {
 }
 
 bool Component::runHook(std::string_view hook, const std::function<bool()>& body) {
+  // A change that runBetweenSteps applies at once (no activity thread) holds this lock too, so
+  // it never overlaps a lifecycle hook.
+  std::lock_guard lock(pending_mutex_);
   try {
     return body();
   } catch (const std::exception& e) {
@@ -104,6 +107,9 @@ Result Component::start() {
                                             s == State::Running           ? "it is already running" :
                                             s == State::Exception         ? "recover and configure it first" :
                                                                              kFatalAdvice));
+  // Held until the activity thread runs: runBetweenSteps sees "no thread" only under this lock,
+  // so a change it applies at once cannot overlap the first steps.
+  std::lock_guard lock(pending_mutex_);
   if (!runHook("startHook", [this] { return startHook(); })) {
     if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
     setLastError("component '" + name_ + "': startHook refused to start");
@@ -147,6 +153,7 @@ Result Component::recover() {
   if (activity_->isActivityThread())
     return Result::failure("component '" + name_ + "': cannot recover from its own activity thread");
   activity_->stopStepping();
+  std::lock_guard lock(pending_mutex_);  // see runHook
   try {
     cleanupHook();
   } catch (const std::exception& e) {
@@ -245,14 +252,15 @@ void Component::applyPendingChanges() noexcept {
 }
 
 void Component::runBetweenSteps(const std::function<void()>& change) {
-  if (!activity_->hasRunningThread() || activity_->isActivityThread()) {
-    std::lock_guard lock(pending_mutex_);
-    change();
-    return;
-  }
   PendingChange pending{&change, nullptr, {}};
   {
     std::lock_guard lock(pending_mutex_);
+    // Decided under the lock: start() starts the thread while holding it, and the lifecycle
+    // hooks run holding it, so a change applied here overlaps neither a step nor a hook.
+    if (!activity_->hasRunningThread() || activity_->isActivityThread()) {
+      change();
+      return;
+    }
     pending_.push_back(&pending);
     has_pending_.store(true, std::memory_order_release);
   }
@@ -263,7 +271,9 @@ void Component::runBetweenSteps(const std::function<void()>& change) {
     if (!activity_->hasRunningThread()) {
       std::lock_guard lock(pending_mutex_);
       auto it = std::find(pending_.begin(), pending_.end(), &pending);
-      if (it != pending_.end()) {
+      // Checked again under the lock: start() may have restarted the thread meanwhile; then
+      // that thread takes the change.
+      if (it != pending_.end() && !activity_->hasRunningThread()) {
         pending_.erase(it);
         change();
         return;

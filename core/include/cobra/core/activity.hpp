@@ -86,7 +86,9 @@ class ThreadActivity : public Activity {
  public:
   ~ThreadActivity() override;
   bool hasRunningThread() const override { return running_.load(std::memory_order_acquire); }
-  bool isActivityThread() const override { return running_.load(std::memory_order_acquire) && std::this_thread::get_id() == thread_.get_id(); }
+  bool isActivityThread() const override {
+    return thread_id_.load(std::memory_order_acquire) == std::this_thread::get_id();
+  }
   int priority() const { return priority_; }
   Scheduler scheduler() const { return scheduler_; }
   /// The scheduler the thread actually got (Other when Fifo was refused).
@@ -113,7 +115,10 @@ class ThreadActivity : public Activity {
   int priority_;
   Scheduler scheduler_;
   std::atomic<Scheduler> effective_{Scheduler::Other};
-  std::thread thread_;
+  std::thread thread_;  // touched only by the thread that starts and stops the activity
+  // The activity thread's id, stored by that thread itself (other threads must not read
+  // `thread_`, which its starter is still assigning when the thread begins); empty when stopped.
+  std::atomic<std::thread::id> thread_id_{};
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
 };
