@@ -2,8 +2,10 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <sys/prctl.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +30,9 @@ timespec toTimespec(std::chrono::nanoseconds t) {
 }
 
 std::atomic<bool> fifo_warning_printed{false};
+
+/// Longest a stop request waits for a sleeping periodic activity.
+constexpr std::chrono::nanoseconds kStopCheck = std::chrono::milliseconds(20);
 
 }  // namespace
 
@@ -67,6 +72,9 @@ std::string ThreadActivity::schedulerText() const {
 }
 
 void ThreadActivity::applyScheduling() {
+  // Linux delays timer wake-ups of SCHED_OTHER threads by up to 50 us to batch them; an
+  // activity wants its deadline, so ask for 1 ns of slack.
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   if (scheduler_ != Scheduler::Fifo) {
     effective_.store(Scheduler::Other);
     return;
@@ -134,8 +142,14 @@ void PeriodicActivity::loop() {
       overruns_.fetch_add(static_cast<std::uint64_t>(missed), std::memory_order_relaxed);
       deadline += missed * period_;
     }
-    const timespec ts = toTimespec(deadline);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    // Sleep to the absolute deadline, in slices of at most kStopCheck so that a stop request
+    // is noticed promptly even with long periods (the deadline itself does not move).
+    for (;;) {
+      const auto slice_end = std::min(deadline, monotonicNow() + kStopCheck);
+      const timespec ts = toTimespec(slice_end);
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+      }
+      if (slice_end == deadline || stopRequested()) break;
     }
   }
 }

@@ -159,12 +159,12 @@ Result Component::recover() {
   } catch (const std::exception& e) {
     setLastError("component '" + name_ + "': cleanupHook threw during recover: " + e.what());
     state_.store(State::FatalError, std::memory_order_release);
-    emitEvent("e_fatal_error");
+    emitEvent("e_fatal_error@" + name_);
     return Result::failure(lastError());
   } catch (...) {
     setLastError("component '" + name_ + "': cleanupHook threw during recover");
     state_.store(State::FatalError, std::memory_order_release);
-    emitEvent("e_fatal_error");
+    emitEvent("e_fatal_error@" + name_);
     return Result::failure(lastError());
   }
   state_.store(State::PreOperational, std::memory_order_release);
@@ -177,7 +177,7 @@ void Component::enterException(std::string_view hook, const std::string& what) n
     setLastError("component '" + name_ + "': " + std::string(hook) + " threw: " + what);
     std::fprintf(stderr, "[cobra] %s; component is now in Exception\n", lastError().c_str());
     state_.store(State::Exception, std::memory_order_release);
-    emitEvent("e_exception");
+    emitEvent("e_exception@" + name_);
     std::string_view handler = "stopHook";
     try {
       if (was_running && hook != "stopHook") stopHook();
@@ -187,12 +187,12 @@ void Component::enterException(std::string_view hook, const std::string& what) n
       setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
                    lastError() + "): " + e.what());
       state_.store(State::FatalError, std::memory_order_release);
-      emitEvent("e_fatal_error");
+      emitEvent("e_fatal_error@" + name_);
     } catch (...) {
       setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
                    lastError() + "): unknown exception");
       state_.store(State::FatalError, std::memory_order_release);
-      emitEvent("e_fatal_error");
+      emitEvent("e_fatal_error@" + name_);
     }
   } catch (...) {
     // Out of memory while building a message: the state must still change.
@@ -244,8 +244,8 @@ void Component::applyPendingChanges() noexcept {
     } catch (...) {
       pending->error = std::current_exception();
     }
+    // The caller polls `done` and may destroy `pending` as soon as it is set: touch nothing after.
     pending->done.store(true, std::memory_order_release);
-    pending->done.notify_all();
   }
   pending_.clear();  // keeps capacity: no deallocation here
   has_pending_.store(false, std::memory_order_release);

@@ -14,7 +14,22 @@ std::string LockstepActivity::describe() const {
                              : "lockstep, when triggered";
 }
 
-std::chrono::nanoseconds LockstepActivity::now() const { return clock_->now(); }
+std::chrono::nanoseconds LockstepActivity::now() const { return clock_ ? clock_->now() : last_now_; }
+
+LockstepActivity::~LockstepActivity() {
+  if (clock_ != nullptr) clock_->forget(this);
+}
+
+LockstepClock::~LockstepClock() {
+  for (const Entry& e : entries_) {
+    e.activity->last_now_ = now_;
+    e.activity->clock_ = nullptr;
+  }
+}
+
+void LockstepClock::forget(const LockstepActivity* activity) {
+  std::erase_if(entries_, [&](const Entry& e) { return e.activity == activity; });
+}
 
 void LockstepClock::add(Component& component, std::chrono::nanoseconds period) {
   if (period.count() < 0) throw Error("lockstep clock: component '" + component.name() + "' needs a period >= 0");
@@ -32,6 +47,12 @@ void LockstepClock::add(Component& component, std::chrono::nanoseconds period) {
 }
 
 void LockstepClock::remove(Component& component) {
+  for (const Entry& e : entries_) {
+    if (e.component == &component) {
+      e.activity->last_now_ = now_;
+      e.activity->clock_ = nullptr;
+    }
+  }
   std::erase_if(entries_, [&](const Entry& e) { return e.component == &component; });
 }
 

@@ -264,7 +264,7 @@ TEST(Lifecycle, AnExceptionFromEachHookMovesToExceptionAndEmitsAnEvent) {
     }
     const std::vector<Event> events = watch.drain();
     ASSERT_EQ(events.size(), 1U);
-    EXPECT_EQ(events[0].name, "e_exception");
+    EXPECT_EQ(events[0].name, "e_exception@Probe");
     EXPECT_EQ(events[0].source, "Probe");
     // Everything but recover is refused in Exception, and changes nothing.
     EXPECT_CONTAINS(h.configure().message, "cannot configure: it is Exception; recover it first");
@@ -310,8 +310,8 @@ TEST(Lifecycle, ExceptionHookThrowingGivesFatalError) {
   EXPECT_CONTAINS(h.lastError(), "updateHook threw: update exploded");
   const std::vector<Event> events = watch.drain();
   ASSERT_EQ(events.size(), 2U);
-  EXPECT_EQ(events[0].name, "e_exception");
-  EXPECT_EQ(events[1].name, "e_fatal_error");
+  EXPECT_EQ(events[0].name, "e_exception@Probe");
+  EXPECT_EQ(events[1].name, "e_fatal_error@Probe");
   EXPECT_EQ(events[1].source, "Probe");
   // FatalError is final.
   for (const Result& r : {h.recover(), h.configure(), h.start()}) {
@@ -347,7 +347,7 @@ TEST(Lifecycle, CleanupHookThrowingDuringRecoverGivesFatalError) {
   EXPECT_CONTAINS(r.message, "component 'Probe': cleanupHook threw during recover: cleanup exploded");
   const std::vector<Event> events = watch.drain();
   ASSERT_EQ(events.size(), 1U);
-  EXPECT_EQ(events[0].name, "e_fatal_error");
+  EXPECT_EQ(events[0].name, "e_fatal_error@Probe");
 }
 
 TEST(Lifecycle, NonStandardExceptionsAreCaughtToo) {

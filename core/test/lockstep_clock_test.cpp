@@ -276,6 +276,40 @@ TEST(LockstepClock, RemovedComponentsNoLongerStep) {
   EXPECT_EQ(t.times.size(), 3U);
 }
 
+TEST(LockstepClock, ADestroyedOrReassignedComponentLeavesTheClock) {
+  Trace trace;
+  LockstepClock clock;
+  Ticker kept("Kept", trace);
+  clock.add(kept, 1ms);
+  {
+    Ticker gone("Gone", trace);
+    clock.add(gone, 1ms);
+    ASSERT_TRUE(gone.configure() && gone.start());
+    clock.advance(2ms);
+    ASSERT_TRUE(gone.stop());
+  }
+  Ticker moved("Moved", trace);
+  clock.add(moved, 1ms);
+  moved.setActivity(std::make_unique<SlaveActivity>());  // replaces (and destroys) its lockstep activity
+  ASSERT_TRUE(kept.configure() && kept.start());
+  ASSERT_TRUE(moved.configure() && moved.start());
+  clock.advance(3ms);  // would step freed activities if the clock kept them
+  EXPECT_EQ(kept.times.size(), 3U);
+  EXPECT_TRUE(moved.times.empty());
+}
+
+TEST(LockstepClock, ComponentsOutliveTheirClock) {
+  Trace trace;
+  Ticker ticker("T", trace);
+  {
+    LockstepClock clock;
+    clock.add(ticker, 1ms);
+    clock.advance(5ms);
+  }
+  EXPECT_EQ(ticker.now(), 5ms) << "the activity keeps the clock's last time";
+  ticker.setActivity(std::make_unique<SlaveActivity>());
+}
+
 TEST(LockstepClock, ActivityDescribesItsPeriod) {
   Trace trace;
   Ticker p("P", trace);

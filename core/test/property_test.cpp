@@ -152,6 +152,16 @@ TEST(Property, OutOfRangeIsRefusedNamingComponentPropertyValueAndRange) {
   EXPECT_EQ(g.steps.get(), 5);
 }
 
+TEST(Property, CheckTextReportsTheErrorOfSetFromTextWithoutChangingAnything) {
+  Gain g("Amp");
+  PropertyBase& k = g.property("k");
+  EXPECT_NO_THROW(k.checkText("3"));
+  EXPECT_EQ(messageOf([&] { k.checkText("12"); }), messageOf([&] { k.setFromText("12"); }));
+  EXPECT_CONTAINS(messageOf([&] { k.checkText("fast"); }), "cannot set it from \"fast\"; expected a number");
+  EXPECT_CONTAINS(messageOf([&] { g.property("status").checkText("1"); }), "is read-only");
+  EXPECT_EQ(g.k.get(), 2.0);
+}
+
 TEST(Property, RangeBoundsAreInclusive) {
   Gain g;
   g.k.set(-10.0);

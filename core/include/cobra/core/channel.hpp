@@ -50,7 +50,7 @@ class Channel final : public ChannelBase {
         capacity_(policy.size),
         overwrite_(policy.kind != ConnPolicy::Kind::Buffer),
         free_capacity_(policy.size + 3),
-        slots_(policy.size + 3, sample),
+        slots_(policy.size + 3, Slot{sample}),
         queue_(new std::atomic<std::uint32_t>[capacity_]),
         free_(new std::atomic<std::uint32_t>[free_capacity_]) {
     for (std::size_t i = 0; i < capacity_; ++i) queue_[i].store(0, std::memory_order_relaxed);
@@ -67,7 +67,7 @@ class Channel final : public ChannelBase {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
     if (!overwrite_ && tail - head_.load(std::memory_order_acquire) >= capacity_) return WriteStatus::Dropped;
     const std::uint32_t slot = writer_spare_;
-    slots_[slot] = value;
+    slots_[slot].value = value;
     std::uint64_t head = head_.load(std::memory_order_acquire);
     if (tail - head >= capacity_) {
       // Circular and full: take the oldest sample away from the reader and reuse its slot.
@@ -93,14 +93,14 @@ class Channel final : public ChannelBase {
       const std::uint64_t tail = tail_.load(std::memory_order_acquire);
       if (head == tail) {
         if (reader_last_ == kNone) return FlowStatus::NoData;
-        if (copy_old) out = slots_[reader_last_];
+        if (copy_old) out = slots_[reader_last_].value;
         return FlowStatus::OldData;
       }
       const std::uint32_t slot = queue_[head % capacity_].load(std::memory_order_relaxed);
       if (head_.compare_exchange_weak(head, head + 1, std::memory_order_acq_rel, std::memory_order_relaxed)) {
         if (reader_last_ != kNone) giveFree(reader_last_);
         reader_last_ = slot;
-        out = slots_[slot];
+        out = slots_[slot].value;
         return FlowStatus::NewData;
       }
     }
@@ -137,16 +137,22 @@ class Channel final : public ChannelBase {
     free_tail_.store(tail + 1, std::memory_order_release);
   }
 
+  // Each slot on its own cache line(s), so the writer filling one never invalidates the line
+  // the reader is copying from.
+  struct alignas(64) Slot {
+    T value;
+  };
+
   const std::size_t capacity_;
   const bool overwrite_;
   const std::size_t free_capacity_;
-  std::vector<T> slots_;
+  std::vector<Slot> slots_;
   std::unique_ptr<std::atomic<std::uint32_t>[]> queue_;
   std::unique_ptr<std::atomic<std::uint32_t>[]> free_;
   alignas(64) std::atomic<std::uint64_t> head_{0};
   alignas(64) std::atomic<std::uint64_t> tail_{0};
-  alignas(64) std::atomic<std::uint64_t> free_head_{0};
-  std::atomic<std::uint64_t> free_tail_{0};
+  alignas(64) std::atomic<std::uint64_t> free_head_{0};  // written by the writer
+  alignas(64) std::atomic<std::uint64_t> free_tail_{0};  // written by the reader
   alignas(64) std::uint32_t writer_spare_ = 0;  // writer thread only
   alignas(64) std::uint32_t reader_last_ = kNone;  // reader thread only
 };

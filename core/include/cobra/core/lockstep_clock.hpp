@@ -17,6 +17,8 @@ class LockstepClock;
 class LockstepActivity final : public Activity {
  public:
   LockstepActivity(LockstepClock& clock, std::chrono::nanoseconds period) : clock_(&clock), period_(period) {}
+  /// Leaves its clock, so a replaced or destroyed activity is never stepped.
+  ~LockstepActivity() override;
   std::string describe() const override;
   std::chrono::nanoseconds period() const override { return period_; }
   std::chrono::nanoseconds now() const override;
@@ -24,7 +26,8 @@ class LockstepActivity final : public Activity {
 
  private:
   friend class LockstepClock;
-  LockstepClock* clock_;
+  LockstepClock* clock_;  // nullptr once the clock is gone; now() then keeps its last time
+  std::chrono::nanoseconds last_now_{0};
   std::chrono::nanoseconds period_;
   std::chrono::nanoseconds next_due_{0};
   bool triggered_ = false;
@@ -39,12 +42,16 @@ class LockstepActivity final : public Activity {
 class LockstepClock {
  public:
   LockstepClock() = default;
+  /// Detaches its activities: their components keep them (stepped by nobody) until replaced.
+  ~LockstepClock();
   LockstepClock(const LockstepClock&) = delete;
   LockstepClock& operator=(const LockstepClock&) = delete;
 
-  /// Gives `component` a LockstepActivity on this clock. The component must outlive the clock
-  /// or be removed first. @throws Error when the component is Running or already added.
+  /// Gives `component` a LockstepActivity on this clock. Destroying the component, or giving it
+  /// another activity, takes it off the clock. @throws Error when the component is Running or
+  /// already added.
   void add(Component& component, std::chrono::nanoseconds period);
+  /// Takes `component` off the clock (it keeps its activity, stepped by nobody).
   void remove(Component& component);
 
   /// Simulated time, in ns since the clock was made.
@@ -57,8 +64,10 @@ class LockstepClock {
   static constexpr int kMaxTriggerRounds = 100;
 
  private:
+  friend class LockstepActivity;
   void runInstant(std::chrono::nanoseconds t);
   void runTriggered(std::chrono::nanoseconds t);
+  void forget(const LockstepActivity* activity);
 
   struct Entry {
     Component* component;

@@ -40,6 +40,9 @@ class PropertyBase {
   /// Parses `text` and sets the value (see `Property::set`).
   /// @throws Error naming the component, the property, what was given and what was expected.
   virtual void setFromText(std::string_view text) = 0;
+  /// Throws exactly the error `setFromText(text)` would, without changing anything: lets a
+  /// deployer check a whole configuration before applying any of it.
+  virtual void checkText(std::string_view text) const = 0;
 
   /// "component 'Gain': property 'k'", the start of every error message about this property.
   std::string where() const;
@@ -103,11 +106,16 @@ class Property final : public PropertyBase {
   /// Sets the value after checking read-only and range.
   /// @throws Error naming the component and property; the value is then left unchanged.
   void set(T value) {
+    check(value);
+    applyChange([&] { std::swap(value_, value); });
+  }
+
+  /// Throws the error `set(value)` would, without changing anything.
+  void check(const T& value) const {
     if (read_only_) throwReadOnly();
     if (!inRange(value))
       throw Error(where() + " = " + printValue(value) + " is out of range " + rangeText() +
                   (unit().empty() ? "" : " (" + unit() + ")"));
-    applyChange([&] { std::swap(value_, value); });
   }
 
   /// The owner's own write (e.g. a read-only status value); not range-checked. Call only from
@@ -121,15 +129,18 @@ class Property final : public PropertyBase {
     }
     return "";
   }
-  void setFromText(std::string_view text) override {
+  void setFromText(std::string_view text) override { set(parseText(text)); }
+  void checkText(std::string_view text) const override { check(parseText(text)); }
+
+ private:
+  T parseText(std::string_view text) const {
     T parsed{};
     if (!DataTypeTraits<T>::parse(text, parsed))
       throw Error(where() + " is a " + std::string(type().name) + ": cannot set it from \"" + std::string(text) +
                   "\"; expected " + std::string(type().format));
-    set(std::move(parsed));
+    return parsed;
   }
 
- private:
   bool inRange(const T& value) const {
     if constexpr (std::is_arithmetic_v<T>) {
       if (min_ && !(value >= *min_ && value <= *max_)) return false;  // NaN is outside too
