@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <kdl/frames.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -353,6 +355,28 @@ TEST(Port, ConnectingToARunningEventActivityComponentWorks) {
   EXPECT_TRUE(disconnectPorts(a.out, b.in));
   EXPECT_EQ(a.out.write(8.0), WriteStatus::NotConnected);
   ASSERT_TRUE(b.stop());
+}
+
+TEST(Port, TypeErasedReaderAndTextWrite) {
+  OutputPort<KDL::Vector> out{"out", "a point", "m"};
+  OutputPortBase& erased = out;
+  std::unique_ptr<InputPortBase> reader = erased.makeReader("probe", "console probe");
+  EXPECT_EQ(reader->type().name, "KDL.Vector");
+  EXPECT_EQ(reader->unit(), "m");
+  erased.connectTo(*reader, ConnPolicy::buffer(4));
+  std::string text = "unchanged";
+  EXPECT_EQ(reader->readText(text), FlowStatus::NoData);
+  EXPECT_EQ(text, "");
+  EXPECT_EQ(erased.writeText("[1, 2.5, -3]"), WriteStatus::Written);
+  EXPECT_EQ(reader->readText(text), FlowStatus::NewData);
+  EXPECT_EQ(text, "[1, 2.5, -3]");
+  EXPECT_EQ(reader->readText(text), FlowStatus::OldData);
+  try {
+    erased.writeText("[1, 2]");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "port out is a KDL.Vector: cannot write \"[1, 2]\"; expected [x, y, z] in m");
+  }
 }
 
 }  // namespace

@@ -82,7 +82,16 @@ void linkChannel(const std::shared_ptr<ChannelBase>& channel);
 /// Removes `channel` from both its ports, writer side first.
 void unlinkChannel(const std::shared_ptr<ChannelBase>& channel);
 
-/// Output side of a typed port; type-erased connection entry point for the deployer.
+/// Input side of a typed port, type-erased: what the console, reporter and scripts read.
+class InputPortBase : public PortBase {
+ public:
+  using PortBase::PortBase;
+  /// Reads like `InputPort<T>::read` and gives the value in its type's text form (empty on
+  /// NoData). Not real-time safe (formats text).
+  virtual FlowStatus readText(std::string& text) = 0;
+};
+
+/// Output side of a typed port; type-erased entry point for the deployer, console and tools.
 class OutputPortBase : public PortBase {
  public:
   using PortBase::PortBase;
@@ -90,6 +99,12 @@ class OutputPortBase : public PortBase {
   /// @throws Error naming both ports when `input` is not an input port, the types differ, they
   /// are already connected, or a port has too many connections.
   virtual void connectTo(PortBase& input, ConnPolicy policy) = 0;
+  /// A new input port of this port's type (not owned by any component), e.g. for a reporter or
+  /// a console that wants to read this output. Connect it with `connectTo`.
+  virtual std::unique_ptr<InputPortBase> makeReader(std::string name, std::string doc) const = 0;
+  /// Parses `text` with the type's text form and writes it. Not real-time safe.
+  /// @throws Error naming the port, the text and the expected form.
+  virtual WriteStatus writeText(std::string_view text) = 0;
 };
 
 /// Connects `output` to `input` (any order of checks is reported as one clear message).
@@ -158,6 +173,14 @@ class OutputPort final : public OutputPortBase {
   }
 
   void connectTo(PortBase& input, ConnPolicy policy) override;
+  std::unique_ptr<InputPortBase> makeReader(std::string name, std::string doc) const override;
+  WriteStatus writeText(std::string_view text) override {
+    T value = sample_;
+    if (!DataTypeTraits<T>::parse(text, value))
+      throw Error("port " + fullName() + " is a " + std::string(type().name) + ": cannot write \"" + std::string(text) +
+                  "\"; expected " + std::string(type().format));
+    return write(value);
+  }
 
  protected:
   void attachChannel(ChannelBase& channel) override {
@@ -172,11 +195,11 @@ class OutputPort final : public OutputPortBase {
 
 /// Reads samples of T from its connections. `read` is real-time safe.
 template <RegisteredDataType T>
-class InputPort final : public PortBase {
+class InputPort final : public InputPortBase {
  public:
   /// @param unit SI unit of the data, documented on every port ("1" when dimensionless).
   InputPort(std::string name, std::string doc, std::string unit)
-      : PortBase(std::move(name), std::move(doc), std::move(unit), PortDirection::Input, typeInfo<T>()) {}
+      : InputPortBase(std::move(name), std::move(doc), std::move(unit), PortDirection::Input, typeInfo<T>()) {}
   ~InputPort() override { disconnect(); }
 
   /// Copies the next unread sample into `out` (NewData). Otherwise copies the last sample read
@@ -190,6 +213,13 @@ class InputPort final : public PortBase {
       }
     }
     return last_ == nullptr ? FlowStatus::NoData : last_->pop(out, true);
+  }
+
+  FlowStatus readText(std::string& text) override {
+    T value{};
+    const FlowStatus status = read(value);
+    text = status == FlowStatus::NoData ? std::string() : DataTypeTraits<T>::print(value);
+    return status;
   }
 
  protected:
@@ -220,6 +250,11 @@ void OutputPort<T>::connectTo(PortBase& input, ConnPolicy policy) {
                          "the types differ (" + std::string(type().name) + " vs " +
                              std::string(input.type().name) + "); connect ports of the same type");
   linkChannel(std::make_shared<Channel<T>>(policy, *this, *typed, sample_));
+}
+
+template <RegisteredDataType T>
+std::unique_ptr<InputPortBase> OutputPort<T>::makeReader(std::string name, std::string doc) const {
+  return std::make_unique<InputPort<T>>(std::move(name), std::move(doc), unit());
 }
 
 /// Typed convenience: `connect(gen.out, gain.in, ConnPolicy::buffer(8))`.
