@@ -1,0 +1,184 @@
+#pragma once
+/// @file
+/// The Configurator (thesis §3.2.2): deploys components from tables — packages, instances,
+/// activities, connections, peers, lifecycle — and switches between named deployments and
+/// configurations at run time.
+///
+/// Every call is all-or-nothing: it checks its whole list first, then applies it, and when an
+/// entry still fails while applying, everything that call did is undone (components it created
+/// are destroyed, connections it made are removed, components it configured are cleaned up,
+/// components it started are stopped) before the error is thrown. The error starts with the
+/// file:line of the failing entry and names the component, port or property and what to do.
+/// Nothing half-deployed keeps running.
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cobra/core/introspection.hpp"
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/deploy/deployment_set.hpp"
+#include "cobra/deploy/lint.hpp"
+#include "cobra/deploy/package_registry.hpp"
+#include "cobra/deploy/spec.hpp"
+
+namespace cobra::deploy {
+
+/// How activities run.
+enum class ClockMode {
+  /// Every component is stepped by one LockstepClock owned by the Configurator, with the period
+  /// of its activity (0: when triggered); priority and scheduler are checked but not used.
+  /// Time advances only through `clock().advance(...)`, so runs are deterministic.
+  Simulation,
+  /// Every component gets its own thread: PeriodicActivity for a period > 0, EventActivity for 0.
+  RealTime,
+};
+
+struct ConfiguratorOptions {
+  ClockMode mode = ClockMode::Simulation;
+  /// true: connections that break the role rules (lint.hpp) are refused; false: they are made
+  /// and the violations are returned (and kept in `warnings()`).
+  bool strict_roles = false;
+  /// Directories searched for shared-library packages, before COBRA_PACKAGE_PATH.
+  std::vector<std::filesystem::path> package_path;
+};
+
+/// Owns the packages, the components, the lockstep clock (in simulation) and the peer table of
+/// one deployment. Used from one thread (the deployer's or a supervisor's); on the lockstep
+/// clock, call it between two `clock().advance(...)`, which is when its changes take effect.
+class Configurator {
+ public:
+  explicit Configurator(ConfiguratorOptions options = {});
+  /// Stops every running component (last started first), then destroys them.
+  ~Configurator();
+  Configurator(const Configurator&) = delete;
+  Configurator& operator=(const Configurator&) = delete;
+
+  /// Loads the packages, creates the component instances, and reads every configuration file
+  /// (`*.cfg`, see loadConfigurationFile) of `configuration_folder_path` (none when empty),
+  /// checking each value against the new components. May be called again to add more.
+  /// @throws core::Error "file:line: ..." for an unknown package or type (closest names given),
+  ///         a duplicate instance name, or a bad configuration; then no component was added.
+  void initConfigurator(const std::vector<NameEntry>& packages_list, const std::vector<ComponentSpec>& components_list,
+                        const std::filesystem::path& configuration_folder_path = {});
+
+  /// Configures the listed components in order (PreOperational or Stopped -> Stopped).
+  /// @throws core::Error naming the failing entry; components this call configured are cleaned up.
+  void configureComponents(const std::vector<NameEntry>& configuration_list);
+  /// Starts the listed components in order. A component without an activity from
+  /// `setActivities` gets an event-driven one (period 0), as RTT gives a non-periodic default.
+  /// @throws core::Error naming the failing entry; components this call started are stopped.
+  void startComponents(const std::vector<NameEntry>& start_list);
+  /// Stops the listed components in order (Running -> Stopped). Not in the thesis' list; the
+  /// deployment switch and scripts need it.
+  void stopComponents(const std::vector<NameEntry>& stop_list);
+  /// Cleans up the listed components in order (Stopped -> PreOperational).
+  void cleanupComponents(const std::vector<NameEntry>& cleanup_list);
+
+  /// Adds peers: a component knows its peers by name (a supervisor calls their operations).
+  /// @throws core::Error naming the entry when a component or peer does not exist.
+  void addPeers(const std::vector<PeerSpec>& peers_list);
+  /// The peers of `component`, in the order added (empty when it has none).
+  const std::vector<std::string>& peersOf(const std::string& component) const;
+
+  /// Sets each listed component's activity (see ClockMode). Periods are in s; 0 is event-driven.
+  /// Priority 0 with a real-time scheduler is raised to 1 (with a warning), as RTT does.
+  /// @throws core::Error naming the entry for an unknown component, a Running component (stop
+  ///         it first), a negative period, an unknown scheduler or a priority above 99.
+  void setActivities(const std::vector<ActivitySpec>& activities_list);
+
+  /// Connects each `output` port to its `input` port with its policy, after checking all of
+  /// them: ports exist, output -> input direction, same type, not already connected, and the
+  /// role rules (lint.hpp).
+  /// @return the role violations (made anyway unless `strict_roles`).
+  /// @throws core::Error "file:line: cannot connect ...", or the violations when strict.
+  std::vector<LintViolation> connectPorts(const std::vector<ConnectionSpec>& connections_list);
+
+  /// The components, by name: what the script layer turns into references (`TrajGen.max_vel`).
+  core::ComponentRegistry& getReferences() { return components_; }
+  const core::ComponentRegistry& getReferences() const { return components_; }
+
+  /// Named deployments and configurations; `initConfigurator` adds the configuration files.
+  DeploymentSet& deploymentSet() { return set_; }
+  const DeploymentSet& deploymentSet() const { return set_; }
+
+  /// Switches to deployment `name`: components of the previous deployment that `name` does not
+  /// run are stopped, its connections that `name` does not have are removed, activities are
+  /// set (a Running component whose activity changes is stopped and restarted), the new
+  /// connections are made, and the components of `name` are configured if needed and started,
+  /// in their listed order. Everything is checked before anything changes; if applying still
+  /// fails, the previous deployment is restored. Components and connections that no deployment
+  /// made (from startComponents / connectPorts) are left alone unless `name` lists them.
+  /// @return the role violations of `name`'s connections (refused instead when strict).
+  /// @throws core::Error naming the deployment, the failing entry's file:line and what failed.
+  std::vector<LintViolation> applyDeployment(const std::string& name);
+
+  /// Sets every property value of configuration `name`. Every value is checked first (component,
+  /// property, type, range, read-only); when any is wrong, none is set and the error lists every
+  /// wrong value with its file:line. A running component takes its values between two updates.
+  void applyConfiguration(const std::string& name);
+
+  /// The deployment / configuration last applied, or "".
+  const std::string& currentDeployment() const { return current_deployment_; }
+  const std::string& currentConfiguration() const { return current_configuration_; }
+
+  /// The simulation clock. @throws core::Error in ClockMode::RealTime.
+  core::LockstepClock& clock();
+  ClockMode mode() const { return options_.mode; }
+  PackageRegistry& packages() { return packages_; }
+  /// Non-fatal findings so far (role violations, adjusted priorities), oldest first.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  /// A connection this configurator made, by port path (components may be replaced by name).
+  struct Connection {
+    std::string output;
+    std::string input;
+    core::ConnPolicy policy;
+    SourceLocation where;
+    bool from_deployment = false;  ///< made by applyDeployment (removed when switching away)
+  };
+  /// The checked form of one connection entry.
+  struct ResolvedConnection {
+    core::PortBase* output;
+    core::PortBase* input;
+    core::ConnPolicy policy;
+    const ConnectionSpec* spec;
+  };
+
+  core::Component& component(const std::string& name, const SourceLocation& where) const;
+  core::PortBase& port(const std::string& path, const SourceLocation& where) const;
+  ResolvedConnection resolve(const ConnectionSpec& spec) const;
+  /// Throws what a connection of `c` would fail with (direction, type, duplicate, capacity).
+  void checkConnection(const ResolvedConnection& c) const;
+  /// Checks `spec` and returns it with the priority adjusted; `running_ok` allows a Running
+  /// component (the deployment switch restarts it).
+  ActivitySpec checkActivity(const ActivitySpec& spec, bool running_ok) const;
+  /// Gives the component the activity of `spec` (it must not be Running).
+  void applyActivity(core::Component& component, const ActivitySpec& spec);
+  /// The default (event-driven) activity for a component started without one.
+  ActivitySpec defaultActivity(const std::string& name, const SourceLocation& where) const;
+  /// The role violations of `connections`; throws them in strict mode, else records warnings.
+  std::vector<LintViolation> checkRoles(const std::vector<ConnectionSpec>& connections);
+  void checkConfiguration(const ConfigurationSpec& configuration) const;
+  void stopAll() noexcept;
+
+  ConfiguratorOptions options_;
+  PackageRegistry packages_;
+  // Declared before the components so that it outlives them (their activities point to it).
+  std::unique_ptr<core::LockstepClock> clock_;
+  core::ComponentRegistry components_;
+  DeploymentSet set_;
+  std::map<std::string, std::vector<std::string>, std::less<>> peers_;
+  std::map<std::string, ActivitySpec, std::less<>> activities_;
+  std::vector<Connection> connections_;
+  std::vector<std::string> started_;  // start order, for stopping in reverse
+  std::string current_deployment_;
+  std::string current_configuration_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace cobra::deploy

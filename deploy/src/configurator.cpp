@@ -1,0 +1,285 @@
+#include "cobra/deploy/configurator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "suggest.hpp"
+#include "undo_journal.hpp"
+
+namespace cobra::deploy {
+namespace {
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+std::vector<std::string> namesOf(const core::ComponentRegistry& registry) {
+  std::vector<std::string> out;
+  for (const core::Component* c : registry.components()) out.push_back(c->name());
+  return out;
+}
+
+/// Brings a component whose hook just threw back to PreOperational, so nothing is left in
+/// Exception; returns a note for the error message.
+std::string recoverAfterFailure(core::Component& c) {
+  if (c.state() != core::State::Exception) return "";
+  if (c.recover()) return " (" + c.name() + " was recovered to PreOperational)";
+  return " (" + c.name() + " could not be recovered: " + c.lastError() + ")";
+}
+
+}  // namespace
+
+Configurator::Configurator(ConfiguratorOptions options)
+    : options_(std::move(options)),
+      packages_(options_.package_path),
+      clock_(options_.mode == ClockMode::Simulation ? std::make_unique<core::LockstepClock>() : nullptr) {}
+
+Configurator::~Configurator() { stopAll(); }
+
+void Configurator::stopAll() noexcept {
+  for (auto it = started_.rbegin(); it != started_.rend(); ++it)
+    if (core::Component* c = components_.find(*it); c != nullptr && c->isRunning()) (void)c->stop();
+  for (core::Component* c : components_.components())
+    if (c->isRunning()) (void)c->stop();
+}
+
+core::LockstepClock& Configurator::clock() {
+  if (!clock_) throw core::Error("this Configurator runs real-time activities; only ClockMode::Simulation has a clock");
+  return *clock_;
+}
+
+core::Component& Configurator::component(const std::string& name, const SourceLocation& where) const {
+  if (core::Component* c = components_.find(name)) return *c;
+  throw core::Error(where.text() + ": no component named " + quoted(name) +
+                    detail::suggestionText(name, namesOf(components_), "components") +
+                    " (components are created from components_list by initConfigurator)");
+}
+
+core::PortBase& Configurator::port(const std::string& path, const SourceLocation& where) const {
+  const PortPath parts = parsePortPath(path, where);
+  core::Component& owner = component(parts.component, where);
+  if (core::PortBase* p = owner.findPort(parts.port)) return *p;
+  std::vector<std::string> names;
+  for (const core::PortBase* p : owner.ports()) names.push_back(p->name());
+  throw core::Error(where.text() + ": component " + quoted(owner.name()) + " has no port " + quoted(parts.port) +
+                    detail::suggestionText(parts.port, names, "ports of " + owner.name()));
+}
+
+void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
+                                    const std::vector<ComponentSpec>& components_list,
+                                    const std::filesystem::path& configuration_folder_path) {
+  // Packages first: loading one cannot be undone, but it only makes types available.
+  for (const NameEntry& package : packages_list) packages_.load(package.name, package.where);
+
+  detail::UndoJournal journal;
+  std::map<std::string, SourceLocation, std::less<>> seen;
+  for (const ComponentSpec& spec : components_list) {
+    if (spec.peer_name.empty()) throw core::Error(spec.where.text() + ": a component entry needs a peer_name");
+    if (const auto it = seen.find(spec.peer_name); it != seen.end())
+      throw core::Error(spec.where.text() + ": duplicate instance name " + quoted(spec.peer_name) +
+                        ": it is already created at " + it->second.text() + "; give each instance its own peer_name");
+    if (components_.find(spec.peer_name) != nullptr)
+      throw core::Error(spec.where.text() + ": duplicate instance name " + quoted(spec.peer_name) +
+                        ": a component of that name already exists; give each instance its own peer_name");
+    seen.emplace(spec.peer_name, spec.where);
+    (void)packages_.type(spec.component_type, spec.where);  // unknown types fail before anything is created
+  }
+  try {
+    for (const ComponentSpec& spec : components_list) {
+      components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
+      journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name] { components_.remove(name); });
+    }
+    if (!configuration_folder_path.empty()) {
+      std::vector<ConfigurationSpec> loaded = loadConfigurationFolder(configuration_folder_path);
+      std::set<std::string> names;
+      for (const ConfigurationSpec& configuration : loaded) {
+        if (set_.findConfiguration(configuration.name) != nullptr || !names.insert(configuration.name).second)
+          throw core::Error(configuration.where.text() + ": a configuration named " + quoted(configuration.name) +
+                            " already exists");
+        checkConfiguration(configuration);
+      }
+      for (ConfigurationSpec& configuration : loaded) set_.addConfiguration(std::move(configuration));
+    }
+  } catch (const std::exception& e) {
+    journal.fail(e.what());
+  }
+}
+
+void Configurator::configureComponents(const std::vector<NameEntry>& configuration_list) {
+  for (const NameEntry& entry : configuration_list) (void)component(entry.name, entry.where);
+  detail::UndoJournal journal;
+  for (const NameEntry& entry : configuration_list) {
+    core::Component& c = component(entry.name, entry.where);
+    const bool was_preoperational = c.state() == core::State::PreOperational;
+    if (const core::Result result = c.configure(); !result) {
+      const std::string note = recoverAfterFailure(c);
+      journal.fail(entry.where.text() + ": cannot configure " + quoted(c.name()) + ": " + result.message + note);
+    }
+    if (was_preoperational)
+      journal.record("the configuration of " + quoted(c.name()), [&c] {
+        if (const core::Result r = c.cleanup(); !r) throw core::Error(r.message);
+      });
+  }
+}
+
+void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
+  for (const NameEntry& entry : start_list) (void)component(entry.name, entry.where);
+  detail::UndoJournal journal;
+  for (const NameEntry& entry : start_list) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.isRunning()) continue;  // starting twice is harmless, as in RTT's deployer scripts
+    try {
+      if (activities_.count(c.name()) == 0 && c.state() == core::State::Stopped) {
+        applyActivity(c, defaultActivity(c.name(), entry.where));
+        journal.record("the default activity of " + quoted(c.name()), [this, &c] {
+          activities_.erase(c.name());
+          c.setActivity(std::make_unique<core::SlaveActivity>());
+        });
+      }
+    } catch (const std::exception& e) {
+      journal.fail(entry.where.text() + ": " + e.what());
+    }
+    if (const core::Result result = c.start(); !result) {
+      std::string note = recoverAfterFailure(c);
+      // It was Stopped before this call: configure it again so that undoing leaves it so.
+      if (c.state() == core::State::PreOperational && !note.empty())
+        note += c.configure() ? " and configured again" : " but could not be configured again";
+      journal.fail(entry.where.text() + ": cannot start " + quoted(c.name()) + ": " + result.message + note);
+    }
+    started_.push_back(c.name());
+    journal.record("the start of " + quoted(c.name()), [this, &c] {
+      std::erase(started_, c.name());
+      if (const core::Result r = c.stop(); !r) throw core::Error(r.message);
+    });
+  }
+}
+
+void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
+  for (const NameEntry& entry : stop_list) (void)component(entry.name, entry.where);
+  detail::UndoJournal journal;
+  for (const NameEntry& entry : stop_list) {
+    core::Component& c = component(entry.name, entry.where);
+    if (!c.isRunning()) continue;
+    if (const core::Result result = c.stop(); !result)
+      journal.fail(entry.where.text() + ": cannot stop " + quoted(c.name()) + ": " + result.message +
+                   recoverAfterFailure(c));
+    std::erase(started_, c.name());
+    journal.record("the stop of " + quoted(c.name()), [this, &c] {
+      if (const core::Result r = c.start(); !r) throw core::Error(r.message);
+      started_.push_back(c.name());
+    });
+  }
+}
+
+void Configurator::cleanupComponents(const std::vector<NameEntry>& cleanup_list) {
+  for (const NameEntry& entry : cleanup_list) (void)component(entry.name, entry.where);
+  detail::UndoJournal journal;
+  for (const NameEntry& entry : cleanup_list) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.state() == core::State::PreOperational) continue;
+    if (const core::Result result = c.cleanup(); !result)
+      journal.fail(entry.where.text() + ": cannot clean up " + quoted(c.name()) + ": " + result.message +
+                   recoverAfterFailure(c));
+    journal.record("the cleanup of " + quoted(c.name()), [&c] {
+      if (const core::Result r = c.configure(); !r) throw core::Error(r.message);
+    });
+  }
+}
+
+void Configurator::addPeers(const std::vector<PeerSpec>& peers_list) {
+  auto updated = peers_;  // applied all at once below, so a bad entry changes nothing
+  for (const PeerSpec& spec : peers_list) {
+    (void)component(spec.peer_name, spec.where);
+    auto& peers = updated[spec.peer_name];
+    for (const std::string& peer : spec.peers_to_add) {
+      (void)component(peer, spec.where);
+      if (peer == spec.peer_name)
+        throw core::Error(spec.where.text() + ": " + quoted(peer) + " cannot be a peer of itself");
+      if (std::find(peers.begin(), peers.end(), peer) == peers.end()) peers.push_back(peer);
+    }
+  }
+  peers_ = std::move(updated);
+}
+
+const std::vector<std::string>& Configurator::peersOf(const std::string& name) const {
+  static const std::vector<std::string> none;
+  const auto it = peers_.find(name);
+  return it == peers_.end() ? none : it->second;
+}
+
+ActivitySpec Configurator::defaultActivity(const std::string& name, const SourceLocation& where) const {
+  return ActivitySpec{name, 0.0, 0, "ORO_SCHED_OTHER", where};
+}
+
+ActivitySpec Configurator::checkActivity(const ActivitySpec& spec, bool running_ok) const {
+  core::Component& c = component(spec.peer_name, spec.where);
+  const std::string head = spec.where.text() + ": activity of " + quoted(c.name()) + ": ";
+  if (!running_ok && c.isRunning()) throw core::Error(head + "it is Running; stop it before changing its activity");
+  if (c.state() == core::State::Exception || c.state() == core::State::FatalError)
+    throw core::Error(head + "it is " + std::string(core::toString(c.state())) + " (" + c.lastError() +
+                      "); recover it first");
+  if (!std::isfinite(spec.period) || spec.period < 0.0)
+    throw core::Error(head + "period must be a number of seconds >= 0 (0 = event-driven), got " +
+                      std::to_string(spec.period));
+  if (spec.period > 0.0 && spec.period < 1e-9)
+    throw core::Error(head + "period " + std::to_string(spec.period) + " s is below 1 ns");
+  if (spec.period > 1e9) throw core::Error(head + "period " + std::to_string(spec.period) + " s is too long");
+  ActivitySpec checked = spec;
+  if (toScheduler(spec.scheduler, spec.where) == core::Scheduler::Fifo) {
+    if (spec.priority > 99 || spec.priority < 0)
+      throw core::Error(head + "priority " + std::to_string(spec.priority) + " is outside 1..99 for " + spec.scheduler);
+    if (spec.priority == 0) checked.priority = 1;
+  }
+  return checked;
+}
+
+void Configurator::applyActivity(core::Component& c, const ActivitySpec& spec) {
+  const auto period = std::chrono::nanoseconds(std::llround(spec.period * 1e9));
+  if (clock_) {
+    clock_->remove(c);
+    clock_->add(c, period);
+  } else {
+    const core::Scheduler scheduler = toScheduler(spec.scheduler, spec.where);
+    if (period.count() > 0) c.setActivity(std::make_unique<core::PeriodicActivity>(period, spec.priority, scheduler));
+    else c.setActivity(std::make_unique<core::EventActivity>(spec.priority, scheduler));
+  }
+  activities_[c.name()] = spec;
+}
+
+void Configurator::setActivities(const std::vector<ActivitySpec>& activities_list) {
+  std::vector<ActivitySpec> checked;
+  std::map<std::string, SourceLocation, std::less<>> seen;
+  for (const ActivitySpec& spec : activities_list) {
+    if (const auto it = seen.find(spec.peer_name); it != seen.end())
+      throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " already has an activity in this list (" +
+                        it->second.text() + "); give each component one");
+    seen.emplace(spec.peer_name, spec.where);
+    checked.push_back(checkActivity(spec, false));
+  }
+  detail::UndoJournal journal;
+  for (std::size_t i = 0; i < checked.size(); ++i) {
+    const ActivitySpec& spec = checked[i];
+    if (spec.priority != activities_list[i].priority)
+      warnings_.push_back(spec.where.text() + ": activity of '" + spec.peer_name + "': priority " +
+                          std::to_string(activities_list[i].priority) + " is not a real-time priority; using " +
+                          std::to_string(spec.priority));
+    core::Component& c = component(spec.peer_name, spec.where);
+    const auto previous = activities_.find(spec.peer_name);
+    std::optional<ActivitySpec> before;
+    if (previous != activities_.end()) before = previous->second;
+    try {
+      applyActivity(c, spec);
+    } catch (const std::exception& e) {
+      journal.fail(spec.where.text() + ": cannot set the activity of " + quoted(c.name()) + ": " + e.what());
+    }
+    journal.record("the activity of " + quoted(c.name()), [this, &c, before] {
+      if (before) {
+        applyActivity(c, *before);
+      } else {
+        activities_.erase(c.name());
+        c.setActivity(std::make_unique<core::SlaveActivity>());
+      }
+    });
+  }
+}
+
+}  // namespace cobra::deploy

@@ -1,0 +1,76 @@
+#include <set>
+
+#include "cobra/deploy/configurator.hpp"
+#include "undo_journal.hpp"
+
+namespace cobra::deploy {
+
+Configurator::ResolvedConnection Configurator::resolve(const ConnectionSpec& spec) const {
+  core::PortBase& output = port(spec.output, spec.where);
+  core::PortBase& input = port(spec.input, spec.where);
+  return {&output, &input, toConnPolicy(spec.conn_policy, spec.where), &spec};
+}
+
+void Configurator::checkConnection(const ResolvedConnection& c) const {
+  const std::string head = c.spec->where.text() + ": ";
+  try {
+    // The checks core::connectPorts makes, without connecting: direction, duplicate, capacity...
+    core::checkConnectable(*c.output, *c.input);
+    // ...and the type, which core checks with the port's static type when it connects.
+    if (c.output->type().id != c.input->type().id)
+      core::throwConnectionError(*c.output, *c.input,
+                                 "the types differ (" + std::string(c.output->type().name) + " vs " +
+                                     std::string(c.input->type().name) + "); connect ports of the same type");
+  } catch (const core::Error& e) {
+    throw core::Error(head + e.what());
+  }
+}
+
+std::vector<LintViolation> Configurator::checkRoles(const std::vector<ConnectionSpec>& connections) {
+  std::vector<LintViolation> violations = lint(connections, components_);
+  if (violations.empty()) return violations;
+  if (options_.strict_roles)
+    throw core::Error(std::to_string(violations.size()) + " role rule violation" +
+                      (violations.size() == 1 ? "" : "s") + " (strict mode refuses them):\n" + toText(violations));
+  for (const LintViolation& v : violations) warnings_.push_back("role rule: " + v.message);
+  return violations;
+}
+
+std::vector<LintViolation> Configurator::connectPorts(const std::vector<ConnectionSpec>& connections_list) {
+  std::vector<ResolvedConnection> resolved;
+  resolved.reserve(connections_list.size());
+  std::set<std::pair<const core::PortBase*, const core::PortBase*>> in_list;
+  for (const ConnectionSpec& spec : connections_list) {
+    ResolvedConnection c = resolve(spec);
+    checkConnection(c);
+    if (!in_list.emplace(c.output, c.input).second)
+      throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input +
+                        " appears twice in this list; connect two ports once");
+    resolved.push_back(c);
+  }
+  std::vector<LintViolation> violations;
+  try {
+    violations = checkRoles(connections_list);
+  } catch (const std::exception& e) {
+    throw core::Error(std::string("connectPorts: nothing was connected: ") + e.what());
+  }
+
+  detail::UndoJournal journal;
+  for (const ResolvedConnection& c : resolved) {
+    try {
+      core::connectPorts(*c.output, *c.input, c.policy);
+    } catch (const std::exception& e) {
+      journal.fail(c.spec->where.text() + ": " + e.what());
+    }
+    connections_.push_back({c.spec->output, c.spec->input, c.policy, c.spec->where, false});
+    journal.record("the connection " + c.spec->output + " -> " + c.spec->input, [this, c] {
+      core::disconnectPorts(*c.output, *c.input);
+      std::erase_if(connections_, [&](const Connection& made) {
+        return made.output == c.spec->output && made.input == c.spec->input;
+      });
+    });
+  }
+  return violations;
+}
+
+}  // namespace cobra::deploy

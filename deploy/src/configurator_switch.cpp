@@ -1,0 +1,234 @@
+// The run-time switch between named deployments and configurations (thesis §2.2.3).
+
+#include <algorithm>
+#include <optional>
+#include <set>
+
+#include "cobra/deploy/configurator.hpp"
+#include "suggest.hpp"
+#include "undo_journal.hpp"
+
+namespace cobra::deploy {
+namespace {
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+void throwIfFailed(const core::Result& result) {
+  if (!result) throw core::Error(result.message);
+}
+
+}  // namespace
+
+void Configurator::checkConfiguration(const ConfigurationSpec& configuration) const {
+  std::string errors;
+  std::map<std::string, SourceLocation, std::less<>> seen;
+  for (const PropertyValueSpec& value : configuration.values) {
+    try {
+      const std::string key = value.component + "." + value.property;
+      if (const auto it = seen.find(key); it != seen.end())
+        throw core::Error(value.where.text() + ": " + key + " is already set at " + it->second.text() +
+                          "; set each property once per configuration");
+      seen.emplace(key, value.where);
+      core::Component& c = component(value.component, value.where);
+      core::PropertyBase* property = c.findProperty(value.property);
+      if (property == nullptr) {
+        std::vector<std::string> names;
+        for (const core::PropertyBase* p : c.properties()) names.push_back(p->name());
+        throw core::Error(value.where.text() + ": component " + quoted(c.name()) + " has no property " +
+                          quoted(value.property) + detail::suggestionText(value.property, names, "properties"));
+      }
+      try {
+        property->checkText(value.value);
+      } catch (const std::exception& e) {
+        throw core::Error(value.where.text() + ": " + e.what());
+      }
+    } catch (const std::exception& e) {
+      errors += std::string("\n  ") + e.what();
+    }
+  }
+  if (!errors.empty())
+    throw core::Error("configuration " + quoted(configuration.name) + " (" + configuration.where.text() +
+                      ") has wrong values:" + errors);
+}
+
+void Configurator::applyConfiguration(const std::string& name) {
+  const ConfigurationSpec& configuration = set_.configuration(name);
+  try {
+    checkConfiguration(configuration);
+  } catch (const std::exception& e) {
+    throw core::Error(std::string(e.what()) + "\nnothing was applied");
+  }
+  detail::UndoJournal journal;
+  for (const PropertyValueSpec& value : configuration.values) {
+    core::PropertyBase& property = component(value.component, value.where).property(value.property);
+    const std::string before = property.valueText();
+    try {
+      property.setFromText(value.value);
+    } catch (const std::exception& e) {
+      journal.fail(value.where.text() + ": configuration " + quoted(name) + ": " + e.what());
+    }
+    journal.record(value.component + "." + value.property, [&property, before] { property.setFromText(before); });
+  }
+  current_configuration_ = name;
+}
+
+std::vector<LintViolation> Configurator::applyDeployment(const std::string& name) {
+  const DeploymentSpec& next = set_.deployment(name);
+  const std::string context = "deployment " + quoted(name) + " (" + next.where.text() + ")";
+  const DeploymentSpec* previous = current_deployment_.empty() ? nullptr : set_.findDeployment(current_deployment_);
+
+  // 1. Check everything; nothing changes until every entry is known to be applicable.
+  std::vector<std::string> run;
+  std::vector<ActivitySpec> activities;
+  std::vector<ResolvedConnection> additions;
+  std::vector<Connection> removals;
+  std::vector<LintViolation> violations;
+  try {
+    for (const NameEntry& entry : next.components) {
+      core::Component& c = component(entry.name, entry.where);
+      if (contains(run, c.name()))
+        throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is listed twice; list each component once");
+      if (c.state() == core::State::Exception || c.state() == core::State::FatalError)
+        throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is " + std::string(core::toString(c.state())) +
+                          " (" + c.lastError() + "); recover it first");
+      run.push_back(c.name());
+    }
+    for (const ActivitySpec& spec : next.activities) {
+      if (!contains(run, spec.peer_name))
+        throw core::Error(spec.where.text() + ": activity for " + quoted(spec.peer_name) +
+                          ", which this deployment does not run; add it to the deployment's components");
+      if (std::any_of(activities.begin(), activities.end(), [&](const auto& a) { return a.peer_name == spec.peer_name; }))
+        throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " has two activities; give it one");
+      activities.push_back(checkActivity(spec, true));
+    }
+    std::vector<const Connection*> kept;
+    for (const ConnectionSpec& spec : next.connections) {
+      ResolvedConnection c = resolve(spec);
+      if (std::any_of(additions.begin(), additions.end(), [&](const auto& a) { return a.output == c.output && a.input == c.input; }))
+        throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input + " appears twice");
+      const auto made = std::find_if(connections_.begin(), connections_.end(), [&](const Connection& m) {
+        return m.from_deployment && m.output == spec.output && m.input == spec.input;
+      });
+      if (made != connections_.end() && made->policy == c.policy) {
+        kept.push_back(&*made);
+        continue;
+      }
+      if (made == connections_.end()) checkConnection(c);  // a changed policy was checked when first made
+      additions.push_back(c);
+    }
+    for (const Connection& m : connections_)
+      if (m.from_deployment && std::find(kept.begin(), kept.end(), &m) == kept.end()) removals.push_back(m);
+    violations = checkRoles(next.connections);
+  } catch (const std::exception& e) {
+    throw core::Error(context + " not applied: " + e.what() + "; nothing was changed");
+  }
+
+  // 2. Apply; if anything still fails, undo every step so the previous deployment runs again.
+  auto activityChanges = [&](const std::string& component_name) -> const ActivitySpec* {
+    for (const ActivitySpec& a : activities) {
+      if (a.peer_name != component_name) continue;
+      const auto current = activities_.find(component_name);
+      return current != activities_.end() && current->second.sameActivity(a) ? nullptr : &a;
+    }
+    return nullptr;
+  };
+  std::vector<std::string> stop;
+  if (previous != nullptr)
+    for (auto it = previous->components.rbegin(); it != previous->components.rend(); ++it)
+      if (!contains(run, it->name)) stop.push_back(it->name);
+  for (const std::string& n : run)
+    if (activityChanges(n) != nullptr) stop.push_back(n);
+
+  detail::UndoJournal journal;
+  auto step = [&](const SourceLocation& where, const std::string& what, const std::function<void()>& action) {
+    try {
+      action();
+    } catch (const std::exception& e) {
+      journal.fail(context + " not applied: " + where.text() + ": " + what + ": " + e.what());
+    }
+  };
+  for (const std::string& n : stop) {
+    core::Component& c = component(n, next.where);
+    if (!c.isRunning()) continue;
+    step(next.where, "cannot stop " + quoted(n), [&] { throwIfFailed(c.stop()); });
+    std::erase(started_, n);
+    journal.record("the stop of " + quoted(n), [this, &c] {
+      throwIfFailed(c.start());
+      started_.push_back(c.name());
+    });
+  }
+  for (const Connection& m : removals) {
+    core::PortBase& output = port(m.output, m.where);
+    core::PortBase& input = port(m.input, m.where);
+    core::disconnectPorts(output, input);
+    std::erase_if(connections_, [&](const Connection& c) { return c.output == m.output && c.input == m.input; });
+    journal.record("the removal of " + m.output + " -> " + m.input, [this, &output, &input, m] {
+      core::connectPorts(output, input, m.policy);
+      connections_.push_back(m);
+    });
+  }
+  for (const std::string& n : run) {
+    const ActivitySpec* change = activityChanges(n);
+    if (change == nullptr) continue;
+    core::Component& c = component(n, change->where);
+    std::optional<ActivitySpec> before;
+    if (const auto it = activities_.find(n); it != activities_.end()) before = it->second;
+    step(change->where, "cannot set the activity of " + quoted(n), [&] { applyActivity(c, *change); });
+    journal.record("the activity of " + quoted(n), [this, &c, before] {
+      if (before) applyActivity(c, *before);
+      else {
+        activities_.erase(c.name());
+        c.setActivity(std::make_unique<core::SlaveActivity>());
+      }
+    });
+  }
+  for (const ResolvedConnection& a : additions) {
+    step(a.spec->where, "cannot connect " + a.spec->output + " -> " + a.spec->input,
+         [&] { core::connectPorts(*a.output, *a.input, a.policy); });
+    connections_.push_back({a.spec->output, a.spec->input, a.policy, a.spec->where, true});
+    journal.record("the connection " + a.spec->output + " -> " + a.spec->input, [this, a] {
+      core::disconnectPorts(*a.output, *a.input);
+      std::erase_if(connections_, [&](const Connection& c) { return c.output == a.spec->output && c.input == a.spec->input; });
+    });
+  }
+  for (const NameEntry& entry : next.components) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.isRunning()) continue;
+    if (c.state() == core::State::PreOperational) {
+      step(entry.where, "cannot configure " + quoted(c.name()), [&] {
+        if (const core::Result r = c.configure(); !r) {
+          if (c.state() == core::State::Exception) (void)c.recover();
+          throw core::Error(r.message);
+        }
+      });
+      journal.record("the configuration of " + quoted(c.name()), [&c] { throwIfFailed(c.cleanup()); });
+    }
+    if (activities_.count(c.name()) == 0) {
+      step(entry.where, "cannot give " + quoted(c.name()) + " an activity",
+           [&] { applyActivity(c, defaultActivity(c.name(), entry.where)); });
+      journal.record("the default activity of " + quoted(c.name()), [this, &c] {
+        activities_.erase(c.name());
+        c.setActivity(std::make_unique<core::SlaveActivity>());
+      });
+    }
+    step(entry.where, "cannot start " + quoted(c.name()), [&] {
+      if (const core::Result r = c.start(); !r) {
+        if (c.state() == core::State::Exception && c.recover()) (void)c.configure();
+        throw core::Error(r.message);
+      }
+    });
+    started_.push_back(c.name());
+    journal.record("the start of " + quoted(c.name()), [this, &c] {
+      std::erase(started_, c.name());
+      throwIfFailed(c.stop());
+    });
+  }
+  current_deployment_ = name;
+  return violations;
+}
+
+}  // namespace cobra::deploy
