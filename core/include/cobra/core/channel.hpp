@@ -42,6 +42,12 @@ class ChannelBase {
 /// circular mode the writer may take it first to overwrite it; a compare-and-swap decides.
 /// Slots: n in the queue, 2 held by the reader (the last value and, briefly, the next one),
 /// 1 held by the writer.
+///
+/// The `data` policy (latest value only) uses a triple buffer instead: the writer fills its
+/// back slot and swaps it with the middle one in a single atomic exchange that also sets a
+/// "new" flag; the reader swaps its front slot with the middle one only when the flag is set.
+/// One shared word per transfer keeps the cross-core traffic minimal, which matters because
+/// most connections in a control loop are `data`.
 template <class T>
 class Channel final : public ChannelBase {
  public:
@@ -49,6 +55,7 @@ class Channel final : public ChannelBase {
       : ChannelBase(policy, writer, reader),
         capacity_(policy.size),
         overwrite_(policy.kind != ConnPolicy::Kind::Buffer),
+        latest_only_(policy.kind == ConnPolicy::Kind::Data),
         free_capacity_(policy.size + 3),
         slots_(policy.size + 3, Slot{sample}),
         queue_(new std::atomic<std::uint32_t>[capacity_]),
@@ -64,6 +71,11 @@ class Channel final : public ChannelBase {
   /// Writer side. Real-time safe: no allocation once slots are sized, no lock, no throw
   /// (unless T's copy assignment throws, which the built-in types do not).
   WriteStatus push(const T& value) {
+    if (latest_only_) {
+      slots_[back_].value = value;
+      back_ = latest_.exchange(back_ | kFresh, std::memory_order_acq_rel) & kIndexMask;
+      return WriteStatus::Written;
+    }
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
     if (!overwrite_ && tail - head_.load(std::memory_order_acquire) >= capacity_) return WriteStatus::Dropped;
     const std::uint32_t slot = writer_spare_;
@@ -88,6 +100,17 @@ class Channel final : public ChannelBase {
   /// copies the last sample read again if `copy_old` (OldData), or returns NoData when nothing
   /// was ever read. Real-time safe like push.
   FlowStatus pop(T& out, bool copy_old = true) {
+    if (latest_only_) {
+      if (latest_.load(std::memory_order_relaxed) & kFresh) {
+        front_ = latest_.exchange(front_, std::memory_order_acq_rel) & kIndexMask;
+        has_front_ = true;
+        out = slots_[front_].value;
+        return FlowStatus::NewData;
+      }
+      if (!has_front_) return FlowStatus::NoData;
+      if (copy_old) out = slots_[front_].value;
+      return FlowStatus::OldData;
+    }
     for (;;) {
       std::uint64_t head = head_.load(std::memory_order_acquire);
       const std::uint64_t tail = tail_.load(std::memory_order_acquire);
@@ -108,11 +131,14 @@ class Channel final : public ChannelBase {
 
   /// Number of unread samples (approximate while the writer is active).
   std::size_t unread() const {
+    if (latest_only_) return (latest_.load(std::memory_order_acquire) & kFresh) ? 1 : 0;
     return static_cast<std::size_t>(tail_.load(std::memory_order_acquire) - head_.load(std::memory_order_acquire));
   }
 
  private:
   static constexpr std::uint32_t kNone = UINT32_MAX;
+  static constexpr std::uint32_t kFresh = 4;      // triple buffer: the middle slot is unread
+  static constexpr std::uint32_t kIndexMask = 3;  // triple buffer: index of the middle slot
 
   void publish(std::uint64_t tail, std::uint32_t slot) {
     queue_[tail % capacity_].store(slot, std::memory_order_relaxed);
@@ -145,6 +171,7 @@ class Channel final : public ChannelBase {
 
   const std::size_t capacity_;
   const bool overwrite_;
+  const bool latest_only_;
   const std::size_t free_capacity_;
   std::vector<Slot> slots_;
   std::unique_ptr<std::atomic<std::uint32_t>[]> queue_;
@@ -154,7 +181,11 @@ class Channel final : public ChannelBase {
   alignas(64) std::atomic<std::uint64_t> free_head_{0};  // written by the writer
   alignas(64) std::atomic<std::uint64_t> free_tail_{0};  // written by the reader
   alignas(64) std::uint32_t writer_spare_ = 0;  // writer thread only
+  std::uint32_t back_ = 2;                      // triple buffer, writer thread only
   alignas(64) std::uint32_t reader_last_ = kNone;  // reader thread only
+  std::uint32_t front_ = 0;                        // triple buffer, reader thread only
+  bool has_front_ = false;                         // triple buffer, reader thread only
+  alignas(64) std::atomic<std::uint32_t> latest_{1};  // triple buffer: middle slot index | kFresh
 };
 
 }  // namespace cobra::core
