@@ -1,0 +1,79 @@
+// LuaState: running code, error messages with chunk:line, pools (too small, exhausted, usable
+// again afterwards).
+
+#include "cobra/script/lua_state.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cobra/core/error.hpp"
+
+namespace cobra::script {
+namespace {
+
+std::string errorOf(const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const core::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(LuaState, RunsCodeWithTheStandardLibraries) {
+  LuaState lua;
+  lua.run("x = math.sqrt(16) + #string.rep('a', 3)");
+  EXPECT_EQ(lua.evaluate("x"), "7.0");
+  EXPECT_EQ(lua.pool(), nullptr);
+}
+
+TEST(LuaState, ErrorsCarryChunkNameAndLine) {
+  LuaState lua;
+  EXPECT_EQ(errorOf([&] { lua.run("local a = 1\nerror('boom')", "=setup"); }), "setup:2: boom");
+  EXPECT_EQ(errorOf([&] { lua.run("x = = 1", "=setup"); }), "setup:1: unexpected symbol near '='");
+  EXPECT_EQ(errorOf([&] { lua.run("local t = nil\nreturn t.x", "=setup"); }),
+            "setup:2: attempt to index a nil value (local 't')");
+}
+
+TEST(LuaState, RunFileNamesTheFile) {
+  const std::string path = testing::TempDir() + "lua_state_test_bad.lua";
+  std::ofstream(path) << "local ok = true\nif ok then\n  error('in the file')\nend\n";
+  LuaState lua;
+  EXPECT_EQ(errorOf([&] { lua.runFile(path); }), path + ":3: in the file");
+  EXPECT_EQ(errorOf([&] { lua.runFile("/nonexistent/x.lua"); }),
+            "cannot open /nonexistent/x.lua: No such file or directory");
+}
+
+TEST(LuaState, PoolTooSmallForTheStandardLibrariesIsAClearError) {
+  LuaMemory memory{4096, "component 'Tiny'", "raise its lua_pool_size property"};
+  const std::string message = errorOf([&] { LuaState lua(memory); });
+  EXPECT_NE(message.find("component 'Tiny'"), std::string::npos) << message;
+  EXPECT_NE(message.find("4 KiB"), std::string::npos) << message;
+  EXPECT_NE(message.find("raise its lua_pool_size property"), std::string::npos) << message;
+}
+
+TEST(LuaState, PoolExhaustionIsAnErrorAndTheStateStaysUsable) {
+  LuaState lua({256 * 1024, "component 'X'", "raise its lua_pool_size property"});
+  ASSERT_NE(lua.pool(), nullptr);
+  EXPECT_EQ(errorOf([&] { lua.run("t = {} for i = 1, 1e7 do t[i] = {i} end"); }),
+            "Lua memory pool of component 'X' exhausted (256 KiB); raise its lua_pool_size property");
+  EXPECT_GT(lua.pool()->failures(), 0u);
+  lua.run("t = nil collectgarbage()");
+  EXPECT_EQ(lua.evaluate("1 + 1"), "2");
+  EXPECT_LE(lua.pool()->peak(), lua.pool()->capacity());
+}
+
+TEST(LuaState, ErrorObjectsThatAreNotStringsAreDescribed) {
+  LuaState lua;
+  EXPECT_EQ(errorOf([&] { lua.run("error({})"); }), "Lua error with a table value as error object");
+}
+
+TEST(LuaState, FormatsByteCounts) {
+  EXPECT_EQ(LuaState::formatBytes(256 * 1024), "256 KiB");
+  EXPECT_EQ(LuaState::formatBytes(2 << 20), "2 MiB");
+  EXPECT_EQ(LuaState::formatBytes(1000), "1000 bytes");
+}
+
+}  // namespace
+}  // namespace cobra::script
