@@ -41,6 +41,8 @@ std::string suggestionText(std::string_view wanted, const std::vector<std::strin
     for (std::size_t i = 0; i < close.size(); ++i)
       text += (i == 0 ? "'" : i + 1 == close.size() ? " or '" : ", '") + close[i] + "'";
     text += "?";
+  } else {
+    text += ";";
   }
   text += " known " + std::string(what) + ": ";
   if (known.empty()) return text + "(none)";
