@@ -76,82 +76,84 @@ void Configurator::applyConfiguration(const std::string& name) {
   current_configuration_ = name;
 }
 
-std::vector<LintViolation> Configurator::applyDeployment(const std::string& name) {
-  const DeploymentSpec& next = set_.deployment(name);
-  const std::string context = "deployment " + quoted(name) + " (" + next.where.text() + ")";
-  const DeploymentSpec* previous = current_deployment_.empty() ? nullptr : set_.findDeployment(current_deployment_);
-
-  // 1. Check everything; nothing changes until every entry is known to be applicable.
-  std::vector<std::string> run;
-  std::vector<ActivitySpec> activities;
+/// What a deployment switch changes, computed before anything changes.
+struct Configurator::DeploymentPlan {
+  std::vector<std::string> run;            ///< components of the next deployment, in start order
+  std::vector<ActivitySpec> activities;    ///< checked activities of the next deployment
+  std::vector<std::string> stop;           ///< running components to stop, in stop order
+  std::vector<Connection> removals;        ///< deployment connections the next one does not have
   std::vector<ResolvedConnection> additions;
-  std::vector<Connection> removals;
-  std::vector<LintViolation> violations;
-  try {
-    for (const NameEntry& entry : next.components) {
-      core::Component& c = component(entry.name, entry.where);
-      if (contains(run, c.name()))
-        throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is listed twice; list each component once");
-      if (c.state() == core::State::Exception || c.state() == core::State::FatalError)
-        throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is " + std::string(core::toString(c.state())) +
-                          " (" + c.lastError() + "); recover it first");
-      run.push_back(c.name());
-    }
-    for (const ActivitySpec& spec : next.activities) {
-      if (!contains(run, spec.peer_name))
-        throw core::Error(spec.where.text() + ": activity for " + quoted(spec.peer_name) +
-                          ", which this deployment does not run; add it to the deployment's components");
-      if (std::any_of(activities.begin(), activities.end(), [&](const auto& a) { return a.peer_name == spec.peer_name; }))
-        throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " has two activities; give it one");
-      activities.push_back(checkActivity(spec, true));
-    }
-    std::vector<const Connection*> kept;
-    for (const ConnectionSpec& spec : next.connections) {
-      ResolvedConnection c = resolve(spec);
-      if (std::any_of(additions.begin(), additions.end(), [&](const auto& a) { return a.output == c.output && a.input == c.input; }))
-        throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input + " appears twice");
-      const auto made = std::find_if(connections_.begin(), connections_.end(), [&](const Connection& m) {
-        return m.from_deployment && m.output == spec.output && m.input == spec.input;
-      });
-      if (made != connections_.end() && made->policy == c.policy) {
-        kept.push_back(&*made);
-        continue;
-      }
-      if (made == connections_.end()) checkConnection(c);  // a changed policy was checked when first made
-      additions.push_back(c);
-    }
-    for (const Connection& m : connections_)
-      if (m.from_deployment && std::find(kept.begin(), kept.end(), &m) == kept.end()) removals.push_back(m);
-    violations = checkRoles(next.connections);
-  } catch (const std::exception& e) {
-    throw core::Error(context + " not applied: " + e.what() + "; nothing was changed");
-  }
 
-  // 2. Apply; if anything still fails, undo every step so the previous deployment runs again.
-  auto activityChanges = [&](const std::string& component_name) -> const ActivitySpec* {
+  /// The new activity of `name` when it differs from `current`, else nullptr.
+  const ActivitySpec* activityChange(const std::string& name,
+                                     const std::map<std::string, ActivitySpec, std::less<>>& current) const {
     for (const ActivitySpec& a : activities) {
-      if (a.peer_name != component_name) continue;
-      const auto current = activities_.find(component_name);
-      return current != activities_.end() && current->second.sameActivity(a) ? nullptr : &a;
+      if (a.peer_name != name) continue;
+      const auto it = current.find(name);
+      return it != current.end() && it->second.sameActivity(a) ? nullptr : &a;
     }
     return nullptr;
-  };
-  std::vector<std::string> stop;
+  }
+};
+
+Configurator::DeploymentPlan Configurator::planDeployment(const DeploymentSpec& next) const {
+  DeploymentPlan plan;
+  for (const NameEntry& entry : next.components) {
+    core::Component& c = component(entry.name, entry.where);
+    if (contains(plan.run, c.name()))
+      throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is listed twice; list each component once");
+    if (c.state() == core::State::Exception || c.state() == core::State::FatalError)
+      throw core::Error(entry.where.text() + ": " + quoted(c.name()) + " is " + std::string(core::toString(c.state())) +
+                        " (" + c.lastError() + "); recover it first");
+    plan.run.push_back(c.name());
+  }
+  for (const ActivitySpec& spec : next.activities) {
+    if (!contains(plan.run, spec.peer_name))
+      throw core::Error(spec.where.text() + ": activity for " + quoted(spec.peer_name) +
+                        ", which this deployment does not run; add it to the deployment's components");
+    if (std::any_of(plan.activities.begin(), plan.activities.end(),
+                    [&](const ActivitySpec& a) { return a.peer_name == spec.peer_name; }))
+      throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " has two activities; give it one");
+    plan.activities.push_back(checkActivity(spec, true));
+  }
+  std::vector<const Connection*> kept;
+  for (const ConnectionSpec& spec : next.connections) {
+    ResolvedConnection c = resolve(spec);
+    if (std::any_of(plan.additions.begin(), plan.additions.end(),
+                    [&](const ResolvedConnection& a) { return a.output == c.output && a.input == c.input; }))
+      throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input + " appears twice");
+    const auto made = std::find_if(connections_.begin(), connections_.end(), [&](const Connection& m) {
+      return m.from_deployment && m.output == spec.output && m.input == spec.input;
+    });
+    if (made != connections_.end() && made->policy == c.policy) {
+      kept.push_back(&*made);
+      continue;
+    }
+    if (made == connections_.end()) checkConnection(c);  // one with another policy was checked when made
+    plan.additions.push_back(c);
+  }
+  for (const Connection& m : connections_)
+    if (m.from_deployment && std::find(kept.begin(), kept.end(), &m) == kept.end()) plan.removals.push_back(m);
+
+  const DeploymentSpec* previous = current_deployment_.empty() ? nullptr : set_.findDeployment(current_deployment_);
   if (previous != nullptr)
     for (auto it = previous->components.rbegin(); it != previous->components.rend(); ++it)
-      if (!contains(run, it->name)) stop.push_back(it->name);
-  for (const std::string& n : run)
-    if (activityChanges(n) != nullptr) stop.push_back(n);
+      if (!contains(plan.run, it->name)) plan.stop.push_back(it->name);
+  for (const std::string& n : plan.run)
+    if (plan.activityChange(n, activities_) != nullptr) plan.stop.push_back(n);  // restarted with the new one
+  return plan;
+}
 
-  detail::UndoJournal journal;
-  auto step = [&](const SourceLocation& where, const std::string& what, const std::function<void()>& action) {
+void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& next, detail::UndoJournal& journal) {
+  // Each step names the entry it comes from; the caller undoes the journal when one throws.
+  auto step = [](const SourceLocation& where, const std::string& what, const std::function<void()>& action) {
     try {
       action();
     } catch (const std::exception& e) {
-      journal.fail(context + " not applied: " + where.text() + ": " + what + ": " + e.what());
+      throw core::Error(where.text() + ": " + what + ": " + e.what());
     }
   };
-  for (const std::string& n : stop) {
+  for (const std::string& n : plan.stop) {
     core::Component& c = component(n, next.where);
     if (!c.isRunning()) continue;
     step(next.where, "cannot stop " + quoted(n), [&] { throwIfFailed(c.stop()); });
@@ -161,7 +163,7 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
       started_.push_back(c.name());
     });
   }
-  for (const Connection& m : removals) {
+  for (const Connection& m : plan.removals) {
     core::PortBase& output = port(m.output, m.where);
     core::PortBase& input = port(m.input, m.where);
     core::disconnectPorts(output, input);
@@ -171,28 +173,30 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
       connections_.push_back(m);
     });
   }
-  for (const std::string& n : run) {
-    const ActivitySpec* change = activityChanges(n);
+  for (const std::string& n : plan.run) {
+    const ActivitySpec* change = plan.activityChange(n, activities_);
     if (change == nullptr) continue;
     core::Component& c = component(n, change->where);
     std::optional<ActivitySpec> before;
     if (const auto it = activities_.find(n); it != activities_.end()) before = it->second;
     step(change->where, "cannot set the activity of " + quoted(n), [&] { applyActivity(c, *change); });
     journal.record("the activity of " + quoted(n), [this, &c, before] {
-      if (before) applyActivity(c, *before);
-      else {
+      if (before) {
+        applyActivity(c, *before);
+      } else {
         activities_.erase(c.name());
         c.setActivity(std::make_unique<core::SlaveActivity>());
       }
     });
   }
-  for (const ResolvedConnection& a : additions) {
+  for (const ResolvedConnection& a : plan.additions) {
     step(a.spec->where, "cannot connect " + a.spec->output + " -> " + a.spec->input,
          [&] { core::connectPorts(*a.output, *a.input, a.policy); });
     connections_.push_back({a.spec->output, a.spec->input, a.policy, a.spec->where, true});
     journal.record("the connection " + a.spec->output + " -> " + a.spec->input, [this, a] {
       core::disconnectPorts(*a.output, *a.input);
-      std::erase_if(connections_, [&](const Connection& c) { return c.output == a.spec->output && c.input == a.spec->input; });
+      std::erase_if(connections_,
+                    [&](const Connection& c) { return c.output == a.spec->output && c.input == a.spec->input; });
     });
   }
   for (const NameEntry& entry : next.components) {
@@ -217,6 +221,7 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
     }
     step(entry.where, "cannot start " + quoted(c.name()), [&] {
       if (const core::Result r = c.start(); !r) {
+        // Back to Stopped, so that undoing its configuration leaves it as it was.
         if (c.state() == core::State::Exception && c.recover()) (void)c.configure();
         throw core::Error(r.message);
       }
@@ -226,6 +231,25 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
       std::erase(started_, c.name());
       throwIfFailed(c.stop());
     });
+  }
+}
+
+std::vector<LintViolation> Configurator::applyDeployment(const std::string& name) {
+  const DeploymentSpec& next = set_.deployment(name);
+  const std::string context = "deployment " + quoted(name) + " (" + next.where.text() + ") not applied: ";
+  DeploymentPlan plan;
+  std::vector<LintViolation> violations;
+  try {
+    plan = planDeployment(next);
+    violations = checkRoles(next.connections);
+  } catch (const std::exception& e) {
+    throw core::Error(context + e.what() + "; nothing was changed");
+  }
+  detail::UndoJournal journal;
+  try {
+    carryOut(plan, next, journal);
+  } catch (const std::exception& e) {
+    journal.fail(context + e.what());  // the previous deployment runs again
   }
   current_deployment_ = name;
   return violations;

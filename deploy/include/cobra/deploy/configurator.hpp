@@ -27,6 +27,10 @@
 
 namespace cobra::deploy {
 
+namespace detail {
+class UndoJournal;
+}
+
 /// How activities run.
 enum class ClockMode {
   /// Every component is stepped by one LockstepClock owned by the Configurator, with the period
@@ -164,6 +168,11 @@ class Configurator {
   /// The role violations of `connections`; throws them in strict mode, else records warnings.
   std::vector<LintViolation> checkRoles(const std::vector<ConnectionSpec>& connections);
   void checkConfiguration(const ConfigurationSpec& configuration) const;
+  struct DeploymentPlan;
+  /// Checks `next` against the current state and lists what switching to it changes.
+  DeploymentPlan planDeployment(const DeploymentSpec& next) const;
+  /// Makes the changes of `plan`, recording how to undo each in `journal`.
+  void carryOut(const DeploymentPlan& plan, const DeploymentSpec& next, detail::UndoJournal& journal);
   void stopAll() noexcept;
 
   ConfiguratorOptions options_;
