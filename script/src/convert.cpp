@@ -61,8 +61,11 @@ void readArray(lua_State* L, int index, double* out, std::size_t count, std::str
   StackGuard guard(L);
   index = lua_absindex(L, index);
   for (std::size_t i = 0; i < count; ++i) {
-    lua_rawgeti(L, index, static_cast<lua_Integer>(i + 1));
-    out[i] = readNumber(L, -1, form, "element " + std::to_string(i + 1));
+    if (lua_rawgeti(L, index, static_cast<lua_Integer>(i + 1)) != LUA_TNUMBER) {
+      const std::string what = "element " + std::to_string(i + 1) + " is " + describeLuaValue(L, -1);
+      refuse(L, index, form, what);
+    }
+    out[i] = static_cast<double>(lua_tonumber(L, -1));
     lua_pop(L, 1);
   }
 }
@@ -137,6 +140,7 @@ void readRotation(lua_State* L, int index, KDL::Rotation& out, std::string_view 
 template <class V, class F>
 void readMember(lua_State* L, int index, std::string_view name, V& out, std::string_view form, F read) {
   StackGuard guard(L);
+  index = lua_absindex(L, index);
   detail::rawField(L, index, name);
   if (lua_type(L, -1) != LUA_TTABLE) refuse(L, index, form, "field '" + std::string(name) + "' is " + describeLuaValue(L, -1));
   read(L, -1, out, form);
@@ -289,6 +293,7 @@ struct Converter<KDL::JntArray> {
 template <>
 struct Converter<core::Event> {
   static void read(lua_State* L, int i, core::Event& out) {
+    i = lua_absindex(L, i);
     constexpr std::size_t capacity = decltype(out.name)::capacity();
     auto text = [&](int j, std::string_view what) -> std::string_view {
       std::size_t n = 0;
@@ -347,6 +352,7 @@ void pushValue(lua_State* L, const T& value) {
 
 template <class T>
 void readAny(lua_State* L, int index, std::any& out) {
+  index = lua_absindex(L, index);  // the converters push while reading
   T value{};
   Converter<T>::read(L, index, value);
   out = std::move(value);
