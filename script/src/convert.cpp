@@ -51,11 +51,6 @@ class StackGuard {
                     (detail.empty() ? "" : " (" + std::string(detail) + ")"));
 }
 
-double readNumber(lua_State* L, int index, std::string_view form, std::string_view what) {
-  if (lua_type(L, index) != LUA_TNUMBER) refuse(L, index, form, std::string(what) + " is not a number");
-  return static_cast<double>(lua_tonumber(L, index));
-}
-
 /// Reads the array {a, b, ...} of exactly `count` numbers at `index`.
 void readArray(lua_State* L, int index, double* out, std::size_t count, std::string_view form) {
   StackGuard guard(L);
@@ -151,7 +146,10 @@ struct Converter;
 
 template <>
 struct Converter<double> {
-  static void read(lua_State* L, int i, double& out) { out = readNumber(L, i, "a number", "it"); }
+  static void read(lua_State* L, int i, double& out) {
+    if (lua_type(L, i) != LUA_TNUMBER) refuse(L, i, "a number");
+    out = static_cast<double>(lua_tonumber(L, i));
+  }
   static void push(lua_State* L, const double& v) { lua_pushnumber(L, v); }
 };
 
