@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <thread>
 
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/deploy/configurator.hpp"
@@ -310,4 +311,44 @@ TEST_F(StrictSwitchTest, StrictModeRefusesADeploymentBreakingTheRoles) {
                                  "refuses them):\n" + std::string(kWatchViolation)));
   EXPECT_EQ(snapshot(configurator_), before);
   EXPECT_EQ(configurator_.currentDeployment(), "record");
+}
+
+TEST(RealTimeSwitch, DeploymentsAndConfigurationsSwitchWhileThreadsRun) {
+  Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  configurator.initConfigurator({{"cobra_signal", at("rt.lua", 1)}}, {{"Sine", "SineGenerator", at("rt.lua", 3)},
+                                                                      {"Gain", "Gain", at("rt.lua", 4)},
+                                                                      {"Rec", "Recorder", at("rt.lua", 5)},
+                                                                      {"Det", "ThresholdDetector", at("rt.lua", 6)}});
+  auto& set = configurator.deploymentSet();
+  set.addDeployment({"record", at("rt.lua", 10),
+                     {{"Sine", at("rt.lua", 11)}, {"Gain", at("rt.lua", 12)}, {"Rec", at("rt.lua", 13)}},
+                     {{"Sine", 0.001, 0, "ORO_SCHED_OTHER", at("rt.lua", 14)}},
+                     {{"Sine.out", "Gain.in", {"buffer", 8}, at("rt.lua", 15)},
+                      {"Gain.out", "Rec.in", {"buffer", 8}, at("rt.lua", 16)}}});
+  set.addDeployment({"detect", at("rt.lua", 20),
+                     {{"Sine", at("rt.lua", 21)}, {"Gain", at("rt.lua", 22)}, {"Det", at("rt.lua", 23)}},
+                     {{"Sine", 0.002, 0, "ORO_SCHED_OTHER", at("rt.lua", 24)}},
+                     {{"Sine.out", "Gain.in", {"buffer", 8}, at("rt.lua", 25)},
+                      {"Gain.out", "Det.in", {"buffer", 8}, at("rt.lua", 26)}}});
+  set.addConfiguration({"double", at("double.cfg", 1), {{"Gain", "k", "2", at("double.cfg", 2)}}});
+  auto& registry = configurator.getReferences();
+  auto waitForUpdates = [](const core::Component& c, std::uint64_t n) {
+    // Waits for progress, not for a time: no timing assertion.
+    while (c.updateCount() < n) std::this_thread::sleep_for(1ms);
+  };
+
+  (void)configurator.applyDeployment("record");
+  EXPECT_THAT(registry.get("Sine").activity().describe(), HasSubstr("periodic 1 ms"));
+  EXPECT_THAT(registry.get("Rec").activity().describe(), HasSubstr("event-driven"));
+  waitForUpdates(registry.get("Rec"), 5);
+  configurator.applyConfiguration("double");
+  EXPECT_EQ(registry.get("Gain").getProperty<double>("k"), 2.0);
+
+  (void)configurator.applyDeployment("detect");
+  EXPECT_EQ(registry.get("Rec").state(), core::State::Stopped);
+  EXPECT_FALSE(registry.get("Rec").port("in").connected());
+  EXPECT_THAT(registry.get("Sine").activity().describe(), HasSubstr("periodic 2 ms"));
+  const std::uint64_t recorded = registry.get("Rec").updateCount();
+  waitForUpdates(registry.get("Det"), 5);
+  EXPECT_EQ(registry.get("Rec").updateCount(), recorded) << "the recorder stopped at the switch";
 }
