@@ -9,6 +9,8 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/core/activity.hpp"
+#include "cobra/core/component.hpp"
 #include "lua_guard.hpp"
 #include "port_access.hpp"
 
@@ -370,7 +372,12 @@ core::Property<T>& typed(core::PropertyBase& property) {
 
 template <class T>
 std::any getProperty(const core::PropertyBase& property) {
-  return typed<T>(const_cast<core::PropertyBase&>(property)).value();
+  const core::Property<T>& p = typed<T>(const_cast<core::PropertyBase&>(property));
+  // On the owner's activity thread (a hook reading its own property) changes are applied on
+  // this very thread between steps: read without the lock, which could block real-time code.
+  const core::Component* owner = property.owner();
+  if (owner != nullptr && owner->activity().isActivityThread()) return p.get();
+  return p.value();
 }
 
 template <class T>
