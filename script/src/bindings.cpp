@@ -42,7 +42,7 @@ std::string noElement(const core::Component& c, std::string_view name) {
   return "component '" + c.name() + "' has no port, property or operation '" + std::string(name) +
          "'; its ports are: " + namesOf(c.ports()) + "; its properties are: " + namesOf(c.properties()) +
          "; its operations are: " + namesOf(c.operations()) +
-         "; its methods are: configure, start, stop, cleanup, recover, getState, getName, getRole, getLastError";
+         "; its methods are: configure, start, stop, cleanup, recover, getState, getName, getRole, getLastError, now, emitEvent";
 }
 
 // ---- Port objects -------------------------------------------------------------------------
@@ -266,6 +266,22 @@ int getRole(lua_State* L) {
   detail::pushString(L, core::toString(detail::componentAt(L, 1).role()));
   return 1;
 }
+/// Seconds on the component's activity clock (simulated time on the lockstep clock).
+int now(lua_State* L) {
+  lua_pushnumber(L, std::chrono::duration<double>(detail::componentAt(L, 1).now()).count());
+  return 1;
+}
+/// Writes an event from the component on its `events` port. Real-time safe.
+int emitEvent(lua_State* L) {
+  core::Component& c = detail::componentAt(L, 1);
+  if (lua_type(L, 2) != LUA_TSTRING)
+    throw core::Error("component '" + c.name() + "': emitEvent takes an event name (a string), got " +
+                      describeLuaValue(L, 2));
+  std::size_t n = 0;
+  const char* name = lua_tolstring(L, 2, &n);
+  c.emitEvent(std::string_view(name, n));
+  return 0;
+}
 int getLastError(lua_State* L) {
   detail::pushString(L, detail::componentAt(L, 1).lastError());
   return 1;
@@ -283,6 +299,8 @@ void makeMetatables(lua_State* L) {
                                        {"getName", &detail::guarded<getName>},
                                        {"getRole", &detail::guarded<getRole>},
                                        {"getLastError", &detail::guarded<getLastError>},
+                                       {"now", &detail::guarded<now>},
+                                       {"emitEvent", &detail::guarded<emitEvent>},
                                        {nullptr, nullptr}};
     luaL_newlib(L, methods);
     lua_pushcclosure(L, &detail::guarded<componentIndex>, 1);

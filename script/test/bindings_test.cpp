@@ -120,7 +120,7 @@ TEST_F(Bindings, UnknownNamesListWhatExists) {
             "test:1: component 'P' has no port, property or operation 'nope'; its ports are: events, u, y, goal; its "
             "properties are: max_vel, count, target, status, gripper; its operations are: add, askStartMove, fail, "
             "widen; its methods are: configure, start, stop, cleanup, recover, getState, getName, getRole, "
-            "getLastError");
+            "getLastError, now, emitEvent");
   EXPECT_EQ(errorOf("local x = P[1]"), "test:1: component 'P': index it with a name (a string), not the integer 1");
 }
 
@@ -151,6 +151,21 @@ TEST_F(Bindings, LifecycleFromLua) {
   EXPECT_EQ(errorOf("P:recover()"),
             "test:1: component 'P': cannot recover: it is PreOperational; only a component in Exception can recover");
   EXPECT_EQ(errorOf("P.start()"), "test:1: call component methods with ':' (Comp:start()), not '.' (Comp.start())");
+}
+
+TEST_F(Bindings, TimeAndEvents) {
+  core::InputPort<core::Event> events{"events_in", "", ""};
+  core::connectPorts(planner.events(), events);
+  core::LockstepClock clock;
+  clock.add(planner, std::chrono::milliseconds(1));
+  clock.advance(std::chrono::milliseconds(1500));
+  EXPECT_EQ(lua.evaluate("P:now()"), "1.5");
+  lua.run("P:emitEvent('e_plan_done')");
+  core::Event e;
+  ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name, "e_plan_done");
+  EXPECT_EQ(e.source, "P");
+  EXPECT_EQ(errorOf("P:emitEvent(3)"), "test:1: component 'P': emitEvent takes an event name (a string), got the integer 3");
 }
 
 TEST_F(Bindings, DescribesTheComponent) {

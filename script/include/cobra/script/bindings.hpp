@@ -13,6 +13,8 @@
 ///   argument types; returns its result (nothing for void operations);
 /// - `Comp:configure()`, `:start()`, `:stop()`, `:cleanup()`, `:recover()` return true or raise
 ///   the lifecycle call's message; `:getState()`, `:getName()`, `:getRole()`, `:getLastError()`;
+/// - `Comp:now()` (s, on its activity's clock: simulated on the lockstep clock) and
+///   `Comp:emitEvent("e_done")` (on its `events` port; real-time safe), as rttlua's helpers;
 /// - `Comp()` and `tostring(Comp)` give the console description (`toText(describe(c))`).
 /// These method names win over elements of the same name (reach those with the C++ API).
 /// An unknown name raises an error listing the component's ports, properties and operations.
