@@ -1,5 +1,6 @@
 #include "cobra/script/pool_allocator.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <new>
