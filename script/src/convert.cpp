@@ -396,8 +396,19 @@ class TypedPortAccess final : public PortAccess {
         output_(dynamic_cast<core::OutputPort<T>*>(&port)) {}
 
   int read(lua_State* L) override {
-    if (input_ == nullptr) throwNotInput();
-    const core::FlowStatus status = input_->read(read_buffer_);
+    core::InputPort<T>* input = input_;
+    if (input == nullptr) {
+      // An output port (read from a console): through a private data connection made at the
+      // first read, so that read sees only what is written after it.
+      if (!reader_) {
+        auto reader = std::make_unique<core::InputPort<T>>("lua_reader_" + port().name(),
+                                                           "Lua reader of " + port().fullName(), port().unit());
+        output_->connectTo(*reader, core::ConnPolicy::data());
+        reader_ = std::move(reader);
+      }
+      input = reader_.get();
+    }
+    const core::FlowStatus status = input->read(read_buffer_);
     pushStatus(L, status);
     if (status == core::FlowStatus::NoData) lua_pushnil(L);
     else pushValue(L, read_buffer_);
@@ -419,6 +430,7 @@ class TypedPortAccess final : public PortAccess {
  private:
   core::InputPort<T>* input_;
   core::OutputPort<T>* output_;
+  std::unique_ptr<core::InputPort<T>> reader_;  // reads an output port; declared after output_
   T read_buffer_{};
   T write_buffer_{};
 };

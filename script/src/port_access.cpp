@@ -7,11 +7,6 @@
 
 namespace cobra::script {
 
-void PortAccess::throwNotInput() const {
-  throw core::Error("port " + port_->fullName() + " is an output port: it cannot be read here; read it through an " +
-                    "input port connected to it");
-}
-
 void PortAccess::throwNotOutput() const {
   throw core::Error("port " + port_->fullName() + " is an input port: only output ports can be written");
 }
@@ -31,7 +26,15 @@ class TextPortAccess final : public PortAccess {
 
   int read(lua_State* L) override {
     auto* input = dynamic_cast<core::InputPortBase*>(&port());
-    if (input == nullptr) throwNotInput();
+    if (input == nullptr) {  // an output port: see TypedPortAccess::read
+      if (!reader_) {
+        auto& output = dynamic_cast<core::OutputPortBase&>(port());
+        auto reader = output.makeReader("lua_reader_" + port().name(), "Lua reader of " + port().fullName());
+        output.connectTo(*reader, core::ConnPolicy::data());
+        reader_ = std::move(reader);
+      }
+      input = reader_.get();
+    }
     std::string text;
     const core::FlowStatus status = input->readText(text);
     pushStatus(L, status);
@@ -51,6 +54,9 @@ class TextPortAccess final : public PortAccess {
     output->writeText(std::string_view(s, n));
     return 0;
   }
+
+ private:
+  std::unique_ptr<core::InputPortBase> reader_;
 };
 
 }  // namespace

@@ -8,10 +8,11 @@
 namespace cobra::script {
 
 /// Type-erased access to one port. `read` pushes the flow status ("NoData", "OldData",
-/// "NewData") and the value (nil on NoData) and returns 2; `write` converts the Lua value at
-/// `index` and writes it, returning 0. Neither allocates from the system once the port's
-/// buffer has the data's size. Both throw cobra::core::Error for misuse (wrong direction,
-/// wrong form); they raise no Lua error.
+/// "NewData") and the value (nil on NoData) and returns 2; on an output port it reads through
+/// a private data connection made at its first call (so it sees what is written after that).
+/// `write` converts the Lua value at `index` and writes it (output ports only), returning 0.
+/// Neither allocates from the system once made and the buffers have the data's size. Both
+/// throw cobra::core::Error for misuse (wrong direction, wrong form); they raise no Lua error.
 class PortAccess {
  public:
   explicit PortAccess(core::PortBase& port) : port_(&port) {}
@@ -24,7 +25,6 @@ class PortAccess {
   virtual int write(lua_State* L, int index) = 0;
 
  protected:
-  [[noreturn]] void throwNotInput() const;
   [[noreturn]] void throwNotOutput() const;
   /// "NoData", "OldData", "NewData" as a Lua string (interned after the first push).
   static void pushStatus(lua_State* L, core::FlowStatus status);

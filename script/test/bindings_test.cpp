@@ -36,6 +36,7 @@ class Planner : public core::Component {
     addPort(u_);
     addPort(y_);
     addPort(goal_);
+    addPort(gripper_out_);
     addProperty(max_vel_.range(0.0, 1.0));
     addProperty(count_);
     addProperty(target_);
@@ -60,6 +61,7 @@ class Planner : public core::Component {
   core::InputPort<double> u_{"u", "input", "1"};
   core::OutputPort<double> y_{"y", "output", "1"};
   core::OutputPort<KDL::Frame> goal_{"goal", "goal pose", "m"};
+  core::OutputPort<Gripper> gripper_out_{"gripper_out", "gripper command", "m"};
   core::Property<double> max_vel_{"max_vel", 0.5, "m/s", "maximum velocity"};
   core::Property<int> count_{"count", 3, "1", "a count"};
   core::Property<KDL::Vector> target_{"target", KDL::Vector(1, 2, 3), "m", "target position"};
@@ -117,7 +119,7 @@ TEST_F(Bindings, RefusedPropertySetsCarryTheCoreMessageAndChangeNothing) {
 
 TEST_F(Bindings, UnknownNamesListWhatExists) {
   EXPECT_EQ(errorOf("local x = P.nope"),
-            "test:1: component 'P' has no port, property or operation 'nope'; its ports are: events, u, y, goal; its "
+            "test:1: component 'P' has no port, property or operation 'nope'; its ports are: events, u, y, goal, gripper_out; its "
             "properties are: max_vel, count, target, status, gripper; its operations are: add, askStartMove, fail, "
             "widen; its methods are: configure, start, stop, cleanup, recover, getState, getName, getRole, "
             "getLastError, now, emitEvent");
@@ -195,12 +197,21 @@ TEST_F(Bindings, PortsReadAndWrite) {
 
 TEST_F(Bindings, PortMisuseIsAnError) {
   EXPECT_EQ(errorOf("P.u:write(1)"), "test:1: port P.u is an input port: only output ports can be written");
-  EXPECT_EQ(errorOf("P.y:read()"),
-            "test:1: port P.y is an output port: it cannot be read here; read it through an input port connected to it");
   EXPECT_EQ(errorOf("P.goal:write({1, 2})"),
             "test:1: port P.goal is a KDL.Frame: cannot write it: expected {p = {x=, y=, z=}, M = {x=, y=, z=, w=}} or "
             "{x, y, z, qx, qy, qz, qw}, got a table (an array of 2 elements)");
   EXPECT_EQ(errorOf("P.y.write(1)"), "test:1: call port methods with ':' (port:read()), not '.'");
+}
+
+TEST_F(Bindings, ReadsOutputPortsThroughAPrivateConnection) {
+  EXPECT_EQ(lua.evaluate("select(1, P.y:read())"), "NoData");  // connects; nothing written since
+  EXPECT_EQ(lua.evaluate("P.y:connected()"), "true");
+  dynamic_cast<core::OutputPort<double>&>(planner.port("y")).write(3.0);
+  lua.run("fs, v = P.y:read()");
+  EXPECT_EQ(lua.evaluate("fs .. ' ' .. v"), "NewData 3.0");
+  EXPECT_EQ(lua.evaluate("select(1, P.gripper_out:read())"), "NoData");
+  dynamic_cast<core::OutputPort<Gripper>&>(planner.port("gripper_out")).write(Gripper{0.05});
+  EXPECT_EQ(lua.evaluate("select(2, P.gripper_out:read())"), "open 0.05");
 }
 
 TEST_F(Bindings, WritesGeometry) {

@@ -7,8 +7,9 @@
 ///   text) and `Comp.prop = v` sets it (checked by the core: type, range, read-only; the Lua
 ///   error carries the core's message);
 /// - `Comp.port` a port object: `:name()`, `:type()`, `:unit()`, `:doc()`, `:connected()`,
-///   `:read()` (input ports; returns the flow status "NoData"/"OldData"/"NewData" and the value,
-///   nil on NoData, as rttlua does) and `:write(v)` (output ports);
+///   `:read()` (returns the flow status "NoData"/"OldData"/"NewData" and the value, nil on
+///   NoData, as rttlua does; an output port is read through a private data connection made at
+///   the first read, which sees what is written after it) and `:write(v)` (output ports);
 /// - `Comp:op(a, b)` (or `Comp.op(a, b)`) calls an operation, arguments converted to its
 ///   argument types; returns its result (nothing for void operations);
 /// - `Comp:configure()`, `:start()`, `:stop()`, `:cleanup()`, `:recover()` return true or raise
