@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "cobra/core/activity.hpp"
 
@@ -47,6 +48,11 @@ Component::Component(std::string name, Role role, std::string doc)
 }
 
 Component::~Component() {
+  // By now the subclass's members are gone; an update running on another thread would touch
+  // freed memory. Stop components before destroying them (ComponentRegistry does).
+  if (state() == State::Running && activity_->hasRunningThread())
+    std::fprintf(stderr, "[cobra] warning: component '%s' destroyed while Running on a thread; stop it first\n",
+                 name_.c_str());
   if (activity_->hasRunningThread() && !activity_->isActivityThread()) activity_->stopStepping();
   // Now, while every member is alive: events_ outlives pending_mutex_, which disconnecting locks.
   events_.disconnect();
@@ -93,7 +99,8 @@ Result Component::configure() {
                                                                         kFatalAdvice));
   if (!runHook("configureHook", [this] { return configureHook(); })) {
     if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
-    setLastError("component '" + name_ + "': configureHook refused the configuration");
+    setLastError("component '" + name_ + "': " +
+                 (refusal_.empty() ? std::string("configureHook refused the configuration") : std::exchange(refusal_, {})));
     return Result::failure(lastError());
   }
   state_.store(State::Stopped, std::memory_order_release);
@@ -112,7 +119,8 @@ Result Component::start() {
   std::lock_guard lock(pending_mutex_);
   if (!runHook("startHook", [this] { return startHook(); })) {
     if (state() == State::Exception || state() == State::FatalError) return Result::failure(lastError());
-    setLastError("component '" + name_ + "': startHook refused to start");
+    setLastError("component '" + name_ + "': " +
+                 (refusal_.empty() ? std::string("startHook refused to start") : std::exchange(refusal_, {})));
     return Result::failure(lastError());
   }
   state_.store(State::Running, std::memory_order_release);
@@ -198,6 +206,11 @@ void Component::enterException(std::string_view hook, const std::string& what) n
     // Out of memory while building a message: the state must still change.
     state_.store(State::FatalError, std::memory_order_release);
   }
+}
+
+bool Component::refuse(std::string why) {
+  refusal_ = std::move(why);
+  return false;
 }
 
 void Component::emitEvent(std::string_view name) noexcept {

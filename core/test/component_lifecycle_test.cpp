@@ -475,5 +475,32 @@ TEST(Lifecycle, SetActivityIsRefusedWhileRunningOrEmpty) {
   EXPECT_EQ(h.activity().describe(), "slave");
 }
 
+class Picky : public Component {
+ public:
+  explicit Picky(std::string name) : Component(std::move(name), Role::Bridge, "refuses with reasons") {}
+  bool allow_configure = false;
+  bool allow_start = false;
+
+ protected:
+  bool configureHook() override { return allow_configure || refuse("cannot open /dev/ttyS9: no such device"); }
+  bool startHook() override { return allow_start || refuse("the drive is not powered; switch it on"); }
+};
+
+TEST(Lifecycle, AHookRefusesWithItsReasonAndTheComponentStaysWhereItWas) {
+  Picky p("Drive");
+  Result r = p.configure();
+  EXPECT_FALSE(r);
+  EXPECT_EQ(r.message, "component 'Drive': cannot open /dev/ttyS9: no such device");
+  EXPECT_EQ(p.state(), State::PreOperational);
+  EXPECT_EQ(p.lastError(), r.message);
+  p.allow_configure = true;
+  ASSERT_TRUE(p.configure());
+  r = p.start();
+  EXPECT_EQ(r.message, "component 'Drive': the drive is not powered; switch it on");
+  EXPECT_EQ(p.state(), State::Stopped);
+  p.allow_start = true;
+  EXPECT_TRUE(p.start());
+}
+
 }  // namespace
 }  // namespace cobra::core

@@ -134,9 +134,11 @@ class Component {
   void runBetweenSteps(const std::function<void()>& change);
 
  protected:
-  /// Return false (or throw) to refuse configuration; the component stays PreOperational.
+  /// Return false to refuse configuration (the component stays PreOperational; say why with
+  /// `refuse`), or throw for a failure (the component goes to Exception).
   virtual bool configureHook() { return true; }
-  /// Return false (or throw) to refuse starting; the component stays Stopped.
+  /// Return false to refuse starting (the component stays Stopped; say why with `refuse`), or
+  /// throw for a failure (the component goes to Exception).
   virtual bool startHook() { return true; }
   /// The periodic or triggered work. Must be real-time safe in production components.
   virtual void updateHook() {}
@@ -144,6 +146,11 @@ class Component {
   virtual void cleanupHook() {}
   /// Called once when the component enters Exception.
   virtual void exceptionHook() {}
+
+  /// Gives the reason of a refusal: `return refuse("cannot open /dev/ttyS0: permission denied");`
+  /// in configureHook or startHook makes configure()/start() fail with "component 'X': <why>"
+  /// while the component stays where it was. Always returns false.
+  bool refuse(std::string why);
 
   /// Registers a member port. @throws Error on a duplicate name.
   void addPort(PortBase& port);
@@ -203,6 +210,7 @@ class Component {
 
   mutable std::mutex error_mutex_;
   std::string last_error_;
+  std::string refusal_;  // set by refuse() during a hook, consumed by configure()/start()
   std::atomic<std::uint64_t> update_count_{0};
 };
 
