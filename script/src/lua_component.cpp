@@ -85,6 +85,34 @@ struct LuaComponentDeclarations {
   static int addEventPort(lua_State* L) { return addPort(L, core::PortDirection::Input, true); }
   static int addOutputPort(lua_State* L) { return addPort(L, core::PortDirection::Output, false); }
 
+  /// Argument 6, {min =, max =}, restricts a double or int property.
+  static void applyRange(lua_State* L, LuaComponent& c, core::PropertyBase& property) {
+    const std::string where = "component '" + c.name() + "': property '" + property.name() + "'";
+    if (lua_type(L, 7) != LUA_TTABLE)
+      throw core::Error(where + ": its range (argument 6) must be a table {min =, max =}, got " +
+                        describeLuaValue(L, 7));
+    double bounds[2];
+    const char* names[2] = {"min", "max"};
+    for (int i = 0; i < 2; ++i) {
+      detail::rawField(L, 7, names[i]);
+      if (lua_type(L, -1) != LUA_TNUMBER)
+        throw core::Error(where + ": its range (argument 6) needs a number '" + names[i] + "', got " +
+                          describeLuaValue(L, -1));
+      bounds[i] = static_cast<double>(lua_tonumber(L, -1));
+      lua_pop(L, 1);
+    }
+    if (auto* d = dynamic_cast<core::Property<double>*>(&property)) {
+      d->range(bounds[0], bounds[1]);
+    } else if (auto* n = dynamic_cast<core::Property<int>*>(&property)) {
+      if (bounds[0] != static_cast<int>(bounds[0]) || bounds[1] != static_cast<int>(bounds[1]))
+        throw core::Error(where + " is an int: its range (argument 6) needs integer bounds");
+      n->range(static_cast<int>(bounds[0]), static_cast<int>(bounds[1]));
+    } else {
+      throw core::Error(where + " is a " + std::string(property.type().name) +
+                        ": only double and int properties take a range");
+    }
+  }
+
   static int addProperty(lua_State* L) {
     LuaComponent& c = self(L);
     const std::string name = stringArgument(L, 2, "name", false);
@@ -107,6 +135,7 @@ struct LuaComponentDeclarations {
                         std::string(existing->type().name) + "); the script declares it again differently");
     }
     auto property = conversion.make_property(name, initial, unit, doc);
+    if (!lua_isnoneornil(L, 7)) applyRange(L, c, *property);
     c.addProperty(*property);
     c.own_properties_.push_back(std::move(property));
     return 0;

@@ -229,6 +229,25 @@ TEST(LuaComponent, ReloadKeepsDeclaredPortsConnectionsAndValues) {
   EXPECT_TRUE(c.port("y").connectedTo(sink));
 }
 
+TEST(LuaComponent, DeclaredPropertiesMayHaveARange) {
+  LuaComponent c("Ranged", core::Role::Calculation);
+  c.setProperty("script_path", writeScript("ranged", "self:addProperty('k', 'double', 2.0, '1', 'gain', {min = 0, max = 5})\n"
+                                                     "self:addProperty('n', 'int', 3, '1', 'count', {min = 1, max = 9})"));
+  c.loadScript();
+  try {
+    c.setProperty("k", 6.0);
+    ADD_FAILURE() << "out of range accepted";
+  } catch (const core::Error& e) {
+    EXPECT_STREQ(e.what(), "component 'Ranged': property 'k' = 6 is out of range [0, 5] (1)");
+  }
+  EXPECT_EQ(c.property("n").rangeText(), "[1, 9]");
+  LuaComponent bad("BadRange", core::Role::Calculation);
+  bad.setProperty("script_path", writeScript("bad_range", "self:addProperty('s', 'string', 'a', '', 'text', {min = 0, max = 1})"));
+  EXPECT_NE(bad.configure().message.find("bad_range.lua:1: component 'BadRange': property 's' is a string: only double "
+                                         "and int properties take a range"),
+            std::string::npos);
+}
+
 TEST(LuaComponent, BadDeclarationsAreErrors) {
   LuaComponent c("Decl", core::Role::Calculation);
   c.setProperty("script_path", writeScript("decl_type", "self:addInputPort('u', 'quaternion')"));

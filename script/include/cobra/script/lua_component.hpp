@@ -22,7 +22,8 @@ namespace cobra::script {
 /// self:addInputPort("u", "double", "signal u", "1")     -- name, type, doc, unit
 /// self:addEventPort("trigger", "Event", "wakes me", "") -- an input whose data triggers update
 /// self:addOutputPort("y", "double", "signal y = k u", "1")
-/// self:addProperty("k", "double", 2.0, "1", "gain")      -- name, type, initial, unit, doc
+/// self:addProperty("k", "double", 2.0, "1", "gain", {min = -10, max = 10})
+///                                 -- name, type, initial, unit, doc, optional range (double, int)
 /// function updateHook()
 ///   local fs, u = self.u:read()
 ///   if fs == "NewData" then self.y:write(self.k * u) end
