@@ -85,8 +85,14 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
   }
   try {
     for (const ComponentSpec& spec : components_list) {
-      components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
-      journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name] { components_.remove(name); });
+      core::Component& created = components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
+      journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name] {
+        activities_.erase(name);
+        components_.remove(name);
+      });
+      // As in RTT, every component starts with an event-driven activity; setActivities replaces
+      // it. Given now, before anything is connected, so no running writer can trigger it.
+      applyActivity(created, defaultActivity(spec.peer_name, spec.where));
     }
     if (!configuration_folder_path.empty()) {
       std::vector<ConfigurationSpec> loaded = loadConfigurationFolder(configuration_folder_path);
@@ -124,20 +130,21 @@ void Configurator::configureComponents(const std::vector<NameEntry>& configurati
 void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
   for (const NameEntry& entry : start_list) (void)component(entry.name, entry.where);
   detail::UndoJournal journal;
+  // Components added to the registry by others (scripts) may have no activity from us yet:
+  // give them the default one before any component of the list starts.
+  for (const NameEntry& entry : start_list) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.isRunning() || activities_.count(c.name()) != 0) continue;
+    try {
+      applyActivity(c, defaultActivity(c.name(), entry.where));
+    } catch (const std::exception& e) {
+      journal.fail(entry.where.text() + ": cannot give " + quoted(c.name()) + " an activity: " + e.what());
+    }
+    journal.record("the default activity of " + quoted(c.name()), [this, &c] { removeActivity(c); });
+  }
   for (const NameEntry& entry : start_list) {
     core::Component& c = component(entry.name, entry.where);
     if (c.isRunning()) continue;  // starting twice is harmless, as in RTT's deployer scripts
-    try {
-      if (activities_.count(c.name()) == 0 && c.state() == core::State::Stopped) {
-        applyActivity(c, defaultActivity(c.name(), entry.where));
-        journal.record("the default activity of " + quoted(c.name()), [this, &c] {
-          activities_.erase(c.name());
-          c.setActivity(std::make_unique<core::SlaveActivity>());
-        });
-      }
-    } catch (const std::exception& e) {
-      journal.fail(entry.where.text() + ": " + e.what());
-    }
     if (const core::Result result = c.start(); !result) {
       std::string note = recoverAfterFailure(c);
       // It was Stopped before this call: configure it again so that undoing leaves it so.
@@ -237,12 +244,50 @@ void Configurator::applyActivity(core::Component& c, const ActivitySpec& spec) {
   if (clock_) {
     clock_->remove(c);
     clock_->add(c, period);
-  } else {
-    const core::Scheduler scheduler = toScheduler(spec.scheduler, spec.where);
-    if (period.count() > 0) c.setActivity(std::make_unique<core::PeriodicActivity>(period, spec.priority, scheduler));
-    else c.setActivity(std::make_unique<core::EventActivity>(spec.priority, scheduler));
+    activities_[c.name()] = spec;
+    return;
   }
+  const core::Scheduler scheduler = toScheduler(spec.scheduler, spec.where);
+  std::unique_ptr<core::Activity> activity;
+  if (period.count() > 0) activity = std::make_unique<core::PeriodicActivity>(period, spec.priority, scheduler);
+  else activity = std::make_unique<core::EventActivity>(spec.priority, scheduler);
+  replaceActivity(c, std::move(activity));
   activities_[c.name()] = spec;
+}
+
+void Configurator::removeActivity(core::Component& c) {
+  activities_.erase(c.name());
+  if (clock_) clock_->remove(c);
+  replaceActivity(c, std::make_unique<core::SlaveActivity>());
+}
+
+void Configurator::replaceActivity(core::Component& c, std::unique_ptr<core::Activity> activity) {
+  // A write on a connection into one of c's event ports triggers c's activity from the writer's
+  // thread; replacing the activity under it would race. So the connections whose writer runs
+  // on a thread are removed while the activity changes, and made again (empty) after.
+  struct Detached {
+    core::PortBase* output;
+    core::PortBase* input;
+    core::ConnPolicy policy;
+  };
+  std::vector<Detached> detached;
+  for (core::PortBase* input : c.ports()) {
+    if (!input->isEventPort()) continue;
+    for (const auto& channel : input->connections()) {
+      const core::Component* writer = channel->writer().owner();
+      if (writer != nullptr && writer != &c && writer->activity().hasRunningThread())
+        detached.push_back({&channel->writer(), input, channel->policy()});
+    }
+  }
+  for (const Detached& d : detached) core::disconnectPorts(*d.output, *d.input);
+  std::exception_ptr error;
+  try {
+    c.setActivity(std::move(activity));
+  } catch (...) {
+    error = std::current_exception();
+  }
+  for (const Detached& d : detached) core::connectPorts(*d.output, *d.input, d.policy);
+  if (error) std::rethrow_exception(error);
 }
 
 void Configurator::setActivities(const std::vector<ActivitySpec>& activities_list) {
@@ -272,12 +317,8 @@ void Configurator::setActivities(const std::vector<ActivitySpec>& activities_lis
       journal.fail(spec.where.text() + ": cannot set the activity of " + quoted(c.name()) + ": " + e.what());
     }
     journal.record("the activity of " + quoted(c.name()), [this, &c, before] {
-      if (before) {
-        applyActivity(c, *before);
-      } else {
-        activities_.erase(c.name());
-        c.setActivity(std::make_unique<core::SlaveActivity>());
-      }
+      if (before) applyActivity(c, *before);
+      else removeActivity(c);
     });
   }
 }

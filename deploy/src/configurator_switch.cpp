@@ -181,13 +181,16 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
     if (const auto it = activities_.find(n); it != activities_.end()) before = it->second;
     step(change->where, "cannot set the activity of " + quoted(n), [&] { applyActivity(c, *change); });
     journal.record("the activity of " + quoted(n), [this, &c, before] {
-      if (before) {
-        applyActivity(c, *before);
-      } else {
-        activities_.erase(c.name());
-        c.setActivity(std::make_unique<core::SlaveActivity>());
-      }
+      if (before) applyActivity(c, *before);
+      else removeActivity(c);
     });
+  }
+  for (const NameEntry& entry : next.components) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.isRunning() || activities_.count(c.name()) != 0) continue;
+    step(entry.where, "cannot give " + quoted(c.name()) + " an activity",
+         [&] { applyActivity(c, defaultActivity(c.name(), entry.where)); });
+    journal.record("the default activity of " + quoted(c.name()), [this, &c] { removeActivity(c); });
   }
   for (const ResolvedConnection& a : plan.additions) {
     step(a.spec->where, "cannot connect " + a.spec->output + " -> " + a.spec->input,
@@ -211,14 +214,10 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
       });
       journal.record("the configuration of " + quoted(c.name()), [&c] { throwIfFailed(c.cleanup()); });
     }
-    if (activities_.count(c.name()) == 0) {
-      step(entry.where, "cannot give " + quoted(c.name()) + " an activity",
-           [&] { applyActivity(c, defaultActivity(c.name(), entry.where)); });
-      journal.record("the default activity of " + quoted(c.name()), [this, &c] {
-        activities_.erase(c.name());
-        c.setActivity(std::make_unique<core::SlaveActivity>());
-      });
-    }
+  }
+  for (const NameEntry& entry : next.components) {
+    core::Component& c = component(entry.name, entry.where);
+    if (c.isRunning()) continue;
     step(entry.where, "cannot start " + quoted(c.name()), [&] {
       if (const core::Result r = c.start(); !r) {
         // Back to Stopped, so that undoing its configuration leaves it as it was.

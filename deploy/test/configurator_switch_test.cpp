@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "cobra/components/signal/recorder.hpp"
-#include "cobra/deploy/configurator.hpp"
+#include "cobra/deploy/deploy.hpp"
 #include "test_components.hpp"
 
 using namespace cobra;
@@ -163,7 +163,7 @@ TEST_F(SwitchTest, DeploymentsChangeExactlyTheRunningSetAndConnectionsAtTheSwitc
   configurator_.clock().advance(10ms);
   const Snapshot record = snapshot(configurator_);
   EXPECT_EQ(record.states.at("Rec"), "Running, lockstep, when triggered");
-  EXPECT_EQ(record.states.at("Det"), "PreOperational, slave");
+  EXPECT_EQ(record.states.at("Det"), "PreOperational, lockstep, when triggered") << "the default activity, as in RTT";
   EXPECT_EQ(rec().samples().size(), 10u);
 
   (void)configurator_.applyDeployment("detect");
@@ -171,8 +171,8 @@ TEST_F(SwitchTest, DeploymentsChangeExactlyTheRunningSetAndConnectionsAtTheSwitc
   EXPECT_EQ(changes(record.states, detect.states),
             (std::map<std::string, std::pair<std::string, std::string>>{
                 {"Rec", {"Running, lockstep, when triggered", "Stopped, lockstep, when triggered"}},
-                {"Det", {"PreOperational, slave", "Running, lockstep, when triggered"}},
-                {"Sup", {"PreOperational, slave", "Running, lockstep, when triggered"}}}));
+                {"Det", {"PreOperational, lockstep, when triggered", "Running, lockstep, when triggered"}},
+                {"Sup", {"PreOperational, lockstep, when triggered", "Running, lockstep, when triggered"}}}));
   EXPECT_EQ(difference(record.connections, detect.connections), std::set<std::string>{"Gain.out -> Rec.in (buffer(16))"});
   EXPECT_EQ(difference(detect.connections, record.connections),
             (std::set<std::string>{"Gain.out -> Det.in (buffer(16))", "Det.events -> Sup.inputEvents (buffer(8))"}));

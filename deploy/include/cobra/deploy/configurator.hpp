@@ -72,8 +72,8 @@ class Configurator {
   /// Configures the listed components in order (PreOperational or Stopped -> Stopped).
   /// @throws core::Error naming the failing entry; components this call configured are cleaned up.
   void configureComponents(const std::vector<NameEntry>& configuration_list);
-  /// Starts the listed components in order. A component without an activity from
-  /// `setActivities` gets an event-driven one (period 0), as RTT gives a non-periodic default.
+  /// Starts the listed components in order. Components get an event-driven activity (period 0)
+  /// when created, as in RTT; `setActivities` replaces it.
   /// @throws core::Error naming the failing entry; components this call started are stopped.
   void startComponents(const std::vector<NameEntry>& start_list);
   /// Stops the listed components in order (Running -> Stopped). Not in the thesis' list; the
@@ -122,7 +122,10 @@ class Configurator {
 
   /// Sets every property value of configuration `name`. Every value is checked first (component,
   /// property, type, range, read-only); when any is wrong, none is set and the error lists every
-  /// wrong value with its file:line. A running component takes its values between two updates.
+  /// wrong value with its file:line. A running component takes its values between two of its
+  /// updates. On the lockstep clock the whole configuration takes effect between two advances;
+  /// with threaded activities each component takes its own values between two of its own steps,
+  /// so two components may briefly run with old and new values respectively.
   void applyConfiguration(const std::string& name);
 
   /// The deployment / configuration last applied, or "".
@@ -163,6 +166,10 @@ class Configurator {
   ActivitySpec checkActivity(const ActivitySpec& spec, bool running_ok) const;
   /// Gives the component the activity of `spec` (it must not be Running).
   void applyActivity(core::Component& component, const ActivitySpec& spec);
+  /// Takes the component off the clock and gives it a SlaveActivity (undoes a first activity).
+  void removeActivity(core::Component& component);
+  /// core::Component::setActivity, made safe against writers running on other threads.
+  void replaceActivity(core::Component& component, std::unique_ptr<core::Activity> activity);
   /// The default (event-driven) activity for a component started without one.
   ActivitySpec defaultActivity(const std::string& name, const SourceLocation& where) const;
   /// The role violations of `connections`; throws them in strict mode, else records warnings.
