@@ -1,5 +1,6 @@
 #include "cobra/core/property.hpp"
 
+#include "cobra/core/activity.hpp"
 #include "cobra/core/component.hpp"
 
 namespace cobra::core {
@@ -14,7 +15,9 @@ void PropertyBase::applyChange(const std::function<void()>& change) {
 }
 
 void PropertyBase::readLocked(const std::function<void()>& read) const {
-  if (owner_ == nullptr) {
+  // The owner's activity thread is the only one that writes values while it runs, so it reads
+  // without the lock (a hook must never wait for a thread that is queueing a change).
+  if (owner_ == nullptr || owner_->activity().isActivityThread()) {
     read();
     return;
   }
