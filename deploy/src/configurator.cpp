@@ -18,14 +18,6 @@ std::vector<std::string> namesOf(const core::ComponentRegistry& registry) {
   return out;
 }
 
-/// Brings a component whose hook just threw back to PreOperational, so nothing is left in
-/// Exception; returns a note for the error message.
-std::string recoverAfterFailure(core::Component& c) {
-  if (c.state() != core::State::Exception) return "";
-  if (c.recover()) return " (" + c.name() + " was recovered to PreOperational)";
-  return " (" + c.name() + " could not be recovered: " + c.lastError() + ")";
-}
-
 }  // namespace
 
 Configurator::Configurator(ConfiguratorOptions options)
@@ -117,7 +109,7 @@ void Configurator::configureComponents(const std::vector<NameEntry>& configurati
     core::Component& c = component(entry.name, entry.where);
     const bool was_preoperational = c.state() == core::State::PreOperational;
     if (const core::Result result = c.configure(); !result) {
-      const std::string note = recoverAfterFailure(c);
+      const std::string note = detail::recoverAfterFailure(c);
       journal.fail(entry.where.text() + ": cannot configure " + quoted(c.name()) + ": " + result.message + note);
     }
     if (was_preoperational)
@@ -146,10 +138,7 @@ void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
     core::Component& c = component(entry.name, entry.where);
     if (c.isRunning()) continue;  // starting twice is harmless, as in RTT's deployer scripts
     if (const core::Result result = c.start(); !result) {
-      std::string note = recoverAfterFailure(c);
-      // It was Stopped before this call: configure it again so that undoing leaves it so.
-      if (c.state() == core::State::PreOperational && !note.empty())
-        note += c.configure() ? " and configured again" : " but could not be configured again";
+      const std::string note = detail::recoverAfterFailure(c, true);  // it was Stopped before
       journal.fail(entry.where.text() + ": cannot start " + quoted(c.name()) + ": " + result.message + note);
     }
     started_.push_back(c.name());
@@ -168,7 +157,7 @@ void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
     if (!c.isRunning()) continue;
     if (const core::Result result = c.stop(); !result)
       journal.fail(entry.where.text() + ": cannot stop " + quoted(c.name()) + ": " + result.message +
-                   recoverAfterFailure(c));
+                   detail::recoverAfterFailure(c));
     std::erase(started_, c.name());
     journal.record("the stop of " + quoted(c.name()), [this, &c] {
       if (const core::Result r = c.start(); !r) throw core::Error(r.message);
@@ -185,7 +174,7 @@ void Configurator::cleanupComponents(const std::vector<NameEntry>& cleanup_list)
     if (c.state() == core::State::PreOperational) continue;
     if (const core::Result result = c.cleanup(); !result)
       journal.fail(entry.where.text() + ": cannot clean up " + quoted(c.name()) + ": " + result.message +
-                   recoverAfterFailure(c));
+                   detail::recoverAfterFailure(c));
     journal.record("the cleanup of " + quoted(c.name()), [&c] {
       if (const core::Result r = c.configure(); !r) throw core::Error(r.message);
     });

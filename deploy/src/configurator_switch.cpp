@@ -208,8 +208,7 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
     if (c.state() == core::State::PreOperational) {
       step(entry.where, "cannot configure " + quoted(c.name()), [&] {
         if (const core::Result r = c.configure(); !r) {
-          if (c.state() == core::State::Exception) (void)c.recover();
-          throw core::Error(r.message);
+          throw core::Error(r.message + detail::recoverAfterFailure(c));
         }
       });
       journal.record("the configuration of " + quoted(c.name()), [&c] { throwIfFailed(c.cleanup()); });
@@ -220,9 +219,7 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
     if (c.isRunning()) continue;
     step(entry.where, "cannot start " + quoted(c.name()), [&] {
       if (const core::Result r = c.start(); !r) {
-        // Back to Stopped, so that undoing its configuration leaves it as it was.
-        if (c.state() == core::State::Exception && c.recover()) (void)c.configure();
-        throw core::Error(r.message);
+        throw core::Error(r.message + detail::recoverAfterFailure(c, true));
       }
     });
     started_.push_back(c.name());

@@ -1,5 +1,6 @@
 #pragma once
-// Internal: the undo list that makes every Configurator call all-or-nothing.
+// Internal: the undo list that makes every Configurator call all-or-nothing, and the recovery
+// of a component whose hook failed during such a call.
 
 #include <exception>
 #include <functional>
@@ -7,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "cobra/core/component.hpp"
 #include "cobra/core/error.hpp"
 
 namespace cobra::deploy::detail {
@@ -45,5 +47,17 @@ class UndoJournal {
   };
   std::vector<Step> steps_;
 };
+
+/// Takes a component whose hook threw during a call out of Exception: recovers it (to
+/// PreOperational) and, when it was Stopped before the call (`reconfigure`), configures it
+/// again, so that nothing is left in Exception and undoing the call leaves it as it was.
+/// Returns a note for the error message ("" when it was not in Exception).
+inline std::string recoverAfterFailure(core::Component& c, bool reconfigure = false) {
+  if (c.state() != core::State::Exception) return "";
+  if (!c.recover()) return " (" + c.name() + " could not be recovered: " + c.lastError() + ")";
+  if (!reconfigure) return " (" + c.name() + " was recovered to PreOperational)";
+  if (c.configure()) return " (" + c.name() + " was recovered and configured again)";
+  return " (" + c.name() + " was recovered but could not be configured again: " + c.lastError() + ")";
+}
 
 }  // namespace cobra::deploy::detail
