@@ -65,7 +65,8 @@ class Configurator {
   /// (`*.cfg`, see loadConfigurationFile) of `configuration_folder_path` (none when empty),
   /// checking each value against the new components. May be called again to add more.
   /// @throws core::Error "file:line: ..." for an unknown package or type (closest names given),
-  ///         a duplicate instance name, or a bad configuration; then no component was added.
+  ///         a duplicate instance name, or a bad configuration; then no component was added
+  ///         (packages loaded before the error stay loaded: loading only adds types).
   void initConfigurator(const std::vector<NameEntry>& packages_list, const std::vector<ComponentSpec>& components_list,
                         const std::filesystem::path& configuration_folder_path = {});
 
