@@ -48,8 +48,9 @@ class LuaDeployer {
 
   Configurator& configurator() { return configurator_; }
 
+  struct Impl;  ///< what the Lua functions reach through their upvalue (opaque)
+
  private:
-  struct Impl;
   Configurator& configurator_;
   script::LuaState& lua_;
   std::unique_ptr<Impl> impl_;

@@ -1,0 +1,146 @@
+#include "cobra/deploy/lua_deployer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "cobra/components/signal/recorder.hpp"
+#include "cobra/core/core.hpp"
+
+namespace cobra::deploy {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+struct Fixture {
+  Configurator configurator;
+  script::LuaState lua;
+  LuaDeployer deployer{configurator, lua};
+};
+
+TEST(LuaDeployer, TheThesisConfiguratorListingRuns) {
+  Fixture f;
+  const std::string path = std::string(COBRA_SOURCE_DIR) + "/apps/examples/configurator_listing.lua";
+  f.deployer.runFile(path);
+  core::ComponentRegistry& refs = f.configurator.getReferences();
+  for (const char* name : {"MotPlan", "TrajGen", "TaskSup", "Reporter"})
+    EXPECT_EQ(refs.get(name).state(), core::State::Running) << name;
+  EXPECT_EQ(f.configurator.peersOf("TaskSup"), std::vector<std::string>{"MotPlan"});
+  EXPECT_EQ(refs.get("TrajGen").activity().period(), 1ms);
+  EXPECT_EQ(refs.get("MotPlan").activity().period(), 10ms);
+  // getReferences() made every instance reachable by name, as in the thesis' console.
+  EXPECT_EQ(f.lua.evaluate("MotPlan:getState()"), "Running");
+  f.lua.run("TrajGen.k = 3", "=test");
+  f.configurator.clock().advance(50ms);
+  const auto& samples = static_cast<components::Recorder&>(refs.get("Reporter")).samples();
+  EXPECT_EQ(samples.size(), 5U);  // MotPlan writes every 10 ms; TrajGen passes each on
+}
+
+TEST(LuaDeployer, EntriesGetTheLineTheyAreWrittenOn) {
+  Fixture f;
+  const std::string code =
+      "packages_list = { \"cobra_signal\" }\n"                                     // 1
+      "components_list = {\n"                                                      // 2
+      "  { peer_name = \"Sine\", component_type = \"SineGenerator\" },\n"          // 3
+      "  { peer_name = \"Amp\", component_type = \"Gian\" },\n"                    // 4
+      "}\n"                                                                        // 5
+      "initConfigurator(packages_list, components_list)\n";                        // 6
+  const std::string message = messageOf([&] { f.deployer.run(code, "deploy.lua"); });
+  EXPECT_CONTAINS(message, "deploy.lua:4: unknown component type 'Gian'");
+  EXPECT_CONTAINS(message, "did you mean 'Gain'");
+  EXPECT_EQ(f.configurator.getReferences().components().size(), 0U) << "nothing half-made";
+}
+
+TEST(LuaDeployer, ListsPassedByNameAreFoundAtTheirDefinitionNotAnEarlierListWithTheSameNames) {
+  Fixture f;
+  const std::string code =
+      "initConfigurator({ \"cobra_signal\" }, {\n"                                 // 1
+      "  { peer_name = \"Sine\", component_type = \"SineGenerator\" },\n"          // 2
+      "  { peer_name = \"Amp\", component_type = \"Gain\" } })\n"                  // 3
+      "connections_list = {\n"                                                     // 4
+      "  { output = \"Sine.out\", input = \"Amp.in\" },\n"                         // 5
+      "  { output = \"Sine.out\", input = \"Amp.nope\" },\n"                       // 6
+      "}\n"                                                                        // 7
+      "connectPorts(connections_list)\n";                                          // 8
+  const std::string message = messageOf([&] { f.deployer.run(code, "deploy.lua"); });
+  EXPECT_CONTAINS(message, "deploy.lua:6:");
+  EXPECT_CONTAINS(message, "Amp");
+  EXPECT_CONTAINS(message, "nope");
+  EXPECT_FALSE(f.configurator.getReferences().get("Sine").port("out").connected()) << "rolled back";
+}
+
+TEST(LuaDeployer, StartListErrorsPointAtTheStartListEvenWhenAnotherListHasTheSameNames) {
+  Fixture f;
+  const std::string code =
+      "initConfigurator({ \"cobra_signal\" }, { { peer_name = \"Sine\", component_type = \"SineGenerator\" } })\n"  // 1
+      "configuration_list = { \"Sine\" }\n"                                                                          // 2
+      "start_list = {\n"                                                                                             // 3
+      "  \"Sine\",\n"                                                                                                // 4
+      "}\n"                                                                                                          // 5
+      "startComponents(start_list)\n";                                                                               // 6
+  const std::string message = messageOf([&] { f.deployer.run(code, "deploy.lua"); });
+  EXPECT_CONTAINS(message, "deploy.lua:4:");
+  EXPECT_CONTAINS(message, "configure it first");
+}
+
+TEST(LuaDeployer, SyntaxErrorsAndBadTablesNameTheFileAndLine) {
+  Fixture f;
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("components_list = {\n  { peer_name = }\n}", "bad.lua"); }),
+                  "bad.lua:2:");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("\n\ninitConfigurator({ 42 }, {})", "types.lua"); }),
+                  "types.lua:3: every entry of packages_list must be a name (string), got number");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("setActivities({ { peer_name = 7 } })", "act.lua"); }),
+                  "act.lua:1: field 'peer_name' must be a string, got number");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("rtt.Variable('int')", "var.lua"); }),
+                  "only \"ConnPolicy\" is supported");
+}
+
+TEST(LuaDeployer, NamedDeploymentsAndConfigurationsSwitchFromLua) {
+  Fixture f;
+  const std::string code = R"(
+initConfigurator({ "cobra_signal" }, {
+  { peer_name = "Sine", component_type = "SineGenerator" },
+  { peer_name = "Amp", component_type = "Gain" },
+  { peer_name = "Rec", component_type = "Recorder" },
+})
+defineDeployment("open_loop", {
+  components = { "Sine", "Rec" },
+  activities = { { peer_name = "Sine", period = 0.001 } },
+  connections = { { output = "Sine.out", input = "Rec.in", conn_policy = { type = "buffer", size = 8 } } },
+})
+defineDeployment("amplified", {
+  components = { "Sine", "Amp", "Rec" },
+  activities = { { peer_name = "Sine", period = 0.001 } },
+  connections = {
+    { output = "Sine.out", input = "Amp.in" },
+    { output = "Amp.out", input = "Rec.in", conn_policy = { type = "buffer", size = 8 } },
+  },
+})
+applyDeployment("open_loop")
+)";
+  f.deployer.run(code, "switch.lua");
+  core::ComponentRegistry& refs = f.configurator.getReferences();
+  EXPECT_EQ(refs.get("Amp").state(), core::State::PreOperational);
+  EXPECT_EQ(refs.get("Rec").state(), core::State::Running);
+  f.configurator.clock().advance(3ms);
+  f.deployer.run("applyDeployment('amplified')", "switch2.lua");
+  EXPECT_EQ(refs.get("Amp").state(), core::State::Running);
+  EXPECT_TRUE(refs.get("Amp").port("out").connectedTo(refs.get("Rec").port("in")));
+  EXPECT_FALSE(refs.get("Sine").port("out").connectedTo(refs.get("Rec").port("in")));
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("applyDeployment('nope')", "switch3.lua"); }), "nope");
+  EXPECT_EQ(f.configurator.currentDeployment(), "amplified");
+}
+
+}  // namespace
+}  // namespace cobra::deploy
