@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev)
+PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
@@ -54,7 +54,8 @@ run_tests() {
     --tsan)
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
-      build tsan
+      build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test \
+        core_operation_test
       TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
         ctest --test-dir build/tsan --output-on-failure --no-tests=error -L concurrency --timeout 600 ;;
     *) echo "do test: unknown option '$1' (expected --asan or --tsan)" >&2; exit 2 ;;
