@@ -54,6 +54,7 @@ ComponentRegistry::~ComponentRegistry() {
   // Stop everything first so no update runs while its peers are being destroyed.
   for (auto& c : components_)
     if (c->isRunning()) (void)c->stop();
+  by_name_.clear();
   for (auto it = components_.rbegin(); it != components_.rend(); ++it) it->reset();
 }
 
@@ -61,14 +62,14 @@ Component& ComponentRegistry::add(std::unique_ptr<Component> component) {
   if (!component) throw Error("ComponentRegistry::add needs a component, got none");
   if (find(component->name()) != nullptr)
     throw Error("a component named '" + component->name() + "' already exists; names must be unique");
+  by_name_.emplace(component->name(), component.get());
   components_.push_back(std::move(component));
   return *components_.back();
 }
 
 Component* ComponentRegistry::find(std::string_view name) const {
-  for (const auto& c : components_)
-    if (c->name() == name) return c.get();
-  return nullptr;
+  const auto it = by_name_.find(std::string(name));
+  return it == by_name_.end() ? nullptr : it->second;
 }
 
 Component& ComponentRegistry::get(std::string_view name) const {
@@ -83,6 +84,7 @@ bool ComponentRegistry::remove(std::string_view name) {
   if (it == components_.end()) return false;
   if ((*it)->isRunning()) (void)(*it)->stop();
   for (PortBase* port : (*it)->ports()) port->disconnect();
+  by_name_.erase((*it)->name());
   components_.erase(it);
   return true;
 }

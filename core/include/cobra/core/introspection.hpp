@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <string_view>
 #include <vector>
 
@@ -87,7 +88,8 @@ class ComponentRegistry {
   std::vector<ComponentInfo> describeAll() const;
 
  private:
-  std::vector<std::unique_ptr<Component>> components_;
+  std::vector<std::unique_ptr<Component>> components_;  // in the order added
+  std::unordered_map<std::string, Component*> by_name_;  // lookups stay O(1) with thousands
 };
 
 }  // namespace cobra::core
