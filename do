@@ -80,9 +80,9 @@ case "${1:-help}" in
     done ;;
   fuzz)
     seconds="${2:-60}"
-    build fuzz --target value_text_fuzz channel_fuzz
+    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz
     mkdir -p build/fuzz/corpus
-    for f in value_text_fuzz channel_fuzz; do
+    for f in value_text_fuzz channel_fuzz configuration_text_fuzz; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
       if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \

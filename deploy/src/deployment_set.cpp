@@ -68,10 +68,14 @@ std::vector<std::string> DeploymentSet::configurationNames() const { return keys
 ConfigurationSpec loadConfigurationFile(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw core::Error("cannot read configuration file " + file.string());
-  ConfigurationSpec configuration{file.stem().string(), {file.string(), 1}, {}};
+  return parseConfiguration(in, file.stem().string(), file.string());
+}
+
+ConfigurationSpec parseConfiguration(std::istream& in, const std::string& name, const std::string& file) {
+  ConfigurationSpec configuration{name, {file, 1}, {}};
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
-    const SourceLocation where{file.string(), number};
+    const SourceLocation where{file, number};
     const std::string text = trim(line);
     if (text.empty() || text.front() == '#') continue;
     const auto equals = text.find('=');

@@ -6,6 +6,7 @@
 /// run time.
 
 #include <filesystem>
+#include <istream>
 #include <map>
 #include <string>
 #include <vector>
@@ -72,6 +73,10 @@ class DeploymentSet {
 /// location is the file and line it is on.
 /// @throws core::Error "file:line: ..." on a line that is not `Component.property = value`.
 ConfigurationSpec loadConfigurationFile(const std::filesystem::path& file);
+
+/// The parser behind loadConfigurationFile: reads `in` as configuration `name`, naming
+/// `file` in locations and errors.
+ConfigurationSpec parseConfiguration(std::istream& in, const std::string& name, const std::string& file);
 
 /// Every `*.cfg` file of `folder`, in name order.
 /// @throws core::Error when the folder does not exist or a file is malformed.
