@@ -15,6 +15,11 @@
 #include "cobra/components/signal/sine_generator.hpp"
 #include "cobra/components/signal/threshold_detector.hpp"
 #include "cobra/core/core.hpp"
+#include "cobra/deploy/graph.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 
 using namespace cobra;
 using namespace std::chrono_literals;
@@ -86,6 +91,16 @@ int main() {
     std::printf("  error: %s\n", e.what());
   }
   std::printf("  Sine.frequency is still %s Hz\n", sine.property("frequency").valueText().c_str());
+
+  // A drawing of the deployment (components coloured by role), as `cobra graph` makes.
+  const auto dot_path = std::filesystem::temp_directory_path() / "cobra-demo.dot";
+  const auto svg_path = std::filesystem::temp_directory_path() / "cobra-demo.svg";
+  std::ofstream(dot_path) << deploy::toDot(registry, "cobra demo");
+  const std::string render = "dot -Tsvg '" + dot_path.string() + "' -o '" + svg_path.string() + "' 2>/dev/null";
+  if (std::system(render.c_str()) == 0)
+    std::printf("\nthe deployment is drawn in %s (Graphviz source: %s)\n", svg_path.c_str(), dot_path.c_str());
+  else
+    std::printf("\nthe deployment's Graphviz source is %s (install graphviz to render it)\n", dot_path.c_str());
 
   std::printf("\n%llu component updates in %.0f ms of simulated time; states:",
               static_cast<unsigned long long>(clock.steps()), std::chrono::duration<double, std::milli>(clock.now()).count());
