@@ -1,6 +1,8 @@
-// The `cobra` command-line tool: run and check Lua deployment files.
+// The `cobra` command-line tool: run, check and draw Lua deployment files; write components.
 //   cobra deploy FILE [--sim] [--run-for T] [--strict]
 //   cobra lint FILE
+//   cobra graph FILE -o out.svg
+//   cobra new component NAME --role R --package P [-o DIR] [--in n:T[:unit]] [--out ...] [--prop ...]
 
 #include <CLI/CLI.hpp>
 
@@ -12,7 +14,13 @@
 
 #include "cobra/core/core.hpp"
 #include "cobra/deploy/deploy.hpp"
+#include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "new_component.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 
 using namespace cobra;
 
@@ -86,6 +94,33 @@ int runLint(const std::string& file) {
   return violations.empty() ? 0 : 1;
 }
 
+/// Deploys `file` on the simulation clock (nothing runs) and draws it: DOT, or SVG/PNG/PDF
+/// through Graphviz's `dot` according to the output's extension.
+int runGraph(const std::string& file, const std::string& output) {
+  deploy::Configurator configurator;
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.runFile(file);
+  const std::string dot = deploy::toDot(configurator.getReferences(), std::filesystem::path(file).filename().string());
+  const std::filesystem::path out(output);
+  if (out.extension() == ".dot") {
+    std::ofstream(out) << dot;
+  } else {
+    const std::string format = out.extension().string().substr(out.extension().empty() ? 0 : 1);
+    if (format != "svg" && format != "png" && format != "pdf")
+      throw std::runtime_error("output " + output + ": use .svg, .png, .pdf or .dot");
+    const auto dot_file = std::filesystem::path(output + ".dot");
+    std::ofstream(dot_file) << dot;
+    const std::string command = "dot -T" + format + " '" + dot_file.string() + "' -o '" + output + "'";
+    const int status = std::system(command.c_str());
+    std::filesystem::remove(dot_file);
+    if (status != 0) throw std::runtime_error("Graphviz failed (" + command + "); is graphviz installed?");
+  }
+  std::printf("drew %zu component(s) of %s in %s\n", configurator.getReferences().components().size(), file.c_str(),
+              output.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -109,12 +144,47 @@ int main(int argc, char** argv) {
   lint_cmd->add_option("FILE", lint_file, "Lua deployment file")->required()->check(CLI::ExistingFile);
   lint_cmd->footer("example: cobra lint apps/examples/configurator_listing.lua   (exit status 1 on violations)");
 
+  std::string graph_file, graph_output;
+  CLI::App* graph_cmd = app.add_subcommand("graph", "draw a deployment: components coloured by role, ports, connections");
+  graph_cmd->add_option("FILE", graph_file, "Lua deployment file")->required()->check(CLI::ExistingFile);
+  graph_cmd->add_option("-o,--output", graph_output, "output file: .svg, .png, .pdf (with Graphviz) or .dot")->required();
+  graph_cmd->footer("example: cobra graph apps/examples/configurator_listing.lua -o deployment.svg");
+
+  tools::ComponentTemplate skeleton;
+  std::string new_folder;
+  std::vector<std::string> ins, event_ins, outs, props;
+  CLI::App* new_cmd = app.add_subcommand("new", "write a new component skeleton (header, source, test, CMake entry)");
+  CLI::App* new_component_cmd = new_cmd->add_subcommand("component", "a component");
+  new_cmd->require_subcommand(1);
+  new_component_cmd->add_option("NAME", skeleton.name, "class name, CamelCase")->required();
+  new_component_cmd->add_option("--role", skeleton.role, "calculation, supervision, decision or bridge")->required();
+  new_component_cmd->add_option("--package", skeleton.package, "package (namespace and include folder)")->required();
+  new_component_cmd->add_option("-o,--output", new_folder, "package folder (default: ./PACKAGE)");
+  new_component_cmd->add_option("--in", ins, "input port name:Type[:unit]");
+  new_component_cmd->add_option("--event-in", event_ins, "input port whose data triggers an update, name:Type[:unit]");
+  new_component_cmd->add_option("--out", outs, "output port name:Type[:unit]");
+  new_component_cmd->add_option("--prop", props, "property name:Type[:unit]");
+  new_component_cmd->footer(
+      "types: double int bool string vector Vector Rotation Frame Twist Wrench JntArray Event\n"
+      "example: cobra new component VariableAdmittance --role calculation --package my_control \\\n"
+      "           --in des_pose:Frame --in meas_wrench:Wrench --out adm_pose:Frame --prop stiffness:double:N/m");
+
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   try {
     if (*deploy_cmd) return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict);
     if (*lint_cmd) return runLint(lint_file);
+    if (*graph_cmd) return runGraph(graph_file, graph_output);
+    if (*new_component_cmd) {
+      for (const auto& text : ins) skeleton.inputs.push_back(tools::parseInterfaceItem(text, "--in"));
+      for (const auto& text : event_ins) skeleton.event_inputs.push_back(tools::parseInterfaceItem(text, "--event-in"));
+      for (const auto& text : outs) skeleton.outputs.push_back(tools::parseInterfaceItem(text, "--out"));
+      for (const auto& text : props) skeleton.properties.push_back(tools::parseInterfaceItem(text, "--prop"));
+      const auto folder = new_folder.empty() ? std::filesystem::path(skeleton.package) : std::filesystem::path(new_folder);
+      for (const auto& path : tools::generateComponent(skeleton, folder)) std::printf("wrote %s\n", path.c_str());
+      return 0;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cobra: %s\n", e.what());
     return 2;
