@@ -78,8 +78,10 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
   try {
     for (const ComponentSpec& spec : components_list) {
       core::Component& created = components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
+      types_[spec.peer_name] = spec.component_type;
       journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name] {
         activities_.erase(name);
+        types_.erase(name);
         components_.remove(name);
       });
       // As in RTT, every component starts with an event-driven activity; setActivities replaces
@@ -194,6 +196,16 @@ void Configurator::addPeers(const std::vector<PeerSpec>& peers_list) {
     }
   }
   peers_ = std::move(updated);
+}
+
+std::string Configurator::componentTypeOf(const std::string& component) const {
+  const auto it = types_.find(component);
+  return it == types_.end() ? std::string() : it->second;
+}
+
+const ActivitySpec* Configurator::activityOf(const std::string& component) const {
+  const auto it = activities_.find(component);
+  return it == activities_.end() ? nullptr : &it->second;
 }
 
 const std::vector<std::string>& Configurator::peersOf(const std::string& name) const {

@@ -2,6 +2,7 @@
 //   cobra deploy FILE [--sim] [--run-for T] [--strict]
 //   cobra lint FILE
 //   cobra graph FILE -o out.svg
+//   cobra describe FILE [-o out.lua]
 //   cobra new component NAME --role R --package P [-o DIR] [--in n:T[:unit]] [--out ...] [--prop ...]
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,7 @@
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "describe.hpp"
 #include "new_component.hpp"
 
 #include <cstdlib>
@@ -121,6 +123,22 @@ int runGraph(const std::string& file, const std::string& output) {
   return 0;
 }
 
+int runDescribe(const std::string& file, const std::string& output) {
+  deploy::Configurator configurator;
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.runFile(file);
+  const std::string text = tools::describeDeployment(configurator, file);
+  if (output.empty()) {
+    std::fputs(text.c_str(), stdout);
+  } else {
+    std::ofstream(output) << text;
+    std::printf("described %zu component(s) of %s in %s\n", configurator.getReferences().components().size(),
+                file.c_str(), output.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -150,6 +168,12 @@ int main(int argc, char** argv) {
   graph_cmd->add_option("-o,--output", graph_output, "output file: .svg, .png, .pdf (with Graphviz) or .dot")->required();
   graph_cmd->footer("example: cobra graph apps/examples/configurator_listing.lua -o deployment.svg");
 
+  std::string describe_file, describe_output;
+  CLI::App* describe_cmd = app.add_subcommand("describe", "write a deployment back as reusable Configurator tables (Lua)");
+  describe_cmd->add_option("FILE", describe_file, "Lua deployment file")->required()->check(CLI::ExistingFile);
+  describe_cmd->add_option("-o,--output", describe_output, "Lua file to write (default: standard output)");
+  describe_cmd->footer("example: cobra describe apps/examples/configurator_listing.lua -o described.lua");
+
   tools::ComponentTemplate skeleton;
   std::string new_folder;
   std::vector<std::string> ins, event_ins, outs, props;
@@ -176,6 +200,7 @@ int main(int argc, char** argv) {
     if (*deploy_cmd) return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict);
     if (*lint_cmd) return runLint(lint_file);
     if (*graph_cmd) return runGraph(graph_file, graph_output);
+    if (*describe_cmd) return runDescribe(describe_file, describe_output);
     if (*new_component_cmd) {
       for (const auto& text : ins) skeleton.inputs.push_back(tools::parseInterfaceItem(text, "--in"));
       for (const auto& text : event_ins) skeleton.event_inputs.push_back(tools::parseInterfaceItem(text, "--event-in"));

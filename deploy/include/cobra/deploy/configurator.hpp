@@ -88,6 +88,10 @@ class Configurator {
   void addPeers(const std::vector<PeerSpec>& peers_list);
   /// The peers of `component`, in the order added (empty when it has none).
   const std::vector<std::string>& peersOf(const std::string& component) const;
+  /// The component type `component` was created from ("" for one this configurator did not make).
+  std::string componentTypeOf(const std::string& component) const;
+  /// The activity last set for `component`, or nullptr.
+  const ActivitySpec* activityOf(const std::string& component) const;
 
   /// Sets each listed component's activity (see ClockMode). Periods are in s; 0 is event-driven.
   /// Priority 0 with a real-time scheduler is raised to 1 (with a warning), as RTT does.
@@ -137,6 +141,7 @@ class Configurator {
   core::LockstepClock& clock();
   ClockMode mode() const { return options_.mode; }
   PackageRegistry& packages() { return packages_; }
+  const PackageRegistry& packages() const { return packages_; }
   /// Non-fatal findings so far (role violations, adjusted priorities), oldest first.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -191,6 +196,7 @@ class Configurator {
   DeploymentSet set_;
   std::map<std::string, std::vector<std::string>, std::less<>> peers_;
   std::map<std::string, ActivitySpec, std::less<>> activities_;
+  std::map<std::string, std::string, std::less<>> types_;  // instance name -> component type
   std::vector<Connection> connections_;
   std::vector<std::string> started_;  // start order, for stopping in reverse
   std::string current_deployment_;
