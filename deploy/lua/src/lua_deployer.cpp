@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "cobra/deploy/lua_configuration.hpp"
 #include "cobra/script/bindings.hpp"
 #include "source_lines.hpp"
 
@@ -271,7 +272,20 @@ int initConfiguratorImpl(lua_State* L) {
   std::string folder;
   if (lua_type(L, 3) == LUA_TSTRING) folder = lua_tostring(L, 3);
   else if (!lua_isnoneornil(L, 3)) fail(site.here(), "configuration_folder_path must be a string");
+  // Lua-table configurations (*.lua) of the folder, read and checked for name clashes before
+  // anything is created, so a bad file leaves nothing half-made; *.cfg files are the
+  // Configurator's own.
+  std::vector<ConfigurationSpec> lua_configurations;
+  if (!folder.empty() && std::filesystem::is_directory(folder)) {
+    lua_configurations = loadLuaConfigurationFolder(folder);
+    for (const ConfigurationSpec& c : lua_configurations) {
+      const auto twin = std::filesystem::path(folder) / (c.name + ".cfg");
+      if (std::filesystem::exists(twin) || impl.configurator.deploymentSet().findConfiguration(c.name) != nullptr)
+        fail(c.where, "a configuration named '" + c.name + "' already exists (" + twin.string() + " or an earlier call)");
+    }
+  }
   impl.configurator.initConfigurator(packages, components, folder);
+  for (ConfigurationSpec& c : lua_configurations) impl.configurator.deploymentSet().addConfiguration(std::move(c));
   return 0;
 }
 

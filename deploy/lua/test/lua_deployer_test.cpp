@@ -142,5 +142,41 @@ applyDeployment("open_loop")
   EXPECT_EQ(f.configurator.currentDeployment(), "amplified");
 }
 
+TEST(LuaDeployer, ConfigurationFoldersMayHoldLuaTablesAndCfgFiles) {
+  Fixture f;
+  const std::string folder = std::string(COBRA_SOURCE_DIR) + "/deploy/lua/test/configurations";
+  f.deployer.run("initConfigurator({ 'cobra_signal' }, {\n"
+                 "  { peer_name = 'Sine', component_type = 'SineGenerator' },\n"
+                 "  { peer_name = 'Amp', component_type = 'Gain' } }, '" + folder + "')\n",
+                 "init.lua");
+  EXPECT_EQ(f.configurator.deploymentSet().configurationNames(), (std::vector<std::string>{"fast", "slow"}));
+  const ConfigurationSpec& fast = f.configurator.deploymentSet().configuration("fast");
+  ASSERT_EQ(fast.values.size(), 3U);
+  EXPECT_EQ(fast.values[0].component, "Amp");  // sorted: Lua's own table order is not reproducible
+  EXPECT_EQ(fast.values[0].value, "0.5");
+  EXPECT_EQ(fast.values[0].where.line, 7);
+  EXPECT_EQ(fast.values[2].property, "frequency");
+  EXPECT_EQ(fast.values[2].where.line, 4);
+  f.deployer.run("applyConfiguration('fast')", "apply.lua");
+  core::ComponentRegistry& refs = f.configurator.getReferences();
+  EXPECT_EQ(refs.get("Sine").getProperty<double>("frequency"), 20.0);
+  EXPECT_EQ(refs.get("Sine").getProperty<double>("amplitude"), 2.0);
+  EXPECT_EQ(refs.get("Amp").getProperty<double>("k"), 0.5);
+  f.deployer.run("applyConfiguration('slow')", "apply.lua");
+  EXPECT_EQ(refs.get("Amp").getProperty<double>("k"), 4.0);
+}
+
+TEST(LuaDeployer, ABadLuaConfigurationNamesItsLineAndCreatesNothing) {
+  Fixture f;
+  const std::string folder = std::string(COBRA_SOURCE_DIR) + "/deploy/lua/test/configurations_bad";
+  const std::string message = messageOf([&] {
+    f.deployer.run("initConfigurator({ 'cobra_signal' }, { { peer_name = 'Sine', component_type = 'SineGenerator' } }, '" +
+                       folder + "')",
+                   "init.lua");
+  });
+  EXPECT_CONTAINS(message, "broken.lua:3: Sine.frequency must be a number, boolean, string or array of numbers, got function");
+  EXPECT_EQ(f.configurator.getReferences().components().size(), 0U);
+}
+
 }  // namespace
 }  // namespace cobra::deploy

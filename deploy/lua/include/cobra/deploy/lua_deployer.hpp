@@ -17,6 +17,9 @@
 /// `rtt.globals.ORO_SCHED_RT` / `ORO_SCHED_OTHER` and `rtt.Variable("ConnPolicy")` (a data
 /// policy table whose `type` and `size` can be set).
 ///
+/// The configuration folder of `initConfigurator` may hold configurations as Lua tables
+/// (`name.lua`, see lua_configuration.hpp) as well as `name.cfg` files.
+///
 /// Every table entry is given the file:line where it is written, so Configurator errors name it.
 /// Lua does not keep the lines of table entries, so they are found in the source text: the call
 /// `startComponents(start_list)` is looked up on its line, the definition `start_list = {` is
