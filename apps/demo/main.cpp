@@ -95,7 +95,7 @@ int main() {
   // A drawing of the deployment (components coloured by role), as `cobra graph` makes.
   const auto dot_path = std::filesystem::temp_directory_path() / "cobra-demo.dot";
   const auto svg_path = std::filesystem::temp_directory_path() / "cobra-demo.svg";
-  std::ofstream(dot_path) << deploy::toDot(registry, "cobra demo");
+  std::ofstream(dot_path) << deploy::graphvizDot(registry, "cobra demo");
   const std::string render = "dot -Tsvg '" + dot_path.string() + "' -o '" + svg_path.string() + "' 2>/dev/null";
   if (std::system(render.c_str()) == 0)
     std::printf("\nthe deployment is drawn in %s (Graphviz source: %s)\n", svg_path.c_str(), dot_path.c_str());

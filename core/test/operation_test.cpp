@@ -100,7 +100,7 @@ TEST(Operation, MemberFunctionsCalledByName) {
   EXPECT_EQ(c.value, 0.0);
 }
 
-TEST(Operation, IntConvertsToDoubleAndCharPointerToString) {
+TEST(Operation, IntWidensToADoubleAndCharPointerBecomesAString) {
   Calc c;
   EXPECT_EQ(c.call<double>("add", 1, 2), 3.0);
   EXPECT_EQ(c.call<double>("add", 1, 0.5), 1.5);

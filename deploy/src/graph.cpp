@@ -40,7 +40,7 @@ std::string roleColour(core::Role role) {
   return "#ffffff";
 }
 
-std::string toDot(const core::ComponentRegistry& registry, const std::string& title) {
+std::string graphvizDot(const core::ComponentRegistry& registry, const std::string& title) {
   std::ostringstream dot;
   dot << "digraph " << quoted(title) << " {\n"
       << "  rankdir=LR;\n  node [shape=record, style=filled, fontname=\"Helvetica\", fontsize=10];\n"

@@ -32,7 +32,7 @@ struct Pipeline {
 
 TEST(Graph, DrawsComponentsColouredByRoleWithPortsAndPolicies) {
   Pipeline p;
-  const std::string dot = toDot(p.registry, "demo");
+  const std::string dot = graphvizDot(p.registry, "demo");
   EXPECT_EQ(dot.rfind("digraph \"demo\" {", 0), 0U);
   EXPECT_CONTAINS(dot, "\"Sine\" [fillcolor=\"" + roleColour(core::Role::Calculation) + "\"");
   EXPECT_CONTAINS(dot, "\"Detector\" [fillcolor=\"" + roleColour(core::Role::Decision) + "\"");
@@ -57,7 +57,7 @@ TEST(Graph, GraphvizAcceptsTheOutput) {
   Pipeline p;
   const std::string dot_path = ::testing::TempDir() + "cobra_graph_test.dot";
   const std::string svg_path = ::testing::TempDir() + "cobra_graph_test.svg";
-  std::ofstream(dot_path) << toDot(p.registry);
+  std::ofstream(dot_path) << graphvizDot(p.registry);
   ASSERT_EQ(std::system(("dot -Tsvg " + dot_path + " -o " + svg_path).c_str()), 0);
   std::stringstream svg;
   svg << std::ifstream(svg_path).rdbuf();

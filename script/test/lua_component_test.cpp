@@ -140,7 +140,7 @@ TEST(LuaComponent, HooksMayRefuse) {
   EXPECT_TRUE(c.configure());
 }
 
-TEST(LuaComponent, MissingScriptPathSaysWhatToDo) {
+TEST(LuaComponent, MissingScriptPathSaysWhatIsNeeded) {
   LuaComponent c("NoScript", core::Role::Calculation);
   const core::Result result = c.configure();
   EXPECT_EQ(result.message, "component 'NoScript': configureHook threw: component 'NoScript': script_path is empty; "

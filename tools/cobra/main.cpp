@@ -103,7 +103,7 @@ int runGraph(const std::string& file, const std::string& output) {
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
-  const std::string dot = deploy::toDot(configurator.getReferences(), std::filesystem::path(file).filename().string());
+  const std::string dot = deploy::graphvizDot(configurator.getReferences(), std::filesystem::path(file).filename().string());
   const std::filesystem::path out(output);
   if (out.extension() == ".dot") {
     std::ofstream(out) << dot;

@@ -212,7 +212,7 @@ std::string errorOf(F&& body) {
   return "(no error)";
 }
 
-TEST(Reporter, RefusesWhatItCannotReportWithMessagesThatSayWhatToDo) {
+TEST(Reporter, RefusesWhatItCannotReportWithMessagesThatSayWhatIsNeeded) {
   core::ComponentRegistry registry;
   auto& sine = registry.make<SineGenerator>("Sine");
   auto& gain = registry.make<Gain>("Gain");

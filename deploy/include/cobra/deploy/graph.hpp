@@ -17,6 +17,6 @@ std::string roleColour(core::Role role);
 /// Components are record nodes listing inputs on the left and outputs on the right; edges go
 /// from output to input with the policy ("data", "buffer(8)") as label; logic-data edges are
 /// dashed. Ports connected to ports outside the registry are drawn to a plain node.
-std::string toDot(const core::ComponentRegistry& registry, const std::string& title = "cobra deployment");
+std::string graphvizDot(const core::ComponentRegistry& registry, const std::string& title = "cobra deployment");
 
 }  // namespace cobra::deploy
