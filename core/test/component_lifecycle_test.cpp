@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -15,8 +17,6 @@
 
 namespace cobra::core {
 namespace {
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 enum class Hook { None, Configure, Start, Update, Stop, Cleanup, Exception };
 

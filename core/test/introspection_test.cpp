@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -15,16 +17,7 @@
 namespace cobra::core {
 namespace {
 
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using cobra::test_support::messageOf;
 
 class Adder : public Component {
  public:

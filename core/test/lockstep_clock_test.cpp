@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -18,8 +20,6 @@ namespace {
 
 using namespace std::chrono_literals;
 using Trace = std::vector<std::pair<std::int64_t, std::string>>;  // (time in ns, who)
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 /// Appends (now, name) to a shared trace on every update.
 class Ticker : public Component {

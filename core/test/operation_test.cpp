@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -19,28 +21,10 @@
 namespace cobra::core {
 namespace {
 
+using cobra::test_support::messageOf;
+using cobra::test_support::waitUntil;
+
 using namespace std::chrono_literals;
-
-template <class Pred>
-bool waitUntil(Pred done) {
-  const auto give_up = std::chrono::steady_clock::now() + 5s;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > give_up) return done();
-    std::this_thread::sleep_for(1ms);
-  }
-  return true;
-}
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 class Calc : public Component {
  public:

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <kdl/frames.hpp>
 
 #include <algorithm>
@@ -20,18 +22,10 @@
 namespace cobra::core {
 namespace {
 
-using namespace std::chrono_literals;
+using cobra::test_support::messageOf;
+using cobra::test_support::waitUntil;
 
-/// Polls `done` every millisecond for at most 5 s (threaded activities only).
-template <class Pred>
-bool waitUntil(Pred done) {
-  const auto give_up = std::chrono::steady_clock::now() + 5s;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > give_up) return done();
-    std::this_thread::sleep_for(1ms);
-  }
-  return true;
-}
+using namespace std::chrono_literals;
 
 class Source : public Component {
  public:
@@ -62,15 +56,6 @@ class Sink : public Component {
     if (in.read(v) == FlowStatus::NewData) last.store(v);
   }
 };
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 // --- connecting -------------------------------------------------------------------------------
 

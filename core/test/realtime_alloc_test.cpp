@@ -12,40 +12,13 @@
 #include <kdl/jntarray.hpp>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
-// GCC warns that malloc/free pair with operator new/delete; here that pairing is the point.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept { return operator new(size, tag); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace cobra::core {
 namespace {
 
-/// Counts the allocations made while `body` runs.
-template <class F>
-long allocationsDuring(F&& body) {
-  const long before = g_allocations.load();
-  body();
-  return g_allocations.load() - before;
-}
+using cobra::test_support::allocationsDuring;
 
 TEST(RealtimeAlloc, CounterSeesAllocations) {
   // Guards against a counter that cannot fail.

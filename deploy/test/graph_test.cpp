@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -14,8 +16,6 @@
 
 namespace cobra::deploy {
 namespace {
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 struct Pipeline {
   core::ComponentRegistry registry;

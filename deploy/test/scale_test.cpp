@@ -11,32 +11,8 @@
 #include <new>
 
 #include "cobra/deploy/configurator.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
-// GCC warns that malloc/free pair with operator new/delete; here that pairing is the point.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-
-// Counting global allocator: how many bytes the code between two reads allocated.
-std::atomic<std::size_t> g_allocated{0};
-
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocated.fetch_add(size, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  g_allocated.fetch_add(size, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept { return operator new(size, tag); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace cobra;
 using namespace std::chrono_literals;
@@ -97,12 +73,12 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 TEST(Scale, UnconnectedPortCostsLessThanOneKibibyte) {
-  const std::size_t before_ten = g_allocated.load();
+  const std::size_t before_ten = cobra::test_support::newBytes();
   auto ten = std::make_unique<TenPorts>("Ten");
-  const std::size_t heap_ten = g_allocated.load() - before_ten - sizeof(TenPorts);
-  const std::size_t before_none = g_allocated.load();
+  const std::size_t heap_ten = cobra::test_support::newBytes() - before_ten - sizeof(TenPorts);
+  const std::size_t before_none = cobra::test_support::newBytes();
   auto none = std::make_unique<NoPorts>("None");
-  const std::size_t heap_none = g_allocated.load() - before_none - sizeof(NoPorts);
+  const std::size_t heap_none = cobra::test_support::newBytes() - before_none - sizeof(NoPorts);
 
   const double per_port_object = static_cast<double>(sizeof(TenPorts) - sizeof(NoPorts)) / (2 * kPairs);
   const double per_port_heap = static_cast<double>(heap_ten - heap_none) / (2 * kPairs);
@@ -131,22 +107,22 @@ TEST(Scale, ThousandComponentsWithTenPortsDeployConnectAndRun) {
   }
 
   const auto start = std::chrono::steady_clock::now();
-  const std::size_t heap_before = g_allocated.load();
+  const std::size_t heap_before = cobra::test_support::newBytes();
   configurator.initConfigurator({{"scale", {"scale.lua", 0}}}, components);
   configurator.setActivities(activities);
   const double created = secondsSince(start);
   const auto connect_start = std::chrono::steady_clock::now();
-  const std::size_t heap_before_connect = g_allocated.load();
+  const std::size_t heap_before_connect = cobra::test_support::newBytes();
   EXPECT_TRUE(configurator.connectPorts(connections).empty());
   const double connected = secondsSince(connect_start);
-  const std::size_t heap_connections = g_allocated.load() - heap_before_connect;
+  const std::size_t heap_connections = cobra::test_support::newBytes() - heap_before_connect;
   configurator.configureComponents(lifecycle);
   configurator.startComponents(lifecycle);
   const double total = secondsSince(start);
   std::printf("%d components x %d ports, %zu connections: created + activities %.3f s, connected %.3f s, "
               "deployed in total %.3f s; %.1f MB allocated (connections: %.0f B each, buffer(4) of double)\n",
               kComponents, 2 * kPairs, connections.size(), created, connected, total,
-              static_cast<double>(g_allocated.load() - heap_before) / 1e6,
+              static_cast<double>(cobra::test_support::newBytes() - heap_before) / 1e6,
               static_cast<double>(heap_connections) / static_cast<double>(connections.size()));
 
   // Data crosses all 1,000 components in the instant it is written.

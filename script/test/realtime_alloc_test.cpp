@@ -16,8 +16,7 @@
 #include "cobra/core/core.hpp"
 #include "cobra/script/bindings.hpp"
 #include "cobra/script/lua_component.hpp"
-
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#include "cobra/test_support/counting_new.hpp"
 
 // Sanitizers own malloc; under them only operator new is counted.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -28,7 +27,6 @@
 
 namespace {
 std::atomic<long> g_mallocs{0};
-std::atomic<long> g_news{0};
 }  // namespace
 
 #if COBRA_COUNT_MALLOC
@@ -68,16 +66,6 @@ void free(void* p) { __libc_free(p); }
 }
 #endif
 
-void* operator new(std::size_t size) {
-  g_news.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace cobra::script {
 namespace {
@@ -91,9 +79,9 @@ struct Counts {
 
 template <class F>
 Counts allocationsDuring(F&& body) {
-  const long m = g_mallocs.load(), n = g_news.load();
+  const long m = g_mallocs.load(), n = cobra::test_support::newCalls();
   body();
-  return {g_mallocs.load() - m, g_news.load() - n};
+  return {g_mallocs.load() - m, cobra::test_support::newCalls() - n};
 }
 
 TEST(ScriptRealtimeAlloc, CountersSeeAllocations) {

@@ -13,25 +13,9 @@
 
 #include "cobra/components/reporting/reporter.hpp"
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "test_files.hpp"
 
-// GCC warns that malloc/free pair with operator new/delete; here that pairing is the point.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace cobra::components {
 namespace {
@@ -89,15 +73,15 @@ TEST(ReporterAlloc, UpdatesAllocateNothingOnceStarted) {
   clock.add(writer, 1ms);
   clock.add(reporter, 1ms);
   ASSERT_TRUE(writer.configure() && writer.start());
-  const long at_configure = g_allocations.load();
+  const long at_configure = cobra::test_support::newCalls();
   ASSERT_TRUE(reporter.configure());
-  EXPECT_GT(g_allocations.load() - at_configure, 0) << "the counter must see the queue being allocated";
+  EXPECT_GT(cobra::test_support::newCalls() - at_configure, 0) << "the counter must see the queue being allocated";
   ASSERT_TRUE(reporter.start());
   clock.advance(10ms);  // warm-up: first reads fill the readers' values
 
-  const long before = g_allocations.load();
+  const long before = cobra::test_support::newCalls();
   clock.advance(1000ms);
-  const long during = g_allocations.load() - before;
+  const long during = cobra::test_support::newCalls() - before;
   EXPECT_EQ(during, 0) << "allocations in 1000 updates of the writer and the reporter";
 
   ASSERT_TRUE(reporter.stop());

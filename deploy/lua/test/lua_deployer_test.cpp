@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/test_support.hpp"
+
 #include <string>
 
 #include "cobra/components/signal/recorder.hpp"
@@ -10,18 +12,9 @@
 namespace cobra::deploy {
 namespace {
 
+using cobra::test_support::messageOf;
+
 using namespace std::chrono_literals;
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 struct Fixture {
   Configurator configurator;
