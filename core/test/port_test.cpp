@@ -364,5 +364,21 @@ TEST(Port, TypeErasedReaderAndTextWrite) {
   }
 }
 
+TEST(Port, TypeErasedWriterFeedsAnInput) {
+  InputPort<double> in{"in", "a force", "N"};
+  InputPortBase& erased = in;
+  std::unique_ptr<OutputPortBase> writer = erased.makeWriter("console", "console writer");
+  EXPECT_EQ(writer->type().name, "double");
+  EXPECT_EQ(writer->unit(), "N");
+  EXPECT_EQ(writer->direction(), PortDirection::Output);
+  writer->connectTo(in, ConnPolicy::data());
+  EXPECT_EQ(writer->writeText("2.5"), WriteStatus::Written);
+  double value = 0.0;
+  EXPECT_EQ(in.read(value), FlowStatus::NewData);
+  EXPECT_EQ(value, 2.5);
+  writer.reset();  // destroying the writer disconnects it
+  EXPECT_FALSE(in.connected());
+}
+
 }  // namespace
 }  // namespace cobra::core

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <set>
 
-#include "suggest.hpp"
+#include "cobra/deploy/suggest.hpp"
 #include "undo_journal.hpp"
 
 namespace cobra::deploy {
@@ -42,7 +42,7 @@ core::LockstepClock& Configurator::clock() {
 core::Component& Configurator::component(const std::string& name, const SourceLocation& where) const {
   if (core::Component* c = components_.find(name)) return *c;
   throw core::Error(where.text() + ": no component named " + quoted(name) +
-                    detail::suggestionText(name, namesOf(components_), "components") +
+                    suggestionText(name, namesOf(components_), "components") +
                     " (components are created from components_list by initConfigurator)");
 }
 
@@ -53,7 +53,7 @@ core::PortBase& Configurator::port(const std::string& path, const SourceLocation
   std::vector<std::string> names;
   for (const core::PortBase* p : owner.ports()) names.push_back(p->name());
   throw core::Error(where.text() + ": component " + quoted(owner.name()) + " has no port " + quoted(parts.port) +
-                    detail::suggestionText(parts.port, names, "ports of " + owner.name()));
+                    suggestionText(parts.port, names, "ports of " + owner.name()));
 }
 
 void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,

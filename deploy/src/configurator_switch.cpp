@@ -5,7 +5,7 @@
 #include <set>
 
 #include "cobra/deploy/configurator.hpp"
-#include "suggest.hpp"
+#include "cobra/deploy/suggest.hpp"
 #include "undo_journal.hpp"
 
 namespace cobra::deploy {
@@ -39,7 +39,7 @@ void Configurator::checkConfiguration(const ConfigurationSpec& configuration) co
         std::vector<std::string> names;
         for (const core::PropertyBase* p : c.properties()) names.push_back(p->name());
         throw core::Error(value.where.text() + ": component " + quoted(c.name()) + " has no property " +
-                          quoted(value.property) + detail::suggestionText(value.property, names, "properties"));
+                          quoted(value.property) + suggestionText(value.property, names, "properties"));
       }
       try {
         property->checkText(value.value);

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "cobra/core/error.hpp"
-#include "suggest.hpp"
+#include "cobra/deploy/suggest.hpp"
 
 namespace cobra::deploy {
 namespace {
@@ -53,13 +53,13 @@ const ConfigurationSpec* DeploymentSet::findConfiguration(const std::string& nam
 
 const DeploymentSpec& DeploymentSet::deployment(const std::string& name) const {
   if (const DeploymentSpec* found = findDeployment(name)) return *found;
-  throw core::Error("no deployment named '" + name + "'" + detail::suggestionText(name, deploymentNames(), "deployments"));
+  throw core::Error("no deployment named '" + name + "'" + suggestionText(name, deploymentNames(), "deployments"));
 }
 
 const ConfigurationSpec& DeploymentSet::configuration(const std::string& name) const {
   if (const ConfigurationSpec* found = findConfiguration(name)) return *found;
   throw core::Error("no configuration named '" + name + "'" +
-                    detail::suggestionText(name, configurationNames(), "configurations"));
+                    suggestionText(name, configurationNames(), "configurations"));
 }
 
 std::vector<std::string> DeploymentSet::deploymentNames() const { return keysOf(deployments_); }

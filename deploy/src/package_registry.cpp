@@ -9,7 +9,7 @@
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/components/signal/sine_generator.hpp"
 #include "cobra/components/signal/threshold_detector.hpp"
-#include "suggest.hpp"
+#include "cobra/deploy/suggest.hpp"
 
 namespace cobra::deploy {
 namespace {
@@ -104,7 +104,7 @@ void PackageRegistry::load(const std::string& name, const SourceLocation& where)
   std::string searched;
   for (const auto& dir : search_path_) searched += (searched.empty() ? "" : ":") + dir.string();
   throw core::Error(prefix(where) + "unknown package '" + name + "'" +
-                    detail::suggestionText(name, knownPackages(), "packages") + " (searched for " + file_name + " in " +
+                    suggestionText(name, knownPackages(), "packages") + " (searched for " + file_name + " in " +
                     (searched.empty() ? std::string("no directory") : searched) +
                     "; add directories with COBRA_PACKAGE_PATH)");
 }
@@ -143,7 +143,7 @@ const ComponentType& PackageRegistry::type(const std::string& type_name, const S
   std::string loaded;
   for (const auto& p : loaded_) loaded += (loaded.empty() ? "" : ", ") + p;
   throw core::Error(prefix(where) + "unknown component type '" + type_name + "'" +
-                    detail::suggestionText(type_name, typeNames(), "types") + " (loaded packages: " +
+                    suggestionText(type_name, typeNames(), "types") + " (loaded packages: " +
                     (loaded.empty() ? std::string("none") : loaded) + "; is its package in packages_list?)");
 }
 

@@ -1,9 +1,9 @@
-#include "suggest.hpp"
+#include "cobra/deploy/suggest.hpp"
 
 #include <algorithm>
 #include <numeric>
 
-namespace cobra::deploy::detail {
+namespace cobra::deploy {
 
 std::size_t editDistance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> row(b.size() + 1);
@@ -53,4 +53,4 @@ std::string suggestionText(std::string_view wanted, const std::vector<std::strin
   return text;
 }
 
-}  // namespace cobra::deploy::detail
+}  // namespace cobra::deploy

@@ -3,6 +3,7 @@
 //   cobra lint FILE
 //   cobra graph FILE -o out.svg
 //   cobra describe FILE [-o out.lua]
+//   cobra console [FILE] [--sim] [--strict]
 //   cobra new component NAME --role R --package P [-o DIR] [--in n:T[:unit]] [--out ...] [--prop ...]
 
 #include <CLI/CLI.hpp>
@@ -17,10 +18,13 @@
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "console.hpp"
+#include "console_terminal.hpp"
 #include "describe.hpp"
 #include "new_component.hpp"
 
 #include <cstdlib>
+#include <iostream>
 #include <filesystem>
 #include <fstream>
 
@@ -30,7 +34,10 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 
-void onSignal(int) { g_interrupted.store(true); }
+void onSignal(int) {
+  g_interrupted.store(true);
+  tools::Console::interrupt();
+}
 
 void printStates(const core::ComponentRegistry& registry) {
   for (const core::Component* c : registry.components())
@@ -52,11 +59,15 @@ std::vector<deploy::LintViolation> lintAll(const core::ComponentRegistry& regist
   return all;
 }
 
-int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
+deploy::ConfiguratorOptions optionsFor(bool sim, bool strict) {
   deploy::ConfiguratorOptions options;
   options.mode = sim ? deploy::ClockMode::Simulation : deploy::ClockMode::RealTime;
   options.strict_roles = strict;
-  deploy::Configurator configurator(options);
+  return options;
+}
+
+int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
+  deploy::Configurator configurator(optionsFor(sim, strict));
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -139,6 +150,15 @@ int runDescribe(const std::string& file, const std::string& output) {
   return 0;
 }
 
+int runConsole(const std::string& file, bool sim, bool strict) {
+  deploy::Configurator configurator(optionsFor(sim, strict));
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  tools::Console console(configurator, deployer, std::cout);
+  if (!file.empty()) console.execute("load " + file);
+  return tools::runConsoleTerminal(console);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -174,6 +194,15 @@ int main(int argc, char** argv) {
   describe_cmd->add_option("-o,--output", describe_output, "Lua file to write (default: standard output)");
   describe_cmd->footer("example: cobra describe apps/examples/configurator_listing.lua -o described.lua");
 
+  std::string console_file;
+  bool console_sim = false, console_strict = false;
+  CLI::App* console_cmd = app.add_subcommand("console", "browse and drive a deployment interactively (like OROCOS' TaskBrowser)");
+  console_cmd->add_option("FILE", console_file, "Lua deployment file to load first")->check(CLI::ExistingFile);
+  console_cmd->add_flag("--sim", console_sim, "lockstep simulation clock: time advances only with step and trace");
+  console_cmd->add_flag("--strict", console_strict, "refuse connections that break the role rules");
+  console_cmd->footer("example: cobra console apps/examples/configurator_listing.lua --sim\n"
+                      "         then: ls, cd TrajGen, set k 2, step 0.1, trace out 5, Reporter.count(), help");
+
   tools::ComponentTemplate skeleton;
   std::string new_folder;
   std::vector<std::string> ins, event_ins, outs, props;
@@ -201,6 +230,7 @@ int main(int argc, char** argv) {
     if (*lint_cmd) return runLint(lint_file);
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);
+    if (*console_cmd) return runConsole(console_file, console_sim, console_strict);
     if (*new_component_cmd) {
       for (const auto& text : ins) skeleton.inputs.push_back(tools::parseInterfaceItem(text, "--in"));
       for (const auto& text : event_ins) skeleton.event_inputs.push_back(tools::parseInterfaceItem(text, "--event-in"));

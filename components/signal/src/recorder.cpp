@@ -7,6 +7,13 @@ Recorder::Recorder(std::string name)
   addEventPort(in_);
   addProperty(capacity_.range(1, 100'000'000));
   addProperty(dropped_.readOnly());
+  addOperation("count", std::function<int()>([this] { return count(); }), "number of samples recorded so far");
+  addOperation("clear", &Recorder::clear, this, "forgets the samples recorded so far (keeps the buffer)");
+}
+
+void Recorder::clear() {
+  samples_.clear();
+  dropped_.setFromOwner(0);
 }
 
 bool Recorder::configureHook() {

@@ -25,6 +25,13 @@ TEST(Recorder, KeepsTimedSamplesUpToCapacityAndCountsTheRest) {
   ASSERT_EQ(recorder.samples().size(), 3u);
   EXPECT_EQ(recorder.samples()[2].value, 20.0);
   EXPECT_EQ(recorder.getProperty<int>("dropped"), 2);
+  EXPECT_EQ(recorder.call<int>("count"), 3);
+  recorder.call<void>("clear");
+  EXPECT_EQ(recorder.call<int>("count"), 0);
+  EXPECT_EQ(recorder.getProperty<int>("dropped"), 0);
+  source.write(5.0);
+  clock.advance(2ms);
+  EXPECT_EQ(recorder.call<int>("count"), 1);
 }
 
 TEST(Recorder, DroppedIsReadOnly) {

@@ -83,12 +83,17 @@ void linkChannel(const std::shared_ptr<ChannelBase>& channel);
 void unlinkChannel(const std::shared_ptr<ChannelBase>& channel);
 
 /// Input side of a typed port, type-erased: what the console, reporter and scripts read.
+class OutputPortBase;
+
 class InputPortBase : public PortBase {
  public:
   using PortBase::PortBase;
   /// Reads like `InputPort<T>::read` and gives the value in its type's text form (empty on
   /// NoData). Not real-time safe (formats text).
   virtual FlowStatus readText(std::string& text) = 0;
+  /// A new output port of this port's type (not owned by any component), e.g. for a console
+  /// that writes samples or events into this input. Connect it with `connectTo`.
+  virtual std::unique_ptr<OutputPortBase> makeWriter(std::string name, std::string doc) const = 0;
 };
 
 /// Output side of a typed port; type-erased entry point for the deployer, console and tools.
@@ -222,6 +227,8 @@ class InputPort final : public InputPortBase {
     return status;
   }
 
+  std::unique_ptr<OutputPortBase> makeWriter(std::string name, std::string doc) const override;
+
  protected:
   void attachChannel(ChannelBase& channel) override {
     channels_.add(static_cast<Channel<T>*>(&channel));
@@ -255,6 +262,11 @@ void OutputPort<T>::connectTo(PortBase& input, ConnPolicy policy) {
 template <RegisteredDataType T>
 std::unique_ptr<InputPortBase> OutputPort<T>::makeReader(std::string name, std::string doc) const {
   return std::make_unique<InputPort<T>>(std::move(name), std::move(doc), unit());
+}
+
+template <RegisteredDataType T>
+std::unique_ptr<OutputPortBase> InputPort<T>::makeWriter(std::string name, std::string doc) const {
+  return std::make_unique<OutputPort<T>>(std::move(name), std::move(doc), unit());
 }
 
 /// Typed convenience: `connect(gen.out, gain.in, ConnPolicy::buffer(8))`.

@@ -1,11 +1,12 @@
 #pragma once
-// Internal: "did you mean" suggestions for misspelt names.
+/// @file
+/// "Did you mean" suggestions for misspelt names, shared by the deployer and the console.
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace cobra::deploy::detail {
+namespace cobra::deploy {
 
 /// Levenshtein distance between `a` and `b`, case-sensitive.
 std::size_t editDistance(std::string_view a, std::string_view b);
@@ -18,4 +19,4 @@ std::vector<std::string> closestNames(std::string_view wanted, const std::vector
 /// to an error message. `what` names the list, e.g. "types".
 std::string suggestionText(std::string_view wanted, const std::vector<std::string>& known, std::string_view what);
 
-}  // namespace cobra::deploy::detail
+}  // namespace cobra::deploy
