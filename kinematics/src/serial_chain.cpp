@@ -1,0 +1,216 @@
+#include "cobra/kinematics/serial_chain.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainiksolverpos_lma.hpp>
+#include <kdl/chainiksolverpos_nr_jl.hpp>
+#include <kdl/chainiksolvervel_pinv.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
+
+#include "cobra/kinematics/geometry.hpp"
+
+namespace cobra::kinematics {
+
+namespace {
+
+constexpr std::size_t kMaxDhRows = 32;
+
+void checkFinite(const std::string& robot, std::size_t joint, const char* parameter, double value, const char* unit) {
+  if (std::isfinite(value)) return;
+  throw std::invalid_argument(robot + ": joint " + std::to_string(joint + 1) + " DH parameter " + parameter + " is " +
+                              formatNumber(value) + ": give a finite value in " + unit);
+}
+
+void checkFiniteFrame(const std::string& robot, const char* which, const KDL::Frame& frame) {
+  if (validFrame(frame)) return;
+  throw std::invalid_argument(robot + ": the " + std::string(which) +
+                              " frame is not a pose: its translation must be finite and its rotation orthonormal");
+}
+
+}  // namespace
+
+KDL::Frame dhTransform(const DhRow& row, double q) noexcept {
+  if (row.type == JointType::Revolute) return KDL::Frame::DH(row.a, row.alpha, row.d, row.theta + q);
+  return KDL::Frame::DH(row.a, row.alpha, row.d + q, row.theta);
+}
+
+SerialChainModel::SerialChainModel(std::string name, std::vector<DhRow> rows, const KDL::Frame& base,
+                                   const KDL::Frame& tool)
+    : name_(std::move(name)), rows_(std::move(rows)), base_(base), tool_(tool) {
+  if (rows_.empty()) throw std::invalid_argument(name_ + ": the DH table is empty: give one row per joint");
+  if (rows_.size() > kMaxDhRows)
+    throw std::invalid_argument(name_ + ": the DH table has " + std::to_string(rows_.size()) + " rows; at most " +
+                                std::to_string(kMaxDhRows) + " joints are supported");
+  checkFiniteFrame(name_, "base", base_);
+  checkFiniteFrame(name_, "tool", tool_);
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const DhRow& row = rows_[i];
+    checkFinite(name_, i, "a", row.a, "m");
+    checkFinite(name_, i, "alpha", row.alpha, "rad");
+    checkFinite(name_, i, "d", row.d, "m");
+    checkFinite(name_, i, "theta", row.theta, "rad");
+    limits_.types.push_back(row.type);
+    limits_.lower.push_back(row.lower);
+    limits_.upper.push_back(row.upper);
+  }
+  validateLimits(name_, limits_, rows_.size());
+
+  chain_.addSegment(KDL::Segment("base", KDL::Joint(KDL::Joint::Fixed), base_));
+  // Reach bound: |base offset| + Σ (|a| + |d| + |prismatic travel|) + |tool offset|.
+  reach_bound_ = norm(tool_.p);
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const DhRow& row = rows_[i];
+    const auto type = row.type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ;
+    chain_.addSegment(KDL::Segment("link" + std::to_string(i + 1), KDL::Joint("joint" + std::to_string(i + 1), type),
+                                   KDL::Frame::DH(row.a, row.alpha, row.d, row.theta)));
+    reach_bound_ += std::abs(row.a) + std::abs(row.d);
+    if (row.type == JointType::Prismatic) reach_bound_ += std::max(std::abs(row.lower), std::abs(row.upper));
+  }
+  chain_.addSegment(KDL::Segment("tool", KDL::Joint(KDL::Joint::Fixed), tool_));
+}
+
+KDL::Frame SerialChainModel::forward(std::span<const double> q) const noexcept {
+  KDL::Frame pose = base_;
+  for (std::size_t i = 0; i < rows_.size() && i < q.size(); ++i) pose = pose * dhTransform(rows_[i], q[i]);
+  return pose * tool_;
+}
+
+struct SerialChainSolver::Workspace {
+  explicit Workspace(const SerialChainModel& model, const IterativeIkOptions& options)
+      : fk(model.chain()),
+        jac(model.chain()),
+        ik_velocity(model.chain()),
+        q_min(model.jointCount()),
+        q_max(model.jointCount()),
+        q_work(model.jointCount()),
+        jacobian(model.jointCount()) {
+    for (unsigned i = 0; i < model.jointCount(); ++i) {
+      q_min(i) = model.limits().lower[i];
+      q_max(i) = model.limits().upper[i];
+    }
+    // KDL's own stopping thresholds are set far below cobra's tolerances, which are checked on
+    // the result; NR_JL compares each twist component, LMA the weighted squared error.
+    constexpr double kNrTwistEps = 1e-12;
+    constexpr double kLmaSquaredErrorEps = 1e-24;
+    const int iterations = static_cast<int>(options.max_iterations);
+    if (options.method == IterativeIk::NewtonRaphsonJL) {
+      nr = std::make_unique<KDL::ChainIkSolverPos_NR_JL>(model.chain(), q_min, q_max, fk, ik_velocity,
+                                                         options.max_iterations, kNrTwistEps);
+    } else {
+      // Equal weights on position (m) and orientation (rad): KDL's default 0.01 on rotation
+      // trades orientation accuracy away, which cobra does not accept.
+      Eigen::Matrix<double, 6, 1> weights = Eigen::Matrix<double, 6, 1>::Ones();
+      lma = std::make_unique<KDL::ChainIkSolverPos_LMA>(model.chain(), weights, kLmaSquaredErrorEps, iterations);
+    }
+  }
+
+  KDL::ChainFkSolverPos_recursive fk;
+  KDL::ChainJntToJacSolver jac;
+  KDL::ChainIkSolverVel_pinv ik_velocity;
+  std::unique_ptr<KDL::ChainIkSolverPos_NR_JL> nr;
+  std::unique_ptr<KDL::ChainIkSolverPos_LMA> lma;
+  KDL::JntArray q_min;
+  KDL::JntArray q_max;
+  KDL::JntArray q_work;
+  KDL::Jacobian jacobian;
+};
+
+namespace {
+
+/// Gauss–Newton steps q += Jᵀ(JJᵀ + λ²I)⁻¹ e with an exact pose residual e, after KDL's solver:
+/// KDL measures rotation residuals with Rotation::GetRotAngle, which rounds angles below 1e-6 rad
+/// to zero, so NR_JL and LMA stop with orientation errors of 1e-8 to 1e-6 rad. Only started when
+/// KDL's answer is already within `kPolishRadius` of the target; no allocation (6×6 fixed-size).
+void polish(KDL::ChainFkSolverPos_recursive& fk, KDL::ChainJntToJacSolver& jac_solver, const KDL::Frame& target,
+            const IterativeIkOptions& options, KDL::JntArray& q, KDL::Jacobian& jacobian) noexcept {
+  constexpr int kMaxSteps = 4;
+  constexpr double kPolishRadius = 1e-3;  // m and rad
+  constexpr double kDampingSquared = 1e-16;
+  const unsigned n = q.rows();
+  for (int step = 0; step < kMaxSteps; ++step) {
+    KDL::Frame reached;
+    fk.JntToCart(q, reached);
+    const KDL::Vector e_p = target.p - reached.p;
+    const KDL::Vector e_r = rotationVector(target.M * reached.M.Inverse());
+    if (norm(e_p) > kPolishRadius || norm(e_r) > kPolishRadius) return;
+    if (norm(e_p) <= 0.1 * options.position_tolerance && norm(e_r) <= 0.1 * options.orientation_tolerance) return;
+    jac_solver.JntToJac(q, jacobian);
+    Vector6d e;
+    e << e_p.x(), e_p.y(), e_p.z(), e_r.x(), e_r.y(), e_r.z();
+    Matrix6d jjt = kDampingSquared * Matrix6d::Identity();
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c)
+        for (unsigned j = 0; j < n; ++j) jjt(r, c) += jacobian(static_cast<unsigned>(r), j) * jacobian(static_cast<unsigned>(c), j);
+    const Vector6d y = jjt.ldlt().solve(e);
+    for (unsigned j = 0; j < n; ++j) {
+      double dq = 0.0;
+      for (int r = 0; r < 6; ++r) dq += jacobian(static_cast<unsigned>(r), j) * y(r);
+      q(j) += dq;
+    }
+  }
+}
+
+}  // namespace
+
+SerialChainSolver::SerialChainSolver(SerialChainModel model, IterativeIkOptions options)
+    : model_(std::make_unique<const SerialChainModel>(std::move(model))), options_(options) {
+  if (!(options_.position_tolerance > 0.0) || !(options_.orientation_tolerance > 0.0))
+    throw std::invalid_argument(model_->name() + ": IK tolerances must be > 0 (position " +
+                                formatNumber(options_.position_tolerance) + " m, orientation " +
+                                formatNumber(options_.orientation_tolerance) + " rad)");
+  if (options_.max_iterations == 0)
+    throw std::invalid_argument(model_->name() + ": IK max_iterations must be >= 1");
+  work_ = std::make_unique<Workspace>(*model_, options_);
+}
+
+SerialChainSolver::~SerialChainSolver() = default;
+SerialChainSolver::SerialChainSolver(SerialChainSolver&&) noexcept = default;
+SerialChainSolver& SerialChainSolver::operator=(SerialChainSolver&&) noexcept = default;
+
+IkStatus SerialChainSolver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
+  if (!validJointArray(q, jointCount())) return IkStatus::BadInput;
+  if (work_->fk.JntToCart(q, pose) < 0) return IkStatus::BadInput;
+  return IkStatus::Ok;
+}
+
+IkStatus SerialChainSolver::jacobian(const KDL::JntArray& q, KDL::Jacobian& jacobian) noexcept {
+  if (!validJointArray(q, jointCount()) || jacobian.columns() != jointCount()) return IkStatus::BadInput;
+  if (work_->jac.JntToJac(q, jacobian) < 0) return IkStatus::BadInput;
+  return IkStatus::Ok;
+}
+
+IkStatus SerialChainSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed,
+                                    KDL::JntArray& q_out) noexcept {
+  if (!validJointArray(seed, jointCount()) || q_out.rows() != jointCount() || !validFrame(target))
+    return IkStatus::BadInput;
+  if (norm(target.p - model_->base().p) > model_->reachBound()) return IkStatus::Unreachable;
+  KDL::JntArray& q = work_->q_work;
+  // KDL's return codes are not trusted alone (NR_JL reports success from its own twist threshold,
+  // LMA stops on small increments): the answer is judged by its forward kinematics below.
+  if (options_.method == IterativeIk::NewtonRaphsonJL) {
+    work_->nr->CartToJnt(seed, target, q);
+  } else {
+    work_->lma->CartToJnt(seed, target, q);
+  }
+  for (unsigned i = 0; i < jointCount(); ++i) {
+    if (!std::isfinite(q(i))) return IkStatus::NoConvergence;
+  }
+  polish(work_->fk, work_->jac, target, options_, q, work_->jacobian);
+  KDL::Frame reached;
+  work_->fk.JntToCart(q, reached);
+  if (norm(reached.p - target.p) > options_.position_tolerance ||
+      orientationError(reached.M, target.M) > options_.orientation_tolerance)
+    return IkStatus::NoConvergence;
+  const std::span<double> values(q.data.data(), jointCount());
+  if (!wrapIntoLimits(values, limits(), std::span<const double>(seed.data.data(), jointCount())))
+    return IkStatus::JointLimits;
+  q_out.data = q.data;
+  return IkStatus::Ok;
+}
+
+int SerialChainSolver::lastIterations() const noexcept { return work_->lma ? work_->lma->lastNrOfIter : 0; }
+
+}  // namespace cobra::kinematics
