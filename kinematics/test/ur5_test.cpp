@@ -1,0 +1,309 @@
+// Unit tests of ur5.hpp: FK against KDL's recursive solver on the same DH chain, all 8 inverse
+// solutions on seeded random poses (each reproduces the pose; one is the original joints),
+// nearest-to-seed choice with the ±2π joint ranges, KDL's LMA landing on one of the analytic
+// solutions, the wrist singularity, unreachable poses, joint limits, construction errors and
+// the absence of allocation.
+
+#include <gtest/gtest.h>
+
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <kdl/chainfksolverpos_recursive.hpp>
+
+#include "cobra/kinematics/geometry.hpp"
+#include "cobra/kinematics/ur5.hpp"
+
+namespace cobra::kinematics {
+namespace {
+
+using cobra::test_support::allocationsDuring;
+using cobra::test_support::messageOf;
+constexpr double kPi = std::numbers::pi;
+constexpr double kPoseTolerance = 1e-9;  // m and rad
+
+KDL::JntArray randomJoints(std::mt19937& rng, double range = kPi) {
+  std::uniform_real_distribution<double> value(-range, range);
+  KDL::JntArray q(6);
+  for (unsigned i = 0; i < 6; ++i) q(i) = value(rng);
+  return q;
+}
+
+KDL::JntArray toJnt(std::span<const double> values) {
+  KDL::JntArray q(static_cast<unsigned>(values.size()));
+  for (unsigned i = 0; i < q.rows(); ++i) q(i) = values[i];
+  return q;
+}
+
+double jointDistanceModulo2Pi(const KDL::JntArray& a, std::span<const double> b) {
+  double worst = 0.0;
+  for (unsigned i = 0; i < a.rows(); ++i) worst = std::max(worst, std::abs(wrapToPi(a(i) - b[i])));
+  return worst;
+}
+
+TEST(Ur5, DhTableIsUniversalRobotsPublishedOne) {
+  const Ur5Solver ur5;
+  const auto& rows = ur5.model().rows();
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_DOUBLE_EQ(rows[0].d, 0.089159);
+  EXPECT_DOUBLE_EQ(rows[1].a, -0.425);
+  EXPECT_DOUBLE_EQ(rows[2].a, -0.39225);
+  EXPECT_DOUBLE_EQ(rows[3].d, 0.10915);
+  EXPECT_DOUBLE_EQ(rows[4].d, 0.09465);
+  EXPECT_DOUBLE_EQ(rows[5].d, 0.0823);
+  EXPECT_DOUBLE_EQ(rows[0].alpha, kPi / 2);
+  EXPECT_DOUBLE_EQ(rows[3].alpha, kPi / 2);
+  EXPECT_DOUBLE_EQ(rows[4].alpha, -kPi / 2);
+  EXPECT_DOUBLE_EQ(ur5.limits().lower[2], -2 * kPi);
+  EXPECT_DOUBLE_EQ(ur5.limits().upper[5], 2 * kPi);
+}
+
+TEST(Ur5, ZeroConfigurationIsTheKnownStretchedPose) {
+  // At q = 0 the UR5 lies stretched along -x: flange at (a2 + a3, -(d4 + d6), d1 - d5).
+  Ur5Solver ur5;
+  KDL::Frame pose;
+  ASSERT_EQ(ur5.forward(KDL::JntArray(6), pose), IkStatus::Ok);
+  EXPECT_NEAR(pose.p.x(), -0.425 - 0.39225, 1e-15);
+  EXPECT_NEAR(pose.p.y(), -(0.10915 + 0.0823), 1e-15);
+  EXPECT_NEAR(pose.p.z(), 0.089159 - 0.09465, 1e-15);
+}
+
+// 1000 seeded random configurations: FK equals KDL's ChainFkSolverPos_recursive on the chain.
+TEST(Ur5, ForwardMatchesKdl) {
+  std::mt19937 rng(11);
+  const KDL::Frame base(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(0.4, -0.1, 0.8));
+  const KDL::Frame tool(KDL::Rotation::RotY(0.3), KDL::Vector(0.0, 0.02, 0.15));
+  Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
+  KDL::ChainFkSolverPos_recursive kdl(ur5.model().chain());
+  for (int i = 0; i < 1000; ++i) {
+    const KDL::JntArray q = randomJoints(rng, 2 * kPi);
+    KDL::Frame ours;
+    KDL::Frame theirs;
+    ASSERT_EQ(ur5.forward(q, ours), IkStatus::Ok);
+    ASSERT_GE(kdl.JntToCart(q, theirs), 0);
+    EXPECT_LT(norm(ours.p - theirs.p), 1e-12);
+    EXPECT_LT(orientationError(ours.M, theirs.M), 1e-12);
+  }
+}
+
+// 2000 seeded random configurations (with base and tool frames): every solution reproduces the
+// pose within 1e-9 m / 1e-9 rad through KDL's FK, one of them is the original configuration
+// (mod 2π), most poses have all 8 (others lose a shoulder/wrist branch whose planar elbow problem
+// has no real solution), inverse seeded with the original returns it, and inverse from a seed
+// 0.05 rad away returns a configuration at least as near to the seed as the original.
+TEST(Ur5, AllEightSolutionsReproduceRandomPoses) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  const KDL::Frame base(KDL::Rotation::RotZ(0.7), KDL::Vector(0.1, 0.2, 0.3));
+  const KDL::Frame tool(KDL::Rotation::RotX(-0.4), KDL::Vector(0.01, 0.0, 0.12));
+  Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
+  KDL::ChainFkSolverPos_recursive kdl(ur5.model().chain());
+  IkSolutionSet solutions;
+  constexpr int kCount = 2000;
+  int with_eight = 0;
+  for (int i = 0; i < kCount; ++i) {
+    const KDL::JntArray q = randomJoints(rng);
+    KDL::Frame target;
+    ASSERT_EQ(ur5.forward(q, target), IkStatus::Ok);
+    ASSERT_EQ(ur5.allInverse(target, q, solutions), IkStatus::Ok);
+    ASSERT_GE(solutions.size(), 1u);
+    if (solutions.size() == 8) ++with_eight;
+    double nearest = 1e9;
+    for (std::size_t s = 0; s < solutions.size(); ++s) {
+      KDL::Frame reached;
+      ASSERT_GE(kdl.JntToCart(toJnt(solutions[s]), reached), 0);
+      EXPECT_LT(norm(reached.p - target.p), kPoseTolerance) << "pose " << i << " solution " << s;
+      EXPECT_LT(orientationError(reached.M, target.M), kPoseTolerance) << "pose " << i << " solution " << s;
+      nearest = std::min(nearest, jointDistanceModulo2Pi(q, solutions[s]));
+    }
+    EXPECT_LT(nearest, 1e-7) << "pose " << i << ": the original configuration is not among the solutions";
+
+    KDL::JntArray out(6);
+    ASSERT_EQ(ur5.inverse(target, q, out), IkStatus::Ok);
+    for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(out(j), q(j), 1e-7) << "pose " << i << " joint " << j + 1;
+
+    KDL::JntArray seed = q;
+    for (unsigned j = 0; j < 6; ++j) seed(j) += noise(rng);
+    ASSERT_EQ(ur5.inverse(target, seed, out), IkStatus::Ok);
+    KDL::Frame reached;
+    ur5.forward(out, reached);
+    EXPECT_LT(norm(reached.p - target.p), kPoseTolerance);
+    EXPECT_LE((out.data - seed.data).norm(), (q.data - seed.data).norm() + 1e-7) << "pose " << i;
+  }
+  EXPECT_GE(with_eight, kCount / 2);
+}
+
+// The ±2π ranges: a seed near q + 2π on joint 1 gets q + 2π, not q.
+TEST(Ur5, InverseUsesThe2PiRepresentativeNearestTheSeed) {
+  Ur5Solver ur5;
+  KDL::JntArray q(6);
+  q(0) = -0.5;
+  q(1) = -1.2;
+  q(2) = 1.4;
+  q(3) = -0.7;
+  q(4) = 1.1;
+  q(5) = 2.0;
+  KDL::Frame target;
+  ur5.forward(q, target);
+  KDL::JntArray seed = q;
+  seed(0) = 5.7;   // nearer to -0.5 + 2π = 5.78 than to -0.5
+  seed(5) = -4.2;  // nearer to 2 - 2π = -4.28 than to 2
+  KDL::JntArray out(6);
+  ASSERT_EQ(ur5.inverse(target, seed, out), IkStatus::Ok);
+  EXPECT_NEAR(out(0), -0.5 + 2 * kPi, 1e-9);
+  EXPECT_NEAR(out(5), 2.0 - 2 * kPi, 1e-9);
+  EXPECT_NEAR(out(1), -1.2, 1e-9);
+}
+
+// 200 seeded random poses: KDL's LMA on the same DH chain, started near one configuration,
+// converges to one of the analytic solutions (an independent check of the closed form).
+TEST(Ur5, KdlLmaLandsOnAnAnalyticSolution) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> noise(-0.1, 0.1);
+  Ur5Solver ur5;
+  SerialChainSolver lma(ur5.model(), {.method = IterativeIk::LevenbergMarquardt});
+  IkSolutionSet solutions;
+  for (int i = 0; i < 200; ++i) {
+    const KDL::JntArray q = randomJoints(rng);
+    KDL::Frame target;
+    ur5.forward(q, target);
+    KDL::JntArray seed = q;
+    for (unsigned j = 0; j < 6; ++j) seed(j) += noise(rng);
+    KDL::JntArray by_kdl(6);
+    if (lma.inverse(target, seed, by_kdl) != IkStatus::Ok) continue;
+    ASSERT_EQ(ur5.allInverse(target, seed, solutions), IkStatus::Ok);
+    double nearest = 1e9;
+    for (std::size_t s = 0; s < solutions.size(); ++s)
+      nearest = std::min(nearest, jointDistanceModulo2Pi(by_kdl, solutions[s]));
+    EXPECT_LT(nearest, 1e-6) << "pose " << i;
+  }
+}
+
+// Wrist singularity (θ5 = 0: axes 4 and 6 aligned): θ6 is the seed's, the pose is still reached.
+TEST(Ur5, WristSingularityTakesTheFreeJointFromTheSeed) {
+  Ur5Solver ur5;
+  KDL::JntArray q(6);
+  q(0) = 0.3;
+  q(1) = -1.0;
+  q(2) = 1.2;
+  q(3) = 0.2;
+  q(4) = 0.0;
+  q(5) = 0.8;
+  KDL::Frame target;
+  ur5.forward(q, target);
+  KDL::JntArray seed = q;
+  seed(5) = 0.5;
+  IkSolutionSet solutions;
+  ASSERT_EQ(ur5.allInverse(target, seed, solutions), IkStatus::Ok);
+  // On the original shoulder branch the two wrist branches coincide (θ5 = 0): 2 solutions with
+  // θ6 = seed; the other shoulder branch is not singular there: 4 regular solutions.
+  int singular = 0;
+  for (std::size_t s = 0; s < solutions.size(); ++s) {
+    if (std::abs(solutions[s][4]) < 1e-9) {
+      ++singular;
+      EXPECT_DOUBLE_EQ(solutions[s][5], 0.5);
+    }
+    KDL::Frame reached;
+    ur5.forward(toJnt(solutions[s]), reached);
+    EXPECT_LT(norm(reached.p - target.p), kPoseTolerance);
+    EXPECT_LT(orientationError(reached.M, target.M), kPoseTolerance);
+  }
+  EXPECT_EQ(singular, 2);
+  EXPECT_EQ(solutions.size(), 6u);
+}
+
+TEST(Ur5, UnreachablePosesLeaveTheOutputUntouched) {
+  Ur5Solver ur5;
+  KDL::JntArray seed(6);
+  KDL::JntArray out(6);
+  for (unsigned j = 0; j < 6; ++j) out(j) = 42.0;
+  IkSolutionSet solutions;
+  // Beyond the 0.85 m reach.
+  EXPECT_EQ(ur5.inverse(KDL::Frame(KDL::Vector(1.2, 0.0, 0.3)), seed, out), IkStatus::Unreachable);
+  EXPECT_EQ(ur5.allInverse(KDL::Frame(KDL::Vector(1.2, 0.0, 0.3)), seed, solutions), IkStatus::Unreachable);
+  EXPECT_TRUE(solutions.empty());
+  // Wrist point on the base axis, closer to it than the shoulder offset d4.
+  const KDL::Frame on_axis(KDL::Rotation::Identity(), KDL::Vector(0.0, 0.0, 0.5 + 0.0823));
+  EXPECT_EQ(ur5.inverse(on_axis, seed, out), IkStatus::Unreachable);
+  for (unsigned j = 0; j < 6; ++j) EXPECT_EQ(out(j), 42.0);
+}
+
+TEST(Ur5, JointLimitsExcludeSolutions) {
+  KDL::JntArray q(6);
+  q(0) = 0.5;
+  q(1) = -1.2;
+  q(2) = 1.4;
+  q(3) = -0.7;
+  q(4) = 1.1;
+  q(5) = -2.0;
+  // Elbow limited to [0.1, 2] rad: only the elbow-up solutions remain, the nearest is q.
+  JointLimits limits = Ur5Solver::defaultLimits();
+  limits.lower[2] = 0.1;
+  limits.upper[2] = 2.0;
+  Ur5Solver ur5(Ur5Parameters{}, limits);
+  KDL::Frame target;
+  ur5.forward(q, target);
+  KDL::JntArray seed = q;
+  seed(2) = -1.4;  // nearer to the elbow-down branch, which the limits exclude
+  KDL::JntArray out(6);
+  ASSERT_EQ(ur5.inverse(target, seed, out), IkStatus::Ok);
+  EXPECT_GE(out(2), 0.1);
+
+  // Elbow limited to [2.5, 3] rad: no solution of this pose fits.
+  limits.lower[2] = 2.5;
+  limits.upper[2] = 3.0;
+  Ur5Solver narrow(Ur5Parameters{}, limits);
+  for (unsigned j = 0; j < 6; ++j) out(j) = 42.0;
+  EXPECT_EQ(narrow.inverse(target, seed, out), IkStatus::JointLimits);
+  for (unsigned j = 0; j < 6; ++j) EXPECT_EQ(out(j), 42.0);
+}
+
+TEST(Ur5, BadInputIsRefused) {
+  Ur5Solver ur5;
+  KDL::JntArray seed(6);
+  KDL::JntArray out(5);
+  IkSolutionSet solutions;
+  EXPECT_EQ(ur5.inverse(KDL::Frame(KDL::Vector(0.4, 0.1, 0.3)), seed, out), IkStatus::BadInput);
+  KDL::Frame nan_target(KDL::Vector(std::nan(""), 0, 0));
+  EXPECT_EQ(ur5.allInverse(nan_target, seed, solutions), IkStatus::BadInput);
+  KDL::Frame pose;
+  EXPECT_EQ(ur5.forward(out, pose), IkStatus::BadInput);
+}
+
+TEST(Ur5, ConstructionErrorsNameTheParameterOrJoint) {
+  JointLimits limits = Ur5Solver::defaultLimits();
+  limits.lower[2] = 2.0;
+  limits.upper[2] = 1.0;
+  EXPECT_EQ(messageOf([&] { Ur5Solver(Ur5Parameters{}, limits); }),
+            "UR5: joint 3 limits [2, 1] rad: min must be <= max");
+  EXPECT_EQ(messageOf([] { Ur5Solver(Ur5Parameters{.a2 = std::nan("")}); }),
+            "UR5: parameter a2 is nan: give a finite value in m");
+  EXPECT_EQ(messageOf([] { Ur5Solver(Ur5Parameters{.d6 = 0.0}); }),
+            "UR5: parameter d6 is 0 m: the closed-form solution needs it non-zero");
+  EXPECT_CONTAINS(messageOf([] { Ur5Solver(Ur5Parameters{}, revoluteLimits(5, -1, 1)); }), "the robot has 6 joints");
+  JointLimits prismatic = Ur5Solver::defaultLimits();
+  prismatic.types[1] = JointType::Prismatic;
+  EXPECT_EQ(messageOf([&] { Ur5Solver(Ur5Parameters{}, prismatic); }),
+            "UR5: every joint is revolute: give JointType::Revolute limits");
+}
+
+TEST(Ur5, RealTimeCallsAllocateNothing) {
+  Ur5Solver ur5;
+  KDL::JntArray q(6);
+  for (unsigned j = 0; j < 6; ++j) q(j) = 0.2 * (j + 1);
+  KDL::JntArray out(6);
+  KDL::Frame pose;
+  IkSolutionSet solutions;
+  EXPECT_EQ(allocationsDuring([&] { ur5.forward(q, pose); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { ur5.allInverse(pose, q, solutions); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(ur5.inverse(pose, q, out), IkStatus::Ok); }), 0);
+  const KDL::Frame far(KDL::Vector(3.0, 0.0, 0.0));
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(ur5.inverse(far, q, out), IkStatus::Unreachable); }), 0);
+}
+
+}  // namespace
+}  // namespace cobra::kinematics
