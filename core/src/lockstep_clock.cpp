@@ -60,7 +60,7 @@ void LockstepClock::advance(std::chrono::nanoseconds duration) {
   if (duration.count() < 0) throw Error("lockstep clock: cannot advance by a negative duration");
   const auto end = now_ + duration;
   // Components triggered from outside the clock (a write by the caller) react first, at now.
-  runTriggered(now_);
+  settle(now_);
   for (;;) {
     auto next = std::chrono::nanoseconds(std::numeric_limits<std::int64_t>::max());
     for (const Entry& e : entries_)
@@ -82,7 +82,15 @@ void LockstepClock::runInstant(std::chrono::nanoseconds t) {
       ++steps_;
     }
   }
+  settle(t);
+}
+
+void LockstepClock::settle(std::chrono::nanoseconds t) {
   runTriggered(t);
+  for (int round = 0; between_instants_ && round < kMaxTriggerRounds; ++round) {
+    if (!between_instants_()) return;
+    runTriggered(t);
+  }
 }
 
 void LockstepClock::runTriggered(std::chrono::nanoseconds t) {

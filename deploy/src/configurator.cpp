@@ -23,9 +23,18 @@ std::vector<std::string> namesOf(const core::ComponentRegistry& registry) {
 Configurator::Configurator(ConfiguratorOptions options)
     : options_(std::move(options)),
       packages_(options_.package_path),
-      clock_(options_.mode == ClockMode::Simulation ? std::make_unique<core::LockstepClock>() : nullptr) {}
+      clock_(options_.mode == ClockMode::Simulation ? std::make_unique<core::LockstepClock>() : nullptr) {
+  if (clock_) clock_->setBetweenInstants([this] { return serviceRequests(); });
+}
 
-Configurator::~Configurator() { stopAll(); }
+Configurator::~Configurator() {
+  if (service_thread_.joinable()) {
+    service_stopping_.store(true);
+    wakeService();
+    service_thread_.join();
+  }
+  stopAll();
+}
 
 void Configurator::stopAll() noexcept {
   for (auto it = started_.rbegin(); it != started_.rend(); ++it)
@@ -59,6 +68,7 @@ core::PortBase& Configurator::port(const std::string& path, const SourceLocation
 void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
                                     const std::vector<ComponentSpec>& components_list,
                                     const std::filesystem::path& configuration_folder_path) {
+  const std::lock_guard lock(mutex_);
   // Packages first: loading one cannot be undone, but it only makes types available.
   for (const NameEntry& package : packages_list) packages_.load(package.name, package.where);
 
@@ -79,11 +89,13 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
     for (const ComponentSpec& spec : components_list) {
       core::Component& created = components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
       types_[spec.peer_name] = spec.component_type;
-      journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name] {
+      journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name, &created] {
         activities_.erase(name);
         types_.erase(name);
+        std::erase_if(clients_, [&](const auto& client) { return client.first == &created; });
         components_.remove(name);
       });
+      if (dynamic_cast<ConfiguratorClient*>(&created) != nullptr) attachClient(created);
       // As in RTT, every component starts with an event-driven activity; setActivities replaces
       // it. Given now, before anything is connected, so no running writer can trigger it.
       applyActivity(created, defaultActivity(spec.peer_name, spec.where));
@@ -105,6 +117,7 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
 }
 
 void Configurator::configureComponents(const std::vector<NameEntry>& configuration_list) {
+  const std::lock_guard lock(mutex_);
   for (const NameEntry& entry : configuration_list) (void)component(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : configuration_list) {
@@ -122,6 +135,7 @@ void Configurator::configureComponents(const std::vector<NameEntry>& configurati
 }
 
 void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
+  const std::lock_guard lock(mutex_);
   for (const NameEntry& entry : start_list) (void)component(entry.name, entry.where);
   detail::UndoJournal journal;
   // Components added to the registry by others (scripts) may have no activity from us yet:
@@ -152,6 +166,7 @@ void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
 }
 
 void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
+  const std::lock_guard lock(mutex_);
   for (const NameEntry& entry : stop_list) (void)component(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : stop_list) {
@@ -169,6 +184,7 @@ void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
 }
 
 void Configurator::cleanupComponents(const std::vector<NameEntry>& cleanup_list) {
+  const std::lock_guard lock(mutex_);
   for (const NameEntry& entry : cleanup_list) (void)component(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : cleanup_list) {
@@ -184,6 +200,7 @@ void Configurator::cleanupComponents(const std::vector<NameEntry>& cleanup_list)
 }
 
 void Configurator::addPeers(const std::vector<PeerSpec>& peers_list) {
+  const std::lock_guard lock(mutex_);
   auto updated = peers_;  // applied all at once below, so a bad entry changes nothing
   for (const PeerSpec& spec : peers_list) {
     (void)component(spec.peer_name, spec.where);
@@ -292,6 +309,7 @@ void Configurator::replaceActivity(core::Component& c, std::unique_ptr<core::Act
 }
 
 void Configurator::setActivities(const std::vector<ActivitySpec>& activities_list) {
+  const std::lock_guard lock(mutex_);
   std::vector<ActivitySpec> checked;
   std::map<std::string, SourceLocation, std::less<>> seen;
   for (const ActivitySpec& spec : activities_list) {

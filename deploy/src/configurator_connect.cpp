@@ -37,6 +37,7 @@ std::vector<LintViolation> Configurator::checkRoles(const std::vector<Connection
 }
 
 std::vector<LintViolation> Configurator::connectPorts(const std::vector<ConnectionSpec>& connections_list) {
+  const std::lock_guard lock(mutex_);
   std::vector<ResolvedConnection> resolved;
   resolved.reserve(connections_list.size());
   std::set<std::pair<const core::PortBase*, const core::PortBase*>> in_list;

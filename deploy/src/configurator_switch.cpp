@@ -56,6 +56,7 @@ void Configurator::checkConfiguration(const ConfigurationSpec& configuration) co
 }
 
 void Configurator::applyConfiguration(const std::string& name) {
+  const std::lock_guard lock(mutex_);
   const ConfigurationSpec& configuration = set_.configuration(name);
   try {
     checkConfiguration(configuration);
@@ -231,6 +232,7 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
 }
 
 std::vector<LintViolation> Configurator::applyDeployment(const std::string& name) {
+  const std::lock_guard lock(mutex_);
   const DeploymentSpec& next = set_.deployment(name);
   const std::string context = "deployment " + quoted(name) + " (" + next.where.text() + ") not applied: ";
   DeploymentPlan plan;

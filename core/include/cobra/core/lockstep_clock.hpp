@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "cobra/core/activity.hpp"
@@ -58,6 +59,11 @@ class LockstepClock {
   std::chrono::nanoseconds now() const { return now_; }
   /// Runs every step due in [now, now + duration), then sets now to now + duration.
   void advance(std::chrono::nanoseconds duration);
+  /// `hook` runs at the end of every instant, after its steps (and at the start of `advance`),
+  /// outside any component's step: the Configurator carries out deployment switches there.
+  /// When it returns true (it changed something), the components it triggered step in the same
+  /// instant, and it runs again. One hook; setting another replaces it.
+  void setBetweenInstants(std::function<bool()> hook) { between_instants_ = std::move(hook); }
   /// Number of component steps run so far.
   std::uint64_t steps() const { return steps_; }
   /// Most rounds of triggered steps in one instant before the clock reports a trigger loop.
@@ -67,6 +73,8 @@ class LockstepClock {
   friend class LockstepActivity;
   void runInstant(std::chrono::nanoseconds t);
   void runTriggered(std::chrono::nanoseconds t);
+  /// runTriggered, then the between-instants hook until it has nothing more to do.
+  void settle(std::chrono::nanoseconds t);
   void forget(const LockstepActivity* activity);
 
   struct Entry {
@@ -76,6 +84,7 @@ class LockstepClock {
   std::vector<Entry> entries_;
   std::chrono::nanoseconds now_{0};
   std::uint64_t steps_ = 0;
+  std::function<bool()> between_instants_;
 };
 
 }  // namespace cobra::core

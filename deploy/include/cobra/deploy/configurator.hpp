@@ -11,15 +11,19 @@
 /// file:line of the failing entry and names the component, port or property and what to do.
 /// Nothing half-deployed keeps running.
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cobra/core/introspection.hpp"
 #include "cobra/core/lockstep_clock.hpp"
+#include "cobra/deploy/configurator_client.hpp"
 #include "cobra/deploy/deployment_set.hpp"
 #include "cobra/deploy/lint.hpp"
 #include "cobra/deploy/package_registry.hpp"
@@ -51,8 +55,11 @@ struct ConfiguratorOptions {
 };
 
 /// Owns the packages, the components, the lockstep clock (in simulation) and the peer table of
-/// one deployment. Used from one thread (the deployer's or a supervisor's); on the lockstep
-/// clock, call it between two `clock().advance(...)`, which is when its changes take effect.
+/// one deployment. Its public operations are serialised by a mutex, so the deployer's thread and
+/// the service thread (see ConfiguratorClient) may both use it; on the lockstep clock, call it
+/// between two `clock().advance(...)`, which is when its changes take effect. Components that
+/// are ConfiguratorClients (supervisors) ask for switches from their steps; the Configurator
+/// carries them out between steps and answers them.
 class Configurator {
  public:
   explicit Configurator(ConfiguratorOptions options = {});
@@ -133,6 +140,15 @@ class Configurator {
   /// so two components may briefly run with old and new values respectively.
   void applyConfiguration(const std::string& name);
 
+  /// Serves `client` (a component of this configurator): its switch requests are carried out
+  /// between steps and answered. Components this configurator creates are attached already.
+  /// @throws core::Error when `client` is not one of its components.
+  void attachClient(core::Component& client);
+  /// Carries out every queued switch request and answers it. Runs by itself between instants of
+  /// the lockstep clock and on the service thread in real time; callable directly (tests).
+  /// @return true when there was at least one request.
+  bool serviceRequests();
+
   /// The deployment / configuration last applied, or "".
   const std::string& currentDeployment() const { return current_deployment_; }
   const std::string& currentConfiguration() const { return current_configuration_; }
@@ -187,6 +203,10 @@ class Configurator {
   /// Makes the changes of `plan`, recording how to undo each in `journal`.
   void carryOut(const DeploymentPlan& plan, const DeploymentSpec& next, detail::UndoJournal& journal);
   void stopAll() noexcept;
+  friend class ConfiguratorClient;
+  /// Wakes the service thread (real time); real-time safe. Called by ConfiguratorClient.
+  void wakeService() noexcept;
+  void serviceLoop();
 
   ConfiguratorOptions options_;
   PackageRegistry packages_;
@@ -202,6 +222,12 @@ class Configurator {
   std::string current_deployment_;
   std::string current_configuration_;
   std::vector<std::string> warnings_;
+
+  mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
+  std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;
+  std::atomic<std::uint32_t> service_wakeups_{0};
+  std::atomic<bool> service_stopping_{false};
+  std::thread service_thread_;  // real time only, started with the first client
 };
 
 }  // namespace cobra::deploy
