@@ -1,6 +1,8 @@
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace cobra::kinematics {
 
@@ -31,6 +33,14 @@ bool validFrame(const KDL::Frame& frame) noexcept {
   const KDL::Vector x = frame.M.UnitX();
   const KDL::Vector y = frame.M.UnitY();
   return KDL::dot(x * y, frame.M.UnitZ()) > 0.0;
+}
+
+SolverKind parseSolverKind(std::string_view text) {
+  if (text == "closed_form") return SolverKind::ClosedForm;
+  if (text == "kdl_nr") return SolverKind::KdlNewtonRaphson;
+  if (text == "kdl_lma") return SolverKind::KdlLevenbergMarquardt;
+  throw std::invalid_argument("unknown kinematics solver \"" + std::string(text) +
+                              "\": expected closed_form, kdl_nr or kdl_lma");
 }
 
 IkStatus AnalyticSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept {

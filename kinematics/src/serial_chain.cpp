@@ -213,4 +213,12 @@ IkStatus SerialChainSolver::inverse(const KDL::Frame& target, const KDL::JntArra
 
 int SerialChainSolver::lastIterations() const noexcept { return work_->lma ? work_->lma->lastNrOfIter : 0; }
 
+std::unique_ptr<KinematicsSolver> chooseSolver(SolverKind kind, std::unique_ptr<KinematicsSolver> closed_form,
+                                               const SerialChainModel& model) {
+  if (kind == SolverKind::ClosedForm) return closed_form;
+  const IterativeIk method =
+      kind == SolverKind::KdlNewtonRaphson ? IterativeIk::NewtonRaphsonJL : IterativeIk::LevenbergMarquardt;
+  return std::make_unique<SerialChainSolver>(model, IterativeIkOptions{.method = method});
+}
+
 }  // namespace cobra::kinematics

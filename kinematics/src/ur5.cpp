@@ -125,4 +125,12 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
   return solutions.empty() ? IkStatus::Unreachable : IkStatus::Ok;
 }
 
+std::unique_ptr<KinematicsSolver> makeUr5Solver(SolverKind kind, const Ur5Parameters& parameters,
+                                                const JointLimits& limits, const KDL::Frame& base,
+                                                const KDL::Frame& tool) {
+  auto closed_form = std::make_unique<Ur5Solver>(parameters, limits, base, tool);
+  const SerialChainModel& model = closed_form->model();
+  return chooseSolver(kind, std::move(closed_form), model);
+}
+
 }  // namespace cobra::kinematics

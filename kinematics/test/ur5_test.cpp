@@ -18,6 +18,8 @@
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/kinematics/ur5.hpp"
 
+#include "analytic_test_support.hpp"
+
 namespace cobra::kinematics {
 namespace {
 
@@ -26,23 +28,11 @@ using cobra::test_support::messageOf;
 constexpr double kPi = std::numbers::pi;
 constexpr double kPoseTolerance = 1e-9;  // m and rad
 
+using test::jointDistanceModulo2Pi;
+using test::toJnt;
+
 KDL::JntArray randomJoints(std::mt19937& rng, double range = kPi) {
-  std::uniform_real_distribution<double> value(-range, range);
-  KDL::JntArray q(6);
-  for (unsigned i = 0; i < 6; ++i) q(i) = value(rng);
-  return q;
-}
-
-KDL::JntArray toJnt(std::span<const double> values) {
-  KDL::JntArray q(static_cast<unsigned>(values.size()));
-  for (unsigned i = 0; i < q.rows(); ++i) q(i) = values[i];
-  return q;
-}
-
-double jointDistanceModulo2Pi(const KDL::JntArray& a, std::span<const double> b) {
-  double worst = 0.0;
-  for (unsigned i = 0; i < a.rows(); ++i) worst = std::max(worst, std::abs(wrapToPi(a(i) - b[i])));
-  return worst;
+  return test::randomJoints(Ur5Solver::defaultLimits(), rng, range);
 }
 
 TEST(Ur5, DhTableIsUniversalRobotsPublishedOne) {
@@ -91,50 +81,17 @@ TEST(Ur5, ForwardMatchesKdl) {
 }
 
 // 2000 seeded random configurations (with base and tool frames): every solution reproduces the
-// pose within 1e-9 m / 1e-9 rad through KDL's FK, one of them is the original configuration
-// (mod 2π), most poses have all 8 (others lose a shoulder/wrist branch whose planar elbow problem
-// has no real solution), inverse seeded with the original returns it, and inverse from a seed
-// 0.05 rad away returns a configuration at least as near to the seed as the original.
+// pose within 1e-9 m / 1e-9 rad through KDL's FK, one of them is the original configuration, the
+// nearest-to-seed choice works (see checkAnalyticRoundTrips); most poses have all 8 solutions
+// (others lose a shoulder/wrist branch whose planar elbow problem has no real solution).
 TEST(Ur5, AllEightSolutionsReproduceRandomPoses) {
-  std::mt19937 rng(12);
-  std::uniform_real_distribution<double> noise(-0.05, 0.05);
   const KDL::Frame base(KDL::Rotation::RotZ(0.7), KDL::Vector(0.1, 0.2, 0.3));
   const KDL::Frame tool(KDL::Rotation::RotX(-0.4), KDL::Vector(0.01, 0.0, 0.12));
   Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
-  KDL::ChainFkSolverPos_recursive kdl(ur5.model().chain());
-  IkSolutionSet solutions;
   constexpr int kCount = 2000;
-  int with_eight = 0;
-  for (int i = 0; i < kCount; ++i) {
-    const KDL::JntArray q = randomJoints(rng);
-    KDL::Frame target;
-    ASSERT_EQ(ur5.forward(q, target), IkStatus::Ok);
-    ASSERT_EQ(ur5.allInverse(target, q, solutions), IkStatus::Ok);
-    ASSERT_GE(solutions.size(), 1u);
-    if (solutions.size() == 8) ++with_eight;
-    double nearest = 1e9;
-    for (std::size_t s = 0; s < solutions.size(); ++s) {
-      KDL::Frame reached;
-      ASSERT_GE(kdl.JntToCart(toJnt(solutions[s]), reached), 0);
-      EXPECT_LT(norm(reached.p - target.p), kPoseTolerance) << "pose " << i << " solution " << s;
-      EXPECT_LT(orientationError(reached.M, target.M), kPoseTolerance) << "pose " << i << " solution " << s;
-      nearest = std::min(nearest, jointDistanceModulo2Pi(q, solutions[s]));
-    }
-    EXPECT_LT(nearest, 1e-7) << "pose " << i << ": the original configuration is not among the solutions";
-
-    KDL::JntArray out(6);
-    ASSERT_EQ(ur5.inverse(target, q, out), IkStatus::Ok);
-    for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(out(j), q(j), 1e-7) << "pose " << i << " joint " << j + 1;
-
-    KDL::JntArray seed = q;
-    for (unsigned j = 0; j < 6; ++j) seed(j) += noise(rng);
-    ASSERT_EQ(ur5.inverse(target, seed, out), IkStatus::Ok);
-    KDL::Frame reached;
-    ur5.forward(out, reached);
-    EXPECT_LT(norm(reached.p - target.p), kPoseTolerance);
-    EXPECT_LE((out.data - seed.data).norm(), (q.data - seed.data).norm() + 1e-7) << "pose " << i;
-  }
-  EXPECT_GE(with_eight, kCount / 2);
+  const test::RoundTripCounts counts = test::checkAnalyticRoundTrips(ur5, ur5.model().chain(), kCount, 12, kPi);
+  EXPECT_EQ(counts.poses, kCount);
+  EXPECT_GE(counts.with_eight, kCount / 2);
 }
 
 // The ±2π ranges: a seed near q + 2π on joint 1 gets q + 2π, not q.

@@ -63,6 +63,18 @@ class AnalyticSolver : public KinematicsSolver {
   IkSolutionSet scratch_;
 };
 
+/// Which implementation of a robot's kinematics a component runs (thesis §6.2.4: the KDL and the
+/// closed-form Kinematics Solver components are interchangeable).
+enum class SolverKind {
+  ClosedForm,             ///< the robot's analytic solver
+  KdlNewtonRaphson,       ///< SerialChainSolver, KDL's ChainIkSolverPos_NR_JL, same DH chain
+  KdlLevenbergMarquardt,  ///< SerialChainSolver, KDL's ChainIkSolverPos_LMA, same DH chain
+};
+
+/// "closed_form", "kdl_nr" or "kdl_lma" (property values).
+/// @throws std::invalid_argument listing the accepted names for anything else.
+SolverKind parseSolverKind(std::string_view text);
+
 /// True when every value of `q` is finite and there are `joints` of them.
 bool validJointArray(const KDL::JntArray& q, unsigned joints) noexcept;
 /// True when the frame's translation and rotation are finite and the rotation is orthonormal

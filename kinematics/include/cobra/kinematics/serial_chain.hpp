@@ -140,4 +140,9 @@ class SerialChainSolver final : public KinematicsSolver {
   std::unique_ptr<Workspace> work_;
 };
 
+/// `closed_form` when `kind` is ClosedForm, otherwise a SerialChainSolver over `model` with the
+/// KDL method of `kind` (the two are interchangeable behind KinematicsSolver, thesis §6.2.4).
+std::unique_ptr<KinematicsSolver> chooseSolver(SolverKind kind, std::unique_ptr<KinematicsSolver> closed_form,
+                                               const SerialChainModel& model);
+
 }  // namespace cobra::kinematics

@@ -24,6 +24,7 @@
 /// for the Universal Robots UR-5/UR-10 Arms", Georgia Tech, 2013; the derivation is repeated in
 /// ur5.cpp.
 
+#include <memory>
 #include <string_view>
 
 #include "cobra/kinematics/kinematics_solver.hpp"
@@ -79,5 +80,11 @@ class Ur5Solver final : public AnalyticSolver {
   Ur5Parameters parameters_;
   SerialChainModel model_;
 };
+
+/// The UR5 solver of `kind`, all on the same DH table, limits, base and tool.
+std::unique_ptr<KinematicsSolver> makeUr5Solver(SolverKind kind, const Ur5Parameters& parameters = Ur5Parameters{},
+                                                const JointLimits& limits = Ur5Solver::defaultLimits(),
+                                                const KDL::Frame& base = KDL::Frame::Identity(),
+                                                const KDL::Frame& tool = KDL::Frame::Identity());
 
 }  // namespace cobra::kinematics
