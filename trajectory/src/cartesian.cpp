@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <utility>
 
 #include "checks.hpp"
@@ -69,10 +68,10 @@ void requireFiniteFrame(const KDL::Frame& f, std::size_t k, std::size_t arm) {
 }
 
 void requireLimits(const CartesianLimits& limits, int blend_order) {
-  detail::requirePositive(limits.max_linear_velocity, std::string(kWho) + "max_linear_velocity", "m/s");
-  detail::requirePositive(limits.max_angular_velocity, std::string(kWho) + "max_angular_velocity", "rad/s");
-  detail::requirePositive(limits.linear_acceleration_time, std::string(kWho) + "linear_acceleration_time", "s");
-  detail::requirePositive(limits.angular_acceleration_time, std::string(kWho) + "angular_acceleration_time", "s");
+  detail::requirePositive(limits.max_linear_velocity, "m/s", kWho, "max_linear_velocity");
+  detail::requirePositive(limits.max_angular_velocity, "rad/s", kWho, "max_angular_velocity");
+  detail::requirePositive(limits.linear_acceleration_time, "s", kWho, "linear_acceleration_time");
+  detail::requirePositive(limits.angular_acceleration_time, "s", kWho, "angular_acceleration_time");
   if (blend_order < MultiPointLinearTrajBlends::kMinBlendOrder || blend_order > MultiPointLinearTrajBlends::kMaxBlendOrder)
     detail::fail(kWho, "blend order ", blend_order, " is out of range, expected ", MultiPointLinearTrajBlends::kMinBlendOrder,
                  " to ", MultiPointLinearTrajBlends::kMaxBlendOrder);

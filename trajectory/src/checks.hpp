@@ -22,15 +22,17 @@ template <class... Parts>
   throw std::invalid_argument(message(parts...));
 }
 
-/// `what` names the value, e.g. "Conditions: final velocity".
-inline void requireFinite(double value, const std::string& what) {
-  if (!std::isfinite(value)) fail(what, " is ", value, ", expected a finite number");
+/// `what...` names the value, e.g. "Conditions: ", "final velocity"; the message is only built on
+/// failure, so a passing check allocates nothing (Polynomial::stop is real-time safe).
+template <class... What>
+void requireFinite(double value, const What&... what) {
+  if (!std::isfinite(value)) fail(what..., " is ", value, ", expected a finite number");
 }
 
-/// A duration-like quantity: finite and > 0. `unit` is appended to the value ("s", "m/s").
-inline void requirePositive(double value, const std::string& what, const char* unit) {
-  if (!std::isfinite(value) || !(value > 0.0))
-    fail(what, " is ", value, " ", unit, ", expected a finite value > 0");
+/// A duration-like quantity: finite and > 0; `unit` follows the value in the message ("s", "m/s").
+template <class... What>
+void requirePositive(double value, const char* unit, const What&... what) {
+  if (!std::isfinite(value) || !(value > 0.0)) fail(what..., " is ", value, " ", unit, ", expected a finite value > 0");
 }
 
 }  // namespace cobra::trajectory::detail

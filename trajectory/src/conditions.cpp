@@ -1,7 +1,5 @@
 #include "cobra/trajectory/conditions.hpp"
 
-#include <string>
-
 #include "checks.hpp"
 
 namespace cobra::trajectory {
@@ -9,11 +7,10 @@ namespace cobra::trajectory {
 namespace {
 
 void requireFiniteState(const State& s, const char* side) {
-  const std::string where = std::string("Conditions: ") + side + " ";
-  detail::requireFinite(s.position, where + "position");
-  detail::requireFinite(s.velocity, where + "velocity");
-  detail::requireFinite(s.acceleration, where + "acceleration");
-  detail::requireFinite(s.jerk, where + "jerk");
+  detail::requireFinite(s.position, "Conditions: ", side, " position");
+  detail::requireFinite(s.velocity, "Conditions: ", side, " velocity");
+  detail::requireFinite(s.acceleration, "Conditions: ", side, " acceleration");
+  detail::requireFinite(s.jerk, "Conditions: ", side, " jerk");
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <utility>
 
 #include "checks.hpp"
@@ -37,13 +36,12 @@ void MultiAxisTrajectory::checkPath(const MultiAxisPath& path, const AxisLimits&
   requireAxisCount(limits.max_velocity.size(), axes, "max_velocity");
   requireAxisCount(limits.acceleration_time.size(), axes, "acceleration_time");
   for (std::size_t i = 0; i < axes; ++i) {
-    detail::requirePositive(limits.max_velocity[i], detail::message(kWho, "max_velocity of axis ", i),
-                            "(axis unit)/s");
-    detail::requirePositive(limits.acceleration_time[i], detail::message(kWho, "acceleration_time of axis ", i), "s");
+    detail::requirePositive(limits.max_velocity[i], "(axis unit)/s", kWho, "max_velocity of axis ", i);
+    detail::requirePositive(limits.acceleration_time[i], "s", kWho, "acceleration_time of axis ", i);
   }
   for (std::size_t k = 0; k < path.size(); ++k)
     for (std::size_t i = 0; i < axes; ++i)
-      detail::requireFinite(path.waypoint(k)[i], detail::message(kWho, "waypoint ", k, " axis ", i));
+      detail::requireFinite(path.waypoint(k)[i], kWho, "waypoint ", k, " axis ", i);
 }
 
 std::vector<double> MultiAxisTrajectory::synchronisedDurations(const MultiAxisPath& path, const AxisLimits& limits) {

@@ -42,11 +42,11 @@ MultiPointLinearTrajBlends::Build MultiPointLinearTrajBlends::build(std::span<co
   if (blend_order < kMinBlendOrder || blend_order > kMaxBlendOrder)
     detail::fail(kWho, "blend order ", blend_order, " is out of range, expected ", kMinBlendOrder, " to ",
                  kMaxBlendOrder);
-  detail::requirePositive(acceleration_time, std::string(kWho) + "acceleration time", "s");
+  detail::requirePositive(acceleration_time, "s", kWho, "acceleration time");
   for (std::size_t k = 0; k <= n; ++k)
-    detail::requireFinite(waypoints[k], detail::message(kWho, "waypoint ", k));
+    detail::requireFinite(waypoints[k], kWho, "waypoint ", k);
   for (std::size_t k = 0; k < n; ++k) {
-    detail::requirePositive(segment_durations[k], detail::message(kWho, "duration of segment ", k), "s");
+    detail::requirePositive(segment_durations[k], "s", kWho, "duration of segment ", k);
     const double needed = minimumSegmentDuration(k, n, acceleration_time);
     // A relative tolerance so that durations computed as exactly this minimum are accepted.
     if (segment_durations[k] < needed * (1.0 - 1e-12))

@@ -31,7 +31,7 @@ double fallingFactorial(int i, int d) {
 Polynomial::Polynomial(int order, const Conditions& conditions, double duration) : order_(order), duration_(duration) {
   if (order < kMinOrder || order > kMaxOrder)
     detail::fail("Polynomial: order ", order, " is out of range, expected ", kMinOrder, " to ", kMaxOrder);
-  detail::requirePositive(duration, "Polynomial: duration", "s");
+  detail::requirePositive(duration, "s", "Polynomial: duration");
   inverse_duration_ = 1.0 / duration;
 
   // In tau = t / T the k-th derivative scales by T^k. The initial side fixes the low coefficients in
@@ -61,7 +61,7 @@ Polynomial::Polynomial(int order, const Conditions& conditions, double duration)
 }
 
 Polynomial Polynomial::stop(const State& current, double stop_time) {
-  detail::requirePositive(stop_time, "Polynomial::stop: stop time", "s");
+  detail::requirePositive(stop_time, "s", "Polynomial::stop: stop time");
   const State start{current.position, current.velocity, current.acceleration, 0.0};
   // Integral over [0, 1] of the cubic Hermite velocity with v(0) = v0, v'(0) = a0 T, v(1) = v'(1) = 0
   // is v0 / 2 + a0 T / 12; the quintic with these six conditions is that quartic exactly.
