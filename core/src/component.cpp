@@ -306,6 +306,16 @@ void Component::addPort(PortBase& port) {
   ports_.push_back(&port);
 }
 
+void Component::removePort(PortBase& port) {
+  if (isRunning()) throw Error("component '" + name_ + "' is Running: stop it before removing port '" + port.name() + "'");
+  const auto found = std::find(ports_.begin(), ports_.end(), &port);
+  if (found == ports_.end()) throw Error("component '" + name_ + "' has no port '" + port.name() + "' to remove");
+  port.disconnect();
+  ports_.erase(found);
+  port.owner_ = nullptr;
+  port.event_port_ = false;
+}
+
 void Component::addEventPort(PortBase& input) {
   if (input.direction() != PortDirection::Input)
     throw Error("component '" + name_ + "': port '" + input.name() + "' is an output; only inputs can be event ports");

@@ -18,6 +18,8 @@
 namespace cobra::core {
 namespace {
 
+using cobra::test_support::messageOf;
+
 enum class Hook { None, Configure, Start, Update, Stop, Cleanup, Exception };
 
 /// A component whose hooks record their calls and can be told to refuse or throw.
@@ -500,6 +502,49 @@ TEST(Lifecycle, AHookRefusesWithItsReasonAndTheComponentStaysWhereItWas) {
   EXPECT_EQ(p.state(), State::Stopped);
   p.allow_start = true;
   EXPECT_TRUE(p.start());
+}
+
+/// Makes one output per `count` at configure time, as a multi-arm component does.
+class Arms : public Component {
+ public:
+  explicit Arms(std::string name) : Component(std::move(name), Role::Calculation, "ports made at configure time") {
+    addProperty(count_);
+  }
+  using Component::removePort;  // public here, to test its refusals
+  std::vector<std::unique_ptr<OutputPort<double>>> outputs;
+
+ protected:
+  bool configureHook() override {
+    for (auto& p : outputs) removePort(*p);
+    outputs.clear();
+    for (int i = 1; i <= count_(); ++i) {
+      outputs.push_back(std::make_unique<OutputPort<double>>("out_" + std::to_string(i), "arm output", "m"));
+      addPort(*outputs.back());
+    }
+    return true;
+  }
+
+ private:
+  Property<int> count_{"count", 2, "1", "number of outputs"};
+};
+
+TEST(ComponentPorts, PortsMadeAtConfigureTimeCanBeRemovedAndTheirConnectionsGo) {
+  Arms arms("Arms");
+  ASSERT_TRUE(arms.configure());
+  EXPECT_NE(arms.findPort("out_2"), nullptr);
+  InputPort<double> reader{"in", "reader", "m"};
+  connectPorts(arms.port("out_2"), reader);
+  arms.setProperty("count", 1);
+  ASSERT_TRUE(arms.configure());
+  EXPECT_EQ(arms.findPort("out_2"), nullptr);
+  EXPECT_NE(arms.findPort("out_1"), nullptr);
+  EXPECT_FALSE(reader.connected());
+  ASSERT_TRUE(arms.start());
+  OutputPort<double> stray{"stray", "not a port of Arms", "m"};
+  EXPECT_EQ(messageOf([&] { arms.removePort(*arms.outputs[0]); }),
+            "component 'Arms' is Running: stop it before removing port 'out_1'");
+  ASSERT_TRUE(arms.stop());
+  EXPECT_EQ(messageOf([&] { arms.removePort(stray); }), "component 'Arms' has no port 'stray' to remove");
 }
 
 }  // namespace

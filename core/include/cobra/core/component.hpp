@@ -154,6 +154,10 @@ class Component {
 
   /// Registers a member port. @throws Error on a duplicate name.
   void addPort(PortBase& port);
+  /// Unregisters `port` after removing its connections: for ports made at configure time (their
+  /// number depends on a property), from configureHook or cleanupHook. @throws Error when the
+  /// component is Running or `port` is not one of its ports.
+  void removePort(PortBase& port);
   /// Registers a member input port whose new data triggers updateHook.
   void addEventPort(PortBase& input);
   /// Registers a member property. @throws Error on a duplicate name.
