@@ -16,6 +16,7 @@
 namespace {
 
 using cobra::test_support::messageOf;
+using cobra::trajectory::MultiPointInterpolation;
 using cobra::trajectory::MultiPointLinearTrajBlends;
 using cobra::trajectory::State;
 
@@ -118,6 +119,25 @@ TEST(MultiPointLinearTrajBlends, ParabolicBlendsDoJumpInAccelerationSoTheC2Check
   EXPECT_GT(std::abs(first.at(first.duration()).acceleration), 1.0);
 }
 
+TEST(MultiPointLinearTrajBlends, BlendOrdersPairUpAsTheHeaderSays) {
+  // With both lines meeting at the blend centre, the cubic blend is the parabola and the quintic is
+  // the quartic: the extra end conditions already hold.
+  std::mt19937 rng(14);
+  for (int i = 0; i < kRandomPaths; ++i) {
+    const RandomPath p = randomPath(rng);
+    const MultiPointLinearTrajBlends o2(p.waypoints, p.durations, p.acceleration_time, 2);
+    const MultiPointLinearTrajBlends o3(p.waypoints, p.durations, p.acceleration_time, 3);
+    const MultiPointLinearTrajBlends o4(p.waypoints, p.durations, p.acceleration_time, 4);
+    const MultiPointLinearTrajBlends o5(p.waypoints, p.durations, p.acceleration_time, 5);
+    for (int j = 0; j <= 200; ++j) {
+      const double t = o2.duration() * j / 200.0;
+      ASSERT_NEAR(o2.at(t).position, o3.at(t).position, 1e-9);
+      ASSERT_NEAR(o4.at(t).position, o5.at(t).position, 1e-9);
+      ASSERT_NEAR(o4.at(t).acceleration, o5.at(t).acceleration, 1e-6);
+    }
+  }
+}
+
 TEST(MultiPointLinearTrajBlends, BlendVelocitiesStayBetweenTheirLineVelocities) {
   std::mt19937 rng(13);
   for (int order = 2; order <= 5; ++order) {
@@ -150,6 +170,52 @@ TEST(MultiPointLinearTrajBlends, InvalidInputThrowsWithAMessageNamingIt) {
   EXPECT_CONTAINS(messageOf(make({0, 1, 2}, {0.7, 1.0}, 0.5, 5)), "segment 0 lasts 0.7 s but its blends take 0.75 s");
   // Exactly the minimum is accepted: blends touch, no linear part.
   EXPECT_EQ(messageOf(make({0, 1}, {1.0}, 0.5, 5)), "(no error)");
+}
+
+TEST(MultiPointInterpolation, PassesThroughEveryWaypointWithTheOrdersContinuity) {
+  std::mt19937 rng(15);
+  for (int order : {3, 5, 7}) {
+    for (int i = 0; i < kRandomPaths; ++i) {
+      const RandomPath p = randomPath(rng);
+      const MultiPointInterpolation traj(p.waypoints, p.durations, order);
+      const auto times = traj.waypointTimes();
+      ASSERT_EQ(traj.segments().size(), p.waypoints.size() - 1);
+      for (std::size_t k = 0; k < p.waypoints.size(); ++k) {
+        const State s = traj.at(times[k]);
+        ASSERT_NEAR(s.position, p.waypoints[k], 1e-12) << "order " << order << " waypoint " << k;
+        ASSERT_NEAR(s.velocity, traj.waypointVelocities()[k], 1e-9);
+      }
+      for (std::size_t s = 1; s < traj.segments().size(); ++s) {
+        const auto& left_poly = traj.segments()[s - 1].polynomial;
+        const State left = left_poly.at(left_poly.duration());
+        const State right = traj.segments()[s].polynomial.at(0.0);
+        ASSERT_NEAR(left.velocity, right.velocity, 1e-9);
+        if (order >= 5) {
+          ASSERT_NEAR(left.acceleration, right.acceleration, 1e-7);
+        }
+        if (order == 7) {
+          ASSERT_NEAR(left.jerk, right.jerk, 1e-5);
+        }
+      }
+    }
+  }
+}
+
+TEST(MultiPointInterpolation, WaypointVelocitiesFollowTheSlopeHeuristic) {
+  // Slopes 1, 1, -2, -1: the rising pair averages, the turn stops, the falling pair averages.
+  const std::vector<double> q{0.0, 1.0, 2.0, 0.0, -1.0};
+  const MultiPointInterpolation traj(q, std::vector{1.0, 1.0, 1.0, 1.0}, 3);
+  const auto v = traj.waypointVelocities();
+  ASSERT_EQ(v.size(), 5u);
+  EXPECT_EQ(v[0], 0.0);
+  EXPECT_DOUBLE_EQ(v[1], 1.0);
+  EXPECT_EQ(v[2], 0.0);
+  EXPECT_DOUBLE_EQ(v[3], -1.5);
+  EXPECT_EQ(v[4], 0.0);
+  EXPECT_CONTAINS(messageOf([&] { MultiPointInterpolation(q, std::vector{1.0, 1.0, 1.0, 1.0}, 4); }),
+                  "MultiPointInterpolation: order 4 is not supported, expected 3, 5 or 7");
+  EXPECT_CONTAINS(messageOf([&] { MultiPointInterpolation(q, std::vector{1.0, 1.0, 0.0, 1.0}, 5); }),
+                  "MultiPointInterpolation: duration of segment 2 is 0 s");
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 #pragma once
 /// @file
 /// Multi-point one-axis trajectories of the thesis' TGL (§3.2.3): `MultiPointTrajectory`, the base
-/// of trajectories through a whole path, and `MultiPointLinearTrajBlends`, linear segments joined by
-/// polynomial blends of order 2 to 5 (eq. 3.7-3.13; Biagiotti & Melchiorri, the thesis' [28]).
+/// of trajectories through a whole path; `MultiPointLinearTrajBlends`, linear segments joined by
+/// polynomial blends of order 2 to 5 (eq. 3.7-3.13; Biagiotti & Melchiorri, the thesis' [28]); and
+/// `MultiPointInterpolation`, one polynomial per segment passing through every waypoint.
 
 #include <span>
 #include <vector>
@@ -75,6 +76,32 @@ class MultiPointLinearTrajBlends : public MultiPointTrajectory {
   double acceleration_time_;
   int blend_order_;
   std::vector<double> segment_velocities_;
+};
+
+/// One polynomial of odd `order` 3, 5 or 7 per segment, passing exactly through every waypoint q_k
+/// at t_k. The velocities at the inner waypoints are chosen by the heuristic of Biagiotti &
+/// Melchiorri (§4.4): with d_k = (q_k - q_k-1) / T_k-1, v_k = (d_k + d_k+1) / 2 when both slopes
+/// have the same sign, else 0 (the path turns back there, or stops); orders 5
+/// and 7 also set the accelerations, a_k = (v_k+1 - v_k-1) / (T_k-1 + T_k); jerks are zero. The ends
+/// are at rest. Continuity: velocity for order 3, acceleration for 5, jerk for 7. Positions in the
+/// axis' unit, durations in s. Throws std::invalid_argument as MultiPointLinearTrajBlends does, and
+/// for an order other than 3, 5 or 7.
+class MultiPointInterpolation : public MultiPointTrajectory {
+ public:
+  MultiPointInterpolation(std::span<const double> waypoints, std::span<const double> segment_durations,
+                          int order = 5);
+
+  int order() const noexcept { return order_; }
+  /// The velocity chosen at each waypoint (axis unit / s), zero at both ends.
+  std::span<const double> waypointVelocities() const noexcept { return velocities_; }
+
+ private:
+  struct Build;  // what the constructor computes before the base classes can be initialised
+  static Build build(std::span<const double> waypoints, std::span<const double> segment_durations, int order);
+  explicit MultiPointInterpolation(Build&& build);
+
+  int order_;
+  std::vector<double> velocities_;
 };
 
 }  // namespace cobra::trajectory
