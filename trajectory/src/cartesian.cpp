@@ -13,39 +13,26 @@ namespace {
 constexpr const char* kWho = "CartesianTrajectory: ";
 constexpr std::size_t kAxesPerArm = 4;  // x, y, z, cumulative angle s
 
-/// Exp of the rotation vector `r` (rad) as a rotation matrix, by Rodrigues' formula; exact to
-/// rounding at small angles too (KDL::Rotation::Rot returns the identity below its epsilon of 1e-6).
-KDL::Rotation exponential(const KDL::Vector& r) {
+/// Exp of the rotation vector `r` (rad) by Rodrigues' formula, and the angular velocity in the base
+/// frame of Exp(r(t)) R_fixed, J_l(r) r_dot with J_l the left Jacobian of SO(3). Series below 1e-4 rad
+/// keep both exact to rounding (KDL::Rotation::Rot returns the identity below its epsilon of 1e-6).
+KDL::Rotation exponential(const KDL::Vector& r, const KDL::Vector& r_dot, KDL::Vector& angular_velocity) {
   const double angle = r.Norm();
-  double a = 1.0, b = 0.5;  // sin(angle) / angle, (1 - cos(angle)) / angle^2
+  const double a2 = angle * angle;
+  // sin(x) / x, (1 - cos(x)) / x^2, (x - sin(x)) / x^3
+  double sinc = 1.0 - a2 / 6.0, cosc = 0.5 - a2 / 24.0, sinc3 = 1.0 / 6.0 - a2 / 120.0;
   if (angle > 1e-4) {
-    a = std::sin(angle) / angle;
-    b = (1.0 - std::cos(angle)) / (angle * angle);
-  } else {
-    const double a2 = angle * angle;
-    a = 1.0 - a2 / 6.0;
-    b = 0.5 - a2 / 24.0;
-  }
-  const double x = r.x(), y = r.y(), z = r.z();
-  return KDL::Rotation(1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z,  //
-                       a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z,  //
-                       -a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y));
-}
-
-/// Angular velocity in the base frame of Exp(r(t)) R_fixed: the left Jacobian of SO(3) times rdot.
-KDL::Vector angularVelocity(const KDL::Vector& r, const KDL::Vector& r_dot) {
-  const double angle = r.Norm();
-  double c1 = 0.5, c2 = 1.0 / 6.0;  // (1 - cos) / angle^2, (angle - sin) / angle^3
-  if (angle > 1e-4) {
-    c1 = (1.0 - std::cos(angle)) / (angle * angle);
-    c2 = (angle - std::sin(angle)) / (angle * angle * angle);
-  } else {
-    const double a2 = angle * angle;
-    c1 = 0.5 - a2 / 24.0;
-    c2 = 1.0 / 6.0 - a2 / 120.0;
+    const double s = std::sin(angle), c = std::cos(angle);
+    sinc = s / angle;
+    cosc = (1.0 - c) / a2;
+    sinc3 = (angle - s) / (a2 * angle);
   }
   const KDL::Vector cross = r * r_dot;
-  return r_dot + c1 * cross + c2 * (r * cross);
+  angular_velocity = r_dot + cosc * cross + sinc3 * (r * cross);
+  const double x = r.x(), y = r.y(), z = r.z();
+  return KDL::Rotation(1.0 - cosc * (y * y + z * z), -sinc * z + cosc * x * y, sinc * y + cosc * x * z,  //
+                       sinc * z + cosc * x * y, 1.0 - cosc * (x * x + z * z), -sinc * x + cosc * y * z,  //
+                       -sinc * y + cosc * x * z, sinc * x + cosc * y * z, 1.0 - cosc * (x * x + y * y));
 }
 
 void requireFiniteFrame(const KDL::Frame& f, std::size_t k, std::size_t arm) {
@@ -174,8 +161,7 @@ KDL::Rotation CartesianTrajectory::orientation(const Arm& arm, double t, const S
   const State beta = unit_blend_.at(clamped - times[window] + half);
   const KDL::Vector r = w_in * (clamped - times[window]) + w_change * beta.position;
   const KDL::Vector r_dot = w_in + w_change * beta.velocity;
-  angular_velocity = angularVelocity(r, r_dot);
-  return exponential(r) * out.start;
+  return exponential(r, r_dot, angular_velocity) * out.start;
 }
 
 void CartesianTrajectory::evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist) const noexcept {

@@ -6,6 +6,8 @@
 namespace cobra::trajectory {
 
 Trajectory::Trajectory(std::vector<Segment> segments) : segments_(std::move(segments)) {
+  start_times_.reserve(segments_.size());
+  for (const Segment& s : segments_) start_times_.push_back(s.start_time);
   const Segment& last = segments_.back();
   duration_ = last.start_time + last.polynomial.duration();
 }
@@ -23,9 +25,8 @@ void Trajectory::evaluate(double t, State& out) const noexcept {
     return;
   }
   // The last segment whose start is <= t (there is one: the first starts at 0 <= t).
-  const auto after = std::upper_bound(segments_.begin(), segments_.end(), t,
-                                      [](double time, const Segment& s) { return time < s.start_time; });
-  const Segment& segment = *std::prev(after);
+  const auto after = std::upper_bound(start_times_.begin(), start_times_.end(), t);
+  const Segment& segment = segments_[static_cast<std::size_t>(after - start_times_.begin()) - 1];
   segment.polynomial.evaluate(t - segment.start_time, out);
 }
 

@@ -56,6 +56,7 @@ class Trajectory {
 
  private:
   std::vector<Segment> segments_;
+  std::vector<double> start_times_;  // segments_[i].start_time, contiguous for a cache-friendly search
   double duration_ = 0.0;
 };
 
