@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "checks.hpp"
 
@@ -17,21 +18,20 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kWristSingular = 1e-10;
 /// Branch angles closer than this (rad) are the same solution.
 constexpr double kSameBranch = 1e-12;
-constexpr const char* kName = "Puma 260";
-
-const Puma260Parameters& checked(const Puma260Parameters& p, const JointLimits& limits) {
-  detail::requireFinite(kName, "d1", p.d1, "m");
-  detail::requireNonZero(kName, "a2", p.a2, "m");
-  detail::requireFinite(kName, "a3", p.a3, "m");
-  detail::requireFinite(kName, "d3", p.d3, "m");
-  detail::requireFinite(kName, "d4", p.d4, "m");
-  detail::requireFinite(kName, "d6", p.d6, "m");
+const Puma260Parameters& checked(const Puma260Parameters& p, const JointLimits& limits, std::string_view name) {
+  const std::string robot(name);
+  detail::requireFinite(robot, "d1", p.d1, "m");
+  detail::requireNonZero(robot, "a2", p.a2, "m");
+  detail::requireFinite(robot, "a3", p.a3, "m");
+  detail::requireFinite(robot, "d3", p.d3, "m");
+  detail::requireFinite(robot, "d4", p.d4, "m");
+  detail::requireFinite(robot, "d6", p.d6, "m");
   if (p.a3 == 0.0 && p.d4 == 0.0)
-    throw std::invalid_argument(std::string(kName) + ": parameters a3 and d4 are both 0 m: the forearm has no length");
-  validateLimits(kName, limits, 6);
+    throw std::invalid_argument(robot + ": parameters a3 and d4 are both 0 m: the forearm has no length");
+  validateLimits(robot, limits, 6);
   for (const JointType type : limits.types) {
     if (type != JointType::Revolute)
-      throw std::invalid_argument(std::string(kName) + ": every joint is revolute: give JointType::Revolute limits");
+      throw std::invalid_argument(robot + ": every joint is revolute: give JointType::Revolute limits");
   }
   return p;
 }
@@ -62,8 +62,9 @@ JointLimits Puma260Solver::defaultLimits() {
 }
 
 Puma260Solver::Puma260Solver(const Puma260Parameters& parameters, const JointLimits& limits, const KDL::Frame& base,
-                             const KDL::Frame& tool)
-    : parameters_(checked(parameters, limits)), model_(kName, pumaDhRows(parameters, limits), base, tool) {}
+                             const KDL::Frame& tool, std::string_view name)
+    : parameters_(checked(parameters, limits, name)),
+      model_(std::string(name), pumaDhRows(parameters, limits), base, tool) {}
 
 IkStatus Puma260Solver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
   if (!validJointArray(q, 6)) return IkStatus::BadInput;

@@ -59,12 +59,13 @@ class Puma260Solver final : public AnalyticSolver {
   /// [-160, 160], [-45, 225], [-225, 45], [-110, 170], [-100, 100], [-266, 266] degrees, in rad.
   static JointLimits defaultLimits();
 
-  /// @throws std::invalid_argument naming the parameter or joint ("Puma 260: parameter d4 is 0 m:
+  /// @param name the robot's name in messages (another Puma-type arm, e.g. an I-SUR micro arm)
+  /// @throws std::invalid_argument naming the parameter or joint ("Puma 260: parameter a2 is 0 m:
   /// ...", "Puma 260: joint 2 limits ...") when a length is not finite, a2 is 0, a3 and d4 are
   /// both 0, or the limits are invalid.
   explicit Puma260Solver(const Puma260Parameters& parameters = Puma260Parameters{},
                          const JointLimits& limits = defaultLimits(), const KDL::Frame& base = KDL::Frame::Identity(),
-                         const KDL::Frame& tool = KDL::Frame::Identity());
+                         const KDL::Frame& tool = KDL::Frame::Identity(), std::string_view name = "Puma 260");
 
   std::string_view name() const noexcept override { return model_.name(); }
   unsigned jointCount() const noexcept override { return 6; }

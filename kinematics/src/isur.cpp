@@ -1,0 +1,228 @@
+#include "cobra/kinematics/isur.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "checks.hpp"
+#include "cobra/kinematics/geometry.hpp"
+
+namespace cobra::kinematics {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kTwoPi = 2.0 * kPi;
+/// cos(pitch) below this is the gimbal lock of the ZYX angles: only yaw ∓ roll is defined there.
+constexpr double kGimbalLock = 1e-10;
+
+/// Splits the joint-angle sum `total` (rad) between joints a and b: a = seed_a + share·(change of
+/// the sum), clamped to the interval where both a and b = total - a respect their limits. The sum
+/// is an angle: total ± 2π is tried (nearest first) when total itself does not fit.
+bool splitSum(double total, double seed_a, double seed_b, double share, double lower_a, double upper_a, double lower_b,
+              double upper_b, double& a, double& b) noexcept {
+  const double seed_total = seed_a + seed_b;
+  const double step = total >= seed_total ? -kTwoPi : kTwoPi;
+  for (const double candidate : {total, total + step, total - step}) {
+    const double lo = std::max(lower_a, candidate - upper_b);
+    const double hi = std::min(upper_a, candidate - lower_b);
+    if (lo > hi) continue;
+    a = std::clamp(seed_a + share * (candidate - seed_total), lo, hi);
+    b = candidate - a;
+    return true;
+  }
+  return false;
+}
+
+/// The representative of `angle` + 2πk inside [lower, upper] nearest to `seed`; false if none.
+bool nearestInLimits(double angle, double seed, double lower, double upper, double& out) noexcept {
+  const double base = seed + wrapToPi(angle - seed);
+  double best = std::numeric_limits<double>::infinity();
+  for (const double candidate : {base, base - kTwoPi, base + kTwoPi}) {
+    if (candidate >= lower && candidate <= upper && std::abs(candidate - seed) < std::abs(best - seed)) best = candidate;
+  }
+  if (!std::isfinite(best)) return false;
+  out = best;
+  return true;
+}
+
+}  // namespace
+
+IsurPuncturingSolver::IsurPuncturingSolver(const IsurGeometry& geometry, std::string_view name)
+    : geometry_(geometry), name_(name), delta_(geometry.macro, std::string(name) + " macro") {
+  const IsurMicroArm& m = geometry_.micro;
+  using Named = std::pair<const char*, KDL::Vector>;
+  for (const auto& [what, v] : std::array<Named, 3>{Named{"micro.mount", m.mount}, Named{"micro.shoulder", m.shoulder},
+                                                    Named{"micro.tool", m.tool}}) {
+    detail::requireFinite(name_, std::string(what) + ".x", v.x(), "m");
+    detail::requireFinite(name_, std::string(what) + ".y", v.y(), "m");
+    detail::requireFinite(name_, std::string(what) + ".z", v.z(), "m");
+  }
+  detail::requireFinite(name_, "micro.upper_arm", m.upper_arm, "m");
+  detail::requireFinite(name_, "micro.forearm", m.forearm, "m");
+  using Share = std::pair<const char*, double>;
+  for (const auto& [what, share] :
+       std::array<Share, 2>{Share{"yaw_share", geometry_.yaw_share}, Share{"pitch_share", geometry_.pitch_share}}) {
+    if (!(share >= 0.0 && share <= 1.0))
+      throw std::invalid_argument(name_ + ": parameter " + what + " is " + formatNumber(share) +
+                                  ": give a value in [0, 1]");
+  }
+  limits_ = delta_.limits();
+  for (std::size_t i = 0; i < 5; ++i) {
+    limits_.types.push_back(JointType::Revolute);
+    limits_.lower.push_back(geometry_.lower[i]);
+    limits_.upper.push_back(geometry_.upper[i]);
+  }
+  validateLimits(name_, limits_, kJoints);
+}
+
+KDL::Frame IsurPuncturingSolver::microForward(double q5, double q6, double q7, double q8) const noexcept {
+  const IsurMicroArm& m = geometry_.micro;
+  return KDL::Frame(m.mount) * KDL::Frame(KDL::Rotation::RotZ(q5)) * KDL::Frame(m.shoulder) *
+         KDL::Frame(KDL::Rotation::RotY(q6)) * KDL::Frame(KDL::Vector(m.upper_arm, 0.0, 0.0)) *
+         KDL::Frame(KDL::Rotation::RotY(q7)) * KDL::Frame(KDL::Vector(m.forearm, 0.0, 0.0)) *
+         KDL::Frame(KDL::Rotation::RotX(q8)) * KDL::Frame(m.tool);
+}
+
+IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& pose) const noexcept {
+  if (!validJointArray(q, kJoints)) return IkStatus::BadInput;
+  KDL::Vector p_delta;
+  const IkStatus status = delta_.forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta);
+  if (status != IkStatus::Ok) return status;
+  pose = KDL::Frame(KDL::Rotation::RotZ(q(3))) * KDL::Frame(p_delta);
+  return IkStatus::Ok;
+}
+
+IkStatus IsurPuncturingSolver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
+  KDL::Frame platform;
+  const IkStatus status = platformPose(q, platform);
+  if (status != IkStatus::Ok) return status;
+  pose = platform * microForward(q(4), q(5), q(6), q(7));
+  return IkStatus::Ok;
+}
+
+IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double yaw, double pitch, double roll,
+                                              const KDL::JntArray& seed,
+                                              std::array<double, kJoints>& q) const noexcept {
+  const JointLimits& l = limits_;
+  // Orientation: yaw = q4 + q5, pitch = q6 + q7, roll = q8 (thesis §5.4.1).
+  const double yaw_total = seed(3) + seed(4) + wrapToPi(yaw - seed(3) - seed(4));
+  if (!splitSum(yaw_total, seed(3), seed(4), geometry_.yaw_share, l.lower[3], l.upper[3], l.lower[4], l.upper[4], q[3],
+                q[4]))
+    return IkStatus::JointLimits;
+  const double pitch_total = seed(5) + seed(6) + wrapToPi(pitch - seed(5) - seed(6));
+  if (!splitSum(pitch_total, seed(5), seed(6), geometry_.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6],
+                q[5], q[6]))
+    return IkStatus::JointLimits;
+  if (!nearestInLimits(roll, seed(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
+  // Position: target.p = Rz(q4)·(p_delta + micro offset), so the delta places its platform at
+  // Rz(q4)ᵀ·target.p - offset (closed form).
+  const KDL::Vector offset = microForward(q[4], q[5], q[6], q[7]).p;
+  const KDL::Vector p_delta = KDL::Rotation::RotZ(-q[3]) * target.p - offset;
+  return delta_.inversePosition(p_delta, std::span<double, 3>(q.data(), 3));
+}
+
+IkStatus IsurPuncturingSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed,
+                                       KDL::JntArray& q_out) noexcept {
+  if (!validFrame(target) || !validJointArray(seed, kJoints) || q_out.rows() != kJoints) return IkStatus::BadInput;
+  // ZYX angles of the target: R = Rz(yaw)·Ry(pitch)·Rx(roll).
+  const KDL::Rotation& r = target.M;
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  std::array<std::array<double, 3>, 2> representations{};
+  int count = 2;
+  if (cos_pitch > kGimbalLock) {
+    const double yaw = std::atan2(r(1, 0), r(0, 0));
+    const double pitch = std::atan2(-r(2, 0), cos_pitch);
+    const double roll = std::atan2(r(2, 1), r(2, 2));
+    representations[0] = {yaw, pitch, roll};
+    representations[1] = {yaw + kPi, kPi - pitch, roll + kPi};
+  } else {
+    // Pitch ±90°: only yaw - roll (pitch +90°) or yaw + roll (pitch -90°) is defined; roll keeps q8.
+    const double roll = seed(7);
+    const bool up = -r(2, 0) > 0.0;
+    const double yaw = up ? roll - std::atan2(r(0, 1), r(1, 1)) : std::atan2(-r(0, 1), r(1, 1)) - roll;
+    representations[0] = {yaw, up ? kPi / 2.0 : -kPi / 2.0, roll};
+    count = 1;
+  }
+
+  IkStatus status = IkStatus::Unreachable;
+  double best_distance = std::numeric_limits<double>::infinity();
+  std::array<double, kJoints> best{};
+  for (int i = 0; i < count; ++i) {
+    std::array<double, kJoints> q{};
+    const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
+    const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q);
+    if (candidate != IkStatus::Ok) {
+      if (status != IkStatus::Ok && candidate == IkStatus::JointLimits) status = IkStatus::JointLimits;
+      continue;
+    }
+    double distance = 0.0;
+    for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = q;
+      status = IkStatus::Ok;
+    }
+  }
+  if (status != IkStatus::Ok) return status;
+  for (unsigned j = 0; j < kJoints; ++j) q_out(j) = best[j];
+  return IkStatus::Ok;
+}
+
+IsurSuturingSolver::IsurSuturingSolver(const IsurSuturingGeometry& geometry)
+    : right_(geometry.right),
+      left_(geometry.left, geometry.left_limits, KDL::Frame::Identity(), KDL::Frame::Identity(), "I-SUR left arm"),
+      left_mount_(geometry.left_mount),
+      q_right_(IsurPuncturingSolver::kJoints),
+      seed_right_(IsurPuncturingSolver::kJoints),
+      q_left_(6),
+      seed_left_(6) {
+  if (!validFrame(left_mount_))
+    throw std::invalid_argument("I-SUR: left_mount is not a pose: its translation must be finite and its rotation orthonormal");
+  limits_ = right_.limits();
+  for (std::size_t i = 0; i < 6; ++i) {
+    limits_.types.push_back(JointType::Revolute);
+    limits_.lower.push_back(left_.limits().lower[i]);
+    limits_.upper.push_back(left_.limits().upper[i]);
+  }
+}
+
+IkStatus IsurSuturingSolver::forward(const KDL::JntArray& q, KDL::Frame& stitch_tool, KDL::Frame& gripper) noexcept {
+  if (!validJointArray(q, kJoints)) return IkStatus::BadInput;
+  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) q_right_(j) = q(j);
+  for (unsigned j = 0; j < 6; ++j) q_left_(j) = q(IsurPuncturingSolver::kJoints + j);
+  KDL::Frame platform;
+  KDL::Frame stitch;
+  KDL::Frame left_tool;
+  IkStatus status = right_.platformPose(q_right_, platform);
+  if (status == IkStatus::Ok) status = right_.forward(q_right_, stitch);
+  if (status == IkStatus::Ok) status = left_.forward(q_left_, left_tool);
+  if (status != IkStatus::Ok) return status;
+  stitch_tool = stitch;
+  gripper = platform * left_mount_ * left_tool;
+  return IkStatus::Ok;
+}
+
+IkStatus IsurSuturingSolver::inverse(const KDL::Frame& stitch_target, const KDL::Frame& gripper_target,
+                                     const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept {
+  if (!validJointArray(seed, kJoints) || q_out.rows() != kJoints || !validFrame(gripper_target))
+    return IkStatus::BadInput;
+  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) seed_right_(j) = seed(j);
+  for (unsigned j = 0; j < 6; ++j) seed_left_(j) = seed(IsurPuncturingSolver::kJoints + j);
+  IkStatus status = right_.inverse(stitch_target, seed_right_, q_right_);
+  if (status != IkStatus::Ok) return status;
+  KDL::Frame platform;
+  status = right_.platformPose(q_right_, platform);
+  if (status != IkStatus::Ok) return status;
+  status = left_.inverse((platform * left_mount_).Inverse() * gripper_target, seed_left_, q_left_);
+  if (status != IkStatus::Ok) return status;
+  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) q_out(j) = q_right_(j);
+  for (unsigned j = 0; j < 6; ++j) q_out(IsurPuncturingSolver::kJoints + j) = q_left_(j);
+  return IkStatus::Ok;
+}
+
+}  // namespace cobra::kinematics

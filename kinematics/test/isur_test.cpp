@@ -1,0 +1,281 @@
+// Unit tests of isur.hpp: the I-SUR puncturing robot (delta + base revolute + 4-DOF micro arm) —
+// FK against a KDL chain built joint by joint, the thesis' ZYX relations (yaw = q4 + q5, pitch =
+// q6 + q7, roll = q8), IK round trips on seeded random configurations, the redundancy shares,
+// continuity in the seed, the gimbal lock, unreachable and out-of-limit targets, construction
+// errors, no allocation — and the 14-DOF suturing robot (second, 6-DOF arm solved in closed form
+// from the platform pose).
+
+#include <gtest/gtest.h>
+
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <kdl/chain.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
+
+#include "cobra/kinematics/geometry.hpp"
+#include "cobra/kinematics/isur.hpp"
+
+namespace cobra::kinematics {
+namespace {
+
+using cobra::test_support::allocationsDuring;
+using cobra::test_support::messageOf;
+constexpr double kPi = std::numbers::pi;
+
+KDL::JntArray randomJoints(const JointLimits& limits, std::mt19937& rng, double margin_fraction = 0.1) {
+  KDL::JntArray q(static_cast<unsigned>(limits.size()));
+  for (unsigned i = 0; i < q.rows(); ++i) {
+    const double margin = margin_fraction * (limits.upper[i] - limits.lower[i]);
+    std::uniform_real_distribution<double> value(limits.lower[i] + margin, limits.upper[i] - margin);
+    q(i) = value(rng);
+  }
+  return q;
+}
+
+/// The puncturing robot as a KDL chain with the delta replaced by three Cartesian joints.
+KDL::Chain kdlChain(const IsurMicroArm& m) {
+  using KDL::Joint;
+  using KDL::Segment;
+  KDL::Chain chain;
+  chain.addSegment(Segment(Joint(Joint::RotZ)));
+  chain.addSegment(Segment(Joint(Joint::TransX)));
+  chain.addSegment(Segment(Joint(Joint::TransY)));
+  chain.addSegment(Segment(Joint(Joint::TransZ), KDL::Frame(m.mount)));
+  chain.addSegment(Segment(Joint(Joint::RotZ), KDL::Frame(m.shoulder)));
+  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.upper_arm, 0, 0))));
+  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.forearm, 0, 0))));
+  chain.addSegment(Segment(Joint(Joint::RotX), KDL::Frame(m.tool)));
+  return chain;
+}
+
+// 1000 seeded random configurations: FK equals KDL's FK of the equivalent serial chain fed with
+// the delta's platform position, and the needle orientation is Rz(q4 + q5)·Ry(q6 + q7)·Rx(q8).
+TEST(IsurPuncturing, ForwardMatchesKdlAndTheThesisZyxRelations) {
+  IsurPuncturingSolver isur;
+  const KDL::Chain chain = kdlChain(isur.geometry().micro);
+  KDL::ChainFkSolverPos_recursive kdl(chain);
+  std::mt19937 rng(41);
+  for (int i = 0; i < 1000; ++i) {
+    const KDL::JntArray q = randomJoints(isur.limits(), rng, 0.0);
+    KDL::Frame pose;
+    ASSERT_EQ(isur.forward(q, pose), IkStatus::Ok);
+    KDL::Vector p_delta;
+    ASSERT_EQ(isur.macro().forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta), IkStatus::Ok);
+    KDL::JntArray chain_q(8);
+    chain_q(0) = q(3);
+    chain_q(1) = p_delta.x();
+    chain_q(2) = p_delta.y();
+    chain_q(3) = p_delta.z();
+    for (unsigned j = 4; j < 8; ++j) chain_q(j) = q(j);
+    KDL::Frame by_kdl;
+    ASSERT_GE(kdl.JntToCart(chain_q, by_kdl), 0);
+    EXPECT_LT(norm(pose.p - by_kdl.p), 1e-12);
+    EXPECT_LT(orientationError(pose.M, by_kdl.M), 1e-12);
+    const KDL::Rotation zyx =
+        KDL::Rotation::RotZ(q(3) + q(4)) * KDL::Rotation::RotY(q(5) + q(6)) * KDL::Rotation::RotX(q(7));
+    EXPECT_LT(orientationError(pose.M, zyx), 1e-12);
+  }
+}
+
+// 2000 seeded random configurations in the limits: IK of their pose seeded with them gives them
+// back (1e-9), and seeded 0.05 rad / 5 mm away reaches the pose within 1e-9 m / 1e-9 rad, within
+// the limits, with a configuration that moved little (the decomposition is continuous in the seed).
+TEST(IsurPuncturing, RandomPosesRoundTrip) {
+  IsurPuncturingSolver isur;
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  KDL::JntArray out(8);
+  int solved_near = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const KDL::JntArray q = randomJoints(isur.limits(), rng);
+    KDL::Frame target;
+    ASSERT_EQ(isur.forward(q, target), IkStatus::Ok);
+    ASSERT_EQ(isur.inverse(target, q, out), IkStatus::Ok) << "pose " << i;
+    for (unsigned j = 0; j < 8; ++j) EXPECT_NEAR(out(j), q(j), 1e-9) << "pose " << i << " joint " << j + 1;
+
+    KDL::JntArray seed = q;
+    for (unsigned j = 0; j < 3; ++j) seed(j) += 0.005 * noise(rng);
+    for (unsigned j = 3; j < 8; ++j) seed(j) += 0.05 * noise(rng);
+    const IkStatus status = isur.inverse(target, seed, out);
+    if (status != IkStatus::Ok) {
+      EXPECT_EQ(status, IkStatus::JointLimits) << "pose " << i;  // the new split may push the delta out of stroke
+      continue;
+    }
+    ++solved_near;
+    KDL::Frame reached;
+    ASSERT_EQ(isur.forward(out, reached), IkStatus::Ok);
+    EXPECT_LT(norm(reached.p - target.p), 1e-9) << "pose " << i;
+    EXPECT_LT(orientationError(reached.M, target.M), 1e-9) << "pose " << i;
+    EXPECT_TRUE(isur.limits().contains(out, 1e-12));
+    for (unsigned j = 3; j < 8; ++j) EXPECT_LT(std::abs(out(j) - q(j)), 0.11) << "pose " << i << " joint " << j + 1;
+  }
+  EXPECT_GE(solved_near, 1900);
+}
+
+// The shares decide which joint of each redundant pair moves: yaw_share 1 turns the base revolute
+// only, 0 the micro yaw joint only; pitch_share 0.5 moves q6 and q7 by the same amount.
+TEST(IsurPuncturing, RedundancySharesChooseTheMovingJoint) {
+  KDL::JntArray seed(8);
+  seed(0) = seed(1) = seed(2) = 0.1;
+  seed(5) = 0.3;
+  seed(6) = 0.4;
+  for (const double yaw_share : {0.0, 1.0}) {
+    IsurGeometry geometry;
+    geometry.yaw_share = yaw_share;
+    IsurPuncturingSolver isur(geometry);
+    KDL::JntArray moved = seed;
+    moved(3) += 0.2 * yaw_share;
+    moved(4) += 0.2 * (1.0 - yaw_share);
+    moved(5) += 0.1;
+    moved(6) += 0.1;
+    KDL::Frame target;
+    ASSERT_EQ(isur.forward(moved, target), IkStatus::Ok);
+    KDL::JntArray out(8);
+    ASSERT_EQ(isur.inverse(target, seed, out), IkStatus::Ok);
+    for (unsigned j = 0; j < 8; ++j) EXPECT_NEAR(out(j), moved(j), 1e-9) << "yaw_share " << yaw_share << " joint " << j + 1;
+  }
+}
+
+TEST(IsurPuncturing, GimbalLockKeepsTheSeedsRoll) {
+  IsurPuncturingSolver isur;
+  KDL::JntArray q(8);
+  q(0) = 0.1;
+  q(1) = 0.12;
+  q(2) = 0.08;
+  q(3) = 0.2;
+  q(4) = -0.3;
+  q(5) = 0.9;
+  q(6) = kPi / 2 - 0.9;  // pitch exactly +90°
+  q(7) = 0.7;
+  KDL::Frame target;
+  ASSERT_EQ(isur.forward(q, target), IkStatus::Ok);
+  KDL::JntArray seed = q;
+  seed(7) = 0.5;
+  KDL::JntArray out(8);
+  ASSERT_EQ(isur.inverse(target, seed, out), IkStatus::Ok);
+  EXPECT_DOUBLE_EQ(out(7), 0.5);
+  KDL::Frame reached;
+  isur.forward(out, reached);
+  EXPECT_LT(norm(reached.p - target.p), 1e-9);
+  EXPECT_LT(orientationError(reached.M, target.M), 1e-9);
+}
+
+TEST(IsurPuncturing, UnreachableAndOutOfLimitTargetsLeaveTheOutputUntouched) {
+  KDL::JntArray seed(8);
+  seed(0) = seed(1) = seed(2) = 0.1;
+  KDL::JntArray out(8);
+  for (unsigned j = 0; j < 8; ++j) out(j) = 42.0;
+  IsurPuncturingSolver isur;
+  EXPECT_EQ(isur.inverse(KDL::Frame(KDL::Vector(0.0, 0.0, -3.0)), seed, out), IkStatus::Unreachable);
+  // Roll limited to ±0.5 rad: a needle rolled by 2 rad (or, flipped, by 2 - π) cannot be held.
+  IsurGeometry narrow;
+  narrow.lower[4] = -0.5;
+  narrow.upper[4] = 0.5;
+  IsurPuncturingSolver limited(narrow);
+  KDL::JntArray q = seed;
+  q(7) = 2.0;
+  KDL::Frame target;
+  ASSERT_EQ(isur.forward(q, target), IkStatus::Ok);
+  EXPECT_EQ(limited.inverse(target, seed, out), IkStatus::JointLimits);
+  for (unsigned j = 0; j < 8; ++j) EXPECT_EQ(out(j), 42.0);
+  EXPECT_EQ(isur.inverse(target, KDL::JntArray(7), out), IkStatus::BadInput);
+}
+
+TEST(IsurPuncturing, ConstructionErrorsNameTheElement) {
+  IsurGeometry g;
+  g.yaw_share = 2.0;
+  EXPECT_EQ(messageOf([&] { IsurPuncturingSolver{g}; }), "I-SUR: parameter yaw_share is 2: give a value in [0, 1]");
+  g = IsurGeometry{};
+  g.lower[1] = 1.0;
+  g.upper[1] = 0.0;
+  EXPECT_EQ(messageOf([&] { IsurPuncturingSolver{g}; }), "I-SUR: joint 5 limits [1, 0] rad: min must be <= max");
+  g = IsurGeometry{};
+  g.macro.actuators[1].rod_length = 0.0;
+  EXPECT_EQ(messageOf([&] { IsurPuncturingSolver{g}; }), "I-SUR macro: actuator 2 rod length 0 m: must be > 0");
+  g = IsurGeometry{};
+  g.micro.forearm = std::nan("");
+  EXPECT_EQ(messageOf([&] { IsurPuncturingSolver{g}; }),
+            "I-SUR: parameter micro.forearm is nan: give a finite value in m");
+}
+
+TEST(IsurPuncturing, RealTimeCallsAllocateNothing) {
+  IsurPuncturingSolver isur;
+  KDL::JntArray q(8);
+  q(0) = 0.1;
+  q(1) = 0.12;
+  q(2) = 0.08;
+  q(5) = 0.4;
+  KDL::JntArray out(8);
+  KDL::Frame pose;
+  EXPECT_EQ(allocationsDuring([&] { isur.forward(q, pose); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.inverse(pose, q, out), IkStatus::Ok); }), 0);
+}
+
+// 1000 seeded random configurations of the 14-DOF suturing robot: IK of both tool poses, seeded
+// with the configuration, gives it back; seeded nearby, both poses are reached.
+TEST(IsurSuturing, RandomPosesRoundTrip) {
+  IsurSuturingSolver isur;
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> noise(-0.02, 0.02);
+  KDL::JntArray out(14);
+  int solved_near = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const KDL::JntArray q = randomJoints(isur.limits(), rng);
+    KDL::Frame stitch;
+    KDL::Frame gripper;
+    ASSERT_EQ(isur.forward(q, stitch, gripper), IkStatus::Ok);
+    ASSERT_EQ(isur.inverse(stitch, gripper, q, out), IkStatus::Ok) << "pose " << i;
+    for (unsigned j = 0; j < 14; ++j) EXPECT_NEAR(out(j), q(j), 1e-7) << "pose " << i << " joint " << j + 1;
+
+    KDL::JntArray seed = q;
+    for (unsigned j = 3; j < 14; ++j) seed(j) += noise(rng);
+    if (isur.inverse(stitch, gripper, seed, out) != IkStatus::Ok) continue;
+    ++solved_near;
+    KDL::Frame stitch_reached;
+    KDL::Frame gripper_reached;
+    ASSERT_EQ(isur.forward(out, stitch_reached, gripper_reached), IkStatus::Ok);
+    EXPECT_LT(norm(stitch_reached.p - stitch.p), 1e-9);
+    EXPECT_LT(norm(gripper_reached.p - gripper.p), 1e-9);
+    EXPECT_LT(orientationError(gripper_reached.M, gripper.M), 1e-9);
+  }
+  EXPECT_GE(solved_near, 900);
+}
+
+// The gripper arm hangs from the platform: moving the macro moves the gripper (thesis §5.4.1).
+TEST(IsurSuturing, MacroMotionMovesBothTools) {
+  IsurSuturingSolver isur;
+  KDL::JntArray q(14);
+  q(0) = q(1) = q(2) = 0.1;
+  q(9) = 0.5;
+  q(10) = -0.5;
+  KDL::Frame stitch_a, gripper_a, stitch_b, gripper_b;
+  ASSERT_EQ(isur.forward(q, stitch_a, gripper_a), IkStatus::Ok);
+  q(0) = q(1) = q(2) = 0.15;  // all sliders down: the platform translates straight down
+  ASSERT_EQ(isur.forward(q, stitch_b, gripper_b), IkStatus::Ok);
+  const KDL::Vector stitch_shift = stitch_b.p - stitch_a.p;
+  EXPECT_LT(norm(stitch_shift - (gripper_b.p - gripper_a.p)), 1e-12);
+  EXPECT_LT(stitch_shift.z(), -0.01);
+  EXPECT_LT(std::hypot(stitch_shift.x(), stitch_shift.y()), 1e-12);
+}
+
+TEST(IsurSuturing, UnreachableGripperLeavesTheOutputUntouched) {
+  IsurSuturingSolver isur;
+  KDL::JntArray q(14);
+  q(0) = q(1) = q(2) = 0.1;
+  KDL::Frame stitch;
+  KDL::Frame gripper;
+  ASSERT_EQ(isur.forward(q, stitch, gripper), IkStatus::Ok);
+  KDL::JntArray out(14);
+  for (unsigned j = 0; j < 14; ++j) out(j) = 42.0;
+  EXPECT_EQ(isur.inverse(stitch, KDL::Frame(gripper.p + KDL::Vector(1.0, 0.0, 0.0)), q, out), IkStatus::Unreachable);
+  for (unsigned j = 0; j < 14; ++j) EXPECT_EQ(out(j), 42.0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.inverse(stitch, gripper, q, out), IkStatus::Ok); }), 0);
+}
+
+}  // namespace
+}  // namespace cobra::kinematics
