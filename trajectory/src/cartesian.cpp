@@ -98,30 +98,33 @@ CartesianTrajectory::CartesianTrajectory(const std::vector<KDL::Frame>& waypoint
           }(),
           limits, blend_order) {}
 
+MultiAxisTrajectory CartesianTrajectory::synchronisedAxes(const std::vector<std::vector<KDL::Frame>>& waypoints,
+                                                          const CartesianLimits& limits, int blend_order,
+                                                          std::vector<Arm>& arms) {
+  if (waypoints.size() < 2) detail::fail(kWho, "the path has ", waypoints.size(), " waypoint(s), expected at least 2");
+  const std::size_t arm_count = waypoints.front().size();
+  if (arm_count == 0) detail::fail(kWho, "waypoint 0 has no arms, expected at least 1");
+  for (std::size_t k = 0; k < waypoints.size(); ++k) {
+    if (waypoints[k].size() != arm_count)
+      detail::fail(kWho, "waypoint ", k, " has ", waypoints[k].size(), " arms, expected ", arm_count, " (as waypoint 0)");
+    for (std::size_t a = 0; a < arm_count; ++a) requireFiniteFrame(waypoints[k][a], k, a);
+  }
+  requireLimits(limits, blend_order);
+  AxisLimits axis_limits;
+  for (std::size_t a = 0; a < arm_count; ++a) {
+    axis_limits.max_velocity.insert(axis_limits.max_velocity.end(),
+                                    {limits.max_linear_velocity, limits.max_linear_velocity, limits.max_linear_velocity,
+                                     limits.max_angular_velocity});
+    axis_limits.acceleration_time.insert(axis_limits.acceleration_time.end(),
+                                         {limits.linear_acceleration_time, limits.linear_acceleration_time,
+                                          limits.linear_acceleration_time, limits.angular_acceleration_time});
+  }
+  return MultiAxisTrajectory(geodesics(waypoints, arms), axis_limits, blend_order);
+}
+
 CartesianTrajectory::CartesianTrajectory(const std::vector<std::vector<KDL::Frame>>& waypoints,
                                          const CartesianLimits& limits, int blend_order)
-    : axes_([&] {
-        if (waypoints.size() < 2) detail::fail(kWho, "the path has ", waypoints.size(), " waypoint(s), expected at least 2");
-        const std::size_t arm_count = waypoints.front().size();
-        if (arm_count == 0) detail::fail(kWho, "waypoint 0 has no arms, expected at least 1");
-        for (std::size_t k = 0; k < waypoints.size(); ++k) {
-          if (waypoints[k].size() != arm_count)
-            detail::fail(kWho, "waypoint ", k, " has ", waypoints[k].size(), " arms, expected ", arm_count,
-                         " (as waypoint 0)");
-          for (std::size_t a = 0; a < arm_count; ++a) requireFiniteFrame(waypoints[k][a], k, a);
-        }
-        requireLimits(limits, blend_order);
-        AxisLimits axis_limits;
-        for (std::size_t a = 0; a < arm_count; ++a) {
-          axis_limits.max_velocity.insert(axis_limits.max_velocity.end(),
-                                          {limits.max_linear_velocity, limits.max_linear_velocity,
-                                           limits.max_linear_velocity, limits.max_angular_velocity});
-          axis_limits.acceleration_time.insert(axis_limits.acceleration_time.end(),
-                                               {limits.linear_acceleration_time, limits.linear_acceleration_time,
-                                                limits.linear_acceleration_time, limits.angular_acceleration_time});
-        }
-        return MultiAxisTrajectory(geodesics(waypoints, arms_), axis_limits, blend_order);
-      }()),
+    : axes_(synchronisedAxes(waypoints, limits, blend_order, arms_)),
       angular_acceleration_time_(limits.angular_acceleration_time),
       unit_blend_(blend_order, Conditions(State{0.0, 0.0}, State{limits.angular_acceleration_time / 2.0, 1.0}),
                   limits.angular_acceleration_time) {

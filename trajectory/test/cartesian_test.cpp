@@ -194,6 +194,34 @@ TEST(CartesianTrajectory, ArmsAreSynchronisedAndTheEndsAreHeldAtRest) {
   EXPECT_TRUE(KDL::Equal(poses[1], waypoints[1][1], 1e-12));
 }
 
+TEST(CartesianTrajectory, DegenerateSegmentsStillInterpolate) {
+  // A pause (same frame twice), a half turn (axis chosen by KDL) and a tiny rotation.
+  const KDL::Frame a(KDL::Rotation::RPY(0.2, 0.1, 0.0), KDL::Vector(0.0, 0.0, 0.2));
+  const KDL::Frame half_turn(a.M * KDL::Rotation::RotZ(M_PI), KDL::Vector(0.1, 0.0, 0.2));
+  const KDL::Frame tiny(half_turn.M * KDL::Rotation::RotX(1e-7), KDL::Vector(0.1, 0.05, 0.2));
+  const std::vector<KDL::Frame> path{a, a, half_turn, tiny, tiny};
+  const CartesianTrajectory traj(path, kLimits, 5);
+  for (int j = 0; j <= kSamples; ++j) {
+    KDL::Frame pose;
+    KDL::Twist twist;
+    traj.evaluate(traj.duration() * j / kSamples, 0, pose, twist);
+    ASSERT_LT(rotationError(pose.M), 1e-12);
+    ASSERT_TRUE(std::isfinite(twist.rot.Norm()));
+    ASSERT_LE(twist.rot.Norm(), kLimits.max_angular_velocity * (1 + 1e-9));
+  }
+  KDL::Frame pose;
+  KDL::Twist twist;
+  // The pause: nothing turns until the blend into the half turn starts, T_a / 2 before t_1.
+  traj.evaluate(traj.waypointTimes()[1] - kLimits.angular_acceleration_time / 2, 0, pose, twist);
+  EXPECT_LT(angleBetween(pose.M, a.M), 1e-12);
+  EXPECT_LT(twist.rot.Norm(), 1e-12);
+  traj.evaluate(traj.waypointTimes()[1], 0, pose, twist);
+  EXPECT_GT(angleBetween(pose.M, a.M), 1e-3);
+  traj.evaluate(traj.duration(), 0, pose, twist);
+  EXPECT_LT(angleBetween(pose.M, tiny.M), 1e-12);
+  EXPECT_LT((pose.p - tiny.p).Norm(), 1e-12);
+}
+
 TEST(CartesianTrajectory, InvalidInputThrowsWithAMessageNamingIt) {
   const KDL::Frame f = KDL::Frame::Identity();
   EXPECT_CONTAINS(messageOf([&] { CartesianTrajectory(std::vector<KDL::Frame>{f}, kLimits); }),

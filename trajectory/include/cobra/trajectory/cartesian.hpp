@@ -82,10 +82,13 @@ class CartesianTrajectory {
 
   /// Fills `arms` with each arm's geodesics and returns the x, y, z, s path of all arms.
   static MultiAxisPath geodesics(const std::vector<std::vector<KDL::Frame>>& waypoints, std::vector<Arm>& arms);
+  /// Checks the input, fills `arms` and returns the x, y, z, s axes of all arms on one time line.
+  static MultiAxisTrajectory synchronisedAxes(const std::vector<std::vector<KDL::Frame>>& waypoints,
+                                              const CartesianLimits& limits, int blend_order, std::vector<Arm>& arms);
 
   KDL::Rotation orientation(const Arm& arm, double t, const State& s, KDL::Vector& angular_velocity) const noexcept;
 
-  std::vector<Arm> arms_;
+  std::vector<Arm> arms_;     // declared before axes_: synchronisedAxes fills it while axes_ is built
   MultiAxisTrajectory axes_;
   double angular_acceleration_time_;
   Polynomial unit_blend_;  // beta: from rest to unit speed in T_a, covering T_a / 2
