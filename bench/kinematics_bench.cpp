@@ -40,7 +40,10 @@ double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(),
 
 /// Median and max over repetitions, aggregates only.
 void configure(benchmark::internal::Benchmark* b) {
-  b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTimePerRepetition);
+  b->Repetitions(kRepetitions)
+      ->ReportAggregatesOnly(true)
+      ->ComputeStatistics("max", maxOf)
+      ->MinTime(kMinTimePerRepetition);
 }
 
 /// Targets (tool poses), the joints they came from, and seeds near those joints.
@@ -65,8 +68,9 @@ Workload makeWorkload(KinematicsSolver& solver, unsigned seed, double margin) {
     KDL::Frame pose;
     if (solver.forward(q, pose) != IkStatus::Ok) continue;
     KDL::JntArray s = q;
-    for (unsigned j = 0; j < s.rows(); ++j) s(j) = std::clamp(s(j) + noise(rng) * (limits.upper[j] - limits.lower[j]) / 6.28,
-                                                               limits.lower[j], limits.upper[j]);
+    for (unsigned j = 0; j < s.rows(); ++j)
+      s(j) =
+          std::clamp(s(j) + noise(rng) * (limits.upper[j] - limits.lower[j]) / 6.28, limits.lower[j], limits.upper[j]);
     w.targets.push_back(pose);
     w.joints.push_back(q);
     w.seeds.push_back(s);
@@ -127,7 +131,8 @@ void runIk(benchmark::State& state, const Workload& w, unsigned joints, Solve so
     benchmark::DoNotOptimize(out.data.data());
     i = (i + 1) % kTargets;
   }
-  state.counters["solved"] = static_cast<double>(solved) / static_cast<double>(std::max<std::int64_t>(1, state.iterations()));
+  state.counters["solved"] =
+      static_cast<double>(solved) / static_cast<double>(std::max<std::int64_t>(1, state.iterations()));
 }
 
 void BM_Ur5Ik_ClosedForm(benchmark::State& state) {
@@ -154,16 +159,14 @@ void BM_Ur5Ik_KdlNrJl(benchmark::State& state) {
   KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::ChainIkSolverVel_pinv velocity(chain);
   KDL::ChainIkSolverPos_NR_JL nr(chain, q_min, q_max, fk, velocity);
-  runIk(state, ur5Workload(), 6, [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) {
-    return nr.CartToJnt(s, t, out) >= 0;
-  });
+  runIk(state, ur5Workload(), 6,
+        [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) { return nr.CartToJnt(s, t, out) >= 0; });
 }
 
 void BM_Ur5Ik_KdlLma(benchmark::State& state) {
   KDL::ChainIkSolverPos_LMA lma(ur5().model().chain());
-  runIk(state, ur5Workload(), 6, [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) {
-    return lma.CartToJnt(s, t, out) >= 0;
-  });
+  runIk(state, ur5Workload(), 6,
+        [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) { return lma.CartToJnt(s, t, out) >= 0; });
 }
 
 template <IterativeIk kMethod>
@@ -179,9 +182,11 @@ BENCHMARK(BM_Ur5Ik_ClosedFormAll)->Name("BM_Ur5Ik/closed_form_all8")->Apply(conf
 BENCHMARK(BM_Ur5Ik_KdlNrJl)->Name("BM_Ur5Ik/kdl_nr_jl")->Apply(configure);
 BENCHMARK(BM_Ur5Ik_KdlLma)->Name("BM_Ur5Ik/kdl_lma")->Apply(configure);
 BENCHMARK_TEMPLATE(BM_Ur5Ik_CobraSerialChain, IterativeIk::NewtonRaphsonJL)
-    ->Name("BM_Ur5IkCobraKdl/nr_jl_polished")->Apply(configure);
+    ->Name("BM_Ur5IkCobraKdl/nr_jl_polished")
+    ->Apply(configure);
 BENCHMARK_TEMPLATE(BM_Ur5Ik_CobraSerialChain, IterativeIk::LevenbergMarquardt)
-    ->Name("BM_Ur5IkCobraKdl/lma_polished")->Apply(configure);
+    ->Name("BM_Ur5IkCobraKdl/lma_polished")
+    ->Apply(configure);
 
 // ---------------------------------------------------------------------------------------------
 // Puma 260 inverse kinematics.
@@ -204,9 +209,8 @@ void BM_Puma260Ik_ClosedForm(benchmark::State& state) {
 
 void BM_Puma260Ik_KdlLma(benchmark::State& state) {
   KDL::ChainIkSolverPos_LMA lma(puma().model().chain());
-  runIk(state, pumaWorkload(), 6, [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) {
-    return lma.CartToJnt(s, t, out) >= 0;
-  });
+  runIk(state, pumaWorkload(), 6,
+        [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) { return lma.CartToJnt(s, t, out) >= 0; });
 }
 
 BENCHMARK(BM_Puma260Ik_ClosedForm)->Name("BM_Puma260Ik/closed_form_nearest")->Apply(configure);

@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
+
+#include "cobra/kinematics/geometry.hpp"
 
 #include "checks.hpp"
-#include "cobra/kinematics/geometry.hpp"
 
 namespace cobra::kinematics {
 
@@ -43,7 +44,8 @@ bool nearestInLimits(double angle, double seed, double lower, double upper, doub
   const double base = seed + wrapToPi(angle - seed);
   double best = std::numeric_limits<double>::infinity();
   for (const double candidate : {base, base - kTwoPi, base + kTwoPi}) {
-    if (candidate >= lower && candidate <= upper && std::abs(candidate - seed) < std::abs(best - seed)) best = candidate;
+    if (candidate >= lower && candidate <= upper && std::abs(candidate - seed) < std::abs(best - seed))
+      best = candidate;
   }
   if (!std::isfinite(best)) return false;
   out = best;
@@ -182,7 +184,8 @@ IsurSuturingSolver::IsurSuturingSolver(const IsurSuturingGeometry& geometry)
       q_left_(6),
       seed_left_(6) {
   if (!validFrame(left_mount_))
-    throw std::invalid_argument("I-SUR: left_mount is not a pose: its translation must be finite and its rotation orthonormal");
+    throw std::invalid_argument(
+        "I-SUR: left_mount is not a pose: its translation must be finite and its rotation orthonormal");
   limits_ = right_.limits();
   for (std::size_t i = 0; i < 6; ++i) {
     limits_.types.push_back(JointType::Revolute);

@@ -31,13 +31,13 @@ LinearDeltaGeometry LinearDeltaGeometry::isurMacro() {
   for (int i = 0; i < 3; ++i) {
     const double azimuth = kPi / 2.0 + i * 2.0 * kPi / 3.0;
     const KDL::Vector radial(std::cos(azimuth), std::sin(azimuth), 0.0);
-    g.actuators[static_cast<std::size_t>(i)] =
-        LinearDeltaActuator{.rail_origin = kRailRadius * radial,
-                            .rail_direction = -std::sin(kRailTilt) * radial + KDL::Vector(0.0, 0.0, -std::cos(kRailTilt)),
-                            .platform_joint = kPlatformRadius * radial,
-                            .rod_length = kRod,
-                            .lower = 0.0,
-                            .upper = kStroke};
+    g.actuators[static_cast<std::size_t>(i)] = LinearDeltaActuator{
+        .rail_origin = kRailRadius * radial,
+        .rail_direction = -std::sin(kRailTilt) * radial + KDL::Vector(0.0, 0.0, -std::cos(kRailTilt)),
+        .platform_joint = kPlatformRadius * radial,
+        .rod_length = kRod,
+        .lower = 0.0,
+        .upper = kStroke};
   }
   return g;
 }
@@ -124,7 +124,8 @@ IkStatus LinearDeltaSolver::forward(const KDL::JntArray& q, KDL::Frame& pose) no
   return status;
 }
 
-IkStatus LinearDeltaSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept {
+IkStatus LinearDeltaSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed,
+                                    KDL::JntArray& q_out) noexcept {
   constexpr double kFixedOrientationTolerance = 1e-9;  // rad
   if (!validFrame(target) || !validJointArray(seed, 3) || q_out.rows() != 3) return IkStatus::BadInput;
   if (orientationError(target.M, KDL::Rotation::Identity()) > kFixedOrientationTolerance) return IkStatus::Unreachable;

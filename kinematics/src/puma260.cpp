@@ -43,10 +43,9 @@ Puma260Parameters Puma260Parameters::puma560() {
 }
 
 std::vector<DhRow> pumaDhRows(const Puma260Parameters& p, const JointLimits& limits) {
-  std::vector<DhRow> rows = {
-      {.a = 0.0, .alpha = kPi / 2, .d = p.d1},   {.a = p.a2, .alpha = 0.0, .d = 0.0},
-      {.a = p.a3, .alpha = -kPi / 2, .d = p.d3}, {.a = 0.0, .alpha = kPi / 2, .d = p.d4},
-      {.a = 0.0, .alpha = -kPi / 2, .d = 0.0},   {.a = 0.0, .alpha = 0.0, .d = p.d6}};
+  std::vector<DhRow> rows = {{.a = 0.0, .alpha = kPi / 2, .d = p.d1},   {.a = p.a2, .alpha = 0.0, .d = 0.0},
+                             {.a = p.a3, .alpha = -kPi / 2, .d = p.d3}, {.a = 0.0, .alpha = kPi / 2, .d = p.d4},
+                             {.a = 0.0, .alpha = -kPi / 2, .d = 0.0},   {.a = 0.0, .alpha = 0.0, .d = p.d6}};
   for (std::size_t i = 0; i < rows.size() && i < limits.size(); ++i) {
     rows[i].lower = limits.lower[i];
     rows[i].upper = limits.upper[i];

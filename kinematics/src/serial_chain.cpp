@@ -143,7 +143,8 @@ void polish(KDL::ChainFkSolverPos_recursive& fk, KDL::ChainJntToJacSolver& jac_s
     Matrix6d jjt = kDampingSquared * Matrix6d::Identity();
     for (int r = 0; r < 6; ++r)
       for (int c = 0; c < 6; ++c)
-        for (unsigned j = 0; j < n; ++j) jjt(r, c) += jacobian(static_cast<unsigned>(r), j) * jacobian(static_cast<unsigned>(c), j);
+        for (unsigned j = 0; j < n; ++j)
+          jjt(r, c) += jacobian(static_cast<unsigned>(r), j) * jacobian(static_cast<unsigned>(c), j);
     const Vector6d y = jjt.ldlt().solve(e);
     for (unsigned j = 0; j < n; ++j) {
       double dq = 0.0;
@@ -161,8 +162,7 @@ SerialChainSolver::SerialChainSolver(SerialChainModel model, IterativeIkOptions 
     throw std::invalid_argument(model_->name() + ": IK tolerances must be > 0 (position " +
                                 formatNumber(options_.position_tolerance) + " m, orientation " +
                                 formatNumber(options_.orientation_tolerance) + " rad)");
-  if (options_.max_iterations == 0)
-    throw std::invalid_argument(model_->name() + ": IK max_iterations must be >= 1");
+  if (options_.max_iterations == 0) throw std::invalid_argument(model_->name() + ": IK max_iterations must be >= 1");
   work_ = std::make_unique<Workspace>(*model_, options_);
 }
 

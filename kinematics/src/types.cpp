@@ -10,12 +10,18 @@ namespace cobra::kinematics {
 
 const char* toString(IkStatus status) noexcept {
   switch (status) {
-    case IkStatus::Ok: return "ok";
-    case IkStatus::Unreachable: return "unreachable";
-    case IkStatus::JointLimits: return "joint limits";
-    case IkStatus::Singular: return "singular";
-    case IkStatus::NoConvergence: return "no convergence";
-    case IkStatus::BadInput: return "bad input";
+    case IkStatus::Ok:
+      return "ok";
+    case IkStatus::Unreachable:
+      return "unreachable";
+    case IkStatus::JointLimits:
+      return "joint limits";
+    case IkStatus::Singular:
+      return "singular";
+    case IkStatus::NoConvergence:
+      return "no convergence";
+    case IkStatus::BadInput:
+      return "bad input";
   }
   return "unknown";
 }
@@ -50,8 +56,8 @@ void validateLimits(std::string_view robot, const JointLimits& limits, std::size
                                 std::to_string(expected_joints) + " joints: give one of each per joint");
   }
   for (std::size_t i = 0; i < expected_joints; ++i) {
-    const std::string range = "[" + formatNumber(limits.lower[i]) + ", " + formatNumber(limits.upper[i]) + "] " +
-                              unitOf(limits.types[i]);
+    const std::string range =
+        "[" + formatNumber(limits.lower[i]) + ", " + formatNumber(limits.upper[i]) + "] " + unitOf(limits.types[i]);
     const std::string joint = who + ": joint " + std::to_string(i + 1) + " limits " + range;
     if (!std::isfinite(limits.lower[i]) || !std::isfinite(limits.upper[i]))
       throw std::invalid_argument(joint + ": both bounds must be finite numbers");

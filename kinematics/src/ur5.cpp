@@ -20,10 +20,9 @@ constexpr double kSameBranch = 1e-12;
 }  // namespace
 
 std::vector<DhRow> urDhRows(const Ur5Parameters& p, const JointLimits& limits) {
-  std::vector<DhRow> rows = {
-      {.a = 0.0, .alpha = kPi / 2, .d = p.d1},  {.a = p.a2, .alpha = 0.0, .d = 0.0},
-      {.a = p.a3, .alpha = 0.0, .d = 0.0},      {.a = 0.0, .alpha = kPi / 2, .d = p.d4},
-      {.a = 0.0, .alpha = -kPi / 2, .d = p.d5}, {.a = 0.0, .alpha = 0.0, .d = p.d6}};
+  std::vector<DhRow> rows = {{.a = 0.0, .alpha = kPi / 2, .d = p.d1},  {.a = p.a2, .alpha = 0.0, .d = 0.0},
+                             {.a = p.a3, .alpha = 0.0, .d = 0.0},      {.a = 0.0, .alpha = kPi / 2, .d = p.d4},
+                             {.a = 0.0, .alpha = -kPi / 2, .d = p.d5}, {.a = 0.0, .alpha = 0.0, .d = p.d6}};
   for (std::size_t i = 0; i < rows.size() && i < limits.size(); ++i) {
     rows[i].lower = limits.lower[i];
     rows[i].upper = limits.upper[i];
@@ -113,8 +112,7 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
       const int elbow_count = elbow < kSameBranch || kPi - elbow < kSameBranch ? 1 : 2;
       for (int i3 = 0; i3 < elbow_count; ++i3) {
         const double theta3 = i3 == 0 ? elbow : -elbow;
-        const double theta2 =
-            std::atan2(py, px) - std::atan2(p.a3 * std::sin(theta3), p.a2 + p.a3 * std::cos(theta3));
+        const double theta2 = std::atan2(py, px) - std::atan2(p.a3 * std::sin(theta3), p.a2 + p.a3 * std::cos(theta3));
         const double theta234 = std::atan2(t14.M(1, 0), t14.M(0, 0));
         q = {theta1[i1], theta2, theta3, theta234 - theta2 - theta3, theta5, theta6};
         for (double& value : q) value = wrapToPi(value);

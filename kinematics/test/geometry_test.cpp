@@ -60,7 +60,8 @@ TEST(EquivalentWrench, InvertsTheTextbookAdjointOnRandomFrames) {
   std::uniform_real_distribution<double> value(-50.0, 50.0);
   for (int i = 0; i < 1000; ++i) {
     const KDL::Frame g_bc = randomFrame(rng);
-    const KDL::Wrench w_b(KDL::Vector(value(rng), value(rng), value(rng)), KDL::Vector(value(rng), value(rng), value(rng)));
+    const KDL::Wrench w_b(KDL::Vector(value(rng), value(rng), value(rng)),
+                          KDL::Vector(value(rng), value(rng), value(rng)));
     const KDL::Wrench w_c = equivalentWrench(g_bc, w_b);
 
     const KDL::Vector f_b = g_bc.M * w_c.force;

@@ -137,7 +137,8 @@ TEST(IsurPuncturing, RedundancySharesChooseTheMovingJoint) {
     ASSERT_EQ(isur.forward(moved, target), IkStatus::Ok);
     KDL::JntArray out(8);
     ASSERT_EQ(isur.inverse(target, seed, out), IkStatus::Ok);
-    for (unsigned j = 0; j < 8; ++j) EXPECT_NEAR(out(j), moved(j), 1e-9) << "yaw_share " << yaw_share << " joint " << j + 1;
+    for (unsigned j = 0; j < 8; ++j)
+      EXPECT_NEAR(out(j), moved(j), 1e-9) << "yaw_share " << yaw_share << " joint " << j + 1;
   }
 }
 

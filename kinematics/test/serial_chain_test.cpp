@@ -219,8 +219,7 @@ TEST(SerialChainModel, ConstructionErrorsNameTheRobotJointAndParameter) {
   std::vector<DhRow> rows = sixAxisModel().rows();
   rows[2].lower = 2.0;
   rows[2].upper = 1.0;
-  EXPECT_EQ(messageOf([&] { SerialChainModel("UR5", rows); }),
-            "UR5: joint 3 limits [2, 1] rad: min must be <= max");
+  EXPECT_EQ(messageOf([&] { SerialChainModel("UR5", rows); }), "UR5: joint 3 limits [2, 1] rad: min must be <= max");
 
   rows = sixAxisModel().rows();
   rows[1].a = std::nan("");

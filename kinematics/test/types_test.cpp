@@ -42,7 +42,7 @@ TEST(WrapIntoLimits, PicksThe2PiRepresentativeNearestTheSeedInsideTheLimits) {
   double seed = 5.0;
   ASSERT_TRUE(wrapIntoLimits(std::span<double>(&q, 1), limits, std::span<const double>(&seed, 1)));
   EXPECT_NEAR(q, -0.5 + 2 * kPi, 1e-12);  // 5.78 is inside ±2π and nearer to 5.0 than -0.5
-  q = 0.5;  // 0.5 + 2π is outside ±2π: stays
+  q = 0.5;                                // 0.5 + 2π is outside ±2π: stays
   ASSERT_TRUE(wrapIntoLimits(std::span<double>(&q, 1), limits, std::span<const double>(&seed, 1)));
   EXPECT_NEAR(q, 0.5, 1e-12);
 
