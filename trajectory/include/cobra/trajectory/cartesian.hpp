@@ -58,7 +58,7 @@ class CartesianTrajectory {
 
   std::size_t armCount() const noexcept { return arms_.size(); }
   double duration() const noexcept { return axes_.duration(); }
-  /// Times (s) at which every arm is at its waypoint (the blend corners for inner waypoints).
+  /// The shared waypoint times t_k (s); see MultiAxisTrajectory::waypointTimes.
   std::span<const double> waypointTimes() const noexcept { return axes_.waypointTimes(); }
   /// The underlying synchronised axes: 4 per arm, x, y, z, s.
   const MultiAxisTrajectory& axes() const noexcept { return axes_; }

@@ -90,7 +90,9 @@ class MultiAxisTrajectory {
 
   std::size_t axisCount() const noexcept { return axes_.size(); }
   double duration() const noexcept { return duration_; }
-  /// The times (s) at which every axis is at its waypoint; {0, duration()} for a polynomial or stop.
+  /// The shared waypoint times t_k (s): every axis starts at t_0 = 0 and ends at t_N = duration()
+  /// exactly; at an inner t_k each axis is at the centre of its blend, where its incoming and outgoing
+  /// lines meet at its waypoint. {0, duration()} for a polynomial or a stop.
   std::span<const double> waypointTimes() const noexcept { return waypoint_times_; }
   const Trajectory& axis(std::size_t i) const { return axes_.at(i); }
 

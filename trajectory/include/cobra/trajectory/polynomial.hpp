@@ -35,8 +35,9 @@ class Polynomial {
   /// A motion from `current` (position, velocity, acceleration; jerk ignored) to rest (zero
   /// velocity and acceleration) in exactly `stop_time` s: the quintic whose velocity is the cubic
   /// Hermite curve from (v0, a0) to (0, 0), so the rest position is not chosen but follows,
-  /// q_rest = q0 + T (v0 / 2 + a0 T / 12). Throws std::invalid_argument for a non-finite state or a
-  /// stop time that is not finite and > 0.
+  /// q_rest = q0 + T (v0 / 2 + a0 T / 12). Allocation-free, so a generator may build it inside its
+  /// real-time update from the state it is sending. Throws std::invalid_argument for a non-finite
+  /// state or a stop time that is not finite and > 0 (check the stop time at configuration).
   static Polynomial stop(const State& current, double stop_time);
 
   int order() const noexcept { return order_; }
