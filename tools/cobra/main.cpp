@@ -18,6 +18,7 @@
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "builtin_packages.hpp"
 #include "console.hpp"
 #include "console_terminal.hpp"
 #include "describe.hpp"
@@ -68,6 +69,7 @@ deploy::ConfiguratorOptions optionsFor(bool sim, bool strict) {
 
 int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
+  tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -97,6 +99,7 @@ int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
 int runLint(const std::string& file) {
   deploy::ConfiguratorOptions options;  // simulation: nothing runs, the clock never advances
   deploy::Configurator configurator(options);
+  tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -111,6 +114,7 @@ int runLint(const std::string& file) {
 /// through Graphviz's `dot` according to the output's extension.
 int runGraph(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
+  tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -136,6 +140,7 @@ int runGraph(const std::string& file, const std::string& output) {
 
 int runDescribe(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
+  tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -152,6 +157,7 @@ int runDescribe(const std::string& file, const std::string& output) {
 
 int runConsole(const std::string& file, bool sim, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
+  tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   tools::Console console(configurator, deployer, std::cout);

@@ -1,0 +1,100 @@
+#pragma once
+/// @file
+/// The thesis' Multi-Arm Cartesian Trajectory Generator (§4.5.2, Fig. 4.12): a Calculation
+/// component around TGL's CartesianTrajectory that turns a planned path into synchronised pose and
+/// twist set-points for `arms_num` arms.
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/components/motion/path_type.hpp"
+#include "cobra/core/component.hpp"
+#include "cobra/trajectory/cartesian.hpp"
+
+namespace cobra::components {
+
+/// Interface (thesis names):
+/// - properties `arms_num` (1..16), `max_vel` (m/s, per Cartesian position axis), `max_ang_vel`
+///   (rad/s), `time_acc` (s, blend duration), `stop_time` (s), `sample_time` (s: the activity
+///   period it expects; start refuses another period), `blend_order` (2..5);
+/// - operations `askGenerateTraj()`, `askStartMove()`, `askStopMove()` (void requests, answered by
+///   events), `status()` (the state of Fig. 4.12) and `lastFailure()`;
+/// - ports `plannedPath` (in, TGL.MultiAxisPath, encoded as path_type.hpp says),
+///   `desCartPose_i` / `desCartTwist_i` (out, i = 1..arms_num, made at configure) and `events`.
+///
+/// States (Fig. 4.12; "Not initialized" and "Initialized" are the lifecycle's PreOperational and
+/// Stopped): WaitPath -> (path arrives, e_path_ready) PathReady -> (askGenerateTraj,
+/// e_traj_ready | e_traj_failed) TrajectoryReady -> (askStartMove, e_motion_started) Moving ->
+/// (end, e_motion_done) WaitPath; Moving -> (askStopMove, e_motion_stopping) Stopping -> (at rest,
+/// e_motion_stopped) WaitPath. A request in the wrong state answers e_no_path, e_no_trajectory or
+/// e_not_moving and changes nothing. "Generating Trajectory" and "Generating Stop" are momentary:
+/// generation runs in the request, between two updates.
+///
+/// Real time: while Moving or Stopping, updateHook evaluates and writes without allocating. A new
+/// path is copied when it is read (once per path, while not moving; paths arrive at planning rate).
+/// The stop motion decelerates each position axis with TGL's stop polynomial and the orientation
+/// about the instantaneous rotation axis, each to rest in `stop_time`.
+class CartesianTrajectoryGenerator : public core::Component {
+ public:
+  enum class Status { WaitPath, PathReady, TrajectoryReady, Moving, Stopping };
+
+  explicit CartesianTrajectoryGenerator(std::string name);
+
+  Status status() const { return status_.load(std::memory_order_acquire); }
+  /// The trajectory being followed (nullptr before askGenerateTraj succeeds). Read it when the
+  /// component is not Running, or from its own thread.
+  const trajectory::CartesianTrajectory* trajectory() const { return trajectory_ ? &*trajectory_ : nullptr; }
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+  void stopHook() override;
+
+ private:
+  void askGenerateTraj();
+  void askStartMove();
+  void askStopMove();
+  std::string statusName() const;
+  void setStatus(Status status) { status_.store(status, std::memory_order_release); }
+  double elapsed() const;
+  /// Writes the set-points in poses_/twists_ on every arm's ports.
+  void publish();
+  /// Fills poses_/twists_ with the stop motion at `t` s after it began.
+  void evaluateStop(double t);
+
+  core::Property<int> arms_num_{"arms_num", 1, "1", "number of arms (pose and twist output pairs)"};
+  core::Property<double> max_vel_{"max_vel", 0.05, "m/s", "maximum velocity of each Cartesian position axis"};
+  core::Property<double> max_ang_vel_{"max_ang_vel", 0.5, "rad/s", "maximum angular velocity of each arm"};
+  core::Property<double> time_acc_{"time_acc", 0.2, "s", "acceleration time of each axis (blend duration)"};
+  core::Property<double> stop_time_{"stop_time", 0.2, "s", "time in which askStopMove brings every arm to rest"};
+  core::Property<double> sample_time_{"sample_time", 0.001, "s", "period of the set-points: the activity period"};
+  core::Property<int> blend_order_{"blend_order", 5, "1", "order of the polynomial blends (2..5)"};
+
+  core::InputPort<trajectory::MultiAxisPath> planned_path_{"plannedPath", "path to follow, 7 values per arm per waypoint (x y z m, qx qy qz qw)", "m"};
+  std::vector<std::unique_ptr<core::OutputPort<KDL::Frame>>> pose_ports_;
+  std::vector<std::unique_ptr<core::OutputPort<KDL::Twist>>> twist_ports_;
+
+  std::atomic<Status> status_{Status::WaitPath};
+  std::string last_failure_;
+  trajectory::MultiAxisPath path_;
+  std::optional<trajectory::CartesianTrajectory> trajectory_;
+  std::chrono::nanoseconds motion_start_{0};
+  bool start_pending_ = false;  // askStartMove was called: the next update stamps the start
+
+  // The stop motion: per arm x, y, z and the angle phi about the rotation axis at the stop.
+  std::optional<trajectory::MultiAxisTrajectory> stop_;
+  std::vector<KDL::Rotation> stop_orientation_;  // orientation when the stop began
+  std::vector<KDL::Vector> stop_axis_;           // unit rotation axis (base frame)
+  std::vector<trajectory::State> stop_states_;   // workspace of evaluateStop
+
+  std::vector<KDL::Frame> poses_;   // workspace: one per arm
+  std::vector<KDL::Twist> twists_;  // workspace: one per arm
+};
+
+}  // namespace cobra::components

@@ -1,0 +1,207 @@
+// The Multi-Arm Cartesian Trajectory Generator (thesis §4.5.2, Fig. 4.12) on the lockstep clock.
+#include "cobra/components/motion/cartesian_trajectory_generator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+using Generator = CartesianTrajectoryGenerator;
+
+KDL::Frame pose(double x, double y, double z, double rz) { return {KDL::Rotation::RotZ(rz), KDL::Vector(x, y, z)}; }
+
+/// A generator for two arms on a 1 kHz lockstep clock, with probes on its ports and events.
+struct Bench {
+  Generator generator{"TrajGen"};
+  core::LockstepClock clock;
+  core::OutputPort<trajectory::MultiAxisPath> planner{"plannedPath", "test planner", "m"};
+  core::InputPort<core::Event> events{"events", "the generator's events", ""};
+  std::vector<std::unique_ptr<core::InputPort<KDL::Frame>>> poses;
+  std::vector<std::unique_ptr<core::InputPort<KDL::Twist>>> twists;
+
+  explicit Bench(int arms = 2) {
+    generator.setProperty("arms_num", arms);
+    generator.setProperty("max_vel", 0.1);
+    generator.setProperty("max_ang_vel", 1.0);
+    generator.setProperty("time_acc", 0.1);
+    generator.setProperty("stop_time", 0.2);
+    clock.add(generator, 1ms);
+    EXPECT_TRUE(generator.configure());
+    core::connectPorts(planner, generator.port("plannedPath"));
+    core::connectPorts(generator.port("events"), events, core::ConnPolicy::buffer(64));
+    for (int i = 1; i <= arms; ++i) {
+      poses.push_back(std::make_unique<core::InputPort<KDL::Frame>>("pose", "", "m"));
+      twists.push_back(std::make_unique<core::InputPort<KDL::Twist>>("twist", "", "m/s"));
+      core::connectPorts(generator.port("desCartPose_" + std::to_string(i)), *poses.back());
+      core::connectPorts(generator.port("desCartTwist_" + std::to_string(i)), *twists.back());
+    }
+    EXPECT_TRUE(generator.start());
+  }
+  /// Events emitted since the last call, in order.
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
+  KDL::Frame lastPose(std::size_t arm) {
+    KDL::Frame f;
+    EXPECT_NE(poses[arm]->read(f), core::FlowStatus::NoData);
+    return f;
+  }
+  KDL::Twist lastTwist(std::size_t arm) {
+    KDL::Twist t;
+    EXPECT_NE(twists[arm]->read(t), core::FlowStatus::NoData);
+    return t;
+  }
+  void call(const char* operation) { generator.call<void>(operation); }
+  std::string status() { return generator.call<std::string>("status"); }
+};
+
+const std::vector<std::vector<KDL::Frame>> kTwoArmPath = {
+    {pose(0.0, 0.0, 0.1, 0.0), pose(0.5, 0.0, 0.1, 0.0)},
+    {pose(0.05, 0.02, 0.12, 0.3), pose(0.45, -0.03, 0.1, -0.2)},
+    {pose(0.08, 0.05, 0.15, 0.5), pose(0.42, -0.05, 0.08, -0.4)},
+};
+
+TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure) {
+  Generator g("TrajGen");
+  g.setProperty("arms_num", 3);
+  ASSERT_TRUE(g.configure());
+  for (const char* name : {"desCartPose_1", "desCartTwist_1", "desCartPose_3", "desCartTwist_3"})
+    EXPECT_NE(g.findPort(name), nullptr) << name;
+  g.setProperty("arms_num", 1);
+  ASSERT_TRUE(g.configure());
+  EXPECT_EQ(g.findPort("desCartPose_2"), nullptr);
+  EXPECT_EQ(g.port("desCartPose_1").unit(), "m");
+}
+
+TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
+  Bench b;
+  EXPECT_EQ(b.status(), "WaitPath");
+  b.call("askGenerateTraj");
+  b.call("askStartMove");
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_path", "e_no_trajectory"}));
+
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.status(), "PathReady");
+  b.call("askGenerateTraj");
+  EXPECT_EQ(b.status(), "TrajectoryReady");
+  const trajectory::CartesianTrajectory reference(kTwoArmPath, {0.1, 1.0, 0.1, 0.1}, 5);
+  ASSERT_NE(b.generator.trajectory(), nullptr);
+  EXPECT_DOUBLE_EQ(b.generator.trajectory()->duration(), reference.duration());
+
+  b.call("askStartMove");
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_ready", "e_motion_started"}));
+  // The first set-point is written at the next step (t = 0 of the motion); then one per ms.
+  const auto steps = static_cast<int>(std::floor(reference.duration() / 2 / 1e-3));
+  b.clock.advance(std::chrono::milliseconds(steps + 1));
+  KDL::Frame expected_pose[2];
+  KDL::Twist expected_twist[2];
+  reference.evaluate(steps * 1e-3, expected_pose, expected_twist);
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    EXPECT_TRUE(KDL::Equal(b.lastPose(arm), expected_pose[arm], 1e-12)) << "arm " << arm;
+    EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), expected_twist[arm], 1e-12)) << "arm " << arm;
+  }
+  EXPECT_EQ(b.status(), "Moving");
+  b.clock.advance(std::chrono::milliseconds(static_cast<int>(reference.duration() * 1e3)));
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_motion_done"});
+  EXPECT_EQ(b.status(), "WaitPath");
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    EXPECT_TRUE(KDL::Equal(b.lastPose(arm), kTwoArmPath.back()[arm], 1e-9)) << "arm " << arm;
+    EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), KDL::Twist::Zero(), 1e-9)) << "arm " << arm;
+  }
+}
+
+TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
+  Bench b;
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.call("askStartMove");
+  b.clock.advance(400ms);  // mid-motion: moving fast
+  const KDL::Twist before = b.lastTwist(0);
+  ASSERT_GT(before.vel.Norm(), 0.01);
+  const KDL::Frame at_stop = b.lastPose(0);
+  b.call("askStopMove");
+  EXPECT_EQ(b.status(), "Stopping");
+  b.clock.advance(250ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_ready", "e_motion_started",
+                                                      "e_motion_stopping", "e_motion_stopped"}));
+  EXPECT_EQ(b.status(), "WaitPath");
+  const KDL::Twist after = b.lastTwist(0);
+  EXPECT_LT(after.vel.Norm() + after.rot.Norm(), 1e-9);
+  // It kept going the way it went, and no further than v·T (the stop polynomial never overshoots).
+  const KDL::Vector travelled = b.lastPose(0).p - at_stop.p;
+  EXPECT_GT(KDL::dot(travelled, before.vel), 0.0);
+  EXPECT_LT(travelled.Norm(), before.vel.Norm() * 0.2 + 1e-3);
+  b.call("askStopMove");
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_not_moving"});
+}
+
+TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
+  Bench b;
+  trajectory::MultiAxisPath bad({{0, 0, 0, 0, 0, 0, 1}, {0.1, 0, 0, 0, 0, 0, 1}});  // one arm, two expected
+  b.planner.write(bad);
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_failed"}));
+  EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
+            "plannedPath: waypoint 0 has 7 values; 2 arm(s) need 14 (x, y, z, qx, qy, qz, qw per arm)");
+  EXPECT_EQ(b.status(), "PathReady");
+}
+
+TEST(CartesianTrajectoryGenerator, StartRefusesAnActivityThatIsNotSampleTime) {
+  Generator g("TrajGen");
+  core::LockstepClock clock;
+  clock.add(g, 2ms);
+  ASSERT_TRUE(g.configure());
+  const core::Result wrong = g.start();
+  EXPECT_FALSE(wrong);
+  EXPECT_CONTAINS(wrong.message, "sample_time is 0.001000 s but the activity period is 0.002000 s; set one to the other");
+  Generator h("Other");
+  ASSERT_TRUE(h.configure());
+  EXPECT_CONTAINS(h.start().message, "needs a periodic activity");
+}
+
+TEST(CartesianTrajectoryGenerator, MovingAllocatesNothing) {
+  Bench b;
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.call("askStartMove");
+  b.clock.advance(5ms);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(300ms); }), 0);
+  b.call("askStopMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(100ms); }), 0);
+}
+
+TEST(CartesianPathEncoding, RoundTripsFramesAndTextAndNamesBadWaypoints) {
+  const trajectory::MultiAxisPath path = encodeCartesianPath(kTwoArmPath);
+  ASSERT_EQ(path.size(), 3U);
+  EXPECT_EQ(path.axisCount(), 14U);
+  const auto frames = decodeCartesianPath(path, 2);
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    for (std::size_t arm = 0; arm < 2; ++arm) EXPECT_TRUE(KDL::Equal(frames[k][arm], kTwoArmPath[k][arm], 1e-12));
+  trajectory::MultiAxisPath parsed;
+  ASSERT_TRUE(core::DataTypeTraits<trajectory::MultiAxisPath>::parse("[[1, 2], [3, 4.5]]", parsed));
+  EXPECT_EQ(parsed, trajectory::MultiAxisPath({{1, 2}, {3, 4.5}}));
+  EXPECT_EQ(core::DataTypeTraits<trajectory::MultiAxisPath>::print(parsed), "[[1, 2], [3, 4.5]]");
+  EXPECT_FALSE(core::DataTypeTraits<trajectory::MultiAxisPath>::parse("[1, 2]", parsed));
+  EXPECT_CONTAINS(cobra::test_support::messageOf([] {
+                    decodeCartesianPath(trajectory::MultiAxisPath({{0, 0, 0, 0, 0, 0, 0}}), 1);
+                  }),
+                  "waypoint 0, arm 1: the quaternion has zero norm");
+}
+
+}  // namespace
+}  // namespace cobra::components

@@ -1,0 +1,11 @@
+#include "builtin_packages.hpp"
+
+#include "cobra/components/motion/package.hpp"
+
+namespace cobra::tools {
+
+void addBuiltinPackages(deploy::Configurator& configurator) {
+  configurator.packages().addBuiltin("cobra_motion", components::registerMotionPackage);
+}
+
+}  // namespace cobra::tools
