@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "checks.hpp"
+#include "so3.hpp"
 
 namespace cobra::trajectory {
 
@@ -12,28 +13,6 @@ namespace {
 
 constexpr const char* kWho = "CartesianTrajectory: ";
 constexpr std::size_t kAxesPerArm = 4;  // x, y, z, cumulative angle s
-
-/// Exp of the rotation vector `r` (rad) by Rodrigues' formula, and the angular velocity in the base
-/// frame of Exp(r(t)) R_fixed, J_l(r) r_dot with J_l the left Jacobian of SO(3). Series below 1e-4 rad
-/// keep both exact to rounding (KDL::Rotation::Rot returns the identity below its epsilon of 1e-6).
-KDL::Rotation exponential(const KDL::Vector& r, const KDL::Vector& r_dot, KDL::Vector& angular_velocity) {
-  const double angle = r.Norm();
-  const double a2 = angle * angle;
-  // sin(x) / x, (1 - cos(x)) / x^2, (x - sin(x)) / x^3
-  double sinc = 1.0 - a2 / 6.0, cosc = 0.5 - a2 / 24.0, sinc3 = 1.0 / 6.0 - a2 / 120.0;
-  if (angle > 1e-4) {
-    const double s = std::sin(angle), c = std::cos(angle);
-    sinc = s / angle;
-    cosc = (1.0 - c) / a2;
-    sinc3 = (angle - s) / (a2 * angle);
-  }
-  const KDL::Vector cross = r * r_dot;
-  angular_velocity = r_dot + cosc * cross + sinc3 * (r * cross);
-  const double x = r.x(), y = r.y(), z = r.z();
-  return KDL::Rotation(1.0 - cosc * (y * y + z * z), -sinc * z + cosc * x * y, sinc * y + cosc * x * z,  //
-                       sinc * z + cosc * x * y, 1.0 - cosc * (x * x + z * z), -sinc * x + cosc * y * z,  //
-                       -sinc * y + cosc * x * z, sinc * x + cosc * y * z, 1.0 - cosc * (x * x + y * y));
-}
 
 void requireFiniteFrame(const KDL::Frame& f, std::size_t k, std::size_t arm) {
   for (int i = 0; i < 3; ++i)
@@ -140,8 +119,8 @@ CartesianTrajectory::CartesianTrajectory(const std::vector<std::vector<KDL::Fram
   }
 }
 
-KDL::Rotation CartesianTrajectory::orientation(const Arm& arm, double t, const State& s,
-                                               KDL::Vector& angular_velocity) const noexcept {
+KDL::Rotation CartesianTrajectory::orientation(const Arm& arm, double t, const State& s, KDL::Vector& angular_velocity,
+                                               KDL::Vector& angular_acceleration) const noexcept {
   const auto times = axes_.waypointTimes();
   const double clamped = std::clamp(t >= 0.0 ? t : 0.0, 0.0, duration());
   // Segment k holds `clamped`; inner waypoints are times[1 .. n-1].
@@ -155,6 +134,7 @@ KDL::Rotation CartesianTrajectory::orientation(const Arm& arm, double t, const S
   if (window == 0) {
     const Geodesic& segment = arm[k];
     angular_velocity = segment.world_axis * s.velocity;
+    angular_acceleration = segment.world_axis * s.acceleration;
     return segment.start * KDL::Rotation::Rot2(segment.axis, s.position - segment.start_angle);
   }
   const Geodesic& in = arm[window - 1];
@@ -164,19 +144,27 @@ KDL::Rotation CartesianTrajectory::orientation(const Arm& arm, double t, const S
   const State beta = unit_blend_.at(clamped - times[window] + half);
   const KDL::Vector r = w_in * (clamped - times[window]) + w_change * beta.position;
   const KDL::Vector r_dot = w_in + w_change * beta.velocity;
-  return exponential(r, r_dot, angular_velocity) * out.start;
+  const KDL::Vector r_ddot = w_change * beta.acceleration;
+  return detail::exponentialMotion(r, r_dot, r_ddot, angular_velocity, angular_acceleration) * out.start;
 }
 
-void CartesianTrajectory::evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist) const noexcept {
+void CartesianTrajectory::evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist,
+                                   KDL::Twist& acceleration) const noexcept {
   const std::size_t first = kAxesPerArm * arm;
   State axis;
   for (int c = 0; c < 3; ++c) {
     axes_.axis(first + static_cast<std::size_t>(c)).evaluate(t, axis);
     pose.p(c) = axis.position;
     twist.vel(c) = axis.velocity;
+    acceleration.vel(c) = axis.acceleration;
   }
   axes_.axis(first + 3).evaluate(t, axis);
-  pose.M = orientation(arms_[arm], t, axis, twist.rot);
+  pose.M = orientation(arms_[arm], t, axis, twist.rot, acceleration.rot);
+}
+
+void CartesianTrajectory::evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist) const noexcept {
+  KDL::Twist acceleration;
+  evaluate(t, arm, pose, twist, acceleration);
 }
 
 void CartesianTrajectory::evaluate(double t, std::span<KDL::Frame> poses, std::span<KDL::Twist> twists) const noexcept {

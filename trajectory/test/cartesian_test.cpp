@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -146,6 +147,31 @@ TEST(CartesianTrajectory, TwistIsTheDerivativeOfThePoseAndBothAreContinuous) {
       ASSERT_LE((twist.rot - previous_twist.rot).Norm(), 20.0 * dt / kLimits.angular_acceleration_time) << "t " << t;
       previous_pose = pose;
       previous_twist = twist;
+    }
+  }
+}
+
+TEST(CartesianTrajectory, AccelerationIsTheDerivativeOfTheTwist) {
+  // Orders 4 and 5 keep acceleration continuous; its derivative jumps where polynomial pieces
+  // meet, so the central difference skips instants within 2 h of a piece boundary of any axis.
+  std::mt19937 rng(35);
+  constexpr double h = 1e-5;
+  for (int n = 0; n < kRandomPaths; ++n) {
+    const auto path = randomPath(rng);
+    const CartesianTrajectory traj(path, kLimits, 4 + n % 2);
+    std::vector<double> joints;
+    for (std::size_t i = 0; i < traj.axes().axisCount(); ++i)
+      for (const auto& piece : traj.axes().axis(i).segments()) joints.push_back(piece.start_time);
+    for (int j = 1; j < kSamples; ++j) {
+      const double t = traj.duration() * j / kSamples;
+      if (std::any_of(joints.begin(), joints.end(), [&](double joint) { return std::abs(joint - t) < 2 * h; })) continue;
+      KDL::Frame pose;
+      KDL::Twist minus, plus, twist, acceleration, unused;
+      traj.evaluate(t - h, 0, pose, minus, unused);
+      traj.evaluate(t + h, 0, pose, plus, unused);
+      traj.evaluate(t, 0, pose, twist, acceleration);
+      ASSERT_LT(((plus.rot - minus.rot) / (2 * h) - acceleration.rot).Norm(), 1e-6) << "t " << t;
+      ASSERT_LT(((plus.vel - minus.vel) / (2 * h) - acceleration.vel).Norm(), 1e-6) << "t " << t;
     }
   }
 }

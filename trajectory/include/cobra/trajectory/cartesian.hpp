@@ -68,6 +68,11 @@ class CartesianTrajectory {
   void evaluate(double t, std::span<KDL::Frame> poses, std::span<KDL::Twist> twists) const noexcept;
   /// Arm `arm` only (arm < armCount(), unchecked).
   void evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist) const noexcept;
+  /// Arm `arm` with its acceleration too: `acceleration.vel` is the origin's linear acceleration
+  /// (m/s^2), `acceleration.rot` the angular acceleration (rad/s^2), both in the base frame (KDL's
+  /// convention for accelerations, as in KDL::FrameAcc). Feed-forward and the start state of a
+  /// CartesianStop. Real-time safe.
+  void evaluate(double t, std::size_t arm, KDL::Frame& pose, KDL::Twist& twist, KDL::Twist& acceleration) const noexcept;
 
  private:
   struct Geodesic {           // segment k of one arm's orientation
@@ -86,7 +91,8 @@ class CartesianTrajectory {
   static MultiAxisTrajectory synchronisedAxes(const std::vector<std::vector<KDL::Frame>>& waypoints,
                                               const CartesianLimits& limits, int blend_order, std::vector<Arm>& arms);
 
-  KDL::Rotation orientation(const Arm& arm, double t, const State& s, KDL::Vector& angular_velocity) const noexcept;
+  KDL::Rotation orientation(const Arm& arm, double t, const State& s, KDL::Vector& angular_velocity,
+                            KDL::Vector& angular_acceleration) const noexcept;
 
   std::vector<Arm> arms_;     // declared before axes_: synchronisedAxes fills it while axes_ is built
   MultiAxisTrajectory axes_;
