@@ -11,6 +11,11 @@
 //    tolerances; `solved` = fraction of calls that returned success.
 //  - Ur5IkCobraKdl: cobra's SerialChainSolver (KDL + exact-residual polish to 1e-9 m / 1e-9 rad).
 //  - Puma260Ik: closed form vs KDL LMA on the Puma 260 chain.
+//  - LinearDelta: forward (trilateration) and inverse of the I-SUR macro unit (no KDL peer: not a
+//    serial chain).
+//  - IsurIk: the 8-DOF puncturing decomposition vs KDL's LMA on the equivalent serial chain (delta
+//    replaced by three Cartesian joints: what KDL could do if the delta's FK were ignored); and the
+//    14-DOF suturing solver (both arms).
 //  - LinearDelta: forward and inverse of the I-SUR macro unit; IsurIk: the 8-DOF puncturing solver.
 
 #include <benchmark/benchmark.h>
@@ -24,6 +29,8 @@
 #include <kdl/chainiksolverpos_nr_jl.hpp>
 #include <kdl/chainiksolvervel_pinv.hpp>
 
+#include "cobra/kinematics/isur.hpp"
+#include "cobra/kinematics/linear_delta.hpp"
 #include "cobra/kinematics/puma260.hpp"
 #include "cobra/kinematics/serial_chain.hpp"
 #include "cobra/kinematics/ur5.hpp"
@@ -215,6 +222,105 @@ void BM_Puma260Ik_KdlLma(benchmark::State& state) {
 
 BENCHMARK(BM_Puma260Ik_ClosedForm)->Name("BM_Puma260Ik/closed_form_nearest")->Apply(configure);
 BENCHMARK(BM_Puma260Ik_KdlLma)->Name("BM_Puma260Ik/kdl_lma")->Apply(configure);
+
+// ---------------------------------------------------------------------------------------------
+// Linear delta and I-SUR.
+
+LinearDeltaSolver& delta() {
+  static LinearDeltaSolver solver;
+  return solver;
+}
+
+void BM_LinearDelta_Forward(benchmark::State& state) {
+  const Workload w = makeWorkload(delta(), 3, 0.0);
+  KDL::Frame pose;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(delta().forward(w.joints[i], pose));
+    benchmark::DoNotOptimize(pose);
+    i = (i + 1) % kTargets;
+  }
+}
+
+void BM_LinearDelta_Inverse(benchmark::State& state) {
+  runIk(state, makeWorkload(delta(), 3, 0.0), 3, [](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) {
+    return delta().inverse(t, s, out) == IkStatus::Ok;
+  });
+}
+
+BENCHMARK(BM_LinearDelta_Forward)->Name("BM_LinearDelta/forward")->Apply(configure);
+BENCHMARK(BM_LinearDelta_Inverse)->Name("BM_LinearDelta/inverse")->Apply(configure);
+
+IsurPuncturingSolver& isur() {
+  static IsurPuncturingSolver solver;
+  return solver;
+}
+
+const Workload& isurWorkload() {
+  static const Workload w = makeWorkload(isur(), 4, 0.05);
+  return w;
+}
+
+void BM_IsurIk_Decomposition(benchmark::State& state) {
+  runIk(state, isurWorkload(), 8, [](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) {
+    return isur().inverse(t, s, out) == IkStatus::Ok;
+  });
+}
+
+/// KDL peer: the same robot with the delta replaced by Cartesian joints [q4, x, y, z, q5..q8].
+void BM_IsurIk_KdlLmaCartesianMacro(benchmark::State& state) {
+  const KDL::Chain chain = cartesianMacroChain(isur().geometry().micro);
+  KDL::ChainIkSolverPos_LMA lma(chain);
+  // Seeds in the chain's coordinates: the delta's platform position instead of the slider travels.
+  const Workload& w = isurWorkload();
+  Workload cartesian;
+  for (std::size_t i = 0; i < kTargets; ++i) {
+    KDL::JntArray s(8);
+    KDL::Vector p;
+    isur().macro().forwardPosition(std::span<const double, 3>(w.seeds[i].data.data(), 3), p);
+    s(0) = w.seeds[i](3);
+    s(1) = p.x();
+    s(2) = p.y();
+    s(3) = p.z();
+    for (unsigned j = 4; j < 8; ++j) s(j) = w.seeds[i](j);
+    cartesian.targets.push_back(w.targets[i]);
+    cartesian.seeds.push_back(s);
+  }
+  runIk(state, cartesian, 8,
+        [&](const KDL::Frame& t, const KDL::JntArray& s, KDL::JntArray& out) { return lma.CartToJnt(s, t, out) >= 0; });
+}
+
+void BM_IsurSuturingIk(benchmark::State& state) {
+  IsurSuturingSolver suturing;
+  std::mt19937 rng(5);
+  std::vector<KDL::Frame> stitch(kTargets);
+  std::vector<KDL::Frame> gripper(kTargets);
+  std::vector<KDL::JntArray> seeds;
+  for (std::size_t i = 0; i < kTargets; ++i) {
+    KDL::JntArray q(14);
+    for (unsigned j = 0; j < 14; ++j) {
+      const double lo = suturing.limits().lower[j];
+      const double hi = suturing.limits().upper[j];
+      q(j) = std::uniform_real_distribution<double>(lo + 0.1 * (hi - lo), hi - 0.1 * (hi - lo))(rng);
+    }
+    suturing.forward(q, stitch[i], gripper[i]);
+    seeds.push_back(q);
+  }
+  KDL::JntArray out(14);
+  std::size_t i = 0;
+  std::int64_t solved = 0;
+  for (auto _ : state) {
+    solved += suturing.inverse(stitch[i], gripper[i], seeds[i], out) == IkStatus::Ok ? 1 : 0;
+    benchmark::DoNotOptimize(out.data.data());
+    i = (i + 1) % kTargets;
+  }
+  state.counters["solved"] =
+      static_cast<double>(solved) / static_cast<double>(std::max<std::int64_t>(1, state.iterations()));
+}
+
+BENCHMARK(BM_IsurIk_Decomposition)->Name("BM_IsurIk/puncturing_decomposition")->Apply(configure);
+BENCHMARK(BM_IsurIk_KdlLmaCartesianMacro)->Name("BM_IsurIk/kdl_lma_cartesian_macro")->Apply(configure);
+BENCHMARK(BM_IsurSuturingIk)->Name("BM_IsurIk/suturing_14dof")->Apply(configure);
 
 }  // namespace
 

@@ -25,6 +25,15 @@ inline void requireNonZero(std::string_view robot, std::string_view name, double
                               ": the closed-form solution needs it non-zero");
 }
 
+/// validateLimits, and every joint revolute.
+inline void requireRevolute(std::string_view robot, const JointLimits& limits, std::size_t joints) {
+  validateLimits(robot, limits, joints);
+  for (const JointType type : limits.types) {
+    if (type != JointType::Revolute)
+      throw std::invalid_argument(std::string(robot) + ": every joint is revolute: give JointType::Revolute limits");
+  }
+}
+
 /// acos of a cosine computed from lengths: values within `tolerance` outside [-1, 1] are rounding
 /// and clamped; beyond, returns false (no real solution).
 inline bool clampedAcos(double c, double& angle, double tolerance = 1e-10) noexcept {

@@ -54,6 +54,21 @@ bool nearestInLimits(double angle, double seed, double lower, double upper, doub
 
 }  // namespace
 
+KDL::Chain cartesianMacroChain(const IsurMicroArm& m) {
+  using KDL::Joint;
+  using KDL::Segment;
+  KDL::Chain chain;
+  chain.addSegment(Segment(Joint(Joint::RotZ)));
+  chain.addSegment(Segment(Joint(Joint::TransX)));
+  chain.addSegment(Segment(Joint(Joint::TransY)));
+  chain.addSegment(Segment(Joint(Joint::TransZ), KDL::Frame(m.mount)));
+  chain.addSegment(Segment(Joint(Joint::RotZ), KDL::Frame(m.shoulder)));
+  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.upper_arm, 0, 0))));
+  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.forearm, 0, 0))));
+  chain.addSegment(Segment(Joint(Joint::RotX), KDL::Frame(m.tool)));
+  return chain;
+}
+
 IsurPuncturingSolver::IsurPuncturingSolver(const IsurGeometry& geometry, std::string_view name)
     : geometry_(geometry), name_(name), delta_(geometry.macro, std::string(name) + " macro") {
   const IsurMicroArm& m = geometry_.micro;

@@ -28,11 +28,7 @@ const Puma260Parameters& checked(const Puma260Parameters& p, const JointLimits& 
   detail::requireFinite(robot, "d6", p.d6, "m");
   if (p.a3 == 0.0 && p.d4 == 0.0)
     throw std::invalid_argument(robot + ": parameters a3 and d4 are both 0 m: the forearm has no length");
-  validateLimits(robot, limits, 6);
-  for (const JointType type : limits.types) {
-    if (type != JointType::Revolute)
-      throw std::invalid_argument(robot + ": every joint is revolute: give JointType::Revolute limits");
-  }
+  detail::requireRevolute(robot, limits, 6);
   return p;
 }
 
@@ -62,14 +58,9 @@ JointLimits Puma260Solver::defaultLimits() {
 
 Puma260Solver::Puma260Solver(const Puma260Parameters& parameters, const JointLimits& limits, const KDL::Frame& base,
                              const KDL::Frame& tool, std::string_view name)
-    : parameters_(checked(parameters, limits, name)),
-      model_(std::string(name), pumaDhRows(parameters, limits), base, tool) {}
-
-IkStatus Puma260Solver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
-  if (!validJointArray(q, 6)) return IkStatus::BadInput;
-  pose = model_.forward(std::span<const double>(q.data.data(), 6));
-  return IkStatus::Ok;
-}
+    : DhAnalyticSolver(
+          SerialChainModel(std::string(name), pumaDhRows(checked(parameters, limits, name), limits), base, tool)),
+      parameters_(parameters) {}
 
 // Derivation (n1 = z1 = (sin θ1, -cos θ1, 0), the normal of the arm plane; axes 2 and 3 are
 // parallel to n1; the wrist centre w = p6 - d6·z6 is the common origin of frames 4, 5, 6):
@@ -85,8 +76,8 @@ IkStatus Puma260Solver::allInverse(const KDL::Frame& target, const KDL::JntArray
   solutions.reset(6);
   if (!validFrame(target) || !validJointArray(seed, 6)) return IkStatus::BadInput;
   const Puma260Parameters& p = parameters_;
-  const std::vector<DhRow>& rows = model_.rows();
-  const KDL::Frame t = model_.base().Inverse() * target * model_.tool().Inverse();  // flange in DH frame 0
+  const std::vector<DhRow>& rows = model().rows();
+  const KDL::Frame t = lastDhFrame(target);  // flange in DH frame 0
   const KDL::Vector wrist = t.p - p.d6 * t.M.UnitZ();
 
   const double r = std::hypot(wrist.x(), wrist.y());

@@ -213,6 +213,12 @@ IkStatus SerialChainSolver::inverse(const KDL::Frame& target, const KDL::JntArra
 
 int SerialChainSolver::lastIterations() const noexcept { return work_->lma ? work_->lma->lastNrOfIter : 0; }
 
+IkStatus DhAnalyticSolver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
+  if (!validJointArray(q, jointCount())) return IkStatus::BadInput;
+  pose = model_.forward(std::span<const double>(q.data.data(), q.rows()));
+  return IkStatus::Ok;
+}
+
 std::unique_ptr<KinematicsSolver> chooseSolver(SolverKind kind, std::unique_ptr<KinematicsSolver> closed_form,
                                                const SerialChainModel& model) {
   if (kind == SolverKind::ClosedForm) return closed_form;

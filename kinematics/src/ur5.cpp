@@ -41,11 +41,7 @@ const Ur5Parameters& checked(const Ur5Parameters& p, const JointLimits& limits) 
   detail::requireFinite("UR5", "d4", p.d4, "m");
   detail::requireFinite("UR5", "d5", p.d5, "m");
   detail::requireNonZero("UR5", "d6", p.d6, "m");
-  validateLimits("UR5", limits, 6);
-  for (const JointType type : limits.types) {
-    if (type != JointType::Revolute)
-      throw std::invalid_argument("UR5: every joint is revolute: give JointType::Revolute limits");
-  }
+  detail::requireRevolute("UR5", limits, 6);
   return p;
 }
 
@@ -53,13 +49,8 @@ const Ur5Parameters& checked(const Ur5Parameters& p, const JointLimits& limits) 
 
 Ur5Solver::Ur5Solver(const Ur5Parameters& parameters, const JointLimits& limits, const KDL::Frame& base,
                      const KDL::Frame& tool)
-    : parameters_(checked(parameters, limits)), model_("UR5", urDhRows(parameters, limits), base, tool) {}
-
-IkStatus Ur5Solver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
-  if (!validJointArray(q, 6)) return IkStatus::BadInput;
-  pose = model_.forward(std::span<const double>(q.data.data(), 6));
-  return IkStatus::Ok;
-}
+    : DhAnalyticSolver(SerialChainModel("UR5", urDhRows(checked(parameters, limits), limits), base, tool)),
+      parameters_(parameters) {}
 
 // Derivation (frames i of the DH table; n1 = z1 = (sin θ1, -cos θ1, 0) is the normal of the arm
 // plane, in which the axes 2, 3, 4 are parallel to n1):
@@ -74,8 +65,8 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
   solutions.reset(6);
   if (!validFrame(target) || !validJointArray(seed, 6)) return IkStatus::BadInput;
   const Ur5Parameters& p = parameters_;
-  const std::vector<DhRow>& rows = model_.rows();
-  const KDL::Frame t = model_.base().Inverse() * target * model_.tool().Inverse();  // flange in DH frame 0
+  const std::vector<DhRow>& rows = model().rows();
+  const KDL::Frame t = lastDhFrame(target);  // flange in DH frame 0
   const KDL::Vector x6 = t.M.UnitX();
   const KDL::Vector y6 = t.M.UnitY();
   const KDL::Vector z6 = t.M.UnitZ();

@@ -14,11 +14,12 @@
 #include <numbers>
 #include <random>
 
-#include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/kinematics/isur.hpp"
+
+#include "kinematics_test_support.hpp"
 
 namespace cobra::kinematics {
 namespace {
@@ -37,27 +38,11 @@ KDL::JntArray randomJoints(const JointLimits& limits, std::mt19937& rng, double 
   return q;
 }
 
-/// The puncturing robot as a KDL chain with the delta replaced by three Cartesian joints.
-KDL::Chain kdlChain(const IsurMicroArm& m) {
-  using KDL::Joint;
-  using KDL::Segment;
-  KDL::Chain chain;
-  chain.addSegment(Segment(Joint(Joint::RotZ)));
-  chain.addSegment(Segment(Joint(Joint::TransX)));
-  chain.addSegment(Segment(Joint(Joint::TransY)));
-  chain.addSegment(Segment(Joint(Joint::TransZ), KDL::Frame(m.mount)));
-  chain.addSegment(Segment(Joint(Joint::RotZ), KDL::Frame(m.shoulder)));
-  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.upper_arm, 0, 0))));
-  chain.addSegment(Segment(Joint(Joint::RotY), KDL::Frame(KDL::Vector(m.forearm, 0, 0))));
-  chain.addSegment(Segment(Joint(Joint::RotX), KDL::Frame(m.tool)));
-  return chain;
-}
-
 // 1000 seeded random configurations: FK equals KDL's FK of the equivalent serial chain fed with
 // the delta's platform position, and the needle orientation is Rz(q4 + q5)·Ry(q6 + q7)·Rx(q8).
 TEST(IsurPuncturing, ForwardMatchesKdlAndTheThesisZyxRelations) {
   IsurPuncturingSolver isur;
-  const KDL::Chain chain = kdlChain(isur.geometry().micro);
+  const KDL::Chain chain = cartesianMacroChain(isur.geometry().micro);
   KDL::ChainFkSolverPos_recursive kdl(chain);
   std::mt19937 rng(41);
   for (int i = 0; i < 1000; ++i) {
@@ -169,8 +154,7 @@ TEST(IsurPuncturing, GimbalLockKeepsTheSeedsRoll) {
 TEST(IsurPuncturing, UnreachableAndOutOfLimitTargetsLeaveTheOutputUntouched) {
   KDL::JntArray seed(8);
   seed(0) = seed(1) = seed(2) = 0.1;
-  KDL::JntArray out(8);
-  for (unsigned j = 0; j < 8; ++j) out(j) = 42.0;
+  KDL::JntArray out = test::filled(8, 42.0);
   IsurPuncturingSolver isur;
   EXPECT_EQ(isur.inverse(KDL::Frame(KDL::Vector(0.0, 0.0, -3.0)), seed, out), IkStatus::Unreachable);
   // Roll limited to ±0.5 rad: a needle rolled by 2 rad (or, flipped, by 2 - π) cannot be held.
@@ -183,7 +167,7 @@ TEST(IsurPuncturing, UnreachableAndOutOfLimitTargetsLeaveTheOutputUntouched) {
   KDL::Frame target;
   ASSERT_EQ(isur.forward(q, target), IkStatus::Ok);
   EXPECT_EQ(limited.inverse(target, seed, out), IkStatus::JointLimits);
-  for (unsigned j = 0; j < 8; ++j) EXPECT_EQ(out(j), 42.0);
+  EXPECT_TRUE(test::isFilled(out, 42.0));
   EXPECT_EQ(isur.inverse(target, KDL::JntArray(7), out), IkStatus::BadInput);
 }
 
@@ -271,10 +255,9 @@ TEST(IsurSuturing, UnreachableGripperLeavesTheOutputUntouched) {
   KDL::Frame stitch;
   KDL::Frame gripper;
   ASSERT_EQ(isur.forward(q, stitch, gripper), IkStatus::Ok);
-  KDL::JntArray out(14);
-  for (unsigned j = 0; j < 14; ++j) out(j) = 42.0;
+  KDL::JntArray out = test::filled(14, 42.0);
   EXPECT_EQ(isur.inverse(stitch, KDL::Frame(gripper.p + KDL::Vector(1.0, 0.0, 0.0)), q, out), IkStatus::Unreachable);
-  for (unsigned j = 0; j < 14; ++j) EXPECT_EQ(out(j), 42.0);
+  EXPECT_TRUE(test::isFilled(out, 42.0));
   EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.inverse(stitch, gripper, q, out), IkStatus::Ok); }), 0);
 }
 

@@ -13,6 +13,8 @@
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/kinematics/linear_delta.hpp"
 
+#include "kinematics_test_support.hpp"
+
 namespace cobra::kinematics {
 namespace {
 
@@ -95,10 +97,7 @@ TEST(LinearDelta, EqualTravelsKeepThePlatformOnTheAxis) {
 
 TEST(LinearDelta, KinematicsSolverInterfaceUsesThePlatformFrame) {
   LinearDeltaSolver delta;
-  KDL::JntArray q(3);
-  q(0) = 0.05;
-  q(1) = 0.12;
-  q(2) = 0.2;
+  const KDL::JntArray q = test::joints({0.05, 0.12, 0.2});
   KDL::Frame pose;
   ASSERT_EQ(delta.forward(q, pose), IkStatus::Ok);
   EXPECT_EQ(orientationError(pose.M, KDL::Rotation::Identity()), 0.0);
@@ -166,10 +165,7 @@ TEST(LinearDelta, ConstructionErrorsNameTheActuator) {
 
 TEST(LinearDelta, RealTimeCallsAllocateNothing) {
   LinearDeltaSolver delta;
-  KDL::JntArray q(3);
-  q(0) = 0.1;
-  q(1) = 0.15;
-  q(2) = 0.05;
+  const KDL::JntArray q = test::joints({0.1, 0.15, 0.05});
   KDL::JntArray out(3);
   KDL::Frame pose;
   EXPECT_EQ(allocationsDuring([&] { delta.forward(q, pose); }), 0);

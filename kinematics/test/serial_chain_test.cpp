@@ -17,6 +17,8 @@
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/kinematics/serial_chain.hpp"
 
+#include "kinematics_test_support.hpp"
+
 namespace cobra::kinematics {
 namespace {
 
@@ -158,11 +160,10 @@ TEST(SerialChain, UnreachableTargetLeavesTheOutputUntouched) {
   for (const IterativeIk method : {IterativeIk::NewtonRaphsonJL, IterativeIk::LevenbergMarquardt}) {
     SerialChainSolver solver(sixAxisModel(), {.method = method});
     KDL::JntArray seed(6);
-    KDL::JntArray out(6);
-    for (unsigned j = 0; j < 6; ++j) out(j) = 42.0;
+    KDL::JntArray out = test::filled(6, 42.0);
     const KDL::Frame far_away(KDL::Vector(5.0, 0.0, 0.0));
     EXPECT_EQ(solver.inverse(far_away, seed, out), IkStatus::Unreachable);
-    for (unsigned j = 0; j < 6; ++j) EXPECT_EQ(out(j), 42.0);
+    EXPECT_TRUE(test::isFilled(out, 42.0));
   }
 }
 
@@ -190,16 +191,9 @@ TEST(SerialChain, JointLimitsAreEnforced) {
   rows[0].lower = -0.5;
   rows[0].upper = 0.5;
   const SerialChainModel narrow("narrow", rows);
-  KDL::JntArray q(6);
-  q(0) = 2.0;
-  q(1) = -1.0;
-  q(2) = 1.2;
-  q(3) = 0.4;
-  q(4) = 0.9;
-  q(5) = 0.3;
+  const KDL::JntArray q = test::joints({2.0, -1.0, 1.2, 0.4, 0.9, 0.3});
   const KDL::Frame target = narrow.forward(std::span<const double>(q.data.data(), 6));
-  KDL::JntArray out(6);
-  for (unsigned j = 0; j < 6; ++j) out(j) = 42.0;
+  KDL::JntArray out = test::filled(6, 42.0);
   KDL::JntArray seed = q;
   seed(0) = 1.9;
   SerialChainSolver lma(narrow, {.method = IterativeIk::LevenbergMarquardt});
@@ -211,7 +205,7 @@ TEST(SerialChain, JointLimitsAreEnforced) {
     EXPECT_TRUE(narrow.limits().contains(out));  // another branch inside the limits is fine
   } else {
     EXPECT_EQ(status, IkStatus::NoConvergence);
-    for (unsigned j = 0; j < 6; ++j) EXPECT_EQ(out(j), 42.0);
+    EXPECT_TRUE(test::isFilled(out, 42.0));
   }
 }
 

@@ -9,6 +9,8 @@
 
 #include "cobra/kinematics/types.hpp"
 
+#include "kinematics_test_support.hpp"
+
 namespace cobra::kinematics {
 namespace {
 
@@ -62,9 +64,7 @@ TEST(SelectNearest, ChoosesTheClosestSolutionInLimitsAndReportsWhyOtherwise) {
   const double b[] = {1.5, -1.0};
   ASSERT_TRUE(set.push(a));
   ASSERT_TRUE(set.push(b));
-  KDL::JntArray seed(2);
-  seed(0) = 1.4;
-  seed(1) = -0.8;
+  const KDL::JntArray seed = test::joints({1.4, -0.8});
   KDL::JntArray out(2);
   ASSERT_EQ(selectNearest(set, revoluteLimits(2, -kPi, kPi), seed, out), IkStatus::Ok);
   EXPECT_DOUBLE_EQ(out(0), 1.5);

@@ -29,6 +29,7 @@
 #include <array>
 #include <string_view>
 
+#include <kdl/chain.hpp>
 #include <kdl/frames.hpp>
 
 #include "cobra/kinematics/kinematics_solver.hpp"
@@ -60,6 +61,11 @@ struct IsurGeometry {
   /// Share of a pitch change (q6 + q7) taken by q6, the rest by q7.
   double pitch_share = 0.5;
 };
+
+/// The puncturing robot as a KDL chain with the delta replaced by three Cartesian joints, joints
+/// [q4, x, y, z, q5, q6, q7, q8] (rad, m): the same kinematics when x, y, z are the delta's platform
+/// position. For cross-checks and for KDL's solvers (the delta itself is not a serial chain).
+KDL::Chain cartesianMacroChain(const IsurMicroArm& micro);
 
 /// The I-SUR puncturing robot: 8 joints [q1 q2 q3 (m), q4 .. q8 (rad)], tool = needle tip.
 /// `forward`/`inverse` are noexcept and allocate nothing.

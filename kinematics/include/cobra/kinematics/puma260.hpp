@@ -54,7 +54,7 @@ std::vector<DhRow> pumaDhRows(const Puma260Parameters& parameters, const JointLi
 /// Closed-form Puma solver (Paul & Shimano's decomposition: shoulder left/right from the wrist
 /// centre's lateral offset, elbow up/down from the law of cosines, spherical wrist flip/no-flip
 /// from the ZYZ-like wrist rotation). No allocation on the real-time calls.
-class Puma260Solver final : public AnalyticSolver {
+class Puma260Solver final : public DhAnalyticSolver {
  public:
   /// [-160, 160], [-45, 225], [-225, 45], [-110, 170], [-100, 100], [-266, 266] degrees, in rad.
   static JointLimits defaultLimits();
@@ -67,13 +67,8 @@ class Puma260Solver final : public AnalyticSolver {
                          const JointLimits& limits = defaultLimits(), const KDL::Frame& base = KDL::Frame::Identity(),
                          const KDL::Frame& tool = KDL::Frame::Identity(), std::string_view name = "Puma 260");
 
-  std::string_view name() const noexcept override { return model_.name(); }
-  unsigned jointCount() const noexcept override { return 6; }
-  const JointLimits& limits() const noexcept override { return model_.limits(); }
-  const SerialChainModel& model() const noexcept { return model_; }
   const Puma260Parameters& parameters() const noexcept { return parameters_; }
 
-  IkStatus forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept override;
   /// Up to 8 solutions (2 shoulder × 2 elbow × 2 wrist); at the wrist singularity (θ5 = 0 or π,
   /// axes 4 and 6 aligned) θ4 takes the seed's value.
   IkStatus allInverse(const KDL::Frame& target, const KDL::JntArray& seed, IkSolutionSet& solutions) noexcept override;
@@ -81,7 +76,6 @@ class Puma260Solver final : public AnalyticSolver {
 
  private:
   Puma260Parameters parameters_;
-  SerialChainModel model_;
 };
 
 /// The Puma 260 solver of `kind`, all on the same DH table, limits, base and tool.

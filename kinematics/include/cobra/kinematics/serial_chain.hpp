@@ -140,6 +140,29 @@ class SerialChainSolver final : public KinematicsSolver {
   std::unique_ptr<Workspace> work_;
 };
 
+/// An analytic solver of a robot described by a DH table: name, joint count, limits and FK (the
+/// product of the DH transforms, no allocation) come from its SerialChainModel.
+class DhAnalyticSolver : public AnalyticSolver {
+ public:
+  std::string_view name() const noexcept override { return model_.name(); }
+  unsigned jointCount() const noexcept override { return model_.jointCount(); }
+  const JointLimits& limits() const noexcept override { return model_.limits(); }
+  /// The same robot as a DH chain (for KDL's solvers and cross-checks).
+  const SerialChainModel& model() const noexcept { return model_; }
+  IkStatus forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept override;
+
+ protected:
+  explicit DhAnalyticSolver(SerialChainModel model) : model_(std::move(model)) {}
+  /// `target` (tool pose in the world) as the pose of the last DH frame in DH frame 0:
+  /// base⁻¹ · target · tool⁻¹.
+  KDL::Frame lastDhFrame(const KDL::Frame& target) const noexcept {
+    return model_.base().Inverse() * target * model_.tool().Inverse();
+  }
+
+ private:
+  SerialChainModel model_;
+};
+
 /// `closed_form` when `kind` is ClosedForm, otherwise a SerialChainSolver over `model` with the
 /// KDL method of `kind` (the two are interchangeable behind KinematicsSolver, thesis §6.2.4).
 std::unique_ptr<KinematicsSolver> chooseSolver(SolverKind kind, std::unique_ptr<KinematicsSolver> closed_form,

@@ -48,7 +48,7 @@ std::vector<DhRow> urDhRows(const Ur5Parameters& parameters, const JointLimits& 
 
 /// Closed-form UR5 solver. Model: the DH table above plus base and tool frames; FK is the product
 /// of the DH transforms. `forward`, `allInverse` and `inverse` are noexcept and allocate nothing.
-class Ur5Solver final : public AnalyticSolver {
+class Ur5Solver final : public DhAnalyticSolver {
  public:
   /// Limits of the real arm: ±2π rad on every joint.
   static JointLimits defaultLimits();
@@ -61,14 +61,8 @@ class Ur5Solver final : public AnalyticSolver {
   explicit Ur5Solver(const Ur5Parameters& parameters = Ur5Parameters{}, const JointLimits& limits = defaultLimits(),
                      const KDL::Frame& base = KDL::Frame::Identity(), const KDL::Frame& tool = KDL::Frame::Identity());
 
-  std::string_view name() const noexcept override { return model_.name(); }
-  unsigned jointCount() const noexcept override { return 6; }
-  const JointLimits& limits() const noexcept override { return model_.limits(); }
-  /// The same robot as a DH chain (for KDL's solvers and cross-checks).
-  const SerialChainModel& model() const noexcept { return model_; }
   const Ur5Parameters& parameters() const noexcept { return parameters_; }
 
-  IkStatus forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept override;
   /// Up to 8 solutions: shoulder left/right (θ1) × wrist up/down (θ5) × elbow up/down (θ3);
   /// duplicates at the boundaries of these branches are dropped. At the wrist singularity
   /// (sin θ5 = 0, axes 4 and 6 aligned) θ6 takes the seed's value. BadInput for a non-finite or
@@ -78,7 +72,6 @@ class Ur5Solver final : public AnalyticSolver {
 
  private:
   Ur5Parameters parameters_;
-  SerialChainModel model_;
 };
 
 /// The UR5 solver of `kind`, all on the same DH table, limits, base and tool.

@@ -1,11 +1,13 @@
 #pragma once
-// Property checks shared by the tests of the closed-form solvers (UR5, Puma 260): random joints
-// in limits -> FK -> all inverse solutions -> KDL's FK of each matches the pose.
+// Helpers shared by the kinematics tests: joint arrays from lists, random joints in limits, and
+// the property checks of the closed-form solvers (UR5, Puma 260): random joints in limits -> FK ->
+// all inverse solutions -> KDL's FK of each matches the pose; KDL's LMA lands on one of them.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <random>
 #include <span>
 
@@ -13,8 +15,32 @@
 
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
+#include "cobra/kinematics/serial_chain.hpp"
 
 namespace cobra::kinematics::test {
+
+/// A joint array holding `values` (rad / m).
+inline KDL::JntArray joints(std::initializer_list<double> values) {
+  KDL::JntArray q(static_cast<unsigned>(values.size()));
+  unsigned i = 0;
+  for (const double v : values) q(i++) = v;
+  return q;
+}
+
+/// `n` joints, all `value`: the marker the tests use to see that an output was left untouched.
+inline KDL::JntArray filled(unsigned n, double value) {
+  KDL::JntArray q(n);
+  for (unsigned i = 0; i < n; ++i) q(i) = value;
+  return q;
+}
+
+/// True when every joint of `q` still equals `value` (the output was left untouched).
+inline bool isFilled(const KDL::JntArray& q, double value) {
+  for (unsigned i = 0; i < q.rows(); ++i) {
+    if (q(i) != value) return false;
+  }
+  return true;
+}
 
 inline KDL::JntArray toJnt(std::span<const double> values) {
   KDL::JntArray q(static_cast<unsigned>(values.size()));
@@ -91,6 +117,33 @@ inline RoundTripCounts checkAnalyticRoundTrips(AnalyticSolver& solver, const KDL
     EXPECT_LE((out.data - near_seed.data).norm(), (q.data - near_seed.data).norm() + 1e-7) << "pose " << i;
   }
   return counts;
+}
+
+/// `count` seeded random poses: KDL's LMA on the solver's own DH chain, seeded up to 0.1 rad from
+/// the configuration, converges (when it does) to one of the analytic solutions (mod 2π, 1e-6 rad).
+/// Returns how many poses LMA solved.
+inline int checkLmaLandsOnAnalyticSolution(DhAnalyticSolver& solver, int count, unsigned seed, double margin) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.1, 0.1);
+  SerialChainSolver lma(solver.model(), {.method = IterativeIk::LevenbergMarquardt});
+  IkSolutionSet solutions;
+  int compared = 0;
+  for (int i = 0; i < count; ++i) {
+    const KDL::JntArray q = randomJoints(solver.limits(), rng, 3.14159, margin);
+    KDL::Frame target;
+    solver.forward(q, target);
+    KDL::JntArray start = q;
+    for (unsigned j = 0; j < start.rows(); ++j) start(j) += noise(rng);
+    KDL::JntArray by_kdl(solver.jointCount());
+    if (lma.inverse(target, start, by_kdl) != IkStatus::Ok) continue;
+    ++compared;
+    EXPECT_EQ(solver.allInverse(target, start, solutions), IkStatus::Ok);
+    double nearest = 1e9;
+    for (std::size_t s = 0; s < solutions.size(); ++s)
+      nearest = std::min(nearest, jointDistanceModulo2Pi(by_kdl, solutions[s]));
+    EXPECT_LT(nearest, 1e-6) << "pose " << i;
+  }
+  return compared;
 }
 
 }  // namespace cobra::kinematics::test
