@@ -5,20 +5,18 @@
 // errors, no allocation — and the 14-DOF suturing robot (second, 6-DOF arm solved in closed form
 // from the platform pose).
 
+#include "cobra/kinematics/isur.hpp"
+
 #include <gtest/gtest.h>
 
-#include "cobra/test_support/counting_new.hpp"
-#include "cobra/test_support/test_support.hpp"
-
 #include <cmath>
+#include <kdl/chainfksolverpos_recursive.hpp>
 #include <numbers>
 #include <random>
 
-#include <kdl/chainfksolverpos_recursive.hpp>
-
 #include "cobra/kinematics/geometry.hpp"
-#include "cobra/kinematics/isur.hpp"
-
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
 #include "kinematics_test_support.hpp"
 
 namespace cobra::kinematics {
@@ -246,6 +244,22 @@ TEST(IsurSuturing, MacroMotionMovesBothTools) {
   EXPECT_LT(norm(stitch_shift - (gripper_b.p - gripper_a.p)), 1e-12);
   EXPECT_LT(stitch_shift.z(), -0.01);
   EXPECT_LT(std::hypot(stitch_shift.x(), stitch_shift.y()), 1e-12);
+}
+
+TEST(IsurSuturing, ConstructionErrorsNameTheArm) {
+  IsurSuturingGeometry g;
+  g.left_limits.lower[1] = 1.0;
+  g.left_limits.upper[1] = 0.5;
+  EXPECT_EQ(messageOf([&] { IsurSuturingSolver{g}; }),
+            "I-SUR left arm: joint 2 limits [1, 0.5] rad: min must be <= max");
+  g = IsurSuturingGeometry{};
+  g.left.a2 = 0.0;
+  EXPECT_EQ(messageOf([&] { IsurSuturingSolver{g}; }),
+            "I-SUR left arm: parameter a2 is 0 m: the closed-form solution needs it non-zero");
+  g = IsurSuturingGeometry{};
+  g.left_mount.p = KDL::Vector(std::nan(""), 0.0, 0.0);
+  EXPECT_EQ(messageOf([&] { IsurSuturingSolver{g}; }),
+            "I-SUR: left_mount is not a pose: its translation must be finite and its rotation orthonormal");
 }
 
 TEST(IsurSuturing, UnreachableGripperLeavesTheOutputUntouched) {

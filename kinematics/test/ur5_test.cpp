@@ -4,20 +4,18 @@
 // solutions, the wrist singularity, unreachable poses, joint limits, construction errors and
 // the absence of allocation.
 
+#include "cobra/kinematics/ur5.hpp"
+
 #include <gtest/gtest.h>
 
-#include "cobra/test_support/counting_new.hpp"
-#include "cobra/test_support/test_support.hpp"
-
 #include <cmath>
+#include <kdl/chainfksolverpos_recursive.hpp>
 #include <numbers>
 #include <random>
 
-#include <kdl/chainfksolverpos_recursive.hpp>
-
 #include "cobra/kinematics/geometry.hpp"
-#include "cobra/kinematics/ur5.hpp"
-
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
 #include "kinematics_test_support.hpp"
 
 namespace cobra::kinematics {
@@ -115,6 +113,25 @@ TEST(Ur5, InverseUsesThe2PiRepresentativeNearestTheSeed) {
 TEST(Ur5, KdlLmaLandsOnAnAnalyticSolution) {
   Ur5Solver ur5;
   EXPECT_GE(test::checkLmaLandsOnAnalyticSolution(ur5, 200, 13, 0.0), 150);
+}
+
+// The three solver kinds behind KinematicsSolver (thesis §6.2.4) agree on FK and reach the pose.
+TEST(Ur5, SolverKindsAreInterchangeable) {
+  const KDL::JntArray q = test::joints({0.4, -1.1, 1.3, -0.6, 1.0, 0.3});
+  KDL::JntArray seed = q;
+  for (unsigned j = 0; j < 6; ++j) seed(j) += 0.05;
+  const KDL::Frame base(KDL::Vector(0.1, 0.0, 0.5));
+  KDL::Frame target;
+  Ur5Solver(Ur5Parameters{}, Ur5Solver::defaultLimits(), base).forward(q, target);
+  for (const SolverKind kind :
+       {SolverKind::ClosedForm, SolverKind::KdlNewtonRaphson, SolverKind::KdlLevenbergMarquardt}) {
+    const std::unique_ptr<KinematicsSolver> solver =
+        makeUr5Solver(kind, Ur5Parameters{}, Ur5Solver::defaultLimits(), base);
+    EXPECT_EQ(solver->name(), "UR5");
+    KDL::JntArray out(6);
+    ASSERT_EQ(solver->inverse(target, seed, out), IkStatus::Ok);
+    for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(out(j), q(j), 1e-8) << "joint " << j + 1;
+  }
 }
 
 // Wrist singularity (θ5 = 0: axes 4 and 6 aligned): θ6 is the seed's, the pose is still reached.
