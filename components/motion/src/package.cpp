@@ -1,12 +1,14 @@
 #include "cobra/components/motion/package.hpp"
 
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
+#include "cobra/components/motion/equivalent_wrench.hpp"
 
 namespace cobra::components {
 
 void registerMotionPackage(deploy::PackageBuilder& package) {
   package.component<CartesianTrajectoryGenerator>(
-      "CartesianTrajectoryGenerator", "synchronised multi-arm Cartesian set-points along a planned path (thesis §4.5.2)");
+      "CartesianTrajectoryGenerator", "synchronised multi-arm Cartesian set-points along a planned path (thesis §4.5.2)")
+      .component<EquivalentWrench>("EquivalentWrench", "a wrench moved to another application point and/or frame (thesis §6.2.3)");
 }
 
 }  // namespace cobra::components

@@ -6,7 +6,7 @@
 
 namespace cobra::components {
 
-/// Registers CartesianTrajectoryGenerator.
+/// Registers CartesianTrajectoryGenerator and EquivalentWrench.
 void registerMotionPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components
