@@ -70,6 +70,26 @@ TEST(RealTime, MultiAxisAndCartesianEvaluationAllocateNothing) {
   EXPECT_TRUE(KDL::Equal(poses[0], frames.back(), 1e-9));
 }
 
+TEST(RealTime, CartesianStopIsBuiltAndEvaluatedWithoutAllocating) {
+  const tgl::CartesianTrajectory moving(
+      std::vector<KDL::Frame>{KDL::Frame::Identity(),
+                              KDL::Frame(KDL::Rotation::RPY(0.5, 0.2, 1.0), KDL::Vector(0.1, 0.2, 0.0))},
+      tgl::CartesianLimits{}, 5);
+  KDL::Frame pose;
+  KDL::Twist twist, acceleration;
+  double sink = 0.0;
+  EXPECT_EQ(allocationsDuring([&] {
+              for (int i = 0; i < kCalls; ++i) {
+                moving.evaluate(sampleTime(i, moving.duration()), 0, pose, twist, acceleration);
+                const tgl::CartesianStop stop(pose, twist, acceleration, 0.2);
+                stop.evaluate(0.1, pose, twist);
+                sink += pose.p.x();
+              }
+            }),
+            0);
+  EXPECT_NE(sink, 0.0);
+}
+
 TEST(RealTime, TheCounterSeesAllocations) {
   // Proves the zero counts above are measurements: building a trajectory does allocate.
   EXPECT_GT(allocationsDuring([] { tgl::PolynomialTrajectory t(5, tgl::Conditions(0.0, 1.0)); }), 0);
