@@ -17,19 +17,19 @@ inline KDL::Rotation exponentialMotion(const KDL::Vector& r, const KDL::Vector& 
                                        KDL::Vector& angular_velocity, KDL::Vector& angular_acceleration) {
   const double x = r.Norm();
   const double x2 = x * x;
-  // sin(x) / x, c1, c2, and c1' / x, c2' / x (derivatives with respect to x).
+  // sin(x) / x, c1, c2, and c1' / x, c2' / x (derivatives with respect to x); series at small x,
+  // where the closed forms cancel catastrophically.
   double sinc = 1.0 - x2 / 6.0, c1 = 0.5 - x2 / 24.0, c2 = 1.0 / 6.0 - x2 / 120.0;
+  double dc1 = -1.0 / 12.0 + x2 / 180.0, dc2 = -1.0 / 60.0 + x2 / 1260.0;
   if (x > 1e-4) {
     const double s = std::sin(x), c = std::cos(x);
     sinc = s / x;
     c1 = (1.0 - c) / x2;
     c2 = (x - s) / (x2 * x);
-  }
-  double dc1 = -1.0 / 12.0 + x2 / 180.0, dc2 = -1.0 / 60.0 + x2 / 1260.0;
-  if (x > 1e-2) {
-    const double s = std::sin(x), c = std::cos(x);
-    dc1 = (x * s - 2.0 * (1.0 - c)) / (x2 * x2);
-    dc2 = ((1.0 - c) * x - 3.0 * (x - s)) / (x2 * x2 * x);
+    if (x > 1e-2) {
+      dc1 = (x * s - 2.0 * (1.0 - c)) / (x2 * x2);
+      dc2 = ((1.0 - c) * x - 3.0 * (x - s)) / (x2 * x2 * x);
+    }
   }
   const KDL::Vector r_x_rdot = r * r_dot;
   const KDL::Vector r_x_r_x_rdot = r * r_x_rdot;
