@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/LU>
+
 #include "cobra/kinematics/geometry.hpp"
 
 namespace cobra::kinematics {
@@ -14,6 +16,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 /// Sphere centres closer to collinear than this (m, as a distance) make the forward problem singular.
 constexpr double kCollinear = 1e-9;
+/// Relative size (to L²) of the rounding error of squared lengths, below which a negative value is 0.
+constexpr double kRounding = 1e-12;
 /// |u·side| below this: the rail is perpendicular to the platform side and the branch is undefined.
 constexpr double kMinSideComponent = 1e-3;
 
@@ -90,8 +94,11 @@ IkStatus LinearDeltaSolver::forwardPosition(std::span<const double, 3> q, KDL::V
   const KDL::Vector ez = ex * ey;
   const double x = (r[0] * r[0] - r[1] * r[1] + d * d) / (2.0 * d);
   const double y = (r[0] * r[0] - r[2] * r[2] + i * i + j * j - 2.0 * i * x) / (2.0 * j);
-  const double z_squared = r[0] * r[0] - x * x - y * y;
-  if (z_squared < 0.0) return IkStatus::Unreachable;
+  double z_squared = r[0] * r[0] - x * x - y * y;
+  if (z_squared < 0.0) {
+    if (z_squared < -kRounding * r[0] * r[0]) return IkStatus::Unreachable;
+    z_squared = 0.0;  // tangent spheres: the workspace boundary, negative only by rounding
+  }
   const double z = KDL::dot(ez, geometry_.platform_side) >= 0.0 ? std::sqrt(z_squared) : -std::sqrt(z_squared);
   position = c[0] + x * ex + y * ey + z * ez;
   return IkStatus::Ok;
@@ -105,14 +112,36 @@ IkStatus LinearDeltaSolver::inversePosition(const KDL::Vector& position, std::sp
     // |d - q u| = L with d from the rail origin to the platform joint: q² - 2 q (u·d) + |d|² - L² = 0.
     const KDL::Vector d = position + a.platform_joint - a.rail_origin;
     const double ud = KDL::dot(a.rail_direction, d);
-    const double discriminant = ud * ud - KDL::dot(d, d) + a.rod_length * a.rod_length;
-    if (discriminant < 0.0) return IkStatus::Unreachable;
+    double discriminant = ud * ud - KDL::dot(d, d) + a.rod_length * a.rod_length;
+    if (discriminant < 0.0) {
+      if (discriminant < -kRounding * a.rod_length * a.rod_length) return IkStatus::Unreachable;
+      discriminant = 0.0;  // rod tangent to the rail's line: negative only by rounding
+    }
     // The rod d - q u points most along platform_side for the root with the smaller q·(u·side).
     const double root = std::sqrt(discriminant);
     travel[i] = KDL::dot(a.rail_direction, geometry_.platform_side) > 0.0 ? ud - root : ud + root;
   }
   if (!limits_.contains(travel)) return IkStatus::JointLimits;
   for (std::size_t i = 0; i < 3; ++i) q[i] = travel[i];
+  return IkStatus::Ok;
+}
+
+IkStatus LinearDeltaSolver::jacobian(std::span<const double, 3> q, Eigen::Matrix3d& dp_dq) const noexcept {
+  constexpr double kSingular = 1e-9;  // relative to |r|·|u| (= L) and |r|³ (= L³)
+  KDL::Vector p;
+  const IkStatus status = forwardPosition(q, p);
+  if (status != IkStatus::Ok) return status;
+  Eigen::Matrix3d inverse_jacobian;  // dq/dp
+  for (std::size_t i = 0; i < 3; ++i) {
+    const LinearDeltaActuator& a = geometry_.actuators[i];
+    const KDL::Vector rod = p + a.platform_joint - (a.rail_origin + q[i] * a.rail_direction);
+    const double along_rail = KDL::dot(rod, a.rail_direction);
+    if (std::abs(along_rail) < kSingular * a.rod_length) return IkStatus::Singular;
+    inverse_jacobian.row(static_cast<Eigen::Index>(i)) = toEigen(rod).transpose() / along_rail;
+  }
+  const double scale = geometry_.actuators[0].rod_length;
+  if (std::abs(inverse_jacobian.determinant()) < kSingular / (scale * scale * scale)) return IkStatus::Singular;
+  dp_dq = inverse_jacobian.inverse();
   return IkStatus::Ok;
 }
 

@@ -84,6 +84,31 @@ TEST(LinearDelta, InverseThenForwardGivesThePositionBack) {
   EXPECT_GT(unreachable, 100);
 }
 
+// 500 seeded random travels: the Jacobian's columns equal central differences of forwardPosition.
+TEST(LinearDelta, JacobianMatchesFiniteDifferences) {
+  LinearDeltaSolver delta;
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> travel(0.01, 0.24);
+  for (int n = 0; n < 500; ++n) {
+    const std::array<double, 3> q = {travel(rng), travel(rng), travel(rng)};
+    Eigen::Matrix3d jacobian;
+    ASSERT_EQ(delta.jacobian(q, jacobian), IkStatus::Ok);
+    constexpr double h = 1e-6;
+    for (std::size_t i = 0; i < 3; ++i) {
+      std::array<double, 3> plus = q;
+      std::array<double, 3> minus = q;
+      plus[i] += h;
+      minus[i] -= h;
+      KDL::Vector p_plus;
+      KDL::Vector p_minus;
+      delta.forwardPosition(plus, p_plus);
+      delta.forwardPosition(minus, p_minus);
+      const Eigen::Vector3d column = toEigen((p_plus - p_minus) / (2 * h));
+      EXPECT_LT((jacobian.col(static_cast<Eigen::Index>(i)) - column).norm(), 1e-7) << "sample " << n;
+    }
+  }
+}
+
 TEST(LinearDelta, EqualTravelsKeepThePlatformOnTheAxis) {
   LinearDeltaSolver delta;
   KDL::Vector p;
@@ -140,6 +165,24 @@ TEST(LinearDelta, CollinearSphereCentresAreSingular) {
   }
   KDL::Vector p;
   EXPECT_EQ(LinearDeltaSolver(g).forwardPosition(std::array<double, 3>{0.1, 0.1, 0.1}, p), IkStatus::Singular);
+  Eigen::Matrix3d jacobian;
+  EXPECT_EQ(LinearDeltaSolver(g).jacobian(std::array<double, 3>{0.1, 0.1, 0.1}, jacobian), IkStatus::Singular);
+}
+
+// Vertical rails, rods exactly spanning the gap: with equal travels the rods lie flat, perpendicular
+// to their rails — the platform is reachable, its velocity along z is not controllable.
+TEST(LinearDelta, FlatRodsAreAJacobianSingularity) {
+  LinearDeltaGeometry g = LinearDeltaGeometry::isurMacro();
+  for (LinearDeltaActuator& a : g.actuators) {
+    a.rail_direction = KDL::Vector(0.0, 0.0, -1.0);
+    a.rod_length = 0.30 - 0.06;
+  }
+  LinearDeltaSolver delta(g);
+  KDL::Vector p;
+  ASSERT_EQ(delta.forwardPosition(std::array<double, 3>{0.1, 0.1, 0.1}, p), IkStatus::Ok);
+  EXPECT_NEAR(p.z(), -0.1, 1e-12);
+  Eigen::Matrix3d jacobian;
+  EXPECT_EQ(delta.jacobian(std::array<double, 3>{0.1, 0.1, 0.1}, jacobian), IkStatus::Singular);
 }
 
 TEST(LinearDelta, ConstructionErrorsNameTheActuator) {

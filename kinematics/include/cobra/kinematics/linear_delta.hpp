@@ -18,6 +18,7 @@
 #include <span>
 #include <string_view>
 
+#include <Eigen/Core>
 #include <kdl/frames.hpp>
 
 #include "cobra/kinematics/kinematics_solver.hpp"
@@ -75,6 +76,12 @@ class LinearDeltaSolver final : public KinematicsSolver {
   /// Slider travels (m) that put the platform at `position`: Unreachable when a rod cannot reach
   /// its rail, JointLimits when a travel is outside its stroke. `q` untouched unless Ok.
   IkStatus inversePosition(const KDL::Vector& position, std::span<double, 3> q) const noexcept;
+
+  /// Jacobian dp/dq (3 × 3, m/m) at slider travels `q`: column i is the platform velocity per unit
+  /// travel speed of actuator i. From the rod constraints, rᵢ·ṗ = (rᵢ·uᵢ) q̇ᵢ with rᵢ the rod vector,
+  /// so J⁻¹ has rows rᵢᵀ / (rᵢ·uᵢ). Singular when a rod is perpendicular to its rail (rᵢ·uᵢ = 0)
+  /// or the rods are coplanar (det [r₁ r₂ r₃] = 0); errors of forwardPosition otherwise.
+  IkStatus jacobian(std::span<const double, 3> q, Eigen::Matrix3d& dp_dq) const noexcept;
 
   IkStatus forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept override;
   /// Unreachable also when the target's rotation is not the identity (within 1e-9 rad). The seed
