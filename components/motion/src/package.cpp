@@ -2,13 +2,16 @@
 
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 #include "cobra/components/motion/equivalent_wrench.hpp"
+#include "cobra/components/motion/kinematics_solver_component.hpp"
 
 namespace cobra::components {
 
 void registerMotionPackage(deploy::PackageBuilder& package) {
   package.component<CartesianTrajectoryGenerator>(
       "CartesianTrajectoryGenerator", "synchronised multi-arm Cartesian set-points along a planned path (thesis §4.5.2)")
-      .component<EquivalentWrench>("EquivalentWrench", "a wrench moved to another application point and/or frame (thesis §6.2.3)");
+      .component<EquivalentWrench>("EquivalentWrench", "a wrench moved to another application point and/or frame (thesis §6.2.3)")
+      .component<KinematicsSolverComponent>("KinematicsSolver",
+                                            "forward/inverse kinematics, KDL or closed form, interchangeable (thesis §6.2.4)");
 }
 
 }  // namespace cobra::components

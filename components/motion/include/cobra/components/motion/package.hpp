@@ -6,7 +6,7 @@
 
 namespace cobra::components {
 
-/// Registers CartesianTrajectoryGenerator and EquivalentWrench.
+/// Registers CartesianTrajectoryGenerator, EquivalentWrench and KinematicsSolver.
 void registerMotionPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components

@@ -1,0 +1,65 @@
+#pragma once
+/// @file
+/// The thesis' Kinematics Solver component (§6.2.4): forward and inverse kinematics of a serial
+/// robot, by data flow or on demand, with the KDL and the closed-form solvers interchangeable.
+
+#include <memory>
+#include <string>
+
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
+
+#include "cobra/core/component.hpp"
+#include "cobra/kinematics/kinematics_solver.hpp"
+
+namespace cobra::components {
+
+/// Calculation component. Properties: `robot` ("ur5", "puma260" or "dh": the `dh_table`
+/// property, 7 numbers per joint: a (m), alpha (rad), d (m), theta offset (rad), type (0 revolute,
+/// 1 prismatic), lower and upper limit (rad or m)), `solver` ("closed_form", "kdl_nr",
+/// "kdl_lma"; "dh" robots have no closed form), `base_frame` and `tool_frame` (m).
+///
+/// Data flow: `jointPositions` (in) -> `cartPose` (out), forward kinematics on every update with
+/// new joints; `desCartPose` (in, event port) -> `desJointPositions` (out): inverse kinematics,
+/// seeded with the last joint positions measured (else the last solution), published only when
+/// the solver returns a valid solution (thesis §6.2.4). The first failure after a success emits
+/// `e_ik_failed` (its reason in `lastIkStatus()`); the first success after failures `e_ik_solved`.
+/// On demand: operations `forward(q)` and `inverse(pose, seed)`, which throw the status' name.
+/// Real time: the closed-form solvers and KDL's NR_JL/LMA as cobra builds them allocate nothing.
+class KinematicsSolverComponent : public core::Component {
+ public:
+  explicit KinematicsSolverComponent(std::string name);
+  ~KinematicsSolverComponent() override;
+
+ protected:
+  bool configureHook() override;
+  void updateHook() override;
+  void cleanupHook() override;
+
+ private:
+  KDL::Frame forwardOnDemand(KDL::JntArray q);
+  KDL::JntArray inverseOnDemand(KDL::Frame pose, KDL::JntArray seed);
+  kinematics::KinematicsSolver& solver();
+
+  core::Property<std::string> robot_{"robot", "ur5", "", "ur5, puma260 or dh (the dh_table property)"};
+  core::Property<std::string> solver_kind_{"solver", "closed_form", "", "closed_form, kdl_nr or kdl_lma"};
+  core::Property<std::vector<double>> dh_table_{
+      "dh_table", {}, "m, rad", "for robot = dh: a, alpha, d, theta, type (0 revolute, 1 prismatic), lower, upper per joint"};
+  core::Property<KDL::Frame> base_frame_{"base_frame", KDL::Frame::Identity(), "m", "pose of the robot base in the world"};
+  core::Property<KDL::Frame> tool_frame_{"tool_frame", KDL::Frame::Identity(), "m", "pose of the tool in the flange frame"};
+
+  core::InputPort<KDL::JntArray> joint_positions_{"jointPositions", "measured joint positions", "rad or m"};
+  core::OutputPort<KDL::Frame> cart_pose_{"cartPose", "tool pose for jointPositions (world frame)", "m"};
+  core::InputPort<KDL::Frame> des_cart_pose_{"desCartPose", "desired tool pose (world frame)", "m"};
+  core::OutputPort<KDL::JntArray> des_joint_positions_{"desJointPositions", "joint positions reaching desCartPose",
+                                                       "rad or m"};
+
+  std::unique_ptr<kinematics::KinematicsSolver> kinematics_;
+  KDL::JntArray q_, seed_, solution_;  // sized at configure: updates allocate nothing
+  KDL::Frame pose_;
+  bool have_seed_ = false;
+  bool failing_ = false;
+  kinematics::IkStatus last_status_ = kinematics::IkStatus::Ok;
+};
+
+}  // namespace cobra::components

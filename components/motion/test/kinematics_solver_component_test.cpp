@@ -1,0 +1,131 @@
+// The Kinematics Solver component (thesis §6.2.4): data flow, on demand, interchangeable solvers.
+#include "cobra/components/motion/kinematics_solver_component.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+KDL::JntArray joints(std::initializer_list<double> values) {
+  KDL::JntArray q(static_cast<unsigned>(values.size()));
+  unsigned i = 0;
+  for (double v : values) q(i++) = v;
+  return q;
+}
+
+struct Rig {
+  KinematicsSolverComponent solver{"IK"};
+  core::LockstepClock clock;
+  core::OutputPort<KDL::JntArray> measured{"measured", "", "rad"};
+  core::OutputPort<KDL::Frame> desired{"desired", "", "m"};
+  core::InputPort<KDL::Frame> pose{"pose", "", "m"};
+  core::InputPort<KDL::JntArray> command{"command", "", "rad"};
+  core::InputPort<core::Event> events{"events", "", ""};
+
+  explicit Rig(const char* kind, const KDL::Frame& base = KDL::Frame::Identity()) {
+    solver.setProperty("solver", std::string(kind));
+    solver.setProperty("base_frame", base);
+    clock.add(solver, 1ms);
+    measured.setDataSample(KDL::JntArray(6));
+    core::connectPorts(measured, solver.port("jointPositions"));
+    core::connectPorts(desired, solver.port("desCartPose"));
+    core::connectPorts(solver.port("cartPose"), pose);
+    core::connectPorts(solver.port("desJointPositions"), command);
+    core::connectPorts(solver.port("events"), events, core::ConnPolicy::buffer(8));
+    EXPECT_TRUE(solver.configure());
+    EXPECT_TRUE(solver.start());
+  }
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> out;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) out.push_back(e.name.str());
+    return out;
+  }
+};
+
+TEST(KinematicsSolverComponent, ForwardAndInverseByDataFlowWithEitherSolver) {
+  const KDL::Frame base(KDL::Rotation::RotZ(0.3), KDL::Vector(0.1, -0.2, 0.05));
+  for (const char* kind : {"closed_form", "kdl_lma", "kdl_nr"}) {
+    SCOPED_TRACE(kind);
+    Rig rig(kind, base);
+    const KDL::JntArray q0 = joints({0.1, -1.0, 1.2, -0.4, 1.1, 0.2});
+    rig.measured.write(q0);
+    rig.clock.advance(1ms);
+    KDL::Frame at_q0;
+    ASSERT_EQ(rig.pose.read(at_q0), core::FlowStatus::NewData);
+    EXPECT_TRUE(KDL::Equal(at_q0, rig.solver.call<KDL::Frame>("forward", q0), 1e-12));
+
+    const KDL::Frame target = at_q0 * KDL::Frame(KDL::Rotation::RotX(0.05), KDL::Vector(0.01, 0.02, -0.01));
+    rig.desired.write(target);
+    rig.clock.advance(1ms);
+    KDL::JntArray q1;
+    ASSERT_EQ(rig.command.read(q1), core::FlowStatus::NewData);
+    EXPECT_TRUE(KDL::Equal(rig.solver.call<KDL::Frame>("forward", q1), target, 1e-8));
+    EXPECT_LT((q1.data - q0.data).norm(), 0.5);  // the branch of the measured joints, not another one
+  }
+}
+
+TEST(KinematicsSolverComponent, PublishesOnlyValidSolutionsAndSaysWhenItFails) {
+  Rig rig("closed_form");
+  rig.desired.write(KDL::Frame(KDL::Vector(3.0, 0, 0)));  // 3 m away: beyond the UR5's reach
+  rig.desired.write(KDL::Frame(KDL::Vector(3.0, 1.0, 0)));
+  rig.clock.advance(1ms);
+  KDL::JntArray q;
+  EXPECT_EQ(rig.command.read(q), core::FlowStatus::NoData);
+  EXPECT_EQ(rig.solver.call<std::string>("lastIkStatus"), "unreachable");
+  const KDL::Frame reachable = rig.solver.call<KDL::Frame>("forward", joints({0.2, -1.2, 1.0, -0.5, 1.0, 0.0}));
+  rig.desired.write(reachable);
+  rig.clock.advance(1ms);
+  EXPECT_EQ(rig.command.read(q), core::FlowStatus::NewData);
+  EXPECT_EQ(rig.takeEvents(), (std::vector<std::string>{"e_ik_failed", "e_ik_solved"}));
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] {
+                    rig.solver.call<KDL::JntArray>("inverse", KDL::Frame(KDL::Vector(3, 0, 0)), joints({0, 0, 0, 0, 0, 0}));
+                  }),
+                  "inverse kinematics: unreachable");
+}
+
+TEST(KinematicsSolverComponent, RefusesConfigurationsItCannotBuild) {
+  KinematicsSolverComponent c("IK");
+  c.setProperty("robot", std::string("kuka"));
+  EXPECT_CONTAINS(c.configure().message, "property robot is 'kuka'; expected ur5, puma260 or dh");
+  c.setProperty("robot", std::string("dh"));
+  c.setProperty("dh_table", std::vector<double>{0.3, 0, 0, 0, 0, -3, 3, 0.2, 0, 0});
+  EXPECT_CONTAINS(c.configure().message, "property dh_table has 10 numbers; give 7 per joint");
+  c.setProperty("dh_table", std::vector<double>{0.3, 0, 0, 0, 0, -3, 3, 0.2, 0, 0, 0, 0, -3, 3});
+  EXPECT_CONTAINS(c.configure().message, "robot dh has no closed-form solver; set solver to kdl_nr or kdl_lma");
+  c.setProperty("solver", std::string("kdl_lma"));
+  ASSERT_TRUE(c.configure());
+  // A planar 2-link arm: q = (0, 0) puts the tool at x = 0.5 m.
+  EXPECT_TRUE(KDL::Equal(c.call<KDL::Frame>("forward", joints({0, 0})).p, KDL::Vector(0.5, 0, 0), 1e-12));
+  c.setProperty("solver", std::string("fastest"));
+  EXPECT_CONTAINS(c.configure().message, "property solver: ");
+}
+
+TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
+  Rig rig("closed_form");
+  const KDL::JntArray q0 = joints({0.1, -1.0, 1.2, -0.4, 1.1, 0.2});
+  const KDL::Frame target = rig.solver.call<KDL::Frame>("forward", q0);
+  rig.measured.write(q0);
+  rig.desired.write(target);
+  rig.clock.advance(2ms);
+  KDL::JntArray q(6);
+  (void)rig.command.read(q);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 100; ++i) {
+                rig.measured.write(q0);
+                rig.desired.write(target);
+                rig.clock.advance(1ms);
+                (void)rig.command.read(q);
+              }
+            }),
+            0);
+}
+
+}  // namespace
+}  // namespace cobra::components
