@@ -13,6 +13,7 @@
 
 #include "cobra/test_support/test_support.hpp"
 #include "cobra/trajectory/cartesian.hpp"
+#include "rotation_checks.hpp"
 
 namespace {
 
@@ -20,23 +21,10 @@ using cobra::test_support::messageOf;
 using cobra::trajectory::CartesianLimits;
 using cobra::trajectory::CartesianStop;
 using cobra::trajectory::CartesianTrajectory;
+using cobra::trajectory::test::rotationError;
+using cobra::trajectory::test::smallRotationVector;
 
 constexpr int kStops = 300;  // random stop instants on random moving paths
-
-KDL::Vector rotationVector(const KDL::Rotation& r) {  // sin(angle) axis: exact enough for small steps
-  return KDL::Vector(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1)) / 2.0;
-}
-
-double rotationError(const KDL::Rotation& r) {
-  double error = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      double dot = 0.0;
-      for (int m = 0; m < 3; ++m) dot += r(m, i) * r(m, j);
-      error = std::max(error, std::abs(dot - (i == j ? 1.0 : 0.0)));
-    }
-  return error;
-}
 
 TEST(CartesianStop, StartsWhereTheMotionIsAndEndsAtRest) {
   std::mt19937 rng(41);
@@ -80,7 +68,7 @@ TEST(CartesianStop, StartsWhereTheMotionIsAndEndsAtRest) {
       stop.evaluate(t - h, minus, v_minus, unused);
       stop.evaluate(t + h, plus, v_plus, unused);
       ASSERT_LT(rotationError(here.M), 1e-12);
-      ASSERT_LT((rotationVector(plus.M * minus.M.Inverse()) / (2 * h) - v.rot).Norm(), 1e-6) << "t " << t;
+      ASSERT_LT((smallRotationVector(plus.M * minus.M.Inverse()) / (2 * h) - v.rot).Norm(), 1e-6) << "t " << t;
       ASSERT_LT(((plus.p - minus.p) / (2 * h) - v.vel).Norm(), 1e-6);
       ASSERT_LT(((v_plus.rot - v_minus.rot) / (2 * h) - a.rot).Norm(), 1e-5) << "t " << t;
       ASSERT_LT(((v_plus.vel - v_minus.vel) / (2 * h) - a.vel).Norm(), 1e-5);

@@ -15,6 +15,7 @@
 #include <kdl/rotational_interpolation_sa.hpp>
 
 #include "cobra/test_support/test_support.hpp"
+#include "rotation_checks.hpp"
 
 namespace {
 
@@ -22,6 +23,9 @@ using cobra::test_support::messageOf;
 using cobra::trajectory::CartesianLimits;
 using cobra::trajectory::CartesianTrajectory;
 using cobra::trajectory::State;
+using cobra::trajectory::test::angleBetween;
+using cobra::trajectory::test::rotationError;
+using cobra::trajectory::test::smallRotationVector;
 
 constexpr int kRandomPaths = 60;   // random Cartesian paths per property test
 constexpr int kSamples = 1500;     // evaluation times per path
@@ -40,30 +44,6 @@ std::vector<KDL::Frame> randomPath(std::mt19937& rng) {
   const int n = count(rng);
   for (int k = 0; k < n; ++k) path.push_back(randomFrame(rng));
   return path;
-}
-
-double rotationError(const KDL::Rotation& r) {  // max |R^T R - I| and |det - 1|
-  double error = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      double dot = 0.0;
-      for (int m = 0; m < 3; ++m) dot += r(m, i) * r(m, j);
-      error = std::max(error, std::abs(dot - (i == j ? 1.0 : 0.0)));
-    }
-  const double det = KDL::dot(r.UnitX() * r.UnitY(), r.UnitZ());
-  return std::max(error, std::abs(det - 1.0));
-}
-
-/// Rotation vector of a small rotation: vee((R - R^T) / 2) = sin(angle) axis. KDL's GetRot is not
-/// used here because it rounds angles below about 1e-3 rad to zero.
-KDL::Vector smallRotationVector(const KDL::Rotation& r) {
-  return KDL::Vector(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1)) / 2.0;
-}
-
-/// Geodesic distance on SO(3), accurate at small angles too.
-double angleBetween(const KDL::Rotation& a, const KDL::Rotation& b) {
-  const KDL::Rotation r = a.Inverse() * b;
-  return std::atan2(smallRotationVector(r).Norm(), (r(0, 0) + r(1, 1) + r(2, 2) - 1.0) / 2.0);
 }
 
 TEST(CartesianTrajectory, OneSegmentIsKdlsSingleAxisInterpolationDrivenByTheTimingLaw) {
