@@ -7,7 +7,6 @@
 namespace cobra::components {
 namespace {
 
-constexpr std::size_t kAxesPerArm = 4;  // x, y, z (m) and the rotation angle (rad): CartesianTrajectory's axes
 constexpr double kPeriodTolerance = 1e-9;  // s
 
 }  // namespace
@@ -25,28 +24,49 @@ CartesianTrajectoryGenerator::CartesianTrajectoryGenerator(std::string name)
   addProperty(blend_order_.range(2, 5));
   addPort(planned_path_);
   addOperation("askGenerateTraj", &CartesianTrajectoryGenerator::askGenerateTraj, this,
-               "generates the trajectory of the last path received; answers e_traj_ready, e_traj_failed or e_no_path");
+               "generates the trajectory of the last path received; answers e_trajectory_ready, e_traj_failed or e_no_path");
   addOperation("askStartMove", &CartesianTrajectoryGenerator::askStartMove, this,
-               "starts writing the set-points of the trajectory; answers e_motion_started or e_no_trajectory, then "
+               "starts writing the set-points of the trajectory; answers e_moving or e_no_trajectory, then "
                "e_motion_done");
   addOperation("askStopMove", &CartesianTrajectoryGenerator::askStopMove, this,
-               "brings every arm to rest in stop_time; answers e_motion_stopping then e_motion_stopped, or e_not_moving");
+               "brings every arm to rest in stop_time; answers e_generating_stop then e_motion_stopped, or e_not_moving");
   addOperation("status", std::function<std::string()>([this] { return statusName(); }),
-               "the state of the generator: WaitPath, PathReady, TrajectoryReady, Moving or Stopping",
+               "the state of Fig. 4.12: NotInitialized, Initialized, WaitPath, PathReady, GeneratingTrajectory, "
+               "TrajectoryReady, Moving or GeneratingStop",
                core::ExecutionThread::Client);
   addOperation("lastFailure", std::function<std::string()>([this] { return last_failure_; }),
                "why the last askGenerateTraj failed (empty when it did not)");
 }
 
-std::string CartesianTrajectoryGenerator::statusName() const {
-  switch (status()) {
-    case Status::WaitPath: return "WaitPath";
-    case Status::PathReady: return "PathReady";
-    case Status::TrajectoryReady: return "TrajectoryReady";
-    case Status::Moving: return "Moving";
-    case Status::Stopping: return "Stopping";
+namespace {
+
+struct StatusText {
+  const char* name;   // as status() answers
+  const char* event;  // emitted on entering it
+};
+
+StatusText textOf(CartesianTrajectoryGenerator::Status status) noexcept {
+  using S = CartesianTrajectoryGenerator::Status;
+  switch (status) {
+    case S::NotInitialized: return {"NotInitialized", "e_not_initialized"};
+    case S::Initialized: return {"Initialized", "e_initialized"};
+    case S::WaitPath: return {"WaitPath", "e_wait_path"};
+    case S::PathReady: return {"PathReady", "e_path_ready"};
+    case S::GeneratingTrajectory: return {"GeneratingTrajectory", "e_generating_trajectory"};
+    case S::TrajectoryReady: return {"TrajectoryReady", "e_trajectory_ready"};
+    case S::Moving: return {"Moving", "e_moving"};
+    case S::GeneratingStop: return {"GeneratingStop", "e_generating_stop"};
   }
-  return "?";
+  return {"?", "e_unknown_state"};
+}
+
+}  // namespace
+
+std::string CartesianTrajectoryGenerator::statusName() const { return textOf(status()).name; }
+
+void CartesianTrajectoryGenerator::enter(Status status) noexcept {
+  status_.store(status, std::memory_order_release);
+  emitEvent(textOf(status).event);
 }
 
 bool CartesianTrajectoryGenerator::configureHook() {
@@ -70,11 +90,14 @@ bool CartesianTrajectoryGenerator::configureHook() {
   }
   poses_.assign(arms, KDL::Frame::Identity());
   twists_.assign(arms, KDL::Twist::Zero());
-  stop_orientation_.assign(arms, KDL::Rotation::Identity());
-  stop_axis_.assign(arms, KDL::Vector(0, 0, 1));
-  stop_states_.assign(arms * kAxesPerArm, trajectory::State{});
+  stops_.clear();
+  stops_.reserve(arms);
+  trajectory_.reset();
+  enter(Status::Initialized);
   return true;
 }
+
+void CartesianTrajectoryGenerator::cleanupHook() { enter(Status::NotInitialized); }
 
 bool CartesianTrajectoryGenerator::startHook() {
   const double period = std::chrono::duration<double>(activity().period()).count();
@@ -84,15 +107,13 @@ bool CartesianTrajectoryGenerator::startHook() {
     return refuse("sample_time is " + std::to_string(sample_time_()) + " s but the activity period is " +
                   std::to_string(period) + " s; set one to the other");
   trajectory_.reset();
-  stop_.reset();
+  stops_.clear();
   start_pending_ = false;
-  setStatus(Status::WaitPath);
+  enter(Status::WaitPath);
   return true;
 }
 
-void CartesianTrajectoryGenerator::stopHook() {
-  if (status() == Status::Moving || status() == Status::Stopping) setStatus(Status::TrajectoryReady);
-}
+void CartesianTrajectoryGenerator::stopHook() { enter(Status::Initialized); }
 
 double CartesianTrajectoryGenerator::elapsed() const {
   return std::chrono::duration<double>(now() - motion_start_).count();
@@ -100,11 +121,10 @@ double CartesianTrajectoryGenerator::elapsed() const {
 
 void CartesianTrajectoryGenerator::updateHook() {
   const Status current = status();
-  if (current != Status::Moving && current != Status::Stopping) {
+  if (current != Status::Moving && current != Status::GeneratingStop) {
     if (planned_path_.read(path_) == core::FlowStatus::NewData) {
       trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
-      setStatus(Status::PathReady);
-      emitEvent("e_path_ready");
+      enter(Status::PathReady);
     }
     return;
   }
@@ -117,15 +137,15 @@ void CartesianTrajectoryGenerator::updateHook() {
     trajectory_->evaluate(t, poses_, twists_);
     publish();
     if (t >= trajectory_->duration()) {
-      setStatus(Status::WaitPath);
       emitEvent("e_motion_done");
+      enter(Status::WaitPath);
     }
   } else {
     evaluateStop(t);
     publish();
-    if (t >= stop_->duration()) {
-      setStatus(Status::WaitPath);
+    if (t >= stop_time_()) {
       emitEvent("e_motion_stopped");
+      enter(Status::WaitPath);
     }
   }
 }
@@ -140,31 +160,30 @@ void CartesianTrajectoryGenerator::publish() {
 void CartesianTrajectoryGenerator::askGenerateTraj() {
   const Status current = status();
   if (current != Status::PathReady && current != Status::TrajectoryReady) {
-    emitEvent(current == Status::WaitPath ? "e_no_path" : "e_busy");
+    emitEvent(current == Status::Moving || current == Status::GeneratingStop ? "e_busy" : "e_no_path");
     return;
   }
+  enter(Status::GeneratingTrajectory);
   try {
     const trajectory::CartesianLimits limits{max_vel_(), max_ang_vel_(), time_acc_(), time_acc_()};
     trajectory_.emplace(decodeCartesianPath(path_, pose_ports_.size()), limits, blend_order_());
     last_failure_.clear();
-    setStatus(Status::TrajectoryReady);
-    emitEvent("e_traj_ready");
+    enter(Status::TrajectoryReady);
   } catch (const std::exception& e) {
     last_failure_ = "plannedPath: " + std::string(e.what());
     trajectory_.reset();
-    setStatus(Status::PathReady);
     emitEvent("e_traj_failed");
+    enter(Status::PathReady);
   }
 }
 
 void CartesianTrajectoryGenerator::askStartMove() {
   if (status() != Status::TrajectoryReady) {
-    emitEvent(status() == Status::Moving || status() == Status::Stopping ? "e_busy" : "e_no_trajectory");
+    emitEvent(status() == Status::Moving || status() == Status::GeneratingStop ? "e_busy" : "e_no_trajectory");
     return;
   }
   start_pending_ = true;
-  setStatus(Status::Moving);
-  emitEvent("e_motion_started");
+  enter(Status::Moving);
 }
 
 void CartesianTrajectoryGenerator::askStopMove() {
@@ -174,37 +193,24 @@ void CartesianTrajectoryGenerator::askStopMove() {
   }
   if (start_pending_) {  // asked before the first set-point: nothing has moved
     start_pending_ = false;
-    setStatus(Status::TrajectoryReady);
     emitEvent("e_motion_stopped");
+    enter(Status::TrajectoryReady);
     return;
   }
-  // The state of every axis now, from which each decelerates to rest in stop_time.
+  // Every arm decelerates from the set-point it is being sent now (pose, twist, acceleration).
   const double t = elapsed();
-  trajectory_->axes().evaluate(t, stop_states_);
-  trajectory_->evaluate(t, poses_, twists_);
+  stops_.clear();
   for (std::size_t arm = 0; arm < poses_.size(); ++arm) {
-    trajectory::State& angle = stop_states_[kAxesPerArm * arm + 3];
-    const double speed = twists_[arm].rot.Norm();
-    stop_orientation_[arm] = poses_[arm].M;
-    stop_axis_[arm] = speed > 0.0 ? twists_[arm].rot / speed : KDL::Vector(0, 0, 1);
-    // The rotation angle axis becomes the angle about the current rotation axis, from 0.
-    angle = trajectory::State{0.0, speed, speed > 0.0 ? angle.acceleration : 0.0, 0.0};
+    KDL::Twist acceleration;
+    trajectory_->evaluate(t, arm, poses_[arm], twists_[arm], acceleration);
+    stops_.emplace_back(poses_[arm], twists_[arm], acceleration, stop_time_());
   }
-  stop_.emplace(trajectory::MultiAxisTrajectory::stop(stop_states_, stop_time_()));
   motion_start_ = now();
-  setStatus(Status::Stopping);
-  emitEvent("e_motion_stopping");
+  enter(Status::GeneratingStop);
 }
 
 void CartesianTrajectoryGenerator::evaluateStop(double t) {
-  stop_->evaluate(t, stop_states_);
-  for (std::size_t arm = 0; arm < poses_.size(); ++arm) {
-    const trajectory::State* s = &stop_states_[kAxesPerArm * arm];
-    poses_[arm].p = KDL::Vector(s[0].position, s[1].position, s[2].position);
-    poses_[arm].M = KDL::Rotation::Rot2(stop_axis_[arm], s[3].position) * stop_orientation_[arm];
-    twists_[arm].vel = KDL::Vector(s[0].velocity, s[1].velocity, s[2].velocity);
-    twists_[arm].rot = stop_axis_[arm] * s[3].velocity;
-  }
+  for (std::size_t arm = 0; arm < stops_.size(); ++arm) stops_[arm].evaluate(t, poses_[arm], twists_[arm]);
 }
 
 }  // namespace cobra::components

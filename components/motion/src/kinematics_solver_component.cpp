@@ -42,6 +42,14 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
 
 KinematicsSolverComponent::~KinematicsSolverComponent() = default;
 
+KdlKinematicsSolver::KdlKinematicsSolver(std::string name) : KinematicsSolverComponent(std::move(name)) {
+  setProperty("solver", std::string("kdl_lma"));
+}
+
+ClosedFormKinematicsSolver::ClosedFormKinematicsSolver(std::string name) : KinematicsSolverComponent(std::move(name)) {
+  setProperty("solver", std::string("closed_form"));
+}
+
 kinematics::KinematicsSolver& KinematicsSolverComponent::solver() {
   if (!kinematics_) throw core::Error("component '" + name() + "': configure it first (the solver is made at configure)");
   return *kinematics_;

@@ -11,7 +11,10 @@ void registerMotionPackage(deploy::PackageBuilder& package) {
       "CartesianTrajectoryGenerator", "synchronised multi-arm Cartesian set-points along a planned path (thesis §4.5.2)")
       .component<EquivalentWrench>("EquivalentWrench", "a wrench moved to another application point and/or frame (thesis §6.2.3)")
       .component<KinematicsSolverComponent>("KinematicsSolver",
-                                            "forward/inverse kinematics, KDL or closed form, interchangeable (thesis §6.2.4)");
+                                            "forward/inverse kinematics, KDL or closed form by a property (thesis §6.2.4)")
+      .component<KdlKinematicsSolver>("KdlKinematicsSolver", "KinematicsSolver with KDL's LMA solver by default")
+      .component<ClosedFormKinematicsSolver>("ClosedFormKinematicsSolver",
+                                             "KinematicsSolver with the robot's closed form by default");
 }
 
 }  // namespace cobra::components

@@ -33,9 +33,9 @@ struct Bench {
     generator.setProperty("time_acc", 0.1);
     generator.setProperty("stop_time", 0.2);
     clock.add(generator, 1ms);
+    core::connectPorts(generator.port("events"), events, core::ConnPolicy::buffer(64));
     EXPECT_TRUE(generator.configure());
     core::connectPorts(planner, generator.port("plannedPath"));
-    core::connectPorts(generator.port("events"), events, core::ConnPolicy::buffer(64));
     for (int i = 1; i <= arms; ++i) {
       poses.push_back(std::make_unique<core::InputPort<KDL::Frame>>("pose", "", "m"));
       twists.push_back(std::make_unique<core::InputPort<KDL::Twist>>("twist", "", "m/s"));
@@ -43,6 +43,7 @@ struct Bench {
       core::connectPorts(generator.port("desCartTwist_" + std::to_string(i)), *twists.back());
     }
     EXPECT_TRUE(generator.start());
+    EXPECT_EQ(takeEvents(), (std::vector<std::string>{"e_initialized", "e_wait_path"}));
   }
   /// Events emitted since the last call, in order.
   std::vector<std::string> takeEvents() {
@@ -73,6 +74,7 @@ const std::vector<std::vector<KDL::Frame>> kTwoArmPath = {
 
 TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure) {
   Generator g("TrajGen");
+  EXPECT_EQ(g.call<std::string>("status"), "NotInitialized");
   g.setProperty("arms_num", 3);
   ASSERT_TRUE(g.configure());
   for (const char* name : {"desCartPose_1", "desCartTwist_1", "desCartPose_3", "desCartTwist_3"})
@@ -81,6 +83,9 @@ TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure)
   ASSERT_TRUE(g.configure());
   EXPECT_EQ(g.findPort("desCartPose_2"), nullptr);
   EXPECT_EQ(g.port("desCartPose_1").unit(), "m");
+  EXPECT_EQ(g.call<std::string>("status"), "Initialized");
+  ASSERT_TRUE(g.cleanup());
+  EXPECT_EQ(g.call<std::string>("status"), "NotInitialized");
 }
 
 TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
@@ -100,7 +105,8 @@ TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
   EXPECT_DOUBLE_EQ(b.generator.trajectory()->duration(), reference.duration());
 
   b.call("askStartMove");
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_ready", "e_motion_started"}));
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_trajectory_ready",
+                                                      "e_moving"}));
   // The first set-point is written at the next step (t = 0 of the motion); then one per ms.
   const auto steps = static_cast<int>(std::floor(reference.duration() / 2 / 1e-3));
   b.clock.advance(std::chrono::milliseconds(steps + 1));
@@ -113,7 +119,7 @@ TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
   }
   EXPECT_EQ(b.status(), "Moving");
   b.clock.advance(std::chrono::milliseconds(static_cast<int>(reference.duration() * 1e3)));
-  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_motion_done"});
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_motion_done", "e_wait_path"}));
   EXPECT_EQ(b.status(), "WaitPath");
   for (std::size_t arm = 0; arm < 2; ++arm) {
     EXPECT_TRUE(KDL::Equal(b.lastPose(arm), kTwoArmPath.back()[arm], 1e-9)) << "arm " << arm;
@@ -132,10 +138,14 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   ASSERT_GT(before.vel.Norm(), 0.01);
   const KDL::Frame at_stop = b.lastPose(0);
   b.call("askStopMove");
-  EXPECT_EQ(b.status(), "Stopping");
-  b.clock.advance(250ms);
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_ready", "e_motion_started",
-                                                      "e_motion_stopping", "e_motion_stopped"}));
+  EXPECT_EQ(b.status(), "GeneratingStop");
+  b.clock.advance(1ms);  // the stop starts from the set-point being sent: no jump in velocity
+  const KDL::Twist first = b.lastTwist(0);
+  EXPECT_LT((first.vel - before.vel).Norm() + (first.rot - before.rot).Norm(), 2e-3);
+  b.clock.advance(249ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_trajectory_ready",
+                                                      "e_moving", "e_generating_stop", "e_motion_stopped",
+                                                      "e_wait_path"}));
   EXPECT_EQ(b.status(), "WaitPath");
   const KDL::Twist after = b.lastTwist(0);
   EXPECT_LT(after.vel.Norm() + after.rot.Norm(), 1e-9);
@@ -153,7 +163,8 @@ TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
   b.planner.write(bad);
   b.clock.advance(1ms);
   b.call("askGenerateTraj");
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_traj_failed"}));
+  EXPECT_EQ(b.takeEvents(),
+            (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_traj_failed", "e_path_ready"}));
   EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
             "plannedPath: waypoint 0 has 7 values; 2 arm(s) need 14 (x, y, z, qx, qy, qz, qw per arm)");
   EXPECT_EQ(b.status(), "PathReady");

@@ -127,5 +127,21 @@ TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
             0);
 }
 
+TEST(KinematicsSolverComponent, TheKdlAndClosedFormTypesAreInterchangeable) {
+  KdlKinematicsSolver kdl("IK");
+  ClosedFormKinematicsSolver closed("IK");
+  EXPECT_EQ(kdl.getProperty<std::string>("solver"), "kdl_lma");
+  EXPECT_EQ(closed.getProperty<std::string>("solver"), "closed_form");
+  const core::ComponentInfo a = core::describe(kdl), b = core::describe(closed);
+  ASSERT_EQ(a.ports.size(), b.ports.size());
+  for (std::size_t i = 0; i < a.ports.size(); ++i) EXPECT_EQ(a.ports[i].name, b.ports[i].name);
+  ASSERT_TRUE(kdl.configure());
+  ASSERT_TRUE(closed.configure());
+  const KDL::JntArray q = joints({0.4, -0.8, 1.0, 0.3, -0.9, 0.5});
+  const KDL::Frame target = closed.call<KDL::Frame>("forward", q);
+  EXPECT_TRUE(KDL::Equal(kdl.call<KDL::Frame>("forward", kdl.call<KDL::JntArray>("inverse", target, q)), target, 1e-9));
+  EXPECT_TRUE(KDL::Equal(closed.call<KDL::Frame>("forward", closed.call<KDL::JntArray>("inverse", target, q)), target, 1e-9));
+}
+
 }  // namespace
 }  // namespace cobra::components

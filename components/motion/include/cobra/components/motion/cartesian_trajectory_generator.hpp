@@ -15,6 +15,7 @@
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/trajectory/cartesian.hpp"
+#include "cobra/trajectory/cartesian_stop.hpp"
 
 namespace cobra::components {
 
@@ -23,25 +24,37 @@ namespace cobra::components {
 ///   (rad/s), `time_acc` (s, blend duration), `stop_time` (s), `sample_time` (s: the activity
 ///   period it expects; start refuses another period), `blend_order` (2..5);
 /// - operations `askGenerateTraj()`, `askStartMove()`, `askStopMove()` (void requests, answered by
-///   events), `status()` (the state of Fig. 4.12) and `lastFailure()`;
+///   events), `status()` (the state of Fig. 4.12, e.g. "WaitPath") and `lastFailure()`;
 /// - ports `plannedPath` (in, TGL.MultiAxisPath, encoded as path_type.hpp says),
 ///   `desCartPose_i` / `desCartTwist_i` (out, i = 1..arms_num, made at configure) and `events`.
 ///
-/// States (Fig. 4.12; "Not initialized" and "Initialized" are the lifecycle's PreOperational and
-/// Stopped): WaitPath -> (path arrives, e_path_ready) PathReady -> (askGenerateTraj,
-/// e_traj_ready | e_traj_failed) TrajectoryReady -> (askStartMove, e_motion_started) Moving ->
-/// (end, e_motion_done) WaitPath; Moving -> (askStopMove, e_motion_stopping) Stopping -> (at rest,
-/// e_motion_stopped) WaitPath. A request in the wrong state answers e_no_path, e_no_trajectory or
-/// e_not_moving and changes nothing. "Generating Trajectory" and "Generating Stop" are momentary:
-/// generation runs in the request, between two updates.
+/// States, exactly those of Fig. 4.12, each entered with an event on `events`:
+/// NotInitialized (e_not_initialized: created, or cleaned up) -> configure -> Initialized
+/// (e_initialized) -> start -> WaitPath (e_wait_path) -> a path arrives -> PathReady
+/// (e_path_ready) -> askGenerateTraj -> GeneratingTrajectory (e_generating_trajectory) ->
+/// TrajectoryReady (e_trajectory_ready), or back to PathReady after e_traj_failed (reason in
+/// lastFailure()) -> askStartMove -> Moving (e_moving) -> at the end e_motion_done -> WaitPath;
+/// Moving -> askStopMove -> GeneratingStop (e_generating_stop: the stop motion runs) -> at rest
+/// e_motion_stopped -> WaitPath. stop returns to Initialized. A request in the wrong state answers
+/// e_no_path, e_no_trajectory, e_not_moving or e_busy and changes nothing. Generating a trajectory
+/// happens in the request, between two updates.
 ///
-/// Real time: while Moving or Stopping, updateHook evaluates and writes without allocating. A new
+/// Real time: while Moving or GeneratingStop, updateHook evaluates and writes without allocating. A new
 /// path is copied when it is read (once per path, while not moving; paths arrive at planning rate).
-/// The stop motion decelerates each position axis with TGL's stop polynomial and the orientation
-/// about the instantaneous rotation axis, each to rest in `stop_time`.
+/// The stop motion is TGL's CartesianStop per arm: from the pose, twist and acceleration of the
+/// set-point being sent to rest in `stop_time`, on SO(3), continuous up to acceleration.
 class CartesianTrajectoryGenerator : public core::Component {
  public:
-  enum class Status { WaitPath, PathReady, TrajectoryReady, Moving, Stopping };
+  enum class Status {
+    NotInitialized,
+    Initialized,
+    WaitPath,
+    PathReady,
+    GeneratingTrajectory,
+    TrajectoryReady,
+    Moving,
+    GeneratingStop,
+  };
 
   explicit CartesianTrajectoryGenerator(std::string name);
 
@@ -55,13 +68,15 @@ class CartesianTrajectoryGenerator : public core::Component {
   bool startHook() override;
   void updateHook() override;
   void stopHook() override;
+  void cleanupHook() override;
 
  private:
   void askGenerateTraj();
   void askStartMove();
   void askStopMove();
   std::string statusName() const;
-  void setStatus(Status status) { status_.store(status, std::memory_order_release); }
+  /// Enters `status` and emits its event (real-time safe).
+  void enter(Status status) noexcept;
   double elapsed() const;
   /// Writes the set-points in poses_/twists_ on every arm's ports.
   void publish();
@@ -80,18 +95,14 @@ class CartesianTrajectoryGenerator : public core::Component {
   std::vector<std::unique_ptr<core::OutputPort<KDL::Frame>>> pose_ports_;
   std::vector<std::unique_ptr<core::OutputPort<KDL::Twist>>> twist_ports_;
 
-  std::atomic<Status> status_{Status::WaitPath};
+  std::atomic<Status> status_{Status::NotInitialized};
   std::string last_failure_;
   trajectory::MultiAxisPath path_;
   std::optional<trajectory::CartesianTrajectory> trajectory_;
   std::chrono::nanoseconds motion_start_{0};
   bool start_pending_ = false;  // askStartMove was called: the next update stamps the start
 
-  // The stop motion: per arm x, y, z and the angle phi about the rotation axis at the stop.
-  std::optional<trajectory::MultiAxisTrajectory> stop_;
-  std::vector<KDL::Rotation> stop_orientation_;  // orientation when the stop began
-  std::vector<KDL::Vector> stop_axis_;           // unit rotation axis (base frame)
-  std::vector<trajectory::State> stop_states_;   // workspace of evaluateStop
+  std::vector<trajectory::CartesianStop> stops_;  // one per arm while GeneratingStop (capacity reserved)
 
   std::vector<KDL::Frame> poses_;   // workspace: one per arm
   std::vector<KDL::Twist> twists_;  // workspace: one per arm

@@ -62,4 +62,15 @@ class KinematicsSolverComponent : public core::Component {
   kinematics::IkStatus last_status_ = kinematics::IkStatus::Ok;
 };
 
+/// The thesis' two interchangeable components (§6.2.4) as two type names: the same interface, the
+/// KDL solver (Levenberg-Marquardt) or the closed form by default. Either can be set to the other.
+class KdlKinematicsSolver : public KinematicsSolverComponent {
+ public:
+  explicit KdlKinematicsSolver(std::string name);
+};
+class ClosedFormKinematicsSolver : public KinematicsSolverComponent {
+ public:
+  explicit ClosedFormKinematicsSolver(std::string name);
+};
+
 }  // namespace cobra::components

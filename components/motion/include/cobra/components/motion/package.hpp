@@ -6,7 +6,8 @@
 
 namespace cobra::components {
 
-/// Registers CartesianTrajectoryGenerator, EquivalentWrench and KinematicsSolver.
+/// Registers CartesianTrajectoryGenerator, EquivalentWrench and KinematicsSolver (also as
+/// KdlKinematicsSolver and ClosedFormKinematicsSolver).
 void registerMotionPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components
