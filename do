@@ -69,9 +69,11 @@ case "${1:-help}" in
   demo)
     log=$(mktemp)
     say "building the demo (first time: installs packages and compiles, a few minutes)"
-    build release --target cobra-demo >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+    build release --target cobra-demo --target example_04_trajectory >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
     rm -f "$log"
-    ./build/release/apps/demo/cobra-demo ;;
+    ./build/release/apps/demo/cobra-demo
+    say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
+    ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg ;;
   bench)
     build release
     for b in build/release/bench/*_bench; do
