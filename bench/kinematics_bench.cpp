@@ -2,7 +2,7 @@
 // chain and the same targets, side by side in the same run (DESIGN §8).
 //
 // Every benchmark runs 10 repetitions and reports their median and worst case ("max"); the
-// `mean`/`stddev`/`cv` rows come for free. The time column is per call, cycling through 256
+// `mean`/`stddev`/`cv` rows come for free. The time column is per call, cycling through 10,000
 // targets made from seeded random joint values (seed: the target's joints + up to 0.1 rad noise).
 // Groups:
 //  - Ur5Fk: closed-form DH product (Ur5Solver::forward) vs KDL::ChainFkSolverPos_recursive.
@@ -41,7 +41,7 @@ using namespace cobra::kinematics;
 
 constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;  // s; keeps the whole file well under a minute
-constexpr std::size_t kTargets = 256;
+constexpr std::size_t kTargets = 10000;
 
 double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 

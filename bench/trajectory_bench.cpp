@@ -13,7 +13,7 @@
 //    SO(3)) vs KDL::Trajectory_Segment of a Path_RoundedComposite with a VelocityProfile_Trap
 //    (Pos + Vel). The two paths differ in geometry (KDL rounds corners with circles in space);
 //    what is compared is the cost of one set-point for the same waypoints.
-//  - Construction: building a 6-axis 10-waypoint MultiAxisTrajectory (synchronised, quintic
+//  - Construction: building a 12-axis 10-waypoint MultiAxisTrajectory (synchronised, quintic
 //    blends), and the 10-waypoint Cartesian paths of CartesianEval (cobra vs KDL).
 // Target: evaluation well under 1 us, so a 1 kHz generator spends < 0.1 % of its period on it.
 
@@ -41,7 +41,7 @@ constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;  // s; keeps the whole file well under a minute
 constexpr std::size_t kTimes = 1024;
 constexpr int kWaypoints = 10;
-constexpr int kAxes = 6;
+constexpr int kAxes = 12;
 
 double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 

@@ -50,7 +50,7 @@ TEST(Puma260, ZeroConfigurationMatchesTheTableByHand) {
   EXPECT_NEAR(pose.p.z(), 0.3302 + 0.2032 + 0.05537, 1e-15);
 }
 
-// 2000 seeded random configurations each for the Puma 260 and the Puma 560 (a3 != 0): every
+// 10,000 seeded random configurations each for the Puma 260 and the Puma 560 (a3 != 0): every
 // solution reproduces the pose within 1e-9 m / 1e-9 rad through KDL's FK of the same DH chain,
 // the original is among them, nearest-to-seed works; most poses have 8 solutions.
 TEST(Puma260, AllSolutionsReproduceRandomPoses) {
@@ -58,7 +58,7 @@ TEST(Puma260, AllSolutionsReproduceRandomPoses) {
   for (const Puma260Parameters& parameters : {Puma260Parameters{}, Puma260Parameters::puma560()}) {
     Puma260Solver puma(parameters, wide, KDL::Frame(KDL::Rotation::RotZ(0.4), KDL::Vector(0.1, 0.0, 0.2)),
                        KDL::Frame(KDL::Vector(0.0, 0.0, 0.1)));
-    constexpr int kCount = 2000;
+    constexpr int kCount = 10000;
     const test::RoundTripCounts counts = test::checkAnalyticRoundTrips(puma, puma.model().chain(), kCount, 21, kPi);
     EXPECT_EQ(counts.poses, kCount);
     EXPECT_GE(counts.with_eight, kCount / 2);

@@ -78,7 +78,7 @@ TEST(Ur5, ForwardMatchesKdl) {
   }
 }
 
-// 2000 seeded random configurations (with base and tool frames): every solution reproduces the
+// 10,000 seeded random configurations (with base and tool frames): every solution reproduces the
 // pose within 1e-9 m / 1e-9 rad through KDL's FK, one of them is the original configuration, the
 // nearest-to-seed choice works (see checkAnalyticRoundTrips); most poses have all 8 solutions
 // (others lose a shoulder/wrist branch whose planar elbow problem has no real solution).
@@ -86,7 +86,7 @@ TEST(Ur5, AllEightSolutionsReproduceRandomPoses) {
   const KDL::Frame base(KDL::Rotation::RotZ(0.7), KDL::Vector(0.1, 0.2, 0.3));
   const KDL::Frame tool(KDL::Rotation::RotX(-0.4), KDL::Vector(0.01, 0.0, 0.12));
   Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
-  constexpr int kCount = 2000;
+  constexpr int kCount = 10000;
   const test::RoundTripCounts counts = test::checkAnalyticRoundTrips(ur5, ur5.model().chain(), kCount, 12, kPi);
   EXPECT_EQ(counts.poses, kCount);
   EXPECT_GE(counts.with_eight, kCount / 2);
