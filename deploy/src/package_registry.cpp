@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "cobra/components/signal/constant.hpp"
 #include "cobra/components/signal/gain.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/components/signal/sine_generator.hpp"
@@ -41,7 +42,8 @@ void registerSignalPackage(PackageBuilder& package) {
   package.component<components::SineGenerator>("SineGenerator", "y(t) = offset + amplitude·sin(2π·frequency·t + phase)")
       .component<components::Gain>("Gain", "y = k·u on every sample")
       .component<components::ThresholdDetector>("ThresholdDetector", "events when a signal crosses a threshold")
-      .component<components::Recorder>("Recorder", "keeps (time, value) samples in memory");
+      .component<components::Recorder>("Recorder", "keeps (time, value) samples in memory")
+      .component<components::Constant>("Constant", "writes the value of a property at every update");
 }
 
 void PackageBuilder::addType(std::string type_name, std::string doc, ComponentFactory make) {

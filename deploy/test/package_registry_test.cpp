@@ -27,12 +27,12 @@ std::string errorOf(const std::function<void()>& action) {
 
 }  // namespace
 
-TEST(PackageRegistry, BuiltInSignalPackageRegistersItsFourTypes) {
+TEST(PackageRegistry, BuiltInSignalPackageRegistersItsFiveTypes) {
   PackageRegistry registry;
   EXPECT_EQ(registry.findType("Gain"), nullptr) << "types appear only once their package is loaded";
   registry.load("cobra_signal");
   EXPECT_TRUE(registry.isLoaded("cobra_signal"));
-  EXPECT_EQ(registry.typeNames(), (std::vector<std::string>{"Gain", "Recorder", "SineGenerator", "ThresholdDetector"}));
+  EXPECT_EQ(registry.typeNames(), (std::vector<std::string>{"Constant", "Gain", "Recorder", "SineGenerator", "ThresholdDetector"}));
   auto gain = registry.create("Gain", "G");
   EXPECT_EQ(gain->name(), "G");
   EXPECT_EQ(gain->role(), core::Role::Calculation);
@@ -56,7 +56,7 @@ TEST(PackageRegistry, UnknownComponentTypeSuggestsTheClosestName) {
   registry.load("cobra_signal");
   const std::string message = errorOf([&] { (void)registry.create("Gian", "G", {"deploy.lua", 12}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:12: unknown component type 'Gian'; did you mean 'Gain'? known types: "
-                                 "Gain, Recorder, SineGenerator, ThresholdDetector"));
+                                 "Constant, Gain, Recorder, SineGenerator, ThresholdDetector"));
   EXPECT_THAT(message, HasSubstr("loaded packages: cobra_signal"));
 }
 

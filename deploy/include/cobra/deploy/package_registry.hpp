@@ -131,7 +131,7 @@ class PackageRegistry {
   std::map<std::string, ComponentType, std::less<>>* staging_ = nullptr;
 };
 
-/// Registers SineGenerator, Gain, ThresholdDetector and Recorder: the built-in "cobra_signal".
+/// Registers SineGenerator, Gain, ThresholdDetector, Recorder and Constant: the built-in "cobra_signal".
 void registerSignalPackage(PackageBuilder& package);
 
 }  // namespace cobra::deploy
