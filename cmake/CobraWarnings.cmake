@@ -5,9 +5,14 @@ target_compile_options(cobra_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wsh
 if(COBRA_WARNINGS_AS_ERRORS)
   target_compile_options(cobra_build_flags INTERFACE -Werror)
 endif()
+# Under ASan, Eigen stops trusting malloc's 16-byte alignment and switches to its own aligned
+# allocator, while Debian's liborocos-kdl (built without ASan) frees with free(): their inline
+# functions then disagree and KDL's solvers crash. glibc's and ASan's malloc both align to 16 on
+# 64-bit targets, so cobra keeps Eigen's normal allocation path in sanitizer builds.
+set(COBRA_EIGEN_AS_KDL -DEIGEN_MALLOC_ALREADY_ALIGNED=1)
 if(COBRA_SANITIZER STREQUAL "address")
   target_compile_options(cobra_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
-    -fno-sanitize-recover=undefined)
+    -fno-sanitize-recover=undefined ${COBRA_EIGEN_AS_KDL})
   target_link_options(cobra_build_flags INTERFACE -fsanitize=address,undefined)
 elseif(COBRA_SANITIZER STREQUAL "thread")
   target_compile_options(cobra_build_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
@@ -15,7 +20,7 @@ elseif(COBRA_SANITIZER STREQUAL "thread")
 elseif(COBRA_SANITIZER STREQUAL "fuzzer")
   # Coverage instrumentation for libFuzzer everywhere, plus ASan/UBSan to turn bugs into crashes.
   target_compile_options(cobra_build_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined
-    -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+    -fno-omit-frame-pointer -fno-sanitize-recover=undefined ${COBRA_EIGEN_AS_KDL})
   target_link_options(cobra_build_flags INTERFACE -fsanitize=address,undefined)
 elseif(NOT COBRA_SANITIZER STREQUAL "")
   message(FATAL_ERROR "COBRA_SANITIZER must be '', 'address', 'thread' or 'fuzzer', not '${COBRA_SANITIZER}'")
