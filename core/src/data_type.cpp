@@ -63,7 +63,10 @@ bool parseFixedList(std::string_view text, std::size_t count, std::vector<double
 }
 
 std::string formatNumber(double v) {
-  // Shortest text that reads back to the same double.
+  // Shortest text that reads back to the same double. Negative zero prints as 0: it is the same
+  // quantity, and a computed value (a quaternion component of a half turn) may come out with
+  // either sign, which would make printed text unstable across a parse.
+  if (v == 0.0) v = 0.0;
   char buffer[32];
   const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
   return ec == std::errc() ? std::string(buffer, end) : std::string("?");
