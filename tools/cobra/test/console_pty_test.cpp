@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -43,7 +44,12 @@ class Terminal {
   }
   bool started() const { return pid_ > 0; }
 
-  void type(const std::string& keys) { ASSERT_EQ(write(master_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size())); }
+  /// Types `keys` once the program has had a moment to put the terminal in raw mode after its
+  /// prompt (keys typed earlier are read in canonical mode, where Ctrl-D or Tab mean other things).
+  void type(const std::string& keys) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_EQ(write(master_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
+  }
 
   /// Waits until `text` has appeared since the last match; returns what came before it.
   std::string waitFor(const std::string& text) {
