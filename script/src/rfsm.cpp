@@ -238,15 +238,16 @@ void installRfsm(LuaState& lua) {
   lua_setglobal(L, "rfsm");
 }
 
-std::unique_ptr<RfsmChart> RfsmChart::loadFile(LuaState& lua, const std::string& path) {
-  installRfsm(lua);
+namespace {
+
+/// Runs the chunk on top of the stack and builds the chart it returns; `name` for messages.
+std::unique_ptr<RfsmChart> runChunk(LuaState& lua, const std::string& name) {
   lua_State* L = lua.get();
-  if (luaL_loadfile(L, path.c_str()) != LUA_OK) throw core::Error("cannot load chart " + popMessage(L));
   const int status = lua_pcall(L, 0, 1, 0);
   if (status != LUA_OK) throw core::Error(lua.popError(status));
   if (!lua_istable(L, -1)) {
     lua_pop(L, 1);
-    throw core::Error(path + ": the chart file must return an rfsm.state (return rfsm.state{ ... })");
+    throw core::Error(name + ": the chart must return an rfsm.state (return rfsm.state{ ... })");
   }
   try {
     auto chart = RfsmAccess::describeModel(lua, -1);
@@ -258,24 +259,19 @@ std::unique_ptr<RfsmChart> RfsmChart::loadFile(LuaState& lua, const std::string&
   }
 }
 
+}  // namespace
+
+std::unique_ptr<RfsmChart> RfsmChart::loadFile(LuaState& lua, const std::string& path) {
+  installRfsm(lua);
+  if (luaL_loadfile(lua.get(), path.c_str()) != LUA_OK) throw core::Error("cannot load chart " + popMessage(lua.get()));
+  return runChunk(lua, path);
+}
+
 std::unique_ptr<RfsmChart> RfsmChart::loadString(LuaState& lua, const std::string& code, const std::string& chunk_name) {
   installRfsm(lua);
-  lua_State* L = lua.get();
-  if (luaL_loadbuffer(L, code.data(), code.size(), chunk_name.c_str()) != LUA_OK) throw core::Error(popMessage(L));
-  const int status = lua_pcall(L, 0, 1, 0);
-  if (status != LUA_OK) throw core::Error(lua.popError(status));
-  if (!lua_istable(L, -1)) {
-    lua_pop(L, 1);
-    throw core::Error(chunk_name + ": the chart must return an rfsm.state (return rfsm.state{ ... })");
-  }
-  try {
-    auto chart = RfsmAccess::describeModel(lua, -1);
-    lua_pop(L, 1);
-    return chart;
-  } catch (...) {
-    lua_pop(L, 1);
-    throw;
-  }
+  if (luaL_loadbuffer(lua.get(), code.data(), code.size(), chunk_name.c_str()) != LUA_OK)
+    throw core::Error(popMessage(lua.get()));
+  return runChunk(lua, chunk_name.starts_with("@") || chunk_name.starts_with("=") ? chunk_name.substr(1) : chunk_name);
 }
 
 RfsmChart::RfsmChart(LuaState& lua, int description_ref) : lua_(&lua), description_ref_(description_ref) {}
