@@ -105,6 +105,7 @@ void registerBuiltins() {
     typeInfo<KDL::Wrench>();
     typeInfo<KDL::JntArray>();
     typeInfo<Event>();
+    typeInfo<TaskState>();
     return true;
   }();
   (void)done;
@@ -249,6 +250,15 @@ bool DataTypeTraits<KDL::JntArray>::parse(std::string_view text, KDL::JntArray& 
   if (!parseList(text, v)) return false;
   out.resize(static_cast<unsigned>(v.size()));
   std::copy(v.begin(), v.end(), out.data.data());
+  return true;
+}
+
+std::string DataTypeTraits<TaskState>::print(const TaskState& value) { return value.path.str(); }
+bool DataTypeTraits<TaskState>::parse(std::string_view text, TaskState& out) {
+  text = trim(text);
+  if (text.empty() || text.size() > decltype(out.path)::capacity() || text.find_first_of(" \t") != std::string_view::npos)
+    return false;
+  out.path = text;
   return true;
 }
 

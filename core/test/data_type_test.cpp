@@ -79,13 +79,22 @@ std::vector<Expected> builtins() {
           {"KDL.Twist", DataKind::Pure, typeid(KDL::Twist)},
           {"KDL.Wrench", DataKind::Pure, typeid(KDL::Wrench)},
           {"KDL.JntArray", DataKind::Pure, typeid(KDL::JntArray)},
-          {"Event", DataKind::Logic, typeid(Event)}};
+          {"Event", DataKind::Logic, typeid(Event)},
+          {"TaskState", DataKind::Logic, typeid(TaskState)}};
 }
 
 // --- registry --------------------------------------------------------------------------------
 
 // Found by fuzz/value_text_fuzz: a half turn's quaternion has qw = ±0 depending on the path, so
 // printing -0 made print(parse(print(x))) differ from print(x).
+TEST(DataTypeText, TaskStateIsAPathWithoutSpaces) {
+  TaskState state;
+  ASSERT_TRUE(DataTypeTraits<TaskState>::parse(" root.on.moving ", state));
+  EXPECT_EQ(printValue(state), "root.on.moving");
+  EXPECT_FALSE(DataTypeTraits<TaskState>::parse("root on", state));
+  EXPECT_FALSE(DataTypeTraits<TaskState>::parse(std::string(128, 'x'), state));
+}
+
 TEST(DataTypeText, NegativeZeroPrintsAsZeroSoPrintedTextIsStable) {
   EXPECT_EQ(printValue(-0.0), "0");
   KDL::Frame frame;
@@ -108,8 +117,9 @@ TEST(TypeRegistry, EveryBuiltinIsRegisteredWithItsNameKindAndFormat) {
   }
 }
 
-TEST(TypeRegistry, EventIsTheOnlyLogicBuiltin) {
+TEST(TypeRegistry, EventAndTaskStateAreTheLogicBuiltins) {
   EXPECT_EQ(typeInfo<Event>().kind, DataKind::Logic);
+  EXPECT_EQ(typeInfo<TaskState>().kind, DataKind::Logic);
   EXPECT_EQ(typeInfo<double>().kind, DataKind::Pure);
   EXPECT_EQ(typeInfo<KDL::Frame>().kind, DataKind::Pure);
   EXPECT_EQ(toString(DataKind::Pure), "pure data");

@@ -109,6 +109,7 @@ COBRA_DECLARE_BUILTIN_TRAITS_(KDL::Twist, "KDL.Twist", Pure, "[vx, vy, vz, wx, w
 COBRA_DECLARE_BUILTIN_TRAITS_(KDL::Wrench, "KDL.Wrench", Pure, "[fx, fy, fz, tx, ty, tz] in N and N·m");
 COBRA_DECLARE_BUILTIN_TRAITS_(KDL::JntArray, "KDL.JntArray", Pure, "a list of joint values, e.g. [0, 0.5, 1.2]");
 COBRA_DECLARE_BUILTIN_TRAITS_(Event, "Event", Logic, "an event name, e.g. e_done");
+COBRA_DECLARE_BUILTIN_TRAITS_(TaskState, "TaskState", Logic, "a state path, e.g. root.on.moving");
 
 #undef COBRA_DECLARE_BUILTIN_TRAITS_
 

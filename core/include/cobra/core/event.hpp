@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// The logic-data `Event` carried by `events` ports between components and supervisors.
+/// The logic data of coordination: the `Event` carried by `events` ports between components and
+/// supervisors, and the `TaskState` a supervisor publishes.
 
 #include <chrono>
 
@@ -18,6 +19,15 @@ struct Event {
   std::chrono::nanoseconds stamp{0};
 
   friend bool operator==(const Event&, const Event&) = default;
+};
+
+/// The active state of a task chart, as its full path ("root.opening.approach"): what a
+/// Supervisor's `taskState` port carries (thesis §4.5.10). Paths longer than 127 characters are
+/// truncated.
+struct TaskState {
+  BoundedString<127> path;
+
+  friend bool operator==(const TaskState&, const TaskState&) = default;
 };
 
 }  // namespace cobra::core
