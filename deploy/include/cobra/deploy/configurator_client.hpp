@@ -46,6 +46,8 @@ class ConfiguratorClient {
   bool attached() const noexcept { return configurator_.load(std::memory_order_acquire) != nullptr; }
 
  protected:
+  /// The Configurator serving this client, or nullptr (e.g. to look up peers at configure time).
+  Configurator* configurator() const noexcept { return configurator_.load(std::memory_order_acquire); }
   /// Called by the Configurator, between steps of every component, after carrying out
   /// `request`: `ok` false with the error in `message` when it failed (nothing changed then).
   virtual void onRequestDone(const SwitchRequest& request, bool ok, std::string_view message) = 0;

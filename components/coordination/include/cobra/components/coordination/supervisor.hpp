@@ -1,0 +1,82 @@
+#pragma once
+/// @file
+/// The Supervisor component (thesis §4.5.10, DESIGN §5): a Supervision component that runs one
+/// rFSM chart. Task, deployment and configuration supervisors (Fig. 2.6) are three instances of
+/// it with different charts.
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "cobra/core/component.hpp"
+#include "cobra/deploy/configurator_client.hpp"
+#include "cobra/script/lua_state.hpp"
+#include "cobra/script/rfsm.hpp"
+#include "cobra/statechart/machine.hpp"
+
+namespace cobra::components {
+
+/// Interface:
+/// - property `fsm_path`: the rFSM chart file (`return rfsm.state{ ... }`); its folder is on the
+///   chart's package.path, so a chart can `require` helpers next to it; `lua_pool_size` (B): the
+///   chart's Lua memory, reserved at configure (0: unbounded); `max_steps` per update;
+/// - ports `inputEvents` (event port: an event named N from component S reaches the chart as two
+///   events of the same step, N and N@S, unless N already has an @), `outputEvents`, and
+///   `taskState` (TaskState: the active leaf's full path, written when it changes).
+///
+/// In the chart's Lua code (besides the `rfsm` module): `emit(name)` writes an event on
+/// outputEvents; `raise(name)` queues an event for the chart itself; `applyDeployment(name)` and
+/// `applyConfiguration(name)` ask the Configurator that made this component for a switch (true if
+/// queued), answered by the events `e_deployment_done@<name>` / `e_deployment_failed@<name>` and
+/// `e_configuration_done@<name>` / `e_configuration_failed@<name>`; `self` is this component and
+/// each peer (addPeers) is a global under its name, with everything script/bindings.hpp gives
+/// (`TrajGen:askStartMove()`, `Planner.min_distance`, ...).
+///
+/// The chart is stepped until idle (rfsm.run) on every update: when events arrive (inputEvents is
+/// an event port) and at every period of a periodic activity (for doo and time events, which use
+/// this component's clock: simulated on the lockstep clock). Real time: stepping, emit, raise and
+/// the switch requests allocate nothing from the system once configured (Lua's own allocations
+/// come from the pool). A chart callback that fails is printed with its file:line and counted in
+/// `chart_errors`; the chart goes on, as rFSM does.
+class Supervisor : public core::Component, public deploy::ConfiguratorClient {
+ public:
+  explicit Supervisor(std::string name);
+  ~Supervisor() override;
+
+  /// The chart's active leaf ("" before start). From the component's thread or when not running.
+  std::string_view activeState() const;
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+  void cleanupHook() override;
+  void onRequestDone(const deploy::SwitchRequest& request, bool ok, std::string_view message) override;
+
+ private:
+  friend struct SupervisorLua;
+  void publishState() noexcept;
+  void emitChartEvent(std::string_view name) noexcept;
+  /// Raises `a` followed by `b` (b may be empty) as one event name, without allocating.
+  void raiseJoined(std::string_view a, std::string_view b) noexcept;
+
+  core::Property<std::string> fsm_path_{"fsm_path", "", "", "rFSM chart file (return rfsm.state{ ... })"};
+  core::Property<int> pool_size_{"lua_pool_size", 512 * 1024, "B",
+                                 "Lua memory of the chart, reserved at configure; 0 = unbounded (not real-time)"};
+  core::Property<int> max_steps_{"max_steps", 1000, "1", "most chart steps per update (a busy doo stops there)"};
+  core::Property<int> chart_errors_{"chart_errors", 0, "1", "chart callbacks that failed since configure"};
+
+  core::InputPort<core::Event> input_events_{"inputEvents", "events for the chart (from components and supervisors)", ""};
+  core::OutputPort<core::Event> output_events_{"outputEvents", "events the chart emits", ""};
+  core::OutputPort<core::TaskState> task_state_{"taskState", "the chart's active state (full path)", ""};
+  /// The Configurator's answers, written by its thread into inputEvents (not a port of the interface).
+  core::OutputPort<core::Event> answers_{"supervisor_answers", "answers to switch requests", ""};
+
+  std::unique_ptr<script::LuaState> lua_;
+  std::unique_ptr<script::RfsmChart> chart_;
+  std::unique_ptr<statechart::Machine> machine_;
+  std::unique_ptr<statechart::Observer> observer_;
+  const char* published_ = nullptr;  // the leaf last written on taskState
+};
+
+}  // namespace cobra::components

@@ -1,0 +1,205 @@
+// The Supervisor component on the lockstep clock: charts driven by events, peers' operations,
+// time events, and the three-supervisor pattern (thesis Fig. 2.6) switching real deployments.
+#include "cobra/components/coordination/supervisor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cobra/components/coordination/package.hpp"
+#include "cobra/components/signal/recorder.hpp"
+#include "cobra/deploy/deploy.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+using deploy::SourceLocation;
+
+const std::string kSource = COBRA_SOURCE_DIR;
+
+std::string writeChart(const std::string& name, const std::string& code) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << code;
+  return path;
+}
+
+/// A Configurator on the lockstep clock with the signal and coordination packages.
+struct Cell {
+  deploy::Configurator configurator;
+  std::unique_ptr<core::OutputPortBase> events_in;  // the test's events into a supervisor
+  core::InputPort<core::Event> events_out{"out", "", ""};
+  core::InputPort<core::TaskState> state{"state", "", ""};
+
+  explicit Cell(std::initializer_list<deploy::ComponentSpec> components) {
+    configurator.packages().addBuiltin("cobra_coordination", registerCoordinationPackage);
+    configurator.initConfigurator({{"cobra_signal", {}}, {"cobra_coordination", {}}}, components);
+  }
+  core::Component& get(const char* name) { return configurator.getReferences().get(name); }
+  void watch(const char* supervisor) {
+    auto& input = static_cast<core::InputPortBase&>(get(supervisor).port("inputEvents"));
+    events_in = input.makeWriter("test", "test events");
+    events_in->connectTo(input, core::ConnPolicy::buffer(16));
+    core::connectPorts(get(supervisor).port("outputEvents"), events_out, core::ConnPolicy::buffer(64));
+    core::connectPorts(get(supervisor).port("taskState"), state, core::ConnPolicy::buffer(64));
+  }
+  void send(const std::string& event) { ASSERT_EQ(events_in->writeText(event), core::WriteStatus::Written); }
+  std::vector<std::string> emitted() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events_out.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
+  std::vector<std::string> states() {
+    std::vector<std::string> paths;
+    core::TaskState s;
+    while (state.read(s) == core::FlowStatus::NewData) paths.push_back(s.path.str());
+    return paths;
+  }
+  void step(std::chrono::nanoseconds d = 1ms) { configurator.clock().advance(d); }
+};
+
+TEST(Supervisor, RunsTheThesisFigure32ChartOnItsEventsAndPublishesTheTaskState) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  cell.get("Sup").setProperty("fsm_path", kSource + "/script/test/charts/fig32.lua");
+  cell.watch("Sup");
+  cell.configurator.configureComponents({{"Sup", {}}});
+  cell.configurator.startComponents({{"Sup", {}}});
+  EXPECT_EQ(static_cast<Supervisor&>(cell.get("Sup")).activeState(), "root.on.waiting");
+  for (const char* e : {"e_start", "e_error", "e_error_fixed", "e_stop"}) {
+    cell.send(e);
+    cell.step();
+  }
+  EXPECT_EQ(cell.states(), (std::vector<std::string>{"root.on.waiting", "root.on.moving", "root.error",
+                                                     "root.on.waiting"}));  // e_stop in waiting: no change
+}
+
+TEST(Supervisor, ChartsEmitEventsCallPeersAndSeeSourcesOfEvents) {
+  Cell cell({{"Sup", "Supervisor", {}}, {"Rec", "Recorder", {}}});
+  const std::string chart = writeChart("peers.lua", R"(
+return rfsm.state {
+  idle = rfsm.state {},
+  counted = rfsm.state { entry = function() emit("e_count_" .. Rec:count()) Rec:clear() end },
+  rfsm.trans { src = 'initial', tgt = 'idle' },
+  rfsm.trans { src = 'idle', tgt = 'counted', events = { 'e_tick@Sensor' } },
+  rfsm.trans { src = 'counted', tgt = 'idle', events = { 'e_tick' } },
+})");
+  cell.get("Sup").setProperty("fsm_path", chart);
+  cell.configurator.addPeers({{"Sup", {"Rec"}, {}}});
+  cell.watch("Sup");
+  cell.configurator.configureComponents({{"Sup", {}}, {"Rec", {}}});
+  cell.configurator.startComponents({{"Sup", {}}, {"Rec", {}}});
+  cell.send("e_tick");  // no source: only e_tick, which idle does not wait for
+  cell.step();
+  EXPECT_EQ(static_cast<Supervisor&>(cell.get("Sup")).activeState(), "root.idle");
+  cell.send("e_tick from Sensor");  // e_tick and e_tick@Sensor in one step
+  cell.step();
+  EXPECT_EQ(static_cast<Supervisor&>(cell.get("Sup")).activeState(), "root.counted");
+  EXPECT_EQ(cell.emitted(), std::vector<std::string>{"e_count_0"});
+}
+
+TEST(Supervisor, TimeEventsRunOnTheComponentsClock) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  const std::string chart = writeChart("timed.lua", R"(
+return rfsm.state {
+  a = rfsm.state {}, b = rfsm.state { entry = function() emit("e_timed_out") end },
+  rfsm.trans { src = 'initial', tgt = 'a' },
+  rfsm.trans { src = 'a', tgt = 'b', events = { 'e_after(1.5)' } },
+})");
+  cell.get("Sup").setProperty("fsm_path", chart);
+  cell.watch("Sup");
+  cell.configurator.setActivities({{"Sup", 0.01, 0, "ORO_SCHED_OTHER", {}}});
+  cell.configurator.configureComponents({{"Sup", {}}});
+  cell.configurator.startComponents({{"Sup", {}}});
+  cell.step(1490ms);
+  EXPECT_TRUE(cell.emitted().empty());
+  cell.step(30ms);  // simulated time: nothing waits for the wall clock
+  EXPECT_EQ(cell.emitted(), std::vector<std::string>{"e_timed_out"});
+}
+
+TEST(Supervisor, ThreeSupervisorsSwitchDeploymentsAndConfigurationsForTheTask) {
+  Cell cell({{"TaskSup", "Supervisor", {}},
+             {"DepSup", "Supervisor", {}},
+             {"ConfSup", "Supervisor", {}},
+             {"Source", "Constant", {}},
+             {"Rec", "Recorder", {}}});
+  const std::string charts = kSource + "/components/coordination/charts/";
+  const std::string task = writeChart("task.lua", R"(
+return rfsm.state {
+  preparing = rfsm.state { entry = function() emit("e_configure_loud") end },
+  recording = rfsm.state { entry = function() emit("e_deploy_record") end },
+  done = rfsm.state {},
+  failed = rfsm.state {},
+  rfsm.trans { src = 'initial', tgt = 'preparing' },
+  rfsm.trans { src = 'preparing', tgt = 'recording', events = { 'e_configured_loud' } },
+  rfsm.trans { src = 'recording', tgt = 'done', events = { 'e_deployed_record' } },
+  rfsm.trans { src = 'recording', tgt = 'failed', events = { 'e_deploy_failed_record' } },
+})");
+  cell.get("TaskSup").setProperty("fsm_path", task);
+  cell.get("DepSup").setProperty("fsm_path", charts + "deployment_supervisor.lua");
+  cell.get("ConfSup").setProperty("fsm_path", charts + "configuration_supervisor.lua");
+  auto& set = cell.configurator.deploymentSet();
+  set.addDeployment({"record", {"record.lua", 1}, {{"Source", {}}, {"Rec", {}}},
+                     {{"Source", 0.001, 0, "ORO_SCHED_OTHER", {}}}, {{"Source.out", "Rec.in", {"buffer", 16}, {}}}});
+  set.addConfiguration({"loud", {"loud.cfg", 1}, {{"Source", "value", "7", {"loud.cfg", 2}}}});
+  const deploy::ConnPolicySpec events{"buffer", 16};
+  cell.configurator.connectPorts({{"TaskSup.outputEvents", "DepSup.inputEvents", events, {}},
+                                  {"TaskSup.outputEvents", "ConfSup.inputEvents", events, {}},
+                                  {"DepSup.outputEvents", "TaskSup.inputEvents", events, {}},
+                                  {"ConfSup.outputEvents", "TaskSup.inputEvents", events, {}}});
+  core::InputPort<core::TaskState> task_state{"task", "", ""};
+  core::connectPorts(cell.get("TaskSup").port("taskState"), task_state, core::ConnPolicy::buffer(16));
+  cell.configurator.configureComponents({{"DepSup", {}}, {"ConfSup", {}}, {"TaskSup", {}}});
+  cell.configurator.startComponents({{"DepSup", {}}, {"ConfSup", {}}, {"TaskSup", {}}});
+  EXPECT_EQ(cell.get("Rec").state(), core::State::PreOperational);
+  cell.step(20ms);
+  std::vector<std::string> path;
+  core::TaskState s;
+  while (task_state.read(s) == core::FlowStatus::NewData) path.push_back(s.path.str());
+  EXPECT_EQ(path, (std::vector<std::string>{"root.preparing", "root.recording", "root.done"}));
+  EXPECT_EQ(cell.configurator.currentDeployment(), "record");
+  EXPECT_EQ(cell.configurator.currentConfiguration(), "loud");
+  EXPECT_EQ(cell.get("Rec").state(), core::State::Running);
+  EXPECT_GT(static_cast<Recorder&>(cell.get("Rec")).samples().size(), 5U);
+  EXPECT_EQ(static_cast<Recorder&>(cell.get("Rec")).samples().back().value, 7.0);
+}
+
+TEST(Supervisor, RefusesToConfigureWithoutAWorkingChart) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  core::Component& sup = cell.get("Sup");
+  EXPECT_CONTAINS(sup.configure().message, "set fsm_path to the chart file");
+  sup.setProperty("fsm_path", writeChart("broken.lua", "return rfsm.state {\n  rfsm.trans { src = 'initial' },\n}\n"));
+  const core::Result r = sup.configure();
+  EXPECT_FALSE(r);
+  EXPECT_CONTAINS(r.message, "broken.lua:2: transition from 'initial' in root has no tgt");
+  EXPECT_EQ(sup.state(), core::State::PreOperational);
+}
+
+TEST(Supervisor, SteppingOnEventsAllocatesNothing) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  cell.get("Sup").setProperty("fsm_path", kSource + "/script/test/charts/fig32.lua");
+  cell.watch("Sup");
+  cell.configurator.configureComponents({{"Sup", {}}});
+  cell.configurator.startComponents({{"Sup", {}}});
+  for (const char* e : {"e_start", "e_stop"}) {  // warm up: Lua interns the names
+    cell.send(e);
+    cell.step();
+  }
+  (void)cell.states();
+  auto& events = static_cast<core::OutputPort<core::Event>&>(*cell.events_in);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 50; ++i)
+                for (const char* e : {"e_start", "e_stop", "e_error", "e_error_fixed"}) {
+                  core::Event event;
+                  event.name = e;
+                  (void)events.write(event);
+                  cell.step();
+                }
+            }),
+            0);
+}
+
+}  // namespace
+}  // namespace cobra::components
