@@ -1,11 +1,13 @@
 #include "builtin_packages.hpp"
 
+#include "cobra/components/coordination/package.hpp"
 #include "cobra/components/motion/package.hpp"
 
 namespace cobra::tools {
 
 void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_motion", components::registerMotionPackage);
+  configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
 }
 
 }  // namespace cobra::tools

@@ -1,0 +1,85 @@
+-- The door example (thesis §2.2, Figs. 2.5 and 2.6): a simulated door, five deployments, two
+-- configurations, and the three supervisors — task, deployment, configuration — as three
+-- instances of the same Supervisor component with different charts.
+-- Run: build/release/apps/door/cobra-door  (it loads this file; see main.cpp)
+
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+local charts = here .. "../../components/coordination/charts/"
+
+packages_list = { "cobra_signal", "cobra_coordination", "door_example" }
+components_list = {
+  { peer_name = "Door", component_type = "DoorSim" },
+  -- set-points of the arm, gripper, handle torque and pull force (values from configurations)
+  { peer_name = "ArmCmd", component_type = "Constant" },
+  { peer_name = "GripCmd", component_type = "Constant" },
+  { peer_name = "TorqueCmd", component_type = "Constant" },
+  { peer_name = "PullCmd", component_type = "Constant" },
+  -- situation awareness: Decision components turning measurements into events
+  { peer_name = "AtHandle", component_type = "ThresholdDetector" },
+  { peer_name = "Gripped", component_type = "ThresholdDetector" },
+  { peer_name = "Unlatched", component_type = "ThresholdDetector" },
+  { peer_name = "DoorOpen", component_type = "ThresholdDetector" },
+  -- coordination
+  { peer_name = "TaskSup", component_type = "Supervisor" },
+  { peer_name = "DepSup", component_type = "Supervisor" },
+  { peer_name = "ConfSup", component_type = "Supervisor" },
+}
+initConfigurator(packages_list, components_list, here .. "configurations")
+getReferences()
+
+TaskSup.fsm_path = here .. "door_task.lua"
+DepSup.fsm_path = charts .. "deployment_supervisor.lua"
+ConfSup.fsm_path = charts .. "configuration_supervisor.lua"
+ArmCmd.value = 0.5      -- m: where the handle is
+GripCmd.value = 1       -- close
+AtHandle.threshold = 0.495   -- m
+Gripped.threshold = 0.5
+Unlatched.threshold = 0.7    -- rad
+DoorOpen.threshold = 1.2     -- rad
+
+-- Always running: the world, the detectors and the supervisors.
+setActivities({
+  { peer_name = "Door", period = 0.001 },
+  { peer_name = "ArmCmd", period = 0.001 },
+  { peer_name = "GripCmd", period = 0.001 },
+  { peer_name = "TorqueCmd", period = 0.001 },
+  { peer_name = "PullCmd", period = 0.001 },
+  { peer_name = "TaskSup", period = 0.01 },
+  { peer_name = "DepSup", period = 0.01 },
+  { peer_name = "ConfSup", period = 0.01 },
+})
+local buffered = { type = "buffer", size = 32 }
+connectPorts({
+  { output = "Door.armPosition", input = "AtHandle.in" },
+  { output = "Door.gripped", input = "Gripped.in" },
+  { output = "Door.handleAngle", input = "Unlatched.in" },
+  { output = "Door.doorAngle", input = "DoorOpen.in" },
+  { output = "AtHandle.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "Gripped.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "Unlatched.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "DoorOpen.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
+  { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
+  { output = "DepSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "ConfSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },
+})
+local always = { "Door", "AtHandle", "Gripped", "Unlatched", "DoorOpen", "DepSup", "ConfSup", "TaskSup" }
+configureComponents(always)
+startComponents(always)
+
+-- One deployment per task state: which set-point sources run, and what they feed.
+local function deployment(name, sources)
+  local components, connections = {}, {}
+  for source, input in pairs(sources) do
+    components[#components + 1] = source
+    connections[#connections + 1] = { output = source .. ".out", input = "Door." .. input }
+  end
+  table.sort(components)
+  table.sort(connections, function(a, b) return a.output < b.output end)
+  defineDeployment(name, { components = components, connections = connections })
+end
+deployment("approach", { ArmCmd = "armTarget" })
+deployment("grasp", { ArmCmd = "armTarget", GripCmd = "gripCommand" })
+deployment("turn", { GripCmd = "gripCommand", TorqueCmd = "handleTorque" })
+deployment("pull", { GripCmd = "gripCommand", PullCmd = "pullForce" })
+deployment("release", {})
