@@ -4,6 +4,7 @@
 //   cobra graph FILE -o out.svg
 //   cobra describe FILE [-o out.lua]
 //   cobra console [FILE] [--sim] [--strict]
+//   cobra fsm run FILE [--events "e1 e2 -"] | cobra fsm check FILE | cobra fsm graph FILE -o fsm.svg
 //   cobra new component NAME --role R --package P [-o DIR] [--in n:T[:unit]] [--out ...] [--prop ...]
 
 #include <CLI/CLI.hpp>
@@ -18,10 +19,12 @@
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/script/rfsm.hpp"
 #include "builtin_packages.hpp"
 #include "console.hpp"
 #include "console_terminal.hpp"
 #include "describe.hpp"
+#include "fsm_command.hpp"
 #include "new_component.hpp"
 
 #include <cstdlib>
@@ -110,31 +113,43 @@ int runLint(const std::string& file) {
   return violations.empty() ? 0 : 1;
 }
 
-/// Deploys `file` on the simulation clock (nothing runs) and draws it: DOT, or SVG/PNG/PDF
-/// through Graphviz's `dot` according to the output's extension.
+/// Writes Graphviz `dot` as `output`: DOT, or SVG/PNG/PDF through Graphviz's `dot` according to
+/// the output's extension.
+void renderDot(const std::string& dot, const std::string& output) {
+  const std::filesystem::path out(output);
+  if (out.extension() == ".dot") {
+    std::ofstream(out) << dot;
+    return;
+  }
+  const std::string format = out.extension().string().substr(out.extension().empty() ? 0 : 1);
+  if (format != "svg" && format != "png" && format != "pdf")
+    throw std::runtime_error("output " + output + ": use .svg, .png, .pdf or .dot");
+  const auto dot_file = std::filesystem::path(output + ".dot");
+  std::ofstream(dot_file) << dot;
+  const std::string command = "dot -T" + format + " '" + dot_file.string() + "' -o '" + output + "'";
+  const int status = std::system(command.c_str());
+  std::filesystem::remove(dot_file);
+  if (status != 0) throw std::runtime_error("Graphviz failed (" + command + "); is graphviz installed?");
+}
+
+/// Deploys `file` on the simulation clock (nothing runs) and draws it.
 int runGraph(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
   tools::addBuiltinPackages(configurator);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
-  const std::string dot = deploy::graphvizDot(configurator.getReferences(), std::filesystem::path(file).filename().string());
-  const std::filesystem::path out(output);
-  if (out.extension() == ".dot") {
-    std::ofstream(out) << dot;
-  } else {
-    const std::string format = out.extension().string().substr(out.extension().empty() ? 0 : 1);
-    if (format != "svg" && format != "png" && format != "pdf")
-      throw std::runtime_error("output " + output + ": use .svg, .png, .pdf or .dot");
-    const auto dot_file = std::filesystem::path(output + ".dot");
-    std::ofstream(dot_file) << dot;
-    const std::string command = "dot -T" + format + " '" + dot_file.string() + "' -o '" + output + "'";
-    const int status = std::system(command.c_str());
-    std::filesystem::remove(dot_file);
-    if (status != 0) throw std::runtime_error("Graphviz failed (" + command + "); is graphviz installed?");
-  }
+  renderDot(deploy::graphvizDot(configurator.getReferences(), std::filesystem::path(file).filename().string()), output);
   std::printf("drew %zu component(s) of %s in %s\n", configurator.getReferences().components().size(), file.c_str(),
               output.c_str());
+  return 0;
+}
+
+int runFsmGraph(const std::string& file, const std::string& output) {
+  script::LuaState lua;
+  const auto chart = script::RfsmChart::loadFile(lua, file);
+  renderDot(tools::chartDot(chart->chart(), std::filesystem::path(file).filename().string()), output);
+  std::printf("drew %zu state(s) of %s in %s\n", chart->chart().nodes().size(), file.c_str(), output.c_str());
   return 0;
 }
 
@@ -209,6 +224,22 @@ int main(int argc, char** argv) {
   console_cmd->footer("example: cobra console apps/examples/configurator_listing.lua --sim\n"
                       "         then: ls, cd TrajGen, set k 2, step 0.1, trace out 5, Reporter.count(), help");
 
+  std::string fsm_file, fsm_events, fsm_output;
+  CLI::App* fsm_cmd = app.add_subcommand("fsm", "rFSM charts: run, check or draw one");
+  fsm_cmd->require_subcommand(1);
+  CLI::App* fsm_run = fsm_cmd->add_subcommand("run", "run a chart until idle, then once per event, printing the active state");
+  fsm_run->add_option("FILE", fsm_file, "rFSM chart (return rfsm.state{ ... })")->required()->check(CLI::ExistingFile);
+  fsm_run->add_option("--events", fsm_events, "events, whitespace-separated; - sends none");
+  fsm_run->footer("example: cobra fsm run script/test/charts/fig32.lua --events \"e_start e_error - e_error_fixed\"\n"
+                  "prints one line with the active state's full path, then one per token");
+  CLI::App* fsm_check = fsm_cmd->add_subcommand("check", "validate a chart and list its states and transitions");
+  fsm_check->add_option("FILE", fsm_file, "rFSM chart")->required()->check(CLI::ExistingFile);
+  fsm_check->footer("example: cobra fsm check apps/door/door_task.lua   (exit status 2 on errors)");
+  CLI::App* fsm_graph = fsm_cmd->add_subcommand("graph", "draw a chart (Graphviz; composite states as nested boxes)");
+  fsm_graph->add_option("FILE", fsm_file, "rFSM chart")->required()->check(CLI::ExistingFile);
+  fsm_graph->add_option("-o,--output", fsm_output, "output file: .svg, .png, .pdf or .dot")->required();
+  fsm_graph->footer("example: cobra fsm graph apps/door/door_task.lua -o door_task.svg");
+
   tools::ComponentTemplate skeleton;
   std::string new_folder;
   std::vector<std::string> ins, event_ins, outs, props;
@@ -237,6 +268,9 @@ int main(int argc, char** argv) {
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);
     if (*console_cmd) return runConsole(console_file, console_sim, console_strict);
+    if (*fsm_run) return tools::runFsm(fsm_file, fsm_events);
+    if (*fsm_check) return tools::checkFsm(fsm_file);
+    if (*fsm_graph) return runFsmGraph(fsm_file, fsm_output);
     if (*new_component_cmd) {
       for (const auto& text : ins) skeleton.inputs.push_back(tools::parseInterfaceItem(text, "--in"));
       for (const auto& text : event_ins) skeleton.event_inputs.push_back(tools::parseInterfaceItem(text, "--event-in"));
