@@ -82,13 +82,14 @@ case "${1:-help}" in
     done ;;
   fuzz)
     seconds="${2:-60}"
-    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz
+    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz
     mkdir -p build/fuzz/corpus
-    for f in value_text_fuzz channel_fuzz configuration_text_fuzz; do
+    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
+      seeds=(); [ -d "fuzz/seeds/$f" ] && seeds=("fuzz/seeds/$f")  # read-only starting inputs
       if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
-          "build/fuzz/corpus/$f" >build/fuzz/$f.log 2>&1; then
+          "build/fuzz/corpus/$f" "${seeds[@]}" >build/fuzz/$f.log 2>&1; then
         tail -n 40 "build/fuzz/$f.log"
         echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ (see above)" >&2
         exit 1

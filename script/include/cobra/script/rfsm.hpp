@@ -64,9 +64,6 @@ class RfsmChart {
   LuaState* lua_;
   int description_ref_;
   statechart::Chart chart_;
-  const void* last_events_ = nullptr;
-  std::size_t last_event_count_ = 0;
-  std::uint64_t refreshes_ = 0;
   friend struct RfsmAccess;
 };
 
