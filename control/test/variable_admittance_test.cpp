@@ -1,0 +1,204 @@
+// Tank-based variable admittance (thesis §4.5.3): physics, energy audits with and without the
+// tank, run-time parameter changes, SO(3) handling, configure errors and the real-time rule.
+#include "cobra/control/variable_admittance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::control {
+namespace {
+
+constexpr double kDt = 1e-3;  // s: the thesis' 1 kHz
+
+Matrix6 diagonal(double translation, double rotation) {
+  Vector6 d;
+  d << translation, translation, translation, rotation, rotation, rotation;
+  return d.asDiagonal();
+}
+
+AdmittanceParameters baseline() {
+  AdmittanceParameters p;
+  p.constant_inertia = diagonal(1.0, 0.05);
+  p.constant_stiffness = diagonal(100.0, 2.0);
+  p.inertia = p.constant_inertia;
+  p.stiffness = diagonal(500.0, 10.0);
+  p.damping = diagonal(40.0, 1.0);
+  p.tank = {5.0, 20.0, 1.0};
+  return p;
+}
+
+TEST(VariableAdmittance, SteadyStateDeflectionIsForceOverStiffness) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  const KDL::Wrench push(KDL::Vector(5.0, 0, 0), KDL::Vector(0, 0, 0.2));
+  for (int i = 0; i < 10000; ++i) a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), push, kDt, pose, twist);
+  EXPECT_NEAR(pose.p.x(), 5.0 / 500.0, 1e-9);  // F / K, m
+  double angle = 0.0;
+  KDL::Vector axis;
+  angle = pose.M.GetRotAngle(axis);
+  EXPECT_NEAR(angle, 0.2 / 10.0, 1e-9);  // τ / K_rot, rad, about z
+  EXPECT_NEAR(axis.z(), 1.0, 1e-9);
+  EXPECT_NEAR(twist.vel.Norm(), 0.0, 1e-9);
+}
+
+TEST(VariableAdmittance, TheRotationStaysOnSO3ForLargeErrors) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  const KDL::Frame reference(KDL::Rotation::RPY(0.3, -0.2, 1.0), KDL::Vector(0.1, 0.2, 0.3));
+  const KDL::Wrench twist_hard(KDL::Vector(0, 0, 0), KDL::Vector(8.0, -6.0, 5.0));  // ~1 rad of error
+  for (int i = 0; i < 5000; ++i) a.step(reference, KDL::Twist::Zero(), twist_hard, kDt, pose, twist);
+  const KDL::Rotation& R = pose.M;
+  const KDL::Rotation should_be_identity = R * R.Inverse();
+  EXPECT_TRUE(KDL::Equal(should_be_identity, KDL::Rotation::Identity(), 1e-12));
+  // The error is exp coordinates in the reference's axes: the torque there over the stiffness.
+  const KDL::Vector torque_in_reference = reference.M.Inverse(twist_hard.torque);
+  KDL::Vector expected = torque_in_reference / 10.0;
+  const KDL::Rotation error = reference.M.Inverse() * R;
+  KDL::Vector axis;
+  const double angle = error.GetRotAngle(axis);
+  EXPECT_TRUE(KDL::Equal(axis * angle, expected, 1e-9));
+}
+
+TEST(VariableAdmittance, ChangingParametersNeverMakesThePoseJump) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose, before;
+  KDL::Twist twist;
+  const KDL::Wrench push(KDL::Vector(5.0, 0, 0), KDL::Vector::Zero());
+  for (int i = 0; i < 300; ++i) a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), push, kDt, before, twist);
+  ASSERT_EQ(a.setParameters(diagonal(10.0, 0.5), diagonal(80.0, 2.0), diagonal(5000.0, 50.0)), AdmittanceStatus::Ok);
+  a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), push, kDt, pose, twist);
+  EXPECT_LT((pose.p - before.p).Norm(), 0.1 * kDt + 1e-6);  // at most |v| dt: continuous
+  EXPECT_EQ(a.setParameters(diagonal(0.5, 0.01), diagonal(80.0, 2.0), diagonal(5000.0, 50.0)),
+            AdmittanceStatus::BadParameters);  // inertia below the constant part
+}
+
+/// One random run: a push, a stiff wall, and a random schedule of Λd and Kd.
+struct RunResult {
+  double delivered = 0.0;   // energy the controller gave the environment, J
+  double dissipated = 0.0;  // J
+  double lowest_tank = 1e9;
+};
+
+RunResult randomRun(std::uint64_t seed, bool use_tank) {
+  std::mt19937_64 rng(seed);
+  AdmittanceParameters p = baseline();
+  p.use_tank = use_tank;
+  VariableAdmittance a(p);
+  std::uniform_real_distribution<double> k(100.0, 20000.0), m(1.0, 100.0), hold(0.002, 0.02);
+  KDL::Frame pose = KDL::Frame::Identity();
+  KDL::Twist twist;
+  RunResult run;
+  double next_change = 0.0;
+  const double wall = 0.004, wall_stiffness = 3000.0;  // m, N/m
+  for (int i = 0; i < 2000; ++i) {
+    const double t = i * kDt;
+    if (t >= next_change) {
+      a.setParameters(diagonal(m(rng), 0.05), diagonal(20.0, 1.0), diagonal(k(rng), 2.0));
+      next_change = t + hold(rng);
+    }
+    const double x = pose.p.x();
+    double f = x > wall ? -wall_stiffness * (x - wall) : 0.0;  // the wall pushes back
+    if (t < 0.05) f += 15.0;                                    // a hand pushes at first
+    const double x_before = x;
+    a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), KDL::Wrench(KDL::Vector(f, 0, 0), KDL::Vector::Zero()), kDt,
+           pose, twist);
+    run.delivered -= f * (pose.p.x() - x_before);
+    run.lowest_tank = std::min(run.lowest_tank, a.tankEnergy());
+  }
+  run.dissipated = a.audit().dissipated;
+  return run;
+}
+
+// 1000 seeded random schedules: with the tank, the energy delivered to the environment never
+// exceeds the initial tank energy plus the energy dissipated, and the tank never drops below ε;
+// without it, the same schedules create energy.
+TEST(VariableAdmittance, TheTankKeepsRandomSchedulesPassiveAndWithoutItTheyAreNot) {
+  constexpr int kRuns = 1000;
+  int violations_without_tank = 0;
+  double worst_margin_with_tank = -1e9, most_created_without_tank = 0.0;
+  for (int i = 0; i < kRuns; ++i) {
+    const std::uint64_t seed = 20261122u + static_cast<std::uint64_t>(i);
+    const RunResult with = randomRun(seed, true);
+    EXPECT_LE(with.delivered, 5.0 + with.dissipated + 1e-9) << "seed " << seed;
+    EXPECT_LE(with.delivered, 5.0 + 1e-9) << "seed " << seed;  // stronger: no more than T(0)
+    EXPECT_GE(with.lowest_tank, 1.0 - 1e-12) << "seed " << seed;
+    worst_margin_with_tank = std::max(worst_margin_with_tank, with.delivered - 5.0);
+    const RunResult without = randomRun(seed, false);
+    // The bound the tank guarantees: at most T(0) delivered.
+    if (without.delivered > 5.0 + 1e-6) ++violations_without_tank;
+    most_created_without_tank = std::max(most_created_without_tank, without.delivered - 5.0);
+  }
+  std::printf("with the tank: worst delivered - T(0) = %.3f J; without: %d of %d runs deliver more than T(0), by up to "
+              "%.1f J\n",
+              worst_margin_with_tank, violations_without_tank, kRuns, most_created_without_tank);
+  // Without the tank the same schedules deliver more than T(0) (some pump energy without bound).
+  EXPECT_GE(violations_without_tank, 5);
+  EXPECT_GT(most_created_without_tank, 100.0);
+  RecordProperty("runs_creating_energy_without_tank", violations_without_tank);
+}
+
+TEST(VariableAdmittance, WithConstantParametersTheDiscreteBalanceHoldsEveryStep) {
+  VariableAdmittance a(baseline());
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 5.0);
+  KDL::Frame pose;
+  KDL::Twist twist;
+  double total_before = a.audit().stored + a.tankEnergy();
+  double environment = 0.0;
+  for (int i = 0; i < 5000; ++i) {
+    const double in_before = a.audit().from_environment;
+    ASSERT_EQ(a.step(KDL::Frame::Identity(), KDL::Twist::Zero(),
+                     KDL::Wrench(KDL::Vector(noise(rng), noise(rng), 0), KDL::Vector(0, 0, 0.1 * noise(rng))), kDt,
+                     pose, twist),
+              AdmittanceStatus::Ok);
+    const double total = a.audit().stored + a.tankEnergy();
+    environment += a.audit().from_environment - in_before;
+    EXPECT_LE(total - total_before, a.audit().from_environment - in_before + 1e-12) << "step " << i;
+    total_before = total;
+  }
+  EXPECT_GT(a.audit().dissipated, 0.0);
+}
+
+TEST(VariableAdmittance, BadParametersAreRefusedWithTheirName) {
+  AdmittanceParameters p = baseline();
+  p.damping(0, 0) = -1.0;
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { VariableAdmittance a(p); }),
+                  "VariableAdmittance: damping (N·s/m, N·m·s/rad) must be positive definite");
+  p = baseline();
+  p.stiffness = diagonal(50.0, 1.0);  // below Kc
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { VariableAdmittance a(p); }),
+                  "stiffness must be symmetric and at least constant_stiffness (Kd ≥ Kc)");
+  p = baseline();
+  p.tank = {0.5, 20.0, 1.0};
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { VariableAdmittance a(p); }),
+                  "tank energies must satisfy 0 < min_energy < initial_energy <= max_energy (J)");
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  EXPECT_EQ(a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), KDL::Wrench::Zero(), 0.0, pose, twist),
+            AdmittanceStatus::BadInput);
+}
+
+TEST(VariableAdmittance, StepAndParameterChangesAllocateNothing) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 1000; ++i) {
+                if (i % 100 == 0) a.setParameters(diagonal(2.0 + i * 0.01, 0.1), diagonal(40.0, 1.0), diagonal(800.0, 5.0));
+                a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), KDL::Wrench(KDL::Vector(1, 2, 3), KDL::Vector(0.1, 0, 0)),
+                       kDt, pose, twist);
+              }
+            }),
+            0);
+}
+
+}  // namespace
+}  // namespace cobra::control
