@@ -6,7 +6,7 @@
 
 namespace cobra::tools {
 
-/// Makes "cobra_motion" and "cobra_coordination" loadable by `configurator`'s packages_list.
+/// Makes "cobra_motion", "cobra_coordination" and "cobra_control" loadable by `configurator`'s packages_list.
 void addBuiltinPackages(deploy::Configurator& configurator);
 
 }  // namespace cobra::tools

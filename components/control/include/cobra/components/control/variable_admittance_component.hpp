@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// The thesis' Variable Admittance Controller component (§4.5.3): a thin adapter around
+/// cobra::control::VariableAdmittance.
+
+#include <kdl/frames.hpp>
+#include <memory>
+#include <vector>
+
+#include "cobra/control/variable_admittance.hpp"
+#include "cobra/core/component.hpp"
+
+namespace cobra::components {
+
+/// Calculation component. Properties (each matrix as 6 numbers, its diagonal, or 36 numbers,
+/// row-major; [translation; rotation]): `inertia` (kg, kg·m²), `damping` (N·s/m, N·m·s/rad),
+/// `stiffness` (N/m, N·m/rad) — changed at run time by configurations, without a jump in the
+/// commanded pose —, `constant_inertia` and `constant_stiffness` (the smallest values ever
+/// implemented, fixed at configure), and the tank's `tank_initial`, `tank_max`, `tank_min` (J).
+/// Ports: `refPose`, `refTwist` (the trajectory's set-point), `measWrench` (base frame, N, N·m)
+/// in; `admPose`, `admTwist`, `tankEnergy` (J) out. Needs a periodic activity: dt is its period.
+/// Events: e_tank_empty when the variable parts stop being implemented, e_tank_refilled when they
+/// are again, e_bad_parameters when a configuration's matrices are refused (the old ones stay).
+class VariableAdmittanceController : public core::Component {
+ public:
+  explicit VariableAdmittanceController(std::string name);
+  ~VariableAdmittanceController() override;
+  /// The controller (nullptr before configure): for tests and plots.
+  const control::VariableAdmittance* controller() const { return controller_.get(); }
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+
+ private:
+  core::Property<std::vector<double>> inertia_{"inertia", {2, 2, 2, 0.1, 0.1, 0.1}, "kg, kg·m²", "Λd: 6 (diagonal) or 36 numbers"};
+  core::Property<std::vector<double>> damping_{"damping", {60, 60, 60, 2, 2, 2}, "N·s/m, N·m·s/rad", "D: 6 or 36 numbers"};
+  core::Property<std::vector<double>> stiffness_{"stiffness", {500, 500, 500, 10, 10, 10}, "N/m, N·m/rad", "Kd: 6 or 36 numbers"};
+  core::Property<std::vector<double>> constant_inertia_{"constant_inertia", {1, 1, 1, 0.05, 0.05, 0.05}, "kg, kg·m²",
+                                                        "Λc: the smallest inertia (fixed at configure)"};
+  core::Property<std::vector<double>> constant_stiffness_{"constant_stiffness", {50, 50, 50, 1, 1, 1}, "N/m, N·m/rad",
+                                                          "Kc: the smallest stiffness (fixed at configure)"};
+  core::Property<double> tank_initial_{"tank_initial", 5.0, "J", "energy in the tank at start"};
+  core::Property<double> tank_max_{"tank_max", 20.0, "J", "T̄: the tank stores nothing above it"};
+  core::Property<double> tank_min_{"tank_min", 1.0, "J", "ε: the tank never goes below it"};
+
+  core::InputPort<KDL::Frame> ref_pose_{"refPose", "reference pose (base frame)", "m"};
+  core::InputPort<KDL::Twist> ref_twist_{"refTwist", "reference twist (base frame)", "m/s, rad/s"};
+  core::InputPort<KDL::Wrench> meas_wrench_{"measWrench", "measured external wrench (base frame, at the tool point)", "N, N·m"};
+  core::OutputPort<KDL::Frame> adm_pose_{"admPose", "the admittance's pose", "m"};
+  core::OutputPort<KDL::Twist> adm_twist_{"admTwist", "the admittance's twist", "m/s, rad/s"};
+  core::OutputPort<double> tank_energy_{"tankEnergy", "energy in the tank", "J"};
+
+  std::unique_ptr<control::VariableAdmittance> controller_;
+  std::vector<double> applied_inertia_, applied_damping_, applied_stiffness_;  // what the controller has
+  KDL::Frame reference_ = KDL::Frame::Identity();
+  KDL::Twist reference_twist_ = KDL::Twist::Zero();
+  KDL::Wrench wrench_ = KDL::Wrench::Zero();
+  bool have_reference_ = false;
+  bool tank_empty_ = false;
+};
+
+/// A 6×6 matrix from 6 numbers (its diagonal) or 36 (row-major); false for any other count.
+bool matrixFromProperty(const std::vector<double>& values, control::Matrix6& out) noexcept;
+
+}  // namespace cobra::components

@@ -1,0 +1,14 @@
+#include "cobra/components/control/package.hpp"
+
+#include "cobra/components/control/teleoperation_components.hpp"
+#include "cobra/components/control/variable_admittance_component.hpp"
+
+namespace cobra::components {
+
+void registerControlPackage(deploy::PackageBuilder& package) {
+  package.component<VariableAdmittanceController>("VariableAdmittance", "tank-based variable admittance (thesis §4.5.3)")
+      .component<TransparencyLayerComponent>("TransparencyLayer", "teleoperation coupling forces (thesis §4.5.4)")
+      .component<PassivityLayerComponent>("PassivityLayer", "teleoperation forces paid by energy tanks (thesis §4.5.4)");
+}
+
+}  // namespace cobra::components

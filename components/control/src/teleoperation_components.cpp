@@ -1,0 +1,117 @@
+#include "cobra/components/control/teleoperation_components.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
+
+namespace cobra::components {
+namespace {
+
+control::Vector3 position(const KDL::Frame& f) { return {f.p.x(), f.p.y(), f.p.z()}; }
+control::Vector3 velocity(const KDL::Twist& t) { return {t.vel.x(), t.vel.y(), t.vel.z()}; }
+KDL::Wrench force(const control::Vector3& f) { return {KDL::Vector(f.x(), f.y(), f.z()), KDL::Vector::Zero()}; }
+control::Vector3 force(const KDL::Wrench& w) { return {w.force.x(), w.force.y(), w.force.z()}; }
+
+core::Property<double> level(const char* tank, const char* which, double value, const char* doc) {
+  return core::Property<double>(std::string(tank) + "_" + which, value, "J", doc);
+}
+
+}  // namespace
+
+TransparencyLayerComponent::TransparencyLayerComponent(std::string name)
+    : Component(std::move(name), core::Role::Calculation,
+                "Transparency layer (thesis §4.5.4): the coupling forces master and slave should get") {
+  for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
+           &stiffness_, &damping_, &compensation_time_, &error_low_, &error_high_, &rest_low_, &rest_high_})
+    addProperty(*p);
+  for (core::PortBase* p : std::initializer_list<core::PortBase*>{&master_pose_, &master_twist_, &slave_pose_,
+                                                                  &slave_twist_, &master_force_, &slave_force_})
+    addPort(*p);
+  addOperation("engage", &TransparencyLayerComponent::engage, this,
+               "switch to teleoperation now: the current master-slave offset is compensated over compensation_time");
+}
+
+double TransparencyLayerComponent::seconds() const { return std::chrono::duration<double>(now()).count(); }
+
+bool TransparencyLayerComponent::configureHook() {
+  try {
+    layer_.emplace(control::TransparencyParameters{stiffness_(), damping_(), compensation_time_(), error_low_(),
+                                                   error_high_(), rest_low_(), rest_high_()});
+  } catch (const std::invalid_argument& e) {
+    return refuse(e.what());
+  }
+  return true;
+}
+
+void TransparencyLayerComponent::engage() {
+  (void)master_pose_.read(master_);
+  (void)slave_pose_.read(slave_);
+  layer_->engage(seconds(), position(master_), position(slave_));
+}
+
+void TransparencyLayerComponent::updateHook() {
+  (void)master_pose_.read(master_);
+  (void)slave_pose_.read(slave_);
+  (void)master_twist_.read(master_velocity_);
+  (void)slave_twist_.read(slave_velocity_);
+  control::Vector3 fm, fs;
+  layer_->compute(seconds(), position(master_), velocity(master_velocity_), position(slave_), velocity(slave_velocity_),
+                  fm, fs);
+  master_force_.write(force(fm));
+  slave_force_.write(force(fs));
+}
+
+PassivityLayerComponent::PassivityLayerComponent(std::string name)
+    : Component(std::move(name), core::Role::Calculation,
+                "Passivity layer (thesis §4.5.4): implements the coupling forces as far as two energy tanks can pay"),
+      master_levels_{level("master", "minimum", 1.0, "ε: nothing is taken out below it"),
+                     level("master", "request", 5.0, "T_req: below it energy is requested"),
+                     level("master", "available", 10.0, "T_ava: above it energy is given"),
+                     level("master", "maximum", 20.0, "T̄: nothing is stored above it"),
+                     level("master", "initial", 10.0, "energy at configure")},
+      slave_levels_{level("slave", "minimum", 1.0, "ε"), level("slave", "request", 5.0, "T_req"),
+                    level("slave", "available", 10.0, "T_ava"), level("slave", "maximum", 20.0, "T̄"),
+                    level("slave", "initial", 10.0, "energy at configure")} {
+  for (auto& p : master_levels_) addProperty(p);
+  for (auto& p : slave_levels_) addProperty(p);
+  addProperty(transfer_power_);
+  for (core::PortBase* p : std::initializer_list<core::PortBase*>{
+           &master_desired_, &slave_desired_, &master_twist_, &slave_twist_, &master_dissipation_, &slave_dissipation_,
+           &master_force_, &slave_force_, &master_energy_, &slave_energy_})
+    addPort(*p);
+}
+
+bool PassivityLayerComponent::configureHook() {
+  if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the control period");
+  auto levels = [](const core::Property<double>* l) { return control::TankLevels{l[0](), l[1](), l[2](), l[3](), l[4]()}; };
+  try {
+    layer_.emplace(control::PassivityParameters{levels(master_levels_), levels(slave_levels_), transfer_power_()});
+  } catch (const std::invalid_argument& e) {
+    return refuse(e.what());
+  }
+  return true;
+}
+
+void PassivityLayerComponent::updateHook() {
+  (void)master_desired_.read(master_wanted_);
+  (void)slave_desired_.read(slave_wanted_);
+  (void)master_twist_.read(master_velocity_);
+  (void)slave_twist_.read(slave_velocity_);
+  (void)master_dissipation_.read(master_power_);
+  (void)slave_dissipation_.read(slave_power_);
+  const double dt = std::chrono::duration<double>(activity().period()).count();
+  const control::PassivityStep out = layer_->step(dt, force(master_wanted_), force(slave_wanted_),
+                                                  velocity(master_velocity_), velocity(slave_velocity_), master_power_,
+                                                  slave_power_);
+  if (out.master_limited && !master_limited_) emitEvent("e_master_limited");
+  if (out.slave_limited && !slave_limited_) emitEvent("e_slave_limited");
+  master_limited_ = out.master_limited;
+  slave_limited_ = out.slave_limited;
+  master_force_.write(force(out.master_force));
+  slave_force_.write(force(out.slave_force));
+  master_energy_.write(layer_->masterEnergy());
+  slave_energy_.write(layer_->slaveEnergy());
+}
+
+}  // namespace cobra::components

@@ -1,0 +1,107 @@
+#include "cobra/components/control/variable_admittance_component.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
+
+namespace cobra::components {
+
+bool matrixFromProperty(const std::vector<double>& values, control::Matrix6& out) noexcept {
+  if (values.size() == 6) {
+    out.setZero();
+    for (int i = 0; i < 6; ++i) out(i, i) = values[static_cast<std::size_t>(i)];
+    return true;
+  }
+  if (values.size() == 36) {
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) out(r, c) = values[static_cast<std::size_t>(6 * r + c)];
+    return true;
+  }
+  return false;
+}
+
+VariableAdmittanceController::VariableAdmittanceController(std::string name)
+    : Component(std::move(name), core::Role::Calculation,
+                "Variable admittance with energy tank (thesis §4.5.3): passive whatever its parameters' schedule") {
+  for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
+           &inertia_, &damping_, &stiffness_, &constant_inertia_, &constant_stiffness_, &tank_initial_, &tank_max_,
+           &tank_min_})
+    addProperty(*p);
+  addPort(ref_pose_);
+  addPort(ref_twist_);
+  addPort(meas_wrench_);
+  addPort(adm_pose_);
+  addPort(adm_twist_);
+  addPort(tank_energy_);
+}
+
+VariableAdmittanceController::~VariableAdmittanceController() = default;
+
+bool VariableAdmittanceController::configureHook() {
+  control::AdmittanceParameters p;
+  const std::pair<core::Property<std::vector<double>>*, control::Matrix6*> matrices[] = {
+      {&inertia_, &p.inertia}, {&damping_, &p.damping}, {&stiffness_, &p.stiffness},
+      {&constant_inertia_, &p.constant_inertia}, {&constant_stiffness_, &p.constant_stiffness}};
+  for (const auto& [property, matrix] : matrices)
+    if (!matrixFromProperty((*property)(), *matrix))
+      return refuse("property " + property->name() + " has " + std::to_string((*property)().size()) +
+                    " numbers; give 6 (the diagonal) or 36 (row-major)");
+  p.tank = {tank_initial_(), tank_max_(), tank_min_()};
+  try {
+    controller_ = std::make_unique<control::VariableAdmittance>(p);
+  } catch (const std::invalid_argument& e) {
+    return refuse(e.what());
+  }
+  applied_inertia_ = inertia_();
+  applied_damping_ = damping_();
+  applied_stiffness_ = stiffness_();
+  applied_inertia_.reserve(36);
+  applied_damping_.reserve(36);
+  applied_stiffness_.reserve(36);
+  return true;
+}
+
+bool VariableAdmittanceController::startHook() {
+  if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the control period");
+  controller_->reset();
+  have_reference_ = false;
+  tank_empty_ = false;
+  return true;
+}
+
+void VariableAdmittanceController::updateHook() {
+  // A configuration changed the matrices: hand them over (the state, hence the pose, is kept).
+  if (inertia_() != applied_inertia_ || damping_() != applied_damping_ || stiffness_() != applied_stiffness_) {
+    control::Matrix6 inertia, damping, stiffness;
+    const bool sizes = matrixFromProperty(inertia_(), inertia) && matrixFromProperty(damping_(), damping) &&
+                       matrixFromProperty(stiffness_(), stiffness);
+    if (sizes && controller_->setParameters(inertia, damping, stiffness) == control::AdmittanceStatus::Ok) {
+      applied_inertia_ = inertia_();
+      applied_damping_ = damping_();
+      applied_stiffness_ = stiffness_();
+    } else {
+      emitEvent("e_bad_parameters");
+      applied_inertia_ = inertia_();  // report once per change
+      applied_damping_ = damping_();
+      applied_stiffness_ = stiffness_();
+    }
+  }
+  if (ref_pose_.read(reference_) != core::FlowStatus::NoData) have_reference_ = true;
+  (void)ref_twist_.read(reference_twist_);
+  (void)meas_wrench_.read(wrench_);
+  if (!have_reference_) return;
+  const double dt = std::chrono::duration<double>(activity().period()).count();
+  KDL::Frame pose;
+  KDL::Twist twist;
+  const control::AdmittanceStatus status = controller_->step(reference_, reference_twist_, wrench_, dt, pose, twist);
+  if (status == control::AdmittanceStatus::BadInput) return;
+  const bool empty = status == control::AdmittanceStatus::TankEmpty;
+  if (empty != tank_empty_) emitEvent(empty ? "e_tank_empty" : "e_tank_refilled");
+  tank_empty_ = empty;
+  adm_pose_.write(pose);
+  adm_twist_.write(twist);
+  tank_energy_.write(controller_->tankEnergy());
+}
+
+}  // namespace cobra::components

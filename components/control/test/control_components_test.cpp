@@ -1,0 +1,124 @@
+// The control package's components on the lockstep clock, deployed and configured by the Lua
+// deployer with the named configurations of configurations/ (thesis §4.7).
+#include <gtest/gtest.h>
+
+#include "cobra/components/control/package.hpp"
+#include "cobra/components/control/teleoperation_components.hpp"
+#include "cobra/components/control/variable_admittance_component.hpp"
+#include "cobra/deploy/deploy.hpp"
+#include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Deployed {
+  deploy::Configurator configurator;
+  script::LuaState lua;
+  deploy::LuaDeployer deployer{configurator, lua};
+  core::OutputPort<KDL::Frame> reference{"reference", "", "m"};
+  core::OutputPort<KDL::Wrench> wrench{"wrench", "", "N"};
+  core::InputPort<KDL::Frame> pose{"pose", "", "m"};
+  core::InputPort<double> tank{"tank", "", "J"};
+
+  explicit Deployed(const std::string& task) {
+    configurator.packages().addBuiltin("cobra_control", registerControlPackage);
+    deployer.run("initConfigurator({ 'cobra_control' }, { { peer_name = 'Admittance', component_type = 'VariableAdmittance' } }, '" +
+                     std::string(COBRA_SOURCE_DIR) + "/components/control/configurations/" + task + "')\n"
+                     "setActivities({ { peer_name = 'Admittance', period = 0.001 } })",
+                 "deploy.lua");
+    core::Component& a = configurator.getReferences().get("Admittance");
+    core::connectPorts(reference, a.port("refPose"));
+    core::connectPorts(wrench, a.port("measWrench"));
+    core::connectPorts(a.port("admPose"), pose);
+    core::connectPorts(a.port("tankEnergy"), tank);
+    deployer.run("configureComponents({ 'Admittance' }) startComponents({ 'Admittance' })", "start.lua");
+  }
+  KDL::Frame run(std::chrono::milliseconds d, const KDL::Wrench& w) {
+    for (auto t = 0ms; t < d; t += 1ms) {
+      reference.write(KDL::Frame::Identity());
+      wrench.write(w);
+      configurator.clock().advance(1ms);
+    }
+    KDL::Frame p;
+    (void)pose.read(p);
+    return p;
+  }
+};
+
+TEST(ControlComponents, AdmittanceFollowsItsConfigurationsWithoutJumps) {
+  Deployed d("puncturing");
+  EXPECT_EQ(d.configurator.deploymentSet().configurationNames(),
+            (std::vector<std::string>{"free_motion", "needle_insertion", "penetration"}));
+  d.deployer.run("applyConfiguration('free_motion')", "task.lua");
+  const KDL::Wrench push(KDL::Vector(6.0, 0, 3.0), KDL::Vector::Zero());
+  KDL::Frame p = d.run(3000ms, push);
+  EXPECT_NEAR(p.p.x(), 6.0 / 3000.0, 1e-6);  // F/K with free_motion's stiffness
+  d.deployer.run("applyConfiguration('needle_insertion')", "task.lua");
+  const KDL::Frame before = p;
+  p = d.run(1ms, push);
+  EXPECT_LT((p.p - before.p).Norm(), 1e-4);  // no jump when the configuration changes
+  p = d.run(5000ms, push);
+  EXPECT_NEAR(p.p.x(), 6.0 / 300.0, 1e-5);   // compliant sideways now
+  EXPECT_NEAR(p.p.z(), 3.0 / 1500.0, 1e-5);  // stiff along the needle
+  double energy = 0.0;
+  ASSERT_NE(d.tank.read(energy), core::FlowStatus::NoData);
+  EXPECT_GE(energy, 1.0);
+}
+
+TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {
+  Deployed d("suturing");
+  EXPECT_EQ(d.configurator.deploymentSet().configurationNames(), (std::vector<std::string>{"contact", "free_motion"}));
+  d.deployer.run("applyConfiguration('contact')", "task.lua");
+  const KDL::Frame p = d.run(5000ms, KDL::Wrench(KDL::Vector(2.0, 0, 0), KDL::Vector::Zero()));
+  EXPECT_NEAR(p.p.x(), 2.0 / 200.0, 1e-5);
+}
+
+TEST(ControlComponents, BadMatricesAreRefusedAtConfigureWithTheirName) {
+  VariableAdmittanceController a("Admittance");
+  a.setProperty("stiffness", std::vector<double>{1, 2, 3});
+  EXPECT_CONTAINS(a.configure().message, "property stiffness has 3 numbers; give 6 (the diagonal) or 36 (row-major)");
+  a.setProperty("stiffness", std::vector<double>{10, 10, 10, 10, 10, 10});  // below constant_stiffness (50)
+  EXPECT_CONTAINS(a.configure().message, "stiffness must be symmetric and at least constant_stiffness");
+}
+
+TEST(ControlComponents, TeleoperationLayersCoupleOnlyAfterEngageAndReportTheirTanks) {
+  TransparencyLayerComponent transparency("Transparency");
+  PassivityLayerComponent passivity("Passivity");
+  core::LockstepClock clock;
+  clock.add(transparency, 1ms);
+  clock.add(passivity, 1ms);
+  core::OutputPort<KDL::Frame> master{"master", "", "m"}, slave{"slave", "", "m"};
+  core::InputPort<KDL::Wrench> master_force{"mf", "", "N"};
+  core::InputPort<double> slave_tank{"st", "", "J"};
+  core::connectPorts(master, transparency.port("masterPose"));
+  core::connectPorts(slave, transparency.port("slavePose"));
+  core::connectPorts(transparency.port("masterForceDesired"), passivity.port("masterForceDesired"));
+  core::connectPorts(transparency.port("slaveForceDesired"), passivity.port("slaveForceDesired"));
+  core::connectPorts(passivity.port("masterForce"), master_force);
+  core::connectPorts(passivity.port("slaveTankEnergy"), slave_tank);
+  for (core::Component* c : {static_cast<core::Component*>(&transparency), static_cast<core::Component*>(&passivity)}) {
+    ASSERT_TRUE(c->configure());
+    ASSERT_TRUE(c->start());
+  }
+  master.write(KDL::Frame(KDL::Vector(0.05, 0, 0)));
+  slave.write(KDL::Frame::Identity());
+  clock.advance(2ms);
+  KDL::Wrench f;
+  ASSERT_NE(master_force.read(f), core::FlowStatus::NoData);
+  EXPECT_EQ(f.force.Norm(), 0.0);  // not engaged
+  transparency.call<void>("engage");
+  clock.advance(1000ms);  // half of t_c: the rest length has shrunk, the master is pulled
+  ASSERT_NE(master_force.read(f), core::FlowStatus::NoData);
+  EXPECT_LT(f.force.x(), -0.5);
+  double energy = 0.0;
+  ASSERT_NE(slave_tank.read(energy), core::FlowStatus::NoData);
+  EXPECT_DOUBLE_EQ(energy, 10.0);  // nothing moved: nothing paid
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { clock.advance(100ms); }), 0);
+}
+
+}  // namespace
+}  // namespace cobra::components
