@@ -69,11 +69,16 @@ case "${1:-help}" in
   demo)
     log=$(mktemp)
     say "building the demo (first time: installs packages and compiles, a few minutes)"
-    build release --target cobra-demo --target example_04_trajectory >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+    build release --target cobra-demo --target example_04_trajectory --target example_05_admittance \
+      --target cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
     rm -f "$log"
     ./build/release/apps/demo/cobra-demo
     say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
-    ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg ;;
+    ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
+    say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
+    ./build/release/examples/example_05_admittance /tmp/cobra-fig-6-7.svg
+    say "the thesis' door task (Figs. 2.5-2.6): three supervisors on a simulated door (apps/door)"
+    ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg ;;
   bench)
     build release
     for b in build/release/bench/*_bench; do
