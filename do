@@ -69,8 +69,7 @@ case "${1:-help}" in
   demo)
     log=$(mktemp)
     say "building the demo (first time: installs packages and compiles, a few minutes)"
-    build release --target cobra-demo --target example_04_trajectory --target example_05_admittance \
-      --target cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+    build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
     rm -f "$log"
     ./build/release/apps/demo/cobra-demo
     say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
