@@ -193,7 +193,7 @@ void BM_Construct_cartesian_kdl(benchmark::State& state) {
   }
 }
 
-BENCHMARK(BM_Construct_multi_axis)->Name("BM_Construct/cobra_multi_axis_6_axes_10_waypoints")->Apply(configure);
+BENCHMARK(BM_Construct_multi_axis)->Name("BM_Construct/cobra_multi_axis_12_axes_10_waypoints")->Apply(configure);
 BENCHMARK(BM_Construct_cartesian_cobra)->Name("BM_Construct/cobra_cartesian_10_waypoints")->Apply(configure);
 BENCHMARK(BM_Construct_cartesian_kdl)->Name("BM_Construct/kdl_rounded_composite_trap_10_waypoints")->Apply(configure);
 
