@@ -33,3 +33,15 @@ function(cobra_add_test name)
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} cobra::test_support GTest::gtest GTest::gtest_main cobra_build_flags)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
+
+# cobra_add_unit_tests(<prefix> LIBS ... [LABELS label]): one test executable per
+# test/<unit>_test.cpp of the calling directory, named <prefix>_<unit>_test.
+function(cobra_add_unit_tests prefix)
+  cmake_parse_arguments(ARG "" "LABELS" "LIBS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/*_test.cpp)
+  foreach(source IN LISTS sources)
+    get_filename_component(unit ${source} NAME_WE)
+    cobra_add_test(${prefix}_${unit} SOURCES ${source} LIBS ${ARG_LIBS} LABELS ${ARG_LABELS})
+    target_compile_definitions(${prefix}_${unit} PRIVATE COBRA_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  endforeach()
+endfunction()
