@@ -55,7 +55,7 @@ run_tests() {
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
       build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test \
-        core_operation_test deploy_configurator_test deploy_configurator_switch_test
+        core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test
       TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
         ctest --test-dir build/tsan --output-on-failure --no-tests=error -L concurrency --timeout 600 ;;
     *) echo "do test: unknown option '$1' (expected --asan or --tsan)" >&2; exit 2 ;;
