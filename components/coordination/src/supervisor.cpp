@@ -107,9 +107,11 @@ bool Supervisor::configureHook() {
     lua_pushlightuserdata(L, this);
     lua_->call(1, 0, "component '" + name() + "'");
     // Helpers next to the chart can be required (the switch supervisors' charts do).
-    const std::string folder = std::filesystem::path(fsm_path_()).parent_path().string();
-    lua_->run("package.path = '" + (folder.empty() ? std::string(".") : folder) + "/?.lua;' .. package.path",
-              "=supervisor setup");
+    std::string folder = std::filesystem::path(fsm_path_()).parent_path().string();
+    if (folder.empty()) folder = ".";
+    std::string quoted;  // as a Lua string literal
+    for (char c : folder) quoted += (c == '\\' || c == '\'') ? std::string("\\") + c : std::string(1, c);
+    lua_->run("package.path = '" + quoted + "/?.lua;' .. package.path", "=supervisor setup");
     script::exposeComponent(*lua_, *this, "self");
     if (deploy::Configurator* configurator = this->configurator()) {
       for (const std::string& peer : configurator->peersOf(name()))
