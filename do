@@ -91,7 +91,7 @@ case "${1:-help}" in
     for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
-      seeds=(); [ -d "fuzz/seeds/$f" ] && seeds=("fuzz/seeds/$f")  # read-only starting inputs
+      seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs
       if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
           "build/fuzz/corpus/$f" "${seeds[@]}" >build/fuzz/$f.log 2>&1; then
         tail -n 40 "build/fuzz/$f.log"

@@ -1,7 +1,8 @@
 // libFuzzer target: rFSM chart files (issue 4). Any Lua text given to the chart loader must end
 // in a chart or in a clear error, never a crash; a loaded chart is then stepped with a few events.
 // The Lua state is sandboxed (no os, io, files or modules), bounded (a 4 MiB pool) and stopped
-// after a million instructions, so hostile or looping input only costs time.
+// after a million instructions, so hostile or looping input only costs time. `./do fuzz` starts
+// from the test charts of script/test/charts.
 
 #include <cstddef>
 #include <cstdint>
