@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace cobra::statechart {
@@ -9,22 +10,42 @@ namespace {
 
 std::string where(const std::string& origin) { return origin.empty() ? std::string() : origin + ": "; }
 
-/// "e_after(2.5)" -> 2.5, "e_at(3)" -> 3; false for anything else.
-bool parseTimeEvent(std::string_view name, double& seconds, bool& absolute) {
+/// Lua 5.4's tostring(tonumber(text)): rFSM names a time event after its timespec as Lua prints
+/// it, so "e_after(1.50)" waits for the event "e_after(1.5)@<src>" and "e_after(2)" for
+/// "e_after(2)@<src>" (an integer stays one, a float keeps its ".0").
+std::string luaNumberText(std::string_view text, double value) {
+  const bool integer = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (integer && value < 9.2e18) return std::to_string(static_cast<long long>(value));
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.14g", value);
+  std::string printed(buffer);
+  if (printed.find_first_of(".eni") == std::string::npos) printed += ".0";
+  return printed;
+}
+
+/// "e_after(2.5)" -> 2.5 s relative, "e_at(3)" -> 3 s absolute, with the name rFSM gives the
+/// event before "@<src>"; false for anything else.
+bool parseTimeEvent(std::string_view name, double& seconds, bool& absolute, std::string& canonical) {
   std::string_view inside;
+  std::string_view kind;
   if (name.starts_with("e_after(") && name.ends_with(")")) {
-    inside = name.substr(8, name.size() - 9);
+    kind = "e_after";
     absolute = false;
   } else if (name.starts_with("e_at(") && name.ends_with(")")) {
-    inside = name.substr(5, name.size() - 6);
+    kind = "e_at";
     absolute = true;
   } else {
     return false;
   }
+  inside = name.substr(kind.size() + 1, name.size() - kind.size() - 2);
+  while (!inside.empty() && inside.front() == ' ') inside.remove_prefix(1);
+  while (!inside.empty() && inside.back() == ' ') inside.remove_suffix(1);
   const std::string text(inside);
   char* end = nullptr;
   seconds = std::strtod(text.c_str(), &end);
-  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(seconds) && seconds >= 0.0;
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(seconds) || seconds < 0.0) return false;
+  canonical = std::string(kind) + "(" + luaNumberText(inside, seconds) + ")";
+  return true;
 }
 
 }  // namespace
@@ -51,6 +72,20 @@ ChartBuilder::ChartBuilder() {
 
 void ChartBuilder::setRootCallbacks(StateSpec callbacks) { chart_.nodes_[0].callbacks = std::move(callbacks); }
 
+std::string ChartBuilder::nodesNear(std::string_view missing_fqn) const {
+  std::string_view scope = missing_fqn;
+  int found = -1;
+  while (found < 0 && scope.find('.') != std::string_view::npos) {
+    scope = scope.substr(0, scope.rfind('.'));
+    found = chart_.find(scope);
+  }
+  if (found < 0) return "; paths start at root, a leading dot or a name of the transition's state";
+  std::string names;
+  for (const Chart::Node& n : chart_.nodes_)
+    if (n.parent == found && &n != &chart_.nodes_[0]) names += (names.empty() ? "" : ", ") + n.fqn;
+  return names.empty() ? "; " + std::string(scope) + " has no nodes" : "; the nodes of " + std::string(scope) + " are " + names;
+}
+
 int ChartBuilder::lookup(std::string_view fqn) const {
   const int found = chart_.find(fqn);
   if (found < 0) throw std::invalid_argument("chart: no state '" + std::string(fqn) + "' to add to");
@@ -69,6 +104,9 @@ int ChartBuilder::addNode(std::string_view parent_fqn, std::string name, NodeKin
                                 std::string(parent_fqn) + " its own name");
   if (chart_.nodes_[static_cast<std::size_t>(parent)].kind == NodeKind::Connector)
     throw std::invalid_argument(where(spec.origin) + "chart: " + fqn + ": a connector cannot contain nodes");
+  if (kind == NodeKind::State && name == "initial")
+    throw std::invalid_argument(where(spec.origin) + "chart: " + fqn +
+                                " is a state, but 'initial' names the initial connector; rename the state");
   const int depth = chart_.nodes_[static_cast<std::size_t>(parent)].depth + 1;
   chart_.nodes_.push_back(Chart::Node{kind, std::move(name), fqn, parent, depth, false, -1, {}, std::move(spec),
                                       kUnknownEvent});
@@ -116,7 +154,7 @@ Chart ChartBuilder::build() {
     else if (path.front() == '.') fqn = nodes[static_cast<std::size_t>(scope)].fqn + path;
     else fqn = path == "root" || path.starts_with("root.") ? path : "root." + path;
     const int found = chart_.find(fqn);
-    if (found < 0) why = "no node '" + fqn + "'";
+    if (found < 0) why = "no node '" + fqn + "'" + nodesNear(fqn);
     return found;
   };
   auto intern = [&](const std::string& name) -> EventId {
@@ -162,27 +200,29 @@ Chart ChartBuilder::build() {
       }
       tgt = nodes[static_cast<std::size_t>(tgt)].initial;
     }
-    const bool from_initial = nodes[static_cast<std::size_t>(src)].kind == NodeKind::Connector &&
-                              nodes[static_cast<std::size_t>(src)].name == "initial";
-    if (from_initial && !spec.events.empty()) {
-      problems.push_back(label + ": a transition from an initial connector takes no events (it is followed on entry)");
-      continue;
-    }
+    const bool from_connector = nodes[static_cast<std::size_t>(src)].kind == NodeKind::Connector;
     Chart::Transition t{src, tgt, {}, spec.pn, std::move(spec.guard), std::move(spec.effect), spec.origin,
                         nodes[static_cast<std::size_t>(src)].fqn + " -> " + nodes[static_cast<std::size_t>(tgt)].fqn,
                         -1.0, false, kUnknownEvent};
     for (const std::string& e : spec.events) {
       double seconds = 0.0;
       bool absolute = false;
+      std::string canonical;
       if (e.empty()) {
         problems.push_back(label + ": an event name is empty");
+      } else if (e == "e_done" && from_connector) {
+        problems.push_back(label + ": e_done from a connector never happens (only states complete); move the "
+                                   "transition's e_done to the state that leads to the connector");
       } else if (e == "e_done") {
         t.events.push_back(intern("e_done@" + nodes[static_cast<std::size_t>(src)].fqn));
-      } else if (parseTimeEvent(e, seconds, absolute)) {
+      } else if (parseTimeEvent(e, seconds, absolute, canonical) && from_connector) {
+        problems.push_back(label + ": '" + e + "' from a connector never happens (time counts from a state's entry); " +
+                           "move it to the state that leads to the connector");
+      } else if (!canonical.empty()) {
         if (t.time_spec >= 0.0) problems.push_back(label + ": has two time events; keep one");
         t.time_spec = seconds;
         t.time_absolute = absolute;
-        t.time_event = intern(e + "@" + nodes[static_cast<std::size_t>(src)].fqn);
+        t.time_event = intern(canonical + "@" + nodes[static_cast<std::size_t>(src)].fqn);
         t.events.push_back(t.time_event);
       } else if (e.starts_with("e_after(") || e.starts_with("e_at(")) {
         problems.push_back(label + ": '" + e + "' is not a time event; write e_after(seconds) or e_at(seconds)");

@@ -9,31 +9,49 @@ namespace {
 
 std::size_t at(int index) { return static_cast<std::size_t>(index); }
 
+constexpr std::string_view kInitEvent = "e_init_fsm";
+
+/// Internal events waiting at once, at most: e_init_fsm or one e_done (a step enters at most one
+/// leaf, and each step takes every queued event), plus one per time-event transition.
+std::size_t internalReserve(const Chart& chart) {
+  return 1 + static_cast<std::size_t>(std::count_if(chart.transitions().begin(), chart.transitions().end(),
+                                                    [](const Chart::Transition& t) { return t.time_spec >= 0.0; }));
+}
+
 }  // namespace
 
 Machine::Machine(const Chart& chart, std::function<std::chrono::nanoseconds()> clock, std::size_t queue_capacity)
     : chart_(&chart),
       clock_(std::move(clock)),
+      capacity_(std::max<std::size_t>(queue_capacity, 1)),
       active_child_(chart.nodes().size(), -1),
       leaf_done_(chart.nodes().size(), 0),
       doo_restart_(chart.nodes().size(), 1),
       entry_time_(chart.nodes().size(), std::chrono::nanoseconds(0)),
       time_fired_(chart.transitions().size(), 0),
-      queue_(std::max<std::size_t>(queue_capacity, 1)),
+      queue_(capacity_ + internalReserve(chart)),
       current_(queue_.size()),
       current_entries_(queue_.size()),
       path_(chart.nodes().size() + 1),
-      down_(chart.nodes().size() + 1) {}
+      down_(chart.nodes().size() + 1) {
+  reset();
+}
 
 RaiseStatus Machine::raise(std::string_view event) noexcept {
   if (event.size() > kMaxEventName) return RaiseStatus::NameTooLong;
-  if (queue_size_ == queue_.size()) return RaiseStatus::QueueFull;
-  raiseId(chart_->eventId(event), event);
+  if (queue_size_ - internal_queued_ >= capacity_) return RaiseStatus::QueueFull;
+  push(chart_->eventId(event), event);
   return RaiseStatus::Queued;
 }
 
-void Machine::raiseId(EventId id, std::string_view name) noexcept {
-  if (queue_size_ == queue_.size() || name.size() > kMaxEventName) return;  // internal events: dropped when full
+void Machine::raiseInternal(EventId id, std::string_view name) noexcept {
+  // Never full (the reserve is sized for the worst case) and never too long (names of the chart).
+  if (queue_size_ == queue_.size() || name.size() > kMaxEventName) return;
+  push(id, name);
+  ++internal_queued_;
+}
+
+void Machine::push(EventId id, std::string_view name) noexcept {
   QueuedEvent& slot = queue_[(queue_head_ + queue_size_) % queue_.size()];
   slot.id = id;
   slot.length = name.size();
@@ -48,7 +66,8 @@ void Machine::reset() noexcept {
   std::fill(leaf_done_.begin(), leaf_done_.end(), 0);
   std::fill(doo_restart_.begin(), doo_restart_.end(), 1);
   std::fill(time_fired_.begin(), time_fired_.end(), 0);
-  queue_head_ = queue_size_ = 0;
+  queue_head_ = queue_size_ = internal_queued_ = 0;
+  raiseInternal(chart_->eventId(kInitEvent), kInitEvent);  // as rFSM's init and reset
 }
 
 std::string_view Machine::activeLeaf() const noexcept {
@@ -71,19 +90,19 @@ void Machine::failed(const char* callback, std::string_view element, const char*
 void Machine::checkTimeEvents() noexcept {
   if (!entered_) return;
   const auto now = clock_ ? clock_() : std::chrono::nanoseconds(0);
-  for (int s = 0; s >= 0;) {
+  // From the active leaf up to the root, as rFSM's check_act_timeevents.
+  for (int s = active_leaf_ < 0 ? 0 : active_leaf_;; s = chart_->nodes()[at(s)].parent) {
     for (int ti : chart_->nodes()[at(s)].transitions) {
       const Chart::Transition& t = chart_->transitions()[at(ti)];
       if (t.time_spec < 0.0 || time_fired_[at(ti)]) continue;
       const auto spec = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(t.time_spec));
       const auto deadline = t.time_absolute ? spec : entry_time_[at(s)] + spec;
       if (now > deadline) {  // strictly later, as rFSM's timeevent
-        raiseId(t.time_event, chart_->eventNames()[t.time_event]);
+        raiseInternal(t.time_event, chart_->eventNames()[t.time_event]);
         time_fired_[at(ti)] = 1;
       }
     }
-    const int child = active_child_[at(s)];
-    s = child == s ? -1 : child;
+    if (s == 0) break;
   }
 }
 
@@ -171,7 +190,7 @@ void Machine::enter(int node) noexcept {
     active_leaf_ = node;
     doo_restart_[at(node)] = 1;
     leaf_done_[at(node)] = n.callbacks.doo ? 0 : 1;
-    if (!n.callbacks.doo) raiseId(n.done_event, chart_->eventNames()[n.done_event]);
+    if (!n.callbacks.doo) raiseInternal(n.done_event, chart_->eventNames()[n.done_event]);
   }
   if (observer_ != nullptr) observer_->entered(n.fqn);
 }
@@ -208,7 +227,7 @@ StepResult Machine::step() noexcept {
     current_[i] = queue_[(queue_head_ + i) % queue_.size()];
     current_entries_[i] = {current_[i].id, std::string_view(current_[i].text, current_[i].length)};
   }
-  queue_head_ = queue_size_ = 0;
+  queue_head_ = queue_size_ = internal_queued_ = 0;
   const StepEvents events(std::span<const StepEvents::Entry>(current_entries_.data(), count));
 
   if (!entered_) {
@@ -250,7 +269,7 @@ StepResult Machine::step() noexcept {
   doo_restart_[at(leaf)] = 0;
   if (status == DooStatus::Done) {
     leaf_done_[at(leaf)] = 1;
-    raiseId(n.done_event, chart_->eventNames()[n.done_event]);
+    raiseInternal(n.done_event, chart_->eventNames()[n.done_event]);
   }
   if (status == DooStatus::Busy) return StepResult::DooRan;
   return queue_size_ > 0 ? StepResult::DooRan : StepResult::Idle;

@@ -69,20 +69,33 @@ TEST(Chart, LoadErrorsNameTheOriginThePathAndWhatToDo) {
   b.addState("root.busy", "inner");
   b.addState("root", "plain");
   b.addState("root.plain", "child");  // composite, but nothing leads from its initial
+  b.addConnector("root", "join", "task.lua:5");
   b.addTransition("root", trans("initial", "busy", {}, "task.lua:9"));
   b.addTransition("root", trans("busy", "nowhere", {"e_x"}, "task.lua:10"));
   b.addTransition("root", trans("busy", "plain", {"e_y"}, "task.lua:11"));
-  b.addTransition("root.busy", trans("initial", "inner", {"e_z"}, "task.lua:12"));
+  b.addTransition("root.busy", trans("initial", "inner", {"e_z"}, "task.lua:12"));  // allowed, as in rFSM
   b.addTransition("root", trans("busy", "root.plain.child", {"e_after(soon)"}, "task.lua:13"));
+  b.addTransition("root", trans("join", "busy", {"e_done"}, "task.lua:14"));
+  b.addTransition("root", trans("join", "busy", {"e_after(2)"}, "task.lua:15"));
+  b.addTransition("root", trans("root.plain.chld", "busy", {}, "task.lua:16"));
+  b.addTransition("root", trans("busy", "join", {"e_after(1)", "e_at(4)"}, "task.lua:17"));
+  b.addTransition("root", trans("busy", "", {}, "task.lua:18"));
   const std::string message = cobra::test_support::messageOf([&] { b.build(); });
-  EXPECT_CONTAINS(message, "chart has 5 problem(s):");
+  EXPECT_CONTAINS(message, "chart has 9 problem(s):");
   EXPECT_CONTAINS(message, "task.lua:3: state root.busy has a doo but is composite; doo is allowed in leaf states only");
-  EXPECT_CONTAINS(message, "task.lua:10: transition busy -> nowhere in root: unknown target, no node 'root.nowhere'");
+  EXPECT_CONTAINS(message, "task.lua:10: transition busy -> nowhere in root: unknown target, no node 'root.nowhere'; "
+                           "the nodes of root are root.busy, root.plain, root.join, root.initial");
   EXPECT_CONTAINS(message, "task.lua:11: transition busy -> plain in root: the target root.plain is composite but has "
                            "no initial connector; give it a transition from 'initial'");
-  EXPECT_CONTAINS(message, "task.lua:12: transition initial -> inner in root.busy: a transition from an initial "
-                           "connector takes no events");
+  EXPECT_EQ(message.find("task.lua:12"), std::string::npos) << message;
   EXPECT_CONTAINS(message, "task.lua:13: transition busy -> root.plain.child in root: 'e_after(soon)' is not a time event");
+  EXPECT_CONTAINS(message, "task.lua:14: transition join -> busy in root: e_done from a connector never happens (only "
+                           "states complete); move the transition's e_done to the state that leads to the connector");
+  EXPECT_CONTAINS(message, "task.lua:15: transition join -> busy in root: 'e_after(2)' from a connector never happens");
+  EXPECT_CONTAINS(message, "task.lua:16: transition root.plain.chld -> busy in root: unknown source, no node "
+                           "'root.plain.chld'; the nodes of root.plain are root.plain.child");
+  EXPECT_CONTAINS(message, "task.lua:17: transition busy -> join in root: has two time events; keep one");
+  EXPECT_CONTAINS(message, "task.lua:18: transition busy ->  in root: needs both src and tgt");
 }
 
 TEST(Chart, NamesAreCheckedAsTheyAreAdded) {
@@ -92,6 +105,13 @@ TEST(Chart, NamesAreCheckedAsTheyAreAdded) {
             "x.lua:4: chart: root.a is defined twice; give each node of root its own name");
   EXPECT_CONTAINS(cobra::test_support::messageOf([&] { b.addState("root", "a.b"); }), "names are non-empty, without dots");
   EXPECT_EQ(cobra::test_support::messageOf([&] { b.addState("root.zz", "c"); }), "chart: no state 'root.zz' to add to");
+  EXPECT_EQ(cobra::test_support::messageOf([&] { b.addState("root", "initial", StateSpec{{}, {}, {}, "x.lua:7"}); }),
+            "x.lua:7: chart: root.initial is a state, but 'initial' names the initial connector; rename the state");
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { b.addConnector("root", "", "x.lua:8"); }),
+                  "x.lua:8: chart: a connector in root is named ''");
+  b.addConnector("root", "c");
+  EXPECT_EQ(cobra::test_support::messageOf([&] { b.addState("root.c", "inside"); }),
+            "chart: root.c.inside: a connector cannot contain nodes");
   ChartBuilder empty;
   EXPECT_CONTAINS(cobra::test_support::messageOf([&] { empty.build(); }), "root has no initial connector");
 }

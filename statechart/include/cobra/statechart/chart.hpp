@@ -6,15 +6,29 @@
 /// The semantics are rFSM's (github.com/kmarkus/rFSM, thesis §3.1.3), rule for rule:
 /// - a state with sub-nodes (states or connectors) is composite, else a leaf; `doo` only on leaves;
 /// - transitions have `src`, `tgt`, `events` (any of them triggers; none = any event), `guard`,
-///   `effect` and a priority number `pn` (higher first; equal: in the order added);
+///   `effect` and a priority number `pn` (higher first);
 /// - paths: a name without dots is a node of the scope the transition is defined in; a leading
-///   dot is relative to that scope (".a.b"); anything else is absolute ("root.a.b");
+///   dot is relative to that scope (".a.b"); anything else is absolute ("root.a.b", or "a.b"
+///   which rFSM also reads from the root);
 /// - a target that is composite means its `initial` connector; an `initial` connector is created
-///   when a transition of the scope leaves from it; the root must have one;
+///   when a transition of the scope leaves from it; the root must have one. Transitions from
+///   `initial` may have events and guards (rFSM's README dispatches from `initial` on
+///   e_sw_err/e_hw_err): they are matched against the events of the step that enters;
 /// - `e_done` in a transition's events means `e_done@<fqn of its source>`, raised when a leaf
 ///   without `doo` is entered, or when its `doo` finishes;
 /// - `e_after(t)` (t in s) fires once t has passed since the source state was entered, and
-///   `e_at(t)` once the clock passes t (s): both become `e_after(t)@<fqn of src>` events.
+///   `e_at(t)` once the clock passes t (s): both become `e_after(t)@<fqn of src>` events, with
+///   t printed as Lua prints tonumber(t) ("e_after(1.50)" waits for "e_after(1.5)@root.a").
+///
+/// Where cobra is stricter or more determined than rFSM, and why:
+/// - equal `pn`s keep the order the transitions were added in (rFSM's table.sort is not stable,
+///   so its order is unspecified): the same chart always behaves the same;
+/// - `e_done` or a time event on a transition leaving a connector is a load error: a connector
+///   is never entered nor completes, so rFSM would wait forever (or fail at run time);
+/// - a state named `initial` is refused: rFSM requires `initial` to be a connector;
+/// - each time event of a state has its own timer (rFSM keeps only the last one per state);
+/// - `internal` targets and event predicates (functions in `events`) are not supported (rFSM
+///   refuses the first; use a guard for the second).
 /// See machine.hpp for how a step runs.
 
 #include <chrono>
@@ -152,6 +166,8 @@ class ChartBuilder {
     TransitionSpec spec;
   };
   int lookup(std::string_view fqn) const;
+  /// "; the nodes of root.a are root.a.x, root.a.y": what exists where `missing_fqn` was looked for.
+  std::string nodesNear(std::string_view missing_fqn) const;
   int addNode(std::string_view parent_fqn, std::string name, NodeKind kind, StateSpec spec);
 
   Chart chart_;

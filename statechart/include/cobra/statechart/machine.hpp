@@ -5,17 +5,30 @@
 /// take no lock and throw nothing (a callback that throws is reported to the observer, as rFSM
 /// reports a failing Lua function, and the step goes on).
 ///
-/// One step, as rFSM's `step(fsm, 1)`:
-///  0. time events whose time has come are raised (checked for every active state);
+/// One `step()` is one pass of rFSM's `step` loop:
+///  0. time events whose time has come are queued (active states from the leaf up to the root);
 ///  1. all queued events are taken: they are this step's events, used or not;
 ///  2. not yet entered: the path from root's `initial` is followed (entering states top-down);
+///     the first step's events include `e_init_fsm`, queued by the constructor and `reset()`;
 ///  3. else with events: the active configuration is searched from the root down and the first
 ///     state (outermost first) with an enabled path takes it: one compound transition, through
 ///     connectors, each segment exiting up to the least common ancestor, running its effect and
 ///     entering down to its target. A transition is enabled when its guard (called first, as in
 ///     rFSM) does not say false and one of its events is among the step's (no events: any).
-///  4. else (no events) the active leaf's `doo` runs once.
-/// `run()` steps until the machine is idle: no events left and the `doo` idle or done.
+///     Every transition leaving a searched node has its guard asked, as rFSM collects all paths;
+///  4. else (no events) the active leaf's `doo` runs once (resumed where it yielded).
+/// rFSM's `step(fsm, n)` counts a pass whose events enabled nothing as no step; `EventsIgnored`
+/// tells the caller so (script/'s rfsm.step does exactly that). `run()` steps until the machine is
+/// idle: no events left and the `doo` idle, done or absent.
+///
+/// Deviation: rFSM checks time events after a step and queues them for the next one, so its
+/// `run()` returns before handling them; cobra checks them before taking the step's events, so
+/// the first step (or run) at which the deadline has passed handles them. Same order of events,
+/// one step less of latency, which matters for a supervisor stepped once per update.
+///
+/// Events from `raise` wait in a queue of `queue_capacity`; events the engine raises itself
+/// (`e_init_fsm`, `e_done@...`, time events) have their own reserve, so a flood of external
+/// events can never make a chart miss its completion or its timeout.
 
 #include <chrono>
 #include <cstddef>
@@ -85,7 +98,9 @@ class Machine {
     std::size_t length;
     char text[kMaxEventName];
   };
-  void raiseId(EventId id, std::string_view name) noexcept;
+  /// e_init_fsm, e_done@..., time events: they use the queue's reserve, so they are never lost.
+  void raiseInternal(EventId id, std::string_view name) noexcept;
+  void push(EventId id, std::string_view name) noexcept;
   void checkTimeEvents() noexcept;
   bool enabled(const Chart::Transition& t, const StepEvents& events) noexcept;
   /// Finds the first enabled path from `node` into path_ (transition indices); true if found.
@@ -101,6 +116,7 @@ class Machine {
 
   const Chart* chart_;
   std::function<std::chrono::nanoseconds()> clock_;
+  std::size_t capacity_;  // events raise() may queue between two steps
   Observer* observer_ = nullptr;
   bool entered_ = false;
   int active_leaf_ = -1;
@@ -110,7 +126,7 @@ class Machine {
   std::vector<std::chrono::nanoseconds> entry_time_;  // per node
   std::vector<char> time_fired_;                   // per transition
   std::vector<QueuedEvent> queue_;                 // ring
-  std::size_t queue_head_ = 0, queue_size_ = 0;
+  std::size_t queue_head_ = 0, queue_size_ = 0, internal_queued_ = 0;
   std::vector<QueuedEvent> current_;               // this step's events
   std::vector<StepEvents::Entry> current_entries_;
   std::vector<int> path_, down_;                   // workspaces (size: nodes)
