@@ -1,0 +1,65 @@
+#pragma once
+/// @file
+/// The collision world (the Data of a scene): one FCL broadphase manager (dynamic AABB tree) per
+/// group, collision objects built once from the scene's geometry, link transforms updated from the
+/// robots' forward kinematics, minimum-distance queries between groups (thesis §4.5.1).
+
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/planning/scene.hpp"
+
+namespace cobra::planning {
+
+/// Result of a minimum-distance query between two groups.
+struct GroupDistance {
+  /// Minimum distance [m]; 0 when the groups touch or interpenetrate; +infinity when a group is
+  /// empty.
+  double distance = 0.0;
+  /// The closest objects (names from the scene); empty when a group is empty.
+  std::string_view first_object;
+  std::string_view second_object;
+};
+
+/// Preallocated FCL objects and managers for one scene. Not thread-safe: one per planner thread.
+class CollisionWorld {
+ public:
+  /// Builds every object (loading meshes) and registers it with its group's manager. Objects
+  /// attached to robots start at the robot base until the first setRobotLinks().
+  /// @throws std::invalid_argument if the scene is inconsistent, std::runtime_error if a mesh
+  ///         cannot be loaded (the message names the object, its scene line and the file).
+  explicit CollisionWorld(SceneDescription scene);
+  ~CollisionWorld();
+  CollisionWorld(const CollisionWorld&) = delete;
+  CollisionWorld& operator=(const CollisionWorld&) = delete;
+
+  const SceneDescription& scene() const { return scene_; }
+
+  /// Highest link index the scene attaches an object to on `robot`, plus one (0 if none).
+  std::size_t linksUsedBy(std::size_t robot) const;
+
+  /// Moves every object attached to robot `robot` (index in scene().robots).
+  /// @param links_in_world  link frames in the world frame [m, rad]; at least linksUsedBy(robot).
+  /// Updates the affected managers. No allocation.
+  void setRobotLinks(std::size_t robot, std::span<const KDL::Frame> links_in_world);
+
+  /// Minimum distance between groups `first` and `second` (indices in scene().groups).
+  /// `stop_below` [m]: the search may stop as soon as some pair is closer than this (the returned
+  /// distance is then that pair's, an upper bound of the minimum); pass 0 for the exact minimum.
+  GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0) const;
+
+  /// World pose of object `object` (index in scene().objects), e.g. for a visualiser.
+  KDL::Frame objectPose(std::size_t object) const;
+
+ private:
+  struct Impl;
+  SceneDescription scene_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cobra::planning

@@ -1,0 +1,99 @@
+#pragma once
+/// @file
+/// planPath(q_start, q_goal) (thesis Algorithm 4.1): OMPL on the compound state space SE(3)×SE(3)
+/// with position bounds, SimpleSetup, RRT-Connect by default, the StateValidator as validity
+/// checker, path simplification, seeded for reproducible results.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cobra/planning/state_validator.hpp"
+
+namespace cobra::planning {
+
+/// Axis-aligned bounds of one tool's position in the world frame [m]. Rotations are unbounded.
+struct PositionBounds {
+  std::array<double, 3> low{-1.0, -1.0, -1.0};
+  std::array<double, 3> high{1.0, 1.0, 1.0};
+  bool contains(const KDL::Vector& p) const;
+};
+
+/// Planner configuration (the component's properties).
+struct PlannerOptions {
+  /// "RRTConnect" (default, as in the thesis), "RRT" or "PRM".
+  std::string planner = "RRTConnect";
+  /// Wall-clock limit of the search [s].
+  double time_limit = 1.0;
+  /// Seed of OMPL's random generators (> 0): same seed, scene and query → same path, for
+  /// RRTConnect and RRT. PRM grows its roadmap while another thread looks for a solution, so its
+  /// result depends on timing.
+  std::uint32_t seed = 1;
+  /// Bounds of the first and second tool positions [m].
+  PositionBounds first_bounds;
+  PositionBounds second_bounds;
+  /// Edge check step as a fraction of the space's extent (OMPL's state validity checking
+  /// resolution); smaller is safer and slower.
+  double edge_resolution = 0.002;
+  /// Shorten and smooth the found path (OMPL's PathSimplifier, bounded by `simplify_steps`).
+  bool simplify = true;
+  /// Number of vertices checked per segment when the final path is verified [1].
+  std::size_t verify_points_per_segment = 100;
+  /// Range of one RRT/RRT-Connect extension in the state-space metric (position [m] plus rotation
+  /// angle [rad]); 0 lets OMPL choose (a fraction of the extent).
+  double range = 0.0;
+};
+
+/// Outcome of planPath().
+enum class PlanStatus {
+  Solved,
+  InvalidInput,   ///< NaN/infinite pose or non-orthonormal rotation
+  OutOfBounds,    ///< start or goal position outside the bounds
+  InvalidStart,   ///< the start state is not valid (see `rejected`)
+  InvalidGoal,    ///< the goal state is not valid (see `rejected`)
+  NoSolution,     ///< no path within the time limit (the thesis' e_plan_failed)
+  PathInvalid,    ///< a path was found but failed the dense verification (raise the resolution)
+};
+
+/// "solved", "invalid input", ...
+const char* toString(PlanStatus status);
+
+/// A planned path: waypoints in the world frame, first = start, last = goal. Between two waypoints
+/// the tools move along a straight line with spherical linear interpolation of the rotation (as
+/// OMPL's SE(3) interpolation); the trajectory library turns the list into a MultiAxisPath.
+struct PlanResult {
+  PlanStatus status = PlanStatus::NoSolution;
+  std::vector<DualPose> waypoints;
+  /// InvalidStart/InvalidGoal/PathInvalid: why the state was rejected.
+  ValidityResult rejected;
+  /// Human-readable cause, naming start/goal and the failed check.
+  std::string message;
+  /// Time spent in the search and simplification [s].
+  double planning_time = 0.0;
+  bool solved() const { return status == PlanStatus::Solved; }
+};
+
+/// Motion planner over a StateValidator (which it borrows; it must outlive the planner).
+/// Not thread-safe: one planPath() at a time.
+class MotionPlanner {
+ public:
+  /// @throws std::invalid_argument for an unknown planner name, a non-positive time limit or seed,
+  ///         empty bounds or a resolution outside (0, 1].
+  MotionPlanner(StateValidator& validator, PlannerOptions options);
+  ~MotionPlanner();
+  MotionPlanner(const MotionPlanner&) = delete;
+  MotionPlanner& operator=(const MotionPlanner&) = delete;
+
+  /// Algorithm 4.1. Never throws for bad poses: the status names the cause.
+  PlanResult planPath(const DualPose& start, const DualPose& goal);
+
+  const PlannerOptions& options() const { return options_; }
+
+ private:
+  StateValidator& validator_;
+  PlannerOptions options_;
+};
+
+}  // namespace cobra::planning

@@ -1,0 +1,95 @@
+#pragma once
+/// @file
+/// isStateValid(q), q ∈ SE(3)×SE(3) (thesis Algorithms 4.2 and 5.1): inverse kinematics of every
+/// robot, forward kinematics of every link, update of the collision world, distance queries between
+/// the scene's group pairs; valid when every robot reaches its tools and every distance exceeds the
+/// scene's min_collision_distance.
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/planning/collision_world.hpp"
+#include "cobra/planning/robot_model.hpp"
+#include "cobra/planning/scene.hpp"
+
+namespace cobra::planning {
+
+/// A state q ∈ SE(3)×SE(3): the two tool poses in the world frame [m, rad]. Puncturing: `first` is
+/// the I-SUR needle tip, `second` the UR5 ultrasound probe; suturing: the right and left arm tools.
+struct DualPose {
+  KDL::Frame first = KDL::Frame::Identity();
+  KDL::Frame second = KDL::Frame::Identity();
+};
+
+/// Why a state is valid or not.
+enum class Validity {
+  Valid,
+  InvalidInput,  ///< a pose has a NaN/infinite value or a rotation that is not orthonormal
+  Unreachable,   ///< the robot named in `robot` has no inverse kinematics solution
+  TooClose,      ///< groups `first_group` and `second_group` are at `distance` <= the threshold
+};
+
+/// "valid", "invalid input", "unreachable", "too close".
+const char* toString(Validity validity);
+
+/// Outcome of one validity check. Names point into the validator's scene (valid while it lives).
+struct ValidityResult {
+  Validity validity = Validity::Valid;
+  /// Unreachable: the robot's name.
+  std::string_view robot;
+  /// TooClose: the pair of groups and their closest objects; distance [m] (0 when touching).
+  std::string_view first_group;
+  std::string_view second_group;
+  std::string_view first_object;
+  std::string_view second_object;
+  double distance = 0.0;
+  bool valid() const { return validity == Validity::Valid; }
+};
+
+/// "too close: micro/environment 0.0012 m (needle/phantom)" and the like, for logs and events.
+std::string describe(const ValidityResult& result);
+
+/// Robot models by the names the scene gives its robots.
+using RobotModels = std::map<std::string, std::shared_ptr<RobotModel>, std::less<>>;
+
+/// Owns the collision world and the robot models of one scene. Not thread-safe.
+class StateValidator {
+ public:
+  /// @throws std::invalid_argument if a scene robot has no model, a model's toolCount() differs
+  ///         from the scene's `tools`, or an object is attached to a link the model does not have;
+  ///         std::runtime_error if a mesh cannot be loaded.
+  StateValidator(SceneDescription scene, RobotModels robots);
+
+  /// Algorithm 4.2/5.1. No allocation, no exception; the reason of the first failed check.
+  /// Checks run in the scene's `check` order; with `exact_distances` the reported distance of a
+  /// TooClose is the exact minimum, otherwise the first pair found under the threshold.
+  ValidityResult check(const DualPose& q, bool exact_distances = false);
+  bool isStateValid(const DualPose& q) { return check(q).valid(); }
+
+  /// Minimum over all checked pairs of their distance [m] for a reachable state (what the thesis'
+  /// visualiser shows); +infinity if no pair is checked, NaN if q is unreachable or invalid.
+  double minimumDistance(const DualPose& q);
+
+  const SceneDescription& scene() const { return world_.scene(); }
+  const CollisionWorld& world() const { return world_; }
+
+ private:
+  /// Runs IK/FK of every robot and moves its objects; Valid or the first failure.
+  ValidityResult placeRobots(const DualPose& q);
+
+  CollisionWorld world_;
+  std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order
+  std::vector<std::vector<KDL::Frame>> tools_;      // per robot, preallocated
+  std::vector<std::vector<KDL::Frame>> links_;      // per robot, preallocated
+};
+
+/// True when every element is finite and both rotations are orthonormal (to 1e-6).
+bool isFinitePose(const DualPose& q);
+
+}  // namespace cobra::planning

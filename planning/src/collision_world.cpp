@@ -1,0 +1,171 @@
+#include "cobra/planning/collision_world.hpp"
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace cobra::planning {
+
+namespace {
+
+fcl::Transform3d toFcl(const KDL::Frame& frame) {
+  fcl::Transform3d transform = fcl::Transform3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) transform.linear()(r, c) = frame.M(static_cast<unsigned>(r), static_cast<unsigned>(c));
+    transform.translation()(r) = frame.p(r);
+  }
+  return transform;
+}
+
+KDL::Frame toKdl(const fcl::Transform3d& transform) {
+  const auto& m = transform.linear();
+  const auto& p = transform.translation();
+  return KDL::Frame(KDL::Rotation(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)),
+                    KDL::Vector(p(0), p(1), p(2)));
+}
+
+std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const ObjectDescription& object) {
+  const auto& d = object.shape.dimensions;
+  switch (object.shape.kind) {
+    case ShapeKind::Box: return std::make_shared<fcl::Boxd>(d[0], d[1], d[2]);
+    case ShapeKind::Cylinder: return std::make_shared<fcl::Cylinderd>(d[0], d[1]);
+    case ShapeKind::Capsule: return std::make_shared<fcl::Capsuled>(d[0], d[1]);
+    case ShapeKind::Sphere: return std::make_shared<fcl::Sphered>(d[0]);
+    case ShapeKind::Mesh: break;
+  }
+  TriangleMesh mesh;
+  try {
+    mesh = loadMesh(object.shape.mesh_path, object.shape.mesh_scale);
+  } catch (const std::exception& error) {
+    const std::string where = object.origin.empty() ? "" : object.origin + ": ";
+    throw std::runtime_error(where + "object '" + object.name + "': " + error.what());
+  }
+  std::vector<fcl::Vector3d> vertices;
+  vertices.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) vertices.emplace_back(v[0], v[1], v[2]);
+  std::vector<fcl::Triangle> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  model->beginModel();
+  model->addSubModel(vertices, triangles);
+  model->endModel();
+  model->computeLocalAABB();
+  return model;
+}
+
+/// State of one broadphase distance search (FCL's callback protocol: return true to stop).
+struct DistanceSearch {
+  fcl::DistanceRequestd request;
+  double minimum = std::numeric_limits<double>::infinity();
+  double stop_below = 0.0;
+  const fcl::CollisionObjectd* first = nullptr;
+  const fcl::CollisionObjectd* second = nullptr;
+};
+
+bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data, double& distance) {
+  auto& search = *static_cast<DistanceSearch*>(data);
+  if (search.minimum > search.stop_below) {
+    fcl::DistanceResultd result;
+    fcl::distance(a, b, search.request, result);
+    // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
+    const double d = std::max(0.0, result.min_distance);
+    if (d < search.minimum) {
+      search.minimum = d;
+      search.first = a;
+      search.second = b;
+    }
+  }
+  distance = search.minimum;
+  return search.minimum <= search.stop_below;
+}
+
+}  // namespace
+
+struct CollisionWorld::Impl {
+  struct Attached {
+    std::size_t object = 0;
+    std::size_t link = 0;
+  };
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects;  // scene order
+  std::vector<fcl::Transform3d> offsets;                         // shape in attachment frame
+  std::vector<std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd>> managers;  // per group
+  std::vector<std::vector<Attached>> attached;                   // per robot
+  std::vector<std::vector<std::size_t>> robot_groups;            // per robot: groups it moves
+  std::vector<std::size_t> links_used;                           // per robot
+};
+
+CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)), impl_(std::make_unique<Impl>()) {
+  scene_.validate();
+  Impl& impl = *impl_;
+  impl.managers.resize(scene_.groups.size());
+  for (auto& manager : impl.managers) manager = std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>();
+  impl.attached.resize(scene_.robots.size());
+  impl.robot_groups.resize(scene_.robots.size());
+  impl.links_used.assign(scene_.robots.size(), 0);
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    const ObjectDescription& description = scene_.objects[i];
+    const std::size_t group = scene_.groupIndex(description.group);
+    KDL::Frame pose = description.offset;
+    if (!description.attached_to.isWorld()) {
+      const std::size_t robot = scene_.robotIndex(description.attached_to.robot_name);
+      impl.attached[robot].push_back({i, description.attached_to.link_index});
+      auto& groups = impl.robot_groups[robot];
+      if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
+      impl.links_used[robot] = std::max(impl.links_used[robot], description.attached_to.link_index + 1);
+      pose = scene_.robots[robot].base_in_world * description.offset;
+    }
+    impl.offsets.push_back(toFcl(description.offset));
+    auto object = std::make_unique<fcl::CollisionObjectd>(makeGeometry(description), toFcl(pose));
+    object->computeAABB();
+    object->setUserData(&scene_.objects[i]);
+    impl.managers[group]->registerObject(object.get());
+    impl.objects.push_back(std::move(object));
+  }
+  for (auto& manager : impl.managers) manager->setup();
+}
+
+CollisionWorld::~CollisionWorld() = default;
+
+std::size_t CollisionWorld::linksUsedBy(std::size_t robot) const { return impl_->links_used.at(robot); }
+
+void CollisionWorld::setRobotLinks(std::size_t robot, std::span<const KDL::Frame> links_in_world) {
+  Impl& impl = *impl_;
+  for (const Impl::Attached& attached : impl.attached[robot]) {
+    fcl::CollisionObjectd& object = *impl.objects[attached.object];
+    object.setTransform(toFcl(links_in_world[attached.link]) * impl.offsets[attached.object]);
+    object.computeAABB();
+  }
+  for (const std::size_t group : impl.robot_groups[robot]) impl.managers[group]->update();
+}
+
+GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, double stop_below) const {
+  DistanceSearch search;
+  search.stop_below = stop_below;
+  impl_->managers.at(first)->distance(impl_->managers.at(second).get(), &search, distanceCallback);
+  GroupDistance result;
+  result.distance = search.minimum;
+  if (search.first != nullptr) {
+    const auto* a = static_cast<const ObjectDescription*>(search.first->getUserData());
+    const auto* b = static_cast<const ObjectDescription*>(search.second->getUserData());
+    // The broadphase may hand the pair over in either order: report it in (first, second) order.
+    if (a->group != scene_.groups[first]) std::swap(a, b);
+    result.first_object = a->name;
+    result.second_object = b->name;
+  }
+  return result;
+}
+
+KDL::Frame CollisionWorld::objectPose(std::size_t object) const {
+  return toKdl(impl_->objects.at(object)->getTransform());
+}
+
+}  // namespace cobra::planning

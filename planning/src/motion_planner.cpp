@@ -1,0 +1,204 @@
+#include "cobra/planning/motion_planner.hpp"
+
+#include <ompl/base/spaces/SE3StateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/prm/PRM.h>
+#include <ompl/geometric/planners/rrt/RRT.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace cobra::planning {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+bool PositionBounds::contains(const KDL::Vector& p) const {
+  for (int i = 0; i < 3; ++i)
+    if (!(p(i) >= low[static_cast<std::size_t>(i)] && p(i) <= high[static_cast<std::size_t>(i)])) return false;
+  return true;
+}
+
+const char* toString(PlanStatus status) {
+  switch (status) {
+    case PlanStatus::Solved: return "solved";
+    case PlanStatus::InvalidInput: return "invalid input";
+    case PlanStatus::OutOfBounds: return "out of bounds";
+    case PlanStatus::InvalidStart: return "invalid start";
+    case PlanStatus::InvalidGoal: return "invalid goal";
+    case PlanStatus::NoSolution: return "no solution";
+    case PlanStatus::PathInvalid: return "path invalid";
+  }
+  return "unknown";
+}
+
+namespace {
+
+/// Lowers OMPL's console output for one scope (OMPL logs through a process-wide level).
+class OmplLogLevel {
+ public:
+  explicit OmplLogLevel(ompl::msg::LogLevel level) : previous_(ompl::msg::getLogLevel()) { ompl::msg::setLogLevel(level); }
+  ~OmplLogLevel() { ompl::msg::setLogLevel(previous_); }
+  OmplLogLevel(const OmplLogLevel&) = delete;
+  OmplLogLevel& operator=(const OmplLogLevel&) = delete;
+
+ private:
+  ompl::msg::LogLevel previous_;
+};
+
+using SE3State = ob::SE3StateSpace::StateType;
+
+void toOmpl(const KDL::Frame& frame, SE3State& state) {
+  state.setXYZ(frame.p.x(), frame.p.y(), frame.p.z());
+  auto& rotation = state.rotation();
+  frame.M.GetQuaternion(rotation.x, rotation.y, rotation.z, rotation.w);
+}
+
+KDL::Frame toKdl(const SE3State& state) {
+  const auto& r = state.rotation();
+  return KDL::Frame(KDL::Rotation::Quaternion(r.x, r.y, r.z, r.w), KDL::Vector(state.getX(), state.getY(), state.getZ()));
+}
+
+void toOmpl(const DualPose& q, ob::State& state) {
+  auto& compound = *state.as<ob::CompoundState>();
+  toOmpl(q.first, *compound.as<SE3State>(0));
+  toOmpl(q.second, *compound.as<SE3State>(1));
+}
+
+DualPose toDualPose(const ob::State& state) {
+  const auto& compound = *state.as<ob::CompoundState>();
+  return {toKdl(*compound.as<SE3State>(0)), toKdl(*compound.as<SE3State>(1))};
+}
+
+std::shared_ptr<ob::SE3StateSpace> makeSE3(const PositionBounds& bounds) {
+  auto space = std::make_shared<ob::SE3StateSpace>();
+  ob::RealVectorBounds real(3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    real.setLow(static_cast<unsigned>(i), bounds.low[i]);
+    real.setHigh(static_cast<unsigned>(i), bounds.high[i]);
+  }
+  space->setBounds(real);
+  return space;
+}
+
+ob::PlannerPtr makePlanner(const PlannerOptions& options, const ob::SpaceInformationPtr& si) {
+  if (options.planner == "RRTConnect") {
+    auto planner = std::make_shared<og::RRTConnect>(si);
+    if (options.range > 0.0) planner->setRange(options.range);
+    return planner;
+  }
+  if (options.planner == "RRT") {
+    auto planner = std::make_shared<og::RRT>(si);
+    if (options.range > 0.0) planner->setRange(options.range);
+    return planner;
+  }
+  return std::make_shared<og::PRM>(si);
+}
+
+void checkBounds(const PositionBounds& bounds, const char* which) {
+  for (std::size_t i = 0; i < 3; ++i)
+    if (!(bounds.low[i] < bounds.high[i]) || !std::isfinite(bounds.low[i]) || !std::isfinite(bounds.high[i]))
+      throw std::invalid_argument(std::string("motion planner: ") + which +
+                                  " bounds must be finite with low < high on every axis [m]");
+}
+
+}  // namespace
+
+MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
+    : validator_(validator), options_(std::move(options)) {
+  if (options_.planner != "RRTConnect" && options_.planner != "RRT" && options_.planner != "PRM")
+    throw std::invalid_argument("motion planner: unknown planner '" + options_.planner +
+                                "': use RRTConnect, RRT or PRM");
+  if (!(options_.time_limit > 0.0) || !std::isfinite(options_.time_limit))
+    throw std::invalid_argument("motion planner: time_limit must be a positive number of seconds");
+  if (options_.seed == 0) throw std::invalid_argument("motion planner: seed must be > 0 (OMPL ignores 0)");
+  if (!(options_.edge_resolution > 0.0 && options_.edge_resolution <= 1.0))
+    throw std::invalid_argument("motion planner: edge_resolution must be in (0, 1] (fraction of the space extent)");
+  if (options_.verify_points_per_segment == 0)
+    throw std::invalid_argument("motion planner: verify_points_per_segment must be >= 1");
+  if (!(options_.range >= 0.0) || !std::isfinite(options_.range))
+    throw std::invalid_argument("motion planner: range must be >= 0 (0 = OMPL's default)");
+  checkBounds(options_.first_bounds, "first tool");
+  checkBounds(options_.second_bounds, "second tool");
+}
+
+MotionPlanner::~MotionPlanner() = default;
+
+PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) {
+  const auto started = std::chrono::steady_clock::now();
+  PlanResult result;
+  const auto finish = [&](PlanStatus status, std::string message) {
+    result.status = status;
+    result.message = std::move(message);
+    result.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return result;
+  };
+  if (!isFinitePose(start) || !isFinitePose(goal))
+    return finish(PlanStatus::InvalidInput, std::string(isFinitePose(start) ? "goal" : "start") +
+                                                " pose has a NaN/infinite value or a non-orthonormal rotation");
+  for (const auto& [pose, name] : {std::pair{&start, "start"}, std::pair{&goal, "goal"}}) {
+    if (!options_.first_bounds.contains(pose->first.p) || !options_.second_bounds.contains(pose->second.p))
+      return finish(PlanStatus::OutOfBounds, std::string(name) + " position is outside the planner's bounds");
+  }
+  for (const auto& [pose, name] : {std::pair{&start, "start"}, std::pair{&goal, "goal"}}) {
+    result.rejected = validator_.check(*pose, true);
+    if (!result.rejected.valid())
+      return finish(pose == &start ? PlanStatus::InvalidStart : PlanStatus::InvalidGoal,
+                    std::string(name) + " state is not valid: " + describe(result.rejected));
+  }
+
+  const OmplLogLevel quiet(ompl::msg::LOG_NONE);
+  // Re-seeding OMPL's seed generator before any generator of this query exists makes the sequence
+  // of seeds, hence samples, the same for the same query (OMPL logs an error we silence above).
+  ompl::RNG::setSeed(options_.seed);
+  auto space = std::make_shared<ob::CompoundStateSpace>();
+  space->addSubspace(makeSE3(options_.first_bounds), 1.0);
+  space->addSubspace(makeSE3(options_.second_bounds), 1.0);
+  og::SimpleSetup setup(space);
+  setup.setStateValidityChecker([this](const ob::State* state) { return validator_.isStateValid(toDualPose(*state)); });
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(options_.edge_resolution);
+  ob::ScopedState<> start_state(space), goal_state(space);
+  toOmpl(start, *start_state.get());
+  toOmpl(goal, *goal_state.get());
+  setup.setStartAndGoalStates(start_state, goal_state);
+  setup.setPlanner(makePlanner(options_, setup.getSpaceInformation()));
+  const ob::PlannerStatus status = setup.solve(options_.time_limit);
+  if (status != ob::PlannerStatus::EXACT_SOLUTION)
+    return finish(PlanStatus::NoSolution, std::string("no path found by ") + options_.planner + " within " +
+                                              std::to_string(options_.time_limit) + " s");
+
+  og::PathGeometric path = setup.getSolutionPath();
+  if (options_.simplify) {
+    // Step-bounded (not time-bounded) simplification keeps the result reproducible.
+    og::PathSimplifier simplifier(setup.getSpaceInformation());
+    simplifier.reduceVertices(path);
+    simplifier.shortcutPath(path);
+    simplifier.collapseCloseVertices(path);
+  }
+  for (unsigned i = 0; i < path.getStateCount(); ++i) result.waypoints.push_back(toDualPose(*path.getState(i)));
+
+  // Verify every segment densely: edges were checked at edge_resolution, the contract is stronger.
+  ob::State* between = space->allocState();
+  const double steps = static_cast<double>(options_.verify_points_per_segment);
+  for (unsigned i = 0; i + 1 < path.getStateCount() && result.rejected.valid(); ++i) {
+    for (std::size_t k = 1; k < options_.verify_points_per_segment && result.rejected.valid(); ++k) {
+      space->interpolate(path.getState(i), path.getState(i + 1), static_cast<double>(k) / steps, between);
+      result.rejected = validator_.check(toDualPose(*between), true);
+    }
+  }
+  space->freeState(between);
+  if (!result.rejected.valid())
+    return finish(PlanStatus::PathInvalid, "the path crosses an invalid state between waypoints (" +
+                                               describe(result.rejected) + "): lower edge_resolution");
+  result.waypoints.front() = start;  // exact input poses (OMPL stores them as quaternions)
+  result.waypoints.back() = goal;
+  return finish(PlanStatus::Solved, "solved by " + options_.planner + " with " +
+                                        std::to_string(result.waypoints.size()) + " waypoints");
+}
+
+}  // namespace cobra::planning

@@ -1,0 +1,126 @@
+#include "cobra/planning/state_validator.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace cobra::planning {
+
+const char* toString(Validity validity) {
+  switch (validity) {
+    case Validity::Valid: return "valid";
+    case Validity::InvalidInput: return "invalid input";
+    case Validity::Unreachable: return "unreachable";
+    case Validity::TooClose: return "too close";
+  }
+  return "unknown";
+}
+
+std::string describe(const ValidityResult& result) {
+  std::ostringstream text;
+  text << toString(result.validity);
+  if (result.validity == Validity::Unreachable) text << ": robot '" << result.robot << "' has no IK solution";
+  if (result.validity == Validity::InvalidInput) text << ": a pose is not finite or its rotation is not orthonormal";
+  if (result.validity == Validity::TooClose)
+    text << ": " << result.first_group << "/" << result.second_group << " at " << result.distance << " m ("
+         << result.first_object << "/" << result.second_object << ")";
+  return text.str();
+}
+
+namespace {
+
+bool isFiniteFrame(const KDL::Frame& frame) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(frame.p(i))) return false;
+  for (const double value : frame.M.data)
+    if (!std::isfinite(value)) return false;
+  // Orthonormal: R^T R = I and det R = +1 (a proper rotation), to a tolerance for rounding.
+  constexpr double kTolerance = 1e-6;
+  const KDL::Rotation product = frame.M.Inverse() * frame.M;
+  for (unsigned r = 0; r < 3; ++r)
+    for (unsigned c = 0; c < 3; ++c)
+      if (std::abs(product(r, c) - (r == c ? 1.0 : 0.0)) > kTolerance) return false;
+  const KDL::Vector x = frame.M.UnitX(), y = frame.M.UnitY(), z = frame.M.UnitZ();
+  return dot(x * y, z) > 0.0;
+}
+
+}  // namespace
+
+bool isFinitePose(const DualPose& q) { return isFiniteFrame(q.first) && isFiniteFrame(q.second); }
+
+StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : world_(std::move(scene)) {
+  const SceneDescription& description = world_.scene();
+  for (std::size_t r = 0; r < description.robots.size(); ++r) {
+    const RobotPlacement& placement = description.robots[r];
+    const auto it = robots.find(placement.name);
+    if (it == robots.end() || !it->second)
+      throw std::invalid_argument("state validator: the scene's robot '" + placement.name +
+                                  "' has no robot model: pass one under that name");
+    const RobotModel& model = *it->second;
+    if (model.toolCount() != placement.tool_indices.size())
+      throw std::invalid_argument("state validator: robot '" + placement.name + "' takes " +
+                                  std::to_string(model.toolCount()) + " tool(s) but the scene gives it " +
+                                  std::to_string(placement.tool_indices.size()) + ": fix its `tools`");
+    if (model.linkCount() < world_.linksUsedBy(r))
+      throw std::invalid_argument("state validator: the scene attaches objects to link " +
+                                  std::to_string(world_.linksUsedBy(r) - 1) + " of robot '" + placement.name +
+                                  "' but its model has " + std::to_string(model.linkCount()) + " links");
+    models_.push_back(it->second);
+    tools_.emplace_back(model.toolCount());
+    links_.emplace_back(model.linkCount());
+  }
+}
+
+ValidityResult StateValidator::placeRobots(const DualPose& q) {
+  ValidityResult result;
+  if (!isFinitePose(q)) {
+    result.validity = Validity::InvalidInput;
+    return result;
+  }
+  const SceneDescription& description = world_.scene();
+  for (std::size_t r = 0; r < models_.size(); ++r) {
+    const RobotPlacement& placement = description.robots[r];
+    const KDL::Frame world_in_base = placement.base_in_world.Inverse();
+    for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
+      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second);
+    if (models_[r]->solve(tools_[r], links_[r]) != Reachability::Reachable) {
+      result.validity = Validity::Unreachable;
+      result.robot = placement.name;
+      return result;
+    }
+    for (KDL::Frame& link : links_[r]) link = placement.base_in_world * link;
+    world_.setRobotLinks(r, links_[r]);
+  }
+  return result;
+}
+
+ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {
+  ValidityResult result = placeRobots(q);
+  if (!result.valid()) return result;
+  const SceneDescription& description = world_.scene();
+  const double threshold = description.min_collision_distance;
+  for (const GroupPair& pair : description.checks) {
+    const GroupDistance d = world_.distance(pair.first, pair.second, exact_distances ? 0.0 : threshold);
+    if (d.distance <= threshold) {
+      result.validity = Validity::TooClose;
+      result.first_group = description.groups[pair.first];
+      result.second_group = description.groups[pair.second];
+      result.first_object = d.first_object;
+      result.second_object = d.second_object;
+      result.distance = d.distance;
+      return result;
+    }
+  }
+  return result;
+}
+
+double StateValidator::minimumDistance(const DualPose& q) {
+  if (!placeRobots(q).valid()) return std::numeric_limits<double>::quiet_NaN();
+  double minimum = std::numeric_limits<double>::infinity();
+  for (const GroupPair& pair : world_.scene().checks)
+    minimum = std::min(minimum, world_.distance(pair.first, pair.second).distance);
+  return minimum;
+}
+
+}  // namespace cobra::planning

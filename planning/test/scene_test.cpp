@@ -1,0 +1,101 @@
+// Scene files: the documented line format, its errors (file:line and what to do), validation.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cobra/planning/scene.hpp"
+#include "cobra/test_support/test_support.hpp"
+#include "planning_fixture.hpp"
+
+namespace cobra::planning {
+namespace {
+
+using cobra::test_support::messageOf;
+
+SceneDescription parse(const std::string& text) { return parseScene(text, "s.scene", test::dataDir()); }
+
+TEST(Scene, ParsesTheTestSceneFile) {
+  const SceneDescription scene = loadScene(test::dataDir() / "two_robots.scene");
+  EXPECT_DOUBLE_EQ(scene.min_collision_distance, 0.005);
+  ASSERT_EQ(scene.robots.size(), 2u);
+  EXPECT_EQ(scene.robots[1].name, "ur5");
+  EXPECT_EQ(scene.robots[1].tool_indices, std::vector<std::size_t>{1});
+  EXPECT_EQ(scene.groups, (std::vector<std::string>{"macro", "micro", "ur5", "environment"}));
+  ASSERT_EQ(scene.objects.size(), 6u);
+  const ObjectDescription& needle = scene.objects[2];
+  EXPECT_EQ(needle.group, "micro");
+  EXPECT_EQ(needle.attached_to.robot_name, "isur");
+  EXPECT_EQ(needle.attached_to.link_index, 1u);
+  EXPECT_EQ(needle.shape.kind, ShapeKind::Cylinder);
+  EXPECT_DOUBLE_EQ(needle.shape.dimensions[0], 0.002);
+  EXPECT_DOUBLE_EQ(needle.offset.p.z(), -0.05);
+  EXPECT_CONTAINS(needle.origin, "two_robots.scene:13");
+  const ObjectDescription& phantom = scene.objects[5];
+  EXPECT_TRUE(phantom.attached_to.isWorld());
+  EXPECT_EQ(phantom.shape.mesh_path, test::dataDir() / "unit_cube.stl");
+  EXPECT_DOUBLE_EQ(phantom.shape.mesh_scale, 0.1);
+  ASSERT_EQ(scene.checks.size(), 5u);
+  EXPECT_EQ(scene.checks[3].first, scene.groupIndex("micro"));
+  EXPECT_EQ(scene.checks[3].second, scene.groupIndex("environment"));
+}
+
+TEST(Scene, PoseIsXyzThenRollPitchYaw) {
+  const SceneDescription scene = parse("robot r tools 0 1 base 1 2 3 0.1 0.2 0.3\n");
+  const KDL::Frame expected(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(1, 2, 3));
+  EXPECT_TRUE(KDL::Equal(scene.robots[0].base_in_world, expected, 1e-12));
+  EXPECT_EQ(scene.robots[0].tool_indices, (std::vector<std::size_t>{0, 1}));
+}
+
+TEST(Scene, CommentsAndBlankLinesAreIgnored) {
+  const SceneDescription scene = parse("# a comment\n\n  group g   # trailing comment\r\n");
+  EXPECT_EQ(scene.groups, std::vector<std::string>{"g"});
+}
+
+TEST(Scene, ErrorsNameFileLineAndCause) {
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nfly away\n"); }), "s.scene:2: unknown statement 'fly'");
+  EXPECT_CONTAINS(messageOf([] { parse("min_collision_distance abc\n"); }), "s.scene:1: expected a distance [m]");
+  EXPECT_CONTAINS(messageOf([] { parse("min_collision_distance nan\n"); }), "s.scene:1:");
+  EXPECT_CONTAINS(messageOf([] { parse("object o nowhere world sphere 1 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:1: unknown group 'nowhere' (declare it with `group` first)");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g arm.1 sphere 1 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:2: unknown robot 'arm'");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g world sphere -1 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:2: object 'o': sphere dimensions must be > 0 m");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g world cone 1 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:2: unknown shape 'cone'");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g world sphere 1 at 0 0 0 0 0\n"); }),
+                  "s.scene:2: expected yaw [rad] at the end of the line");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\ngroup g\n"); }), "s.scene:2: group 'g' declared twice");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\ncheck g g\n"); }), "s.scene:2: a check needs two different groups");
+  EXPECT_CONTAINS(messageOf([] { parse("robot r tools 2 base 0 0 0 0 0 0\n"); }), "s.scene:1: tool index must be 0");
+  EXPECT_CONTAINS(messageOf([] { parse("group g extra\n"); }), "s.scene:1: unexpected 'extra'");
+}
+
+TEST(Scene, MissingMeshFileIsNamedWithItsLine) {
+  const std::string message = messageOf([] { parse("group g\nobject o g world mesh nope.stl at 0 0 0 0 0 0\n"); });
+  EXPECT_CONTAINS(message, "s.scene:2: mesh file '");
+  EXPECT_CONTAINS(message, "nope.stl' not found");
+}
+
+TEST(Scene, MissingSceneFileSaysSo) {
+  EXPECT_CONTAINS(messageOf([] { loadScene(test::dataDir() / "absent.scene"); }), "cannot read scene file");
+}
+
+TEST(Scene, ValidateCatchesHandBuiltMistakes) {
+  SceneDescription scene;
+  scene.groups = {"g"};
+  ObjectDescription object;
+  object.name = "o";
+  object.group = "h";
+  object.shape.dimensions = {1, 1, 1};
+  scene.objects.push_back(object);
+  EXPECT_CONTAINS(messageOf([&] { scene.validate(); }), "object 'o': unknown group 'h'");
+  scene.objects[0].group = "g";
+  EXPECT_NO_THROW(scene.validate());
+  scene.min_collision_distance = -1.0;
+  EXPECT_CONTAINS(messageOf([&] { scene.validate(); }), "min_collision_distance");
+}
+
+}  // namespace
+}  // namespace cobra::planning
