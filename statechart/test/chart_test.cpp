@@ -1,10 +1,9 @@
-// Building charts: the thesis' Fig. 3.2 example, load-time errors, a seeded random property test
-// and the no-allocation rule of a loaded chart's steps.
+// Building charts: the thesis' Fig. 3.2 example, load-time errors and the no-allocation rule of
+// a loaded chart's steps. The seeded random property test is property_test.cpp.
 #include "cobra/statechart/chart.hpp"
 
 #include <gtest/gtest.h>
 
-#include <random>
 #include <string>
 #include <vector>
 
@@ -116,68 +115,6 @@ TEST(Chart, NamesAreCheckedAsTheyAreAdded) {
   EXPECT_CONTAINS(cobra::test_support::messageOf([&] { empty.build(); }), "root has no initial connector");
 }
 
-// --- property test -------------------------------------------------------------------------
-
-/// A random well-formed chart: `count` states under random composite parents, every composite
-/// with an initial transition, and random event-triggered transitions between any two states.
-Chart randomChart(std::mt19937& rng, int count, int events, std::vector<std::string>& trace) {
-  ChartBuilder b;
-  std::vector<std::string> states{"root"};
-  std::vector<int> children(1, 0);
-  for (int i = 0; i < count; ++i) {
-    const auto parent = std::uniform_int_distribution<std::size_t>(0, states.size() - 1)(rng);
-    const std::string name = "s" + std::to_string(i);
-    const std::string fqn = states[parent] + "." + name;
-    StateSpec spec;
-    spec.entry = [&trace, fqn] { trace.push_back("+" + fqn); };
-    spec.exit = [&trace, fqn] { trace.push_back("-" + fqn); };
-    b.addState(states[parent], name, std::move(spec));
-    if (children[parent]++ == 0) b.addTransition(states[parent], trans("initial", name));
-    states.push_back(fqn);
-    children.push_back(0);
-  }
-  std::uniform_int_distribution<std::size_t> any(1, states.size() - 1);
-  for (int i = 0; i < 3 * count; ++i) {
-    TransitionSpec t = trans(states[any(rng)], states[any(rng)], {"e" + std::to_string(rng() % events)});
-    t.pn = static_cast<int>(rng() % 3);
-    b.addTransition("root", std::move(t));
-  }
-  return b.build();
-}
-
-// 300 seeded random charts (5..24 states) with 50 random events each: never a crash, always one
-// active leaf with every ancestor active, and the same trace when replayed.
-TEST(ChartProperty, RandomChartsKeepALeafConfigurationAndReplayIdentically) {
-  std::mt19937 rng(20261122);
-  for (int round = 0; round < 300; ++round) {
-    const int count = 5 + static_cast<int>(rng() % 20);
-    std::vector<std::string> first, second;
-    const auto seed = rng();
-    std::mt19937 build_rng(static_cast<std::mt19937::result_type>(seed));
-    const Chart chart = randomChart(build_rng, count, 6, first);
-    std::mt19937 replay_build(static_cast<std::mt19937::result_type>(seed));
-    const Chart again = randomChart(replay_build, count, 6, second);
-    Machine a(chart, {}), b(again, {});
-    a.run();
-    b.run();
-    std::mt19937 events(static_cast<std::mt19937::result_type>(seed + 1));
-    for (int i = 0; i < 50; ++i) {
-      const std::string e = "e" + std::to_string(events() % 6);
-      a.raise(e);
-      b.raise(e);
-      a.run();
-      b.run();
-      const std::string_view leaf = a.activeLeaf();
-      ASSERT_FALSE(leaf.empty()) << "round " << round;
-      const int index = chart.find(leaf);
-      ASSERT_GE(index, 0);
-      EXPECT_FALSE(chart.node(index).composite) << leaf;
-      for (int n = index; n != 0; n = chart.node(n).parent) EXPECT_TRUE(a.isActive(chart.node(n).fqn)) << leaf;
-    }
-    EXPECT_EQ(first, second) << "round " << round;
-  }
-}
-
 TEST(ChartRealTime, StepsOfALoadedChartAllocateNothing) {
   const Chart chart = figure32();
   Machine m(chart, [] { return std::chrono::nanoseconds(0); });
@@ -193,6 +130,85 @@ TEST(ChartRealTime, StepsOfALoadedChartAllocateNothing) {
             }),
             0);
   EXPECT_EQ(m.activeLeaf(), "root.on.waiting");
+}
+
+/// Counts what the observer hears, without allocating.
+struct Counter : Observer {
+  int entered_count = 0, exited_count = 0, taken = 0, ignored = 0;
+  void entered(std::string_view) override { ++entered_count; }
+  void exited(std::string_view) override { ++exited_count; }
+  void transitionTaken(const Chart::Transition&) override { ++taken; }
+  void eventsIgnored(const StepEvents&) override { ++ignored; }
+};
+
+// Everything a step can do — guards, effects, connectors, doo, e_done, time events, the
+// observer, unknown and dropped events, a full queue — allocates nothing once built.
+TEST(ChartRealTime, EveryKindOfStepAllocatesNothing) {
+  ChartBuilder b;
+  int doo_calls = 0;
+  StateSpec working;
+  working.doo = [&doo_calls](bool restart) {
+    doo_calls = restart ? 0 : doo_calls + 1;
+    return doo_calls < 3 ? DooStatus::Busy : DooStatus::Done;
+  };
+  b.addState("root", "task");
+  b.addState("root.task", "working", std::move(working));
+  b.addState("root.task", "waiting");
+  b.addState("root", "choose");
+  b.addConnector("root", "split");
+  b.addState("root", "left");
+  b.addState("root", "right");
+  b.addTransition("root", trans("initial", "task"));
+  b.addTransition("root.task", trans("initial", "working"));
+  b.addTransition("root.task", trans("working", "waiting", {"e_done"}));
+  b.addTransition("root", trans("task", "choose", {"e_after(0.5)"}));
+  TransitionSpec to_split = trans("choose", "split", {"e_go", "e_go2"});
+  to_split.guard = [](const StepEvents& events) { return !events.contains("e_veto"); };
+  to_split.effect = [&doo_calls](const StepEvents& events) { doo_calls += static_cast<int>(events.size()); };
+  b.addTransition("root", std::move(to_split));
+  b.addTransition("root", trans("split", "left", {"e_go"}));
+  b.addTransition("root", trans("split", "right", {"e_go2"}));
+  b.addTransition("root", trans("left", "task", {"e_back"}));
+  b.addTransition("root", trans("right", "root.task.waiting", {"e_back"}));
+  const Chart chart = b.build();
+  std::chrono::nanoseconds now{0};
+  Machine m(chart, [&now] { return now; }, 4);
+  Counter counter;
+  m.setObserver(&counter);
+  // (events of one step, clock advance in ms, the leaf expected after run())
+  struct Move {
+    std::vector<const char*> events;
+    int advance_ms;
+    std::string_view leaf;
+  };
+  const std::vector<Move> script = {
+      {{}, 0, "root.task.waiting"},                  // enter, doo busy twice then done, e_done
+      {{}, 600, "root.choose"},                      // task's e_after(0.5)
+      {{"e_go2", "e_veto"}, 0, "root.choose"},       // the guard says no: both dropped
+      {{"e_go2"}, 0, "root.right"},                  // through the connector
+      {{"e_back"}, 0, "root.task.waiting"},          // absolute target
+      {{}, 600, "root.choose"},                      // the timer restarted on task's entry
+      {{"e_go", "e_not_in_the_chart"}, 0, "root.left"},
+      {{"e_back"}, 0, "root.task.waiting"},          // doo restarted
+      {{"e_flood", "e_flood", "e_flood", "e_flood", "e_flood", "e_flood"}, 0, "root.task.waiting"},  // 2 refused
+  };
+  int wrong_leaves = 0;
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int round = 0; round < 50; ++round) {
+                for (const Move& move : script) {
+                  for (const char* e : move.events) m.raise(e);
+                  now += std::chrono::milliseconds(move.advance_ms);
+                  m.run();
+                  wrong_leaves += m.activeLeaf() == move.leaf ? 0 : 1;
+                }
+                m.reset();
+              }
+            }),
+            0);
+  EXPECT_EQ(wrong_leaves, 0);
+  EXPECT_EQ(counter.taken, 50 * 13);  // segments a round: 11 transitions, two of them through the connector
+  EXPECT_EQ(counter.exited_count, 50 * 10);
+  EXPECT_GT(counter.ignored, 50 * 3);
 }
 
 }  // namespace
