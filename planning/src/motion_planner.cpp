@@ -188,7 +188,7 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
   for (unsigned i = 0; i + 1 < path.getStateCount() && result.rejected.valid(); ++i) {
     for (std::size_t k = 1; k < options_.verify_points_per_segment && result.rejected.valid(); ++k) {
       space->interpolate(path.getState(i), path.getState(i + 1), static_cast<double>(k) / steps, between);
-      result.rejected = validator_.check(toDualPose(*between), true);
+      result.rejected = validator_.check(toDualPose(*between));
     }
   }
   space->freeState(between);

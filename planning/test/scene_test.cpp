@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "cobra/planning/collision_world.hpp"
 #include "cobra/planning/scene.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "planning_fixture.hpp"
@@ -95,6 +96,21 @@ TEST(Scene, ValidateCatchesHandBuiltMistakes) {
   EXPECT_NO_THROW(scene.validate());
   scene.min_collision_distance = -1.0;
   EXPECT_CONTAINS(messageOf([&] { scene.validate(); }), "min_collision_distance");
+}
+
+TEST(Scene, ShippedSetupsParseAndFollowTheThesisChecks) {
+  const std::filesystem::path scenes = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes";
+  const SceneDescription puncturing = loadScene(scenes / "puncturing.scene");
+  EXPECT_EQ(puncturing.groups, (std::vector<std::string>{"macro", "micro", "ur5", "environment"}));
+  EXPECT_EQ(puncturing.checks.size(), 5u);  // Algorithm 4.2, lines 8-12
+  EXPECT_EQ(puncturing.robots.size(), 2u);
+  const SceneDescription suturing = loadScene(scenes / "suturing.scene");
+  ASSERT_EQ(suturing.robots.size(), 1u);  // Algorithm 5.1: one solver for both tools
+  EXPECT_EQ(suturing.robots[0].tool_indices, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(suturing.checks.size(), 5u);
+  // The world objects of both scenes build (FCL geometry) without robots moving them.
+  EXPECT_NO_THROW(CollisionWorld{puncturing});
+  EXPECT_NO_THROW(CollisionWorld{suturing});
 }
 
 }  // namespace
