@@ -73,7 +73,10 @@ struct DistanceSearch {
 
 bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data, double& distance) {
   auto& search = *static_cast<DistanceSearch*>(data);
-  if (search.minimum > search.stop_below) {
+  // With a threshold, pairs whose bounding boxes are at least that far apart cannot be under it:
+  // skip their narrow phase (GJK, the dominant cost) and let the broadphase prune by the threshold.
+  const bool skip = search.stop_below > 0.0 && a->getAABB().distance(b->getAABB()) >= search.stop_below;
+  if (!skip && search.minimum > search.stop_below) {
     fcl::DistanceResultd result;
     fcl::distance(a, b, search.request, result);
     // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
@@ -84,7 +87,7 @@ bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* 
       search.second = b;
     }
   }
-  distance = search.minimum;
+  distance = search.stop_below > 0.0 ? std::min(search.minimum, search.stop_below) : search.minimum;
   return search.minimum <= search.stop_below;
 }
 

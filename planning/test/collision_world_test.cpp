@@ -106,6 +106,8 @@ TEST(CollisionWorld, StopBelowEndsEarlyWithAnUpperBound) {
   CollisionWorld world(scene);
   EXPECT_NEAR(world.distance(0, 1).distance, 0.05, 1e-6);
   EXPECT_LE(world.distance(0, 1, 1.0).distance, 1.0);
+  EXPECT_NEAR(world.distance(0, 1, 0.06).distance, 0.05, 1e-6);  // under the threshold: that pair
+  EXPECT_GT(world.distance(0, 1, 0.04).distance, 0.04);          // none under it: only a bound
 }
 
 }  // namespace

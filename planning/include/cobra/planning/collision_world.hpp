@@ -49,8 +49,10 @@ class CollisionWorld {
   void setRobotLinks(std::size_t robot, std::span<const KDL::Frame> links_in_world);
 
   /// Minimum distance between groups `first` and `second` (indices in scene().groups).
-  /// `stop_below` [m]: the search may stop as soon as some pair is closer than this (the returned
-  /// distance is then that pair's, an upper bound of the minimum); pass 0 for the exact minimum.
+  /// `stop_below` [m]: a validity threshold. The search stops at the first pair found at or under
+  /// it (the returned distance is then that pair's, an upper bound of the minimum) and skips pairs
+  /// that cannot be under it: a returned distance above `stop_below` is only known to be above it
+  /// (+infinity when every pair was skipped). Pass 0 for the exact minimum.
   GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0) const;
 
   /// World pose of object `object` (index in scene().objects), e.g. for a visualiser.
