@@ -3,13 +3,17 @@
 // step on the lockstep clock.
 //
 // Every benchmark runs 10 repetitions and reports their median and worst case ("max"). The time
-// column is per event (one raise + the step that takes its transition); `transitions_per_s` is
-// its inverse. Charts:
-//  - cobra: a 3-level chart, root > work > {fast > {a, b}, slow}, where four events cycle
-//    a -> b -> slow -> a (through fast's initial) and back; each transition has a guard returning
-//    true, so every event costs a guard call, an exit/entry chain and an LCA.
-//  - Boost.MSM: the same four states and events, flat (MSM's submachines change the cost model),
-//    with functor guards: the peer for "dispatch one event to a state machine".
+// column is per external event: one raise plus the steps that handle it, i.e. the step that
+// takes its transition and the step that drops the e_done@<leaf> the entered leaf raised (rFSM
+// semantics: a completion event is an event; MSM has none, so cobra does twice the steps).
+// `transitions_per_s` is its inverse. Charts:
+//  - Cobra3Level: root > work > {fast > {a, b}, slow}, where three events cycle
+//    a -> b -> slow -> a (through fast's initial); each transition has a guard returning true: guard calls, exit/entry chains and an LCA per event;
+//  - CobraFlat: the same three states flat with the same guards: the like-for-like peer of
+//  - BoostMsm: three states cycling on three events with functor guards (statechart_msm_peer.cpp);
+//  - CobraToggle: two states, one event each way, no guard: the engine's floor.
+// PerEvent* time each single event (steady_clock around raise + 2 steps, resp. process_event) and
+// report p50/p99/max_ns of one run as counters: the worst case a supervisor's update sees.
 // Targets (issue 4): >= 1,000,000 transitions/s with C++ guards, >= 100,000/s with Lua guards,
 // supervisor step < 10 us median.
 
@@ -76,10 +80,79 @@ void runEvents(benchmark::State& state, statechart::Machine& m) {
   state.counters["transitions_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-void CobraCppGuards(benchmark::State& state) {
+void Cobra3Level(benchmark::State& state) {
   const statechart::Chart chart = threeLevelChart();
   statechart::Machine m(chart, {});
   runEvents(state, m);
+}
+
+statechart::Chart flatChart() {
+  statechart::ChartBuilder b;
+  for (const char* s : {"a", "b", "slow"}) b.addState("root", s);
+  b.addTransition("root", guarded("initial", "a", {}));
+  b.addTransition("root", guarded("a", "b", {"e_ab"}));
+  b.addTransition("root", guarded("b", "slow", {"e_bslow"}));
+  b.addTransition("root", guarded("slow", "a", {"e_slowa"}));
+  return b.build();
+}
+
+void CobraFlat(benchmark::State& state) {
+  const statechart::Chart chart = flatChart();
+  statechart::Machine m(chart, {});
+  runEvents(state, m);
+}
+
+void CobraToggle(benchmark::State& state) {
+  statechart::ChartBuilder b;
+  b.addState("root", "off");
+  b.addState("root", "on");
+  b.addTransition("root", {"initial", "off", {}, 0, {}, {}, {}});
+  b.addTransition("root", {"off", "on", {"e_toggle"}, 0, {}, {}, {}});
+  b.addTransition("root", {"on", "off", {"e_toggle"}, 0, {}, {}, {}});
+  const statechart::Chart chart = b.build();
+  statechart::Machine m(chart, {});
+  m.run();
+  for (auto _ : state) {
+    m.raise("e_toggle");
+    m.step();
+    m.step();
+  }
+  state.counters["transitions_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+/// Times each call of `one_event(i)` and reports p50/p99/max in ns of this run.
+template <class OneEvent>
+void perEvent(benchmark::State& state, OneEvent one_event) {
+  std::vector<double> ns;
+  ns.reserve(1 << 20);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    one_event(i++);
+    const auto stop = std::chrono::steady_clock::now();
+    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(stop - start).count());
+  }
+  std::sort(ns.begin(), ns.end());
+  state.counters["p50_ns"] = ns[ns.size() / 2];
+  state.counters["p99_ns"] = ns[ns.size() * 99 / 100];
+  state.counters["max_ns"] = ns.back();
+}
+
+void PerEventCobraFlat(benchmark::State& state) {
+  const statechart::Chart chart = flatChart();
+  statechart::Machine m(chart, {});
+  m.run();
+  perEvent(state, [&m](std::size_t i) {
+    m.raise(kEvents[i % 3]);
+    m.step();
+    m.step();
+  });
+}
+
+void PerEventBoostMsm(benchmark::State& state) {
+  MsmPeer* m = msmCreate();
+  perEvent(state, [m](std::size_t i) { msmDispatch(m, static_cast<int>(i % 3)); });
+  msmDestroy(m);
 }
 
 void CobraLuaGuards(benchmark::State& state) {
@@ -137,8 +210,12 @@ void SupervisorStep(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(CobraCppGuards)->Apply(configure);
-BENCHMARK(CobraLuaGuards)->Apply(configure);
+BENCHMARK(Cobra3Level)->Apply(configure);
+BENCHMARK(CobraFlat)->Apply(configure);
 BENCHMARK(BoostMsm)->Apply(configure);
+BENCHMARK(CobraToggle)->Apply(configure);
+BENCHMARK(PerEventCobraFlat)->Apply(configure);
+BENCHMARK(PerEventBoostMsm)->Apply(configure);
+BENCHMARK(CobraLuaGuards)->Apply(configure);
 BENCHMARK(SupervisorStep)->Apply(configure);
 BENCHMARK_MAIN();

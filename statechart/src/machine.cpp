@@ -83,6 +83,19 @@ bool Machine::isActive(std::string_view fqn) const noexcept {
   return false;
 }
 
+template <class Callback>
+bool Machine::guarded(const char* callback, std::string_view element, Callback&& call) noexcept {
+  try {
+    call();
+    return true;
+  } catch (const std::exception& e) {
+    failed(callback, element, e.what());
+  } catch (...) {
+    failed(callback, element, "unknown exception");
+  }
+  return false;
+}
+
 void Machine::failed(const char* callback, std::string_view element, const char* what) noexcept {
   if (observer_ != nullptr) observer_->callbackFailed(callback, element, what);
 }
@@ -108,15 +121,8 @@ void Machine::checkTimeEvents() noexcept {
 
 bool Machine::enabled(const Chart::Transition& t, const StepEvents& events) noexcept {
   if (t.guard) {  // the guard first, whatever the events (rFSM's order)
-    try {
-      if (!t.guard(events)) return false;
-    } catch (const std::exception& e) {
-      failed("guard", t.text, e.what());
-      return false;
-    } catch (...) {
-      failed("guard", t.text, "unknown exception");
-      return false;
-    }
+    bool open = false;
+    if (!guarded("guard", t.text, [&] { open = t.guard(events); }) || !open) return false;
   }
   if (t.events.empty()) return true;
   for (std::size_t i = 0; i < events.size(); ++i)
@@ -159,13 +165,7 @@ void Machine::exit(int node) noexcept {
   if (n.composite && active_child_[at(node)] >= 0 && active_child_[at(node)] != node) exit(active_child_[at(node)]);
   if (active_child_[at(n.parent)] == node) active_child_[at(n.parent)] = -1;
   if (n.callbacks.exit) {
-    try {
-      n.callbacks.exit();
-    } catch (const std::exception& e) {
-      failed("exit", n.fqn, e.what());
-    } catch (...) {
-      failed("exit", n.fqn, "unknown exception");
-    }
+    guarded("exit", n.fqn, n.callbacks.exit);
   }
   if (!n.composite) active_leaf_ = -1;
   if (observer_ != nullptr) observer_->exited(n.fqn);
@@ -178,13 +178,7 @@ void Machine::enter(int node) noexcept {
   entry_time_[at(node)] = clock_ ? clock_() : std::chrono::nanoseconds(0);
   for (int ti : n.transitions) time_fired_[at(ti)] = 0;
   if (n.callbacks.entry) {
-    try {
-      n.callbacks.entry();
-    } catch (const std::exception& e) {
-      failed("entry", n.fqn, e.what());
-    } catch (...) {
-      failed("entry", n.fqn, "unknown exception");
-    }
+    guarded("entry", n.fqn, n.callbacks.entry);
   }
   if (!n.composite) {
     active_leaf_ = node;
@@ -203,13 +197,7 @@ void Machine::execute(const Chart::Transition& t, const StepEvents& events) noex
   exit(top);
   if (observer_ != nullptr) observer_->transitionTaken(t);
   if (t.effect) {
-    try {
-      t.effect(events);
-    } catch (const std::exception& e) {
-      failed("effect", t.text, e.what());
-    } catch (...) {
-      failed("effect", t.text, "unknown exception");
-    }
+    guarded("effect", t.text, [&] { t.effect(events); });
   }
   std::size_t count = 0;
   for (int n = t.tgt; n != common; n = nodes[at(n)].parent) down_[count++] = n;
@@ -255,15 +243,8 @@ StepResult Machine::step() noexcept {
   if (leaf < 0 || leaf_done_[at(leaf)]) return queue_size_ > 0 ? StepResult::DooRan : StepResult::Idle;
   const Chart::Node& n = chart_->nodes()[at(leaf)];
   DooStatus status = DooStatus::Done;
-  try {
-    status = n.callbacks.doo(doo_restart_[at(leaf)] != 0);
-  } catch (const std::exception& e) {
-    failed("doo", n.fqn, e.what());  // a failing doo ends, as in rFSM, but raises no e_done
-    leaf_done_[at(leaf)] = 1;
-    return queue_size_ > 0 ? StepResult::DooRan : StepResult::Idle;
-  } catch (...) {
-    failed("doo", n.fqn, "unknown exception");
-    leaf_done_[at(leaf)] = 1;
+  if (!guarded("doo", n.fqn, [&] { status = n.callbacks.doo(doo_restart_[at(leaf)] != 0); })) {
+    leaf_done_[at(leaf)] = 1;  // a failing doo ends, as in rFSM, but raises no e_done
     return queue_size_ > 0 ? StepResult::DooRan : StepResult::Idle;
   }
   doo_restart_[at(leaf)] = 0;

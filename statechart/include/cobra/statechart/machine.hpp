@@ -112,6 +112,9 @@ class Machine {
   void enter(int node) noexcept;
   void exit(int node) noexcept;
   int lca(int a, int b) const noexcept;
+  /// Calls a user callback; one that throws is reported to the observer: returns false then.
+  template <class Callback>
+  bool guarded(const char* callback, std::string_view element, Callback&& call) noexcept;
   void failed(const char* callback, std::string_view element, const char* what) noexcept;
 
   const Chart* chart_;
