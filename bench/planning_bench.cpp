@@ -10,8 +10,9 @@
 //  - Plan/<planner>: one benchmark iteration = 100 seeded planning queries (seeds 1..100) of the
 //    same start/goal; counters `median_ms`, `p95_ms`, `max_ms` of the planning time and
 //    `success_rate` (time limit 0.5 s per query), and `cpu_median_ms`, the median process CPU time
-//    per query (the wall-clock figures include waiting for the core on a shared machine). RRT-Connect (the thesis' choice) side by side
-//    with plain RRT and PRM, OMPL's defaults otherwise. Target: RRT-Connect median <= 50 ms.
+//    per query (the wall-clock figures include waiting for the core on a shared machine).
+//    RRT-Connect (the thesis' choice) side by side with plain RRT and PRM, OMPL's defaults
+//    otherwise. Target: RRT-Connect median <= 50 ms.
 // Validity checks run 10 repetitions (median and max reported); planning runs once (100 queries
 // already make the statistics, and RRT can take 100 x 0.5 s).
 

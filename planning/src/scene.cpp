@@ -183,6 +183,8 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     while (line.peek() != "base" && !line.atEnd()) {
       const std::size_t tool = line.index("a tool index (0 or 1)");
       if (tool > 1) line.fail("tool index must be 0 (first pose of q) or 1 (second pose)");
+      if (std::find(robot.tool_indices.begin(), robot.tool_indices.end(), tool) != robot.tool_indices.end())
+        line.fail("tool " + std::to_string(tool) + " listed twice");
       robot.tool_indices.push_back(tool);
     }
     if (robot.tool_indices.empty() || robot.tool_indices.size() > 2) line.fail("a robot takes one or two tools");

@@ -71,6 +71,7 @@ TEST(Scene, ErrorsNameFileLineAndCause) {
   EXPECT_CONTAINS(messageOf([] { parse("group g\ncheck g g\n"); }), "s.scene:2: a check needs two different groups");
   EXPECT_CONTAINS(messageOf([] { parse("robot r tools 2 base 0 0 0 0 0 0\n"); }), "s.scene:1: tool index must be 0");
   EXPECT_CONTAINS(messageOf([] { parse("group g extra\n"); }), "s.scene:1: unexpected 'extra'");
+  EXPECT_CONTAINS(messageOf([] { parse("robot r tools 1 1 base 0 0 0 0 0 0\n"); }), "s.scene:1: tool 1 listed twice");
 }
 
 TEST(Scene, MissingMeshFileIsNamedWithItsLine) {
@@ -96,6 +97,37 @@ TEST(Scene, ValidateCatchesHandBuiltMistakes) {
   EXPECT_NO_THROW(scene.validate());
   scene.min_collision_distance = -1.0;
   EXPECT_CONTAINS(messageOf([&] { scene.validate(); }), "min_collision_distance");
+}
+
+TEST(Scene, MutatedFilesParseOrThrowInvalidArgument) {
+  // 2000 seeded mutations (replace, delete, duplicate a byte) of the test scene: the parser either
+  // accepts the text or throws std::invalid_argument with a file:line location; nothing else.
+  const std::string original = test::readText(test::dataDir() / "two_robots.scene");
+  const std::string alphabet = " \n#.-0123456789eabcgrotwx";
+  std::uint32_t state = 2024;
+  const auto next = [&](std::size_t bound) {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<std::size_t>(state >> 8) % bound;
+  };
+  int accepted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    std::string text = original;
+    for (int edit = 0; edit < 3; ++edit) {
+      const std::size_t at = next(text.size());
+      switch (next(3)) {
+        case 0: text[at] = alphabet[next(alphabet.size())]; break;
+        case 1: text.erase(at, 1); break;
+        default: text.insert(at, 1, text[at]); break;
+      }
+    }
+    try {
+      parseScene(text, "m.scene", test::dataDir());
+      ++accepted;
+    } catch (const std::invalid_argument& error) {
+      EXPECT_CONTAINS(error.what(), "m.scene");
+    }
+  }
+  EXPECT_GT(accepted, 0);  // some edits only touch comments or numbers
 }
 
 TEST(Scene, ShippedSetupsParseAndFollowTheThesisChecks) {
