@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,27 @@ KDL::Rotation expRotation(const Vector6& x) {
   return angle < 1e-15 ? KDL::Rotation::Identity() : KDL::Rotation::Rot2(r / angle, angle);
 }
 
+/// Left Jacobian of SO(3) at the rotation vector φ (rad): with R = R_ref Exp(φ), the angular
+/// velocity of R relative to R_ref is R_ref J_l(φ) φ̇ (base frame). So the torque τ (reference axes)
+/// does work τᵀ J_l(φ) φ̇, and the generalised force conjugate to φ is J_l(φ)ᵀ τ: the port
+/// (F_ext, ẋ̃) of eq. 4.10 is then the physical (wrench, twist) port, at any rotation error < π.
+Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& phi) {
+  const double angle = phi.norm();
+  Eigen::Matrix3d hat;
+  hat << 0.0, -phi.z(), phi.y(), phi.z(), 0.0, -phi.x(), -phi.y(), phi.x(), 0.0;
+  // Taylor expansions below 1e-4 rad keep the coefficients exact to double precision.
+  const double a = angle < 1e-4 ? 0.5 - angle * angle / 24.0 : (1.0 - std::cos(angle)) / (angle * angle);
+  const double b = angle < 1e-4 ? 1.0 / 6.0 - angle * angle / 120.0 : (angle - std::sin(angle)) / (angle * angle * angle);
+  return Eigen::Matrix3d::Identity() + a * hat + b * hat * hat;
+}
+
+/// Shortest decimal form of a number for messages ("-1", "0.5", "2e+04").
+std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 /// Smallest eigenvalue of a symmetric matrix (fixed size: no allocation).
 double smallestEigenvalue(const Matrix6& m) {
   const Eigen::SelfAdjointEigenSolver<Matrix6> solver(m, Eigen::EigenvaluesOnly);
@@ -33,27 +55,52 @@ bool symmetricAtLeast(const Matrix6& m, const Matrix6& floor, bool strictly) {
   return strictly ? lowest > 0.0 : lowest >= -1e-12;
 }
 
-}  // namespace
+/// A matrix parameter for messages: its name and the units of its translation and rotation entries.
+struct MatrixName {
+  const char* name;
+  const char* translation_unit;
+  const char* rotation_unit;
+};
 
-void requireSymmetricPositive(const Matrix6& m, const char* name, bool semidefinite) {
-  if (!m.allFinite()) throw std::invalid_argument(std::string("VariableAdmittance: ") + name + " has a value that is not finite");
+/// Checks m > floor (m >= floor when `semidefinite`), symmetric and finite. A diagonal m and floor (the
+/// usual case: the component's properties are diagonals) are checked entry by entry, so the message
+/// names the entry, its unit and the bound, e.g. "damping[3] = -1 N·m·s/rad: must be > 0".
+void requireAbove(const Matrix6& m, const Matrix6& floor, const MatrixName& what, const char* floor_name,
+                  bool semidefinite) {
+  const std::string prefix = std::string("VariableAdmittance: ") + what.name;
+  const char* relation = semidefinite ? ">= " : "> ";
+  if (m.isDiagonal(0.0) && floor.isDiagonal(0.0)) {
+    for (int i = 0; i < 6; ++i) {
+      const double value = m(i, i), bound = floor(i, i);
+      if (std::isfinite(value) && (semidefinite ? value >= bound : value > bound)) continue;
+      const std::string unit = i < 3 ? what.translation_unit : what.rotation_unit;
+      const std::string index = "[" + std::to_string(i) + "]";
+      const std::string limit =
+          floor_name ? std::string(floor_name) + index + " = " + shortNumber(bound) + " " + unit : std::string("0");
+      throw std::invalid_argument(prefix + index + " = " + shortNumber(value) + " " + unit + ": must be " + relation +
+                                  limit + " (entries 0-2 translation, 3-5 rotation)");
+    }
+    return;
+  }
+  const std::string units = std::string(" (") + what.translation_unit + ", " + what.rotation_unit + ")";
+  if (!m.allFinite()) throw std::invalid_argument(prefix + units + " has a value that is not finite");
   if ((m - m.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * (1.0 + m.cwiseAbs().maxCoeff()))
-    throw std::invalid_argument(std::string("VariableAdmittance: ") + name + " must be symmetric");
-  const double lowest = smallestEigenvalue(m);
+    throw std::invalid_argument(prefix + units + " must be symmetric");
+  const double lowest = smallestEigenvalue(m - floor);
   if (semidefinite ? lowest < -1e-12 : lowest <= 0.0)
-    throw std::invalid_argument(std::string("VariableAdmittance: ") + name + " must be positive " +
-                                (semidefinite ? "semidefinite" : "definite") + " (smallest eigenvalue " +
-                                std::to_string(lowest) + ")");
+    throw std::invalid_argument(prefix + units + (floor_name ? std::string(" - ") + floor_name : std::string()) +
+                                " must be positive " + (semidefinite ? "semidefinite" : "definite") +
+                                " (smallest eigenvalue " + shortNumber(lowest) + ")");
 }
 
+}  // namespace
+
 VariableAdmittance::VariableAdmittance(const AdmittanceParameters& p) : parameters_(p) {
-  requireSymmetricPositive(p.constant_inertia, "constant_inertia (kg, kg·m²)", false);
-  requireSymmetricPositive(p.constant_stiffness, "constant_stiffness (N/m, N·m/rad)", true);
-  requireSymmetricPositive(p.damping, "damping (N·s/m, N·m·s/rad)", false);
-  if (!symmetricAtLeast(p.inertia, p.constant_inertia, false))
-    throw std::invalid_argument("VariableAdmittance: inertia must be symmetric and at least constant_inertia (Λd ≥ Λc)");
-  if (!symmetricAtLeast(p.stiffness, p.constant_stiffness, false))
-    throw std::invalid_argument("VariableAdmittance: stiffness must be symmetric and at least constant_stiffness (Kd ≥ Kc)");
+  requireAbove(p.constant_inertia, Matrix6::Zero(), {"constant_inertia", "kg", "kg·m²"}, nullptr, false);
+  requireAbove(p.constant_stiffness, Matrix6::Zero(), {"constant_stiffness", "N/m", "N·m/rad"}, nullptr, true);
+  requireAbove(p.damping, Matrix6::Zero(), {"damping", "N·s/m", "N·m·s/rad"}, nullptr, false);
+  requireAbove(p.inertia, p.constant_inertia, {"inertia", "kg", "kg·m²"}, "constant_inertia", true);
+  requireAbove(p.stiffness, p.constant_stiffness, {"stiffness", "N/m", "N·m/rad"}, "constant_stiffness", true);
   const TankParameters& t = p.tank;
   if (!(t.min_energy > 0.0) || !(t.initial_energy > t.min_energy) || !(t.max_energy >= t.initial_energy))
     throw std::invalid_argument("VariableAdmittance: tank energies must satisfy 0 < min_energy < initial_energy <= "
@@ -100,10 +147,12 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   if (!(dt > 0.0) || !std::isfinite(dt) || !finite(reference.p) || !finite(wrench.force) || !finite(wrench.torque) ||
       !finite(reference_twist.vel) || !finite(reference_twist.rot))
     return AdmittanceStatus::BadInput;
-  // Generalised force conjugate to x̃: force in the base frame, torque in the reference's axes.
+  // Generalised force conjugate to x̃: the force (base frame), and J_l(φ)ᵀ times the torque in the
+  // reference's axes (see leftJacobian), evaluated at the start of the step.
   const KDL::Vector torque = reference.M.Inverse(wrench.torque);
   Vector6 force;
-  force << wrench.force.x(), wrench.force.y(), wrench.force.z(), torque.x(), torque.y(), torque.z();
+  force.head<3>() = Eigen::Vector3d(wrench.force.x(), wrench.force.y(), wrench.force.z());
+  force.tail<3>() = leftJacobian(x_.tail<3>()).transpose() * Eigen::Vector3d(torque.x(), torque.y(), torque.z());
 
   const double sigma = tank_ <= parameters_.tank.max_energy ? 1.0 : 0.0;  // eq. 4.7
   const double energy_before = constantEnergy(x_, v_);
@@ -137,7 +186,8 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   pose.p = reference.p + KDL::Vector(x_(0), x_(1), x_(2));
   pose.M = reference.M * expRotation(x_);
   twist.vel = reference_twist.vel + KDL::Vector(v_(0), v_(1), v_(2));
-  twist.rot = reference_twist.rot + reference.M * KDL::Vector(v_(3), v_(4), v_(5));  // exact for small errors
+  const Eigen::Vector3d relative_rate = leftJacobian(x_.tail<3>()) * v_.tail<3>();  // rad/s, reference axes
+  twist.rot = reference_twist.rot + reference.M * KDL::Vector(relative_rate.x(), relative_rate.y(), relative_rate.z());
   return status;
 }
 

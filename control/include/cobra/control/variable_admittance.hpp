@@ -11,7 +11,9 @@
 ///
 /// State: x̃ = (position error in m, rotation error as exponential coordinates in rad, in the
 /// reference frame's axes), ẋ̃ its rate (m/s, rad/s). Output pose: p = p_ref + x̃_p,
-/// R = R_ref Exp(x̃_r): always a rotation (SO(3)), never Euler angles.
+/// R = R_ref Exp(x̃_r): always a rotation (SO(3)), never Euler angles. The torque enters as the
+/// generalised force J_l(x̃_r)ᵀ τ (J_l: left Jacobian of SO(3), τ in the reference's axes), so the
+/// power port (F_ext, ẋ̃) is the physical one (wrench, relative twist) at any rotation error < π.
 ///
 /// Discretisation (and why the discrete energy balance holds): one step of dt is backward Euler,
 ///   (M + dt D + dt² K) v' = M v + dt (F - K x),  x' = x + dt v',
@@ -72,8 +74,10 @@ struct EnergyAudit {
 /// setParameters), a fixed-size state; step() is noexcept and allocation-free.
 class VariableAdmittance {
  public:
-  /// @throws std::invalid_argument naming the parameter when a matrix is not symmetric positive
-  /// definite (Λc, D) or semidefinite (Kc), Λd < Λc, Kd < Kc, or the tank bounds are wrong.
+  /// @throws std::invalid_argument naming the parameter, its value and unit and the expected range
+  /// (for diagonal matrices the entry, e.g. "damping[3] = -1 N·m·s/rad: must be > 0") when a matrix
+  /// is not symmetric positive definite (Λc, D) or semidefinite (Kc), Λd < Λc, Kd < Kc, or the tank
+  /// bounds are wrong.
   explicit VariableAdmittance(const AdmittanceParameters& parameters);
 
   /// New Λd, D, Kd (a configuration): checked, applied from the next step; the state (hence the
@@ -106,9 +110,5 @@ class VariableAdmittance {
   double tank_ = 0.0;
   EnergyAudit audit_;
 };
-
-/// Checks a configure-time matrix: symmetric, and positive definite (or semidefinite when
-/// `semidefinite`). @throws std::invalid_argument "VariableAdmittance: <name> ...".
-void requireSymmetricPositive(const Matrix6& m, const char* name, bool semidefinite);
 
 }  // namespace cobra::control
