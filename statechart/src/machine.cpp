@@ -52,7 +52,7 @@ void Machine::raiseInternal(EventId id, std::string_view name) noexcept {
 }
 
 void Machine::push(EventId id, std::string_view name) noexcept {
-  QueuedEvent& slot = queue_[(queue_head_ + queue_size_) % queue_.size()];
+  QueuedEvent& slot = queue_[queue_size_];
   slot.id = id;
   slot.length = name.size();
   std::memcpy(slot.text, name.data(), name.size());
@@ -66,7 +66,7 @@ void Machine::reset() noexcept {
   std::fill(leaf_done_.begin(), leaf_done_.end(), 0);
   std::fill(doo_restart_.begin(), doo_restart_.end(), 1);
   std::fill(time_fired_.begin(), time_fired_.end(), 0);
-  queue_head_ = queue_size_ = internal_queued_ = 0;
+  queue_size_ = internal_queued_ = 0;
   raiseInternal(chart_->eventId(kInitEvent), kInitEvent);  // as rFSM's init and reset
 }
 
@@ -211,11 +211,10 @@ void Machine::executePath(const StepEvents& events) noexcept {
 StepResult Machine::step() noexcept {
   checkTimeEvents();
   const std::size_t count = queue_size_;
-  for (std::size_t i = 0; i < count; ++i) {
-    current_[i] = queue_[(queue_head_ + i) % queue_.size()];
+  queue_.swap(current_);  // a step takes every queued event: no copy, and the queue starts empty
+  queue_size_ = internal_queued_ = 0;
+  for (std::size_t i = 0; i < count; ++i)
     current_entries_[i] = {current_[i].id, std::string_view(current_[i].text, current_[i].length)};
-  }
-  queue_head_ = queue_size_ = internal_queued_ = 0;
   const StepEvents events(std::span<const StepEvents::Entry>(current_entries_.data(), count));
 
   if (!entered_) {

@@ -128,9 +128,9 @@ class Machine {
   std::vector<char> doo_restart_;                  // per node: next doo call restarts
   std::vector<std::chrono::nanoseconds> entry_time_;  // per node
   std::vector<char> time_fired_;                   // per transition
-  std::vector<QueuedEvent> queue_;                 // ring
-  std::size_t queue_head_ = 0, queue_size_ = 0, internal_queued_ = 0;
-  std::vector<QueuedEvent> current_;               // this step's events
+  std::vector<QueuedEvent> queue_;                 // events for the next step, from index 0
+  std::size_t queue_size_ = 0, internal_queued_ = 0;
+  std::vector<QueuedEvent> current_;               // this step's events (swapped with queue_)
   std::vector<StepEvents::Entry> current_entries_;
   std::vector<int> path_, down_;                   // workspaces (size: nodes)
   std::size_t path_length_ = 0;
