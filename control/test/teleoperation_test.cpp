@@ -1,5 +1,5 @@
 // Two-layer teleoperation (thesis §4.5.4) with a simulated master (a Phantom Omni-like device
-// held by a compliant hand) and a slave pressing on a stiff wall: the switch from autonomous to
+// held by a hand with a grip impedance that yields to what it feels) and a slave pressing on a stiff wall: the switch from autonomous to
 // teleoperated with a 5 cm misalignment, reference values of the literature (K = 50 N/m,
 // B = 1.1 N·s/m, ē1 = 5 mm, ē2 = 10 mm, ε = 1 J, T_req = 5 J, T_ava = 10 J, T̄ = 20 J).
 #include "cobra/control/teleoperation.hpp"
@@ -8,60 +8,55 @@
 
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "simulated_world.hpp"
 
 namespace cobra::control {
 namespace {
 
 constexpr double kDt = 1e-3;  // s
 
-/// A point mass with viscous damping, integrated with semi-implicit Euler.
-struct Body {
-  double mass;     // kg
-  double damping;  // N·s/m
-  Vector3 x = Vector3::Zero(), v = Vector3::Zero();
-  double step(const Vector3& force) {  // returns the energy the force put in over the step, J
-    v += kDt * (force - damping * v) / mass;
-    x += kDt * v;
-    return force.dot(v) * kDt;
-  }
-  double kinetic() const { return 0.5 * mass * v.squaredNorm(); }
-};
+using test::HumanHand;
+using test::PointMass;
+using test::StiffWall;
 
 struct Scenario {
   TransparencyLayer transparency{TransparencyParameters{}};
   PassivityLayer passivity{PassivityParameters{}};
-  Body master{0.1, 0.5};   // Phantom Omni-like end point
-  Body slave{2.0, 30.0};   // the slave robot's admittance
-  double wall = 0.0, wall_stiffness = 5000.0;  // m, N/m: the slave presses into it
-  double hand_damping = 1.0;                   // N·s/m: the surgeon lets the master be guided
-  double human_energy = 0.0;                   // energy the hand and the wall put in, J
+  PointMass master{0.1, 0.5};  // Phantom Omni-like end point
+  PointMass slave{2.0, 30.0};  // the slave robot's admittance
+  StiffWall wall{0.0, 5000.0};  // the slave presses 1 mm into it
+  HumanHand hand;
+  double hold_stiffness = 4000.0;  // N/m: the autonomous controller holds the slave where it was
+  double human_energy = 0.0;       // work of the hand on the master, J
   double lowest_master = 1e9, lowest_slave = 1e9, largest_slave_motion = 0.0;
   Vector3 slave_at_switch;
 
   Scenario() {
-    slave.x = Vector3(0.001, 0, 0);              // 1 mm into the wall, held there by the autonomous controller
+    slave.x = Vector3(0.001, 0, 0);
     master.x = slave.x + Vector3(0.05, 0.0, 0.0);  // 5 cm misalignment at the switch
+    hand.position = master.x;
     slave_at_switch = slave.x;
     transparency.engage(0.0, master.x, slave.x);
   }
+  /// Kinetic, elastic (wall and hold spring) and tank energies, J.
   double energy() const {
-    const double penetration = std::max(0.0, slave.x.x() - wall);
-    return master.kinetic() + slave.kinetic() + 0.5 * wall_stiffness * penetration * penetration +
-           passivity.masterEnergy() + passivity.slaveEnergy();
+    const double held = 0.5 * hold_stiffness * (slave.x - slave_at_switch).squaredNorm();
+    return master.kinetic() + slave.kinetic() + wall.energy(slave.x.x()) + held + passivity.masterEnergy() +
+           passivity.slaveEnergy();
   }
   void run(double seconds, double& t) {
     for (int i = 0; i < static_cast<int>(seconds / kDt); ++i, t += kDt) {
       Vector3 fm, fs;
       transparency.compute(t, master.x, master.v, slave.x, slave.v, fm, fs);
-      // The autonomous controller holds the slave where it was: a stiff spring to it.
-      const Vector3 hold = -4000.0 * (slave.x - slave_at_switch);
-      const Vector3 wall_force(slave.x.x() > wall ? -wall_stiffness * (slave.x.x() - wall) : 0.0, 0, 0);
-      const PassivityStep implemented = passivity.step(kDt, fm, fs, master.v, slave.v, master.damping * master.v.squaredNorm(),
-                                                       slave.damping * slave.v.squaredNorm());
-      const Vector3 hand = -hand_damping * master.v;
-      master.step(implemented.master_force + hand);
-      slave.step(implemented.slave_force + wall_force + hold);
-      human_energy += hand.dot(master.v) * kDt;
+      const Vector3 hold = -hold_stiffness * (slave.x - slave_at_switch);
+      const Vector3 wall_force(wall.force(slave.x.x()), 0, 0);
+      const PassivityStep implemented =
+          passivity.step(kDt, fm, fs, master.v, slave.v, master.dissipation(), slave.dissipation());
+      const Vector3 human = hand.force(master.x, master.v);
+      master.step(implemented.master_force + human, kDt);
+      slave.step(implemented.slave_force + wall_force + hold, kDt);
+      human_energy += human.dot(master.v) * kDt;
+      hand.yield(master.x, kDt);
       lowest_master = std::min(lowest_master, passivity.masterEnergy());
       lowest_slave = std::min(lowest_slave, passivity.slaveEnergy());
       largest_slave_motion = std::max(largest_slave_motion, (slave.x - slave_at_switch).norm());
@@ -135,8 +130,8 @@ TEST(Teleoperation, TheTotalEnergyBalanceHolds) {
   const double before = s.energy();
   double t = 0.0;
   s.run(5.0, t);
-  // Masses, wall spring and tanks together never gained more than the hand put in; the robots'
-  // own damping is what filled the tanks.
+  // Masses, wall, hold spring and tanks together never gained more than the hand put in; the
+  // robots' own damping is what filled the tanks.
   EXPECT_LE(s.energy() - before, s.human_energy + 1e-3);
 }
 

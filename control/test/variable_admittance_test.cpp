@@ -10,6 +10,7 @@
 
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "simulated_world.hpp"
 
 namespace cobra::control {
 namespace {
@@ -90,6 +91,40 @@ TEST(VariableAdmittance, TheRotationalPortIsThePhysicalOneAtLargeErrors) {
   // The twist published is the rate of the published pose (finite difference, base frame).
   const KDL::Vector rate = (pose.M * previous.M.Inverse()).GetRot() / kDt;
   EXPECT_LT((rate - twist.rot).Norm(), 1e-3 * rate.Norm() + 1e-9);
+}
+
+// Thesis §6.4 (Fig. 6.7): the reference follows a line at 2 cm/s that dips 1 cm across an
+// unexpected surface (a stiff wall normal to +x at x = 0; the line ends 5 mm inside it). The
+// admittance rides on the surface with a contact force of about K x̃, keeps following the line along
+// y, and goes back onto the line when the surface ends.
+TEST(VariableAdmittance, FollowingALineItRidesOverAnUnexpectedSurface) {
+  AdmittanceParameters p = baseline();
+  p.stiffness = diagonal(200.0, 10.0);  // N/m: compliant across the line
+  VariableAdmittance a(p);
+  const test::StiffWall surface{0.0, 50000.0};
+  const double speed = 0.02, depth = 0.005, approach = 0.01;  // m/s along y; m into the surface; m/s along x
+  KDL::Frame pose = KDL::Frame::Identity();
+  KDL::Twist twist;
+  double force = 0.0, largest_force = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    const double t = i * kDt;
+    const bool surface_there = t < 3.0;  // the surface ends after 6 cm of line
+    const double x_line = std::min(-depth + approach * t, depth);
+    const KDL::Frame reference(KDL::Vector(x_line, speed * t, 0.0));
+    const KDL::Twist reference_twist(KDL::Vector(x_line < depth ? approach : 0.0, speed, 0.0), KDL::Vector::Zero());
+    force = surface_there ? surface.force(pose.p.x()) : 0.0;
+    largest_force = std::max(largest_force, std::abs(force));
+    a.step(reference, reference_twist, KDL::Wrench(KDL::Vector(force, 0, 0), KDL::Vector::Zero()), kDt, pose, twist);
+    if (i == 2999) {
+      EXPECT_NEAR(pose.p.y(), speed * t, 1e-4);                          // on the line, along it
+      EXPECT_NEAR(pose.p.x(), 200.0 * depth / (200.0 + 50000.0), 1e-5);  // on the surface: springs in series
+      EXPECT_NEAR(-force, 200.0 * (depth - pose.p.x()), 0.05);           // contact force = K x̃, N
+    }
+  }
+  // Never more than the static K·depth plus the impact of the approach, v·sqrt(k_surface·Λ) (N).
+  EXPECT_LT(largest_force, 200.0 * depth + approach * std::sqrt(50000.0 * 1.0));
+  EXPECT_NEAR(pose.p.x(), depth, 1e-4);  // back on the line when the surface has gone
+  EXPECT_NEAR(twist.vel.y(), speed, 1e-4);
 }
 
 TEST(VariableAdmittance, ChangingParametersNeverMakesThePoseJump) {

@@ -64,6 +64,7 @@ TEST(ControlComponents, AdmittanceFollowsItsConfigurationsWithoutJumps) {
   p = d.run(5000ms, push);
   EXPECT_NEAR(p.p.x(), 6.0 / 300.0, 1e-5);   // compliant sideways now
   EXPECT_NEAR(p.p.z(), 3.0 / 1500.0, 1e-5);  // stiff along the needle
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { d.run(100ms, push); }), 0);  // updateHook allocates nothing
   double energy = 0.0;
   ASSERT_NE(d.tank.read(energy), core::FlowStatus::NoData);
   EXPECT_GE(energy, 1.0);
