@@ -16,9 +16,11 @@
 ///   e_sw_err/e_hw_err): they are matched against the events of the step that enters;
 /// - `e_done` in a transition's events means `e_done@<fqn of its source>`, raised when a leaf
 ///   without `doo` is entered, or when its `doo` finishes;
-/// - `e_after(t)` (t in s) fires once t has passed since the source state was entered, and
-///   `e_at(t)` once the clock passes t (s): both become `e_after(t)@<fqn of src>` events, with
-///   t printed as Lua prints tonumber(t) ("e_after(1.50)" waits for "e_after(1.5)@root.a").
+/// - `e_after(t)` (t in s) fires once strictly more than t has passed on the machine's clock
+///   since the source state was entered, `e_at(t)` once the clock reads strictly more than t (s
+///   since the clock's epoch); they become the events `e_after(t)@<fqn of src>` and
+///   `e_at(t)@<fqn of src>`, t printed as Lua prints tonumber(t) ("e_after(1.50)" waits for
+///   "e_after(1.5)@root.a"), and raising that name by hand triggers them too, as in rFSM.
 ///
 /// Where cobra is stricter or more determined than rFSM, and why:
 /// - equal `pn`s keep the order the transitions were added in (rFSM's table.sort is not stable,
