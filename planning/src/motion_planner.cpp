@@ -33,6 +33,7 @@ const char* toString(PlanStatus status) {
     case PlanStatus::InvalidGoal: return "invalid goal";
     case PlanStatus::NoSolution: return "no solution";
     case PlanStatus::PathInvalid: return "path invalid";
+    case PlanStatus::PlannerError: return "planner error";
   }
   return "unknown";
 }
@@ -107,6 +108,15 @@ void checkBounds(const PositionBounds& bounds, const char* which) {
                                   " bounds must be finite with low < high on every axis [m]");
 }
 
+/// `result` with its status, message and the time since `started`.
+PlanResult finished(PlanResult result, PlanStatus status, std::string message,
+                    std::chrono::steady_clock::time_point started) {
+  result.status = status;
+  result.message = std::move(message);
+  result.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
 }  // namespace
 
 MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
@@ -133,10 +143,7 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
   const auto started = std::chrono::steady_clock::now();
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
-    result.status = status;
-    result.message = std::move(message);
-    result.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return result;
+    return finished(std::move(result), status, std::move(message), started);
   };
   if (!isFinitePose(start) || !isFinitePose(goal))
     return finish(PlanStatus::InvalidInput, std::string(isFinitePose(start) ? "goal" : "start") +
@@ -152,6 +159,19 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
                     std::string(name) + " state is not valid: " + describe(result.rejected));
   }
 
+  try {
+    return search(start, goal, started);
+  } catch (const std::exception& error) {  // OMPL reports setup problems by throwing
+    return finish(PlanStatus::PlannerError, std::string("OMPL failed: ") + error.what());
+  }
+}
+
+PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
+                                 std::chrono::steady_clock::time_point started) {
+  PlanResult result;
+  const auto finish = [&](PlanStatus status, std::string message) {
+    return finished(std::move(result), status, std::move(message), started);
+  };
   const OmplLogLevel quiet(ompl::msg::LOG_NONE);
   // Re-seeding OMPL's seed generator before any generator of this query exists makes the sequence
   // of seeds, hence samples, the same for the same query (OMPL logs an error we silence above).

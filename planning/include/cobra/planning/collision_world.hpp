@@ -45,7 +45,7 @@ class CollisionWorld {
 
   /// Moves every object attached to robot `robot` (index in scene().robots).
   /// @param links_in_world  link frames in the world frame [m, rad]; at least linksUsedBy(robot).
-  /// Updates the affected managers. No allocation.
+  /// Updates the affected managers (FCL refits and rebalances their trees).
   void setRobotLinks(std::size_t robot, std::span<const KDL::Frame> links_in_world);
 
   /// Minimum distance between groups `first` and `second` (indices in scene().groups).

@@ -5,6 +5,7 @@
 /// checker, path simplification, seeded for reproducible results.
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -54,7 +55,8 @@ enum class PlanStatus {
   InvalidStart,   ///< the start state is not valid (see `rejected`)
   InvalidGoal,    ///< the goal state is not valid (see `rejected`)
   NoSolution,     ///< no path within the time limit (the thesis' e_plan_failed)
-  PathInvalid,    ///< a path was found but failed the dense verification (raise the resolution)
+  PathInvalid,    ///< a path was found but failed the dense verification (lower edge_resolution)
+  PlannerError,   ///< OMPL threw (the message says why)
 };
 
 /// "solved", "invalid input", ...
@@ -65,6 +67,7 @@ const char* toString(PlanStatus status);
 /// OMPL's SE(3) interpolation); the trajectory library turns the list into a MultiAxisPath.
 struct PlanResult {
   PlanStatus status = PlanStatus::NoSolution;
+  /// Solved: the path; PathInvalid: the rejected path (for diagnosis); otherwise empty.
   std::vector<DualPose> waypoints;
   /// InvalidStart/InvalidGoal/PathInvalid: why the state was rejected.
   ValidityResult rejected;
@@ -92,6 +95,9 @@ class MotionPlanner {
   const PlannerOptions& options() const { return options_; }
 
  private:
+  /// The OMPL part of planPath() (after the input checks); may throw ompl::Exception.
+  PlanResult search(const DualPose& start, const DualPose& goal, std::chrono::steady_clock::time_point started);
+
   StateValidator& validator_;
   PlannerOptions options_;
 };

@@ -31,7 +31,8 @@ class RobotModel {
   /// @param tools_in_base  toolCount() tool poses, each in the robot's base frame [m, rad].
   /// @param links_in_base  linkCount() frames to fill with each link's pose in the base frame when
   ///                       the tools are reachable; unspecified otherwise.
-  /// Must not throw and should not allocate: it runs once per sampled state of the planner.
+  /// Must not throw; should not allocate: it runs for every sampled state and edge step of the
+  /// planner (thousands per second).
   virtual Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) = 0;
 };
 

@@ -66,7 +66,8 @@ class StateValidator {
   ///         std::runtime_error if a mesh cannot be loaded.
   StateValidator(SceneDescription scene, RobotModels robots);
 
-  /// Algorithm 4.2/5.1. No allocation, no exception; the reason of the first failed check.
+  /// Algorithm 4.2/5.1. No exception; the reason of the first failed check. Not real-time safe:
+  /// FCL's narrow phase allocates (a few small blocks per distance query).
   /// Checks run in the scene's `check` order; with `exact_distances` the reported distance of a
   /// TooClose is the exact minimum, otherwise the first pair found under the threshold.
   ValidityResult check(const DualPose& q, bool exact_distances = false);
