@@ -25,6 +25,18 @@ void requireLevels(const TankLevels& t, const char* which) {
                                 std::to_string(t.initial));
 }
 
+/// Eq. 4.20: the tank (energy J) pays F_idᵀ v_i dt for the force it implements and never drops below
+/// `minimum` (ε); a force that takes energy from the robot (negative cost) always fills the tank.
+/// Returns false, leaving `force` zero, when the tank cannot pay.
+bool payForForce(const Vector3& desired, const Vector3& velocity, double dt, double minimum, double& energy,
+                 Vector3& force) noexcept {
+  const double cost = desired.dot(velocity) * dt;
+  if (cost > 0.0 && energy - cost < minimum) return false;
+  force = desired;
+  energy -= cost;
+  return true;
+}
+
 }  // namespace
 
 double smoothFall(double s) noexcept {
@@ -102,21 +114,8 @@ PassivityStep PassivityLayer::step(double dt, const Vector3& master_desired, con
   double master_next = master_ + sigma_m * dm + sigma_m * out_s - out_m;
   double slave_next = slave_ + sigma_s * ds + sigma_s * out_m - out_s;
   spilled_ += (1.0 - sigma_m) * out_s + (1.0 - sigma_s) * out_m;
-  // Eq. 4.20: the tank pays F_idᵀ v_i dt for the force it implements; it never drops below ε.
-  const double cost_m = master_desired.dot(master_velocity) * dt;
-  if (master_next - cost_m >= lm.minimum || cost_m <= 0.0) {
-    out.master_force = master_desired;
-    master_next -= cost_m;
-  } else {
-    out.master_limited = true;
-  }
-  const double cost_s = slave_desired.dot(slave_velocity) * dt;
-  if (slave_next - cost_s >= ls.minimum || cost_s <= 0.0) {
-    out.slave_force = slave_desired;
-    slave_next -= cost_s;
-  } else {
-    out.slave_limited = true;
-  }
+  out.master_limited = !payForForce(master_desired, master_velocity, dt, lm.minimum, master_next, out.master_force);
+  out.slave_limited = !payForForce(slave_desired, slave_velocity, dt, ls.minimum, slave_next, out.slave_force);
   master_ = master_next;
   slave_ = slave_next;
   return out;
