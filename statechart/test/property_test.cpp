@@ -1,13 +1,16 @@
 // Seeded random property test: 400 random charts (states, connectors, nested scopes, guards, pn,
-// e_done, doo programs), each driven by 40 random events, run step by step on cobra's Machine
-// and on a reference interpreter written here from rFSM's rfsm.lua (find paths from the root
-// down, collect every enabled path of a node and take the first, exit up to the LCA, effect,
-// enter down; e_done@fqn after entry or when the doo ends; e_init_fsm on the first step).
+// e_done, e_after, doo programs), each driven by 40 random events on a fake clock advancing
+// 0-200 ms before each, run step by step on cobra's Machine and on a reference interpreter
+// written here from rFSM's rfsm.lua and rfsm_timeevent (find paths from the root down, collect
+// every enabled path of a node and take the first, exit up to the LCA, effect, enter down;
+// e_done@fqn after entry or when the doo ends; e_init_fsm on the first step; timers from entry,
+// checked leaf-up, at the start of a step as cobra documents).
 // After every step both must agree on the step's result, the trace of entry/exit/effect calls
 // and the active leaf; and the active states must be exactly the leaf and its ancestors.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <deque>
 #include <optional>
@@ -43,6 +46,7 @@ struct TransDesc {
   int pn = 0;
   int guard = -1;  // seed of a pure guard, or -1
   std::string label;
+  double after = -1.0;  // s, for an e_after transition
 };
 struct ChartDesc {
   std::vector<NodeDesc> nodes;
@@ -108,6 +112,11 @@ ChartDesc randomChart(std::mt19937& rng) {
     const int events = from_connector ? pick(2) : pick(3);
     for (int e = 0; e < events; ++e)
       t.events.push_back(!from_connector && pick(5) == 0 ? "e_done" : kAlphabet[pick(4)]);
+    if (!from_connector && pick(6) == 0) {
+      const int tenths = 1 + pick(5);
+      t.after = tenths / 10.0;
+      t.events = {"e_after(0." + std::to_string(tenths) + ")"};
+    }
     t.pn = pick(3);
     t.guard = pick(3) == 0 ? i : -1;
     // Defined in a random common ancestor of its ends (a state), so paths come out local,
@@ -142,7 +151,13 @@ std::string pathFrom(const ChartDesc& d, int scope, int node, bool absolute) {
 struct World {
   std::vector<std::string> trace;
   int epoch = 0;
+  std::chrono::nanoseconds now{0};
 };
+
+/// The machine's rule for "t seconds after": the same conversion both sides use.
+std::chrono::nanoseconds seconds(double t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(t));
+}
 
 Chart buildChart(const ChartDesc& d, World& world, std::mt19937& rng) {
   ChartBuilder b;
@@ -179,7 +194,8 @@ Chart buildChart(const ChartDesc& d, World& world, std::mt19937& rng) {
 class Reference {
  public:
   Reference(const ChartDesc& d, World& world) : d_(d), world_(world), actchild_(d.nodes.size(), -1),
-        mode_(d.nodes.size(), 0), doo_calls_(d.nodes.size(), 0), otrs_(d.nodes.size()) {
+        mode_(d.nodes.size(), 0), doo_calls_(d.nodes.size(), 0), otrs_(d.nodes.size()),
+        entered_at_(d.nodes.size()), fired_(d.transitions.size(), false) {
     for (std::size_t i = 0; i < d.transitions.size(); ++i) otrs_[d.transitions[i].src].push_back(static_cast<int>(i));
     for (auto& list : otrs_)
       std::stable_sort(list.begin(), list.end(), [&](int a, int b) { return d.transitions[a].pn > d.transitions[b].pn; });
@@ -190,6 +206,7 @@ class Reference {
   std::string leaf() const { return act_leaf_ < 0 ? "" : d_.nodes[act_leaf_].fqn; }
 
   StepResult step() {
+    if (active_) checkTimeEvents();
     std::vector<std::string> events(queue_.begin(), queue_.end());
     queue_.clear();
     if (!active_) {
@@ -232,6 +249,7 @@ class Reference {
     if (tr.events.empty()) return true;
     for (std::string e : tr.events) {
       if (e == "e_done") e = "e_done@" + d_.nodes[tr.src].fqn;
+      if (e.starts_with("e_after(")) e += "@" + d_.nodes[tr.src].fqn;
       if (std::find(events.begin(), events.end(), e) != events.end()) return true;
     }
     return false;
@@ -268,9 +286,23 @@ class Reference {
     world_.trace.push_back("effect " + d_.transitions[t].label);
     for (auto it = down.rbegin(); it != down.rend(); ++it) enterOne(*it);
   }
+  /// rfsm_timeevent: from the active leaf up to the root, each unfired timer past its deadline.
+  void checkTimeEvents() {
+    for (int s = act_leaf_ < 0 ? 0 : act_leaf_;; s = d_.nodes[s].parent) {
+      for (int t : otrs_[s]) {
+        const TransDesc& tr = d_.transitions[t];
+        if (tr.after < 0.0 || fired_[t] || world_.now <= entered_at_[s] + seconds(tr.after)) continue;
+        queue_.push_back(tr.events.front() + "@" + d_.nodes[s].fqn);
+        fired_[t] = true;
+      }
+      if (s == 0) break;
+    }
+  }
   void enterOne(int s) {
     const NodeDesc& n = d_.nodes[s];
     if (!n.state) return;
+    entered_at_[s] = world_.now;
+    for (int t : otrs_[s]) fired_[t] = false;
     mode_[s] = 1;
     actchild_[n.parent] = s;
     if (s != 0) world_.trace.push_back("entry " + n.fqn);
@@ -299,8 +331,16 @@ class Reference {
   std::vector<std::size_t> doo_calls_;
   std::vector<std::vector<int>> otrs_;
   std::deque<std::string> queue_;
+  std::vector<std::chrono::nanoseconds> entered_at_;
+  std::vector<bool> fired_;
   bool active_ = false;
   int act_leaf_ = -1;
+};
+
+/// Counts the transitions a time event took.
+struct Timeouts : Observer {
+  int count = 0;
+  void transitionTaken(const Chart::Transition& t) override { count += t.time_spec >= 0.0 ? 1 : 0; }
 };
 
 bool stepWasIdle(StepResult r) { return r == StepResult::Idle || r == StepResult::CannotEnter; }
@@ -308,14 +348,17 @@ bool stepWasIdle(StepResult r) { return r == StepResult::Idle || r == StepResult
 TEST(StatechartProperty, RandomChartsRunStepByStepAsTheRfsmReferenceAndKeepALeafConfiguration) {
   std::mt19937 rng(20261122);
   int transitions_taken = 0, doo_steps = 0, entered = 0;
+  Timeouts timeouts;
   for (int round = 0; round < kCharts; ++round) {
     const ChartDesc desc = randomChart(rng);
     World engine_world, reference_world;
     const Chart chart = buildChart(desc, engine_world, rng);
-    Machine machine(chart, {});
+    Machine machine(chart, [&engine_world] { return engine_world.now; });
+    machine.setObserver(&timeouts);
     Reference reference(desc, reference_world);
     for (int event = -1; event < kEventsPerChart; ++event) {
       engine_world.epoch = reference_world.epoch = event;
+      engine_world.now = reference_world.now = engine_world.now + std::chrono::milliseconds(50 * (rng() % 5));
       if (event >= 0) {
         const std::string name = rng() % 8 == 0 ? "e_unknown" : kAlphabet[rng() % 4];
         ASSERT_EQ(machine.raise(name), RaiseStatus::Queued);
@@ -349,10 +392,12 @@ TEST(StatechartProperty, RandomChartsRunStepByStepAsTheRfsmReferenceAndKeepALeaf
       }
     }
   }
-  std::printf("%d transitions, %d doo steps, %d entered checks\n", transitions_taken, doo_steps, entered);
+  std::printf("%d transitions (%d by time events), %d doo steps, %d entered checks\n", transitions_taken,
+              timeouts.count, doo_steps, entered);
   // The generator must exercise the engine, not only agree with the reference on idleness.
   EXPECT_GT(transitions_taken, 20 * kCharts);
   EXPECT_GT(doo_steps, kCharts);
+  EXPECT_GT(timeouts.count, kCharts);
   EXPECT_GT(entered, kCharts * kEventsPerChart / 2);
 }
 
