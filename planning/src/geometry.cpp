@@ -50,7 +50,8 @@ TriangleMesh loadMesh(const std::filesystem::path& path, double scale) {
     throw std::invalid_argument("mesh '" + path.string() + "': scale must be a positive number (m per file unit)");
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
-    throw std::runtime_error("mesh file '" + path.string() + "' not found: check the path (relative to the scene file)");
+    throw std::runtime_error("mesh file '" + path.string() +
+                             "' not found: check the path (relative to the scene file)");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
   if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0)

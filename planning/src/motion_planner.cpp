@@ -43,7 +43,9 @@ namespace {
 /// Lowers OMPL's console output for one scope (OMPL logs through a process-wide level).
 class OmplLogLevel {
  public:
-  explicit OmplLogLevel(ompl::msg::LogLevel level) : previous_(ompl::msg::getLogLevel()) { ompl::msg::setLogLevel(level); }
+  explicit OmplLogLevel(ompl::msg::LogLevel level) : previous_(ompl::msg::getLogLevel()) {
+    ompl::msg::setLogLevel(level);
+  }
   ~OmplLogLevel() { ompl::msg::setLogLevel(previous_); }
   OmplLogLevel(const OmplLogLevel&) = delete;
   OmplLogLevel& operator=(const OmplLogLevel&) = delete;
@@ -62,7 +64,8 @@ void toOmpl(const KDL::Frame& frame, SE3State& state) {
 
 KDL::Frame toKdl(const SE3State& state) {
   const auto& r = state.rotation();
-  return KDL::Frame(KDL::Rotation::Quaternion(r.x, r.y, r.z, r.w), KDL::Vector(state.getX(), state.getY(), state.getZ()));
+  return KDL::Frame(KDL::Rotation::Quaternion(r.x, r.y, r.z, r.w),
+                    KDL::Vector(state.getX(), state.getY(), state.getZ()));
 }
 
 void toOmpl(const DualPose& q, ob::State& state) {

@@ -219,7 +219,8 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     if (pair.first == pair.second) line.fail("a check needs two different groups");
     scene.checks.push_back(pair);
   } else {
-    line.fail("unknown statement '" + std::string(statement) + "' (min_collision_distance, robot, group, object, check)");
+    line.fail("unknown statement '" + std::string(statement) +
+              "' (min_collision_distance, robot, group, object, check)");
   }
   line.end();
 }

@@ -155,13 +155,15 @@ TEST_F(MotionPlannerTest, BadQueriesNameTheCause) {
 TEST(MotionPlanner, ConfigurationErrorsSayWhatToDo) {
   StateValidator validator(test::twoRobotScene(), test::twoRobotModels());
   PlannerOptions o = options("BIT*");
-  EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }), "unknown planner 'BIT*': use RRTConnect, RRT or PRM");
+  EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }),
+                  "unknown planner 'BIT*': use RRTConnect, RRT or PRM");
   o = options();
   o.time_limit = 0.0;
   EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }), "time_limit must be a positive");
   o = options();
   o.first_bounds.low[2] = 1.0;
-  EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }), "first tool bounds must be finite with low < high");
+  EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }),
+                  "first tool bounds must be finite with low < high");
   o = options();
   o.seed = 0;
   EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }), "seed must be > 0");
