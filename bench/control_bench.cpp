@@ -46,7 +46,8 @@ void TankVariableAdmittance(benchmark::State& state) {
   int i = 0;
   for (auto _ : state) {
     const double f = (++i % 100) * 0.05;
-    a.step(reference, KDL::Twist::Zero(), KDL::Wrench(KDL::Vector(f, -f, 0.5), KDL::Vector(0.01, 0, -0.02)), 1e-3, pose, twist);
+    const KDL::Wrench wrench(KDL::Vector(f, -f, 0.5), KDL::Vector(0.01, 0, -0.02));
+    a.step(reference, KDL::Twist::Zero(), wrench, 1e-3, pose, twist);
     benchmark::DoNotOptimize(pose);
   }
 }
@@ -67,7 +68,8 @@ void ScheduledStepLatency(benchmark::State& state) {
   for (auto _ : state) {
     a.reset();
     for (std::size_t i = 0; i < step_ns.size(); ++i) {
-      if (i % 10 == 0) a.setParameters(diagonal(inertia(rng), 0.05), diagonal(20.0, 1.0), diagonal(stiffness(rng), 2.0));
+      if (i % 10 == 0)
+        a.setParameters(diagonal(inertia(rng), 0.05), diagonal(20.0, 1.0), diagonal(stiffness(rng), 2.0));
       const double x = pose.p.x();
       const double f = (x > 0.004 ? -3000.0 * (x - 0.004) : 0.0) + (i % 2000 < 50 ? 15.0 : 0.0);  // wall + push, N
       const auto start = Clock::now();
@@ -102,5 +104,9 @@ void PlainDiagonalAdmittance(benchmark::State& state) {
 
 BENCHMARK(TankVariableAdmittance)->Apply(configure);
 BENCHMARK(PlainDiagonalAdmittance)->Apply(configure);
-BENCHMARK(ScheduledStepLatency)->Repetitions(10)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Iterations(1);
+BENCHMARK(ScheduledStepLatency)
+    ->Repetitions(10)
+    ->ReportAggregatesOnly(true)
+    ->ComputeStatistics("max", maxOf)
+    ->Iterations(1);
 BENCHMARK_MAIN();

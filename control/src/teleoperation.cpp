@@ -79,7 +79,8 @@ void TransparencyLayer::compute(double time, const Vector3& master, const Vector
   }
   rest_ = offset_ * smoothFall((time - start_) / p_.compensation_time);  // l(t): L at t_s, 0 from t_s + t_c
   if (!full_) {
-    alpha_ = weight((master - slave).norm(), p_.error_low, p_.error_high) * weight(rest_.norm(), p_.rest_low, p_.rest_high);
+    alpha_ = weight((master - slave).norm(), p_.error_low, p_.error_high) *
+             weight(rest_.norm(), p_.rest_low, p_.rest_high);
     if (alpha_ >= 1.0) full_ = true;  // t_M: from now on alpha = 1 (eq. 4.16)
   }
   if (full_) alpha_ = 1.0;

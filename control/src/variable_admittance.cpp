@@ -31,7 +31,8 @@ Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& phi) {
   hat << 0.0, -phi.z(), phi.y(), phi.z(), 0.0, -phi.x(), -phi.y(), phi.x(), 0.0;
   // Taylor expansions below 1e-4 rad keep the coefficients exact to double precision.
   const double a = angle < 1e-4 ? 0.5 - angle * angle / 24.0 : (1.0 - std::cos(angle)) / (angle * angle);
-  const double b = angle < 1e-4 ? 1.0 / 6.0 - angle * angle / 120.0 : (angle - std::sin(angle)) / (angle * angle * angle);
+  const double b =
+      angle < 1e-4 ? 1.0 / 6.0 - angle * angle / 120.0 : (angle - std::sin(angle)) / (angle * angle * angle);
   return Eigen::Matrix3d::Identity() + a * hat + b * hat * hat;
 }
 
@@ -49,8 +50,8 @@ double smallestEigenvalue(const Matrix6& m) {
 }
 
 bool symmetricAtLeast(const Matrix6& m, const Matrix6& floor, bool strictly) {
-  if (!m.allFinite() || (m - m.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * (1.0 + m.cwiseAbs().maxCoeff()))
-    return false;
+  if (!m.allFinite()) return false;
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * (1.0 + m.cwiseAbs().maxCoeff())) return false;
   const double lowest = smallestEigenvalue(m - floor);
   return strictly ? lowest > 0.0 : lowest >= -1e-12;
 }

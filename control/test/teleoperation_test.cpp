@@ -1,7 +1,8 @@
 // Two-layer teleoperation (thesis §4.5.4) with a simulated master (a Phantom Omni-like device
-// held by a hand with a grip impedance that yields to what it feels) and a slave pressing on a stiff wall: the switch from autonomous to
-// teleoperated with a 5 cm misalignment, reference values of the literature (K = 50 N/m,
-// B = 1.1 N·s/m, ē1 = 5 mm, ē2 = 10 mm, ε = 1 J, T_req = 5 J, T_ava = 10 J, T̄ = 20 J).
+// held by a hand with a grip impedance that yields to what it feels) and a slave pressing on a
+// stiff wall: the switch from autonomous to teleoperated with a 5 cm misalignment, reference
+// values of the literature (K = 50 N/m, B = 1.1 N·s/m, ē1 = 5 mm, ē2 = 10 mm, ε = 1 J,
+// T_req = 5 J, T_ava = 10 J, T̄ = 20 J).
 #include "cobra/control/teleoperation.hpp"
 
 #include <gtest/gtest.h>
@@ -114,7 +115,8 @@ TEST(Teleoperation, TanksRefuseForcesTheyCannotPayAndShareEnergyOnRequest) {
   EXPECT_FALSE(out.master_limited);
   EXPECT_EQ(out.master_force, Vector3(-600.0, 0, 0));
   double master_before = layer.masterEnergy(), slave_before = layer.slaveEnergy();
-  for (int i = 0; i < 1000; ++i) layer.step(kDt, Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), 0.0, 0.0);
+  const Vector3 zero = Vector3::Zero();
+  for (int i = 0; i < 1000; ++i) layer.step(kDt, zero, zero, zero, zero, 0.0, 0.0);
   EXPECT_NEAR(layer.masterEnergy() - master_before, 1.0, 1e-9);  // P̄ = 1 W for 1 s, from the slave
   EXPECT_NEAR(slave_before - layer.slaveEnergy(), 1.0, 1e-9);
   EXPECT_CONTAINS(cobra::test_support::messageOf([] {

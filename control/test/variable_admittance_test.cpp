@@ -257,9 +257,10 @@ TEST(VariableAdmittance, StepAndParameterChangesAllocateNothing) {
   KDL::Twist twist;
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
               for (int i = 0; i < 1000; ++i) {
-                if (i % 100 == 0) a.setParameters(diagonal(2.0 + i * 0.01, 0.1), diagonal(40.0, 1.0), diagonal(800.0, 5.0));
-                a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), KDL::Wrench(KDL::Vector(1, 2, 3), KDL::Vector(0.1, 0, 0)),
-                       kDt, pose, twist);
+                if (i % 100 == 0)
+                  a.setParameters(diagonal(2.0 + i * 0.01, 0.1), diagonal(40.0, 1.0), diagonal(800.0, 5.0));
+                const KDL::Wrench wrench(KDL::Vector(1, 2, 3), KDL::Vector(0.1, 0, 0));
+                a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), wrench, kDt, pose, twist);
               }
             }),
             0);
