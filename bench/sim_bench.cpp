@@ -1,0 +1,166 @@
+// Speed of the simulated world (cobra::sim) on the lockstep clock's terms: simulated seconds per
+// wall-clock second for a puncturing-like world stepped at 1 kHz, and the F/T sensor model
+// against the same model written naively, side by side in the same run.
+//
+// Every benchmark runs 10 repetitions and reports their median and worst case ("max"). Groups:
+//  - PuncturingWorld: two UR5s on ServoRobot + CartesianServo (closed-form IK every step), the
+//    needle robot inserting and withdrawing a needle into the default abdomen phantom
+//    (NeedleTissueModel), the probe robot holding the ultrasound probe (observe), an AtiNano17
+//    behind the needle and an AtiNano43 behind the probe. One iteration = 1000 steps = 1 s of
+//    simulated time; `realtime_factor` = simulated s per wall s. Target: >= 50.
+//  - Sensor: one ForceTorqueSensor step (noise, saturation, quantisation, filter) against a
+//    naive version of the same model that builds vectors and a distribution on every call, as
+//    straightforward code does; the time column is per step.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/kinematics/ur5.hpp"
+#include "cobra/sim/ft_sensor.hpp"
+#include "cobra/sim/needle_tissue.hpp"
+#include "cobra/sim/servo.hpp"
+#include "cobra/sim/ultrasound.hpp"
+
+namespace {
+
+constexpr int kRepetitions = 10;
+constexpr double kMinTimePerRepetition = 0.05;  // s
+constexpr double kDt = 1e-3;                    // s, 1 kHz
+
+double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+
+void configure(benchmark::internal::Benchmark* b) {
+  b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTimePerRepetition);
+}
+
+const std::vector<double> kNeedleStart{0.3, -1.2, 1.5, -1.9, -1.57, 0.2};  // rad
+const std::vector<double> kProbeStart{-0.4, -1.3, 1.6, -1.9, -1.57, 0.0};  // rad
+
+/// The puncturing world: everything a puncturing deployment would step in one cycle.
+class PuncturingWorld {
+ public:
+  PuncturingWorld()
+      : needle_robot_(cobra::sim::uniformServoModel("needle UR5", needle_solver_.limits(), 0.02, 3.0, 4096.0 * 100),
+                      kNeedleStart),
+        probe_robot_(cobra::sim::uniformServoModel("probe UR5", probe_solver_.limits(), 0.02, 3.0, 4096.0 * 100),
+                     kProbeStart),
+        needle_servo_(needle_solver_, needle_robot_),
+        probe_servo_(probe_solver_, probe_robot_),
+        tissue_(cobra::sim::defaultAbdomen()),
+        needle_sensor_(cobra::sim::atiNano17(), 1),
+        probe_sensor_(cobra::sim::atiNano43(), 2) {
+    needle_servo_.pose(needle_start_);
+    probe_servo_.pose(probe_start_);
+    // Phantom frame: skin 5 mm ahead of the needle's start, its -z along the needle (tool z).
+    world_to_phantom_ = KDL::Frame(needle_start_.M * KDL::Rotation::RotX(std::numbers::pi),
+                                   needle_start_.p + needle_start_.M.UnitZ() * 0.005)
+                            .Inverse();
+  }
+
+  void step() noexcept {
+    time_ += kDt;
+    // In and out along the tool axis: 0 -> 45 mm -> 0 over 16 s (skin at 5 mm).
+    const double phase = std::fmod(time_, 16.0) / 8.0;
+    const double advance = 0.045 * (1.0 - std::abs(1.0 - phase));
+    KDL::Frame needle_target = needle_start_;
+    needle_target.p += needle_start_.M.UnitZ() * advance;
+    needle_servo_.command(needle_target);
+    probe_servo_.command(probe_start_);
+    needle_robot_.step(kDt);
+    probe_robot_.step(kDt);
+
+    KDL::Frame needle_pose, probe_pose;
+    needle_servo_.pose(needle_pose);
+    probe_servo_.pose(probe_pose);
+    const KDL::Frame tip = world_to_phantom_ * needle_pose;
+    const cobra::sim::NeedleForces& forces = tissue_.step(kDt, tip);
+    const KDL::Frame probe = world_to_phantom_ * probe_pose;
+    const cobra::sim::UltrasoundView view = cobra::sim::observe(probe_model_, tissue_.scenario(), probe, tip);
+    // Sensor frames = tool frames: the wrench of the tissue on the tool, expressed there.
+    needle_sensor_.step(kDt, tip.M.Inverse() * KDL::Wrench(forces.force, KDL::Vector::Zero()));
+    probe_sensor_.step(kDt, probe.M.Inverse() * KDL::Wrench(view.contact_force, KDL::Vector::Zero()));
+  }
+
+  double checksum() const noexcept {
+    return needle_sensor_.reading().wrench.force.z() + probe_sensor_.reading().wrench.force.z();
+  }
+
+ private:
+  cobra::kinematics::Ur5Solver needle_solver_;
+  cobra::kinematics::Ur5Solver probe_solver_{cobra::kinematics::Ur5Parameters{},
+                                             cobra::kinematics::Ur5Solver::defaultLimits(),
+                                             KDL::Frame(KDL::Vector(0.8, 0.0, 0.0))};
+  cobra::sim::ServoRobot needle_robot_, probe_robot_;
+  cobra::sim::CartesianServo needle_servo_, probe_servo_;
+  cobra::sim::NeedleTissueModel tissue_;
+  cobra::sim::UltrasoundProbeModel probe_model_;
+  cobra::sim::ForceTorqueSensor needle_sensor_, probe_sensor_;
+  KDL::Frame needle_start_, probe_start_, world_to_phantom_;
+  double time_ = 0.0;
+};
+
+void BM_PuncturingWorld(benchmark::State& state) {
+  PuncturingWorld world;
+  constexpr int kStepsPerIteration = 1000;
+  for (auto _ : state) {
+    for (int i = 0; i < kStepsPerIteration; ++i) world.step();
+    benchmark::DoNotOptimize(world.checksum());
+  }
+  state.counters["realtime_factor"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kStepsPerIteration * kDt, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PuncturingWorld)->Name("PuncturingWorld/1s_at_1kHz/two_ur5_phantom_needle_us_two_ft")
+    ->Apply(configure)
+    ->UseRealTime()  // realtime_factor per wall-clock second
+    ->Unit(benchmark::kMillisecond);
+
+void BM_SensorCobra(benchmark::State& state) {
+  cobra::sim::ForceTorqueSensorModel model = cobra::sim::atiNano17();
+  model.filter_cutoff_hz = 200.0;
+  cobra::sim::ForceTorqueSensor sensor(model, 7);
+  const KDL::Wrench w(KDL::Vector(1.0, -2.0, 3.0), KDL::Vector(0.01, 0.02, -0.03));
+  for (auto _ : state) benchmark::DoNotOptimize(sensor.step(kDt, w).wrench.force.x());
+}
+BENCHMARK(BM_SensorCobra)->Name("Sensor/cobra_ForceTorqueSensor")->Apply(configure);
+
+/// The same model as ForceTorqueSensor (bias, low-pass, noise, saturation, quantisation) as
+/// straightforward code writes it: vectors per call, a distribution per sample.
+struct NaiveSensor {
+  cobra::sim::ForceTorqueSensorModel model;
+  std::mt19937_64 rng{7};
+  std::vector<double> filtered = std::vector<double>(6, 0.0);
+
+  std::vector<double> step(double dt, const KDL::Wrench& w) {
+    std::vector<double> input{w.force.x(), w.force.y(), w.force.z(), w.torque.x(), w.torque.y(), w.torque.z()};
+    std::vector<double> bias{model.bias.force.x(), model.bias.force.y(), model.bias.force.z(),
+                             model.bias.torque.x(), model.bias.torque.y(), model.bias.torque.z()};
+    std::vector<double> out(6);
+    const double alpha = 1.0 - std::exp(-2.0 * std::numbers::pi * model.filter_cutoff_hz * dt);
+    for (std::size_t i = 0; i < 6; ++i) {
+      filtered[i] += alpha * (input[i] + bias[i] - filtered[i]);
+      std::normal_distribution<double> noise(0.0, model.noise_std[i]);
+      const double v = std::clamp(filtered[i] + noise(rng), -model.saturation[i], model.saturation[i]);
+      out[i] = model.resolution[i] * std::round(v / model.resolution[i]);
+    }
+    return out;
+  }
+};
+
+void BM_SensorNaive(benchmark::State& state) {
+  NaiveSensor sensor{cobra::sim::atiNano17()};
+  sensor.model.filter_cutoff_hz = 200.0;
+  const KDL::Wrench w(KDL::Vector(1.0, -2.0, 3.0), KDL::Vector(0.01, 0.02, -0.03));
+  for (auto _ : state) benchmark::DoNotOptimize(sensor.step(kDt, w)[0]);
+}
+BENCHMARK(BM_SensorNaive)->Name("Sensor/naive_vectors_and_distribution_per_call")->Apply(configure);
+
+}  // namespace
+
+BENCHMARK_MAIN();
