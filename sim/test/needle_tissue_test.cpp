@@ -2,6 +2,7 @@
 // force, tumour puncture, forbidden-region penalty, iceball trapping until thaw, no allocation.
 
 #include "cobra/sim/needle_tissue.hpp"
+#include "cobra/sim/ft_sensor.hpp"
 
 #include <gtest/gtest.h>
 
@@ -115,6 +116,21 @@ TEST(NeedleTissue, IceballTrapsTheNeedleUntilThawed) {
   // Thaw law: 0.0138 m shrinks to the 2 mm release radius in τ·ln(r0/0.002) ≈ 116 s.
   const double r0 = 0.015 * (1 - std::exp(-300.0 / 120.0));
   EXPECT_NEAR(trapped_steps * 0.01, 60.0 * std::log(r0 / 0.002), 0.02);
+}
+
+TEST(NeedleTissue, IdenticalSeedsGiveIdenticalSensorTracesOfAnInsertion) {
+  auto trace = [](std::uint64_t seed) {
+    NeedleTissueModel model(cobra::sim::defaultAbdomen());
+    cobra::sim::ForceTorqueSensor sensor(cobra::sim::atiNano17(), seed);
+    std::vector<double> out;
+    for (const NeedleForces& f : insert(model, 0.03)) {
+      out.push_back(sensor.step(1e-3, KDL::Wrench(f.force, KDL::Vector::Zero())).wrench.force.z());
+    }
+    return out;
+  };
+  const auto first = trace(11);
+  EXPECT_EQ(first, trace(11));
+  EXPECT_NE(first, trace(12));
 }
 
 TEST(NeedleTissue, StepAllocatesNothing) {
