@@ -17,6 +17,14 @@ namespace {
 using cobra::test_support::messageOf;
 using test::toolsAt;
 
+/// Planning stops at the first solution; only time limits that a test needs to succeed within are
+/// scaled for the ~10x slower sanitizer builds (`./do test --asan`).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr double kSanitizerSlowdown = 10.0;
+#else
+constexpr double kSanitizerSlowdown = 1.0;
+#endif
+
 /// A wall (x -0.02..0.02 m, y -0.2..0.2 m, z 0..0.7 m) that the gantry column cannot pass over.
 const char* const kWall = "object wall environment world box 0.04 0.4 0.7 at 0 0 0.35 0 0 0\n";
 /// A closed cage (inside 0.16 m) around (0, 0.35, 0.3) m.
@@ -32,7 +40,7 @@ PlannerOptions options(const std::string& planner = "RRTConnect", std::uint32_t 
   PlannerOptions o;
   o.planner = planner;
   o.seed = seed;
-  o.time_limit = 2.0;
+  o.time_limit = 2.0 * kSanitizerSlowdown;
   o.first_bounds = {{-0.45, -0.45, 0.2}, {0.45, 0.45, 0.45}};
   o.second_bounds = {{-0.45, -0.1, 0.2}, {0.45, 0.6, 0.5}};
   return o;
@@ -99,7 +107,7 @@ TEST(MotionPlanner, EveryPlannerFindsAValidPathAroundAPillar) {
   ASSERT_FALSE(validator.isStateValid(toolsAt({0, 0, 0.3}, {0, 0.42, 0.3})));
   for (const char* name : {"RRT", "PRM", "RRTConnect"}) {
     PlannerOptions o = options(name);
-    o.time_limit = 6.0;  // RRT with seed 1 needs ~0.2 s of CPU here: room for a loaded machine
+    o.time_limit = 6.0 * kSanitizerSlowdown;  // RRT, seed 1: ~0.2 s of CPU here; room for a loaded machine
     MotionPlanner planner(validator, o);
     const PlanResult result = planner.planPath(kStart, kGoal);
     ASSERT_TRUE(result.solved()) << name << ": " << result.message;
