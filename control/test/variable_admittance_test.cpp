@@ -181,7 +181,13 @@ RunResult randomRun(std::uint64_t seed, bool use_tank) {
 // exceeds the initial tank energy plus the energy dissipated, and the tank never drops below ε;
 // without it, the same schedules create energy.
 TEST(VariableAdmittance, TheTankKeepsRandomSchedulesPassiveAndWithoutItTheyAreNot) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // Unoptimised sanitizer builds run 50-100x slower: the first 200 seeds there (in which some
+  // no-tank runs already create energy), all 1000 in the normal build.
+  constexpr int kRuns = 200;
+#else
   constexpr int kRuns = 1000;
+#endif
   int violations_without_tank = 0;
   double worst_margin_with_tank = -1e9, most_created_without_tank = 0.0;
   for (int i = 0; i < kRuns; ++i) {
@@ -200,7 +206,7 @@ TEST(VariableAdmittance, TheTankKeepsRandomSchedulesPassiveAndWithoutItTheyAreNo
               "%.1f J\n",
               worst_margin_with_tank, violations_without_tank, kRuns, most_created_without_tank);
   // Without the tank the same schedules deliver more than T(0) (some pump energy without bound).
-  EXPECT_GE(violations_without_tank, 5);
+  EXPECT_GE(violations_without_tank, kRuns / 200);
   EXPECT_GT(most_created_without_tank, 100.0);
   RecordProperty("runs_creating_energy_without_tank", violations_without_tank);
 }
