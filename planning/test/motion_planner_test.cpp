@@ -160,7 +160,7 @@ TEST_F(MotionPlannerTest, BadQueriesNameTheCause) {
   EXPECT_EQ(result.status, PlanStatus::InvalidStart);
 }
 
-TEST(MotionPlanner, ConfigurationErrorsSayWhatToDo) {
+TEST(MotionPlanner, ConfigurationErrorsExplainTheFix) {
   StateValidator validator(test::twoRobotScene(), test::twoRobotModels());
   PlannerOptions o = options("BIT*");
   EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }),

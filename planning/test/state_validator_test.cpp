@@ -123,7 +123,7 @@ TEST(StateValidator, OneSolverForBothTools) {
   EXPECT_EQ(validator.check(toolsAt({0, 0, 0}, {0.4, 0, 0})).validity, Validity::Unreachable);
 }
 
-TEST(StateValidator, ConfigurationErrorsSayWhatToDo) {
+TEST(StateValidator, ConfigurationErrorsExplainTheFix) {
   RobotModels models = test::twoRobotModels();
   models.erase("ur5");
   EXPECT_CONTAINS(messageOf([&] { StateValidator v(test::twoRobotScene(), models); }),

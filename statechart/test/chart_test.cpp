@@ -59,7 +59,7 @@ TEST(Chart, Figure32BehavesAsTheFigureSaysOnASequenceVisitingEveryTransition) {
   }
 }
 
-TEST(Chart, LoadErrorsNameTheOriginThePathAndWhatToDo) {
+TEST(Chart, LoadErrorsNameTheOriginThePathAndTheFix) {
   ChartBuilder b;
   StateSpec composite_with_doo;
   composite_with_doo.doo = [](bool) { return DooStatus::Done; };
