@@ -4,6 +4,7 @@
 #   build [preset]   configure and build (presets: release (default), asan, tsan)
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
+#   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
 #   test --tsan      the concurrency tests under ThreadSanitizer
 #   demo             build and run the demo deployment
 #   bench            build and run the benchmarks (Google Benchmark; median and max)
@@ -51,6 +52,11 @@ run_tests() {
       build asan
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         ctest --test-dir build/asan --output-on-failure --no-tests=error -j2 --timeout 600 ;;
+    --asan-ci)
+      # Only the slice's test executables and what they link (COBRA_TEST_LABELS in the preset).
+      build asan-ci --target selected_tests
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        ctest --test-dir build/asan-ci --output-on-failure --no-tests=error -j2 --timeout 600 ;;
     --tsan)
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
@@ -58,7 +64,7 @@ run_tests() {
         core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test
       TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
         ctest --test-dir build/tsan --output-on-failure --no-tests=error -L concurrency --timeout 600 ;;
-    *) echo "do test: unknown option '$1' (expected --asan or --tsan)" >&2; exit 2 ;;
+    *) echo "do test: unknown option '$1' (expected --asan, --asan-ci or --tsan)" >&2; exit 2 ;;
   esac
 }
 
@@ -100,6 +106,6 @@ case "${1:-help}" in
       fi
       grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
     done ;;
-  help|-h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "do: unknown command '$1'" >&2; sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+  help|-h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
 esac

@@ -63,7 +63,7 @@ std::vector<LintViolation> Configurator::connectPorts(const std::vector<Connecti
     } catch (const std::exception& e) {
       journal.fail(c.spec->where.text() + ": " + e.what());
     }
-    connections_.push_back({c.spec->output, c.spec->input, c.policy, c.spec->where, false});
+    connections_.push_back({c.spec->output, c.spec->input, c.policy, c.spec->where, false, {}});
     journal.record("the connection " + c.spec->output + " -> " + c.spec->input, [this, c] {
       core::disconnectPorts(*c.output, *c.input);
       std::erase_if(connections_, [&](const Connection& made) {

@@ -117,6 +117,17 @@ Configurator::DeploymentPlan Configurator::planDeployment(const DeploymentSpec& 
       throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " has two activities; give it one");
     plan.activities.push_back(checkActivity(spec, true));
   }
+  // A component runs in the deployments of one scope only: another scope's switch would stop it.
+  for (const auto& [scope, current] : current_deployments_) {
+    if (scope == next.scope) continue;
+    const DeploymentSpec& other = set_.deployment(current);
+    for (const NameEntry& entry : next.components)
+      if (std::any_of(other.components.begin(), other.components.end(),
+                      [&](const NameEntry& e) { return e.name == entry.name; }))
+        throw core::Error(entry.where.text() + ": " + quoted(entry.name) + " is run by deployment " + quoted(current) +
+                          " of scope " + quoted(scope) +
+                          "; a component belongs to the deployments of one scope (start it outside deployments to share it)");
+  }
   std::vector<const Connection*> kept;
   for (const ConnectionSpec& spec : next.connections) {
     ResolvedConnection c = resolve(spec);
@@ -126,6 +137,10 @@ Configurator::DeploymentPlan Configurator::planDeployment(const DeploymentSpec& 
     const auto made = std::find_if(connections_.begin(), connections_.end(), [&](const Connection& m) {
       return m.from_deployment && m.output == spec.output && m.input == spec.input;
     });
+    if (made != connections_.end() && made->scope != next.scope)
+      throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input +
+                        " is made by a deployment of scope " + quoted(made->scope) +
+                        "; a connection belongs to the deployments of one scope");
     if (made != connections_.end() && made->policy == c.policy) {
       kept.push_back(&*made);
       continue;
@@ -134,9 +149,11 @@ Configurator::DeploymentPlan Configurator::planDeployment(const DeploymentSpec& 
     plan.additions.push_back(c);
   }
   for (const Connection& m : connections_)
-    if (m.from_deployment && std::find(kept.begin(), kept.end(), &m) == kept.end()) plan.removals.push_back(m);
+    if (m.from_deployment && m.scope == next.scope && std::find(kept.begin(), kept.end(), &m) == kept.end())
+      plan.removals.push_back(m);
 
-  const DeploymentSpec* previous = current_deployment_.empty() ? nullptr : set_.findDeployment(current_deployment_);
+  const std::string& current = currentDeployment(next.scope);
+  const DeploymentSpec* previous = current.empty() ? nullptr : set_.findDeployment(current);
   if (previous != nullptr)
     for (auto it = previous->components.rbegin(); it != previous->components.rend(); ++it)
       if (!contains(plan.run, it->name)) plan.stop.push_back(it->name);
@@ -196,7 +213,7 @@ void Configurator::carryOut(const DeploymentPlan& plan, const DeploymentSpec& ne
   for (const ResolvedConnection& a : plan.additions) {
     step(a.spec->where, "cannot connect " + a.spec->output + " -> " + a.spec->input,
          [&] { core::connectPorts(*a.output, *a.input, a.policy); });
-    connections_.push_back({a.spec->output, a.spec->input, a.policy, a.spec->where, true});
+    connections_.push_back({a.spec->output, a.spec->input, a.policy, a.spec->where, true, next.scope});
     journal.record("the connection " + a.spec->output + " -> " + a.spec->input, [this, a] {
       core::disconnectPorts(*a.output, *a.input);
       std::erase_if(connections_,
@@ -249,8 +266,14 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
   } catch (const std::exception& e) {
     journal.fail(context + e.what());  // the previous deployment runs again
   }
-  current_deployment_ = name;
+  current_deployments_[next.scope] = name;
   return violations;
+}
+
+const std::string& Configurator::currentDeployment(std::string_view scope) const {
+  static const std::string none;
+  const auto it = current_deployments_.find(scope);
+  return it == current_deployments_.end() ? none : it->second;
 }
 
 }  // namespace cobra::deploy

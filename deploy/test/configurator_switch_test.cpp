@@ -224,6 +224,44 @@ TEST_F(SwitchTest, WrongValuesInAConfigurationApplyNothing) {
               HasSubstr("no configuration named 'dobule'; did you mean 'double'?"));
 }
 
+TEST_F(SwitchTest, DeploymentsOfTwoScopesSwitchIndependently) {
+  // One scope per "robot": switching one never stops the other's components or connections.
+  auto& set = configurator_.deploymentSet();
+  set.addDeployment({"a_source", at("a.lua", 1), {{"Sine", at("a.lua", 2)}, {"Gain", at("a.lua", 3)}}, {},
+                     {{"Sine.out", "Gain.in", {"data", 1}, at("a.lua", 4)}}, "a"});
+  set.addDeployment({"b_both", at("b.lua", 1), {{"Rec", at("b.lua", 2)}, {"Det", at("b.lua", 3)}}, {},
+                     {{"Gain.out", "Rec.in", {"buffer", 16}, at("b.lua", 4)},
+                      {"Gain.out", "Det.in", {"buffer", 16}, at("b.lua", 5)}}, "b"});
+  set.addDeployment({"b_record", at("b.lua", 10), {{"Rec", at("b.lua", 11)}}, {},
+                     {{"Gain.out", "Rec.in", {"buffer", 16}, at("b.lua", 12)}}, "b"});
+  set.addDeployment({"a_greedy", at("a.lua", 10), {{"Sine", at("a.lua", 11)}, {"Rec", at("a.lua", 12)}}, {}, {}, "a"});
+  (void)configurator_.applyDeployment("a_source");
+  (void)configurator_.applyDeployment("b_both");
+  configurator_.clock().advance(5ms);
+  const Snapshot both = snapshot(configurator_);
+  EXPECT_TRUE(both.connections.count("Sine.out -> Gain.in (data)"));
+  EXPECT_TRUE(both.connections.count("Gain.out -> Det.in (buffer(16))"));
+
+  (void)configurator_.applyDeployment("b_record");
+  const Snapshot after = snapshot(configurator_);
+  const auto& refs = configurator_.getReferences();
+  EXPECT_TRUE(refs.get("Sine").isRunning()) << "scope a is untouched by a switch in scope b";
+  EXPECT_TRUE(refs.get("Gain").isRunning());
+  EXPECT_TRUE(refs.get("Rec").isRunning());
+  EXPECT_FALSE(refs.get("Det").isRunning()) << "b_record does not run Det";
+  EXPECT_TRUE(after.connections.count("Sine.out -> Gain.in (data)"));
+  EXPECT_FALSE(after.connections.count("Gain.out -> Det.in (buffer(16))"));
+  EXPECT_EQ(configurator_.currentDeployment("a"), "a_source");
+  EXPECT_EQ(configurator_.currentDeployment("b"), "b_record");
+  EXPECT_EQ(configurator_.currentDeployment(), "") << "nothing applied in the default scope";
+
+  const std::string message = errorOf([&] { (void)configurator_.applyDeployment("a_greedy"); });
+  EXPECT_THAT(message, HasSubstr("a.lua:12: 'Rec' is run by deployment 'b_record' of scope 'b'; a component belongs to "
+                                 "the deployments of one scope"));
+  EXPECT_EQ(snapshot(configurator_), after) << "a refused switch changes nothing";
+  EXPECT_EQ(configurator_.currentDeployment("a"), "a_source");
+}
+
 TEST_F(SwitchTest, InvalidDeploymentChangesNothing) {
   (void)configurator_.applyDeployment("record");
   configurator_.clock().advance(3ms);

@@ -331,6 +331,10 @@ int defineDeploymentImpl(lua_State* L) {
   DeploymentSpec spec;
   spec.name = lua_tostring(L, 1);
   spec.where = site.here();
+  rawField(L, 2, "scope");
+  if (lua_type(L, -1) == LUA_TSTRING) spec.scope = lua_tostring(L, -1);
+  else if (!lua_isnil(L, -1)) fail(site.here(), "defineDeployment: scope must be a string (one switch group per robot)");
+  lua_pop(L, 1);
   for (const char* key : {"components", "activities", "connections"}) {
     rawField(L, 2, key);
     const int list = lua_gettop(L);

@@ -135,6 +135,27 @@ applyDeployment("open_loop")
   EXPECT_EQ(f.configurator.currentDeployment(), "amplified");
 }
 
+TEST(LuaDeployer, DeploymentsMayNameTheirScope) {
+  Fixture f;
+  f.deployer.run(R"(
+initConfigurator({ "cobra_signal" }, {
+  { peer_name = "Sine", component_type = "SineGenerator" },
+  { peer_name = "Rec", component_type = "Recorder" },
+})
+defineDeployment("source", { scope = "needle_robot", components = { "Sine" } })
+defineDeployment("sink", { scope = "probe_robot", components = { "Rec" } })
+applyDeployment("source")
+applyDeployment("sink")
+)",
+                 "scopes.lua");
+  EXPECT_EQ(f.configurator.deploymentSet().deployment("source").scope, "needle_robot");
+  EXPECT_EQ(f.configurator.currentDeployment("needle_robot"), "source");
+  EXPECT_EQ(f.configurator.currentDeployment("probe_robot"), "sink");
+  EXPECT_TRUE(f.configurator.getReferences().get("Sine").isRunning()) << "the probe robot's switch left it alone";
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("defineDeployment('x', { scope = 3 })", "bad_scope.lua"); }),
+                  "bad_scope.lua:1: defineDeployment: scope must be a string");
+}
+
 TEST(LuaDeployer, ConfigurationFoldersMayHoldLuaTablesAndCfgFiles) {
   Fixture f;
   const std::string folder = std::string(COBRA_SOURCE_DIR) + "/deploy/lua/test/configurations";

@@ -149,8 +149,9 @@ class Configurator {
   /// @return true when there was at least one request.
   bool serviceRequests();
 
-  /// The deployment / configuration last applied, or "".
-  const std::string& currentDeployment() const { return current_deployment_; }
+  /// The deployment last applied in `scope` (see DeploymentSpec::scope), or "".
+  const std::string& currentDeployment(std::string_view scope = {}) const;
+  /// The configuration last applied, or "".
   const std::string& currentConfiguration() const { return current_configuration_; }
 
   /// The simulation clock. @throws core::Error in ClockMode::RealTime.
@@ -169,6 +170,7 @@ class Configurator {
     core::ConnPolicy policy;
     SourceLocation where;
     bool from_deployment = false;  ///< made by applyDeployment (removed when switching away)
+    std::string scope;             ///< from_deployment: the scope of the deployment that made it
   };
   /// The checked form of one connection entry.
   struct ResolvedConnection {
@@ -219,7 +221,7 @@ class Configurator {
   std::map<std::string, std::string, std::less<>> types_;  // instance name -> component type
   std::vector<Connection> connections_;
   std::vector<std::string> started_;  // start order, for stopping in reverse
-  std::string current_deployment_;
+  std::map<std::string, std::string, std::less<>> current_deployments_;  // scope -> deployment
   std::string current_configuration_;
   std::vector<std::string> warnings_;
 

@@ -23,6 +23,11 @@ struct DeploymentSpec {
   std::vector<NameEntry> components;
   std::vector<ActivitySpec> activities;  ///< components without an entry keep their activity
   std::vector<ConnectionSpec> connections;
+  /// The switch group this deployment belongs to ("" is the default one). Deployments of different
+  /// scopes switch independently — e.g. one scope per robot, so the needle robot can go to
+  /// teleoperation while the probe robot keeps its deployment. A component or a connection belongs
+  /// to the deployments of one scope only.
+  std::string scope{};
 };
 
 /// One property value of a configuration, as text in the property type's text form

@@ -13,7 +13,8 @@
 /// getReferences()        -- then Sine.frequency = 2, Gain:getState(), ...
 /// @endcode
 /// plus `stopComponents`, `cleanupComponents`, `defineDeployment(name, {components=, activities=,
-/// connections=})`, `applyDeployment(name)`, `applyConfiguration(name)`, and the RTT shims
+/// connections=, scope=})` (`scope`: the switch group, e.g. one per robot; see DeploymentSpec),
+/// `applyDeployment(name)`, `applyConfiguration(name)`, and the RTT shims
 /// `rtt.globals.ORO_SCHED_RT` / `ORO_SCHED_OTHER` and `rtt.Variable("ConnPolicy")` (a data
 /// policy table whose `type` and `size` can be set).
 ///
