@@ -55,8 +55,9 @@ run_tests() {
     --asan-ci)
       # Only the slice's test executables and what they link (COBRA_TEST_LABELS in the preset).
       build asan-ci --target selected_tests
+      labels=$(sed -n 's/^COBRA_TEST_LABELS:STRING=//p' build/asan-ci/CMakeCache.txt | tr ';' '|')
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-        ctest --test-dir build/asan-ci --output-on-failure --no-tests=error -j2 --timeout 600 ;;
+        ctest --test-dir build/asan-ci --output-on-failure --no-tests=error -j2 --timeout 600 -L "^($labels)\$" ;;
     --tsan)
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
