@@ -98,6 +98,14 @@ const KDL::Frame* StateTable::pose(std::string_view name) const {
   return nullptr;
 }
 
+bool pathContains(std::string_view path, std::string_view state) {
+  const auto have = components(path), want = components(state);
+  for (std::size_t start = 0; start + want.size() <= have.size(); ++start) {
+    if (std::equal(want.begin(), want.end(), have.begin() + static_cast<std::ptrdiff_t>(start))) return true;
+  }
+  return false;
+}
+
 KDL::Frame needleTargetPose(const PlannedNeedle& needle) {
   KDL::Vector z = needle.target - needle.entry;
   z.Normalize();

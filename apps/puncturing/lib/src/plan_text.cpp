@@ -277,7 +277,7 @@ SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source)
       s.finish(3, "at SECONDS EVENT");
     } else if (s.words[0] == "on") {
       a.trigger = SurgeonAction::Trigger::OnState;
-      if (s.words.size() != 3) s.fail("expected 'on CHART.STATE [after=S] [times=N] EVENT'");
+      if (s.words.size() != 3) s.fail("expected 'on CHART.STATE EVENT [after=S] [times=N]'");
       const std::string& path = s.words[1];
       const std::size_t dot = path.find('.');
       a.chart = path.substr(0, dot);
@@ -290,7 +290,7 @@ SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source)
       if (times < 0.0 || times != std::floor(times) || times > 1e6) s.fail("times must be a whole number >= 0");
       a.times = static_cast<int>(times);
       a.event = s.words[2];
-      s.finish(3, "on CHART.STATE [after=S] [times=N] EVENT");
+      s.finish(3, "on CHART.STATE EVENT [after=S] [times=N]");
     } else {
       s.fail("unknown statement '" + s.words[0] + "' (expected at or on)");
     }

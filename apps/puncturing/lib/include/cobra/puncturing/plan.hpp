@@ -148,6 +148,10 @@ KDL::Frame needleEntryPose(const PlannedNeedle& needle);
 /// Shortest distance (m) from segment p-q to the surface of `region` (< 0: inside).
 double distanceToRegion(const KDL::Vector& p, const KDL::Vector& q, const ForbiddenRegion& region);
 
+/// True when the dot-separated components of `state` appear contiguously in `path`
+/// ("MoveToSkin.Descend" in "root.InsertingNeedles.MoveToSkin.Descend.Moving").
+bool pathContains(std::string_view path, std::string_view state);
+
 /// `pose` moved `offset` m along its own z axis.
 KDL::Frame alongZ(const KDL::Frame& pose, double offset);
 
