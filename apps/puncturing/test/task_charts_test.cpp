@@ -35,9 +35,10 @@ end
 function drain() local text = table.concat(log, "\n") log = {} return text end
 )";
 
+/// Puts the states entered into the same log as the calls, so that the order of both is kept.
 struct Entered : statechart::Observer {
-  std::vector<std::string>* entries = nullptr;
-  void entered(std::string_view fqn) override { entries->emplace_back(fqn); }
+  script::LuaState* lua = nullptr;
+  void entered(std::string_view fqn) override { lua->run("log[#log + 1] = 'enter:" + std::string(fqn) + "'"); }
 };
 
 /// One chart with its own Lua state, as its own Supervisor would run it.
@@ -59,7 +60,7 @@ struct ChartRun {
       return std::chrono::nanoseconds(static_cast<long long>(*now * 1e9));
     });
     chart->bind(machine.get());
-    observer.entries = &entries;
+    observer.lua = &lua;
     machine->setObserver(&observer);
   }
 };
@@ -148,13 +149,16 @@ class Procedure {
     for (bool busy = true; busy;) {
       busy = false;
       for (ChartRun* c : {&needle_, &us_}) {
-        const std::size_t seen = c->entries.size();
         c->machine->run();
-        for (std::size_t i = seen; i < c->entries.size(); ++i) entered(*c, c->entries[i]);
         std::istringstream lines(c->lua.evaluate("drain()"));
         for (std::string line; std::getline(lines, line);) {
           busy = true;
-          answer(*c, line);
+          if (line.starts_with("enter:")) {
+            c->entries.push_back(line.substr(6));
+            entered(*c, line.substr(6));
+          } else {
+            answer(*c, line);
+          }
         }
       }
     }
@@ -215,7 +219,8 @@ class Procedure {
     } else if (line.ends_with("TrajGen:askStartMove")) {
       c.motion = ++motions_;
       reply("e_moving", 0.01, c.motion);
-      for (const std::string& e : outcome(c, motion_fqn)) reply(e, 2.0, c.motion);
+      double delay = 2.0;  // s: each Decision event half a second after the previous one
+      for (const std::string& e : outcome(c, motion_fqn)) reply(e, delay += 0.5, c.motion);
     } else if (line.ends_with("TrajGen:askStopMove")) {
       if (c.motion == 0) {
         reply("e_not_moving");
@@ -300,13 +305,13 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
       "needle > root.InsertingNeedles.MoveToNeedleChange.Switching", "needle <- e_needle_mounted",
       "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: Planner:askPlan",
       // D: at the phantom, the insertion starts (a motion primitive).
-      "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching", "needle: emit:e_deploy_autonomous_primitives",
+      "needle: emit:e_deploy_autonomous_primitives", "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching",
       // E: the needle touches the skin: penetration configuration.
-      "needle <- e_skin_touched", "needle > root.InsertingNeedles.PenetratingSkin.Switching",
-      "needle: emit:e_configure_penetration",
+      "needle <- e_skin_touched", "needle: emit:e_configure_penetration",
+      "needle > root.InsertingNeedles.PenetratingSkin.Switching",
       // F: the skin is punctured: the compliant needle insertion configuration.
-      "needle <- e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor.Switching",
-      "needle: emit:e_configure_needle_insertion", "needle <- e_target_reached", "needle > root.WaitCryoCycle",
+      "needle <- e_skin_penetrated", "needle: emit:e_configure_needle_insertion",
+      "needle > root.InsertingNeedles.MoveToTumor.Switching", "needle <- e_target_reached", "needle > root.WaitCryoCycle",
       "needle <- e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped.Switching",
       // G: extracted, a collision-free motion to the needle change pose.
       "needle > root.ExtractingNeedle.MoveToExtractionPoint.Switching", "needle: emit:e_needle_extracted",
@@ -332,9 +337,9 @@ TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoT
   p.run();
   record(p);
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
-  expectInOrder(p, {"needle <- e_forbidden_region", "needle > root.WaitReaction", "needle: NeedleTrajGen:askStopMove",
-                    "needle <- e_take_over", "needle > root.NeedleTeleoperation",
-                    "needle: emit:e_deploy_teleoperated", "needle: emit:e_configure_needle_insertion",
+  expectInOrder(p, {"needle <- e_forbidden_region", "needle: NeedleTrajGen:askStopMove", "needle > root.WaitReaction",
+                    "needle <- e_take_over", "needle: emit:e_deploy_teleoperated",
+                    "needle: emit:e_configure_needle_insertion", "needle > root.NeedleTeleoperation",
                     "needle <- e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor.Switching",
                     "needle <- e_target_reached", "needle > root.WaitCryoCycle"});
   EXPECT_EQ(p.count("needle <- e_target_reached"), 3u);
@@ -392,6 +397,21 @@ TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
   expectInOrder(p, {"needle > root.InsertingNeedles.PenetratingSkin.Arrived", "needle > root.WaitReaction",
                     "needle <- e_take_over", "needle > root.NeedleTeleoperation", "needle <- e_teleop_done",
                     "needle > root.InsertingNeedles.PenetratingSkin.Switching", "needle <- e_skin_penetrated"});
+}
+
+TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetried) {
+  Procedure p("two_needles", 2);  // its surgeon lets the system recover
+  p.fault("root.InsertingNeedles.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
+  p.fault("root.InsertingNeedles.MoveToTumor", "e_motion_done");         // the tip missed the target
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  expectInOrder(p, {"needle > root.InsertingNeedles.MoveToSkin.Descend.Arrived", "needle: emit:e_needle_goal_missed",
+                    "needle > root.WaitReaction", "needle <- e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching", "needle <- e_skin_touched",
+                    "needle > root.InsertingNeedles.MoveToTumor.Arrived", "needle > root.WaitReaction",
+                    "needle <- e_recover", "needle > root.InsertingNeedles.MoveToTumor.Switching",
+                    "needle <- e_target_reached"});
 }
 
 TEST(PuncturingCharts, ZZEveryStateOfBothChartsIsEnteredAcrossTheTests) {
