@@ -1,0 +1,194 @@
+-- Needle insertion (thesis §4.4.1, Fig. 4.8): the I-SUR robot's task chart, run by its task
+-- Supervisor. Each state's entry asks the deployment and configuration supervisors for what it
+-- needs by name (e_deploy_<name>, e_configure_<name>: components/coordination/charts) and asks
+-- its peers for services through void request operations (askCurrentGoal, askPlan,
+-- askGenerateTraj, askStartMove, askStopMove, nextNeedle); it advances on their events and on
+-- the Decision components' (NeedleInsertionMonitor), the surgeon's and the ultrasound chart's.
+-- It never touches pure data. The two robots are coordinated only through events (README.md):
+--   consumed from the ultrasound chart: e_us_positioned, e_us_needle_lost, e_us_needle_tracked
+--   emitted for it: e_needle_wait_us, e_needle_skin_reached, e_needle_extracted, e_needle_next
+-- Per needle: WaitUSPositioning, then InsertingNeedles (to the needle change pose, the used
+-- needle removed, a new one mounted, to the skin, through it, to the tumour), WaitCryoCycle,
+-- ExtractingNeedle (a short pull tells whether the ice still holds the needle), back to the
+-- needle change pose (§4.9 phases G-H).
+
+-- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
+-- configurations (thesis §4.6-4.7) its deployment and configuration supervisors know.
+local peers = { frames = "NeedleFrames", planner = "Planner", trajectory = "NeedleTrajGen" }
+local D = { planning = "autonomous_planning", primitives = "autonomous_primitives", teleoperated = "teleoperated" }
+local C = { free = "free_motion", penetration = "penetration", insertion = "needle_insertion" }
+local defrost_check = 10  -- s in WaitDefreezing before pulling again
+local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
+
+-- Calls the void request operation `operation` of the peer playing `role`.
+local function call(role, operation)
+  local name = assert(peers[role], "needle_insertion: no peer for role " .. tostring(role))
+  local peer = _G[name]
+  if peer == nil then error("needle_insertion: peer '" .. name .. "' (" .. role .. ") is not a peer of this supervisor") end
+  peer[operation](peer)
+end
+
+local resume = nil            -- the state a reaction returns to (recover, end of teleoperation)
+local needle_on_tool = false  -- a needle is mounted on the robot (new or used)
+local at_change = false       -- the robot is at the needle change pose
+local in_tissue = false       -- the needle is in the patient
+
+-- A state that asks for its deployment and configuration on entry; `also` runs after.
+local function waiting(fqn, deployment, configuration, also)
+  return rfsm.state { entry = function()
+    resume = fqn
+    emit("e_deploy_" .. deployment)
+    emit("e_configure_" .. configuration)
+    if also then also() end
+  end }
+end
+
+-- A motion: Switching (deployment and configuration asked, until both are answered), AskingGoal
+-- (the Frame Generator publishes this state's goal), Planning (planned motions only), Generating,
+-- Moving. The transitions leaving it handle its end (e_motion_done or a Decision event). With
+-- `opts.grace`, a motion that ends without that event waits that long in Arrived, then reacts;
+-- with `opts.pause = {stop, go}`, event `stop` halts Moving until event `go`.
+local function motion(fqn, deployment, configuration, opts)
+  opts = opts or {}
+  local want = {}
+  local s = {
+    Switching = rfsm.state { entry = function()
+      resume = fqn
+      want = { ["e_deployed_" .. deployment] = true, ["e_configured_" .. configuration] = true }
+      emit("e_deploy_" .. deployment)
+      emit("e_configure_" .. configuration)
+    end },
+    AskingGoal = rfsm.state { entry = function() call("frames", "askCurrentGoal") end },
+    Generating = rfsm.state { entry = function() call("trajectory", "askGenerateTraj") end },
+    Moving = rfsm.state { entry = function() call("trajectory", "askStartMove") end },
+    rfsm.trans { src = 'initial', tgt = 'Switching' },
+    rfsm.trans { src = 'Switching', tgt = 'AskingGoal', guard = function(tr, events)
+      for _, e in ipairs(events) do want[e] = nil end
+      return next(want) == nil
+    end },
+    rfsm.trans { src = 'Generating', tgt = 'Moving', events = { 'e_trajectory_ready' } },
+  }
+  if opts.planned then
+    s.Planning = rfsm.state { entry = function() call("planner", "askPlan") end }
+    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Planning', events = { 'e_goal_ready' } }
+    s[#s + 1] = rfsm.trans { src = 'Planning', tgt = 'Generating', events = { 'e_path_ready' } }
+  else
+    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Generating', events = { 'e_path_ready' } }
+  end
+  if opts.grace then
+    s.Arrived = rfsm.state {}
+    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Arrived', events = { 'e_motion_done' } }
+    s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = { 'e_after(' .. opts.grace .. ')' },
+                             effect = function() emit("e_needle_goal_missed") end }
+  end
+  if opts.pause then
+    s.Paused = rfsm.state {}
+    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Paused', events = { opts.pause[1] },
+                             effect = function() call("trajectory", "askStopMove") end }
+    s[#s + 1] = rfsm.trans { src = 'Paused', tgt = 'Switching', events = { opts.pause[2] } }
+  end
+  return rfsm.state(s)
+end
+
+local function stop() call("trajectory", "askStopMove") end
+
+local faults = { 'e_forbidden_region', 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
+for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
+for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
+local insertion_faults = { 'e_force_over_threshold', table.unpack(faults) }
+
+local chart = {
+  WaitIceballConfig = waiting("root.WaitIceballConfig", D.planning, C.free),
+  WaitUSPositioning = waiting("root.WaitUSPositioning", D.planning, C.free, function() emit("e_needle_wait_us") end),
+  InsertingNeedles = rfsm.state {
+    MoveToNeedleChange = motion("root.InsertingNeedles.MoveToNeedleChange", D.planning, C.free, { planned = true }),
+    WaitNeedleRemoved = waiting("root.InsertingNeedles.WaitNeedleRemoved", D.planning, C.free),
+    WaitNeedleMounted = waiting("root.InsertingNeedles.WaitNeedleMounted", D.planning, C.free),
+    MoveToSkin = rfsm.state {
+      Approach = motion("root.InsertingNeedles.MoveToSkin.Approach", D.planning, C.free, { planned = true }),
+      Descend = motion("root.InsertingNeedles.MoveToSkin.Descend", D.primitives, C.free, { grace = arrival_grace }),
+      rfsm.trans { src = 'initial', tgt = 'Approach' },
+      rfsm.trans { src = 'Approach', tgt = 'Descend', events = { 'e_motion_done' } },
+    },
+    PenetratingSkin = motion("root.InsertingNeedles.PenetratingSkin", D.primitives, C.penetration,
+                             { grace = arrival_grace }),
+    MoveToTumor = motion("root.InsertingNeedles.MoveToTumor", D.primitives, C.insertion,
+                         { grace = arrival_grace, pause = { 'e_us_needle_lost', 'e_us_needle_tracked' } }),
+
+    rfsm.trans { src = 'initial', tgt = 'MoveToNeedleChange' },
+    rfsm.trans { src = 'MoveToNeedleChange', tgt = 'WaitNeedleRemoved', events = { 'e_motion_done' },
+                 guard = function() return needle_on_tool end, effect = function() at_change = true end },
+    rfsm.trans { src = 'MoveToNeedleChange', tgt = 'WaitNeedleMounted', events = { 'e_motion_done' },
+                 guard = function() return not needle_on_tool end, effect = function() at_change = true end },
+    -- The used needle is off: the next one needs the probe at its next pose first (phase H).
+    rfsm.trans { src = 'WaitNeedleRemoved', tgt = 'root.WaitUSPositioning', events = { 'e_needle_removed' },
+                 effect = function()
+                   needle_on_tool = false
+                   call("frames", "nextNeedle")
+                   emit("e_needle_next")
+                 end },
+    rfsm.trans { src = 'WaitNeedleMounted', tgt = 'MoveToSkin', events = { 'e_needle_mounted' },
+                 effect = function() needle_on_tool, at_change = true, false end },
+    rfsm.trans { src = 'MoveToSkin', tgt = 'PenetratingSkin', events = { 'e_skin_touched' },
+                 effect = function() stop() emit("e_needle_skin_reached") end },
+    rfsm.trans { src = 'PenetratingSkin', tgt = 'MoveToTumor', events = { 'e_skin_penetrated' },
+                 effect = function() stop() in_tissue = true end },
+    rfsm.trans { src = 'MoveToTumor', tgt = 'root.WaitCryoCycle', events = { 'e_target_reached' },
+                 effect = function() emit("e_needle_placed") end },
+  },
+  WaitCryoCycle = waiting("root.WaitCryoCycle", D.primitives, C.insertion),
+  ExtractingNeedle = rfsm.state {
+    VerifyingNeedleTrapped = motion("root.ExtractingNeedle.VerifyingNeedleTrapped", D.primitives, C.insertion),
+    WaitDefreezing = waiting("root.ExtractingNeedle.WaitDefreezing", D.primitives, C.insertion),
+    MoveToExtractionPoint = motion("root.ExtractingNeedle.MoveToExtractionPoint", D.primitives, C.insertion),
+
+    rfsm.trans { src = 'initial', tgt = 'VerifyingNeedleTrapped' },
+    -- The short pull met the ice's hold (the monitor's force estimate): wait for it to thaw.
+    rfsm.trans { src = 'VerifyingNeedleTrapped', tgt = 'WaitDefreezing', events = { 'e_needle_trapped' },
+                 effect = stop },
+    rfsm.trans { src = 'VerifyingNeedleTrapped', tgt = 'MoveToExtractionPoint', events = { 'e_motion_done' } },
+    rfsm.trans { src = 'WaitDefreezing', tgt = 'VerifyingNeedleTrapped',
+                 events = { 'e_needle_free', 'e_after(' .. defrost_check .. ')' } },
+    rfsm.trans { src = 'MoveToExtractionPoint', tgt = 'WaitDefreezing', events = { 'e_needle_trapped' }, effect = stop },
+    rfsm.trans { src = 'MoveToExtractionPoint', tgt = 'root.InsertingNeedles', events = { 'e_motion_done' },
+                 effect = function() in_tissue = false emit("e_needle_extracted") end },
+  },
+  -- Something unexpected: the robot stops and the surgeon chooses (thesis §4.4.1).
+  WaitReaction = rfsm.state { entry = function() stop() emit("e_needle_reaction_needed") end },
+  NeedleTeleoperation = rfsm.state { entry = function()
+    emit("e_deploy_" .. D.teleoperated)
+    emit("e_configure_" .. (in_tissue and C.insertion or C.free))
+  end },
+  Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
+
+  rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
+  rfsm.trans { src = 'WaitIceballConfig', tgt = 'WaitUSPositioning', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'WaitUSPositioning', tgt = 'InsertingNeedles.WaitNeedleMounted', events = { 'e_us_positioned' },
+               guard = function() return at_change end },
+  rfsm.trans { src = 'WaitUSPositioning', tgt = 'InsertingNeedles', events = { 'e_us_positioned' },
+               guard = function() return not at_change end },
+  rfsm.trans { src = 'WaitUSPositioning', tgt = 'Done', events = { 'e_all_needles_done' }, pn = 10 },
+  rfsm.trans { src = 'WaitCryoCycle', tgt = 'ExtractingNeedle', events = { 'e_cryo_done' } },
+  rfsm.trans { src = 'InsertingNeedles', tgt = 'WaitReaction', events = insertion_faults },
+  rfsm.trans { src = 'ExtractingNeedle', tgt = 'WaitReaction', events = faults },
+  rfsm.trans { src = 'WaitUSPositioning', tgt = 'WaitReaction', events = faults },
+  rfsm.trans { src = 'WaitReaction', tgt = 'NeedleTeleoperation', events = { 'e_take_over' } },
+}
+
+-- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that
+-- was interrupted; a motion starts again from where the needle is.
+local resumable = {
+  "root.WaitUSPositioning", "root.InsertingNeedles.MoveToNeedleChange", "root.InsertingNeedles.WaitNeedleRemoved",
+  "root.InsertingNeedles.WaitNeedleMounted", "root.InsertingNeedles.MoveToSkin.Approach",
+  "root.InsertingNeedles.MoveToSkin.Descend", "root.InsertingNeedles.PenetratingSkin",
+  "root.InsertingNeedles.MoveToTumor", "root.ExtractingNeedle.VerifyingNeedleTrapped",
+  "root.ExtractingNeedle.WaitDefreezing", "root.ExtractingNeedle.MoveToExtractionPoint",
+}
+for _, target in ipairs(resumable) do
+  for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'NeedleTeleoperation', 'e_teleop_done' } }) do
+    chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
+                                     guard = function() return resume == target end }
+  end
+end
+
+return rfsm.state(chart)

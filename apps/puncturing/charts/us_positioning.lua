@@ -1,0 +1,143 @@
+-- Ultrasound positioning (thesis §4.4.2, Fig. 4.9): the UR5's task chart, run by its task
+-- Supervisor. Same pattern as needle_insertion.lua: each state's entry asks the deployment and
+-- configuration supervisors by name and its peers for services through void request
+-- operations; it advances on their events, on the UltrasoundMonitor's (e_probe_contact,
+-- e_probe_contact_lost, e_needle_visible, e_needle_lost), the surgeon's and the needle chart's.
+-- The two robots are coordinated only through events (README.md):
+--   consumed from the needle chart: e_needle_wait_us, e_needle_skin_reached, e_needle_extracted,
+--                                   e_needle_next
+--   emitted for it: e_us_positioned, e_us_needle_tracked, e_us_needle_lost
+
+-- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
+-- configurations its deployment and configuration supervisors know.
+local peers = { frames = "ProbeFrames", planner = "ProbePlanner", trajectory = "ProbeTrajGen" }
+local D = { planning = "autonomous_planning", primitives = "autonomous_primitives", teleoperated = "teleoperated" }
+local C = { free = "free_motion", contact = "probe_contact" }
+local search_timeout = 60  -- s in SearchingNeedle before the surgeon is asked to react
+local arrival_grace = 1    -- s after the descent ends for the contact that should have ended it
+
+-- Calls the void request operation `operation` of the peer playing `role`.
+local function call(role, operation)
+  local name = assert(peers[role], "us_positioning: no peer for role " .. tostring(role))
+  local peer = _G[name]
+  if peer == nil then error("us_positioning: peer '" .. name .. "' (" .. role .. ") is not a peer of this supervisor") end
+  peer[operation](peer)
+end
+
+local function stop() call("trajectory", "askStopMove") end
+
+local resume = nil  -- the state a reaction returns to
+
+local function waiting(fqn, deployment, configuration, also)
+  return rfsm.state { entry = function()
+    resume = fqn
+    emit("e_deploy_" .. deployment)
+    emit("e_configure_" .. configuration)
+    if also then also() end
+  end }
+end
+
+-- A motion, as in needle_insertion.lua: Switching, AskingGoal, [Planning], Generating, Moving
+-- and, with `opts.arrive` or `opts.grace`, Arrived (the motion ended without the event that ends
+-- the state; with `opts.grace` s the surgeon is then asked to react).
+local function motion(fqn, deployment, configuration, opts)
+  opts = opts or {}
+  local want = {}
+  local s = {
+    Switching = rfsm.state { entry = function()
+      resume = fqn
+      want = { ["e_deployed_" .. deployment] = true, ["e_configured_" .. configuration] = true }
+      emit("e_deploy_" .. deployment)
+      emit("e_configure_" .. configuration)
+    end },
+    AskingGoal = rfsm.state { entry = function() call("frames", "askCurrentGoal") end },
+    Generating = rfsm.state { entry = function() call("trajectory", "askGenerateTraj") end },
+    Moving = rfsm.state { entry = function() call("trajectory", "askStartMove") end },
+    rfsm.trans { src = 'initial', tgt = 'Switching' },
+    rfsm.trans { src = 'Switching', tgt = 'AskingGoal', guard = function(tr, events)
+      for _, e in ipairs(events) do want[e] = nil end
+      return next(want) == nil
+    end },
+    rfsm.trans { src = 'Generating', tgt = 'Moving', events = { 'e_trajectory_ready' } },
+  }
+  if opts.planned then
+    s.Planning = rfsm.state { entry = function() call("planner", "askPlan") end }
+    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Planning', events = { 'e_goal_ready' } }
+    s[#s + 1] = rfsm.trans { src = 'Planning', tgt = 'Generating', events = { 'e_path_ready' } }
+  else
+    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Generating', events = { 'e_path_ready' } }
+  end
+  if opts.grace or opts.arrive then
+    s.Arrived = rfsm.state {}
+    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Arrived', events = { 'e_motion_done' } }
+  end
+  if opts.grace then
+    s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = { 'e_after(' .. opts.grace .. ')' },
+                             effect = function() emit("e_us_goal_missed") end }
+  end
+  return rfsm.state(s)
+end
+
+local faults = { 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
+for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
+for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
+local contact_faults = { 'e_probe_contact_lost', table.unpack(faults) }
+
+local chart = {
+  Idle = waiting("root.Idle", D.planning, C.free),
+  -- Above the planned pose, then down along the beam until the probe touches the skin.
+  MoveToSkin = rfsm.state {
+    Approach = motion("root.MoveToSkin.Approach", D.planning, C.free, { planned = true }),
+    Descend = motion("root.MoveToSkin.Descend", D.primitives, C.free, { grace = arrival_grace }),
+    rfsm.trans { src = 'initial', tgt = 'Approach' },
+    rfsm.trans { src = 'Approach', tgt = 'Descend', events = { 'e_motion_done' } },
+  },
+  WaitNeedleSkinReached = waiting("root.WaitNeedleSkinReached", D.primitives, C.contact),
+  -- The probe presses on the skin (probe_contact configuration) while the needle goes in.
+  USPositioned = rfsm.state {
+    SearchingNeedle = motion("root.USPositioned.SearchingNeedle", D.primitives, C.contact, { arrive = true }),
+    NeedleTracked = waiting("root.USPositioned.NeedleTracked", D.primitives, C.contact,
+                            function() emit("e_us_needle_tracked") end),
+    rfsm.trans { src = 'initial', tgt = 'SearchingNeedle' },
+    rfsm.trans { src = 'SearchingNeedle', tgt = 'NeedleTracked', events = { 'e_needle_visible' }, effect = stop },
+    rfsm.trans { src = 'NeedleTracked', tgt = 'SearchingNeedle', events = { 'e_needle_lost' },
+                 effect = function() emit("e_us_needle_lost") end },
+    rfsm.trans { src = 'SearchingNeedle', tgt = 'root.WaitReaction', events = { 'e_after(' .. search_timeout .. ')' },
+                 effect = function() emit("e_us_needle_not_found") end },
+  },
+  WaitReaction = rfsm.state { entry = function() stop() emit("e_us_reaction_needed") end },
+  USTeleoperation = rfsm.state { entry = function()
+    emit("e_deploy_" .. D.teleoperated)
+    emit("e_configure_" .. C.contact)
+  end },
+  Done = rfsm.state { entry = function() emit("e_us_task_done") end },
+
+  rfsm.trans { src = 'initial', tgt = 'Idle' },
+  rfsm.trans { src = 'Idle', tgt = 'MoveToSkin', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'MoveToSkin', tgt = 'WaitNeedleSkinReached', events = { 'e_probe_contact' },
+               effect = function() stop() emit("e_us_positioned") end },
+  -- Phase H: on to the next needle's probe pose (the Frame Generator says when there is none).
+  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'MoveToSkin', events = { 'e_needle_next' }, pn = 10,
+               effect = function() call("frames", "nextNeedle") end },
+  -- The needle chart waits for the probe: say it is in place (again).
+  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_wait_us' },
+               effect = function() emit("e_us_positioned") end },
+  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'USPositioned', events = { 'e_needle_skin_reached' } },
+  rfsm.trans { src = 'USPositioned', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_extracted' } },
+  rfsm.trans { src = 'MoveToSkin', tgt = 'Done', events = { 'e_all_needles_done' }, pn = 10 },
+  rfsm.trans { src = 'MoveToSkin', tgt = 'WaitReaction', events = faults },
+  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'WaitReaction', events = contact_faults },
+  rfsm.trans { src = 'USPositioned', tgt = 'WaitReaction', events = contact_faults },
+  rfsm.trans { src = 'WaitReaction', tgt = 'USTeleoperation', events = { 'e_take_over' } },
+}
+
+local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root.WaitNeedleSkinReached",
+                    "root.USPositioned.SearchingNeedle", "root.USPositioned.NeedleTracked" }
+for _, target in ipairs(resumable) do
+  for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'USTeleoperation', 'e_teleop_done' } }) do
+    chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
+                                     guard = function() return resume == target end }
+  end
+end
+
+return rfsm.state(chart)

@@ -1,0 +1,447 @@
+// The two task charts (needle insertion, ultrasound positioning) loaded by cobra's rFSM loader
+// and run on the statechart engine, each in its own Lua state as in two processes, coordinated
+// only by the events they emit. Their peers are fakes that record the operations called and
+// answer as the real components do (deployment/configuration supervisors, Frame Generator,
+// planner, trajectory generator); a scripted world plays the Decision components' events and
+// the scenario's surgeon script plays the surgeon.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cobra/puncturing/plan.hpp"
+#include "cobra/script/rfsm.hpp"
+#include "cobra/statechart/machine.hpp"
+
+namespace cobra::puncturing {
+namespace {
+
+const std::string kApp = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/";
+
+/// Fake peers in Lua: every operation call and emitted event is appended to `log` as
+/// "Peer:operation" or "emit:event"; `drain()` returns and clears them, one per line.
+constexpr const char* kFakes = R"(
+log = {}
+function emit(name) log[#log + 1] = "emit:" .. name end
+function raise(name) log[#log + 1] = "raise:" .. name end
+local function fake(peer)
+  return setmetatable({}, { __index = function(_, op) return function() log[#log + 1] = peer .. ":" .. op end end })
+end
+for _, p in ipairs({ "NeedleFrames", "Planner", "NeedleTrajGen", "ProbeFrames", "ProbePlanner", "ProbeTrajGen" }) do
+  _G[p] = fake(p)
+end
+function drain() local text = table.concat(log, "\n") log = {} return text end
+)";
+
+/// Puts the states entered into the same log as the calls, so that the order of both is kept.
+struct Entered : statechart::Observer {
+  script::LuaState* lua = nullptr;
+  void entered(std::string_view fqn) override { lua->run("log[#log + 1] = 'enter:" + std::string(fqn) + "'"); }
+};
+
+/// One chart with its own Lua state, as its own Supervisor would run it.
+struct ChartRun {
+  std::string name;  // "needle" or "us"
+  script::LuaState lua;
+  std::unique_ptr<script::RfsmChart> chart;
+  std::unique_ptr<statechart::Machine> machine;
+  Entered observer;
+  std::vector<std::string> entries;  // every state entered, in order
+  std::string deployment;            // the last deployment answered as done
+  int needle = 0;                    // its Frame Generator's needle index
+  int motion = 0;                    // id of the motion being executed (0: none)
+
+  ChartRun(const std::string& chart_name, const std::string& file, const double* now) : name(chart_name) {
+    lua.run(kFakes, "=fakes");
+    chart = script::RfsmChart::loadFile(lua, kApp + "charts/" + file);
+    machine = std::make_unique<statechart::Machine>(chart->chart(), [now] {
+      return std::chrono::nanoseconds(static_cast<long long>(*now * 1e9));
+    });
+    chart->bind(machine.get());
+    observer.lua = &lua;
+    machine->setObserver(&observer);
+  }
+};
+
+/// What happens to a chart at a time: an event, tagged with the motion it answers (0: none).
+struct Pending {
+  double at;
+  ChartRun* to;
+  std::string event;
+  int motion;
+};
+
+/// The procedure: two charts, their fake peers and world, the surgeon script, a clock in 10 ms ticks.
+class Procedure {
+ public:
+  explicit Procedure(const std::string& scenario, int needles)
+      : needle_("needle", "needle_insertion.lua", &now_), us_("us", "us_positioning.lua", &now_), needles_(needles) {
+    script_ = parseSurgeonScript(readText(kApp + "scenarios/" + scenario + "/surgeon.txt"), scenario);
+    used_.assign(script_.actions.size(), 0);
+    for (const SurgeonAction& a : script_.actions) {
+      if (a.trigger == SurgeonAction::Trigger::At) {
+        at(a.at, &needle_, a.event);
+        at(a.at, &us_, a.event);
+      }
+    }
+  }
+
+  /// Event `event` replaces the normal outcome the next `times` times motion `fqn` moves.
+  void fault(const std::string& fqn, const std::string& event, int times = 1) { faults_[fqn] = {event, times}; }
+  /// The world says `event` to chart `to` `delay` s after chart `when` enters state `state`, once.
+  void onEntry(ChartRun& when, const std::string& state, ChartRun& to, const std::string& event, double delay) {
+    triggers_.push_back({&when, state, &to, event, delay, false});
+  }
+  void failPlanOnce(ChartRun& chart) { fail_plan_ = &chart; }
+
+  /// Runs until both charts are Done or `limit` s pass.
+  void run(double limit = 2000.0) {
+    step();
+    while (now_ < limit && !(done(needle_) && done(us_))) {
+      now_ += 0.01;
+      std::stable_sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) { return a.at < b.at; });
+      std::vector<Pending> due;
+      while (!pending_.empty() && pending_.front().at <= now_ + 1e-9) {
+        due.push_back(pending_.front());
+        pending_.erase(pending_.begin());
+      }
+      for (const Pending& p : due) {
+        if (p.motion != 0 && p.motion != p.to->motion) continue;  // answers a motion that was stopped
+        timeline_.push_back(p.to->name + " <- " + p.event);
+        p.to->machine->raise(p.event);
+      }
+      step();
+    }
+  }
+
+  static bool done(const ChartRun& c) { return c.machine->activeLeaf() == "root.Done"; }
+  ChartRun& needle() { return needle_; }
+  ChartRun& us() { return us_; }
+  /// "chart > state", "chart <- event", "chart: Peer:op", "chart emits e" in order of happening.
+  const std::vector<std::string>& timeline() const { return timeline_; }
+  std::size_t count(const std::string& line) const {
+    return static_cast<std::size_t>(std::count(timeline_.begin(), timeline_.end(), line));
+  }
+  /// Index of the first line equal to `line` at or after `from` (npos: none).
+  std::size_t find(const std::string& line, std::size_t from = 0) const {
+    for (std::size_t i = from; i < timeline_.size(); ++i) {
+      if (timeline_[i] == line) return i;
+    }
+    return std::string::npos;
+  }
+
+ private:
+  struct Trigger {
+    ChartRun* when;
+    std::string state;
+    ChartRun* to;
+    std::string event;
+    double delay;
+    bool fired;
+  };
+
+  void at(double t, ChartRun* to, const std::string& event, int motion = 0) { pending_.push_back({t, to, event, motion}); }
+  ChartRun& other(ChartRun& c) { return &c == &needle_ ? us_ : needle_; }
+
+  void step() {
+    for (bool busy = true; busy;) {
+      busy = false;
+      for (ChartRun* c : {&needle_, &us_}) {
+        c->machine->run();
+        std::istringstream lines(c->lua.evaluate("drain()"));
+        for (std::string line; std::getline(lines, line);) {
+          busy = true;
+          if (line.starts_with("enter:")) {
+            c->entries.push_back(line.substr(6));
+            entered(*c, line.substr(6));
+          } else {
+            answer(*c, line);
+          }
+        }
+      }
+    }
+  }
+
+  void entered(ChartRun& c, const std::string& fqn) {
+    timeline_.push_back(c.name + " > " + fqn);
+    for (Trigger& t : triggers_) {
+      if (!t.fired && t.when == &c && fqn == t.state) {
+        t.fired = true;
+        at(now_ + t.delay, t.to, t.event);
+      }
+    }
+    for (std::size_t i = 0; i < script_.actions.size(); ++i) {  // the first matching line not used up fires
+      const SurgeonAction& a = script_.actions[i];
+      if (a.trigger != SurgeonAction::Trigger::OnState || a.chart != c.name) continue;
+      if (!fqn.ends_with("." + a.state)) continue;
+      if (a.times != 0 && used_[i] >= a.times) continue;
+      ++used_[i];
+      at(now_ + a.after, &needle_, a.event);
+      at(now_ + a.after, &us_, a.event);
+      break;
+    }
+  }
+
+  /// The fake peers and the world answering what a chart asked for.
+  void answer(ChartRun& c, const std::string& line) {
+    timeline_.push_back(c.name + ": " + line);
+    const std::string leaf(c.machine->activeLeaf());
+    const std::string motion_fqn = leaf.substr(0, leaf.rfind('.'));
+    auto reply = [&](const std::string& event, double delay = 0.02, int motion = 0) { at(now_ + delay, &c, event, motion); };
+    if (line.starts_with("emit:e_deploy_")) {
+      const std::string name = line.substr(14);
+      reply("e_deployed_" + name);
+      pending_deployment_[&c] = name;
+    } else if (line.starts_with("emit:e_configure_")) {
+      reply("e_configured_" + line.substr(17));
+    } else if (line.starts_with("emit:e_us_") || line.starts_with("emit:e_needle_")) {
+      at(now_ + 0.05, &other(c), line.substr(5));  // the inter-chart link
+    } else if (line.ends_with("Frames:askCurrentGoal")) {
+      c.deployment = pending_deployment_[&c];
+      if (c.needle >= needles_) {
+        reply("e_no_data");
+        return;
+      }
+      reply("e_goal_ready");
+      if (c.deployment == "autonomous_primitives") reply("e_path_ready", 0.03);  // desiredPoses is the path
+    } else if (line.ends_with("Planner:askPlan")) {
+      if (fail_plan_ == &c) {
+        fail_plan_ = nullptr;
+        reply("e_plan_failed", 0.5);
+      } else {
+        reply("e_plan_done", 0.5);
+        reply("e_path_ready", 0.51);
+      }
+    } else if (line.ends_with("TrajGen:askGenerateTraj")) {
+      reply("e_trajectory_ready");
+    } else if (line.ends_with("TrajGen:askStartMove")) {
+      c.motion = ++motions_;
+      reply("e_moving", 0.01, c.motion);
+      double delay = 2.0;  // s: each Decision event half a second after the previous one
+      for (const std::string& e : outcome(c, motion_fqn)) reply(e, delay += 0.5, c.motion);
+    } else if (line.ends_with("TrajGen:askStopMove")) {
+      if (c.motion == 0) {
+        reply("e_not_moving");
+      } else {
+        c.motion = 0;
+        reply("e_motion_stopped", 0.2);
+      }
+    } else if (line.ends_with("Frames:nextNeedle")) {
+      if (++c.needle >= needles_) reply("e_all_needles_done");
+    }
+  }
+
+  /// What the world makes of a motion of state `fqn`: the Decision events that end it.
+  std::vector<std::string> outcome(ChartRun& c, const std::string& fqn) {
+    if (auto f = faults_.find(fqn); f != faults_.end() && f->second.second > 0) {
+      --f->second.second;
+      return {f->second.first};
+    }
+    static const std::map<std::string, std::vector<std::string>> kNormal = {
+        {"root.InsertingNeedles.MoveToSkin.Descend", {"e_skin_touched"}},
+        {"root.InsertingNeedles.PenetratingSkin", {"e_skin_penetrated"}},
+        {"root.InsertingNeedles.MoveToTumor", {"e_target_reached", "e_motion_done"}},
+        {"root.MoveToSkin.Descend", {"e_probe_contact"}},
+        {"root.USPositioned.SearchingNeedle", {"e_motion_done", "e_needle_visible"}},
+    };
+    const auto it = kNormal.find(fqn);
+    (void)c;
+    return it == kNormal.end() ? std::vector<std::string>{"e_motion_done"} : it->second;
+  }
+
+  double now_ = 0.0;
+  ChartRun needle_, us_;
+  int needles_;
+  int motions_ = 0;
+  SurgeonScript script_;
+  std::vector<int> used_;
+  std::vector<Pending> pending_;
+  std::vector<std::string> timeline_;
+  std::map<std::string, std::pair<std::string, int>> faults_;
+  std::vector<Trigger> triggers_;
+  std::map<ChartRun*, std::string> pending_deployment_;
+  ChartRun* fail_plan_ = nullptr;
+};
+
+/// Every state entered by either chart across the tests (for the coverage test, run last).
+std::map<std::string, std::set<std::string>>& covered() {
+  static std::map<std::string, std::set<std::string>> states;
+  return states;
+}
+void record(Procedure& p) {
+  for (ChartRun* c : {&p.needle(), &p.us()}) covered()[c->name].insert(c->entries.begin(), c->entries.end());
+}
+
+/// Asserts that `lines` appear in the timeline in this order.
+void expectInOrder(const Procedure& p, const std::vector<std::string>& lines) {
+  std::size_t at = 0;
+  for (const std::string& line : lines) {
+    const std::size_t found = p.find(line, at);
+    if (found == std::string::npos) {
+      std::string tail;
+      for (std::size_t i = at; i < p.timeline().size() && i < at + 60; ++i) tail += "\n  " + p.timeline()[i];
+      FAIL() << "missing, in order: " << line << "; the timeline from the last match:" << tail;
+    }
+    at = found + 1;
+  }
+}
+
+TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSection49) {
+  Procedure p("two_needles", 2);
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::done(p.us())) << p.us().machine->activeLeaf();
+  expectInOrder(p, {
+      // A: both robots at their initial poses, waiting for the plan.
+      "needle > root.WaitIceballConfig", "us > root.Idle",
+      // B: the plan is loaded: the UR5 moves toward the phantom, a planned free motion.
+      "us <- e_iceball_configured", "us > root.MoveToSkin.Approach.Switching", "us: ProbeFrames:askCurrentGoal",
+      "us: ProbePlanner:askPlan", "us: ProbeTrajGen:askGenerateTraj", "us: ProbeTrajGen:askStartMove",
+      // C: the probe touches the skin; the I-SUR robot moves to the insertion point.
+      "us <- e_probe_contact", "us: emit:e_us_positioned", "needle <- e_us_positioned",
+      "needle > root.InsertingNeedles.MoveToNeedleChange.Switching", "needle <- e_needle_mounted",
+      "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: Planner:askPlan",
+      // D: at the phantom, the insertion starts (a motion primitive).
+      "needle: emit:e_deploy_autonomous_primitives", "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching",
+      // E: the needle touches the skin: penetration configuration.
+      "needle <- e_skin_touched", "needle: emit:e_configure_penetration",
+      "needle > root.InsertingNeedles.PenetratingSkin.Switching",
+      // F: the skin is punctured: the compliant needle insertion configuration.
+      "needle <- e_skin_penetrated", "needle: emit:e_configure_needle_insertion",
+      "needle > root.InsertingNeedles.MoveToTumor.Switching", "needle <- e_target_reached", "needle > root.WaitCryoCycle",
+      "needle <- e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped.Switching",
+      // G: extracted, a collision-free motion to the needle change pose.
+      "needle > root.ExtractingNeedle.MoveToExtractionPoint.Switching", "needle: emit:e_needle_extracted",
+      "needle > root.InsertingNeedles.MoveToNeedleChange.Planning", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+      "needle <- e_needle_removed", "needle: NeedleFrames:nextNeedle",
+      // H: the UR5 moves to the next probe pose; then the next needle goes in.
+      "us <- e_needle_next", "us: ProbeFrames:nextNeedle", "us > root.MoveToSkin.Approach.Switching",
+      "us <- e_probe_contact", "needle <- e_us_positioned", "needle > root.InsertingNeedles.WaitNeedleMounted",
+      "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle <- e_target_reached",
+      "needle <- e_cryo_done", "needle: emit:e_needle_extracted", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+      "needle <- e_all_needles_done", "needle > root.Done"});
+  EXPECT_EQ(p.count("needle <- e_target_reached"), 2u);
+  EXPECT_EQ(p.count("needle > root.WaitReaction"), 0u);
+  EXPECT_EQ(p.count("us > root.WaitReaction"), 0u);
+  EXPECT_EQ(p.count("needle <- e_needle_mounted"), 2u);
+  EXPECT_EQ(p.count("needle <- e_needle_removed"), 2u);
+  EXPECT_EQ(p.count("us > root.USPositioned.NeedleTracked"), 2u);
+}
+
+TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoTakesOverThenTheInsertionResumes) {
+  Procedure p("three_needles", 3);  // its surgeon takes over at the first reaction
+  p.fault("root.InsertingNeedles.MoveToTumor", "e_forbidden_region");
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  expectInOrder(p, {"needle <- e_forbidden_region", "needle: NeedleTrajGen:askStopMove", "needle > root.WaitReaction",
+                    "needle <- e_take_over", "needle: emit:e_deploy_teleoperated",
+                    "needle: emit:e_configure_needle_insertion", "needle > root.NeedleTeleoperation",
+                    "needle <- e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor.Switching",
+                    "needle <- e_target_reached", "needle > root.WaitCryoCycle"});
+  EXPECT_EQ(p.count("needle <- e_target_reached"), 3u);
+}
+
+TEST(PuncturingCharts, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
+  Procedure p("two_needles", 2);
+  p.fault("root.ExtractingNeedle.VerifyingNeedleTrapped", "e_needle_trapped");
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle()));
+  expectInOrder(p, {"needle <- e_cryo_done", "needle <- e_needle_trapped", "needle: NeedleTrajGen:askStopMove",
+                    "needle > root.ExtractingNeedle.WaitDefreezing",
+                    "needle > root.ExtractingNeedle.VerifyingNeedleTrapped.Switching",
+                    "needle > root.ExtractingNeedle.MoveToExtractionPoint.Switching", "needle: emit:e_needle_extracted"});
+  EXPECT_EQ(p.count("needle > root.WaitReaction"), 0u);
+}
+
+TEST(PuncturingCharts, TheUltrasoundLosingTheNeedleSearchesAgainWhileTheNeedleWaits) {
+  Procedure p("two_needles", 2);
+  p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_needle_lost", 0.5);
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle()));
+  expectInOrder(p, {"us <- e_needle_lost", "us > root.USPositioned.SearchingNeedle.Switching",
+                    "needle <- e_us_needle_lost", "needle: NeedleTrajGen:askStopMove",
+                    "needle > root.InsertingNeedles.MoveToTumor.Paused", "us <- e_needle_visible",
+                    "us > root.USPositioned.NeedleTracked", "needle <- e_us_needle_tracked",
+                    "needle > root.InsertingNeedles.MoveToTumor.Switching", "needle <- e_target_reached"});
+  EXPECT_EQ(p.count("needle <- e_target_reached"), 2u);  // the stopped motion's outcome never arrived
+}
+
+TEST(PuncturingCharts, APlannerFailureIsAReactionTheSurgeonRecoversFrom) {
+  Procedure p("two_needles", 2);
+  p.failPlanOnce(p.us());
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.us()));
+  expectInOrder(p, {"us: ProbePlanner:askPlan", "us <- e_plan_failed", "us > root.WaitReaction", "us <- e_recover",
+                    "us > root.MoveToSkin.Approach.Switching", "us: ProbePlanner:askPlan", "us <- e_probe_contact"});
+}
+
+TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
+  Procedure p("three_needles", 3);
+  p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // pushed the whole stroke, no puncture
+  p.fault("root.MoveToSkin.Descend", "e_motion_done");                 // no contact where the skin should be
+  p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_probe_contact_lost", 0.1);
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  expectInOrder(p, {"us > root.MoveToSkin.Descend.Arrived", "us: emit:e_us_goal_missed", "us > root.WaitReaction",
+                    "us <- e_take_over", "us > root.USTeleoperation", "us <- e_teleop_done",
+                    "us > root.MoveToSkin.Descend.Switching", "us <- e_probe_contact_lost", "us > root.WaitReaction",
+                    "us <- e_recover", "us > root.USPositioned.NeedleTracked"});
+  expectInOrder(p, {"needle > root.InsertingNeedles.PenetratingSkin.Arrived", "needle > root.WaitReaction",
+                    "needle <- e_take_over", "needle > root.NeedleTeleoperation", "needle <- e_teleop_done",
+                    "needle > root.InsertingNeedles.PenetratingSkin.Switching", "needle <- e_skin_penetrated"});
+}
+
+TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetried) {
+  Procedure p("two_needles", 2);  // its surgeon lets the system recover
+  p.fault("root.InsertingNeedles.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
+  p.fault("root.InsertingNeedles.MoveToTumor", "e_motion_done");         // the tip missed the target
+  p.run();
+  record(p);
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  expectInOrder(p, {"needle > root.InsertingNeedles.MoveToSkin.Descend.Arrived", "needle: emit:e_needle_goal_missed",
+                    "needle > root.WaitReaction", "needle <- e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching", "needle <- e_skin_touched",
+                    "needle > root.InsertingNeedles.MoveToTumor.Arrived", "needle > root.WaitReaction",
+                    "needle <- e_recover", "needle > root.InsertingNeedles.MoveToTumor.Switching",
+                    "needle <- e_target_reached"});
+}
+
+TEST(PuncturingCharts, ZZEveryStateOfBothChartsIsEnteredAcrossTheTests) {
+  for (const auto& [name, file] : {std::pair{"needle", "needle_insertion.lua"}, std::pair{"us", "us_positioning.lua"}}) {
+    script::LuaState lua;
+    lua.run(kFakes, "=fakes");
+    const auto chart = script::RfsmChart::loadFile(lua, kApp + "charts/" + file);
+    std::vector<std::string> missing;
+    for (const auto& node : chart->chart().nodes()) {
+      if (node.kind != statechart::NodeKind::State || node.fqn == "root") continue;
+      if (!covered()[name].count(node.fqn)) missing.push_back(node.fqn);
+    }
+    std::string list;
+    for (const auto& m : missing) list += " " + m;
+    EXPECT_TRUE(missing.empty()) << name << " states never entered:" << list;
+  }
+  // The states the thesis names (§4.4.1, §4.4.2) are all there.
+  for (const char* state : {"WaitIceballConfig", "WaitUSPositioning", "InsertingNeedles", "MoveToNeedleChange",
+                            "WaitNeedleMounted", "MoveToSkin", "PenetratingSkin", "MoveToTumor", "WaitNeedleRemoved",
+                            "WaitCryoCycle", "WaitReaction", "NeedleTeleoperation", "ExtractingNeedle",
+                            "VerifyingNeedleTrapped", "WaitDefreezing", "MoveToExtractionPoint"}) {
+    EXPECT_TRUE(std::any_of(covered()["needle"].begin(), covered()["needle"].end(),
+                            [&](const std::string& fqn) { return pathContains(fqn, state); })) << state;
+  }
+  for (const char* state : {"MoveToSkin", "WaitNeedleSkinReached", "USPositioned", "SearchingNeedle", "NeedleTracked",
+                            "WaitReaction", "USTeleoperation"}) {
+    EXPECT_TRUE(std::any_of(covered()["us"].begin(), covered()["us"].end(),
+                            [&](const std::string& fqn) { return pathContains(fqn, state); })) << state;
+  }
+}
+
+}  // namespace
+}  // namespace cobra::puncturing
