@@ -109,7 +109,7 @@ TEST(OmniPhantomBridge, CorruptLateAndDelayedFramesAreCountedABrokenHeaderDropsT
   app.send(app.frame(valid, 10));
   KDL::Frame pose;
   ASSERT_TRUE(pollUntil(rig.clock, [&] {
-    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 0.0);
+    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 1e-12);
   }));
   omni::State moved = valid;
   moved.position[0] = 0.05;
@@ -130,10 +130,10 @@ TEST(OmniPhantomBridge, CorruptLateAndDelayedFramesAreCountedABrokenHeaderDropsT
   EXPECT_EQ(rig.rejected("non_finite"), 1);
   for (int i = 0; i < 5; ++i) rig.clock.advance(1ms);
   ASSERT_NE(rig.meas_pose.read(pose), core::FlowStatus::NoData);
-  EXPECT_TRUE(KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 0.0)) << "last valid state kept";
+  EXPECT_TRUE(KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 1e-12)) << "last valid state kept";
   app.send(std::vector<std::uint8_t>(half.begin() + 20, half.end()));
   ASSERT_TRUE(pollUntil(rig.clock, [&] {
-    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.05, 0.02, 0.03), 0.0);
+    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.05, 0.02, 0.03), 1e-12);
   }));
   // Garbage where a header should be: frame boundaries are lost, the bridge drops and reconnects.
   app.send(std::vector<std::uint8_t>(30, 0x55));

@@ -75,7 +75,6 @@ bool ISURRobotBridge::configureHook() {
   }
   q_in_.resize(n);
   q_out_.resize(n);
-  des_joints_.setDataSample(q_in_);
   meas_joints_.setDataSample(q_out_);
   return true;
 }
@@ -83,7 +82,7 @@ bool ISURRobotBridge::configureHook() {
 bool ISURRobotBridge::startHook() {
   if (server_) server_->start();
   watchdog_.arm(now().count());
-  last_version_ = block_->state.version();  // a state left from an earlier run is not fresh
+  last_version_ = (*block_)->state.version();  // a state left from an earlier run is not fresh
   have_state_ = false;
   return true;
 }
