@@ -73,8 +73,8 @@ std::size_t encode(const State& state, const Stamp& stamp, std::span<std::uint8_
 DecodeStatus decode(std::span<const std::uint8_t> datagram, Command& out, wire::FrameHeader& header) noexcept {
   wire::FrameHeader h;
   std::span<const std::uint8_t> payload;
-  if (const DecodeStatus s = wire::checkFrame(datagram, kMagic, kVersion, kMaxPayload, h, payload); s != DecodeStatus::Ok)
-    return s;
+  const DecodeStatus framed = wire::checkFrame(datagram, kMagic, kVersion, kMaxPayload, h, payload);
+  if (framed != DecodeStatus::Ok) return framed;
   wire::Reader r(payload);
   Command c;
   if (h.type == static_cast<std::uint16_t>(MessageType::JointCommand)) {
@@ -100,8 +100,8 @@ DecodeStatus decode(std::span<const std::uint8_t> datagram, Command& out, wire::
 DecodeStatus decode(std::span<const std::uint8_t> datagram, State& out, wire::FrameHeader& header) noexcept {
   wire::FrameHeader h;
   std::span<const std::uint8_t> payload;
-  if (const DecodeStatus s = wire::checkFrame(datagram, kMagic, kVersion, kMaxPayload, h, payload); s != DecodeStatus::Ok)
-    return s;
+  const DecodeStatus framed = wire::checkFrame(datagram, kMagic, kVersion, kMaxPayload, h, payload);
+  if (framed != DecodeStatus::Ok) return framed;
   if (h.type != static_cast<std::uint16_t>(MessageType::State)) return DecodeStatus::BadType;
   wire::Reader r(payload);
   State st;

@@ -73,7 +73,8 @@ bool OmniClient::serve(int fd) noexcept {
     omni::State st;
     wire::FrameHeader header;
     wire::DecodeStatus status = omni::decode(frame, st, header);
-    if (status == wire::DecodeStatus::Ok) status = lateness_.accept(header.sequence, header.timestamp_ns, steadyNanoseconds());
+    if (status == wire::DecodeStatus::Ok)
+      status = lateness_.accept(header.sequence, header.timestamp_ns, steadyNanoseconds());
     counters_.count(status);
     if (status == wire::DecodeStatus::Ok) state.write(st);
   }
@@ -166,7 +167,8 @@ void OmniSimServer::receive(int fd, bool& alive) noexcept {
     omni::WrenchCommand command;
     wire::FrameHeader header;
     wire::DecodeStatus status = omni::decode(frame, command, header);
-    if (status == wire::DecodeStatus::Ok) status = lateness_.accept(header.sequence, header.timestamp_ns, steadyNanoseconds());
+    if (status == wire::DecodeStatus::Ok)
+      status = lateness_.accept(header.sequence, header.timestamp_ns, steadyNanoseconds());
     counters_.count(status);
     if (status != wire::DecodeStatus::Ok) continue;
     const std::lock_guard lock(mutex_);
@@ -205,7 +207,8 @@ void OmniSimServer::run() noexcept {
     auto next = std::chrono::steady_clock::now() + period;
     while (alive && running_.load(std::memory_order_relaxed) && !drop_requested_.load()) {
       const auto left = std::chrono::ceil<std::chrono::milliseconds>(next - std::chrono::steady_clock::now());
-      if (waitReadable(client.get(), static_cast<int>(std::max<std::int64_t>(0, left.count())))) receive(client.get(), alive);
+      const int wait_ms = static_cast<int>(std::max<std::int64_t>(0, left.count()));
+      if (waitReadable(client.get(), wait_ms)) receive(client.get(), alive);
       if (!alive || std::chrono::steady_clock::now() < next) continue;
       stepAndSend(client.get(), options_.period, alive);
       next += period;

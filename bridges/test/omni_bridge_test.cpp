@@ -109,7 +109,8 @@ TEST(OmniPhantomBridge, CorruptLateAndDelayedFramesAreCountedABrokenHeaderDropsT
   app.send(app.frame(valid, 10));
   KDL::Frame pose;
   ASSERT_TRUE(pollUntil(rig.clock, [&] {
-    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 1e-12);
+    return rig.meas_pose.read(pose) != core::FlowStatus::NoData &&
+           KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 1e-12);
   }));
   omni::State moved = valid;
   moved.position[0] = 0.05;
@@ -133,7 +134,8 @@ TEST(OmniPhantomBridge, CorruptLateAndDelayedFramesAreCountedABrokenHeaderDropsT
   EXPECT_TRUE(KDL::Equal(pose.p, KDL::Vector(0.01, 0.02, 0.03), 1e-12)) << "last valid state kept";
   app.send(std::vector<std::uint8_t>(half.begin() + 20, half.end()));
   ASSERT_TRUE(pollUntil(rig.clock, [&] {
-    return rig.meas_pose.read(pose) != core::FlowStatus::NoData && KDL::Equal(pose.p, KDL::Vector(0.05, 0.02, 0.03), 1e-12);
+    return rig.meas_pose.read(pose) != core::FlowStatus::NoData &&
+           KDL::Equal(pose.p, KDL::Vector(0.05, 0.02, 0.03), 1e-12);
   }));
   // Garbage where a header should be: frame boundaries are lost, the bridge drops and reconnects.
   app.send(std::vector<std::uint8_t>(30, 0x55));

@@ -35,7 +35,7 @@ std::vector<std::uint8_t> encoded(const isur::State& s, std::uint32_t seq = 1) {
 // Rewrites the CRC after a deliberate change, so the decoder reaches the field checks.
 void fixCrc(std::vector<std::uint8_t>& bytes) {
   const std::uint32_t crc = wire::crc32(std::span(bytes).first(bytes.size() - 4));
-  for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(crc >> (8 * i));
+  for (std::size_t i = 0; i < 4; ++i) bytes[bytes.size() - 4 + i] = static_cast<std::uint8_t>(crc >> (8 * i));
 }
 
 void putF64(std::vector<std::uint8_t>& bytes, std::size_t offset, double v) {
