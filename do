@@ -62,7 +62,8 @@ run_tests() {
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
       build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test \
-        core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test
+        core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test \
+        bridges_isur_bridge_test bridges_omni_bridge_test bridges_bridge_alloc_test
       TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
         ctest --test-dir build/tsan --output-on-failure --no-tests=error -L concurrency --timeout 600 ;;
     *) echo "do test: unknown option '$1' (expected --asan, --asan-ci or --tsan)" >&2; exit 2 ;;
@@ -93,9 +94,10 @@ case "${1:-help}" in
     done ;;
   fuzz)
     seconds="${2:-60}"
-    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz
+    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz \
+      omni_protocol_fuzz
     mkdir -p build/fuzz/corpus
-    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz; do
+    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
       seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs

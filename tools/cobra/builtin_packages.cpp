@@ -1,5 +1,6 @@
 #include "builtin_packages.hpp"
 
+#include "cobra/bridges/package.hpp"
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/motion/package.hpp"
@@ -10,6 +11,7 @@ void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_motion", components::registerMotionPackage);
   configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
   configurator.packages().addBuiltin("cobra_control", components::registerControlPackage);
+  configurator.packages().addBuiltin("cobra_bridges", bridges::registerBridgesPackage);
 }
 
 }  // namespace cobra::tools

@@ -1,0 +1,157 @@
+#include "cobra/bridges/isur_robot_bridge.hpp"
+
+#include <cmath>
+
+#include "cobra/core/error.hpp"
+
+namespace cobra::bridges {
+
+namespace {
+
+std::int64_t toNs(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
+
+void toPose(const KDL::Frame& frame, isur::Pose& pose) noexcept {
+  for (int i = 0; i < 3; ++i) pose.position[static_cast<std::size_t>(i)] = frame.p(i);
+  frame.M.GetQuaternion(pose.quaternion[0], pose.quaternion[1], pose.quaternion[2], pose.quaternion[3]);
+}
+
+KDL::Frame toFrame(const isur::Pose& pose) noexcept {
+  const auto& q = pose.quaternion;
+  return KDL::Frame(KDL::Rotation::Quaternion(q[0], q[1], q[2], q[3]),
+                    KDL::Vector(pose.position[0], pose.position[1], pose.position[2]));
+}
+
+}  // namespace
+
+ISURRobotBridge::ISURRobotBridge(std::string name)
+    : Component(std::move(name), core::Role::Bridge,
+                "I-SUR robot bridge (thesis §4.5.7): shared memory kept in step with the controller over UDP") {
+  addPort(des_cart_pose_);
+  addPort(des_joints_);
+  addPort(meas_cart_pose_);
+  addPort(meas_joints_);
+  addPort(meas_wrench_);
+  addProperty(shm_name_);
+  addProperty(joints_.range(1, isur::kMaxJoints));
+  addProperty(timeout_.range(1e-3, 3600.0));
+  addProperty(run_server_);
+  addProperty(controller_host_);
+  addProperty(controller_port_.range(0, 65535));
+  addProperty(server_port_.range(0, 65535));
+  addProperty(max_delay_.range(0.0, 10.0));
+  addOperation("rejectedCount", &ISURRobotBridge::rejectedCount, this,
+               "state datagrams rejected for `reason` (truncated, bad_magic, bad_version, bad_type, bad_length, "
+               "bad_crc, non_finite, bad_value, late, delayed, wrong_joint_count) or \"all\"",
+               core::ExecutionThread::Client)
+      .arg("reason", "", "a reason name, or all");
+  addOperation("acceptedCount", &ISURRobotBridge::acceptedCount, this, "valid state datagrams received by the server",
+               core::ExecutionThread::Client);
+  addOperation("serverPort", &ISURRobotBridge::serverPort, this,
+               "the UDP port the in-process server receives states on (0 without run_server)",
+               core::ExecutionThread::Client);
+}
+
+ISURRobotBridge::~ISURRobotBridge() = default;
+
+bool ISURRobotBridge::configureHook() {
+  const auto n = static_cast<unsigned>(joints_());
+  try {
+    server_.reset();
+    block_ = std::make_unique<SharedBlock<IsurSharedBlock>>(shm_name_());
+    if (run_server_()) {
+      if (controller_port_() == 0) return refuse("property controller_port is 0: give the I-SUR controller's UDP port");
+      IsurUdpServerOptions options;
+      options.shm_name = shm_name_();
+      options.controller_host = controller_host_();
+      options.controller_port = static_cast<std::uint16_t>(controller_port_());
+      options.bind_port = static_cast<std::uint16_t>(server_port_());
+      options.joints = static_cast<std::uint16_t>(n);
+      options.max_delay = max_delay_();
+      server_ = std::make_unique<IsurUdpServer>(options);
+    }
+  } catch (const std::exception& e) {
+    block_.reset();
+    return refuse(e.what());
+  }
+  q_in_.resize(n);
+  q_out_.resize(n);
+  meas_joints_.setDataSample(q_out_);
+  return true;
+}
+
+bool ISURRobotBridge::startHook() {
+  if (server_) server_->start();
+  watchdog_.arm(now().count());
+  last_version_ = (*block_)->state.version();  // a state left from an earlier run is not fresh
+  have_state_ = false;
+  return true;
+}
+
+void ISURRobotBridge::updateHook() {
+  IsurSharedBlock& block = **block_;
+  if (des_joints_.read(q_in_) == core::FlowStatus::NewData && q_in_.rows() == q_out_.rows()) {
+    bool finite = true;
+    for (unsigned i = 0; i < q_in_.rows(); ++i) finite = finite && std::isfinite(q_in_(i));
+    if (finite) {
+      command_.type = isur::MessageType::JointCommand;
+      command_.joint_count = static_cast<std::uint16_t>(q_in_.rows());
+      for (unsigned i = 0; i < q_in_.rows(); ++i) command_.joints[i] = q_in_(i);
+      block.command.write(command_);
+    }
+  }
+  KDL::Frame pose;
+  if (des_cart_pose_.read(pose) == core::FlowStatus::NewData) {
+    command_.type = isur::MessageType::CartesianCommand;
+    toPose(pose, command_.pose);
+    if (wire::allFinite(command_.pose.position) && wire::allFinite(command_.pose.quaternion))
+      block.command.write(command_);
+  }
+  const std::uint64_t version = block.state.read(state_);
+  const bool fresh = version != 0 && version != last_version_ && state_.joint_count == q_out_.rows();
+  if (version != 0) last_version_ = version;
+  if (fresh) {
+    for (unsigned i = 0; i < q_out_.rows(); ++i) q_out_(i) = state_.joints[i];
+    if (state_.flags & isur::kPoseValid) pose_out_ = toFrame(state_.pose);
+    const auto& w = state_.wrench;
+    wrench_out_ = KDL::Wrench(KDL::Vector(w[0], w[1], w[2]), KDL::Vector(w[3], w[4], w[5]));
+    have_state_ = true;
+  }
+  switch (watchdog_.update(fresh, now().count(), toNs(timeout_()))) {
+    case CommWatchdog::Change::TimedOut: emitEvent("e_comm_timeout"); break;
+    case CommWatchdog::Change::Restored: emitEvent("e_comm_restored"); break;
+    case CommWatchdog::Change::None: break;
+  }
+  if (have_state_) publish();
+}
+
+void ISURRobotBridge::publish() {
+  meas_joints_.write(q_out_);
+  meas_cart_pose_.write(pose_out_);
+  meas_wrench_.write(wrench_out_);
+}
+
+void ISURRobotBridge::cleanupHook() {
+  server_.reset();
+  block_.reset();
+}
+
+int ISURRobotBridge::rejectedCount(std::string reason) {
+  if (!block_) throw core::Error("component '" + name() + "': rejectedCount needs a configured bridge");
+  const ReceiveCounters& counters = (*block_)->counters;
+  if (reason == "all") return static_cast<int>(counters.rejected());
+  wire::DecodeStatus status;
+  if (!wire::parseDecodeStatus(reason, status) || status == wire::DecodeStatus::Ok)
+    throw core::Error("component '" + name() + "': rejectedCount: unknown reason '" + reason +
+                      "'; give all, truncated, bad_magic, bad_version, bad_type, bad_length, bad_crc, non_finite, "
+                      "bad_value, late, delayed or wrong_joint_count");
+  return static_cast<int>(counters.get(status));
+}
+
+int ISURRobotBridge::acceptedCount() {
+  if (!block_) throw core::Error("component '" + name() + "': acceptedCount needs a configured bridge");
+  return static_cast<int>((*block_)->counters.accepted());
+}
+
+int ISURRobotBridge::serverPort() { return server_ ? server_->local().port() : 0; }
+
+}  // namespace cobra::bridges
