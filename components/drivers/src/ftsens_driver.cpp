@@ -19,6 +19,18 @@ FTSensDriver::FTSensDriver(std::string name)
   addOperation("tare", std::function<void()>([this] { tare_requested_ = true; }),
                "the next complete sample becomes the zero of measWrench; e_tared when taken");
   addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }), "measWrench = raw sample again");
+  addOperation("simSetSilent", std::function<void(bool)>([this](bool silent) {
+                 if (sim_ == nullptr) throw std::invalid_argument("simSetSilent: not configured with bus 'sim'");
+                 sim_->setSilent(silent);
+               }),
+               "simulation only: the sensor stops (true) or resumes (false) sending")
+      .arg("silent", "1", "true: nothing is sent");
+  addOperation("simGarbleFrames", std::function<void(int)>([this](int count) {
+                 if (sim_ == nullptr) throw std::invalid_argument("simGarbleFrames: not configured with bus 'sim'");
+                 sim_->garbleFrames(count);
+               }),
+               "simulation only: the next frames arrive with a flipped bit")
+      .arg("count", "1", "number of frames");
   addOperation("statistics", std::function<std::string()>([this] { return statistics(); }),
                "counts of samples and of frame errors");
 }

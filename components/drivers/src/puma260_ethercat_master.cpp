@@ -97,7 +97,8 @@ bool Puma260EtherCATMaster::configureHook() {
     return refuse(e.what());
   }
   commands_ = {};
-  current_state_.write(core::TaskState{fieldbus::toString(master_->state())});
+  published_ = master_->state();
+  current_state_.write(core::TaskState{fieldbus::toString(published_)});
   return true;
 }
 
@@ -139,7 +140,6 @@ void Puma260EtherCATMaster::updateHook() {
   take(des_position_, commands_.position, commands_.position_valid);
   take(des_velocity_, commands_.velocity, commands_.velocity_valid);
   take(des_torque_, commands_.torque, commands_.torque_valid);
-  const fieldbus::MasterState before = master_->state();
   const double dt = std::chrono::duration<double>(activity().period()).count();
   const std::uint32_t events = master_->step(dt, commands_);
   namespace ev = fieldbus::master_event;
@@ -158,7 +158,10 @@ void Puma260EtherCATMaster::updateHook() {
   publish(meas_position_, master_->position());
   publish(meas_velocity_, master_->velocity());
   publish(meas_torque_, master_->torque());
-  if (master_->state() != before) current_state_.write(core::TaskState{fieldbus::toString(master_->state())});
+  if (master_->state() != published_) {  // also the changes made by the ask operations
+    published_ = master_->state();
+    current_state_.write(core::TaskState{fieldbus::toString(published_)});
+  }
   if (master_->state() != fieldbus::MasterState::Operative) {
     // Commands given before Operative do not act when it is entered: each mode starts by holding.
     commands_.position_valid = commands_.velocity_valid = commands_.torque_valid = false;

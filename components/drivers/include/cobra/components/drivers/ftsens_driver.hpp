@@ -27,7 +27,8 @@ namespace cobra::components {
 /// `measWrench` (N, N·m, sensor frame).
 ///
 /// Operations: `tare()` (the next complete sample becomes the zero; e_tared when taken),
-/// `clearTare()`, `statistics()` ("samples N, lost N, garbled N, unpaired N, timeouts N").
+/// `clearTare()`, `statistics()` ("samples N, lost N, garbled N, unpaired N, timeouts N");
+/// simulation only: `simSetSilent(bool)`, `simGarbleFrames(n)`.
 ///
 /// Events: e_comm_timeout, e_comm_restored, e_tared.
 class FTSensDriver : public core::Component {

@@ -75,6 +75,7 @@ class Puma260EtherCATMaster : public core::Component {
   fieldbus::SimulatedPuma260Bus* sim_ = nullptr;  // the bus when it is the simulated one
   std::optional<fieldbus::Puma260Master> master_;
   fieldbus::JointCommands commands_;
+  fieldbus::MasterState published_ = fieldbus::MasterState::NotInitialized;  // last on currentState
   KDL::JntArray scratch_{6}, out_{6};
 };
 
