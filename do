@@ -86,9 +86,9 @@ case "${1:-help}" in
     done ;;
   fuzz)
     seconds="${2:-60}"
-    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz
+    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz ftsens_frame_fuzz
     mkdir -p build/fuzz/corpus
-    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz; do
+    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz ftsens_frame_fuzz; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
       seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs
