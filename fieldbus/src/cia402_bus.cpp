@@ -13,9 +13,10 @@ std::string SimulatedPuma260Bus::describeSlave(int index) const {
   }
   const sim::Cia402Drive& d = arm_.drive(index);
   char line[160];
-  std::snprintf(line, sizeof line, "slave %d: simulated Elmo Gold Solo Whistle (CiA 402), %s, statusword 0x%04X, "
-                "error 0x%04X, position %.6f rad", index, sim::toString(d.state()), d.statusword(), d.errorCode(),
-                d.position());
+  std::snprintf(line, sizeof line,
+                "slave %d: simulated Elmo Gold Solo Whistle (CiA 402), %s, statusword 0x%04X, "
+                "error 0x%04X, position %.6f rad",
+                index, sim::toString(d.state()), d.statusword(), d.errorCode(), d.position());
   return line;
 }
 
@@ -34,8 +35,9 @@ BusStatus SimulatedPuma260Bus::exchange(std::span<const Cia402Outputs> outputs, 
   arm_.step(cycle_time);
   for (int i = 0; i < 6; ++i) {
     const sim::Cia402Drive& d = arm_.drive(i);
-    inputs[static_cast<std::size_t>(i)] = {d.statusword(), static_cast<std::int8_t>(d.modeDisplay()), d.position(),
-                                           d.velocity(), d.torque(), d.errorCode()};
+    inputs[static_cast<std::size_t>(i)] = {d.statusword(), static_cast<std::int8_t>(d.modeDisplay()),
+                                           d.position(),   d.velocity(),
+                                           d.torque(),     d.errorCode()};
   }
   return BusStatus::Ok;
 }

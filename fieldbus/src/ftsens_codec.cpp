@@ -65,8 +65,12 @@ void validate(const FtSensCodecConfig& c) {
   requirePositive("torque_z_lsb", c.torque_z_lsb, "N*m");
 }
 
-std::uint32_t ftSensForceId(int address) noexcept { return 0x300U + (static_cast<std::uint32_t>(address) << 4) + kForceType; }
-std::uint32_t ftSensTorqueId(int address) noexcept { return 0x300U + (static_cast<std::uint32_t>(address) << 4) + kTorqueType; }
+std::uint32_t ftSensForceId(int address) noexcept {
+  return 0x300U + (static_cast<std::uint32_t>(address) << 4) + kForceType;
+}
+std::uint32_t ftSensTorqueId(int address) noexcept {
+  return 0x300U + (static_cast<std::uint32_t>(address) << 4) + kTorqueType;
+}
 std::uint32_t ftSensCommandId(int address) noexcept { return 0x200U + (static_cast<std::uint32_t>(address) << 4); }
 
 bool encodeFtSens(const FtSensCodecConfig& c, const KDL::Wrench& w, std::uint8_t sequence, CanFrame& force_frame,
@@ -118,8 +122,8 @@ FtSensFrameResult FtSensDecoder::push(const CanFrame& frame) noexcept {
     return FtSensFrameResult::Unpaired;
   }
   pending_ = false;
-  wrench_ = KDL::Wrench(pending_force_, getChannels(frame, config_.torque_xy_lsb, config_.torque_xy_lsb,
-                                                    config_.torque_z_lsb));
+  wrench_ = KDL::Wrench(pending_force_,
+                        getChannels(frame, config_.torque_xy_lsb, config_.torque_xy_lsb, config_.torque_z_lsb));
   if (have_sample_) lost_ += static_cast<std::uint8_t>(sequence - last_sequence_ - 1);
   last_sequence_ = sequence;
   have_sample_ = true;

@@ -25,9 +25,9 @@ void requirePositive(const char* parameter, double value, const char* unit) {
 void requireWithinLimits(const char* parameter, const JointVector& q, const Puma260MasterConfig& c) {
   for (std::size_t i = 0; i < 6; ++i) {
     if (!std::isfinite(q[i]) || q[i] < c.lower[i] || q[i] > c.upper[i]) {
-      throw std::invalid_argument(std::string("Puma 260 master: ") + parameter + "[" + std::to_string(i) + "] = " +
-                                  number(q[i]) + " rad is outside the joint limits [" + number(c.lower[i]) + ", " +
-                                  number(c.upper[i]) + "] rad");
+      throw std::invalid_argument(std::string("Puma 260 master: ") + parameter + "[" + std::to_string(i) +
+                                  "] = " + number(q[i]) + " rad is outside the joint limits [" + number(c.lower[i]) +
+                                  ", " + number(c.upper[i]) + "] rad");
     }
   }
 }
@@ -48,23 +48,35 @@ bool faulted(cia402::DeviceState s) noexcept {
 
 const char* toString(MasterState state) noexcept {
   switch (state) {
-    case MasterState::NotInitialized: return "NotInitialized";
-    case MasterState::Initialized: return "Initialized";
-    case MasterState::MovingToNest: return "MovingToNest";
-    case MasterState::NestPosition: return "NestPosition";
-    case MasterState::MovingToReady: return "MovingToReady";
-    case MasterState::ReadyPosition: return "ReadyPosition";
-    case MasterState::Operative: return "Operative";
-    case MasterState::Fault: return "Fault";
+    case MasterState::NotInitialized:
+      return "NotInitialized";
+    case MasterState::Initialized:
+      return "Initialized";
+    case MasterState::MovingToNest:
+      return "MovingToNest";
+    case MasterState::NestPosition:
+      return "NestPosition";
+    case MasterState::MovingToReady:
+      return "MovingToReady";
+    case MasterState::ReadyPosition:
+      return "ReadyPosition";
+    case MasterState::Operative:
+      return "Operative";
+    case MasterState::Fault:
+      return "Fault";
   }
   return "Unknown";
 }
 
 bool parseControlMode(const char* text, ControlMode& out) noexcept {
-  if (std::strcmp(text, "position") == 0) out = ControlMode::Position;
-  else if (std::strcmp(text, "velocity") == 0) out = ControlMode::Velocity;
-  else if (std::strcmp(text, "torque") == 0) out = ControlMode::Torque;
-  else return false;
+  if (std::strcmp(text, "position") == 0)
+    out = ControlMode::Position;
+  else if (std::strcmp(text, "velocity") == 0)
+    out = ControlMode::Velocity;
+  else if (std::strcmp(text, "torque") == 0)
+    out = ControlMode::Torque;
+  else
+    return false;
   return true;
 }
 
@@ -261,7 +273,8 @@ std::uint32_t Puma260Master::step(double dt, const JointCommands& commands) noex
       break;
     case MasterState::Initialized:
     case MasterState::NestPosition:
-    case MasterState::ReadyPosition: break;
+    case MasterState::ReadyPosition:
+      break;
   }
   return events;
 }

@@ -24,14 +24,22 @@ using cobra::sim::Cia402State;
 
 DeviceState expected(Cia402State s) {
   switch (s) {
-    case Cia402State::NotReadyToSwitchOn: return DeviceState::NotReadyToSwitchOn;
-    case Cia402State::SwitchOnDisabled: return DeviceState::SwitchOnDisabled;
-    case Cia402State::ReadyToSwitchOn: return DeviceState::ReadyToSwitchOn;
-    case Cia402State::SwitchedOn: return DeviceState::SwitchedOn;
-    case Cia402State::OperationEnabled: return DeviceState::OperationEnabled;
-    case Cia402State::QuickStopActive: return DeviceState::QuickStopActive;
-    case Cia402State::FaultReactionActive: return DeviceState::FaultReactionActive;
-    case Cia402State::Fault: return DeviceState::Fault;
+    case Cia402State::NotReadyToSwitchOn:
+      return DeviceState::NotReadyToSwitchOn;
+    case Cia402State::SwitchOnDisabled:
+      return DeviceState::SwitchOnDisabled;
+    case Cia402State::ReadyToSwitchOn:
+      return DeviceState::ReadyToSwitchOn;
+    case Cia402State::SwitchedOn:
+      return DeviceState::SwitchedOn;
+    case Cia402State::OperationEnabled:
+      return DeviceState::OperationEnabled;
+    case Cia402State::QuickStopActive:
+      return DeviceState::QuickStopActive;
+    case Cia402State::FaultReactionActive:
+      return DeviceState::FaultReactionActive;
+    case Cia402State::Fault:
+      return DeviceState::Fault;
   }
   return DeviceState::Unknown;
 }
@@ -58,8 +66,9 @@ TEST(Cia402Decoder, ReadsTheStandardsTableAndIgnoresTheOtherBits) {
 // 6): after every cycle the decoded statusword is the drive's state, and every transition of the
 // standard is seen at least once.
 TEST(Cia402Decoder, AgreesWithTheSimulatedDriveOnEveryTransition) {
-  const std::uint16_t words[] = {command::kDisableVoltage, command::kQuickStop, command::kShutdown, command::kSwitchOn,
-                                 command::kEnableOperation, command::kFaultResetBit, 0x0080 | 0x000F, 0x0004};
+  const std::uint16_t words[] = {
+      command::kDisableVoltage,  command::kQuickStop,     command::kShutdown, command::kSwitchOn,
+      command::kEnableOperation, command::kFaultResetBit, 0x0080 | 0x000F,    0x0004};
   for (int option : {2, 6}) {
     cobra::sim::Cia402DriveModel model;
     model.quick_stop_option = option;

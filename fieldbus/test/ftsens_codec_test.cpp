@@ -128,7 +128,8 @@ TEST(FtSensCodec, BadConfigurationsNameTheParameter) {
             "FTSens codec: address = 16, expected 0-15 (4 bits of the CAN identifier)");
   config = FtSensCodecConfig{};
   config.torque_z_lsb = -1;
-  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { FtSensDecoder d(config); }), "torque_z_lsb = -1.000000 N*m, expected > 0");
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { FtSensDecoder d(config); }),
+                  "torque_z_lsb = -1.000000 N*m, expected > 0");
 }
 
 }  // namespace

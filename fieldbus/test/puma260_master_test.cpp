@@ -50,7 +50,9 @@ struct Rig {
   void run(double seconds) { runUntil(0, seconds); }
   double error(const JointVector& q) const {
     double worst = 0.0;
-    for (int i = 0; i < 6; ++i) worst = std::max(worst, std::abs(master.position()[static_cast<std::size_t>(i)] - q[static_cast<std::size_t>(i)]));
+    for (int i = 0; i < 6; ++i)
+      worst =
+          std::max(worst, std::abs(master.position()[static_cast<std::size_t>(i)] - q[static_cast<std::size_t>(i)]));
     return worst;
   }
 };
@@ -88,8 +90,8 @@ TEST(Puma260Master, RefusesRequestsTheCurrentStateDoesNotAllow) {
   Rig rig;
   EXPECT_FALSE(rig.master.request(Request::Ready));  // not initialised yet
   ASSERT_TRUE(rig.runUntil(ev::kInitialized, 0.05));
-  EXPECT_FALSE(rig.master.request(Request::Nest));       // nest only from ready
-  EXPECT_FALSE(rig.master.request(Request::Operative));  // operative only from ready
+  EXPECT_FALSE(rig.master.request(Request::Nest));        // nest only from ready
+  EXPECT_FALSE(rig.master.request(Request::Operative));   // operative only from ready
   EXPECT_FALSE(rig.master.request(Request::FaultReset));  // no fault
   EXPECT_EQ(rig.master.state(), MasterState::Initialized);
   ASSERT_TRUE(rig.master.request(Request::Ready));
@@ -188,8 +190,9 @@ TEST(Puma260Master, TorqueModeAppliesTheCommandedTorque) {
     for (std::size_t i = 3; i < 6; ++i) rig.commands.torque[i] = 0.05;
     rig.master.step(kCycle, rig.commands);
   }
-  for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(rig.master.torque()[i], rig.commands.torque[i], 1e-9) << "joint " << i;
-  EXPECT_GT(rig.master.velocity()[3], 0.5);  // 0.05 N·m on 0.005 kg·m² for 0.3 s
+  for (std::size_t i = 0; i < 6; ++i)
+    EXPECT_NEAR(rig.master.torque()[i], rig.commands.torque[i], 1e-9) << "joint " << i;
+  EXPECT_GT(rig.master.velocity()[3], 0.5);                        // 0.05 N·m on 0.005 kg·m² for 0.3 s
   EXPECT_NEAR(rig.master.position()[1], config().ready[1], 0.01);  // compensated: the shoulder stays
 }
 
@@ -209,7 +212,8 @@ TEST(Puma260Master, RefusesAnInvalidConfigurationNamingTheParameter) {
             "Puma 260 master: ready[2] = 3.2 rad is outside the joint limits [-3.92699, 0.785398] rad");
   c = config();
   c.move_speed = 0.0;
-  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { Puma260Master m(c, bus); }), "move_speed = 0 rad/s, expected > 0");
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { Puma260Master m(c, bus); }),
+                  "move_speed = 0 rad/s, expected > 0");
 }
 
 }  // namespace

@@ -10,8 +10,8 @@ namespace {
 constexpr double kPi = 3.141592653589793;
 
 [[noreturn]] void reject(const char* parameter, double value, const char* expected) {
-  throw std::invalid_argument(std::string("hand tracker: ") + parameter + " = " + std::to_string(value) + ", expected " +
-                              expected);
+  throw std::invalid_argument(std::string("hand tracker: ") + parameter + " = " + std::to_string(value) +
+                              ", expected " + expected);
 }
 
 }  // namespace
@@ -21,7 +21,8 @@ void validate(const HandTrackerModel& m) {
   if (!std::isfinite(m.fov_x) || m.fov_x <= 0 || m.fov_x >= kPi) reject("fov_x", m.fov_x, "in (0, pi) rad");
   if (!std::isfinite(m.fov_y) || m.fov_y <= 0 || m.fov_y >= kPi) reject("fov_y", m.fov_y, "in (0, pi) rad");
   if (!std::isfinite(m.min_height) || m.min_height < 0) reject("min_height", m.min_height, ">= 0 m");
-  if (!std::isfinite(m.max_height) || m.max_height <= m.min_height) reject("max_height", m.max_height, "> min_height m");
+  if (!std::isfinite(m.max_height) || m.max_height <= m.min_height)
+    reject("max_height", m.max_height, "> min_height m");
   if (!std::isfinite(m.position_noise) || m.position_noise < 0) reject("position_noise", m.position_noise, ">= 0 m");
 }
 

@@ -54,7 +54,8 @@ std::array<double, 6> Puma260Arm::gravityTorque(const std::array<double, 6>& q) 
   const Puma260ArmModel& m = model_;
   const double forearm = m.gravity * m.forearm_mass * m.forearm_com * std::sin(q[1] + q[2]);
   std::array<double, 6> tau{};
-  tau[1] = m.gravity * (m.upper_arm_mass * m.upper_arm_com + m.forearm_mass * m.upper_arm_length) * std::cos(q[1]) - forearm;
+  tau[1] =
+      m.gravity * (m.upper_arm_mass * m.upper_arm_com + m.forearm_mass * m.upper_arm_length) * std::cos(q[1]) - forearm;
   tau[2] = -forearm;
   return tau;
 }

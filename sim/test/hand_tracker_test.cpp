@@ -32,7 +32,7 @@ TEST(HandTracker, FieldOfViewIsAPyramidBetweenTwoHeights) {
   EXPECT_TRUE(tracker.inFieldOfView(KDL::Vector(0, 0, 0.3)));
   EXPECT_FALSE(tracker.inFieldOfView(KDL::Vector(0, 0, 0.01)));  // too close
   EXPECT_FALSE(tracker.inFieldOfView(KDL::Vector(0, 0, 0.7)));   // too far
-  const double x_edge = 0.1 * std::tan(75.0 * M_PI / 180.0);    // half of 150°
+  const double x_edge = 0.1 * std::tan(75.0 * M_PI / 180.0);     // half of 150°
   EXPECT_TRUE(tracker.inFieldOfView(KDL::Vector(x_edge - 1e-4, 0, 0.1)));
   EXPECT_FALSE(tracker.inFieldOfView(KDL::Vector(x_edge + 1e-4, 0, 0.1)));
   const double y_edge = 0.1 * std::tan(60.0 * M_PI / 180.0);  // half of 120°
@@ -90,7 +90,8 @@ TEST(HandTracker, BadParametersAreNamed) {
             "hand tracker: max_height = 0.010000, expected > min_height m");
   model = HandTrackerModel{};
   model.fov_x = 4.0;
-  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { HandTracker t(model); }), "fov_x = 4.000000, expected in (0, pi) rad");
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { HandTracker t(model); }),
+                  "fov_x = 4.000000, expected in (0, pi) rad");
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ TEST(Puma260Arm, BadParametersNameTheJoint) {
                   "Puma 260 arm: joint 4: CiA 402 drive: inertia = 0.000000, expected > 0.000000 kg*m^2");
   model = Puma260ArmModel::defaults();
   model.forearm_mass = -1.0;
-  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { Puma260Arm arm(model); }), "forearm_mass = -1.000000, expected >= 0");
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { Puma260Arm arm(model); }),
+                  "forearm_mass = -1.000000, expected >= 0");
 }
 
 }  // namespace

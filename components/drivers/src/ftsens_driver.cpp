@@ -11,14 +11,15 @@ namespace cobra::components {
 
 FTSensDriver::FTSensDriver(std::string name)
     : Component(std::move(name), core::Role::Bridge, "IIT FTSens force/torque sensor on CAN (thesis §6.2.2)") {
-  for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_,
-                                                                          &sim_seed_, &sim_bias_})
+  for (core::PropertyBase* p :
+       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_, &sim_seed_, &sim_bias_})
     addProperty(*p);
   addPort(sim_true_wrench_);
   addPort(meas_wrench_);
   addOperation("tare", std::function<void()>([this] { tare_requested_ = true; }),
                "the next complete sample becomes the zero of measWrench; e_tared when taken");
-  addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }), "measWrench = raw sample again");
+  addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }),
+               "measWrench = raw sample again");
   addOperation("simSetSilent", std::function<void(bool)>([this](bool silent) {
                  if (sim_ == nullptr) throw std::invalid_argument("simSetSilent: not configured with bus 'sim'");
                  sim_->setSilent(silent);
@@ -43,7 +44,8 @@ bool FTSensDriver::configureHook() {
                   " s; expected whole milliseconds from 0.001 to 0.255 s (the sensor's period command is 1-255 ms)");
   if (!(timeout_() > 0.0)) return refuse("property timeout = " + std::to_string(timeout_()) + " s; expected > 0 s");
   if (bus_() != "sim")
-    return refuse("property bus is '" + bus_() + "'; this build has only the simulated bus 'sim' (no SocketCAN "
+    return refuse("property bus is '" + bus_() +
+                  "'; this build has only the simulated bus 'sim' (no SocketCAN "
                   "interface could be created on the build machine)");
   fieldbus::FtSensCodecConfig codec;
   codec.address = address_();
@@ -81,9 +83,9 @@ void FTSensDriver::cleanupHook() {
 
 std::string FTSensDriver::statistics() const {
   if (!decoder_) return "not configured";
-  return "samples " + std::to_string(decoder_->samples()) + ", lost " + std::to_string(decoder_->lost()) + ", garbled " +
-         std::to_string(decoder_->garbled()) + ", unpaired " + std::to_string(decoder_->unpaired()) + ", timeouts " +
-         std::to_string(timeouts_);
+  return "samples " + std::to_string(decoder_->samples()) + ", lost " + std::to_string(decoder_->lost()) +
+         ", garbled " + std::to_string(decoder_->garbled()) + ", unpaired " + std::to_string(decoder_->unpaired()) +
+         ", timeouts " + std::to_string(timeouts_);
 }
 
 void FTSensDriver::updateHook() {

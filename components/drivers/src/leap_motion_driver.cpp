@@ -12,7 +12,8 @@ namespace cobra::components {
 LeapMotionDriver::LeapMotionDriver(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "Leap Motion hand tracker (thesis §5.4.4): right and left hand poses in the interaction box") {
-  for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{&box_, &offset_, &scale_, &sim_noise_, &sim_seed_})
+  for (core::PropertyBase* p :
+       std::initializer_list<core::PropertyBase*>{&box_, &offset_, &scale_, &sim_noise_, &sim_seed_})
     addProperty(*p);
   for (core::PortBase* p : std::initializer_list<core::PortBase*>{&sim_right_, &sim_left_, &meas_right_, &meas_left_})
     addPort(*p);
@@ -27,8 +28,8 @@ bool LeapMotionDriver::configureHook() {
   static const char* const kAxis[3] = {"x", "y", "z"};
   for (std::size_t i = 0; i < 3; ++i) {
     if (!std::isfinite(b[i]) || !std::isfinite(b[i + 3]) || b[i] >= b[i + 3])
-      return refuse("property interaction_box: " + std::string(kAxis[i]) + "_min = " + std::to_string(b[i]) + " m must be below " +
-                    kAxis[i] + "_max = " + std::to_string(b[i + 3]) + " m");
+      return refuse("property interaction_box: " + std::string(kAxis[i]) + "_min = " + std::to_string(b[i]) +
+                    " m must be below " + kAxis[i] + "_max = " + std::to_string(b[i + 3]) + " m");
   }
   if (!std::isfinite(scale_()) || scale_() <= 0.0)
     return refuse("property workspace_scale = " + std::to_string(scale_()) + "; expected > 0");

@@ -22,7 +22,8 @@ std::vector<double> limitVector(bool upper) {
 /// Copies a 6-element property; the message names the property and what it needs.
 bool joints(const core::Property<std::vector<double>>& p, fieldbus::JointVector& out, std::string& why) {
   if (p().size() != 6) {
-    why = "property " + p.name() + " has " + std::to_string(p().size()) + " numbers; give 6 joint values in " + p.unit();
+    why =
+        "property " + p.name() + " has " + std::to_string(p().size()) + " numbers; give 6 joint values in " + p.unit();
     return false;
   }
   for (std::size_t i = 0; i < 6; ++i) out[i] = p()[i];
@@ -38,13 +39,13 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
   ready_.set(kReady);
   lower_.set(limitVector(false));
   upper_.set(limitVector(true));
-  for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
-           &bus_, &control_mode_, &nest_, &ready_, &move_speed_, &tolerance_, &lower_, &upper_, &max_velocity_,
-           &max_torque_, &sim_initial_})
+  for (core::PropertyBase* p :
+       std::initializer_list<core::PropertyBase*>{&bus_, &control_mode_, &nest_, &ready_, &move_speed_, &tolerance_,
+                                                  &lower_, &upper_, &max_velocity_, &max_torque_, &sim_initial_})
     addProperty(*p);
-  for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_,
-                                                                  &meas_position_, &meas_velocity_, &meas_torque_,
-                                                                  &current_state_})
+  for (core::PortBase* p :
+       std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_, &meas_position_,
+                                              &meas_velocity_, &meas_torque_, &current_state_})
     addPort(*p);
   for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_}) port->setDataSample(KDL::JntArray(6));
   addOperation("askReady", std::function<void()>([this] { ask(fieldbus::Request::Ready); }),
@@ -82,7 +83,8 @@ bool Puma260EtherCATMaster::configureHook() {
   fieldbus::JointVector initial = config.nest;
   if (!sim_initial_().empty() && !joints(sim_initial_, initial, why)) return refuse(why);
   if (bus_() != "sim") {
-    return refuse("property bus is '" + bus_() + "'; this build has only the simulated bus 'sim' (no EtherCAT "
+    return refuse("property bus is '" + bus_() +
+                  "'; this build has only the simulated bus 'sim' (no EtherCAT "
                   "master library: SOEM is not packaged in Debian)");
   }
   try {
@@ -120,8 +122,10 @@ std::string Puma260EtherCATMaster::slaveStatus(int slave) const {
 }
 
 void Puma260EtherCATMaster::simInjectFault(int slave) {
-  if (sim_ == nullptr) throw std::invalid_argument("simInjectFault: the bus is not the simulated one (configure first)");
-  if (slave < 0 || slave > 5) throw std::invalid_argument("simInjectFault: slave " + std::to_string(slave) + " is not 0-5");
+  if (sim_ == nullptr)
+    throw std::invalid_argument("simInjectFault: the bus is not the simulated one (configure first)");
+  if (slave < 0 || slave > 5)
+    throw std::invalid_argument("simInjectFault: slave " + std::to_string(slave) + " is not 0-5");
   sim_->arm().drive(slave).injectFault(sim::error_code::kOverCurrent);
 }
 

@@ -105,7 +105,8 @@ TEST(FTSensDriver, BadPropertiesAreRefusedWithTheirName) {
   EXPECT_CONTAINS(d.configure().message, "component 'FTSens': FTSens codec: address = 16, expected 0-15");
   d.setProperty("address", 3);
   d.setProperty("stream_period", 0.0015);
-  EXPECT_CONTAINS(d.configure().message, "property stream_period = 0.001500 s; expected whole milliseconds from 0.001 to 0.255 s");
+  EXPECT_CONTAINS(d.configure().message,
+                  "property stream_period = 0.001500 s; expected whole milliseconds from 0.001 to 0.255 s");
   d.setProperty("stream_period", 0.002);
   d.setProperty("timeout", 0.0);
   EXPECT_CONTAINS(d.configure().message, "property timeout = 0.000000 s; expected > 0 s");

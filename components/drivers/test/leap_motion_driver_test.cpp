@@ -112,9 +112,11 @@ TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
   clock.add(l, 1ms);
   l.setProperty("interaction_box", std::vector<double>{0, 0, 0, 1, 1});
   EXPECT_CONTAINS(l.configure().message,
-                  "component 'Leap': property interaction_box has 5 numbers; give 6: x_min, y_min, z_min, x_max, y_max, z_max in m");
+                  "component 'Leap': property interaction_box has 5 numbers; give 6: x_min, y_min, z_min, x_max, "
+                  "y_max, z_max in m");
   l.setProperty("interaction_box", std::vector<double>{0, 0.2, 0, 1, 0.1, 1});
-  EXPECT_CONTAINS(l.configure().message, "property interaction_box: y_min = 0.200000 m must be below y_max = 0.100000 m");
+  EXPECT_CONTAINS(l.configure().message,
+                  "property interaction_box: y_min = 0.200000 m must be below y_max = 0.100000 m");
   l.setProperty("interaction_box", std::vector<double>{0, 0, 0, 1, 1, 1});
   l.setProperty("workspace_scale", 0.0);
   EXPECT_CONTAINS(l.configure().message, "property workspace_scale = 0.000000; expected > 0");

@@ -88,9 +88,9 @@ TEST(Puma260EtherCATMaster, StatesAndEventsFollowFigure64) {
   EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
   b.master.call("askOperative");
   EXPECT_EQ(b.runUntil("e_operative", 10ms), (std::vector<std::string>{"e_operative"}));
-  EXPECT_EQ(b.states, (std::vector<std::string>{"NotInitialized", "Initialized", "MovingToReady", "ReadyPosition",
-                                                "MovingToNest", "NestPosition", "MovingToReady", "ReadyPosition",
-                                                "Operative"}));
+  EXPECT_EQ(b.states,
+            (std::vector<std::string>{"NotInitialized", "Initialized", "MovingToReady", "ReadyPosition", "MovingToNest",
+                                      "NestPosition", "MovingToReady", "ReadyPosition", "Operative"}));
 }
 
 TEST(Puma260EtherCATMaster, RequestsTheStateDoesNotAllowAreRefusedWithAnEvent) {
@@ -115,7 +115,8 @@ TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   EXPECT_EQ(b.runUntil("e_drive_fault", 10ms), (std::vector<std::string>{"e_drive_fault"}));
   EXPECT_EQ(b.states.back(), "Fault");
   b.clock.advance(5ms);
-  EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4), "slave 4: simulated Elmo Gold Solo Whistle (CiA 402), fault");
+  EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4),
+                  "slave 4: simulated Elmo Gold Solo Whistle (CiA 402), fault");
   EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4), "master sees fault");
   b.master.call("askOperative");
   b.master.call("askReady");
@@ -186,7 +187,8 @@ TEST(Puma260EtherCATMaster, BadPropertiesAreRefusedWithTheirName) {
   core::LockstepClock clock;
   clock.add(m, 1ms);
   m.setProperty("control_mode", "speed");
-  EXPECT_CONTAINS(m.configure().message, "component 'Puma': property control_mode is 'speed'; expected position, velocity or torque");
+  EXPECT_CONTAINS(m.configure().message,
+                  "component 'Puma': property control_mode is 'speed'; expected position, velocity or torque");
   m.setProperty("control_mode", "torque");
   m.setProperty("nest_position", std::vector<double>{0, 0, 0, 0, 0});
   EXPECT_CONTAINS(m.configure().message, "property nest_position has 5 numbers; give 6 joint values in rad");

@@ -10,9 +10,9 @@ namespace cobra::fieldbus {
 
 /// One CAN frame: 11-bit or 29-bit identifier, 0-8 data bytes.
 struct CanFrame {
-  std::uint32_t id = 0;        ///< identifier (11-bit unless `extended`)
-  bool extended = false;       ///< 29-bit identifier (CAN 2.0B)
-  std::uint8_t length = 0;     ///< data length code, 0-8
+  std::uint32_t id = 0;     ///< identifier (11-bit unless `extended`)
+  bool extended = false;    ///< 29-bit identifier (CAN 2.0B)
+  std::uint8_t length = 0;  ///< data length code, 0-8
   std::array<std::uint8_t, 8> data{};
 };
 

@@ -38,8 +38,8 @@ struct Cia402Inputs {
 /// Outcome of one bus cycle.
 enum class BusStatus {
   Ok,
-  WrongSize,   ///< the spans do not have slaveCount() elements: nothing was exchanged
-  LinkDown,    ///< the frame did not come back (real bus): inputs are stale
+  WrongSize,  ///< the spans do not have slaveCount() elements: nothing was exchanged
+  LinkDown,   ///< the frame did not come back (real bus): inputs are stale
 };
 
 /// The bus. `exchange` is real-time safe in every backend: no allocation, no blocking beyond the

@@ -23,7 +23,6 @@
 /// period in ms (1-255; 0 stops streaming).
 
 #include <cstdint>
-
 #include <kdl/frames.hpp>
 
 #include "cobra/fieldbus/can_bus.hpp"
@@ -54,11 +53,11 @@ CanFrame ftSensStreamCommand(const FtSensCodecConfig& config, std::uint8_t perio
 
 /// What one received frame was.
 enum class FtSensFrameResult {
-  Sample,   ///< completed a sample: wrench() is new
-  Half,     ///< the force half of a sample, waiting for its torque half
-  Foreign,  ///< another identifier (another device or address): ignored, not an error
-  Garbled,  ///< an FTSens identifier with a wrong length, an extended identifier or a bad checksum
-  Unpaired, ///< a torque half whose force half was lost (or a force half replaced unpaired)
+  Sample,    ///< completed a sample: wrench() is new
+  Half,      ///< the force half of a sample, waiting for its torque half
+  Foreign,   ///< another identifier (another device or address): ignored, not an error
+  Garbled,   ///< an FTSens identifier with a wrong length, an extended identifier or a bad checksum
+  Unpaired,  ///< a torque half whose force half was lost (or a force half replaced unpaired)
 };
 
 /// Reassembles samples from frames and counts what went wrong. noexcept, no allocation.

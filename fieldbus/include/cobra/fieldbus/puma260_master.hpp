@@ -17,7 +17,16 @@ namespace cobra::fieldbus {
 using JointVector = std::array<double, 6>;
 
 /// The states of Fig. 6.4, plus Fault (a drive reported a fault or the bus failed).
-enum class MasterState { NotInitialized, Initialized, MovingToNest, NestPosition, MovingToReady, ReadyPosition, Operative, Fault };
+enum class MasterState {
+  NotInitialized,
+  Initialized,
+  MovingToNest,
+  NestPosition,
+  MovingToReady,
+  ReadyPosition,
+  Operative,
+  Fault
+};
 /// "NotInitialized", "Initialized", ... (the names of Fig. 6.4 without spaces).
 const char* toString(MasterState state) noexcept;
 
@@ -81,7 +90,9 @@ class Puma260Master {
   /// Slave that raised the last fault (-1: none or the bus) and its error code (object 0x603F).
   int faultSlave() const noexcept { return fault_slave_; }
   std::uint16_t faultCode() const noexcept { return fault_code_; }
-  const cia402::DriveSequencer& sequencer(int slave) const noexcept { return sequencers_[static_cast<std::size_t>(slave)]; }
+  const cia402::DriveSequencer& sequencer(int slave) const noexcept {
+    return sequencers_[static_cast<std::size_t>(slave)];
+  }
   const Puma260MasterConfig& config() const noexcept { return config_; }
 
  private:
@@ -97,7 +108,7 @@ class Puma260Master {
   std::array<Cia402Outputs, 6> outputs_{};
   std::array<Cia402Inputs, 6> inputs_{};
   JointVector position_{}, velocity_{}, torque_{};
-  JointVector hold_{};                  // rad: position target outside Operative
+  JointVector hold_{};  // rad: position target outside Operative
   JointVector move_start_{}, move_goal_{};
   double move_time_ = 0.0, move_duration_ = 0.0;  // s
   bool clamped_ = false, operative_pending_ = false, recovering_ = false;

@@ -7,9 +7,8 @@
 /// centre, z up out of the device, x along its long side; metres and radians.
 
 #include <cstdint>
-#include <random>
-
 #include <kdl/frames.hpp>
+#include <random>
 
 namespace cobra::sim {
 
@@ -18,12 +17,12 @@ namespace cobra::sim {
 /// the device); the noise is an ASSUMPTION of the order of the sub-millimetre static accuracy
 /// reported by Weichert et al., Sensors 13(5), 2013.
 struct HandTrackerModel {
-  double frame_rate = 200.0;          ///< frames per second, > 0 (thesis: 200 fps)
+  double frame_rate = 200.0;                         ///< frames per second, > 0 (thesis: 200 fps)
   double fov_x = 150.0 * 3.141592653589793 / 180.0;  ///< rad, in (0, π): full angle in the x-z plane
   double fov_y = 120.0 * 3.141592653589793 / 180.0;  ///< rad, in (0, π): full angle in the y-z plane
-  double min_height = 0.025;          ///< m, >= 0: nothing is seen closer to the device
-  double max_height = 0.6;            ///< m, > min_height
-  double position_noise = 5e-4;       ///< m, >= 0: standard deviation per axis
+  double min_height = 0.025;                         ///< m, >= 0: nothing is seen closer to the device
+  double max_height = 0.6;                           ///< m, > min_height
+  double position_noise = 5e-4;                      ///< m, >= 0: standard deviation per axis
 };
 
 /// @throws std::invalid_argument naming the parameter and the expected range.

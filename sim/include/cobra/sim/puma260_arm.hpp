@@ -19,13 +19,13 @@ namespace cobra::sim {
 ///   τ2 = g·(m2·r2·cos q2 + m3·(a2·cos q2 − r3·sin(q2 + q3))),  τ3 = −g·m3·r3·sin(q2 + q3).
 struct Puma260ArmModel {
   std::array<Cia402DriveModel, 6> drives{};  ///< one per joint, joint side (see Cia402DriveModel)
-  double upper_arm_mass = 2.0;   ///< kg, >= 0: m2 (ASSUMPTION)
-  double upper_arm_com = 0.10;   ///< m, >= 0: r2, shoulder axis to the upper arm's centre of mass
-  double forearm_mass = 1.5;     ///< kg, >= 0: m3, forearm + wrist + tool (ASSUMPTION)
-  double forearm_com = 0.12;     ///< m, >= 0: r3, elbow axis to the forearm's centre of mass
-  double upper_arm_length = 0.2032;  ///< m, > 0: a2 (kinematics::Puma260Parameters)
-  double gravity = 9.81;         ///< m/s², >= 0
-  double brake_torque = 20.0;    ///< N·m, >= 0: holding brakes of unpowered joints (ASSUMPTION)
+  double upper_arm_mass = 2.0;               ///< kg, >= 0: m2 (ASSUMPTION)
+  double upper_arm_com = 0.10;               ///< m, >= 0: r2, shoulder axis to the upper arm's centre of mass
+  double forearm_mass = 1.5;                 ///< kg, >= 0: m3, forearm + wrist + tool (ASSUMPTION)
+  double forearm_com = 0.12;                 ///< m, >= 0: r3, elbow axis to the forearm's centre of mass
+  double upper_arm_length = 0.2032;          ///< m, > 0: a2 (kinematics::Puma260Parameters)
+  double gravity = 9.81;                     ///< m/s², >= 0
+  double brake_torque = 20.0;                ///< N·m, >= 0: holding brakes of unpowered joints (ASSUMPTION)
 
   /// Default drives with the joint inertias scaled to the links they move (ASSUMPTION:
   /// 0.05/0.08/0.03 kg·m² for joints 1-3, 0.005 for the wrist).

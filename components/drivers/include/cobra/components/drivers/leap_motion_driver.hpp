@@ -43,7 +43,9 @@ class LeapMotionDriver : public core::Component {
   void publish(const sim::TrackedHand& tracked, Hand& hand, core::OutputPort<KDL::Frame>& port, const char* lost,
                const char* found) noexcept;
 
-  core::Property<std::vector<double>> box_{"interaction_box", {-0.1175, -0.0735, 0.0825, 0.1175, 0.0735, 0.3175}, "m",
+  core::Property<std::vector<double>> box_{"interaction_box",
+                                           {-0.1175, -0.0735, 0.0825, 0.1175, 0.0735, 0.3175},
+                                           "m",
                                            "x_min, y_min, z_min, x_max, y_max, z_max in the device frame"};
   core::Property<KDL::Frame> offset_{"workspace_offset", KDL::Frame::Identity(), "m",
                                      "applied to every measured pose: changes the reference frame"};

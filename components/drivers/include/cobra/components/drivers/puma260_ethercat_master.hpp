@@ -61,10 +61,12 @@ class Puma260EtherCATMaster : public core::Component {
   core::Property<std::vector<double>> upper_{"joint_upper", {}, "rad", "6 upper joint limits"};
   core::Property<double> max_velocity_{"max_velocity", 2.0, "rad/s", "velocity-mode commands are clamped to it"};
   core::Property<double> max_torque_{"max_torque", 20.0, "N·m", "torque-mode commands are clamped to it"};
-  core::Property<std::vector<double>> sim_initial_{"sim_initial_position", {}, "rad",
-                                                   "simulated joints at power-on (empty: the nest position)"};
-  core::InputPort<KDL::JntArray> des_position_{"desJointPosition", "desired joint positions (Operative, position mode)", "rad"};
-  core::InputPort<KDL::JntArray> des_velocity_{"desJointVelocity", "desired joint velocities (Operative, velocity mode)", "rad/s"};
+  core::Property<std::vector<double>> sim_initial_{
+      "sim_initial_position", {}, "rad", "simulated joints at power-on (empty: the nest position)"};
+  core::InputPort<KDL::JntArray> des_position_{"desJointPosition", "desired joint positions (Operative, position mode)",
+                                               "rad"};
+  core::InputPort<KDL::JntArray> des_velocity_{"desJointVelocity",
+                                               "desired joint velocities (Operative, velocity mode)", "rad/s"};
   core::InputPort<KDL::JntArray> des_torque_{"desJointTorque", "desired joint torques (Operative, torque mode)", "N·m"};
   core::OutputPort<KDL::JntArray> meas_position_{"measJointPosition", "measured joint positions", "rad"};
   core::OutputPort<KDL::JntArray> meas_velocity_{"measJointVelocity", "measured joint velocities", "rad/s"};
