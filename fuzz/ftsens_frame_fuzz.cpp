@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     cobra::fieldbus::CanFrame frame;
     // Bias identifiers towards the sensor's own so that the checksum and pairing paths run.
     frame.id = static_cast<std::uint32_t>(data[at] & 0x01 ? (0x300U + (config.address << 4) + 0xA + (data[at + 1] & 1))
-                                                         : (data[at] | (data[at + 1] << 8)) & 0x7FF);
+                                                          : (data[at] | (data[at + 1] << 8)) & 0x7FF);
     frame.extended = data[at + 2] & 0x80;
     frame.length = static_cast<std::uint8_t>(data[at + 3] % 16);  // a bad DLC (> 8) must be rejected too
     for (std::size_t i = 0; i < 8; ++i) frame.data[i] = data[at + 4 + i];
