@@ -14,6 +14,8 @@ cd "$(dirname "$0")"
 
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
+FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
+  ftsens_frame_fuzz)
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
 
@@ -94,10 +96,9 @@ case "${1:-help}" in
     done ;;
   fuzz)
     seconds="${2:-60}"
-    build fuzz --target value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz \
-      omni_protocol_fuzz
+    build fuzz --target "${FUZZERS[@]}"
     mkdir -p build/fuzz/corpus
-    for f in value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz; do
+    for f in "${FUZZERS[@]}"; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
       seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs

@@ -3,6 +3,7 @@
 #include "cobra/bridges/package.hpp"
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/coordination/package.hpp"
+#include "cobra/components/drivers/package.hpp"
 #include "cobra/components/motion/package.hpp"
 
 namespace cobra::tools {
@@ -12,6 +13,7 @@ void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
   configurator.packages().addBuiltin("cobra_control", components::registerControlPackage);
   configurator.packages().addBuiltin("cobra_bridges", bridges::registerBridgesPackage);
+  configurator.packages().addBuiltin("cobra_drivers", components::registerDriversPackage);
 }
 
 }  // namespace cobra::tools

@@ -1,0 +1,11 @@
+#pragma once
+/// @file
+/// The "cobra_drivers" package: Puma260EtherCATMaster, FTSensDriver, LeapMotionDriver.
+
+#include "cobra/deploy/package_registry.hpp"
+
+namespace cobra::components {
+
+void registerDriversPackage(deploy::PackageBuilder& package);
+
+}  // namespace cobra::components

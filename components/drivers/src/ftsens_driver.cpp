@@ -1,0 +1,120 @@
+#include "cobra/components/drivers/ftsens_driver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
+#include "cobra/sim/ft_sensor.hpp"
+
+namespace cobra::components {
+
+FTSensDriver::FTSensDriver(std::string name)
+    : Component(std::move(name), core::Role::Bridge, "IIT FTSens force/torque sensor on CAN (thesis §6.2.2)") {
+  for (core::PropertyBase* p :
+       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_, &sim_seed_, &sim_bias_})
+    addProperty(*p);
+  addPort(sim_true_wrench_);
+  addPort(meas_wrench_);
+  addOperation("tare", std::function<void()>([this] { tare_requested_ = true; }),
+               "the next complete sample becomes the zero of measWrench; e_tared when taken");
+  addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }),
+               "measWrench = raw sample again");
+  addOperation("simSetSilent", std::function<void(bool)>([this](bool silent) {
+                 if (sim_ == nullptr) throw std::invalid_argument("simSetSilent: not configured with bus 'sim'");
+                 sim_->setSilent(silent);
+               }),
+               "simulation only: the sensor stops (true) or resumes (false) sending")
+      .arg("silent", "1", "true: nothing is sent");
+  addOperation("simGarbleFrames", std::function<void(int)>([this](int count) {
+                 if (sim_ == nullptr) throw std::invalid_argument("simGarbleFrames: not configured with bus 'sim'");
+                 sim_->garbleFrames(count);
+               }),
+               "simulation only: the next frames arrive with a flipped bit")
+      .arg("count", "1", "number of frames");
+  addOperation("statistics", std::function<std::string()>([this] { return statistics(); }),
+               "counts of samples and of frame errors");
+}
+
+bool FTSensDriver::configureHook() {
+  if (activity().period().count() <= 0) return refuse("needs a periodic activity: each update reads the CAN bus");
+  const double ms = stream_period_() * 1e3;
+  if (!std::isfinite(ms) || std::abs(ms - std::round(ms)) > 1e-6 || ms < 1 || ms > 255)
+    return refuse("property stream_period = " + std::to_string(stream_period_()) +
+                  " s; expected whole milliseconds from 0.001 to 0.255 s (the sensor's period command is 1-255 ms)");
+  if (!(timeout_() > 0.0)) return refuse("property timeout = " + std::to_string(timeout_()) + " s; expected > 0 s");
+  if (bus_() != "sim")
+    return refuse("property bus is '" + bus_() +
+                  "'; this build has only the simulated bus 'sim' (no SocketCAN "
+                  "interface could be created on the build machine)");
+  fieldbus::FtSensCodecConfig codec;
+  codec.address = address_();
+  try {
+    sim::ForceTorqueSensorModel sensor = sim::ftSens();
+    sensor.bias = sim_bias_();
+    auto bus = std::make_unique<fieldbus::SimulatedFtSensBus>(sensor, codec, static_cast<std::uint64_t>(sim_seed_()));
+    decoder_.emplace(codec);
+    sim_ = bus.get();
+    can_ = std::move(bus);
+  } catch (const std::invalid_argument& e) {
+    return refuse(e.what());
+  }
+  tare_ = KDL::Wrench::Zero();
+  tare_requested_ = timed_out_ = false;
+  seen_samples_ = timeouts_ = 0;
+  return true;
+}
+
+bool FTSensDriver::startHook() {
+  fieldbus::FtSensCodecConfig codec;
+  codec.address = address_();
+  const auto period_ms = static_cast<std::uint8_t>(std::lround(stream_period_() * 1e3));
+  if (!can_->send(fieldbus::ftSensStreamCommand(codec, period_ms)))
+    return refuse("the CAN transmit queue is full: the stream command was not sent");
+  last_sample_ = now();
+  return true;
+}
+
+void FTSensDriver::cleanupHook() {
+  decoder_.reset();
+  can_.reset();
+  sim_ = nullptr;
+}
+
+std::string FTSensDriver::statistics() const {
+  if (!decoder_) return "not configured";
+  return "samples " + std::to_string(decoder_->samples()) + ", lost " + std::to_string(decoder_->lost()) +
+         ", garbled " + std::to_string(decoder_->garbled()) + ", unpaired " + std::to_string(decoder_->unpaired()) +
+         ", timeouts " + std::to_string(timeouts_);
+}
+
+void FTSensDriver::updateHook() {
+  if (sim_ != nullptr) {
+    (void)sim_true_wrench_.read(truth_);
+    sim_->setTrueWrench(truth_);
+    sim_->advance(std::chrono::duration<double>(activity().period()).count());
+  }
+  fieldbus::CanFrame frame;
+  // Bounded: at most one receive queue's worth per update.
+  for (int i = 0; i < 256 && can_->receive(frame); ++i) (void)decoder_->push(frame);
+  if (decoder_->samples() != seen_samples_) {
+    seen_samples_ = decoder_->samples();
+    last_sample_ = now();
+    if (tare_requested_) {
+      tare_ = decoder_->wrench();
+      tare_requested_ = false;
+      emitEvent("e_tared");
+    }
+    meas_wrench_.write(decoder_->wrench() - tare_);
+    if (timed_out_) {
+      timed_out_ = false;
+      emitEvent("e_comm_restored");
+    }
+  } else if (!timed_out_ && std::chrono::duration<double>(now() - last_sample_).count() > timeout_()) {
+    timed_out_ = true;
+    ++timeouts_;
+    emitEvent("e_comm_timeout");
+  }
+}
+
+}  // namespace cobra::components

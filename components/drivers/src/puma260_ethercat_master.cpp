@@ -1,0 +1,175 @@
+#include "cobra/components/drivers/puma260_ethercat_master.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
+#include "cobra/kinematics/puma260.hpp"
+
+namespace cobra::components {
+namespace {
+
+// Corke's Puma "ready" pose qr (arm straight up) and nominal pose qn, in kinematics/puma260.hpp's
+// DH convention. ASSUMPTION: the thesis gives neither joint vector; qn stands in for the nest.
+const std::vector<double> kReady = {0.0, 1.5707963267948966, -1.5707963267948966, 0.0, 0.0, 0.0};
+const std::vector<double> kNest = {0.0, 0.7853981633974483, -3.141592653589793, 0.0, 0.7853981633974483, 0.0};
+
+std::vector<double> limitVector(bool upper) {
+  const kinematics::JointLimits limits = kinematics::Puma260Solver::defaultLimits();
+  return upper ? limits.upper : limits.lower;
+}
+
+/// Copies a 6-element property; the message names the property and what it needs.
+bool joints(const core::Property<std::vector<double>>& p, fieldbus::JointVector& out, std::string& why) {
+  if (p().size() != 6) {
+    why =
+        "property " + p.name() + " has " + std::to_string(p().size()) + " numbers; give 6 joint values in " + p.unit();
+    return false;
+  }
+  for (std::size_t i = 0; i < 6; ++i) out[i] = p()[i];
+  return true;
+}
+
+}  // namespace
+
+Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
+    : Component(std::move(name), core::Role::Bridge,
+                "Puma 260 EtherCAT master (thesis §6.2.1): six CiA 402 drives, nest/ready/operative states") {
+  nest_.set(kNest);
+  ready_.set(kReady);
+  lower_.set(limitVector(false));
+  upper_.set(limitVector(true));
+  for (core::PropertyBase* p :
+       std::initializer_list<core::PropertyBase*>{&bus_, &control_mode_, &nest_, &ready_, &move_speed_, &tolerance_,
+                                                  &lower_, &upper_, &max_velocity_, &max_torque_, &sim_initial_})
+    addProperty(*p);
+  for (core::PortBase* p :
+       std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_, &meas_position_,
+                                              &meas_velocity_, &meas_torque_, &current_state_})
+    addPort(*p);
+  for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_}) port->setDataSample(KDL::JntArray(6));
+  addOperation("askReady", std::function<void()>([this] { ask(fieldbus::Request::Ready); }),
+               "move to the ready position (from Initialized, NestPosition, ReadyPosition or Operative); "
+               "e_ready_reached when there, e_request_refused otherwise");
+  addOperation("askNest", std::function<void()>([this] { ask(fieldbus::Request::Nest); }),
+               "move to the nest position (only from ReadyPosition); e_nest_reached when there");
+  addOperation("askOperative", std::function<void()>([this] { ask(fieldbus::Request::Operative); }),
+               "enter Operative (only from ReadyPosition); e_operative");
+  addOperation("askFaultReset", std::function<void()>([this] { ask(fieldbus::Request::FaultReset); }),
+               "reset the drives' faults (only in Fault); e_fault_reset, then e_initialized");
+  addOperation("slaveStatus", std::function<std::string(int)>([this](int i) { return slaveStatus(i); }),
+               "one line about slave i (0-5)")
+      .arg("slave", "1", "slave index, 0-5");
+  addOperation("simInjectFault", &Puma260EtherCATMaster::simInjectFault, this,
+               "simulation only: raise an over-current fault in drive i")
+      .arg("slave", "1", "slave index, 0-5");
+}
+
+Puma260EtherCATMaster::~Puma260EtherCATMaster() = default;
+
+bool Puma260EtherCATMaster::configureHook() {
+  if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the EtherCAT cycle");
+  fieldbus::Puma260MasterConfig config;
+  if (!fieldbus::parseControlMode(control_mode_().c_str(), config.control_mode))
+    return refuse("property control_mode is '" + control_mode_() + "'; expected position, velocity or torque");
+  std::string why;
+  if (!joints(nest_, config.nest, why) || !joints(ready_, config.ready, why) || !joints(lower_, config.lower, why) ||
+      !joints(upper_, config.upper, why))
+    return refuse(why);
+  config.move_speed = move_speed_();
+  config.position_tolerance = tolerance_();
+  config.max_velocity = max_velocity_();
+  config.max_torque = max_torque_();
+  fieldbus::JointVector initial = config.nest;
+  if (!sim_initial_().empty() && !joints(sim_initial_, initial, why)) return refuse(why);
+  if (bus_() != "sim") {
+    return refuse("property bus is '" + bus_() +
+                  "'; this build has only the simulated bus 'sim' (no EtherCAT "
+                  "master library: SOEM is not packaged in Debian)");
+  }
+  try {
+    auto sim = std::make_unique<fieldbus::SimulatedPuma260Bus>(sim::Puma260ArmModel::defaults(), initial);
+    sim_ = sim.get();
+    bus_device_ = std::move(sim);
+    master_.emplace(config, *bus_device_);
+  } catch (const std::invalid_argument& e) {
+    master_.reset();
+    bus_device_.reset();
+    sim_ = nullptr;
+    return refuse(e.what());
+  }
+  commands_ = {};
+  published_ = master_->state();
+  current_state_.write(core::TaskState{fieldbus::toString(published_)});
+  return true;
+}
+
+void Puma260EtherCATMaster::cleanupHook() {
+  master_.reset();
+  bus_device_.reset();
+  sim_ = nullptr;
+}
+
+void Puma260EtherCATMaster::ask(fieldbus::Request request) {
+  if (!master_ || !master_->request(request)) emitEvent("e_request_refused");
+}
+
+std::string Puma260EtherCATMaster::slaveStatus(int slave) const {
+  if (!bus_device_) return "not configured: no bus";
+  const std::string line = bus_device_->describeSlave(slave);
+  if (!master_ || slave < 0 || slave > 5) return line;
+  return line + ", master sees " + fieldbus::cia402::toString(master_->sequencer(slave).state());
+}
+
+void Puma260EtherCATMaster::simInjectFault(int slave) {
+  if (sim_ == nullptr)
+    throw std::invalid_argument("simInjectFault: the bus is not the simulated one (configure first)");
+  if (slave < 0 || slave > 5)
+    throw std::invalid_argument("simInjectFault: slave " + std::to_string(slave) + " is not 0-5");
+  sim_->arm().drive(slave).injectFault(sim::error_code::kOverCurrent);
+}
+
+void Puma260EtherCATMaster::updateHook() {
+  // A sample with another size than 6 is ignored (restoring the buffer's size is the only allocation,
+  // and only on such bad input).
+  const auto take = [this](core::InputPort<KDL::JntArray>& port, fieldbus::JointVector& into, bool& valid) {
+    if (port.read(scratch_) != core::FlowStatus::NewData) return;
+    if (scratch_.rows() == 6) {
+      for (unsigned i = 0; i < 6; ++i) into[i] = scratch_(i);
+      valid = true;
+    } else {
+      scratch_.resize(6);
+    }
+  };
+  take(des_position_, commands_.position, commands_.position_valid);
+  take(des_velocity_, commands_.velocity, commands_.velocity_valid);
+  take(des_torque_, commands_.torque, commands_.torque_valid);
+  const double dt = std::chrono::duration<double>(activity().period()).count();
+  const std::uint32_t events = master_->step(dt, commands_);
+  namespace ev = fieldbus::master_event;
+  if (events & ev::kDriveFault) emitEvent("e_drive_fault");
+  if (events & ev::kBusError) emitEvent("e_bus_error");
+  if (events & ev::kFaultReset) emitEvent("e_fault_reset");
+  if (events & ev::kInitialized) emitEvent("e_initialized");
+  if (events & ev::kReadyReached) emitEvent("e_ready_reached");
+  if (events & ev::kNestReached) emitEvent("e_nest_reached");
+  if (events & ev::kOperative) emitEvent("e_operative");
+  if (events & ev::kCommandClamped) emitEvent("e_command_clamped");
+  const auto publish = [this](core::OutputPort<KDL::JntArray>& port, const fieldbus::JointVector& values) {
+    for (unsigned i = 0; i < 6; ++i) out_(i) = values[i];
+    port.write(out_);
+  };
+  publish(meas_position_, master_->position());
+  publish(meas_velocity_, master_->velocity());
+  publish(meas_torque_, master_->torque());
+  if (master_->state() != published_) {  // also the changes made by the ask operations
+    published_ = master_->state();
+    current_state_.write(core::TaskState{fieldbus::toString(published_)});
+  }
+  if (master_->state() != fieldbus::MasterState::Operative) {
+    // Commands given before Operative do not act when it is entered: each mode starts by holding.
+    commands_.position_valid = commands_.velocity_valid = commands_.torque_valid = false;
+  }
+}
+
+}  // namespace cobra::components

@@ -1,0 +1,121 @@
+// FTSensDriver on the lockstep clock: the simulated sensor's wrench through the CAN codec to
+// measWrench, tare, garbled frames counted, timeout and restore events, no allocation, and the
+// messages of bad properties.
+
+#include "cobra/components/drivers/ftsens_driver.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Bench {
+  FTSensDriver driver{"FTSens"};
+  core::LockstepClock clock;
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::OutputPort<KDL::Wrench> truth{"truth", "", "N, N·m"};
+  core::InputPort<KDL::Wrench> measured{"measured", "", "N, N·m"};
+
+  explicit Bench(const KDL::Wrench& bias = KDL::Wrench::Zero()) {
+    driver.setProperty("sim_bias", bias);
+    driver.setProperty("sim_seed", 4);
+    clock.add(driver, 1ms);
+    core::connectPorts(driver.port("events"), events, core::ConnPolicy::buffer(64));
+    core::connectPorts(truth, driver.port("simTrueWrench"));
+    core::connectPorts(driver.port("measWrench"), measured);
+    EXPECT_TRUE(driver.configure());
+    EXPECT_TRUE(driver.start());
+  }
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
+  KDL::Wrench read() {
+    KDL::Wrench w;
+    EXPECT_NE(measured.read(w), core::FlowStatus::NoData);
+    return w;
+  }
+};
+
+KDL::Wrench wrench(double fz, double tx) { return {KDL::Vector(0, 0, fz), KDL::Vector(tx, 0, 0)}; }
+
+TEST(FTSensDriver, PublishesTheSensorsWrenchAndTares) {
+  Bench b(wrench(8.0, 0.3));  // the sensor's own offset
+  b.truth.write(wrench(50.0, 1.0));
+  b.clock.advance(20ms);
+  KDL::Wrench w = b.read();
+  EXPECT_NEAR(w.force.z(), 58.0, 1.0);  // truth + bias, within the FTSens noise and resolution
+  EXPECT_NEAR(w.torque.x(), 1.3, 0.1);
+  b.truth.write(wrench(0.0, 0.0));
+  b.clock.advance(5ms);
+  b.driver.call("tare");
+  b.clock.advance(2ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_tared"}));
+  b.truth.write(wrench(-20.0, 0.5));
+  b.clock.advance(5ms);
+  w = b.read();
+  EXPECT_NEAR(w.force.z(), -20.0, 1.0);
+  EXPECT_NEAR(w.torque.x(), 0.5, 0.1);
+  b.driver.call("clearTare");
+  b.clock.advance(2ms);
+  EXPECT_NEAR(b.read().force.z(), -12.0, 1.0);
+  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "samples 34, lost 0, garbled 0, unpaired 0, timeouts 0");
+}
+
+TEST(FTSensDriver, CountsGarbledFramesAndReportsTimeoutAndRestore) {
+  Bench b;
+  b.truth.write(wrench(10.0, 0.0));
+  b.clock.advance(5ms);
+  b.driver.call("simGarbleFrames", 3);
+  b.clock.advance(5ms);
+  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "garbled 3");
+  b.driver.call("simSetSilent", true);
+  b.clock.advance(10ms);
+  EXPECT_TRUE(b.takeEvents().empty());  // 10 ms without a sample is still within the timeout
+  b.clock.advance(2ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_comm_timeout"}));
+  b.clock.advance(50ms);
+  EXPECT_TRUE(b.takeEvents().empty());  // once
+  b.driver.call("simSetSilent", false);
+  b.clock.advance(2ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_comm_restored"}));
+  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "timeouts 1");
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 100; ++i) {
+                b.truth.write(wrench(i * 0.1, 0.0));
+                b.clock.advance(1ms);
+              }
+            }),
+            0);
+}
+
+TEST(FTSensDriver, BadPropertiesAreRefusedWithTheirName) {
+  FTSensDriver d("FTSens");
+  core::LockstepClock clock;
+  clock.add(d, 1ms);
+  d.setProperty("address", 16);
+  EXPECT_CONTAINS(d.configure().message, "component 'FTSens': FTSens codec: address = 16, expected 0-15");
+  d.setProperty("address", 3);
+  d.setProperty("stream_period", 0.0015);
+  EXPECT_CONTAINS(d.configure().message,
+                  "property stream_period = 0.001500 s; expected whole milliseconds from 0.001 to 0.255 s");
+  d.setProperty("stream_period", 0.002);
+  d.setProperty("timeout", 0.0);
+  EXPECT_CONTAINS(d.configure().message, "property timeout = 0.000000 s; expected > 0 s");
+  d.setProperty("timeout", 0.01);
+  d.setProperty("bus", "can0");
+  EXPECT_CONTAINS(d.configure().message, "property bus is 'can0'; this build has only the simulated bus 'sim'");
+  d.setProperty("bus", "sim");
+  EXPECT_TRUE(d.configure());
+}
+
+}  // namespace
+}  // namespace cobra::components

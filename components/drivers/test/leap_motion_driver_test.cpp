@@ -1,0 +1,131 @@
+// LeapMotionDriver on the lockstep clock: 200 fps frames, positions clamped to the interaction
+// box, then scaled, then expressed through the workspace offset; hands lost and found with
+// events and the last valid pose kept; no allocation; messages of bad properties.
+
+#include "cobra/components/drivers/leap_motion_driver.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Bench {
+  LeapMotionDriver leap{"Leap"};
+  core::LockstepClock clock;
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::OutputPort<KDL::Frame> right{"right", "", "m"}, left{"left", "", "m"};
+  core::InputPort<KDL::Frame> right_pose{"rp", "", "m"}, left_pose{"lp", "", "m"};
+  core::InputPort<KDL::Frame> right_frames{"rf", "", "m"};
+
+  explicit Bench(double scale = 1.0, const KDL::Frame& offset = KDL::Frame::Identity()) {
+    leap.setProperty("sim_noise", 0.0);
+    leap.setProperty("workspace_scale", scale);
+    leap.setProperty("workspace_offset", offset);
+    leap.setProperty("interaction_box", std::vector<double>{-0.1, -0.05, 0.1, 0.1, 0.05, 0.3});
+    clock.add(leap, 1ms);
+    core::connectPorts(leap.port("events"), events, core::ConnPolicy::buffer(64));
+    core::connectPorts(right, leap.port("simRightHand"));
+    core::connectPorts(left, leap.port("simLeftHand"));
+    core::connectPorts(leap.port("measRightPose"), right_pose);
+    core::connectPorts(leap.port("measLeftPose"), left_pose);
+    core::connectPorts(leap.port("measRightPose"), right_frames, core::ConnPolicy::buffer(1024));
+    EXPECT_TRUE(leap.configure());
+    EXPECT_TRUE(leap.start());
+  }
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
+  KDL::Frame read(core::InputPort<KDL::Frame>& port) {
+    KDL::Frame f;
+    EXPECT_NE(port.read(f), core::FlowStatus::NoData);
+    return f;
+  }
+};
+
+TEST(LeapMotionDriver, PublishesTwoHundredFramesPerSecondInsideTheBox) {
+  Bench b;
+  const KDL::Frame hand(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(0.02, -0.01, 0.2));
+  b.right.write(hand);
+  b.clock.advance(1000ms);
+  int frames = 0;
+  KDL::Frame f;
+  while (b.right_frames.read(f) == core::FlowStatus::NewData) ++frames;
+  EXPECT_EQ(frames, 200);
+  EXPECT_TRUE(KDL::Equal(b.read(b.right_pose), hand, 1e-12));  // inside the box, no noise: unchanged
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_right_hand_found"}));
+  EXPECT_EQ(b.left_pose.read(f), core::FlowStatus::NoData);  // no left hand yet
+}
+
+TEST(LeapMotionDriver, ClampsToTheBoxThenScalesThenOffsets) {
+  const KDL::Frame offset(KDL::Rotation::RotZ(M_PI / 2), KDL::Vector(0.5, 0.0, -0.1));
+  Bench b(2.0, offset);
+  // Outside the box in x and z (but inside the field of view): clamped to x = 0.1, z = 0.3.
+  const KDL::Frame hand(KDL::Rotation::RotX(0.4), KDL::Vector(0.15, 0.02, 0.35));
+  b.left.write(hand);
+  b.clock.advance(10ms);
+  const KDL::Frame expected = offset * KDL::Frame(hand.M, KDL::Vector(0.1, 0.02, 0.3) * 2.0);
+  const KDL::Frame got = b.read(b.left_pose);
+  EXPECT_TRUE(KDL::Equal(got, expected, 1e-12)) << got.p.x() << " " << got.p.y() << " " << got.p.z();
+  EXPECT_NEAR(got.p.x(), 0.5 - 0.04, 1e-12);  // y 0.02·2 rotated by 90° about z, plus the offset
+  EXPECT_NEAR(got.p.y(), 0.2, 1e-12);
+  EXPECT_NEAR(got.p.z(), 0.5, 1e-12);
+}
+
+TEST(LeapMotionDriver, LostHandsKeepTheLastValidPoseAndRaiseEvents) {
+  Bench b;
+  const KDL::Frame seen(KDL::Vector(0.0, 0.0, 0.2));
+  b.right.write(seen);
+  b.left.write(seen);
+  b.clock.advance(10ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_right_hand_found", "e_left_hand_found"}));
+  b.right.write(KDL::Frame(KDL::Vector(0.0, 0.0, 0.8)));  // above the field of view
+  b.clock.advance(10ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_right_hand_lost"}));
+  EXPECT_TRUE(KDL::Equal(b.read(b.right_pose), seen, 1e-12));
+  b.clock.advance(50ms);
+  EXPECT_TRUE(b.takeEvents().empty());
+  b.right.write(KDL::Frame(KDL::Vector(0.01, 0.0, 0.25)));
+  b.clock.advance(10ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_right_hand_found"}));
+  EXPECT_NEAR(b.read(b.right_pose).p.z(), 0.25, 1e-12);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 100; ++i) {
+                b.right.write(KDL::Frame(KDL::Vector(0.0005 * i, 0.0, 0.2)));
+                b.clock.advance(1ms);
+              }
+            }),
+            0);
+}
+
+TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
+  LeapMotionDriver l("Leap");
+  core::LockstepClock clock;
+  clock.add(l, 1ms);
+  l.setProperty("interaction_box", std::vector<double>{0, 0, 0, 1, 1});
+  EXPECT_CONTAINS(l.configure().message,
+                  "component 'Leap': property interaction_box has 5 numbers; give 6: x_min, y_min, z_min, x_max, "
+                  "y_max, z_max in m");
+  l.setProperty("interaction_box", std::vector<double>{0, 0.2, 0, 1, 0.1, 1});
+  EXPECT_CONTAINS(l.configure().message,
+                  "property interaction_box: y_min = 0.200000 m must be below y_max = 0.100000 m");
+  l.setProperty("interaction_box", std::vector<double>{0, 0, 0, 1, 1, 1});
+  l.setProperty("workspace_scale", 0.0);
+  EXPECT_CONTAINS(l.configure().message, "property workspace_scale = 0.000000; expected > 0");
+  l.setProperty("workspace_scale", 1.0);
+  l.setProperty("sim_noise", -1.0);
+  EXPECT_CONTAINS(l.configure().message, "hand tracker: position_noise = -1.000000, expected >= 0 m");
+  l.setProperty("sim_noise", 0.0);
+  EXPECT_TRUE(l.configure());
+}
+
+}  // namespace
+}  // namespace cobra::components

@@ -1,0 +1,207 @@
+// Puma260EtherCATMaster on the lockstep clock: the states of Fig. 6.4 on currentState and the
+// events, refused requests, a drive fault and its reset, position / velocity / torque commands
+// through the ports, no allocation in updateHook, and the messages of bad properties.
+
+#include "cobra/components/drivers/puma260_ethercat_master.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Bench {
+  Puma260EtherCATMaster master{"Puma"};
+  core::LockstepClock clock;
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::InputPort<core::TaskState> state{"state", "", ""};
+  core::InputPort<KDL::JntArray> position{"q", "", "rad"}, velocity{"qd", "", "rad/s"}, torque{"tau", "", "N·m"};
+  core::OutputPort<KDL::JntArray> des_position{"dq", "", "rad", KDL::JntArray(6)};
+  core::OutputPort<KDL::JntArray> des_velocity{"dqd", "", "rad/s", KDL::JntArray(6)};
+  core::OutputPort<KDL::JntArray> des_torque{"dtau", "", "N·m", KDL::JntArray(6)};
+  std::vector<std::string> states;
+
+  explicit Bench(const std::string& mode = "position") {
+    master.setProperty("control_mode", mode);
+    master.setProperty("move_speed", 1.0);
+    clock.add(master, 1ms);
+    core::connectPorts(master.port("events"), events, core::ConnPolicy::buffer(64));
+    core::connectPorts(master.port("currentState"), state, core::ConnPolicy::buffer(64));
+    core::connectPorts(master.port("measJointPosition"), position);
+    core::connectPorts(master.port("measJointVelocity"), velocity);
+    core::connectPorts(master.port("measJointTorque"), torque);
+    core::connectPorts(des_position, master.port("desJointPosition"));
+    core::connectPorts(des_velocity, master.port("desJointVelocity"));
+    core::connectPorts(des_torque, master.port("desJointTorque"));
+    EXPECT_TRUE(master.configure());
+    EXPECT_TRUE(master.start());
+  }
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    core::TaskState s;
+    while (state.read(s) == core::FlowStatus::NewData) states.push_back(s.path.str());
+    return names;
+  }
+  /// Advances until `event` is emitted (at most `limit`); returns the events seen on the way.
+  std::vector<std::string> runUntil(const std::string& event, std::chrono::milliseconds limit) {
+    std::vector<std::string> all;
+    for (auto t = 0ms; t < limit; t += 1ms) {
+      clock.advance(1ms);
+      for (auto& e : takeEvents()) all.push_back(e);
+      if (!all.empty() && all.back() == event) break;
+    }
+    return all;
+  }
+  KDL::JntArray read(core::InputPort<KDL::JntArray>& port) {
+    KDL::JntArray q;
+    EXPECT_NE(port.read(q), core::FlowStatus::NoData);
+    return q;
+  }
+  void operative() {
+    EXPECT_EQ(runUntil("e_initialized", 50ms), (std::vector<std::string>{"e_initialized"}));
+    master.call("askReady");
+    EXPECT_EQ(runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+    master.call("askOperative");
+    EXPECT_EQ(runUntil("e_operative", 10ms), (std::vector<std::string>{"e_operative"}));
+  }
+};
+
+TEST(Puma260EtherCATMaster, StatesAndEventsFollowFigure64) {
+  Bench b;
+  EXPECT_EQ(b.runUntil("e_initialized", 50ms), (std::vector<std::string>{"e_initialized"}));
+  b.master.call("askReady");
+  EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+  const KDL::JntArray ready = b.read(b.position);
+  EXPECT_NEAR(ready(1), 1.5707963, 2e-3);
+  EXPECT_NEAR(ready(2), -1.5707963, 2e-3);
+  b.master.call("askNest");
+  EXPECT_EQ(b.runUntil("e_nest_reached", 5000ms), (std::vector<std::string>{"e_nest_reached"}));
+  EXPECT_NEAR(b.read(b.position)(2), -3.1415927, 2e-3);
+  b.master.call("askReady");
+  EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+  b.master.call("askOperative");
+  EXPECT_EQ(b.runUntil("e_operative", 10ms), (std::vector<std::string>{"e_operative"}));
+  EXPECT_EQ(b.states,
+            (std::vector<std::string>{"NotInitialized", "Initialized", "MovingToReady", "ReadyPosition", "MovingToNest",
+                                      "NestPosition", "MovingToReady", "ReadyPosition", "Operative"}));
+}
+
+TEST(Puma260EtherCATMaster, RequestsTheStateDoesNotAllowAreRefusedWithAnEvent) {
+  Bench b;
+  b.runUntil("e_initialized", 50ms);
+  b.master.call("askNest");
+  b.master.call("askOperative");
+  b.master.call("askFaultReset");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_request_refused", "e_request_refused", "e_request_refused"}));
+  b.master.call("askReady");
+  b.master.call("askNest");  // still moving
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_request_refused"}));
+  EXPECT_EQ(b.states.back(), "MovingToReady");
+}
+
+TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
+  Bench b;
+  b.operative();
+  b.master.call("simInjectFault", 4);
+  EXPECT_EQ(b.runUntil("e_drive_fault", 10ms), (std::vector<std::string>{"e_drive_fault"}));
+  EXPECT_EQ(b.states.back(), "Fault");
+  b.clock.advance(5ms);
+  EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4),
+                  "slave 4: simulated Elmo Gold Solo Whistle (CiA 402), fault");
+  EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4), "master sees fault");
+  b.master.call("askOperative");
+  b.master.call("askReady");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_request_refused", "e_request_refused"}));
+  b.master.call("askFaultReset");
+  EXPECT_EQ(b.runUntil("e_initialized", 50ms), (std::vector<std::string>{"e_fault_reset", "e_initialized"}));
+  b.master.call("askReady");
+  EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+}
+
+TEST(Puma260EtherCATMaster, PositionCommandsAreTrackedWithoutAllocating) {
+  Bench b;
+  b.operative();
+  KDL::JntArray q = b.read(b.position);
+  const KDL::JntArray start = q;
+  const auto follow = [&](int cycles) {
+    for (int k = 0; k < cycles; ++k) {
+      q(0) += 2e-4;  // 0.2 rad/s
+      b.des_position.write(q);
+      b.clock.advance(1ms);
+    }
+  };
+  follow(500);
+  EXPECT_NEAR(b.read(b.position)(0), q(0), 0.01);
+  EXPECT_NEAR(b.read(b.position)(0), start(0) + 0.1, 0.01);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { follow(200); }), 0);
+}
+
+TEST(Puma260EtherCATMaster, VelocityAndTorqueModesActOnTheirPorts) {
+  {
+    Bench b("velocity");
+    b.operative();
+    KDL::JntArray v(6);
+    v(0) = 0.3;
+    v(5) = -0.2;
+    for (int k = 0; k < 500; ++k) {
+      b.des_velocity.write(v);
+      b.clock.advance(1ms);
+    }
+    EXPECT_NEAR(b.read(b.velocity)(0), 0.3, 0.01);
+    EXPECT_NEAR(b.read(b.velocity)(5), -0.2, 0.01);
+    EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+                for (int k = 0; k < 100; ++k) {
+                  b.des_velocity.write(v);
+                  b.clock.advance(1ms);
+                }
+              }),
+              0);
+  }
+  {
+    Bench b("torque");
+    b.operative();
+    KDL::JntArray tau(6);
+    tau(3) = 0.04;  // wrist joint: no gravity in the model
+    for (int k = 0; k < 100; ++k) {
+      b.des_torque.write(tau);
+      b.clock.advance(1ms);
+    }
+    EXPECT_NEAR(b.read(b.torque)(3), 0.04, 1e-9);
+    EXPECT_GT(b.read(b.velocity)(3), 0.5);  // 0.04 N·m on 0.005 kg·m² for 0.1 s
+  }
+}
+
+TEST(Puma260EtherCATMaster, BadPropertiesAreRefusedWithTheirName) {
+  Puma260EtherCATMaster m("Puma");
+  EXPECT_CONTAINS(m.configure().message, "needs a periodic activity: its period is the EtherCAT cycle");
+  core::LockstepClock clock;
+  clock.add(m, 1ms);
+  m.setProperty("control_mode", "speed");
+  EXPECT_CONTAINS(m.configure().message,
+                  "component 'Puma': property control_mode is 'speed'; expected position, velocity or torque");
+  m.setProperty("control_mode", "torque");
+  m.setProperty("nest_position", std::vector<double>{0, 0, 0, 0, 0});
+  EXPECT_CONTAINS(m.configure().message, "property nest_position has 5 numbers; give 6 joint values in rad");
+  m.setProperty("nest_position", std::vector<double>{0, 0, 0, 0, 0, 0});
+  m.setProperty("ready_position", std::vector<double>{0, 4.0, 0, 0, 0, 0});
+  EXPECT_CONTAINS(m.configure().message,
+                  "Puma 260 master: ready[1] = 4 rad is outside the joint limits [-0.785398, 3.92699] rad");
+  m.setProperty("ready_position", std::vector<double>{0, 1.0, 0, 0, 0, 0});
+  m.setProperty("bus", "soem");
+  EXPECT_CONTAINS(m.configure().message, "property bus is 'soem'; this build has only the simulated bus 'sim'");
+  m.setProperty("bus", "sim");
+  EXPECT_TRUE(m.configure());
+}
+
+}  // namespace
+}  // namespace cobra::components
