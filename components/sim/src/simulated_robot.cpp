@@ -167,15 +167,15 @@ void SimulatedServoRobotBase::updateHook() {
 
 void SimulatedServoRobotBase::publish(double dt) noexcept {
   KDL::Frame fk;
-  if (solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok) {
-    previous_pose_ = measured_pose_;
-    measured_pose_ = base_frame_() * fk * tool_frame_();
+  if (solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok) measured_pose_ = base_frame_() * fk * tool_frame_();
+  if (solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok) {
+    previous_pose_ = true_pose_;
+    true_pose_ = base_frame_() * fk * tool_frame_();
   }
-  if (solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok) true_pose_ = base_frame_() * fk * tool_frame_();
   meas_joint_position_.write(robot_->measured());
   meas_cart_pose_.write(measured_pose_);
   true_cart_pose_.write(true_pose_);
-  if (defaults_.twist_ports && dt > 0.0) meas_twist_.write(KDL::diff(previous_pose_, measured_pose_, dt));
+  if (defaults_.twist_ports && dt > 0.0) meas_twist_.write(KDL::diff(previous_pose_, true_pose_, dt));
   KDL::Wrench contact = KDL::Wrench::Zero();
   (void)contact_wrench_.read(contact);  // the latest value holds until the simulator writes another
   meas_wrench_.write(sensor_model_->step(dt, true_pose_.M.Inverse() * contact).wrench);

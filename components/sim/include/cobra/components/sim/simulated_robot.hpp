@@ -51,8 +51,8 @@ struct SimulatedRobotDefaults {
 /// encoder reading, m), `measWrench` (the simulated sensor's reading of contactWrench expressed in
 /// the tool frame, reference point at the tool point, N, N·m), `trueCartPose` (simulation only: FK
 /// of the true joint position, m: what the physics models must use); with `twist_ports`
-/// `measTwist` (m/s, rad/s, world orientation, tool point: difference of consecutive measured
-/// poses).
+/// `measTwist` (m/s, rad/s, world orientation, tool point: the motion of the true pose over the
+/// step, as a controller computes it from joint velocities rather than from encoder differences).
 ///
 /// The step length is the time since the previous update on the activity's clock (the period on
 /// the first update). updateHook allocates nothing.
@@ -115,7 +115,7 @@ class SimulatedServoRobotBase : public core::Component {
   std::optional<sim::CartesianServo> servo_;
   std::optional<sim::ForceTorqueSensor> sensor_model_;
   KDL::JntArray joint_command_;
-  KDL::Frame commanded_pose_, measured_pose_, previous_pose_, true_pose_;
+  KDL::Frame commanded_pose_, measured_pose_, previous_pose_, true_pose_;  // previous_pose_: true, last step
   KDL::Twist twist_command_;
   std::int64_t last_update_ns_ = -1;
   std::int64_t twist_until_ns_ = -1;
