@@ -50,7 +50,7 @@ bool NeedleInsertionMonitor::configureHook() {
     return refuse("property needle_axis has length " + std::to_string(norm) + "; give a unit vector");
   const struct {
     const core::Property<double>& p;
-  } positives[] = {{contact_force_}, {puncture_min_peak_}, {puncture_drop_time_}, {target_tolerance_},
+  } positives[] = {{contact_force_}, {puncture_min_peak_},    {puncture_drop_time_}, {target_tolerance_},
                    {max_force_},     {extraction_threshold_}, {release_force_}};
   for (const auto& entry : positives)
     if (!positive(entry.p()))

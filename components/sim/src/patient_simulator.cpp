@@ -4,14 +4,14 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
-
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::components {
 
 PatientSimulator::PatientSimulator(std::string name)
-    : Component(std::move(name), core::Role::Bridge,
-                "Simulated patient (thesis §4.2): abdomen phantom, needle-tissue forces, cryo iceball, ultrasound image") {
+    : Component(
+          std::move(name), core::Role::Bridge,
+          "Simulated patient (thesis §4.2): abdomen phantom, needle-tissue forces, cryo iceball, ultrasound image") {
   addProperty(scenario_file_);
   addProperty(phantom_pose_);
   addProperty(tip_to_needle_);

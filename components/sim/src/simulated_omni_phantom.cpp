@@ -3,7 +3,6 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
-
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::components {

@@ -4,7 +4,6 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
-
 #include "cobra/kinematics/isur.hpp"
 #include "cobra/kinematics/ur5.hpp"
 
@@ -69,8 +68,8 @@ bool SimulatedServoRobotBase::configureHook() {
   const unsigned joints = solver_->jointCount();
   const std::string robot = defaults_.robot;
   if (initial_joints_().size() != joints)
-    return refuse("property initial_joints has " + count(initial_joints_().size(), "value") + "; the " + robot + " has " +
-                  count(joints, "joint") + ": give one position per joint (rad, m for prismatic joints)");
+    return refuse("property initial_joints has " + count(initial_joints_().size(), "value") + "; the " + robot +
+                  " has " + count(joints, "joint") + ": give one position per joint (rad, m for prismatic joints)");
   std::vector<double> velocity, counts;
   if (!perJoint(max_velocity_(), defaults_.max_velocity, joints, velocity))
     return refuse("property max_velocity has " + count(max_velocity_().size(), "value") + "; the " + robot + " has " +
@@ -85,7 +84,8 @@ bool SimulatedServoRobotBase::configureHook() {
   if (!kinematics::validFrame(base_frame_()) || !kinematics::validFrame(tool_frame_()))
     return refuse("properties base_frame and tool_frame must be finite frames with an orthonormal rotation");
   try {
-    sim::ServoRobotModel model{name(), solver_->limits(), std::vector<double>(joints, time_constant_()), velocity, counts};
+    sim::ServoRobotModel model{name(), solver_->limits(), std::vector<double>(joints, time_constant_()), velocity,
+                               counts};
     robot_.emplace(std::move(model), initial_joints_());
     servo_.emplace(*solver_, *robot_);
     sim::ForceTorqueSensorModel sensor = sensorPreset(sensor_());
@@ -167,7 +167,8 @@ void SimulatedServoRobotBase::updateHook() {
 
 void SimulatedServoRobotBase::publish(double dt) noexcept {
   KDL::Frame fk;
-  if (solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok) measured_pose_ = base_frame_() * fk * tool_frame_();
+  if (solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok)
+    measured_pose_ = base_frame_() * fk * tool_frame_();
   if (solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok) {
     previous_pose_ = true_pose_;
     true_pose_ = base_frame_() * fk * tool_frame_();
@@ -199,7 +200,7 @@ std::unique_ptr<kinematics::KinematicsSolver> SimulatedISURRobot::makeSolver() c
 SimulatedUR5Robot::SimulatedUR5Robot(std::string name)
     : SimulatedServoRobotBase(
           std::move(name),
-          "Simulated UR5 (thesis §4.5.8 interface): stiff servo, closed-form IK, twist commands, ATI Nano43 at the tool",
+          "Simulated UR5 (thesis §4.5.8 interface): stiff servo, closed-form IK, twist commands, ATI Nano43",
           SimulatedRobotDefaults{.robot = "UR5",
                                  .initial_joints = {0.0, -1.57, 1.57, -1.57, -1.57, 0.0},
                                  .max_velocity = std::vector<double>(6, 3.14),

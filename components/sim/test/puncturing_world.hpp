@@ -7,10 +7,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <kdl/frames.hpp>
 #include <string>
 #include <vector>
-
-#include <kdl/frames.hpp>
 
 #include "cobra/components/sim/needle_insertion_monitor.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"

@@ -81,8 +81,8 @@ TEST(SimulatedISURRobot, JointCommandsAreClampedToTheLimitsAndVelocity) {
   Rig<SimulatedISURRobot> rig;
   rig.start();
   KDL::JntArray q = jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.6, 0.6, 0.0});
-  q(0) = 0.15;   // 50 mm on slider 1: at 0.1 m/s this takes 0.5 s at least
-  q(3) = 10.0;   // beyond the base joint's 2.967 rad limit
+  q(0) = 0.15;  // 50 mm on slider 1: at 0.1 m/s this takes 0.5 s at least
+  q(3) = 10.0;  // beyond the base joint's 2.967 rad limit
   rig.joint_command.write(q);
   rig.clock.advance(std::chrono::milliseconds(100));
   KDL::JntArray measured;

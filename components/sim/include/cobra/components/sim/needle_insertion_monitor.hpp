@@ -4,10 +4,9 @@
 /// and tip pose into the events the puncturing task chart waits for.
 
 #include <cstdint>
+#include <kdl/frames.hpp>
 #include <string>
 #include <vector>
-
-#include <kdl/frames.hpp>
 
 #include "cobra/core/component.hpp"
 
@@ -56,15 +55,18 @@ class NeedleInsertionMonitor : public core::Component {
   core::Property<double> contact_force_{"contact_force", 0.2, "N", "axial force meaning the needle touches the skin"};
   core::Property<double> puncture_min_peak_{"puncture_min_peak", 0.5, "N", "smallest force peak taken as a membrane"};
   core::Property<double> puncture_drop_{"puncture_drop", 0.3, "1", "fraction of the peak the force must lose, (0, 1)"};
-  core::Property<double> puncture_drop_time_{"puncture_drop_time", 0.01, "s", "the drop must happen this soon after the peak"};
+  core::Property<double> puncture_drop_time_{"puncture_drop_time", 0.01, "s",
+                                             "the drop must happen this soon after the peak"};
   core::Property<double> target_tolerance_{"target_tolerance", 0.002, "m", "tip-to-target distance meaning reached"};
   core::Property<double> max_force_{"max_force", 5.0, "N", "force magnitude above which e_force_over_threshold"};
   core::Property<std::vector<double>> forbidden_regions_{
       "forbidden_regions", {}, "m", "capsules ax, ay, az, bx, by, bz, radius (7 numbers each), world frame"};
   core::Property<double> forbidden_margin_{"forbidden_margin", 0.0, "m", "warn this far outside a forbidden capsule"};
-  core::Property<double> forbidden_hysteresis_{"forbidden_hysteresis", 0.0005, "m", "re-arm distance beyond the margin"};
+  core::Property<double> forbidden_hysteresis_{"forbidden_hysteresis", 0.0005, "m",
+                                               "re-arm distance beyond the margin"};
   core::Property<double> extraction_threshold_{"extraction_threshold", 10.0, "N", "extraction force meaning trapped"};
-  core::Property<double> release_force_{"release_force", 2.0, "N", "extraction force below which a trapped needle is free"};
+  core::Property<double> release_force_{"release_force", 2.0, "N",
+                                        "extraction force below which a trapped needle is free"};
 
   core::InputPort<KDL::Wrench> meas_wrench_{"measWrench", "needle force/torque sensor reading", "N, N·m"};
   core::InputPort<KDL::Frame> meas_cart_pose_{"measCartPose", "needle tip pose, world frame", "m"};

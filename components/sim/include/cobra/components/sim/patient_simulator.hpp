@@ -5,10 +5,9 @@
 /// (sim::NeedleTissueModel) and the ultrasound probe on the skin (sim::observe), behind ports.
 
 #include <cstdint>
+#include <kdl/frames.hpp>
 #include <optional>
 #include <string>
-
-#include <kdl/frames.hpp>
 
 #include "cobra/core/component.hpp"
 #include "cobra/sim/needle_tissue.hpp"
@@ -54,8 +53,8 @@ class PatientSimulator : public core::Component {
   void startFreeze();
   void startThaw();
 
-  core::Property<std::string> scenario_file_{"scenario_file", "", "",
-                                             "phantom scenario file (sim/README.md format); empty: the default abdomen"};
+  core::Property<std::string> scenario_file_{
+      "scenario_file", "", "", "phantom scenario file (sim/README.md format); empty: the default abdomen"};
   core::Property<KDL::Frame> phantom_pose_{"phantom_pose", KDL::Frame::Identity(), "m",
                                            "pose of the phantom frame (skin z = 0, tissue below) in the world"};
   core::Property<KDL::Frame> tip_to_needle_{"tip_to_needle", KDL::Frame(KDL::Rotation::RotY(1.5707963267948966)), "m",
@@ -78,8 +77,8 @@ class PatientSimulator : public core::Component {
 
   core::InputPort<KDL::Frame> needle_tip_pose_{"needleTipPose", "needle tip pose, world frame", "m"};
   core::InputPort<KDL::Frame> probe_pose_{"probePose", "ultrasound probe pose, world frame", "m"};
-  core::OutputPort<KDL::Wrench> needle_wrench_{"needleWrench", "tissue force on the needle, world orientation, at the tip",
-                                               "N, N·m"};
+  core::OutputPort<KDL::Wrench> needle_wrench_{"needleWrench",
+                                               "tissue force on the needle, world orientation, at the tip", "N, N·m"};
   core::OutputPort<KDL::Wrench> probe_wrench_{"probeWrench", "skin force on the probe, world orientation, at the face",
                                               "N, N·m"};
   core::OutputPort<double> needle_depth_{"needleDepth", "tip depth below the undeformed skin", "m"};

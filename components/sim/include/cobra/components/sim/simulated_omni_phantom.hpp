@@ -4,10 +4,9 @@
 /// sim::HapticMaster held by a scripted surgeon's hand.
 
 #include <cstdint>
+#include <kdl/frames.hpp>
 #include <optional>
 #include <string>
-
-#include <kdl/frames.hpp>
 
 #include "cobra/core/component.hpp"
 #include "cobra/sim/haptic.hpp"
@@ -39,8 +38,9 @@ class SimulatedOmniPhantom : public core::Component {
   void cleanupHook() override;
 
  private:
-  core::Property<KDL::Frame> origin_pose_offset_{"origin_pose_offset", KDL::Frame::Identity(), "m",
-                                                 "offset applied to every measured pose (device frame -> output frame)"};
+  core::Property<KDL::Frame> origin_pose_offset_{
+      "origin_pose_offset", KDL::Frame::Identity(), "m",
+      "offset applied to every measured pose (device frame -> output frame)"};
   core::Property<KDL::Vector> initial_position_{"initial_position", KDL::Vector::Zero(), "m",
                                                 "stylus position at configure, device frame, inside the workspace"};
 

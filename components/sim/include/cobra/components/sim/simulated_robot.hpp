@@ -8,13 +8,12 @@
 /// for the other by changing only the component type.
 
 #include <cstdint>
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <kdl/frames.hpp>
-#include <kdl/jntarray.hpp>
 
 #include "cobra/core/component.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
@@ -25,12 +24,12 @@ namespace cobra::components {
 
 /// What distinguishes one simulated robot from another: its kinematics and default servo values.
 struct SimulatedRobotDefaults {
-  std::string robot;                         ///< "I-SUR", "UR5": used in messages
-  std::vector<double> initial_joints;        ///< rad / m
-  std::vector<double> max_velocity;          ///< rad/s, m/s per joint
-  std::vector<double> encoder_counts;        ///< counts per rev (revolute) / per m (prismatic)
-  std::string sensor;                        ///< atiNano17, atiNano43 or ftSens
-  bool twist_ports = false;                  ///< desTwist / measTwist (UR5 §4.5.8)
+  std::string robot;                   ///< "I-SUR", "UR5": used in messages
+  std::vector<double> initial_joints;  ///< rad / m
+  std::vector<double> max_velocity;    ///< rad/s, m/s per joint
+  std::vector<double> encoder_counts;  ///< counts per rev (revolute) / per m (prismatic)
+  std::string sensor;                  ///< atiNano17, atiNano43 or ftSens
+  bool twist_ports = false;            ///< desTwist / measTwist (UR5 §4.5.8)
 };
 
 /// Bridge component. Frames: every pose port is the tool pose in the world frame (m, rad):
@@ -84,11 +83,15 @@ class SimulatedServoRobotBase : public core::Component {
   core::Property<std::vector<double>> initial_joints_{"initial_joints", defaults_.initial_joints, "rad, m",
                                                       "joint positions at configure, one per joint"};
   core::Property<double> time_constant_{"time_constant", 0.01, "s", "first-order servo lag of every joint, > 0"};
-  core::Property<std::vector<double>> max_velocity_{"max_velocity", {}, "rad/s, m/s",
-                                                    "velocity limit per joint (empty: the robot's defaults)"};
+  core::Property<std::vector<double>> max_velocity_{
+      "max_velocity", {}, "rad/s, m/s", "velocity limit per joint (empty: the robot's defaults)"};
   core::Property<std::vector<double>> encoder_counts_{
-      "encoder_counts", {}, "1/rev, 1/m", "encoder counts per revolution / per metre per joint (empty: defaults; 0 = exact)"};
-  core::Property<std::string> sensor_{"sensor", defaults_.sensor, "", "force/torque sensor preset: atiNano17, atiNano43 or ftSens"};
+      "encoder_counts",
+      {},
+      "1/rev, 1/m",
+      "encoder counts per revolution / per metre per joint (empty: defaults; 0 = exact)"};
+  core::Property<std::string> sensor_{"sensor", defaults_.sensor, "",
+                                      "force/torque sensor preset: atiNano17, atiNano43 or ftSens"};
   core::Property<KDL::Wrench> sensor_bias_{"sensor_bias", KDL::Wrench::Zero(), "N, N·m",
                                            "offset the sensor adds to the true wrench"};
   core::Property<double> sensor_cutoff_{"sensor_cutoff", 0.0, "Hz", "sensor low-pass cutoff, >= 0 (0 = none)"};

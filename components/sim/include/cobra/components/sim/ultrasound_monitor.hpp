@@ -27,10 +27,13 @@ class UltrasoundMonitor : public core::Component {
   void updateHook() override;
 
  private:
-  core::Property<double> visible_distance_{"visible_distance", 0.002, "m", "plane distance below which the needle is seen"};
-  core::Property<double> lost_distance_{"lost_distance", 0.003, "m", "plane distance above which it is lost, >= visible"};
+  core::Property<double> visible_distance_{"visible_distance", 0.002, "m",
+                                           "plane distance below which the needle is seen"};
+  core::Property<double> lost_distance_{"lost_distance", 0.003, "m",
+                                        "plane distance above which it is lost, >= visible"};
   core::Property<double> contact_force_{"contact_force", 2.0, "N", "probe force meaning contact"};
-  core::Property<double> contact_lost_force_{"contact_lost_force", 1.0, "N", "probe force meaning contact lost, <= contact"};
+  core::Property<double> contact_lost_force_{"contact_lost_force", 1.0, "N",
+                                             "probe force meaning contact lost, <= contact"};
 
   core::InputPort<double> plane_distance_{"needlePlaneDistance", "needle distance to the imaging plane", "m"};
   core::InputPort<double> in_image_{"needleInImage", "1 when the tip is within the image", "1"};
