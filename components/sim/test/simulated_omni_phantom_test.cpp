@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -72,6 +73,24 @@ TEST(SimulatedOmniPhantom, ACommandedForcePushesTheHandBackUpToTheDeviceMaximum)
   rig.force.write(KDL::Wrench(KDL::Vector(10.0, 0, 0), KDL::Vector::Zero()));
   for (int ms = 0; ms < 3000; ++ms) rig.clock.advance(1ms);
   EXPECT_NEAR(rig.measured().p.x(), 3.3 / 400.0, 0.001);
+}
+
+TEST(SimulatedOmniPhantom, TheUpdateHookAllocatesNothing) {
+  Rig rig(KDL::Frame(KDL::Vector(0.1, 0, 0)));
+  rig.hand.write(KDL::Frame(KDL::Vector(0.12, 0.01, 0)));
+  rig.force.write(KDL::Wrench(KDL::Vector(1.0, 0, 0), KDL::Vector::Zero()));
+  rig.held.write(2);
+  rig.clock.advance(1ms);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int ms = 0; ms < 500; ++ms) {
+                rig.hand.write(KDL::Frame(KDL::Vector(0.12, 0.01 - 1e-5 * ms, 0)));
+                rig.force.write(KDL::Wrench(KDL::Vector(1.0, 0, 0), KDL::Vector::Zero()));
+                rig.held.write(ms % 4);
+                rig.clock.advance(1ms);
+              }
+            }),
+            0);
+  EXPECT_EQ(rig.omni.state(), core::State::Running);
 }
 
 TEST(SimulatedOmniPhantom, AnInitialPositionOutsideTheWorkspaceIsRefused) {

@@ -38,7 +38,8 @@ struct SimulatedRobotDefaults {
 ///
 /// Inputs: `desJointPosition` (KDL::JntArray, rad / m) and `desCartPose` (KDL::Frame, m): the
 /// latest new value of either becomes the servo command (both new in one step: the joint command
-/// wins); a Cartesian command the IK cannot reach keeps the last valid command and emits
+/// wins; a joint command of the wrong size or with a non-finite value is ignored); a Cartesian
+/// command the IK cannot reach keeps the last valid command and emits
 /// `e_ik_failed` once (then `e_ik_solved` at the next reachable one). `contactWrench`
 /// (KDL::Wrench, N, N·m; simulation only): the true wrench the environment applies to the tool,
 /// world orientation, reference point at the tool point (PatientSimulator's needleWrench /
