@@ -8,6 +8,11 @@
 //    (NeedleTissueModel), the probe robot holding the ultrasound probe (observe), an AtiNano17
 //    behind the needle and an AtiNano43 behind the probe. One iteration = 1000 steps = 1 s of
 //    simulated time; `realtime_factor` = simulated s per wall s. Target: >= 50.
+//  - ComponentWorld: the same set-up as the components a puncturing deployment runs (package
+//    cobra_sim): SimulatedISURRobot inserting and withdrawing the needle (IK every step),
+//    SimulatedUR5Robot holding the probe (IK every step), PatientSimulator, NeedleInsertionMonitor,
+//    UltrasoundMonitor and SimulatedOmniPhantom, wired by ports and stepped by the LockstepClock at
+//    1 kHz. Same counters; the PuncturingWorld group above is its library-level peer.
 //  - Sensor: one ForceTorqueSensor step (noise, saturation, quantisation, filter) against a
 //    naive version of the same model that builds vectors and a distribution on every call, as
 //    straightforward code does; the time column is per step.
@@ -18,10 +23,18 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include <kdl/frames.hpp>
 
+#include "cobra/components/sim/needle_insertion_monitor.hpp"
+#include "cobra/components/sim/patient_simulator.hpp"
+#include "cobra/components/sim/simulated_omni_phantom.hpp"
+#include "cobra/components/sim/simulated_robot.hpp"
+#include "cobra/components/sim/ultrasound_monitor.hpp"
+#include "cobra/core/core.hpp"
+#include "cobra/kinematics/isur.hpp"
 #include "cobra/kinematics/ur5.hpp"
 #include "cobra/sim/ft_sensor.hpp"
 #include "cobra/sim/needle_tissue.hpp"
@@ -127,6 +140,96 @@ void BM_PuncturingWorld(benchmark::State& state) {
 BENCHMARK(BM_PuncturingWorld)->Name("PuncturingWorld/1s_at_1kHz/two_ur5_phantom_needle_us_two_ft")
     ->Apply(configure)
     ->UseRealTime()  // realtime_factor per wall-clock second
+    ->Unit(benchmark::kMillisecond);
+
+/// The component-level puncturing world on the lockstep clock (see the file comment).
+class ComponentWorld {
+ public:
+  ComponentWorld() {
+    using cobra::core::connectPorts;
+    cobra::kinematics::IsurPuncturingSolver isur_solver;
+    KDL::JntArray q(8);
+    const double q0[8] = {0.1, 0.1, 0.1, 0.0, 0.0, 0.6, 0.6, 0.0};
+    for (unsigned i = 0; i < 8; ++i) q(i) = q0[i];
+    isur_solver.forward(q, needle_start_);
+    axis_ = needle_start_.M.UnitX();
+    const KDL::Rotation needle_frame = needle_start_.M * KDL::Rotation::RotY(std::numbers::pi / 2);
+    const KDL::Frame phantom(needle_frame * KDL::Rotation::RotX(std::numbers::pi), needle_start_.p + axis_ * 0.005);
+    probe_ = phantom * KDL::Frame(KDL::Rotation(0, 1, 0, 1, 0, 0, 0, 0, -1), KDL::Vector(0.0, 0.02, -0.002));
+    cobra::kinematics::Ur5Solver ur5_solver;
+    KDL::JntArray u(6);
+    const double u0[6] = {0.0, -1.57, 1.57, -1.57, -1.57, 0.0};
+    for (unsigned i = 0; i < 6; ++i) u(i) = u0[i];
+    KDL::Frame flange;
+    ur5_solver.forward(u, flange);
+    ur5_.setProperty("base_frame", probe_ * flange.Inverse());
+    patient_.setProperty("phantom_pose", phantom);
+    for (cobra::core::Component* c : components()) clock_.add(*c, std::chrono::milliseconds(1));
+    connectPorts(needle_command_, isur_.port("desCartPose"));
+    connectPorts(probe_command_, ur5_.port("desCartPose"));
+    connectPorts(isur_.port("trueCartPose"), patient_.port("needleTipPose"));
+    connectPorts(ur5_.port("trueCartPose"), patient_.port("probePose"));
+    connectPorts(patient_.port("needleWrench"), isur_.port("contactWrench"));
+    connectPorts(patient_.port("probeWrench"), ur5_.port("contactWrench"));
+    connectPorts(isur_.port("measWrench"), needle_monitor_.port("measWrench"));
+    connectPorts(isur_.port("measCartPose"), needle_monitor_.port("measCartPose"));
+    connectPorts(patient_.port("needlePlaneDistance"), us_monitor_.port("needlePlaneDistance"));
+    connectPorts(patient_.port("needleInImage"), us_monitor_.port("needleInImage"));
+    connectPorts(patient_.port("probeContactForce"), us_monitor_.port("probeContactForce"));
+    connectPorts(isur_.port("measWrench"), omni_.port("desWrench"));
+    connectPorts(needle_monitor_.port("events"), events_, cobra::core::ConnPolicy::buffer(64));
+    connectPorts(us_monitor_.port("events"), events_, cobra::core::ConnPolicy::buffer(64));
+    for (cobra::core::Component* c : components()) {
+      if (!c->configure() || !c->start()) throw std::runtime_error(c->name() + ": " + c->lastError());
+    }
+  }
+
+  void step() {
+    time_ += kDt;
+    const double phase = std::fmod(time_, 16.0) / 8.0;  // 0 -> 45 mm -> 0 over 16 s, skin at 5 mm
+    const double advance = 0.045 * (1.0 - std::abs(1.0 - phase));
+    needle_command_.write(KDL::Frame(needle_start_.M, needle_start_.p + axis_ * advance));
+    probe_command_.write(probe_);
+    clock_.advance(std::chrono::milliseconds(1));
+    cobra::core::Event e;
+    while (events_.read(e) == cobra::core::FlowStatus::NewData) ++events_seen_;
+  }
+  long events() const { return events_seen_; }
+
+ private:
+  std::vector<cobra::core::Component*> components() {
+    return {&isur_, &ur5_, &patient_, &needle_monitor_, &us_monitor_, &omni_};
+  }
+
+  cobra::core::LockstepClock clock_;
+  cobra::components::SimulatedISURRobot isur_{"isur"};
+  cobra::components::SimulatedUR5Robot ur5_{"ur5"};
+  cobra::components::PatientSimulator patient_{"patient"};
+  cobra::components::NeedleInsertionMonitor needle_monitor_{"needleMonitor"};
+  cobra::components::UltrasoundMonitor us_monitor_{"usMonitor"};
+  cobra::components::SimulatedOmniPhantom omni_{"omni"};
+  cobra::core::OutputPort<KDL::Frame> needle_command_{"needleCommand", "", "m"};
+  cobra::core::OutputPort<KDL::Frame> probe_command_{"probeCommand", "", "m"};
+  cobra::core::InputPort<cobra::core::Event> events_{"events", "", ""};
+  KDL::Frame needle_start_, probe_;
+  KDL::Vector axis_;
+  double time_ = 0.0;
+  long events_seen_ = 0;
+};
+
+void BM_ComponentWorld(benchmark::State& state) {
+  ComponentWorld world;
+  constexpr int kStepsPerIteration = 1000;
+  for (auto _ : state) {
+    for (int i = 0; i < kStepsPerIteration; ++i) world.step();
+  }
+  const double simulated = static_cast<double>(state.iterations()) * kStepsPerIteration * kDt;  // s
+  state.counters["realtime_factor"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
+  state.counters["events"] = static_cast<double>(world.events());
+}
+BENCHMARK(BM_ComponentWorld)->Name("ComponentWorld/1s_at_1kHz/isur_ur5_patient_two_monitors_omni_lockstep")
+    ->Apply(configure)
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 void BM_SensorCobra(benchmark::State& state) {

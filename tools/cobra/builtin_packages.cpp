@@ -5,6 +5,7 @@
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/drivers/package.hpp"
 #include "cobra/components/motion/package.hpp"
+#include "cobra/components/sim/package.hpp"
 
 namespace cobra::tools {
 
@@ -14,6 +15,7 @@ void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_control", components::registerControlPackage);
   configurator.packages().addBuiltin("cobra_bridges", bridges::registerBridgesPackage);
   configurator.packages().addBuiltin("cobra_drivers", components::registerDriversPackage);
+  configurator.packages().addBuiltin("cobra_sim", components::registerSimPackage);
 }
 
 }  // namespace cobra::tools

@@ -1,0 +1,59 @@
+#pragma once
+/// @file
+/// Simulated Phantom Omni haptic master (thesis §4.5.9 OmniPhantom Bridge interface) backed by
+/// sim::HapticMaster held by a scripted surgeon's hand.
+
+#include <cstdint>
+#include <kdl/frames.hpp>
+#include <optional>
+#include <string>
+
+#include "cobra/core/component.hpp"
+#include "cobra/sim/haptic.hpp"
+
+namespace cobra::components {
+
+/// Bridge component. Frame O = origin_pose_offset · D, where D is the device frame (origin at the
+/// centre of the force-feedback workspace); as in the thesis, the offset is applied to every
+/// measured pose. The stylus orientation is not modelled (the Omni actuates its first three joints
+/// only): measCartPose carries the offset's rotation.
+///
+/// Inputs: `desWrench` (KDL::Wrench, N, N·m, frame O orientation): its force is rendered on the
+/// hand (saturated at the device's 3.3 N), its torque is ignored (no actuated wrist); `handTarget`
+/// (KDL::Frame, m, frame O; simulation only): where the scripted surgeon pulls the stylus, its
+/// position only; `handButtons` (int; simulation only): the buttons the surgeon holds.
+/// Outputs each update: `measCartPose` (KDL::Frame, m, frame O, quantised at the device's
+/// 0.055 mm), `measTwist` (KDL::Twist, m/s, frame O orientation; angular part 0), `statusButtons`
+/// (int bitmask: bit 0 = the first (dark grey) stylus button, bit 1 = the second (light grey)).
+/// Properties: `origin_pose_offset` (Frame, m), `initial_position` (Vector, m, frame D). The
+/// network bridge's host_address / host_port have no meaning here. updateHook allocates nothing.
+class SimulatedOmniPhantom : public core::Component {
+ public:
+  explicit SimulatedOmniPhantom(std::string name);
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+  void cleanupHook() override;
+
+ private:
+  core::Property<KDL::Frame> origin_pose_offset_{
+      "origin_pose_offset", KDL::Frame::Identity(), "m",
+      "offset applied to every measured pose (device frame -> output frame)"};
+  core::Property<KDL::Vector> initial_position_{"initial_position", KDL::Vector::Zero(), "m",
+                                                "stylus position at configure, device frame, inside the workspace"};
+
+  core::InputPort<KDL::Wrench> des_wrench_{"desWrench", "force to render on the hand (torque ignored)", "N, N·m"};
+  core::InputPort<KDL::Frame> hand_target_{"handTarget", "simulation only: where the surgeon pulls the stylus", "m"};
+  core::InputPort<int> hand_buttons_{"handButtons", "simulation only: buttons the surgeon holds, bitmask", "1"};
+  core::OutputPort<KDL::Frame> meas_cart_pose_{"measCartPose", "measured stylus pose", "m"};
+  core::OutputPort<KDL::Twist> meas_twist_{"measTwist", "measured stylus twist", "m/s, rad/s"};
+  core::OutputPort<int> status_buttons_{"statusButtons", "button bitmask: bit 0 first, bit 1 second button", "1"};
+
+  std::optional<sim::HapticMaster> device_;
+  std::int64_t last_update_ns_ = -1;
+  int buttons_ = 0;
+};
+
+}  // namespace cobra::components

@@ -1,0 +1,105 @@
+// The simulated Phantom Omni: the scripted hand moves the stylus, the commanded force is rendered
+// (saturated at 3.3 N), buttons and the origin offset reach the outputs.
+#include "cobra/components/sim/simulated_omni_phantom.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Rig {
+  SimulatedOmniPhantom omni{"omni"};
+  core::LockstepClock clock;
+  core::OutputPort<KDL::Frame> hand{"hand", "", "m"};
+  core::OutputPort<KDL::Wrench> force{"force", "", "N"};
+  core::OutputPort<int> held{"held", "", "1"};
+  core::InputPort<KDL::Frame> pose{"pose", "", "m"};
+  core::InputPort<KDL::Twist> twist{"twist", "", "m/s"};
+  core::InputPort<int> buttons{"buttons", "", "1"};
+
+  explicit Rig(const KDL::Frame& offset) {
+    omni.setProperty("origin_pose_offset", offset);
+    clock.add(omni, 1ms);
+    core::connectPorts(hand, omni.port("handTarget"));
+    core::connectPorts(force, omni.port("desWrench"));
+    core::connectPorts(held, omni.port("handButtons"));
+    core::connectPorts(omni.port("measCartPose"), pose);
+    core::connectPorts(omni.port("measTwist"), twist);
+    core::connectPorts(omni.port("statusButtons"), buttons);
+    EXPECT_TRUE(omni.configure()) << omni.lastError();
+    EXPECT_TRUE(omni.start());
+  }
+  KDL::Frame measured() {
+    KDL::Frame f;
+    EXPECT_NE(pose.read(f), core::FlowStatus::NoData);
+    return f;
+  }
+};
+
+TEST(SimulatedOmniPhantom, TheHandMovesTheStylusInTheOffsetFrame) {
+  const KDL::Frame offset(KDL::Rotation::RotZ(1.5707963267948966), KDL::Vector(1.0, 2.0, 0.5));
+  Rig rig(offset);
+  rig.clock.advance(1ms);
+  EXPECT_TRUE(KDL::Equal(rig.measured(), offset, 1e-9));  // the stylus starts at the device origin
+  const KDL::Frame target = offset * KDL::Frame(KDL::Vector(0.03, -0.02, 0.01));
+  rig.hand.write(target);
+  rig.held.write(0b01);
+  for (int ms = 0; ms < 2000; ++ms) rig.clock.advance(1ms);
+  const KDL::Frame at = rig.measured();
+  EXPECT_LT((at.p - target.p).Norm(), 0.001);
+  EXPECT_TRUE(KDL::Equal(at.M, offset.M, 1e-12));
+  KDL::Twist v;
+  ASSERT_NE(rig.twist.read(v), core::FlowStatus::NoData);
+  EXPECT_LT(v.vel.Norm(), 0.01);
+  int b = -1;
+  ASSERT_NE(rig.buttons.read(b), core::FlowStatus::NoData);
+  EXPECT_EQ(b, 1);
+}
+
+TEST(SimulatedOmniPhantom, ACommandedForcePushesTheHandBackUpToTheDeviceMaximum) {
+  Rig rig(KDL::Frame::Identity());
+  // The hand holds the origin (400 N/m); 2 N along x moves it by about 2 / 400 m.
+  rig.force.write(KDL::Wrench(KDL::Vector(2.0, 0, 0), KDL::Vector(0, 0, 1.0)));
+  for (int ms = 0; ms < 3000; ++ms) rig.clock.advance(1ms);
+  const double x2 = rig.measured().p.x();
+  EXPECT_NEAR(x2, 2.0 / 400.0, 0.001);
+  // 10 N asked: the device renders its 3.3 N maximum.
+  rig.force.write(KDL::Wrench(KDL::Vector(10.0, 0, 0), KDL::Vector::Zero()));
+  for (int ms = 0; ms < 3000; ++ms) rig.clock.advance(1ms);
+  EXPECT_NEAR(rig.measured().p.x(), 3.3 / 400.0, 0.001);
+}
+
+TEST(SimulatedOmniPhantom, TheUpdateHookAllocatesNothing) {
+  Rig rig(KDL::Frame(KDL::Vector(0.1, 0, 0)));
+  rig.hand.write(KDL::Frame(KDL::Vector(0.12, 0.01, 0)));
+  rig.force.write(KDL::Wrench(KDL::Vector(1.0, 0, 0), KDL::Vector::Zero()));
+  rig.held.write(2);
+  rig.clock.advance(1ms);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int ms = 0; ms < 500; ++ms) {
+                rig.hand.write(KDL::Frame(KDL::Vector(0.12, 0.01 - 1e-5 * ms, 0)));
+                rig.force.write(KDL::Wrench(KDL::Vector(1.0, 0, 0), KDL::Vector::Zero()));
+                rig.held.write(ms % 4);
+                rig.clock.advance(1ms);
+              }
+            }),
+            0);
+  EXPECT_EQ(rig.omni.state(), core::State::Running);
+}
+
+TEST(SimulatedOmniPhantom, AnInitialPositionOutsideTheWorkspaceIsRefused) {
+  SimulatedOmniPhantom omni("omni");
+  omni.setProperty("initial_position", KDL::Vector(0.5, 0, 0));
+  const core::Result r = omni.configure();
+  EXPECT_FALSE(r);
+  EXPECT_CONTAINS(r.message, "component 'omni': property initial_position: ");
+}
+
+}  // namespace
+}  // namespace cobra::components
