@@ -51,7 +51,8 @@ PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
                "moves on to the next planned needle; answers e_all_needles_done after the last one");
   addOperation("currentNeedle", std::function<int()>([this] { return needle_; }),
                "index of the current needle (0-based; needleCount() when all are done)");
-  addOperation("needleCount", std::function<int()>([this] { return plan_ ? static_cast<int>(plan_->needles.size()) : 0; }),
+  addOperation("needleCount",
+               std::function<int()>([this] { return plan_ ? static_cast<int>(plan_->needles.size()) : 0; }),
                "number of planned needles");
   addOperation("plannedTarget", &PuncturingFrameGenerator::plannedTarget, this,
                "planned tip pose of needle i (0-based) in the world frame, with the latest abdomenFrame (m)")
@@ -125,8 +126,8 @@ const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& dat
 
 void PuncturingFrameGenerator::noData(const std::string& reason) {
   last_failure_ = reason;
-  std::fprintf(stderr, "[cobra] PuncturingFrameGenerator '%s' (%s arm): e_no_data: %s\n", name().c_str(), arm_().c_str(),
-               reason.c_str());
+  std::fprintf(stderr, "[cobra] PuncturingFrameGenerator '%s' (%s arm): e_no_data: %s\n", name().c_str(),
+               arm_().c_str(), reason.c_str());
   emitEvent("e_no_data");
 }
 

@@ -161,7 +161,8 @@ TEST(PuncturingFrameGenerator, MapsThePlanThroughTheMeasuredAbdomenFrame) {
   KDL::Frame target;
   ASSERT_NE(b.target.read(target), core::FlowStatus::NoData);
   EXPECT_TRUE(KDL::Equal(target, abdomen * target_in_a, 1e-12));
-  EXPECT_TRUE(KDL::Equal(b.generator.call<KDL::Frame>("plannedTarget", 1), abdomen * pp::needleTargetPose(b.plan.needles[1]), 1e-12));
+  EXPECT_TRUE(KDL::Equal(b.generator.call<KDL::Frame>("plannedTarget", 1),
+                         abdomen * pp::needleTargetPose(b.plan.needles[1]), 1e-12));
   // The offset stays along the needle in the world: Approach is 2 cm above the entry on the needle axis.
   ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToSkin.Approach.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   const KDL::Frame approach = b.goalPair()[0];
@@ -252,7 +253,8 @@ TEST(PuncturingFrameGenerator, RefusesToConfigureWithBadFilesNamingFileAndLine) 
   }
   {
     Bench b(kScenario + "cryo_plan.txt",
-            writeFile("state_table.txt", "pose change xyz=0,0,0.3 rpy=0,0,0\nstate MoveToSkin needle=nowhere probe=hold\n"));
+            writeFile("state_table.txt",
+                      "pose change xyz=0,0,0.3 rpy=0,0,0\nstate MoveToSkin needle=nowhere probe=hold\n"));
     EXPECT_FALSE(b.configure());
     EXPECT_CONTAINS(b.generator.lastError(), "state_table.txt:2: unknown datum 'nowhere'");
   }
