@@ -28,17 +28,24 @@ std::string deg(double radians) {
   return buffer;
 }
 
-/// Splits "a.b.c" into its components.
-std::vector<std::string_view> components(std::string_view path) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (start <= path.size()) {
-    std::size_t dot = path.find('.', start);
-    if (dot == std::string_view::npos) dot = path.size();
-    out.push_back(path.substr(start, dot - start));
+/// Number of dot-separated components of `path` up to (excluding) character `end`.
+std::size_t componentsBefore(std::string_view path, std::size_t end) {
+  return static_cast<std::size_t>(std::count(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(end), '.')) + 1;
+}
+
+/// Calls `match(end)` for every place where the components of `want` appear contiguously in
+/// `path`, `end` being the character just after the match. Allocates nothing (the Frame
+/// Generator and the scripted surgeon call it from their real-time paths).
+template <class F>
+void forEachMatch(std::string_view path, std::string_view want, F&& match) {
+  for (std::size_t start = 0; start <= path.size();) {
+    const std::size_t end = start + want.size();
+    if (end <= path.size() && path.compare(start, want.size(), want) == 0 && (end == path.size() || path[end] == '.'))
+      match(end);
+    const std::size_t dot = path.find('.', start);
+    if (dot == std::string_view::npos) break;
     start = dot + 1;
   }
-  return out;
 }
 
 /// Closest distance between segments p1-q1 and p2-q2 (Ericson, Real-Time Collision Detection 5.1.9).
@@ -72,21 +79,18 @@ double segmentDistance(const KDL::Vector& p1, const KDL::Vector& q1, const KDL::
 }  // namespace
 
 const StateRow* StateTable::find(std::string_view path) const {
-  const auto have = components(path);
   const StateRow* best = nullptr;
   std::size_t best_end = 0, best_length = 0;
   for (const StateRow& row : rows) {
-    const auto want = components(row.state);
-    if (want.size() > have.size()) continue;
-    for (std::size_t start = 0; start + want.size() <= have.size(); ++start) {
-      if (!std::equal(want.begin(), want.end(), have.begin() + static_cast<std::ptrdiff_t>(start))) continue;
-      const std::size_t end = start + want.size();
-      if (!best || end > best_end || (end == best_end && want.size() > best_length)) {
+    const std::size_t length = componentsBefore(row.state, row.state.size());
+    forEachMatch(path, row.state, [&](std::size_t end_char) {
+      const std::size_t end = componentsBefore(path, end_char);
+      if (!best || end > best_end || (end == best_end && length > best_length)) {
         best = &row;
         best_end = end;
-        best_length = want.size();
+        best_length = length;
       }
-    }
+    });
   }
   return best;
 }
@@ -99,11 +103,9 @@ const KDL::Frame* StateTable::pose(std::string_view name) const {
 }
 
 bool pathContains(std::string_view path, std::string_view state) {
-  const auto have = components(path), want = components(state);
-  for (std::size_t start = 0; start + want.size() <= have.size(); ++start) {
-    if (std::equal(want.begin(), want.end(), have.begin() + static_cast<std::ptrdiff_t>(start))) return true;
-  }
-  return false;
+  bool found = false;
+  forEachMatch(path, state, [&](std::size_t) { found = true; });
+  return found;
 }
 
 KDL::Frame needleTargetPose(const PlannedNeedle& needle) {

@@ -48,6 +48,8 @@ class MultiAxisPath {
   /// Axes of the first waypoint (0 for an empty path).
   std::size_t axisCount() const noexcept { return waypoints_.empty() ? 0 : waypoints_.front().size(); }
   const std::vector<double>& waypoint(std::size_t k) const { return waypoints_.at(k); }
+  /// Waypoint k, writable: lets a writer refill a path of fixed shape without allocating.
+  std::vector<double>& waypoint(std::size_t k) { return waypoints_.at(k); }
   const std::vector<std::vector<double>>& waypoints() const noexcept { return waypoints_; }
 
   friend bool operator==(const MultiAxisPath&, const MultiAxisPath&) = default;

@@ -1,0 +1,197 @@
+#include "cobra/components/puncturing/frame_generator.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace cobra::components {
+namespace {
+
+constexpr std::size_t kArms = 2;  // arm 0 = needle, arm 1 = probe
+
+/// Writes `pose` as x y z qx qy qz qw at `values[arm * 7]` (path_type.hpp's encoding).
+void encode(const KDL::Frame& pose, std::size_t arm, std::vector<double>& values) noexcept {
+  double* out = values.data() + arm * kValuesPerArm;
+  out[0] = pose.p.x();
+  out[1] = pose.p.y();
+  out[2] = pose.p.z();
+  pose.M.GetQuaternion(out[3], out[4], out[5], out[6]);
+}
+
+const char* armName(std::size_t arm) { return arm == 0 ? "needle" : "probe"; }
+
+std::string describe(const puncturing::Datum& datum) {
+  if (datum.offset == 0.0) return datum.name;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%+g", datum.offset);
+  return datum.name + buffer;
+}
+
+}  // namespace
+
+PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
+    : Component(std::move(name), core::Role::Bridge,
+                "Puncturing Frame Generator (thesis §4.5.5): the goal poses of needle and probe for the current task "
+                "state, from the preoperative data, the cryoablation and probe plans and a state table") {
+  addProperty(preoperative_file_);
+  addProperty(cryo_plan_file_);
+  addProperty(probe_plan_file_);
+  addProperty(state_table_file_);
+  addProperty(arm_);
+  addPort(abdomen_frame_);
+  addPort(task_state_);
+  addPort(needle_meas_);
+  addPort(us_meas_);
+  addPort(desired_poses_);
+  addPort(goal_poses_);
+  addPort(needle_target_);
+  addOperation("askCurrentGoal", &PuncturingFrameGenerator::askCurrentGoal, this,
+               "publishes desiredPoses [measured pair, goal pair], goalPoses and needleTarget for the task state on "
+               "currentTaskState; answers e_goal_ready or e_no_data (reason: lastFailure)");
+  addOperation("nextNeedle", &PuncturingFrameGenerator::nextNeedle, this,
+               "moves on to the next planned needle; answers e_all_needles_done after the last one");
+  addOperation("currentNeedle", std::function<int()>([this] { return needle_; }),
+               "index of the current needle (0-based; needleCount() when all are done)");
+  addOperation("needleCount",
+               std::function<int()>([this] { return plan_ ? static_cast<int>(plan_->needles.size()) : 0; }),
+               "number of planned needles");
+  addOperation("plannedTarget", &PuncturingFrameGenerator::plannedTarget, this,
+               "planned tip pose of needle i (0-based) in the world frame, with the latest abdomenFrame (m)")
+      .arg("i", "1", "needle index, 0-based");
+  addOperation("lastFailure", std::function<std::string()>([this] { return last_failure_; }),
+               "why the last askCurrentGoal answered e_no_data (empty when it did not)");
+}
+
+bool PuncturingFrameGenerator::configureHook() {
+  if (arm_() != "needle" && arm_() != "probe")
+    return refuse("property arm is '" + arm_() + "'; expected needle or probe");
+  const std::pair<const core::Property<std::string>*, const char*> files[] = {
+      {&preoperative_file_, "preoperative_info_file"}, {&cryo_plan_file_, "cryo_plan_file"},
+      {&probe_plan_file_, "US_pose_plan_file"}, {&state_table_file_, "state_table_file"}};
+  for (const auto& [file, name] : files) {
+    if ((*file)().empty()) return refuse(std::string("property ") + name + " is empty; give the path of its file");
+  }
+  try {
+    plan_ = puncturing::loadPlan(preoperative_file_(), cryo_plan_file_(), probe_plan_file_());
+    table_ = puncturing::parseStateTable(puncturing::readText(state_table_file_()), state_table_file_());
+  } catch (const std::invalid_argument& e) {
+    plan_.reset();
+    return refuse(e.what());
+  }
+  needle_ = 0;
+  abdomen_ = plan_->preoperative.abdomen_in_task;
+  have_measured_ = {false, false};
+  state_ = {};
+  last_failure_.clear();
+  desired_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
+  goal_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(1, std::vector<double>(kArms * kValuesPerArm)));
+  desired_poses_.setDataSample(desired_);
+  goal_poses_.setDataSample(goal_);
+  return true;
+}
+
+const KDL::Frame& PuncturingFrameGenerator::abdomen() {
+  KDL::Frame sample;
+  if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
+  return abdomen_;
+}
+
+const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& datum, Arm arm, const char*& why) {
+  const auto a = static_cast<std::size_t>(arm);
+  KDL::Frame& out = resolved_[a];
+  if (datum.name == "hold") {
+    if (!have_measured_[a]) {
+      why = arm == Arm::Needle ? "no pose on needleMeasPose yet" : "no pose on USMeasPose yet";
+      return nullptr;
+    }
+    out = measured_[a];
+  } else if (const KDL::Frame* fixed = table_.pose(datum.name)) {
+    out = *fixed;
+  } else {
+    if (static_cast<std::size_t>(needle_) >= plan_->needles.size()) {
+      why = "no more needles (all planned needles are done)";
+      return nullptr;
+    }
+    const auto i = static_cast<std::size_t>(needle_);
+    if (datum.name == "entry") {
+      out = abdomen_ * puncturing::needleEntryPose(plan_->needles[i]);
+    } else if (datum.name == "target") {
+      out = abdomen_ * puncturing::needleTargetPose(plan_->needles[i]);
+    } else {
+      out = abdomen_ * plan_->probes[i].pose;
+    }
+  }
+  if (datum.offset != 0.0) out = puncturing::alongZ(out, datum.offset);
+  return &out;
+}
+
+void PuncturingFrameGenerator::noData(const std::string& reason) {
+  last_failure_ = reason;
+  std::fprintf(stderr, "[cobra] PuncturingFrameGenerator '%s' (%s arm): e_no_data: %s\n", name().c_str(),
+               arm_().c_str(), reason.c_str());
+  emitEvent("e_no_data");
+}
+
+void PuncturingFrameGenerator::askCurrentGoal() {
+  if (!plan_) {
+    noData("not configured: no plan loaded");
+    return;
+  }
+  abdomen();
+  if (needle_meas_.read(measured_[0]) != core::FlowStatus::NoData) have_measured_[0] = true;
+  if (us_meas_.read(measured_[1]) != core::FlowStatus::NoData) have_measured_[1] = true;
+  const bool have_needle = static_cast<std::size_t>(needle_) < plan_->needles.size();
+  if (have_needle) {
+    needle_target_.write(abdomen_ * puncturing::needleTargetPose(plan_->needles[static_cast<std::size_t>(needle_)]));
+  }
+  if (task_state_.read(state_) == core::FlowStatus::NoData) {
+    noData("no task state on currentTaskState yet");
+    return;
+  }
+  const puncturing::StateRow* row = table_.find(state_.path.view());
+  if (row == nullptr) {
+    noData("task state '" + state_.path.str() + "' matches no row of " + state_table_file_());
+    return;
+  }
+  const puncturing::Datum* datums[kArms] = {&row->needle, &row->probe};
+  for (std::size_t a = 0; a < kArms; ++a) {
+    const char* why = "";
+    if (resolve(*datums[a], static_cast<Arm>(a), why) == nullptr) {
+      noData("task state '" + state_.path.str() + "' (" + state_table_file_() + ":" + std::to_string(row->line) +
+             "): " + armName(a) + "=" + describe(*datums[a]) + ": " + why);
+      return;
+    }
+  }
+  for (std::size_t a = 0; a < kArms; ++a) {
+    if (!have_measured_[a]) {
+      noData(std::string("desiredPoses starts at the measured poses: no pose on ") +
+             (a == 0 ? "needleMeasPose" : "USMeasPose") + " yet (task state '" + state_.path.str() + "')");
+      return;
+    }
+  }
+  for (std::size_t a = 0; a < kArms; ++a) {
+    encode(measured_[a], a, desired_.waypoint(0));
+    encode(resolved_[a], a, desired_.waypoint(1));
+    encode(resolved_[a], a, goal_.waypoint(0));
+  }
+  last_failure_.clear();
+  desired_poses_.write(desired_);
+  goal_poses_.write(goal_);
+  emitEvent("e_goal_ready");
+}
+
+void PuncturingFrameGenerator::nextNeedle() {
+  if (!plan_) return;
+  const int count = static_cast<int>(plan_->needles.size());
+  if (needle_ < count) ++needle_;
+  if (needle_ >= count) emitEvent("e_all_needles_done");
+}
+
+KDL::Frame PuncturingFrameGenerator::plannedTarget(int index) {
+  if (!plan_) throw std::invalid_argument("not configured: no plan loaded");
+  if (index < 0 || static_cast<std::size_t>(index) >= plan_->needles.size())
+    throw std::invalid_argument("needle " + std::to_string(index) + " is not planned; the plan has " +
+                                std::to_string(plan_->needles.size()) + " needles (0-based)");
+  return abdomen() * puncturing::needleTargetPose(plan_->needles[static_cast<std::size_t>(index)]);
+}
+
+}  // namespace cobra::components
