@@ -14,9 +14,10 @@
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §4.6-4.7) its deployment and configuration supervisors know.
-local peers = { frames = "NeedleFrames", planner = "Planner", trajectory = "NeedleTrajGen" }
-local D = { planning = "autonomous_planning", primitives = "autonomous_primitives", teleoperated = "teleoperated" }
-local C = { free = "free_motion", penetration = "penetration", insertion = "needle_insertion" }
+local peers = { frames = "NeedleFrames", planner = "NeedlePlanner", trajectory = "NeedleTrajGen" }
+local D = { planning = "needle_autonomous_planning", primitives = "needle_autonomous_primitives",
+            teleoperated = "needle_teleoperated" }
+local C = { free = "needle_free_motion", penetration = "needle_penetration", insertion = "needle_insertion" }
 local defrost_check = 10  -- s in WaitDefreezing before pulling again
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 

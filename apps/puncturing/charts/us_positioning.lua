@@ -11,8 +11,9 @@
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations its deployment and configuration supervisors know.
 local peers = { frames = "ProbeFrames", planner = "ProbePlanner", trajectory = "ProbeTrajGen" }
-local D = { planning = "autonomous_planning", primitives = "autonomous_primitives", teleoperated = "teleoperated" }
-local C = { free = "free_motion", contact = "probe_contact" }
+local D = { planning = "probe_autonomous_planning", primitives = "probe_autonomous_primitives",
+            teleoperated = "probe_teleoperated" }
+local C = { free = "probe_free_motion", contact = "probe_contact" }
 local search_timeout = 60  -- s in SearchingNeedle before the surgeon is asked to react
 local arrival_grace = 1    -- s after the descent ends for the contact that should have ended it
 

@@ -29,7 +29,7 @@ function raise(name) log[#log + 1] = "raise:" .. name end
 local function fake(peer)
   return setmetatable({}, { __index = function(_, op) return function() log[#log + 1] = peer .. ":" .. op end end })
 end
-for _, p in ipairs({ "NeedleFrames", "Planner", "NeedleTrajGen", "ProbeFrames", "ProbePlanner", "ProbeTrajGen" }) do
+for _, p in ipairs({ "NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "ProbeFrames", "ProbePlanner", "ProbeTrajGen" }) do
   _G[p] = fake(p)
 end
 function drain() local text = table.concat(log, "\n") log = {} return text end
@@ -303,11 +303,11 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
       // C: the probe touches the skin; the I-SUR robot moves to the insertion point.
       "us <- e_probe_contact", "us: emit:e_us_positioned", "needle <- e_us_positioned",
       "needle > root.InsertingNeedles.MoveToNeedleChange.Switching", "needle <- e_needle_mounted",
-      "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: Planner:askPlan",
+      "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: NeedlePlanner:askPlan",
       // D: at the phantom, the insertion starts (a motion primitive).
-      "needle: emit:e_deploy_autonomous_primitives", "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching",
+      "needle: emit:e_deploy_needle_autonomous_primitives", "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching",
       // E: the needle touches the skin: penetration configuration.
-      "needle <- e_skin_touched", "needle: emit:e_configure_penetration",
+      "needle <- e_skin_touched", "needle: emit:e_configure_needle_penetration",
       "needle > root.InsertingNeedles.PenetratingSkin.Switching",
       // F: the skin is punctured: the compliant needle insertion configuration.
       "needle <- e_skin_penetrated", "needle: emit:e_configure_needle_insertion",
@@ -338,7 +338,7 @@ TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoT
   record(p);
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   expectInOrder(p, {"needle <- e_forbidden_region", "needle: NeedleTrajGen:askStopMove", "needle > root.WaitReaction",
-                    "needle <- e_take_over", "needle: emit:e_deploy_teleoperated",
+                    "needle <- e_take_over", "needle: emit:e_deploy_needle_teleoperated",
                     "needle: emit:e_configure_needle_insertion", "needle > root.NeedleTeleoperation",
                     "needle <- e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor.Switching",
                     "needle <- e_target_reached", "needle > root.WaitCryoCycle"});

@@ -31,6 +31,7 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
   addPort(ref_pose_);
   addPort(ref_twist_);
   addPort(meas_wrench_);
+  addPort(ext_wrench_);
   addPort(adm_pose_);
   addPort(adm_twist_);
   addPort(tank_energy_);
@@ -90,11 +91,13 @@ void VariableAdmittanceController::updateHook() {
   if (ref_pose_.read(reference_) != core::FlowStatus::NoData) have_reference_ = true;
   (void)ref_twist_.read(reference_twist_);
   (void)meas_wrench_.read(wrench_);
+  if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
   if (!have_reference_) return;
   const double dt = std::chrono::duration<double>(activity().period()).count();
   KDL::Frame pose;
   KDL::Twist twist;
-  const control::AdmittanceStatus status = controller_->step(reference_, reference_twist_, wrench_, dt, pose, twist);
+  const control::AdmittanceStatus status =
+      controller_->step(reference_, reference_twist_, wrench_ + ext_wrench_value_, dt, pose, twist);
   if (status == control::AdmittanceStatus::BadInput) return;
   const bool empty = status == control::AdmittanceStatus::TankEmpty;
   if (empty != tank_empty_) emitEvent(empty ? "e_tank_empty" : "e_tank_refilled");

@@ -13,6 +13,7 @@ EquivalentWrench::EquivalentWrench(std::string name)
   addProperty(change_application_point_);
   addProperty(change_reference_system_);
   addProperty(reference_frame_);
+  addProperty(invert_reference_);
 }
 
 void EquivalentWrench::updateHook() {
@@ -25,8 +26,9 @@ void EquivalentWrench::updateHook() {
   }
   const kinematics::WrenchChange change{change_application_point_(), change_reference_system_()};
   KDL::Wrench wrench;
+  const KDL::Frame c_in_b = invert_reference_() ? frame_.Inverse() : frame_;
   while (in_wrench_.read(wrench) == core::FlowStatus::NewData)
-    out_wrench_.write(kinematics::equivalentWrench(frame_, wrench, change));
+    out_wrench_.write(kinematics::equivalentWrench(c_in_b, wrench, change));
 }
 
 }  // namespace cobra::components

@@ -54,5 +54,18 @@ TEST(EquivalentWrench, MovesTheWrenchToTheToolTipFromThePropertyThenThePort) {
   EXPECT_TRUE(KDL::Equal(rig.apply(measured), measured, 1e-12));
 }
 
+// A tool-frame sensor wrench into base axes at the tool point, from the measured tool pose: the
+// tool's x axis is the base's y axis (RotZ(90°)), so a push along tool x is a push along base y.
+TEST(EquivalentWrench, InvertedReferenceTurnsAToolFrameWrenchIntoBaseAxes) {
+  Rig rig;
+  rig.component.setProperty("invert_reference", true);
+  rig.component.setProperty("change_application_point", false);
+  ASSERT_TRUE(rig.component.configure());
+  ASSERT_TRUE(rig.component.start());
+  rig.frame.write(KDL::Frame(KDL::Rotation::RotZ(std::numbers::pi / 2), KDL::Vector(0.4, 0, 0.3)));
+  const KDL::Wrench in_tool(KDL::Vector(2, 0, 0), KDL::Vector(0, 0, 0.5));
+  EXPECT_TRUE(KDL::Equal(rig.apply(in_tool), KDL::Wrench(KDL::Vector(0, 2, 0), KDL::Vector(0, 0, 0.5)), 1e-12));
+}
+
 }  // namespace
 }  // namespace cobra::components

@@ -18,7 +18,7 @@ namespace cobra::components {
 /// commanded pose —, `constant_inertia` and `constant_stiffness` (the smallest values ever
 /// implemented, fixed at configure), and the tank's `tank_initial`, `tank_max`, `tank_min` (J).
 /// Ports: `refPose`, `refTwist` (the trajectory's set-point), `measWrench` (base frame, N, N·m)
-/// in; `admPose`, `admTwist`, `tankEnergy` (J) out. Needs a periodic activity: dt is its period.
+/// and `extWrench` (added to it while connected: a teleoperation coupling force) in; `admPose`, `admTwist`, `tankEnergy` (J) out. Needs a periodic activity: dt is its period.
 /// Events: e_tank_empty when the variable parts stop being implemented, e_tank_refilled when they
 /// are again, e_bad_parameters when a configuration's matrices are refused (the old ones stay).
 class VariableAdmittanceController : public core::Component {
@@ -48,6 +48,10 @@ class VariableAdmittanceController : public core::Component {
   core::InputPort<KDL::Frame> ref_pose_{"refPose", "reference pose (base frame)", "m"};
   core::InputPort<KDL::Twist> ref_twist_{"refTwist", "reference twist (base frame)", "m/s, rad/s"};
   core::InputPort<KDL::Wrench> meas_wrench_{"measWrench", "measured external wrench (base frame, at the tool point)", "N, N·m"};
+  core::InputPort<KDL::Wrench> ext_wrench_{"extWrench",
+                                           "added to measWrench while connected, e.g. a teleoperation coupling force "
+                                           "(base frame, at the tool point)",
+                                           "N, N·m"};
   core::OutputPort<KDL::Frame> adm_pose_{"admPose", "the admittance's pose", "m"};
   core::OutputPort<KDL::Twist> adm_twist_{"admTwist", "the admittance's twist", "m/s, rad/s"};
   core::OutputPort<double> tank_energy_{"tankEnergy", "energy in the tank", "J"};
@@ -57,6 +61,7 @@ class VariableAdmittanceController : public core::Component {
   KDL::Frame reference_ = KDL::Frame::Identity();
   KDL::Twist reference_twist_ = KDL::Twist::Zero();
   KDL::Wrench wrench_ = KDL::Wrench::Zero();
+  KDL::Wrench ext_wrench_value_ = KDL::Wrench::Zero();
   bool have_reference_ = false;
   bool tank_empty_ = false;
 };

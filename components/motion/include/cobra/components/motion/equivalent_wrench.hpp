@@ -14,6 +14,9 @@ namespace cobra::components {
 /// C's pose relative to B is the last value of `referenceFrame`, or the property
 /// `reference_frame` until that port has delivered one (e.g. the fixed sensor-to-tool-tip offset).
 /// `change_application_point` and `change_reference_system` choose what changes (both: eq. 6.1).
+/// With `invert_reference`, the frame given is B's pose relative to C instead — e.g. a robot's
+/// measured tool pose in its base frame turns a tool-frame sensor wrench into base axes
+/// (`change_application_point = false` keeps it at the tool point).
 /// Real time: allocation-free.
 class EquivalentWrench : public core::Component {
  public:
@@ -32,6 +35,8 @@ class EquivalentWrench : public core::Component {
                                                  "express the wrench in C's axes instead of B's"};
   core::Property<KDL::Frame> reference_frame_{"reference_frame", KDL::Frame::Identity(), "m",
                                               "pose of C relative to B until referenceFrame delivers one"};
+  core::Property<bool> invert_reference_{"invert_reference", false, "",
+                                         "the frame given is B's pose relative to C (e.g. a measured tool pose)"};
   KDL::Frame frame_ = KDL::Frame::Identity();
   bool frame_from_port_ = false;
 };

@@ -1,0 +1,122 @@
+-- One robot's controller for the puncturing task (thesis §4.6-4.8), the same for both robots: the
+-- three deployments of §4.6 (autonomous with motion planning, autonomous with motion primitives,
+-- teleoperated with the two-layer passive coupling) as deployments of the robot's own scope, the
+-- admittance configurations of §4.7, and the task/deployment/configuration supervisors (Fig. 4.21).
+-- Its only links to the other robot are ports carrying events and measured poses.
+--   local controller = dofile(here .. "controller.lua")
+--   controller{ prefix = "Needle", scope = "needle", robot = "ISUR", arm = 1, chart = ..., ... }
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+local charts = here .. "../../../components/coordination/charts/"
+local buffered = { type = "buffer", size = 64 }
+
+return function(c)
+  local P = c.prefix
+  local function n(role) return P .. role end
+  initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim",
+                     "cobra_puncturing" }, {
+    { peer_name = n("Frames"), component_type = "PuncturingFrameGenerator" },
+    { peer_name = n("Planner"), component_type = "MotionPlanner" },
+    { peer_name = n("TrajGen"), component_type = "CartesianTrajectoryGenerator" },
+    { peer_name = n("Wrench"), component_type = "EquivalentWrench" },
+    { peer_name = n("Admittance"), component_type = "VariableAdmittance" },
+    { peer_name = n("Omni"), component_type = "SimulatedOmniPhantom" },
+    { peer_name = n("Transparency"), component_type = "TransparencyLayer" },
+    { peer_name = n("Passivity"), component_type = "PassivityLayer" },
+    { peer_name = n("TaskSup"), component_type = "Supervisor" },
+    { peer_name = n("DepSup"), component_type = "Supervisor" },
+    { peer_name = n("ConfSup"), component_type = "Supervisor" },
+  }, c.configurations)
+  getReferences()
+  local frames, planner, trajgen = _G[n("Frames")], _G[n("Planner")], _G[n("TrajGen")]
+  frames.arm = c.arm == 1 and "needle" or "probe"
+  frames.preoperative_info_file = scenario .. "/preoperative.txt"
+  frames.cryo_plan_file = scenario .. "/cryo_plan.txt"
+  frames.US_pose_plan_file = scenario .. "/us_plan.txt"
+  frames.state_table_file = here .. "../state_table.txt"
+  planner.scene_file = here .. "../../../planning/scenes/puncturing.scene"
+  planner.phantom_pose = c.phantom_pose
+  trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
+  trajgen.max_vel = c.max_vel   -- m/s
+  _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench
+  _G[n("Wrench")].change_application_point = false -- into world axes, at the tool point
+  _G[n("TaskSup")].fsm_path = c.chart
+  _G[n("DepSup")].fsm_path = charts .. "deployment_supervisor.lua"
+  _G[n("ConfSup")].fsm_path = charts .. "configuration_supervisor.lua"
+  addPeers({ { peer_name = n("TaskSup"), peers_to_add = { n("Frames"), n("Planner"), n("TrajGen") } } })
+
+  local always = { n("Wrench"), n("Admittance"), n("TaskSup"), n("DepSup"), n("ConfSup") }
+  local activities = {}
+  for _, name in ipairs({ n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"),
+                          n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
+    activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
+  end
+  activities[#activities + 1] = { peer_name = n("Planner"), period = 0.01 }  -- s: planning outside the 1 kHz loop
+  setActivities(activities)
+
+  local robot, arm = c.robot, tostring(c.arm)
+  local connections = {
+    { output = "ISUR.measCartPose", input = n("Frames") .. ".needleMeasPose" },
+    { output = "UR5.measCartPose", input = n("Frames") .. ".USMeasPose" },
+    { output = n("TaskSup") .. ".taskState", input = n("Frames") .. ".currentTaskState" },
+    { output = "ISUR.measCartPose", input = n("Planner") .. ".isurMeasPose" },
+    { output = "UR5.measCartPose", input = n("Planner") .. ".UR5MeasPose" },
+    { output = robot .. ".measWrench", input = n("Wrench") .. ".inWrench" },
+    { output = robot .. ".measCartPose", input = n("Wrench") .. ".referenceFrame" },
+    { output = n("Wrench") .. ".outWrench", input = n("Admittance") .. ".measWrench" },
+    { output = n("Admittance") .. ".admPose", input = robot .. ".desCartPose" },
+    { output = n("TaskSup") .. ".outputEvents", input = n("DepSup") .. ".inputEvents", conn_policy = buffered },
+    { output = n("TaskSup") .. ".outputEvents", input = n("ConfSup") .. ".inputEvents", conn_policy = buffered },
+  }
+  for _, source in ipairs({ n("Frames"), n("Planner"), n("TrajGen"), n("Admittance"), robot, "Surgeon",
+                            n("DepSup"), n("ConfSup"), table.unpack(c.event_sources) }) do
+    local port = (source == n("DepSup") or source == n("ConfSup")) and ".outputEvents" or ".events"
+    connections[#connections + 1] = { output = source .. port, input = n("TaskSup") .. ".inputEvents",
+                                      conn_policy = buffered }
+  end
+  for _, extra in ipairs(c.connections or {}) do connections[#connections + 1] = extra end
+  connectPorts(connections)
+
+  -- The three operative modes (§4.6). The admittance runs in all of them: its commanded pose stays
+  -- continuous across a switch.
+  local follow = {
+    { output = n("TrajGen") .. ".desCartPose_" .. arm, input = n("Admittance") .. ".refPose" },
+    { output = n("TrajGen") .. ".desCartTwist_" .. arm, input = n("Admittance") .. ".refTwist" },
+  }
+  local function with(list, more)
+    local all = {}
+    for _, x in ipairs(list) do all[#all + 1] = x end
+    for _, x in ipairs(more) do all[#all + 1] = x end
+    return all
+  end
+  defineDeployment(c.scope .. "_autonomous_planning", {
+    scope = c.scope,
+    components = { n("Frames"), n("Planner"), n("TrajGen"), n("Wrench"), n("Admittance") },
+    connections = with(follow, {
+      { output = n("Frames") .. ".goalPoses", input = n("Planner") .. ".goalPoses" },
+      { output = n("Planner") .. ".plannedPath", input = n("TrajGen") .. ".plannedPath" },
+    }),
+  })
+  defineDeployment(c.scope .. "_autonomous_primitives", {
+    scope = c.scope,
+    components = { n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance") },
+    connections = with(follow, { { output = n("Frames") .. ".desiredPoses", input = n("TrajGen") .. ".plannedPath" } }),
+  })
+  defineDeployment(c.scope .. "_teleoperated", {
+    scope = c.scope,
+    components = { n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
+    connections = {
+      { output = n("Omni") .. ".measCartPose", input = n("Transparency") .. ".masterPose" },
+      { output = n("Omni") .. ".measTwist", input = n("Transparency") .. ".masterTwist" },
+      { output = robot .. ".measCartPose", input = n("Transparency") .. ".slavePose" },
+      { output = n("Admittance") .. ".admTwist", input = n("Transparency") .. ".slaveTwist" },
+      { output = n("Transparency") .. ".masterForceDesired", input = n("Passivity") .. ".masterForceDesired" },
+      { output = n("Transparency") .. ".slaveForceDesired", input = n("Passivity") .. ".slaveForceDesired" },
+      { output = n("Omni") .. ".measTwist", input = n("Passivity") .. ".masterTwist" },
+      { output = n("Admittance") .. ".admTwist", input = n("Passivity") .. ".slaveTwist" },
+      { output = n("Passivity") .. ".masterForce", input = n("Omni") .. ".desWrench" },
+      { output = n("Passivity") .. ".slaveForce", input = n("Admittance") .. ".extWrench" },
+    },
+  })
+  configureComponents(always)
+  startComponents(always)
+end

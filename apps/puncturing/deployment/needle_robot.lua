@@ -1,0 +1,17 @@
+-- The I-SUR robot's controller (thesis §4.6-4.8): deployments needle_autonomous_planning,
+-- needle_autonomous_primitives and needle_teleoperated (scope "needle"), configurations
+-- needle_free_motion, needle_penetration and needle_insertion (configurations/needle), the needle
+-- insertion chart (Fig. 4.8). Needs the globals `scenario` and `phantom_pose` (puncturing.lua).
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+dofile(here .. "controller.lua") {
+  prefix = "Needle", scope = "needle", robot = "ISUR", arm = 1,
+  chart = here .. "../charts/needle_insertion.lua",
+  configurations = here .. "configurations/needle",
+  phantom_pose = phantom_pose,
+  max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
+  event_sources = { "NeedleMonitor", "ProbeTaskSup" },
+  connections = {
+    { output = "NeedleFrames.needleTarget", input = "NeedleMonitor.targetPose" },
+    { output = "NeedleTaskSup.taskState", input = "Surgeon.needleTaskState", conn_policy = { type = "buffer", size = 64 } },
+  },
+}

@@ -1,0 +1,53 @@
+-- The simulated world of the puncturing task (thesis §4.3, §4.5.6-4.5.8): the I-SUR robot holding
+-- the needle, the UR5 holding the ultrasound probe, the patient (abdomen phantom, needle-tissue
+-- interaction, iceball, ultrasound image), the situation awareness (two Decision components) and
+-- the scripted surgeon. Swapping a simulated bridge for a real one changes its component_type
+-- here (the sim-only ports trueCartPose, contactWrench, handTarget stay unconnected then).
+-- Geometry as planning/scenes/puncturing.scene: world z up, table top z = 0, phantom top z = 0.1.
+-- Needs the global `scenario` (a folder of apps/puncturing/scenarios).
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+local G = dofile(here .. "geometry.lua")
+local info = G.preoperative(scenario .. "/preoperative.txt")
+
+initConfigurator({ "cobra_sim", "cobra_puncturing" }, {
+  { peer_name = "ISUR", component_type = "SimulatedISURRobot" },
+  { peer_name = "UR5", component_type = "SimulatedUR5Robot" },
+  { peer_name = "Patient", component_type = "PatientSimulator" },
+  { peer_name = "NeedleMonitor", component_type = "NeedleInsertionMonitor" },
+  { peer_name = "USMonitor", component_type = "UltrasoundMonitor" },
+  { peer_name = "Surgeon", component_type = "ScriptedSurgeon" },
+})
+getReferences()
+
+ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
+ISUR.tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)  -- tool z = the needle (the kinematics' tool x)
+ISUR.initial_joints = { 0.12, 0.12, 0.12, 0, 0, 0.785, 0.785, 0 }  -- m, rad: needle down, above the phantom
+UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
+UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
+UR5.initial_joints = { 0.0, -1.9, 1.9, -1.57, -1.57, 0.0 }  -- rad
+Patient.scenario_file = scenario .. "/phantom.txt"
+Patient.phantom_pose = info.abdomen
+Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle
+Patient.thaw_time_constant = 8                       -- s (simulation speed-up of the thaw)
+NeedleMonitor.needle_axis = { 0, 0, 1 }
+NeedleMonitor.forbidden_regions = G.regionsInWorld(info)
+NeedleMonitor.forbidden_margin = 0.001               -- m
+Surgeon.script_file = scenario .. "/surgeon.txt"
+
+local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }
+local activities = {}
+for _, name in ipairs(world) do activities[#activities + 1] = { peer_name = name, period = 0.001 } end
+setActivities(activities)
+connectPorts({
+  { output = "ISUR.trueCartPose", input = "Patient.needleTipPose" },
+  { output = "UR5.trueCartPose", input = "Patient.probePose" },
+  { output = "Patient.needleWrench", input = "ISUR.contactWrench" },
+  { output = "Patient.probeWrench", input = "UR5.contactWrench" },
+  { output = "ISUR.measWrench", input = "NeedleMonitor.measWrench" },
+  { output = "ISUR.measCartPose", input = "NeedleMonitor.measCartPose" },
+  { output = "Patient.needlePlaneDistance", input = "USMonitor.needlePlaneDistance" },
+  { output = "Patient.needleInImage", input = "USMonitor.needleInImage" },
+  { output = "Patient.probeContactForce", input = "USMonitor.probeContactForce" },
+})
+configureComponents(world)
+startComponents(world)

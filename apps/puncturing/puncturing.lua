@@ -1,0 +1,18 @@
+-- The puncturing task (thesis ch. 4) in simulation: the world (deployment/world.lua), the I-SUR
+-- robot's controller (deployment/needle_robot.lua) and the UR5's (deployment/probe_robot.lua),
+-- coordinated only through events. Run it with `./do demo` (build/release/apps/puncturing/
+-- cobra-puncturing), or browse it: cobra console apps/puncturing/puncturing.lua --sim.
+-- `scenario` may be set before this file runs; default: scenarios/two_needles.
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+scenario = scenario or (here .. "scenarios/two_needles")
+local G = dofile(here .. "deployment/geometry.lua")
+local abdomen = G.preoperative(scenario .. "/preoperative.txt").abdomen
+-- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one.
+local nominal_to_abdomen = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
+phantom_pose = nominal_to_abdomen
+
+dofile(here .. "deployment/world.lua")
+dofile(here .. "deployment/needle_robot.lua")
+dofile(here .. "deployment/probe_robot.lua")
+applyDeployment("needle_autonomous_planning")
+applyDeployment("probe_autonomous_planning")
