@@ -3,6 +3,7 @@
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/motion/package.hpp"
+#include "cobra/components/planning/package.hpp"
 
 namespace cobra::tools {
 
@@ -10,6 +11,7 @@ void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_motion", components::registerMotionPackage);
   configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
   configurator.packages().addBuiltin("cobra_control", components::registerControlPackage);
+  configurator.packages().addBuiltin("cobra_planning", components::registerPlanningPackage);
 }
 
 }  // namespace cobra::tools
