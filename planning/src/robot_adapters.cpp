@@ -31,6 +31,17 @@ KDL::JntArray jointArray(std::initializer_list<double> values) {
   return q;
 }
 
+/// Tool poses closer than this to the previous one warm-start from its solution (a step along a
+/// path or an edge); farther ones start from the configured seed, so that the answer for a pose
+/// does not depend on unrelated poses checked before it (random planner samples).
+constexpr double kWarmStartDistance = 0.02;  // m
+constexpr double kWarmStartAngle = 0.2;      // rad
+
+bool near(const KDL::Frame& a, const KDL::Frame& b) {
+  KDL::Vector axis;
+  return (a.p - b.p).Norm() < kWarmStartDistance && (a.M.Inverse() * b.M).GetRotAngle(axis) < kWarmStartAngle;
+}
+
 }  // namespace
 
 KDL::JntArray Ur5Model::defaultSeed() { return jointArray({0.5, -1.9, -1.7, 2.0, -1.5708, 0.0}); }
@@ -44,9 +55,11 @@ void Ur5Model::setSeed(const KDL::JntArray& q) {
   requireSeed(q, 6, "UR5");
   seed_ = q;
   initial_ = q;
+  has_previous_ = false;
 }
 
 Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
+  if (!has_previous_ || !near(tools_in_base[0], previous_)) seed_.data = initial_.data;
   if (solver_.allInverse(tools_in_base[0], seed_, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
   // The branch of the configured seed: elbow (sign of q3) and wrist (sign of q5) as in initial_,
   // shoulder (the two q1 solutions) nearest to initial_'s q1. A value at 0 (arm stretched, wrist
@@ -77,6 +90,8 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
   if (!solver_.model().linkFrames(std::span<const double>(q_.data.data(), 6), links_in_base))
     return Reachability::Unreachable;
   seed_.data = q_.data;
+  previous_ = tools_in_base[0];
+  has_previous_ = true;
   return Reachability::Reachable;
 }
 
@@ -91,13 +106,17 @@ void IsurPuncturingModel::setSeed(const KDL::JntArray& q) {
   requireSeed(q, kinematics::IsurPuncturingSolver::kJoints, "I-SUR");
   seed_ = q;
   initial_ = q;
+  has_previous_ = false;
 }
 
 Reachability IsurPuncturingModel::solve(std::span<const KDL::Frame> tools_in_base,
                                         std::span<KDL::Frame> links_in_base) {
+  if (!has_previous_ || !near(tools_in_base[0], previous_)) seed_.data = initial_.data;
   if (solver_.inverse(tools_in_base[0], seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
   seed_.data = q_.data;
+  previous_ = tools_in_base[0];
+  has_previous_ = true;
   return Reachability::Reachable;
 }
 
@@ -114,12 +133,17 @@ void IsurSuturingModel::setSeed(const KDL::JntArray& q) {
   requireSeed(q, kinematics::IsurSuturingSolver::kJoints, "I-SUR suturing");
   seed_ = q;
   initial_ = q;
+  has_previous_ = false;
 }
 
 Reachability IsurSuturingModel::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
+  if (!has_previous_ || !near(tools_in_base[0], previous_[0]) || !near(tools_in_base[1], previous_[1]))
+    seed_.data = initial_.data;
   if (solver_.inverse(tools_in_base[0], tools_in_base[1], seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
   seed_.data = q_.data;
+  previous_ = {tools_in_base[0], tools_in_base[1]};
+  has_previous_ = true;
   return Reachability::Reachable;
 }
 

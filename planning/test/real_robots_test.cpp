@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <limits>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
@@ -127,6 +129,30 @@ TEST_F(PuncturingScene, UnreachablePosesNameTheRobot) {
   result = validator.check({kFree.first, probeDown(-0.95, 0.0, 0.3)});
   EXPECT_EQ(result.validity, Validity::Unreachable);
   EXPECT_EQ(result.robot, "ur5");
+}
+
+// The warm start only follows small steps: for unrelated states the answer does not depend on the
+// states checked before (the planner samples far-apart states in an arbitrary order).
+TEST_F(PuncturingScene, ValidityOfUnrelatedStatesDoesNotDependOnTheOrderOfChecks) {
+  StateValidator validator = makeValidator();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> tilt(-0.5, 0.5), x(-0.15, 0.15), z(0.15, 0.3), px(-0.3, 0.35), py(-0.3, 0.3),
+      pz(0.03, 0.35), yaw(-kPi, kPi);
+  std::vector<DualPose> states;
+  for (int i = 0; i < 400; ++i)
+    states.push_back({KDL::Frame(KDL::Rotation::RPY(tilt(rng), tilt(rng), 0.0) * KDL::Rotation::RotY(kPi / 2),
+                                 KDL::Vector(x(rng), x(rng), z(rng))),
+                      KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * KDL::Rotation::RotX(kPi), KDL::Vector(px(rng), py(rng), pz(rng)))});
+  std::vector<Validity> forward, backward(states.size());
+  for (const DualPose& q : states) forward.push_back(validator.check(q).validity);
+  for (std::size_t i = states.size(); i-- > 0;) backward[i] = validator.check(states[i]).validity;
+  int valid = 0;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    EXPECT_EQ(forward[i], backward[i]) << "state " << i;
+    valid += forward[i] == Validity::Valid ? 1 : 0;
+  }
+  EXPECT_GT(valid, 40);  // the sample mixes valid and invalid states
+  EXPECT_LT(valid, 360);
 }
 
 TEST_F(PuncturingScene, NanPoseIsInvalidInput) {

@@ -6,12 +6,14 @@
 ///  - `IsurPuncturingModel`: the 8-DOF I-SUR with the needle (puncturing, tool 0 of q);
 ///  - `IsurSuturingModel`: the two-armed 14-DOF I-SUR, ONE solver for both tools (Algorithm 5.1,
 ///    thesis §5.4.1).
-/// Each solve() warm-starts from the previous solution (the joint values nearest to it: analytic
-/// branch choice for the UR5, redundancy split for the I-SUR), so neighbouring planner states get
-/// neighbouring configurations as in the thesis; the result of one query therefore depends on the
-/// previous one (deterministic for a deterministic sequence). setSeed() resets it. solve() is
-/// noexcept and allocates nothing (all joint arrays are preallocated).
+/// solve() warm-starts from the previous solution when the tool poses moved less than 0.02 m and
+/// 0.2 rad since the previous reachable call (a step along a path or a planner edge: neighbouring
+/// states get neighbouring configurations, as in the thesis), and from the configured seed
+/// otherwise (unrelated planner samples), so that a state's answer does not depend on the states
+/// checked before it except along such a chain of small steps. resetWarmStart() forgets the
+/// previous solution. solve() allocates nothing (all joint arrays are preallocated).
 
+#include <array>
 #include <span>
 
 #include <kdl/frames.hpp>
@@ -49,7 +51,10 @@ class Ur5Model final : public RobotModel {
   std::size_t linkCount() const override { return 8; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override { seed_.data = initial_.data; }
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
 
   /// Next solve() (and every one after resetWarmStart()) starts from `q` (6 joints, rad).
   /// @throws std::invalid_argument otherwise.
@@ -64,6 +69,8 @@ class Ur5Model final : public RobotModel {
   KDL::JntArray initial_;
   KDL::JntArray seed_;
   KDL::JntArray q_;
+  KDL::Frame previous_;
+  bool has_previous_ = false;
 };
 
 /// I-SUR puncturing robot (8 DOF). Links: kinematics::IsurPuncturingSolver::linkFrames (0 turntable,
@@ -80,7 +87,10 @@ class IsurPuncturingModel final : public RobotModel {
   std::size_t linkCount() const override { return kinematics::IsurPuncturingSolver::kLinks; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override { seed_.data = initial_.data; }
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
 
   /// Next solve() (and every one after resetWarmStart()) starts from `q` (8 joints, m and rad).
   /// @throws std::invalid_argument otherwise.
@@ -93,6 +103,8 @@ class IsurPuncturingModel final : public RobotModel {
   KDL::JntArray initial_;
   KDL::JntArray seed_;
   KDL::JntArray q_;
+  KDL::Frame previous_;
+  bool has_previous_ = false;
 };
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
@@ -109,7 +121,10 @@ class IsurSuturingModel final : public RobotModel {
   std::size_t linkCount() const override { return kinematics::IsurSuturingSolver::kLinks; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override { seed_.data = initial_.data; }
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
 
   void setSeed(const KDL::JntArray& q);
   const KDL::JntArray& joints() const { return seed_; }
@@ -120,6 +135,8 @@ class IsurSuturingModel final : public RobotModel {
   KDL::JntArray initial_;
   KDL::JntArray seed_;
   KDL::JntArray q_;
+  std::array<KDL::Frame, 2> previous_;
+  bool has_previous_ = false;
 };
 
 /// The real robot models for the robots of `scene`, by name: `ur5` → Ur5Model; `isur` with one
