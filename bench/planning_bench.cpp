@@ -1,20 +1,23 @@
-// Cost of the motion planner's building blocks (thesis §4.5.1, DESIGN §8) on a puncturing-like
-// scene: planning/test/data/two_robots.scene (a gantry stand-in for the I-SUR with column, tool
-// and needle; a free-flying stand-in for the UR5 with its probe; table and a mesh phantom) plus a
-// wall between the start and the goal of the gantry's tool. The stand-in robots' IK costs almost
-// nothing, so the figures are those of the FCL side (object updates, broadphase, distances).
+// Cost of the motion planner (thesis §4.5.1, DESIGN §8) on the shipped puncturing scene
+// (planning/scenes/puncturing.scene) with the REAL robot models (planning::makeRobotModels: the
+// I-SUR puncturing kinematics and the UR5 closed form), and, as a peer, the same FCL work with the
+// stand-in robots of the library tests (two_robots.scene + a wall: IK costs nothing there).
 //
-//  - ValidityCheck/*: StateValidator::check() on 4096 seeded random states inside the planner's
-//    bounds (random orientations), cycled; `checks_per_s` is the rate. Target >= 20,000/s.
-//    `valid_fraction` says how many of these states were valid.
-//  - Plan/<planner>: one benchmark iteration = 100 seeded planning queries (seeds 1..100) of the
-//    same start/goal; counters `median_ms`, `p95_ms`, `max_ms` of the planning time and
-//    `success_rate` (time limit 0.5 s per query), and `cpu_median_ms`, the median process CPU time
-//    per query (the wall-clock figures include waiting for the core on a shared machine).
-//    RRT-Connect (the thesis' choice) side by side with plain RRT and PRM, OMPL's defaults
-//    otherwise. Target: RRT-Connect median <= 50 ms.
-// Validity checks run 10 repetitions (median and max reported); planning runs once (100 queries
-// already make the statistics, and RRT can take 100 x 0.5 s).
+//  - ValidityCheck/puncturing_random: StateValidator::check() on 4096 seeded random states in the
+//    planner's bounds (random orientations: most are unreachable for the I-SUR and rejected after
+//    its IK), cycled; `checks_per_s` is the rate (target >= 20,000/s), `valid_fraction` how many
+//    were valid, `allocs_per_check` the operator new calls per check (FCL's narrow phase).
+//  - ValidityCheck/puncturing_valid: the same on 4096 VALID states (needle within 30 deg of
+//    vertical, probe pointing down: rejection-sampled), where all five group pairs are queried:
+//    the worst case, and the State Validator component's cost per teleoperation set-point.
+//  - ValidityCheck/stand_in_peer: the library tests' stand-in scene (FCL only).
+//  - Plan/<planner>: one iteration = 100 seeded planning queries (seeds 1..100) moving the probe
+//    around the phantom (the query of planning/test/real_robots_test.cpp); counters `median_ms`,
+//    `p95_ms`, `max_ms` of the planning time, `success_rate` (time limit 0.5 s per query) and
+//    `cpu_median_ms` (process CPU time; wall-clock figures include waiting for a shared core).
+//    RRT-Connect (the thesis' choice) side by side with plain RRT and PRM. Target: RRT-Connect
+//    median <= 50 ms and 100 % success.
+// Validity checks run 10 repetitions (median and max reported); planning runs once.
 
 #include <benchmark/benchmark.h>
 
@@ -30,7 +33,9 @@
 #include <time.h>
 
 #include "../planning/test/stand_in_robots.hpp"
+#include "../test_support/include/cobra/test_support/counting_new.hpp"
 #include "cobra/planning/motion_planner.hpp"
+#include "cobra/planning/robot_adapters.hpp"
 
 namespace {
 
@@ -50,7 +55,7 @@ double processCpuSeconds() {
 
 double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
-SceneDescription benchScene() {
+SceneDescription standInScene() {
   const std::string dir = std::string(COBRA_SOURCE_DIR) + "/planning/test/data";
   std::ifstream file(dir + "/two_robots.scene");
   std::ostringstream text;
@@ -58,20 +63,38 @@ SceneDescription benchScene() {
   return parseScene(text.str(), "two_robots.scene + wall", dir);
 }
 
-StateValidator makeValidator() {
-  return StateValidator(benchScene(), {{"isur", std::make_shared<test::StandInGantry>(0.5, 0.15, 0.8, 0.1)},
+StateValidator makeStandInValidator() {
+  return StateValidator(standInScene(), {{"isur", std::make_shared<test::StandInGantry>(0.5, 0.15, 0.8, 0.1)},
                                        {"ur5", std::make_shared<test::StandInFreeFlyer>(KDL::Vector(0, 0, 0.3), 0.7)}});
 }
 
+PlannerOptions standInOptions() {
+  PlannerOptions o;
+  o.first_bounds = {{-0.45, -0.45, 0.2}, {0.45, 0.45, 0.45}};
+  o.second_bounds = {{-0.45, -0.1, 0.2}, {0.45, 0.6, 0.5}};
+  return o;
+}
+
+StateValidator makePuncturingValidator() {
+  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/scenes/puncturing.scene");
+  RobotModels models = makeRobotModels(scene);
+  return StateValidator(std::move(scene), std::move(models));
+}
+
+/// The bounds of planning/test/real_robots_test.cpp: needle around the phantom's top, probe around the phantom.
 PlannerOptions plannerOptions(const std::string& planner, std::uint32_t seed) {
   PlannerOptions o;
   o.planner = planner;
   o.seed = seed;
   o.time_limit = kPlanningTimeLimit;
-  o.first_bounds = {{-0.45, -0.45, 0.2}, {0.45, 0.45, 0.45}};
-  o.second_bounds = {{-0.45, -0.1, 0.2}, {0.45, 0.6, 0.5}};
+  o.first_bounds = {{-0.15, -0.15, 0.15}, {0.15, 0.15, 0.3}};
+  o.second_bounds = {{-0.3, -0.3, 0.03}, {0.35, 0.3, 0.35}};
   return o;
 }
+
+constexpr double kPi = 3.141592653589793;
+KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
+KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
 
 KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -84,13 +107,9 @@ KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   return KDL::Frame(KDL::Rotation::Quaternion(x / n, y / n, z / n, w / n), p);
 }
 
-void BM_ValidityCheck(benchmark::State& state) {
-  StateValidator validator = makeValidator();
-  const PlannerOptions o = plannerOptions("RRTConnect", 1);
-  std::mt19937 rng(7);
-  std::vector<DualPose> states(4096);
-  for (DualPose& q : states) q = {randomPose(rng, o.first_bounds), randomPose(rng, o.second_bounds)};
+void runChecks(benchmark::State& state, StateValidator& validator, const std::vector<DualPose>& states) {
   std::size_t next = 0, valid = 0, checks = 0;
+  const long allocations_before = cobra::test_support::newCalls();
   for (auto _ : state) {
     const ValidityResult result = validator.check(states[next]);
     benchmark::DoNotOptimize(result);
@@ -100,15 +119,57 @@ void BM_ValidityCheck(benchmark::State& state) {
   }
   state.counters["checks_per_s"] = benchmark::Counter(static_cast<double>(checks), benchmark::Counter::kIsRate);
   state.counters["valid_fraction"] = static_cast<double>(valid) / static_cast<double>(checks);
+  state.counters["allocs_per_check"] =
+      static_cast<double>(cobra::test_support::newCalls() - allocations_before) / static_cast<double>(checks);
 }
-BENCHMARK(BM_ValidityCheck)->Name("ValidityCheck/random_states")->Repetitions(kRepetitions)->ReportAggregatesOnly(true)
-    ->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
+
+void BM_ValidityRandom(benchmark::State& state) {
+  StateValidator validator = makePuncturingValidator();
+  const PlannerOptions o = plannerOptions("RRTConnect", 1);
+  std::mt19937 rng(7);
+  std::vector<DualPose> states(4096);
+  for (DualPose& q : states) q = {randomPose(rng, o.first_bounds), randomPose(rng, o.second_bounds)};
+  runChecks(state, validator, states);
+}
+BENCHMARK(BM_ValidityRandom)->Name("ValidityCheck/puncturing_random")->Repetitions(kRepetitions)
+    ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
+
+void BM_ValidityValid(benchmark::State& state) {
+  StateValidator validator = makePuncturingValidator();
+  const PlannerOptions o = plannerOptions("RRTConnect", 1);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> tilt(-0.5, 0.5), yaw(-kPi, kPi), unit(0.0, 1.0);
+  std::vector<DualPose> states;
+  while (states.size() < 4096) {
+    const auto position = [&](const PositionBounds& b) {
+      return KDL::Vector(b.low[0] + unit(rng) * (b.high[0] - b.low[0]), b.low[1] + unit(rng) * (b.high[1] - b.low[1]),
+                         b.low[2] + unit(rng) * (b.high[2] - b.low[2]));
+    };
+    const DualPose q{KDL::Frame(KDL::Rotation::RPY(tilt(rng), tilt(rng), 0.0) * needleDown(0, 0, 0).M,
+                                position(o.first_bounds)),
+                     KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * probeDown(0, 0, 0).M, position(o.second_bounds))};
+    if (validator.isStateValid(q)) states.push_back(q);
+  }
+  runChecks(state, validator, states);
+}
+BENCHMARK(BM_ValidityValid)->Name("ValidityCheck/puncturing_valid")->Repetitions(kRepetitions)
+    ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
+
+void BM_ValidityStandIn(benchmark::State& state) {
+  StateValidator validator = makeStandInValidator();
+  const PlannerOptions o = standInOptions();
+  std::mt19937 rng(7);
+  std::vector<DualPose> states(4096);
+  for (DualPose& q : states) q = {randomPose(rng, o.first_bounds), randomPose(rng, o.second_bounds)};
+  runChecks(state, validator, states);
+}
+BENCHMARK(BM_ValidityStandIn)->Name("ValidityCheck/stand_in_peer")->Repetitions(kRepetitions)
+    ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
 void BM_Plan(benchmark::State& state, const std::string& planner) {
-  StateValidator validator = makeValidator();
-  const DualPose start{KDL::Frame(KDL::Vector(-0.25, 0, 0.3)), KDL::Frame(KDL::Vector(0, 0.42, 0.3))};
-  const DualPose goal{KDL::Frame(KDL::Rotation::RPY(0.3, 0, 0.5), KDL::Vector(0.25, 0, 0.3)),
-                      KDL::Frame(KDL::Rotation::RotZ(1.0), KDL::Vector(0.2, 0.42, 0.3))};
+  StateValidator validator = makePuncturingValidator();
+  const DualPose start{needleDown(0.0, 0.0, 0.2), probeDown(-0.2, 0.0, 0.06)};
+  const DualPose goal{needleDown(0.0, 0.0, 0.2), probeDown(0.25, 0.0, 0.06)};
   std::vector<double> times_ms, cpu_ms;
   int solved = 0;
   for (auto _ : state) {

@@ -114,6 +114,22 @@ IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& 
   return IkStatus::Ok;
 }
 
+IkStatus IsurPuncturingSolver::linkFrames(const KDL::JntArray& q, std::span<KDL::Frame> frames) const noexcept {
+  if (frames.size() != kLinks) return IkStatus::BadInput;
+  KDL::Frame platform;
+  const IkStatus status = platformPose(q, platform);
+  if (status != IkStatus::Ok) return status;
+  const IsurMicroArm& m = geometry_.micro;
+  frames[0] = KDL::Frame(KDL::Rotation::RotZ(q(3)));
+  frames[1] = platform;
+  frames[2] = platform * KDL::Frame(m.mount) * KDL::Frame(KDL::Rotation::RotZ(q(4)));
+  frames[3] = frames[2] * KDL::Frame(m.shoulder) * KDL::Frame(KDL::Rotation::RotY(q(5)));
+  frames[4] = frames[3] * KDL::Frame(KDL::Vector(m.upper_arm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotY(q(6)));
+  frames[5] = frames[4] * KDL::Frame(KDL::Vector(m.forearm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotX(q(7))) *
+              KDL::Frame(m.tool);
+  return IkStatus::Ok;
+}
+
 IkStatus IsurPuncturingSolver::forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept {
   KDL::Frame platform;
   const IkStatus status = platformPose(q, platform);
@@ -222,6 +238,24 @@ IkStatus IsurSuturingSolver::forward(const KDL::JntArray& q, KDL::Frame& stitch_
   if (status != IkStatus::Ok) return status;
   stitch_tool = stitch;
   gripper = platform * left_mount_ * left_tool;
+  return IkStatus::Ok;
+}
+
+IkStatus IsurSuturingSolver::linkFrames(const KDL::JntArray& q, std::span<KDL::Frame> frames) noexcept {
+  if (!validJointArray(q, kJoints) || frames.size() != kLinks) return IkStatus::BadInput;
+  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) q_right_(j) = q(j);
+  std::array<KDL::Frame, IsurPuncturingSolver::kLinks> right{};
+  const IkStatus status = right_.linkFrames(q_right_, right);
+  if (status != IkStatus::Ok) return status;
+  // The 6-DOF arm's frames: DH frame 0 at platform·left_mount, then its DH frames 1..6 and tool.
+  std::array<KDL::Frame, 8> left{};
+  std::array<double, 6> q_left{};
+  for (unsigned j = 0; j < 6; ++j) q_left[j] = q(IsurPuncturingSolver::kJoints + j);
+  if (!left_.model().linkFrames(q_left, left)) return IkStatus::BadInput;
+  const KDL::Frame left_base = right[1] * left_mount_;
+  for (std::size_t i = 0; i < right.size(); ++i) frames[i] = right[i];
+  for (std::size_t i = 1; i <= 5; ++i) frames[5 + i] = left_base * left[i];
+  frames[11] = left_base * left[7];
   return IkStatus::Ok;
 }
 

@@ -78,6 +78,14 @@ KDL::Frame SerialChainModel::forward(std::span<const double> q) const noexcept {
   return pose * tool_;
 }
 
+bool SerialChainModel::linkFrames(std::span<const double> q, std::span<KDL::Frame> frames) const noexcept {
+  if (q.size() != rows_.size() || frames.size() != linkCount()) return false;
+  frames[0] = base_;
+  for (std::size_t i = 0; i < rows_.size(); ++i) frames[i + 1] = frames[i] * dhTransform(rows_[i], q[i]);
+  frames[rows_.size() + 1] = frames[rows_.size()] * tool_;
+  return true;
+}
+
 struct SerialChainSolver::Workspace {
   explicit Workspace(const SerialChainModel& model, const IterativeIkOptions& options)
       : fk(model.chain()),

@@ -9,10 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <numbers>
 #include <random>
+#include <utility>
 
 #include "cobra/kinematics/geometry.hpp"
 #include "cobra/test_support/counting_new.hpp"
@@ -273,6 +275,97 @@ TEST(IsurSuturing, UnreachableGripperLeavesTheOutputUntouched) {
   EXPECT_EQ(isur.inverse(stitch, KDL::Frame(gripper.p + KDL::Vector(1.0, 0.0, 0.0)), q, out), IkStatus::Unreachable);
   EXPECT_TRUE(test::isFilled(out, 42.0));
   EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.inverse(stitch, gripper, q, out), IkStatus::Ok); }), 0);
+}
+
+
+
+// Every link frame against KDL's FK of the equivalent serial chain, segment by segment, on 500
+// seeded random configurations; the last link is forward()'s needle pose.
+TEST(IsurPuncturing, LinkFramesMatchKdlSegmentsAndTheToolForwardKinematics) {
+  IsurPuncturingSolver isur;
+  const IsurMicroArm& m = isur.geometry().micro;
+  const KDL::Chain chain = cartesianMacroChain(m);
+  KDL::ChainFkSolverPos_recursive kdl(chain);
+  std::mt19937 rng(47);
+  std::array<KDL::Frame, IsurPuncturingSolver::kLinks> links{};
+  for (int i = 0; i < 500; ++i) {
+    const KDL::JntArray q = randomJoints(isur.limits(), rng, 0.0);
+    ASSERT_EQ(isur.linkFrames(q, links), IkStatus::Ok);
+    KDL::Frame tool;
+    ASSERT_EQ(isur.forward(q, tool), IkStatus::Ok);
+    EXPECT_LT(norm(links[5].p - tool.p), 1e-12);
+    EXPECT_LT(orientationError(links[5].M, tool.M), 1e-12);
+    KDL::Vector p_delta;
+    ASSERT_EQ(isur.macro().forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta), IkStatus::Ok);
+    KDL::JntArray chain_q(8);
+    chain_q(0) = q(3);
+    chain_q(1) = p_delta.x();
+    chain_q(2) = p_delta.y();
+    chain_q(3) = p_delta.z();
+    for (unsigned j = 4; j < 8; ++j) chain_q(j) = q(j);
+    // KDL segment k's frame = joint_k(q)·tip_k: the link frame times the segment's fixed offset.
+    const std::array<std::pair<int, KDL::Frame>, 6> expected = {
+        std::pair{1, links[0]},
+        std::pair{4, links[1] * KDL::Frame(m.mount)},
+        std::pair{5, links[2] * KDL::Frame(m.shoulder)},
+        std::pair{6, links[3] * KDL::Frame(KDL::Vector(m.upper_arm, 0, 0))},
+        std::pair{7, links[4] * KDL::Frame(KDL::Vector(m.forearm, 0, 0))},
+        std::pair{8, links[5]}};
+    for (const auto& [segment, frame] : expected) {
+      KDL::Frame by_kdl;
+      ASSERT_GE(kdl.JntToCart(chain_q, by_kdl, segment), 0);
+      EXPECT_LT(norm(frame.p - by_kdl.p), 1e-12) << "segment " << segment;
+      EXPECT_LT(orientationError(frame.M, by_kdl.M), 1e-12) << "segment " << segment;
+    }
+  }
+}
+
+TEST(IsurPuncturing, LinkFramesRejectWrongSizesAndAllocateNothing) {
+  IsurPuncturingSolver isur;
+  KDL::JntArray q(8);
+  q(0) = q(1) = q(2) = 0.1;
+  std::array<KDL::Frame, IsurPuncturingSolver::kLinks> links{};
+  std::array<KDL::Frame, 3> too_few{};
+  EXPECT_EQ(isur.linkFrames(q, too_few), IkStatus::BadInput);
+  EXPECT_EQ(isur.linkFrames(KDL::JntArray(7), links), IkStatus::BadInput);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.linkFrames(q, links), IkStatus::Ok); }), 0);
+}
+
+// The suturing robot's link frames: the first six are the puncturing structure's, the left arm's
+// frames are KDL's FK of its DH chain mounted on the platform, the last is the gripper.
+TEST(IsurSuturing, LinkFramesMatchBothArmsAndTheToolForwardKinematics) {
+  IsurSuturingSolver isur;
+  IsurPuncturingSolver right;
+  const IsurSuturingGeometry geometry;
+  const Puma260Solver left(geometry.left, geometry.left_limits);
+  KDL::ChainFkSolverPos_recursive kdl(left.model().chain());
+  std::mt19937 rng(53);
+  std::array<KDL::Frame, IsurSuturingSolver::kLinks> links{};
+  std::array<KDL::Frame, IsurPuncturingSolver::kLinks> right_links{};
+  for (int i = 0; i < 300; ++i) {
+    const KDL::JntArray q = randomJoints(isur.limits(), rng, 0.0);
+    ASSERT_EQ(isur.linkFrames(q, links), IkStatus::Ok);
+    KDL::Frame stitch, gripper;
+    ASSERT_EQ(isur.forward(q, stitch, gripper), IkStatus::Ok);
+    EXPECT_LT(norm(links[5].p - stitch.p), 1e-12);
+    EXPECT_LT(norm(links[11].p - gripper.p), 1e-12);
+    EXPECT_LT(orientationError(links[11].M, gripper.M), 1e-12);
+    KDL::JntArray q_right(8), q_left(6);
+    for (unsigned j = 0; j < 8; ++j) q_right(j) = q(j);
+    for (unsigned j = 0; j < 6; ++j) q_left(j) = q(8 + j);
+    ASSERT_EQ(right.linkFrames(q_right, right_links), IkStatus::Ok);
+    for (std::size_t k = 0; k < right_links.size(); ++k) EXPECT_LT(norm(links[k].p - right_links[k].p), 1e-12);
+    // KDL chain segments: 0 base (fixed), 1..6 the DH links, 7 the tool.
+    for (int joint = 1; joint <= 5; ++joint) {
+      KDL::Frame by_kdl;
+      ASSERT_GE(kdl.JntToCart(q_left, by_kdl, joint + 1), 0);
+      const KDL::Frame expected = links[1] * geometry.left_mount * by_kdl;
+      EXPECT_LT(norm(links[5 + static_cast<std::size_t>(joint)].p - expected.p), 1e-12) << "left joint " << joint;
+      EXPECT_LT(orientationError(links[5 + static_cast<std::size_t>(joint)].M, expected.M), 1e-12);
+    }
+  }
+  KDL::JntArray q(14);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(isur.linkFrames(q, links), IkStatus::Ok); }), 0);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <numbers>
@@ -241,6 +242,38 @@ TEST(Ur5, RealTimeCallsAllocateNothing) {
   EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(ur5.inverse(pose, q, out), IkStatus::Ok); }), 0);
   const KDL::Frame far(KDL::Vector(3.0, 0.0, 0.0));
   EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(ur5.inverse(far, q, out), IkStatus::Unreachable); }), 0);
+}
+
+
+// Link frames against KDL's FK of the same DH chain, segment by segment (segment 0 = base, i = DH
+// frame i, 7 = tool), on 500 seeded random configurations; the last link is the tool pose.
+TEST(Ur5, LinkFramesMatchKdlSegmentsAndTheToolForwardKinematics) {
+  const KDL::Frame base(KDL::Rotation::RotZ(0.3), KDL::Vector(0.55, 0.0, 0.0));
+  const KDL::Frame tool(KDL::Vector(0.0, 0.0, 0.12));
+  Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
+  const SerialChainModel& model = ur5.model();
+  ASSERT_EQ(model.linkCount(), 8u);
+  KDL::ChainFkSolverPos_recursive kdl(model.chain());
+  std::mt19937 rng(59);
+  std::array<KDL::Frame, 8> links{};
+  for (int i = 0; i < 500; ++i) {
+    const KDL::JntArray q = randomJoints(rng);
+    ASSERT_TRUE(model.linkFrames(std::span<const double>(q.data.data(), 6), links));
+    KDL::Frame pose;
+    ASSERT_EQ(ur5.forward(q, pose), IkStatus::Ok);
+    EXPECT_LT(norm(links[7].p - pose.p), 1e-12);
+    EXPECT_LT(orientationError(links[7].M, pose.M), 1e-12);
+    for (int segment = 0; segment < 8; ++segment) {
+      KDL::Frame by_kdl;
+      ASSERT_GE(kdl.JntToCart(q, by_kdl, segment + 1), 0);
+      EXPECT_LT(norm(links[static_cast<std::size_t>(segment)].p - by_kdl.p), 1e-12) << "link " << segment;
+      EXPECT_LT(orientationError(links[static_cast<std::size_t>(segment)].M, by_kdl.M), 1e-12) << "link " << segment;
+    }
+  }
+  std::array<KDL::Frame, 7> too_few{};
+  const std::array<double, 6> q{};
+  EXPECT_FALSE(model.linkFrames(q, too_few));
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_TRUE(model.linkFrames(q, links)); }), 0);
 }
 
 }  // namespace

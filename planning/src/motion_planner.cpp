@@ -148,6 +148,7 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
   const auto finish = [&](PlanStatus status, std::string message) {
     return finished(std::move(result), status, std::move(message), started);
   };
+  validator_.resetWarmStart();  // the query's answer must not depend on the checks before it
   if (!isFinitePose(start) || !isFinitePose(goal))
     return finish(PlanStatus::InvalidInput, std::string(isFinitePose(start) ? "goal" : "start") +
                                                 " pose has a NaN/infinite value or a non-orthonormal rotation");
@@ -206,6 +207,9 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   for (unsigned i = 0; i < path.getStateCount(); ++i) result.waypoints.push_back(toDualPose(*path.getState(i)));
 
   // Verify every segment densely: edges were checked at edge_resolution, the contract is stronger.
+  // The walk starts from the start state's IK solution, as the robots would move along the path.
+  validator_.resetWarmStart();
+  result.rejected = validator_.check(start);
   ob::State* between = space->allocState();
   const double steps = static_cast<double>(options_.verify_points_per_segment);
   for (unsigned i = 0; i + 1 < path.getStateCount() && result.rejected.valid(); ++i) {

@@ -115,6 +115,10 @@ ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {
   return result;
 }
 
+void StateValidator::resetWarmStart() {
+  for (const auto& model : models_) model->resetWarmStart();
+}
+
 double StateValidator::minimumDistance(const DualPose& q) {
   if (!placeRobots(q).valid()) return std::numeric_limits<double>::quiet_NaN();
   double minimum = std::numeric_limits<double>::infinity();

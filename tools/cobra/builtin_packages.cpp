@@ -6,6 +6,7 @@
 #include "cobra/components/drivers/package.hpp"
 #include "cobra/components/motion/package.hpp"
 #include "cobra/components/sim/package.hpp"
+#include "cobra/components/planning/package.hpp"
 
 namespace cobra::tools {
 
@@ -16,6 +17,7 @@ void addBuiltinPackages(deploy::Configurator& configurator) {
   configurator.packages().addBuiltin("cobra_bridges", bridges::registerBridgesPackage);
   configurator.packages().addBuiltin("cobra_drivers", components::registerDriversPackage);
   configurator.packages().addBuiltin("cobra_sim", components::registerSimPackage);
+  configurator.packages().addBuiltin("cobra_planning", components::registerPlanningPackage);
 }
 
 }  // namespace cobra::tools

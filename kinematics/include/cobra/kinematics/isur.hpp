@@ -27,6 +27,7 @@
 /// arm: Puma260Solver with the micro arm's lengths).
 
 #include <array>
+#include <span>
 #include <string_view>
 
 #include <kdl/chain.hpp>
@@ -87,6 +88,15 @@ class IsurPuncturingSolver final : public KinematicsSolver {
   /// Pose of the delta platform in the robot base frame after the base revolute (the macro unit's
   /// end effector: Rz(q4)·Trans(p_delta)); the suturing setup mounts its second arm on it.
   IkStatus platformPose(const KDL::JntArray& q, KDL::Frame& pose) const noexcept;
+  /// Number of frames linkFrames() writes.
+  static constexpr unsigned kLinks = 6;
+  /// Every link frame in the robot base frame (m, rad), the order of the puncturing scene file:
+  /// [0] turntable Rz(q4), [1] delta platform Rz(q4)·Trans(p_delta), [2] micro yaw frame (after
+  /// q5, origin at the mount), [3] upper arm (after q6, origin on the q6 axis, arm along x),
+  /// [4] forearm (after q7, on the q7 axis, along x), [5] needle tip (after q8 and the tool; the
+  /// needle runs along -x from it). [5] equals forward(q). `frames` untouched unless Ok; BadInput
+  /// when q or frames has the wrong size. No allocation.
+  IkStatus linkFrames(const KDL::JntArray& q, std::span<KDL::Frame> frames) const noexcept;
   /// The decomposition described in the file comment. Both ZYX representations of the target
   /// orientation (pitch θ and π - θ) are tried; the valid one nearest the seed wins. At the gimbal
   /// lock (pitch ±90°) roll keeps the seed's q8. Unreachable when the delta cannot place the
@@ -130,6 +140,13 @@ class IsurSuturingSolver {
   const IsurPuncturingSolver& rightStructure() const noexcept { return right_; }
 
   IkStatus forward(const KDL::JntArray& q, KDL::Frame& stitch_tool, KDL::Frame& gripper) noexcept;
+  /// Number of frames linkFrames() writes.
+  static constexpr unsigned kLinks = 12;
+  /// Every link frame in the robot base frame, the order of the suturing scene file: [0..5] as
+  /// IsurPuncturingSolver::linkFrames (5 = Endo Stitch tip), [6..10] the 6-DOF arm's DH frames
+  /// after its joints 1..5, [11] the gripper (= forward's `gripper`). `frames` untouched unless
+  /// Ok. No allocation.
+  IkStatus linkFrames(const KDL::JntArray& q, std::span<KDL::Frame> frames) noexcept;
   /// §5.4.1: the macro + 4-DOF sub-structure first (priority to the Endo Stitch arm, which only the
   /// macro can translate), then the 6-DOF arm in closed form from the resulting platform pose.
   /// `q_out` (14) untouched unless Ok.

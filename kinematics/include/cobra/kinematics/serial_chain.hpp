@@ -75,6 +75,14 @@ class SerialChainModel {
   /// Real-time safe.
   KDL::Frame forward(std::span<const double> q) const noexcept;
 
+  /// Number of frames linkFrames() writes: jointCount() + 2.
+  unsigned linkCount() const noexcept { return jointCount() + 2; }
+  /// Every link frame for `q` in the robot's base (world) frame: [0] the DH frame 0 (= base),
+  /// [i] the DH frame i after joint i (1..n), [n + 1] the tool. The last equals forward(q).
+  /// Real-time safe. Returns false (frames untouched) when `q` has not jointCount() values or
+  /// `frames` has not linkCount() elements.
+  bool linkFrames(std::span<const double> q, std::span<KDL::Frame> frames) const noexcept;
+
  private:
   std::string name_;
   std::vector<DhRow> rows_;

@@ -34,6 +34,11 @@ class RobotModel {
   /// Must not throw; should not allocate: it runs for every sampled state and edge step of the
   /// planner (thousands per second).
   virtual Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) = 0;
+
+  /// Forgets the warm-start state (the previous solution) of a solver that has one, so that the
+  /// next solve() answers as after construction: the planner calls it before each query and before
+  /// verifying a path, which makes a query's result independent of the queries before it.
+  virtual void resetWarmStart() {}
 };
 
 }  // namespace cobra::planning

@@ -77,6 +77,9 @@ class StateValidator {
   /// visualiser shows); +infinity if no pair is checked, NaN if q is unreachable or invalid.
   double minimumDistance(const DualPose& q);
 
+  /// RobotModel::resetWarmStart() of every robot.
+  void resetWarmStart();
+
   const SceneDescription& scene() const { return world_.scene(); }
   const CollisionWorld& world() const { return world_; }
 

@@ -1,0 +1,94 @@
+#pragma once
+/// @file
+/// The thesis' Motion Planner (§4.5.1): a Calculation component around planning::MotionPlanner
+/// (OMPL RRT-Connect on SE(3)×SE(3), FCL collision checks, the real I-SUR and UR5 kinematics).
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/components/motion/path_type.hpp"
+#include "cobra/components/planning/planning_scene_component.hpp"
+#include "cobra/planning/motion_planner.hpp"
+
+namespace cobra::components {
+
+/// Interface (thesis names; scene properties: PlanningSceneComponent):
+/// - properties `planner` ("RRTConnect", "RRT", "PRM"), `time_limit` (s, wall clock),
+///   `seed` (> 0), `first_bounds_low/high`, `second_bounds_low/high` (3 values each, m: the
+///   world box of the needle / probe positions), `edge_resolution` (fraction of the space extent);
+/// - ports in: `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the start state),
+///   `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values: the needle then the probe goal,
+///   each x y z [m] qx qy qz qw, world frame: the encoding of path_type.hpp, already registered);
+///   out: `plannedPath` (TGL.MultiAxisPath, 2 arms, path_type.hpp's encoding: what
+///   CartesianTrajectoryGenerator reads), `minDistance` (double, m: minimum distance of the
+///   measured state, published whenever a measured pose arrives; NaN when it is not valid input or
+///   unreachable);
+/// - operations `askPlan()` (void, returns at once: the request runs in this component's next
+///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
+///   when unreachable), `lastPlanResult()` ("solved: ..." or the reason of the last failure);
+/// - events `e_plan_done` (path written on plannedPath), `e_plan_failed` (reason in
+///   lastPlanResult() and on stderr).
+///
+/// Where planning runs: in updateHook, when askPlan() asked for it. Planning takes up to
+/// `time_limit` s and allocates, so this component must have a NON-real-time activity of its own:
+/// an EventActivity with Scheduler::Other in a threaded deployment (askPlan() triggers it), or
+/// period 0 on a LockstepClock (it then steps in the same simulated instant as the component that
+/// called askPlan(), after it: simulated time does not advance while it plans, and RRTConnect/RRT
+/// are seeded, so a lockstep run is reproducible; only a query that hits `time_limit` depends on
+/// the machine's speed). startHook refuses a periodic activity.
+class MotionPlannerComponent : public PlanningSceneComponent {
+ public:
+  explicit MotionPlannerComponent(std::string name);
+  ~MotionPlannerComponent() override;
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+  void cleanupHook() override;
+
+ private:
+  void askPlan();
+  double checkDistancePoses(KDL::Frame first, KDL::Frame second);
+  /// Runs one query from the measured poses to the goal; writes the path or says why not.
+  void plan();
+  void fail(const std::string& reason);
+
+  core::Property<std::string> planner_{"planner", "RRTConnect", "", "OMPL planner: RRTConnect, RRT or PRM"};
+  core::Property<double> time_limit_{"time_limit", 1.0, "s", "wall-clock limit of one planning query"};
+  core::Property<int> seed_{"seed", 1, "1", "seed of OMPL's random generators (> 0): same seed, same path"};
+  core::Property<std::vector<double>> first_low_{"first_bounds_low", {-0.3, -0.3, 0.0}, "m",
+                                                 "lower corner of the needle (tool 1) position box, world"};
+  core::Property<std::vector<double>> first_high_{"first_bounds_high", {0.3, 0.3, 0.5}, "m",
+                                                  "upper corner of the needle (tool 1) position box, world"};
+  core::Property<std::vector<double>> second_low_{"second_bounds_low", {-0.4, -0.5, 0.0}, "m",
+                                                  "lower corner of the probe (tool 2) position box, world"};
+  core::Property<std::vector<double>> second_high_{"second_bounds_high", {0.4, 0.4, 0.6}, "m",
+                                                   "upper corner of the probe (tool 2) position box, world"};
+  core::Property<double> edge_resolution_{"edge_resolution", 0.002, "1",
+                                          "edge check step as a fraction of the state space extent"};
+
+  core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
+  core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
+  core::InputPort<trajectory::MultiAxisPath> goal_{
+      "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world", "m"};
+  core::OutputPort<trajectory::MultiAxisPath> path_out_{
+      "plannedPath", "collision-free path, 2 arms, x y z qx qy qz qw per arm per waypoint, world", "m"};
+  core::OutputPort<double> min_distance_{"minDistance", "minimum distance of the measured state", "m"};
+
+  std::unique_ptr<planning::StateValidator> validator_;
+  std::unique_ptr<planning::MotionPlanner> planner_impl_;
+  std::atomic<bool> plan_requested_{false};
+  bool have_isur_ = false;
+  bool have_ur5_ = false;
+  bool have_goal_ = false;
+  planning::DualPose measured_;
+  planning::DualPose goal_pose_;
+  std::string last_result_;
+};
+
+}  // namespace cobra::components

@@ -1,0 +1,152 @@
+#include "cobra/components/planning/motion_planner_component.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
+
+namespace cobra::components {
+
+namespace {
+
+/// Bounds from two 3-value properties. @throws std::invalid_argument naming them.
+planning::PositionBounds bounds(const std::vector<double>& low, const std::vector<double>& high, const char* name) {
+  if (low.size() != 3 || high.size() != 3)
+    throw std::invalid_argument(std::string("properties ") + name + "_low/_high need 3 values each (x, y, z in m)");
+  planning::PositionBounds b;
+  for (std::size_t i = 0; i < 3; ++i) {
+    b.low[i] = low[i];
+    b.high[i] = high[i];
+    if (!(low[i] < high[i]))
+      throw std::invalid_argument(std::string("properties ") + name + "_low/_high: low must be < high on every axis");
+  }
+  return b;
+}
+
+}  // namespace
+
+MotionPlannerComponent::MotionPlannerComponent(std::string name)
+    : PlanningSceneComponent(std::move(name),
+                             "Motion planner (thesis §4.5.1): collision-free paths for the needle and the probe, OMPL "
+                             "on SE(3)xSE(3) with FCL checks") {
+  addProperty(planner_);
+  addProperty(time_limit_.range(1e-3, 3600.0));
+  addProperty(seed_.range(1, 2147483647));
+  addProperty(first_low_);
+  addProperty(first_high_);
+  addProperty(second_low_);
+  addProperty(second_high_);
+  addProperty(edge_resolution_.range(1e-6, 1.0));
+  addEventPort(isur_meas_);
+  addEventPort(ur5_meas_);
+  addPort(goal_);
+  addPort(path_out_);
+  addPort(min_distance_);
+  addOperation("askPlan", &MotionPlannerComponent::askPlan, this,
+               "plans from the measured poses to goalPoses in this component's next step; answers e_plan_done "
+               "(path on plannedPath) or e_plan_failed (reason: lastPlanResult)",
+               core::ExecutionThread::Client);
+  addOperation("checkDistancePoses", &MotionPlannerComponent::checkDistancePoses, this,
+               "minimum distance between the checked groups for these needle and probe poses (NaN: unreachable)")
+      .arg("ee1_pose", "m", "needle tip pose, world")
+      .arg("ee2_pose", "m", "probe tip pose, world");
+  addOperation("lastPlanResult", std::function<std::string()>([this] { return last_result_; }),
+               "outcome of the last askPlan: 'solved: ...' or why it failed");
+}
+
+MotionPlannerComponent::~MotionPlannerComponent() = default;
+
+bool MotionPlannerComponent::configureHook() {
+  if (planner_() != "RRTConnect" && planner_() != "RRT" && planner_() != "PRM")
+    return refuse("property planner is '" + planner_() + "': use RRTConnect, RRT or PRM");
+  planning::PlannerOptions options;
+  try {
+    options.first_bounds = bounds(first_low_(), first_high_(), "first_bounds");
+    options.second_bounds = bounds(second_low_(), second_high_(), "second_bounds");
+    validator_ = buildValidator();
+  } catch (const std::invalid_argument& error) {
+    return refuse(error.what());
+  }
+  options.planner = planner_();
+  options.time_limit = time_limit_();
+  options.seed = static_cast<std::uint32_t>(seed_());
+  options.edge_resolution = edge_resolution_();
+  planner_impl_ = std::make_unique<planning::MotionPlanner>(*validator_, options);
+  have_isur_ = have_ur5_ = have_goal_ = false;
+  last_result_.clear();
+  return true;
+}
+
+bool MotionPlannerComponent::startHook() {
+  if (activity().period().count() > 0)
+    return refuse("planning runs in updateHook for up to time_limit s: give this component a non-periodic, "
+                  "non-real-time activity (EventActivity with Scheduler::Other, or period 0 on a LockstepClock)");
+  plan_requested_.store(false, std::memory_order_relaxed);
+  return true;
+}
+
+void MotionPlannerComponent::cleanupHook() {
+  planner_impl_.reset();
+  validator_.reset();
+}
+
+void MotionPlannerComponent::askPlan() {
+  plan_requested_.store(true, std::memory_order_release);
+  activity().trigger();
+}
+
+double MotionPlannerComponent::checkDistancePoses(KDL::Frame first, KDL::Frame second) {
+  if (!validator_) return std::numeric_limits<double>::quiet_NaN();
+  return validator_->minimumDistance({first, second});
+}
+
+void MotionPlannerComponent::fail(const std::string& reason) {
+  last_result_ = reason;
+  std::fprintf(stderr, "[cobra] MotionPlanner '%s': plan failed: %s\n", name().c_str(), reason.c_str());
+  emitEvent("e_plan_failed");
+}
+
+void MotionPlannerComponent::updateHook() {
+  const core::FlowStatus isur = isur_meas_.read(measured_.first);
+  const core::FlowStatus ur5 = ur5_meas_.read(measured_.second);
+  have_isur_ = have_isur_ || isur != core::FlowStatus::NoData;
+  have_ur5_ = have_ur5_ || ur5 != core::FlowStatus::NoData;
+  const bool measured_changed =
+      have_isur_ && have_ur5_ && (isur == core::FlowStatus::NewData || ur5 == core::FlowStatus::NewData);
+  trajectory::MultiAxisPath goal;
+  if (goal_.read(goal) == core::FlowStatus::NewData) {
+    try {
+      const std::vector<std::vector<KDL::Frame>> frames = decodeCartesianPath(goal, 2);
+      if (frames.size() != 1) throw std::invalid_argument("it holds " + std::to_string(frames.size()) +
+                                                          " waypoints; give exactly one (the two goal poses)");
+      goal_pose_ = {frames[0][0], frames[0][1]};
+      have_goal_ = true;
+    } catch (const std::invalid_argument& error) {
+      have_goal_ = false;
+      last_result_ = std::string("port goalPoses: ") + error.what();
+    }
+  }
+  if (measured_changed) min_distance_.write(validator_->minimumDistance(measured_));
+  if (plan_requested_.exchange(false, std::memory_order_acq_rel)) plan();
+}
+
+void MotionPlannerComponent::plan() {
+  if (!have_isur_ || !have_ur5_)
+    return fail(std::string("no measured pose on port ") + (have_isur_ ? "UR5MeasPose" : "isurMeasPose") +
+                ": the start state is unknown");
+  if (!have_goal_)
+    return fail(last_result_.rfind("port goalPoses", 0) == 0 ? last_result_
+                                                              : std::string("no goal on port goalPoses"));
+  const planning::PlanResult result = planner_impl_->planPath(measured_, goal_pose_);
+  if (!result.solved()) return fail(std::string(planning::toString(result.status)) + ": " + result.message);
+  std::vector<std::vector<KDL::Frame>> waypoints;
+  waypoints.reserve(result.waypoints.size());
+  for (const planning::DualPose& q : result.waypoints) waypoints.push_back({q.first, q.second});
+  path_out_.write(encodeCartesianPath(waypoints));
+  last_result_ = "solved: " + result.message + " in " + std::to_string(result.planning_time) + " s";
+  emitEvent("e_plan_done");
+}
+
+}  // namespace cobra::components

@@ -1,0 +1,16 @@
+#include "cobra/components/planning/package.hpp"
+
+#include "cobra/components/planning/motion_planner_component.hpp"
+#include "cobra/components/planning/state_validator_component.hpp"
+
+namespace cobra::components {
+
+void registerPlanningPackage(deploy::PackageBuilder& package) {
+  package
+      .component<MotionPlannerComponent>("MotionPlanner",
+                                         "collision-free needle/probe paths, OMPL on SE(3)xSE(3) with FCL (thesis §4.5.1)")
+      .component<StateValidatorComponent>(
+          "StateValidator", "passes teleoperation set-points on only when valid, holds the last valid (thesis §5.4.2)");
+}
+
+}  // namespace cobra::components

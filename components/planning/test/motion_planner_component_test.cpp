@@ -1,0 +1,264 @@
+// The MotionPlanner component (thesis §4.5.1) on the lockstep clock with the real robot models on
+// the puncturing scene: askPlan answers e_plan_done with a path the CartesianTrajectoryGenerator
+// follows, or e_plan_failed with the reason; configuration errors name the property.
+
+#include "cobra/components/planning/motion_planner_component.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "cobra/components/motion/cartesian_trajectory_generator.hpp"
+#include "cobra/core/core.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr double kPi = std::numbers::pi;
+
+std::string scenes() { return (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes").string(); }
+KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
+KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
+
+// The probe goes from one side of the phantom to the other, low: the straight line crosses the
+// phantom (planning/test/real_robots_test.cpp checks these states with the same models).
+const KDL::Frame kNeedle = needleDown(0.0, 0.0, 0.2);
+const KDL::Frame kProbeStart = probeDown(-0.2, 0.0, 0.06);
+const KDL::Frame kProbeGoal = probeDown(0.25, 0.0, 0.06);
+
+void configureScene(core::Component& c) {
+  c.setProperty("models_folder", scenes());
+  c.setProperty("scene_file", std::string("puncturing.scene"));
+  c.setProperty("time_limit", 5.0);
+  c.setProperty("first_bounds_low", std::vector<double>{-0.15, -0.15, 0.03});
+  c.setProperty("first_bounds_high", std::vector<double>{0.15, 0.15, 0.3});
+  c.setProperty("second_bounds_low", std::vector<double>{-0.3, -0.3, 0.03});
+  c.setProperty("second_bounds_high", std::vector<double>{0.35, 0.3, 0.35});
+}
+
+/// Planner (triggered, period 0) and trajectory generator (1 ms) on one lockstep clock, with a
+/// test "supervisor" writing the measured poses and the goal.
+struct Bench {
+  MotionPlannerComponent planner{"Planner"};
+  CartesianTrajectoryGenerator generator{"TrajGen"};
+  core::LockstepClock clock;
+  core::OutputPort<KDL::Frame> isur{"isur", "", "m"};
+  core::OutputPort<KDL::Frame> ur5{"ur5", "", "m"};
+  core::OutputPort<trajectory::MultiAxisPath> goal{"goal", "", "m"};
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::InputPort<core::Event> generator_events{"generator_events", "", ""};
+  core::InputPort<double> min_distance{"minDistance", "", "m"};
+  core::InputPort<KDL::Frame> needle_set_point{"pose", "", "m"};
+
+  Bench() {
+    configureScene(planner);
+    generator.setProperty("arms_num", 2);
+    generator.setProperty("max_vel", 0.2);
+    generator.setProperty("max_ang_vel", 1.0);
+    generator.setProperty("time_acc", 0.05);
+    clock.add(generator, 1ms);
+    clock.add(planner, 0ns);
+    core::connectPorts(planner.port("events"), events, core::ConnPolicy::buffer(64));
+    core::connectPorts(generator.port("events"), generator_events, core::ConnPolicy::buffer(64));
+    core::connectPorts(isur, planner.port("isurMeasPose"));
+    core::connectPorts(ur5, planner.port("UR5MeasPose"));
+    core::connectPorts(goal, planner.port("goalPoses"));
+    core::connectPorts(planner.port("minDistance"), min_distance);
+    core::connectPorts(planner.port("plannedPath"), generator.port("plannedPath"));
+    EXPECT_TRUE(planner.configure());
+    EXPECT_TRUE(generator.configure());
+    core::connectPorts(generator.port("desCartPose_1"), needle_set_point);
+    EXPECT_TRUE(planner.start());
+    EXPECT_TRUE(generator.start());
+  }
+  std::vector<std::string> takeEvents(core::InputPort<core::Event>& port) {
+    std::vector<std::string> names;
+    core::Event e;
+    while (port.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
+  void measure(const KDL::Frame& needle, const KDL::Frame& probe) {
+    isur.write(needle);
+    ur5.write(probe);
+  }
+};
+
+TEST(MotionPlannerComponent, PlansAPathTheTrajectoryGeneratorFollows) {
+  Bench b;
+  b.measure(kNeedle, kProbeStart);
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}}));
+  b.clock.advance(1ms);
+  double distance = 0.0;
+  ASSERT_EQ(b.min_distance.read(distance), core::FlowStatus::NewData);
+  EXPECT_GT(distance, 0.005);  // the measured state is valid
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  ASSERT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}))
+      << b.planner.call<std::string>("lastPlanResult");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "solved: solved by RRTConnect");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.generator.call<std::string>("status"), "PathReady");
+  b.generator.call<void>("askGenerateTraj");
+  b.generator.call<void>("askStartMove");
+  b.clock.advance(20s);
+  const std::vector<std::string> generator_events = b.takeEvents(b.generator_events);
+  ASSERT_FALSE(generator_events.empty());
+  EXPECT_EQ(generator_events.back(), "e_wait_path");
+  EXPECT_NE(std::find(generator_events.begin(), generator_events.end(), "e_motion_done"), generator_events.end());
+  // The generator ended at the goal: the needle where it was, the probe at its goal.
+  const auto* trajectory = b.generator.trajectory();
+  ASSERT_NE(trajectory, nullptr);
+  std::vector<KDL::Frame> poses(2);
+  std::vector<KDL::Twist> twists(2);
+  trajectory->evaluate(trajectory->duration(), poses, twists);
+  EXPECT_LT((poses[1].p - kProbeGoal.p).Norm(), 1e-6);
+  EXPECT_LT((poses[0].p - kNeedle.p).Norm(), 1e-6);
+}
+
+TEST(MotionPlannerComponent, SameSeedSamePathInLockstep) {
+  std::vector<trajectory::MultiAxisPath> paths;
+  for (int run = 0; run < 2; ++run) {
+    Bench b;
+    core::InputPort<trajectory::MultiAxisPath> path{"path", "", "m"};
+    core::connectPorts(b.planner.port("plannedPath"), path);
+    b.measure(kNeedle, kProbeStart);
+    b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}}));
+    b.clock.advance(1ms);
+    b.planner.call<void>("askPlan");
+    b.clock.advance(1ms);
+    trajectory::MultiAxisPath p;
+    ASSERT_EQ(path.read(p), core::FlowStatus::NewData);
+    paths.push_back(p);
+  }
+  EXPECT_EQ(paths[0], paths[1]);
+}
+
+TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
+  Bench b;
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_EQ(b.planner.call<std::string>("lastPlanResult"),
+            "no measured pose on port isurMeasPose: the start state is unknown");
+
+  b.measure(kNeedle, kProbeStart);
+  b.goal.write(encodeCartesianPath({{needleDown(0.0, 0.0, 0.06), kProbeGoal}}));  // needle in the phantom
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
+                  "invalid goal: goal state is not valid: too close: micro/environment");
+
+  b.goal.write(encodeCartesianPath({{kNeedle, probeDown(0.25, 0.0, 0.9)}}));  // out of the probe's bounds
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "out of bounds: goal position is outside");
+
+  KDL::Frame nan_probe = kProbeGoal;
+  nan_probe.p.x(std::nan(""));
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));  // two waypoints
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "port goalPoses: it holds 2 waypoints");
+
+  b.isur.write(nan_probe);
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "invalid input: start pose has a NaN");
+}
+
+TEST(MotionPlannerComponent, CheckDistancePosesGivesTheMinimumDistance) {
+  Bench b;
+  const double free = b.planner.call<double>("checkDistancePoses", kNeedle, kProbeStart);
+  EXPECT_GT(free, 0.005);
+  EXPECT_EQ(b.planner.call<double>("checkDistancePoses", needleDown(0.05, 0.0, 0.05), kProbeStart), 0.0);
+  EXPECT_TRUE(std::isnan(b.planner.call<double>("checkDistancePoses", needleDown(0.0, 0.0, -0.3), kProbeStart)));
+}
+
+TEST(MotionPlannerComponent, BadPropertiesAreRefusedNamingComponentAndProperty) {
+  const auto refusal = [](const std::function<void(core::Component&)>& set) {
+    MotionPlannerComponent planner("Planner");
+    configureScene(planner);
+    set(planner);
+    const core::Result result = planner.configure();
+    EXPECT_FALSE(result);
+    return result.message;
+  };
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("scene_file", std::string("absent.scene")); }),
+                  "component 'Planner': property scene_file:");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("scene_file", std::string("absent.scene")); }),
+                  "absent.scene");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("scene_file", std::string()); }),
+                  "component 'Planner': property scene_file is empty");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("planner", std::string("BIT*")); }),
+                  "component 'Planner': property planner is 'BIT*': use RRTConnect, RRT or PRM");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("env_mesh_names", std::string("table.stl")); }),
+                  "property env_mesh_names: mesh file '" + scenes() + "/table.stl' does not exist");
+  const std::string data = (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/data").string();
+  EXPECT_CONTAINS(refusal([&](core::Component& c) {
+                    c.setProperty("env_mesh_names", std::string("- ") + data + "/malformed.stl");
+                  }),
+                  "property env_mesh_names:");
+  EXPECT_CONTAINS(refusal([&](core::Component& c) {
+                    c.setProperty("env_mesh_names", std::string("- ") + data + "/malformed.stl");
+                  }),
+                  "malformed.stl");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("second_bounds_low", std::vector<double>{0.0}); }),
+                  "properties second_bounds_low/_high need 3 values each");
+  EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("macro_link_list", std::vector<double>{0.5}); }),
+                  "property macro_link_list: 0.5");
+}
+
+TEST(MotionPlannerComponent, ThesisListsOverrideTheScene) {
+  PlanningSceneSettings s;
+  s.models_folder = scenes();
+  s.scene_file = "puncturing.scene";
+  const std::string data = (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/data").string();
+  s.env_mesh_names = "- " + data + "/unit_cube.stl";  // the phantom becomes a mesh
+  s.macro_link_list = {0, 1, 2};                        // the micro yaw moves to the macro group
+  s.ur5_link_list = {0, 1, 2, 3, 7};                    // wrists left out
+  s.phantom_pose = KDL::Frame(KDL::Vector(0.1, 0.0, 0.0));
+  s.min_collision_distance = 0.01;
+  const planning::SceneDescription scene = buildPlanningScene(s);
+  EXPECT_EQ(scene.min_collision_distance, 0.01);
+  for (const auto& o : scene.objects) {
+    if (o.name == "phantom") {
+      EXPECT_EQ(o.shape.kind, planning::ShapeKind::Mesh);
+      EXPECT_NEAR(o.offset.p.x(), 0.1, 1e-12);
+      EXPECT_NEAR(o.offset.p.z(), 0.05, 1e-12);
+    }
+    if (o.name == "micro_yaw") {
+      EXPECT_EQ(o.group, "macro");
+    }
+    EXPECT_NE(o.name, "ur5_wrist_1");
+  }
+  s.micro_link_list = {2};
+  EXPECT_CONTAINS(test_support::messageOf([&] { buildPlanningScene(s); }),
+                  "property micro_link_list: link 2 is also in macro_link_list");
+}
+
+TEST(MotionPlannerComponent, StartRefusesAPeriodicActivity) {
+  MotionPlannerComponent planner("Planner");
+  configureScene(planner);
+  core::LockstepClock clock;
+  clock.add(planner, 1ms);
+  ASSERT_TRUE(planner.configure());
+  const core::Result result = planner.start();
+  EXPECT_FALSE(result);
+  EXPECT_CONTAINS(result.message, "give this component a non-periodic, non-real-time activity");
+}
+
+}  // namespace
+}  // namespace cobra::components

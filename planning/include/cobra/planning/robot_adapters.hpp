@@ -1,0 +1,147 @@
+#pragma once
+/// @file
+/// RobotModel adapters around the cobra::kinematics solvers of the thesis' robots, in the link
+/// order the scene files document (planning/scenes/*.scene):
+///  - `Ur5Model`: the UR5 holding the ultrasound probe (puncturing, tool 1 of q), closed-form IK;
+///  - `IsurPuncturingModel`: the 8-DOF I-SUR with the needle (puncturing, tool 0 of q);
+///  - `IsurSuturingModel`: the two-armed 14-DOF I-SUR, ONE solver for both tools (Algorithm 5.1,
+///    thesis §5.4.1).
+/// solve() warm-starts from the previous solution when the tool poses moved less than 0.02 m and
+/// 0.2 rad since the previous reachable call (a step along a path or a planner edge: neighbouring
+/// states get neighbouring configurations, as in the thesis), and from the configured seed
+/// otherwise (unrelated planner samples), so that a state's answer does not depend on the states
+/// checked before it except along such a chain of small steps. resetWarmStart() forgets the
+/// previous solution. solve() allocates nothing (all joint arrays are preallocated).
+
+#include <array>
+#include <span>
+
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
+
+#include "cobra/kinematics/isur.hpp"
+#include "cobra/kinematics/ur5.hpp"
+#include "cobra/planning/robot_model.hpp"
+#include "cobra/planning/scene.hpp"
+#include "cobra/planning/state_validator.hpp"
+
+namespace cobra::planning {
+
+/// UR5 + probe. Links (base frame of the UR5): 0 base, 1..6 the DH frames after joints 1..6,
+/// 7 the probe tip (probe axis = z of the flange).
+/// Of the (up to 8) closed-form solutions it keeps the branch of the configured seed (shoulder,
+/// elbow, wrist), so a state's validity does not depend on the states checked before it (the
+/// nearest-to-the-previous-solution rule would switch branches between far-apart planner samples
+/// and let a path's arm jump); the warm start picks each joint's 2π representative and θ6 at the
+/// wrist singularity. A pose only another branch reaches is Unreachable.
+class Ur5Model final : public RobotModel {
+ public:
+  /// Default probe: 0.12 m along the flange's z axis [m].
+  static KDL::Frame defaultProbe() { return KDL::Frame(KDL::Vector(0.0, 0.0, 0.12)); }
+  /// Default warm-start seed (rad): elbow up, probe pointing down, arm reaching along +x of the UR5
+  /// base (the puncturing scene turns that towards the phantom).
+  static KDL::JntArray defaultSeed();
+
+  /// @param probe tip frame in the flange frame [m]
+  /// @throws std::invalid_argument as kinematics::Ur5Solver, or for a seed that is not 6 finite values.
+  explicit Ur5Model(const KDL::Frame& probe = defaultProbe(), const KDL::JntArray& seed = defaultSeed(),
+                    const kinematics::Ur5Parameters& parameters = kinematics::Ur5Parameters{});
+
+  std::size_t toolCount() const override { return 1; }
+  std::size_t linkCount() const override { return 8; }
+  Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
+  /// Back to the seed given at construction or by the last setSeed().
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
+
+  /// Next solve() (and every one after resetWarmStart()) starts from `q` (6 joints, rad).
+  /// @throws std::invalid_argument otherwise.
+  void setSeed(const KDL::JntArray& q);
+  /// Joint values of the last reachable solve() (the seed before any) [rad].
+  const KDL::JntArray& joints() const { return seed_; }
+  kinematics::Ur5Solver& solver() { return solver_; }
+
+ private:
+  kinematics::Ur5Solver solver_;
+  kinematics::IkSolutionSet solutions_;
+  KDL::JntArray initial_;
+  KDL::JntArray seed_;
+  KDL::JntArray q_;
+  KDL::Frame previous_;
+  bool has_previous_ = false;
+};
+
+/// I-SUR puncturing robot (8 DOF). Links: kinematics::IsurPuncturingSolver::linkFrames (0 turntable,
+/// 1 delta platform, 2 micro yaw, 3 upper arm, 4 forearm, 5 needle tip, needle along -x from it).
+class IsurPuncturingModel final : public RobotModel {
+ public:
+  /// Default warm-start seed: sliders at 0.1 m, every revolute joint at 0.
+  static KDL::JntArray defaultSeed();
+
+  explicit IsurPuncturingModel(const kinematics::IsurGeometry& geometry = kinematics::IsurGeometry{},
+                               const KDL::JntArray& seed = defaultSeed());
+
+  std::size_t toolCount() const override { return 1; }
+  std::size_t linkCount() const override { return kinematics::IsurPuncturingSolver::kLinks; }
+  Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
+  /// Back to the seed given at construction or by the last setSeed().
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
+
+  /// Next solve() (and every one after resetWarmStart()) starts from `q` (8 joints, m and rad).
+  /// @throws std::invalid_argument otherwise.
+  void setSeed(const KDL::JntArray& q);
+  const KDL::JntArray& joints() const { return seed_; }
+  kinematics::IsurPuncturingSolver& solver() { return solver_; }
+
+ private:
+  kinematics::IsurPuncturingSolver solver_;
+  KDL::JntArray initial_;
+  KDL::JntArray seed_;
+  KDL::JntArray q_;
+  KDL::Frame previous_;
+  bool has_previous_ = false;
+};
+
+/// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
+/// = gripper (6-DOF arm). Links: kinematics::IsurSuturingSolver::linkFrames (12).
+class IsurSuturingModel final : public RobotModel {
+ public:
+  /// Default warm-start seed: sliders at 0.1 m, the 6-DOF arm at (0, 0.5, -0.5, 0, 0.5, 0) rad.
+  static KDL::JntArray defaultSeed();
+
+  explicit IsurSuturingModel(const kinematics::IsurSuturingGeometry& geometry = kinematics::IsurSuturingGeometry{},
+                             const KDL::JntArray& seed = defaultSeed());
+
+  std::size_t toolCount() const override { return 2; }
+  std::size_t linkCount() const override { return kinematics::IsurSuturingSolver::kLinks; }
+  Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
+  /// Back to the seed given at construction or by the last setSeed().
+  void resetWarmStart() override {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
+
+  void setSeed(const KDL::JntArray& q);
+  const KDL::JntArray& joints() const { return seed_; }
+  kinematics::IsurSuturingSolver& solver() { return solver_; }
+
+ private:
+  kinematics::IsurSuturingSolver solver_;
+  KDL::JntArray initial_;
+  KDL::JntArray seed_;
+  KDL::JntArray q_;
+  std::array<KDL::Frame, 2> previous_;
+  bool has_previous_ = false;
+};
+
+/// The real robot models for the robots of `scene`, by name: `ur5` → Ur5Model; `isur` with one
+/// tool → IsurPuncturingModel, with two → IsurSuturingModel (default geometries and seeds).
+/// @throws std::invalid_argument naming a robot of another name and the accepted names.
+RobotModels makeRobotModels(const SceneDescription& scene);
+
+}  // namespace cobra::planning
