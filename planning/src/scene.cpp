@@ -190,6 +190,10 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     if (robot.tool_indices.empty() || robot.tool_indices.size() > 2) line.fail("a robot takes one or two tools");
     line.keyword("base");
     robot.base_in_world = line.pose();
+    if (!line.atEnd()) {
+      line.keyword("tool");
+      robot.tool_in_model_tool = line.pose();
+    }
     scene.robots.push_back(std::move(robot));
   } else if (statement == "group") {
     const std::string name(line.word("a group name"));

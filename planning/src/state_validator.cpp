@@ -69,6 +69,7 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
     models_.push_back(it->second);
     tools_.emplace_back(model.toolCount());
     links_.emplace_back(model.linkCount());
+    model_tool_in_tool_.push_back(placement.tool_in_model_tool.Inverse());
   }
 }
 
@@ -83,7 +84,7 @@ ValidityResult StateValidator::placeRobots(const DualPose& q) {
     const RobotPlacement& placement = description.robots[r];
     const KDL::Frame world_in_base = placement.base_in_world.Inverse();
     for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
-      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second);
+      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r];
     if (models_[r]->solve(tools_[r], links_[r]) != Reachability::Reachable) {
       result.validity = Validity::Unreachable;
       result.robot = placement.name;

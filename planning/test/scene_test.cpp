@@ -48,6 +48,14 @@ TEST(Scene, PoseIsXyzThenRollPitchYaw) {
   EXPECT_EQ(scene.robots[0].tool_indices, (std::vector<std::size_t>{0, 1}));
 }
 
+TEST(Scene, RobotsMayNameTheirToolFrame) {
+  const SceneDescription scene = parse("robot r tools 0 base 0 0 1 0 0 0 tool 0 0 0.1 0 1.5708 0\n");
+  EXPECT_TRUE(KDL::Equal(scene.robots[0].tool_in_model_tool,
+                         KDL::Frame(KDL::Rotation::RPY(0, 1.5708, 0), KDL::Vector(0, 0, 0.1)), 1e-12));
+  EXPECT_TRUE(KDL::Equal(parse("robot r tools 0 base 0 0 1 0 0 0\n").robots[0].tool_in_model_tool,
+                         KDL::Frame::Identity(), 1e-15));
+}
+
 TEST(Scene, CommentsAndBlankLinesAreIgnored) {
   const SceneDescription scene = parse("# a comment\n\n  group g   # trailing comment\r\n");
   EXPECT_EQ(scene.groups, std::vector<std::string>{"g"});

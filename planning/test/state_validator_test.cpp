@@ -110,6 +110,23 @@ TEST(StateValidator, RobotBasePlacementMovesTheLinks) {
   EXPECT_TRUE(validator.isStateValid(toolsAt({-0.3, 0, 0.3}, {0.6, 0.3, 0.3})));
 }
 
+TEST(StateValidator, TheSceneToolFrameIsWhatThePosesName) {
+  // The poses of q name a frame 0.1 m above the gantry's tool (identity rotations here). Low
+  // enough that the needle's tip is the closest object to the table (0.07 m; the column is 0.08 m
+  // from the tool): the shifted scene at q moved up 0.1 m sees exactly the plain scene at q, and
+  // not the plain scene at the moved q.
+  SceneDescription scene = test::twoRobotScene();
+  scene.robots[0].tool_in_model_tool = KDL::Frame(KDL::Vector(0, 0, 0.1));
+  StateValidator shifted(scene, test::twoRobotModels());
+  StateValidator plain(test::twoRobotScene(), test::twoRobotModels());
+  const DualPose q = toolsAt({-0.3, 0, 0.17}, {0.6, 0.3, 0.3});
+  const DualPose moved{KDL::Frame(KDL::Vector(0, 0, 0.1)) * q.first, q.second};
+  const double expected = plain.minimumDistance(q);
+  ASSERT_TRUE(std::isfinite(expected));
+  EXPECT_NEAR(shifted.minimumDistance(moved), expected, 1e-9);
+  EXPECT_GT(std::abs(plain.minimumDistance(moved) - expected), 1e-3) << "the offset must matter in this query";
+}
+
 TEST(StateValidator, OneSolverForBothTools) {
   // Algorithm 5.1: one robot takes both poses; its links go to two groups.
   const SceneDescription scene = parseScene(

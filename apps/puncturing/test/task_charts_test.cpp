@@ -205,7 +205,7 @@ class Procedure {
         return;
       }
       reply("e_goal_ready");
-      if (c.deployment == "autonomous_primitives") reply("e_path_ready", 0.03);  // desiredPoses is the path
+      if (c.deployment.ends_with("_autonomous_primitives")) reply("e_path_ready", 0.03);  // desiredPoses is the path
     } else if (line.ends_with("Planner:askPlan")) {
       if (fail_plan_ == &c) {
         fail_plan_ = nullptr;

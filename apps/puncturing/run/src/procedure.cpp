@@ -8,6 +8,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include <kdl/frames.hpp>
+
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/coordination/supervisor.hpp"

@@ -9,6 +9,8 @@
 ///     min_collision_distance 0.005                  # m, distance every checked pair must exceed
 ///     robot isur tools 0 base 0 0 0.8 0 0 0         # robot isur takes tool 0 of q; base in world
 ///     robot ur5 tools 1 base 0.6 0 0 0 0 3.1416     # `tools 0 1` for one solver of both tools
+///     robot isur tools 0 base 0 0 0.8 0 0 0 tool 0 0 0 0 1.5708 0   # optional: the frame q names,
+///                                                   # in the model's tool frame (same for both tools)
 ///     group environment                             # one FCL broadphase manager per group
 ///     object table environment world box 1.2 0.8 0.04 at 0 0 -0.02 0 0 0
 ///     object column macro isur.0 cylinder 0.03 0.4 at 0 0 0 0 0 0
@@ -41,6 +43,9 @@ struct RobotPlacement {
   KDL::Frame base_in_world = KDL::Frame::Identity();
   /// Indices (0 = first, 1 = second pose of q ∈ SE(3)×SE(3)) in the order the solver takes them.
   std::vector<std::size_t> tool_indices;
+  /// The frame the poses of q give, in the robot model's tool frame [m, rad] (e.g. an
+  /// application whose needle frames have z along the needle, where the model's needle is x).
+  KDL::Frame tool_in_model_tool = KDL::Frame::Identity();
 };
 
 /// A distance query between two groups (Algorithm 4.2, lines 8-12).

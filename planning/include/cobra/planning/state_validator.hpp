@@ -90,6 +90,7 @@ class StateValidator {
   CollisionWorld world_;
   std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order
   std::vector<std::vector<KDL::Frame>> tools_;      // per robot, preallocated
+  std::vector<KDL::Frame> model_tool_in_tool_;      // per robot: the scene's `tool`, inverted
   std::vector<std::vector<KDL::Frame>> links_;      // per robot, preallocated
 };
 
