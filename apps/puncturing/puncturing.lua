@@ -14,5 +14,10 @@ phantom_pose = nominal_to_abdomen
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/needle_robot.lua")
 dofile(here .. "deployment/probe_robot.lua")
+-- The two robots' only link: their task charts' events (thesis §4.4: coordinated through events).
+connectPorts({
+  { output = "NeedleTaskSup.outputEvents", input = "ProbeTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
+  { output = "ProbeTaskSup.outputEvents", input = "NeedleTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
+})
 applyDeployment("needle_autonomous_planning")
 applyDeployment("probe_autonomous_planning")

@@ -50,7 +50,7 @@ return function(c)
                           n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
     activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
   end
-  activities[#activities + 1] = { peer_name = n("Planner"), period = 0.01 }  -- s: planning outside the 1 kHz loop
+  activities[#activities + 1] = { peer_name = n("Planner"), period = 0 }  -- event-driven: plans outside the 1 kHz loop
   setActivities(activities)
 
   local robot, arm = c.robot, tostring(c.arm)
@@ -118,5 +118,6 @@ return function(c)
     },
   })
   configureComponents(always)
+  configureComponents({ n("TrajGen") })  -- its desCartPose_i ports exist once configured
   startComponents(always)
 end

@@ -9,7 +9,7 @@ dofile(here .. "controller.lua") {
   configurations = here .. "configurations/needle",
   phantom_pose = phantom_pose,
   max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
-  event_sources = { "NeedleMonitor", "ProbeTaskSup" },
+  event_sources = { "NeedleMonitor" },
   connections = {
     { output = "NeedleFrames.needleTarget", input = "NeedleMonitor.targetPose" },
     { output = "NeedleTaskSup.taskState", input = "Surgeon.needleTaskState", conn_policy = { type = "buffer", size = 64 } },

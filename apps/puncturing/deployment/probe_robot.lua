@@ -9,7 +9,7 @@ dofile(here .. "controller.lua") {
   configurations = here .. "configurations/probe",
   phantom_pose = phantom_pose,
   max_vel = 0.08,  -- m/s per axis
-  event_sources = { "USMonitor", "NeedleTaskSup" },
+  event_sources = { "USMonitor" },
   connections = {
     { output = "ProbeTaskSup.taskState", input = "Surgeon.usTaskState", conn_policy = { type = "buffer", size = 64 } },
   },

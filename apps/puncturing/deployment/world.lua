@@ -21,10 +21,10 @@ getReferences()
 
 ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
 ISUR.tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)  -- tool z = the needle (the kinematics' tool x)
-ISUR.initial_joints = { 0.12, 0.12, 0.12, 0, 0, 0.785, 0.785, 0 }  -- m, rad: needle down, above the phantom
+ISUR.initial_joints = { 0.05, 0.05, 0.05, 0, 0, 0.785, 0.785, 0 }  -- m, rad: needle down, tip 0.12 m above the skin
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
-UR5.initial_joints = { 0.0, -1.9, 1.9, -1.57, -1.57, 0.0 }  -- rad
+UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m
 Patient.scenario_file = scenario .. "/phantom.txt"
 Patient.phantom_pose = info.abdomen
 Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle

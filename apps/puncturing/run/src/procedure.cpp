@@ -40,7 +40,7 @@ class Tap {
  public:
   Tap(core::ComponentRegistry& refs, const std::string& component, const std::string& port) {
     auto& out = dynamic_cast<core::OutputPortBase&>(refs.get(component).port(port));
-    reader_ = out.makeReader(component + "." + port, "puncturing run probe");
+    reader_ = out.makeReader(component + "_" + port, "puncturing run probe");
     out.connectTo(*reader_, core::ConnPolicy::data());
     typed_ = dynamic_cast<core::InputPort<T>*>(reader_.get());
     if (typed_ == nullptr) throw std::runtime_error("puncturing run: " + component + "." + port + " has another type");
@@ -143,13 +143,13 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
   std::vector<std::pair<std::string, std::unique_ptr<core::InputPortBase>>> event_taps;
   for (const core::ComponentInfo& info : refs.describeAll()) {
     auto& out = dynamic_cast<core::OutputPortBase&>(refs.get(info.name).port("events"));
-    auto reader = out.makeReader(info.name + ".events", "puncturing event log");
+    auto reader = out.makeReader(info.name + "_events", "puncturing event log");
     out.connectTo(*reader, core::ConnPolicy::buffer(256));
     event_taps.emplace_back(info.name, std::move(reader));
   }
   Tap<double> axial(refs, "Patient", "needleAxialForce"), depth(refs, "Patient", "needleDepth");
   Tap<double> needle_tank(refs, "NeedleAdmittance", "tankEnergy"), probe_tank(refs, "ProbeAdmittance", "tankEnergy");
-  Tap<double> min_distance(refs, "Planner", "minDistance");
+  Tap<double> min_distance(refs, "NeedlePlanner", "minDistance");
   Tap<KDL::Frame> commanded(refs, "NeedleAdmittance", "admPose"), measured(refs, "ISUR", "measCartPose");
 
   ProcedureResult result;
