@@ -142,7 +142,8 @@ TEST_F(PuncturingScene, ValidityOfUnrelatedStatesDoesNotDependOnTheOrderOfChecks
   for (int i = 0; i < 400; ++i)
     states.push_back({KDL::Frame(KDL::Rotation::RPY(tilt(rng), tilt(rng), 0.0) * KDL::Rotation::RotY(kPi / 2),
                                  KDL::Vector(x(rng), x(rng), z(rng))),
-                      KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * KDL::Rotation::RotX(kPi), KDL::Vector(px(rng), py(rng), pz(rng)))});
+                      KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * KDL::Rotation::RotX(kPi),
+                                 KDL::Vector(px(rng), py(rng), pz(rng)))});
   std::vector<Validity> forward, backward(states.size());
   for (const DualPose& q : states) forward.push_back(validator.check(q).validity);
   for (std::size_t i = states.size(); i-- > 0;) backward[i] = validator.check(states[i]).validity;
@@ -276,19 +277,15 @@ TEST_F(PuncturingScene, BadQueriesNameTheCause) {
 
 TEST(RealRobotModels, MissingAndMalformedMeshesAndUnknownRobotsAreNamed) {
   const std::string text = test::readText(scenes() / "puncturing.scene");
-  EXPECT_CONTAINS(messageOf([&] {
-                    StateValidator v(parseScene(text + "object cad environment world mesh absent.stl scale 0.001 at 0 0 "
-                                                       "0 0 0 0\n",
-                                                "puncturing.scene", scenes()),
-                                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
-                  }),
+  const auto build = [&](const std::string& extra, const std::filesystem::path& dir) {
+    StateValidator v(parseScene(text + extra, "puncturing.scene", dir),
+                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
+  };
+  EXPECT_CONTAINS(messageOf([&] { build("object cad environment world mesh absent.stl at 0 0 0 0 0 0\n", scenes()); }),
                   "absent.stl");
-  EXPECT_CONTAINS(messageOf([&] {
-                    StateValidator v(parseScene(text + "object cad environment world mesh malformed.stl at 0 0 0 0 0 0\n",
-                                                "puncturing.scene", test::dataDir()),
-                                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
-                  }),
-                  "malformed.stl");
+  EXPECT_CONTAINS(
+      messageOf([&] { build("object cad environment world mesh malformed.stl at 0 0 0 0 0 0\n", test::dataDir()); }),
+      "malformed.stl");
   SceneDescription other = loadScene(scenes() / "puncturing.scene");
   other.robots[1].name = "puma";
   EXPECT_EQ(messageOf([&] { makeRobotModels(other); }),
