@@ -173,6 +173,20 @@ TEST_F(PuncturingScene, RobotSolveAllocatesNothing) {
   EXPECT_EQ(allocationsDuring([&] { ur5->resetWarmStart(); }), 0);
 }
 
+// The puncturing scene is made of primitives only: a whole check (IK, FK, FCL updates and distance
+// queries with FCL's own GJK) allocates nothing, for valid, too-close and unreachable states.
+TEST_F(PuncturingScene, ChecksOnThePrimitiveSceneAllocateNothing) {
+  StateValidator validator = makeValidator();
+  const DualPose in_phantom{needleDown(0.05, 0.0, 0.05), kFree.second};
+  const DualPose unreachable{needleDown(0.0, 0.0, -0.3), kFree.second};
+  validator.check(kFree);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_TRUE(validator.check(kFree).valid()); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_TRUE(validator.check(kFree, true).valid()); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(validator.check(in_phantom).validity, Validity::TooClose); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(validator.check(unreachable).validity, Validity::Unreachable); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_GT(validator.minimumDistance(kFree), 0.005); }), 0);
+}
+
 /// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
 KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double t) {
   KDL::Vector axis;
