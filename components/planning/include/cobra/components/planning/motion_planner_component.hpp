@@ -29,7 +29,8 @@ namespace cobra::components {
 ///   unreachable);
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
-///   when unreachable), `lastPlanResult()` ("solved: ..." or the reason of the last failure);
+///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
+///   `lastPlanResult()` ("solved: ..." or the reason of the last failure);
 /// - events `e_plan_done` (path written on plannedPath), `e_plan_failed` (reason in
 ///   lastPlanResult() and on stderr).
 ///
