@@ -70,7 +70,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
                                                   "lower corner of the probe (tool 2) position box, world"};
   core::Property<std::vector<double>> second_high_{"second_bounds_high", {0.4, 0.4, 0.6}, "m",
                                                    "upper corner of the probe (tool 2) position box, world"};
-  core::Property<double> edge_resolution_{"edge_resolution", 0.002, "1",
+  core::Property<double> edge_resolution_{"edge_resolution", 0.004, "1",
                                           "edge check step as a fraction of the state space extent"};
 
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
