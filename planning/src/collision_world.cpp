@@ -152,6 +152,10 @@ void CollisionWorld::setRobotLinks(std::size_t robot, std::span<const KDL::Frame
 
 GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, double stop_below) const {
   DistanceSearch search;
+  // FCL's own GJK instead of libccd's (FCL's default): the same distances, and no heap allocation
+  // between primitives (libccd allocates its simplex per query), so a check on a primitive-only
+  // scene allocates nothing (real_robots_test, bench/planning_bench.cpp).
+  search.request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
   search.stop_below = stop_below;
   impl_->managers.at(first)->distance(impl_->managers.at(second).get(), &search, distanceCallback);
   GroupDistance result;

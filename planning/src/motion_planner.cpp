@@ -9,7 +9,9 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <stdexcept>
 
@@ -164,14 +166,24 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
   }
 
   try {
-    return search(start, goal, started);
+    // A path the dense verification rejects (it crossed a thin invalid region between two edge
+    // checks) is discarded and the search re-run with the next seed while time remains: the
+    // sequence of seeds is fixed, so the outcome stays reproducible.
+    std::uint32_t seed = options_.seed;
+    for (;;) {
+      const double remaining =
+          options_.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      PlanResult attempt = search(start, goal, started, seed, std::max(remaining, 1e-3));
+      if (attempt.status != PlanStatus::PathInvalid || remaining <= 0.0 || seed == UINT32_MAX) return attempt;
+      ++seed;
+    }
   } catch (const std::exception& error) {  // OMPL reports setup problems by throwing
     return finish(PlanStatus::PlannerError, std::string("OMPL failed: ") + error.what());
   }
 }
 
 PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
-                                 std::chrono::steady_clock::time_point started) {
+                                 std::chrono::steady_clock::time_point started, std::uint32_t seed, double time_limit) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return finished(std::move(result), status, std::move(message), started);
@@ -179,7 +191,8 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   const OmplLogLevel quiet(ompl::msg::LOG_NONE);
   // Re-seeding OMPL's seed generator before any generator of this query exists makes the sequence
   // of seeds, hence samples, the same for the same query (OMPL logs an error we silence above).
-  ompl::RNG::setSeed(options_.seed);
+  validator_.resetWarmStart();
+  ompl::RNG::setSeed(seed);
   auto space = std::make_shared<ob::CompoundStateSpace>();
   space->addSubspace(makeSE3(options_.first_bounds), 1.0);
   space->addSubspace(makeSE3(options_.second_bounds), 1.0);
@@ -191,7 +204,7 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   toOmpl(goal, *goal_state.get());
   setup.setStartAndGoalStates(start_state, goal_state);
   setup.setPlanner(makePlanner(options_, setup.getSpaceInformation()));
-  const ob::PlannerStatus status = setup.solve(options_.time_limit);
+  const ob::PlannerStatus status = setup.solve(time_limit);
   if (status != ob::PlannerStatus::EXACT_SOLUTION)
     return finish(PlanStatus::NoSolution, std::string("no path found by ") + options_.planner + " within " +
                                               std::to_string(options_.time_limit) + " s");

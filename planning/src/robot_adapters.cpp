@@ -64,7 +64,9 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
   // The branch of the configured seed: elbow (sign of q3) and wrist (sign of q5) as in initial_,
   // shoulder (the two q1 solutions) nearest to initial_'s q1. A value at 0 (arm stretched, wrist
   // singular) belongs to both sides.
-  const auto sameSide = [](double value, double reference) { return value == 0.0 || (value > 0.0) == (reference > 0.0); };
+  const auto sameSide = [](double value, double reference) {
+    return value == 0.0 || (value > 0.0) == (reference > 0.0);
+  };
   std::size_t best = solutions_.size();
   double best_shoulder = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < solutions_.size(); ++k) {
@@ -98,7 +100,9 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
 KDL::JntArray IsurPuncturingModel::defaultSeed() { return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0}); }
 
 IsurPuncturingModel::IsurPuncturingModel(const kinematics::IsurGeometry& geometry, const KDL::JntArray& seed)
-    : solver_(geometry), seed_(kinematics::IsurPuncturingSolver::kJoints), q_(kinematics::IsurPuncturingSolver::kJoints) {
+    : solver_(geometry),
+      seed_(kinematics::IsurPuncturingSolver::kJoints),
+      q_(kinematics::IsurPuncturingSolver::kJoints) {
   setSeed(seed);
 }
 

@@ -142,7 +142,8 @@ TEST_F(PuncturingScene, ValidityOfUnrelatedStatesDoesNotDependOnTheOrderOfChecks
   for (int i = 0; i < 400; ++i)
     states.push_back({KDL::Frame(KDL::Rotation::RPY(tilt(rng), tilt(rng), 0.0) * KDL::Rotation::RotY(kPi / 2),
                                  KDL::Vector(x(rng), x(rng), z(rng))),
-                      KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * KDL::Rotation::RotX(kPi), KDL::Vector(px(rng), py(rng), pz(rng)))});
+                      KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * KDL::Rotation::RotX(kPi),
+                                 KDL::Vector(px(rng), py(rng), pz(rng)))});
   std::vector<Validity> forward, backward(states.size());
   for (const DualPose& q : states) forward.push_back(validator.check(q).validity);
   for (std::size_t i = states.size(); i-- > 0;) backward[i] = validator.check(states[i]).validity;
@@ -170,6 +171,20 @@ TEST_F(PuncturingScene, RobotSolveAllocatesNothing) {
   std::array<KDL::Frame, 8> ur5_links{};
   EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(ur5->solve(tool, ur5_links), Reachability::Reachable); }), 0);
   EXPECT_EQ(allocationsDuring([&] { ur5->resetWarmStart(); }), 0);
+}
+
+// The puncturing scene is made of primitives only: a whole check (IK, FK, FCL updates and distance
+// queries with FCL's own GJK) allocates nothing, for valid, too-close and unreachable states.
+TEST_F(PuncturingScene, ChecksOnThePrimitiveSceneAllocateNothing) {
+  StateValidator validator = makeValidator();
+  const DualPose in_phantom{needleDown(0.05, 0.0, 0.05), kFree.second};
+  const DualPose unreachable{needleDown(0.0, 0.0, -0.3), kFree.second};
+  validator.check(kFree);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_TRUE(validator.check(kFree).valid()); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_TRUE(validator.check(kFree, true).valid()); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(validator.check(in_phantom).validity, Validity::TooClose); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_EQ(validator.check(unreachable).validity, Validity::Unreachable); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { EXPECT_GT(validator.minimumDistance(kFree), 0.005); }), 0);
 }
 
 /// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
@@ -276,19 +291,15 @@ TEST_F(PuncturingScene, BadQueriesNameTheCause) {
 
 TEST(RealRobotModels, MissingAndMalformedMeshesAndUnknownRobotsAreNamed) {
   const std::string text = test::readText(scenes() / "puncturing.scene");
-  EXPECT_CONTAINS(messageOf([&] {
-                    StateValidator v(parseScene(text + "object cad environment world mesh absent.stl scale 0.001 at 0 0 "
-                                                       "0 0 0 0\n",
-                                                "puncturing.scene", scenes()),
-                                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
-                  }),
+  const auto build = [&](const std::string& extra, const std::filesystem::path& dir) {
+    StateValidator v(parseScene(text + extra, "puncturing.scene", dir),
+                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
+  };
+  EXPECT_CONTAINS(messageOf([&] { build("object cad environment world mesh absent.stl at 0 0 0 0 0 0\n", scenes()); }),
                   "absent.stl");
-  EXPECT_CONTAINS(messageOf([&] {
-                    StateValidator v(parseScene(text + "object cad environment world mesh malformed.stl at 0 0 0 0 0 0\n",
-                                                "puncturing.scene", test::dataDir()),
-                                     makeRobotModels(loadScene(scenes() / "puncturing.scene")));
-                  }),
-                  "malformed.stl");
+  EXPECT_CONTAINS(
+      messageOf([&] { build("object cad environment world mesh malformed.stl at 0 0 0 0 0 0\n", test::dataDir()); }),
+      "malformed.stl");
   SceneDescription other = loadScene(scenes() / "puncturing.scene");
   other.robots[1].name = "puma";
   EXPECT_EQ(messageOf([&] { makeRobotModels(other); }),

@@ -8,9 +8,9 @@ namespace cobra::components {
 void registerPlanningPackage(deploy::PackageBuilder& package) {
   package
       .component<MotionPlannerComponent>("MotionPlanner",
-                                         "collision-free needle/probe paths, OMPL on SE(3)xSE(3) with FCL (thesis §4.5.1)")
+                                         "collision-free needle/probe paths, OMPL SE(3)xSE(3) + FCL (thesis §4.5.1)")
       .component<StateValidatorComponent>(
-          "StateValidator", "passes teleoperation set-points on only when valid, holds the last valid (thesis §5.4.2)");
+          "StateValidator", "passes valid teleoperation set-points on, else the last valid (thesis §5.4.2)");
 }
 
 }  // namespace cobra::components

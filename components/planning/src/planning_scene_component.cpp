@@ -97,7 +97,8 @@ void replaceRobotMeshes(SceneDescription& scene, const PlanningSceneSettings& s,
 
 SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
   if (s.scene_file.empty())
-    throw std::invalid_argument("property scene_file is empty: give a scene file (e.g. planning/scenes/puncturing.scene)");
+    throw std::invalid_argument(
+        "property scene_file is empty: give a scene file (e.g. planning/scenes/puncturing.scene)");
   SceneDescription scene;
   try {
     scene = planning::loadScene(resolve(s.models_folder, s.scene_file));

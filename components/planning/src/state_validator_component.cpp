@@ -15,7 +15,9 @@ StateValidatorComponent::StateValidatorComponent(std::string name)
   addPort(out_1_);
   addPort(out_2_);
   addPort(min_distance_);
-  addOperation("lastReason", std::function<std::string()>([this] { return last_reason_; }),
+  addOperation("lastReason", std::function<std::string()>([this] {
+                 return last_rejected_.valid() ? std::string() : planning::describe(last_rejected_);
+               }),
                "why the last rejected set-point pair was rejected (empty before any)");
 }
 
@@ -33,6 +35,7 @@ bool StateValidatorComponent::configureHook() {
 bool StateValidatorComponent::startHook() {
   have_1_ = have_2_ = have_valid_ = false;
   was_valid_ = true;
+  last_rejected_ = planning::ValidityResult{};
   validator_->resetWarmStart();
   return true;
 }
@@ -61,7 +64,7 @@ void StateValidatorComponent::updateHook() {
     was_valid_ = true;
   } else {
     if (result.validity == planning::Validity::TooClose) minimum = result.distance;
-    last_reason_ = planning::describe(result);
+    last_rejected_ = result;
     if (was_valid_) emitEvent("e_state_invalid");
     was_valid_ = false;
   }

@@ -12,6 +12,7 @@
 
 #include "cobra/core/core.hpp"
 #include "cobra/planning/robot_adapters.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -100,6 +101,19 @@ TEST(StateValidatorComponent, PassesValidPairsHoldsTheLastValidOneOtherwise) {
   out = b.send(needle_2, probe);
   EXPECT_EQ(out.first, needle_2);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_state_valid"}));
+}
+
+TEST(StateValidatorComponent, UpdateAllocatesNothing) {
+  Bench b;
+  const KDL::Frame needle = needleDown(0.0, 0.0, 0.2);
+  const KDL::Frame probe = probeDown(-0.1, 0.0, 0.12);
+  b.send(needle, probe);
+  b.send(needleDown(0.05, 0.0, 0.05), probe);
+  for (const KDL::Frame& n : {needleDown(0.01, 0.0, 0.2), needleDown(0.05, 0.0, 0.05), needleDown(0.0, 0.0, -0.3)}) {
+    b.in_1.write(n);
+    b.in_2.write(probe);
+    EXPECT_EQ(test_support::allocationsDuring([&] { b.clock.advance(1ms); }), 0);
+  }
 }
 
 TEST(StateValidatorComponent, NothingIsWrittenBeforeTheFirstValidPair) {

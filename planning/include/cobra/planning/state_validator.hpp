@@ -66,8 +66,10 @@ class StateValidator {
   ///         std::runtime_error if a mesh cannot be loaded.
   StateValidator(SceneDescription scene, RobotModels robots);
 
-  /// Algorithm 4.2/5.1. No exception; the reason of the first failed check. Not real-time safe:
-  /// FCL's narrow phase allocates (a few small blocks per distance query).
+  /// Algorithm 4.2/5.1. No exception; the reason of the first failed check. On a scene made of
+  /// primitives only, with robot models that do not allocate (robot_adapters.hpp), a check
+  /// allocates nothing: the distance queries use FCL's own GJK (libccd's, FCL's default, allocates
+  /// per query). Mesh objects go through FCL's BVH distance, which is not proven allocation-free.
   /// Checks run in the scene's `check` order; with `exact_distances` the reported distance of a
   /// TooClose is the exact minimum, otherwise the first pair found under the threshold.
   ValidityResult check(const DualPose& q, bool exact_distances = false);

@@ -29,7 +29,8 @@ namespace cobra::components {
 ///   unreachable);
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
-///   when unreachable), `lastPlanResult()` ("solved: ..." or the reason of the last failure);
+///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
+///   `lastPlanResult()` ("solved: ..." or the reason of the last failure);
 /// - events `e_plan_done` (path written on plannedPath), `e_plan_failed` (reason in
 ///   lastPlanResult() and on stderr).
 ///
@@ -69,7 +70,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
                                                   "lower corner of the probe (tool 2) position box, world"};
   core::Property<std::vector<double>> second_high_{"second_bounds_high", {0.4, 0.4, 0.6}, "m",
                                                    "upper corner of the probe (tool 2) position box, world"};
-  core::Property<double> edge_resolution_{"edge_resolution", 0.002, "1",
+  core::Property<double> edge_resolution_{"edge_resolution", 0.004, "1",
                                           "edge check step as a fraction of the state space extent"};
 
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
