@@ -35,6 +35,7 @@ return function(c)
   frames.state_table_file = here .. "../state_table.txt"
   planner.scene_file = here .. "../../../planning/scenes/puncturing.scene"
   planner.phantom_pose = c.phantom_pose
+  planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s
   _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench

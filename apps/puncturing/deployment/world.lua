@@ -20,8 +20,8 @@ initConfigurator({ "cobra_sim", "cobra_puncturing" }, {
 getReferences()
 
 ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
-ISUR.tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)  -- tool z = the needle (the kinematics' tool x)
-ISUR.initial_joints = { 0.05, 0.05, 0.05, 0, 0, 0.785, 0.785, 0 }  -- m, rad: needle down, tip 0.12 m above the skin
+ISUR.tool_frame = needle_tool_frame                 -- tool z = the needle (puncturing.lua)
+ISUR.initial_joints = { 0.021, 0.013, 0.224, 0, 0, 0.7, 0.7, 0 }  -- m, rad: needle 10 deg from vertical (away from the decomposition's singularity) at (-0.05, 0.05, 0.26) m, out of the probe's way
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
 UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m

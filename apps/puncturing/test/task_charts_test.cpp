@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -265,13 +267,39 @@ class Procedure {
   ChartRun* fail_plan_ = nullptr;
 };
 
-/// Every state entered by either chart across the tests (for the coverage test, run last).
-std::map<std::string, std::set<std::string>>& covered() {
-  static std::map<std::string, std::set<std::string>> states;
-  return states;
-}
-void record(Procedure& p) {
-  for (ChartRun* c : {&p.needle(), &p.us()}) covered()[c->name].insert(c->entries.begin(), c->entries.end());
+/// The scenarios of the tests below: a scenario folder, its needle count and the faults injected.
+/// Each test runs one; the coverage test runs them all (ctest runs every test in its own process).
+struct Scenario {
+  const char* folder;
+  int needles;
+  std::function<void(Procedure&)> inject = [](Procedure&) {};
+};
+const Scenario kNominal{"two_needles", 2};
+const Scenario kForbiddenRegion{"three_needles", 3,  // its surgeon takes over at the first reaction
+                                [](Procedure& p) { p.fault("root.InsertingNeedles.MoveToTumor", "e_forbidden_region"); }};
+const Scenario kTrapped{"two_needles", 2, [](Procedure& p) {
+                          p.fault("root.ExtractingNeedle.VerifyingNeedleTrapped", "e_needle_trapped");
+                        }};
+const Scenario kNeedleLost{"two_needles", 2, [](Procedure& p) {
+                             p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_needle_lost", 0.5);
+                           }};
+const Scenario kPlanFailure{"two_needles", 2, [](Procedure& p) { p.failPlanOnce(p.us()); }};
+const Scenario kMissedGoals{"three_needles", 3, [](Procedure& p) {
+                              p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // no puncture
+                              p.fault("root.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
+                              p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(),
+                                        "e_probe_contact_lost", 0.1);
+                            }};
+const Scenario kShortMotions{"two_needles", 2, [](Procedure& p) {  // its surgeon lets the system recover
+                               p.fault("root.InsertingNeedles.MoveToSkin.Descend", "e_motion_done");
+                               p.fault("root.InsertingNeedles.MoveToTumor", "e_motion_done");  // missed the target
+                             }};
+
+std::unique_ptr<Procedure> run(const Scenario& scenario) {
+  auto p = std::make_unique<Procedure>(scenario.folder, scenario.needles);
+  scenario.inject(*p);
+  p->run();
+  return p;
 }
 
 /// Asserts that `lines` appear in the timeline in this order.
@@ -289,9 +317,8 @@ void expectInOrder(const Procedure& p, const std::vector<std::string>& lines) {
 }
 
 TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSection49) {
-  Procedure p("two_needles", 2);
-  p.run();
-  record(p);
+  const auto run_ = run(kNominal);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   ASSERT_TRUE(Procedure::done(p.us())) << p.us().machine->activeLeaf();
   expectInOrder(p, {
@@ -332,10 +359,8 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
 }
 
 TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoTakesOverThenTheInsertionResumes) {
-  Procedure p("three_needles", 3);  // its surgeon takes over at the first reaction
-  p.fault("root.InsertingNeedles.MoveToTumor", "e_forbidden_region");
-  p.run();
-  record(p);
+  const auto run_ = run(kForbiddenRegion);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   expectInOrder(p, {"needle <- e_forbidden_region", "needle: NeedleTrajGen:askStopMove", "needle > root.WaitReaction",
                     "needle <- e_take_over", "needle: emit:e_deploy_needle_teleoperated",
@@ -346,10 +371,8 @@ TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoT
 }
 
 TEST(PuncturingCharts, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
-  Procedure p("two_needles", 2);
-  p.fault("root.ExtractingNeedle.VerifyingNeedleTrapped", "e_needle_trapped");
-  p.run();
-  record(p);
+  const auto run_ = run(kTrapped);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle()));
   expectInOrder(p, {"needle <- e_cryo_done", "needle <- e_needle_trapped", "needle: NeedleTrajGen:askStopMove",
                     "needle > root.ExtractingNeedle.WaitDefreezing",
@@ -359,10 +382,8 @@ TEST(PuncturingCharts, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
 }
 
 TEST(PuncturingCharts, TheUltrasoundLosingTheNeedleSearchesAgainWhileTheNeedleWaits) {
-  Procedure p("two_needles", 2);
-  p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_needle_lost", 0.5);
-  p.run();
-  record(p);
+  const auto run_ = run(kNeedleLost);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle()));
   expectInOrder(p, {"us <- e_needle_lost", "us > root.USPositioned.SearchingNeedle.Switching",
                     "needle <- e_us_needle_lost", "needle: NeedleTrajGen:askStopMove",
@@ -373,22 +394,16 @@ TEST(PuncturingCharts, TheUltrasoundLosingTheNeedleSearchesAgainWhileTheNeedleWa
 }
 
 TEST(PuncturingCharts, APlannerFailureIsAReactionTheSurgeonRecoversFrom) {
-  Procedure p("two_needles", 2);
-  p.failPlanOnce(p.us());
-  p.run();
-  record(p);
+  const auto run_ = run(kPlanFailure);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.us()));
   expectInOrder(p, {"us: ProbePlanner:askPlan", "us <- e_plan_failed", "us > root.WaitReaction", "us <- e_recover",
                     "us > root.MoveToSkin.Approach.Switching", "us: ProbePlanner:askPlan", "us <- e_probe_contact"});
 }
 
 TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
-  Procedure p("three_needles", 3);
-  p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // pushed the whole stroke, no puncture
-  p.fault("root.MoveToSkin.Descend", "e_motion_done");                 // no contact where the skin should be
-  p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_probe_contact_lost", 0.1);
-  p.run();
-  record(p);
+  const auto run_ = run(kMissedGoals);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   expectInOrder(p, {"us > root.MoveToSkin.Descend.Arrived", "us: emit:e_us_goal_missed", "us > root.WaitReaction",
                     "us <- e_take_over", "us > root.USTeleoperation", "us <- e_teleop_done",
@@ -400,11 +415,8 @@ TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
 }
 
 TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetried) {
-  Procedure p("two_needles", 2);  // its surgeon lets the system recover
-  p.fault("root.InsertingNeedles.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
-  p.fault("root.InsertingNeedles.MoveToTumor", "e_motion_done");         // the tip missed the target
-  p.run();
-  record(p);
+  const auto run_ = run(kShortMotions);
+  Procedure& p = *run_;
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   expectInOrder(p, {"needle > root.InsertingNeedles.MoveToSkin.Descend.Arrived", "needle: emit:e_needle_goal_missed",
                     "needle > root.WaitReaction", "needle <- e_recover",
@@ -414,7 +426,14 @@ TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetri
                     "needle <- e_target_reached"});
 }
 
-TEST(PuncturingCharts, ZZEveryStateOfBothChartsIsEnteredAcrossTheTests) {
+TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTests) {
+  std::map<std::string, std::set<std::string>> entered;
+  for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
+                                   &kShortMotions}) {
+    const auto p = run(*scenario);
+    for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
+  }
+  const auto covered = [&]() -> std::map<std::string, std::set<std::string>>& { return entered; };
   for (const auto& [name, file] : {std::pair{"needle", "needle_insertion.lua"}, std::pair{"us", "us_positioning.lua"}}) {
     script::LuaState lua;
     lua.run(kFakes, "=fakes");

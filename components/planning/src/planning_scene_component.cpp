@@ -152,6 +152,11 @@ SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
       throw std::invalid_argument("property phantom_pose: the scene has no object 'phantom' to place");
     phantom->offset = s.phantom_pose * phantom->offset;
   }
+  for (planning::RobotPlacement& robot : scene.robots) {
+    // A robot taking both poses (Algorithm 5.1) has one tool frame for both: the first's.
+    const KDL::Frame& tool = robot.tool_indices.front() == 0 ? s.first_tool_frame : s.second_tool_frame;
+    if (!(tool == KDL::Frame::Identity())) robot.tool_in_model_tool = tool;
+  }
   if (s.min_collision_distance >= 0.0) scene.min_collision_distance = s.min_collision_distance;
   try {
     scene.validate();
@@ -174,6 +179,8 @@ PlanningSceneComponent::PlanningSceneComponent(std::string name, std::string doc
   addProperty(mesh_scale_.range(1e-9, 1e3));
   addProperty(min_collision_distance_.range(-1.0, 1.0));
   addProperty(phantom_pose_);
+  addProperty(first_tool_frame_);
+  addProperty(second_tool_frame_);
 }
 
 PlanningSceneSettings PlanningSceneComponent::settings() const {
@@ -187,7 +194,9 @@ PlanningSceneSettings PlanningSceneComponent::settings() const {
           .ur5_link_list = ur5_link_list_(),
           .mesh_scale = mesh_scale_(),
           .min_collision_distance = min_collision_distance_(),
-          .phantom_pose = phantom_pose_()};
+          .phantom_pose = phantom_pose_(),
+          .first_tool_frame = first_tool_frame_(),
+          .second_tool_frame = second_tool_frame_()};
 }
 
 std::unique_ptr<planning::StateValidator> PlanningSceneComponent::buildValidator() const {

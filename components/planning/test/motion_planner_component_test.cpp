@@ -249,6 +249,33 @@ TEST(MotionPlannerComponent, ThesisListsOverrideTheScene) {
                   "property micro_link_list: link 2 is also in macro_link_list");
 }
 
+TEST(MotionPlannerComponent, ToolFramesLetTheApplicationNameItsOwnToolFrames) {
+  // An application whose needle frame has z along the needle (the I-SUR model's needle is x):
+  // first_tool_frame = RotY(90°) makes its pose plan like the model's own.
+  PlanningSceneSettings s;
+  s.models_folder = scenes();
+  s.scene_file = "puncturing.scene";
+  s.first_tool_frame = KDL::Frame(KDL::Rotation::RotY(kPi / 2));
+  const planning::SceneDescription scene = buildPlanningScene(s);
+  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("isur")].tool_in_model_tool, s.first_tool_frame, 1e-15));
+  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("ur5")].tool_in_model_tool, KDL::Frame::Identity(), 1e-15));
+
+  auto configured = [&](MotionPlannerComponent& planner, bool app) {
+    configureScene(planner);
+    if (app) planner.setProperty("first_tool_frame", s.first_tool_frame);
+    EXPECT_TRUE(planner.configure());
+  };
+  MotionPlannerComponent model_convention{"ModelPlanner"}, app_convention{"AppPlanner"};
+  configured(model_convention, false);
+  configured(app_convention, true);
+  const KDL::Frame needle_z_along = kNeedle * s.first_tool_frame;  // the same physical needle
+  const double expected = model_convention.call<double>("checkDistancePoses", kNeedle, kProbeStart);
+  ASSERT_TRUE(std::isfinite(expected));
+  EXPECT_NEAR(app_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart), expected, 1e-9);
+  const double other = model_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart);
+  EXPECT_TRUE(std::isnan(other) || std::abs(other - expected) > 1e-4) << "without it the rotated pose is another needle";
+}
+
 TEST(MotionPlannerComponent, StartRefusesAPeriodicActivity) {
   MotionPlannerComponent planner("Planner");
   configureScene(planner);

@@ -132,18 +132,19 @@ TEST(PuncturingFrameGenerator, MatchesHandComputedPosesOfTheFirstNeedle) {
   ASSERT_TRUE(b.configure());
   b.needle_meas.write(kNeedleMeas);
   b.us_meas.write(kUsMeas);
-  // n1: entry (-0.02, -0.006, 0), target (-0.005, 0, -0.058) in A; A at (0.55, 0, 0.12), not rotated.
+  // n1: entry (-0.02, -0.006, 0), target (-0.005, 0, -0.058) in A; A at (0, 0, 0.1), not rotated
+  // (preoperative.txt of two_needles).
   const KDL::Vector axis = KDL::Vector(0.015, 0.006, -0.058) / std::sqrt(0.015 * 0.015 + 0.006 * 0.006 + 0.058 * 0.058);
   ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.Moving"), std::vector<std::string>{"e_goal_ready"});
   KDL::Frame tip = b.goalPair()[0];
-  EXPECT_NEAR((tip.p - KDL::Vector(0.545, 0.0, 0.062)).Norm(), 0.0, 1e-12);
+  EXPECT_NEAR((tip.p - KDL::Vector(-0.005, 0.0, 0.042)).Norm(), 0.0, 1e-12);
   EXPECT_NEAR((tip.M.UnitZ() - axis).Norm(), 0.0, 1e-12);
   ASSERT_EQ(b.ask("root.ExtractingNeedle.MoveToExtractionPoint.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
-  tip = b.goalPair()[0];  // 2 cm back along the needle from the entry point (0.53, -0.006, 0.12)
-  EXPECT_NEAR((tip.p - (KDL::Vector(0.53, -0.006, 0.12) - axis * 0.02)).Norm(), 0.0, 1e-12);
+  tip = b.goalPair()[0];  // 2 cm back along the needle from the entry point (-0.02, -0.006, 0.1)
+  EXPECT_NEAR((tip.p - (KDL::Vector(-0.02, -0.006, 0.1) - axis * 0.02)).Norm(), 0.0, 1e-12);
   KDL::Frame target;
   ASSERT_NE(b.target.read(target), core::FlowStatus::NoData);
-  EXPECT_NEAR((target.p - KDL::Vector(0.545, 0.0, 0.062)).Norm(), 0.0, 1e-12);
+  EXPECT_NEAR((target.p - KDL::Vector(-0.005, 0.0, 0.042)).Norm(), 0.0, 1e-12);
 }
 
 TEST(PuncturingFrameGenerator, MapsThePlanThroughTheMeasuredAbdomenFrame) {

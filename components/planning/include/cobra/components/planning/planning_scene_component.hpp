@@ -30,6 +30,11 @@ struct PlanningSceneSettings {
   double mesh_scale = 0.001;
   double min_collision_distance = -1.0;
   KDL::Frame phantom_pose = KDL::Frame::Identity();
+  /// The frames the two poses of q give, each in its robot model's tool frame (identity: as the
+  /// scene says). E.g. an application whose needle frame has z along the needle, where the I-SUR
+  /// model's needle is its tool's x axis: RotY(90°).
+  KDL::Frame first_tool_frame = KDL::Frame::Identity();
+  KDL::Frame second_tool_frame = KDL::Frame::Identity();
 };
 
 /// The scene file with the overrides applied (see PlanningSceneComponent for their meaning).
@@ -50,7 +55,9 @@ planning::SceneDescription buildPlanningScene(const PlanningSceneSettings& setti
 ///   links are left out). Empty: as the scene says.
 /// - `mesh_scale` (m per mesh unit, 0.001 for CAD in mm), `min_collision_distance` (m; < 0: the
 ///   scene's), `phantom_pose` (KDL.Frame, m: places the phantom frame, in which the scene's object
-///   `phantom` is given, in the world; identity = as in the scene).
+///   `phantom` is given, in the world; identity = as in the scene), `first_tool_frame` and
+///   `second_tool_frame` (KDL.Frame, m: the frame each pose of q names, in the tool frame of the
+///   robot model that takes it; non-identity values replace the scene's `tool`).
 /// The scene file stays the primary description (the thesis' lists are data the scene already
 /// holds per object); the properties exist for the thesis' deployment files and override it.
 class PlanningSceneComponent : public core::Component {
@@ -80,6 +87,10 @@ class PlanningSceneComponent : public core::Component {
   core::Property<double> mesh_scale_{"mesh_scale", 0.001, "m", "size of one mesh file unit"};
   core::Property<double> min_collision_distance_{"min_collision_distance", -1.0, "m",
                                                  "distance every checked pair must exceed (< 0: the scene's)"};
+  core::Property<KDL::Frame> first_tool_frame_{"first_tool_frame", KDL::Frame::Identity(), "m",
+                                              "frame the first pose of q names, in its robot model's tool frame"};
+  core::Property<KDL::Frame> second_tool_frame_{"second_tool_frame", KDL::Frame::Identity(), "m",
+                                               "frame the second pose of q names, in its robot model's tool frame"};
   core::Property<KDL::Frame> phantom_pose_{"phantom_pose", KDL::Frame::Identity(), "m",
                                            "pose of the phantom frame in the world (identity: as in the scene)"};
 };
