@@ -144,6 +144,11 @@ MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
 
 MotionPlanner::~MotionPlanner() = default;
 
+void MotionPlanner::setSeed(std::uint32_t seed) {
+  if (seed == 0) throw std::invalid_argument("motion planner: the seed must be > 0");
+  options_.seed = seed;
+}
+
 PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) {
   const auto started = std::chrono::steady_clock::now();
   PlanResult result;

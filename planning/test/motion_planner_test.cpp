@@ -126,6 +126,19 @@ TEST_F(MotionPlannerTest, SameSeedGivesTheSamePath) {
   }
 }
 
+TEST_F(MotionPlannerTest, SetSeedMakesTheNextQueryThatOfTheNewSeed) {
+  MotionPlanner planner(validator, options("RRTConnect", 42));
+  planner.setSeed(7);
+  EXPECT_EQ(planner.options().seed, 7u);
+  const PlanResult reseeded = planner.planPath(kStart, kGoal);
+  const PlanResult fresh = MotionPlanner(validator, options("RRTConnect", 7)).planPath(kStart, kGoal);
+  ASSERT_TRUE(reseeded.solved() && fresh.solved());
+  ASSERT_EQ(reseeded.waypoints.size(), fresh.waypoints.size());
+  for (std::size_t i = 0; i < fresh.waypoints.size(); ++i)
+    EXPECT_TRUE(sameFrame(reseeded.waypoints[i].first, fresh.waypoints[i].first)) << i;
+  EXPECT_THROW(planner.setSeed(0), std::invalid_argument);
+}
+
 TEST(MotionPlanner, GoalInsideAClosedCageFailsWithinTheTimeLimit) {
   StateValidator validator(test::twoRobotScene(kCage), test::twoRobotModels());
   const DualPose start = toolsAt({-0.25, 0, 0.3}, {0.3, 0.35, 0.3});

@@ -14,7 +14,8 @@
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §4.6-4.7) its deployment and configuration supervisors know.
-local peers = { frames = "NeedleFrames", planner = "NeedlePlanner", trajectory = "NeedleTrajGen" }
+local peers = { frames = "NeedleFrames", planner = "NeedlePlanner", trajectory = "NeedleTrajGen",
+                monitor = "NeedleMonitor" }
 local D = { planning = "needle_autonomous_planning", primitives = "needle_autonomous_primitives",
             teleoperated = "needle_teleoperated" }
 local C = { free = "needle_free_motion", penetration = "needle_penetration", insertion = "needle_insertion" }
@@ -128,8 +129,9 @@ local chart = {
                    call("frames", "nextNeedle")
                    emit("e_needle_next")
                  end },
+    -- A new needle: the monitor's skin touch and puncture detection are re-armed for it.
     rfsm.trans { src = 'WaitNeedleMounted', tgt = 'MoveToSkin', events = { 'e_needle_mounted' },
-                 effect = function() needle_on_tool, at_change = true, false end },
+                 effect = function() needle_on_tool, at_change = true, false call("monitor", "reset") end },
     rfsm.trans { src = 'MoveToSkin', tgt = 'PenetratingSkin', events = { 'e_skin_touched' },
                  effect = function() stop() emit("e_needle_skin_reached") end },
     rfsm.trans { src = 'PenetratingSkin', tgt = 'MoveToTumor', events = { 'e_skin_penetrated' },

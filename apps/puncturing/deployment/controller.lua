@@ -36,6 +36,10 @@ return function(c)
   planner.scene_file = here .. "../../../planning/scenes/puncturing.scene"
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
+  -- s, wall clock: back to the needle change pose turns the needle half a turn about its axis past
+  -- the UR5's forearm, a narrow passage RRT-Connect takes about 1 s to find on a loaded machine
+  -- (simulated time does not advance while it plans).
+  planner.time_limit = 5
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s
   _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench
@@ -43,7 +47,8 @@ return function(c)
   _G[n("TaskSup")].fsm_path = c.chart
   _G[n("DepSup")].fsm_path = charts .. "deployment_supervisor.lua"
   _G[n("ConfSup")].fsm_path = charts .. "configuration_supervisor.lua"
-  addPeers({ { peer_name = n("TaskSup"), peers_to_add = { n("Frames"), n("Planner"), n("TrajGen") } } })
+  addPeers({ { peer_name = n("TaskSup"),
+                peers_to_add = { n("Frames"), n("Planner"), n("TrajGen"), table.unpack(c.chart_peers or {}) } } })
 
   local always = { n("Wrench"), n("Admittance"), n("TaskSup"), n("DepSup"), n("ConfSup") }
   local activities = {}

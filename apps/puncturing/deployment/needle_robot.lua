@@ -10,6 +10,7 @@ dofile(here .. "controller.lua") {
   phantom_pose = phantom_pose,
   max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
   event_sources = { "NeedleMonitor" },
+  chart_peers = { "NeedleMonitor" },  -- the chart re-arms its skin detection for each new needle
   connections = {
     { output = "NeedleFrames.needleTarget", input = "NeedleMonitor.targetPose" },
     { output = "NeedleTaskSup.taskState", input = "Surgeon.needleTaskState", conn_policy = { type = "buffer", size = 64 } },

@@ -32,6 +32,7 @@ Patient.thaw_time_constant = 8                       -- s (simulation speed-up o
 NeedleMonitor.needle_axis = { 0, 0, 1 }
 NeedleMonitor.forbidden_regions = G.regionsInWorld(info)
 NeedleMonitor.forbidden_margin = 0.001               -- m
+USMonitor.contact_lost_time = 0.2                    -- s: the force dips while the probe's reference moves
 Surgeon.script_file = scenario .. "/surgeon.txt"
 
 local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }

@@ -31,7 +31,8 @@ function raise(name) log[#log + 1] = "raise:" .. name end
 local function fake(peer)
   return setmetatable({}, { __index = function(_, op) return function() log[#log + 1] = peer .. ":" .. op end end })
 end
-for _, p in ipairs({ "NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "ProbeFrames", "ProbePlanner", "ProbeTrajGen" }) do
+for _, p in ipairs({ "NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "NeedleMonitor", "ProbeFrames", "ProbePlanner",
+                    "ProbeTrajGen" }) do
   _G[p] = fake(p)
 end
 function drain() local text = table.concat(log, "\n") log = {} return text end
@@ -330,7 +331,8 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
       // C: the probe touches the skin; the I-SUR robot moves to the insertion point.
       "us <- e_probe_contact", "us: emit:e_us_positioned", "needle <- e_us_positioned",
       "needle > root.InsertingNeedles.MoveToNeedleChange.Switching", "needle <- e_needle_mounted",
-      "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: NeedlePlanner:askPlan",
+      "needle: NeedleMonitor:reset", "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching",
+      "needle: NeedlePlanner:askPlan",
       // D: at the phantom, the insertion starts (a motion primitive).
       "needle: emit:e_deploy_needle_autonomous_primitives", "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching",
       // E: the needle touches the skin: penetration configuration.

@@ -102,6 +102,20 @@ double MotionPlannerComponent::checkDistancePoses(KDL::Frame first, KDL::Frame s
   return validator_->minimumDistance({first, second});
 }
 
+namespace {
+/// "(x, y, z m; r, p, y rad)" of one frame, for the messages of a failed plan.
+std::string describe(const KDL::Frame& f) {
+  double r = 0, p = 0, y = 0;
+  f.M.GetRPY(r, p, y);
+  char text[160];
+  std::snprintf(text, sizeof text, "(%.4f, %.4f, %.4f m; %.4f, %.4f, %.4f rad)", f.p.x(), f.p.y(), f.p.z(), r, p, y);
+  return text;
+}
+std::string describe(const planning::DualPose& q) {
+  return "first " + describe(q.first) + " second " + describe(q.second);
+}
+}  // namespace
+
 void MotionPlannerComponent::fail(const std::string& reason) {
   last_result_ = reason;
   std::fprintf(stderr, "[cobra] MotionPlanner '%s': plan failed: %s\n", name().c_str(), reason.c_str());
@@ -140,7 +154,13 @@ void MotionPlannerComponent::plan() {
     return fail(last_result_.rfind("port goalPoses", 0) == 0 ? last_result_
                                                               : std::string("no goal on port goalPoses"));
   const planning::PlanResult result = planner_impl_->planPath(measured_, goal_pose_);
-  if (!result.solved()) return fail(std::string(planning::toString(result.status)) + ": " + result.message);
+  if (!result.solved()) {
+    // The same query with the same seed would fail the same way: the next request explores anew.
+    const std::uint32_t seed = planner_impl_->options().seed;
+    planner_impl_->setSeed(seed == UINT32_MAX ? 1 : seed + 1);
+    return fail(std::string(planning::toString(result.status)) + ": " + result.message + "; from " +
+                describe(measured_) + " to " + describe(goal_pose_));
+  }
   std::vector<std::vector<KDL::Frame>> waypoints;
   waypoints.reserve(result.waypoints.size());
   for (const planning::DualPose& q : result.waypoints) waypoints.push_back({q.first, q.second});

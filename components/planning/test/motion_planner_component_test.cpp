@@ -153,6 +153,10 @@ TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
   EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
                   "invalid goal: goal state is not valid: too close: micro/environment");
+  // The message gives the query: start (the measured poses) and goal, needle first.
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), " m; ");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "; from first (");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), ") to first (");
 
   b.goal.write(encodeCartesianPath({{kNeedle, probeDown(0.25, 0.0, 0.9)}}));  // out of the probe's bounds
   b.clock.advance(1ms);

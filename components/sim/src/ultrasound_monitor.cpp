@@ -11,6 +11,7 @@ UltrasoundMonitor::UltrasoundMonitor(std::string name)
   addProperty(lost_distance_);
   addProperty(contact_force_);
   addProperty(contact_lost_force_);
+  addProperty(contact_lost_time_);
   addPort(plane_distance_);
   addPort(in_image_);
   addPort(contact_);
@@ -23,7 +24,10 @@ bool UltrasoundMonitor::configureHook() {
   if (!(contact_lost_force_() >= 0.0) || !(contact_force_() >= contact_lost_force_()))
     return refuse("properties contact_force (" + std::to_string(contact_force_()) + " N) and contact_lost_force (" +
                   std::to_string(contact_lost_force_()) + " N): expected 0 <= contact_lost_force <= contact_force");
+  if (!(contact_lost_time_() >= 0.0))
+    return refuse("property contact_lost_time (" + std::to_string(contact_lost_time_()) + " s): expected >= 0");
   in_contact_ = visible_ = false;
+  below_since_ns_ = -1;
   return true;
 }
 
@@ -34,8 +38,15 @@ void UltrasoundMonitor::updateHook() {
       in_contact_ = true;
       emitEvent("e_probe_contact");
     } else if (in_contact_ && force < contact_lost_force_()) {
-      in_contact_ = false;
-      emitEvent("e_probe_contact_lost");
+      const std::int64_t now_ns = now().count();
+      if (below_since_ns_ < 0) below_since_ns_ = now_ns;
+      if (static_cast<double>(now_ns - below_since_ns_) >= contact_lost_time_() * 1e9) {
+        in_contact_ = false;
+        below_since_ns_ = -1;
+        emitEvent("e_probe_contact_lost");
+      }
+    } else {
+      below_since_ns_ = -1;
     }
   }
   double in_image = 1.0;

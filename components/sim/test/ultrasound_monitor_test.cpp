@@ -95,6 +95,24 @@ TEST(UltrasoundMonitor, LiftingTheProbeLosesContactAndTheImage) {
   EXPECT_EQ(rig.take(), (Events{"e_probe_contact", "e_needle_visible"}));
 }
 
+TEST(UltrasoundMonitor, ContactIsLostOnlyWhenTheForceStaysLowForContactLostTime) {
+  Rig rig;
+  ASSERT_TRUE(rig.monitor.stop());
+  ASSERT_TRUE(rig.monitor.cleanup());
+  rig.monitor.setProperty("contact_lost_time", 0.005);
+  ASSERT_TRUE(rig.monitor.configure()) << rig.monitor.lastError();
+  ASSERT_TRUE(rig.monitor.start());
+  rig.step(0.002, 0.01);
+  EXPECT_EQ(rig.take(), Events{"e_probe_contact"});
+  for (int i = 0; i < 4; ++i) rig.step(0.0004, 0.01);  // 0.8 N for 4 ms: a dip
+  rig.step(0.002, 0.01);
+  EXPECT_EQ(rig.take(), Events{});
+  for (int i = 0; i < 5; ++i) rig.step(0.0004, 0.01);  // below from the 1st sample to the 5th: 4 ms
+  EXPECT_EQ(rig.take(), Events{});
+  rig.step(0.0004, 0.01);  // 5 ms
+  EXPECT_EQ(rig.take(), Events{"e_probe_contact_lost"});
+}
+
 TEST(UltrasoundMonitor, InconsistentThresholdsAreRefused) {
   UltrasoundMonitor monitor("us");
   monitor.setProperty("lost_distance", 0.001);
@@ -106,6 +124,11 @@ TEST(UltrasoundMonitor, InconsistentThresholdsAreRefused) {
   r = force.configure();
   EXPECT_FALSE(r);
   EXPECT_CONTAINS(r.message, "expected 0 <= contact_lost_force <= contact_force");
+  UltrasoundMonitor time("us");
+  time.setProperty("contact_lost_time", -0.1);
+  r = time.configure();
+  EXPECT_FALSE(r);
+  EXPECT_CONTAINS(r.message, "property contact_lost_time (-0.100000 s): expected >= 0");
 }
 
 }  // namespace

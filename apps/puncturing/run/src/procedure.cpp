@@ -191,9 +191,11 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
     watch(configurator.currentDeployment("probe"), probe_dep, "probe deployment", "probe deployment");
     watch(configurator.currentConfiguration(), configuration, "configuration", "configuration");
 
-    // The needle placed: the chart leaves MoveToTumor for WaitCryoCycle.
-    if (needle_state.find("WaitCryoCycle") != std::string::npos &&
-        previous_needle_state.find("MoveToTumor") != std::string::npos) {
+    // The needle placed: where its tip was during the freeze, i.e. when the chart leaves
+    // WaitCryoCycle (the insertion motion ends within the monitor's tolerance of the target
+    // and settles while the ice forms).
+    if (needle_state.find("WaitCryoCycle") == std::string::npos &&
+        previous_needle_state.find("WaitCryoCycle") != std::string::npos) {
       KDL::Frame tip;
       const int needle = frames.call<int>("currentNeedle");
       if (measured.read(tip)) {
@@ -201,6 +203,19 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
         result.placements.push_back({needle, t, 1000.0 * (tip.p - target.p).Norm()});
         say(t, "needle " + std::to_string(needle + 1) + " placed, " +
                    std::to_string(result.placements.back().error_mm).substr(0, 4) + " mm from its target");
+      }
+    }
+    // A reaction: say where the needle is (the surgeon's first question).
+    const int current_needle = frames.call<int>("currentNeedle");
+    if (needle_state == "root.WaitReaction" && previous_needle_state != needle_state &&
+        current_needle < frames.call<int>("needleCount")) {
+      KDL::Frame tip;
+      if (measured.read(tip)) {
+        const KDL::Frame target = frames.call<KDL::Frame>("plannedTarget", current_needle);
+        char line[160];
+        std::snprintf(line, sizeof line, "  needle tip at (%.4f, %.4f, %.4f) m, %.2f mm from its target", tip.p.x(),
+                      tip.p.y(), tip.p.z(), 1000.0 * (tip.p - target.p).Norm());
+        say(t, line);
       }
     }
     previous_needle_state = needle_state;

@@ -98,6 +98,8 @@ class MotionPlanner {
   PlanResult planPath(const DualPose& start, const DualPose& goal);
 
   const PlannerOptions& options() const { return options_; }
+  /// Seed of the next planPath() (> 0; an invalid seed throws std::invalid_argument).
+  void setSeed(std::uint32_t seed);
 
  private:
   /// The OMPL part of planPath() (after the input checks) with one seed and time limit [s]; may

@@ -36,7 +36,7 @@ struct ProcedureOptions {
 /// A needle at its target: where the tip ended and how far from the planned target.
 struct NeedlePlacement {
   int needle = 0;
-  double time = 0.0;      ///< s, when the needle chart left MoveToTumor for WaitCryoCycle
+  double time = 0.0;      ///< s, when the needle chart left WaitCryoCycle (the tip held during the freeze)
   double error_mm = 0.0;  ///< mm, measured tip to planned target
 };
 

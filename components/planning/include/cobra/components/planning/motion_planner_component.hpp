@@ -18,7 +18,8 @@ namespace cobra::components {
 
 /// Interface (thesis names; scene properties: PlanningSceneComponent):
 /// - properties `planner` ("RRTConnect", "RRT", "PRM"), `time_limit` (s, wall clock),
-///   `seed` (> 0), `first_bounds_low/high`, `second_bounds_low/high` (3 values each, m: the
+///   `seed` (> 0; a query that failed is retried with the next seed, so asking again after a
+///   failure explores differently and the run stays reproducible), `first_bounds_low/high`, `second_bounds_low/high` (3 values each, m: the
 ///   world box of the needle / probe positions), `edge_resolution` (fraction of the space extent);
 /// - ports in: `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the start state),
 ///   `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values: the needle then the probe goal,
