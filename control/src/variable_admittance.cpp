@@ -142,6 +142,20 @@ void VariableAdmittance::integrate(const Matrix6& M, const Matrix6& K, const Vec
   x_next = x_ + dt * v_next;
 }
 
+void VariableAdmittance::rebase(const KDL::Frame& old_reference, const KDL::Frame& new_reference) noexcept {
+  // Same output pose: p_new + x̃'_p = p_old + x̃_p and R_new Exp(x̃'_r) = R_old Exp(x̃_r).
+  const KDL::Vector dp = old_reference.p - new_reference.p;
+  x_(0) += dp.x();
+  x_(1) += dp.y();
+  x_(2) += dp.z();
+  const KDL::Rotation relative = new_reference.M.Inverse() * old_reference.M * expRotation(x_);
+  const KDL::Vector r = relative.GetRot();  // axis times angle in [0, π], rad
+  x_(3) = r.x();
+  x_(4) = r.y();
+  x_(5) = r.z();
+  audit_.stored = constantEnergy(x_, v_);
+}
+
 AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL::Twist& reference_twist,
                                           const KDL::Wrench& wrench, double dt, KDL::Frame& pose,
                                           KDL::Twist& twist) noexcept {

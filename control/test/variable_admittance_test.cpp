@@ -49,6 +49,31 @@ TEST(VariableAdmittance, SteadyStateDeflectionIsForceOverStiffness) {
   EXPECT_NEAR(twist.vel.Norm(), 0.0, 1e-9);
 }
 
+TEST(VariableAdmittance, ARebaseKeepsThePoseWhenTheReferenceJumpsThenConvergesToTheNewOne) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  const KDL::Frame old_ref(KDL::Rotation::RPY(0.1, -0.2, 0.3), KDL::Vector(0.1, 0.2, 0.3));
+  const KDL::Wrench push(KDL::Vector(5.0, -2.0, 1.0), KDL::Vector(0.1, 0, 0.2));
+  for (int i = 0; i < 3000; ++i) a.step(old_ref, KDL::Twist::Zero(), push, kDt, pose, twist);
+  const KDL::Frame before = pose;
+  // The new trajectory starts 3 mm and 0.05 rad away (at the measured pose, say).
+  const KDL::Frame new_ref(KDL::Rotation::RPY(0.15, -0.2, 0.3), KDL::Vector(0.103, 0.2, 0.3));
+  a.rebase(old_ref, new_ref);
+  a.step(new_ref, KDL::Twist::Zero(), push, kDt, pose, twist);
+  EXPECT_LT((pose.p - before.p).Norm(), 1e-5);  // m: one step of motion, not the 3 mm jump
+  EXPECT_LT((before.M.Inverse() * pose.M).GetRot().Norm(), 1e-4);  // rad
+  // Without the rebase the same jump goes straight to the output.
+  VariableAdmittance b(baseline());
+  KDL::Frame jumped;
+  for (int i = 0; i < 3000; ++i) b.step(old_ref, KDL::Twist::Zero(), push, kDt, jumped, twist);
+  b.step(new_ref, KDL::Twist::Zero(), push, kDt, jumped, twist);
+  EXPECT_GT((jumped.p - before.p).Norm(), 2.9e-3);
+  // Then the dynamics take it to the new reference's equilibrium (F / K away from it).
+  for (int i = 0; i < 10000; ++i) a.step(new_ref, KDL::Twist::Zero(), push, kDt, pose, twist);
+  EXPECT_NEAR((pose.p - (new_ref.p + KDL::Vector(5.0, -2.0, 1.0) / 500.0)).Norm(), 0.0, 1e-9);
+}
+
 TEST(VariableAdmittance, TheRotationStaysOnSO3ForLargeErrors) {
   VariableAdmittance a(baseline());
   KDL::Frame pose;

@@ -1,6 +1,7 @@
 #include "cobra/core/lockstep_clock.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <limits>
 
@@ -71,6 +72,17 @@ void LockstepClock::advance(std::chrono::nanoseconds duration) {
   now_ = end;
 }
 
+void LockstepClock::step(const Entry& e) {
+  if (!step_observer_) {
+    e.activity->stepComponent();
+  } else {
+    const auto started = std::chrono::steady_clock::now();
+    e.activity->stepComponent();
+    step_observer_(*e.component, std::chrono::steady_clock::now() - started);
+  }
+  ++steps_;
+}
+
 void LockstepClock::runInstant(std::chrono::nanoseconds t) {
   now_ = t;
   for (const Entry& e : entries_) {
@@ -78,8 +90,7 @@ void LockstepClock::runInstant(std::chrono::nanoseconds t) {
     if (a.period_.count() > 0 && a.next_due_ == t) {
       a.next_due_ += a.period_;
       a.triggered_ = false;
-      a.stepComponent();
-      ++steps_;
+      step(e);
     }
   }
   settle(t);
@@ -102,8 +113,7 @@ void LockstepClock::runTriggered(std::chrono::nanoseconds t) {
       LockstepActivity& a = *e.activity;
       if (a.period_.count() == 0 && a.triggered_) {
         a.triggered_ = false;
-        a.stepComponent();
-        ++steps_;
+        step(e);
         any = true;
       }
     }

@@ -134,6 +134,31 @@ TEST(LockstepClock, ComponentsStepInTheOrderTheyWereAdded) {
   EXPECT_EQ(trace, expected);
 }
 
+TEST(LockstepClock, AStepObserverSeesEveryStepWithItsWallClockDuration) {
+  Trace trace;
+  Ticker b("B", trace);
+  Ticker a("A", trace);
+  LockstepClock clock;
+  clock.add(b, 2ms);
+  clock.add(a, 1ms);
+  startAll({&a, &b});
+  std::vector<std::string> observed;
+  std::chrono::nanoseconds total{0};
+  clock.setStepObserver([&](const Component& c, std::chrono::nanoseconds took) {
+    observed.push_back(c.name());
+    EXPECT_GE(took.count(), 0);
+    total += took;
+  });
+  clock.advance(3ms);
+  EXPECT_EQ(observed, (std::vector<std::string>{"B", "A", "A", "B", "A"}));
+  EXPECT_EQ(clock.steps(), 5u);
+  EXPECT_GT(total.count(), 0);
+  clock.setStepObserver(nullptr);  // off again: steps go on untimed
+  clock.advance(1ms);
+  EXPECT_EQ(observed.size(), 5u);
+  EXPECT_EQ(clock.steps(), 6u);
+}
+
 TEST(LockstepClock, AComponentAddedLaterStartsAtTheNextMultipleOfItsPeriod) {
   Trace trace;
   Ticker early("Early", trace);

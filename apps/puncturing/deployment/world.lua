@@ -28,12 +28,20 @@ UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: p
 Patient.scenario_file = scenario .. "/phantom.txt"
 Patient.phantom_pose = info.abdomen
 Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle
-Patient.thaw_time_constant = 8                       -- s (simulation speed-up of the thaw)
+Patient.freeze_time_constant = 5                     -- s: the iceball grows and thaws fast (a
+Patient.thaw_time_constant = 8                       -- s  simulation speed-up of a 10-minute cycle)
+Patient.hold_stiffness = 3000                        -- N/m: the ice holds the needle through the tissue's
+                                                     -- elasticity; 2e4 makes the insertion admittance's
+                                                     -- coupled loop ring with the servo lag (unstable)
+Patient.freeze_duration = 5                          -- s: the freeze the runner starts at WaitCryoCycle
+                                                     -- (the surgeon confirms the cycle 20 s in, thawed)
 NeedleMonitor.needle_axis = { 0, 0, 1 }
 NeedleMonitor.forbidden_regions = G.regionsInWorld(info)
 NeedleMonitor.forbidden_margin = 0.001               -- m
+NeedleMonitor.extraction_threshold = 4               -- N: the 6 mm test pull against the ice gives about 6 N
+NeedleMonitor.release_force = 1                      -- N
 USMonitor.contact_lost_time = 0.2                    -- s: the force dips while the probe's reference moves
-Surgeon.script_file = scenario .. "/surgeon.txt"
+Surgeon.script_file = surgeon_file or (scenario .. "/surgeon.txt")  -- surgeon_file: a test's script
 
 local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }
 local activities = {}

@@ -26,7 +26,7 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
                 "Variable admittance with energy tank (thesis §4.5.3): passive whatever its parameters' schedule") {
   for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
            &inertia_, &damping_, &stiffness_, &constant_inertia_, &constant_stiffness_, &tank_initial_, &tank_max_,
-           &tank_min_})
+           &tank_min_, &max_reference_speed_, &max_reference_angular_speed_})
     addProperty(*p);
   addPort(ref_pose_);
   addPort(ref_twist_);
@@ -48,6 +48,10 @@ bool VariableAdmittanceController::configureHook() {
     if (!matrixFromProperty((*property)(), *matrix))
       return refuse("property " + property->name() + " has " + std::to_string((*property)().size()) +
                     " numbers; give 6 (the diagonal) or 36 (row-major)");
+  if (!(max_reference_speed_() > 0.0) || !(max_reference_angular_speed_() > 0.0))
+    return refuse("properties max_reference_speed (" + std::to_string(max_reference_speed_()) +
+                  " m/s) and max_reference_angular_speed (" + std::to_string(max_reference_angular_speed_()) +
+                  " rad/s) must be > 0");
   p.tank = {tank_initial_(), tank_max_(), tank_min_()};
   try {
     controller_ = std::make_unique<control::VariableAdmittance>(p);
@@ -67,6 +71,7 @@ bool VariableAdmittanceController::startHook() {
   if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the control period");
   controller_->reset();
   have_reference_ = false;
+  stepped_ = false;
   tank_empty_ = false;
   return true;
 }
@@ -94,6 +99,16 @@ void VariableAdmittanceController::updateHook() {
   if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
   if (!have_reference_) return;
   const double dt = std::chrono::duration<double>(activity().period()).count();
+  if (stepped_) {
+    const double moved = (reference_.p - previous_reference_.p).Norm();
+    const double turned = (previous_reference_.M.Inverse() * reference_.M).GetRot().Norm();
+    if (moved > max_reference_speed_() * dt || turned > max_reference_angular_speed_() * dt) {
+      controller_->rebase(previous_reference_, reference_);
+      emitEvent("e_reference_jump");
+    }
+  }
+  previous_reference_ = reference_;
+  stepped_ = true;
   KDL::Frame pose;
   KDL::Twist twist;
   const control::AdmittanceStatus status =

@@ -37,9 +37,9 @@ struct Deployed {
     core::connectPorts(a.port("tankEnergy"), tank);
     deployer.run("configureComponents({ 'Admittance' }) startComponents({ 'Admittance' })", "start.lua");
   }
-  KDL::Frame run(std::chrono::milliseconds d, const KDL::Wrench& w) {
+  KDL::Frame run(std::chrono::milliseconds d, const KDL::Wrench& w, const KDL::Frame& ref = KDL::Frame::Identity()) {
     for (auto t = 0ms; t < d; t += 1ms) {
-      reference.write(KDL::Frame::Identity());
+      reference.write(ref);
       wrench.write(w);
       configurator.clock().advance(1ms);
     }
@@ -68,6 +68,35 @@ TEST(ControlComponents, AdmittanceFollowsItsConfigurationsWithoutJumps) {
   double energy = 0.0;
   ASSERT_NE(d.tank.read(energy), core::FlowStatus::NoData);
   EXPECT_GE(energy, 1.0);
+}
+
+TEST(ControlComponents, AReferenceJumpIsRebasedSoTheCommandedPoseStaysContinuous) {
+  Deployed d("puncturing");
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::connectPorts(d.configurator.getReferences().get("Admittance").port("events"), events,
+                     core::ConnPolicy::buffer(16));
+  d.deployer.run("applyConfiguration('penetration')", "task.lua");
+  const KDL::Wrench skin(KDL::Vector(0, 0, 6.0), KDL::Vector::Zero());  // N: the skin pushes back
+  KDL::Frame before = d.run(3000ms, skin);
+  EXPECT_NEAR(before.p.z(), 6.0 / 4000.0, 1e-6);
+  // A reference moving at 0.04 m/s (a trajectory) is followed, not rebased.
+  KDL::Frame ref = KDL::Frame::Identity();
+  for (int i = 0; i < 100; ++i) {
+    ref.p.x(ref.p.x() + 4e-5);
+    d.run(1ms, skin, ref);
+  }
+  core::Event e;
+  EXPECT_EQ(events.read(e), core::FlowStatus::NoData);
+  // A new trajectory starting at the measured pose, 1.5 mm above the old reference.
+  before = d.run(1ms, skin, ref);
+  KDL::Frame jumped = ref;
+  jumped.p.z(ref.p.z() + 1.5e-3);
+  const KDL::Frame after = d.run(1ms, skin, jumped);
+  EXPECT_LT((after.p - before.p).Norm(), 1e-4);  // m: not the 1.5 mm jump
+  ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name.str(), "e_reference_jump");
+  const KDL::Frame settled = d.run(5000ms, skin, jumped);
+  EXPECT_NEAR(settled.p.z(), jumped.p.z() + 6.0 / 4000.0, 1e-5);  // the new reference's equilibrium
 }
 
 TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {

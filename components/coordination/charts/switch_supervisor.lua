@@ -18,9 +18,13 @@ return function(kind)
   local pending = {}   -- requested names, oldest first
   local current = nil  -- the name being applied
 
+  -- The Supervisor raises each input event twice, as NAME and as NAME@SOURCE: a request is
+  -- taken from its plain form only (the other would ask for a deployment "NAME@SOURCE").
   local function take_requests(events)
     for _, e in ipairs(events) do
-      if e:sub(1, #w.request) == w.request then pending[#pending + 1] = e:sub(#w.request + 1) end
+      if e:sub(1, #w.request) == w.request and not e:find("@", 1, true) then
+        pending[#pending + 1] = e:sub(#w.request + 1)
+      end
     end
     return #pending > 0
   end

@@ -151,6 +151,8 @@ return rfsm.state {
                                   {"ConfSup.outputEvents", "TaskSup.inputEvents", events, {}}});
   core::InputPort<core::TaskState> task_state{"task", "", ""};
   core::connectPorts(cell.get("TaskSup").port("taskState"), task_state, core::ConnPolicy::buffer(16));
+  core::InputPort<core::Event> dep_answers{"dep", "", ""};
+  core::connectPorts(cell.get("DepSup").port("outputEvents"), dep_answers, core::ConnPolicy::buffer(16));
   cell.configurator.configureComponents({{"DepSup", {}}, {"ConfSup", {}}, {"TaskSup", {}}});
   cell.configurator.startComponents({{"DepSup", {}}, {"ConfSup", {}}, {"TaskSup", {}}});
   EXPECT_EQ(cell.get("Rec").state(), core::State::PreOperational);
@@ -159,6 +161,12 @@ return rfsm.state {
   core::TaskState s;
   while (task_state.read(s) == core::FlowStatus::NewData) path.push_back(s.path.str());
   EXPECT_EQ(path, (std::vector<std::string>{"root.preparing", "root.recording", "root.done"}));
+  // One answer per request: the request's NAME@SOURCE twin (the Supervisor raises both) is not
+  // taken for a request of deployment "record@TaskSup".
+  std::vector<std::string> answers;
+  core::Event answer;
+  while (dep_answers.read(answer) == core::FlowStatus::NewData) answers.push_back(answer.name.str());
+  EXPECT_EQ(answers, std::vector<std::string>{"e_deployed_record"});
   EXPECT_EQ(cell.configurator.currentDeployment(), "record");
   EXPECT_EQ(cell.configurator.currentConfiguration(), "loud");
   EXPECT_EQ(cell.get("Rec").state(), core::State::Running);

@@ -131,6 +131,7 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.run("scenario = [[" + options.scenario.string() + "]]", "=scenario");
+  if (!options.surgeon_file.empty()) deployer.run("surgeon_file = [[" + options.surgeon_file.string() + "]]", "=surgeon");
   deployer.runFile(options.deployment_file.string());
   if (!options.extra_lua.empty()) deployer.run(options.extra_lua, "=extra_lua");
 
@@ -142,10 +143,14 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
   // Every component's events, as the log sees them.
   std::vector<std::pair<std::string, std::unique_ptr<core::InputPortBase>>> event_taps;
   for (const core::ComponentInfo& info : refs.describeAll()) {
-    auto& out = dynamic_cast<core::OutputPortBase&>(refs.get(info.name).port("events"));
-    auto reader = out.makeReader(info.name + "_events", "puncturing event log");
-    out.connectTo(*reader, core::ConnPolicy::buffer(256));
-    event_taps.emplace_back(info.name, std::move(reader));
+    // The components' events, and what the supervisors' charts emit.
+    for (const char* port : {"events", "outputEvents"}) {
+      auto* out = dynamic_cast<core::OutputPortBase*>(refs.get(info.name).findPort(port));
+      if (out == nullptr) continue;
+      auto reader = out->makeReader(info.name + "_" + port, "puncturing event log");
+      out->connectTo(*reader, core::ConnPolicy::buffer(256));
+      event_taps.emplace_back(info.name, std::move(reader));
+    }
   }
   Tap<double> axial(refs, "Patient", "needleAxialForce"), depth(refs, "Patient", "needleDepth");
   Tap<double> needle_tank(refs, "NeedleAdmittance", "tankEnergy"), probe_tank(refs, "ProbeAdmittance", "tankEnergy");
@@ -165,6 +170,16 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
   long step = 0;
   const auto limit = std::chrono::duration<double>(options.time_limit);
   auto& clock = configurator.clock();
+  clock.setStepObserver(options.step_observer);
+  core::Component& patient = refs.get("Patient");
+  struct Armed {
+    const Injection* injection;
+    double due = -1.0;  // s; < 0: its state not entered yet
+    bool done = false;
+  };
+  std::vector<Armed> injections;
+  for (const Injection& injection : options.injections) injections.push_back({&injection});
+  std::string previous_us_state;
   while (clock.now() < limit) {
     clock.advance(kStep);
     ++step;
@@ -173,18 +188,27 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
 
     for (auto& [source, reader] : event_taps) {
       std::string name;
-      while (reader->readText(name) == core::FlowStatus::NewData)
+      while (reader->readText(name) == core::FlowStatus::NewData) {
         result.events.push_back({t, source, name, onUsSide(source) ? us_state : needle_state});
+        result.log.push_back(source + ": " + name.substr(0, name.find(' ')));
+      }
     }
     timeline.observe(t, "needle chart", taskState(needle_state));
     timeline.observe(t, "ultrasound chart", taskState(us_state));
-    if (taskState(needle_state) != needle_shown) say(t, "needle      " + (needle_shown = taskState(needle_state)));
-    if (taskState(us_state) != us_shown) say(t, "ultrasound  " + (us_shown = taskState(us_state)));
+    if (taskState(needle_state) != needle_shown) {
+      say(t, "needle      " + (needle_shown = taskState(needle_state)));
+      result.log.push_back("needle > " + needle_shown);
+    }
+    if (taskState(us_state) != us_shown) {
+      say(t, "ultrasound  " + (us_shown = taskState(us_state)));
+      result.log.push_back("us > " + us_shown);
+    }
     auto watch = [&](const std::string& now, std::string& shown, const char* lane, const char* label) {
       if (now == shown) return;
       shown = now;
       timeline.observe(t, lane, now.empty() ? "(none)" : now);
       result.switches.push_back(seconds(t) + " " + label + " " + now);
+      result.log.push_back(std::string(label) + " > " + now);
       say(t, std::string("  ") + label + " -> " + now);
     };
     watch(configurator.currentDeployment("needle"), needle_dep, "needle deployment", "needle deployment");
@@ -218,11 +242,30 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
         say(t, line);
       }
     }
+    // The cryoablation console: the freeze starts as the needle is placed.
+    if (needle_state == "root.WaitCryoCycle" && previous_needle_state != needle_state) patient.call<void>("startFreeze");
+    for (Armed& armed : injections) {
+      const std::string& now = armed.injection->chart == "us" ? us_state : needle_state;
+      const std::string& before = armed.injection->chart == "us" ? previous_us_state : previous_needle_state;
+      if (armed.done) continue;
+      if (armed.due < 0.0 && now.find(armed.injection->state) != std::string::npos &&
+          before.find(armed.injection->state) == std::string::npos)
+        armed.due = t + armed.injection->after;
+      if (armed.due >= 0.0 && t >= armed.due) {
+        armed.done = true;
+        say(t, "  injected: " + armed.injection->lua);
+        deployer.run(armed.injection->lua, "=injection");
+      }
+    }
     previous_needle_state = needle_state;
+    previous_us_state = us_state;
 
     KDL::Frame command;
     if (commanded.read(command)) {
-      if (have_command) result.max_command_step = std::max(result.max_command_step, (command.p - last_command.p).Norm());
+      if (have_command && (command.p - last_command.p).Norm() > result.max_command_step) {
+        result.max_command_step = (command.p - last_command.p).Norm();
+        result.max_command_step_at = t;
+      }
       last_command = command;
       have_command = true;
     }

@@ -90,6 +90,13 @@ class VariableAdmittance {
   AdmittanceStatus step(const KDL::Frame& reference, const KDL::Twist& reference_twist, const KDL::Wrench& wrench,
                         double dt, KDL::Frame& pose, KDL::Twist& twist) noexcept;
 
+  /// The reference jumped from `old_reference` to `new_reference` (a new trajectory that starts
+  /// elsewhere, e.g. at the measured pose): x̃ takes the jump, so the output pose of the next step
+  /// continues from where it was instead of jumping with the reference; the spring then pulls
+  /// the pose toward the new reference through the model's dynamics. ẋ̃ and the tank are kept
+  /// (the jump is the task's input, not an interaction). Real-time safe.
+  void rebase(const KDL::Frame& old_reference, const KDL::Frame& new_reference) noexcept;
+
   /// Back to x̃ = 0, ẋ̃ = 0 and the initial tank energy.
   void reset() noexcept;
 

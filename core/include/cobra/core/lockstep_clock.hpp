@@ -64,6 +64,12 @@ class LockstepClock {
   /// When it returns true (it changed something), the components it triggered step in the same
   /// instant, and it runs again. One hook; setting another replaces it.
   void setBetweenInstants(std::function<bool()> hook) { between_instants_ = std::move(hook); }
+  /// `observer` is called after every component step with the wall-clock time the step took
+  /// (steady_clock, ns): profiling a simulated run, e.g. the supervisors' step times of a whole
+  /// procedure. It runs in the stepping thread and must not allocate to keep the run real-time
+  /// clean; the clock adds two steady_clock reads per step only while one is set.
+  using StepObserver = std::function<void(const Component&, std::chrono::nanoseconds)>;
+  void setStepObserver(StepObserver observer) { step_observer_ = std::move(observer); }
   /// Number of component steps run so far.
   std::uint64_t steps() const { return steps_; }
   /// Most rounds of triggered steps in one instant before the clock reports a trigger loop.
@@ -81,10 +87,13 @@ class LockstepClock {
     Component* component;
     LockstepActivity* activity;
   };
+  /// Steps one component (timed when a step observer is set).
+  void step(const Entry& e);
   std::vector<Entry> entries_;
   std::chrono::nanoseconds now_{0};
   std::uint64_t steps_ = 0;
   std::function<bool()> between_instants_;
+  StepObserver step_observer_;
 };
 
 }  // namespace cobra::core

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cobra/core/lockstep_clock.hpp"
 #include "cobra/report/run_report.hpp"
 
 namespace cobra::deploy {
@@ -17,6 +18,16 @@ class Configurator;
 }
 
 namespace cobra::puncturing {
+
+/// A fault injected by a test: Lua run by the deployer (property changes, operation calls,
+/// lifecycle of a component) `after` s after chart `chart` ("needle" or "us") entered a task state
+/// whose path contains `state`; once.
+struct Injection {
+  std::string chart;
+  std::string state;
+  double after = 0.0;  ///< s
+  std::string lua;
+};
 
 struct ProcedureOptions {
   /// The application's deployment file (apps/puncturing/puncturing.lua).
@@ -29,6 +40,12 @@ struct ProcedureOptions {
   double time_limit = 900.0;
   /// Lua run after the deployment file (tests: a fault to inject, a property to change).
   std::string extra_lua;
+  /// The surgeon's script (surgeon.txt format); empty: the scenario's.
+  std::filesystem::path surgeon_file;
+  /// Faults injected during the run, each once.
+  std::vector<Injection> injections;
+  /// Called after every component step with its wall-clock duration (core::LockstepClock).
+  core::LockstepClock::StepObserver step_observer;
   /// Called with one line per task state change and per switch (nullptr: quiet).
   std::function<void(const std::string&)> progress;
 };
@@ -50,12 +67,20 @@ struct ProcedureResult {
   std::vector<NeedlePlacement> placements;
   /// Deployment switches, in order: "t needle needle_autonomous_planning".
   std::vector<std::string> switches;
+  /// What happened, in order, one line each: task state changes of both charts ("needle >
+  /// root.WaitCryoCycle", "us > root.MoveToSkin.Approach": a motion's internal steps folded into
+  /// the motion), switches ("needle deployment > NAME", "probe deployment > NAME", "configuration
+  /// > NAME") and every component's events ("NeedleMonitor: e_skin_touched").
+  std::vector<std::string> log;
   /// Largest jump of the needle robot's commanded pose between two 1 ms steps [m].
   double max_command_step = 0.0;
+  double max_command_step_at = 0.0;  ///< s, when it happened
   std::filesystem::path report;  ///< report.html, when a report folder was given
 };
 
-/// Loads, runs and reports one procedure.
+/// Loads, runs and reports one procedure. The runner is also the simulated cryoablation console:
+/// when the needle chart enters WaitCryoCycle it starts a freeze (Patient.startFreeze; the
+/// Patient thaws by itself after its freeze_duration).
 /// @throws std::runtime_error with the deployer's message (file:line) when the files are wrong.
 ProcedureResult runProcedure(const ProcedureOptions& options);
 

@@ -20,7 +20,12 @@ namespace cobra::components {
 /// Ports: `refPose`, `refTwist` (the trajectory's set-point), `measWrench` (base frame, N, N·m)
 /// and `extWrench` (added to it while connected: a teleoperation coupling force) in; `admPose`, `admTwist`, `tankEnergy` (J) out. Needs a periodic activity: dt is its period.
 /// Events: e_tank_empty when the variable parts stop being implemented, e_tank_refilled when they
-/// are again, e_bad_parameters when a configuration's matrices are refused (the old ones stay).
+/// are again, e_bad_parameters when a configuration's matrices are refused (the old ones stay),
+/// e_reference_jump when refPose moved between two steps faster than `max_reference_speed` (m/s)
+/// or turned faster than `max_reference_angular_speed` (rad/s): a new trajectory starting
+/// elsewhere (at the measured pose, after a teleoperation, ...). The controller then rebases
+/// (control::VariableAdmittance::rebase): admPose stays continuous and converges to the new
+/// reference through the admittance's dynamics.
 class VariableAdmittanceController : public core::Component {
  public:
   explicit VariableAdmittanceController(std::string name);
@@ -44,6 +49,10 @@ class VariableAdmittanceController : public core::Component {
   core::Property<double> tank_initial_{"tank_initial", 5.0, "J", "energy in the tank at start"};
   core::Property<double> tank_max_{"tank_max", 20.0, "J", "T̄: the tank stores nothing above it"};
   core::Property<double> tank_min_{"tank_min", 1.0, "J", "ε: the tank never goes below it"};
+  core::Property<double> max_reference_speed_{"max_reference_speed", 1.0, "m/s",
+                                              "faster reference motion between two steps is a jump, > 0"};
+  core::Property<double> max_reference_angular_speed_{"max_reference_angular_speed", 3.0, "rad/s",
+                                                      "faster reference rotation between two steps is a jump, > 0"};
 
   core::InputPort<KDL::Frame> ref_pose_{"refPose", "reference pose (base frame)", "m"};
   core::InputPort<KDL::Twist> ref_twist_{"refTwist", "reference twist (base frame)", "m/s, rad/s"};
@@ -63,6 +72,8 @@ class VariableAdmittanceController : public core::Component {
   KDL::Wrench wrench_ = KDL::Wrench::Zero();
   KDL::Wrench ext_wrench_value_ = KDL::Wrench::Zero();
   bool have_reference_ = false;
+  KDL::Frame previous_reference_ = KDL::Frame::Identity();  // the reference of the last step
+  bool stepped_ = false;                                     // previous_reference_ is set
   bool tank_empty_ = false;
 };
 

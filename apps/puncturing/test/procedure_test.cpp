@@ -1,0 +1,215 @@
+// The puncturing task end to end in simulation (thesis ch. 4, procedure.hpp): puncturing.lua —
+// the simulated world, both robots' controllers with their three supervisors, three deployments
+// and three configurations each — run on the lockstep clock with the scripted surgeon, nominal
+// and with faults injected at task states. Each test is one procedure (about 100 s simulated).
+
+#include "cobra/puncturing/procedure.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cobra/deploy/deploy.hpp"
+#include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::puncturing {
+namespace {
+
+const std::filesystem::path kApp = std::filesystem::path(COBRA_SOURCE_DIR) / "apps" / "puncturing";
+
+ProcedureOptions options(const std::string& scenario) {
+  ProcedureOptions o;
+  o.deployment_file = kApp / "puncturing.lua";
+  o.scenario = kApp / "scenarios" / scenario;
+  o.time_limit = 400.0;  // s simulated; a nominal two-needle procedure takes about 105 s
+  return o;
+}
+
+/// Asserts that `lines` appear in the run's log in this order (other lines may come between).
+void expectInOrder(const ProcedureResult& r, const std::vector<std::string>& lines) {
+  std::size_t at = 0;
+  std::string previous = "(start)";
+  for (const std::string& line : lines) {
+    std::size_t found = at;
+    while (found < r.log.size() && r.log[found] != line) ++found;
+    if (found == r.log.size()) {
+      std::string tail;
+      for (std::size_t i = at; i < r.log.size() && i < at + 40; ++i) tail += "\n  " + r.log[i];
+      FAIL() << "missing, in order: " << line << "; after " << previous << " (line " << at << " of " << r.log.size()
+             << " of the log), which is followed by:" << tail;
+    }
+    at = found + 1;
+    previous = line;
+  }
+}
+
+std::size_t count(const ProcedureResult& r, const std::string& line) {
+  return static_cast<std::size_t>(std::count(r.log.begin(), r.log.end(), line));
+}
+
+void expectPlaced(const ProcedureResult& r, std::size_t needles) {
+  ASSERT_EQ(r.placements.size(), needles);
+  for (const NeedlePlacement& p : r.placements) EXPECT_LE(p.error_mm, 2.0) << "needle " << p.needle + 1;
+}
+
+/// The two-needle surgeon, except that the first reaction of the needle chart is a take-over.
+std::filesystem::path takeOverSurgeon() {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cobra_puncturing_take_over.txt";
+  std::ofstream(file) << "at 1 e_iceball_configured\n"
+                         "on needle.WaitNeedleMounted e_needle_mounted after=5\n"
+                         "on needle.WaitNeedleRemoved e_needle_removed after=4\n"
+                         "on needle.WaitCryoCycle e_cryo_done after=20\n"
+                         "on needle.WaitReaction e_take_over after=2 times=1\n"
+                         "on needle.WaitReaction e_recover after=3\n"
+                         "on us.WaitReaction e_recover after=3\n"
+                         "on needle.NeedleTeleoperation e_teleop_done after=4\n";
+  return file;
+}
+
+TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesAToH) {
+  const ProcedureResult r = runProcedure(options("two_needles"));
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 2);
+  expectInOrder(r, {
+      // A: both robots at their initial poses; the surgeon configures the iceballs.
+      "needle > root.WaitIceballConfig", "us > root.Idle", "Surgeon: e_iceball_configured",
+      // B: the UR5 plans a collision-free path to the first probe pose and descends to contact.
+      "us > root.MoveToSkin.Approach", "ProbePlanner: e_plan_done", "us > root.MoveToSkin.Descend",
+      "probe deployment > probe_autonomous_primitives", "USMonitor: e_probe_contact", "us > root.WaitNeedleSkinReached",
+      // C: the I-SUR robot goes to the needle change pose; the surgeon mounts the needle.
+      "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
+      "needle > root.InsertingNeedles.WaitNeedleMounted", "Surgeon: e_needle_mounted",
+      // D: a planned motion above the entry point, then a motion primitive to the skin.
+      "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
+      "needle > root.InsertingNeedles.MoveToSkin.Descend", "needle deployment > needle_autonomous_primitives",
+      // E: the skin touched: the penetration configuration; the probe searches the needle.
+      "NeedleMonitor: e_skin_touched", "needle > root.InsertingNeedles.PenetratingSkin",
+      "us > root.USPositioned.SearchingNeedle", "NeedleConfSup: e_configured_needle_penetration",
+      // F: the skin punctured: the insertion configuration to the tumour, guided by the image.
+      "NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
+      "NeedleConfSup: e_configured_needle_insertion", "us > root.USPositioned.NeedleTracked",
+      "NeedleMonitor: e_target_reached", "needle > root.WaitCryoCycle", "Surgeon: e_cryo_done",
+      // G: the needle is free of ice and comes out; a planned motion to the needle change pose.
+      "needle > root.ExtractingNeedle.VerifyingNeedleTrapped", "needle > root.ExtractingNeedle.MoveToExtractionPoint",
+      "needle > root.InsertingNeedles.MoveToNeedleChange", "needle deployment > needle_autonomous_planning",
+      "needle > root.InsertingNeedles.WaitNeedleRemoved", "Surgeon: e_needle_removed",
+      // H: the probe moves to the second needle's pose; the second needle goes in the same way.
+      "needle > root.WaitUSPositioning", "us > root.MoveToSkin.Approach", "USMonitor: e_probe_contact",
+      "needle > root.InsertingNeedles.WaitNeedleMounted", "Surgeon: e_needle_mounted", "NeedleMonitor: e_skin_touched",
+      "NeedleMonitor: e_target_reached", "Surgeon: e_cryo_done", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+      "needle > root.Done", "us > root.Done"});
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
+  EXPECT_EQ(count(r, "us > root.WaitReaction"), 0u);
+  EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 2u);
+  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+}
+
+TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutACommandJumpThenTheInsertionResumes) {
+  ProcedureOptions o = options("two_needles");
+  o.surgeon_file = takeOverSurgeon();
+  // The monitor's margin grows to 10 cm in MoveToTumor (the tip "near" the rib), and is back to
+  // 1 mm once the surgeon has the needle.
+  o.injections = {{"needle", "MoveToTumor", 0.5, "NeedleMonitor.forbidden_margin = 0.1"},
+                  {"needle", "NeedleTeleoperation", 0.1, "NeedleMonitor.forbidden_margin = 0.001"}};
+  const ProcedureResult r = runProcedure(o);
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 2);
+  expectInOrder(r, {"NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
+                    "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
+                    "needle > root.NeedleTeleoperation", "needle deployment > needle_teleoperated",
+                    "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
+                    "needle deployment > needle_autonomous_primitives", "NeedleMonitor: e_target_reached",
+                    "needle > root.WaitCryoCycle"});
+  // Autonomous -> teleoperated -> autonomous with the needle in tissue: the commanded pose (the
+  // admittance's output) never jumps between two 1 ms steps.
+  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+}
+
+TEST(PuncturingProcedure, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
+  ProcedureOptions o = options("two_needles");
+  o.extra_lua = "Patient.freeze_duration = 15";  // s: still frozen when the surgeon says the cycle is done
+  const ProcedureResult r = runProcedure(o);
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 2);
+  expectInOrder(r, {"Surgeon: e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
+                    "NeedleMonitor: e_needle_trapped", "needle > root.ExtractingNeedle.WaitDefreezing",
+                    "NeedleMonitor: e_needle_free", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
+                    "needle > root.ExtractingNeedle.MoveToExtractionPoint",
+                    "needle > root.InsertingNeedles.MoveToNeedleChange"});
+  EXPECT_GE(count(r, "needle > root.ExtractingNeedle.WaitDefreezing"), 2u);  // both needles
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
+}
+
+TEST(PuncturingProcedure, TheUltrasoundLosingTheNeedlePausesTheInsertionUntilItIsTrackedAgain) {
+  ProcedureOptions o = options("two_needles");
+  // The image processing loses the needle 0.3 s after the probe tracks it, and sees it again 1 s
+  // after the insertion paused.
+  o.injections = {{"us", "NeedleTracked", 0.3, "USMonitor.visible_distance = -1 USMonitor.lost_distance = -1"},
+                  {"needle", "MoveToTumor.Paused", 1.0,
+                   "USMonitor.visible_distance = 0.002 USMonitor.lost_distance = 0.003"}};
+  const ProcedureResult r = runProcedure(o);
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 2);
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", "USMonitor: e_needle_lost",
+                    "us > root.USPositioned.SearchingNeedle", "USMonitor: e_needle_visible",
+                    "us > root.USPositioned.NeedleTracked", "NeedleMonitor: e_target_reached",
+                    "needle > root.WaitCryoCycle"});
+}
+
+TEST(PuncturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySucceeds) {
+  ProcedureOptions o = options("two_needles");
+  const std::string reconfigure =
+      "stopComponents({'NeedlePlanner'}) cleanupComponents({'NeedlePlanner'}) "
+      "NeedlePlanner.min_collision_distance = %s "
+      "configureComponents({'NeedlePlanner'}) startComponents({'NeedlePlanner'})";
+  auto with = [&](const std::string& value) {
+    std::string lua = reconfigure;
+    lua.replace(lua.find("%s"), 2, value);
+    return lua;
+  };
+  // 0.5 m of required clearance: every state is "too close"; restored in WaitReaction.
+  o.injections = {{"needle", "MoveToNeedleChange", 0.0, "saved_distance = NeedlePlanner.min_collision_distance " + with("0.5")},
+                  {"needle", "WaitReaction", 0.5, with("saved_distance")}};
+  const ProcedureResult r = runProcedure(o);
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 2);
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
+                    "needle > root.WaitReaction", "Surgeon: e_recover",
+                    "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
+                    "needle > root.InsertingNeedles.WaitNeedleMounted"});
+  EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 1u);
+}
+
+TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletes) {
+  const ProcedureResult r = runProcedure(options("three_needles"));
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 3);
+  EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 3u);
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
+}
+
+TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
+  deploy::ConfiguratorOptions strict;
+  strict.strict_roles = true;  // the connections made at load are refused if they break a rule
+  deploy::Configurator configurator(strict);
+  addPuncturingPackages(configurator);
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.run("scenario = [[" + (kApp / "scenarios" / "two_needles").string() + "]]", "=scenario");
+  ASSERT_NO_THROW(deployer.runFile((kApp / "puncturing.lua").string()));
+  EXPECT_TRUE(configurator.warnings().empty());
+  const deploy::DeploymentSet& set = configurator.deploymentSet();
+  ASSERT_EQ(set.deploymentNames().size(), 6u);  // three per robot
+  for (const std::string& name : set.deploymentNames()) {
+    const auto violations = deploy::lint(set.deployment(name).connections, configurator.getReferences());
+    EXPECT_TRUE(violations.empty()) << name << ":\n" << deploy::toText(violations);
+  }
+  EXPECT_EQ(set.configurationNames().size(), 5u);  // needle: 3 (§4.7); probe: free motion, contact
+}
+
+}  // namespace
+}  // namespace cobra::puncturing
