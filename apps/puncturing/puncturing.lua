@@ -7,13 +7,9 @@ local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/two_needles")
 local G = dofile(here .. "deployment/geometry.lua")
 local abdomen = G.preoperative(scenario .. "/preoperative.txt").abdomen
--- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one,
--- and 20 mm lower: the contacts the task requires (the probe pressing a few mm into the skin while
--- the other robot plans) are not collisions for the planner (thesis §4.5: "the only contacts
--- allowed are those required by the task"), while free motions keep min_collision_distance above it.
-local skin_contact_layer = 0.02  -- m: the probe presses in and tilts its edge into the skin
-phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1 - skin_contact_layer, abdomen[4], abdomen[5], abdomen[6],
-                 abdomen[7] }
+-- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one.
+-- The probe pressed on the skin is an allowed contact of the scene (planning/scenes/puncturing.scene).
+phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
 -- The needle frame of this application has z along the needle; the I-SUR kinematics' needle is its
 -- tool's x axis. The robot bridge and the planners are told so.
 needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)

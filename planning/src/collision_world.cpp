@@ -69,13 +69,23 @@ struct DistanceSearch {
   double stop_below = 0.0;
   const fcl::CollisionObjectd* first = nullptr;
   const fcl::CollisionObjectd* second = nullptr;
+  /// The scene's allowed contacts, as pairs of objects' user data (ObjectDescription*).
+  const std::vector<std::pair<const void*, const void*>>* allowed = nullptr;
 };
+
+bool allowedContact(const DistanceSearch& search, const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  for (const auto& [x, y] : *search.allowed)
+    if ((a->getUserData() == x && b->getUserData() == y) || (a->getUserData() == y && b->getUserData() == x))
+      return true;
+  return false;
+}
 
 bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data, double& distance) {
   auto& search = *static_cast<DistanceSearch*>(data);
   // With a threshold, pairs whose bounding boxes are at least that far apart cannot be under it:
   // skip their narrow phase (GJK, the dominant cost) and let the broadphase prune by the threshold.
-  const bool skip = search.stop_below > 0.0 && a->getAABB().distance(b->getAABB()) >= search.stop_below;
+  const bool skip = (search.stop_below > 0.0 && a->getAABB().distance(b->getAABB()) >= search.stop_below) ||
+                    allowedContact(search, a, b);
   if (!skip && search.minimum > search.stop_below) {
     fcl::DistanceResultd result;
     fcl::distance(a, b, search.request, result);
@@ -104,6 +114,7 @@ struct CollisionWorld::Impl {
   std::vector<std::vector<Attached>> attached;                   // per robot
   std::vector<std::vector<std::size_t>> robot_groups;            // per robot: groups it moves
   std::vector<std::size_t> links_used;                           // per robot
+  std::vector<std::pair<const void*, const void*>> allowed;      // allowed contacts (user data)
 };
 
 CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)), impl_(std::make_unique<Impl>()) {
@@ -134,6 +145,8 @@ CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)
     impl.objects.push_back(std::move(object));
   }
   for (auto& manager : impl.managers) manager->setup();
+  for (const auto& [a, b] : scene_.allowed_contacts)
+    impl.allowed.emplace_back(&scene_.objects[scene_.objectIndex(a)], &scene_.objects[scene_.objectIndex(b)]);
 }
 
 CollisionWorld::~CollisionWorld() = default;
@@ -157,6 +170,7 @@ GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, do
   // scene allocates nothing (real_robots_test, bench/planning_bench.cpp).
   search.request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
   search.stop_below = stop_below;
+  search.allowed = &impl_->allowed;
   impl_->managers.at(first)->distance(impl_->managers.at(second).get(), &search, distanceCallback);
   GroupDistance result;
   result.distance = search.minimum;

@@ -14,6 +14,12 @@ std::size_t SceneDescription::groupIndex(std::string_view name) const {
   return it == groups.end() ? npos : static_cast<std::size_t>(it - groups.begin());
 }
 
+std::size_t SceneDescription::objectIndex(std::string_view name) const {
+  const auto it =
+      std::find_if(objects.begin(), objects.end(), [&](const ObjectDescription& o) { return o.name == name; });
+  return it == objects.end() ? npos : static_cast<std::size_t>(it - objects.begin());
+}
+
 std::size_t SceneDescription::robotIndex(std::string_view name) const {
   const auto it = std::find_if(robots.begin(), robots.end(), [&](const RobotPlacement& r) { return r.name == name; });
   return it == robots.end() ? npos : static_cast<std::size_t>(it - robots.begin());
@@ -65,6 +71,10 @@ void SceneDescription::validate() const {
   for (const GroupPair& pair : checks)
     if (pair.first >= groups.size() || pair.second >= groups.size() || pair.first == pair.second)
       throw std::invalid_argument("scene: a check must name two different declared groups");
+  for (const auto& [a, b] : allowed_contacts)
+    if (objectIndex(a) == npos || objectIndex(b) == npos || a == b)
+      throw std::invalid_argument("scene: allowed contact '" + a + "'-'" + b +
+                                  "' must name two different declared objects");
 }
 
 namespace {
@@ -222,9 +232,18 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     }
     if (pair.first == pair.second) line.fail("a check needs two different groups");
     scene.checks.push_back(pair);
+  } else if (statement == "allow") {
+    std::string pair[2];
+    for (std::string& name : pair) {
+      name = std::string(line.word("an object name"));
+      if (scene.objectIndex(name) == SceneDescription::npos)
+        line.fail("unknown object '" + name + "' (declare it with `object` first)");
+    }
+    if (pair[0] == pair[1]) line.fail("an allowed contact needs two different objects");
+    scene.allowed_contacts.emplace_back(pair[0], pair[1]);
   } else {
     line.fail("unknown statement '" + std::string(statement) +
-              "' (min_collision_distance, robot, group, object, check)");
+              "' (min_collision_distance, robot, group, object, check, allow)");
   }
   line.end();
 }

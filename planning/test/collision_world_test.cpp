@@ -66,6 +66,24 @@ TEST(CollisionWorld, SphereDistanceFollowsTheLinkInWorldFrame) {
   EXPECT_TRUE(KDL::Equal(world.objectPose(1).p, link.p, 1e-12));
 }
 
+TEST(CollisionWorld, AnAllowedContactIsLeftOutOfTheDistanceQuery) {
+  // Two objects in group b: the probe may touch the phantom (allowed), its holder may not.
+  const SceneDescription scene = parseScene(
+      "robot r tools 0 base 0 0 1 0 0 0\ngroup a\ngroup b\n"
+      "object phantom a world sphere 0.1 at 0 0 0 0 0 0\n"
+      "object probe b r.0 sphere 0.05 at 0 0 0 0 0 0\n"
+      "object holder b r.0 sphere 0.05 at 0 0 0.3 0 0 0\n"
+      "check a b\nallow probe phantom\n",
+      "t.scene", test::dataDir());
+  ASSERT_EQ(scene.allowed_contacts.size(), 1u);
+  CollisionWorld world(scene);
+  const KDL::Frame pressing(KDL::Vector(0, 0, 0.14));  // m, world: the probe 0.01 m into the phantom
+  world.setRobotLinks(0, std::span<const KDL::Frame>(&pressing, 1));
+  const GroupDistance d = world.distance(0, 1);
+  EXPECT_NEAR(d.distance, 0.44 - 0.05 - 0.1, 1e-6);  // the holder's distance, not the contact
+  EXPECT_EQ(d.second_object, "holder");
+}
+
 TEST(CollisionWorld, OverlapReportsZero) {
   CollisionWorld world(twoSpheres("sphere 0.05"));
   const KDL::Frame link(KDL::Vector(0.12, 0, 0));

@@ -77,6 +77,10 @@ TEST(Scene, ErrorsNameFileLineAndCause) {
                   "s.scene:2: expected yaw [rad] at the end of the line");
   EXPECT_CONTAINS(messageOf([] { parse("group g\ngroup g\n"); }), "s.scene:2: group 'g' declared twice");
   EXPECT_CONTAINS(messageOf([] { parse("group g\ncheck g g\n"); }), "s.scene:2: a check needs two different groups");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g world sphere 1 at 0 0 0 0 0 0\nallow o x\n"); }),
+                  "s.scene:3: unknown object 'x' (declare it with `object` first)");
+  EXPECT_CONTAINS(messageOf([] { parse("group g\nobject o g world sphere 1 at 0 0 0 0 0 0\nallow o o\n"); }),
+                  "s.scene:3: an allowed contact needs two different objects");
   EXPECT_CONTAINS(messageOf([] { parse("robot r tools 2 base 0 0 0 0 0 0\n"); }), "s.scene:1: tool index must be 0");
   EXPECT_CONTAINS(messageOf([] { parse("group g extra\n"); }), "s.scene:1: unexpected 'extra'");
   EXPECT_CONTAINS(messageOf([] { parse("robot r tools 1 1 base 0 0 0 0 0 0\n"); }), "s.scene:1: tool 1 listed twice");

@@ -184,14 +184,6 @@ TEST(PuncturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySucc
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 1u);
 }
 
-TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletes) {
-  const ProcedureResult r = runProcedure(options("three_needles"));
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
-  expectPlaced(r, 3);
-  EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 3u);
-  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
-}
-
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
   deploy::ConfiguratorOptions strict;
   strict.strict_roles = true;  // the connections made at load are refused if they break a rule

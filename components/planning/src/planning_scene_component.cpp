@@ -140,10 +140,16 @@ SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
       throw std::invalid_argument("property micro_link_list: link " + std::to_string(link) +
                                   " is also in macro_link_list; a link belongs to one group");
   const std::vector<std::size_t> ur5 = linkIndices(s.ur5_link_list, "UR5_link_list");
-  if (!ur5.empty())
+  if (!ur5.empty()) {
     std::erase_if(scene.objects, [&](const ObjectDescription& o) {
       return o.attached_to.robot_name == "ur5" && !contains(ur5, o.attached_to.link_index);
     });
+    // The allowed contacts of the objects that list left out go with them.
+    std::erase_if(scene.allowed_contacts, [&](const auto& pair) {
+      return scene.objectIndex(pair.first) == SceneDescription::npos ||
+             scene.objectIndex(pair.second) == SceneDescription::npos;
+    });
+  }
 
   if (!(s.phantom_pose == KDL::Frame::Identity())) {
     const auto phantom = std::find_if(scene.objects.begin(), scene.objects.end(),

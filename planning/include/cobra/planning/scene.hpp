@@ -18,6 +18,8 @@
 ///     object probe ur5 ur5.2 sphere 0.03 at 0 0 0 0 0 0
 ///     object phantom environment world mesh phantom.stl scale 0.001 at 0 0 0 0 0 0
 ///     check macro micro                             # a distance query of the validator
+///     allow us_probe phantom                        # a contact the task requires: this object
+///                                                   # pair is left out of every distance query
 ///
 /// `object NAME GROUP ATTACH SHAPE ... at POSE`: ATTACH is `world` or `ROBOT.LINK` (link index as
 /// the robot model reports it); the pose is the shape frame in the attachment frame. Mesh paths are
@@ -63,6 +65,12 @@ struct SceneDescription {
   std::vector<std::string> groups;
   std::vector<ObjectDescription> objects;
   std::vector<GroupPair> checks;
+  /// Object pairs (by name) whose distance is never checked: the contacts the task
+  /// requires (thesis §4.5: "the only contacts allowed are those required by the task"), e.g. the
+  /// ultrasound probe pressed on the phantom while the other robot plans.
+  std::vector<std::pair<std::string, std::string>> allowed_contacts;
+  /// Index of an object by name; npos when absent.
+  std::size_t objectIndex(std::string_view name) const;
 
   /// Index of a group or robot by name; npos when absent.
   std::size_t groupIndex(std::string_view name) const;
