@@ -6,7 +6,7 @@
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
 #   test --tsan      the concurrency tests under ThreadSanitizer
-#   demo             build and run the demo deployment
+#   demo [basics]    build and run the puncturing procedure in simulation (basics: the small demos)
 #   bench            build and run the benchmarks (Google Benchmark; median and max)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
@@ -78,16 +78,24 @@ case "${1:-help}" in
   test) shift; run_tests "${1:-}" ;;
   demo)
     log=$(mktemp)
-    say "building the demo (first time: installs packages and compiles, a few minutes)"
-    build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-    rm -f "$log"
-    ./build/release/apps/demo/cobra-demo
-    say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
-    ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
-    say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
-    ./build/release/examples/example_05_admittance /tmp/cobra-fig-6-7.svg
-    say "the thesis' door task (Figs. 2.5-2.6): three supervisors on a simulated door (apps/door)"
-    ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg ;;
+    if [ "${2:-}" = basics ]; then
+      say "building the basic demos (first time: installs packages and compiles, a few minutes)"
+      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+      rm -f "$log"
+      ./build/release/apps/demo/cobra-demo
+      say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
+      ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
+      say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
+      ./build/release/examples/example_05_admittance /tmp/cobra-fig-6-7.svg
+      say "the thesis' door task (Figs. 2.5-2.6): three supervisors on a simulated door (apps/door)"
+      ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg
+    else
+      say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
+      build release --target cobra-puncturing >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+      rm -f "$log"
+      say "the thesis' puncturing task (ch. 4) in simulation: two robots, two needles (apps/puncturing)"
+      ./build/release/apps/puncturing/cobra-puncturing --report "$PWD/build/puncturing-report"
+    fi ;;
   bench)
     build release
     for b in build/release/bench/*_bench; do
