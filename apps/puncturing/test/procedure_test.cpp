@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -70,10 +72,30 @@ std::filesystem::path takeOverSurgeon() {
   return file;
 }
 
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesAToH) {
-  const ProcedureResult r = runProcedure(options("two_needles"));
+  ProcedureOptions o = options("two_needles");
+  o.report_folder = std::filesystem::temp_directory_path() / "cobra_puncturing_nominal";
+  std::filesystem::remove_all(o.report_folder);
+  const ProcedureResult r = runProcedure(o);
   ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
   expectPlaced(r, 2);
+  // The run folder: the event log, the recorded signals and the HTML report with its summary.
+  EXPECT_EQ(r.report, o.report_folder / "report.html");
+  const std::string events = readFile(o.report_folder / "events.csv");
+  EXPECT_EQ(events.rfind("time [s],source,event,state\n", 0), 0u);
+  EXPECT_CONTAINS(events, ",NeedleMonitor,e_target_reached");
+  const std::string signals = readFile(o.report_folder / "signals.csv");
+  EXPECT_EQ(signals.rfind("time [s],tip x [m]", 0), 0u);
+  EXPECT_GT(std::count(signals.begin(), signals.end(), '\n'), 10000);  // every 10 ms for > 100 s
+  const std::string html = readFile(r.report);
+  EXPECT_CONTAINS(html, "2 of 2");
+  EXPECT_CONTAINS(html, "signals.csv");
+  EXPECT_CONTAINS(html, "Needle-tip force against depth");
   expectInOrder(r, {
       // A: both robots at their initial poses; the surgeon configures the iceballs.
       "needle > root.WaitIceballConfig", "us > root.Idle", "Surgeon: e_iceball_configured",

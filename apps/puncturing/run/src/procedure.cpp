@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -180,6 +181,10 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
   std::vector<Armed> injections;
   for (const Injection& injection : options.injections) injections.push_back({&injection});
   std::string previous_us_state;
+  // The recorded ports, every kSamplesEvery steps (s, m, N, J).
+  std::string signals_csv =
+      "time [s],tip x [m],tip y [m],tip z [m],commanded x [m],commanded y [m],commanded z [m],"
+      "axial force [N],depth [m],needle tank [J],probe tank [J],min collision distance [m]\n";
   while (clock.now() < limit) {
     clock.advance(kStep);
     ++step;
@@ -270,21 +275,30 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
       have_command = true;
     }
     if (step % kSamplesEvery == 0) {
-      double f = NAN, d = NAN, e = NAN;
+      double f = NAN, d = NAN, needle_energy = NAN, probe_energy = NAN, distance = NAN;
       KDL::Frame tip;
+      const bool have_tip = measured.read(tip);
       if (axial.read(f)) addPoint(signals.force, t, f);
       if (depth.read(d)) addPoint(signals.depth, t, d);
       if (d > 0.0) addPoint(signals.force_vs_depth, d, f);
-      if (measured.read(tip)) {
+      if (have_tip) {
         addPoint(signals.measured_z, t, tip.p.z());
         if (have_command) {
           addPoint(signals.commanded_z, t, last_command.p.z());
           addPoint(signals.tracking, t, (last_command.p - tip.p).Norm());
         }
       }
-      if (needle_tank.read(e)) addPoint(signals.needle_tank, t, e);
-      if (probe_tank.read(e)) addPoint(signals.probe_tank, t, e);
-      if (min_distance.read(e)) addPoint(signals.min_distance, t, e);
+      if (needle_tank.read(needle_energy)) addPoint(signals.needle_tank, t, needle_energy);
+      if (probe_tank.read(probe_energy)) addPoint(signals.probe_tank, t, probe_energy);
+      if (min_distance.read(distance)) addPoint(signals.min_distance, t, distance);
+      if (!options.report_folder.empty()) {
+        const KDL::Vector m = have_tip ? tip.p : KDL::Vector(NAN, NAN, NAN);
+        const KDL::Vector c = have_command ? last_command.p : KDL::Vector(NAN, NAN, NAN);
+        char row[320];
+        std::snprintf(row, sizeof row, "%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%.4f,%.5f\n", t, m.x(), m.y(),
+                      m.z(), c.x(), c.y(), c.z(), f, d, needle_energy, probe_energy, distance);
+        signals_csv += row;
+      }
     }
     if (needle_state == kDoneState && us_state == kDoneState) {
       result.completed = true;
@@ -321,7 +335,11 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
     run.events = result.events;
     run.timeline = timeline.intervals(result.duration);
     run.figures = figures(signals);
+    run.files = {"signals.csv"};
     result.report = report::writeRunFolder(options.report_folder, run);
+    std::ofstream csv(options.report_folder / "signals.csv");
+    csv << signals_csv;
+    if (!csv) throw std::runtime_error("puncturing run: cannot write " + (options.report_folder / "signals.csv").string());
   }
   return result;
 }
