@@ -113,6 +113,10 @@ TEST(ControlComponents, BadMatricesAreRefusedAtConfigureWithTheirName) {
   EXPECT_CONTAINS(a.configure().message, "property stiffness has 3 numbers; give 6 (the diagonal) or 36 (row-major)");
   a.setProperty("stiffness", std::vector<double>{10, 10, 10, 10, 10, 10});  // below constant_stiffness (50)
   EXPECT_CONTAINS(a.configure().message, "stiffness[0] = 10 N/m: must be >= constant_stiffness[0] = 50 N/m");
+  VariableAdmittanceController b("Admittance");
+  b.setProperty("max_reference_speed", 0.0);
+  EXPECT_CONTAINS(b.configure().message, "properties max_reference_speed (0.000000 m/s) and "
+                                         "max_reference_angular_speed (3.000000 rad/s) must be > 0");
 }
 
 TEST(ControlComponents, TeleoperationLayersCoupleOnlyAfterEngageAndReportTheirTanks) {
