@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <limits>
 
@@ -72,13 +73,24 @@ void LockstepClock::advance(std::chrono::nanoseconds duration) {
   now_ = end;
 }
 
+namespace {
+/// CPU time of the calling thread (ns since an arbitrary origin).
+std::chrono::nanoseconds threadCpuTime() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
+}  // namespace
+
 void LockstepClock::step(const Entry& e) {
   if (!step_observer_) {
     e.activity->stepComponent();
   } else {
+    const auto cpu_started = threadCpuTime();
     const auto started = std::chrono::steady_clock::now();
     e.activity->stepComponent();
-    step_observer_(*e.component, std::chrono::steady_clock::now() - started);
+    const auto wall = std::chrono::steady_clock::now() - started;
+    step_observer_(*e.component, wall, threadCpuTime() - cpu_started);
   }
   ++steps_;
 }

@@ -144,9 +144,10 @@ TEST(LockstepClock, AStepObserverSeesEveryStepWithItsWallClockDuration) {
   startAll({&a, &b});
   std::vector<std::string> observed;
   std::chrono::nanoseconds total{0};
-  clock.setStepObserver([&](const Component& c, std::chrono::nanoseconds took) {
+  clock.setStepObserver([&](const Component& c, std::chrono::nanoseconds took, std::chrono::nanoseconds cpu) {
     observed.push_back(c.name());
     EXPECT_GE(took.count(), 0);
+    EXPECT_GE(cpu.count(), 0);
     total += took;
   });
   clock.advance(3ms);

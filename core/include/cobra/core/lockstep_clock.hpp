@@ -64,11 +64,13 @@ class LockstepClock {
   /// When it returns true (it changed something), the components it triggered step in the same
   /// instant, and it runs again. One hook; setting another replaces it.
   void setBetweenInstants(std::function<bool()> hook) { between_instants_ = std::move(hook); }
-  /// `observer` is called after every component step with the wall-clock time the step took
-  /// (steady_clock, ns): profiling a simulated run, e.g. the supervisors' step times of a whole
-  /// procedure. It runs in the stepping thread and must not allocate to keep the run real-time
-  /// clean; the clock adds two steady_clock reads per step only while one is set.
-  using StepObserver = std::function<void(const Component&, std::chrono::nanoseconds)>;
+  /// `observer` is called after every component step with the time the step took: wall-clock
+  /// (steady_clock) and the stepping thread's CPU time (CLOCK_THREAD_CPUTIME_ID, which leaves out
+  /// the time the OS ran something else), both in ns: profiling a simulated run, e.g. the
+  /// supervisors' step times of a whole procedure. It runs in the stepping thread and must not
+  /// allocate to keep the run real-time clean; the clock adds four clock reads per step only
+  /// while one is set.
+  using StepObserver = std::function<void(const Component&, std::chrono::nanoseconds wall, std::chrono::nanoseconds cpu)>;
   void setStepObserver(StepObserver observer) { step_observer_ = std::move(observer); }
   /// Number of component steps run so far.
   std::uint64_t steps() const { return steps_; }
