@@ -6,7 +6,9 @@
 //  - supervisors: the six Supervisor components (rFSM charts in Lua; target: worst < 100 µs);
 //  - control: the admittance, equivalent-wrench and trajectory-generator steps of both robots, the
 //    real-time loop the supervisors run beside;
-//  - world: the simulated robots, patient and monitors (for scale).
+//  - world: the simulated robots, patient and monitors (for scale);
+//  - floor: as many timed empty steps (the same two clock reads around nothing), right after the
+//    procedure: the worst case this machine adds to any step (preemption, interrupts).
 // Counters: median, p99, p99.9 and worst step time in µs, and the number of steps; cpu_time:0
 // times the steps by the wall clock (what a real-time loop sees, OS preemptions included),
 // cpu_time:1 by the thread's CPU time (the code's own cost). One iteration = one
@@ -17,6 +19,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -33,6 +36,12 @@ struct StepTimes {
     world.reserve(n);
   }
 };
+
+std::chrono::nanoseconds threadCpuTime() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
 
 bool endsWith(const std::string& s, const char* suffix) {
   const std::string tail(suffix);
@@ -76,9 +85,20 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
     completed = cobra::puncturing::runProcedure(options).completed && completed;
   }
   if (!completed) state.SkipWithError("the procedure did not complete");
+  std::vector<double> floor;
+  floor.reserve(times.supervisors.size());
+  for (std::size_t i = 0; i < times.supervisors.size(); ++i) {
+    const auto cpu_started = threadCpuTime();
+    const auto started = std::chrono::steady_clock::now();
+    benchmark::ClobberMemory();
+    const auto wall = std::chrono::steady_clock::now() - started;
+    const auto cpu = threadCpuTime() - cpu_started;
+    floor.push_back(static_cast<double>((use_cpu_time ? cpu : wall).count()) * 1e-3);
+  }
   report(state, "supervisor", times.supervisors);
   report(state, "control", times.control);
   report(state, "world", times.world);
+  report(state, "floor", floor);
 }
 BENCHMARK(BM_SupervisorsDuringAProcedure)->ArgName("cpu_time")->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond);
 
