@@ -26,15 +26,15 @@ const char* toString(DeviceState state) noexcept {
   return "unknown";
 }
 
-// The statusword table of IEC 61800-7-201 (x = don't care):
-//   xxxx xxxx x0xx 0000  Not ready to switch on       mask 0x4F
-//   xxxx xxxx x1xx 0000  Switch on disabled           mask 0x4F
-//   xxxx xxxx x01x 0001  Ready to switch on           mask 0x6F
-//   xxxx xxxx x01x 0011  Switched on                  mask 0x6F
-//   xxxx xxxx x01x 0111  Operation enabled            mask 0x6F
-//   xxxx xxxx x00x 0111  Quick stop active            mask 0x6F
-//   xxxx xxxx x0xx 1111  Fault reaction active        mask 0x4F
-//   xxxx xxxx x0xx 1000  Fault                        mask 0x4F
+// The statusword table of IEC 61800-7-201 (- = don't care):
+//   ---- ---- -0-- 0000  Not ready to switch on       mask 0x4F
+//   ---- ---- -1-- 0000  Switch on disabled           mask 0x4F
+//   ---- ---- -01- 0001  Ready to switch on           mask 0x6F
+//   ---- ---- -01- 0011  Switched on                  mask 0x6F
+//   ---- ---- -01- 0111  Operation enabled            mask 0x6F
+//   ---- ---- -00- 0111  Quick stop active            mask 0x6F
+//   ---- ---- -0-- 1111  Fault reaction active        mask 0x4F
+//   ---- ---- -0-- 1000  Fault                        mask 0x4F
 DeviceState decodeStatusword(std::uint16_t sw) noexcept {
   switch (sw & 0x4F) {
     case 0x00:
