@@ -22,77 +22,13 @@ local C = { free = "needle_free_motion", penetration = "needle_penetration", ins
 local defrost_check = 10  -- s in WaitDefreezing before pulling again
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 
--- Calls the void request operation `operation` of the peer playing `role`.
-local function call(role, operation)
-  local name = assert(peers[role], "needle_insertion: no peer for role " .. tostring(role))
-  local peer = _G[name]
-  if peer == nil then error("needle_insertion: peer '" .. name .. "' (" .. role .. ") is not a peer of this supervisor") end
-  peer[operation](peer)
-end
+local steps = require("task_steps") { chart = "needle_insertion", peers = peers, goal_missed = "e_needle_goal_missed" }
+local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
 
-local resume = nil            -- the state a reaction returns to (recover, end of teleoperation)
 local needle_on_tool = false  -- a needle is mounted on the robot (new or used)
 local at_change = false       -- the robot is at the needle change pose
 local in_tissue = false       -- the needle is in the patient
 
--- A state that asks for its deployment and configuration on entry; `also` runs after.
-local function waiting(fqn, deployment, configuration, also)
-  return rfsm.state { entry = function()
-    resume = fqn
-    emit("e_deploy_" .. deployment)
-    emit("e_configure_" .. configuration)
-    if also then also() end
-  end }
-end
-
--- A motion: Switching (deployment and configuration asked, until both are answered), AskingGoal
--- (the Frame Generator publishes this state's goal), Planning (planned motions only), Generating,
--- Moving. The transitions leaving it handle its end (e_motion_done or a Decision event). With
--- `opts.grace`, a motion that ends without that event waits that long in Arrived, then reacts;
--- with `opts.pause = {stop, go}`, event `stop` halts Moving until event `go`.
-local function motion(fqn, deployment, configuration, opts)
-  opts = opts or {}
-  local want = {}
-  local s = {
-    Switching = rfsm.state { entry = function()
-      resume = fqn
-      want = { ["e_deployed_" .. deployment] = true, ["e_configured_" .. configuration] = true }
-      emit("e_deploy_" .. deployment)
-      emit("e_configure_" .. configuration)
-    end },
-    AskingGoal = rfsm.state { entry = function() call("frames", "askCurrentGoal") end },
-    Generating = rfsm.state { entry = function() call("trajectory", "askGenerateTraj") end },
-    Moving = rfsm.state { entry = function() call("trajectory", "askStartMove") end },
-    rfsm.trans { src = 'initial', tgt = 'Switching' },
-    rfsm.trans { src = 'Switching', tgt = 'AskingGoal', guard = function(tr, events)
-      for _, e in ipairs(events) do want[e] = nil end
-      return next(want) == nil
-    end },
-    rfsm.trans { src = 'Generating', tgt = 'Moving', events = { 'e_trajectory_ready' } },
-  }
-  if opts.planned then
-    s.Planning = rfsm.state { entry = function() call("planner", "askPlan") end }
-    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Planning', events = { 'e_goal_ready' } }
-    s[#s + 1] = rfsm.trans { src = 'Planning', tgt = 'Generating', events = { 'e_path_ready' } }
-  else
-    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Generating', events = { 'e_path_ready' } }
-  end
-  if opts.grace then
-    s.Arrived = rfsm.state {}
-    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Arrived', events = { 'e_motion_done' } }
-    s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = { 'e_after(' .. opts.grace .. ')' },
-                             effect = function() emit("e_needle_goal_missed") end }
-  end
-  if opts.pause then
-    s.Paused = rfsm.state {}
-    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Paused', events = { opts.pause[1] },
-                             effect = function() call("trajectory", "askStopMove") end }
-    s[#s + 1] = rfsm.trans { src = 'Paused', tgt = 'Switching', events = { opts.pause[2] } }
-  end
-  return rfsm.state(s)
-end
-
-local function stop() call("trajectory", "askStopMove") end
 
 local faults = { 'e_forbidden_region', 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
 for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
@@ -190,7 +126,7 @@ local resumable = {
 for _, target in ipairs(resumable) do
   for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'NeedleTeleoperation', 'e_teleop_done' } }) do
     chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
-                                     guard = function() return resume == target end }
+                                     guard = function() return steps.resume == target end }
   end
 end
 

@@ -17,67 +17,8 @@ local C = { free = "probe_free_motion", contact = "probe_contact" }
 local search_timeout = 60  -- s in SearchingNeedle before the surgeon is asked to react
 local arrival_grace = 1    -- s after the descent ends for the contact that should have ended it
 
--- Calls the void request operation `operation` of the peer playing `role`.
-local function call(role, operation)
-  local name = assert(peers[role], "us_positioning: no peer for role " .. tostring(role))
-  local peer = _G[name]
-  if peer == nil then error("us_positioning: peer '" .. name .. "' (" .. role .. ") is not a peer of this supervisor") end
-  peer[operation](peer)
-end
-
-local function stop() call("trajectory", "askStopMove") end
-
-local resume = nil  -- the state a reaction returns to
-
-local function waiting(fqn, deployment, configuration, also)
-  return rfsm.state { entry = function()
-    resume = fqn
-    emit("e_deploy_" .. deployment)
-    emit("e_configure_" .. configuration)
-    if also then also() end
-  end }
-end
-
--- A motion, as in needle_insertion.lua: Switching, AskingGoal, [Planning], Generating, Moving
--- and, with `opts.arrive` or `opts.grace`, Arrived (the motion ended without the event that ends
--- the state; with `opts.grace` s the surgeon is then asked to react).
-local function motion(fqn, deployment, configuration, opts)
-  opts = opts or {}
-  local want = {}
-  local s = {
-    Switching = rfsm.state { entry = function()
-      resume = fqn
-      want = { ["e_deployed_" .. deployment] = true, ["e_configured_" .. configuration] = true }
-      emit("e_deploy_" .. deployment)
-      emit("e_configure_" .. configuration)
-    end },
-    AskingGoal = rfsm.state { entry = function() call("frames", "askCurrentGoal") end },
-    Generating = rfsm.state { entry = function() call("trajectory", "askGenerateTraj") end },
-    Moving = rfsm.state { entry = function() call("trajectory", "askStartMove") end },
-    rfsm.trans { src = 'initial', tgt = 'Switching' },
-    rfsm.trans { src = 'Switching', tgt = 'AskingGoal', guard = function(tr, events)
-      for _, e in ipairs(events) do want[e] = nil end
-      return next(want) == nil
-    end },
-    rfsm.trans { src = 'Generating', tgt = 'Moving', events = { 'e_trajectory_ready' } },
-  }
-  if opts.planned then
-    s.Planning = rfsm.state { entry = function() call("planner", "askPlan") end }
-    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Planning', events = { 'e_goal_ready' } }
-    s[#s + 1] = rfsm.trans { src = 'Planning', tgt = 'Generating', events = { 'e_path_ready' } }
-  else
-    s[#s + 1] = rfsm.trans { src = 'AskingGoal', tgt = 'Generating', events = { 'e_path_ready' } }
-  end
-  if opts.grace or opts.arrive then
-    s.Arrived = rfsm.state {}
-    s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Arrived', events = { 'e_motion_done' } }
-  end
-  if opts.grace then
-    s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = { 'e_after(' .. opts.grace .. ')' },
-                             effect = function() emit("e_us_goal_missed") end }
-  end
-  return rfsm.state(s)
-end
+local steps = require("task_steps") { chart = "us_positioning", peers = peers, goal_missed = "e_us_goal_missed" }
+local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
 
 local faults = { 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
 for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
@@ -137,7 +78,7 @@ local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root
 for _, target in ipairs(resumable) do
   for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'USTeleoperation', 'e_teleop_done' } }) do
     chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
-                                     guard = function() return resume == target end }
+                                     guard = function() return steps.resume == target end }
   end
 end
 
