@@ -235,11 +235,10 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
       }
     }
     // A reaction: say where the needle is (the surgeon's first question).
-    const int current_needle = frames.call<int>("currentNeedle");
-    if (needle_state == "root.WaitReaction" && previous_needle_state != needle_state &&
-        current_needle < frames.call<int>("needleCount")) {
+    if (needle_state == "root.WaitReaction" && previous_needle_state != needle_state) {
+      const int current_needle = frames.call<int>("currentNeedle");
       KDL::Frame tip;
-      if (measured.read(tip)) {
+      if (current_needle < frames.call<int>("needleCount") && measured.read(tip)) {
         const KDL::Frame target = frames.call<KDL::Frame>("plannedTarget", current_needle);
         char line[160];
         std::snprintf(line, sizeof line, "  needle tip at (%.4f, %.4f, %.4f) m, %.2f mm from its target", tip.p.x(),
