@@ -20,18 +20,21 @@ return function(kind)
 
   -- The Supervisor raises each input event twice, as NAME and as NAME@SOURCE: a request is
   -- taken from its plain form only (the other would ask for a deployment "NAME@SOURCE").
+  -- The guards run on every event the supervisor gets: they compare without making strings.
   local function take_requests(events)
     for _, e in ipairs(events) do
-      if e:sub(1, #w.request) == w.request and not e:find("@", 1, true) then
+      if e:find(w.request, 1, true) == 1 and not e:find("@", 1, true) then
         pending[#pending + 1] = e:sub(#w.request + 1)
       end
     end
     return #pending > 0
   end
 
-  -- The Supervisor answers a switch with e_<kind>_done@<name> or e_<kind>_failed@<name>.
+  -- The Supervisor answers a switch with e_<kind>_done@<name> or e_<kind>_failed@<name>; the
+  -- two answers to wait for are made once, when the switch is asked.
+  local answer = { done = nil, failed = nil }
   local function answered(events, verdict)
-    local expected = "e_" .. kind .. "_" .. verdict .. "@" .. current
+    local expected = answer[verdict]
     for _, e in ipairs(events) do
       if e == expected then return true end
     end
@@ -43,6 +46,8 @@ return function(kind)
     applying = rfsm.state {
       entry = function()
         current = table.remove(pending, 1)
+        answer.done = "e_" .. kind .. "_done@" .. current
+        answer.failed = "e_" .. kind .. "_failed@" .. current
         _G[w.apply](current)
       end,
     },

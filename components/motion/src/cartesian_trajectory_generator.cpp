@@ -24,7 +24,9 @@ CartesianTrajectoryGenerator::CartesianTrajectoryGenerator(std::string name)
   addProperty(blend_order_.range(2, 5));
   addPort(planned_path_);
   addOperation("askGenerateTraj", &CartesianTrajectoryGenerator::askGenerateTraj, this,
-               "generates the trajectory of the last path received; answers e_trajectory_ready, e_traj_failed or e_no_path");
+               "generates the trajectory of the last path received, in this component's next step; answers "
+               "e_trajectory_ready, e_traj_failed, e_no_path or e_busy",
+               core::ExecutionThread::Client);
   addOperation("askStartMove", &CartesianTrajectoryGenerator::askStartMove, this,
                "starts writing the set-points of the trajectory; answers e_moving or e_no_trajectory, then "
                "e_motion_done");
@@ -126,8 +128,10 @@ void CartesianTrajectoryGenerator::updateHook() {
       trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
       enter(Status::PathReady);
     }
+    if (generate_requested_.exchange(false, std::memory_order_acq_rel)) generate();
     return;
   }
+  if (generate_requested_.exchange(false, std::memory_order_acq_rel)) emitEvent("e_busy");
   if (start_pending_) {
     motion_start_ = now();
     start_pending_ = false;
@@ -158,6 +162,11 @@ void CartesianTrajectoryGenerator::publish() {
 }
 
 void CartesianTrajectoryGenerator::askGenerateTraj() {
+  generate_requested_.store(true, std::memory_order_release);
+  activity().trigger();
+}
+
+void CartesianTrajectoryGenerator::generate() {
   const Status current = status();
   if (current != Status::PathReady && current != Status::TrajectoryReady) {
     emitEvent(current == Status::Moving || current == Status::GeneratingStop ? "e_busy" : "e_no_path");

@@ -91,14 +91,17 @@ TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure)
 TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
   Bench b;
   EXPECT_EQ(b.status(), "WaitPath");
-  b.call("askGenerateTraj");
+  b.call("askGenerateTraj");  // answered in the generator's next step
   b.call("askStartMove");
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_path", "e_no_trajectory"}));
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_trajectory", "e_no_path"}));
 
   b.planner.write(encodeCartesianPath(kTwoArmPath));
   b.clock.advance(1ms);
   EXPECT_EQ(b.status(), "PathReady");
   b.call("askGenerateTraj");
+  EXPECT_EQ(b.status(), "PathReady");  // the request is answered in the generator's next step
+  b.clock.advance(1ms);
   EXPECT_EQ(b.status(), "TrajectoryReady");
   const trajectory::CartesianTrajectory reference(kTwoArmPath, {0.1, 1.0, 0.1, 0.1}, 5);
   ASSERT_NE(b.generator.trajectory(), nullptr);
@@ -132,6 +135,7 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   b.planner.write(encodeCartesianPath(kTwoArmPath));
   b.clock.advance(1ms);
   b.call("askGenerateTraj");
+  b.clock.advance(1ms);
   b.call("askStartMove");
   b.clock.advance(400ms);  // mid-motion: moving fast
   const KDL::Twist before = b.lastTwist(0);
@@ -163,11 +167,29 @@ TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
   b.planner.write(bad);
   b.clock.advance(1ms);
   b.call("askGenerateTraj");
+  b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(),
             (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_traj_failed", "e_path_ready"}));
   EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
             "plannedPath: waypoint 0 has 7 values; 2 arm(s) need 14 (x, y, z, qx, qy, qz, qw per arm)");
   EXPECT_EQ(b.status(), "PathReady");
+}
+
+TEST(CartesianTrajectoryGenerator, AskGenerateTrajWhileMovingAnswersBusyAndKeepsMoving) {
+  Bench b;
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  b.call("askStartMove");
+  b.clock.advance(100ms);
+  b.takeEvents();
+  const trajectory::CartesianTrajectory* followed = b.generator.trajectory();
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_busy"});
+  EXPECT_EQ(b.status(), "Moving");
+  EXPECT_EQ(b.generator.trajectory(), followed);
 }
 
 TEST(CartesianTrajectoryGenerator, StartRefusesAnActivityThatIsNotSampleTime) {
@@ -188,6 +210,7 @@ TEST(CartesianTrajectoryGenerator, MovingAllocatesNothing) {
   b.planner.write(encodeCartesianPath(kTwoArmPath));
   b.clock.advance(1ms);
   b.call("askGenerateTraj");
+  b.clock.advance(1ms);
   b.call("askStartMove");
   b.clock.advance(5ms);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(300ms); }), 0);

@@ -103,6 +103,7 @@ TEST(MotionPlannerComponent, PlansAPathTheTrajectoryGeneratorFollows) {
   b.clock.advance(1ms);
   EXPECT_EQ(b.generator.call<std::string>("status"), "PathReady");
   b.generator.call<void>("askGenerateTraj");
+  b.clock.advance(1ms);  // generated in the generator's next step
   b.generator.call<void>("askStartMove");
   b.clock.advance(20s);
   const std::vector<std::string> generator_events = b.takeEvents(b.generator_events);

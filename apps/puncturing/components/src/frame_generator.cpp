@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "cobra/core/activity.hpp"
+
 namespace cobra::components {
 namespace {
 
@@ -46,7 +48,9 @@ PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
   addPort(needle_target_);
   addOperation("askCurrentGoal", &PuncturingFrameGenerator::askCurrentGoal, this,
                "publishes desiredPoses [measured pair, goal pair], goalPoses and needleTarget for the task state on "
-               "currentTaskState; answers e_goal_ready or e_no_data (reason: lastFailure)");
+               "currentTaskState, in this component's next step; answers e_goal_ready or e_no_data (reason: "
+               "lastFailure)",
+               core::ExecutionThread::Client);
   addOperation("nextNeedle", &PuncturingFrameGenerator::nextNeedle, this,
                "moves on to the next planned needle; answers e_all_needles_done after the last one");
   addOperation("currentNeedle", std::function<int()>([this] { return needle_; }),
@@ -132,6 +136,15 @@ void PuncturingFrameGenerator::noData(const std::string& reason) {
 }
 
 void PuncturingFrameGenerator::askCurrentGoal() {
+  goal_requested_.store(true, std::memory_order_release);
+  activity().trigger();
+}
+
+void PuncturingFrameGenerator::updateHook() {
+  if (goal_requested_.exchange(false, std::memory_order_acq_rel)) answerCurrentGoal();
+}
+
+void PuncturingFrameGenerator::answerCurrentGoal() {
   if (!plan_) {
     noData("not configured: no plan loaded");
     return;

@@ -208,6 +208,8 @@ TEST(PuncturingFrameGenerator, AnswersNoDataForAStateWithoutARowOrWithoutATaskSt
   b.needle_meas.write(kNeedleMeas);
   b.us_meas.write(kUsMeas);
   b.generator.call<void>("askCurrentGoal");
+  EXPECT_TRUE(b.takeEvents().empty());  // answered in the generator's next step
+  b.clock.advance(10ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_no_data"});
   EXPECT_EQ(b.lastFailure(), "no task state on currentTaskState yet");
   EXPECT_EQ(b.ask("root.WaitCryoCycle"), std::vector<std::string>{"e_no_data"});
@@ -280,7 +282,7 @@ TEST(PuncturingFrameGenerator, RefusesToConfigureWithBadFilesNamingFileAndLine) 
   }
 }
 
-TEST(PuncturingFrameGenerator, AskCurrentGoalAllocatesNothingOnceWarm) {
+TEST(PuncturingFrameGenerator, AnsweringAskCurrentGoalAllocatesNothingOnceWarm) {
   Bench b;
   ASSERT_TRUE(b.configure());
   b.needle_meas.write(kNeedleMeas);
@@ -291,6 +293,7 @@ TEST(PuncturingFrameGenerator, AskCurrentGoalAllocatesNothingOnceWarm) {
     for (const char* s : states) {
       b.state.write(core::TaskState{s});
       b.generator.askCurrentGoal();
+      b.clock.advance(10ms);
     }
   }
   b.takeEvents();
@@ -298,6 +301,7 @@ TEST(PuncturingFrameGenerator, AskCurrentGoalAllocatesNothingOnceWarm) {
     for (const char* s : states) {
       b.state.write(core::TaskState{s});
       b.generator.askCurrentGoal();
+      b.clock.advance(10ms);
     }
   });
   EXPECT_EQ(allocations, 0);

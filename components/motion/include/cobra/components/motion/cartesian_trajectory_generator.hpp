@@ -36,11 +36,13 @@ namespace cobra::components {
 /// lastFailure()) -> askStartMove -> Moving (e_moving) -> at the end e_motion_done -> WaitPath;
 /// Moving -> askStopMove -> GeneratingStop (e_generating_stop: the stop motion runs) -> at rest
 /// e_motion_stopped -> WaitPath. stop returns to Initialized. A request in the wrong state answers
-/// e_no_path, e_no_trajectory, e_not_moving or e_busy and changes nothing. Generating a trajectory
-/// happens in the request, between two updates.
+/// e_no_path, e_no_trajectory, e_not_moving or e_busy and changes nothing. askGenerateTraj only
+/// marks the request (from any thread, without waiting): the trajectory is generated in this
+/// component's next step, so the supervisor asking for it spends nothing on it.
 ///
 /// Real time: while Moving or GeneratingStop, updateHook evaluates and writes without allocating. A new
-/// path is copied when it is read (once per path, while not moving; paths arrive at planning rate).
+/// path is copied when it is read, and a trajectory generated when asked (once per path, while not
+/// moving: no set-point is due then; both allocate).
 /// The stop motion is TGL's CartesianStop per arm: from the pose, twist and acceleration of the
 /// set-point being sent to rest in `stop_time`, on SO(3), continuous up to acceleration.
 class CartesianTrajectoryGenerator : public core::Component {
@@ -72,6 +74,8 @@ class CartesianTrajectoryGenerator : public core::Component {
 
  private:
   void askGenerateTraj();
+  /// Generates the trajectory of path_ (the request askGenerateTraj, answered in a step).
+  void generate();
   void askStartMove();
   void askStopMove();
   std::string statusName() const;
@@ -101,6 +105,7 @@ class CartesianTrajectoryGenerator : public core::Component {
   std::optional<trajectory::CartesianTrajectory> trajectory_;
   std::chrono::nanoseconds motion_start_{0};
   bool start_pending_ = false;  // askStartMove was called: the next update stamps the start
+  std::atomic<bool> generate_requested_{false};  // askGenerateTraj was called: answered in the next step
 
   std::vector<trajectory::CartesianStop> stops_;  // one per arm while GeneratingStop (capacity reserved)
 

@@ -6,6 +6,7 @@
 /// the current state of the task, mapped from the abdomen frame A to the task (world) frame.
 
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string>
 
@@ -46,11 +47,14 @@ namespace cobra::components {
 /// abdomenFrame), hold = the arm's measured pose (world), a named pose = a fixed task-frame pose;
 /// then moved `offset` m along the tool's own z axis.
 ///
-/// Real time: askCurrentGoal and nextNeedle are cheap (a table lookup over the rows, a few frame
-/// products) and, once the first call has sized the port connections, allocate nothing when they
-/// answer e_goal_ready or e_all_needles_done: the paths are preallocated at configure and refilled
-/// in place. Answering e_no_data builds the message (allocates) and prints it. (Calling them by
-/// name as operations adds the framework's own cost: the call is handed to runBetweenSteps.)
+/// askCurrentGoal is answered in this component's next step (it only marks the request and
+/// triggers the activity), so the supervisor that asks spends nothing on it: the table lookup,
+/// the frame products and the three port writes run in this component's thread.
+///
+/// Real time: the answer (a table lookup over the rows, a few frame products) and nextNeedle
+/// allocate nothing once the first answer has sized the port connections, when they answer
+/// e_goal_ready or e_all_needles_done: the paths are preallocated at configure and refilled in
+/// place. Answering e_no_data builds the message (allocates) and prints it.
 class PuncturingFrameGenerator : public core::Component {
  public:
   explicit PuncturingFrameGenerator(std::string name);
@@ -59,18 +63,21 @@ class PuncturingFrameGenerator : public core::Component {
   const puncturing::PuncturingPlan* plan() const { return plan_ ? &*plan_ : nullptr; }
   const puncturing::StateTable& table() const { return table_; }
 
-  /// The operations askCurrentGoal and nextNeedle as C++ calls: from the component's own thread
-  /// or while it is not stepped (the operations of the same names go through runBetweenSteps).
+  /// The request askCurrentGoal (from any thread): answered in the next step.
   void askCurrentGoal();
+  /// The operation nextNeedle as a C++ call: from the component's own thread or while it is not
+  /// stepped (the operation goes through runBetweenSteps).
   void nextNeedle();
 
  protected:
   bool configureHook() override;
-  void updateHook() override {}
+  void updateHook() override;
 
  private:
   enum class Arm { Needle = 0, Probe = 1 };
 
+  /// Publishes the goal of the task state on currentTaskState (or answers e_no_data).
+  void answerCurrentGoal();
   KDL::Frame plannedTarget(int index);
   /// Reads abdomenFrame (keeps the last sample, or the nominal pose) and returns it.
   const KDL::Frame& abdomen();
@@ -105,6 +112,7 @@ class PuncturingFrameGenerator : public core::Component {
   core::TaskState state_;
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
   std::string last_failure_;
+  std::atomic<bool> goal_requested_{false};  // askCurrentGoal was called: answered in the next step
 };
 
 }  // namespace cobra::components
