@@ -45,6 +45,8 @@ struct Bench {
     EXPECT_TRUE(generator.start());
     EXPECT_EQ(takeEvents(), (std::vector<std::string>{"e_initialized", "e_wait_path"}));
   }
+  /// Sends kTwoArmPath, has its trajectory generated (answered in the next step) and starts it.
+  void startMoving();
   /// Events emitted since the last call, in order.
   std::vector<std::string> takeEvents() {
     std::vector<std::string> names;
@@ -71,6 +73,14 @@ const std::vector<std::vector<KDL::Frame>> kTwoArmPath = {
     {pose(0.05, 0.02, 0.12, 0.3), pose(0.45, -0.03, 0.1, -0.2)},
     {pose(0.08, 0.05, 0.15, 0.5), pose(0.42, -0.05, 0.08, -0.4)},
 };
+
+void Bench::startMoving() {
+  planner.write(encodeCartesianPath(kTwoArmPath));
+  clock.advance(1ms);
+  call("askGenerateTraj");
+  clock.advance(1ms);
+  call("askStartMove");
+}
 
 TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure) {
   Generator g("TrajGen");
@@ -132,11 +142,7 @@ TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
 
 TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   Bench b;
-  b.planner.write(encodeCartesianPath(kTwoArmPath));
-  b.clock.advance(1ms);
-  b.call("askGenerateTraj");
-  b.clock.advance(1ms);
-  b.call("askStartMove");
+  b.startMoving();
   b.clock.advance(400ms);  // mid-motion: moving fast
   const KDL::Twist before = b.lastTwist(0);
   ASSERT_GT(before.vel.Norm(), 0.01);
@@ -177,11 +183,7 @@ TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
 
 TEST(CartesianTrajectoryGenerator, AskGenerateTrajWhileMovingAnswersBusyAndKeepsMoving) {
   Bench b;
-  b.planner.write(encodeCartesianPath(kTwoArmPath));
-  b.clock.advance(1ms);
-  b.call("askGenerateTraj");
-  b.clock.advance(1ms);
-  b.call("askStartMove");
+  b.startMoving();
   b.clock.advance(100ms);
   b.takeEvents();
   const trajectory::CartesianTrajectory* followed = b.generator.trajectory();
@@ -207,11 +209,7 @@ TEST(CartesianTrajectoryGenerator, StartRefusesAnActivityThatIsNotSampleTime) {
 
 TEST(CartesianTrajectoryGenerator, MovingAllocatesNothing) {
   Bench b;
-  b.planner.write(encodeCartesianPath(kTwoArmPath));
-  b.clock.advance(1ms);
-  b.call("askGenerateTraj");
-  b.clock.advance(1ms);
-  b.call("askStartMove");
+  b.startMoving();
   b.clock.advance(5ms);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(300ms); }), 0);
   b.call("askStopMove");
