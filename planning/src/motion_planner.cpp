@@ -129,7 +129,7 @@ MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
   if (options_.planner != "RRTConnect" && options_.planner != "RRT" && options_.planner != "PRM")
     throw std::invalid_argument("motion planner: unknown planner '" + options_.planner +
                                 "': use RRTConnect, RRT or PRM");
-  if (!(options_.time_limit > 0.0) || !std::isfinite(options_.time_limit))
+  if (options_.max_validity_checks == 0 && (!(options_.time_limit > 0.0) || !std::isfinite(options_.time_limit)))
     throw std::invalid_argument("motion planner: time_limit must be a positive number of seconds");
   if (options_.seed == 0) throw std::invalid_argument("motion planner: seed must be > 0 (OMPL ignores 0)");
   if (!(options_.edge_resolution > 0.0 && options_.edge_resolution <= 1.0))
@@ -149,8 +149,19 @@ void MotionPlanner::setSeed(std::uint32_t seed) {
   options_.seed = seed;
 }
 
+bool MotionPlanner::spent(std::chrono::steady_clock::time_point started) const {
+  if (options_.max_validity_checks > 0) return checks_.load(std::memory_order_relaxed) >= options_.max_validity_checks;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= options_.time_limit;
+}
+
+std::string MotionPlanner::budget() const {
+  if (options_.max_validity_checks > 0) return std::to_string(options_.max_validity_checks) + " validity checks";
+  return std::to_string(options_.time_limit) + " s";
+}
+
 PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) {
   const auto started = std::chrono::steady_clock::now();
+  checks_.store(0, std::memory_order_relaxed);
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return finished(std::move(result), status, std::move(message), started);
@@ -172,14 +183,13 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
 
   try {
     // A path the dense verification rejects (it crossed a thin invalid region between two edge
-    // checks) is discarded and the search re-run with the next seed while time remains: the
+    // checks) is discarded and the search re-run with the next seed while the budget lasts: the
     // sequence of seeds is fixed, so the outcome stays reproducible.
     std::uint32_t seed = options_.seed;
     for (;;) {
-      const double remaining =
-          options_.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      PlanResult attempt = search(start, goal, started, seed, std::max(remaining, 1e-3));
-      if (attempt.status != PlanStatus::PathInvalid || remaining <= 0.0 || seed == UINT32_MAX) return attempt;
+      PlanResult attempt = search(start, goal, started, seed);
+      attempt.validity_checks = checks_.load(std::memory_order_relaxed);
+      if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
       ++seed;
     }
   } catch (const std::exception& error) {  // OMPL reports setup problems by throwing
@@ -188,7 +198,7 @@ PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) 
 }
 
 PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
-                                 std::chrono::steady_clock::time_point started, std::uint32_t seed, double time_limit) {
+                                 std::chrono::steady_clock::time_point started, std::uint32_t seed) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return finished(std::move(result), status, std::move(message), started);
@@ -202,17 +212,19 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   space->addSubspace(makeSE3(options_.first_bounds), 1.0);
   space->addSubspace(makeSE3(options_.second_bounds), 1.0);
   og::SimpleSetup setup(space);
-  setup.setStateValidityChecker([this](const ob::State* state) { return validator_.isStateValid(toDualPose(*state)); });
+  setup.setStateValidityChecker([this](const ob::State* state) {
+    checks_.fetch_add(1, std::memory_order_relaxed);
+    return validator_.isStateValid(toDualPose(*state));
+  });
   setup.getSpaceInformation()->setStateValidityCheckingResolution(options_.edge_resolution);
   ob::ScopedState<> start_state(space), goal_state(space);
   toOmpl(start, *start_state.get());
   toOmpl(goal, *goal_state.get());
   setup.setStartAndGoalStates(start_state, goal_state);
   setup.setPlanner(makePlanner(options_, setup.getSpaceInformation()));
-  const ob::PlannerStatus status = setup.solve(time_limit);
+  const ob::PlannerStatus status = setup.solve(ob::PlannerTerminationCondition([&] { return spent(started); }));
   if (status != ob::PlannerStatus::EXACT_SOLUTION)
-    return finish(PlanStatus::NoSolution, std::string("no path found by ") + options_.planner + " within " +
-                                              std::to_string(options_.time_limit) + " s");
+    return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
 
   og::PathGeometric path = setup.getSolutionPath();
   if (options_.simplify) {

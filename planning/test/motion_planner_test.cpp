@@ -152,6 +152,33 @@ TEST(MotionPlanner, GoalInsideAClosedCageFailsWithinTheTimeLimit) {
   EXPECT_CONTAINS(result.message, "no path found by RRTConnect within 0.3");
 }
 
+TEST_F(MotionPlannerTest, AWorkLimitMakesSuccessAndFailureTheSameOnAnyMachine) {
+  // The query with no limit but time: it needs N validity checks with this seed.
+  const PlanResult unlimited = MotionPlanner(validator, options("RRTConnect", 42)).planPath(kStart, kGoal);
+  ASSERT_TRUE(unlimited.solved()) << unlimited.message;
+  const std::size_t needed = unlimited.validity_checks;
+  ASSERT_GT(needed, 10u);
+  // A budget of exactly N finds the same path however slow the machine (time_limit is ignored).
+  PlannerOptions enough = options("RRTConnect", 42);
+  enough.max_validity_checks = needed;
+  enough.time_limit = 1e-9;
+  const PlanResult budgeted = MotionPlanner(validator, enough).planPath(kStart, kGoal);
+  ASSERT_TRUE(budgeted.solved()) << budgeted.message;
+  ASSERT_EQ(budgeted.waypoints.size(), unlimited.waypoints.size());
+  for (std::size_t i = 0; i < budgeted.waypoints.size(); ++i)
+    EXPECT_TRUE(sameFrame(budgeted.waypoints[i].first, unlimited.waypoints[i].first)) << i;
+  // Half of it fails, the same way every time, naming the budget.
+  PlannerOptions short_of_it = enough;
+  short_of_it.max_validity_checks = needed / 2;
+  for (int run = 0; run < 2; ++run) {
+    const PlanResult result = MotionPlanner(validator, short_of_it).planPath(kStart, kGoal);
+    EXPECT_EQ(result.status, PlanStatus::NoSolution);
+    EXPECT_CONTAINS(result.message, "no path found by RRTConnect within " + std::to_string(needed / 2) +
+                                        " validity checks");
+    EXPECT_GE(result.validity_checks, needed / 2);
+  }
+}
+
 TEST_F(MotionPlannerTest, BadQueriesNameTheCause) {
   MotionPlanner planner(validator, options());
   PlanResult result = planner.planPath(kStart, toolsAt({0.25, 0, 0.9}, {0, 0.42, 0.3}));

@@ -23,15 +23,18 @@ CartesianTrajectoryGenerator::CartesianTrajectoryGenerator(std::string name)
   addProperty(sample_time_.range(1e-6, 10.0));
   addProperty(blend_order_.range(2, 5));
   addPort(planned_path_);
-  addOperation("askGenerateTraj", &CartesianTrajectoryGenerator::askGenerateTraj, this,
+  addOperation("askGenerateTraj", std::function<void()>([this] { generate_request_.ask(activity()); }),
                "generates the trajectory of the last path received, in this component's next step; answers "
                "e_trajectory_ready, e_traj_failed, e_no_path or e_busy",
                core::ExecutionThread::Client);
-  addOperation("askStartMove", &CartesianTrajectoryGenerator::askStartMove, this,
-               "starts writing the set-points of the trajectory; answers e_moving or e_no_trajectory, then "
-               "e_motion_done");
-  addOperation("askStopMove", &CartesianTrajectoryGenerator::askStopMove, this,
-               "brings every arm to rest in stop_time; answers e_generating_stop then e_motion_stopped, or e_not_moving");
+  addOperation("askStartMove", std::function<void()>([this] { start_request_.ask(activity()); }),
+               "starts writing the set-points of the trajectory in this component's next step; answers e_moving, "
+               "e_no_trajectory or e_busy, then e_motion_done",
+               core::ExecutionThread::Client);
+  addOperation("askStopMove", std::function<void()>([this] { stop_request_.ask(activity()); }),
+               "brings every arm to rest in stop_time from the set-point of this component's next step; answers "
+               "e_generating_stop then e_motion_stopped, or e_not_moving",
+               core::ExecutionThread::Client);
   addOperation("status", std::function<std::string()>([this] { return statusName(); }),
                "the state of Fig. 4.12: NotInitialized, Initialized, WaitPath, PathReady, GeneratingTrajectory, "
                "TrajectoryReady, Moving or GeneratingStop",
@@ -122,16 +125,17 @@ double CartesianTrajectoryGenerator::elapsed() const {
 }
 
 void CartesianTrajectoryGenerator::updateHook() {
-  const Status current = status();
-  if (current != Status::Moving && current != Status::GeneratingStop) {
-    if (planned_path_.read(path_) == core::FlowStatus::NewData) {
-      trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
-      enter(Status::PathReady);
-    }
-    if (generate_requested_.exchange(false, std::memory_order_acq_rel)) generate();
-    return;
+  if (status() != Status::Moving && status() != Status::GeneratingStop &&
+      planned_path_.read(path_) == core::FlowStatus::NewData) {
+    trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
+    enter(Status::PathReady);
   }
-  if (generate_requested_.exchange(false, std::memory_order_acq_rel)) emitEvent("e_busy");
+  // The requests asked since the last step, in the order a chart asks them.
+  if (generate_request_.take()) generate();
+  if (start_request_.take()) startMove();
+  if (stop_request_.take()) stopMove();
+  const Status current = status();
+  if (current != Status::Moving && current != Status::GeneratingStop) return;
   if (start_pending_) {
     motion_start_ = now();
     start_pending_ = false;
@@ -161,11 +165,6 @@ void CartesianTrajectoryGenerator::publish() {
   }
 }
 
-void CartesianTrajectoryGenerator::askGenerateTraj() {
-  generate_requested_.store(true, std::memory_order_release);
-  activity().trigger();
-}
-
 void CartesianTrajectoryGenerator::generate() {
   const Status current = status();
   if (current != Status::PathReady && current != Status::TrajectoryReady) {
@@ -186,7 +185,7 @@ void CartesianTrajectoryGenerator::generate() {
   }
 }
 
-void CartesianTrajectoryGenerator::askStartMove() {
+void CartesianTrajectoryGenerator::startMove() {
   if (status() != Status::TrajectoryReady) {
     emitEvent(status() == Status::Moving || status() == Status::GeneratingStop ? "e_busy" : "e_no_trajectory");
     return;
@@ -195,7 +194,7 @@ void CartesianTrajectoryGenerator::askStartMove() {
   enter(Status::Moving);
 }
 
-void CartesianTrajectoryGenerator::askStopMove() {
+void CartesianTrajectoryGenerator::stopMove() {
   if (status() != Status::Moving) {
     emitEvent("e_not_moving");
     return;
@@ -206,7 +205,8 @@ void CartesianTrajectoryGenerator::askStopMove() {
     enter(Status::TrajectoryReady);
     return;
   }
-  // Every arm decelerates from the set-point it is being sent now (pose, twist, acceleration).
+  // Every arm decelerates from the set-point due now (pose, twist, acceleration): this step
+  // writes the stop motion's first set-point, that one.
   const double t = elapsed();
   stops_.clear();
   for (std::size_t arm = 0; arm < poses_.size(); ++arm) {

@@ -104,7 +104,7 @@ TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
   b.call("askGenerateTraj");  // answered in the generator's next step
   b.call("askStartMove");
   b.clock.advance(1ms);
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_trajectory", "e_no_path"}));
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_path", "e_no_trajectory"}));
 
   b.planner.write(encodeCartesianPath(kTwoArmPath));
   b.clock.advance(1ms);
@@ -118,11 +118,12 @@ TEST(CartesianTrajectoryGenerator, FollowsFigure412FromPathToMotionDone) {
   EXPECT_DOUBLE_EQ(b.generator.trajectory()->duration(), reference.duration());
 
   b.call("askStartMove");
+  // Answered in the next step, which writes the first set-point (t = 0 of the motion); then one per ms.
+  b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_trajectory_ready",
                                                       "e_moving"}));
-  // The first set-point is written at the next step (t = 0 of the motion); then one per ms.
   const auto steps = static_cast<int>(std::floor(reference.duration() / 2 / 1e-3));
-  b.clock.advance(std::chrono::milliseconds(steps + 1));
+  b.clock.advance(std::chrono::milliseconds(steps));
   KDL::Frame expected_pose[2];
   KDL::Twist expected_twist[2];
   reference.evaluate(steps * 1e-3, expected_pose, expected_twist);
@@ -148,8 +149,9 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   ASSERT_GT(before.vel.Norm(), 0.01);
   const KDL::Frame at_stop = b.lastPose(0);
   b.call("askStopMove");
+  EXPECT_EQ(b.status(), "Moving");  // answered in the generator's next step
+  b.clock.advance(1ms);  // the stop starts from the set-point due then: no jump in velocity
   EXPECT_EQ(b.status(), "GeneratingStop");
-  b.clock.advance(1ms);  // the stop starts from the set-point being sent: no jump in velocity
   const KDL::Twist first = b.lastTwist(0);
   EXPECT_LT((first.vel - before.vel).Norm() + (first.rot - before.rot).Norm(), 2e-3);
   b.clock.advance(249ms);
@@ -164,6 +166,7 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   EXPECT_GT(KDL::dot(travelled, before.vel), 0.0);
   EXPECT_LT(travelled.Norm(), before.vel.Norm() * 0.2 + 1e-3);
   b.call("askStopMove");
+  b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_not_moving"});
 }
 

@@ -33,6 +33,7 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
                              "on SE(3)xSE(3) with FCL checks") {
   addProperty(planner_);
   addProperty(time_limit_.range(1e-3, 3600.0));
+  addProperty(max_validity_checks_.range(0, 2000000000));
   addProperty(seed_.range(1, 2147483647));
   addProperty(first_low_);
   addProperty(first_high_);
@@ -71,6 +72,7 @@ bool MotionPlannerComponent::configureHook() {
   }
   options.planner = planner_();
   options.time_limit = time_limit_();
+  options.max_validity_checks = static_cast<std::size_t>(max_validity_checks_());
   options.seed = static_cast<std::uint32_t>(seed_());
   options.edge_resolution = edge_resolution_();
   planner_impl_ = std::make_unique<planning::MotionPlanner>(*validator_, options);
@@ -83,7 +85,7 @@ bool MotionPlannerComponent::startHook() {
   if (activity().period().count() > 0)
     return refuse("planning runs in updateHook for up to time_limit s: give this component a non-periodic, "
                   "non-real-time activity (EventActivity with Scheduler::Other, or period 0 on a LockstepClock)");
-  plan_requested_.store(false, std::memory_order_relaxed);
+  plan_request_.clear();
   return true;
 }
 
@@ -93,8 +95,7 @@ void MotionPlannerComponent::cleanupHook() {
 }
 
 void MotionPlannerComponent::askPlan() {
-  plan_requested_.store(true, std::memory_order_release);
-  activity().trigger();
+  plan_request_.ask(activity());
 }
 
 double MotionPlannerComponent::checkDistancePoses(KDL::Frame first, KDL::Frame second) {
@@ -143,7 +144,7 @@ void MotionPlannerComponent::updateHook() {
     }
   }
   if (measured_changed) min_distance_.write(validator_->minimumDistance(measured_));
-  if (plan_requested_.exchange(false, std::memory_order_acq_rel)) plan();
+  if (plan_request_.take()) plan();
 }
 
 void MotionPlannerComponent::plan() {
@@ -165,7 +166,8 @@ void MotionPlannerComponent::plan() {
   waypoints.reserve(result.waypoints.size());
   for (const planning::DualPose& q : result.waypoints) waypoints.push_back({q.first, q.second});
   path_out_.write(encodeCartesianPath(waypoints));
-  last_result_ = "solved: " + result.message + " in " + std::to_string(result.planning_time) + " s";
+  last_result_ = "solved: " + result.message + " in " + std::to_string(result.planning_time) + " s, " +
+                 std::to_string(result.validity_checks) + " validity checks";
   emitEvent("e_plan_done");
 }
 

@@ -46,13 +46,15 @@ PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
   addPort(desired_poses_);
   addPort(goal_poses_);
   addPort(needle_target_);
-  addOperation("askCurrentGoal", &PuncturingFrameGenerator::askCurrentGoal, this,
+  addOperation("askCurrentGoal", std::function<void()>([this] { askCurrentGoal(); }),
                "publishes desiredPoses [measured pair, goal pair], goalPoses and needleTarget for the task state on "
                "currentTaskState, in this component's next step; answers e_goal_ready or e_no_data (reason: "
                "lastFailure)",
                core::ExecutionThread::Client);
-  addOperation("nextNeedle", &PuncturingFrameGenerator::nextNeedle, this,
-               "moves on to the next planned needle; answers e_all_needles_done after the last one");
+  addOperation("nextNeedle", std::function<void()>([this] { next_needle_request_.ask(activity()); }),
+               "moves on to the next planned needle in this component's next step; answers e_all_needles_done "
+               "after the last one",
+               core::ExecutionThread::Client);
   addOperation("currentNeedle", std::function<int()>([this] { return needle_; }),
                "index of the current needle (0-based; needleCount() when all are done)");
   addOperation("needleCount",
@@ -135,13 +137,12 @@ void PuncturingFrameGenerator::noData(const std::string& reason) {
   emitEvent("e_no_data");
 }
 
-void PuncturingFrameGenerator::askCurrentGoal() {
-  goal_requested_.store(true, std::memory_order_release);
-  activity().trigger();
-}
+void PuncturingFrameGenerator::askCurrentGoal() { goal_request_.ask(activity()); }
 
 void PuncturingFrameGenerator::updateHook() {
-  if (goal_requested_.exchange(false, std::memory_order_acq_rel)) answerCurrentGoal();
+  // A chart moving on to the next needle asks for that needle's goals after.
+  if (next_needle_request_.take()) advanceNeedle();
+  if (goal_request_.take()) answerCurrentGoal();
 }
 
 void PuncturingFrameGenerator::answerCurrentGoal() {
@@ -192,7 +193,7 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
   emitEvent("e_goal_ready");
 }
 
-void PuncturingFrameGenerator::nextNeedle() {
+void PuncturingFrameGenerator::advanceNeedle() {
   if (!plan_) return;
   const int count = static_cast<int>(plan_->needles.size());
   if (needle_ < count) ++needle_;

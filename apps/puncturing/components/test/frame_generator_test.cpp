@@ -226,6 +226,8 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
   const KDL::Frame a = b.plan.preoperative.abdomen_in_task;
   EXPECT_EQ(b.generator.call<int>("currentNeedle"), 0);
   b.generator.call<void>("nextNeedle");
+  EXPECT_EQ(b.generator.call<int>("currentNeedle"), 0);  // answered in the generator's next step
+  b.clock.advance(10ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{});
   EXPECT_EQ(b.generator.call<int>("currentNeedle"), 1);
   ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
@@ -233,6 +235,7 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
   ASSERT_EQ(b.ask("root.MoveToSkin.Approach.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   EXPECT_TRUE(KDL::Equal(b.goalPair()[1], a * pp::alongZ(b.plan.probes[1].pose, -0.03), 1e-12));
   b.generator.call<void>("nextNeedle");
+  b.clock.advance(10ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_all_needles_done"});
   EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_no_data"});
   EXPECT_EQ(b.lastFailure(), "task state 'root.InsertingNeedles.MoveToTumor.AskingGoal' (" + kApp +
@@ -240,6 +243,7 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
   // A row without plan data still answers: the needle goes to its change pose.
   EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToNeedleChange.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   b.generator.call<void>("nextNeedle");
+  b.clock.advance(10ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_all_needles_done"});
   EXPECT_EQ(b.generator.call<int>("currentNeedle"), 2);
 }

@@ -5,6 +5,7 @@
 /// checker, path simplification, seeded for reproducible results.
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -26,8 +27,13 @@ struct PositionBounds {
 struct PlannerOptions {
   /// "RRTConnect" (default, as in the thesis), "RRT" or "PRM".
   std::string planner = "RRTConnect";
-  /// Wall-clock limit of the search [s].
+  /// Wall-clock limit of the search [s] (when max_validity_checks is 0).
   double time_limit = 1.0;
+  /// Work limit of the search instead of time_limit: the search stops after this many state
+  /// validity checks [1] (0: time_limit applies). Its outcome then depends on the seed alone, not
+  /// on the machine's speed or load: a lockstep simulation plans the same on a laptop and on a
+  /// busy CI machine. About 50,000 checks take 1 s in the puncturing scene (bench/planning_bench).
+  std::size_t max_validity_checks = 0;
   /// Seed of OMPL's random generators (> 0): same seed, scene and query → same path, for
   /// RRTConnect and RRT. PRM grows its roadmap while another thread looks for a solution, so its
   /// result depends on timing.
@@ -80,6 +86,8 @@ struct PlanResult {
   std::string message;
   /// Time spent in the search and simplification [s].
   double planning_time = 0.0;
+  /// State validity checks of the searches (all seeds tried), the unit of max_validity_checks.
+  std::size_t validity_checks = 0;
   bool solved() const { return status == PlanStatus::Solved; }
 };
 
@@ -102,13 +110,18 @@ class MotionPlanner {
   void setSeed(std::uint32_t seed);
 
  private:
-  /// The OMPL part of planPath() (after the input checks) with one seed and time limit [s]; may
-  /// throw ompl::Exception.
+  /// The OMPL part of planPath() (after the input checks) with one seed, until time_limit s after
+  /// `started` or max_validity_checks checks since the query began; may throw ompl::Exception.
   PlanResult search(const DualPose& start, const DualPose& goal, std::chrono::steady_clock::time_point started,
-                    std::uint32_t seed, double time_limit);
+                    std::uint32_t seed);
+  /// True when the query's time or work budget is spent.
+  bool spent(std::chrono::steady_clock::time_point started) const;
+  /// "5.000000 s" or "250000 validity checks": the budget, for messages.
+  std::string budget() const;
 
   StateValidator& validator_;
   PlannerOptions options_;
+  std::atomic<std::size_t> checks_{0};  // validity checks of the current query (PRM checks from two threads)
 };
 
 }  // namespace cobra::planning

@@ -4,7 +4,6 @@
 /// component around TGL's CartesianTrajectory that turns a planned path into synchronised pose and
 /// twist set-points for `arms_num` arms.
 
-#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +13,7 @@
 
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/core/component.hpp"
+#include "cobra/core/request.hpp"
 #include "cobra/trajectory/cartesian.hpp"
 #include "cobra/trajectory/cartesian_stop.hpp"
 
@@ -36,9 +36,10 @@ namespace cobra::components {
 /// lastFailure()) -> askStartMove -> Moving (e_moving) -> at the end e_motion_done -> WaitPath;
 /// Moving -> askStopMove -> GeneratingStop (e_generating_stop: the stop motion runs) -> at rest
 /// e_motion_stopped -> WaitPath. stop returns to Initialized. A request in the wrong state answers
-/// e_no_path, e_no_trajectory, e_not_moving or e_busy and changes nothing. askGenerateTraj only
-/// marks the request (from any thread, without waiting): the trajectory is generated in this
-/// component's next step, so the supervisor asking for it spends nothing on it.
+/// e_no_path, e_no_trajectory, e_not_moving or e_busy and changes nothing. The three requests only
+/// mark themselves (from any thread, without waiting: core::PendingRequest) and are answered in
+/// this component's next step, in the order generate, start, stop: the supervisor asking spends
+/// nothing on them.
 ///
 /// Real time: while Moving or GeneratingStop, updateHook evaluates and writes without allocating. A new
 /// path is copied when it is read, and a trajectory generated when asked (once per path, while not
@@ -73,11 +74,10 @@ class CartesianTrajectoryGenerator : public core::Component {
   void cleanupHook() override;
 
  private:
-  void askGenerateTraj();
-  /// Generates the trajectory of path_ (the request askGenerateTraj, answered in a step).
+  // The requests askGenerateTraj, askStartMove and askStopMove, answered in updateHook.
   void generate();
-  void askStartMove();
-  void askStopMove();
+  void startMove();
+  void stopMove();
   std::string statusName() const;
   /// Enters `status` and emits its event (real-time safe).
   void enter(Status status) noexcept;
@@ -105,7 +105,7 @@ class CartesianTrajectoryGenerator : public core::Component {
   std::optional<trajectory::CartesianTrajectory> trajectory_;
   std::chrono::nanoseconds motion_start_{0};
   bool start_pending_ = false;  // askStartMove was called: the next update stamps the start
-  std::atomic<bool> generate_requested_{false};  // askGenerateTraj was called: answered in the next step
+  core::PendingRequest generate_request_, start_request_, stop_request_;
 
   std::vector<trajectory::CartesianStop> stops_;  // one per arm while GeneratingStop (capacity reserved)
 

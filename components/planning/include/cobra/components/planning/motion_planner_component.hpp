@@ -3,7 +3,6 @@
 /// The thesis' Motion Planner (§4.5.1): a Calculation component around planning::MotionPlanner
 /// (OMPL RRT-Connect on SE(3)×SE(3), FCL collision checks, the real I-SUR and UR5 kinematics).
 
-#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,12 +11,14 @@
 
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/components/planning/planning_scene_component.hpp"
+#include "cobra/core/request.hpp"
 #include "cobra/planning/motion_planner.hpp"
 
 namespace cobra::components {
 
 /// Interface (thesis names; scene properties: PlanningSceneComponent):
 /// - properties `planner` ("RRTConnect", "RRT", "PRM"), `time_limit` (s, wall clock),
+///   `max_validity_checks` (1: the work limit of a query instead of time_limit when > 0),
 ///   `seed` (> 0; a query that failed is retried with the next seed, so asking again after a
 ///   failure explores differently and the run stays reproducible), `first_bounds_low/high`, `second_bounds_low/high` (3 values each, m: the
 ///   world box of the needle / probe positions), `edge_resolution` (fraction of the space extent);
@@ -40,8 +41,9 @@ namespace cobra::components {
 /// an EventActivity with Scheduler::Other in a threaded deployment (askPlan() triggers it), or
 /// period 0 on a LockstepClock (it then steps in the same simulated instant as the component that
 /// called askPlan(), after it: simulated time does not advance while it plans, and RRTConnect/RRT
-/// are seeded, so a lockstep run is reproducible; only a query that hits `time_limit` depends on
-/// the machine's speed). startHook refuses a periodic activity.
+/// are seeded, so a lockstep run is reproducible; with `max_validity_checks` set even a query at
+/// its limit fails or succeeds the same on any machine, while `time_limit` depends on the
+/// machine's speed and load). startHook refuses a periodic activity.
 class MotionPlannerComponent : public PlanningSceneComponent {
  public:
   explicit MotionPlannerComponent(std::string name);
@@ -62,6 +64,9 @@ class MotionPlannerComponent : public PlanningSceneComponent {
 
   core::Property<std::string> planner_{"planner", "RRTConnect", "", "OMPL planner: RRTConnect, RRT or PRM"};
   core::Property<double> time_limit_{"time_limit", 1.0, "s", "wall-clock limit of one planning query"};
+  core::Property<int> max_validity_checks_{"max_validity_checks", 0, "1",
+                                           "work limit of one query in state validity checks, instead of time_limit "
+                                           "(0: time_limit); the outcome then does not depend on the machine's speed"};
   core::Property<int> seed_{"seed", 1, "1", "seed of OMPL's random generators (> 0): same seed, same path"};
   core::Property<std::vector<double>> first_low_{"first_bounds_low", {-0.3, -0.3, 0.0}, "m",
                                                  "lower corner of the needle (tool 1) position box, world"};
@@ -84,7 +89,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
 
   std::unique_ptr<planning::StateValidator> validator_;
   std::unique_ptr<planning::MotionPlanner> planner_impl_;
-  std::atomic<bool> plan_requested_{false};
+  core::PendingRequest plan_request_;
   bool have_isur_ = false;
   bool have_ur5_ = false;
   bool have_goal_ = false;

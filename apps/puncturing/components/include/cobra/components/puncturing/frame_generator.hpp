@@ -6,7 +6,6 @@
 /// the current state of the task, mapped from the abdomen frame A to the task (world) frame.
 
 #include <array>
-#include <atomic>
 #include <optional>
 #include <string>
 
@@ -15,6 +14,7 @@
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/core/event.hpp"
+#include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
 
 namespace cobra::components {
@@ -47,9 +47,10 @@ namespace cobra::components {
 /// abdomenFrame), hold = the arm's measured pose (world), a named pose = a fixed task-frame pose;
 /// then moved `offset` m along the tool's own z axis.
 ///
-/// askCurrentGoal is answered in this component's next step (it only marks the request and
-/// triggers the activity), so the supervisor that asks spends nothing on it: the table lookup,
-/// the frame products and the three port writes run in this component's thread.
+/// askCurrentGoal and nextNeedle are answered in this component's next step (they only mark the
+/// request and wake the activity: core::PendingRequest), so the supervisor that asks spends
+/// nothing on them: the table lookup, the frame products and the three port writes run in this
+/// component's thread.
 ///
 /// Real time: the answer (a table lookup over the rows, a few frame products) and nextNeedle
 /// allocate nothing once the first answer has sized the port connections, when they answer
@@ -65,9 +66,6 @@ class PuncturingFrameGenerator : public core::Component {
 
   /// The request askCurrentGoal (from any thread): answered in the next step.
   void askCurrentGoal();
-  /// The operation nextNeedle as a C++ call: from the component's own thread or while it is not
-  /// stepped (the operation goes through runBetweenSteps).
-  void nextNeedle();
 
  protected:
   bool configureHook() override;
@@ -78,6 +76,8 @@ class PuncturingFrameGenerator : public core::Component {
 
   /// Publishes the goal of the task state on currentTaskState (or answers e_no_data).
   void answerCurrentGoal();
+  /// The request nextNeedle: on to the next planned needle (e_all_needles_done after the last).
+  void advanceNeedle();
   KDL::Frame plannedTarget(int index);
   /// Reads abdomenFrame (keeps the last sample, or the nominal pose) and returns it.
   const KDL::Frame& abdomen();
@@ -112,7 +112,7 @@ class PuncturingFrameGenerator : public core::Component {
   core::TaskState state_;
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
   std::string last_failure_;
-  std::atomic<bool> goal_requested_{false};  // askCurrentGoal was called: answered in the next step
+  core::PendingRequest goal_request_, next_needle_request_;  // answered in the next step
 };
 
 }  // namespace cobra::components
