@@ -7,15 +7,10 @@ local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/two_needles")
 local G = dofile(here .. "deployment/geometry.lua")
 local abdomen = G.preoperative(scenario .. "/preoperative.txt").abdomen
--- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one,
--- and 20 mm lower. The probe pressed on the skin is an allowed contact of the scene
--- (planning/scenes/puncturing.scene); the 20 mm give the needle's planned motions room next to
--- the skin: with the true skin top, the return from the extraction point to the needle change
--- pose (a half turn of the needle about its axis, beside the probe) is not found by RRT-Connect
--- within its 5 s. The needle's motions near the skin are motion primitives, not planned.
-local skin_clearance_layer = 0.02  -- m
-phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1 - skin_clearance_layer, abdomen[4], abdomen[5],
-                 abdomen[6], abdomen[7] }
+-- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one.
+-- The probe pressed on the skin is an allowed contact of the scene (planning/scenes/puncturing.scene).
+-- The needle's motions near the skin are motion primitives, not planned.
+phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
 -- The needle frame of this application has z along the needle; the I-SUR kinematics' needle is its
 -- tool's x axis. The robot bridge and the planners are told so.
 needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)

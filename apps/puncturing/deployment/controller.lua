@@ -38,9 +38,10 @@ return function(c)
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated
   -- time does not advance while it plans): back to the needle change pose turns the needle half a
-  -- turn about its axis past the UR5's forearm, a narrow passage for which RRT-Connect needs up to
-  -- ~110,000 validity checks in the two-needle scenario (about 2 s here).
-  planner.max_validity_checks = 250000
+  -- turn about its axis past the UR5's forearm and just above the skin, a narrow passage for which
+  -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~325,000 in three_needles
+  -- (4 and 8 s here).
+  planner.max_validity_checks = 600000
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s
   _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench
