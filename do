@@ -63,7 +63,7 @@ run_tests() {
     --tsan)
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
       # covered by the other builds.
-      build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test \
+      build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test core_request_test \
         core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test \
         bridges_isur_bridge_test bridges_omni_bridge_test bridges_bridge_alloc_test
       TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
