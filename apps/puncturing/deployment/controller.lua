@@ -39,8 +39,8 @@ return function(c)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated
   -- time does not advance while it plans): back to the needle change pose turns the needle half a
   -- turn about its axis past the UR5's forearm and just above the skin, a narrow passage for which
-  -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~325,000 in three_needles
-  -- (4 and 8 s here).
+  -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~190,000 in three_needles
+  -- (about 4 s here).
   planner.max_validity_checks = 600000
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s

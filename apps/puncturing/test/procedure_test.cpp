@@ -130,6 +130,20 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
 }
 
+// The second scenario: three needles, a larger tumour off the midline, the abdomen turned 0.3 rad.
+TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletesWithEveryNeedlePlaced) {
+  const ProcedureResult r = runProcedure(options("three_needles"));
+  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  expectPlaced(r, 3);
+  EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 3u);
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
+  EXPECT_EQ(count(r, "us > root.WaitReaction"), 0u);
+  expectInOrder(r, {"needle > root.WaitCryoCycle", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+                    "needle > root.WaitCryoCycle", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+                    "needle > root.WaitCryoCycle", "needle > root.Done", "us > root.Done"});
+  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+}
+
 TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutACommandJumpThenTheInsertionResumes) {
   ProcedureOptions o = options("two_needles");
   o.surgeon_file = takeOverSurgeon();
