@@ -44,25 +44,51 @@ bool near(const KDL::Frame& a, const KDL::Frame& b) {
 
 }  // namespace
 
-KDL::JntArray Ur5Model::defaultSeed() { return jointArray({0.5, -1.9, -1.7, 2.0, -1.5708, 0.0}); }
-
-Ur5Model::Ur5Model(const KDL::Frame& probe, const KDL::JntArray& seed, const kinematics::Ur5Parameters& parameters)
-    : solver_(parameters, kinematics::Ur5Solver::defaultLimits(), KDL::Frame::Identity(), probe), seed_(6), q_(6) {
+template <std::size_t Tools>
+WarmStart<Tools>::WarmStart(unsigned joints, const KDL::JntArray& seed, const char* robot)
+    : joints_(joints), robot_(robot), initial_(joints), seed_(joints) {
   setSeed(seed);
 }
 
-void Ur5Model::setSeed(const KDL::JntArray& q) {
-  requireSeed(q, 6, "UR5");
+template <std::size_t Tools>
+void WarmStart<Tools>::setSeed(const KDL::JntArray& q) {
+  requireSeed(q, joints_, robot_);
   seed_ = q;
   initial_ = q;
   has_previous_ = false;
 }
 
+template <std::size_t Tools>
+const KDL::JntArray& WarmStart<Tools>::seedFor(std::span<const KDL::Frame> tools) noexcept {
+  bool warm = has_previous_;
+  for (std::size_t i = 0; warm && i < Tools; ++i) warm = near(tools[i], previous_[i]);
+  if (!warm) seed_.data = initial_.data;
+  return seed_;
+}
+
+template <std::size_t Tools>
+void WarmStart<Tools>::keep(const KDL::JntArray& q, std::span<const KDL::Frame> tools) noexcept {
+  seed_.data = q.data;
+  for (std::size_t i = 0; i < Tools; ++i) previous_[i] = tools[i];
+  has_previous_ = true;
+}
+
+template class WarmStart<1>;
+template class WarmStart<2>;
+
+KDL::JntArray Ur5Model::defaultSeed() { return jointArray({0.5, -1.9, -1.7, 2.0, -1.5708, 0.0}); }
+
+Ur5Model::Ur5Model(const KDL::Frame& probe, const KDL::JntArray& seed, const kinematics::Ur5Parameters& parameters)
+    : solver_(parameters, kinematics::Ur5Solver::defaultLimits(), KDL::Frame::Identity(), probe),
+      warm_(6, seed, "UR5"),
+      q_(6) {}
+
 Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
-  if (!has_previous_ || !near(tools_in_base[0], previous_)) seed_.data = initial_.data;
-  if (solver_.allInverse(tools_in_base[0], seed_, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
-  // The branch of the configured seed: elbow (sign of q3) and wrist (sign of q5) as in initial_,
-  // shoulder (the two q1 solutions) nearest to initial_'s q1. A value at 0 (arm stretched, wrist
+  const KDL::JntArray& seed = warm_.seedFor(tools_in_base);
+  const KDL::JntArray& initial = warm_.initial();
+  if (solver_.allInverse(tools_in_base[0], seed, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
+  // The branch of the configured seed: elbow (sign of q3) and wrist (sign of q5) as in `initial`,
+  // shoulder (the two q1 solutions) nearest to its q1. A value at 0 (arm stretched, wrist
   // singular) belongs to both sides.
   const auto sameSide = [](double value, double reference) {
     return value == 0.0 || (value > 0.0) == (reference > 0.0);
@@ -71,8 +97,8 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
   double best_shoulder = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < solutions_.size(); ++k) {
     const std::span<const double> q = solutions_[k];
-    if (!sameSide(q[2], initial_(2)) || !sameSide(q[4], initial_(4))) continue;
-    const double shoulder = std::abs(kinematics::wrapToPi(q[0] - initial_(0)));
+    if (!sameSide(q[2], initial(2)) || !sameSide(q[4], initial(4))) continue;
+    const double shoulder = std::abs(kinematics::wrapToPi(q[0] - initial(0)));
     if (shoulder < best_shoulder) {
       best_shoulder = shoulder;
       best = k;
@@ -83,7 +109,7 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
   const kinematics::JointLimits& limits = solver_.limits();
   const std::span<const double> q = solutions_[best];
   for (unsigned j = 0; j < 6; ++j) {
-    double value = seed_(j) + kinematics::wrapToPi(q[j] - seed_(j));
+    double value = seed(j) + kinematics::wrapToPi(q[j] - seed(j));
     if (value > limits.upper[j]) value -= 2.0 * std::numbers::pi;
     if (value < limits.lower[j]) value += 2.0 * std::numbers::pi;
     if (value > limits.upper[j] || value < limits.lower[j]) return Reachability::Unreachable;
@@ -91,9 +117,7 @@ Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::spa
   }
   if (!solver_.model().linkFrames(std::span<const double>(q_.data.data(), 6), links_in_base))
     return Reachability::Unreachable;
-  seed_.data = q_.data;
-  previous_ = tools_in_base[0];
-  has_previous_ = true;
+  warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
 }
 
@@ -101,26 +125,15 @@ KDL::JntArray IsurPuncturingModel::defaultSeed() { return jointArray({0.1, 0.1, 
 
 IsurPuncturingModel::IsurPuncturingModel(const kinematics::IsurGeometry& geometry, const KDL::JntArray& seed)
     : solver_(geometry),
-      seed_(kinematics::IsurPuncturingSolver::kJoints),
-      q_(kinematics::IsurPuncturingSolver::kJoints) {
-  setSeed(seed);
-}
-
-void IsurPuncturingModel::setSeed(const KDL::JntArray& q) {
-  requireSeed(q, kinematics::IsurPuncturingSolver::kJoints, "I-SUR");
-  seed_ = q;
-  initial_ = q;
-  has_previous_ = false;
-}
+      warm_(kinematics::IsurPuncturingSolver::kJoints, seed, "I-SUR"),
+      q_(kinematics::IsurPuncturingSolver::kJoints) {}
 
 Reachability IsurPuncturingModel::solve(std::span<const KDL::Frame> tools_in_base,
                                         std::span<KDL::Frame> links_in_base) {
-  if (!has_previous_ || !near(tools_in_base[0], previous_)) seed_.data = initial_.data;
-  if (solver_.inverse(tools_in_base[0], seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
+  if (solver_.inverse(tools_in_base[0], warm_.seedFor(tools_in_base), q_) != IkStatus::Ok)
+    return Reachability::Unreachable;
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
-  seed_.data = q_.data;
-  previous_ = tools_in_base[0];
-  has_previous_ = true;
+  warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
 }
 
@@ -129,25 +142,15 @@ KDL::JntArray IsurSuturingModel::defaultSeed() {
 }
 
 IsurSuturingModel::IsurSuturingModel(const kinematics::IsurSuturingGeometry& geometry, const KDL::JntArray& seed)
-    : solver_(geometry), seed_(kinematics::IsurSuturingSolver::kJoints), q_(kinematics::IsurSuturingSolver::kJoints) {
-  setSeed(seed);
-}
-
-void IsurSuturingModel::setSeed(const KDL::JntArray& q) {
-  requireSeed(q, kinematics::IsurSuturingSolver::kJoints, "I-SUR suturing");
-  seed_ = q;
-  initial_ = q;
-  has_previous_ = false;
-}
+    : solver_(geometry),
+      warm_(kinematics::IsurSuturingSolver::kJoints, seed, "I-SUR suturing"),
+      q_(kinematics::IsurSuturingSolver::kJoints) {}
 
 Reachability IsurSuturingModel::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
-  if (!has_previous_ || !near(tools_in_base[0], previous_[0]) || !near(tools_in_base[1], previous_[1]))
-    seed_.data = initial_.data;
-  if (solver_.inverse(tools_in_base[0], tools_in_base[1], seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
+  if (solver_.inverse(tools_in_base[0], tools_in_base[1], warm_.seedFor(tools_in_base), q_) != IkStatus::Ok)
+    return Reachability::Unreachable;
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
-  seed_.data = q_.data;
-  previous_ = {tools_in_base[0], tools_in_base[1]};
-  has_previous_ = true;
+  warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
 }
 

@@ -27,6 +27,39 @@
 
 namespace cobra::planning {
 
+/// The warm-start state the file comment describes, for a robot of `Tools` tools (1 or 2): the
+/// configured seed, the last reachable solution and the tool poses it was for. No allocation
+/// after construction.
+template <std::size_t Tools>
+class WarmStart {
+ public:
+  /// @throws std::invalid_argument naming `robot` unless `seed` holds `joints` finite values.
+  WarmStart(unsigned joints, const KDL::JntArray& seed, const char* robot);
+  /// The configured seed (the next solve() and every one after reset() start from it).
+  /// @throws std::invalid_argument as the constructor.
+  void setSeed(const KDL::JntArray& q);
+  void reset() noexcept {
+    seed_.data = initial_.data;
+    has_previous_ = false;
+  }
+  /// The seed of a solve for `tools`: the previous solution when every tool moved less than
+  /// 0.02 m and 0.2 rad since, the configured seed otherwise.
+  const KDL::JntArray& seedFor(std::span<const KDL::Frame> tools) noexcept;
+  /// Remembers the solution `q` reached for `tools`.
+  void keep(const KDL::JntArray& q, std::span<const KDL::Frame> tools) noexcept;
+  const KDL::JntArray& initial() const { return initial_; }
+  /// The last reachable solution (the seed before any) [m, rad].
+  const KDL::JntArray& joints() const { return seed_; }
+
+ private:
+  unsigned joints_;
+  const char* robot_;
+  KDL::JntArray initial_;
+  KDL::JntArray seed_;
+  std::array<KDL::Frame, Tools> previous_{};
+  bool has_previous_ = false;
+};
+
 /// UR5 + probe. Links (base frame of the UR5): 0 base, 1..6 the DH frames after joints 1..6,
 /// 7 the probe tip (probe axis = z of the flange).
 /// Of the (up to 8) closed-form solutions it keeps the branch of the configured seed (shoulder,
@@ -51,26 +84,20 @@ class Ur5Model final : public RobotModel {
   std::size_t linkCount() const override { return 8; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override {
-    seed_.data = initial_.data;
-    has_previous_ = false;
-  }
+  void resetWarmStart() override { warm_.reset(); }
 
   /// Next solve() (and every one after resetWarmStart()) starts from `q` (6 joints, rad).
   /// @throws std::invalid_argument otherwise.
-  void setSeed(const KDL::JntArray& q);
+  void setSeed(const KDL::JntArray& q) { warm_.setSeed(q); }
   /// Joint values of the last reachable solve() (the seed before any) [rad].
-  const KDL::JntArray& joints() const { return seed_; }
+  const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::Ur5Solver& solver() { return solver_; }
 
  private:
   kinematics::Ur5Solver solver_;
   kinematics::IkSolutionSet solutions_;
-  KDL::JntArray initial_;
-  KDL::JntArray seed_;
+  WarmStart<1> warm_;
   KDL::JntArray q_;
-  KDL::Frame previous_;
-  bool has_previous_ = false;
 };
 
 /// I-SUR puncturing robot (8 DOF). Links: kinematics::IsurPuncturingSolver::linkFrames (0 turntable,
@@ -87,24 +114,18 @@ class IsurPuncturingModel final : public RobotModel {
   std::size_t linkCount() const override { return kinematics::IsurPuncturingSolver::kLinks; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override {
-    seed_.data = initial_.data;
-    has_previous_ = false;
-  }
+  void resetWarmStart() override { warm_.reset(); }
 
   /// Next solve() (and every one after resetWarmStart()) starts from `q` (8 joints, m and rad).
   /// @throws std::invalid_argument otherwise.
-  void setSeed(const KDL::JntArray& q);
-  const KDL::JntArray& joints() const { return seed_; }
+  void setSeed(const KDL::JntArray& q) { warm_.setSeed(q); }
+  const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::IsurPuncturingSolver& solver() { return solver_; }
 
  private:
   kinematics::IsurPuncturingSolver solver_;
-  KDL::JntArray initial_;
-  KDL::JntArray seed_;
+  WarmStart<1> warm_;
   KDL::JntArray q_;
-  KDL::Frame previous_;
-  bool has_previous_ = false;
 };
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
@@ -121,22 +142,18 @@ class IsurSuturingModel final : public RobotModel {
   std::size_t linkCount() const override { return kinematics::IsurSuturingSolver::kLinks; }
   Reachability solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) override;
   /// Back to the seed given at construction or by the last setSeed().
-  void resetWarmStart() override {
-    seed_.data = initial_.data;
-    has_previous_ = false;
-  }
+  void resetWarmStart() override { warm_.reset(); }
 
-  void setSeed(const KDL::JntArray& q);
-  const KDL::JntArray& joints() const { return seed_; }
+  /// Next solve() (and every one after resetWarmStart()) starts from `q` (14 joints, m and rad).
+  /// @throws std::invalid_argument otherwise.
+  void setSeed(const KDL::JntArray& q) { warm_.setSeed(q); }
+  const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::IsurSuturingSolver& solver() { return solver_; }
 
  private:
   kinematics::IsurSuturingSolver solver_;
-  KDL::JntArray initial_;
-  KDL::JntArray seed_;
+  WarmStart<2> warm_;
   KDL::JntArray q_;
-  std::array<KDL::Frame, 2> previous_;
-  bool has_previous_ = false;
 };
 
 /// The real robot models for the robots of `scene`, by name: `ur5` → Ur5Model; `isur` with one
