@@ -40,8 +40,9 @@ NeedleInsertionMonitor::NeedleInsertionMonitor(std::string name)
   addPort(meas_wrench_);
   addPort(meas_cart_pose_);
   addPort(target_pose_);
-  addOperation("reset", &NeedleInsertionMonitor::reset, this,
-               "re-arms e_skin_touched and e_skin_penetrated for a new insertion");
+  addOperation("reset", std::function<void()>([this] { reset_request_.ask(activity()); }),
+               "re-arms e_skin_touched and e_skin_penetrated for a new insertion, in this component's next step",
+               core::ExecutionThread::Client);
 }
 
 bool NeedleInsertionMonitor::configureHook() {
@@ -143,6 +144,7 @@ void NeedleInsertionMonitor::checkPose(const KDL::Frame& tip) noexcept {
 }
 
 void NeedleInsertionMonitor::updateHook() {
+  if (reset_request_.take()) reset();
   if (target_pose_.read(target_) != core::FlowStatus::NoData) have_target_ = true;
   KDL::Wrench wrench;
   if (meas_wrench_.read(wrench) == core::FlowStatus::NewData) checkForce(wrench, now().count());

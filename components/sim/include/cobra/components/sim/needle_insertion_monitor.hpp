@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cobra/core/component.hpp"
+#include "cobra/core/request.hpp"
 
 namespace cobra::components {
 
@@ -35,8 +36,9 @@ namespace cobra::components {
 /// The forbidden-region check uses the measured tip pose and the planned geometry, not the force:
 /// a rib or vessel contact cannot be told from a membrane puncture or a fast insertion by the axial
 /// force alone, and the geometric check warns before the tip touches (margin).
-/// Touched/penetrated are latched for one insertion: the operation `reset()` re-arms them (call it
-/// when a new insertion starts). updateHook allocates nothing.
+/// Touched/penetrated are latched for one insertion: the request `reset()` re-arms them in the
+/// monitor's next step, before it reads its ports (call it when a new insertion starts; the caller
+/// does not wait: core::PendingRequest). updateHook allocates nothing.
 class NeedleInsertionMonitor : public core::Component {
  public:
   explicit NeedleInsertionMonitor(std::string name);
@@ -49,6 +51,8 @@ class NeedleInsertionMonitor : public core::Component {
   void reset();
   void checkForce(const KDL::Wrench& wrench, std::int64_t now_ns) noexcept;
   void checkPose(const KDL::Frame& tip) noexcept;
+
+  core::PendingRequest reset_request_;
 
   core::Property<KDL::Vector> needle_axis_{"needle_axis", KDL::Vector(1, 0, 0), "1",
                                            "needle direction (forwards) in the frame of measWrench, unit vector"};
