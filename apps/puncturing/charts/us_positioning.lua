@@ -35,6 +35,8 @@ local chart = {
     rfsm.trans { src = 'Approach', tgt = 'Descend', events = { 'e_motion_done' } },
   },
   WaitNeedleSkinReached = waiting("root.WaitNeedleSkinReached", D.primitives, C.contact),
+  -- Phase H: the Frame Generator moves on to the next needle and says whether there is one.
+  NextProbePose = rfsm.state {},
   -- The probe presses on the skin (probe_contact configuration) while the needle goes in.
   USPositioned = rfsm.state {
     SearchingNeedle = motion("root.USPositioned.SearchingNeedle", D.primitives, C.contact, { arrive = true }),
@@ -58,15 +60,17 @@ local chart = {
   rfsm.trans { src = 'Idle', tgt = 'MoveToSkin', events = { 'e_iceball_configured' } },
   rfsm.trans { src = 'MoveToSkin', tgt = 'WaitNeedleSkinReached', events = { 'e_probe_contact' },
                effect = function() stop() emit("e_us_positioned") end },
-  -- Phase H: on to the next needle's probe pose (the Frame Generator says when there is none).
-  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'MoveToSkin', events = { 'e_needle_next' }, pn = 10,
+  -- Phase H: on to the next needle's probe pose, once the Frame Generator has one; none after the
+  -- last needle: the task is done (no approach, no switch).
+  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'NextProbePose', events = { 'e_needle_next' }, pn = 10,
                effect = function() call("frames", "nextNeedle") end },
+  rfsm.trans { src = 'NextProbePose', tgt = 'MoveToSkin', events = { 'e_needle_selected' } },
+  rfsm.trans { src = 'NextProbePose', tgt = 'Done', events = { 'e_all_needles_done' } },
   -- The needle chart waits for the probe: say it is in place (again).
   rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_wait_us' },
                effect = function() emit("e_us_positioned") end },
   rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'USPositioned', events = { 'e_needle_skin_reached' } },
   rfsm.trans { src = 'USPositioned', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_extracted' } },
-  rfsm.trans { src = 'MoveToSkin', tgt = 'Done', events = { 'e_all_needles_done' }, pn = 10 },
   rfsm.trans { src = 'MoveToSkin', tgt = 'WaitReaction', events = faults },
   rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'WaitReaction', events = contact_faults },
   rfsm.trans { src = 'USPositioned', tgt = 'WaitReaction', events = contact_faults },

@@ -233,7 +233,7 @@ class Procedure {
         reply("e_motion_stopped", 0.2);
       }
     } else if (line.ends_with("Frames:nextNeedle")) {
-      if (++c.needle >= needles_) reply("e_all_needles_done");
+      reply(++c.needle >= needles_ ? "e_all_needles_done" : "e_needle_selected");
     }
   }
 

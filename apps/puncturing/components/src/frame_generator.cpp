@@ -52,8 +52,8 @@ PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
                "lastFailure)",
                core::ExecutionThread::Client);
   addOperation("nextNeedle", std::function<void()>([this] { next_needle_request_.ask(activity()); }),
-               "moves on to the next planned needle in this component's next step; answers e_all_needles_done "
-               "after the last one",
+               "moves on to the next planned needle in this component's next step; answers e_needle_selected, "
+               "or e_all_needles_done after the last one",
                core::ExecutionThread::Client);
   addOperation("currentNeedle", std::function<int()>([this] { return needle_; }),
                "index of the current needle (0-based; needleCount() when all are done)");
@@ -197,7 +197,7 @@ void PuncturingFrameGenerator::advanceNeedle() {
   if (!plan_) return;
   const int count = static_cast<int>(plan_->needles.size());
   if (needle_ < count) ++needle_;
-  if (needle_ >= count) emitEvent("e_all_needles_done");
+  emitEvent(needle_ >= count ? "e_all_needles_done" : "e_needle_selected");
 }
 
 KDL::Frame PuncturingFrameGenerator::plannedTarget(int index) {

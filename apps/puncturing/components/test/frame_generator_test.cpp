@@ -228,7 +228,7 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
   b.generator.call<void>("nextNeedle");
   EXPECT_EQ(b.generator.call<int>("currentNeedle"), 0);  // answered in the generator's next step
   b.clock.advance(10ms);
-  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{});
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_needle_selected"});
   EXPECT_EQ(b.generator.call<int>("currentNeedle"), 1);
   ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   EXPECT_TRUE(KDL::Equal(b.goalPair()[0], a * pp::needleTargetPose(b.plan.needles[1]), 1e-12));

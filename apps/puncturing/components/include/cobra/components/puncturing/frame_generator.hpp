@@ -39,8 +39,9 @@ namespace cobra::components {
 ///   (why the last askCurrentGoal answered e_no_data);
 /// - events `e_goal_ready` (desiredPoses, goalPoses and needleTarget written), `e_no_data` (no
 ///   table row for the task state, no task state yet, no measured pose yet, or no needle left;
-///   the reason, naming the state and the datum, is in lastFailure() and printed on stderr) and
-///   `e_all_needles_done` (nextNeedle moved past the last needle).
+///   the reason, naming the state and the datum, is in lastFailure() and printed on stderr),
+///   `e_needle_selected` (nextNeedle moved to a planned needle) and `e_all_needles_done`
+///   (nextNeedle moved past the last needle).
 ///
 /// Datums (state table): entry / target = the current needle's tip frame at its skin entry /
 /// at its target, probe = its planned probe pose (all three in frame A, mapped with
