@@ -2,6 +2,8 @@
 // configuration files and operation calls from text go through). Checks that parsing never
 // crashes and that print and parse agree: a parsed value prints to text that parses back to a
 // value printing the same (for Event, whose printed form is richer, that it starts with the name).
+// Rotations and frames are stored as matrices and printed as quaternions: the conversion is exact
+// only to rounding, so their printed text parses back to the same value within 1e-12.
 
 #include <cstddef>
 #include <cstdint>
@@ -27,6 +29,16 @@ void roundTrip(std::string_view text) {
   if (Traits::print(again) != printed) std::abort();  // and print the same
 }
 
+template <class T>
+void roundTripApprox(std::string_view text) {
+  using Traits = cobra::core::DataTypeTraits<T>;
+  T value{};
+  if (!Traits::parse(text, value)) return;
+  T again{};
+  if (!Traits::parse(Traits::print(value), again)) std::abort();  // printed text must parse
+  if (!KDL::Equal(value, again, 1e-12)) std::abort();               // to the same value
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -39,8 +51,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 3: roundTrip<std::string>(text); break;
     case 4: roundTrip<std::vector<double>>(text); break;
     case 5: roundTrip<KDL::Vector>(text); break;
-    case 6: roundTrip<KDL::Rotation>(text); break;
-    case 7: roundTrip<KDL::Frame>(text); break;
+    case 6: roundTripApprox<KDL::Rotation>(text); break;
+    case 7: roundTripApprox<KDL::Frame>(text); break;
     case 8: roundTrip<KDL::Twist>(text); break;
     case 9: roundTrip<KDL::Wrench>(text); break;
     case 10: roundTrip<KDL::JntArray>(text); break;

@@ -186,7 +186,8 @@ namespace {
 bool quaternionFrom(const double* q, KDL::Rotation& out) {
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (std::abs(norm - 1.0) > 1e-6) return false;  // a quaternion that is not unit is a typo
-  out = KDL::Rotation::Quaternion(q[0], q[1], q[2], q[3]);
+  // Rounded decimals are unit only to ~1e-6: normalised, the rotation matrix is orthonormal.
+  out = KDL::Rotation::Quaternion(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
   return true;
 }
 std::vector<double> quaternionOf(const KDL::Rotation& r) {

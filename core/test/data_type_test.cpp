@@ -338,6 +338,19 @@ TEST(DataTypeText, NonUnitQuaternionsAreRefused) {
   EXPECT_TRUE(KDL::Equal(r, KDL::Rotation::RotZ(M_PI / 2), 1e-12));
 }
 
+// Found by fuzz/value_text_fuzz: "[1, 0, 0.0005676, 0]" is unit to 1.6e-7, accepted, and made a
+// rotation matrix that was not orthonormal (its printed quaternion then drifted at every parse).
+TEST(DataTypeText, NearUnitQuaternionsAreNormalisedAndPrintedTextParsesBackToTheSameRotation) {
+  KDL::Rotation r;
+  ASSERT_TRUE(parseText("1,0,00000000000000.0005676,0", r));
+  const KDL::Rotation product = r.Inverse() * r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(product(i, j), i == j ? 1.0 : 0.0, 1e-15) << i << "," << j;
+  KDL::Rotation again;
+  ASSERT_TRUE(parseText(printValue(r), again));
+  EXPECT_TRUE(KDL::Equal(r, again, 1e-12));
+}
+
 TEST(DataTypeText, EventRefusesEmptySpacedAndOverlongNames) {
   expectRefused<Event>("");
   expectRefused<Event>("two words");
