@@ -46,13 +46,13 @@ bool near(const KDL::Frame& a, const KDL::Frame& b) {
 
 template <std::size_t Tools>
 WarmStart<Tools>::WarmStart(unsigned joints, const KDL::JntArray& seed, const char* robot)
-    : joints_(joints), robot_(robot), initial_(joints), seed_(joints) {
+    : robot_(robot), initial_(joints), seed_(joints) {
   setSeed(seed);
 }
 
 template <std::size_t Tools>
 void WarmStart<Tools>::setSeed(const KDL::JntArray& q) {
-  requireSeed(q, joints_, robot_);
+  requireSeed(q, initial_.rows(), robot_);
   seed_ = q;
   initial_ = q;
   has_previous_ = false;

@@ -3,8 +3,6 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "cobra/core/activity.hpp"
-
 namespace cobra::components {
 namespace {
 

@@ -52,7 +52,6 @@ class WarmStart {
   const KDL::JntArray& joints() const { return seed_; }
 
  private:
-  unsigned joints_;
   const char* robot_;
   KDL::JntArray initial_;
   KDL::JntArray seed_;
