@@ -124,24 +124,32 @@ ServoStatus ServoRobot::step(double dt) noexcept {
   return status;
 }
 
-CartesianServo::CartesianServo(kinematics::KinematicsSolver& solver, ServoRobot& robot)
-    : solver_(solver), robot_(robot), seed_(robot.commanded()), solution_(robot.jointCount()) {
+namespace {
+
+kinematics::KinematicsSolver& sameJointCount(kinematics::KinematicsSolver& solver, const ServoRobot& robot) {
   if (solver.jointCount() != robot.jointCount()) {
     throw std::invalid_argument("CartesianServo: solver '" + std::string(solver.name()) + "' has " +
                                 std::to_string(solver.jointCount()) + " joints but robot '" + robot.model().name +
                                 "' has " + std::to_string(robot.jointCount()));
   }
+  return solver;
 }
 
-CartesianCommandStatus CartesianServo::command(const KDL::Frame& target) noexcept {
+}  // namespace
+
+CartesianServo::CartesianServo(kinematics::KinematicsSolver& solver, ServoRobot& robot, double period)
+    : solver_(sameJointCount(solver, robot)),
+      robot_(robot),
+      continuity_(solver, robot.model().max_velocity, period),
+      solution_(robot.jointCount()) {}
+
+CartesianCommandStatus CartesianServo::command(const KDL::Frame& target, double dt) noexcept {
   CartesianCommandStatus status;
-  status.ik = solver_.inverse(target, seed_, solution_);
+  status.ik = continuity_.solve(target, robot_.commanded(), dt, solution_);
   if (status.ik != kinematics::IkStatus::Ok || !robot_.command(solution_)) {
     if (status.ik == kinematics::IkStatus::Ok) status.ik = kinematics::IkStatus::BadInput;
     status.holding = true;
-    return status;
   }
-  seed_ = robot_.commanded();
   return status;
 }
 

@@ -1,6 +1,7 @@
 // ServoRobot and CartesianServo: the exact first-order response, limits, encoder quantisation,
 // a UR5 driven along a Cartesian line with the lag's predictable error, IK failure holding the
-// last command, determinism, no allocation in step, parameter errors.
+// last command, the continuity rule (a jump, a wrist branch change refused and held; continuing
+// from a joint command), determinism, no allocation in step, parameter errors.
 
 #include "cobra/sim/servo.hpp"
 
@@ -105,6 +106,65 @@ TEST(CartesianServo, HoldsTheLastValidCommandWhenIkFails) {
   EXPECT_TRUE(status.holding);
   EXPECT_EQ(status.ik, cobra::kinematics::IkStatus::Unreachable);
   for (unsigned j = 0; j < 6; ++j) EXPECT_DOUBLE_EQ(robot.commanded()(j), q0[j]);
+}
+
+TEST(CartesianServo, RefusesAJumpBeyondMaxVelocityTimesDtAndHolds) {
+  cobra::kinematics::Ur5Solver solver;
+  const std::vector<double> q0{0.3, -1.2, 1.5, -1.9, -1.57, 0.2};
+  ServoRobot robot(cobra::sim::uniformServoModel("UR5", solver.limits(), 0.02, 3.0, 0.0), q0);
+  cobra::sim::CartesianServo servo(solver, robot, 0.002);  // 6 mrad per joint and period
+  KDL::Frame start;
+  ASSERT_TRUE(servo.pose(start));
+  KDL::Frame jump = start;
+  jump.p += KDL::Vector(0.0, 0.0, 0.05);  // 5 cm in one period
+  const auto status = servo.command(jump);
+  EXPECT_TRUE(status.holding);
+  EXPECT_EQ(status.ik, cobra::kinematics::IkStatus::Discontinuous);
+  EXPECT_GE(servo.lastRefusal().joint, 0);
+  EXPECT_DOUBLE_EQ(servo.lastRefusal().allowed, 0.006);
+  for (unsigned j = 0; j < 6; ++j) EXPECT_DOUBLE_EQ(robot.commanded()(j), q0[j]);
+  // The same jump over 0.5 s is a legal command.
+  EXPECT_FALSE(servo.command(jump, 0.5).holding);
+}
+
+TEST(CartesianServo, RefusesAWristBranchChangeAndTheRobotDoesNotSwing) {
+  // q5 = 0.01 -> a pose whose nearest joints have q5 = -0.01: on the current wrist branch it needs
+  // q4 and q6 turned by π. Refused; the robot holds still.
+  cobra::kinematics::Ur5Solver solver;
+  const std::vector<double> q0{0.1, -1.3, 1.5, -1.7, 0.01, 0.3};
+  ServoRobot robot(cobra::sim::uniformServoModel("UR5", solver.limits(), 0.02, 3.14, 0.0), q0);
+  cobra::sim::CartesianServo servo(solver, robot, 0.002);
+  KDL::JntArray across(6);
+  for (unsigned j = 0; j < 6; ++j) across(j) = q0[j];
+  across(4) = -0.01;
+  KDL::Frame target;
+  ASSERT_EQ(solver.forward(across, target), cobra::kinematics::IkStatus::Ok);
+  for (int i = 0; i < 100; ++i) {
+    const auto status = servo.command(target);
+    EXPECT_TRUE(status.holding);
+    EXPECT_EQ(status.ik, cobra::kinematics::IkStatus::Discontinuous);
+    robot.step(0.002);
+  }
+  for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(robot.position()(j), q0[j], 1e-12) << "joint " << j + 1;
+}
+
+TEST(CartesianServo, ContinuesFromTheLastJointCommand) {
+  // A joint command moves the set point; the next Cartesian command is judged from there.
+  cobra::kinematics::Ur5Solver solver;
+  const std::vector<double> q0{0.3, -1.2, 1.5, -1.9, -1.57, 0.2};
+  ServoRobot robot(cobra::sim::uniformServoModel("UR5", solver.limits(), 0.02, 3.0, 0.0), q0);
+  cobra::sim::CartesianServo servo(solver, robot, 0.002);
+  std::vector<double> q1 = q0;
+  q1[0] += 0.8;
+  ASSERT_TRUE(robot.command(q1));
+  KDL::JntArray near(6);
+  for (unsigned j = 0; j < 6; ++j) near(j) = q1[j];
+  near(0) += 0.001;
+  KDL::Frame target;
+  ASSERT_EQ(solver.forward(near, target), cobra::kinematics::IkStatus::Ok);
+  const auto status = servo.command(target);
+  EXPECT_FALSE(status.holding);
+  EXPECT_NEAR(robot.commanded()(0), q1[0] + 0.001, 1e-9);
 }
 
 TEST(ServoRobot, StepAndCartesianCommandAllocateNothing) {

@@ -2,7 +2,8 @@
 /// @file
 /// Position-controlled robot joints: each joint follows its command with a first-order lag,
 /// within position and velocity limits, and is read back through a quantising encoder. A helper
-/// drives such a robot in Cartesian space through a kinematics::KinematicsSolver.
+/// drives such a robot in Cartesian space through a kinematics::KinematicsSolver, refusing the
+/// commands it could only follow by swinging (kinematics::ContinuousIk).
 
 #include <cstdint>
 #include <span>
@@ -12,6 +13,7 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/kinematics/continuity.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::sim {
@@ -72,26 +74,42 @@ class ServoRobot {
 
 /// Result of a Cartesian command.
 struct CartesianCommandStatus {
-  kinematics::IkStatus ik = kinematics::IkStatus::Ok;  ///< Ok, or why the last valid command is held
-  bool holding = false;                                ///< true when the IK failed and the command was kept
+  /// Ok, or why the last valid command is held: the solver's failure (e.g. Unreachable), or
+  /// Discontinuous when the solution is not reachable continuously (see CartesianServo).
+  kinematics::IkStatus ik = kinematics::IkStatus::Ok;
+  bool holding = false;  ///< true when the command was refused and the last valid one is kept
 };
 
-/// Drives a ServoRobot in Cartesian space: each `command` solves the IK seeded with the last
-/// valid joint command and, when it fails, keeps that command. Poses are of the solver's tool
-/// frame in its base frame (m, rad). Holds references: both objects must outlive it.
+/// Drives a ServoRobot in Cartesian space. Each `command` solves the IK with the continuity rule
+/// of kinematics::ContinuousIk from the robot's current joint command (its set point: the last
+/// valid Cartesian or joint command): the solution must lie on the IK branch of that command and
+/// differ from it by at most max_velocity · dt on every joint (the robot model's own velocity
+/// limits, rad/s or m/s; dt the period over which the command is to be reached, s). A command
+/// that fails either way, or that the IK cannot solve, is refused: the robot keeps its command
+/// (nothing swings) and the status says why. Poses are of the solver's tool frame in its base
+/// frame (m, rad). Holds references: both objects must outlive it. `command` and `pose` are
+/// noexcept and allocate nothing (with the closed-form solvers).
 class CartesianServo {
  public:
-  /// @throws std::invalid_argument when the solver and the robot differ in joint count.
-  CartesianServo(kinematics::KinematicsSolver& solver, ServoRobot& robot);
+  /// @param period dt of `command(target)`, s, > 0 (the caller's control period)
+  /// @throws std::invalid_argument when the solver and the robot differ in joint count, or the
+  /// period is not > 0.
+  CartesianServo(kinematics::KinematicsSolver& solver, ServoRobot& robot, double period = 1e-3);
 
-  CartesianCommandStatus command(const KDL::Frame& target) noexcept;
+  /// Commands `target` to be reached within `dt` (s).
+  CartesianCommandStatus command(const KDL::Frame& target, double dt) noexcept;
+  /// Commands `target` to be reached within period() s.
+  CartesianCommandStatus command(const KDL::Frame& target) noexcept { return command(target, continuity_.period()); }
   /// Forward kinematics of the robot's true position; false when the solver fails.
   bool pose(KDL::Frame& out) noexcept;
+  /// Why the last Discontinuous command was refused (joint, step, allowed step, branch change).
+  const kinematics::ContinuityRefusal& lastRefusal() const noexcept { return continuity_.lastRefusal(); }
 
  private:
   kinematics::KinematicsSolver& solver_;
   ServoRobot& robot_;
-  KDL::JntArray seed_, solution_;
+  kinematics::ContinuousIk continuity_;
+  KDL::JntArray solution_;
 };
 
 }  // namespace cobra::sim
