@@ -87,7 +87,10 @@ bool SimulatedServoRobotBase::configureHook() {
     sim::ServoRobotModel model{name(), solver_->limits(), std::vector<double>(joints, time_constant_()), velocity,
                                counts};
     robot_.emplace(std::move(model), initial_joints_());
-    servo_.emplace(*solver_, *robot_);
+    // The servo's default dt (used when two updates share a time stamp): the activity's period,
+    // or 1 ms for an activity without one.
+    const double period = std::chrono::duration<double>(activity().period()).count();
+    servo_.emplace(*solver_, *robot_, period > 0.0 ? period : 1e-3);
     sim::ForceTorqueSensorModel sensor = sensorPreset(sensor_());
     sensor.name = name() + " " + sensor_();
     sensor.bias = sensor_bias_();
@@ -104,7 +107,7 @@ bool SimulatedServoRobotBase::configureHook() {
   if (solver_->forward(robot_->position(), fk) != kinematics::IkStatus::Ok)
     return refuse("forward kinematics fails at initial_joints; give a configuration inside the workspace");
   commanded_pose_ = measured_pose_ = previous_pose_ = true_pose_ = base_frame_() * fk * tool_frame_();
-  ik_failing_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = false;
   return true;
 }
 
@@ -129,16 +132,23 @@ double SimulatedServoRobotBase::stepLength() noexcept {
   return dt;
 }
 
-void SimulatedServoRobotBase::commandCartesian(const KDL::Frame& world_target) noexcept {
+void SimulatedServoRobotBase::commandCartesian(const KDL::Frame& world_target, double dt) noexcept {
   const KDL::Frame target = base_frame_().Inverse() * world_target * tool_frame_().Inverse();
-  const sim::CartesianCommandStatus status = servo_->command(target);
+  const sim::CartesianCommandStatus status = dt > 0.0 ? servo_->command(target, dt) : servo_->command(target);
   if (status.holding) {
-    if (!ik_failing_) emitEvent("e_ik_failed");
-    ik_failing_ = true;
+    // One event per reason and refusal episode (until a command is accepted again).
+    if (status.ik == kinematics::IkStatus::Discontinuous) {
+      if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
+      told_discontinuity_ = true;
+    } else {
+      if (!told_failed_) emitEvent("e_ik_failed");
+      told_failed_ = true;
+    }
+    refusing_ = true;
     return;
   }
-  if (ik_failing_) emitEvent("e_ik_solved");
-  ik_failing_ = false;
+  if (refusing_) emitEvent("e_ik_solved");
+  refusing_ = told_failed_ = told_discontinuity_ = false;
   commanded_pose_ = world_target;
 }
 
@@ -148,7 +158,7 @@ void SimulatedServoRobotBase::updateHook() {
   KDL::Frame pose;
   if (des_cart_pose_.read(pose) == core::FlowStatus::NewData && kinematics::validFrame(pose)) {
     twist_until_ns_ = -1;
-    commandCartesian(pose);
+    commandCartesian(pose, dt);
   }
   if (des_joint_position_.read(joint_command_) == core::FlowStatus::NewData && robot_->command(joint_command_)) {
     twist_until_ns_ = -1;
@@ -159,7 +169,7 @@ void SimulatedServoRobotBase::updateHook() {
   if (defaults_.twist_ports) {
     if (des_twist_.read(twist_command_) == core::FlowStatus::NewData)
       twist_until_ns_ = now_ns + static_cast<std::int64_t>(twist_timeout_() * 1e9);
-    if (now_ns <= twist_until_ns_ && dt > 0.0) commandCartesian(KDL::addDelta(commanded_pose_, twist_command_, dt));
+    if (now_ns <= twist_until_ns_ && dt > 0.0) commandCartesian(KDL::addDelta(commanded_pose_, twist_command_, dt), dt);
   }
   robot_->step(dt);
   publish(dt);

@@ -1,11 +1,19 @@
 // The simulated I-SUR and UR5 bridges on the lockstep clock: paths reproduced within the servo
-// model's error, the sensor reading of the contact wrench, twist commands, property errors.
+// model's error, the sensor reading of the contact wrench, twist commands, property errors, and
+// the continuity rule: commands across the I-SUR's wrist singularity or needing a UR5 wrist flip
+// are refused with e_ik_discontinuity once, the robot holds, then follows again; no allocation.
 #include "cobra/components/sim/simulated_robot.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
 
+#include "cobra/kinematics/isur.hpp"
+#include "cobra/kinematics/ur5.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "puncturing_world.hpp"
 
@@ -35,7 +43,7 @@ struct Rig {
     core::connectPorts(robot.port("measCartPose"), pose);
     core::connectPorts(robot.port("measJointPosition"), joints);
     core::connectPorts(robot.port("measWrench"), wrench);
-    core::connectPorts(robot.port("events"), events, core::ConnPolicy::buffer(8));
+    core::connectPorts(robot.port("events"), events, core::ConnPolicy::buffer(32));
   }
   void start() {
     ASSERT_TRUE(robot.configure()) << robot.lastError();
@@ -47,7 +55,48 @@ struct Rig {
     EXPECT_NE(pose.read(f), core::FlowStatus::NoData);
     return f;
   }
+  KDL::JntArray measuredJoints() {
+    KDL::JntArray q;
+    EXPECT_NE(joints.read(q), core::FlowStatus::NoData);
+    return q;
+  }
+  /// Names of the events emitted since the last call.
+  std::vector<std::string> takeEvents() {
+    std::vector<std::string> names;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    return names;
+  }
 };
+
+/// The continuity rule on a simulated robot started at `initial` (rad, m): `refused` (a pose the
+/// robot could only reach by swinging) sent every 1 ms step for 500 steps is refused with one
+/// e_ik_discontinuity, the joints hold within one encoder count; then a pose 0.1 mm from the start
+/// is followed, with e_ik_solved. `count_rad`, `count_m`: encoder resolution.
+template <class Robot>
+void checkRefusedThenFollowed(const std::vector<double>& initial, const KDL::Frame& refused, double count_rad,
+                              double count_m) {
+  Rig<Robot> rig;
+  rig.robot.setProperty("initial_joints", initial);
+  rig.start();
+  const KDL::JntArray held = rig.measuredJoints();
+  const KDL::Frame start = rig.measuredPose();
+  for (int ms = 0; ms < 500; ++ms) {
+    rig.pose_command.write(refused);
+    rig.clock.advance(std::chrono::milliseconds(1));
+    const KDL::JntArray q = rig.measuredJoints();
+    for (unsigned j = 0; j < q.rows(); ++j)
+      ASSERT_NEAR(q(j), held(j), j < 3 && count_m > 0.0 ? count_m : count_rad) << "joint " << j + 1 << " at " << ms;
+  }
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
+  KDL::Frame nearby = start;
+  nearby.p += KDL::Vector(0.0, 0.0, 1e-4);
+  rig.pose_command.write(nearby);
+  rig.clock.advance(std::chrono::milliseconds(1));
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_solved"});
+  for (int ms = 0; ms < 200; ++ms) rig.clock.advance(std::chrono::milliseconds(1));
+  EXPECT_LT((rig.measuredPose().p - nearby.p).Norm(), 2e-5);
+}
 
 // A Cartesian line at constant speed v: the servo lags by at most v·τ (first-order lag of a ramp)
 // plus the encoder resolution; after the end it settles on the target.
@@ -167,6 +216,53 @@ TEST(SimulatedUR5Robot, FollowsJointAndTwistCommands) {
   EXPECT_NEAR(after.p.y() - before.p.y(), 0.01 + 0.02 * 0.1, 1e-4);
   EXPECT_NEAR(after.p.x(), before.p.x(), 1e-4);
   EXPECT_LT(KDL::diff(after.M, before.M).Norm(), 1e-4);
+}
+
+TEST(SimulatedISURRobot, ACommandAcrossTheWristSingularityIsRefusedOnceAndTheRobotHolds) {
+  // Needle 0.3° short of vertical (pitch q6 + q7 = 90° - 0.005 rad); the command tilts it 0.3°
+  // past: on the robot's branch, yaw and roll would turn by π.
+  const std::vector<double> initial{0.1, 0.1, 0.1, 0.0, 0.0, std::numbers::pi / 4 - 0.005, std::numbers::pi / 4, 0.0};
+  KDL::JntArray across = jointArray(initial);
+  across(5) += 0.005;
+  across(6) += 0.005;
+  kinematics::IsurPuncturingSolver isur;
+  KDL::Frame refused;
+  ASSERT_EQ(isur.forward(across, refused), kinematics::IkStatus::Ok);
+  checkRefusedThenFollowed<SimulatedISURRobot>(initial, refused, 2 * std::numbers::pi / 262144, 1e-6);
+}
+
+TEST(SimulatedUR5Robot, APoseThatNeedsAWristFlipIsRefusedOnceAndTheRobotHolds) {
+  // Wrist 0.01 rad from its singularity; the command's nearest joints are 0.01 rad on the other
+  // side (the wrist flipped): on the robot's branch q4 and q6 would turn by π.
+  const std::vector<double> initial{0.1, -1.3, 1.5, -1.7, 0.01, 0.3};
+  KDL::JntArray across = jointArray(initial);
+  across(4) = -0.01;
+  kinematics::Ur5Solver ur5;
+  KDL::Frame refused;
+  ASSERT_EQ(ur5.forward(across, refused), kinematics::IkStatus::Ok);
+  checkRefusedThenFollowed<SimulatedUR5Robot>(initial, refused, 2 * std::numbers::pi / 262144, 0.0);
+}
+
+TEST(SimulatedUR5Robot, CartesianCommandsAcceptedOrRefusedAllocateNothing) {
+  Rig<SimulatedUR5Robot> rig;
+  rig.start();
+  const KDL::Frame start = rig.measuredPose();
+  KDL::Frame far = start;
+  far.p += KDL::Vector(0.1, 0.0, 0.0);  // 10 cm in 1 ms
+  (void)rig.takeEvents();
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int ms = 0; ms < 100; ++ms) {
+                KDL::Frame target = start;
+                target.p += KDL::Vector(0.0, 1e-5 * ms, 0.0);
+                rig.pose_command.write(ms % 10 == 5 ? far : target);
+                rig.clock.advance(std::chrono::milliseconds(1));
+              }
+            }),
+            0);
+  const std::vector<std::string> events = rig.takeEvents();
+  ASSERT_EQ(events.size(), 20u);  // 10 refusal episodes, each: refused, then accepted again
+  for (std::size_t i = 0; i < events.size(); ++i)
+    EXPECT_EQ(events[i], i % 2 == 0 ? "e_ik_discontinuity" : "e_ik_solved") << i;
 }
 
 TEST(SimulatedRobots, BadPropertiesAreRefusedWithTheirNameAndWhatIsExpected) {

@@ -38,9 +38,14 @@ struct SimulatedRobotDefaults {
 ///
 /// Inputs: `desJointPosition` (KDL::JntArray, rad / m) and `desCartPose` (KDL::Frame, m): the
 /// latest new value of either becomes the servo command (both new in one step: the joint command
-/// wins; a joint command of the wrong size or with a non-finite value is ignored); a Cartesian
-/// command the IK cannot reach keeps the last valid command and emits
-/// `e_ik_failed` once (then `e_ik_solved` at the next reachable one). `contactWrench`
+/// wins; a joint command of the wrong size or with a non-finite value is ignored). A Cartesian
+/// command (or a twist step) is turned into joints with the continuity rule of
+/// kinematics::ContinuousIk, from the robot's current joint command (its set point): the solution
+/// must lie on the IK branch of that command and differ from it by at most max_velocity · dt on
+/// every joint (dt: the step length). A command the IK cannot reach (`e_ik_failed`) or that fails
+/// the rule (`e_ik_discontinuity`: e.g. a pose across a wrist singularity, a branch flip, a jump)
+/// is refused: the last valid command is held and nothing swings. Each event is emitted once per
+/// refusal episode; `e_ik_solved` when a Cartesian command is accepted again. `contactWrench`
 /// (KDL::Wrench, N, N·m; simulation only): the true wrench the environment applies to the tool,
 /// world orientation, reference point at the tool point (PatientSimulator's needleWrench /
 /// probeWrench). With `twist_ports`: `desTwist` (KDL::Twist, m/s, rad/s, world orientation,
@@ -72,7 +77,8 @@ class SimulatedServoRobotBase : public core::Component {
 
  private:
   double stepLength() noexcept;
-  void commandCartesian(const KDL::Frame& world_target) noexcept;
+  /// Commands `world_target` to be reached within dt (s; <= 0: the activity's period).
+  void commandCartesian(const KDL::Frame& world_target, double dt) noexcept;
   void publish(double dt) noexcept;
 
   SimulatedRobotDefaults defaults_;
@@ -99,7 +105,11 @@ class SimulatedServoRobotBase : public core::Component {
   core::Property<int> seed_{"seed", 1, "1", "seed of the sensor noise: identical seeds give identical traces"};
   core::Property<double> twist_timeout_{"twist_timeout", 0.1, "s", "a desTwist is applied for this long, > 0"};
 
-  core::InputPort<KDL::Frame> des_cart_pose_{"desCartPose", "desired tool pose, world frame", "m"};
+  core::InputPort<KDL::Frame> des_cart_pose_{
+      "desCartPose",
+      "desired tool pose, world frame; refused (last valid command held; e_ik_discontinuity) unless reachable on the "
+      "current IK branch within max_velocity x step length on every joint, or e_ik_failed when out of reach",
+      "m"};
   core::InputPort<KDL::JntArray> des_joint_position_{"desJointPosition", "desired joint positions", "rad, m"};
   core::InputPort<KDL::Wrench> contact_wrench_{
       "contactWrench", "simulation only: true wrench on the tool, world orientation, at the tool point", "N, N·m"};
@@ -109,8 +119,10 @@ class SimulatedServoRobotBase : public core::Component {
   core::OutputPort<KDL::Wrench> meas_wrench_{"measWrench", "force/torque sensor reading, tool frame, at the tool point",
                                              "N, N·m"};
   core::OutputPort<KDL::Frame> true_cart_pose_{"trueCartPose", "simulation only: true tool pose, world frame", "m"};
-  core::InputPort<KDL::Twist> des_twist_{"desTwist", "desired tool twist, world orientation, at the tool point",
-                                         "m/s, rad/s"};
+  core::InputPort<KDL::Twist> des_twist_{
+      "desTwist",
+      "desired tool twist, world orientation, at the tool point; each step's pose obeys the rule of desCartPose",
+      "m/s, rad/s"};
   core::OutputPort<KDL::Twist> meas_twist_{"measTwist", "measured tool twist, world orientation, at the tool point",
                                            "m/s, rad/s"};
 
@@ -123,7 +135,9 @@ class SimulatedServoRobotBase : public core::Component {
   KDL::Twist twist_command_;
   std::int64_t last_update_ns_ = -1;
   std::int64_t twist_until_ns_ = -1;
-  bool ik_failing_ = false;
+  bool refusing_ = false;             // the last Cartesian command was refused
+  bool told_failed_ = false;          // e_ik_failed emitted in this refusal episode
+  bool told_discontinuity_ = false;   // e_ik_discontinuity emitted in this refusal episode
 };
 
 /// The I-SUR puncturing robot (thesis §4.3.1, 8 DOF: linear delta q1..q3 (m), base rotation q4,
