@@ -1,5 +1,10 @@
 #include "cobra/components/motion/kinematics_solver_component.hpp"
 
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "cobra/core/activity.hpp"
 #include "cobra/kinematics/puma260.hpp"
 #include "cobra/kinematics/serial_chain.hpp"
 #include "cobra/kinematics/ur5.hpp"
@@ -8,6 +13,8 @@ namespace cobra::components {
 namespace {
 
 constexpr std::size_t kDhValuesPerJoint = 7;
+/// rad/s: the UR5's joint speed (thesis §4.3.2 table: 180°/s on every joint).
+constexpr double kUr5MaxVelocity = 3.14;
 
 std::vector<kinematics::DhRow> dhRows(const std::vector<double>& table) {
   std::vector<kinematics::DhRow> rows;
@@ -29,6 +36,8 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
   addProperty(dh_table_);
   addProperty(base_frame_);
   addProperty(tool_frame_);
+  addProperty(max_joint_velocity_);
+  addProperty(period_);
   addPort(joint_positions_);
   addPort(cart_pose_);
   addEventPort(des_cart_pose_);
@@ -37,7 +46,7 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
   addOperation("inverse", &KinematicsSolverComponent::inverseOnDemand, this,
                "joints reaching pose (world frame, m), starting from / nearest to seed");
   addOperation("lastIkStatus", std::function<std::string()>([this] { return std::string(kinematics::toString(last_status_)); }),
-               "status of the last inverse kinematics of the data flow: ok, unreachable, joint_limits, ...");
+               "status of the last inverse kinematics of the data flow: ok, unreachable, joint limits, discontinuous, ...");
 }
 
 KinematicsSolverComponent::~KinematicsSolverComponent() = default;
@@ -86,38 +95,79 @@ bool KinematicsSolverComponent::configureHook() {
     return refuse(e.what());
   }
   const unsigned joints = kinematics_->jointCount();
+  std::vector<double> velocity = max_joint_velocity_();
+  if (velocity.empty()) {
+    if (robot_() != "ur5")
+      return refuse("property max_joint_velocity is empty: give one velocity limit per joint (rad/s, m/s) for robot " +
+                    robot_() + " (only ur5 has a default)");
+    velocity.assign(joints, kUr5MaxVelocity);
+  }
+  if (!(std::isfinite(period_()) && period_() >= 0.0))
+    return refuse("property period is " + kinematics::formatNumber(period_()) +
+                  " s: give a finite value >= 0 (0: the activity's period)");
+  const double period =
+      period_() > 0.0 ? period_() : std::chrono::duration<double>(activity().period()).count();
+  if (!(period > 0.0))
+    return refuse("property period is 0 s and the activity has no period: give the time (s, > 0) a command has to "
+                  "be reached in");
+  try {
+    continuity_ = std::make_unique<kinematics::ContinuousIk>(*kinematics_, velocity, period);
+  } catch (const std::invalid_argument& e) {
+    return refuse(std::string("property max_joint_velocity: ") + e.what());
+  }
   q_.resize(joints);
-  seed_.resize(joints);
+  measured_.resize(joints);
   solution_.resize(joints);
+  candidate_.resize(joints);
   des_joint_positions_.setDataSample(KDL::JntArray(joints));
-  have_seed_ = false;
-  failing_ = false;
+  have_measured_ = have_solution_ = streaming_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = false;
   return true;
 }
 
-void KinematicsSolverComponent::cleanupHook() { kinematics_.reset(); }
+void KinematicsSolverComponent::cleanupHook() {
+  continuity_.reset();
+  kinematics_.reset();
+}
 
 void KinematicsSolverComponent::updateHook() {
-  if (joint_positions_.read(q_) == core::FlowStatus::NewData && q_.rows() == seed_.rows()) {
-    seed_ = q_;
-    have_seed_ = true;
+  if (joint_positions_.read(q_) == core::FlowStatus::NewData && q_.rows() == measured_.rows()) {
+    measured_ = q_;
+    have_measured_ = true;
     if (kinematics_->forward(q_, pose_) == kinematics::IkStatus::Ok)
       cart_pose_.write(base_frame_() * pose_ * tool_frame_());
   }
   KDL::Frame desired;
+  bool commanded = false;
   while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
     const KDL::Frame target = base_frame_().Inverse() * desired * tool_frame_().Inverse();
-    last_status_ = kinematics_->inverse(target, seed_, solution_);
+    // While commands stream in, each is judged from the previous accepted one (the robot's set
+    // point: measured joints lag behind it); after a pause, from where the robot is.
+    const bool from_solution = have_solution_ && (streaming_ || commanded || !have_measured_);
+    if (!from_solution && !have_measured_) {
+      last_status_ = kinematics_->inverse(target, solution_, candidate_);  // nothing known yet
+    } else {
+      last_status_ = continuity_->solve(target, from_solution ? solution_ : measured_, candidate_);
+    }
+    commanded = true;
     if (last_status_ == kinematics::IkStatus::Ok) {
+      solution_ = candidate_;
+      have_solution_ = true;
       des_joint_positions_.write(solution_);
-      if (!have_seed_) seed_ = solution_;  // follow the solution until joints are measured
-      if (failing_) emitEvent("e_ik_solved");
-      failing_ = false;
-    } else if (!failing_) {
-      failing_ = true;
-      emitEvent("e_ik_failed");
+      if (refusing_) emitEvent("e_ik_solved");
+      refusing_ = told_failed_ = told_discontinuity_ = false;
+    } else {
+      refusing_ = true;
+      if (last_status_ == kinematics::IkStatus::Discontinuous) {
+        if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
+        told_discontinuity_ = true;
+      } else {
+        if (!told_failed_) emitEvent("e_ik_failed");
+        told_failed_ = true;
+      }
     }
   }
+  streaming_ = commanded;
 }
 
 KDL::Frame KinematicsSolverComponent::forwardOnDemand(KDL::JntArray q) {

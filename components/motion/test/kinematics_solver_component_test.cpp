@@ -1,4 +1,6 @@
-// The Kinematics Solver component (thesis §6.2.4): data flow, on demand, interchangeable solvers.
+// The Kinematics Solver component (thesis §6.2.4): data flow, on demand, interchangeable solvers,
+// the continuity rule (a wrist flip and a jump refused with e_ik_discontinuity once; commands
+// judged from the last accepted one while they stream, from the measured joints after a pause).
 #include "cobra/components/motion/kinematics_solver_component.hpp"
 
 #include <gtest/gtest.h>
@@ -61,13 +63,14 @@ TEST(KinematicsSolverComponent, ForwardAndInverseByDataFlowWithEitherSolver) {
     ASSERT_EQ(rig.pose.read(at_q0), core::FlowStatus::NewData);
     EXPECT_TRUE(KDL::Equal(at_q0, rig.solver.call<KDL::Frame>("forward", q0), 1e-12));
 
-    const KDL::Frame target = at_q0 * KDL::Frame(KDL::Rotation::RotX(0.05), KDL::Vector(0.01, 0.02, -0.01));
+    // 0.5 mm and 1 mrad: within one 1 ms period at 3.14 rad/s per joint.
+    const KDL::Frame target = at_q0 * KDL::Frame(KDL::Rotation::RotX(0.001), KDL::Vector(0.0002, 0.0004, -0.0002));
     rig.desired.write(target);
     rig.clock.advance(1ms);
     KDL::JntArray q1;
     ASSERT_EQ(rig.command.read(q1), core::FlowStatus::NewData);
     EXPECT_TRUE(KDL::Equal(rig.solver.call<KDL::Frame>("forward", q1), target, 1e-8));
-    EXPECT_LT((q1.data - q0.data).norm(), 0.5);  // the branch of the measured joints, not another one
+    EXPECT_LT((q1.data - q0.data).norm(), 0.01);  // the branch of the measured joints, not another one
   }
 }
 
@@ -100,11 +103,76 @@ TEST(KinematicsSolverComponent, RefusesConfigurationsItCannotBuild) {
   c.setProperty("dh_table", std::vector<double>{0.3, 0, 0, 0, 0, -3, 3, 0.2, 0, 0, 0, 0, -3, 3});
   EXPECT_CONTAINS(c.configure().message, "robot dh has no closed-form solver; set solver to kdl_nr or kdl_lma");
   c.setProperty("solver", std::string("kdl_lma"));
+  EXPECT_EQ(c.configure().message,
+            "component 'IK': property max_joint_velocity is empty: give one velocity limit per joint (rad/s, m/s) for "
+            "robot dh (only ur5 has a default)");
+  c.setProperty("max_joint_velocity", std::vector<double>{1.0, 1.0});
+  EXPECT_CONTAINS(c.configure().message, "property period is 0 s and the activity has no period");
+  c.setProperty("period", -0.01);
+  EXPECT_CONTAINS(c.configure().message, "property period is -0.01 s: give a finite value >= 0");
+  c.setProperty("period", 0.01);
+  c.setProperty("max_joint_velocity", std::vector<double>{1.0, 0.0});
+  EXPECT_CONTAINS(c.configure().message,
+                  "property max_joint_velocity: IK: max_velocity of joint 2 is 0 rad/s: give a finite value > 0");
+  c.setProperty("max_joint_velocity", std::vector<double>{1.0, 1.0});
   ASSERT_TRUE(c.configure());
   // A planar 2-link arm: q = (0, 0) puts the tool at x = 0.5 m.
   EXPECT_TRUE(KDL::Equal(c.call<KDL::Frame>("forward", joints({0, 0})).p, KDL::Vector(0.5, 0, 0), 1e-12));
   c.setProperty("solver", std::string("fastest"));
   EXPECT_CONTAINS(c.configure().message, "property solver: ");
+}
+
+TEST(KinematicsSolverComponent, AWristFlipIsRefusedOnceThenAnAcceptableCommandIsFollowed) {
+  Rig rig("closed_form");
+  // Wrist 0.01 rad from its singularity; the command's nearest joints have the wrist flipped.
+  const KDL::JntArray q0 = joints({0.1, -1.3, 1.5, -1.7, 0.01, 0.3});
+  KDL::JntArray across = q0;
+  across(4) = -0.01;
+  const KDL::Frame flipped = rig.solver.call<KDL::Frame>("forward", across);
+  rig.measured.write(q0);
+  for (int i = 0; i < 50; ++i) {
+    rig.desired.write(flipped);
+    rig.clock.advance(1ms);
+  }
+  KDL::JntArray q;
+  EXPECT_EQ(rig.command.read(q), core::FlowStatus::NoData);
+  EXPECT_EQ(rig.solver.call<std::string>("lastIkStatus"), "discontinuous");
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
+  KDL::JntArray nearby = q0;
+  nearby(0) += 0.002;
+  rig.desired.write(rig.solver.call<KDL::Frame>("forward", nearby));
+  rig.clock.advance(1ms);
+  ASSERT_EQ(rig.command.read(q), core::FlowStatus::NewData);
+  for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(q(j), nearby(j), 1e-9);
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_solved"});
+}
+
+TEST(KinematicsSolverComponent, StreamedCommandsAreJudgedFromTheLastOneAndAfterAPauseFromTheMeasuredJoints) {
+  Rig rig("closed_form");
+  rig.solver.setProperty("max_joint_velocity", std::vector<double>(6, 1.0));  // 1 mrad per 1 ms period
+  ASSERT_TRUE(rig.solver.stop());
+  ASSERT_TRUE(rig.solver.configure());
+  ASSERT_TRUE(rig.solver.start());
+  const KDL::JntArray q0 = joints({0.1, -1.0, 1.2, -0.4, 1.1, 0.2});
+  rig.measured.write(q0);  // a lagging robot: its measured joints stay at q0
+  // A ramp of 0.8 mrad per period on joint 1, 20 periods: 16 mrad ahead of the measured joints,
+  // every command accepted since each is 0.8 mrad from the previous one.
+  KDL::JntArray q = q0;
+  KDL::JntArray out;
+  for (int i = 1; i <= 20; ++i) {
+    q(0) = q0(0) + 0.0008 * i;
+    rig.desired.write(rig.solver.call<KDL::Frame>("forward", q));
+    rig.clock.advance(1ms);
+    ASSERT_EQ(rig.command.read(out), core::FlowStatus::NewData) << i;
+  }
+  EXPECT_NEAR(out(0), q0(0) + 0.016, 1e-9);
+  // A pause: the next command is judged from the measured joints (q0), 16.8 mrad away: refused.
+  rig.clock.advance(1ms);
+  q(0) += 0.0008;
+  rig.desired.write(rig.solver.call<KDL::Frame>("forward", q));
+  rig.clock.advance(1ms);
+  EXPECT_NE(rig.command.read(out), core::FlowStatus::NewData);
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
 }
 
 TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
@@ -116,15 +184,20 @@ TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
   rig.clock.advance(2ms);
   KDL::JntArray q(6);
   (void)rig.command.read(q);
+  KDL::JntArray jump = q0;
+  jump(0) += 0.5;
+  const KDL::Frame far = rig.solver.call<KDL::Frame>("forward", jump);
+  (void)rig.takeEvents();
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
               for (int i = 0; i < 100; ++i) {
                 rig.measured.write(q0);
-                rig.desired.write(target);
+                rig.desired.write(i % 10 == 5 ? far : target);  // every 10th refused: events too
                 rig.clock.advance(1ms);
                 (void)rig.command.read(q);
               }
             }),
             0);
+  EXPECT_EQ(rig.takeEvents().size(), 8u);  // the buffer's capacity (10 x refused, solved)
 }
 
 TEST(KinematicsSolverComponent, TheKdlAndClosedFormTypesAreInterchangeable) {
@@ -135,6 +208,9 @@ TEST(KinematicsSolverComponent, TheKdlAndClosedFormTypesAreInterchangeable) {
   const core::ComponentInfo a = core::describe(kdl), b = core::describe(closed);
   ASSERT_EQ(a.ports.size(), b.ports.size());
   for (std::size_t i = 0; i < a.ports.size(); ++i) EXPECT_EQ(a.ports[i].name, b.ports[i].name);
+  // Not run by an activity: the continuity rule's period comes from the property.
+  kdl.setProperty("period", 0.001);
+  closed.setProperty("period", 0.001);
   ASSERT_TRUE(kdl.configure());
   ASSERT_TRUE(closed.configure());
   const KDL::JntArray q = joints({0.4, -0.8, 1.0, 0.3, -0.9, 0.5});

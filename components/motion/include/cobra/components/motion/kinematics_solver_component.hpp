@@ -5,11 +5,13 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
 #include "cobra/core/component.hpp"
+#include "cobra/kinematics/continuity.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::components {
@@ -17,14 +19,23 @@ namespace cobra::components {
 /// Calculation component. Properties: `robot` ("ur5", "puma260" or "dh": the `dh_table`
 /// property, 7 numbers per joint: a (m), alpha (rad), d (m), theta offset (rad), type (0 revolute,
 /// 1 prismatic), lower and upper limit (rad or m)), `solver` ("closed_form", "kdl_nr",
-/// "kdl_lma"; "dh" robots have no closed form), `base_frame` and `tool_frame` (m).
+/// "kdl_lma"; "dh" robots have no closed form), `base_frame` and `tool_frame` (m),
+/// `max_joint_velocity` (rad/s, m/s per joint; empty: the UR5's 3.14 rad/s, required for the
+/// others) and `period` (s; 0: the activity's period).
 ///
 /// Data flow: `jointPositions` (in) -> `cartPose` (out), forward kinematics on every update with
-/// new joints; `desCartPose` (in, event port) -> `desJointPositions` (out): inverse kinematics,
-/// seeded with the last joint positions measured (else the last solution), published only when
-/// the solver returns a valid solution (thesis §6.2.4). The first failure after a success emits
-/// `e_ik_failed` (its reason in `lastIkStatus()`); the first success after failures `e_ik_solved`.
-/// On demand: operations `forward(q)` and `inverse(pose, seed)`, which throw the status' name.
+/// new joints; `desCartPose` (in, event port) -> `desJointPositions` (out): inverse kinematics
+/// with the continuity rule of kinematics::ContinuousIk, published only when the solution is
+/// valid (thesis §6.2.4) and continuous. The reference ("current joints") is the last accepted
+/// solution while commands keep coming (a desCartPose in the previous update), otherwise the last
+/// measured joints (or, before any are measured, the last solution; the very first command, with
+/// neither, is only solved). A command is refused when the solution nearest the reference on its
+/// IK branch differs from it by more than max_joint_velocity · period on some joint, or only
+/// another branch reaches it: `e_ik_discontinuity` (once per refusal episode); a command the
+/// solver cannot solve: `e_ik_failed` (once per episode); the reason is in `lastIkStatus()`. The
+/// first accepted command after refusals emits `e_ik_solved`.
+/// On demand: operations `forward(q)` and `inverse(pose, seed)` (no continuity rule: planning
+/// use), which throw the status' name.
 /// Real time: the closed-form solvers and KDL's NR_JL/LMA as cobra builds them allocate nothing.
 class KinematicsSolverComponent : public core::Component {
  public:
@@ -47,18 +58,33 @@ class KinematicsSolverComponent : public core::Component {
       "dh_table", {}, "m, rad", "for robot = dh: a, alpha, d, theta, type (0 revolute, 1 prismatic), lower, upper per joint"};
   core::Property<KDL::Frame> base_frame_{"base_frame", KDL::Frame::Identity(), "m", "pose of the robot base in the world"};
   core::Property<KDL::Frame> tool_frame_{"tool_frame", KDL::Frame::Identity(), "m", "pose of the tool in the flange frame"};
+  core::Property<std::vector<double>> max_joint_velocity_{
+      "max_joint_velocity", {}, "rad/s, m/s",
+      "velocity limit per joint for the continuity rule (empty: the UR5's 3.14 rad/s; required for puma260 and dh)"};
+  core::Property<double> period_{"period", 0.0, "s",
+                                 "time a command has to be reached in (continuity rule); 0: the activity's period"};
 
   core::InputPort<KDL::JntArray> joint_positions_{"jointPositions", "measured joint positions", "rad or m"};
   core::OutputPort<KDL::Frame> cart_pose_{"cartPose", "tool pose for jointPositions (world frame)", "m"};
-  core::InputPort<KDL::Frame> des_cart_pose_{"desCartPose", "desired tool pose (world frame)", "m"};
-  core::OutputPort<KDL::JntArray> des_joint_positions_{"desJointPositions", "joint positions reaching desCartPose",
-                                                       "rad or m"};
+  core::InputPort<KDL::Frame> des_cart_pose_{
+      "desCartPose",
+      "desired tool pose (world frame); refused (e_ik_discontinuity) unless reachable on the current IK branch within "
+      "max_joint_velocity x period on every joint",
+      "m"};
+  core::OutputPort<KDL::JntArray> des_joint_positions_{
+      "desJointPositions", "joint positions reaching desCartPose, continuous from the current joints (none when refused)",
+      "rad or m"};
 
   std::unique_ptr<kinematics::KinematicsSolver> kinematics_;
-  KDL::JntArray q_, seed_, solution_;  // sized at configure: updates allocate nothing
+  std::unique_ptr<kinematics::ContinuousIk> continuity_;
+  KDL::JntArray q_, measured_, solution_, candidate_;  // sized at configure: updates allocate nothing
   KDL::Frame pose_;
-  bool have_seed_ = false;
-  bool failing_ = false;
+  bool have_measured_ = false;
+  bool have_solution_ = false;
+  bool streaming_ = false;          // a desCartPose came in the previous update
+  bool refusing_ = false;           // the last command was refused
+  bool told_failed_ = false;        // e_ik_failed emitted in this refusal episode
+  bool told_discontinuity_ = false; // e_ik_discontinuity emitted in this refusal episode
   kinematics::IkStatus last_status_ = kinematics::IkStatus::Ok;
 };
 
