@@ -46,7 +46,7 @@ IsurSimController::IsurSimController(IsurSimControllerOptions options)
       sim::uniformServoModel("I-SUR", solver_.limits(), options_.servo_time_constant, options_.max_velocity,
                              options_.encoder_counts),
       middleOf(solver_.limits()));
-  cartesian_ = std::make_unique<sim::CartesianServo>(solver_, *robot_);
+  cartesian_ = std::make_unique<sim::CartesianServo>(solver_, *robot_, options_.period);
 }
 
 IsurSimController::~IsurSimController() { stop(); }
@@ -102,9 +102,12 @@ void IsurSimController::receiveAll() noexcept {
     const std::lock_guard lock(mutex_);
     if (command.type == isur::MessageType::JointCommand) {
       robot_->command(std::span<const double>(command.joints.data(), command.joint_count));
-      held_ = false;
+      held_ = discontinuous_ = false;
     } else {
-      held_ = cartesian_->command(toFrame(command.pose)).holding;
+      // The server repeats its latest command: the same pose again is a zero step.
+      const sim::CartesianCommandStatus outcome = cartesian_->command(toFrame(command.pose));
+      held_ = outcome.holding;
+      discontinuous_ = outcome.holding && outcome.ik == kinematics::IkStatus::Discontinuous;
     }
   }
 }
@@ -124,6 +127,7 @@ void IsurSimController::stepAndSend(double dt) noexcept {
     }
     if (reading.anySaturated()) state.flags |= isur::kWrenchSaturated;
     if (held_) state.flags |= isur::kCartesianHeld;
+    if (discontinuous_) state.flags |= isur::kCartesianDiscontinuous;
     for (unsigned i = 0; i < 6; ++i) state.wrench[i] = reading.wrench(static_cast<int>(i));
   }
   if (!sending_.load() || !server_known_) return;

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
+#include <numbers>
 
 #include "bridge_test_support.hpp"
 #include "cobra/bridges/isur_sim_controller.hpp"
@@ -90,16 +92,72 @@ TEST(ISURRobotBridge, ACartesianCommandIsSolvedByTheControllerAndTheMeasuredPose
   controller.start();
   Rig rig(controller.local().port());
   kinematics::IsurPuncturingSolver solver;
-  KDL::JntArray q = controller.jointPositions();
-  q(1) += 0.01;
-  q(6) -= 0.1;
+  const KDL::JntArray start = controller.jointPositions();
+  // A path in 100 commands (0.1 mm and 1 mrad each: the controller accepts up to 1 m/s, 1 rad/s
+  // over its 2 ms period from its previous command), each sent once the previous one is applied.
+  KDL::JntArray q = start;
   KDL::Frame target;
-  ASSERT_EQ(solver.forward(q, target), kinematics::IkStatus::Ok);
-  rig.des_pose.write(target);
+  for (int k = 1; k <= 100; ++k) {
+    q(1) = start(1) + 0.0001 * k;
+    q(6) = start(6) - 0.001 * k;
+    ASSERT_EQ(solver.forward(q, target), kinematics::IkStatus::Ok);
+    rig.des_pose.write(target);
+    ASSERT_TRUE(pollUntil(rig.clock, [&] {
+      KDL::Frame commanded;
+      return solver.forward(controller.commandedJoints(), commanded) == kinematics::IkStatus::Ok &&
+             KDL::Equal(commanded, target, 1e-9);
+    })) << "command " << k << " was not applied";
+  }
+  rig.events.drain();
+  for (const std::string& name : rig.events.names)
+    EXPECT_EQ(name.rfind("e_ik_", 0), std::string::npos) << "no refusal on a continuous path: " << name;
   KDL::Frame measured;
   ASSERT_TRUE(pollUntil(rig.clock, [&] {
     return rig.meas_pose.read(measured) != core::FlowStatus::NoData && KDL::Equal(measured, target, 1e-4);
   })) << "measured pose never reached the Cartesian command";
+}
+
+TEST(ISURRobotBridge, ACommandAcrossTheWristSingularityIsRefusedOnceTheRobotHoldsThenFollowsAgain) {
+  IsurSimController controller(IsurSimControllerOptions{});
+  controller.start();
+  Rig rig(controller.local().port());
+  // First, in joint space, to a needle 0.3° short of vertical (pitch q6 + q7 = 90° - 0.005 rad).
+  KDL::JntArray q = controller.jointPositions();
+  q(5) = std::numbers::pi / 4 - 0.005;
+  q(6) = std::numbers::pi / 4;
+  rig.des_joints.write(q);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return near(controller.jointPositions(), q, 1e-6); }));
+  // Then a pose tilted 0.3° past vertical: on the robot's IK branch, yaw and roll turn by π.
+  kinematics::IsurPuncturingSolver solver;
+  KDL::JntArray across = q;
+  across(5) += 0.005;
+  across(6) += 0.005;
+  KDL::Frame refused;
+  ASSERT_EQ(solver.forward(across, refused), kinematics::IkStatus::Ok);
+  // Events seen so far with this name (a loaded machine may add e_comm_timeout / e_comm_restored).
+  const auto emitted = [&](const char* name) {
+    rig.events.drain();
+    return std::count(rig.events.names.begin(), rig.events.names.end(), name);
+  };
+  rig.des_pose.write(refused);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return emitted("e_ik_discontinuity") == 1; }));
+  for (int i = 0; i < 500; ++i) {
+    rig.clock.advance(1ms);
+    ASSERT_TRUE(near(controller.commandedJoints(), q, 0.0)) << "the command changed at " << i;
+    ASSERT_TRUE(near(controller.jointPositions(), q, 1e-6)) << "the robot moved at " << i;  // 1 encoder count
+  }
+  EXPECT_EQ(emitted("e_ik_discontinuity"), 1);
+  EXPECT_EQ(emitted("e_ik_failed"), 0);
+  // An acceptable command: 0.1 mm from where the needle is.
+  KDL::Frame here;
+  ASSERT_EQ(solver.forward(q, here), kinematics::IkStatus::Ok);
+  here.p += KDL::Vector(0.0, 0.0, 1e-4);
+  rig.des_pose.write(here);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return emitted("e_ik_solved") == 1; }));
+  KDL::Frame measured;
+  ASSERT_TRUE(pollUntil(rig.clock, [&] {
+    return rig.meas_pose.read(measured) != core::FlowStatus::NoData && KDL::Equal(measured.p, here.p, 2e-6);
+  })) << "the measured pose never reached the acceptable command";
 }
 
 // A test socket plays the controller: it sends crafted state datagrams to the server.

@@ -65,6 +65,13 @@ TEST(IsurProtocol, StateRoundTripsWithTheDocumentedLayout) {
   EXPECT_EQ(d.pose.position, s.pose.position);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(d.pose.quaternion[i], s.pose.quaternion[i], 1e-15);
   EXPECT_EQ(d.wrench, s.wrench);
+  // Every documented flag travels: bit 3, a Cartesian command held by the continuity rule.
+  isur::State held = s;
+  held.flags = isur::kPoseValid | isur::kCartesianHeld | isur::kCartesianDiscontinuous;
+  const auto held_bytes = encoded(held);
+  EXPECT_EQ(held_bytes[26], 0x0E);
+  ASSERT_EQ(isur::decode(held_bytes, d, h), DecodeStatus::Ok);
+  EXPECT_EQ(d.flags, held.flags);
 }
 
 TEST(IsurProtocol, CommandsRoundTripAndAreNotStates) {

@@ -84,6 +84,7 @@ bool ISURRobotBridge::startHook() {
   watchdog_.arm(now().count());
   last_version_ = (*block_)->state.version();  // a state left from an earlier run is not fresh
   have_state_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = false;
   return true;
 }
 
@@ -115,6 +116,7 @@ void ISURRobotBridge::updateHook() {
     const auto& w = state_.wrench;
     wrench_out_ = KDL::Wrench(KDL::Vector(w[0], w[1], w[2]), KDL::Vector(w[3], w[4], w[5]));
     have_state_ = true;
+    reportCartesianStatus(state_.flags);
   }
   switch (watchdog_.update(fresh, now().count(), toNs(timeout_()))) {
     case CommWatchdog::Change::TimedOut: emitEvent("e_comm_timeout"); break;
@@ -122,6 +124,22 @@ void ISURRobotBridge::updateHook() {
     case CommWatchdog::Change::None: break;
   }
   if (have_state_) publish();
+}
+
+void ISURRobotBridge::reportCartesianStatus(std::uint16_t flags) {
+  if ((flags & isur::kCartesianHeld) == 0) {
+    if (refusing_) emitEvent("e_ik_solved");
+    refusing_ = told_failed_ = told_discontinuity_ = false;
+    return;
+  }
+  refusing_ = true;
+  if ((flags & isur::kCartesianDiscontinuous) != 0) {
+    if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
+    told_discontinuity_ = true;
+  } else {
+    if (!told_failed_) emitEvent("e_ik_failed");
+    told_failed_ = true;
+  }
 }
 
 void ISURRobotBridge::publish() {

@@ -10,7 +10,9 @@
 ///   7 x f64 desired tool pose: x, y, z (m), qx, qy, qz, qw (unit quaternion: ||q| - 1| <= kQuatTolerance)
 /// type 3, State (controller -> server), 112 + 8n bytes:
 ///   u16 n (1..16) | u16 flags (bit 0 wrench saturated, bit 1 pose valid, bit 2 Cartesian command held,
-///   others 0) | u32 reserved = 0 | n x f64 measured joints (rad / m) | 7 x f64 measured tool pose
+///   bit 3 it was held because it was not continuous (kinematics::ContinuousIk: another IK branch,
+///   or a joint step above max velocity x period), others 0) | u32 reserved = 0 |
+///   n x f64 measured joints (rad / m) | 7 x f64 measured tool pose
 ///   (as above) | 6 x f64 wrench of the wrist F/T sensor (AtiNano17): fx, fy, fz (N), tx, ty, tz (N·m)
 ///
 /// Decoders never throw or allocate; a frame of the wrong direction is BadType.
@@ -44,8 +46,9 @@ enum StateFlag : std::uint16_t {
   kWrenchSaturated = 1U << 0,
   kPoseValid = 1U << 1,
   kCartesianHeld = 1U << 2,
+  kCartesianDiscontinuous = 1U << 3,  ///< with kCartesianHeld: refused by the continuity rule
 };
-inline constexpr std::uint16_t kKnownStateFlags = 0x7;
+inline constexpr std::uint16_t kKnownStateFlags = 0xF;
 
 /// A command to the controller: joints or a Cartesian pose.
 struct Command {

@@ -40,7 +40,11 @@ struct IsurSimControllerOptions {
 };
 
 /// Simulated I-SUR controller. The joints start at the middle of their limits. Until it knows
-/// where to send states (a server_port, or a first valid command) it sends nothing.
+/// where to send states (a server_port, or a first valid command) it sends nothing. A Cartesian
+/// command is solved with the continuity rule (sim::CartesianServo, kinematics::ContinuousIk)
+/// from the current joint command, dt = period: a command on another IK branch or more than
+/// max_velocity · period away on some joint is refused (the robot holds its command; the states
+/// carry kCartesianHeld | kCartesianDiscontinuous), as is one the IK cannot solve (kCartesianHeld).
 class IsurSimController {
  public:
   /// @throws std::runtime_error (bad option, socket) or std::invalid_argument (sim models).
@@ -80,7 +84,8 @@ class IsurSimController {
   sim::ForceTorqueSensor sensor_;
   mutable std::mutex mutex_;  // guards the simulation against the test-facing accessors
   KDL::Wrench external_ = KDL::Wrench::Zero();
-  bool held_ = false;
+  bool held_ = false;           // the last Cartesian command was refused
+  bool discontinuous_ = false;  // ... by the continuity rule
   std::uint32_t sequence_ = 0;
   ReceiveCounters counters_;
   std::atomic<std::uint64_t> states_sent_{0};

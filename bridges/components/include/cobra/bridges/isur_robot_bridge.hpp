@@ -5,6 +5,7 @@
 /// is set, or the `cobra-isur-server` program) keeps that block in step with the robot
 /// controller over UDP.
 
+#include <cstdint>
 #include <memory>
 
 #include <kdl/frames.hpp>
@@ -20,7 +21,12 @@ namespace cobra::bridges {
 /// shared memory (when both arrive in one update, the pose wins: it is read last); the latest
 /// valid state in shared memory is published on the meas* ports, and published again every
 /// update while no newer one comes. `e_comm_timeout` when no new valid state came for `timeout`
-/// seconds (counted from start), `e_comm_restored` at the first one after that. Rejected
+/// seconds (counted from start), `e_comm_restored` at the first one after that. The controller
+/// solves a Cartesian command with the continuity rule (kinematics::ContinuousIk: the solution on
+/// the IK branch of its current joint command, within its joint velocity limits over one period)
+/// and reports a refusal in the state: `e_ik_discontinuity` when a command was refused by that
+/// rule, `e_ik_failed` when the IK could not solve it (each once per refusal episode), then
+/// `e_ik_solved` at the first state after that in which the command is no longer held. Rejected
 /// datagrams are counted per reason by the server: see the operations `rejectedCount` and
 /// `acceptedCount`. Real time: the update is allocation-free and never blocks (seqlock reads
 /// with a bounded number of retries).
@@ -40,8 +46,13 @@ class ISURRobotBridge : public core::Component {
   int acceptedCount();
   int serverPort();
   void publish();
+  void reportCartesianStatus(std::uint16_t flags);
 
-  core::InputPort<KDL::Frame> des_cart_pose_{"desCartPose", "desired needle-tip pose, robot base frame", "m"};
+  core::InputPort<KDL::Frame> des_cart_pose_{
+      "desCartPose",
+      "desired needle-tip pose, robot base frame; the controller refuses (e_ik_discontinuity) a pose not reachable on "
+      "the current IK branch within its joint velocity limits over one period, and holds",
+      "m"};
   core::InputPort<KDL::JntArray> des_joints_{"desJointPosition", "desired joints q1..q3 (m), q4..q8 (rad)", "m, rad"};
   core::OutputPort<KDL::Frame> meas_cart_pose_{"measCartPose", "measured needle-tip pose, robot base frame", "m"};
   core::OutputPort<KDL::JntArray> meas_joints_{"measJointPosition", "measured joints q1..q3 (m), q4..q8 (rad)",
@@ -66,6 +77,9 @@ class ISURRobotBridge : public core::Component {
   CommWatchdog watchdog_;
   std::uint64_t last_version_ = 0;
   bool have_state_ = false;
+  bool refusing_ = false;            // the controller holds a refused Cartesian command
+  bool told_failed_ = false;         // e_ik_failed emitted in this refusal episode
+  bool told_discontinuity_ = false;  // e_ik_discontinuity emitted in this refusal episode
   isur::State state_;
   isur::Command command_;
   KDL::JntArray q_in_, q_out_;
