@@ -15,7 +15,17 @@ cd "$(dirname "$0")"
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
-  ftsens_frame_fuzz)
+  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz)
+
+# The repo's real files a fuzzer starts from (copied into one folder, as libFuzzer takes folders).
+fuzz_seeds() {
+  case "$1" in
+    chart_loader_fuzz) echo script/test/charts/* ;;
+    phantom_scenario_fuzz) echo apps/puncturing/scenarios/*/phantom.txt ;;
+    planning_scene_fuzz) echo planning/scenes/*.scene planning/test/data/*.scene ;;
+    puncturing_plan_fuzz) echo apps/puncturing/scenarios/*/*.txt apps/puncturing/state_table.txt ;;
+  esac
+}
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
 
@@ -109,9 +119,10 @@ case "${1:-help}" in
     for f in "${FUZZERS[@]}"; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
-      seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs
+      rm -rf "build/fuzz/seeds/$f"; mkdir -p "build/fuzz/seeds/$f"  # read-only starting inputs
+      for seed in $(fuzz_seeds "$f"); do cp "$seed" "build/fuzz/seeds/$f/${seed//\//_}"; done
       if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
-          "build/fuzz/corpus/$f" "${seeds[@]}" >build/fuzz/$f.log 2>&1; then
+          "build/fuzz/corpus/$f" "build/fuzz/seeds/$f" >build/fuzz/$f.log 2>&1; then
         tail -n 40 "build/fuzz/$f.log"
         echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ (see above)" >&2
         exit 1
