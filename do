@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cobra's one entry point. Usage: ./do <command> [options]
 #   setup            install the Debian packages cobra needs (idempotent; quick when present)
-#   build [preset]   configure and build (presets: release (default), asan, tsan)
+#   build [preset] [target...]  configure and build (presets: release (default), asan, tsan)
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
@@ -46,13 +46,47 @@ setup() {
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# Shows a running build: on a terminal one updating line (Ninja's step n/N, the elapsed time and
+# what it is doing), otherwise Ninja's own lines with the elapsed seconds. Reads the build's
+# output on stdin; the whole output goes to the log named by $1.
+show_progress() {
+  local log=$1 start=$SECONDS chunk partial="" line step="" what="configuring" width
+  if [ ! -t 1 ]; then tee "$log"; return; fi
+  width=$(tput cols 2>/dev/null || echo 80)
+  while :; do
+    if IFS= read -r -t 1 chunk; then
+      line=$partial$chunk partial=""
+      printf '%s\n' "$line" >>"$log"
+      if [[ $line =~ ^\[([0-9]+)/([0-9]+)\]\ (.*)$ ]]; then
+        step="step ${BASH_REMATCH[1]}/${BASH_REMATCH[2]}, " what=${BASH_REMATCH[3]}
+      fi
+    elif [ $? -gt 128 ]; then  # a second without a whole line: keep what came, refresh the clock
+      partial+=$chunk
+    else  # the end of the output
+      [ -z "$partial$chunk" ] || printf '%s\n' "$partial$chunk" >>"$log"
+      break
+    fi
+    line=$(printf '[do] building: %s%dm%02ds  %s' "$step" $(((SECONDS - start) / 60)) $(((SECONDS - start) % 60)) "$what")
+    printf '\r\033[K%s' "${line:0:width-1}"
+  done
+  printf '\r\033[K'
+}
+
+# Configures (once) and builds preset $1 with the cmake --build options that follow, showing its
+# progress; on failure prints the tail of the log and where the whole log is.
 build() {
-  local preset="${1:-release}"
+  local preset="${1:-release}" log status="[%f/%t] "
+  [ -t 1 ] || status="[%f/%t, %es] "  # plain lines say the elapsed seconds themselves
   if [ "$preset" = fuzz ]; then setup "${FUZZ_PACKAGES[@]}"; else setup; fi
-  if [ ! -f "build/$preset/build.ninja" ]; then
-    cmake --preset "$preset" >/dev/null
+  mkdir -p build
+  log="build/$preset.log"
+  : >"$log"
+  if ! { { [ -f "build/$preset/build.ninja" ] || cmake --preset "$preset"; } &&
+         NINJA_STATUS=$status cmake --build --preset "$preset" "${@:2}"; } 2>&1 | show_progress "$log"; then
+    tail -n 30 "$log" >&2
+    echo "do: the $preset build failed; the whole log is $PWD/$log" >&2
+    exit 1
   fi
-  cmake --build --preset "$preset" "${@:2}"
 }
 
 run_tests() {
@@ -84,14 +118,13 @@ run_tests() {
 
 case "${1:-help}" in
   setup) setup ;;
-  build) shift; build "${1:-release}" ;;
+  build)
+    if [ $# -gt 2 ]; then build "$2" --target "${@:3}"; else build "${2:-release}"; fi ;;
   test) shift; run_tests "${1:-}" ;;
   demo)
-    log=$(mktemp)
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
-      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-      rm -f "$log"
+      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door
       ./build/release/apps/demo/cobra-demo
       say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
       ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
@@ -101,8 +134,7 @@ case "${1:-help}" in
       ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
-      build release --target cobra-puncturing >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-      rm -f "$log"
+      build release --target cobra-puncturing
       say "the thesis' puncturing task (ch. 4) in simulation: two robots, two needles (apps/puncturing)"
       ./build/release/apps/puncturing/cobra-puncturing --report "$PWD/build/puncturing-report"
     fi ;;
