@@ -49,7 +49,7 @@ void printStates(const core::ComponentRegistry& registry) {
                 std::string(core::toString(c->state())).c_str(), c->activity().describe().c_str());
 }
 
-/// Every connection of the deployment checked against the role rules (DESIGN §2).
+/// Every connection of the deployment checked against the role rules (ARCHITECTURE §2).
 std::vector<deploy::LintViolation> lintAll(const core::ComponentRegistry& registry) {
   std::vector<deploy::LintViolation> all;
   for (const core::Component* c : registry.components())
