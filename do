@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cobra's one entry point. Usage: ./do <command> [options]
 #   setup            install the Debian packages cobra needs (idempotent; quick when present)
-#   build [preset] [target...]  configure and build (presets: release (default), asan, tsan)
+#   build [P [T...]] configure and build preset P (release (default), asan, tsan), or its targets T
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
