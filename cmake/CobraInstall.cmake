@@ -107,3 +107,13 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/cobraConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/cobraConfig.cmake ${PROJECT_BINARY_DIR}/cobraConfigVersion.cmake
   DESTINATION ${COBRA_INSTALL_CMAKEDIR})
+
+# Installs into a temporary prefix, builds examples/06_package and a `cobra new component` package
+# against it with their own CMake, and runs them (the generated code is built plainly: not in
+# sanitizer builds).
+if(COBRA_BUILD_TESTS AND COBRA_SANITIZER STREQUAL "")
+  add_test(NAME install_out_of_tree_package
+    COMMAND ${PROJECT_SOURCE_DIR}/cmake/install_test.sh ${PROJECT_BINARY_DIR} ${PROJECT_SOURCE_DIR})
+  set_tests_properties(install_out_of_tree_package PROPERTIES LABELS install TIMEOUT 600
+    PASS_REGULAR_EXPRESSION "installed cobra builds and runs an out-of-tree package")
+endif()
