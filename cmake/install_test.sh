@@ -40,7 +40,19 @@ awk -v y="$force" 'BEGIN { e = 10 * (1 - exp(-3.141592653589793)); d = y - e; ex
   || fail "Filter.force_out = $force N after 1 s; expected 10·(1 - e^-π) = 9.568 N within 5 mN"
 # The reusable charts are found in the moved prefix, not in the source tree.
 grep -qx "$prefix/share/cobra/charts/" "$work/console.out" || fail "COBRA_CHARTS is not the installed charts folder"
-[ -f "$prefix/share/cobra/charts/deployment_supervisor.lua" ] || fail "charts not installed"
+# A deployment supervisor runs the installed chart (which requires its sibling switch_supervisor.lua).
+cat >"$work/supervisor.lua" <<'LUA'
+packages_list = { "cobra_coordination" }
+components_list = { { peer_name = "DepSup", component_type = "Supervisor" } }
+initConfigurator(packages_list, components_list)
+getReferences()
+DepSup.fsm_path = COBRA_CHARTS .. "deployment_supervisor.lua"
+setActivities({ { peer_name = "DepSup", period = 0.01, priority = 50, scheduler = rtt.globals.ORO_SCHED_RT } })
+configureComponents({ "DepSup" })
+startComponents({ "DepSup" })
+LUA
+"$prefix/bin/cobra" deploy "$work/supervisor.lua" --sim --run-for 0.1 | grep -Eq "^  DepSup +Supervision +Running" \
+  || fail "a Supervisor did not run the installed deployment_supervisor.lua"
 
 # An installed package is found without COBRA_PACKAGE_PATH.
 cmake --install "$work/example" --prefix "$prefix" >/dev/null
