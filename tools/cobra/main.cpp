@@ -258,8 +258,9 @@ int main(int argc, char** argv) {
       "types: double int bool string vector Vector Rotation Frame Twist Wrench JntArray Event\n"
       "example: cobra new component VariableAdmittance --role calculation --package my_control \\\n"
       "           --in des_pose:Frame --in meas_wrench:Wrench --out adm_pose:Frame --prop stiffness:double:N/m\n"
-      "writes include/P/NAME.hpp, src/NAME.cpp, test/NAME_test.cpp; creates or extends src/package.cpp and\n"
-      "CMakeLists.txt (find_package(cobra) + cobra_add_package); build: cmake -S DIR -B build -DCMAKE_PREFIX_PATH=<cobra>");
+      "writes include/P/name.hpp, src/name.cpp, test/name_test.cpp (name: NAME in snake_case); creates or\n"
+      "extends src/package.cpp and CMakeLists.txt (find_package(cobra) + cobra_add_package);\n"
+      "build: cmake -S DIR -B build -DCMAKE_PREFIX_PATH=<cobra prefix>");
 
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
