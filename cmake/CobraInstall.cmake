@@ -52,6 +52,33 @@ function(cobra_collect_libraries dir out)
 endfunction()
 cobra_collect_libraries(${PROJECT_SOURCE_DIR} COBRA_LIBRARIES)
 
+# A library that links one of the left-out targets (an application's, the tool's) is left out too,
+# until none is left: an installed library may depend only on installed ones.
+set(cobra_dropping ON)
+while(cobra_dropping)
+  set(cobra_dropping OFF)
+  foreach(target IN LISTS COBRA_LIBRARIES)
+    get_target_property(links ${target} LINK_LIBRARIES)
+    get_target_property(interface_links ${target} INTERFACE_LINK_LIBRARIES)
+    foreach(link IN LISTS links interface_links)
+      if(NOT TARGET "${link}")
+        continue()
+      endif()
+      get_target_property(aliased ${link} ALIASED_TARGET)
+      if(aliased)
+        set(link ${aliased})
+      endif()
+      get_target_property(imported ${link} IMPORTED)
+      if(NOT imported AND NOT link IN_LIST COBRA_LIBRARIES)
+        message(STATUS "cobra: not installed: ${target} (it links ${link}, which is not installed)")
+        list(REMOVE_ITEM COBRA_LIBRARIES ${target})
+        set(cobra_dropping ON)
+        break()
+      endif()
+    endforeach()
+  endforeach()
+endwhile()
+
 # Installed names follow the in-tree aliases: cobra_core -> cobra::core,
 # cobra_components_signal -> cobra::components::signal, cobra_build_flags -> cobra::build_flags.
 set(COBRA_EXPORTED_NAMES)

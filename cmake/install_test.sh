@@ -8,6 +8,7 @@ set -euo pipefail
 build="$1" source="$2"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fail() { echo "install_test: $*" >&2; exit 1; }
 # Quick on a second run: paths relative to the temporary folder make ccache hits, and programs
 # that link cobra's archives whole skip their debug information (a 9 s link becomes 2 s).
@@ -22,7 +23,7 @@ if grep -rl -e "$build" -e "$source" "$prefix/lib/cmake" "$prefix/share" "$prefi
 fi
 
 cmake -S "$source/examples/06_package" -B "$work/example" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
-  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
+  ${launcher[@]+"${launcher[@]}"} >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
 cmake --build "$work/example" >"$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build failed"; }
 
 deployment="$source/examples/06_package/force_filter.lua"

@@ -7,6 +7,7 @@ set -euo pipefail
 cobra="$1" prefix="${2:-}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fail() { echo "new_component_test: $*" >&2; exit 1; }
 
 "$cobra" new component VariableAdmittance --role calculation --package my_control -o "$work/my_control" \
@@ -48,7 +49,7 @@ grep -q "src/package.cpp has no line '// cobra new component: component headers 
 
 if [ -n "$prefix" ]; then
   cmake -S "$work/my_control" -B "$work/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
-    -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
+    ${launcher[@]+"${launcher[@]}"} >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
   cmake --build "$work/build" >"$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build failed"; }
   ctest --test-dir "$work/build" --output-on-failure
   echo "generated components build against $prefix and pass their tests"
