@@ -2,10 +2,10 @@
 # CMake package (find_package(cobra) -> cobra::core, cobra::deploy, ..., cobra_add_package()).
 # Included last from the top-level CMakeLists.txt, once every library target exists.
 #
-# The installed libraries are the frameworks' static archives. A component package is a MODULE
+# The installed libraries are the framework's static archives. A component package is a MODULE
 # that links none of them (cobra_add_package): it uses the cobra of the process that dlopens it,
 # so the type registry, the package registry and every other singleton exist once. That process
-# (the `cobra` tool, or a program made with cobra_add_package_host) links every archive whole and
+# (the `cobra` tool, or a program linked with cobra_link_package_host) links every archive whole and
 # exports its symbols, so a package may call any public function of any cobra library.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -28,7 +28,7 @@ file(MAKE_DIRECTORY ${cobra_build_data_dir})
 file(CREATE_LINK ${PROJECT_SOURCE_DIR}/components/coordination/charts ${cobra_build_data_dir}/charts SYMBOLIC)
 
 # Every library target of the framework: those defined outside the applications, examples, tests,
-# benchmarks and the tool's own sources. A library another helper adds later is installed too.
+# benchmarks and the tool's own sources. A library added later is installed too.
 function(cobra_collect_libraries dir out)
   get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
   get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
