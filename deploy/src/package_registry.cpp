@@ -10,6 +10,7 @@
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/components/signal/sine_generator.hpp"
 #include "cobra/components/signal/threshold_detector.hpp"
+#include "cobra/deploy/install_layout.hpp"
 #include "cobra/deploy/suggest.hpp"
 
 namespace cobra::deploy {
@@ -60,6 +61,8 @@ void PackageBuilder::addType(std::string type_name, std::string doc, ComponentFa
 
 PackageRegistry::PackageRegistry(std::vector<std::filesystem::path> search_path) : search_path_(std::move(search_path)) {
   for (auto& dir : splitPath(std::getenv("COBRA_PACKAGE_PATH"))) search_path_.push_back(std::move(dir));
+  // Last: the packages installed beside an installed cobra tool (<prefix>/lib/cobra/packages).
+  if (auto installed = installedPackageDirectory(); !installed.empty()) search_path_.push_back(std::move(installed));
   addBuiltin("cobra_signal", registerSignalPackage);
 }
 

@@ -85,6 +85,8 @@ class PackageRegistry {
  public:
   /// @param search_path directories searched for `lib<name>.so`, before those of the
   ///        environment variable COBRA_PACKAGE_PATH (colon-separated).
+  ///        Then the installed packages' folder beside an installed tool
+  ///        (installedPackageDirectory(), `<prefix>/lib/cobra/packages`), when it exists.
   /// The built-in package "cobra_signal" (SineGenerator, Gain, ThresholdDetector, Recorder) is
   /// always known.
   explicit PackageRegistry(std::vector<std::filesystem::path> search_path = {});
