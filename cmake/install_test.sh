@@ -13,6 +13,7 @@ fail() { echo "install_test: $*" >&2; exit 1; }
 # Quick on a second run: paths relative to the temporary folder make ccache hits, and programs
 # that link cobra's archives whole skip their debug information (a 9 s link becomes 2 s).
 export CCACHE_BASEDIR="$work" LDFLAGS="-Wl,--strip-debug"
+unset COBRA_DATA_DIR COBRA_PACKAGE_PATH  # the installed layout alone must find data and packages
 
 # Installed elsewhere, then moved: the installation must not depend on where it was put.
 cmake --install "$build" --prefix "$work/installed" >"$work/install.log" || { cat "$work/install.log"; fail "install failed"; }
