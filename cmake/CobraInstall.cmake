@@ -51,6 +51,10 @@ function(cobra_collect_libraries dir out)
   set(${out} ${found} PARENT_SCOPE)
 endfunction()
 cobra_collect_libraries(${PROJECT_SOURCE_DIR} COBRA_LIBRARIES)
+# The tests' helpers (the counting operator new) serve packages' tests too.
+if(TARGET cobra_test_support)
+  list(APPEND COBRA_LIBRARIES cobra_test_support)
+endif()
 
 # A library that links one of the left-out targets (an application's, the tool's) is left out too,
 # until none is left: an installed library may depend only on installed ones.

@@ -67,15 +67,21 @@ endfunction()
 # cobra_add_package_test(<name> PACKAGE <package> SOURCES <file>... [LIBS <library>...])
 #   A GoogleTest executable that loads <package> as a deployment would (PackageRegistry, dlopen),
 #   registered with CTest. It sees COBRA_PACKAGE_DIR (the folder of lib<package>.so) and
-#   COBRA_PACKAGE_NAME as compile definitions. Needs find_package(GTest) first.
+#   COBRA_PACKAGE_NAME as compile definitions, and cobra's test helpers
+#   (cobra/test_support/counting_new.hpp: prove that an update allocates nothing, in the package
+#   too). Needs find_package(GTest) first.
 function(cobra_add_package_test name)
   cmake_parse_arguments(ARG "" "PACKAGE" "SOURCES;LIBS" ${ARGN})
   if(NOT ARG_PACKAGE OR NOT TARGET ${ARG_PACKAGE})
     message(FATAL_ERROR "cobra_add_package_test(${name}): PACKAGE must name a cobra_add_package() target")
   endif()
+  if(NOT TARGET cobra::test_support)
+    message(FATAL_ERROR "cobra_add_package_test(${name}): cobra::test_support is missing (cobra was built "
+                        "with COBRA_BUILD_TESTS=OFF, which leaves out its test helpers)")
+  endif()
   add_executable(${name} ${ARG_SOURCES})
   cobra_link_package_host(${name})
-  target_link_libraries(${name} PRIVATE GTest::gtest GTest::gtest_main ${ARG_LIBS})
+  target_link_libraries(${name} PRIVATE cobra::test_support GTest::gtest GTest::gtest_main ${ARG_LIBS})
   target_compile_definitions(${name} PRIVATE COBRA_PACKAGE_DIR="$<TARGET_FILE_DIR:${ARG_PACKAGE}>"
                                              COBRA_PACKAGE_NAME="${ARG_PACKAGE}")
   add_dependencies(${name} ${ARG_PACKAGE})
