@@ -22,6 +22,10 @@ prefix="$work/prefix"
 if grep -rl -e "$build" -e "$source" "$prefix/lib/cmake" "$prefix/share" "$prefix/include"; then
   fail "installed files name the build or source tree (above)"
 fi
+# Nor this machine's paths of third-party libraries: the consumer's find_package finds them.
+if grep -n '"/[^"]' "$prefix"/lib/cmake/cobra/cobraTargets*.cmake; then
+  fail "the installed targets name absolute paths (above)"
+fi
 
 cmake -S "$source/examples/06_package" -B "$work/example" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
   ${launcher[@]+"${launcher[@]}"} >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
