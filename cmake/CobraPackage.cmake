@@ -13,8 +13,9 @@
 #         cobra::deploy (e.g. cobra::kinematics); their code comes from the loading process.
 #   LIBS: other libraries the package links itself (e.g. a device's vendor library).
 #   OUTPUT_DIRECTORY: where lib<name>.so is written (default: CMake's usual place).
-#   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages, where the installed
-#            `cobra` tool finds packages without COBRA_PACKAGE_PATH when both share a prefix.
+#   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages (COBRA_INSTALL_PACKAGEDIR),
+#            where the installed `cobra` tool finds packages without COBRA_PACKAGE_PATH when both
+#            share a prefix.
 function(cobra_add_package name)
   cmake_parse_arguments(ARG "INSTALL" "OUTPUT_DIRECTORY" "SOURCES;USES;LIBS" ${ARGN})
   if(NOT ARG_SOURCES)
@@ -38,8 +39,13 @@ function(cobra_add_package name)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
   endif()
   if(ARG_INSTALL)
-    include(GNUInstallDirs)
-    install(TARGETS ${name} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/cobra/packages)
+    # The installed tool's folder, relative to the prefix (cobraConfig.cmake sets it).
+    set(destination ${COBRA_INSTALL_PACKAGEDIR})
+    if(NOT destination)
+      include(GNUInstallDirs)
+      set(destination ${CMAKE_INSTALL_LIBDIR}/cobra/packages)
+    endif()
+    install(TARGETS ${name} LIBRARY DESTINATION ${destination})
   endif()
 endfunction()
 
