@@ -51,6 +51,10 @@ function(cobra_collect_libraries dir out)
   set(${out} ${found} PARENT_SCOPE)
 endfunction()
 cobra_collect_libraries(${PROJECT_SOURCE_DIR} COBRA_LIBRARIES)
+# The tests' helpers (the counting operator new) serve packages' tests too.
+if(TARGET cobra_test_support)
+  list(APPEND COBRA_LIBRARIES cobra_test_support)
+endif()
 
 # A library that links one of the left-out targets (an application's, the tool's) is left out too,
 # until none is left: an installed library may depend only on installed ones.
@@ -78,6 +82,41 @@ while(cobra_dropping)
     endforeach()
   endforeach()
 endwhile()
+
+# Lua and OMPL are found as paths, not imported targets: the installed targets name them through
+# cobra::lua and cobra::ompl instead, which cobraConfig.cmake makes from the consumer's own
+# find_package, so that no absolute path of this machine is installed.
+get_directory_property(cobra_lua_libraries DIRECTORY ${PROJECT_SOURCE_DIR}/script DEFINITION LUA_LIBRARIES)
+get_directory_property(cobra_ompl_library DIRECTORY ${PROJECT_SOURCE_DIR}/planning DEFINITION COBRA_OMPL_LIBRARY)
+get_directory_property(cobra_ompl_includes DIRECTORY ${PROJECT_SOURCE_DIR}/planning DEFINITION OMPL_INCLUDE_DIRS)
+# In <property> of <target>, the items among <paths> become build-only; <installed> (if not "")
+# takes their place in the installed package.
+function(cobra_install_through target property paths installed)
+  get_target_property(items ${target} ${property})
+  if(NOT items)
+    return()
+  endif()
+  set(result)
+  set(replaced OFF)
+  foreach(item IN LISTS items)
+    if(item IN_LIST paths)
+      list(APPEND result "$<BUILD_INTERFACE:${item}>")
+      set(replaced ON)
+    else()
+      list(APPEND result "${item}")
+    endif()
+  endforeach()
+  if(replaced AND installed)
+    list(APPEND result "$<INSTALL_INTERFACE:${installed}>")
+  endif()
+  set_target_properties(${target} PROPERTIES ${property} "${result}")
+endfunction()
+foreach(target IN LISTS COBRA_LIBRARIES)
+  cobra_install_through(${target} INTERFACE_LINK_LIBRARIES "${cobra_lua_libraries}" cobra::lua)
+  cobra_install_through(${target} INTERFACE_LINK_LIBRARIES "${cobra_ompl_library}" cobra::ompl)
+  cobra_install_through(${target} INTERFACE_INCLUDE_DIRECTORIES "${cobra_ompl_includes}" "")
+  cobra_install_through(${target} INTERFACE_SYSTEM_INCLUDE_DIRECTORIES "${cobra_ompl_includes}" "")
+endforeach()
 
 # Installed names follow the in-tree aliases: cobra_core -> cobra::core,
 # cobra_components_signal -> cobra::components::signal, cobra_build_flags -> cobra::build_flags.

@@ -13,8 +13,9 @@
 #         cobra::deploy (e.g. cobra::kinematics); their code comes from the loading process.
 #   LIBS: other libraries the package links itself (e.g. a device's vendor library).
 #   OUTPUT_DIRECTORY: where lib<name>.so is written (default: CMake's usual place).
-#   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages, where the installed
-#            `cobra` tool finds packages without COBRA_PACKAGE_PATH when both share a prefix.
+#   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages (COBRA_INSTALL_PACKAGEDIR),
+#            where the installed `cobra` tool finds packages without COBRA_PACKAGE_PATH when both
+#            share a prefix.
 function(cobra_add_package name)
   cmake_parse_arguments(ARG "INSTALL" "OUTPUT_DIRECTORY" "SOURCES;USES;LIBS" ${ARGN})
   if(NOT ARG_SOURCES)
@@ -38,8 +39,13 @@ function(cobra_add_package name)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
   endif()
   if(ARG_INSTALL)
-    include(GNUInstallDirs)
-    install(TARGETS ${name} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/cobra/packages)
+    # The installed tool's folder, relative to the prefix (cobraConfig.cmake sets it).
+    set(destination ${COBRA_INSTALL_PACKAGEDIR})
+    if(NOT destination)
+      include(GNUInstallDirs)
+      set(destination ${CMAKE_INSTALL_LIBDIR}/cobra/packages)
+    endif()
+    install(TARGETS ${name} LIBRARY DESTINATION ${destination})
   endif()
 endfunction()
 
@@ -67,15 +73,21 @@ endfunction()
 # cobra_add_package_test(<name> PACKAGE <package> SOURCES <file>... [LIBS <library>...])
 #   A GoogleTest executable that loads <package> as a deployment would (PackageRegistry, dlopen),
 #   registered with CTest. It sees COBRA_PACKAGE_DIR (the folder of lib<package>.so) and
-#   COBRA_PACKAGE_NAME as compile definitions. Needs find_package(GTest) first.
+#   COBRA_PACKAGE_NAME as compile definitions, and cobra's test helpers
+#   (cobra/test_support/counting_new.hpp: prove that an update allocates nothing, in the package
+#   too). Needs find_package(GTest) first.
 function(cobra_add_package_test name)
   cmake_parse_arguments(ARG "" "PACKAGE" "SOURCES;LIBS" ${ARGN})
   if(NOT ARG_PACKAGE OR NOT TARGET ${ARG_PACKAGE})
     message(FATAL_ERROR "cobra_add_package_test(${name}): PACKAGE must name a cobra_add_package() target")
   endif()
+  if(NOT TARGET cobra::test_support)
+    message(FATAL_ERROR "cobra_add_package_test(${name}): cobra::test_support is missing (cobra was built "
+                        "with COBRA_BUILD_TESTS=OFF, which leaves out its test helpers)")
+  endif()
   add_executable(${name} ${ARG_SOURCES})
   cobra_link_package_host(${name})
-  target_link_libraries(${name} PRIVATE GTest::gtest GTest::gtest_main ${ARG_LIBS})
+  target_link_libraries(${name} PRIVATE cobra::test_support GTest::gtest GTest::gtest_main ${ARG_LIBS})
   target_compile_definitions(${name} PRIVATE COBRA_PACKAGE_DIR="$<TARGET_FILE_DIR:${ARG_PACKAGE}>"
                                              COBRA_PACKAGE_NAME="${ARG_PACKAGE}")
   add_dependencies(${name} ${ARG_PACKAGE})

@@ -13,6 +13,7 @@ fail() { echo "install_test: $*" >&2; exit 1; }
 # Quick on a second run: paths relative to the temporary folder make ccache hits, and programs
 # that link cobra's archives whole skip their debug information (a 9 s link becomes 2 s).
 export CCACHE_BASEDIR="$work" LDFLAGS="-Wl,--strip-debug"
+unset COBRA_DATA_DIR COBRA_PACKAGE_PATH  # the installed layout alone must find data and packages
 
 # Installed elsewhere, then moved: the installation must not depend on where it was put.
 cmake --install "$build" --prefix "$work/installed" >"$work/install.log" || { cat "$work/install.log"; fail "install failed"; }
@@ -20,6 +21,10 @@ mv "$work/installed" "$work/prefix"
 prefix="$work/prefix"
 if grep -rl -e "$build" -e "$source" "$prefix/lib/cmake" "$prefix/share" "$prefix/include"; then
   fail "installed files name the build or source tree (above)"
+fi
+# Nor this machine's paths of third-party libraries: the consumer's find_package finds them.
+if grep -n '"/[^"]' "$prefix"/lib/cmake/cobra/cobraTargets*.cmake; then
+  fail "the installed targets name absolute paths (above)"
 fi
 
 cmake -S "$source/examples/06_package" -B "$work/example" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \

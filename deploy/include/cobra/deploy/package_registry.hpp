@@ -10,9 +10,11 @@
 ///   package.component<MyFilter>("MyFilter", "low-pass filter of a wrench");
 /// }
 /// @endcode
-/// Build it as a CMake `MODULE` library without linking cobra into it: it uses the cobra of
-/// the process that loads it, which must export its symbols (CMake `ENABLE_EXPORTS ON`, or
-/// cobra built as shared libraries). A package built against another `kPackageAbiVersion` is
+/// Build it with `cobra_add_package()` (cmake/CobraPackage.cmake; `find_package(cobra)` outside
+/// cobra's tree): a CMake `MODULE` library without cobra linked into it. It uses the cobra of the
+/// process that loads it, which must hold the cobra code the package calls and export its
+/// symbols: the `cobra` tool does, for every cobra library (`cobra_link_package_host()`), so
+/// registries exist once. A package built against another `kPackageAbiVersion` is
 /// refused at load. Loaded libraries are never unloaded: components and factories made by
 /// them may live until the process ends.
 
