@@ -9,11 +9,6 @@ Puma260EtherCatBus::Puma260EtherCatBus(const Puma260ArmModel& model, const std::
   publish(kAlwaysVisible);
 }
 
-void Puma260EtherCatBus::attach(DeviceLink::Clock clock) {
-  link_.attach(std::move(clock));
-  publish(kAlwaysVisible);
-}
-
 std::string Puma260EtherCatBus::describeSlave(int index) const {
   if (index < 0 || index >= slaveCount()) {
     return "no slave " + std::to_string(index) + " (the bus has slaves 0-" + std::to_string(slaveCount() - 1) + ")";

@@ -33,9 +33,8 @@ class Puma260EtherCatBus final : public fieldbus::Cia402Bus {
   fieldbus::BusStatus exchange(std::span<const fieldbus::Cia402Outputs> outputs,
                                std::span<fieldbus::Cia402Inputs> inputs) noexcept override;
 
-  /// World side: the clock and connection state. Attaching publishes the drives' power-on inputs.
+  /// World side: the clock and connection state. The drives' power-on inputs are visible at once.
   DeviceLink& link() noexcept { return link_; }
-  void attach(DeviceLink::Clock clock);
   /// World side: applies the newest outputs the drives may see, steps the arm by `dt` (s) and
   /// publishes the drives' inputs.
   void step(double dt) noexcept;
