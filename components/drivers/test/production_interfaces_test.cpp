@@ -1,7 +1,8 @@
 // Simulation stays out of production interfaces (DESIGN §3, issue 16 item 5): the production code
 // of fieldbus/, components/drivers/ and bridges/ includes no cobra/sim/ header (two bridge files
 // are known exceptions, listed below, that a later step removes), and no port, property or
-// operation of a driver or bridge component exists only for simulation (none is named sim...).
+// operation of a driver or bridge component exists only for simulation (none is named sim...);
+// and the deployer includes no component package (issue 16 item 6).
 
 #include <gtest/gtest.h>
 
@@ -73,6 +74,17 @@ TEST(ProductionInterfaces, NoDriverOrBridgeHasASimulationOnlyPortPropertyOrOpera
     ++checked;
   }
   EXPECT_GE(checked, 5);  // three drivers, two bridges
+  EXPECT_EQ(offenders, std::vector<std::string>{});
+}
+
+TEST(ProductionInterfaces, TheDeployerIncludesNoComponentPackage) {
+  // components/builtin_packages registers cobra's packages; the deployer stays generic.
+  const std::regex component_include(R"(#\s*include\s*[<"]cobra/components/)");
+  std::vector<std::string> offenders;
+  for (const char* dir : {"deploy/include", "deploy/src", "deploy/lua/include", "deploy/lua/src"})
+    for (const auto& entry : fs::recursive_directory_iterator(kSource / dir))
+      if (entry.is_regular_file() && std::regex_search(read(entry.path()), component_include))
+        offenders.push_back(fs::relative(entry.path(), kSource).string());
   EXPECT_EQ(offenders, std::vector<std::string>{});
 }
 
