@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "cobra/deploy/install_layout.hpp"
 #include "cobra/deploy/suggest.hpp"
 
 namespace cobra::deploy {
@@ -47,6 +48,8 @@ void PackageBuilder::addType(std::string type_name, std::string doc, ComponentFa
 
 PackageRegistry::PackageRegistry(std::vector<std::filesystem::path> search_path) : search_path_(std::move(search_path)) {
   for (auto& dir : splitPath(std::getenv("COBRA_PACKAGE_PATH"))) search_path_.push_back(std::move(dir));
+  // Last: the packages installed beside an installed cobra tool (<prefix>/lib/cobra/packages).
+  if (auto installed = installedPackageDirectory(); !installed.empty()) search_path_.push_back(std::move(installed));
 }
 
 void PackageRegistry::addBuiltin(std::string name, PackageRegistrar registrar) {

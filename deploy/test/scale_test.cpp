@@ -1,5 +1,5 @@
 // Deploys 1,000 components with 10 ports each and measures the memory of an unconnected port.
-// Timings are printed, not asserted (DESIGN §8: timings live in bench/).
+// Timings are printed, not asserted (ARCHITECTURE §8: timings live in bench/).
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Simulation stays out of production interfaces (DESIGN §3, issue 16 item 5): the production code
+// Simulation stays out of production interfaces (ARCHITECTURE §3, issue 16 item 5): the production code
 // of fieldbus/, components/drivers/ and bridges/ includes no cobra/sim/ header (two bridge files
 // are known exceptions, listed below, that a later step removes), and no port, property or
 // operation of a driver or bridge component exists only for simulation (none is named sim...);

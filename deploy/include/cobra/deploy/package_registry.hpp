@@ -99,6 +99,8 @@ class PackageRegistry {
  public:
   /// @param search_path directories searched for `lib<name>.so`, before those of the
   ///        environment variable COBRA_PACKAGE_PATH (colon-separated).
+  ///        Then the installed packages' folder beside an installed tool
+  ///        (installedPackageDirectory(), `<prefix>/lib/cobra/packages`), when it exists.
   /// No package is built in here: cobra's own are added by components::addBuiltinPackages
   /// (components/builtin_packages), a program's own with addBuiltin.
   explicit PackageRegistry(std::vector<std::filesystem::path> search_path = {});
