@@ -15,12 +15,12 @@
 #include <cstdio>
 #include <thread>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/core/core.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/script/rfsm.hpp"
-#include "builtin_packages.hpp"
 #include "console.hpp"
 #include "console_terminal.hpp"
 #include "describe.hpp"
@@ -72,7 +72,7 @@ deploy::ConfiguratorOptions optionsFor(bool sim, bool strict) {
 
 int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -102,7 +102,7 @@ int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
 int runLint(const std::string& file) {
   deploy::ConfiguratorOptions options;  // simulation: nothing runs, the clock never advances
   deploy::Configurator configurator(options);
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -135,7 +135,7 @@ void renderDot(const std::string& dot, const std::string& output) {
 /// Deploys `file` on the simulation clock (nothing runs) and draws it.
 int runGraph(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -155,7 +155,7 @@ int runFsmGraph(const std::string& file, const std::string& output) {
 
 int runDescribe(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -172,7 +172,7 @@ int runDescribe(const std::string& file, const std::string& output) {
 
 int runConsole(const std::string& file, bool sim, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   tools::Console console(configurator, deployer, std::cout);

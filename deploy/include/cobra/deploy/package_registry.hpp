@@ -28,6 +28,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "cobra/core/backend_registry.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/deploy/spec.hpp"
 
@@ -70,6 +71,19 @@ class PackageBuilder {
     return *this;
   }
 
+  /// Registers the backend scheme `scheme` of device interface `I` (core::BackendRegistry<I>):
+  /// a driver whose `bus` or `device` property is `<scheme>:<address>` gets `make(address)`.
+  /// Registered for the process; loading the package again replaces its own schemes.
+  /// @throws core::Error when another package registered `scheme` for `I`.
+  template <class I, class F>
+  PackageBuilder& backend(const std::string& scheme, const std::string& doc, F make) {
+    static_assert(std::is_invocable_r_v<std::unique_ptr<I>, F, const std::string&>,
+                  "cobra: PackageBuilder::backend<I>(scheme, doc, make): make must be callable as "
+                  "std::unique_ptr<I>(const std::string& address)");
+    core::BackendRegistry<I>::addFactory(scheme, doc, "package '" + package_ + "'", std::move(make));
+    return *this;
+  }
+
   const std::string& packageName() const { return package_; }
 
  private:
@@ -89,8 +103,8 @@ class PackageRegistry {
   ///        environment variable COBRA_PACKAGE_PATH (colon-separated).
   ///        Then the installed packages' folder beside an installed tool
   ///        (installedPackageDirectory(), `<prefix>/lib/cobra/packages`), when it exists.
-  /// The built-in package "cobra_signal" (SineGenerator, Gain, ThresholdDetector, Recorder) is
-  /// always known.
+  /// No package is built in here: cobra's own are added by components::addBuiltinPackages
+  /// (components/builtin_packages), a program's own with addBuiltin.
   explicit PackageRegistry(std::vector<std::filesystem::path> search_path = {});
 
   /// Makes `name` loadable without a shared library. @throws core::Error on a duplicate name.
@@ -134,8 +148,5 @@ class PackageRegistry {
   // Types added by the registration in progress; moved into types_ only when it succeeds.
   std::map<std::string, ComponentType, std::less<>>* staging_ = nullptr;
 };
-
-/// Registers SineGenerator, Gain, ThresholdDetector, Recorder and Constant: the built-in "cobra_signal".
-void registerSignalPackage(PackageBuilder& package);
 
 }  // namespace cobra::deploy
