@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cobra's one entry point. Usage: ./do <command> [options]
 #   setup            install the Debian packages cobra needs (idempotent; quick when present)
-#   build [preset]   configure and build (presets: release (default), asan, tsan)
+#   build [P [T...]] configure and build preset P (release (default), asan, tsan), or its targets T
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
@@ -14,8 +14,20 @@ cd "$(dirname "$0")"
 
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
+# Leaks of libraries cobra cannot free, each explained in the file; ASan's leak check stays on.
+LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
-  ftsens_frame_fuzz)
+  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz)
+
+# The repo's real files a fuzzer starts from (copied into one folder, as libFuzzer takes folders).
+fuzz_seeds() {
+  case "$1" in
+    chart_loader_fuzz) echo script/test/charts/* ;;
+    phantom_scenario_fuzz) echo apps/puncturing/scenarios/*/phantom.txt ;;
+    planning_scene_fuzz) echo planning/scenes/*.scene planning/test/data/*.scene ;;
+    puncturing_plan_fuzz) echo apps/puncturing/scenarios/*/*.txt apps/puncturing/state_table.txt ;;
+  esac
+}
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
 
@@ -36,13 +48,47 @@ setup() {
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# Shows a running build: on a terminal one updating line (Ninja's step n/N, the elapsed time and
+# what it is doing), otherwise Ninja's own lines with the elapsed seconds. Reads the build's
+# output on stdin; the whole output goes to the log named by $1.
+show_progress() {
+  local log=$1 start=$SECONDS chunk partial="" line step="" what="configuring" width
+  if [ ! -t 1 ]; then tee "$log"; return; fi
+  width=$(tput cols 2>/dev/null || echo 80)
+  while :; do
+    if IFS= read -r -t 1 chunk; then
+      line=$partial$chunk partial=""
+      printf '%s\n' "$line" >>"$log"
+      if [[ $line =~ ^\[([0-9]+)/([0-9]+)\]\ (.*)$ ]]; then
+        step="step ${BASH_REMATCH[1]}/${BASH_REMATCH[2]}, " what=${BASH_REMATCH[3]}
+      fi
+    elif [ $? -gt 128 ]; then  # a second without a whole line: keep what came, refresh the clock
+      partial+=$chunk
+    else  # the end of the output
+      [ -z "$partial$chunk" ] || printf '%s\n' "$partial$chunk" >>"$log"
+      break
+    fi
+    line=$(printf '[do] building: %s%dm%02ds  %s' "$step" $(((SECONDS - start) / 60)) $(((SECONDS - start) % 60)) "$what")
+    printf '\r\033[K%s' "${line:0:width-1}"
+  done
+  printf '\r\033[K'
+}
+
+# Configures (once) and builds preset $1 with the cmake --build options that follow, showing its
+# progress; on failure prints the tail of the log and where the whole log is.
 build() {
-  local preset="${1:-release}"
+  local preset="${1:-release}" log status="[%f/%t] "
+  [ -t 1 ] || status="[%f/%t, %es] "  # plain lines say the elapsed seconds themselves
   if [ "$preset" = fuzz ]; then setup "${FUZZ_PACKAGES[@]}"; else setup; fi
-  if [ ! -f "build/$preset/build.ninja" ]; then
-    cmake --preset "$preset" >/dev/null
+  mkdir -p build
+  log="build/$preset.log"
+  : >"$log"
+  if ! { { [ -f "build/$preset/build.ninja" ] || cmake --preset "$preset"; } &&
+         NINJA_STATUS=$status cmake --build --preset "$preset" "${@:2}"; } 2>&1 | show_progress "$log"; then
+    tail -n 30 "$log" >&2
+    echo "do: the $preset build failed; the whole log is $PWD/$log" >&2
+    exit 1
   fi
-  cmake --build --preset "$preset" "${@:2}"
 }
 
 run_tests() {
@@ -52,13 +98,13 @@ run_tests() {
       ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 ;;
     --asan)
       build asan
-      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=$LSAN \
         ctest --test-dir build/asan --output-on-failure --no-tests=error -j2 --timeout 600 ;;
     --asan-ci)
       # Only the slice's test executables and what they link (COBRA_TEST_LABELS in the preset).
       build asan-ci --target selected_tests
       labels=$(sed -n 's/^COBRA_TEST_LABELS:STRING=//p' build/asan-ci/CMakeCache.txt | tr ';' '|')
-      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=$LSAN \
         ctest --test-dir build/asan-ci --output-on-failure --no-tests=error -j2 --timeout 600 -L "^($labels)\$" ;;
     --tsan)
       # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
@@ -74,14 +120,13 @@ run_tests() {
 
 case "${1:-help}" in
   setup) setup ;;
-  build) shift; build "${1:-release}" ;;
+  build)
+    if [ $# -gt 2 ]; then build "$2" --target "${@:3}"; else build "${2:-release}"; fi ;;
   test) shift; run_tests "${1:-}" ;;
   demo)
-    log=$(mktemp)
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
-      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-      rm -f "$log"
+      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door
       ./build/release/apps/demo/cobra-demo
       say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
       ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
@@ -91,8 +136,7 @@ case "${1:-help}" in
       ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
-      build release --target cobra-puncturing >"$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-      rm -f "$log"
+      build release --target cobra-puncturing
       say "the thesis' puncturing task (ch. 4) in simulation: two robots, two needles (apps/puncturing)"
       ./build/release/apps/puncturing/cobra-puncturing --report "$PWD/build/puncturing-report"
     fi ;;
@@ -109,9 +153,10 @@ case "${1:-help}" in
     for f in "${FUZZERS[@]}"; do
       say "$f for ${seconds} s"
       mkdir -p "build/fuzz/corpus/$f"
-      seeds=(); [ "$f" = chart_loader_fuzz ] && seeds=(script/test/charts)  # read-only starting inputs
+      rm -rf "build/fuzz/seeds/$f"; mkdir -p "build/fuzz/seeds/$f"  # read-only starting inputs
+      for seed in $(fuzz_seeds "$f"); do cp "$seed" "build/fuzz/seeds/$f/${seed//\//_}"; done
       if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
-          "build/fuzz/corpus/$f" "${seeds[@]}" >build/fuzz/$f.log 2>&1; then
+          "build/fuzz/corpus/$f" "build/fuzz/seeds/$f" >build/fuzz/$f.log 2>&1; then
         tail -n 40 "build/fuzz/$f.log"
         echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ (see above)" >&2
         exit 1

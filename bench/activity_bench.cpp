@@ -1,4 +1,4 @@
-// Wake-up jitter of a 1 kHz periodic activity (DESIGN §4, §8), side by side with its peer: a
+// Wake-up jitter of a 1 kHz periodic activity (ARCHITECTURE §4, §8), side by side with its peer: a
 // plain std::thread sleeping with std::this_thread::sleep_until on steady_clock.
 //
 // Each run steps kSteps times at a 1 ms period; the step body stamps CLOCK_MONOTONIC into a

@@ -1,5 +1,5 @@
 // Cost of the kinematics solvers of cobra::kinematics against KDL's own solvers on the same DH
-// chain and the same targets, side by side in the same run (DESIGN §8).
+// chain and the same targets, side by side in the same run (ARCHITECTURE §8).
 //
 // Every benchmark runs 10 repetitions and reports their median and worst case ("max"); the
 // `mean`/`stddev`/`cv` rows come for free. The time column is per call, cycling through 10,000

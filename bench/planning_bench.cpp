@@ -1,4 +1,4 @@
-// Cost of the motion planner (thesis §4.5.1, DESIGN §8) on the shipped puncturing scene
+// Cost of the motion planner (thesis §4.5.1, ARCHITECTURE §8) on the shipped puncturing scene
 // (planning/scenes/puncturing.scene) with the REAL robot models (planning::makeRobotModels: the
 // I-SUR puncturing kinematics and the UR5 closed form), and, as a peer, the same FCL work with the
 // stand-in robots of the library tests (two_robots.scene + a wall: IK costs nothing there).

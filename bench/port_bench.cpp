@@ -1,4 +1,4 @@
-// Cost of moving data through ports (DESIGN §4, §8): the lock-free channels of cobra::core
+// Cost of moving data through ports (ARCHITECTURE §4, §8): the lock-free channels of cobra::core
 // against the obvious peer, a std::mutex around a std::optional<T> (data) or a std::deque<T>
 // (buffer), measured side by side in the same run.
 //

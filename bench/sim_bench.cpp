@@ -28,11 +28,11 @@
 
 #include <kdl/frames.hpp>
 
-#include "cobra/components/sim/needle_insertion_monitor.hpp"
+#include "cobra/components/monitoring/needle_insertion_monitor.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"
 #include "cobra/components/sim/simulated_omni_phantom.hpp"
 #include "cobra/components/sim/simulated_robot.hpp"
-#include "cobra/components/sim/ultrasound_monitor.hpp"
+#include "cobra/components/monitoring/ultrasound_monitor.hpp"
 #include "cobra/core/core.hpp"
 #include "cobra/kinematics/isur.hpp"
 #include "cobra/kinematics/ur5.hpp"

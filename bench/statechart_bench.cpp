@@ -23,7 +23,7 @@
 #include <chrono>
 #include <vector>
 
-#include "cobra/components/coordination/package.hpp"
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/script/rfsm.hpp"
@@ -190,7 +190,7 @@ void BoostMsm(benchmark::State& state) {
 // --- a Supervisor component's step --------------------------------------------------------------
 void SupervisorStep(benchmark::State& state) {
   deploy::Configurator configurator;
-  configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator({{"cobra_coordination", {}}}, {{"Sup", "Supervisor", {}}});
   core::Component& sup = configurator.getReferences().get("Sup");
   sup.setProperty("fsm_path", std::string(COBRA_SOURCE_DIR) + "/script/test/charts/fig32.lua");

@@ -1,5 +1,5 @@
 // Cost of cobra::trajectory (the thesis' TGL, §3.2.3) against KDL's trajectories, side by side in
-// the same run (DESIGN §8).
+// the same run (ARCHITECTURE §8).
 //
 // Every benchmark runs 10 repetitions and reports their median and worst case ("max") of the mean
 // time per iteration; `mean`/`stddev`/`cv` come for free. Times of evaluation benchmarks cycle

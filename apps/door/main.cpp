@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <string>
 
-#include "cobra/components/coordination/package.hpp"
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   const std::string file = argc > 1 ? argv[1] : std::string(COBRA_DOOR_DIR) + "/door.lua";
   const std::string plot_file = argc > 2 ? argv[2] : "/tmp/cobra-door.svg";
   deploy::Configurator configurator;  // lockstep simulation clock
-  configurator.packages().addBuiltin("cobra_coordination", components::registerCoordinationPackage);
+  components::addBuiltinPackages(configurator.packages());
   configurator.packages().addBuiltin("door_example", [](deploy::PackageBuilder& package) {
     package.component<examples::DoorSim>("DoorSim", "simulated arm, handle and door");
   });

@@ -1,4 +1,4 @@
-// The bridges' updateHook allocates nothing (DESIGN §4), with live far ends exchanging data.
+// The bridges' updateHook allocates nothing (ARCHITECTURE §4), with live far ends exchanging data.
 #include <gtest/gtest.h>
 
 #include "bridge_test_support.hpp"

@@ -1,4 +1,4 @@
-// Concurrency stress of the data-flow runtime (DESIGN §4): one writer and several readers
+// Concurrency stress of the data-flow runtime (ARCHITECTURE §4): one writer and several readers
 // through real port connections of every policy, property sets applied to a running periodic
 // component, and connections made and removed while components run. Meant to be run under
 // ThreadSanitizer (label "concurrency"), so every run is bounded by a sample count, not by time,

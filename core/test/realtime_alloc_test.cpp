@@ -1,4 +1,4 @@
-// Proves the real-time contract of DESIGN §4: in steady state, port write + read and the
+// Proves the real-time contract of ARCHITECTURE §4: in steady state, port write + read and the
 // update step of a Running component perform zero heap allocations. A counting global
 // operator new replaces the library one for this test executable only.
 

@@ -5,11 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "cobra/components/signal/constant.hpp"
-#include "cobra/components/signal/gain.hpp"
-#include "cobra/components/signal/recorder.hpp"
-#include "cobra/components/signal/sine_generator.hpp"
-#include "cobra/components/signal/threshold_detector.hpp"
+#include "cobra/deploy/install_layout.hpp"
 #include "cobra/deploy/suggest.hpp"
 
 namespace cobra::deploy {
@@ -38,14 +34,6 @@ std::string prefix(const SourceLocation& where) { return where.text() + ": "; }
 
 }  // namespace
 
-void registerSignalPackage(PackageBuilder& package) {
-  package.component<components::SineGenerator>("SineGenerator", "y(t) = offset + amplitude·sin(2π·frequency·t + phase)")
-      .component<components::Gain>("Gain", "y = k·u on every sample")
-      .component<components::ThresholdDetector>("ThresholdDetector", "events when a signal crosses a threshold")
-      .component<components::Recorder>("Recorder", "keeps (time, value) samples in memory")
-      .component<components::Constant>("Constant", "writes the value of a property at every update");
-}
-
 void PackageBuilder::addType(std::string type_name, std::string doc, ComponentFactory make) {
   if (registry_->staging_ == nullptr)
     throw core::Error("package '" + package_ + "': component types can only be added while the package loads");
@@ -60,7 +48,8 @@ void PackageBuilder::addType(std::string type_name, std::string doc, ComponentFa
 
 PackageRegistry::PackageRegistry(std::vector<std::filesystem::path> search_path) : search_path_(std::move(search_path)) {
   for (auto& dir : splitPath(std::getenv("COBRA_PACKAGE_PATH"))) search_path_.push_back(std::move(dir));
-  addBuiltin("cobra_signal", registerSignalPackage);
+  // Last: the packages installed beside an installed cobra tool (<prefix>/lib/cobra/packages).
+  if (auto installed = installedPackageDirectory(); !installed.empty()) search_path_.push_back(std::move(installed));
 }
 
 void PackageRegistry::addBuiltin(std::string name, PackageRegistrar registrar) {

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <thread>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -57,6 +58,7 @@ void registerParts(deploy::PackageBuilder& package) {
 
 struct ClientFixture {
   explicit ClientFixture(deploy::ClockMode mode) : configurator({mode, false, {}}) {
+    components::addBuiltinPackages(configurator.packages());
     configurator.packages().addBuiltin("client_test", registerParts);
     configurator.initConfigurator({{"cobra_signal", {"app.lua", 1}}, {"client_test", {"app.lua", 2}}},
                                   {{"Sine", "SineGenerator", {"app.lua", 3}},

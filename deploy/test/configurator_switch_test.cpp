@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "test_components.hpp"
@@ -73,6 +74,7 @@ std::set<std::string> difference(const std::set<std::string>& a, const std::set<
 class SwitchTest : public ::testing::Test {
  protected:
   explicit SwitchTest(bool strict = false) : configurator_({deploy::ClockMode::Simulation, strict, {}}) {
+    components::addBuiltinPackages(configurator_.packages());
     configurator_.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
     configurator_.initConfigurator({{"cobra_signal", at("app.lua", 1)}, {"deploy_test_parts", at("app.lua", 2)}},
                                    {{"Sine", "SineGenerator", at("app.lua", 4)},
@@ -353,6 +355,7 @@ TEST_F(StrictSwitchTest, StrictModeRefusesADeploymentBreakingTheRoles) {
 
 TEST(RealTimeSwitch, DeploymentsAndConfigurationsSwitchWhileThreadsRun) {
   Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator({{"cobra_signal", at("rt.lua", 1)}}, {{"Sine", "SineGenerator", at("rt.lua", 3)},
                                                                       {"Gain", "Gain", at("rt.lua", 4)},
                                                                       {"Rec", "Recorder", at("rt.lua", 5)},

@@ -1,3 +1,4 @@
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/configurator.hpp"
 
 #include <gmock/gmock.h>
@@ -67,6 +68,7 @@ const components::Recorder& recorder(const Configurator& configurator, const std
 TEST(Configurator, ThesisSequenceRunsOnTheLockstepClock) {
   SignalDeployment d;
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list, "");
   configurator.setActivities(d.activities_list);
   EXPECT_TRUE(configurator.connectPorts(d.connections_list).empty()) << "the signal chain respects the roles";
@@ -94,6 +96,7 @@ TEST(Configurator, ThesisSequenceRunsOnTheLockstepClock) {
 TEST(Configurator, RealTimeModeRunsThreads) {
   SignalDeployment d;
   Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  components::addBuiltinPackages(configurator.packages());
   for (auto& a : d.activities_list) a.scheduler = "ORO_SCHED_OTHER";
   configurator.initConfigurator(d.packages_list, d.components_list);
   configurator.setActivities(d.activities_list);
@@ -115,6 +118,7 @@ TEST(Configurator, RealTimeModeRunsThreads) {
 
 TEST(Configurator, DuplicateInstanceNameCreatesNothing) {
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   const std::string message = errorOf([&] {
     configurator.initConfigurator({{"cobra_signal", at(2)}},
                                   {{"Sine", "SineGenerator", at(5)}, {"Gain", "Gain", at(6)}, {"Sine", "Gain", at(7)}});
@@ -125,6 +129,7 @@ TEST(Configurator, DuplicateInstanceNameCreatesNothing) {
 
 TEST(Configurator, UnknownPackageAndTypeAreReportedWithTheirLine) {
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   EXPECT_THAT(errorOf([&] { configurator.initConfigurator({{"cobra_sgnal", at(2)}}, {}); }),
               HasSubstr("deploy.lua:2: unknown package 'cobra_sgnal'; did you mean 'cobra_signal'?"));
   const std::string message = errorOf([&] {
@@ -139,6 +144,7 @@ TEST(Configurator, BadConfigurationFileCreatesNothing) {
   std::filesystem::create_directories(folder);
   std::ofstream(folder / "slow.cfg") << "# slow\nGain.k = 0.5\nSine.frequency = fast\n";
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   const std::string message = errorOf([&] {
     configurator.initConfigurator({{"cobra_signal", at(2)}}, {{"Sine", "SineGenerator", at(5)}, {"Gain", "Gain", at(6)}},
                                   folder);
@@ -153,6 +159,7 @@ TEST(Configurator, BadConfigurationFileCreatesNothing) {
 TEST(Configurator, UnknownComponentAndPortAreReportedWithTheClosestName) {
   SignalDeployment d;
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   EXPECT_THAT(errorOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gian.in", {}, at(20)}}); }),
               HasSubstr("deploy.lua:20: no component named 'Gian'; did you mean 'Gain'?"));
@@ -166,6 +173,7 @@ TEST(Configurator, UnknownComponentAndPortAreReportedWithTheClosestName) {
 TEST(Configurator, TypeMismatchAndOutputToOutputAreRefusedAndNothingIsConnected) {
   SignalDeployment d;
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   const auto& sine_out = configurator.getReferences().get("Sine").port("out");
   std::string message = errorOf([&] {
@@ -192,6 +200,7 @@ TEST(Configurator, TypeMismatchAndOutputToOutputAreRefusedAndNothingIsConnected)
 
 TEST(Configurator, FailingConfigureHookCleansUpTheComponentsConfiguredBefore) {
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
   configurator.initConfigurator({{"cobra_signal", at(1)}, {"deploy_test_parts", at(2)}},
                                 {{"A", "Gain", at(4)}, {"B", "Faulty", at(5)}, {"F", "Faulty", at(6)}, {"C", "Gain", at(7)}});
@@ -218,6 +227,7 @@ TEST(Configurator, FailingConfigureHookCleansUpTheComponentsConfiguredBefore) {
 
 TEST(Configurator, FailingStartStopsTheComponentsStartedBefore) {
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
   configurator.initConfigurator({{"cobra_signal", at(1)}, {"deploy_test_parts", at(2)}},
                                 {{"A", "Gain", at(4)}, {"F", "Faulty", at(5)}, {"C", "Gain", at(6)}});
@@ -232,6 +242,7 @@ TEST(Configurator, FailingStartStopsTheComponentsStartedBefore) {
 TEST(Configurator, ActivitiesAreCheckedBeforeAnyIsSet) {
   SignalDeployment d;
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   EXPECT_THAT(errorOf([&] {
                 configurator.setActivities({{"Sine", 0.001, 50, "ORO_SCHED_RT", at(11)}, {"Gain", 0.0, 0, "RT", at(12)}});
@@ -258,6 +269,7 @@ TEST(Configurator, ActivitiesAreCheckedBeforeAnyIsSet) {
 TEST(Configurator, PeersMustExist) {
   SignalDeployment d;
   Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   EXPECT_THAT(errorOf([&] { configurator.addPeers({{"Det", {"Gain"}, at(30)}, {"Rec", {"Sine", "Gainn"}, at(31)}}); }),
               HasSubstr("deploy.lua:31: no component named 'Gainn'; did you mean 'Gain'?"));
@@ -269,6 +281,7 @@ TEST(Configurator, PeersMustExist) {
 TEST(Configurator, DestructionStopsEverythingStillRunning) {
   SignalDeployment d;
   auto configurator = std::make_unique<Configurator>(deploy::ConfiguratorOptions{deploy::ClockMode::RealTime, false, {}});
+  components::addBuiltinPackages(configurator->packages());
   for (auto& a : d.activities_list) a.scheduler = "ORO_SCHED_OTHER";
   configurator->initConfigurator(d.packages_list, d.components_list);
   configurator->setActivities(d.activities_list);
@@ -282,6 +295,7 @@ TEST(Configurator, DestructionStopsEverythingStillRunning) {
 TEST(Configurator, ActivityOfAComponentFedByARunningThreadChangesSafely) {
   SignalDeployment d;
   Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   configurator.setActivities({{"Sine", 0.001, 0, "ORO_SCHED_OTHER", at(11)}});
   (void)configurator.connectPorts(d.connections_list);

@@ -1,3 +1,4 @@
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/lint.hpp"
 
 #include <gmock/gmock.h>
@@ -118,6 +119,7 @@ TEST_F(LintTest, EntriesNamingUnknownPortsAreLeftToTheDeployer) {
 TEST(LintConfigurator, WarnsByDefaultAndRefusesWhenStrict) {
   for (const bool strict : {false, true}) {
     deploy::Configurator configurator({deploy::ClockMode::Simulation, strict, {}});
+    components::addBuiltinPackages(configurator.packages());
     configurator.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
     configurator.initConfigurator({{"cobra_signal", at(1)}, {"deploy_test_parts", at(2)}},
                                   {{"Gain", "Gain", at(4)}, {"TaskSup", "PoseWatchingSupervisor", at(5)},

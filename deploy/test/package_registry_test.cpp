@@ -1,3 +1,4 @@
+#include "cobra/components/signal/package.hpp"
 #include "cobra/deploy/package_registry.hpp"
 
 #include <gmock/gmock.h>
@@ -27,8 +28,10 @@ std::string errorOf(const std::function<void()>& action) {
 
 }  // namespace
 
-TEST(PackageRegistry, BuiltInSignalPackageRegistersItsFiveTypes) {
+TEST(PackageRegistry, ABuiltInPackageRegistersItsTypesWhenLoaded) {
   PackageRegistry registry;
+  EXPECT_EQ(registry.knownPackages(), std::vector<std::string>{}) << "the deployer has no component package of its own";
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   EXPECT_EQ(registry.findType("Gain"), nullptr) << "types appear only once their package is loaded";
   registry.load("cobra_signal");
   EXPECT_TRUE(registry.isLoaded("cobra_signal"));
@@ -43,6 +46,7 @@ TEST(PackageRegistry, BuiltInSignalPackageRegistersItsFiveTypes) {
 
 TEST(PackageRegistry, UnknownPackageNamesTheClosestOnesAndTheSearchPath) {
   PackageRegistry registry({COBRA_TEST_PACKAGE_DIR});
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   const std::string message = errorOf([&] { registry.load("cobra_signl", {"deploy.lua", 3}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:3: unknown package 'cobra_signl'; did you mean 'cobra_signal'?"));
   EXPECT_THAT(message, HasSubstr("known packages: cobra_signal, cobra_test_filters, cobra_test_old_abi"));
@@ -53,6 +57,7 @@ TEST(PackageRegistry, UnknownPackageNamesTheClosestOnesAndTheSearchPath) {
 
 TEST(PackageRegistry, UnknownComponentTypeSuggestsTheClosestName) {
   PackageRegistry registry;
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
   const std::string message = errorOf([&] { (void)registry.create("Gian", "G", {"deploy.lua", 12}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:12: unknown component type 'Gian'; did you mean 'Gain'? known types: "
@@ -62,6 +67,7 @@ TEST(PackageRegistry, UnknownComponentTypeSuggestsTheClosestName) {
 
 TEST(PackageRegistry, SharedLibraryPackageLoadsAndItsComponentsRun) {
   PackageRegistry registry({COBRA_TEST_PACKAGE_DIR});
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
   registry.load("cobra_test_filters", {"deploy.lua", 2});
   ASSERT_NE(registry.findType("Offset"), nullptr);
@@ -94,6 +100,7 @@ TEST(PackageRegistry, SharedLibraryPackageLoadsAndItsComponentsRun) {
 TEST(PackageRegistry, SearchPathComesFromTheEnvironmentToo) {
   ::setenv("COBRA_PACKAGE_PATH", "/nonexistent/dir:" COBRA_TEST_PACKAGE_DIR, 1);
   PackageRegistry registry;
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   ::unsetenv("COBRA_PACKAGE_PATH");
   EXPECT_EQ(registry.searchPath().size(), 2u);
   registry.load("cobra_test_filters");
@@ -102,6 +109,7 @@ TEST(PackageRegistry, SearchPathComesFromTheEnvironmentToo) {
 
 TEST(PackageRegistry, PackageBuiltForAnotherAbiIsRefused) {
   PackageRegistry registry({COBRA_TEST_PACKAGE_DIR});
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   const std::string message = errorOf([&] { registry.load("cobra_test_old_abi", {"deploy.lua", 4}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:4: package 'cobra_test_old_abi'"));
   EXPECT_THAT(message, HasSubstr("was built for package ABI " + std::to_string(deploy::kPackageAbiVersion + 1) +
@@ -112,6 +120,7 @@ TEST(PackageRegistry, PackageBuiltForAnotherAbiIsRefused) {
 
 TEST(PackageRegistry, PackageRegisteringAnExistingTypeRegistersNothing) {
   PackageRegistry registry;
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
   registry.addBuiltin("clash", [](deploy::PackageBuilder& p) {
     p.component<deploy::test::Faulty>("Faulty", "first").component<deploy::test::Faulty>("Gain", "clashes");
@@ -125,6 +134,7 @@ TEST(PackageRegistry, PackageRegisteringAnExistingTypeRegistersNothing) {
 
 TEST(PackageRegistry, ConstructorErrorsNameTheInstanceAndType) {
   PackageRegistry registry;
+  registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
   const std::string message = errorOf([&] { (void)registry.create("Gain", "bad name", {"deploy.lua", 9}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:9: cannot create 'bad name' of type 'Gain': component name 'bad name' "

@@ -1,5 +1,5 @@
 // Deploys 1,000 components with 10 ports each and measures the memory of an unconnected port.
-// Timings are printed, not asserted (DESIGN §8: timings live in bench/).
+// Timings are printed, not asserted (ARCHITECTURE §8: timings live in bench/).
 
 #include <gtest/gtest.h>
 
@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/configurator.hpp"
 #include "cobra/test_support/counting_new.hpp"
 
@@ -91,6 +92,7 @@ TEST(Scale, UnconnectedPortCostsLessThanOneKibibyte) {
 
 TEST(Scale, ThousandComponentsWithTenPortsDeployConnectAndRun) {
   deploy::Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
   configurator.packages().addBuiltin("scale", [](deploy::PackageBuilder& p) { p.component<TenPorts>("TenPorts", "5 in, 5 out"); });
   std::vector<deploy::ComponentSpec> components;
   std::vector<deploy::ActivitySpec> activities;

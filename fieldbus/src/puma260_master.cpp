@@ -196,7 +196,7 @@ std::uint32_t Puma260Master::step(double dt, const JointCommands& commands) noex
   std::uint32_t events = 0;
   for (std::size_t i = 0; i < 6; ++i) outputs_[i].controlword = sequencers_[i].next(inputs_[i].statusword);
   fillTargets(commands, events);
-  if (bus_.exchange(outputs_, inputs_, dt) != BusStatus::Ok) {
+  if (bus_.exchange(outputs_, inputs_) != BusStatus::Ok) {
     if (state_ != MasterState::Fault) {
       state_ = MasterState::Fault;
       fault_slave_ = -1;

@@ -1,4 +1,5 @@
-// Puma260Master (thesis §6.2.1, Fig. 6.4) on the simulated bus: the state sequence through ready,
+// Puma260Master (thesis §6.2.1, Fig. 6.4) on cobra::sim's simulated bus (stepped here before each
+// master cycle, as a sim-world component would): the state sequence through ready,
 // nest and operative, refused requests, a drive fault and its reset, and position / velocity /
 // torque commands reaching the joints.
 
@@ -9,6 +10,7 @@
 #include <cmath>
 
 #include "cobra/kinematics/puma260.hpp"
+#include "cobra/sim/puma260_ethercat_bus.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 
@@ -33,15 +35,20 @@ Puma260MasterConfig config(ControlMode mode = ControlMode::Position) {
 }
 
 struct Rig {
-  SimulatedPuma260Bus bus;
+  cobra::sim::Puma260EtherCatBus bus;
   Puma260Master master;
   JointCommands commands;
   std::uint32_t seen = 0;
   explicit Rig(const Puma260MasterConfig& c = config()) : master(c, bus) {}
+  /// One cycle: the world takes the outputs of the previous cycle and steps, then the master.
+  std::uint32_t cycle() {
+    bus.step(kCycle);
+    return master.step(kCycle, commands);
+  }
   /// Runs until `event` or `seconds`; returns whether it came.
   bool runUntil(std::uint32_t event, double seconds) {
     for (int i = 0; i < static_cast<int>(seconds / kCycle); ++i) {
-      const std::uint32_t e = master.step(kCycle, commands);
+      const std::uint32_t e = cycle();
       seen |= e;
       if (e & event) return true;
     }
@@ -152,7 +159,7 @@ TEST(Puma260Master, PositionModeTracksCommandsInsideTheLimits) {
     const double t = k * kCycle;
     rig.commands.position[0] = config().ready[0] + 0.25 * t;
     rig.commands.position[2] = config().ready[2] + 0.1 * std::sin(3.0 * t);
-    rig.master.step(kCycle, rig.commands);
+    rig.cycle();
     if (k > 200) {
       EXPECT_LT(rig.error(rig.commands.position), 0.02) << "t = " << t;
     }
@@ -160,7 +167,7 @@ TEST(Puma260Master, PositionModeTracksCommandsInsideTheLimits) {
   bool clamped = false;
   for (int k = 0; k < 4000; ++k) {  // joint 4 ramps at 1 rad/s from 0.2 rad past its 2.97 rad limit
     rig.commands.position[3] = config().ready[3] + 1e-3 * k;
-    if (rig.master.step(kCycle, rig.commands) & ev::kCommandClamped) clamped = true;
+    if (rig.cycle() & ev::kCommandClamped) clamped = true;
   }
   EXPECT_TRUE(clamped);
   EXPECT_EQ(rig.master.state(), MasterState::Operative);
@@ -188,8 +195,9 @@ TEST(Puma260Master, TorqueModeAppliesTheCommandedTorque) {
   for (int k = 0; k < 300; ++k) {
     rig.commands.torque = rig.bus.arm().gravityTorque(rig.master.position());
     for (std::size_t i = 3; i < 6; ++i) rig.commands.torque[i] = 0.05;
-    rig.master.step(kCycle, rig.commands);
+    rig.cycle();
   }
+  rig.cycle();  // the drives take a command one cycle after the master sent it
   for (std::size_t i = 0; i < 6; ++i)
     EXPECT_NEAR(rig.master.torque()[i], rig.commands.torque[i], 1e-9) << "joint " << i;
   EXPECT_GT(rig.master.velocity()[3], 0.5);                        // 0.05 N·m on 0.005 kg·m² for 0.3 s
@@ -205,7 +213,7 @@ TEST(Puma260Master, CyclesAllocateNothing) {
 }
 
 TEST(Puma260Master, RefusesAnInvalidConfigurationNamingTheParameter) {
-  SimulatedPuma260Bus bus;
+  cobra::sim::Puma260EtherCatBus bus;
   Puma260MasterConfig c = config();
   c.ready[2] = 3.2;
   EXPECT_EQ(cobra::test_support::messageOf([&] { Puma260Master m(c, bus); }),

@@ -155,6 +155,7 @@ PhantomScenario parseScenario(std::string_view text, std::string_view source) {
     if (statement == "penalty_stiffness") {
       if (args.size() != 1) ctx.fail("penalty_stiffness takes one value (N/m)");
       s.penalty_stiffness = parseNumber(ctx, statement, args[0]);
+      if (s.penalty_stiffness <= 0.0) ctx.fail("penalty_stiffness = " + args[0] + ", expected > 0 N/m");
       continue;
     }
     TissueLayer layer;

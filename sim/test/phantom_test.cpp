@@ -64,6 +64,9 @@ TEST(Phantom, ErrorsNameTheFileAndLine) {
   EXPECT_CONTAINS(messageOf([] { parseScenario("layer skin thickness=0.01\n", "f.phantom"); }), "f.phantom: no tumour");
   EXPECT_CONTAINS(messageOf([] { parseScenario("layer skin thickness=0.01 puncture_force=0\n", "g.phantom"); }),
                   "g.phantom:1: layer 'skin': puncture_force = 0.000000, expected > 0 N");
+  // Found by phantom_scenario_fuzz: this one was refused only by the final validate(), without a line.
+  EXPECT_CONTAINS(messageOf([] { parseScenario("layer skin thickness=0.01\npenalty_stiffness 0e5\n", "h.phantom"); }),
+                  "h.phantom:2: penalty_stiffness = 0e5, expected > 0 N/m");
   EXPECT_CONTAINS(messageOf([] { cobra::sim::loadScenario("/nonexistent/x.phantom"); }),
                   "phantom scenario '/nonexistent/x.phantom' cannot be read");
 }

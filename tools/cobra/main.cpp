@@ -15,12 +15,12 @@
 #include <cstdio>
 #include <thread>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/core/core.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/script/rfsm.hpp"
-#include "builtin_packages.hpp"
 #include "console.hpp"
 #include "console_terminal.hpp"
 #include "describe.hpp"
@@ -49,7 +49,7 @@ void printStates(const core::ComponentRegistry& registry) {
                 std::string(core::toString(c->state())).c_str(), c->activity().describe().c_str());
 }
 
-/// Every connection of the deployment checked against the role rules (DESIGN §2).
+/// Every connection of the deployment checked against the role rules (ARCHITECTURE §2).
 std::vector<deploy::LintViolation> lintAll(const core::ComponentRegistry& registry) {
   std::vector<deploy::LintViolation> all;
   for (const core::Component* c : registry.components())
@@ -72,7 +72,7 @@ deploy::ConfiguratorOptions optionsFor(bool sim, bool strict) {
 
 int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -102,7 +102,7 @@ int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
 int runLint(const std::string& file) {
   deploy::ConfiguratorOptions options;  // simulation: nothing runs, the clock never advances
   deploy::Configurator configurator(options);
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -135,7 +135,7 @@ void renderDot(const std::string& dot, const std::string& output) {
 /// Deploys `file` on the simulation clock (nothing runs) and draws it.
 int runGraph(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -155,7 +155,7 @@ int runFsmGraph(const std::string& file, const std::string& output) {
 
 int runDescribe(const std::string& file, const std::string& output) {
   deploy::Configurator configurator;
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
@@ -172,7 +172,7 @@ int runDescribe(const std::string& file, const std::string& output) {
 
 int runConsole(const std::string& file, bool sim, bool strict) {
   deploy::Configurator configurator(optionsFor(sim, strict));
-  tools::addBuiltinPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   tools::Console console(configurator, deployer, std::cout);
@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
   tools::ComponentTemplate skeleton;
   std::string new_folder;
   std::vector<std::string> ins, event_ins, outs, props;
-  CLI::App* new_cmd = app.add_subcommand("new", "write a new component skeleton (header, source, test, CMake entry)");
+  CLI::App* new_cmd = app.add_subcommand("new", "write a component into a package folder built against an installed cobra");
   CLI::App* new_component_cmd = new_cmd->add_subcommand("component", "a component");
   new_cmd->require_subcommand(1);
   new_component_cmd->add_option("NAME", skeleton.name, "class name, CamelCase")->required();
@@ -257,7 +257,10 @@ int main(int argc, char** argv) {
   new_component_cmd->footer(
       "types: double int bool string vector Vector Rotation Frame Twist Wrench JntArray Event\n"
       "example: cobra new component VariableAdmittance --role calculation --package my_control \\\n"
-      "           --in des_pose:Frame --in meas_wrench:Wrench --out adm_pose:Frame --prop stiffness:double:N/m");
+      "           --in des_pose:Frame --in meas_wrench:Wrench --out adm_pose:Frame --prop stiffness:double:N/m\n"
+      "writes include/P/name.hpp, src/name.cpp, test/name_test.cpp (name: NAME in snake_case); creates or\n"
+      "extends src/package.cpp and CMakeLists.txt (find_package(cobra) + cobra_add_package);\n"
+      "build: cmake -S DIR -B build -DCMAKE_PREFIX_PATH=<cobra prefix>");
 
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);

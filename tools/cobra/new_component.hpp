@@ -1,6 +1,8 @@
 #pragma once
-// `cobra new component`: writes a compilable component skeleton (header, source, unit test,
-// CMake entry) into a package folder — the useful half of the thesis' OroEdit (§3.2.1).
+// `cobra new component`: writes a compilable component skeleton (header, source, unit test) into
+// a package folder built against an installed cobra (CMakeLists.txt with find_package(cobra) and
+// cobra_add_package, src/package.cpp registering the components) — the useful half of the
+// thesis' OroEdit (§3.2.1).
 
 #include <filesystem>
 #include <string>
@@ -33,8 +35,9 @@ InterfaceItem parseInterfaceItem(const std::string& text, const std::string& wha
 void validate(const ComponentTemplate& t);
 
 /// Writes the files into `folder` (created if needed) and returns their paths. An existing
-/// file is never overwritten (error); the package CMakeLists.txt is created once and then
-/// extended with one line per component.
+/// component file is never overwritten (error, before anything is written); the package's
+/// CMakeLists.txt and src/package.cpp are created once, then extended for each component (a
+/// line in CMakeLists.txt; an include and a registration at the marked lines of package.cpp).
 std::vector<std::filesystem::path> generateComponent(const ComponentTemplate& t, const std::filesystem::path& folder);
 
 }  // namespace cobra::tools

@@ -1,4 +1,4 @@
-// The real-time path of every TGL type allocates nothing (DESIGN §4): evaluation of polynomials,
+// The real-time path of every TGL type allocates nothing (ARCHITECTURE §4): evaluation of polynomials,
 // one-axis, multi-point, multi-axis and Cartesian trajectories, and building a stop polynomial,
 // counted with a replacement operator new around many calls, inside and outside [0, T].
 

@@ -9,7 +9,7 @@ local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local G = dofile(here .. "geometry.lua")
 local info = G.preoperative(scenario .. "/preoperative.txt")
 
-initConfigurator({ "cobra_sim", "cobra_puncturing" }, {
+initConfigurator({ "cobra_sim", "cobra_monitoring", "cobra_puncturing" }, {
   { peer_name = "ISUR", component_type = "SimulatedISURRobot" },
   { peer_name = "UR5", component_type = "SimulatedUR5Robot" },
   { peer_name = "Patient", component_type = "PatientSimulator" },

@@ -2,6 +2,7 @@
 // deployer with the named configurations of configurations/ (thesis §4.7).
 #include <gtest/gtest.h>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/control/teleoperation_components.hpp"
 #include "cobra/components/control/variable_admittance_component.hpp"
@@ -25,7 +26,7 @@ struct Deployed {
   core::InputPort<double> tank{"tank", "", "J"};
 
   explicit Deployed(const std::string& task) {
-    configurator.packages().addBuiltin("cobra_control", registerControlPackage);
+    addBuiltinPackages(configurator.packages());
     deployer.run("initConfigurator({ 'cobra_control' }, { { peer_name = 'Admittance', component_type = 'VariableAdmittance' } }, '" +
                      std::string(COBRA_SOURCE_DIR) + "/components/control/configurations/" + task + "')\n"
                      "setActivities({ { peer_name = 'Admittance', period = 0.001 } })",

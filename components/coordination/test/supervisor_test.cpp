@@ -6,6 +6,7 @@
 
 #include <fstream>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/deploy/deploy.hpp"
@@ -34,7 +35,7 @@ struct Cell {
   core::InputPort<core::TaskState> state{"state", "", ""};
 
   explicit Cell(std::initializer_list<deploy::ComponentSpec> components) {
-    configurator.packages().addBuiltin("cobra_coordination", registerCoordinationPackage);
+    addBuiltinPackages(configurator.packages());
     configurator.initConfigurator({{"cobra_signal", {}}, {"cobra_coordination", {}}}, components);
   }
   core::Component& get(const char* name) { return configurator.getReferences().get(name); }

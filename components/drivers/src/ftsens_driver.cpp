@@ -5,33 +5,20 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
-#include "cobra/sim/ft_sensor.hpp"
+#include "cobra/core/backend_registry.hpp"
 
 namespace cobra::components {
 
 FTSensDriver::FTSensDriver(std::string name)
     : Component(std::move(name), core::Role::Bridge, "IIT FTSens force/torque sensor on CAN (thesis §6.2.2)") {
   for (core::PropertyBase* p :
-       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_, &sim_seed_, &sim_bias_})
+       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_})
     addProperty(*p);
-  addPort(sim_true_wrench_);
   addPort(meas_wrench_);
   addOperation("tare", std::function<void()>([this] { tare_requested_ = true; }),
                "the next complete sample becomes the zero of measWrench; e_tared when taken");
   addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }),
                "measWrench = raw sample again");
-  addOperation("simSetSilent", std::function<void(bool)>([this](bool silent) {
-                 if (sim_ == nullptr) throw std::invalid_argument("simSetSilent: not configured with bus 'sim'");
-                 sim_->setSilent(silent);
-               }),
-               "simulation only: the sensor stops (true) or resumes (false) sending")
-      .arg("silent", "1", "true: nothing is sent");
-  addOperation("simGarbleFrames", std::function<void(int)>([this](int count) {
-                 if (sim_ == nullptr) throw std::invalid_argument("simGarbleFrames: not configured with bus 'sim'");
-                 sim_->garbleFrames(count);
-               }),
-               "simulation only: the next frames arrive with a flipped bit")
-      .arg("count", "1", "number of frames");
   addOperation("statistics", std::function<std::string()>([this] { return statistics(); }),
                "counts of samples and of frame errors");
 }
@@ -43,21 +30,18 @@ bool FTSensDriver::configureHook() {
     return refuse("property stream_period = " + std::to_string(stream_period_()) +
                   " s; expected whole milliseconds from 0.001 to 0.255 s (the sensor's period command is 1-255 ms)");
   if (!(timeout_() > 0.0)) return refuse("property timeout = " + std::to_string(timeout_()) + " s; expected > 0 s");
-  if (bus_() != "sim")
-    return refuse("property bus is '" + bus_() +
-                  "'; this build has only the simulated bus 'sim' (no SocketCAN "
-                  "interface could be created on the build machine)");
   fieldbus::FtSensCodecConfig codec;
   codec.address = address_();
   try {
-    sim::ForceTorqueSensorModel sensor = sim::ftSens();
-    sensor.bias = sim_bias_();
-    auto bus = std::make_unique<fieldbus::SimulatedFtSensBus>(sensor, codec, static_cast<std::uint64_t>(sim_seed_()));
     decoder_.emplace(codec);
-    sim_ = bus.get();
-    can_ = std::move(bus);
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
+  }
+  try {
+    can_ = core::BackendRegistry<fieldbus::CanBus>::open(bus_());
+  } catch (const std::exception& e) {
+    decoder_.reset();
+    return refuse("property bus = '" + bus_() + "': " + e.what());
   }
   tare_ = KDL::Wrench::Zero();
   tare_requested_ = timed_out_ = false;
@@ -78,7 +62,6 @@ bool FTSensDriver::startHook() {
 void FTSensDriver::cleanupHook() {
   decoder_.reset();
   can_.reset();
-  sim_ = nullptr;
 }
 
 std::string FTSensDriver::statistics() const {
@@ -89,11 +72,6 @@ std::string FTSensDriver::statistics() const {
 }
 
 void FTSensDriver::updateHook() {
-  if (sim_ != nullptr) {
-    (void)sim_true_wrench_.read(truth_);
-    sim_->setTrueWrench(truth_);
-    sim_->advance(std::chrono::duration<double>(activity().period()).count());
-  }
   fieldbus::CanFrame frame;
   // Bounded: at most one receive queue's worth per update.
   for (int i = 0; i < 256 && can_->receive(frame); ++i) (void)decoder_->push(frame);

@@ -1,11 +1,11 @@
 #include "cobra/components/drivers/leap_motion_driver.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/core/backend_registry.hpp"
 
 namespace cobra::components {
 
@@ -13,10 +13,10 @@ LeapMotionDriver::LeapMotionDriver(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "Leap Motion hand tracker (thesis §5.4.4): right and left hand poses in the interaction box") {
   for (core::PropertyBase* p :
-       std::initializer_list<core::PropertyBase*>{&box_, &offset_, &scale_, &sim_noise_, &sim_seed_})
+       std::initializer_list<core::PropertyBase*>{&box_, &offset_, &scale_, &device_name_})
     addProperty(*p);
-  for (core::PortBase* p : std::initializer_list<core::PortBase*>{&sim_right_, &sim_left_, &meas_right_, &meas_left_})
-    addPort(*p);
+  addPort(meas_right_);
+  addPort(meas_left_);
 }
 
 bool LeapMotionDriver::configureHook() {
@@ -35,15 +35,12 @@ bool LeapMotionDriver::configureHook() {
     return refuse("property workspace_scale = " + std::to_string(scale_()) + "; expected > 0");
   box_min_ = KDL::Vector(b[0], b[1], b[2]);
   box_max_ = KDL::Vector(b[3], b[4], b[5]);
-  sim::HandTrackerModel model;
-  model.position_noise = sim_noise_();
   try {
-    tracker_.emplace(model, static_cast<std::uint64_t>(sim_seed_()));
-  } catch (const std::invalid_argument& e) {
-    return refuse(e.what());
+    device_ = core::BackendRegistry<fieldbus::HandTrackerDevice>::open(device_name_());
+  } catch (const std::exception& e) {
+    return refuse("property device = '" + device_name_() + "': " + e.what());
   }
-  right_ = Hand{};
-  left_ = Hand{};
+  right_seen_ = left_seen_ = false;
   return true;
 }
 
@@ -53,24 +50,23 @@ KDL::Frame LeapMotionDriver::map(const KDL::Frame& measured) const noexcept {
   return offset_() * KDL::Frame(measured.M, p * scale_());
 }
 
-void LeapMotionDriver::publish(const sim::TrackedHand& tracked, Hand& hand, core::OutputPort<KDL::Frame>& port,
+void LeapMotionDriver::publish(const fieldbus::TrackedHand& tracked, bool& seen, core::OutputPort<KDL::Frame>& port,
                                const char* lost, const char* found) noexcept {
   if (tracked.valid) {
     port.write(map(tracked.pose));
-    if (!hand.seen) emitEvent(found);
-  } else if (hand.seen) {
+    if (!seen) emitEvent(found);
+  } else if (seen) {
     emitEvent(lost);
   }
-  hand.seen = tracked.valid;
+  seen = tracked.valid;
 }
 
+void LeapMotionDriver::cleanupHook() { device_.reset(); }
+
 void LeapMotionDriver::updateHook() {
-  if (sim_right_.read(right_.truth) != core::FlowStatus::NoData) right_.present = true;
-  if (sim_left_.read(left_.truth) != core::FlowStatus::NoData) left_.present = true;
-  const double dt = std::chrono::duration<double>(activity().period()).count();
-  if (!tracker_->step(dt, right_.present, right_.truth, left_.present, left_.truth)) return;
-  publish(tracker_->frame().right, right_, meas_right_, "e_right_hand_lost", "e_right_hand_found");
-  publish(tracker_->frame().left, left_, meas_left_, "e_left_hand_lost", "e_left_hand_found");
+  if (!device_->takeFrame(frame_)) return;
+  publish(frame_.right, right_seen_, meas_right_, "e_right_hand_lost", "e_right_hand_found");
+  publish(frame_.left, left_seen_, meas_left_, "e_left_hand_lost", "e_left_hand_found");
 }
 
 }  // namespace cobra::components

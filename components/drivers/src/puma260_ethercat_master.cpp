@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/core/backend_registry.hpp"
 #include "cobra/kinematics/puma260.hpp"
 
 namespace cobra::components {
@@ -41,7 +42,7 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
   upper_.set(limitVector(true));
   for (core::PropertyBase* p :
        std::initializer_list<core::PropertyBase*>{&bus_, &control_mode_, &nest_, &ready_, &move_speed_, &tolerance_,
-                                                  &lower_, &upper_, &max_velocity_, &max_torque_, &sim_initial_})
+                                                  &lower_, &upper_, &max_velocity_, &max_torque_})
     addProperty(*p);
   for (core::PortBase* p :
        std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_, &meas_position_,
@@ -60,9 +61,6 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
   addOperation("slaveStatus", std::function<std::string(int)>([this](int i) { return slaveStatus(i); }),
                "one line about slave i (0-5)")
       .arg("slave", "1", "slave index, 0-5");
-  addOperation("simInjectFault", &Puma260EtherCATMaster::simInjectFault, this,
-               "simulation only: raise an over-current fault in drive i")
-      .arg("slave", "1", "slave index, 0-5");
 }
 
 Puma260EtherCATMaster::~Puma260EtherCATMaster() = default;
@@ -80,24 +78,20 @@ bool Puma260EtherCATMaster::configureHook() {
   config.position_tolerance = tolerance_();
   config.max_velocity = max_velocity_();
   config.max_torque = max_torque_();
-  fieldbus::JointVector initial = config.nest;
-  if (!sim_initial_().empty() && !joints(sim_initial_, initial, why)) return refuse(why);
-  if (bus_() != "sim") {
-    return refuse("property bus is '" + bus_() +
-                  "'; this build has only the simulated bus 'sim' (no EtherCAT "
-                  "master library: SOEM is not packaged in Debian)");
+  std::shared_ptr<fieldbus::Cia402Bus> bus;
+  try {
+    bus = core::BackendRegistry<fieldbus::Cia402Bus>::open(bus_());
+  } catch (const std::exception& e) {
+    return refuse("property bus = '" + bus_() + "': " + e.what());
   }
   try {
-    auto sim = std::make_unique<fieldbus::SimulatedPuma260Bus>(sim::Puma260ArmModel::defaults(), initial);
-    sim_ = sim.get();
-    bus_device_ = std::move(sim);
-    master_.emplace(config, *bus_device_);
+    master_.emplace(config, *bus);
   } catch (const std::invalid_argument& e) {
     master_.reset();
     bus_device_.reset();
-    sim_ = nullptr;
     return refuse(e.what());
   }
+  bus_device_ = std::move(bus);
   commands_ = {};
   published_ = master_->state();
   current_state_.write(core::TaskState{fieldbus::toString(published_)});
@@ -107,7 +101,6 @@ bool Puma260EtherCATMaster::configureHook() {
 void Puma260EtherCATMaster::cleanupHook() {
   master_.reset();
   bus_device_.reset();
-  sim_ = nullptr;
 }
 
 void Puma260EtherCATMaster::ask(fieldbus::Request request) {
@@ -119,14 +112,6 @@ std::string Puma260EtherCATMaster::slaveStatus(int slave) const {
   const std::string line = bus_device_->describeSlave(slave);
   if (!master_ || slave < 0 || slave > 5) return line;
   return line + ", master sees " + fieldbus::cia402::toString(master_->sequencer(slave).state());
-}
-
-void Puma260EtherCATMaster::simInjectFault(int slave) {
-  if (sim_ == nullptr)
-    throw std::invalid_argument("simInjectFault: the bus is not the simulated one (configure first)");
-  if (slave < 0 || slave > 5)
-    throw std::invalid_argument("simInjectFault: slave " + std::to_string(slave) + " is not 0-5");
-  sim_->arm().drive(slave).injectFault(sim::error_code::kOverCurrent);
 }
 
 void Puma260EtherCATMaster::updateHook() {

@@ -1,11 +1,13 @@
-// FTSensDriver on the lockstep clock: the simulated sensor's wrench through the CAN codec to
-// measWrench, tare, garbled frames counted, timeout and restore events, no allocation, and the
-// messages of bad properties.
+// FTSensDriver on the lockstep clock, on the simulated FTSens of a SimulatedFTSens component found
+// through its `bus` property: the sensor's wrench through the CAN codec to measWrench one step
+// later, tare, garbled frames counted, timeout and restore events, the same measurements whatever
+// the order of the two components on the clock, no allocation, and the messages of bad properties.
 
 #include "cobra/components/drivers/ftsens_driver.hpp"
 
 #include <gtest/gtest.h>
 
+#include "cobra/components/sim/simulated_ftsens.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -16,20 +18,28 @@ namespace {
 using namespace std::chrono_literals;
 
 struct Bench {
+  SimulatedFTSens sensor;
   FTSensDriver driver{"FTSens"};
   core::LockstepClock clock;
   core::InputPort<core::Event> events{"events", "", ""};
   core::OutputPort<KDL::Wrench> truth{"truth", "", "N, N·m"};
   core::InputPort<KDL::Wrench> measured{"measured", "", "N, N·m"};
 
-  explicit Bench(const KDL::Wrench& bias = KDL::Wrench::Zero()) {
-    driver.setProperty("sim_bias", bias);
-    driver.setProperty("sim_seed", 4);
-    clock.add(driver, 1ms);
+  explicit Bench(const KDL::Wrench& bias = KDL::Wrench::Zero(), bool driver_first = false,
+                 const std::string& sensor_name = "FTSensSim")
+      : sensor(sensor_name) {
+    sensor.setProperty("bias", bias);
+    sensor.setProperty("seed", 4);
+    driver.setProperty("bus", "sim:" + sensor_name);
+    if (driver_first) clock.add(driver, 1ms);
+    clock.add(sensor, 1ms);
+    if (!driver_first) clock.add(driver, 1ms);
     core::connectPorts(driver.port("events"), events, core::ConnPolicy::buffer(64));
-    core::connectPorts(truth, driver.port("simTrueWrench"));
+    core::connectPorts(truth, sensor.port("trueWrench"));
     core::connectPorts(driver.port("measWrench"), measured);
+    EXPECT_TRUE(sensor.configure());  // registers sim:<name>: before the driver looks it up
     EXPECT_TRUE(driver.configure());
+    EXPECT_TRUE(sensor.start());
     EXPECT_TRUE(driver.start());
   }
   std::vector<std::string> takeEvents() {
@@ -67,24 +77,26 @@ TEST(FTSensDriver, PublishesTheSensorsWrenchAndTares) {
   b.driver.call("clearTare");
   b.clock.advance(2ms);
   EXPECT_NEAR(b.read().force.z(), -12.0, 1.0);
-  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "samples 34, lost 0, garbled 0, unpaired 0, timeouts 0");
+  // 34 instants (0-33 ms): the sensor takes the stream command at 1 ms (sent at start, seen one
+  // step later), samples at 1-33 ms, and the driver has seen those of 1-32 ms.
+  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "samples 32, lost 0, garbled 0, unpaired 0, timeouts 0");
 }
 
 TEST(FTSensDriver, CountsGarbledFramesAndReportsTimeoutAndRestore) {
   Bench b;
   b.truth.write(wrench(10.0, 0.0));
   b.clock.advance(5ms);
-  b.driver.call("simGarbleFrames", 3);
+  b.sensor.call("garbleFrames", 3);
   b.clock.advance(5ms);
   EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "garbled 3");
-  b.driver.call("simSetSilent", true);
+  b.sensor.call("setSilent", true);
   b.clock.advance(10ms);
   EXPECT_TRUE(b.takeEvents().empty());  // 10 ms without a sample is still within the timeout
   b.clock.advance(2ms);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_comm_timeout"}));
   b.clock.advance(50ms);
   EXPECT_TRUE(b.takeEvents().empty());  // once
-  b.driver.call("simSetSilent", false);
+  b.sensor.call("setSilent", false);
   b.clock.advance(2ms);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_comm_restored"}));
   EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "timeouts 1");
@@ -97,10 +109,31 @@ TEST(FTSensDriver, CountsGarbledFramesAndReportsTimeoutAndRestore) {
             0);
 }
 
+TEST(FTSensDriver, TheOrderOfSensorAndDriverOnTheClockDoesNotChangeTheMeasurements) {
+  Bench sensor_first(wrench(1.0, 0.0), false, "FTSensSimA");
+  Bench driver_first(wrench(1.0, 0.0), true, "FTSensSimB");  // another name: one registry per process
+  for (int ms = 0; ms < 200; ++ms) {
+    const KDL::Wrench truth = wrench(30.0 * std::sin(ms * 0.05), 0.2 * ms * 1e-2);
+    sensor_first.truth.write(truth);
+    driver_first.truth.write(truth);
+    sensor_first.clock.advance(1ms);
+    driver_first.clock.advance(1ms);
+    if (ms > 2) {
+      const KDL::Wrench a = sensor_first.read(), b = driver_first.read();
+      for (int axis = 0; axis < 6; ++axis) ASSERT_EQ(a(axis), b(axis)) << "at " << ms << " ms, axis " << axis;
+    }
+  }
+  EXPECT_EQ(sensor_first.driver.call<std::string>("statistics"),
+            driver_first.driver.call<std::string>("statistics"));
+}
+
 TEST(FTSensDriver, BadPropertiesAreRefusedWithTheirName) {
+  SimulatedFTSens sensor("FTSensSim");
   FTSensDriver d("FTSens");
   core::LockstepClock clock;
+  clock.add(sensor, 1ms);
   clock.add(d, 1ms);
+  ASSERT_TRUE(sensor.configure());
   d.setProperty("address", 16);
   EXPECT_CONTAINS(d.configure().message, "component 'FTSens': FTSens codec: address = 16, expected 0-15");
   d.setProperty("address", 3);
@@ -111,10 +144,17 @@ TEST(FTSensDriver, BadPropertiesAreRefusedWithTheirName) {
   d.setProperty("timeout", 0.0);
   EXPECT_CONTAINS(d.configure().message, "property timeout = 0.000000 s; expected > 0 s");
   d.setProperty("timeout", 0.01);
-  d.setProperty("bus", "can0");
-  EXPECT_CONTAINS(d.configure().message, "property bus is 'can0'; this build has only the simulated bus 'sim'");
-  d.setProperty("bus", "sim");
+  EXPECT_CONTAINS(d.configure().message,
+                  "property bus = '': '' is not a CAN bus backend name: expected <scheme>:<address>; backends that "
+                  "exist: 'sim:FTSensSim' (simulated FTSens of component 'FTSensSim')");
+  d.setProperty("bus", "sim:FTSensSin");
+  EXPECT_CONTAINS(d.configure().message,
+                  "property bus = 'sim:FTSensSin': no CAN bus backend 'sim:FTSensSin'; backends that exist: "
+                  "'sim:FTSensSim' (simulated FTSens of component 'FTSensSim')");
+  d.setProperty("bus", "sim:FTSensSim");
   EXPECT_TRUE(d.configure());
+  ASSERT_TRUE(sensor.cleanup());  // the sensor's bus is gone from the registry
+  EXPECT_CONTAINS(d.configure().message, "no CAN bus backend 'sim:FTSensSim'");
 }
 
 }  // namespace

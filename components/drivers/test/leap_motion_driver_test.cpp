@@ -1,11 +1,13 @@
-// LeapMotionDriver on the lockstep clock: 200 fps frames, positions clamped to the interaction
-// box, then scaled, then expressed through the workspace offset; hands lost and found with
-// events and the last valid pose kept; no allocation; messages of bad properties.
+// LeapMotionDriver on the lockstep clock, on the simulated tracker of a SimulatedLeapMotion
+// component found through its `device` property: 200 fps frames, positions clamped to the
+// interaction box, then scaled, then expressed through the workspace offset; hands lost and found
+// with events and the last valid pose kept; no allocation; messages of bad properties.
 
 #include "cobra/components/drivers/leap_motion_driver.hpp"
 
 #include <gtest/gtest.h>
 
+#include "cobra/components/sim/simulated_leap_motion.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -16,6 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 
 struct Bench {
+  SimulatedLeapMotion tracker{"LeapSim"};
   LeapMotionDriver leap{"Leap"};
   core::LockstepClock clock;
   core::InputPort<core::Event> events{"events", "", ""};
@@ -24,18 +27,22 @@ struct Bench {
   core::InputPort<KDL::Frame> right_frames{"rf", "", "m"};
 
   explicit Bench(double scale = 1.0, const KDL::Frame& offset = KDL::Frame::Identity()) {
-    leap.setProperty("sim_noise", 0.0);
+    tracker.setProperty("noise", 0.0);
+    leap.setProperty("device", "sim:LeapSim");
     leap.setProperty("workspace_scale", scale);
     leap.setProperty("workspace_offset", offset);
     leap.setProperty("interaction_box", std::vector<double>{-0.1, -0.05, 0.1, 0.1, 0.05, 0.3});
+    clock.add(tracker, 1ms);
     clock.add(leap, 1ms);
     core::connectPorts(leap.port("events"), events, core::ConnPolicy::buffer(64));
-    core::connectPorts(right, leap.port("simRightHand"));
-    core::connectPorts(left, leap.port("simLeftHand"));
+    core::connectPorts(right, tracker.port("rightHand"));
+    core::connectPorts(left, tracker.port("leftHand"));
     core::connectPorts(leap.port("measRightPose"), right_pose);
     core::connectPorts(leap.port("measLeftPose"), left_pose);
     core::connectPorts(leap.port("measRightPose"), right_frames, core::ConnPolicy::buffer(1024));
+    EXPECT_TRUE(tracker.configure());
     EXPECT_TRUE(leap.configure());
+    EXPECT_TRUE(tracker.start());
     EXPECT_TRUE(leap.start());
   }
   std::vector<std::string> takeEvents() {
@@ -59,7 +66,8 @@ TEST(LeapMotionDriver, PublishesTwoHundredFramesPerSecondInsideTheBox) {
   int frames = 0;
   KDL::Frame f;
   while (b.right_frames.read(f) == core::FlowStatus::NewData) ++frames;
-  EXPECT_EQ(frames, 200);
+  // The tracker took 200 frames in the second; the driver has those of the steps before the last.
+  EXPECT_EQ(frames, 199);
   EXPECT_TRUE(KDL::Equal(b.read(b.right_pose), hand, 1e-12));  // inside the box, no noise: unchanged
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_right_hand_found"}));
   EXPECT_EQ(b.left_pose.read(f), core::FlowStatus::NoData);  // no left hand yet
@@ -107,9 +115,15 @@ TEST(LeapMotionDriver, LostHandsKeepTheLastValidPoseAndRaiseEvents) {
 }
 
 TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
+  SimulatedLeapMotion tracker("LeapSim");
   LeapMotionDriver l("Leap");
   core::LockstepClock clock;
+  clock.add(tracker, 1ms);
   clock.add(l, 1ms);
+  tracker.setProperty("noise", -1.0);
+  EXPECT_CONTAINS(tracker.configure().message, "component 'LeapSim': hand tracker: position_noise = -1.000000, expected >= 0 m");
+  tracker.setProperty("noise", 0.0);
+  ASSERT_TRUE(tracker.configure());
   l.setProperty("interaction_box", std::vector<double>{0, 0, 0, 1, 1});
   EXPECT_CONTAINS(l.configure().message,
                   "component 'Leap': property interaction_box has 5 numbers; give 6: x_min, y_min, z_min, x_max, "
@@ -121,9 +135,11 @@ TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
   l.setProperty("workspace_scale", 0.0);
   EXPECT_CONTAINS(l.configure().message, "property workspace_scale = 0.000000; expected > 0");
   l.setProperty("workspace_scale", 1.0);
-  l.setProperty("sim_noise", -1.0);
-  EXPECT_CONTAINS(l.configure().message, "hand tracker: position_noise = -1.000000, expected >= 0 m");
-  l.setProperty("sim_noise", 0.0);
+  l.setProperty("device", "sim:Leap");
+  EXPECT_CONTAINS(l.configure().message,
+                  "component 'Leap': property device = 'sim:Leap': no hand tracker backend 'sim:Leap'; backends that "
+                  "exist: 'sim:LeapSim' (simulated Leap Motion of component 'LeapSim')");
+  l.setProperty("device", "sim:LeapSim");
   EXPECT_TRUE(l.configure());
 }
 

@@ -1,4 +1,5 @@
-// Puma260EtherCATMaster on the lockstep clock: the states of Fig. 6.4 on currentState and the
+// Puma260EtherCATMaster on the lockstep clock, on the simulated drives of a SimulatedPuma260
+// component found through its `bus` property: the states of Fig. 6.4 on currentState and the
 // events, refused requests, a drive fault and its reset, position / velocity / torque commands
 // through the ports, no allocation in updateHook, and the messages of bad properties.
 
@@ -6,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/components/sim/simulated_puma260.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -16,6 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 
 struct Bench {
+  SimulatedPuma260 arm{"PumaSim"};
   Puma260EtherCATMaster master{"Puma"};
   core::LockstepClock clock;
   core::InputPort<core::Event> events{"events", "", ""};
@@ -29,6 +32,8 @@ struct Bench {
   explicit Bench(const std::string& mode = "position") {
     master.setProperty("control_mode", mode);
     master.setProperty("move_speed", 1.0);
+    master.setProperty("bus", "sim:PumaSim");
+    clock.add(arm, 1ms);
     clock.add(master, 1ms);
     core::connectPorts(master.port("events"), events, core::ConnPolicy::buffer(64));
     core::connectPorts(master.port("currentState"), state, core::ConnPolicy::buffer(64));
@@ -38,7 +43,9 @@ struct Bench {
     core::connectPorts(des_position, master.port("desJointPosition"));
     core::connectPorts(des_velocity, master.port("desJointVelocity"));
     core::connectPorts(des_torque, master.port("desJointTorque"));
+    EXPECT_TRUE(arm.configure());
     EXPECT_TRUE(master.configure());
+    EXPECT_TRUE(arm.start());
     EXPECT_TRUE(master.start());
   }
   std::vector<std::string> takeEvents() {
@@ -111,7 +118,7 @@ TEST(Puma260EtherCATMaster, RequestsTheStateDoesNotAllowAreRefusedWithAnEvent) {
 TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   Bench b;
   b.operative();
-  b.master.call("simInjectFault", 4);
+  b.arm.call("injectFault", 4);
   EXPECT_EQ(b.runUntil("e_drive_fault", 10ms), (std::vector<std::string>{"e_drive_fault"}));
   EXPECT_EQ(b.states.back(), "Fault");
   b.clock.advance(5ms);
@@ -181,11 +188,31 @@ TEST(Puma260EtherCATMaster, VelocityAndTorqueModesActOnTheirPorts) {
   }
 }
 
+TEST(Puma260EtherCATMaster, TheSimulatedArmReportsItsJointsAndRefusesBadInput) {
+  Bench b;
+  core::InputPort<KDL::JntArray> truth{"truth", "", "rad"};
+  core::connectPorts(b.arm.port("trueJointPosition"), truth);
+  b.runUntil("e_initialized", 50ms);
+  KDL::JntArray q;
+  ASSERT_EQ(truth.read(q), core::FlowStatus::NewData);
+  EXPECT_NEAR(q(2), -3.1415927, 1e-3);  // powered on in the nominal pose qn (less the sag while enabling)
+  EXPECT_CONTAINS(cobra::test_support::messageOf([&] { b.arm.call("injectFault", 6); }), "slave 6 is not 0-5");
+  SimulatedPuma260 other("PumaSim2");
+  core::LockstepClock clock;
+  clock.add(other, 1ms);
+  other.setProperty("initial_position", std::vector<double>{0, 0});
+  EXPECT_CONTAINS(other.configure().message,
+                  "component 'PumaSim2': property initial_position has 2 numbers; give 6 joint angles in rad");
+}
+
 TEST(Puma260EtherCATMaster, BadPropertiesAreRefusedWithTheirName) {
+  SimulatedPuma260 arm("PumaSim");
   Puma260EtherCATMaster m("Puma");
   EXPECT_CONTAINS(m.configure().message, "needs a periodic activity: its period is the EtherCAT cycle");
   core::LockstepClock clock;
+  clock.add(arm, 1ms);
   clock.add(m, 1ms);
+  ASSERT_TRUE(arm.configure());
   m.setProperty("control_mode", "speed");
   EXPECT_CONTAINS(m.configure().message,
                   "component 'Puma': property control_mode is 'speed'; expected position, velocity or torque");
@@ -193,13 +220,15 @@ TEST(Puma260EtherCATMaster, BadPropertiesAreRefusedWithTheirName) {
   m.setProperty("nest_position", std::vector<double>{0, 0, 0, 0, 0});
   EXPECT_CONTAINS(m.configure().message, "property nest_position has 5 numbers; give 6 joint values in rad");
   m.setProperty("nest_position", std::vector<double>{0, 0, 0, 0, 0, 0});
+  m.setProperty("bus", "soem:eth0");
+  EXPECT_CONTAINS(m.configure().message,
+                  "property bus = 'soem:eth0': no CiA 402 (EtherCAT) bus backend 'soem:eth0'; backends that exist: "
+                  "'sim:PumaSim' (simulated Puma 260 drives of component 'PumaSim')");
+  m.setProperty("bus", "sim:PumaSim");
   m.setProperty("ready_position", std::vector<double>{0, 4.0, 0, 0, 0, 0});
   EXPECT_CONTAINS(m.configure().message,
                   "Puma 260 master: ready[1] = 4 rad is outside the joint limits [-0.785398, 3.92699] rad");
   m.setProperty("ready_position", std::vector<double>{0, 1.0, 0, 0, 0, 0});
-  m.setProperty("bus", "soem");
-  EXPECT_CONTAINS(m.configure().message, "property bus is 'soem'; this build has only the simulated bus 'sim'");
-  m.setProperty("bus", "sim");
   EXPECT_TRUE(m.configure());
 }
 

@@ -1,4 +1,4 @@
-// Proves the Reporter's update is real-time safe for the built-in types (DESIGN §4): once
+// Proves the Reporter's update is real-time safe for the built-in types (ARCHITECTURE §4): once
 // configured and started, stepping writers and the Reporter allocates nothing. A counting
 // global operator new replaces the library one for this test executable only.
 

@@ -1,10 +1,11 @@
 #include "cobra/components/sim/package.hpp"
 
-#include "cobra/components/sim/needle_insertion_monitor.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"
+#include "cobra/components/sim/simulated_ftsens.hpp"
+#include "cobra/components/sim/simulated_leap_motion.hpp"
 #include "cobra/components/sim/simulated_omni_phantom.hpp"
+#include "cobra/components/sim/simulated_puma260.hpp"
 #include "cobra/components/sim/simulated_robot.hpp"
-#include "cobra/components/sim/ultrasound_monitor.hpp"
 
 namespace cobra::components {
 
@@ -18,9 +19,11 @@ void registerSimPackage(deploy::PackageBuilder& package) {
           "PatientSimulator", "abdomen phantom, needle-tissue forces, cryo iceball and ultrasound image (thesis §4.2)")
       .component<SimulatedOmniPhantom>("SimulatedOmniPhantom",
                                        "simulated Phantom Omni with the OmniPhantomBridge interface (thesis §4.5.9)")
-      .component<NeedleInsertionMonitor>("NeedleInsertionMonitor",
-                                         "needle insertion events from the measured wrench and pose")
-      .component<UltrasoundMonitor>("UltrasoundMonitor", "ultrasound visibility and probe contact events");
+      .component<SimulatedPuma260>("SimulatedPuma260",
+                                   "simulated Puma 260 drives on EtherCAT, for Puma260EtherCATMaster bus = sim:<name>")
+      .component<SimulatedFTSens>("SimulatedFTSens", "simulated IIT FTSens on CAN, for FTSensDriver bus = sim:<name>")
+      .component<SimulatedLeapMotion>("SimulatedLeapMotion",
+                                      "simulated Leap Motion, for LeapMotionDriver device = sim:<name>");
 }
 
 }  // namespace cobra::components

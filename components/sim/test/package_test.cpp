@@ -1,6 +1,8 @@
-// The cobra_sim package deployed by the Lua deployer as the puncturing application would: the six
-// components by type name, wired by connections_list, on the Configurator's lockstep clock.
+// The cobra_sim package (with the Decision components of cobra_monitoring) deployed by the Lua
+// deployer as the puncturing application would: the six components by type name, wired by connections_list, on the Configurator's lockstep clock.
 #include "cobra/components/sim/package.hpp"
+
+#include "cobra/components/builtin_packages.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +15,7 @@ namespace cobra::components::test {
 namespace {
 
 constexpr const char* kDeployment = R"(
-packages_list = { "cobra_sim" }
+packages_list = { "cobra_sim", "cobra_monitoring" }
 components_list = {
   { peer_name = "Isur", component_type = "SimulatedISURRobot" },
   { peer_name = "Ur5", component_type = "SimulatedUR5Robot" },
@@ -46,7 +48,7 @@ TEST(CobraSimPackage, TheComponentsDeployByTypeNameAndRunTogether) {
   deploy::Configurator configurator;
   script::LuaState lua;
   deploy::LuaDeployer deployer{configurator, lua};
-  configurator.packages().addBuiltin("cobra_sim", registerSimPackage);
+  addBuiltinPackages(configurator.packages());
   deployer.run(kDeployment, "puncturing_sim.lua");
 
   // The geometry of the test world: the phantom 5 mm ahead of the needle, the probe beside it.

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "cobra/components/sim/needle_insertion_monitor.hpp"
+#include "cobra/components/monitoring/needle_insertion_monitor.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"
 #include "cobra/components/sim/simulated_robot.hpp"
-#include "cobra/components/sim/ultrasound_monitor.hpp"
+#include "cobra/components/monitoring/ultrasound_monitor.hpp"
 #include "cobra/core/core.hpp"
 #include "cobra/kinematics/isur.hpp"
 #include "cobra/kinematics/ur5.hpp"

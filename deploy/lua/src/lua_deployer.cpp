@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "cobra/deploy/install_layout.hpp"
 #include "cobra/deploy/lua_configuration.hpp"
 #include "cobra/script/bindings.hpp"
 #include "source_lines.hpp"
@@ -400,6 +401,10 @@ LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
     lua_setglobal(L, name);
   }
   lua.run(kRttShims, "=rtt shims");
+  if (const auto data = dataDirectory(); !data.empty()) {
+    lua_pushstring(L, ((data / "charts").string() + "/").c_str());
+    lua_setglobal(L, "COBRA_CHARTS");
+  }
 }
 
 LuaDeployer::~LuaDeployer() = default;

@@ -1,3 +1,4 @@
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@ using cobra::test_support::messageOf;
 using namespace std::chrono_literals;
 
 struct Fixture {
+  Fixture() { components::addBuiltinPackages(configurator.packages()); }
   Configurator configurator;
   script::LuaState lua;
   LuaDeployer deployer{configurator, lua};

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/core/core.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -36,6 +37,7 @@ class EventSink : public core::Component {
 };
 
 struct ConsoleFixture : ::testing::Test {
+  ConsoleFixture() { components::addBuiltinPackages(configurator.packages()); }
   deploy::Configurator configurator;  // simulation clock: nothing moves unless the console steps it
   script::LuaState lua;
   deploy::LuaDeployer deployer{configurator, lua};

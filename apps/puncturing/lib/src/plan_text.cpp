@@ -2,7 +2,6 @@
 // `#` starts a comment, words separated by blanks, parameters as key=value, vectors as X,Y,Z.
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -109,10 +108,11 @@ std::vector<Statement> statements(std::string_view text, std::string_view source
   return out;
 }
 
+// The shortest decimal that parses back to exactly `value`: a printed plan parses to the same
+// numbers, so a value a parser's check accepts (the tumour below the skin, ...) stays accepted.
 std::string number(double value) {
   char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", value);
-  return buffer;
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
 std::string vec(const KDL::Vector& v) { return number(v.x()) + "," + number(v.y()) + "," + number(v.z()); }
 std::string frame(const KDL::Frame& f) {

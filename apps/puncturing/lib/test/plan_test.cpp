@@ -98,6 +98,22 @@ TEST(PuncturingPlan, TextFormsRoundTrip) {
   }
 }
 
+// Numbers print as their shortest exact decimal: a value next to a parser's limit (a tumour whose
+// top is 1e-13 m below the skin) is not rounded onto it, so the printed text is accepted again.
+TEST(PuncturingPlan, PrintedNumbersParseBackExactly) {
+  const std::string text =
+      "abdomen xyz=0.1,0,0.3 rpy=0,0,0\ntumour center=0,0,-0.0100000000001 radius=0.01\n"
+      "entry_region center=0,0,0 radius=0.05\n";
+  const PreoperativeInfo info = parsePreoperative(text, "near_limit.txt");
+  const PreoperativeInfo again = parsePreoperative(print(info), "printed");
+  EXPECT_EQ(again.tumour_center.z(), info.tumour_center.z());  // exactly (KDL's == on vectors allows 1e-6)
+  EXPECT_EQ(again.abdomen_in_task.p.x(), info.abdomen_in_task.p.x());
+  const std::vector<PlannedNeedle> needles = {{"n1", KDL::Vector(0.1, 1.0 / 3.0, 0), KDL::Vector(0, 0, -0.06), 0.7, 1}};
+  const std::vector<PlannedNeedle> needles_again = parseCryoPlan(printCryoPlan(needles), "printed");
+  EXPECT_EQ(needles_again[0].entry.y(), needles[0].entry.y());
+  EXPECT_EQ(needles_again[0].roll, 0.7);
+}
+
 TEST(PuncturingPlan, ParseErrorsNameTheFileAndLine) {
   const std::string tumour = "abdomen xyz=0,0,0\ntumour center=0,0,-0.05 radius=0.01\nentry_region center=0,0,0 radius=0.05\n";
   EXPECT_EQ(messageOf([&] { parsePreoperative(tumour + "spere vessel center=0,0,-0.02 radius=0.01\n", "pre.txt"); }),

@@ -11,13 +11,9 @@
 
 #include <kdl/frames.hpp>
 
-#include "cobra/components/control/package.hpp"
-#include "cobra/components/coordination/package.hpp"
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
-#include "cobra/components/motion/package.hpp"
-#include "cobra/components/planning/package.hpp"
 #include "cobra/components/puncturing/package.hpp"
-#include "cobra/components/sim/package.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 
@@ -118,11 +114,7 @@ std::vector<plot::Figure> figures(const Signals& s) {
 
 void addPuncturingPackages(deploy::Configurator& configurator) {
   auto& packages = configurator.packages();
-  packages.addBuiltin("cobra_motion", components::registerMotionPackage);
-  packages.addBuiltin("cobra_control", components::registerControlPackage);
-  packages.addBuiltin("cobra_coordination", components::registerCoordinationPackage);
-  packages.addBuiltin("cobra_planning", components::registerPlanningPackage);
-  packages.addBuiltin("cobra_sim", components::registerSimPackage);
+  components::addBuiltinPackages(packages);
   packages.addBuiltin("cobra_puncturing", components::registerPuncturingPackage);
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// The component: a named unit with a role, a lifecycle, ports, properties and operations,
-/// stepped by an activity (DESIGN §4).
+/// stepped by an activity (ARCHITECTURE §4).
 
 #include <any>
 #include <atomic>

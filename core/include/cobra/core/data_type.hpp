@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The type registry: every port and property type has a name and a data kind (DESIGN §2).
+/// The type registry: every port and property type has a name and a data kind (ARCHITECTURE §2).
 ///
 /// A type becomes usable on a port or property by specialising `DataTypeTraits<T>` with a
 /// `name`, a `kind`, and `print`/`parse` functions. Using an unregistered type is a compile

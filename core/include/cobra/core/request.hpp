@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// A void request operation answered in its component's own next step (DESIGN §2: supervisors
+/// A void request operation answered in its component's own next step (ARCHITECTURE §2: supervisors
 /// ask with void requests such as askPlan(), components answer with events).
 
 #include <atomic>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The role linter (DESIGN §2): checks connections against the roles of the components at both
+/// The role linter (ARCHITECTURE §2): checks connections against the roles of the components at both
 /// ends and the data kind (pure or logic) of the connected ports.
 ///
 /// What is checked, per connection `W.out -> R.in` carrying data of kind K:

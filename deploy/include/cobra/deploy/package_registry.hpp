@@ -10,9 +10,11 @@
 ///   package.component<MyFilter>("MyFilter", "low-pass filter of a wrench");
 /// }
 /// @endcode
-/// Build it as a CMake `MODULE` library without linking cobra into it: it uses the cobra of
-/// the process that loads it, which must export its symbols (CMake `ENABLE_EXPORTS ON`, or
-/// cobra built as shared libraries). A package built against another `kPackageAbiVersion` is
+/// Build it with `cobra_add_package()` (cmake/CobraPackage.cmake; `find_package(cobra)` outside
+/// cobra's tree): a CMake `MODULE` library without cobra linked into it. It uses the cobra of the
+/// process that loads it, which must hold the cobra code the package calls and export its
+/// symbols: the `cobra` tool does, for every cobra library (`cobra_link_package_host()`), so
+/// registries exist once. A package built against another `kPackageAbiVersion` is
 /// refused at load. Loaded libraries are never unloaded: components and factories made by
 /// them may live until the process ends.
 
@@ -26,6 +28,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "cobra/core/backend_registry.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/deploy/spec.hpp"
 
@@ -68,6 +71,19 @@ class PackageBuilder {
     return *this;
   }
 
+  /// Registers the backend scheme `scheme` of device interface `I` (core::BackendRegistry<I>):
+  /// a driver whose `bus` or `device` property is `<scheme>:<address>` gets `make(address)`.
+  /// Registered for the process; loading the package again replaces its own schemes.
+  /// @throws core::Error when another package registered `scheme` for `I`.
+  template <class I, class F>
+  PackageBuilder& backend(const std::string& scheme, const std::string& doc, F make) {
+    static_assert(std::is_invocable_r_v<std::unique_ptr<I>, F, const std::string&>,
+                  "cobra: PackageBuilder::backend<I>(scheme, doc, make): make must be callable as "
+                  "std::unique_ptr<I>(const std::string& address)");
+    core::BackendRegistry<I>::addFactory(scheme, doc, "package '" + package_ + "'", std::move(make));
+    return *this;
+  }
+
   const std::string& packageName() const { return package_; }
 
  private:
@@ -85,8 +101,10 @@ class PackageRegistry {
  public:
   /// @param search_path directories searched for `lib<name>.so`, before those of the
   ///        environment variable COBRA_PACKAGE_PATH (colon-separated).
-  /// The built-in package "cobra_signal" (SineGenerator, Gain, ThresholdDetector, Recorder) is
-  /// always known.
+  ///        Then the installed packages' folder beside an installed tool
+  ///        (installedPackageDirectory(), `<prefix>/lib/cobra/packages`), when it exists.
+  /// No package is built in here: cobra's own are added by components::addBuiltinPackages
+  /// (components/builtin_packages), a program's own with addBuiltin.
   explicit PackageRegistry(std::vector<std::filesystem::path> search_path = {});
 
   /// Makes `name` loadable without a shared library. @throws core::Error on a duplicate name.
@@ -130,8 +148,5 @@ class PackageRegistry {
   // Types added by the registration in progress; moved into types_ only when it succeeds.
   std::map<std::string, ComponentType, std::less<>>* staging_ = nullptr;
 };
-
-/// Registers SineGenerator, Gain, ThresholdDetector, Recorder and Constant: the built-in "cobra_signal".
-void registerSignalPackage(PackageBuilder& package);
 
 }  // namespace cobra::deploy

@@ -1,4 +1,4 @@
--- A configuration as a Lua table: property values per component (DESIGN §6).
+-- A configuration as a Lua table: property values per component (ARCHITECTURE §6).
 return {
   Sine = {
     frequency = 20.0,  -- Hz

@@ -16,9 +16,12 @@ struct CanFrame {
   std::array<std::uint8_t, 8> data{};
 };
 
-/// A CAN interface. Both calls are real-time safe: they never block and never allocate.
+/// A CAN interface. Both calls are real-time safe: they never block and never allocate. Backends:
+/// SocketCanBus (socketcan_bus.hpp) and the simulated FTSens of cobra::sim; a driver finds its
+/// backend by name in core::BackendRegistry<CanBus>.
 class CanBus {
  public:
+  static constexpr const char* kBackendKind = "CAN bus";  ///< for core::BackendRegistry
   virtual ~CanBus() = default;
   /// Queues `frame` for transmission; false when the transmit queue is full (frame dropped).
   virtual bool send(const CanFrame& frame) noexcept = 0;

@@ -4,15 +4,15 @@
 /// cycle the master writes one output image per slave (RxPDO: controlword, mode, targets) and
 /// reads one input image per slave (TxPDO: statusword, mode display, actual values). Values are
 /// joint-side SI units; a backend for real drives converts to and from encoder counts and rated
-/// torque per mille with the slave's scaling. `SimulatedPuma260Bus` is the backend over
-/// cobra::sim's Puma 260; a SOEM backend for the real drives would implement the same interface.
+/// torque per mille with the slave's scaling. Backends: the simulated Puma 260 of cobra::sim
+/// (sim/puma260_ethercat_bus.hpp); a SOEM backend for the real drives would implement the same
+/// interface. A driver finds its backend by name in core::BackendRegistry<Cia402Bus>.
 
 #include <cstdint>
 #include <span>
 #include <string>
 
 #include "cobra/fieldbus/cia402.hpp"
-#include "cobra/sim/puma260_arm.hpp"
 
 namespace cobra::fieldbus {
 
@@ -39,40 +39,21 @@ struct Cia402Inputs {
 enum class BusStatus {
   Ok,
   WrongSize,  ///< the spans do not have slaveCount() elements: nothing was exchanged
-  LinkDown,   ///< the frame did not come back (real bus): inputs are stale
+  LinkDown,   ///< the frame did not come back or no device answers: inputs are stale
 };
 
 /// The bus. `exchange` is real-time safe in every backend: no allocation, no blocking beyond the
 /// frame's round trip.
 class Cia402Bus {
  public:
+  static constexpr const char* kBackendKind = "CiA 402 (EtherCAT) bus";  ///< for core::BackendRegistry
   virtual ~Cia402Bus() = default;
   virtual int slaveCount() const noexcept = 0;
   /// A line per slave for logs and introspection (not real-time).
   virtual std::string describeSlave(int index) const = 0;
-  /// One cycle. @param cycle_time s since the previous cycle: a simulated bus advances its world
-  /// by it; a real bus runs on the wall clock and ignores it.
-  virtual BusStatus exchange(std::span<const Cia402Outputs> outputs, std::span<Cia402Inputs> inputs,
-                             double cycle_time) noexcept = 0;
-};
-
-/// Six simulated Elmo drives on a simulated Puma 260 (sim::Puma260Arm).
-class SimulatedPuma260Bus final : public Cia402Bus {
- public:
-  /// @throws std::invalid_argument when the model is invalid.
-  explicit SimulatedPuma260Bus(const sim::Puma260ArmModel& model = sim::Puma260ArmModel::defaults(),
-                               const std::array<double, 6>& initial = {});
-
-  int slaveCount() const noexcept override { return 6; }
-  std::string describeSlave(int index) const override;
-  BusStatus exchange(std::span<const Cia402Outputs> outputs, std::span<Cia402Inputs> inputs,
-                     double cycle_time) noexcept override;
-
-  /// The simulated world, for fault injection and ground truth in tests.
-  sim::Puma260Arm& arm() noexcept { return arm_; }
-
- private:
-  sim::Puma260Arm arm_;
+  /// One cycle: `outputs` go to the slaves, `inputs` receive what the slaves sent back. A bus runs
+  /// on its own clock (the wall clock, or the simulated world's): the master's cycle is its own.
+  virtual BusStatus exchange(std::span<const Cia402Outputs> outputs, std::span<Cia402Inputs> inputs) noexcept = 0;
 };
 
 }  // namespace cobra::fieldbus

@@ -10,6 +10,8 @@
 #include <kdl/frames.hpp>
 #include <random>
 
+#include "cobra/fieldbus/hand_tracker_device.hpp"
+
 namespace cobra::sim {
 
 /// Tracker description. Field-of-view values are ASSUMPTIONS after Leap Motion's public figures
@@ -28,18 +30,10 @@ struct HandTrackerModel {
 /// @throws std::invalid_argument naming the parameter and the expected range.
 void validate(const HandTrackerModel& model);
 
-/// One tracked hand in one frame: `valid` false when the hand was not seen (its pose then keeps
-/// the previous value and means nothing).
-struct TrackedHand {
-  bool valid = false;
-  KDL::Frame pose;  ///< m, frame L; orientation as given, position with noise
-};
-
-/// One device frame.
-struct HandFrame {
-  std::uint64_t id = 0;  ///< counts frames from 1; 0 = no frame yet
-  TrackedHand right, left;
-};
+/// The frame types are the device interface's (fieldbus/hand_tracker_device.hpp): what the
+/// tracker produces is what a driver receives.
+using TrackedHand = fieldbus::TrackedHand;
+using HandFrame = fieldbus::HandFrame;
 
 /// The tracker: `step(dt, ...)` advances time by dt (s) and returns true when a new frame was
 /// taken in that interval (at most one per call is reported: the latest). noexcept, no allocation;

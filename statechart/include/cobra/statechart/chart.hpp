@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The immutable half of cobra's statechart engine (Model/Data split, DESIGN §8): a `Chart`
+/// The immutable half of cobra's statechart engine (Model/Data split, ARCHITECTURE §8): a `Chart`
 /// built and checked once by a `ChartBuilder`, then run by any number of `Machine`s.
 ///
 /// The semantics are rFSM's (github.com/kmarkus/rFSM, thesis §3.1.3), rule for rule:

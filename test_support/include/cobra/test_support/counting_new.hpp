@@ -1,6 +1,6 @@
 #pragma once
 // A counting replacement of the global operator new/delete, for the tests that prove the
-// real-time paths allocate nothing (DESIGN §4) or measure memory. It DEFINES the replacement
+// real-time paths allocate nothing (ARCHITECTURE §4) or measure memory. It DEFINES the replacement
 // functions: include it in exactly one source file of a test executable.
 
 #include <atomic>

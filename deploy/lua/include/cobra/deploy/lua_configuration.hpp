@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Configuration files as Lua tables (DESIGN §6): `slow.lua` in the configuration folder is the
+/// Configuration files as Lua tables (ARCHITECTURE §6): `slow.lua` in the configuration folder is the
 /// configuration "slow", and returns property values per component:
 /// @code
 /// return {

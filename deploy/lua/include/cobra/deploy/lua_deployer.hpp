@@ -17,6 +17,9 @@
 /// `applyDeployment(name)`, `applyConfiguration(name)`, and the RTT shims
 /// `rtt.globals.ORO_SCHED_RT` / `ORO_SCHED_OTHER` and `rtt.Variable("ConnPolicy")` (a data
 /// policy table whose `type` and `size` can be set).
+/// The global `COBRA_CHARTS` is the folder of cobra's reusable supervisor charts, ending in "/"
+/// (`DepSup.fsm_path = COBRA_CHARTS .. "deployment_supervisor.lua"`), when cobra's data folder
+/// is found (install_layout.hpp: an installed tool, cobra's own build tree, or COBRA_DATA_DIR).
 ///
 /// The configuration folder of `initConfigurator` may hold configurations as Lua tables
 /// (`name.lua`, see lua_configuration.hpp) as well as `name.cfg` files.

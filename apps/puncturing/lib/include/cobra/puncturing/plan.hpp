@@ -118,7 +118,8 @@ std::vector<PlannedProbe> parseProbePlan(std::string_view text, std::string_view
 StateTable parseStateTable(std::string_view text, std::string_view source);
 SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source);
 
-/// The text forms: parse(print(x)) == x up to the printed precision (1e-9 m, 1e-9 rad).
+/// The text forms: parse(print(x)) == x, numbers exactly (printed as their shortest exact decimal),
+/// rotations (printed as roll, pitch, yaw) to within rounding (1e-9 rad).
 std::string print(const PreoperativeInfo& info);
 std::string printCryoPlan(const std::vector<PlannedNeedle>& needles);
 std::string printProbePlan(const std::vector<PlannedProbe>& probes);

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The Supervisor component (thesis §4.5.10, DESIGN §5): a Supervision component that runs one
+/// The Supervisor component (thesis §4.5.10, ARCHITECTURE §5): a Supervision component that runs one
 /// rFSM chart. Task, deployment and configuration supervisors (Fig. 2.6) are three instances of
 /// it with different charts.
 

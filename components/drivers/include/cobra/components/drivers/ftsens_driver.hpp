@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// The FTSens driver (thesis §6.2.2) as a component: the CAN frame codec of
-/// cobra::fieldbus::FtSensDecoder on a cobra::fieldbus::CanBus.
+/// cobra::fieldbus::FtSensDecoder on a cobra::fieldbus::CanBus found by name.
 
 #include <kdl/frames.hpp>
 #include <memory>
@@ -10,7 +10,7 @@
 
 #include "cobra/core/component.hpp"
 #include "cobra/fieldbus/ftsens_codec.hpp"
-#include "cobra/fieldbus/simulated_ftsens.hpp"
+#include "cobra/fieldbus/can_bus.hpp"
 
 namespace cobra::components {
 
@@ -18,17 +18,17 @@ namespace cobra::components {
 /// sensor to stream every `stream_period`; each update it takes every frame waiting on the bus and
 /// publishes the newest complete sample minus the tare.
 ///
-/// Properties: `bus` ("sim": a simulated FTSens, sim::ftSens(), on a simulated CAN bus; SocketCAN
-/// is not available in this build), `address` (board address, 0-15), `stream_period` (s, whole
+/// Properties: `bus` (the CAN backend, core::BackendRegistry<fieldbus::CanBus>:
+/// `socketcan:<interface>` for a real adapter, e.g. socketcan:can0, or `sim:<component>` for the
+/// simulated FTSens of that sim-world component, e.g. a SimulatedFTSens; moving to hardware
+/// changes this property only), `address` (board address, 0-15), `stream_period` (s, whole
 /// milliseconds 1-255 ms), `timeout` (s, > 0: no complete sample for that long raises
-/// e_comm_timeout), `sim_seed`, `sim_bias` (N, N·m: the simulated sensor's own offset).
+/// e_comm_timeout).
 ///
-/// Ports: in `simTrueWrench` (N, N·m; simulation only: the wrench acting on the sensor); out
-/// `measWrench` (N, N·m, sensor frame).
+/// Ports: out `measWrench` (N, N·m, sensor frame).
 ///
 /// Operations: `tare()` (the next complete sample becomes the zero; e_tared when taken),
-/// `clearTare()`, `statistics()` ("samples N, lost N, garbled N, unpaired N, timeouts N");
-/// simulation only: `simSetSilent(bool)`, `simGarbleFrames(n)`.
+/// `clearTare()`, `statistics()` ("samples N, lost N, garbled N, unpaired N, timeouts N").
 ///
 /// Events: e_comm_timeout, e_comm_restored, e_tared.
 class FTSensDriver : public core::Component {
@@ -44,19 +44,16 @@ class FTSensDriver : public core::Component {
  private:
   std::string statistics() const;
 
-  core::Property<std::string> bus_{"bus", "sim", "", "CAN backend: sim"};
+  core::Property<std::string> bus_{"bus", "", "",
+                                   "CAN backend: socketcan:<interface> (e.g. socketcan:can0) or sim:<component>"};
   core::Property<int> address_{"address", 0, "1", "the sensor's board address, 0-15"};
   core::Property<double> stream_period_{"stream_period", 1e-3, "s", "sample period asked of the sensor, 1-255 ms"};
   core::Property<double> timeout_{"timeout", 0.01, "s", "no complete sample for this long raises e_comm_timeout"};
-  core::Property<int> sim_seed_{"sim_seed", 0, "1", "seed of the simulated sensor's noise"};
-  core::Property<KDL::Wrench> sim_bias_{"sim_bias", KDL::Wrench::Zero(), "N, N·m", "offset of the simulated sensor"};
-  core::InputPort<KDL::Wrench> sim_true_wrench_{"simTrueWrench", "wrench acting on the simulated sensor", "N, N·m"};
   core::OutputPort<KDL::Wrench> meas_wrench_{"measWrench", "measured wrench minus the tare, sensor frame", "N, N·m"};
 
-  std::unique_ptr<fieldbus::CanBus> can_;
-  fieldbus::SimulatedFtSensBus* sim_ = nullptr;
+  std::shared_ptr<fieldbus::CanBus> can_;
   std::optional<fieldbus::FtSensDecoder> decoder_;
-  KDL::Wrench truth_ = KDL::Wrench::Zero(), tare_ = KDL::Wrench::Zero();
+  KDL::Wrench tare_ = KDL::Wrench::Zero();
   bool tare_requested_ = false, timed_out_ = false;
   std::uint64_t seen_samples_ = 0, timeouts_ = 0;
   std::chrono::nanoseconds last_sample_{0};

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// The "cobra_drivers" package: Puma260EtherCATMaster, FTSensDriver, LeapMotionDriver.
+/// The "cobra_drivers" package: Puma260EtherCATMaster, FTSensDriver, LeapMotionDriver, and the
+/// backend scheme `socketcan` of fieldbus::CanBus (fieldbus::SocketCanBus).
 
 #include "cobra/deploy/package_registry.hpp"
 

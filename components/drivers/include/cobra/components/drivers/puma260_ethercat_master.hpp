@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// The Puma 260 EtherCAT master (thesis §6.2.1, Fig. 6.4) as a component: a thin adapter around
-/// cobra::fieldbus::Puma260Master on a cobra::fieldbus::Cia402Bus.
+/// cobra::fieldbus::Puma260Master on a cobra::fieldbus::Cia402Bus found by name.
 
 #include <kdl/jntarray.hpp>
 #include <memory>
@@ -16,18 +16,18 @@ namespace cobra::components {
 
 /// Bridge (the thesis calls it a Driver). Needs a periodic activity: its period is the bus cycle.
 ///
-/// Properties: `bus` ("sim": six simulated Elmo drives on a simulated Puma 260; the only backend
-/// of this build), `control_mode` ("position", "velocity" or "torque": what Operative commands),
+/// Properties: `bus` (the EtherCAT backend, core::BackendRegistry<fieldbus::Cia402Bus>:
+/// `sim:<component>` for the simulated drives of that sim-world component, e.g. a
+/// SimulatedPuma260; a SOEM backend would register its own scheme, and moving to hardware changes
+/// this property only), `control_mode` ("position", "velocity" or "torque": what Operative commands),
 /// `nest_position` and `ready_position` (6 joint angles, rad), `move_speed` (rad/s, peak joint
 /// speed of the nest/ready moves), `position_tolerance` (rad), `joint_lower`/`joint_upper` (rad;
-/// default: kinematics::Puma260Solver's limits), `max_velocity` (rad/s), `max_torque` (N·m),
-/// `sim_initial_position` (rad; empty = the nest position).
+/// default: kinematics::Puma260Solver's limits), `max_velocity` (rad/s), `max_torque` (N·m).
 ///
 /// Operations (void; the answer is an event): `askReady()`, `askNest()` (only from the ready
 /// position), `askOperative()` (only from the ready position), `askFaultReset()` (only in Fault);
 /// a request the current state does not allow emits `e_request_refused`. `slaveStatus(i)` returns
-/// a line about slave i; `simInjectFault(i)` (simulation only) raises an over-current fault in
-/// drive i.
+/// a line about slave i.
 ///
 /// Ports: in `desJointPosition` (rad), `desJointVelocity` (rad/s), `desJointTorque` (N·m), used in
 /// Operative according to `control_mode`; out `measJointPosition`, `measJointVelocity`,
@@ -49,9 +49,8 @@ class Puma260EtherCATMaster : public core::Component {
  private:
   void ask(fieldbus::Request request);
   std::string slaveStatus(int slave) const;
-  void simInjectFault(int slave);
 
-  core::Property<std::string> bus_{"bus", "sim", "", "EtherCAT backend: sim"};
+  core::Property<std::string> bus_{"bus", "", "", "EtherCAT backend: sim:<component>"};
   core::Property<std::string> control_mode_{"control_mode", "position", "", "position, velocity or torque"};
   core::Property<std::vector<double>> nest_{"nest_position", {}, "rad", "6 joint angles of the nest position"};
   core::Property<std::vector<double>> ready_{"ready_position", {}, "rad", "6 joint angles of the ready position"};
@@ -61,8 +60,6 @@ class Puma260EtherCATMaster : public core::Component {
   core::Property<std::vector<double>> upper_{"joint_upper", {}, "rad", "6 upper joint limits"};
   core::Property<double> max_velocity_{"max_velocity", 2.0, "rad/s", "velocity-mode commands are clamped to it"};
   core::Property<double> max_torque_{"max_torque", 20.0, "N·m", "torque-mode commands are clamped to it"};
-  core::Property<std::vector<double>> sim_initial_{
-      "sim_initial_position", {}, "rad", "simulated joints at power-on (empty: the nest position)"};
   core::InputPort<KDL::JntArray> des_position_{"desJointPosition", "desired joint positions (Operative, position mode)",
                                                "rad"};
   core::InputPort<KDL::JntArray> des_velocity_{"desJointVelocity",
@@ -73,8 +70,7 @@ class Puma260EtherCATMaster : public core::Component {
   core::OutputPort<KDL::JntArray> meas_torque_{"measJointTorque", "measured joint torques", "N·m"};
   core::OutputPort<core::TaskState> current_state_{"currentState", "state of the master (thesis Fig. 6.4)", ""};
 
-  std::unique_ptr<fieldbus::Cia402Bus> bus_device_;
-  fieldbus::SimulatedPuma260Bus* sim_ = nullptr;  // the bus when it is the simulated one
+  std::shared_ptr<fieldbus::Cia402Bus> bus_device_;
   std::optional<fieldbus::Puma260Master> master_;
   fieldbus::JointCommands commands_;
   fieldbus::MasterState published_ = fieldbus::MasterState::NotInitialized;  // last on currentState

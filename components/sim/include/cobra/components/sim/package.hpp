@@ -1,14 +1,14 @@
 #pragma once
 /// @file
-/// The "cobra_sim" package: the simulated bridges of the puncturing set-up and the decision
-/// components that turn its sensor data into events, for packages_list.
+/// The "cobra_sim" package: the sim-world components (the simulated robots, patient and devices
+/// whose truth the simulated world computes), for packages_list.
 
 #include "cobra/deploy/package_registry.hpp"
 
 namespace cobra::components {
 
-/// Registers SimulatedISURRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom,
-/// NeedleInsertionMonitor and UltrasoundMonitor.
+/// Registers SimulatedISURRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom, and the
+/// simulated devices of the drivers: SimulatedPuma260, SimulatedFTSens, SimulatedLeapMotion.
 void registerSimPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components

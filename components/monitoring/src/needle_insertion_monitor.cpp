@@ -1,4 +1,4 @@
-#include "cobra/components/sim/needle_insertion_monitor.hpp"
+#include "cobra/components/monitoring/needle_insertion_monitor.hpp"
 
 #include <algorithm>
 #include <cmath>

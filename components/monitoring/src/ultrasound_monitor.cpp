@@ -1,4 +1,4 @@
-#include "cobra/components/sim/ultrasound_monitor.hpp"
+#include "cobra/components/monitoring/ultrasound_monitor.hpp"
 
 #include <cmath>
 

@@ -1,8 +1,9 @@
-// SimulatedFtSensBus: streams after the host's command at the commanded period, carries the
-// simulated sensor's readings (bias, noise, quantisation of the FTSens preset) through the codec,
-// and injects dropped samples, garbled frames, silence and receive-queue overruns.
+// FtSensCanBus: streams after the host's command at the commanded period, carries the simulated
+// sensor's readings (bias, noise, quantisation of the FTSens preset) through the codec, injects
+// dropped samples, garbled frames, silence and receive-queue overruns; with a clock attached the
+// host sees the frames of earlier instants only, and nothing once the world side detached.
 
-#include "cobra/fieldbus/simulated_ftsens.hpp"
+#include "cobra/sim/ftsens_can_bus.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,9 +12,10 @@
 namespace {
 
 using namespace cobra::fieldbus;
+using cobra::sim::FtSensCanBus;
 
 struct Host {
-  SimulatedFtSensBus bus{cobra::sim::ftSens(), FtSensCodecConfig{}, 11};
+  FtSensCanBus bus{cobra::sim::ftSens(), FtSensCodecConfig{}, 11};
   FtSensDecoder decoder{FtSensCodecConfig{}};
   int drain() {
     CanFrame frame;
@@ -23,12 +25,14 @@ struct Host {
   }
 };
 
-TEST(SimulatedFtSens, SilentUntilCommandedThenOneSamplePerPeriod) {
+TEST(FtSensCanBus, SilentUntilCommandedThenOneSamplePerPeriod) {
   Host host;
   host.bus.setTrueWrench(KDL::Wrench(KDL::Vector(12.0, -3.0, 100.0), KDL::Vector(0.5, -0.2, 0.1)));
   host.bus.advance(0.01);
   EXPECT_EQ(host.drain(), 0);
   ASSERT_TRUE(host.bus.send(ftSensStreamCommand(FtSensCodecConfig{}, 2)));  // every 2 ms
+  EXPECT_DOUBLE_EQ(host.bus.streamingPeriod(), 0.0);                        // taken at the next step
+  host.bus.advance(0.0);
   EXPECT_DOUBLE_EQ(host.bus.streamingPeriod(), 0.002);
   int samples = 0;
   for (int i = 0; i < 100; ++i) {
@@ -43,10 +47,10 @@ TEST(SimulatedFtSens, SilentUntilCommandedThenOneSamplePerPeriod) {
   EXPECT_EQ(host.decoder.wrench().force.y(), host.bus.sensor().reading().wrench.force.y());  // same counts
 }
 
-TEST(SimulatedFtSens, InjectedFaultsShowInTheDecoderCounts) {
+TEST(FtSensCanBus, InjectedFaultsShowInTheDecoderCounts) {
   Host host;
   host.bus.send(ftSensStreamCommand(FtSensCodecConfig{}, 1));
-  host.bus.advance(0.005);
+  host.bus.advance(0.005);  // the command is taken, then 5 samples fall due
   EXPECT_EQ(host.drain(), 5);
   host.bus.dropSamples(3);
   host.bus.advance(0.005);
@@ -61,7 +65,7 @@ TEST(SimulatedFtSens, InjectedFaultsShowInTheDecoderCounts) {
   host.bus.advance(0.01);
   EXPECT_EQ(host.drain(), 0);
   host.bus.setSilent(false);
-  host.bus.advance(0.1);  // 100 samples = 200 frames into a 64-frame queue
+  host.bus.advance(0.1);  // 100 samples = 200 frames into a 64-frame queue: the first 64 stay
   EXPECT_EQ(host.drain(), 32);
   EXPECT_EQ(host.bus.overruns(), 136U);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
@@ -69,6 +73,27 @@ TEST(SimulatedFtSens, InjectedFaultsShowInTheDecoderCounts) {
               host.drain();
             }),
             0);
+}
+
+TEST(FtSensCanBus, WithAClockTheHostSeesTheFramesOfEarlierInstantsOnly) {
+  Host host;
+  std::int64_t now = 0;  // ns
+  host.bus.link().attach([&] { return now; });
+  ASSERT_TRUE(host.bus.send(ftSensStreamCommand(FtSensCodecConfig{}, 1)));
+  host.bus.advance(1e-3);  // same instant as the command: not taken yet
+  EXPECT_DOUBLE_EQ(host.bus.streamingPeriod(), 0.0);
+  now = 1'000'000;
+  host.bus.advance(1e-3);  // the command is taken and a sample falls due, stamped 1 ms
+  EXPECT_DOUBLE_EQ(host.bus.streamingPeriod(), 0.001);
+  EXPECT_EQ(host.drain(), 0);  // the host in the same instant does not see it
+  now = 2'000'000;
+  EXPECT_EQ(host.drain(), 1);  // the next instant it does, before or after the world's step
+  host.bus.advance(1e-3);
+  EXPECT_EQ(host.drain(), 0);
+  host.bus.link().detach();  // the sensor's component is gone: nothing flows any more
+  now = 3'000'000;
+  EXPECT_EQ(host.drain(), 0);
+  EXPECT_FALSE(host.bus.send(ftSensStreamCommand(FtSensCodecConfig{}, 1)));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // NeedleInsertionMonitor on the lockstep clock with the wrench and poses written by the test.
-#include "cobra/components/sim/needle_insertion_monitor.hpp"
+#include "cobra/components/monitoring/needle_insertion_monitor.hpp"
 
 #include <gtest/gtest.h>
 

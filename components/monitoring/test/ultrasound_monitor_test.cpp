@@ -1,6 +1,6 @@
 // UltrasoundMonitor fed by the PatientSimulator's ultrasound model: the needle swept across the
 // imaging plane and the probe lifted off the skin, poses written by the test.
-#include "cobra/components/sim/ultrasound_monitor.hpp"
+#include "cobra/components/monitoring/ultrasound_monitor.hpp"
 
 #include <gtest/gtest.h>
 
