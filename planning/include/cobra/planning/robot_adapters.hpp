@@ -12,6 +12,10 @@
 /// otherwise (unrelated planner samples), so that a state's answer does not depend on the states
 /// checked before it except along such a chain of small steps. resetWarmStart() forgets the
 /// previous solution. solve() allocates nothing (all joint arrays are preallocated).
+///
+/// Ur5Model and IsurPuncturingModel also offer the joint space the motion planner searches
+/// (RobotModel::jointCount() and after); IsurSuturingModel does not yet (its scenes are planned
+/// on SE(3)×SE(3) through solve(), as before).
 
 #include <array>
 #include <span>
@@ -92,11 +96,32 @@ class Ur5Model final : public RobotModel {
   const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::Ur5Solver& solver() { return solver_; }
 
+  /// Velocity limit of every joint [rad/s]: the simulated UR5's (thesis table: 180°/s).
+  static constexpr double kMaxJointVelocity = 3.14;
+  std::size_t jointCount() const override { return 6; }
+  void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
+  bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
+  std::size_t toolLink(std::size_t) const override { return 7; }
+  void seedJoints(std::span<double> q) const override;
+  /// The branch of `seed` (elbow: sign of q3, wrist: sign of q5, shoulder: the q1 solution nearest
+  /// the seed's), each joint's 2π representative nearest the seed.
+  Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                           std::span<double> q) override;
+  /// The joint limits intersected with start ± π: a path never turns a joint more than half a turn
+  /// from where it starts (the limits allow ±2π, which only adds detours to the search).
+  void coordinateBounds(std::span<const double> start, std::span<double> lower,
+                        std::span<double> upper) const override;
+
  private:
+  /// Of solutions_, the one on the branch of `reference` (elbow, wrist, shoulder nearest), with
+  /// each joint's representative nearest `near` written to `q`. Unreachable / OtherBranch if none.
+  Reachability pickBranch(std::span<const double> reference, std::span<const double> near, std::span<double> q) const;
+
   kinematics::Ur5Solver solver_;
   kinematics::IkSolutionSet solutions_;
   WarmStart<1> warm_;
   KDL::JntArray q_;
+  KDL::JntArray seed_;
 };
 
 /// I-SUR puncturing robot (8 DOF). Links: kinematics::IsurPuncturingSolver::linkFrames (0 turntable,
@@ -121,10 +146,40 @@ class IsurPuncturingModel final : public RobotModel {
   const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::IsurPuncturingSolver& solver() { return solver_; }
 
+  /// Velocity limits of the simulated I-SUR (components/sim): sliders [m/s], revolute joints [rad/s].
+  static constexpr double kMaxSliderVelocity = 0.1;
+  static constexpr double kMaxRevoluteVelocity = 1.5;
+  /// |cos(pitch)| below this counts as the wrist's gimbal lock (needle vertical) in inverseNear():
+  /// there only yaw ∓ roll is defined and the yaw is kept at the seed's.
+  static constexpr double kGimbalLockTolerance = 1e-7;
+
+  std::size_t jointCount() const override { return kinematics::IsurPuncturingSolver::kJoints; }
+  void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
+  bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
+  std::size_t toolLink(std::size_t) const override { return 5; }
+  void seedJoints(std::span<double> q) const override;
+  /// The decomposition of kinematics::IsurPuncturingSolver::inverse seeded with `seed` (the
+  /// representation of the wrist angles nearest it; the redundancy split by the solver's shares
+  /// around it). At the gimbal lock (needle vertical to kGimbalLockTolerance) the yaw q4 + q5
+  /// stays the seed's and the roll q8 turns instead: a vertical goal is reached without turning the
+  /// arm about the vertical, and a step at the lock does not jump the yaw.
+  Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                           std::span<double> q) override;
+  /// Six coordinates [q1, q2, q3 (m), yaw = q4 + q5, pitch = q6 + q7, roll = q8 (rad)]: the
+  /// redundancy (q4 against q5, q6 against q7) follows the solver's shares from the start, as the
+  /// IK of the control path does when it tracks a Cartesian path from the start.
+  std::size_t coordinateCount() const override { return 6; }
+  void coordinateScales(std::span<double> scale) const override;
+  void coordinateBounds(std::span<const double> start, std::span<double> lower,
+                        std::span<double> upper) const override;
+  void jointsOf(std::span<const double> c, std::span<const double> start, std::span<double> q) const override;
+  void coordinatesOf(std::span<const double> q, std::span<double> c) const override;
+
  private:
   kinematics::IsurPuncturingSolver solver_;
   WarmStart<1> warm_;
   KDL::JntArray q_;
+  KDL::JntArray seed_;
 };
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
