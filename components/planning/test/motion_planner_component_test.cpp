@@ -164,7 +164,7 @@ TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
   b.planner.call<void>("askPlan");
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
-  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "out of bounds: goal position is outside");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "out of bounds: goal position of the probe (0.2500, 0.0000, 0.9000) m is outside the planner's bounds");
 
   KDL::Frame nan_probe = kProbeGoal;
   nan_probe.p.x(std::nan(""));
@@ -208,7 +208,7 @@ TEST(MotionPlannerComponent, BadPropertiesAreRefusedNamingComponentAndProperty) 
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("scene_file", std::string()); }),
                   "component 'Planner': property scene_file is empty");
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("planner", std::string("BIT*")); }),
-                  "component 'Planner': property planner is 'BIT*': use RRTConnect, RRT or PRM");
+                  "component 'Planner': property planner is 'BIT*': use RRTConnect, RRT, PRM, BiTRRT, LazyPRM, LBKPIECE1, BITstar");
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("env_mesh_names", std::string("table.stl")); }),
                   "property env_mesh_names: mesh file '" + scenes() + "/table.stl' does not exist");
   const std::string data = (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/data").string();
