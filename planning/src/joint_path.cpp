@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -196,7 +197,7 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
   result.status = PlanStatus::InvalidGoal;
   goal_joints.assign(start.size(), 0.0);
   std::size_t robot = 0;
-  const Reachability reached = validator_.inverseNear(goal, start, goal_joints, robot);
+  const Reachability reached = validator_.inverseGoal(goal, start, goal_joints, robot);
   const auto goal_of = [&](std::size_t r) {
     const RobotPlacement& placement = validator_.scene().robots[r];
     std::string text = toolsOf(r) + " goal ";
@@ -228,7 +229,7 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
       if (std::abs(check[j] - goal_joints[j]) > 1e-6) {
         result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
                          "' to resolve its redundancy differently from the start (joint " + std::to_string(j - offset + 1) +
-                         " beyond its share, e.g. the I-SUR's base turntable): no path of its IK reaches it";
+                         " at a limit of its share): no path of its IK is known to reach it";
         return result;
       }
     }
@@ -276,6 +277,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   std::uint32_t seed = options_.seed;
   for (;;) {
     PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed);
+    if (std::getenv("COBRA_PLAN_DEBUG")) std::fprintf(stderr, "seed %u: %s %s\n", seed, toString(attempt.status), attempt.message.c_str());
     if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
     ++seed;
   }
@@ -307,7 +309,8 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     const std::span<const double> robot_start = std::span<const double>(start).subspan(b.joint_offset, b.joint_count);
     std::vector<double> lower(b.coordinate_count), upper(b.coordinate_count), at_start(b.coordinate_count),
         at_goal(b.coordinate_count);
-    model.coordinateBounds(robot_start, lower, upper);
+    model.coordinateBounds(robot_start, std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), lower,
+                           upper);
     model.coordinateScales(std::span<double>(layout.scale).subspan(b.coordinate_offset, b.coordinate_count));
     model.coordinatesOf(robot_start, at_start);
     model.coordinatesOf(std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), at_goal);
@@ -316,8 +319,9 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
       // The start and goal are inside by construction, up to rounding.
       bounds.setLow(static_cast<unsigned>(b.coordinate_offset + i),
                     std::min({lower[i], at_start[i], at_goal[i]}) / scale);
+      // A coordinate that may not move (the I-SUR's base turntable) keeps a width OMPL accepts.
       bounds.setHigh(static_cast<unsigned>(b.coordinate_offset + i),
-                     std::max({upper[i], at_start[i], at_goal[i]}) / scale);
+                     std::max({upper[i], at_start[i], at_goal[i], lower[i] + 1e-9}) / scale);
     }
   }
   auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(dimensions));

@@ -3,6 +3,7 @@
 #include "cobra/kinematics/geometry.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -154,7 +155,7 @@ void Ur5Model::seedJoints(std::span<double> q) const {
   for (unsigned j = 0; j < 6; ++j) q[j] = warm_.initial()(j);
 }
 
-void Ur5Model::coordinateBounds(std::span<const double> start, std::span<double> lower,
+void Ur5Model::coordinateBounds(std::span<const double> start, std::span<const double>, std::span<double> lower,
                                 std::span<double> upper) const {
   const kinematics::JointLimits& limits = solver_.limits();
   for (std::size_t j = 0; j < 6; ++j) {
@@ -197,7 +198,8 @@ bool IsurPuncturingModel::linkFramesAt(std::span<const double> q, std::span<KDL:
 
 Reachability IsurPuncturingModel::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                                               std::span<double> q) {
-  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) seed_(j) = seed[j];
+  constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
+  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = seed[j];
   KDL::Frame target = tools_in_base[0];
   const KDL::Rotation& r = target.M;
   if (std::hypot(r(0, 0), r(1, 0)) < kGimbalLockTolerance) {
@@ -208,14 +210,62 @@ Reachability IsurPuncturingModel::inverseNear(std::span<const KDL::Frame> tools_
     const double yaw = seed[3] + seed[4];
     const double roll = down ? yaw + std::atan2(r(0, 1), r(1, 1)) : std::atan2(-r(0, 1), r(1, 1)) - yaw;
     seed_(7) = seed[7] + kinematics::wrapToPi(roll - seed[7]);
+    if (seed_(7) > solver_.limits().upper[7]) seed_(7) -= 2.0 * std::numbers::pi;
+    if (seed_(7) < solver_.limits().lower[7]) seed_(7) += 2.0 * std::numbers::pi;
     target.M = KDL::Rotation::RotZ(yaw) * KDL::Rotation::RotY(down ? std::numbers::pi / 2 : -std::numbers::pi / 2) *
                KDL::Rotation::RotX(seed_(7));
-    if (seed_(7) > solver_.limits().upper[7] || seed_(7) < solver_.limits().lower[7])
-      seed_(7) -= std::copysign(2.0 * std::numbers::pi, seed_(7));
   }
   if (solver_.inverse(target, seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
-  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) q[j] = q_(j);
+  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
   return Reachability::Reachable;
+}
+
+bool IsurPuncturingModel::onRule(const KDL::Frame& target, double yaw, double pitch, double roll,
+                                 std::span<const double> seed, std::span<double> q) {
+  const kinematics::JointLimits& l = solver_.limits();
+  const kinematics::IsurGeometry& g = solver_.geometry();
+  const double yaw_sum = seed[3] + seed[4] + kinematics::wrapToPi(yaw - seed[3] - seed[4]);
+  q[3] = seed[3] + g.yaw_share * (yaw_sum - seed[3] - seed[4]);
+  q[4] = yaw_sum - q[3];
+  const std::array<double, 7> c{seed[0], seed[1], seed[2], q[3], q[4],
+                                seed[5] + seed[6] + kinematics::wrapToPi(pitch - seed[5] - seed[6]),
+                                seed[7] + kinematics::wrapToPi(roll - seed[7])};
+  jointsOf(c, seed, q);
+  if (q[7] > l.upper[7]) q[7] -= 2.0 * std::numbers::pi;
+  if (q[7] < l.lower[7]) q[7] += 2.0 * std::numbers::pi;
+  for (std::size_t j = 3; j < kinematics::IsurPuncturingSolver::kJoints; ++j)
+    if (q[j] < l.lower[j] || q[j] > l.upper[j]) return false;
+  // Position: target.p = Rz(q4) (p_delta + the micro arm's offset), the delta's closed form.
+  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) q_(j) = q[j];
+  KDL::Frame tool, platform;
+  if (solver_.forward(q_, tool) != IkStatus::Ok || solver_.platformPose(q_, platform) != IkStatus::Ok) return false;
+  const KDL::Rotation back = KDL::Rotation::RotZ(-q[3]);
+  return solver_.macro().inversePosition(back * target.p - back * (tool.p - platform.p),
+                                         std::span<double, 3>(q.data(), 3)) == IkStatus::Ok;
+}
+
+Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                              std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
+  const KDL::Rotation& r = tools_in_base[0].M;
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  if (cos_pitch < kGimbalLockTolerance) return inverseNear(tools_in_base, start, q);  // keeps the start's yaw
+  const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::atan2(-r(2, 0), cos_pitch);
+  const double roll = std::atan2(r(2, 1), r(2, 2));
+  double best_distance = std::numeric_limits<double>::infinity();
+  std::array<double, kJoints> candidate{};
+  for (const auto& [y, p, ro] : {std::array<double, 3>{yaw, pitch, roll},
+                                  std::array<double, 3>{yaw + std::numbers::pi, std::numbers::pi - pitch,
+                                                        roll + std::numbers::pi}}) {
+    if (!onRule(tools_in_base[0], y, p, ro, start, candidate)) continue;
+    double distance = 0.0;
+    for (unsigned j = 3; j < kJoints; ++j) distance += (candidate[j] - start[j]) * (candidate[j] - start[j]);
+    if (distance < best_distance) {
+      best_distance = distance;
+      std::copy(candidate.begin(), candidate.end(), q.begin());
+    }
+  }
+  return std::isfinite(best_distance) ? Reachability::Reachable : inverseNear(tools_in_base, start, q);
 }
 
 namespace {
@@ -245,29 +295,32 @@ void sumBounds(double seed_a, double seed_b, double share, double lower_a, doubl
 
 }  // namespace
 
-void IsurPuncturingModel::coordinateBounds(std::span<const double> start, std::span<double> lower,
-                                           std::span<double> upper) const {
+void IsurPuncturingModel::coordinateBounds(std::span<const double> start, std::span<const double> goal,
+                                           std::span<double> lower, std::span<double> upper) const {
   const kinematics::JointLimits& l = solver_.limits();
   const kinematics::IsurGeometry& g = solver_.geometry();
   for (std::size_t j = 0; j < 3; ++j) {
     lower[j] = l.lower[j];
     upper[j] = l.upper[j];
   }
-  sumBounds(start[3], start[4], g.yaw_share, l.lower[3], l.upper[3], l.lower[4], l.upper[4], lower[3], upper[3]);
-  sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[4], upper[4]);
-  lower[5] = l.lower[7];
-  upper[5] = l.upper[7];
+  // The base turntable only where the IK moves it: between its start and goal angles (it turns
+  // only when the micro yaw reaches a limit).
+  lower[3] = std::min(start[3], goal[3]);
+  upper[3] = std::max(start[3], goal[3]);
+  lower[4] = l.lower[4];
+  upper[4] = l.upper[4];
+  sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[5], upper[5]);
+  lower[6] = l.lower[7];
+  upper[6] = l.upper[7];
 }
 
 void IsurPuncturingModel::jointsOf(std::span<const double> c, std::span<const double> start,
                                    std::span<double> q) const {
   const kinematics::IsurGeometry& g = solver_.geometry();
-  for (std::size_t j = 0; j < 3; ++j) q[j] = c[j];
-  q[3] = start[3] + g.yaw_share * (c[3] - start[3] - start[4]);
-  q[4] = c[3] - q[3];
-  q[5] = start[5] + g.pitch_share * (c[4] - start[5] - start[6]);
-  q[6] = c[4] - q[5];
-  q[7] = c[5];
+  for (std::size_t j = 0; j < 5; ++j) q[j] = c[j];
+  q[5] = start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
+  q[6] = c[5] - q[5];
+  q[7] = c[6];
 }
 
 void IsurPuncturingModel::seedJoints(std::span<double> q) const {
@@ -275,14 +328,13 @@ void IsurPuncturingModel::seedJoints(std::span<double> q) const {
 }
 
 void IsurPuncturingModel::coordinateScales(std::span<double> scale) const {
-  for (std::size_t j = 0; j < 6; ++j) scale[j] = j < 3 ? kMaxSliderVelocity : kMaxRevoluteVelocity;
+  for (std::size_t j = 0; j < 7; ++j) scale[j] = j < 3 ? kMaxSliderVelocity : kMaxRevoluteVelocity;
 }
 
 void IsurPuncturingModel::coordinatesOf(std::span<const double> q, std::span<double> c) const {
-  for (std::size_t j = 0; j < 3; ++j) c[j] = q[j];
-  c[3] = q[3] + q[4];
-  c[4] = q[5] + q[6];
-  c[5] = q[7];
+  for (std::size_t j = 0; j < 5; ++j) c[j] = q[j];
+  c[5] = q[5] + q[6];
+  c[6] = q[7];
 }
 
 KDL::JntArray IsurSuturingModel::defaultSeed() {

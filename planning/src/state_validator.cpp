@@ -79,6 +79,16 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
 
 Reachability StateValidator::inverseNear(const DualPose& q, std::span<const double> seed, std::span<double> joints,
                                          std::size_t& failed_robot) {
+  return inverse(q, seed, joints, failed_robot, false);
+}
+
+Reachability StateValidator::inverseGoal(const DualPose& q, std::span<const double> start, std::span<double> joints,
+                                         std::size_t& failed_robot) {
+  return inverse(q, start, joints, failed_robot, true);
+}
+
+Reachability StateValidator::inverse(const DualPose& q, std::span<const double> seed, std::span<double> joints,
+                                     std::size_t& failed_robot, bool goal) {
   const SceneDescription& description = world_.scene();
   for (std::size_t r = 0; r < models_.size(); ++r) {
     const RobotPlacement& placement = description.robots[r];
@@ -93,7 +103,9 @@ Reachability StateValidator::inverseNear(const DualPose& q, std::span<const doub
     } else {
       robot_seed = seed.subspan(joint_offsets_[r], n);
     }
-    const Reachability reached = models_[r]->inverseNear(tools_[r], robot_seed, joints.subspan(joint_offsets_[r], n));
+    const std::span<double> out = joints.subspan(joint_offsets_[r], n);
+    const Reachability reached = goal ? models_[r]->inverseGoal(tools_[r], robot_seed, out)
+                                      : models_[r]->inverseNear(tools_[r], robot_seed, out);
     if (reached != Reachability::Reachable) {
       failed_robot = r;
       return reached;

@@ -42,6 +42,7 @@ return function(c)
   -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~190,000 in three_needles
   -- (about 4 s here).
   planner.max_validity_checks = 600000
+  planner.max_vel = c.max_vel   -- m/s: the trajectory generator's, for the path's joint-velocity check
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s
   _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench
@@ -68,6 +69,8 @@ return function(c)
     { output = n("TaskSup") .. ".taskState", input = n("Frames") .. ".currentTaskState" },
     { output = "ISUR.measCartPose", input = n("Planner") .. ".isurMeasPose" },
     { output = "UR5.measCartPose", input = n("Planner") .. ".UR5MeasPose" },
+    { output = "ISUR.measJointPosition", input = n("Planner") .. ".isurMeasJoints" },  -- the start: the
+    { output = "UR5.measJointPosition", input = n("Planner") .. ".UR5MeasJoints" },    -- robots' actual joints
     { output = robot .. ".measWrench", input = n("Wrench") .. ".inWrench" },
     { output = robot .. ".measCartPose", input = n("Wrench") .. ".referenceFrame" },
     { output = n("Wrench") .. ".outWrench", input = n("Admittance") .. ".measWrench" },

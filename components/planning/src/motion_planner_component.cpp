@@ -44,6 +44,7 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
   addProperty(max_vel_.range(1e-6, 10.0));
   addProperty(max_ang_vel_.range(1e-6, 100.0));
   addProperty(time_acc_.range(1e-6, 10.0));
+  addProperty(query_log_);
   addEventPort(isur_meas_);
   addEventPort(ur5_meas_);
   addPort(isur_joints_);
@@ -191,6 +192,26 @@ void MotionPlannerComponent::updateHook() {
   if (plan_request_.take()) plan();
 }
 
+void MotionPlannerComponent::logQuery(const planning::PlanResult& result) const {
+  if (query_log_().empty()) return;
+  std::FILE* file = std::fopen(query_log_().c_str(), "a");
+  if (file == nullptr) {
+    std::fprintf(stderr, "[cobra] MotionPlanner '%s': property query_log: cannot append to '%s'\n", name().c_str(),
+                 query_log_().c_str());
+    return;
+  }
+  std::fprintf(file, "start");
+  for (const double q : joints_) std::fprintf(file, " %.17g", q);
+  std::fprintf(file, " goal");
+  for (const KDL::Frame* f : {&goal_pose_.first, &goal_pose_.second}) {
+    double x = 0, y = 0, z = 0, w = 0;
+    f->M.GetQuaternion(x, y, z, w);
+    for (const double v : {f->p.x(), f->p.y(), f->p.z(), x, y, z, w}) std::fprintf(file, " %.17g", v);
+  }
+  std::fprintf(file, " # %s: %s\n", name().c_str(), planning::toString(result.status));
+  std::fclose(file);
+}
+
 void MotionPlannerComponent::plan() {
   if (!have_isur_ || !have_ur5_)
     return fail(std::string("no measured pose on port ") + (have_isur_ ? "UR5MeasPose" : "isurMeasPose") +
@@ -204,6 +225,7 @@ void MotionPlannerComponent::plan() {
                 std::to_string(isur_q_.rows()) + " and " + std::to_string(ur5_q_.rows()) + ")");
   const planning::PlanResult result =
       from_joints ? planner_impl_->planPath(joints_, goal_pose_) : planner_impl_->planPath(measured_, goal_pose_);
+  if (from_joints) logQuery(result);
   if (!result.solved()) {
     // The same query with the same seed would fail the same way: the next request explores anew.
     const std::uint32_t seed = planner_impl_->options().seed;

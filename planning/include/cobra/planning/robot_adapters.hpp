@@ -109,7 +109,7 @@ class Ur5Model final : public RobotModel {
                            std::span<double> q) override;
   /// The joint limits intersected with start ± π: a path never turns a joint more than half a turn
   /// from where it starts (the limits allow ±2π, which only adds detours to the search).
-  void coordinateBounds(std::span<const double> start, std::span<double> lower,
+  void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
                         std::span<double> upper) const override;
 
  private:
@@ -158,24 +158,40 @@ class IsurPuncturingModel final : public RobotModel {
   bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
   std::size_t toolLink(std::size_t) const override { return 5; }
   void seedJoints(std::span<double> q) const override;
-  /// The decomposition of kinematics::IsurPuncturingSolver::inverse seeded with `seed` (the
-  /// representation of the wrist angles nearest it; the redundancy split by the solver's shares
-  /// around it). At the gimbal lock (needle vertical to kGimbalLockTolerance) the yaw q4 + q5
-  /// stays the seed's and the roll q8 turns instead: a vertical goal is reached without turning the
-  /// arm about the vertical, and a step at the lock does not jump the yaw.
+  /// kinematics::IsurPuncturingSolver::inverse seeded with `seed` (what the control path's IK does
+  /// when it tracks a path: the wrist representation nearest the seed, the redundancy split by the
+  /// shares around it, the micro yaw's limit passing the rest to the base turntable). At the gimbal
+  /// lock (needle vertical to kGimbalLockTolerance) the yaw q4 + q5 stays the seed's and the roll
+  /// q8 turns instead: a vertical goal is reached without turning the arm about the vertical, and
+  /// a step at the lock does not jump the yaw.
   Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                            std::span<double> q) override;
-  /// Six coordinates [q1, q2, q3 (m), yaw = q4 + q5, pitch = q6 + q7, roll = q8 (rad)]: the
-  /// redundancy (q4 against q5, q6 against q7) follows the solver's shares from the start, as the
-  /// IK of the control path does when it tracks a Cartesian path from the start.
-  std::size_t coordinateCount() const override { return 6; }
+  /// Of the two representations of the wrist angles (pitch θ and π - θ), the one nearest `start`
+  /// whose joints follow the start's redundancy rule without any clamping (q4 where the yaw share
+  /// leaves it, q6 - q7 the start's): the goal of a path that does not turn the base turntable.
+  /// When neither is reachable so, inverseNear(). (The solver alone picks the representation
+  /// nearest over all joints, which may need the turntable where a half turn of the roll q8 would
+  /// do.)
+  Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                           std::span<double> q) override;
+  /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)]: the pitch splits
+  /// between q6 and q7 by the solver's share from the start, as the IK of the control path splits
+  /// it when it tracks a Cartesian path from the start. The base turntable q4 stays between its
+  /// start and goal angles.
+  std::size_t coordinateCount() const override { return 7; }
   void coordinateScales(std::span<double> scale) const override;
-  void coordinateBounds(std::span<const double> start, std::span<double> lower,
+  void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
                         std::span<double> upper) const override;
   void jointsOf(std::span<const double> c, std::span<const double> start, std::span<double> q) const override;
   void coordinatesOf(std::span<const double> q, std::span<double> c) const override;
 
  private:
+  /// Joints for the ZYX wrist angles (yaw, pitch, roll) of `target` split by the shares around
+  /// `seed` without clamping; false when a joint leaves its limits or the delta cannot place the
+  /// platform.
+  bool onRule(const KDL::Frame& target, double yaw, double pitch, double roll, std::span<const double> seed,
+              std::span<double> q);
+
   kinematics::IsurPuncturingSolver solver_;
   WarmStart<1> warm_;
   KDL::JntArray q_;

@@ -72,6 +72,12 @@ class RobotModel {
     return Reachability::Unreachable;
   }
 
+  /// The goal IK of a query from joints `start`: by default inverseNear(); a redundant robot may
+  /// prefer a solution its control path's IK reaches without leaving the start's redundancy rule.
+  virtual Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                   std::span<double> q) {
+    return inverseNear(tools_in_base, start, q);
+  }
   /// The configured warm-start seed (jointCount() values): the joints a start given as tool poses
   /// is solved from.
   virtual void seedJoints(std::span<double> q) const { (void)q; }
@@ -87,12 +93,12 @@ class RobotModel {
     std::vector<double> lower(jointCount()), upper(jointCount());
     jointLimits(lower, upper, scale);
   }
-  /// Bounds of the coordinates for a query starting at joints `start`.
-  virtual void coordinateBounds(std::span<const double> start, std::span<double> lower,
+  /// Bounds of the coordinates for a query from joints `start` to joints `goal`.
+  virtual void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
                                 std::span<double> upper) const {
     std::vector<double> velocity(jointCount());
     jointLimits(lower, upper, velocity);
-    (void)start;
+    (void)start, (void)goal;
   }
   /// Joints of coordinates `c` for a query starting at `start` (no allocation).
   virtual void jointsOf(std::span<const double> c, std::span<const double> start, std::span<double> q) const {

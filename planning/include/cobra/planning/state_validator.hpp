@@ -105,6 +105,9 @@ class StateValidator {
   /// `failed_robot` is the robot's index in scene().robots. No allocation.
   Reachability inverseNear(const DualPose& tools, std::span<const double> seed, std::span<double> q,
                            std::size_t& failed_robot);
+  /// The same with RobotModel::inverseGoal (seed = the start's joints).
+  Reachability inverseGoal(const DualPose& tools, std::span<const double> start, std::span<double> q,
+                           std::size_t& failed_robot);
   /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
   /// (allowed contacts left out; what the planner keeps above min_collision_distance), and
   /// `allowed_contact` = the minimum over the declared allowed contacts (+infinity: none declared).
@@ -125,6 +128,8 @@ class StateValidator {
   ValidityResult placeRobotsAt(std::span<const double> q);
   /// The distance queries of check() on the placed robots.
   ValidityResult checkDistances(ValidityResult result, bool exact_distances);
+  Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
+                       std::size_t& failed_robot, bool goal);
 
   CollisionWorld world_;
   std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order

@@ -28,7 +28,9 @@ namespace cobra::components {
 ///   `edge_resolution` (fraction of the space extent); `max_vel` (m/s per Cartesian axis),
 ///   `max_ang_vel` (rad/s), `time_acc` (s): those of the CartesianTrajectoryGenerator that follows
 ///   the path (the joint steps of the path are checked against the robots' joint velocity limits
-///   at these speeds);
+///   at these speeds); `query_log` (path, "" = none: every planning query from measured joints is
+///   appended as one line `start Q1..Qn goal X Y Z QX QY QZ QW X Y Z QX QY QZ QW # outcome`, the
+///   format bench/planning_bench.cpp replays; read when a plan is asked);
 /// - ports in: `isurMeasJoints`, `UR5MeasJoints` (KDL.JntArray: the measured joints, I-SUR
 ///   [q1 q2 q3 m, q4..q8 rad], UR5 [6 rad]; the start state when both have data: the path starts
 ///   on the robots' actual IK branches), `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the
@@ -75,6 +77,8 @@ class MotionPlannerComponent : public PlanningSceneComponent {
  private:
   void askPlan();
   double checkDistancePoses(KDL::Frame first, KDL::Frame second);
+  /// Appends the query and its outcome to query_log (when set).
+  void logQuery(const planning::PlanResult& result) const;
   /// Runs one query from the measured poses to the goal; writes the path or says why not.
   void plan();
   void fail(const std::string& reason);
@@ -100,6 +104,9 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   core::Property<double> max_ang_vel_{"max_ang_vel", 0.5, "rad/s",
                                       "max angular velocity of the trajectory generator following the path"};
   core::Property<double> time_acc_{"time_acc", 0.2, "s", "blend duration of the trajectory generator"};
+  core::Property<std::string> query_log_{"query_log", "", "path",
+                                         "file every query is appended to (start joints, goal poses, outcome); "
+                                         "'' = none"};
 
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
   core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
