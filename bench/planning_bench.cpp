@@ -10,12 +10,13 @@
 //  - ValidityCheck/puncturing_joints: StateValidator::checkJoints() on the joint states of those
 //    valid poses: what the joint-space planner pays per state (forward kinematics, no IK).
 //  - ValidityCheck/stand_in_peer: the library tests' stand-in scene (FCL only).
-//  - ScenarioQueries/<scenario>: every planning query the puncturing procedure made in that
-//    scenario (bench/data/planning_queries.txt: measured start joints and goal poses, recorded
-//    with the MotionPlanner's query_log property; the scene's phantom placed as in the run), each
-//    planned 5 times with the deployment's settings (RRTConnect, work limit 600,000 checks, the
-//    trajectory generator's speed of the planner that asked); counters `median_ms`, `max_ms`,
-//    `success_rate`, `queries`. Target: median < 50 ms, worst < 250 ms, 100 % success.
+//  - ScenarioQueries/<scenario>: the planning queries of the puncturing procedure of that
+//    scenario, reconstructed from its files (ScenarioRun: the goals the charts and the Frame
+//    Generator ask for, each start where the previous plan ended; the scene's phantom placed as in
+//    the run), the whole sequence planned 5 times with the deployment's settings (RRTConnect,
+//    work limit 600,000 checks, the trajectory generator speeds of the planner that asks);
+//    counters `median_ms`, `max_ms`, `success_rate`, `queries` (per sequence); a failed query's
+//    reason goes to stderr. Target: median < 50 ms, worst < 250 ms, 100 % success.
 //  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
 //    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
 //    poses; a third moves the needle, a third the probe, a third both), work limit 50,000 checks;
@@ -29,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -43,6 +45,7 @@
 #include "../test_support/include/cobra/test_support/counting_new.hpp"
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
+#include "cobra/puncturing/plan.hpp"
 
 namespace {
 
@@ -216,68 +219,100 @@ void BM_ValidityStandIn(benchmark::State& state) {
 BENCHMARK(BM_ValidityStandIn)->Name("ValidityCheck/stand_in_peer")->Repetitions(kRepetitions)
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
-/// One recorded query of a procedure run.
-struct RecordedQuery {
+/// One planning query: start joints, goal tool poses.
+struct Query {
   JointState start;
   DualPose goal;
-  double max_linear_velocity = 0.05;  // of the planner that asked (the deployment's trajectory generator)
+  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
+  double max_angular_velocity = 0.5;   // rad/s
 };
 
-/// bench/data/planning_queries.txt: `scenario NAME phantom X Y Z ROLL PITCH YAW` then the
-/// MotionPlanner's query_log lines (`start Q.. goal P.. # PLANNER: outcome`).
-std::map<std::string, std::pair<KDL::Frame, std::vector<RecordedQuery>>> recordedQueries() {
-  std::ifstream file(std::string(COBRA_SOURCE_DIR) + "/bench/data/planning_queries.txt");
-  std::map<std::string, std::pair<KDL::Frame, std::vector<RecordedQuery>>> scenarios;
-  std::string line, current;
-  while (std::getline(file, line)) {
-    std::istringstream in(line);
-    std::string word;
-    in >> word;
-    if (word == "scenario") {
-      double x, y, z, roll, pitch, yaw;
-      in >> current >> word >> x >> y >> z >> roll >> pitch >> yaw;
-      scenarios[current].first = KDL::Frame(KDL::Rotation::RPY(roll, pitch, yaw), KDL::Vector(x, y, z));
-    } else if (word == "start") {
-      RecordedQuery query;
-      query.start.resize(14);
-      for (double& q : query.start) in >> q;
-      double g[14];
-      in >> word;
-      for (double& v : g) in >> v;
-      query.goal = {KDL::Frame(KDL::Rotation::Quaternion(g[3], g[4], g[5], g[6]), KDL::Vector(g[0], g[1], g[2])),
-                    KDL::Frame(KDL::Rotation::Quaternion(g[10], g[11], g[12], g[13]), KDL::Vector(g[7], g[8], g[9]))};
-      query.max_linear_velocity = line.find("NeedlePlanner") != std::string::npos ? 0.04 : 0.08;
-      scenarios[current].second.push_back(query);
+/// The joints apps/puncturing/deployment/world.lua starts the simulated robots at (I-SUR, UR5).
+const JointState kInitialJoints{0.008186, 0.005667, 0.211075, 0, 0, 0.8, 0.6, 0,
+                                0.798,    -1.4495,  -1.714,   1.5925, -1.571, -2.344};
+
+/// The planning queries of a procedure, reconstructed from the scenario's files the way the
+/// charts and the Frame Generator make them (apps/puncturing/state_table.txt): the needle to its
+/// change pose, then per needle the probe to 30 mm above its pose, the needle to 20 mm above its
+/// entry (the probe on the skin), the needle back to the change pose. Each query starts where the
+/// previous plan ended (its last joint waypoint, as a continuity-keeping control path arrives);
+/// the primitives between them (descend, insert, extract) return the needle to where its
+/// approach ended and put the probe on its planned pose, tracked by the continuity IK.
+class ScenarioRun {
+ public:
+  explicit ScenarioRun(const std::string& name)
+      : folder_(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + name),
+        plan_(cobra::puncturing::loadPlan(folder_ + "/preoperative.txt", folder_ + "/cryo_plan.txt",
+                                          folder_ + "/us_plan.txt")),
+        abdomen_(plan_.preoperative.abdomen_in_task),
+        // puncturing.lua: the scene's phantom sits at the nominal abdomen (0, 0, 0.1).
+        validator_(makeValidator(puncturingScene(KDL::Frame(KDL::Vector(0, 0, -0.1)) * abdomen_))) {
+    const cobra::puncturing::StateTable table = cobra::puncturing::parseStateTable(
+        cobra::puncturing::readText(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/state_table.txt"),
+        "state_table.txt");
+    for (const auto& [pose_name, pose] : table.poses)
+      if (pose_name == "needle_change") change_ = pose;
+  }
+
+  /// Plans every query of the procedure; calls `planned` with each query and its result.
+  void run(const std::function<void(const Query&, const PlanResult&)>& planned) {
+    JointState q = kInitialJoints;
+    DualPose tools;
+    const auto plan = [&](const DualPose& goal, bool needle) {
+      Query query{q, goal, needle ? 0.04 : 0.08, needle ? 0.15 : 0.5};  // needle_robot.lua, probe_robot.lua
+      PlannerOptions o = deploymentOptions("RRTConnect");
+      o.max_validity_checks = 600000;
+      o.max_linear_velocity = query.max_linear_velocity;
+      o.max_angular_velocity = query.max_angular_velocity;
+      MotionPlanner planner(validator_, o);
+      const PlanResult result = planner.planPath(query.start, query.goal);
+      planned(query, result);
+      if (result.solved()) q = result.joint_waypoints.back();
+    };
+    const auto place = [&](const DualPose& at) {  // a primitive ends there
+      std::size_t robot = 0;
+      JointState next(q.size());
+      if (validator_.inverseNear(at, q, next, robot) == Reachability::Reachable) q = next;
+    };
+    validator_.toolPoses(q, tools);
+    plan({change_, tools.second}, true);
+    for (std::size_t i = 0; i < plan_.needles.size(); ++i) {
+      const KDL::Frame probe = abdomen_ * plan_.probes[i].pose;
+      validator_.toolPoses(q, tools);
+      plan({tools.first, cobra::puncturing::alongZ(probe, -0.03)}, false);
+      validator_.toolPoses(q, tools);
+      place({tools.first, probe});
+      const KDL::Frame entry = abdomen_ * cobra::puncturing::needleEntryPose(plan_.needles[i]);
+      plan({cobra::puncturing::alongZ(entry, -0.02), probe}, true);
+      plan({change_, probe}, true);
     }
   }
-  return scenarios;
-}
+
+ private:
+  std::string folder_;
+  cobra::puncturing::PuncturingPlan plan_;
+  KDL::Frame abdomen_;
+  StateValidator validator_;
+  KDL::Frame change_;
+};
 
 void BM_Scenario(benchmark::State& state, const std::string& scenario) {
-  const auto all = recordedQueries();
-  const auto found = all.find(scenario);
-  if (found == all.end() || found->second.second.empty()) {
-    state.SkipWithError(("no recorded queries for " + scenario + " in bench/data/planning_queries.txt").c_str());
-    return;
-  }
-  StateValidator validator = makeValidator(puncturingScene(found->second.first));
   std::vector<double> times_ms;
   int solved = 0, total = 0;
+  std::string failures;
   for (auto _ : state) {
     for (int repeat = 0; repeat < kScenarioRepeats; ++repeat) {
-      for (const RecordedQuery& query : found->second.second) {
-        PlannerOptions o = deploymentOptions("RRTConnect");
-        o.max_validity_checks = 600000;
-        o.max_linear_velocity = query.max_linear_velocity;
-        MotionPlanner planner(validator, o);
-        const PlanResult result = planner.planPath(query.start, query.goal);
+      ScenarioRun run(scenario);
+      run.run([&](const Query&, const PlanResult& result) {
         times_ms.push_back(1e3 * result.planning_time);
         solved += result.solved() ? 1 : 0;
         ++total;
-      }
+        if (!result.solved() && repeat == 0) failures += result.message + "; ";
+      });
     }
   }
-  state.counters["queries"] = static_cast<double>(found->second.second.size());
+  if (!failures.empty()) std::fprintf(stderr, "%s: %s\n", scenario.c_str(), failures.c_str());
+  state.counters["queries"] = static_cast<double>(total) / kScenarioRepeats;
   state.counters["median_ms"] = quantile(times_ms, 0.5);
   state.counters["max_ms"] = maxOf(times_ms);
   state.counters["success_rate"] = static_cast<double>(solved) / total;
@@ -290,13 +325,13 @@ BENCHMARK_CAPTURE(BM_Scenario, vertical_needle, std::string("vertical_needle"))
     ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
 
 /// kRandomQueries seeded feasible queries (the same for every planner).
-std::vector<RecordedQuery> randomQueries(StateValidator& validator) {
+std::vector<Query> randomQueries(StateValidator& validator) {
   const PlannerOptions o = deploymentOptions("RRTConnect");
   std::mt19937 rng(2026);
-  std::vector<RecordedQuery> queries;
+  std::vector<Query> queries;
   JointState goal_joints(validator.jointCount());
   while (queries.size() < static_cast<std::size_t>(kRandomQueries)) {
-    RecordedQuery query;
+    Query query;
     query.start = randomValidJoints(rng, validator, o);
     JointState goal = randomValidJoints(rng, validator, o, &query.start);
     // Which robots move: the needle, the probe, or both (one in three each).
@@ -320,12 +355,12 @@ std::vector<RecordedQuery> randomQueries(StateValidator& validator) {
 
 void BM_Random(benchmark::State& state, const std::string& planner) {
   StateValidator validator = makeValidator(puncturingScene());
-  const std::vector<RecordedQuery> queries = randomQueries(validator);
+  const std::vector<Query> queries = randomQueries(validator);
   std::vector<double> times_ms, cpu_ms;
   int solved = 0;
   for (auto _ : state) {
     std::uint32_t seed = 1;
-    for (const RecordedQuery& query : queries) {
+    for (const Query& query : queries) {
       PlannerOptions o = deploymentOptions(planner);
       o.max_validity_checks = 50000;
       o.seed = seed++;

@@ -161,8 +161,10 @@ void MotionPlannerComponent::updateHook() {
   const core::FlowStatus ur5 = ur5_meas_.read(measured_.second);
   have_isur_ = have_isur_ || isur != core::FlowStatus::NoData;
   have_ur5_ = have_ur5_ || ur5 != core::FlowStatus::NoData;
-  have_isur_joints_ = have_isur_joints_ || isur_joints_.read(isur_q_) != core::FlowStatus::NoData;
-  have_ur5_joints_ = have_ur5_joints_ || ur5_joints_.read(ur5_q_) != core::FlowStatus::NoData;
+  const core::FlowStatus isur_joints = isur_joints_.read(isur_q_);
+  const core::FlowStatus ur5_joints = ur5_joints_.read(ur5_q_);
+  have_isur_joints_ = have_isur_joints_ || isur_joints != core::FlowStatus::NoData;
+  have_ur5_joints_ = have_ur5_joints_ || ur5_joints != core::FlowStatus::NoData;
   const bool measured_changed =
       have_isur_ && have_ur5_ && (isur == core::FlowStatus::NewData || ur5 == core::FlowStatus::NewData);
   trajectory::MultiAxisPath goal;

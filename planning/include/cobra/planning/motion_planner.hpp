@@ -81,8 +81,9 @@ struct PlannerOptions {
   /// Blend duration [s]: no segment lasts less.
   double blend_time = 0.2;
   /// Share of each joint's velocity limit a path may need when the generator runs it at the
-  /// limits above (the blends reach up to ~1.9 times a segment's mean speed) [1].
-  double joint_velocity_margin = 0.5;
+  /// limits above [1] (its blends pass from one segment's speed to the next monotonically, so a
+  /// segment's mean speed bounds them; the rest is for the servo's lag).
+  double joint_velocity_margin = 0.8;
   /// How often a segment that fails the dense verification may be halved (in joint space) [1].
   std::size_t max_subdivisions = 8;
   /// Names of the two tools in messages (the component: "needle", "probe").
