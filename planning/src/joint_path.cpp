@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -277,7 +276,6 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   std::uint32_t seed = options_.seed;
   for (;;) {
     PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed);
-    if (std::getenv("COBRA_PLAN_DEBUG")) std::fprintf(stderr, "seed %u: %s %s\n", seed, toString(attempt.status), attempt.message.c_str());
     if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
     ++seed;
   }
