@@ -408,6 +408,33 @@ bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, st
   return true;
 }
 
+bool MotionPlanner::insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses,
+                                   std::vector<std::size_t>& depth, std::vector<char>& crossing, std::size_t k,
+                                   std::size_t level) {
+  if (crossing[k] != 0) return false;  // the segment through a crossing: nothing more to insert
+  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
+    RobotModel& model = validator_.model(r);
+    const std::size_t at = validator_.jointOffset(r), n = model.jointCount();
+    JointState before = planned[k], after = planned[k + 1];
+    const auto span = [&](const JointState& q) { return std::span<const double>(q).subspan(at, n); };
+    if (!model.singularCrossing(span(planned[k]), span(planned[k + 1]), std::span<double>(before).subspan(at, n),
+                                std::span<double>(after).subspan(at, n)))
+      continue;
+    // The other robots at the same fraction of the segment (the crossing's, from the pitch).
+    DualPose before_poses, after_poses;
+    if (!validator_.toolPoses(before, before_poses) || !validator_.toolPoses(after, after_poses) ||
+        !checkState(before).valid() || !checkState(after).valid())
+      return false;
+    const auto where = static_cast<std::ptrdiff_t>(k + 1);
+    planned.insert(planned.begin() + where, {before, after});
+    poses.insert(poses.begin() + where, {before_poses, after_poses});
+    depth.insert(depth.begin() + where, {level, level});
+    crossing.insert(crossing.begin() + where, {1, 0});
+    return true;
+  }
+  return false;
+}
+
 bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
                            Layout& layout, const JointState& start, PlanResult& result, std::string& failure) {
   // Cartesian waypoints: the tool poses of the planned joints, exactly the start and goal at the ends.
@@ -416,6 +443,7 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
   poses.front() = start_poses;
   poses.back() = goal_poses;
   std::vector<std::size_t> depth(planned.size(), 0);
+  std::vector<char> crossing(planned.size(), 0);  // 1: the segment from this waypoint passes a singular pose
   JointState q = start;
   result.joint_waypoints = {start};
   std::vector<double> a(layout.scale.size()), b(layout.scale.size()), mid(layout.scale.size());
@@ -427,9 +455,12 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
       ++k;
       continue;
     }
-    // Halve the segment in joint space (the planned joints' midpoint, whose tool poses become a
-    // new waypoint) until it passes or max_subdivisions is reached.
+    // A segment crossing a robot's singular set (the needle through the vertical) first gets two
+    // waypoints around the crossing whose Cartesian segment passes exactly through it.
     const std::size_t level = std::max(depth[k], depth[k + 1]) + 1;
+    if (insertCrossing(planned, poses, depth, crossing, k, level)) continue;
+    // Otherwise halve the segment in joint space (the planned joints' midpoint, whose tool poses
+    // become a new waypoint) until it passes or max_subdivisions is reached.
     if (level > options_.max_subdivisions) {
       failure += " (after " + std::to_string(options_.max_subdivisions) + " subdivisions)";
       return false;
@@ -448,6 +479,7 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
     planned.insert(planned.begin() + at, middle);
     poses.insert(poses.begin() + at, middle_poses);
     depth.insert(depth.begin() + at, level);
+    crossing.insert(crossing.begin() + at, 0);
   }
   result.waypoints = std::move(poses);
   return true;

@@ -331,6 +331,24 @@ void IsurPuncturingModel::coordinateScales(std::span<double> scale) const {
   for (std::size_t j = 0; j < 7; ++j) scale[j] = j < 3 ? kMaxSliderVelocity : kMaxRevoluteVelocity;
 }
 
+bool IsurPuncturingModel::singularCrossing(std::span<const double> a, std::span<const double> b,
+                                           std::span<double> before, std::span<double> after) const {
+  const double pitch_a = a[5] + a[6], pitch_b = b[5] + b[6];
+  for (const double lock : {std::numbers::pi / 2, -std::numbers::pi / 2}) {
+    if ((pitch_a - lock) * (pitch_b - lock) >= 0.0) continue;
+    const double t = (lock - pitch_a) / (pitch_b - pitch_a);
+    for (std::size_t j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) before[j] = a[j] + t * (b[j] - a[j]);
+    std::copy(before.begin(), before.end(), after.begin());
+    const double share = solver_.geometry().pitch_share, step = std::copysign(kCrossingMargin, pitch_b - pitch_a);
+    before[5] -= share * step;
+    before[6] -= (1.0 - share) * step;
+    after[5] += share * step;
+    after[6] += (1.0 - share) * step;
+    return true;
+  }
+  return false;
+}
+
 void IsurPuncturingModel::coordinatesOf(std::span<const double> q, std::span<double> c) const {
   for (std::size_t j = 0; j < 5; ++j) c[j] = q[j];
   c[5] = q[5] + q[6];

@@ -178,6 +178,10 @@ class MotionPlanner {
   /// Follows the Cartesian segment a → b with the continuity-keeping IK from joints `q` (updated
   /// to the end's): false with `failure` at the first unreachable, discontinuous or invalid step.
   bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure);
+  /// Inserts the two waypoints of RobotModel::singularCrossing into segment k when a robot's
+  /// planned joints cross a singular set there (not again for a segment that starts at one).
+  bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,
+                      std::vector<char>& crossing, std::size_t k, std::size_t level);
   /// The dense verification of the planned joints' Cartesian path, halving failing segments in
   /// joint space; fills result.waypoints and joint_waypoints, or returns false with `failure`.
   bool verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,

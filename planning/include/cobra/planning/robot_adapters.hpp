@@ -179,6 +179,12 @@ class IsurPuncturingModel final : public RobotModel {
   /// it when it tracks a Cartesian path from the start. The base turntable q4 stays between its
   /// start and goal angles.
   std::size_t coordinateCount() const override { return 7; }
+  /// The segment's pitch q6 + q7 passing ±90°: `before` and `after` are the configuration at the
+  /// crossing with the pitch kCrossingMargin before and after it, yaw, roll and sliders equal, so
+  /// that the needle turns through the vertical in one plane.
+  bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,
+                        std::span<double> after) const override;
+  static constexpr double kCrossingMargin = 0.02;  // rad
   void coordinateScales(std::span<double> scale) const override;
   void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
                         std::span<double> upper) const override;

@@ -78,6 +78,16 @@ class RobotModel {
                                    std::span<double> q) {
     return inverseNear(tools_in_base, start, q);
   }
+  /// Where the straight joint-space segment a → b crosses a singular set of the robot's Cartesian
+  /// control (the I-SUR: the needle vertical, its wrist's gimbal lock, where a Cartesian path that
+  /// misses the singular pose by any distance turns the yaw half a turn): two configurations
+  /// `before` and `after` on either side of the crossing whose Cartesian path passes exactly
+  /// through the singular pose. False when the segment does not cross one. No allocation.
+  virtual bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,
+                                std::span<double> after) const {
+    (void)a, (void)b, (void)before, (void)after;
+    return false;
+  }
   /// The configured warm-start seed (jointCount() values): the joints a start given as tool poses
   /// is solved from.
   virtual void seedJoints(std::span<double> q) const { (void)q; }
