@@ -228,7 +228,7 @@ struct Query {
 };
 
 /// The joints apps/puncturing/deployment/world.lua starts the simulated robots at (I-SUR, UR5).
-const JointState kInitialJoints{0.008186, 0.005667, 0.211075, 0, 0, 0.8, 0.6, 0,
+const JointState kInitialJoints{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0,
                                 0.798,    -1.4495,  -1.714,   1.5925, -1.571, -2.344};
 
 /// The planning queries of a procedure, reconstructed from the scenario's files the way the

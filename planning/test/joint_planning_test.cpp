@@ -24,7 +24,7 @@ constexpr double kPi = std::numbers::pi;
 
 /// The joints apps/puncturing/deployment/world.lua starts the robots at: the needle 10° from
 /// vertical at (-0.05, 0.05, 0.26) m, the probe pointing down at (0.2, -0.25, 0.3) m.
-const JointState kStart{0.008186, 0.005667, 0.211075, 0, 0, 0.8, 0.6, 0, 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344};
+const JointState kStart{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0, 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344};
 
 /// The puncturing scene with the application's needle frames (z along the needle).
 StateValidator puncturingValidator() {

@@ -152,7 +152,7 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   // The I-SUR at the simulated robot's start (apps/puncturing/deployment/world.lua), the UR5 on
   // that start's branch with the probe pressed onto the phantom.
   KDL::JntArray isur(8), ur5(6);
-  const double isur_q[8] = {0.008186, 0.005667, 0.211075, 0, 0, 0.8, 0.6, 0};
+  const double isur_q[8] = {0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0};
   for (unsigned j = 0; j < 8; ++j) isur(j) = isur_q[j];
   planning::Ur5Model model;
   KDL::JntArray seed(6);
