@@ -73,9 +73,6 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
   return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
 }
 
-/// Largest rotation of a tool over one returned segment [rad].
-constexpr double kMaxSegmentRotation = 1.5;
-
 bool samePose(const KDL::Frame& a, const KDL::Frame& b) {
   KDL::Vector axis;
   return (a.p - b.p).Norm() < 1e-6 && (a.M.Inverse() * b.M).GetRotAngle(axis) < 1e-6;
@@ -377,16 +374,6 @@ double MotionPlanner::segmentDuration(const DualPose& a, const DualPose& b) cons
 }
 
 bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure) {
-  // Near half a turn the geodesic between two orientations is ill-conditioned (which way round
-  // depends on rounding: a waypoint sent through a port may turn the other way): segments turn
-  // less than kMaxSegmentRotation.
-  for (const auto& [from, to] : {std::pair{&a.first, &b.first}, std::pair{&a.second, &b.second}}) {
-    KDL::Vector axis;
-    if ((from->M.Inverse() * to->M).GetRotAngle(axis) > kMaxSegmentRotation) {
-      failure = "a tool turns more than " + std::to_string(kMaxSegmentRotation) + " rad in one segment";
-      return false;
-    }
-  }
   const std::size_t steps = options_.verify_points_per_segment;
   const double duration = segmentDuration(a, b);
   JointState next(q.size());
