@@ -3,21 +3,26 @@
 // I-SUR puncturing kinematics and the UR5 closed form), and, as a peer, the same FCL work with the
 // stand-in robots of the library tests (two_robots.scene + a wall: IK costs nothing there).
 //
-//  - ValidityCheck/puncturing_random: StateValidator::check() on 4096 seeded random states in the
-//    planner's bounds (random orientations: most are unreachable for the I-SUR and rejected after
-//    its IK), cycled; `checks_per_s` is the rate (target >= 20,000/s), `valid_fraction` how many
-//    were valid, `allocs_per_check` the operator new calls per check (0 on primitive scenes
-//    since the distance queries use FCL's own GJK; libccd's allocated ~2 per narrow-phase query).
-//  - ValidityCheck/puncturing_valid: the same on 4096 VALID states (needle within 30 deg of
-//    vertical, probe pointing down: rejection-sampled), where all five group pairs are queried:
-//    the worst case, and the State Validator component's cost per teleoperation set-point.
+//  - ValidityCheck/puncturing_random: StateValidator::check() (IK of both robots, then FCL) on 4096
+//    seeded random tool poses in the planner's bounds (most are unreachable for the I-SUR and
+//    rejected after its IK), cycled; `checks_per_s`, `valid_fraction`, `allocs_per_check`.
+//  - ValidityCheck/puncturing_valid: the same on 4096 VALID tool poses (all five group pairs queried).
+//  - ValidityCheck/puncturing_joints: StateValidator::checkJoints() on the joint states of those
+//    valid poses: what the joint-space planner pays per state (forward kinematics, no IK).
 //  - ValidityCheck/stand_in_peer: the library tests' stand-in scene (FCL only).
-//  - Plan/<planner>: one iteration = 100 seeded planning queries (seeds 1..100) moving the probe
-//    around the phantom (the query of planning/test/real_robots_test.cpp); counters `median_ms`,
-//    `p95_ms`, `max_ms` of the planning time, `success_rate` (time limit 0.5 s per query) and
-//    `cpu_median_ms` (process CPU time; wall-clock figures include waiting for a shared core).
-//    RRT-Connect (the thesis' choice) side by side with plain RRT and PRM. Target: RRT-Connect
-//    median <= 50 ms and 100 % success.
+//  - ScenarioQueries/<scenario>: the planning queries of the puncturing procedure of that
+//    scenario, reconstructed from its files (ScenarioRun: the goals the charts and the Frame
+//    Generator ask for, each start where the previous plan ended; the scene's phantom placed as in
+//    the run), the whole sequence planned 5 times with the deployment's settings (RRTConnect,
+//    work limit 600,000 checks, the trajectory generator speeds of the planner that asks);
+//    counters `median_ms`, `max_ms`, `success_rate`, `queries` (per sequence); a failed query's
+//    reason goes to stderr. Target: median < 50 ms, worst < 250 ms, 100 % success.
+//  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
+//    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
+//    poses; a third moves the needle, a third the probe, a third both), work limit 10,000 checks;
+//    `success_rate`, `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time:
+//    wall-clock times include waiting for a shared core). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1
+//    and BIT* side by side on the same queries.
 // Validity checks run 10 repetitions (median and max reported); planning runs once.
 
 #include <benchmark/benchmark.h>
@@ -25,7 +30,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -37,14 +45,16 @@
 #include "../test_support/include/cobra/test_support/counting_new.hpp"
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
+#include "cobra/puncturing/plan.hpp"
 
 namespace {
 
 using namespace cobra::planning;
 
 constexpr int kRepetitions = 10;
-constexpr int kQueries = 100;
-constexpr double kPlanningTimeLimit = 0.5;  // s per query
+constexpr int kRandomQueries = 1000;
+constexpr int kScenarioRepeats = 5;
+constexpr double kPi = 3.141592653589793;
 
 /// CPU time of the whole process [s]: on a shared machine the wall-clock planning time also counts
 /// the time other processes hold the cores.
@@ -56,6 +66,12 @@ double processCpuSeconds() {
 
 double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * double(values.size() - 1))];
+}
+
 SceneDescription standInScene() {
   const std::string dir = std::string(COBRA_SOURCE_DIR) + "/planning/test/data";
   std::ifstream file(dir + "/two_robots.scene");
@@ -64,38 +80,31 @@ SceneDescription standInScene() {
   return parseScene(text.str(), "two_robots.scene + wall", dir);
 }
 
-StateValidator makeStandInValidator() {
-  return StateValidator(standInScene(), {{"isur", std::make_shared<test::StandInGantry>(0.5, 0.15, 0.8, 0.1)},
-                                       {"ur5", std::make_shared<test::StandInFreeFlyer>(KDL::Vector(0, 0, 0.3), 0.7)}});
-}
-
-PlannerOptions standInOptions() {
-  PlannerOptions o;
-  o.first_bounds = {{-0.45, -0.45, 0.2}, {0.45, 0.45, 0.45}};
-  o.second_bounds = {{-0.45, -0.1, 0.2}, {0.45, 0.6, 0.5}};
-  return o;
-}
-
-StateValidator makePuncturingValidator() {
+/// The puncturing scene as the deployment configures it: the needle frames have z along the
+/// needle (apps/puncturing/puncturing.lua), the phantom at `phantom` (identity: as in the file).
+SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
   SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/scenes/puncturing.scene");
+  for (RobotPlacement& robot : scene.robots)
+    if (robot.name == "isur") robot.tool_in_model_tool = KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0));
+  for (ObjectDescription& object : scene.objects)
+    if (object.name == "phantom") object.offset = phantom * object.offset;
+  return scene;
+}
+
+StateValidator makeValidator(SceneDescription scene) {
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
 }
 
-/// The bounds of planning/test/real_robots_test.cpp: needle around the phantom's top, probe around the phantom.
-PlannerOptions plannerOptions(const std::string& planner, std::uint32_t seed) {
+/// The MotionPlanner component's default bounds (components/planning), as the deployment uses them.
+PlannerOptions deploymentOptions(const std::string& planner) {
   PlannerOptions o;
   o.planner = planner;
-  o.seed = seed;
-  o.time_limit = kPlanningTimeLimit;
-  o.first_bounds = {{-0.15, -0.15, 0.15}, {0.15, 0.15, 0.3}};
-  o.second_bounds = {{-0.3, -0.3, 0.03}, {0.35, 0.3, 0.35}};
+  o.first_bounds = {{-0.3, -0.3, 0.0}, {0.3, 0.3, 0.5}};
+  o.second_bounds = {{-0.4, -0.5, 0.0}, {0.4, 0.4, 0.6}};
+  o.tool_names = {"needle", "probe"};
   return o;
 }
-
-constexpr double kPi = 3.141592653589793;
-KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
-KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
 
 KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -108,15 +117,43 @@ KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   return KDL::Frame(KDL::Rotation::Quaternion(x / n, y / n, z / n, w / n), p);
 }
 
-void runChecks(benchmark::State& state, StateValidator& validator, const std::vector<DualPose>& states) {
+/// A valid joint state inside the planner's tool bounds, sampled uniformly in the joint limits
+/// (the UR5 within ±π of `near`'s joints when given, so that it stays on one IK branch family).
+JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const PlannerOptions& o,
+                             const JointState* near = nullptr) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  JointState q(validator.jointCount());
+  DualPose tools;
+  for (;;) {
+    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+      RobotModel& model = validator.model(r);
+      const std::size_t n = model.jointCount(), offset = validator.jointOffset(r);
+      std::vector<double> lower(n), upper(n), velocity(n);
+      model.jointLimits(lower, upper, velocity);
+      for (std::size_t j = 0; j < n; ++j) {
+        double lo = lower[j], hi = upper[j];
+        if (near != nullptr && validator.scene().robots[r].name == "ur5") {
+          lo = std::max(lo, (*near)[offset + j] - kPi);
+          hi = std::min(hi, (*near)[offset + j] + kPi);
+        }
+        q[offset + j] = lo + unit(rng) * (hi - lo);
+      }
+    }
+    if (validator.checkJoints(q).valid() && validator.toolPoses(q, tools) && o.first_bounds.contains(tools.first.p) &&
+        o.second_bounds.contains(tools.second.p))
+      return q;
+  }
+}
+
+void runChecks(benchmark::State& state, const std::function<bool(std::size_t)>& check, std::size_t count) {
   std::size_t next = 0, valid = 0, checks = 0;
   const long allocations_before = cobra::test_support::newCalls();
   for (auto _ : state) {
-    const ValidityResult result = validator.check(states[next]);
+    const bool result = check(next);
     benchmark::DoNotOptimize(result);
-    valid += result.valid() ? 1 : 0;
+    valid += result ? 1 : 0;
     ++checks;
-    next = (next + 1) % states.size();
+    next = (next + 1) % count;
   }
   state.counters["checks_per_s"] = benchmark::Counter(static_cast<double>(checks), benchmark::Counter::kIsRate);
   state.counters["valid_fraction"] = static_cast<double>(valid) / static_cast<double>(checks);
@@ -125,82 +162,239 @@ void runChecks(benchmark::State& state, StateValidator& validator, const std::ve
 }
 
 void BM_ValidityRandom(benchmark::State& state) {
-  StateValidator validator = makePuncturingValidator();
-  const PlannerOptions o = plannerOptions("RRTConnect", 1);
+  StateValidator validator = makeValidator(puncturingScene());
+  const PlannerOptions o = deploymentOptions("RRTConnect");
   std::mt19937 rng(7);
   std::vector<DualPose> states(4096);
   for (DualPose& q : states) q = {randomPose(rng, o.first_bounds), randomPose(rng, o.second_bounds)};
-  runChecks(state, validator, states);
+  runChecks(state, [&](std::size_t i) { return validator.check(states[i]).valid(); }, states.size());
 }
 BENCHMARK(BM_ValidityRandom)->Name("ValidityCheck/puncturing_random")->Repetitions(kRepetitions)
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
-void BM_ValidityValid(benchmark::State& state) {
-  StateValidator validator = makePuncturingValidator();
-  const PlannerOptions o = plannerOptions("RRTConnect", 1);
+/// 4096 valid joint states and their tool poses.
+struct ValidStates {
+  std::vector<JointState> joints;
+  std::vector<DualPose> poses;
+};
+ValidStates validStates(StateValidator& validator) {
+  const PlannerOptions o = deploymentOptions("RRTConnect");
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> tilt(-0.5, 0.5), yaw(-kPi, kPi), unit(0.0, 1.0);
-  std::vector<DualPose> states;
-  while (states.size() < 4096) {
-    const auto position = [&](const PositionBounds& b) {
-      return KDL::Vector(b.low[0] + unit(rng) * (b.high[0] - b.low[0]), b.low[1] + unit(rng) * (b.high[1] - b.low[1]),
-                         b.low[2] + unit(rng) * (b.high[2] - b.low[2]));
-    };
-    const DualPose q{KDL::Frame(KDL::Rotation::RPY(tilt(rng), tilt(rng), 0.0) * needleDown(0, 0, 0).M,
-                                position(o.first_bounds)),
-                     KDL::Frame(KDL::Rotation::RotZ(yaw(rng)) * probeDown(0, 0, 0).M, position(o.second_bounds))};
-    if (validator.isStateValid(q)) states.push_back(q);
+  ValidStates states;
+  while (states.joints.size() < 4096) {
+    states.joints.push_back(randomValidJoints(rng, validator, o));
+    states.poses.emplace_back();
+    validator.toolPoses(states.joints.back(), states.poses.back());
   }
-  runChecks(state, validator, states);
+  return states;
+}
+
+void BM_ValidityValid(benchmark::State& state) {
+  StateValidator validator = makeValidator(puncturingScene());
+  const ValidStates states = validStates(validator);
+  runChecks(state, [&](std::size_t i) { return validator.check(states.poses[i]).valid(); }, states.poses.size());
 }
 BENCHMARK(BM_ValidityValid)->Name("ValidityCheck/puncturing_valid")->Repetitions(kRepetitions)
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
+void BM_ValidityJoints(benchmark::State& state) {
+  StateValidator validator = makeValidator(puncturingScene());
+  const ValidStates states = validStates(validator);
+  runChecks(state, [&](std::size_t i) { return validator.checkJoints(states.joints[i]).valid(); },
+            states.joints.size());
+}
+BENCHMARK(BM_ValidityJoints)->Name("ValidityCheck/puncturing_joints")->Repetitions(kRepetitions)
+    ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
+
 void BM_ValidityStandIn(benchmark::State& state) {
-  StateValidator validator = makeStandInValidator();
-  const PlannerOptions o = standInOptions();
+  StateValidator validator(standInScene(),
+                           {{"isur", std::make_shared<cobra::planning::test::StandInGantry>(0.5, 0.15, 0.8, 0.1)},
+                            {"ur5", std::make_shared<cobra::planning::test::StandInFreeFlyer>(KDL::Vector(0, 0, 0.3), 0.7)}});
+  PositionBounds first{{-0.45, -0.45, 0.2}, {0.45, 0.45, 0.45}}, second{{-0.45, -0.1, 0.2}, {0.45, 0.6, 0.5}};
   std::mt19937 rng(7);
   std::vector<DualPose> states(4096);
-  for (DualPose& q : states) q = {randomPose(rng, o.first_bounds), randomPose(rng, o.second_bounds)};
-  runChecks(state, validator, states);
+  for (DualPose& q : states) q = {randomPose(rng, first), randomPose(rng, second)};
+  runChecks(state, [&](std::size_t i) { return validator.check(states[i]).valid(); }, states.size());
 }
 BENCHMARK(BM_ValidityStandIn)->Name("ValidityCheck/stand_in_peer")->Repetitions(kRepetitions)
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
-void BM_Plan(benchmark::State& state, const std::string& planner) {
-  StateValidator validator = makePuncturingValidator();
-  const DualPose start{needleDown(0.0, 0.0, 0.2), probeDown(-0.2, 0.0, 0.06)};
-  const DualPose goal{needleDown(0.0, 0.0, 0.2), probeDown(0.25, 0.0, 0.06)};
+/// One planning query: start joints, goal tool poses.
+struct Query {
+  JointState start;
+  DualPose goal;
+  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
+  double max_angular_velocity = 0.5;   // rad/s
+};
+
+/// The joints apps/puncturing/deployment/world.lua starts the simulated robots at (I-SUR, UR5).
+const JointState kInitialJoints{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0,
+                                0.798,    -1.4495,  -1.714,   1.5925, -1.571, -2.344};
+
+/// The planning queries of a procedure, reconstructed from the scenario's files the way the
+/// charts and the Frame Generator make them (apps/puncturing/state_table.txt): the needle to its
+/// change pose, then per needle the probe to 30 mm above its pose, the needle to 20 mm above its
+/// entry (the probe on the skin), the needle back to the change pose. Each query starts where the
+/// previous plan ended (its last joint waypoint, as a continuity-keeping control path arrives);
+/// the primitives between them (descend, insert, extract) return the needle to where its
+/// approach ended and put the probe on its planned pose, tracked by the continuity IK.
+class ScenarioRun {
+ public:
+  explicit ScenarioRun(const std::string& name)
+      : folder_(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + name),
+        plan_(cobra::puncturing::loadPlan(folder_ + "/preoperative.txt", folder_ + "/cryo_plan.txt",
+                                          folder_ + "/us_plan.txt")),
+        abdomen_(plan_.preoperative.abdomen_in_task),
+        // puncturing.lua: the scene's phantom sits at the nominal abdomen (0, 0, 0.1).
+        validator_(makeValidator(puncturingScene(KDL::Frame(KDL::Vector(0, 0, -0.1)) * abdomen_))) {
+    const cobra::puncturing::StateTable table = cobra::puncturing::parseStateTable(
+        cobra::puncturing::readText(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/state_table.txt"),
+        "state_table.txt");
+    for (const auto& [pose_name, pose] : table.poses)
+      if (pose_name == "needle_change") change_ = pose;
+  }
+
+  /// Plans every query of the procedure; calls `planned` with each query and its result.
+  void run(const std::function<void(const Query&, const PlanResult&)>& planned) {
+    JointState q = kInitialJoints;
+    DualPose tools;
+    const auto plan = [&](const DualPose& goal, bool needle) {
+      Query query{q, goal, needle ? 0.04 : 0.08, needle ? 0.15 : 0.5};  // needle_robot.lua, probe_robot.lua
+      PlannerOptions o = deploymentOptions("RRTConnect");
+      o.max_validity_checks = 600000;
+      o.max_linear_velocity = query.max_linear_velocity;
+      o.max_angular_velocity = query.max_angular_velocity;
+      MotionPlanner planner(validator_, o);
+      const PlanResult result = planner.planPath(query.start, query.goal);
+      planned(query, result);
+      if (result.solved()) q = result.joint_waypoints.back();
+    };
+    const auto place = [&](const DualPose& at) {  // a primitive ends there
+      std::size_t robot = 0;
+      JointState next(q.size());
+      if (validator_.inverseNear(at, q, next, robot) == Reachability::Reachable) q = next;
+    };
+    validator_.toolPoses(q, tools);
+    plan({change_, tools.second}, true);
+    for (std::size_t i = 0; i < plan_.needles.size(); ++i) {
+      const KDL::Frame probe = abdomen_ * plan_.probes[i].pose;
+      validator_.toolPoses(q, tools);
+      plan({tools.first, cobra::puncturing::alongZ(probe, -0.03)}, false);
+      validator_.toolPoses(q, tools);
+      place({tools.first, probe});
+      const KDL::Frame entry = abdomen_ * cobra::puncturing::needleEntryPose(plan_.needles[i]);
+      plan({cobra::puncturing::alongZ(entry, -0.02), probe}, true);
+      plan({change_, probe}, true);
+    }
+  }
+
+ private:
+  std::string folder_;
+  cobra::puncturing::PuncturingPlan plan_;
+  KDL::Frame abdomen_;
+  StateValidator validator_;
+  KDL::Frame change_;
+};
+
+void BM_Scenario(benchmark::State& state, const std::string& scenario) {
+  std::vector<double> times_ms;
+  int solved = 0, total = 0;
+  std::string failures;
+  for (auto _ : state) {
+    for (int repeat = 0; repeat < kScenarioRepeats; ++repeat) {
+      ScenarioRun run(scenario);
+      run.run([&](const Query&, const PlanResult& result) {
+        times_ms.push_back(1e3 * result.planning_time);
+        solved += result.solved() ? 1 : 0;
+        ++total;
+        if (!result.solved() && repeat == 0) failures += result.message + "; ";
+      });
+    }
+  }
+  if (!failures.empty()) std::fprintf(stderr, "%s: %s\n", scenario.c_str(), failures.c_str());
+  state.counters["queries"] = static_cast<double>(total) / kScenarioRepeats;
+  state.counters["median_ms"] = quantile(times_ms, 0.5);
+  state.counters["max_ms"] = maxOf(times_ms);
+  state.counters["success_rate"] = static_cast<double>(solved) / total;
+}
+BENCHMARK_CAPTURE(BM_Scenario, two_needles, std::string("two_needles"))->Name("ScenarioQueries/two_needles")
+    ->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Scenario, three_needles, std::string("three_needles"))->Name("ScenarioQueries/three_needles")
+    ->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Scenario, vertical_needle, std::string("vertical_needle"))
+    ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
+
+/// kRandomQueries seeded feasible queries (the same for every planner).
+std::vector<Query> randomQueries(StateValidator& validator) {
+  const PlannerOptions o = deploymentOptions("RRTConnect");
+  std::mt19937 rng(2026);
+  std::vector<Query> queries;
+  JointState goal_joints(validator.jointCount());
+  while (queries.size() < static_cast<std::size_t>(kRandomQueries)) {
+    Query query;
+    query.start = randomValidJoints(rng, validator, o);
+    JointState goal = randomValidJoints(rng, validator, o, &query.start);
+    // Which robots move: the needle, the probe, or both (one in three each).
+    const int moving = static_cast<int>(queries.size() % 3);
+    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+      const bool isur = validator.scene().robots[r].name == "isur";
+      if ((moving == 0 && !isur) || (moving == 1 && isur))
+        std::copy_n(query.start.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)),
+                    validator.model(r).jointCount(), goal.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)));
+    }
+    validator.toolPoses(goal, query.goal);
+    // Feasible: the goal IK from the start reaches a valid state on the start's branch.
+    std::size_t robot = 0;
+    if (validator.inverseGoal(query.goal, query.start, goal_joints, robot) != Reachability::Reachable ||
+        !validator.checkJoints(goal_joints).valid())
+      continue;
+    const bool needle_moves = moving != 1;
+    query.max_linear_velocity = needle_moves ? 0.04 : 0.08;
+    query.max_angular_velocity = needle_moves ? 0.15 : 0.5;
+    queries.push_back(query);
+  }
+  return queries;
+}
+
+void BM_Random(benchmark::State& state, const std::string& planner) {
+  StateValidator validator = makeValidator(puncturingScene());
+  const std::vector<Query> queries = randomQueries(validator);
   std::vector<double> times_ms, cpu_ms;
   int solved = 0;
   for (auto _ : state) {
-    times_ms.clear();
-    cpu_ms.clear();
-    solved = 0;
-    for (std::uint32_t seed = 1; seed <= kQueries; ++seed) {
-      MotionPlanner motion_planner(validator, plannerOptions(planner, seed));
+    std::uint32_t seed = 1;
+    for (const Query& query : queries) {
+      PlannerOptions o = deploymentOptions(planner);
+      o.max_validity_checks = 10000;
+      o.seed = seed++;
+      // The trajectory generator's speeds of the planner that would ask (needle_robot.lua and
+      // probe_robot.lua): the needle's when the needle moves.
+      o.max_linear_velocity = query.max_linear_velocity;
+      o.max_angular_velocity = query.max_angular_velocity;
+      MotionPlanner motion_planner(validator, o);
       const double cpu_before = processCpuSeconds();
-      const PlanResult result = motion_planner.planPath(start, goal);
+      const PlanResult result = motion_planner.planPath(query.start, query.goal);
       cpu_ms.push_back(1e3 * (processCpuSeconds() - cpu_before));
       times_ms.push_back(1e3 * result.planning_time);
       solved += result.solved() ? 1 : 0;
     }
   }
-  std::sort(times_ms.begin(), times_ms.end());
-  std::sort(cpu_ms.begin(), cpu_ms.end());
-  const auto quantile = [](const std::vector<double>& sorted, double q) {
-    return sorted[static_cast<std::size_t>(q * double(sorted.size() - 1))];
-  };
   state.counters["median_ms"] = quantile(times_ms, 0.5);
   state.counters["p95_ms"] = quantile(times_ms, 0.95);
-  state.counters["max_ms"] = times_ms.back();
+  state.counters["max_ms"] = maxOf(times_ms);
   state.counters["cpu_median_ms"] = quantile(cpu_ms, 0.5);
-  state.counters["success_rate"] = static_cast<double>(solved) / kQueries;
+  state.counters["success_rate"] = static_cast<double>(solved) / static_cast<double>(queries.size());
 }
-BENCHMARK_CAPTURE(BM_Plan, RRTConnect, std::string("RRTConnect"))->Name("Plan/RRTConnect")->Iterations(1)
+BENCHMARK_CAPTURE(BM_Random, RRTConnect, std::string("RRTConnect"))->Name("RandomQueries/RRTConnect")->Iterations(1)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Plan, RRT, std::string("RRT"))->Name("Plan/RRT")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Plan, PRM, std::string("PRM"))->Name("Plan/PRM")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Random, BiTRRT, std::string("BiTRRT"))->Name("RandomQueries/BiTRRT")->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Random, LazyPRM, std::string("LazyPRM"))->Name("RandomQueries/LazyPRM")->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Random, LBKPIECE1, std::string("LBKPIECE1"))->Name("RandomQueries/LBKPIECE1")->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Random, BITstar, std::string("BITstar"))->Name("RandomQueries/BITstar")->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

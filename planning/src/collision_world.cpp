@@ -185,6 +185,19 @@ GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, do
   return result;
 }
 
+double CollisionWorld::allowedContactDistance() const {
+  double minimum = std::numeric_limits<double>::infinity();
+  fcl::DistanceRequestd request;
+  request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
+  for (const auto& [a, b] : scene_.allowed_contacts) {
+    fcl::DistanceResultd result;
+    fcl::distance(impl_->objects[scene_.objectIndex(a)].get(), impl_->objects[scene_.objectIndex(b)].get(), request,
+                  result);
+    minimum = std::min(minimum, std::max(0.0, result.min_distance));
+  }
+  return minimum;
+}
+
 KDL::Frame CollisionWorld::objectPose(std::size_t object) const {
   return toKdl(impl_->objects.at(object)->getTransform());
 }

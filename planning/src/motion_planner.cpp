@@ -1,5 +1,7 @@
 #include "cobra/planning/motion_planner.hpp"
 
+#include "planner_support.hpp"
+
 #include <ompl/base/spaces/SE3StateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
@@ -42,20 +44,6 @@ const char* toString(PlanStatus status) {
 
 namespace {
 
-/// Lowers OMPL's console output for one scope (OMPL logs through a process-wide level).
-class OmplLogLevel {
- public:
-  explicit OmplLogLevel(ompl::msg::LogLevel level) : previous_(ompl::msg::getLogLevel()) {
-    ompl::msg::setLogLevel(level);
-  }
-  ~OmplLogLevel() { ompl::msg::setLogLevel(previous_); }
-  OmplLogLevel(const OmplLogLevel&) = delete;
-  OmplLogLevel& operator=(const OmplLogLevel&) = delete;
-
- private:
-  ompl::msg::LogLevel previous_;
-};
-
 using SE3State = ob::SE3StateSpace::StateType;
 
 void toOmpl(const KDL::Frame& frame, SE3State& state) {
@@ -92,20 +80,6 @@ std::shared_ptr<ob::SE3StateSpace> makeSE3(const PositionBounds& bounds) {
   return space;
 }
 
-ob::PlannerPtr makePlanner(const PlannerOptions& options, const ob::SpaceInformationPtr& si) {
-  if (options.planner == "RRTConnect") {
-    auto planner = std::make_shared<og::RRTConnect>(si);
-    if (options.range > 0.0) planner->setRange(options.range);
-    return planner;
-  }
-  if (options.planner == "RRT") {
-    auto planner = std::make_shared<og::RRT>(si);
-    if (options.range > 0.0) planner->setRange(options.range);
-    return planner;
-  }
-  return std::make_shared<og::PRM>(si);
-}
-
 void checkBounds(const PositionBounds& bounds, const char* which) {
   for (std::size_t i = 0; i < 3; ++i)
     if (!(bounds.low[i] < bounds.high[i]) || !std::isfinite(bounds.low[i]) || !std::isfinite(bounds.high[i]))
@@ -113,27 +87,27 @@ void checkBounds(const PositionBounds& bounds, const char* which) {
                                   " bounds must be finite with low < high on every axis [m]");
 }
 
-/// `result` with its status, message and the time since `started`.
-PlanResult finished(PlanResult result, PlanStatus status, std::string message,
-                    std::chrono::steady_clock::time_point started) {
-  result.status = status;
-  result.message = std::move(message);
-  result.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return result;
-}
-
 }  // namespace
 
 MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
     : validator_(validator), options_(std::move(options)) {
-  if (options_.planner != "RRTConnect" && options_.planner != "RRT" && options_.planner != "PRM")
-    throw std::invalid_argument("motion planner: unknown planner '" + options_.planner +
-                                "': use RRTConnect, RRT or PRM");
+  const std::vector<std::string>& names = plannerNames();
+  if (std::find(names.begin(), names.end(), options_.planner) == names.end()) {
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("motion planner: unknown planner '" + options_.planner + "': use " + list);
+  }
   if (options_.max_validity_checks == 0 && (!(options_.time_limit > 0.0) || !std::isfinite(options_.time_limit)))
     throw std::invalid_argument("motion planner: time_limit must be a positive number of seconds");
   if (options_.seed == 0) throw std::invalid_argument("motion planner: seed must be > 0 (OMPL ignores 0)");
   if (!(options_.edge_resolution > 0.0 && options_.edge_resolution <= 1.0))
     throw std::invalid_argument("motion planner: edge_resolution must be in (0, 1] (fraction of the space extent)");
+  for (const auto& [value, what] : {std::pair{options_.max_linear_velocity, "max_linear_velocity (m/s)"},
+                                    std::pair{options_.max_angular_velocity, "max_angular_velocity (rad/s)"},
+                                    std::pair{options_.blend_time, "blend_time (s)"},
+                                    std::pair{options_.joint_velocity_margin, "joint_velocity_margin"}})
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw std::invalid_argument(std::string("motion planner: ") + what + " must be a positive number");
   if (options_.verify_points_per_segment == 0)
     throw std::invalid_argument("motion planner: verify_points_per_segment must be >= 1");
   if (!(options_.range >= 0.0) || !std::isfinite(options_.range))
@@ -160,11 +134,29 @@ std::string MotionPlanner::budget() const {
 }
 
 PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) {
+  if (validator_.hasJointSpace()) {
+    // The start joints: each robot's IK of its start tools from its configured seed.
+    JointState joints(validator_.jointCount());
+    std::size_t robot = 0;
+    const Reachability reached = isFinitePose(start)
+                                     ? validator_.inverseNear(start, {}, joints, robot)
+                                     : Reachability::Unreachable;
+    if (reached != Reachability::Reachable) {
+      PlanResult result;
+      result.status = isFinitePose(start) ? PlanStatus::InvalidStart : PlanStatus::InvalidInput;
+      result.message = isFinitePose(start) ? "start state is not valid: robot '" +
+                                                 validator_.scene().robots[robot].name +
+                                                 "' has no IK solution on its configured seed's branch"
+                                           : "start pose has a NaN/infinite value or a non-orthonormal rotation";
+      return result;
+    }
+    return planPath(joints, goal);
+  }
   const auto started = std::chrono::steady_clock::now();
   checks_.store(0, std::memory_order_relaxed);
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
-    return finished(std::move(result), status, std::move(message), started);
+    return detail::finished(std::move(result), status, std::move(message), started);
   };
   validator_.resetWarmStart();  // the query's answer must not depend on the checks before it
   if (!isFinitePose(start) || !isFinitePose(goal))
@@ -201,9 +193,9 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
                                  std::chrono::steady_clock::time_point started, std::uint32_t seed) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
-    return finished(std::move(result), status, std::move(message), started);
+    return detail::finished(std::move(result), status, std::move(message), started);
   };
-  const OmplLogLevel quiet(ompl::msg::LOG_NONE);
+  const detail::OmplLogLevel quiet(ompl::msg::LOG_NONE);
   // Re-seeding OMPL's seed generator before any generator of this query exists makes the sequence
   // of seeds, hence samples, the same for the same query (OMPL logs an error we silence above).
   validator_.resetWarmStart();
@@ -221,7 +213,7 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   toOmpl(start, *start_state.get());
   toOmpl(goal, *goal_state.get());
   setup.setStartAndGoalStates(start_state, goal_state);
-  setup.setPlanner(makePlanner(options_, setup.getSpaceInformation()));
+  setup.setPlanner(detail::makePlanner(options_, setup.getSpaceInformation()));
   const ob::PlannerStatus status = setup.solve(ob::PlannerTerminationCondition([&] { return spent(started); }));
   if (status != ob::PlannerStatus::EXACT_SOLUTION)
     return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());

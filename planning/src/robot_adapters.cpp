@@ -2,6 +2,8 @@
 
 #include "cobra/kinematics/geometry.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -81,44 +83,85 @@ KDL::JntArray Ur5Model::defaultSeed() { return jointArray({0.5, -1.9, -1.7, 2.0,
 Ur5Model::Ur5Model(const KDL::Frame& probe, const KDL::JntArray& seed, const kinematics::Ur5Parameters& parameters)
     : solver_(parameters, kinematics::Ur5Solver::defaultLimits(), KDL::Frame::Identity(), probe),
       warm_(6, seed, "UR5"),
-      q_(6) {}
+      q_(6),
+      seed_(6) {}
 
-Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
-  const KDL::JntArray& seed = warm_.seedFor(tools_in_base);
-  const KDL::JntArray& initial = warm_.initial();
-  if (solver_.allInverse(tools_in_base[0], seed, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
-  // The branch of the configured seed: elbow (sign of q3) and wrist (sign of q5) as in `initial`,
-  // shoulder (the two q1 solutions) nearest to its q1. A value at 0 (arm stretched, wrist
-  // singular) belongs to both sides.
-  const auto sameSide = [](double value, double reference) {
-    return value == 0.0 || (value > 0.0) == (reference > 0.0);
+Reachability Ur5Model::pickBranch(std::span<const double> reference, std::span<const double> near,
+                                  std::span<double> q_out) const {
+  // Elbow (sign of q3) and wrist (sign of q5) as in `reference`, shoulder (the two q1 solutions)
+  // nearest to its q1. A value at 0 (arm stretched, wrist singular) belongs to both sides.
+  const auto sameSide = [](double value, double reference_value) {
+    return value == 0.0 || (value > 0.0) == (reference_value > 0.0);
   };
   std::size_t best = solutions_.size();
   double best_shoulder = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < solutions_.size(); ++k) {
     const std::span<const double> q = solutions_[k];
-    if (!sameSide(q[2], initial(2)) || !sameSide(q[4], initial(4))) continue;
-    const double shoulder = std::abs(kinematics::wrapToPi(q[0] - initial(0)));
+    if (!sameSide(q[2], reference[2]) || !sameSide(q[4], reference[4])) continue;
+    const double shoulder = std::abs(kinematics::wrapToPi(q[0] - reference[0]));
     if (shoulder < best_shoulder) {
       best_shoulder = shoulder;
       best = k;
     }
   }
-  if (best == solutions_.size()) return Reachability::Unreachable;
-  // Warm start: each joint's representative (q + 2 pi k, within the limits) nearest to the previous solution.
+  if (best == solutions_.size()) return solutions_.size() > 0 ? Reachability::OtherBranch : Reachability::Unreachable;
+  // Each joint's representative (q + 2 pi k, within the limits) nearest to `near`.
   const kinematics::JointLimits& limits = solver_.limits();
   const std::span<const double> q = solutions_[best];
   for (unsigned j = 0; j < 6; ++j) {
-    double value = seed(j) + kinematics::wrapToPi(q[j] - seed(j));
+    double value = near[j] + kinematics::wrapToPi(q[j] - near[j]);
     if (value > limits.upper[j]) value -= 2.0 * std::numbers::pi;
     if (value < limits.lower[j]) value += 2.0 * std::numbers::pi;
     if (value > limits.upper[j] || value < limits.lower[j]) return Reachability::Unreachable;
-    q_(j) = value;
+    q_out[j] = value;
   }
-  if (!solver_.model().linkFrames(std::span<const double>(q_.data.data(), 6), links_in_base))
+  return Reachability::Reachable;
+}
+
+Reachability Ur5Model::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
+  // The branch of the configured seed (`initial`), the representatives nearest the warm start.
+  const KDL::JntArray& seed = warm_.seedFor(tools_in_base);
+  if (solver_.allInverse(tools_in_base[0], seed, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
+  const std::span<double> q(q_.data.data(), 6);
+  if (pickBranch(std::span<const double>(warm_.initial().data.data(), 6), std::span<const double>(seed.data.data(), 6),
+                 q) != Reachability::Reachable)
     return Reachability::Unreachable;
+  if (!solver_.model().linkFrames(q, links_in_base)) return Reachability::Unreachable;
   warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
+}
+
+void Ur5Model::jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const {
+  const kinematics::JointLimits& limits = solver_.limits();
+  for (std::size_t j = 0; j < 6; ++j) {
+    lower[j] = limits.lower[j];
+    upper[j] = limits.upper[j];
+    max_velocity[j] = kMaxJointVelocity;
+  }
+}
+
+bool Ur5Model::linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) {
+  return solver_.limits().contains(q, 1e-9) && solver_.model().linkFrames(q, links_in_base);
+}
+
+Reachability Ur5Model::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                                   std::span<double> q) {
+  for (unsigned j = 0; j < 6; ++j) seed_(j) = seed[j];
+  if (solver_.allInverse(tools_in_base[0], seed_, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
+  return pickBranch(seed, seed, q);
+}
+
+void Ur5Model::seedJoints(std::span<double> q) const {
+  for (unsigned j = 0; j < 6; ++j) q[j] = warm_.initial()(j);
+}
+
+void Ur5Model::coordinateBounds(std::span<const double> start, std::span<const double>, std::span<double> lower,
+                                std::span<double> upper) const {
+  const kinematics::JointLimits& limits = solver_.limits();
+  for (std::size_t j = 0; j < 6; ++j) {
+    lower[j] = std::max(limits.lower[j], start[j] - std::numbers::pi);
+    upper[j] = std::min(limits.upper[j], start[j] + std::numbers::pi);
+  }
 }
 
 KDL::JntArray IsurPuncturingModel::defaultSeed() { return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0}); }
@@ -126,7 +169,8 @@ KDL::JntArray IsurPuncturingModel::defaultSeed() { return jointArray({0.1, 0.1, 
 IsurPuncturingModel::IsurPuncturingModel(const kinematics::IsurGeometry& geometry, const KDL::JntArray& seed)
     : solver_(geometry),
       warm_(kinematics::IsurPuncturingSolver::kJoints, seed, "I-SUR"),
-      q_(kinematics::IsurPuncturingSolver::kJoints) {}
+      q_(kinematics::IsurPuncturingSolver::kJoints),
+      seed_(kinematics::IsurPuncturingSolver::kJoints) {}
 
 Reachability IsurPuncturingModel::solve(std::span<const KDL::Frame> tools_in_base,
                                         std::span<KDL::Frame> links_in_base) {
@@ -135,6 +179,180 @@ Reachability IsurPuncturingModel::solve(std::span<const KDL::Frame> tools_in_bas
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
   warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
+}
+
+void IsurPuncturingModel::jointLimits(std::span<double> lower, std::span<double> upper,
+                                      std::span<double> max_velocity) const {
+  const kinematics::JointLimits& limits = solver_.limits();
+  for (std::size_t j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) {
+    lower[j] = limits.lower[j];
+    upper[j] = limits.upper[j];
+    max_velocity[j] = j < 3 ? kMaxSliderVelocity : kMaxRevoluteVelocity;
+  }
+}
+
+bool IsurPuncturingModel::linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) {
+  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) q_(j) = q[j];
+  return solver_.limits().contains(q_, 1e-9) && solver_.linkFrames(q_, links_in_base) == IkStatus::Ok;
+}
+
+Reachability IsurPuncturingModel::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                                              std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
+  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = seed[j];
+  KDL::Frame target = tools_in_base[0];
+  const KDL::Rotation& r = target.M;
+  if (std::hypot(r(0, 0), r(1, 0)) < kGimbalLockTolerance) {
+    // Gimbal lock: R = Rz(yaw) Ry(±90°) Rx(roll) defines yaw ∓ roll only. Keep the seed's yaw and
+    // give the roll the rest: the exactly singular target with that yaw, and the roll as the seed's
+    // q8 (the solver keeps q8 at the lock and solves the yaw from it).
+    const bool down = -r(2, 0) > 0.0;  // pitch +90°: the needle (tool x) points down
+    const double yaw = seed[3] + seed[4];
+    const double roll = down ? yaw + std::atan2(r(0, 1), r(1, 1)) : std::atan2(-r(0, 1), r(1, 1)) - yaw;
+    seed_(7) = seed[7] + kinematics::wrapToPi(roll - seed[7]);
+    if (seed_(7) > solver_.limits().upper[7]) seed_(7) -= 2.0 * std::numbers::pi;
+    if (seed_(7) < solver_.limits().lower[7]) seed_(7) += 2.0 * std::numbers::pi;
+    target.M = KDL::Rotation::RotZ(yaw) * KDL::Rotation::RotY(down ? std::numbers::pi / 2 : -std::numbers::pi / 2) *
+               KDL::Rotation::RotX(seed_(7));
+  }
+  if (solver_.inverse(target, seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
+  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+  return Reachability::Reachable;
+}
+
+bool IsurPuncturingModel::onRule(const KDL::Frame& target, double yaw, double pitch, double roll,
+                                 std::span<const double> seed, std::span<double> q) {
+  const kinematics::JointLimits& l = solver_.limits();
+  const kinematics::IsurGeometry& g = solver_.geometry();
+  const double yaw_sum = seed[3] + seed[4] + kinematics::wrapToPi(yaw - seed[3] - seed[4]);
+  q[3] = seed[3] + g.yaw_share * (yaw_sum - seed[3] - seed[4]);
+  q[4] = yaw_sum - q[3];
+  const std::array<double, 7> c{seed[0], seed[1], seed[2], q[3], q[4],
+                                seed[5] + seed[6] + kinematics::wrapToPi(pitch - seed[5] - seed[6]),
+                                seed[7] + kinematics::wrapToPi(roll - seed[7])};
+  jointsOf(c, seed, q);
+  if (q[7] > l.upper[7]) q[7] -= 2.0 * std::numbers::pi;
+  if (q[7] < l.lower[7]) q[7] += 2.0 * std::numbers::pi;
+  for (std::size_t j = 3; j < kinematics::IsurPuncturingSolver::kJoints; ++j)
+    if (q[j] < l.lower[j] || q[j] > l.upper[j]) return false;
+  // Position: target.p = Rz(q4) (p_delta + the micro arm's offset), the delta's closed form.
+  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) q_(j) = q[j];
+  KDL::Frame tool, platform;
+  if (solver_.forward(q_, tool) != IkStatus::Ok || solver_.platformPose(q_, platform) != IkStatus::Ok) return false;
+  const KDL::Rotation back = KDL::Rotation::RotZ(-q[3]);
+  return solver_.macro().inversePosition(back * target.p - back * (tool.p - platform.p),
+                                         std::span<double, 3>(q.data(), 3)) == IkStatus::Ok;
+}
+
+Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                              std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
+  const KDL::Rotation& r = tools_in_base[0].M;
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  if (cos_pitch < kGimbalLockTolerance) return inverseNear(tools_in_base, start, q);  // keeps the start's yaw
+  const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::atan2(-r(2, 0), cos_pitch);
+  const double roll = std::atan2(r(2, 1), r(2, 2));
+  double best_distance = std::numeric_limits<double>::infinity();
+  std::array<double, kJoints> candidate{};
+  for (const auto& [y, p, ro] : {std::array<double, 3>{yaw, pitch, roll},
+                                  std::array<double, 3>{yaw + std::numbers::pi, std::numbers::pi - pitch,
+                                                        roll + std::numbers::pi}}) {
+    if (!onRule(tools_in_base[0], y, p, ro, start, candidate)) continue;
+    double distance = 0.0;
+    for (unsigned j = 3; j < kJoints; ++j) distance += (candidate[j] - start[j]) * (candidate[j] - start[j]);
+    if (distance < best_distance) {
+      best_distance = distance;
+      std::copy(candidate.begin(), candidate.end(), q.begin());
+    }
+  }
+  return std::isfinite(best_distance) ? Reachability::Reachable : inverseNear(tools_in_base, start, q);
+}
+
+namespace {
+
+/// The interval of s where `offset + slope * s` lies in [lower, upper], intersected into [low, high].
+void constrain(double offset, double slope, double lower, double upper, double& low, double& high) {
+  if (slope == 0.0) {
+    if (offset < lower || offset > upper) high = low - 1.0;  // empty
+    return;
+  }
+  double a = (lower - offset) / slope, b = (upper - offset) / slope;
+  if (a > b) std::swap(a, b);
+  low = std::max(low, a);
+  high = std::min(high, b);
+}
+
+/// Bounds of the sum s = qa + qb when qa = seed_a + share (s - seed_a - seed_b) and qb = s - qa
+/// must stay within their limits.
+void sumBounds(double seed_a, double seed_b, double share, double lower_a, double upper_a, double lower_b,
+               double upper_b, double& low, double& high) {
+  const double seed_sum = seed_a + seed_b;
+  low = -std::numeric_limits<double>::infinity();
+  high = std::numeric_limits<double>::infinity();
+  constrain(seed_a - share * seed_sum, share, lower_a, upper_a, low, high);
+  constrain(-seed_a + share * seed_sum, 1.0 - share, lower_b, upper_b, low, high);
+}
+
+}  // namespace
+
+void IsurPuncturingModel::coordinateBounds(std::span<const double> start, std::span<const double> goal,
+                                           std::span<double> lower, std::span<double> upper) const {
+  const kinematics::JointLimits& l = solver_.limits();
+  const kinematics::IsurGeometry& g = solver_.geometry();
+  for (std::size_t j = 0; j < 3; ++j) {
+    lower[j] = l.lower[j];
+    upper[j] = l.upper[j];
+  }
+  // The base turntable only where the IK moves it: between its start and goal angles (it turns
+  // only when the micro yaw reaches a limit).
+  lower[3] = std::min(start[3], goal[3]);
+  upper[3] = std::max(start[3], goal[3]);
+  lower[4] = l.lower[4];
+  upper[4] = l.upper[4];
+  sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[5], upper[5]);
+  lower[6] = l.lower[7];
+  upper[6] = l.upper[7];
+}
+
+void IsurPuncturingModel::jointsOf(std::span<const double> c, std::span<const double> start,
+                                   std::span<double> q) const {
+  const kinematics::IsurGeometry& g = solver_.geometry();
+  for (std::size_t j = 0; j < 5; ++j) q[j] = c[j];
+  q[5] = start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
+  q[6] = c[5] - q[5];
+  q[7] = c[6];
+}
+
+void IsurPuncturingModel::seedJoints(std::span<double> q) const {
+  for (unsigned j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) q[j] = warm_.initial()(j);
+}
+
+void IsurPuncturingModel::coordinateScales(std::span<double> scale) const {
+  for (std::size_t j = 0; j < 7; ++j) scale[j] = j < 3 ? kMaxSliderVelocity : kMaxRevoluteVelocity;
+}
+
+bool IsurPuncturingModel::singularCrossing(std::span<const double> a, std::span<const double> b,
+                                           std::span<double> before, std::span<double> after) const {
+  const double pitch_a = a[5] + a[6], pitch_b = b[5] + b[6];
+  for (const double lock : {std::numbers::pi / 2, -std::numbers::pi / 2}) {
+    if ((pitch_a - lock) * (pitch_b - lock) >= 0.0) continue;
+    const double t = (lock - pitch_a) / (pitch_b - pitch_a);
+    for (std::size_t j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) before[j] = a[j] + t * (b[j] - a[j]);
+    std::copy(before.begin(), before.end(), after.begin());
+    const double share = solver_.geometry().pitch_share, step = std::copysign(kCrossingMargin, pitch_b - pitch_a);
+    before[5] -= share * step;
+    before[6] -= (1.0 - share) * step;
+    after[5] += share * step;
+    after[6] += (1.0 - share) * step;
+    return true;
+  }
+  return false;
+}
+
+void IsurPuncturingModel::coordinatesOf(std::span<const double> q, std::span<double> c) const {
+  for (std::size_t j = 0; j < 5; ++j) c[j] = q[j];
+  c[5] = q[5] + q[6];
+  c[6] = q[7];
 }
 
 KDL::JntArray IsurSuturingModel::defaultSeed() {

@@ -1,5 +1,6 @@
 #include "cobra/planning/state_validator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -70,7 +71,47 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
     tools_.emplace_back(model.toolCount());
     links_.emplace_back(model.linkCount());
     model_tool_in_tool_.push_back(placement.tool_in_model_tool.Inverse());
+    joint_offsets_.push_back(joint_offsets_.back() + model.jointCount());
+    joint_space_ = joint_space_ && model.jointCount() > 0;
+    seeds_.emplace_back(model.jointCount());
   }
+}
+
+Reachability StateValidator::inverseNear(const DualPose& q, std::span<const double> seed, std::span<double> joints,
+                                         std::size_t& failed_robot) {
+  return inverse(q, seed, joints, failed_robot, false);
+}
+
+Reachability StateValidator::inverseGoal(const DualPose& q, std::span<const double> start, std::span<double> joints,
+                                         std::size_t& failed_robot) {
+  return inverse(q, start, joints, failed_robot, true);
+}
+
+Reachability StateValidator::inverse(const DualPose& q, std::span<const double> seed, std::span<double> joints,
+                                     std::size_t& failed_robot, bool goal) {
+  const SceneDescription& description = world_.scene();
+  for (std::size_t r = 0; r < models_.size(); ++r) {
+    const RobotPlacement& placement = description.robots[r];
+    const KDL::Frame world_in_base = placement.base_in_world.Inverse();
+    for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
+      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r];
+    const std::size_t n = joint_offsets_[r + 1] - joint_offsets_[r];
+    std::span<const double> robot_seed;
+    if (seed.empty()) {
+      models_[r]->seedJoints(seeds_[r]);
+      robot_seed = seeds_[r];
+    } else {
+      robot_seed = seed.subspan(joint_offsets_[r], n);
+    }
+    const std::span<double> out = joints.subspan(joint_offsets_[r], n);
+    const Reachability reached = goal ? models_[r]->inverseGoal(tools_[r], robot_seed, out)
+                                      : models_[r]->inverseNear(tools_[r], robot_seed, out);
+    if (reached != Reachability::Reachable) {
+      failed_robot = r;
+      return reached;
+    }
+  }
+  return Reachability::Reachable;
 }
 
 ValidityResult StateValidator::placeRobots(const DualPose& q) {
@@ -96,8 +137,68 @@ ValidityResult StateValidator::placeRobots(const DualPose& q) {
   return result;
 }
 
+ValidityResult StateValidator::placeRobotsAt(std::span<const double> q) {
+  ValidityResult result;
+  const SceneDescription& description = world_.scene();
+  for (std::size_t r = 0; r < models_.size(); ++r) {
+    const std::span<const double> joints = q.subspan(joint_offsets_[r], joint_offsets_[r + 1] - joint_offsets_[r]);
+    if (!models_[r]->linkFramesAt(joints, links_[r])) {
+      result.validity = Validity::Unreachable;
+      result.robot = description.robots[r].name;
+      return result;
+    }
+    for (KDL::Frame& link : links_[r]) link = description.robots[r].base_in_world * link;
+    world_.setRobotLinks(r, links_[r]);
+  }
+  return result;
+}
+
+ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact_distances) {
+  if (!joint_space_ || q.size() != jointCount()) {
+    ValidityResult result;
+    result.validity = Validity::InvalidInput;
+    return result;
+  }
+  for (const double value : q) {
+    if (!std::isfinite(value)) {
+      ValidityResult result;
+      result.validity = Validity::InvalidInput;
+      return result;
+    }
+  }
+  return checkDistances(placeRobotsAt(q), exact_distances);
+}
+
+bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
+  if (!joint_space_ || q.size() != jointCount()) return false;
+  const SceneDescription& description = world_.scene();
+  for (std::size_t r = 0; r < models_.size(); ++r) {
+    const std::span<const double> joints = q.subspan(joint_offsets_[r], joint_offsets_[r + 1] - joint_offsets_[r]);
+    if (!models_[r]->linkFramesAt(joints, links_[r])) return false;
+    const RobotPlacement& placement = description.robots[r];
+    for (std::size_t t = 0; t < placement.tool_indices.size(); ++t) {
+      const KDL::Frame tool = placement.base_in_world * links_[r][models_[r]->toolLink(t)] *
+                              placement.tool_in_model_tool;
+      (placement.tool_indices[t] == 0 ? tools.first : tools.second) = tool;
+    }
+  }
+  return true;
+}
+
+StateValidator::Distances StateValidator::distancesAt(std::span<const double> q) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN};
+  Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance()};
+  for (const GroupPair& pair : world_.scene().checks)
+    distances.clearance = std::min(distances.clearance, world_.distance(pair.first, pair.second).distance);
+  return distances;
+}
+
 ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {
-  ValidityResult result = placeRobots(q);
+  return checkDistances(placeRobots(q), exact_distances);
+}
+
+ValidityResult StateValidator::checkDistances(ValidityResult result, bool exact_distances) {
   if (!result.valid()) return result;
   const SceneDescription& description = world_.scene();
   const double threshold = description.min_collision_distance;

@@ -204,7 +204,7 @@ TEST(MotionPlanner, ConfigurationErrorsExplainTheFix) {
   StateValidator validator(test::twoRobotScene(), test::twoRobotModels());
   PlannerOptions o = options("BIT*");
   EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }),
-                  "unknown planner 'BIT*': use RRTConnect, RRT or PRM");
+                  "unknown planner 'BIT*': use RRTConnect, RRT, PRM, BiTRRT, LazyPRM, LBKPIECE1, BITstar");
   o = options();
   o.time_limit = 0.0;
   EXPECT_CONTAINS(messageOf([&] { MotionPlanner p(validator, o); }), "time_limit must be a positive");

@@ -279,7 +279,7 @@ TEST_F(PuncturingScene, BadQueriesNameTheCause) {
   out.second.p.z(0.5);
   PlanResult result = planner.planPath(kStart, out);
   EXPECT_EQ(result.status, PlanStatus::OutOfBounds);
-  EXPECT_CONTAINS(result.message, "goal position is outside the planner's bounds");
+  EXPECT_CONTAINS(result.message, "goal position of the second tool (0.2500, 0.0000, 0.5000) m is outside the planner's bounds");
   DualPose nan_goal = kGoal;
   nan_goal.first.p.x(std::numeric_limits<double>::quiet_NaN());
   result = planner.planPath(kStart, nan_goal);

@@ -42,8 +42,11 @@ return function(c)
   -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~190,000 in three_needles
   -- (about 4 s here).
   planner.max_validity_checks = 600000
+  planner.max_vel = c.max_vel   -- m/s and rad/s: the trajectory generator's, for the path's
+  planner.max_ang_vel = c.max_ang_vel or 0.5  -- joint-velocity check
   trajgen.arms_num = 2          -- the pair (needle, probe); this robot follows its own arm
   trajgen.max_vel = c.max_vel   -- m/s
+  trajgen.max_ang_vel = c.max_ang_vel or 0.5  -- rad/s
   _G[n("Wrench")].invert_reference = true          -- the measured tool pose turns the sensor wrench
   _G[n("Wrench")].change_application_point = false -- into world axes, at the tool point
   _G[n("TaskSup")].fsm_path = c.chart
@@ -68,6 +71,8 @@ return function(c)
     { output = n("TaskSup") .. ".taskState", input = n("Frames") .. ".currentTaskState" },
     { output = "ISUR.measCartPose", input = n("Planner") .. ".isurMeasPose" },
     { output = "UR5.measCartPose", input = n("Planner") .. ".UR5MeasPose" },
+    { output = "ISUR.measJointPosition", input = n("Planner") .. ".isurMeasJoints" },  -- the start: the
+    { output = "UR5.measJointPosition", input = n("Planner") .. ".UR5MeasJoints" },    -- robots' actual joints
     { output = robot .. ".measWrench", input = n("Wrench") .. ".inWrench" },
     { output = robot .. ".measCartPose", input = n("Wrench") .. ".referenceFrame" },
     { output = n("Wrench") .. ".outWrench", input = n("Admittance") .. ".measWrench" },

@@ -9,6 +9,8 @@ dofile(here .. "controller.lua") {
   configurations = here .. "configurations/needle",
   phantom_pose = phantom_pose,
   max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
+  max_ang_vel = 0.15,  -- rad/s: turning the needle about its tip moves the delta's platform, ~0.37 m
+                      -- up the arm, at 0.37 m/rad; its sliders run at 0.1 m/s
   event_sources = { "NeedleMonitor" },
   chart_peers = { "NeedleMonitor" },  -- the chart re-arms its skin detection for each new needle
   connections = {

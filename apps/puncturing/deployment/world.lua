@@ -21,10 +21,10 @@ getReferences()
 
 ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
 ISUR.tool_frame = needle_tool_frame                 -- tool z = the needle (puncturing.lua)
-ISUR.initial_joints = { 0.021, 0.013, 0.224, 0, 0, 0.7, 0.7, 0 }  -- m, rad: needle 10 deg from vertical (away from the decomposition's singularity) at (-0.05, 0.05, 0.26) m, out of the probe's way
+ISUR.initial_joints = { 0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0 }  -- m, rad: needle 10 deg from vertical at (-0.05, 0.05, 0.26) m, out of the probe's way; q6 - q7 = 0.3 rad, which the IK keeps (pitch share): with 0 the delta cannot bring the needle down to the skin without turning the base a half turn
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
-UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m
+UR5.initial_joints = { 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m, elbow up (the other elbow laid the upper arm on the phantom)
 Patient.scenario_file = scenario .. "/phantom.txt"
 Patient.phantom_pose = info.abdomen
 Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle

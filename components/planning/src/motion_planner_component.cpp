@@ -1,5 +1,6 @@
 #include "cobra/components/planning/motion_planner_component.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -30,7 +31,7 @@ planning::PositionBounds bounds(const std::vector<double>& low, const std::vecto
 MotionPlannerComponent::MotionPlannerComponent(std::string name)
     : PlanningSceneComponent(std::move(name),
                              "Motion planner (thesis §4.5.1): collision-free paths for the needle and the probe, OMPL "
-                             "on SE(3)xSE(3) with FCL checks") {
+                             "in the robots' joint space with FCL checks") {
   addProperty(planner_);
   addProperty(time_limit_.range(1e-3, 3600.0));
   addProperty(max_validity_checks_.range(0, 2000000000));
@@ -40,8 +41,15 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
   addProperty(second_low_);
   addProperty(second_high_);
   addProperty(edge_resolution_.range(1e-6, 1.0));
+  addProperty(max_vel_.range(1e-6, 10.0));
+  addProperty(max_ang_vel_.range(1e-6, 100.0));
+  addProperty(time_acc_.range(1e-6, 10.0));
+  addProperty(query_log_);
   addEventPort(isur_meas_);
   addEventPort(ur5_meas_);
+  addPort(isur_joints_);
+  addPort(ur5_joints_);
+  addPort(allowed_distance_);
   addPort(goal_);
   addPort(path_out_);
   addPort(min_distance_);
@@ -55,13 +63,22 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
       .arg("ee2_pose", "m", "probe tip pose, world");
   addOperation("lastPlanResult", std::function<std::string()>([this] { return last_result_; }),
                "outcome of the last askPlan: 'solved: ...' or why it failed");
+  addOperation("clearanceThreshold", std::function<double()>([this] {
+                 return validator_ ? validator_->scene().min_collision_distance
+                                   : std::numeric_limits<double>::quiet_NaN();
+               }),
+               "m: the clearance every planned state keeps outside the allowed contacts (NaN before configure)");
 }
 
 MotionPlannerComponent::~MotionPlannerComponent() = default;
 
 bool MotionPlannerComponent::configureHook() {
-  if (planner_() != "RRTConnect" && planner_() != "RRT" && planner_() != "PRM")
-    return refuse("property planner is '" + planner_() + "': use RRTConnect, RRT or PRM");
+  const std::vector<std::string>& names = planning::plannerNames();
+  if (std::find(names.begin(), names.end(), planner_()) == names.end()) {
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+    return refuse("property planner is '" + planner_() + "': use " + list);
+  }
   planning::PlannerOptions options;
   try {
     options.first_bounds = bounds(first_low_(), first_high_(), "first_bounds");
@@ -75,8 +92,13 @@ bool MotionPlannerComponent::configureHook() {
   options.max_validity_checks = static_cast<std::size_t>(max_validity_checks_());
   options.seed = static_cast<std::uint32_t>(seed_());
   options.edge_resolution = edge_resolution_();
+  options.max_linear_velocity = max_vel_();
+  options.max_angular_velocity = max_ang_vel_();
+  options.blend_time = time_acc_();
+  options.tool_names = {"needle", "probe"};
   planner_impl_ = std::make_unique<planning::MotionPlanner>(*validator_, options);
-  have_isur_ = have_ur5_ = have_goal_ = false;
+  joints_.assign(validator_->hasJointSpace() ? validator_->jointCount() : 0, 0.0);
+  have_isur_ = have_ur5_ = have_goal_ = have_isur_joints_ = have_ur5_joints_ = false;
   last_result_.clear();
   return true;
 }
@@ -123,11 +145,26 @@ void MotionPlannerComponent::fail(const std::string& reason) {
   emitEvent("e_plan_failed");
 }
 
+bool MotionPlannerComponent::measuredJoints() {
+  if (!have_isur_joints_ || !have_ur5_joints_ || joints_.empty()) return false;
+  const planning::SceneDescription& scene = validator_->scene();
+  for (std::size_t r = 0; r < scene.robots.size(); ++r) {
+    const KDL::JntArray* q = scene.robots[r].name == "isur" ? &isur_q_ : scene.robots[r].name == "ur5" ? &ur5_q_ : nullptr;
+    if (q == nullptr || q->rows() != validator_->model(r).jointCount()) return false;
+    for (unsigned j = 0; j < q->rows(); ++j) joints_[validator_->jointOffset(r) + j] = (*q)(j);
+  }
+  return true;
+}
+
 void MotionPlannerComponent::updateHook() {
   const core::FlowStatus isur = isur_meas_.read(measured_.first);
   const core::FlowStatus ur5 = ur5_meas_.read(measured_.second);
   have_isur_ = have_isur_ || isur != core::FlowStatus::NoData;
   have_ur5_ = have_ur5_ || ur5 != core::FlowStatus::NoData;
+  const core::FlowStatus isur_joints = isur_joints_.read(isur_q_);
+  const core::FlowStatus ur5_joints = ur5_joints_.read(ur5_q_);
+  have_isur_joints_ = have_isur_joints_ || isur_joints != core::FlowStatus::NoData;
+  have_ur5_joints_ = have_ur5_joints_ || ur5_joints != core::FlowStatus::NoData;
   const bool measured_changed =
       have_isur_ && have_ur5_ && (isur == core::FlowStatus::NewData || ur5 == core::FlowStatus::NewData);
   trajectory::MultiAxisPath goal;
@@ -143,8 +180,38 @@ void MotionPlannerComponent::updateHook() {
       last_result_ = std::string("port goalPoses: ") + error.what();
     }
   }
-  if (measured_changed) min_distance_.write(validator_->minimumDistance(measured_));
+  if (measured_changed) {
+    if (measuredJoints()) {
+      const planning::StateValidator::Distances d = validator_->distancesAt(joints_);
+      min_distance_.write(d.clearance);
+      allowed_distance_.write(d.allowed_contact);
+    } else {
+      const double clearance = validator_->minimumDistance(measured_);
+      min_distance_.write(clearance);
+      allowed_distance_.write(std::isnan(clearance) ? clearance : validator_->world().allowedContactDistance());
+    }
+  }
   if (plan_request_.take()) plan();
+}
+
+void MotionPlannerComponent::logQuery(const planning::PlanResult& result) const {
+  if (query_log_().empty()) return;
+  std::FILE* file = std::fopen(query_log_().c_str(), "a");
+  if (file == nullptr) {
+    std::fprintf(stderr, "[cobra] MotionPlanner '%s': property query_log: cannot append to '%s'\n", name().c_str(),
+                 query_log_().c_str());
+    return;
+  }
+  std::fprintf(file, "start");
+  for (const double q : joints_) std::fprintf(file, " %.17g", q);
+  std::fprintf(file, " goal");
+  for (const KDL::Frame* f : {&goal_pose_.first, &goal_pose_.second}) {
+    double x = 0, y = 0, z = 0, w = 0;
+    f->M.GetQuaternion(x, y, z, w);
+    for (const double v : {f->p.x(), f->p.y(), f->p.z(), x, y, z, w}) std::fprintf(file, " %.17g", v);
+  }
+  std::fprintf(file, " # %s: %s\n", name().c_str(), planning::toString(result.status));
+  std::fclose(file);
 }
 
 void MotionPlannerComponent::plan() {
@@ -154,7 +221,13 @@ void MotionPlannerComponent::plan() {
   if (!have_goal_)
     return fail(last_result_.rfind("port goalPoses", 0) == 0 ? last_result_
                                                               : std::string("no goal on port goalPoses"));
-  const planning::PlanResult result = planner_impl_->planPath(measured_, goal_pose_);
+  const bool from_joints = measuredJoints();
+  if ((have_isur_joints_ || have_ur5_joints_) && !from_joints && !joints_.empty())
+    return fail("ports isurMeasJoints/UR5MeasJoints: need both, with the I-SUR's 8 and the UR5's 6 joints (got " +
+                std::to_string(isur_q_.rows()) + " and " + std::to_string(ur5_q_.rows()) + ")");
+  const planning::PlanResult result =
+      from_joints ? planner_impl_->planPath(joints_, goal_pose_) : planner_impl_->planPath(measured_, goal_pose_);
+  if (from_joints) logQuery(result);
   if (!result.solved()) {
     // The same query with the same seed would fail the same way: the next request explores anew.
     const std::uint32_t seed = planner_impl_->options().seed;

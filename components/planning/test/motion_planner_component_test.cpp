@@ -6,12 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <span>
 #include <filesystem>
 #include <numbers>
 
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 #include "cobra/core/core.hpp"
+#include "cobra/planning/robot_adapters.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -138,6 +141,63 @@ TEST(MotionPlannerComponent, SameSeedSamePathInLockstep) {
   EXPECT_EQ(paths[0], paths[1]);
 }
 
+TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContactsApart) {
+  Bench b;
+  core::OutputPort<KDL::JntArray> isur_joints{"isurJoints", "", "m, rad"};
+  core::OutputPort<KDL::JntArray> ur5_joints{"ur5Joints", "", "rad"};
+  core::InputPort<double> allowed{"allowed", "", "m"};
+  core::connectPorts(isur_joints, b.planner.port("isurMeasJoints"));
+  core::connectPorts(ur5_joints, b.planner.port("UR5MeasJoints"));
+  core::connectPorts(b.planner.port("allowedContactDistance"), allowed);
+  // The I-SUR at the simulated robot's start (apps/puncturing/deployment/world.lua), the UR5 on
+  // that start's branch with the probe pressed onto the phantom.
+  KDL::JntArray isur(8), ur5(6);
+  const double isur_q[8] = {0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0};
+  for (unsigned j = 0; j < 8; ++j) isur(j) = isur_q[j];
+  planning::Ur5Model model;
+  KDL::JntArray seed(6);
+  const double ur5_q[6] = {0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344};
+  for (unsigned j = 0; j < 6; ++j) seed(j) = ur5_q[j];
+  // The probe pressed 2 mm into the phantom's top (z = 0.1 m, world) in the UR5's base frame.
+  const KDL::Frame ur5_base(KDL::Rotation::RotZ(kPi / 2), KDL::Vector(0.3, -0.5, 0.0));
+  const KDL::Frame pressed = ur5_base.Inverse() * probeDown(0.1, -0.05, 0.098);
+  ASSERT_EQ(model.inverseNear(std::span(&pressed, 1), std::span<const double>(seed.data.data(), 6),
+                              std::span<double>(ur5.data.data(), 6)),
+            planning::Reachability::Reachable);
+  isur_joints.write(isur);
+  ur5_joints.write(ur5);
+  // The poses the joints give (what the robots' measCartPose would say).
+  planning::IsurPuncturingModel isur_model;
+  std::array<KDL::Frame, 6> links{};
+  ASSERT_TRUE(isur_model.linkFramesAt(std::span<const double>(isur.data.data(), 8), links));
+  const KDL::Frame needle_pose = KDL::Frame(KDL::Vector(0, -0.05, 1.0)) * links[5];
+  b.measure(needle_pose, probeDown(0.1, -0.05, 0.098));
+  b.clock.advance(1ms);
+  double clearance = 0.0, contact = 1.0;
+  ASSERT_EQ(b.min_distance.read(clearance), core::FlowStatus::NewData);
+  ASSERT_EQ(allowed.read(contact), core::FlowStatus::NewData);
+  EXPECT_EQ(contact, 0.0);  // the probe touches the skin: an allowed contact, reported apart
+  EXPECT_GT(clearance, b.planner.call<double>("clearanceThreshold"));  // nothing else is near
+  EXPECT_EQ(b.planner.call<double>("clearanceThreshold"), 0.005);      // the scene's
+
+  // The probe lifts 5 cm from where the joints say it is: planned from the joints.
+  b.goal.write(encodeCartesianPath({{needle_pose, probeDown(0.1, -0.05, 0.148)}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  ASSERT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}))
+      << b.planner.call<std::string>("lastPlanResult");
+
+  // Joints of the wrong size are refused naming the ports.
+  isur_joints.write(KDL::JntArray(7));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
+                  "ports isurMeasJoints/UR5MeasJoints: need both, with the I-SUR's 8 and the UR5's 6 joints (got 7 and 6)");
+}
+
 TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
   Bench b;
   b.planner.call<void>("askPlan");
@@ -164,7 +224,7 @@ TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
   b.planner.call<void>("askPlan");
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
-  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "out of bounds: goal position is outside");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "out of bounds: goal position of the probe (0.2500, 0.0000, 0.9000) m is outside the planner's bounds");
 
   KDL::Frame nan_probe = kProbeGoal;
   nan_probe.p.x(std::nan(""));
@@ -208,7 +268,7 @@ TEST(MotionPlannerComponent, BadPropertiesAreRefusedNamingComponentAndProperty) 
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("scene_file", std::string()); }),
                   "component 'Planner': property scene_file is empty");
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("planner", std::string("BIT*")); }),
-                  "component 'Planner': property planner is 'BIT*': use RRTConnect, RRT or PRM");
+                  "component 'Planner': property planner is 'BIT*': use RRTConnect, RRT, PRM, BiTRRT, LazyPRM, LBKPIECE1, BITstar");
   EXPECT_CONTAINS(refusal([](core::Component& c) { c.setProperty("env_mesh_names", std::string("table.stl")); }),
                   "property env_mesh_names: mesh file '" + scenes() + "/table.stl' does not exist");
   const std::string data = (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/data").string();

@@ -55,6 +55,11 @@ class CollisionWorld {
   /// (+infinity when every pair was skipped). Pass 0 for the exact minimum.
   GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0) const;
 
+  /// Minimum distance over the scene's allowed contacts (object pairs left out of distance()) [m]:
+  /// how deep the probe presses into the skin is not a clearance, but still worth reporting apart.
+  /// 0 when touching or interpenetrating; +infinity when the scene declares none.
+  double allowedContactDistance() const;
+
   /// World pose of object `object` (index in scene().objects), e.g. for a visualiser.
   KDL::Frame objectPose(std::size_t object) const;
 

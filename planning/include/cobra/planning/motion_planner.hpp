@@ -1,10 +1,17 @@
 #pragma once
 /// @file
-/// planPath(q_start, q_goal) (thesis Algorithm 4.1): OMPL on the compound state space SE(3)×SE(3)
-/// with position bounds, SimpleSetup, RRT-Connect by default, the StateValidator as validity
-/// checker, path simplification, seeded for reproducible results.
+/// planPath (thesis Algorithm 4.1) in the robots' JOINT space: start = the robots' (measured)
+/// joints, goal = the two tool poses, turned into joints by the continuity-keeping IK nearest the
+/// start on the start's branch; OMPL searches the joints of the robots that move (forward
+/// kinematics + FCL per state, no IK), then the path is returned as Cartesian waypoints (what the
+/// Cartesian trajectory generator follows) that are verified, and densified where needed, so that
+/// the Cartesian interpolation between waypoints is collision-free AND joint-continuous for the
+/// control path's IK at the generator's speed limits (README: "Joint-space planning").
+/// Scenes whose robot models offer no joint space (the suturing robot) are planned as before on
+/// SE(3)×SE(3) with IK inside the validity check.
 
 #include <array>
+#include <span>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -23,9 +30,16 @@ struct PositionBounds {
   bool contains(const KDL::Vector& p) const;
 };
 
+/// Every robot's joints concatenated in the scene's robot order (StateValidator::jointOffset), m and rad.
+using JointState = std::vector<double>;
+
+/// The OMPL planners planPath() can use: RRTConnect, RRT, PRM, BiTRRT, LazyPRM, LBKPIECE1, BITstar.
+const std::vector<std::string>& plannerNames();
+
 /// Planner configuration (the component's properties).
 struct PlannerOptions {
-  /// "RRTConnect" (default, as in the thesis), "RRT" or "PRM".
+  /// One of plannerNames(); RRTConnect by default (the thesis' choice, and the fastest in
+  /// bench/planning_bench.cpp: see the README).
   std::string planner = "RRTConnect";
   /// Wall-clock limit of the search [s] (when max_validity_checks is 0).
   double time_limit = 1.0;
@@ -53,9 +67,27 @@ struct PlannerOptions {
   /// the verification is discarded and the search re-run with seed + 1, + 2, ... while time_limit
   /// allows (PathInvalid when none passes).
   std::size_t verify_points_per_segment = 100;
-  /// Range of one RRT/RRT-Connect extension in the state-space metric (position [m] plus rotation
-  /// angle [rad]); 0 lets OMPL choose (a fraction of the extent).
+  /// Range of one RRT/RRT-Connect extension in the state-space metric (SE(3): position [m] plus
+  /// rotation angle [rad]; joint space: s at the joints' velocity limits); 0 lets OMPL choose.
   double range = 0.0;
+
+  // ---- The Cartesian trajectory generator that follows the path (its properties max_vel,
+  // max_ang_vel, time_acc): how fast it may run a segment bounds the joint steps the dense
+  // verification accepts.
+  /// Maximum velocity of each Cartesian position axis of either tool [m/s].
+  double max_linear_velocity = 0.05;
+  /// Maximum angular velocity of either tool [rad/s].
+  double max_angular_velocity = 0.5;
+  /// Blend duration [s]: no segment lasts less.
+  double blend_time = 0.2;
+  /// Share of each joint's velocity limit a path may need when the generator runs it at the
+  /// limits above [1] (its blends pass from one segment's speed to the next monotonically, so a
+  /// segment's mean speed bounds them; the rest is for the servo's lag).
+  double joint_velocity_margin = 0.8;
+  /// How often a segment that fails the dense verification may be halved (in joint space) [1].
+  std::size_t max_subdivisions = 8;
+  /// Names of the two tools in messages (the component: "needle", "probe").
+  std::array<std::string, 2> tool_names{"first tool", "second tool"};
 };
 
 /// Outcome of planPath().
@@ -88,6 +120,9 @@ struct PlanResult {
   double planning_time = 0.0;
   /// State validity checks of the searches (all seeds tried), the unit of max_validity_checks.
   std::size_t validity_checks = 0;
+  /// Joint-space planning, Solved: the joints the control path's IK reaches at each waypoint
+  /// (tracked along the verified Cartesian path from the start), one JointState per waypoint.
+  std::vector<JointState> joint_waypoints;
   bool solved() const { return status == PlanStatus::Solved; }
 };
 
@@ -102,7 +137,14 @@ class MotionPlanner {
   MotionPlanner(const MotionPlanner&) = delete;
   MotionPlanner& operator=(const MotionPlanner&) = delete;
 
-  /// Algorithm 4.1. Never throws for bad poses: the status names the cause.
+  /// Algorithm 4.1 from the robots' joints `start` (StateValidator::jointCount() values) to the tool
+  /// poses `goal`. Needs a scene whose robot models offer joints (StateValidator::hasJointSpace).
+  /// Never throws for bad input: the status and message name the cause; a goal that is
+  /// unreachable, or reachable only on another IK branch than the start's, is InvalidGoal naming
+  /// the tool (PlannerOptions::tool_names) and why, before any search.
+  PlanResult planPath(const JointState& start, const DualPose& goal);
+  /// From tool poses: in joint space the start joints are the IK of `start` from each robot
+  /// model's configured seed (on its branch); scenes without joint space plan on SE(3)×SE(3).
   PlanResult planPath(const DualPose& start, const DualPose& goal);
 
   const PlannerOptions& options() const { return options_; }
@@ -114,6 +156,36 @@ class MotionPlanner {
   /// `started` or max_validity_checks checks since the query began; may throw ompl::Exception.
   PlanResult search(const DualPose& start, const DualPose& goal, std::chrono::steady_clock::time_point started,
                     std::uint32_t seed);
+  struct Layout;
+  /// planPath(JointState) after its input checks: the goal joints, the search with the next seeds
+  /// while a found path fails the verification.
+  PlanResult planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                        std::chrono::steady_clock::time_point started);
+  /// One joint-space search from `start` to `goal` moving the robots flagged in `moving`, then the
+  /// Cartesian waypoints and their verification; may throw ompl::Exception.
+  PlanResult searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
+                          const DualPose& goal_poses, const std::vector<bool>& moving,
+                          std::chrono::steady_clock::time_point started, std::uint32_t seed);
+  /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
+  PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
+  /// Validity of a joint state for the search and the verification (counted; the tool bounds too).
+  ValidityResult checkState(const JointState& q);
+  bool insideBounds(const DualPose& tools) const;
+  /// "needle", "probe and needle": the tools robot `robot` holds, for messages.
+  std::string toolsOf(std::size_t robot) const;
+  /// The shortest time the trajectory generator can take from `a` to `b` [s].
+  double segmentDuration(const DualPose& a, const DualPose& b) const;
+  /// Follows the Cartesian segment a → b with the continuity-keeping IK from joints `q` (updated
+  /// to the end's): false with `failure` at the first unreachable, discontinuous or invalid step.
+  bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure);
+  /// Inserts the two waypoints of RobotModel::singularCrossing into segment k when a robot's
+  /// planned joints cross a singular set there (not again for a segment that starts at one).
+  bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,
+                      std::vector<char>& crossing, std::size_t k, std::size_t level);
+  /// The dense verification of the planned joints' Cartesian path, halving failing segments in
+  /// joint space; fills result.waypoints and joint_waypoints, or returns false with `failure`.
+  bool verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
+              Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
   /// True when the query's time or work budget is spent.
   bool spent(std::chrono::steady_clock::time_point started) const;
   /// "5.000000 s" or "250000 validity checks": the budget, for messages.
@@ -121,6 +193,8 @@ class MotionPlanner {
 
   StateValidator& validator_;
   PlannerOptions options_;
+  JointState max_velocity_;  // per joint of the query: velocity limit [m/s, rad/s]
+  DualPose tools_scratch_;
   std::atomic<std::size_t> checks_{0};  // validity checks of the current query (PRM checks from two threads)
 };
 

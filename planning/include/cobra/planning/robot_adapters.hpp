@@ -12,6 +12,10 @@
 /// otherwise (unrelated planner samples), so that a state's answer does not depend on the states
 /// checked before it except along such a chain of small steps. resetWarmStart() forgets the
 /// previous solution. solve() allocates nothing (all joint arrays are preallocated).
+///
+/// Ur5Model and IsurPuncturingModel also offer the joint space the motion planner searches
+/// (RobotModel::jointCount() and after); IsurSuturingModel does not yet (its scenes are planned
+/// on SE(3)×SE(3) through solve(), as before).
 
 #include <array>
 #include <span>
@@ -92,11 +96,32 @@ class Ur5Model final : public RobotModel {
   const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::Ur5Solver& solver() { return solver_; }
 
+  /// Velocity limit of every joint [rad/s]: the simulated UR5's (thesis table: 180°/s).
+  static constexpr double kMaxJointVelocity = 3.14;
+  std::size_t jointCount() const override { return 6; }
+  void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
+  bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
+  std::size_t toolLink(std::size_t) const override { return 7; }
+  void seedJoints(std::span<double> q) const override;
+  /// The branch of `seed` (elbow: sign of q3, wrist: sign of q5, shoulder: the q1 solution nearest
+  /// the seed's), each joint's 2π representative nearest the seed.
+  Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                           std::span<double> q) override;
+  /// The joint limits intersected with start ± π: a path never turns a joint more than half a turn
+  /// from where it starts (the limits allow ±2π, which only adds detours to the search).
+  void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
+                        std::span<double> upper) const override;
+
  private:
+  /// Of solutions_, the one on the branch of `reference` (elbow, wrist, shoulder nearest), with
+  /// each joint's representative nearest `near` written to `q`. Unreachable / OtherBranch if none.
+  Reachability pickBranch(std::span<const double> reference, std::span<const double> near, std::span<double> q) const;
+
   kinematics::Ur5Solver solver_;
   kinematics::IkSolutionSet solutions_;
   WarmStart<1> warm_;
   KDL::JntArray q_;
+  KDL::JntArray seed_;
 };
 
 /// I-SUR puncturing robot (8 DOF). Links: kinematics::IsurPuncturingSolver::linkFrames (0 turntable,
@@ -121,10 +146,62 @@ class IsurPuncturingModel final : public RobotModel {
   const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::IsurPuncturingSolver& solver() { return solver_; }
 
+  /// Velocity limits of the simulated I-SUR (components/sim): sliders [m/s], revolute joints [rad/s].
+  static constexpr double kMaxSliderVelocity = 0.1;
+  static constexpr double kMaxRevoluteVelocity = 1.5;
+  /// |cos(pitch)| below this counts as the wrist's gimbal lock (needle vertical) in inverseNear():
+  /// there only yaw ∓ roll is defined and the yaw is kept at the seed's.
+  static constexpr double kGimbalLockTolerance = 1e-7;
+
+  std::size_t jointCount() const override { return kinematics::IsurPuncturingSolver::kJoints; }
+  void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
+  bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
+  std::size_t toolLink(std::size_t) const override { return 5; }
+  void seedJoints(std::span<double> q) const override;
+  /// kinematics::IsurPuncturingSolver::inverse seeded with `seed` (what the control path's IK does
+  /// when it tracks a path: the wrist representation nearest the seed, the redundancy split by the
+  /// shares around it, the micro yaw's limit passing the rest to the base turntable). At the gimbal
+  /// lock (needle vertical to kGimbalLockTolerance) the yaw q4 + q5 stays the seed's and the roll
+  /// q8 turns instead: a vertical goal is reached without turning the arm about the vertical, and
+  /// a step at the lock does not jump the yaw.
+  Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                           std::span<double> q) override;
+  /// Of the two representations of the wrist angles (pitch θ and π - θ), the one nearest `start`
+  /// whose joints follow the start's redundancy rule without any clamping (q4 where the yaw share
+  /// leaves it, q6 - q7 the start's): the goal of a path that does not turn the base turntable.
+  /// When neither is reachable so, inverseNear(). (The solver alone picks the representation
+  /// nearest over all joints, which may need the turntable where a half turn of the roll q8 would
+  /// do.)
+  Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                           std::span<double> q) override;
+  /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)]: the pitch splits
+  /// between q6 and q7 by the solver's share from the start, as the IK of the control path splits
+  /// it when it tracks a Cartesian path from the start. The base turntable q4 stays between its
+  /// start and goal angles.
+  std::size_t coordinateCount() const override { return 7; }
+  /// The segment's pitch q6 + q7 passing ±90°: `before` and `after` are the configuration at the
+  /// crossing with the pitch kCrossingMargin before and after it, yaw, roll and sliders equal, so
+  /// that the needle turns through the vertical in one plane.
+  bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,
+                        std::span<double> after) const override;
+  static constexpr double kCrossingMargin = 0.02;  // rad
+  void coordinateScales(std::span<double> scale) const override;
+  void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
+                        std::span<double> upper) const override;
+  void jointsOf(std::span<const double> c, std::span<const double> start, std::span<double> q) const override;
+  void coordinatesOf(std::span<const double> q, std::span<double> c) const override;
+
  private:
+  /// Joints for the ZYX wrist angles (yaw, pitch, roll) of `target` split by the shares around
+  /// `seed` without clamping; false when a joint leaves its limits or the delta cannot place the
+  /// platform.
+  bool onRule(const KDL::Frame& target, double yaw, double pitch, double roll, std::span<const double> seed,
+              std::span<double> q);
+
   kinematics::IsurPuncturingSolver solver_;
   WarmStart<1> warm_;
   KDL::JntArray q_;
+  KDL::JntArray seed_;
 };
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1

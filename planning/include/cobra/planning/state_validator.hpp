@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -82,18 +83,62 @@ class StateValidator {
   /// RobotModel::resetWarmStart() of every robot.
   void resetWarmStart();
 
+  // ---- Joint space: a state is every robot's joints, concatenated in scene().robots order
+  // (RobotModel::jointCount() values each; m, rad). Offered when every model offers joints.
+
+  /// True when every robot model has joints (RobotModel::jointCount() > 0).
+  bool hasJointSpace() const { return joint_space_; }
+  /// Joints of all robots together.
+  std::size_t jointCount() const { return joint_offsets_.back(); }
+  /// Index of robot `robot`'s first joint in a joint state.
+  std::size_t jointOffset(std::size_t robot) const { return joint_offsets_[robot]; }
+  RobotModel& model(std::size_t robot) { return *models_[robot]; }
+  /// Algorithm 4.2 without inverse kinematics: forward kinematics of every link, then the distance
+  /// queries of check(). Unreachable when a robot's joints have no forward kinematics (outside the
+  /// limits). No exception; no allocation on primitive scenes (as check()).
+  ValidityResult checkJoints(std::span<const double> q, bool exact_distances = false);
+  /// The tool poses of joint state q in the world frame (the frames q of check() names). False
+  /// when a robot's joints have no forward kinematics.
+  bool toolPoses(std::span<const double> q, DualPose& tools);
+  /// Every robot's RobotModel::inverseNear for the tool poses `tools` (world), seeded with the
+  /// robot's joints in `seed` (empty: each model's configured seed), into `q`. On failure
+  /// `failed_robot` is the robot's index in scene().robots. No allocation.
+  Reachability inverseNear(const DualPose& tools, std::span<const double> seed, std::span<double> q,
+                           std::size_t& failed_robot);
+  /// The same with RobotModel::inverseGoal (seed = the start's joints).
+  Reachability inverseGoal(const DualPose& tools, std::span<const double> start, std::span<double> q,
+                           std::size_t& failed_robot);
+  /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
+  /// (allowed contacts left out; what the planner keeps above min_collision_distance), and
+  /// `allowed_contact` = the minimum over the declared allowed contacts (+infinity: none declared).
+  /// Both NaN when q has no forward kinematics.
+  struct Distances {
+    double clearance = 0.0;
+    double allowed_contact = 0.0;
+  };
+  Distances distancesAt(std::span<const double> q);
+
   const SceneDescription& scene() const { return world_.scene(); }
   const CollisionWorld& world() const { return world_; }
 
  private:
   /// Runs IK/FK of every robot and moves its objects; Valid or the first failure.
   ValidityResult placeRobots(const DualPose& q);
+  /// FK of every robot from joints q, moves its objects; Valid or Unreachable.
+  ValidityResult placeRobotsAt(std::span<const double> q);
+  /// The distance queries of check() on the placed robots.
+  ValidityResult checkDistances(ValidityResult result, bool exact_distances);
+  Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
+                       std::size_t& failed_robot, bool goal);
 
   CollisionWorld world_;
   std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order
   std::vector<std::vector<KDL::Frame>> tools_;      // per robot, preallocated
   std::vector<KDL::Frame> model_tool_in_tool_;      // per robot: the scene's `tool`, inverted
   std::vector<std::vector<KDL::Frame>> links_;      // per robot, preallocated
+  std::vector<std::vector<double>> seeds_;           // per robot: its configured seed, preallocated
+  std::vector<std::size_t> joint_offsets_{0};       // per robot, then the total
+  bool joint_space_ = true;
 };
 
 /// True when every element is finite and both rotations are orthonormal (to 1e-6).

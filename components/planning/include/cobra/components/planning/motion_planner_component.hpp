@@ -1,13 +1,15 @@
 #pragma once
 /// @file
 /// The thesis' Motion Planner (§4.5.1): a Calculation component around planning::MotionPlanner
-/// (OMPL RRT-Connect on SE(3)×SE(3), FCL collision checks, the real I-SUR and UR5 kinematics).
+/// (OMPL in the robots' joint space from their measured joints to Cartesian goals, FCL collision
+/// checks, the real I-SUR and UR5 kinematics; planning/README.md).
 
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
 
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/components/planning/planning_scene_component.hpp"
@@ -17,24 +19,41 @@
 namespace cobra::components {
 
 /// Interface (thesis names; scene properties: PlanningSceneComponent):
-/// - properties `planner` ("RRTConnect", "RRT", "PRM"), `time_limit` (s, wall clock),
+/// - properties `planner` (one of planning::plannerNames(): RRTConnect, RRT, PRM, BiTRRT, LazyPRM,
+///   LBKPIECE1, BITstar), `time_limit` (s, wall clock),
 ///   `max_validity_checks` (1: the work limit of a query instead of time_limit when > 0),
 ///   `seed` (> 0; a query that failed is retried with the next seed, so asking again after a
-///   failure explores differently and the run stays reproducible), `first_bounds_low/high`, `second_bounds_low/high` (3 values each, m: the
-///   world box of the needle / probe positions), `edge_resolution` (fraction of the space extent);
-/// - ports in: `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the start state),
-///   `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values: the needle then the probe goal,
-///   each x y z [m] qx qy qz qw, world frame: the encoding of path_type.hpp, already registered);
+///   failure explores differently and the run stays reproducible), `first_bounds_low/high`,
+///   `second_bounds_low/high` (3 values each, m: the world box of the needle / probe positions),
+///   `edge_resolution` (fraction of the space extent); `max_vel` (m/s per Cartesian axis),
+///   `max_ang_vel` (rad/s), `time_acc` (s): those of the CartesianTrajectoryGenerator that follows
+///   the path (the joint steps of the path are checked against the robots' joint velocity limits
+///   at these speeds); `query_log` (path, "" = none: every planning query from measured joints is
+///   appended as one line `start Q1..Qn goal X Y Z QX QY QZ QW X Y Z QX QY QZ QW # outcome`, the
+///   format bench/planning_bench.cpp replays; read when a plan is asked);
+/// - ports in: `isurMeasJoints`, `UR5MeasJoints` (KDL.JntArray: the measured joints, I-SUR
+///   [q1 q2 q3 m, q4..q8 rad], UR5 [6 rad]; the start state when both have data: the path starts
+///   on the robots' actual IK branches), `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the
+///   start state without joints, solved by IK from the models' seeds; event ports: a new sample
+///   triggers the distance report), `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values:
+///   the needle then the probe goal, each x y z [m] qx qy qz qw, world frame: the encoding of
+///   path_type.hpp, already registered);
 ///   out: `plannedPath` (TGL.MultiAxisPath, 2 arms, path_type.hpp's encoding: what
-///   CartesianTrajectoryGenerator reads), `minDistance` (double, m: minimum distance of the
-///   measured state, published whenever a measured pose arrives; NaN when it is not valid input or
-///   unreachable);
+///   CartesianTrajectoryGenerator reads), `minDistance` (double, m: the measured state's clearance,
+///   the minimum distance over the checked group pairs OUTSIDE the scene's allowed contacts, what
+///   planned paths keep above clearanceThreshold(); NaN when the measured state is not a pose or
+///   unreachable), `allowedContactDistance` (double, m: the minimum distance of the declared
+///   allowed contacts, e.g. the probe on the skin: 0 while touching; +inf when none declared; NaN
+///   as minDistance); both published whenever a measured pose arrives, from the joints when known;
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
 ///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
-///   `lastPlanResult()` ("solved: ..." or the reason of the last failure);
+///   `lastPlanResult()` ("solved: ..." or the reason of the last failure), `clearanceThreshold()`
+///   (m: the scene's min_collision_distance after the property override; a state closer than this
+///   outside the allowed contacts is invalid for the planner);
 /// - events `e_plan_done` (path written on plannedPath), `e_plan_failed` (reason in
-///   lastPlanResult() and on stderr).
+///   lastPlanResult() and on stderr: an unreachable goal, or one only another IK branch reaches,
+///   names the tool and why, before anything moves).
 ///
 /// Where planning runs: in updateHook, when askPlan() asked for it. Planning takes up to
 /// `time_limit` s and allocates, so this component must have a NON-real-time activity of its own:
@@ -58,6 +77,8 @@ class MotionPlannerComponent : public PlanningSceneComponent {
  private:
   void askPlan();
   double checkDistancePoses(KDL::Frame first, KDL::Frame second);
+  /// Appends the query and its outcome to query_log (when set).
+  void logQuery(const planning::PlanResult& result) const;
   /// Runs one query from the measured poses to the goal; writes the path or says why not.
   void plan();
   void fail(const std::string& reason);
@@ -78,6 +99,14 @@ class MotionPlannerComponent : public PlanningSceneComponent {
                                                    "upper corner of the probe (tool 2) position box, world"};
   core::Property<double> edge_resolution_{"edge_resolution", 0.004, "1",
                                           "edge check step as a fraction of the state space extent"};
+  core::Property<double> max_vel_{"max_vel", 0.05, "m/s",
+                                  "max velocity per Cartesian axis of the trajectory generator following the path"};
+  core::Property<double> max_ang_vel_{"max_ang_vel", 0.5, "rad/s",
+                                      "max angular velocity of the trajectory generator following the path"};
+  core::Property<double> time_acc_{"time_acc", 0.2, "s", "blend duration of the trajectory generator"};
+  core::Property<std::string> query_log_{"query_log", "", "path",
+                                         "file every query is appended to (start joints, goal poses, outcome); "
+                                         "'' = none"};
 
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
   core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
@@ -85,7 +114,13 @@ class MotionPlannerComponent : public PlanningSceneComponent {
       "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world", "m"};
   core::OutputPort<trajectory::MultiAxisPath> path_out_{
       "plannedPath", "collision-free path, 2 arms, x y z qx qy qz qw per arm per waypoint, world", "m"};
-  core::OutputPort<double> min_distance_{"minDistance", "minimum distance of the measured state", "m"};
+  core::InputPort<KDL::JntArray> isur_joints_{"isurMeasJoints", "measured I-SUR joints (start state): q1..q3 m, q4..q8 rad",
+                                              "m, rad"};
+  core::InputPort<KDL::JntArray> ur5_joints_{"UR5MeasJoints", "measured UR5 joints (start state)", "rad"};
+  core::OutputPort<double> min_distance_{
+      "minDistance", "clearance of the measured state outside the allowed contacts (NaN: unreachable)", "m"};
+  core::OutputPort<double> allowed_distance_{
+      "allowedContactDistance", "distance of the declared allowed contacts in the measured state", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;
   std::unique_ptr<planning::MotionPlanner> planner_impl_;
@@ -93,6 +128,12 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   bool have_isur_ = false;
   bool have_ur5_ = false;
   bool have_goal_ = false;
+  bool have_isur_joints_ = false;
+  bool have_ur5_joints_ = false;
+  KDL::JntArray isur_q_, ur5_q_;
+  planning::JointState joints_;  // the scene's joint layout, filled from the two joint ports
+  /// Fills joints_ from the latest joint samples; false when they are missing or do not fit.
+  bool measuredJoints();
   planning::DualPose measured_;
   planning::DualPose goal_pose_;
   std::string last_result_;

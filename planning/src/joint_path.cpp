@@ -1,0 +1,488 @@
+// MotionPlanner in joint space (motion_planner.hpp): goal joints by the continuity-keeping IK
+// nearest the start, the OMPL search over the planning coordinates of the robots that move, and
+// the dense verification of the Cartesian path that is returned.
+
+#include "cobra/planning/motion_planner.hpp"
+
+#include "planner_support.hpp"
+
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
+#include <ompl/geometric/planners/kpiece/LBKPIECE1.h>
+#include <ompl/geometric/planners/prm/LazyPRM.h>
+#include <ompl/geometric/planners/prm/PRM.h>
+#include <ompl/geometric/planners/rrt/BiTRRT.h>
+#include <ompl/geometric/planners/rrt/RRT.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace cobra::planning {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+const std::vector<std::string>& plannerNames() {
+  static const std::vector<std::string> names{"RRTConnect", "RRT", "PRM", "BiTRRT", "LazyPRM", "LBKPIECE1", "BITstar"};
+  return names;
+}
+
+namespace detail {
+
+ob::PlannerPtr makePlanner(const PlannerOptions& options, const ob::SpaceInformationPtr& si) {
+  const auto ranged = [&](auto planner) {
+    if (options.range > 0.0) planner->setRange(options.range);
+    return planner;
+  };
+  if (options.planner == "RRTConnect") return ranged(std::make_shared<og::RRTConnect>(si));
+  if (options.planner == "RRT") return ranged(std::make_shared<og::RRT>(si));
+  if (options.planner == "BiTRRT") return ranged(std::make_shared<og::BiTRRT>(si));
+  if (options.planner == "LBKPIECE1") return ranged(std::make_shared<og::LBKPIECE1>(si));
+  if (options.planner == "LazyPRM") return ranged(std::make_shared<og::LazyPRM>(si));
+  if (options.planner == "BITstar") {
+    // Asymptotically optimal: without this it refines until the budget is spent.
+    auto planner = std::make_shared<og::BITstar>(si);
+    planner->setStopOnSolnImprovement(true);
+    return planner;
+  }
+  return std::make_shared<og::PRM>(si);
+}
+
+}  // namespace detail
+
+namespace {
+
+std::string position(const KDL::Frame& f) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.4f, %.4f, %.4f) m", f.p.x(), f.p.y(), f.p.z());
+  return text;
+}
+
+/// Pose of a Cartesian segment at fraction s as the trajectory generator moves along it: the
+/// origin on the straight line, the rotation on the geodesic R_a Rot(u, s θ).
+KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
+  KDL::Vector axis;
+  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
+  return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
+}
+
+bool samePose(const KDL::Frame& a, const KDL::Frame& b) {
+  KDL::Vector axis;
+  return (a.p - b.p).Norm() < 1e-6 && (a.M.Inverse() * b.M).GetRotAngle(axis) < 1e-6;
+}
+
+}  // namespace
+
+/// The coordinates of one query's search: the robots that move, each a block of coordinates
+/// (RobotModel::coordinateCount), stored in OMPL divided by their scale (velocity limit).
+struct MotionPlanner::Layout {
+  struct Block {
+    std::size_t robot = 0;          // index in the scene's robots
+    std::size_t joint_offset = 0;   // in a JointState
+    std::size_t joint_count = 0;
+    std::size_t coordinate_offset = 0;  // in the OMPL state
+    std::size_t coordinate_count = 0;
+  };
+  std::vector<Block> blocks;
+  std::vector<double> scale;  // per OMPL dimension
+  std::vector<double> coordinates;  // scratch: one block's coordinates
+
+  /// Joints of the OMPL state `values` into `q` (which holds the start's joints elsewhere).
+  void joints(StateValidator& validator, const double* values, const JointState& start, JointState& q) {
+    for (const Block& b : blocks) {
+      for (std::size_t i = 0; i < b.coordinate_count; ++i)
+        coordinates[i] = values[b.coordinate_offset + i] * scale[b.coordinate_offset + i];
+      validator.model(b.robot).jointsOf(std::span<const double>(coordinates.data(), b.coordinate_count),
+                                        std::span<const double>(start).subspan(b.joint_offset, b.joint_count),
+                                        std::span<double>(q).subspan(b.joint_offset, b.joint_count));
+    }
+  }
+  /// OMPL values of joint state `q`.
+  void values(StateValidator& validator, const JointState& q, double* values) {
+    for (const Block& b : blocks) {
+      validator.model(b.robot).coordinatesOf(std::span<const double>(q).subspan(b.joint_offset, b.joint_count),
+                                             std::span<double>(coordinates.data(), b.coordinate_count));
+      for (std::size_t i = 0; i < b.coordinate_count; ++i)
+        values[b.coordinate_offset + i] = coordinates[i] / scale[b.coordinate_offset + i];
+    }
+  }
+};
+
+bool MotionPlanner::insideBounds(const DualPose& tools) const {
+  return options_.first_bounds.contains(tools.first.p) && options_.second_bounds.contains(tools.second.p);
+}
+
+ValidityResult MotionPlanner::checkState(const JointState& q) {
+  checks_.fetch_add(1, std::memory_order_relaxed);
+  ValidityResult result;
+  if (!validator_.toolPoses(q, tools_scratch_)) {
+    result.validity = Validity::Unreachable;
+    return result;
+  }
+  if (!insideBounds(tools_scratch_)) {
+    result.validity = Validity::Unreachable;  // outside the planner's box: not a state it may use
+    result.robot = "(outside the planner's tool bounds)";
+    return result;
+  }
+  return validator_.checkJoints(q);
+}
+
+std::string MotionPlanner::toolsOf(std::size_t robot) const {
+  std::string names;
+  for (const std::size_t tool : validator_.scene().robots[robot].tool_indices)
+    names += (names.empty() ? "" : " and ") + options_.tool_names[tool];
+  return names;
+}
+
+PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal) {
+  const auto started = std::chrono::steady_clock::now();
+  checks_.store(0, std::memory_order_relaxed);
+  PlanResult result;
+  const auto finish = [&](PlanStatus status, std::string message) {
+    return detail::finished(std::move(result), status, std::move(message), started);
+  };
+  validator_.resetWarmStart();
+  if (!validator_.hasJointSpace())
+    return finish(PlanStatus::InvalidInput,
+                  "the scene's robot models offer no joint space: give the start as tool poses");
+  if (start.size() != validator_.jointCount()) {
+    std::string layout;
+    for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r)
+      layout += (layout.empty() ? "" : ", ") + validator_.scene().robots[r].name + " " +
+                std::to_string(validator_.model(r).jointCount());
+    return finish(PlanStatus::InvalidInput, "start joints: " + std::to_string(validator_.jointCount()) +
+                                                " values expected (" + layout + "), got " +
+                                                std::to_string(start.size()));
+  }
+  for (std::size_t j = 0; j < start.size(); ++j)
+    if (!std::isfinite(start[j]))
+      return finish(PlanStatus::InvalidInput, "start joints: value " + std::to_string(j) + " is not finite");
+  if (!isFinitePose(goal))
+    return finish(PlanStatus::InvalidInput, "goal pose has a NaN/infinite value or a non-orthonormal rotation");
+  DualPose start_poses;
+  result.rejected = validator_.checkJoints(start, true);
+  if (!validator_.toolPoses(start, start_poses) || !result.rejected.valid())
+    return finish(PlanStatus::InvalidStart,
+                  result.rejected.validity == Validity::Unreachable
+                      ? "start joints of robot '" + std::string(result.rejected.robot) + "' are outside its joint limits"
+                      : "start state is not valid: " + describe(result.rejected));
+  for (const auto& [poses, name] : {std::pair{static_cast<const DualPose*>(&start_poses), "start"}, std::pair{&goal, "goal"}}) {
+    if (!options_.first_bounds.contains(poses->first.p))
+      return finish(PlanStatus::OutOfBounds, std::string(name) + " position of the " + options_.tool_names[0] + " " +
+                                                 position(poses->first) + " is outside the planner's bounds");
+    if (!options_.second_bounds.contains(poses->second.p))
+      return finish(PlanStatus::OutOfBounds, std::string(name) + " position of the " + options_.tool_names[1] + " " +
+                                                 position(poses->second) + " is outside the planner's bounds");
+  }
+  try {
+    PlanResult planned = planJoints(start, start_poses, goal, started);
+    planned.validity_checks = checks_.load(std::memory_order_relaxed);
+    planned.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return planned;
+  } catch (const std::exception& error) {  // OMPL reports setup problems by throwing
+    return finish(PlanStatus::PlannerError, std::string("OMPL failed: ") + error.what());
+  }
+}
+
+PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints) {
+  PlanResult result;
+  result.status = PlanStatus::InvalidGoal;
+  goal_joints.assign(start.size(), 0.0);
+  std::size_t robot = 0;
+  const Reachability reached = validator_.inverseGoal(goal, start, goal_joints, robot);
+  const auto goal_of = [&](std::size_t r) {
+    const RobotPlacement& placement = validator_.scene().robots[r];
+    std::string text = toolsOf(r) + " goal ";
+    for (const std::size_t tool : placement.tool_indices) text += position(tool == 0 ? goal.first : goal.second) + " ";
+    return text;
+  };
+  if (reached == Reachability::Unreachable) {
+    result.message = goal_of(robot) + "is unreachable: robot '" + validator_.scene().robots[robot].name +
+                     "' has no inverse kinematics solution for it within its joint limits";
+    return result;
+  }
+  if (reached == Reachability::OtherBranch) {
+    result.message = goal_of(robot) + "is reachable only on another IK branch than the start's: robot '" +
+                     validator_.scene().robots[robot].name +
+                     "' would have to flip its arm (shoulder, elbow or wrist), which no planned path does";
+    return result;
+  }
+  // The goal must lie where the control path's IK leads from the start (the redundancy resolved
+  // by the same rule): otherwise the robot would arrive in another configuration than planned.
+  JointState check(start.size());
+  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
+    RobotModel& model = validator_.model(r);
+    const std::size_t offset = validator_.jointOffset(r), n = model.jointCount();
+    std::vector<double> coordinates(model.coordinateCount());
+    model.coordinatesOf(std::span<const double>(goal_joints).subspan(offset, n), coordinates);
+    model.jointsOf(coordinates, std::span<const double>(start).subspan(offset, n),
+                   std::span<double>(check).subspan(offset, n));
+    for (std::size_t j = offset; j < offset + n; ++j) {
+      if (std::abs(check[j] - goal_joints[j]) > 1e-6) {
+        result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
+                         "' to resolve its redundancy differently from the start (joint " + std::to_string(j - offset + 1) +
+                         " at a limit of its share): no path of its IK is known to reach it";
+        return result;
+      }
+    }
+  }
+  result.status = PlanStatus::Solved;
+  return result;
+}
+
+PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                                     std::chrono::steady_clock::time_point started) {
+  JointState goal_joints;
+  PlanResult result = goalJoints(start, goal, goal_joints);
+  if (result.status != PlanStatus::Solved) return detail::finished(std::move(result), result.status, result.message, started);
+  // Robots whose tools stay where they are do not move at all (no detour of the probe pressed on
+  // the skin while the needle moves): the search leaves their joints at the start's.
+  std::vector<bool> moving(validator_.scene().robots.size(), false);
+  bool any = false;
+  for (std::size_t r = 0; r < moving.size(); ++r) {
+    for (const std::size_t tool : validator_.scene().robots[r].tool_indices) {
+      const bool first = tool == 0;
+      if (!samePose(first ? start_poses.first : start_poses.second, first ? goal.first : goal.second)) moving[r] = true;
+    }
+    if (!moving[r])
+      std::copy_n(start.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)), validator_.model(r).jointCount(),
+                  goal_joints.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
+    any = any || moving[r];
+  }
+  result.rejected = validator_.checkJoints(goal_joints, true);
+  if (!result.rejected.valid())
+    return detail::finished(std::move(result), PlanStatus::InvalidGoal, "goal state is not valid: " + describe(result.rejected),
+                            started);
+  if (!any) {
+    result.waypoints = {start_poses, goal};
+    result.joint_waypoints = {start, goal_joints};
+    return detail::finished(std::move(result), PlanStatus::Solved, "solved: the tools are at the goal already", started);
+  }
+  max_velocity_.assign(start.size(), 0.0);
+  for (std::size_t r = 0; r < moving.size(); ++r) {
+    RobotModel& model = validator_.model(r);
+    std::vector<double> lower(model.jointCount()), upper(model.jointCount());
+    model.jointLimits(lower, upper, std::span<double>(max_velocity_).subspan(validator_.jointOffset(r), model.jointCount()));
+  }
+  // A path the dense verification rejects is discarded and the search re-run with the next seed
+  // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
+  std::uint32_t seed = options_.seed;
+  for (;;) {
+    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed);
+    if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
+    ++seed;
+  }
+}
+
+PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
+                                       const DualPose& goal_poses, const std::vector<bool>& moving,
+                                       std::chrono::steady_clock::time_point started, std::uint32_t seed) {
+  PlanResult result;
+  const auto finish = [&](PlanStatus status, std::string message) {
+    return detail::finished(std::move(result), status, std::move(message), started);
+  };
+  const detail::OmplLogLevel quiet(ompl::msg::LOG_NONE);
+  ompl::RNG::setSeed(seed);
+
+  Layout layout;
+  std::size_t dimensions = 0;
+  for (std::size_t r = 0; r < moving.size(); ++r) {
+    if (!moving[r]) continue;
+    const RobotModel& model = validator_.model(r);
+    layout.blocks.push_back({r, validator_.jointOffset(r), model.jointCount(), dimensions, model.coordinateCount()});
+    dimensions += model.coordinateCount();
+  }
+  layout.scale.resize(dimensions);
+  layout.coordinates.resize(dimensions);
+  ob::RealVectorBounds bounds(static_cast<unsigned>(dimensions));
+  for (const Layout::Block& b : layout.blocks) {
+    RobotModel& model = validator_.model(b.robot);
+    const std::span<const double> robot_start = std::span<const double>(start).subspan(b.joint_offset, b.joint_count);
+    std::vector<double> lower(b.coordinate_count), upper(b.coordinate_count), at_start(b.coordinate_count),
+        at_goal(b.coordinate_count);
+    model.coordinateBounds(robot_start, std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), lower,
+                           upper);
+    model.coordinateScales(std::span<double>(layout.scale).subspan(b.coordinate_offset, b.coordinate_count));
+    model.coordinatesOf(robot_start, at_start);
+    model.coordinatesOf(std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), at_goal);
+    for (std::size_t i = 0; i < b.coordinate_count; ++i) {
+      const double scale = layout.scale[b.coordinate_offset + i];
+      // The start and goal are inside by construction, up to rounding.
+      bounds.setLow(static_cast<unsigned>(b.coordinate_offset + i),
+                    std::min({lower[i], at_start[i], at_goal[i]}) / scale);
+      // A coordinate that may not move (the I-SUR's base turntable) keeps a width OMPL accepts.
+      bounds.setHigh(static_cast<unsigned>(b.coordinate_offset + i),
+                     std::max({upper[i], at_start[i], at_goal[i], lower[i] + 1e-9}) / scale);
+    }
+  }
+  auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(dimensions));
+  space->setBounds(bounds);
+  og::SimpleSetup setup(space);
+  JointState sample = start;
+  setup.setStateValidityChecker([&](const ob::State* state) {
+    layout.joints(validator_, state->as<ob::RealVectorStateSpace::StateType>()->values, start, sample);
+    return checkState(sample).valid();
+  });
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(options_.edge_resolution);
+  ob::ScopedState<> start_state(space), goal_state(space);
+  layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
+  layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
+  setup.setStartAndGoalStates(start_state, goal_state);
+  setup.setPlanner(detail::makePlanner(options_, setup.getSpaceInformation()));
+  const ob::PlannerStatus status = setup.solve(ob::PlannerTerminationCondition([&] { return spent(started); }));
+  if (status != ob::PlannerStatus::EXACT_SOLUTION)
+    return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
+
+  og::PathGeometric path = setup.getSolutionPath();
+  if (options_.simplify) {
+    // Step-bounded (not time-bounded) simplification keeps the result reproducible.
+    og::PathSimplifier simplifier(setup.getSpaceInformation());
+    simplifier.reduceVertices(path);
+    simplifier.shortcutPath(path);
+    simplifier.collapseCloseVertices(path);
+  }
+  std::vector<JointState> planned;
+  for (unsigned i = 0; i < path.getStateCount(); ++i) {
+    layout.joints(validator_, path.getState(i)->as<ob::RealVectorStateSpace::StateType>()->values, start, sample);
+    planned.push_back(sample);
+  }
+  planned.front() = start;
+  planned.back() = goal;
+  std::string failure;
+  if (!verify(planned, start_poses, goal_poses, layout, start, result, failure))
+    return finish(PlanStatus::PathInvalid, "the path cannot be followed: " + failure);
+  return finish(PlanStatus::Solved, "solved by " + options_.planner + " with " +
+                                        std::to_string(result.waypoints.size()) + " waypoints");
+}
+
+double MotionPlanner::segmentDuration(const DualPose& a, const DualPose& b) const {
+  double duration = options_.blend_time;
+  for (const auto& [from, to] : {std::pair{&a.first, &b.first}, std::pair{&a.second, &b.second}}) {
+    for (int axis = 0; axis < 3; ++axis)
+      duration = std::max(duration, std::abs(to->p(axis) - from->p(axis)) / options_.max_linear_velocity);
+    KDL::Vector unused;
+    duration = std::max(duration, (from->M.Inverse() * to->M).GetRotAngle(unused) / options_.max_angular_velocity);
+  }
+  return duration;
+}
+
+bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure) {
+  const std::size_t steps = options_.verify_points_per_segment;
+  const double duration = segmentDuration(a, b);
+  JointState next(q.size());
+  for (std::size_t k = 1; k <= steps; ++k) {
+    const double s = static_cast<double>(k) / static_cast<double>(steps);
+    const DualPose pose{interpolate(a.first, b.first, s), interpolate(a.second, b.second, s)};
+    std::size_t robot = 0;
+    const Reachability reached = validator_.inverseNear(pose, q, next, robot);
+    if (reached != Reachability::Reachable) {
+      failure = "robot '" + validator_.scene().robots[robot].name + "' " +
+                (reached == Reachability::OtherBranch ? "would change its IK branch" : "has no IK solution") +
+                " at " + std::to_string(s) + " of a segment";
+      return false;
+    }
+    // The generator takes at least `duration` s over the segment, uniformly in s on its linear
+    // part: each joint's step over 1/steps of it must fit its velocity limit (with the margin).
+    for (std::size_t j = 0; j < q.size(); ++j) {
+      const double allowed = options_.joint_velocity_margin * max_velocity_[j] * duration / static_cast<double>(steps);
+      if (std::abs(next[j] - q[j]) > allowed) {
+        failure = "joint " + std::to_string(j) + " steps " + std::to_string(next[j] - q[j]) + " where " +
+                  std::to_string(allowed) + " is allowed at " + std::to_string(s) + " of a segment (IK discontinuity)";
+        return false;
+      }
+    }
+    q.swap(next);
+    const ValidityResult validity = checkState(q);
+    if (!validity.valid()) {
+      failure = describe(validity) + " at " + std::to_string(s) + " of a segment";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool MotionPlanner::insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses,
+                                   std::vector<std::size_t>& depth, std::vector<char>& crossing, std::size_t k,
+                                   std::size_t level) {
+  if (crossing[k] != 0) return false;  // the segment through a crossing: nothing more to insert
+  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
+    RobotModel& model = validator_.model(r);
+    const std::size_t at = validator_.jointOffset(r), n = model.jointCount();
+    JointState before = planned[k], after = planned[k + 1];
+    const auto span = [&](const JointState& q) { return std::span<const double>(q).subspan(at, n); };
+    if (!model.singularCrossing(span(planned[k]), span(planned[k + 1]), std::span<double>(before).subspan(at, n),
+                                std::span<double>(after).subspan(at, n)))
+      continue;
+    // The other robots at the same fraction of the segment (the crossing's, from the pitch).
+    DualPose before_poses, after_poses;
+    if (!validator_.toolPoses(before, before_poses) || !validator_.toolPoses(after, after_poses) ||
+        !checkState(before).valid() || !checkState(after).valid())
+      return false;
+    const auto where = static_cast<std::ptrdiff_t>(k + 1);
+    planned.insert(planned.begin() + where, {before, after});
+    poses.insert(poses.begin() + where, {before_poses, after_poses});
+    depth.insert(depth.begin() + where, {level, level});
+    crossing.insert(crossing.begin() + where, {1, 0});
+    return true;
+  }
+  return false;
+}
+
+bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
+                           Layout& layout, const JointState& start, PlanResult& result, std::string& failure) {
+  // Cartesian waypoints: the tool poses of the planned joints, exactly the start and goal at the ends.
+  std::vector<DualPose> poses(planned.size());
+  for (std::size_t k = 1; k + 1 < planned.size(); ++k) validator_.toolPoses(planned[k], poses[k]);
+  poses.front() = start_poses;
+  poses.back() = goal_poses;
+  std::vector<std::size_t> depth(planned.size(), 0);
+  std::vector<char> crossing(planned.size(), 0);  // 1: the segment from this waypoint passes a singular pose
+  JointState q = start;
+  result.joint_waypoints = {start};
+  std::vector<double> a(layout.scale.size()), b(layout.scale.size()), mid(layout.scale.size());
+  for (std::size_t k = 0; k + 1 < poses.size();) {
+    JointState tracked = q;
+    if (walk(poses[k], poses[k + 1], tracked, failure)) {
+      q = tracked;
+      result.joint_waypoints.push_back(q);
+      ++k;
+      continue;
+    }
+    // A segment crossing a robot's singular set (the needle through the vertical) first gets two
+    // waypoints around the crossing whose Cartesian segment passes exactly through it.
+    const std::size_t level = std::max(depth[k], depth[k + 1]) + 1;
+    if (insertCrossing(planned, poses, depth, crossing, k, level)) continue;
+    // Otherwise halve the segment in joint space (the planned joints' midpoint, whose tool poses
+    // become a new waypoint) until it passes or max_subdivisions is reached.
+    if (level > options_.max_subdivisions) {
+      failure += " (after " + std::to_string(options_.max_subdivisions) + " subdivisions)";
+      return false;
+    }
+    layout.values(validator_, planned[k], a.data());
+    layout.values(validator_, planned[k + 1], b.data());
+    for (std::size_t i = 0; i < mid.size(); ++i) mid[i] = 0.5 * (a[i] + b[i]);
+    JointState middle = start;
+    layout.joints(validator_, mid.data(), start, middle);
+    DualPose middle_poses;
+    if (!validator_.toolPoses(middle, middle_poses) || !checkState(middle).valid()) {
+      failure += " (the planned midpoint is not valid)";
+      return false;
+    }
+    const auto at = static_cast<std::ptrdiff_t>(k + 1);
+    planned.insert(planned.begin() + at, middle);
+    poses.insert(poses.begin() + at, middle_poses);
+    depth.insert(depth.begin() + at, level);
+    crossing.insert(crossing.begin() + at, 0);
+  }
+  result.waypoints = std::move(poses);
+  return true;
+}
+
+}  // namespace cobra::planning

@@ -1,0 +1,227 @@
+// The joint-space planner (MotionPlanner::planPath from joints) and the joint-space parts of the
+// real robot models on the puncturing scene: goal IK nearest the start, the gimbal lock of the
+// I-SUR's wrist, paths whose Cartesian interpolation the continuity-keeping IK follows within the
+// joint velocity limits, goals refused with their reason before any search, and the distances of
+// the declared allowed contacts reported apart.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "cobra/planning/motion_planner.hpp"
+#include "cobra/planning/robot_adapters.hpp"
+#include "cobra/test_support/test_support.hpp"
+#include "planning_fixture.hpp"
+
+namespace cobra::planning {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The joints apps/puncturing/deployment/world.lua starts the robots at: the needle 10° from
+/// vertical at (-0.05, 0.05, 0.26) m, the probe pointing down at (0.2, -0.25, 0.3) m.
+const JointState kStart{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0, 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344};
+
+/// The puncturing scene with the application's needle frames (z along the needle).
+StateValidator puncturingValidator() {
+  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/puncturing.scene");
+  for (RobotPlacement& robot : scene.robots)
+    if (robot.name == "isur") robot.tool_in_model_tool = KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0));
+  RobotModels models = makeRobotModels(scene);
+  return StateValidator(std::move(scene), std::move(models));
+}
+
+PlannerOptions options() {
+  PlannerOptions o;
+  o.first_bounds = {{-0.3, -0.3, 0.0}, {0.3, 0.3, 0.5}};
+  o.second_bounds = {{-0.4, -0.5, 0.0}, {0.4, 0.4, 0.6}};
+  o.max_validity_checks = 200000;
+  o.max_linear_velocity = 0.04;
+  o.max_angular_velocity = 0.15;
+  o.tool_names = {"needle", "probe"};
+  return o;
+}
+
+/// Needle frame (z along the needle) with its tip at p, the needle tilted `tilt` rad from the
+/// vertical toward azimuth `azimuth`.
+KDL::Frame needle(const KDL::Vector& p, double tilt, double azimuth) {
+  return KDL::Frame(KDL::Rotation::RotZ(azimuth) * KDL::Rotation::RotY(kPi - tilt), p);
+}
+
+KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
+  KDL::Vector axis;
+  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
+  return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
+}
+
+/// An independent re-walk of a solved path at 3x the planner's verification density: every
+/// state valid and every joint step of the continuity-keeping IK within the velocity limits at
+/// the generator's speeds (the planner's own rule, checked at other points).
+void expectFollowable(StateValidator& validator, const PlannerOptions& o, const PlanResult& result,
+                      const JointState& start) {
+  ASSERT_TRUE(result.solved()) << result.message;
+  ASSERT_EQ(result.joint_waypoints.size(), result.waypoints.size());
+  std::vector<double> velocity(validator.jointCount()), lower(validator.jointCount()), upper(validator.jointCount());
+  for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+    const std::size_t n = validator.model(r).jointCount(), at = validator.jointOffset(r);
+    validator.model(r).jointLimits(std::span(lower).subspan(at, n), std::span(upper).subspan(at, n),
+                                   std::span(velocity).subspan(at, n));
+  }
+  JointState q = start, next(q.size());
+  constexpr int kSteps = 300;
+  for (std::size_t k = 0; k + 1 < result.waypoints.size(); ++k) {
+    const DualPose& a = result.waypoints[k];
+    const DualPose& b = result.waypoints[k + 1];
+    double duration = o.blend_time;
+    for (const auto& [from, to] : {std::pair{&a.first, &b.first}, std::pair{&a.second, &b.second}}) {
+      for (int i = 0; i < 3; ++i) duration = std::max(duration, std::abs(to->p(i) - from->p(i)) / o.max_linear_velocity);
+      KDL::Vector axis;
+      duration = std::max(duration, (from->M.Inverse() * to->M).GetRotAngle(axis) / o.max_angular_velocity);
+    }
+    for (int i = 1; i <= kSteps; ++i) {
+      const double s = static_cast<double>(i) / kSteps;
+      std::size_t robot = 0;
+      ASSERT_EQ(validator.inverseNear({interpolate(a.first, b.first, s), interpolate(a.second, b.second, s)}, q, next,
+                                      robot),
+                Reachability::Reachable)
+          << "segment " << k << " at " << s;
+      for (std::size_t j = 0; j < q.size(); ++j)
+        ASSERT_LE(std::abs(next[j] - q[j]), velocity[j] * duration / kSteps * 1.05)
+            << "joint " << j << " of segment " << k << " at " << s;
+      q = next;
+      ASSERT_TRUE(validator.checkJoints(q).valid()) << describe(validator.checkJoints(q, true));
+    }
+    for (std::size_t j = 0; j < q.size(); ++j) EXPECT_NEAR(q[j], result.joint_waypoints[k + 1][j], 1e-6);
+  }
+}
+
+TEST(JointSpace, ForwardKinematicsOfTheStartGivesTheSimulatedRobotsPoses) {
+  StateValidator validator = puncturingValidator();
+  DualPose tools;
+  ASSERT_TRUE(validator.toolPoses(kStart, tools));
+  EXPECT_LT((tools.first.p - KDL::Vector(-0.0503, 0.0497, 0.2606)).Norm(), 1e-3);
+  EXPECT_LT((tools.second.p - KDL::Vector(0.2000, -0.2501, 0.3002)).Norm(), 1e-3);
+  EXPECT_TRUE(validator.checkJoints(kStart).valid()) << describe(validator.checkJoints(kStart, true));
+  // The same tool poses solved back from the start's joints are the start's joints (same branch).
+  JointState back(kStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(validator.inverseNear(tools, kStart, back, robot), Reachability::Reachable);
+  for (std::size_t j = 0; j < kStart.size(); ++j) EXPECT_NEAR(back[j], kStart[j], 1e-6) << j;
+}
+
+TEST(JointSpace, AtTheGimbalLockTheIsurKeepsTheSeedsYaw) {
+  IsurPuncturingModel model;
+  std::mt19937 rng(5);  // 20 seeded cases
+  std::uniform_real_distribution<double> yaw(-1.2, 1.2), roll(-2.5, 2.5), spin(-kPi, kPi);
+  for (int i = 0; i < 20; ++i) {
+    const std::array<double, 8> seed{0.01, 0.01, 0.2, 0.0, yaw(rng), 0.8, 0.6, roll(rng)};
+    // The needle (tool x) exactly vertical, turned about the vertical by an arbitrary angle.
+    const KDL::Frame target(KDL::Rotation::RotZ(spin(rng)) * KDL::Rotation::RotY(kPi / 2), KDL::Vector(0.0, 0.0, -0.8));
+    std::array<double, 8> q{};
+    ASSERT_EQ(model.inverseNear(std::span(&target, 1), seed, q), Reachability::Reachable);
+    EXPECT_NEAR(q[3] + q[4], seed[3] + seed[4], 1e-9) << "case " << i;  // the yaw stays
+    std::array<KDL::Frame, 6> links{};
+    ASSERT_TRUE(model.linkFramesAt(q, links));
+    EXPECT_TRUE(KDL::Equal(links[5], target, 1e-6)) << "case " << i;  // the roll took the rest
+  }
+}
+
+TEST(JointSpace, APlannedPathIsFollowedByTheContinuityKeepingIkWithinTheVelocityLimits) {
+  StateValidator validator = puncturingValidator();
+  const PlannerOptions o = options();
+  MotionPlanner planner(validator, o);
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  // The needle swung about the world y axis from leaning 10° toward +x to 13° toward -x, 12 cm
+  // lower, the probe holding: the I-SUR's wrist passes its gimbal lock (needle vertical).
+  const DualPose goal{KDL::Frame(KDL::Rotation::RotY(0.4) * start.first.M, start.first.p - KDL::Vector(0, 0, 0.12)),
+                      start.second};
+  const PlanResult result = planner.planPath(kStart, goal);
+  expectFollowable(validator, o, result, kStart);
+  // The probe held still: its joints never moved.
+  for (const JointState& q : result.joint_waypoints)
+    for (std::size_t j = 8; j < 14; ++j) EXPECT_NEAR(q[j], kStart[j], 1e-6);
+}
+
+TEST(JointSpace, AVerticalNeedleGoalIsReachedWithoutTurningTheArmAboutTheVertical) {
+  StateValidator validator = puncturingValidator();
+  const PlannerOptions o = options();
+  MotionPlanner planner(validator, o);
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  const DualPose goal{needle(KDL::Vector(-0.004, -0.004, 0.12), 0.0, 0.0), start.second};
+  const PlanResult result = planner.planPath(kStart, goal);
+  expectFollowable(validator, o, result, kStart);
+  const JointState& end = result.joint_waypoints.back();
+  EXPECT_NEAR(end[3] + end[4], kStart[3] + kStart[4], 1e-6);  // the yaw of the start
+  // And back from the vertical (the start at the lock) to the tilted change pose.
+  const PlanResult back = planner.planPath(end, start);
+  expectFollowable(validator, o, back, end);
+}
+
+TEST(JointSpace, ASameSeedGivesTheSamePathUnderAWorkLimit) {
+  StateValidator validator = puncturingValidator();
+  MotionPlanner planner(validator, options());
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  const DualPose goal{start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.15, -0.1, 0.25))};
+  const PlanResult a = planner.planPath(kStart, goal);
+  const PlanResult b = planner.planPath(kStart, goal);
+  ASSERT_TRUE(a.solved()) << a.message;
+  ASSERT_EQ(a.joint_waypoints.size(), b.joint_waypoints.size());
+  for (std::size_t k = 0; k < a.joint_waypoints.size(); ++k) EXPECT_EQ(a.joint_waypoints[k], b.joint_waypoints[k]);
+  EXPECT_EQ(a.validity_checks, b.validity_checks);
+}
+
+TEST(JointSpace, BadGoalsAreRefusedNamingTheToolAndWhyBeforeAnySearch) {
+  StateValidator validator = puncturingValidator();
+  MotionPlanner planner(validator, options());
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  // The needle 0.25 m to the side at table height: beyond the delta's reach.
+  PlanResult result = planner.planPath(kStart, {needle(KDL::Vector(0.25, -0.25, 0.01), 0.1, 0.0), start.second});
+  EXPECT_EQ(result.status, PlanStatus::InvalidGoal);
+  EXPECT_EQ(result.validity_checks, 0u);
+  EXPECT_CONTAINS(result.message, "needle goal (0.2500, -0.2500, 0.0100) m is unreachable: robot 'isur' has no inverse "
+                                  "kinematics solution for it within its joint limits");
+  // The probe inside the phantom: reachable, but not a valid state.
+  result = planner.planPath(kStart, {start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.0, 0.0, 0.05))});
+  EXPECT_EQ(result.status, PlanStatus::InvalidGoal);
+  EXPECT_CONTAINS(result.message, "goal state is not valid: too close:");
+  // Start joints of the wrong count, and outside the limits.
+  result = planner.planPath(JointState(13, 0.0), start);
+  EXPECT_EQ(result.status, PlanStatus::InvalidInput);
+  EXPECT_CONTAINS(result.message, "start joints: 14 values expected (isur 8, ur5 6), got 13");
+  JointState outside = kStart;
+  outside[4] = 2.0;  // the micro yaw's limit is 1.571 rad
+  result = planner.planPath(outside, start);
+  EXPECT_EQ(result.status, PlanStatus::InvalidStart);
+  EXPECT_CONTAINS(result.message, "start joints of robot 'isur' are outside its joint limits");
+}
+
+TEST(JointSpace, AllowedContactsAreMeasuredApartFromTheClearance) {
+  StateValidator validator = puncturingValidator();
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  // The probe pressed 2 mm into the phantom's top (z = 0.1 m): an allowed contact.
+  const DualPose pressed{start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.1, -0.05, 0.098))};
+  JointState q(kStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(validator.inverseNear(pressed, kStart, q, robot), Reachability::Reachable);
+  const StateValidator::Distances d = validator.distancesAt(q);
+  EXPECT_EQ(d.allowed_contact, 0.0);
+  EXPECT_GT(d.clearance, validator.scene().min_collision_distance);
+  EXPECT_TRUE(validator.checkJoints(q).valid());
+  // Lifted 3 cm: the allowed contact's distance is the gap.
+  const DualPose lifted{start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.1, -0.05, 0.13))};
+  JointState up(kStart.size());
+  ASSERT_EQ(validator.inverseNear(lifted, q, up, robot), Reachability::Reachable);
+  EXPECT_NEAR(validator.distancesAt(up).allowed_contact, 0.03, 1e-6);
+}
+
+}  // namespace
+}  // namespace cobra::planning
