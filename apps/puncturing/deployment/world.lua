@@ -22,6 +22,10 @@ getReferences()
 ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
 ISUR.tool_frame = needle_tool_frame                 -- tool z = the needle (puncturing.lua)
 ISUR.initial_joints = { 0.021, 0.013, 0.224, 0, 0, 0.7, 0.7, 0 }  -- m, rad: needle 10 deg from vertical (away from the decomposition's singularity) at (-0.05, 0.05, 0.26) m, out of the probe's way
+-- m/s, rad/s: the joint velocity limits (the simulated servos' defaults, stated here because the
+-- procedure runner's joint-jump check reads them: apps/puncturing/README.md, Fidelity).
+ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
+UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
 UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m
