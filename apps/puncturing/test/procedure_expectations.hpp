@@ -17,9 +17,9 @@ namespace cobra::puncturing::testing {
 
 inline const std::filesystem::path kApp = std::filesystem::path(COBRA_SOURCE_DIR) / "apps" / "puncturing";
 
-/// The acceptance figures of issue 15, during autonomous motions (procedure.hpp, Fidelity).
-constexpr double kMaxTrackingMm = 2.0;
-constexpr double kMaxTrackingDeg = 1.0;
+/// The acceptance figures of issue 15, during autonomous motions (fidelity.hpp).
+constexpr double kMaxTrackingMm = kAcceptedTrackingMm;
+constexpr double kMaxTrackingDeg = kAcceptedTrackingDeg;
 
 inline ProcedureOptions options(const std::filesystem::path& scenario) {
   ProcedureOptions o;

@@ -46,7 +46,8 @@ std::filesystem::path registered(const std::string& name, const Registration& r)
       std::filesystem::temp_directory_path() / ("cobra_registration_" + name + "_" + std::to_string(r.seed));
   std::filesystem::remove_all(to);
   std::filesystem::create_directories(to);
-  for (const auto& file : std::filesystem::directory_iterator(from)) std::filesystem::copy(file.path(), to / file.path().filename());
+  for (const auto& file : std::filesystem::directory_iterator(from))
+    std::filesystem::copy(file.path(), to / file.path().filename());
   std::ifstream in(from / "preoperative.txt");
   std::ostringstream out;
   bool moved = false;
@@ -76,6 +77,11 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSays
   const ProcedureResult result = runProcedure(o);
   SCOPED_TRACE("seed " + std::to_string(r.seed) + ": abdomen moved by (" + std::to_string(r.dx) + ", " +
                std::to_string(r.dy) + ") m, turned by " + std::to_string(r.dyaw) + " rad");
+  const std::string outcome = result.completed   ? std::string("completed")
+                              : result.safe_stop ? "safe stop at " + std::to_string(result.duration) + " s: " +
+                                                       result.stop_reason
+                                                 : std::string("neither completed nor stopped");
+  SCOPED_TRACE(outcome);
   ASSERT_TRUE(result.completed || result.safe_stop) << "ran to the time limit (" << result.duration << " s)";
   EXPECT_LT(result.duration, o.time_limit);
   if (result.completed) {

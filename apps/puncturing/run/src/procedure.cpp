@@ -92,9 +92,10 @@ struct Signals {
   plot::Series measured_z{"measured tip z", {}, {}, true};
   plot::Series needle_tank{"needle robot tank", {}, {}};
   plot::Series probe_tank{"probe robot tank", {}, {}};
-  // Tracking error per robot (the largest over each 10 ms), with the acceptance limits.
+  // Tracking error per robot (the largest over each 10 ms), with issue 15's acceptance figures.
   plot::Series needle_mm{"I-SUR needle", {}, {}}, needle_deg{"I-SUR needle", {}, {}};
   plot::Series probe_mm{"UR5 probe", {}, {}}, probe_deg{"UR5 probe", {}, {}};
+  plot::Series limit_mm{"acceptance (2 mm)", {}, {}, true}, limit_deg{"acceptance (1 deg)", {}, {}, true};
   plot::Series clearance{"clearance (allowed contacts left out)", {}, {}};
   plot::Series threshold{"planner threshold", {}, {}, true};
   std::vector<plot::Series> contacts;  // one per allowed contact
@@ -120,8 +121,8 @@ std::vector<plot::Figure> figures(const Signals& s) {
     const plot::Series& mm = *robot;
     const plot::Series& deg = robot == &s.needle_mm ? s.needle_deg : s.probe_deg;
     out.push_back({"Tool tracking error, " + mm.label + " (commanded = admittance output, measured)",
-                   {panel("position error (largest per 10 ms)", "t [s]", "error [mm]", {mm}),
-                    panel("orientation error (largest per 10 ms)", "t [s]", "error [deg]", {deg})}});
+                   {panel("position error (largest per 10 ms)", "t [s]", "error [mm]", {mm, s.limit_mm}),
+                    panel("orientation error (largest per 10 ms)", "t [s]", "error [deg]", {deg, s.limit_deg})}});
   }
   out.push_back({"Energy tanks of the variable admittances", {panel("tank energy", "t [s]", "T [J]",
                                                                     {s.needle_tank, s.probe_tank})}});
@@ -487,6 +488,8 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
       addPoint(signals.needle_deg, t, needle_deg);
       addPoint(signals.probe_mm, t, probe_mm);
       addPoint(signals.probe_deg, t, probe_deg);
+      addPoint(signals.limit_mm, t, kAcceptedTrackingMm);
+      addPoint(signals.limit_deg, t, kAcceptedTrackingDeg);
       addPoint(signals.clearance, t, last_clearance.clearance);
       addPoint(signals.threshold, t, clear.threshold);
       signals.contacts.resize(clear.contacts.size());

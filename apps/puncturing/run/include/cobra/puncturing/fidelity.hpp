@@ -25,6 +25,10 @@ class StateValidator;
 
 namespace cobra::puncturing {
 
+/// Issue 15's acceptance: the worst tracking error of a robot during autonomous motions [mm, deg].
+constexpr double kAcceptedTrackingMm = 2.0;
+constexpr double kAcceptedTrackingDeg = 1.0;
+
 /// The worst of one quantity over a run: its value, when and in which task state.
 struct Worst {
   double value = 0.0;
