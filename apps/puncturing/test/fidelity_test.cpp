@@ -137,6 +137,9 @@ TEST(ClearanceMonitor, TheNeedleInTheSkinIsAContactApartWhenAllowedAndTheClosest
   const ClearanceSample refused = monitor.measure(needle, probe, {true, false}, none, true);
   EXPECT_EQ(refused.clearance, 0.0);
   EXPECT_EQ(refused.closest, "needle/phantom");
+  ASSERT_FALSE(refused.under_threshold.empty());
+  EXPECT_EQ(refused.under_threshold.back(), (std::pair<std::string, double>{"needle/phantom", 0.0}));
+  EXPECT_TRUE(allowed.under_threshold.empty()) << allowed.under_threshold.front().first;
   // 3 cm above the skin the needle is no contact at all.
   const ClearanceSample above = monitor.measure(KDL::Frame(needle.M, KDL::Vector(0, 0, 0.13)), probe, {true, false},
                                                 none, false);

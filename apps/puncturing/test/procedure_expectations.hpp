@@ -65,9 +65,13 @@ inline void expectFaithful(const ProcedureResult& r) {
   for (const std::string& e : r.fidelity.ik_discontinuities) events += "\n  " + e;
   EXPECT_TRUE(r.fidelity.ik_discontinuities.empty()) << "e_ik_discontinuity events:" << events;
   const ClearanceFigures& c = r.fidelity.clearance;
+  std::string breaches;
+  for (const ClearanceFigures::Breach& b : c.breaches)
+    breaches += "\n  " + b.pair + ": " + std::to_string(b.seconds) + " s, closest " + std::to_string(1000.0 * b.worst) +
+                " mm at " + std::to_string(b.at) + " s (" + b.state + ")";
   EXPECT_GT(c.worst, c.threshold) << "clearance " << 1000.0 * c.worst << " mm (threshold " << 1000.0 * c.threshold
                                   << " mm) at " << c.worst_at << " s between " << c.worst_pair << ", " << c.worst_state
-                                  << "; " << c.seconds_below << " s at or under the threshold";
+                                  << "; " << c.seconds_below << " s at or under the threshold; the pairs:" << breaches;
   EXPECT_EQ(c.unreachable, 0) << "samples of the measured state the planner's robot models cannot reach";
 }
 

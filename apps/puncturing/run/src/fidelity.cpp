@@ -133,6 +133,10 @@ ClearanceMonitor::ClearanceMonitor(planning::SceneDescription scene, std::vector
 
 ClearanceMonitor::~ClearanceMonitor() = default;
 
+bool ClearanceMonitor::refused(std::size_t contact, const std::vector<bool>& allowed) const {
+  return contact_groups_[contact].checked && contact < allowed.size() && !allowed[contact];
+}
+
 std::size_t ClearanceMonitor::robotIndex(const std::string& name) const { return validator_->scene().robotIndex(name); }
 
 ClearanceSample ClearanceMonitor::measure(const KDL::Frame& needle, const KDL::Frame& probe,
@@ -159,21 +163,20 @@ ClearanceSample ClearanceMonitor::measure(const KDL::Frame& needle, const KDL::F
   for (std::size_t i = 0; i < contact_groups_.size(); ++i) {
     const double d = world.distance(contact_groups_[i].first, contact_groups_[i].second).distance;
     sample.contacts.push_back(d);
-    if (contact_groups_[i].checked && i < allowed.size() && !allowed[i] && d < sample.clearance) {
-      sample.clearance = d;
-      if (name_closest) sample.closest = contacts_[i].first_object + "/" + contacts_[i].second_object;
-    }
+    if (refused(i, allowed)) sample.clearance = std::min(sample.clearance, d);
   }
-  if (name_closest && sample.closest.empty()) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const planning::GroupPair& pair : validator_->scene().checks) {
-      const planning::GroupDistance d = world.distance(pair.first, pair.second);
-      if (d.distance < best) {
-        best = d.distance;
-        sample.closest = std::string(d.first_object) + "/" + std::string(d.second_object);
-      }
-    }
+  if (!name_closest) return sample;
+  double closest = std::numeric_limits<double>::infinity();
+  auto consider = [&](double d, std::string pair) {
+    if (d <= threshold_) sample.under_threshold.emplace_back(pair, d);
+    if (d < closest) closest = d, sample.closest = std::move(pair);
+  };
+  for (const planning::GroupPair& pair : validator_->scene().checks) {
+    const planning::GroupDistance d = world.distance(pair.first, pair.second);
+    consider(d.distance, std::string(d.first_object) + "/" + std::string(d.second_object));
   }
+  for (std::size_t i = 0; i < contact_groups_.size(); ++i)
+    if (refused(i, allowed)) consider(sample.contacts[i], contacts_[i].first_object + "/" + contacts_[i].second_object);
   return sample;
 }
 

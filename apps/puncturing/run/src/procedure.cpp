@@ -215,6 +215,13 @@ std::vector<std::pair<std::string, std::string>> fidelitySummary(const Fidelity&
                   std::isinf(c.worst) ? std::string("-")
                                       : millimetres(c.worst) + " at" + seconds(c.worst_at) + " (" + c.worst_pair + "; " +
                                             c.worst_state + ")" + below});
+  std::string breaches;
+  for (const ClearanceFigures::Breach& b : c.breaches) {
+    char text[96];
+    std::snprintf(text, sizeof text, " %.3f s, closest %.2f mm at %.3f s", b.seconds, 1000.0 * b.worst, b.at);
+    breaches += (breaches.empty() ? "" : "; ") + b.pair + text + " (" + b.state + ")";
+  }
+  rows.push_back({"pairs at or under the threshold", breaches.empty() ? "none" : breaches});
   std::string contacts;
   for (const auto& [name, distance] : c.contacts)
     contacts += (contacts.empty() ? "" : ", ") + name + " " + (std::isinf(distance) ? "-" : millimetres(distance));
@@ -461,12 +468,20 @@ ProcedureResult runProcedure(const ProcedureOptions& options) {
         ++clear.unreachable;
       } else {
         if (last_clearance.clearance <= clear.threshold) clear.seconds_below += kClearanceEvery * period;
-        if (last_clearance.clearance < clear.worst) {
-          clear.worst = last_clearance.clearance;
-          clear.worst_at = t;
-          clear.worst_pair = clearance.measure(needle_meas, probe_meas, allowed, robot_joints, true).closest;
-          clear.worst_state = "needle: " + needle_state + ", us: " + us_state;
+        const bool worse = last_clearance.clearance < clear.worst;
+        if (worse || last_clearance.clearance <= clear.threshold) {
+          const ClearanceSample named = clearance.measure(needle_meas, probe_meas, allowed, robot_joints, true);
+          const std::string states = "needle: " + needle_state + ", us: " + us_state;
+          if (worse) clear.worst_pair = named.closest, clear.worst_state = states;
+          for (const auto& [pair, distance] : named.under_threshold) {
+            auto it = std::find_if(clear.breaches.begin(), clear.breaches.end(),
+                                   [&](const ClearanceFigures::Breach& b) { return b.pair == pair; });
+            if (it == clear.breaches.end()) it = clear.breaches.insert(it, {pair, distance, t, states, 0.0});
+            it->seconds += kClearanceEvery * period;
+            if (distance < it->worst) *it = {pair, distance, t, states, it->seconds};
+          }
         }
+        if (worse) clear.worst = last_clearance.clearance, clear.worst_at = t;
         for (std::size_t i = 0; i < last_clearance.contacts.size() && i < clear.contacts.size(); ++i)
           clear.contacts[i].second = std::min(clear.contacts[i].second, last_clearance.contacts[i]);
       }

@@ -103,6 +103,9 @@ struct ClearanceSample {
   /// force; NaN when a measured pose is unreachable for the scene's robot models.
   double clearance = std::numeric_limits<double>::quiet_NaN();
   std::string closest;              ///< "first_object/second_object" of the clearance (when asked)
+  /// (When asked) every checked pair of groups whose closest objects are at or under the
+  /// threshold, "first_object/second_object" and their distance [m].
+  std::vector<std::pair<std::string, double>> under_threshold;
   std::vector<double> contacts;     ///< [m] per AllowedContact, 0 when touching or inside
 };
 
@@ -127,7 +130,7 @@ class ClearanceMonitor {
 
   /// Distances for the measured tool poses (world, m). `allowed[i]`: contact i is in force now.
   /// `joints[r]`: the measured joints of scene robot r (empty: the IK's own warm start).
-  /// `name_closest`: fill ClearanceSample::closest (costs a second pass over the pairs).
+  /// `name_closest`: fill ClearanceSample::closest and under_threshold (a second pass over the pairs).
   ClearanceSample measure(const KDL::Frame& needle, const KDL::Frame& probe, const std::vector<bool>& allowed,
                           const std::vector<KDL::JntArray>& joints, bool name_closest);
 
@@ -135,6 +138,9 @@ class ClearanceMonitor {
   std::size_t robotIndex(const std::string& name) const;
 
  private:
+  /// Contact `contact` is a pair the planner checks and it is not allowed now.
+  bool refused(std::size_t contact, const std::vector<bool>& allowed) const;
+
   struct ContactGroups {
     std::size_t first = 0, second = 0;  // group indices in the modified scene
     bool checked = false;               // the planner checks this pair when it is not allowed

@@ -69,6 +69,16 @@ struct ClearanceFigures {
   std::string worst_state;    ///< "needle: STATE, us: STATE" then
   double seconds_below = 0.0; ///< s of samples at or under the threshold
   int unreachable = 0;        ///< samples whose measured pose the scene's robot models cannot reach
+  /// A pair of objects that came at or under the threshold: its smallest distance [m], when [s],
+  /// both charts' states then, and for how long in all [s].
+  struct Breach {
+    std::string pair;
+    double worst = 0.0;
+    double at = 0.0;
+    std::string state;
+    double seconds = 0.0;
+  };
+  std::vector<Breach> breaches;  ///< in order of first breach
   /// Per allowed contact (ClearanceMonitor::contacts order): its name and smallest distance [m].
   std::vector<std::pair<std::string, double>> contacts;
 };
