@@ -28,7 +28,9 @@ ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
 UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
-UR5.initial_joints = { 0.798, -3.071, 1.714, -0.214, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m
+-- rad: probe down at (0.2, -0.25, 0.3) m, elbow up: the branch of the planners' UR5 model (elbow
+-- down, the same probe pose put the forearm through the phantom and the table all procedure long)
+UR5.initial_joints = { 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344 }
 Patient.scenario_file = scenario .. "/phantom.txt"
 Patient.phantom_pose = info.abdomen
 Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle

@@ -103,7 +103,8 @@ planning::SceneDescription scene() {
 const std::vector<AllowedContact> kContacts = {{"probe on skin", "us_probe", "phantom"},
                                                {"needle in tissue", "needle", "phantom"}};
 
-// world.lua's initial configurations and their tool poses (base, FK, tool frames of world.lua).
+// Configurations and their tool poses (base, FK, tool frames of world.lua): the I-SUR's initial
+// one, and the UR5 elbow down (world.lua's initial configuration before issue 15).
 const KDL::JntArray kUr5Joints = joints({0.798, -3.071, 1.714, -0.214, -1.571, -2.344});
 const KDL::JntArray kIsurJoints = joints({0.021, 0.013, 0.224, 0, 0, 0.7, 0.7, 0});
 
