@@ -237,6 +237,7 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   // Stopped where they were: nothing swung on the way to the stop or after it (the needle robot
   // had no command yet: its first motion is the one that could not be planned).
   expectTracked(r);
+  expectClear(r);
   EXPECT_GT(r.fidelity.probe.seconds_sampled, 5.0);
 }
 
