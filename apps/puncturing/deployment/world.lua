@@ -22,15 +22,9 @@ getReferences()
 ISUR.base_frame = G.frame(0, -0.05, 1.0)            -- m: the I-SUR base above the table
 ISUR.tool_frame = needle_tool_frame                 -- tool z = the needle (puncturing.lua)
 ISUR.initial_joints = { 0.021, 0.013, 0.224, 0, 0, 0.7, 0.7, 0 }  -- m, rad: needle 10 deg from vertical (away from the decomposition's singularity) at (-0.05, 0.05, 0.26) m, out of the probe's way
--- m/s, rad/s: the joint velocity limits (the simulated servos' defaults, stated here because the
--- procedure runner's joint-jump check reads them: apps/puncturing/README.md, Fidelity).
-ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
-UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 UR5.base_frame = G.frame(0.3, -0.5, 0, 0, 0, math.pi / 2)
 UR5.tool_frame = G.frame(0, 0, 0.12)                 -- m: the probe's face, z = the beam
--- rad: probe down at (0.2, -0.25, 0.3) m, elbow up: the branch of the planners' UR5 model (elbow
--- down, the same probe pose put the forearm through the phantom and the table all procedure long)
-UR5.initial_joints = { 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344 }
+UR5.initial_joints = { 0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344 }  -- rad: probe down at (0.2, -0.25, 0.3) m, elbow up (the other elbow laid the upper arm on the phantom)
 Patient.scenario_file = scenario .. "/phantom.txt"
 Patient.phantom_pose = info.abdomen
 Patient.tip_to_needle = G.frame(0, 0, 0)             -- ISUR's tool frame already has z along the needle
@@ -48,6 +42,10 @@ NeedleMonitor.extraction_threshold = 4               -- N: the 6 mm test pull ag
 NeedleMonitor.release_force = 1                      -- N
 USMonitor.contact_lost_time = 0.2                    -- s: the force dips while the probe's reference moves
 Surgeon.script_file = surgeon_file or (scenario .. "/surgeon.txt")  -- surgeon_file: a test's script
+-- m/s, rad/s: the robots' joint velocity limits (the simulated servos' defaults, stated here because
+-- the procedure runner's joint-jump check reads them: apps/puncturing/README.md, Fidelity).
+ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
+UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 
 local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }
 local activities = {}
