@@ -30,7 +30,10 @@ local at_change = false       -- the robot is at the needle change pose
 local in_tissue = false       -- the needle is in the patient
 
 
-local faults = { 'e_forbidden_region', 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
+-- e_ik_discontinuity: the robot refused a command it could not follow continuously (another IK
+-- branch, or beyond its joint velocity limits in one period) and holds its last valid one.
+local faults = { 'e_forbidden_region', 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout',
+                 'e_ik_discontinuity' }
 for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
 for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
 local insertion_faults = { 'e_force_over_threshold', table.unpack(faults) }
@@ -98,6 +101,9 @@ local chart = {
     emit("e_deploy_" .. D.teleoperated)
     emit("e_configure_" .. (in_tissue and C.insertion or C.free))
   end },
+  -- The same failure again after a reaction (task_steps.lua), or the ultrasound chart stopped:
+  -- the motion stops, the admittance holds the needle where it is, and the procedure ends here.
+  SafeStop = rfsm.state { entry = function() stop() emit("e_needle_safe_stop") end },
   Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
@@ -108,11 +114,17 @@ local chart = {
                guard = function() return not at_change end },
   rfsm.trans { src = 'WaitUSPositioning', tgt = 'Done', events = { 'e_all_needles_done' }, pn = 10 },
   rfsm.trans { src = 'WaitCryoCycle', tgt = 'ExtractingNeedle', events = { 'e_cryo_done' } },
-  rfsm.trans { src = 'InsertingNeedles', tgt = 'WaitReaction', events = insertion_faults },
-  rfsm.trans { src = 'ExtractingNeedle', tgt = 'WaitReaction', events = faults },
-  rfsm.trans { src = 'WaitUSPositioning', tgt = 'WaitReaction', events = faults },
   rfsm.trans { src = 'WaitReaction', tgt = 'NeedleTeleoperation', events = { 'e_take_over' } },
 }
+for _, reaction in ipairs({ { 'InsertingNeedles', insertion_faults }, { 'ExtractingNeedle', faults },
+                            { 'WaitUSPositioning', faults } }) do
+  for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
+end
+-- The ultrasound chart stopped safely: so does this one, from wherever it is.
+for _, state in ipairs({ 'WaitIceballConfig', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+                         'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop' }, pn = 20 }
+end
 
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that
 -- was interrupted; a motion starts again from where the needle is.

@@ -5,8 +5,43 @@
 --                                         goal_missed = "e_us_goal_missed" }
 -- `steps.resume` is the fully qualified state a reaction returns to (the last waiting state or
 -- motion entered), for the chart's recovery transitions.
+--
+-- Reactions: a failure that ends a state (a fault event, a goal missed) is a reaction the first
+-- time (root.WaitReaction: the robot stops, the surgeon recovers or takes over in teleoperation).
+-- The same failure again in the same state, nothing achieved since (no other waiting state or
+-- motion entered in between), cannot recover: the chart goes to root.SafeStop instead (motion
+-- stopped, the admittance holding the robot where it is), and says which failure in which state.
 return function(c)
-  local steps = { resume = nil }
+  local steps = { resume = nil, failed = {} }
+
+  -- A waiting state or motion is entered: progress, unless it is the one a reaction resumes.
+  local function enter(fqn)
+    if fqn ~= steps.resume then steps.failed = {} end
+    steps.resume = fqn
+  end
+  local function key(failure) return tostring(steps.resume) .. " " .. failure end
+  -- Whether `failure` already ended the state being resumed; remember that it did.
+  function steps.again(failure) return steps.failed[key(failure)] == true end
+  function steps.remember(failure) steps.failed[key(failure)] = true end
+
+  -- The two transitions of the failure events `failures` leaving `src`: to root.SafeStop when one
+  -- of them is a repeat, to root.WaitReaction otherwise.
+  function steps.reactions(src, failures)
+    local set = {}
+    for _, name in ipairs(failures) do set[name] = true end
+    local function repeated(events)
+      for _, e in ipairs(events) do
+        if set[e] and steps.again(e) then return true end
+      end
+      return false
+    end
+    return rfsm.trans { src = src, tgt = 'root.SafeStop', events = failures, pn = 1,
+                        guard = function(_, events) return repeated(events) end },
+           rfsm.trans { src = src, tgt = 'root.WaitReaction', events = failures,
+                        effect = function(_, _, _, events)
+                          for _, e in ipairs(events) do if set[e] then steps.remember(e) end end
+                        end }
+  end
 
   -- Calls the void request operation `operation` of the peer playing `role`.
   function steps.call(role, operation)
@@ -21,7 +56,7 @@ return function(c)
   -- A state that asks for its deployment and configuration on entry; `also` runs after.
   function steps.waiting(fqn, deployment, configuration, also)
     return rfsm.state { entry = function()
-      steps.resume = fqn
+      enter(fqn)
       emit("e_deploy_" .. deployment)
       emit("e_configure_" .. configuration)
       if also then also() end
@@ -39,7 +74,7 @@ return function(c)
     local want = {}
     local s = {
       Switching = rfsm.state { entry = function()
-        steps.resume = fqn
+        enter(fqn)
         want = { ["e_deployed_" .. deployment] = true, ["e_configured_" .. configuration] = true }
         emit("e_deploy_" .. deployment)
         emit("e_configure_" .. configuration)
@@ -66,8 +101,12 @@ return function(c)
       s[#s + 1] = rfsm.trans { src = 'Moving', tgt = 'Arrived', events = { 'e_motion_done' } }
     end
     if opts.grace then
-      s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = { 'e_after(' .. opts.grace .. ')' },
+      local missed = { 'e_after(' .. opts.grace .. ')' }
+      s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.SafeStop', events = missed, pn = 1,
+                               guard = function() return steps.again(c.goal_missed) end,
                                effect = function() emit(c.goal_missed) end }
+      s[#s + 1] = rfsm.trans { src = 'Arrived', tgt = 'root.WaitReaction', events = missed,
+                               effect = function() steps.remember(c.goal_missed) emit(c.goal_missed) end }
     end
     if opts.pause then
       s.Paused = rfsm.state {}

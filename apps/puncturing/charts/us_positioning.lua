@@ -20,7 +20,7 @@ local arrival_grace = 1    -- s after the descent ends for the contact that shou
 local steps = require("task_steps") { chart = "us_positioning", peers = peers, goal_missed = "e_us_goal_missed" }
 local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
 
-local faults = { 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout' }
+local faults = { 'e_plan_failed', 'e_traj_failed', 'e_no_data', 'e_comm_timeout', 'e_ik_discontinuity' }
 for _, d in pairs(D) do faults[#faults + 1] = 'e_deploy_failed_' .. d end
 for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
 local contact_faults = { 'e_probe_contact_lost', table.unpack(faults) }
@@ -54,6 +54,9 @@ local chart = {
     emit("e_deploy_" .. D.teleoperated)
     emit("e_configure_" .. C.contact)
   end },
+  -- The same failure again after a reaction (task_steps.lua), or the needle chart stopped: the
+  -- motion stops, the admittance holds the probe where it is, and the procedure ends here.
+  SafeStop = rfsm.state { entry = function() stop() emit("e_us_safe_stop") end },
   Done = rfsm.state { entry = function() emit("e_us_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'Idle' },
@@ -71,11 +74,17 @@ local chart = {
                effect = function() emit("e_us_positioned") end },
   rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'USPositioned', events = { 'e_needle_skin_reached' } },
   rfsm.trans { src = 'USPositioned', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_extracted' } },
-  rfsm.trans { src = 'MoveToSkin', tgt = 'WaitReaction', events = faults },
-  rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'WaitReaction', events = contact_faults },
-  rfsm.trans { src = 'USPositioned', tgt = 'WaitReaction', events = contact_faults },
   rfsm.trans { src = 'WaitReaction', tgt = 'USTeleoperation', events = { 'e_take_over' } },
 }
+for _, reaction in ipairs({ { 'MoveToSkin', faults }, { 'WaitNeedleSkinReached', contact_faults },
+                            { 'USPositioned', contact_faults } }) do
+  for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
+end
+-- The needle chart stopped safely: so does this one, from wherever it is.
+for _, state in ipairs({ 'Idle', 'MoveToSkin', 'WaitNeedleSkinReached', 'NextProbePose', 'USPositioned', 'WaitReaction',
+                         'USTeleoperation' }) do
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_needle_safe_stop' }, pn = 20 }
+end
 
 local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root.WaitNeedleSkinReached",
                     "root.USPositioned.SearchingNeedle", "root.USPositioned.NeedleTracked" }

@@ -42,6 +42,10 @@ NeedleMonitor.extraction_threshold = 4               -- N: the 6 mm test pull ag
 NeedleMonitor.release_force = 1                      -- N
 USMonitor.contact_lost_time = 0.2                    -- s: the force dips while the probe's reference moves
 Surgeon.script_file = surgeon_file or (scenario .. "/surgeon.txt")  -- surgeon_file: a test's script
+-- m/s, rad/s: the robots' joint velocity limits (the simulated servos' defaults, stated here because
+-- the procedure runner's joint-jump check reads them: apps/puncturing/README.md, Fidelity).
+ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
+UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 
 local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }
 local activities = {}

@@ -98,12 +98,16 @@ class Procedure {
   void onEntry(ChartRun& when, const std::string& state, ChartRun& to, const std::string& event, double delay) {
     triggers_.push_back({&when, state, &to, event, delay, false});
   }
-  void failPlanOnce(ChartRun& chart) { fail_plan_ = &chart; }
+  /// The next `times` plans chart `chart` asks for fail.
+  void failPlan(ChartRun& chart, int times = 1) {
+    fail_plan_ = &chart;
+    fail_plans_ = times;
+  }
 
-  /// Runs until both charts are Done or `limit` s pass.
+  /// Runs until both charts are Done or stopped safely, or `limit` s pass.
   void run(double limit = 2000.0) {
     step();
-    while (now_ < limit && !(done(needle_) && done(us_))) {
+    while (now_ < limit && !(ended(needle_) && ended(us_))) {
       now_ += 0.01;
       std::stable_sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) { return a.at < b.at; });
       std::vector<Pending> due;
@@ -121,6 +125,9 @@ class Procedure {
   }
 
   static bool done(const ChartRun& c) { return c.machine->activeLeaf() == "root.Done"; }
+  static bool stopped(const ChartRun& c) { return c.machine->activeLeaf() == "root.SafeStop"; }
+  static bool ended(const ChartRun& c) { return done(c) || stopped(c); }
+  double now() const { return now_; }
   ChartRun& needle() { return needle_; }
   ChartRun& us() { return us_; }
   /// "chart > state", "chart <- event", "chart: Peer:op", "chart emits e" in order of happening.
@@ -211,8 +218,8 @@ class Procedure {
       reply("e_goal_ready");
       if (c.deployment.ends_with("_autonomous_primitives")) reply("e_path_ready", 0.03);  // desiredPoses is the path
     } else if (line.ends_with("Planner:askPlan")) {
-      if (fail_plan_ == &c) {
-        fail_plan_ = nullptr;
+      if (fail_plan_ == &c && fail_plans_ > 0) {
+        --fail_plans_;
         reply("e_plan_failed", 0.5);
       } else {
         reply("e_plan_done", 0.5);
@@ -267,6 +274,7 @@ class Procedure {
   std::vector<Trigger> triggers_;
   std::map<ChartRun*, std::string> pending_deployment_;
   ChartRun* fail_plan_ = nullptr;
+  int fail_plans_ = 0;
 };
 
 /// The scenarios of the tests below: a scenario folder, its needle count and the faults injected.
@@ -285,7 +293,16 @@ const Scenario kTrapped{"two_needles", 2, [](Procedure& p) {
 const Scenario kNeedleLost{"two_needles", 2, [](Procedure& p) {
                              p.onEntry(p.needle(), "root.InsertingNeedles.MoveToTumor.Moving", p.us(), "e_needle_lost", 0.5);
                            }};
-const Scenario kPlanFailure{"two_needles", 2, [](Procedure& p) { p.failPlanOnce(p.us()); }};
+const Scenario kPlanFailure{"two_needles", 2, [](Procedure& p) { p.failPlan(p.us()); }};
+// The robot refuses a command it cannot follow continuously (e_ik_discontinuity) during the
+// needle's approach: once (a reaction, then the retry succeeds), or twice in a row.
+const Scenario kIkDiscontinuity{"two_needles", 2, [](Procedure& p) {
+                                  p.fault("root.InsertingNeedles.MoveToSkin.Approach", "e_ik_discontinuity");
+                                }};
+const Scenario kIkDiscontinuityAgain{"two_needles", 2, [](Procedure& p) {
+                                       p.fault("root.InsertingNeedles.MoveToSkin.Approach", "e_ik_discontinuity", 2);
+                                     }};
+const Scenario kPlanFailureAgain{"two_needles", 2, [](Procedure& p) { p.failPlan(p.us(), 2); }};
 const Scenario kMissedGoals{"three_needles", 3, [](Procedure& p) {
                               p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // no puncture
                               p.fault("root.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
@@ -404,6 +421,48 @@ TEST(PuncturingCharts, APlannerFailureIsAReactionTheSurgeonRecoversFrom) {
                     "us > root.MoveToSkin.Approach.Switching", "us: ProbePlanner:askPlan", "us <- e_probe_contact"});
 }
 
+TEST(PuncturingCharts, AnIkDiscontinuityDuringAMotionStopsItAndIsAReactionThenTheRetrySucceeds) {
+  const auto run_ = run(kIkDiscontinuity);
+  Procedure& p = *run_;
+  ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::done(p.us())) << p.us().machine->activeLeaf();
+  // (A state's entry actions come before the line that says it was entered.)
+  expectInOrder(p, {"needle > root.InsertingNeedles.MoveToSkin.Approach.Moving", "needle <- e_ik_discontinuity",
+                    "needle: NeedleTrajGen:askStopMove", "needle: emit:e_needle_reaction_needed",
+                    "needle > root.WaitReaction", "needle <- e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle: NeedlePlanner:askPlan",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend.Switching", "needle <- e_target_reached"});
+  EXPECT_EQ(p.count("needle > root.SafeStop"), 0u);
+  EXPECT_EQ(p.count("needle <- e_target_reached"), 2u);
+}
+
+TEST(PuncturingCharts, TheSameIkDiscontinuityAgainOnTheRetryEndsBothChartsInTheirSafeStop) {
+  const auto run_ = run(kIkDiscontinuityAgain);
+  Procedure& p = *run_;
+  ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+  expectInOrder(p, {"needle <- e_ik_discontinuity", "needle > root.WaitReaction", "needle <- e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle <- e_ik_discontinuity",
+                    "needle: NeedleTrajGen:askStopMove", "needle: emit:e_needle_safe_stop", "needle > root.SafeStop",
+                    "us <- e_needle_safe_stop", "us: ProbeTrajGen:askStopMove", "us: emit:e_us_safe_stop",
+                    "us > root.SafeStop"});
+  EXPECT_EQ(p.count("needle > root.WaitReaction"), 1u);  // one reaction, not a loop of retries
+  EXPECT_EQ(p.count("needle <- e_target_reached"), 0u);
+  EXPECT_LT(p.now(), 100.0) << "s: it ended, it did not run to the limit";
+}
+
+TEST(PuncturingCharts, APlannerFailingTwiceForTheSameGoalEndsInTheSafeStop) {
+  const auto run_ = run(kPlanFailureAgain);
+  Procedure& p = *run_;
+  ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+  expectInOrder(p, {"us: ProbePlanner:askPlan", "us <- e_plan_failed", "us > root.WaitReaction", "us <- e_recover",
+                    "us > root.MoveToSkin.Approach.Switching", "us: ProbePlanner:askPlan", "us <- e_plan_failed",
+                    "us: emit:e_us_safe_stop", "us > root.SafeStop", "needle <- e_us_safe_stop",
+                    "needle: emit:e_needle_safe_stop", "needle > root.SafeStop"});
+  EXPECT_EQ(p.count("us > root.WaitReaction"), 1u);
+}
+
 TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
   const auto run_ = run(kMissedGoals);
   Procedure& p = *run_;
@@ -432,7 +491,7 @@ TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetri
 TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTests) {
   std::map<std::string, std::set<std::string>> entered;
   for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
-                                   &kShortMotions}) {
+                                   &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain}) {
     const auto p = run(*scenario);
     for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
   }

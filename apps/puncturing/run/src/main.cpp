@@ -35,6 +35,16 @@ int main(int argc, char** argv) {
     const cobra::puncturing::ProcedureResult result = cobra::puncturing::runProcedure(options);
     for (const auto& p : result.placements)
       std::printf("needle %d: placement error %.2f mm\n", p.needle + 1, p.error_mm);
+    for (const auto* robot : {&result.fidelity.needle, &result.fidelity.probe})
+      std::printf("%s: worst tracking %.2f mm at %.3f s, %.2f deg at %.3f s (autonomous), %.3f s above 5 mm, %d joint "
+                  "jump episodes\n",
+                  robot->robot.c_str(), robot->position_mm.value, robot->position_mm.at, robot->orientation_deg.value,
+                  robot->orientation_deg.at, robot->seconds_above_5mm, robot->joint_jumps);
+    const cobra::puncturing::ClearanceFigures& c = result.fidelity.clearance;
+    std::printf("worst clearance %.2f mm (threshold %.2f mm) at %.3f s (%s); %zu IK discontinuity events\n",
+                1000.0 * c.worst, 1000.0 * c.threshold, c.worst_at, c.worst_pair.c_str(),
+                result.fidelity.ik_discontinuities.size());
+    if (result.safe_stop) std::printf("safe stop: %s\n", result.stop_reason.c_str());
     std::printf("report: %s\n", result.report.c_str());
     return result.completed ? 0 : 1;
   } catch (const std::exception& e) {

@@ -7,10 +7,12 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "cobra/core/lockstep_clock.hpp"
+#include "cobra/puncturing/fidelity.hpp"
 #include "cobra/report/run_report.hpp"
 
 namespace cobra::deploy {
@@ -57,8 +59,52 @@ struct NeedlePlacement {
   double error_mm = 0.0;  ///< mm, measured tip to planned target
 };
 
+/// Clearance of the measured state over a run (ClearanceMonitor, sampled every 2 ms).
+struct ClearanceFigures {
+  double threshold = 0.0;  ///< m, the motion planner's min_collision_distance
+  /// m: the smallest clearance outside the allowed contacts in force; +inf before any sample.
+  double worst = std::numeric_limits<double>::infinity();
+  double worst_at = 0.0;      ///< s
+  std::string worst_pair;     ///< "object/object", the closest pair then
+  std::string worst_state;    ///< "needle: STATE, us: STATE" then
+  double seconds_below = 0.0; ///< s of samples at or under the threshold
+  int unreachable = 0;        ///< samples whose measured pose the scene's robot models cannot reach
+  /// A pair of objects that came at or under the threshold: its smallest distance [m], when [s],
+  /// both charts' states then, and for how long in all [s].
+  struct Breach {
+    std::string pair;
+    double worst = 0.0;
+    double at = 0.0;
+    std::string state;
+    double seconds = 0.0;
+  };
+  std::vector<Breach> breaches;  ///< in order of first breach
+  /// Per allowed contact (ClearanceMonitor::contacts order): its name and smallest distance [m].
+  std::vector<std::pair<std::string, double>> contacts;
+};
+
+/// "The robot did what it was told" (issue 15), measured over the autonomous motions: a robot's
+/// samples count while its deployment is one of its two autonomous deployments (the trajectory
+/// generator commands it: planned motions, motion primitives, and the holds between them);
+/// teleoperation is left out. Commanded = the variable admittance's output (the robot's
+/// desCartPose), measured = the robot's measCartPose, every 1 ms step.
+struct Fidelity {
+  TrackingFigures needle{"I-SUR needle", {}, {}, 0.0, 0.0, 0, {}, {}};
+  TrackingFigures probe{"UR5 probe", {}, {}, 0.0, 0.0, 0, {}, {}};
+  /// Every e_ik_discontinuity event of the run: "t s SOURCE (chart state)".
+  std::vector<std::string> ik_discontinuities;
+  ClearanceFigures clearance;
+};
+
 struct ProcedureResult {
   bool completed = false;  ///< both charts reached their Done state
+  /// A chart ended in its SafeStop state (a reaction that could not recover: the same failure
+  /// again on the retry): motion stopped, the admittance holding; the run ends there.
+  bool safe_stop = false;
+  /// Why (safe_stop): the chart, the failure repeated, the state it repeated in, and the
+  /// planner's reason for a plan failure.
+  std::string stop_reason;
+  Fidelity fidelity;
   double duration = 0.0;   ///< s of simulated time
   std::vector<report::EventRecord> events;
   /// Every state (full path) each chart entered, in order of first entry.
