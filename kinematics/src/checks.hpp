@@ -2,6 +2,7 @@
 // Construction-time checks shared by the solvers (internal header, not installed).
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -40,6 +41,18 @@ inline bool clampedAcos(double c, double& angle, double tolerance = 1e-10) noexc
   if (c > 1.0 + tolerance || c < -1.0 - tolerance || !std::isfinite(c)) return false;
   angle = std::acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
   return true;
+}
+
+/// Branch bits of the 6R arms with a shoulder offset and a spherical-like wrist (UR, Puma).
+inline constexpr std::uint8_t kShoulderBit = 1;
+inline constexpr std::uint8_t kElbowBit = 2;
+inline constexpr std::uint8_t kWristBit = 4;
+
+/// Sets branch bit `bit` when `value` < 0, and marks it ambiguous when |value| < kBranchMargin
+/// (the configuration is on the singular boundary between the two choices).
+inline void chooseBranch(IkBranch& branch, std::uint8_t bit, double value) noexcept {
+  if (value < 0.0) branch.bits = static_cast<std::uint8_t>(branch.bits | bit);
+  if (std::abs(value) < kBranchMargin) branch.ambiguous = static_cast<std::uint8_t>(branch.ambiguous | bit);
 }
 
 }  // namespace cobra::kinematics::detail

@@ -161,6 +161,21 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
 
 IkStatus IsurPuncturingSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed,
                                        KDL::JntArray& q_out) noexcept {
+  return inverseOnBranch(target, seed, IkBranch::any(), q_out);
+}
+
+IkBranch IsurPuncturingSolver::branch(std::span<const double> q) const noexcept {
+  IkBranch branch;
+  if (q.size() != kJoints) return branch;
+  // The pitch representation: cos(pitch) = cos(q6 + q7) < 0 is the second one (π - θ).
+  const double cos_pitch = std::cos(q[5] + q[6]);
+  if (cos_pitch < 0.0) branch.bits = 1;
+  if (std::abs(cos_pitch) < kBranchMargin) branch.ambiguous = 1;
+  return branch;
+}
+
+IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed,
+                                               IkBranch on_branch, KDL::JntArray& q_out) noexcept {
   if (!validFrame(target) || !validJointArray(seed, kJoints) || q_out.rows() != kJoints) return IkStatus::BadInput;
   // ZYX angles of the target: R = Rz(yaw)·Ry(pitch)·Rx(roll).
   const KDL::Rotation& r = target.M;
@@ -190,7 +205,12 @@ IkStatus IsurPuncturingSolver::inverse(const KDL::Frame& target, const KDL::JntA
     const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
     const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q);
     if (candidate != IkStatus::Ok) {
-      if (status != IkStatus::Ok && candidate == IkStatus::JointLimits) status = IkStatus::JointLimits;
+      if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
+        status = IkStatus::JointLimits;
+      continue;
+    }
+    if (!on_branch.compatibleWith(branch(q))) {
+      if (status != IkStatus::Ok) status = IkStatus::Discontinuous;
       continue;
     }
     double distance = 0.0;

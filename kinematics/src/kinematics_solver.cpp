@@ -43,11 +43,24 @@ SolverKind parseSolverKind(std::string_view text) {
                               "\": expected closed_form, kdl_nr or kdl_lma");
 }
 
+IkBranch KinematicsSolver::branch(std::span<const double> /*q*/) const noexcept { return IkBranch{}; }
+
+IkStatus KinematicsSolver::inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch /*branch*/,
+                                           KDL::JntArray& q_out) noexcept {
+  return inverse(target, seed, q_out);
+}
+
 IkStatus AnalyticSolver::inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept {
-  if (!validJointArray(seed, jointCount()) || q_out.rows() != jointCount()) return IkStatus::BadInput;
+  return inverseOnBranch(target, seed, IkBranch::any(), q_out);
+}
+
+IkStatus AnalyticSolver::inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                                         KDL::JntArray& q_out) noexcept {
+  if (q_out.rows() != jointCount()) return IkStatus::BadInput;
+  // allInverse checks the target and the seed.
   const IkStatus status = allInverse(target, seed, scratch_);
   if (status != IkStatus::Ok) return status;
-  return selectNearest(scratch_, limits(), seed, q_out);
+  return selectNearest(scratch_, limits(), seed, q_out, branch);
 }
 
 }  // namespace cobra::kinematics

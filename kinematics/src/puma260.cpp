@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <string>
 
@@ -60,7 +61,8 @@ Puma260Solver::Puma260Solver(const Puma260Parameters& parameters, const JointLim
                              const KDL::Frame& tool, std::string_view name)
     : DhAnalyticSolver(
           SerialChainModel(std::string(name), pumaDhRows(checked(parameters, limits, name), limits), base, tool)),
-      parameters_(parameters) {}
+      parameters_(parameters),
+      elbow_offset_(std::atan2(parameters.d4, parameters.a3)) {}
 
 // Derivation (n1 = z1 = (sin θ1, -cos θ1, 0), the normal of the arm plane; axes 2 and 3 are
 // parallel to n1; the wrist centre w = p6 - d6·z6 is the common origin of frames 4, 5, 6):
@@ -92,12 +94,16 @@ IkStatus Puma260Solver::allInverse(const KDL::Frame& target, const KDL::JntArray
   std::array<double, 6> q{};
   for (int i1 = 0; i1 < shoulder_count; ++i1) {
     const KDL::Vector w1 = dhTransform(rows[0], theta1[i1]).Inverse() * wrist;  // wrist centre in frame 1
+    IkBranch shoulder_branch;
+    detail::chooseBranch(shoulder_branch, detail::kShoulderBit, w1.x());
     const double k = (w1.x() * w1.x() + w1.y() * w1.y() - p.a2 * p.a2 - p.a3 * p.a3 - p.d4 * p.d4) / (2.0 * p.a2);
     double elbow = 0.0;
     if (!detail::clampedAcos(k / rho, elbow)) continue;
     const int elbow_count = elbow < kSameBranch || kPi - elbow < kSameBranch ? 1 : 2;
     for (int i3 = 0; i3 < elbow_count; ++i3) {
       const double theta3 = (i3 == 0 ? elbow : -elbow) - beta;
+      IkBranch elbow_branch = shoulder_branch;
+      detail::chooseBranch(elbow_branch, detail::kElbowBit, std::sin(theta3 + beta));
       const double s3 = std::sin(theta3);
       const double c3 = std::cos(theta3);
       const double theta2 =
@@ -123,11 +129,29 @@ IkStatus Puma260Solver::allInverse(const KDL::Frame& target, const KDL::JntArray
         }
         q = {theta1[i1], theta2, theta3, theta4, theta5, theta6};
         for (double& value : q) value = wrapToPi(value);
-        solutions.push(q);
+        IkBranch branch = elbow_branch;
+        detail::chooseBranch(branch, detail::kWristBit, s5);
+        solutions.push(q, branch);
       }
     }
   }
   return solutions.empty() ? IkStatus::Unreachable : IkStatus::Ok;
+}
+
+IkBranch Puma260Solver::branch(std::span<const double> q) const noexcept {
+  IkBranch branch;
+  if (q.size() != 6) return branch;
+  const Puma260Parameters& p = parameters_;
+  // The wrist centre's coordinate along x1 (see the derivation above): Rz(θ2) applied to
+  // (a2 + a3 c3 - d4 s3, a3 s3 + d4 c3).
+  const double s3 = std::sin(q[2]);
+  const double c3 = std::cos(q[2]);
+  const double u = p.a2 + p.a3 * c3 - p.d4 * s3;
+  const double v = p.a3 * s3 + p.d4 * c3;
+  detail::chooseBranch(branch, detail::kShoulderBit, std::cos(q[1]) * u - std::sin(q[1]) * v);
+  detail::chooseBranch(branch, detail::kElbowBit, std::sin(q[2] + elbow_offset_));
+  detail::chooseBranch(branch, detail::kWristBit, std::sin(q[4]));
+  return branch;
 }
 
 std::unique_ptr<KinematicsSolver> makePuma260Solver(SolverKind kind, const Puma260Parameters& parameters,

@@ -22,6 +22,8 @@ const char* toString(IkStatus status) noexcept {
       return "no convergence";
     case IkStatus::BadInput:
       return "bad input";
+    case IkStatus::Discontinuous:
+      return "discontinuous";
   }
   return "unknown";
 }
@@ -75,9 +77,10 @@ void IkSolutionSet::reset(std::size_t joints) noexcept {
   joints_ = joints < kMaxJoints ? joints : kMaxJoints;
 }
 
-bool IkSolutionSet::push(std::span<const double> q) noexcept {
+bool IkSolutionSet::push(std::span<const double> q, IkBranch branch) noexcept {
   if (count_ == kMaxSolutions || q.size() != joints_) return false;
   for (std::size_t j = 0; j < joints_; ++j) solutions_[count_][j] = q[j];
+  branches_[count_] = branch;
   ++count_;
   return true;
 }
@@ -94,53 +97,110 @@ double wrapToPi(double angle) noexcept {
   return wrapped;
 }
 
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+/// rad: a solution exactly on a limit stays valid.
+constexpr double kLimitTolerance = 1e-12;
+
+/// `best` (outside [lo, hi]) moved by the multiple of 2π that brings it nearest inside; false when
+/// none fits.
+bool stepIntoLimits(double best, double lo, double hi, double& out) noexcept {
+  if (best < lo) {
+    best += kTwoPi * std::ceil((lo - best) / kTwoPi);
+  } else {
+    best -= kTwoPi * std::ceil((best - hi) / kTwoPi);
+  }
+  if (best < lo || best > hi) return false;
+  out = best;
+  return true;
+}
+
+/// The representative q + 2πk inside [lower, upper] (widened by kLimitTolerance) nearest to
+/// `seed`, into `out`; false when none fits. Revolute joints only. Solutions and seeds are
+/// usually within a few turns of each other: a short loop then replaces the libm rounding calls
+/// (std::round, std::ceil are not inlined on baseline x86-64), which dominated the selection.
+inline bool nearestRepresentative(double q, double seed, double lower, double upper, double& out) noexcept {
+  double best = q;
+  const double gap = seed - q;
+  if (gap > std::numbers::pi || gap < -std::numbers::pi) {
+    if (!(std::abs(gap) <= 4.0 * kTwoPi)) {
+      best = q + kTwoPi * std::round(gap / kTwoPi);
+    } else {
+      while (best - seed > std::numbers::pi) best -= kTwoPi;
+      while (seed - best > std::numbers::pi) best += kTwoPi;
+    }
+  }
+  const double lo = lower - kLimitTolerance;
+  const double hi = upper + kLimitTolerance;
+  if (best >= lo && best <= hi) {
+    out = best;
+    return true;
+  }
+  // Outside: the nearest representative inside lies on the side of the limits.
+  return stepIntoLimits(best, lo, hi, out);
+}
+
+}  // namespace
+
 bool wrapIntoLimits(std::span<double> q, const JointLimits& limits, std::span<const double> seed) noexcept {
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
-  constexpr double kTolerance = 1e-12;  // rad: a solution exactly on a limit stays valid
   for (std::size_t j = 0; j < q.size(); ++j) {
-    const double lo = limits.lower[j] - kTolerance;
-    const double hi = limits.upper[j] + kTolerance;
     if (limits.types[j] == JointType::Prismatic) {
-      if (q[j] < lo || q[j] > hi) return false;
+      if (q[j] < limits.lower[j] - kLimitTolerance || q[j] > limits.upper[j] + kLimitTolerance) return false;
       continue;
     }
-    // Nearest representative q + 2πk to the seed, then step towards the limits if it is outside.
-    double best = q[j] + kTwoPi * std::round((seed[j] - q[j]) / kTwoPi);
-    if (best < lo) best += kTwoPi * std::ceil((lo - best) / kTwoPi);
-    if (best > hi) best -= kTwoPi * std::ceil((best - hi) / kTwoPi);
-    if (best < lo || best > hi) return false;
-    // The representative one period away may be nearer to the seed and still inside.
-    for (const double other : {best - kTwoPi, best + kTwoPi}) {
-      if (other >= lo && other <= hi && std::abs(other - seed[j]) < std::abs(best - seed[j])) best = other;
-    }
-    q[j] = best;
+    if (!nearestRepresentative(q[j], seed[j], limits.lower[j], limits.upper[j], q[j])) return false;
   }
   return true;
 }
 
 IkStatus selectNearest(const IkSolutionSet& solutions, const JointLimits& limits, const KDL::JntArray& seed,
-                       KDL::JntArray& out) noexcept {
+                       KDL::JntArray& out, IkBranch branch) noexcept {
   const std::size_t n = solutions.jointCount();
   if (seed.rows() != n || out.rows() != n || limits.size() != n || n > IkSolutionSet::kMaxJoints)
     return IkStatus::BadInput;
   if (solutions.empty()) return IkStatus::Unreachable;
-  const std::span<const double> seed_values(seed.data.data(), n);
-  std::array<double, IkSolutionSet::kMaxJoints> candidate{};
-  std::array<double, IkSolutionSet::kMaxJoints> best{};
-  double best_distance = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < solutions.size(); ++i) {
+  const double* seed_values = seed.data.data();
+  // Writes solution i's representatives nearest to the seed into `values` and returns the squared
+  // distance, or stops (returning a value >= `bound`) as soon as it exceeds `bound`; -1 when a
+  // joint has no representative in its limits.
+  const auto measure = [&](std::size_t i, double bound, double* values) noexcept {
     const auto solution = solutions[i];
-    for (std::size_t j = 0; j < n; ++j) candidate[j] = solution[j];
-    if (!wrapIntoLimits(std::span<double>(candidate.data(), n), limits, seed_values)) continue;
     double distance = 0.0;
-    for (std::size_t j = 0; j < n; ++j) distance += (candidate[j] - seed_values[j]) * (candidate[j] - seed_values[j]);
-    if (distance < best_distance) {
+    for (std::size_t j = 0; j < n; ++j) {
+      double& value = values[j];
+      if (limits.types[j] == JointType::Prismatic) {
+        value = solution[j];
+        if (value < limits.lower[j] - kLimitTolerance || value > limits.upper[j] + kLimitTolerance) return -1.0;
+      } else if (!nearestRepresentative(solution[j], seed_values[j], limits.lower[j], limits.upper[j], value)) {
+        return -1.0;
+      }
+      distance += (value - seed_values[j]) * (value - seed_values[j]);
+      if (distance >= bound) return distance;
+    }
+    return distance;
+  };
+  std::array<double, IkSolutionSet::kMaxJoints> scratch{};
+  std::size_t best = solutions.size();
+  double best_distance = std::numeric_limits<double>::infinity();
+  bool any_in_limits = false;
+  for (std::size_t i = 0; i < solutions.size(); ++i) {
+    const bool on_branch = branch.compatibleWith(solutions.branch(i));
+    // Off the branch, a solution only matters to tell Discontinuous from JointLimits.
+    if (!on_branch && any_in_limits) continue;
+    // Once some solution fits, a candidate farther than the best cannot win (limits aside).
+    const double bound = on_branch && any_in_limits ? best_distance : std::numeric_limits<double>::infinity();
+    const double distance = measure(i, bound, scratch.data());
+    if (distance < 0.0) continue;
+    any_in_limits = true;
+    if (on_branch && distance < best_distance) {
       best_distance = distance;
-      best = candidate;
+      best = i;
     }
   }
-  if (!std::isfinite(best_distance)) return IkStatus::JointLimits;
-  for (std::size_t j = 0; j < n; ++j) out(static_cast<unsigned>(j)) = best[j];
+  if (best == solutions.size()) return any_in_limits ? IkStatus::Discontinuous : IkStatus::JointLimits;
+  measure(best, std::numeric_limits<double>::infinity(), scratch.data());
+  for (std::size_t j = 0; j < n; ++j) out(static_cast<unsigned>(j)) = scratch[j];
   return IkStatus::Ok;
 }
 

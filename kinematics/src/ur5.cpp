@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "checks.hpp"
@@ -52,66 +53,138 @@ Ur5Solver::Ur5Solver(const Ur5Parameters& parameters, const JointLimits& limits,
     : DhAnalyticSolver(SerialChainModel("UR5", urDhRows(checked(parameters, limits), limits), base, tool)),
       parameters_(parameters) {}
 
+namespace {
+
+/// `angle` (|angle| < 5π, as the sums of atan2 results below) wrapped into (-π, π] without the
+/// libm call of wrapToPi: the closed form runs at every control step.
+double wrapSmall(double angle) noexcept {
+  while (angle > kPi) angle -= 2.0 * kPi;
+  while (angle <= -kPi) angle += 2.0 * kPi;
+  return angle;
+}
+
+}  // namespace
+
 // Derivation (frames i of the DH table; n1 = z1 = (sin θ1, -cos θ1, 0) is the normal of the arm
-// plane, in which the axes 2, 3, 4 are parallel to n1):
+// plane, in which the axes 2, 3, 4 are parallel to n1; x1 = (cos θ1, sin θ1, 0), y1 = z0):
 //  θ1: the wrist point p5 = p6 - d6·z6 lies d4 off the arm plane: p5·n1 = d4, i.e.
-//      r sin(θ1 - φ) = d4 with p5 = r (cos φ, sin φ): two shoulder solutions.
+//      r sin(θ1 - φ) = d4 with p5 = r (cos φ, sin φ): two shoulder solutions, with p5·x1 =
+//      ±r cos(asin(d4 / r)) (+ for the first: the shoulder branch bit is the sign of p5·x1).
 //  θ5, θ6: n1 seen from the flange frame is (s5 c6, -s5 s6, c5): c5 = n1·z6, |s5| = |(n1·x6, n1·y6)|
-//      (two wrist solutions ±), then θ6 from n1·x6 and n1·y6.
-//  θ2, θ3, θ4: T14 = A1⁻¹ T A6⁻¹ A5⁻¹ is a planar 3R arm (a2, a3, then α4 = π/2): the origin of
-//      frame 3 is that of frame 4 minus d4 along z1; law of cosines for θ3, then θ2; θ2+θ3+θ4 is
-//      the angle of x4 in the plane.
+//      (two wrist solutions ±), then c6 = n1·x6 / s5, s6 = -n1·y6 / s5.
+//  θ2, θ3, θ4: frames 1 -> 4 are a planar 3R arm (a2, a3, then α4 = π/2). With R04 = R06·Rz(-θ6)·
+//      Rx(π/2)·Rz(-θ5): z4 = -s6 x6 - c6 y6, x4 = c5 c6 x6 - c5 s6 y6 - s5 z6, and the origin of
+//      frame 4 is p4 = p5 - d5 z4. In frame 1, p4 = (a2 c2 + a3 c23, a2 s2 + a3 s23, d4): the law
+//      of cosines gives θ3, then θ2; θ2+θ3+θ4 is the angle of x4 in the plane (x1, y1).
+// Everything is computed from the sines and cosines the geometry already gives (no DH products,
+// one atan2 per angle): the eight solutions cost about as much as KDL's forward kinematics.
 IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& seed, IkSolutionSet& solutions) noexcept {
   solutions.reset(6);
   if (!validFrame(target) || !validJointArray(seed, 6)) return IkStatus::BadInput;
   const Ur5Parameters& p = parameters_;
-  const std::vector<DhRow>& rows = model().rows();
   const KDL::Frame t = lastDhFrame(target);  // flange in DH frame 0
   const KDL::Vector x6 = t.M.UnitX();
   const KDL::Vector y6 = t.M.UnitY();
   const KDL::Vector z6 = t.M.UnitZ();
   const KDL::Vector p5 = t.p - p.d6 * z6;
 
-  const double r = std::hypot(p5.x(), p5.y());
+  const double r = std::sqrt(p5.x() * p5.x() + p5.y() * p5.y());
   if (r < std::abs(p.d4) * (1.0 - 1e-12) || r == 0.0) return IkStatus::Unreachable;
   const double phi = std::atan2(p5.y(), p5.x());
-  const double shoulder = std::asin(std::min(1.0, p.d4 / r));
-  const std::array<double, 2> theta1 = {phi + shoulder, phi + kPi - shoulder};
+  const double sin_shoulder = std::min(1.0, p.d4 / r);
+  const double shoulder = std::asin(sin_shoulder);
+  const double cos_shoulder = std::sqrt(std::max(0.0, 1.0 - sin_shoulder * sin_shoulder));
+  const double cos_phi = p5.x() / r;
+  const double sin_phi = p5.y() / r;
   const int shoulder_count = std::abs(kPi - 2.0 * shoulder) < kSameBranch ? 1 : 2;
+  const double a2a3 = 2.0 * p.a2 * p.a3;
+  const double a_squares = p.a2 * p.a2 + p.a3 * p.a3;
 
   std::array<double, 6> q{};
   for (int i1 = 0; i1 < shoulder_count; ++i1) {
-    const double s1 = std::sin(theta1[i1]);
-    const double c1 = std::cos(theta1[i1]);
+    // θ1 = φ + shoulder, or φ + π - shoulder.
+    const double theta1 = i1 == 0 ? phi + shoulder : phi + kPi - shoulder;
+    const double s1 = i1 == 0 ? sin_phi * cos_shoulder + cos_phi * sin_shoulder
+                              : -(sin_phi * cos_shoulder - cos_phi * sin_shoulder);
+    const double c1 = i1 == 0 ? cos_phi * cos_shoulder - sin_phi * sin_shoulder
+                              : -(cos_phi * cos_shoulder + sin_phi * sin_shoulder);
+    IkBranch shoulder_branch;
+    detail::chooseBranch(shoulder_branch, detail::kShoulderBit, (i1 == 0 ? 1.0 : -1.0) * r * cos_shoulder);
     // n1 seen from the flange: (s5 c6, -s5 s6, c5). atan2 keeps θ5 accurate near the singularity,
     // where acos of the position formula (p·n1 = d4 + d6 c5) would lose half the digits.
     const double n1_x6 = x6.x() * s1 - x6.y() * c1;
     const double n1_y6 = y6.x() * s1 - y6.y() * c1;
-    const double c5 = z6.x() * s1 - z6.y() * c1;
-    const double abs_s5 = std::hypot(n1_x6, n1_y6);
-    const int wrist_count = abs_s5 < kWristSingular ? 1 : 2;
+    const double n1_z6 = z6.x() * s1 - z6.y() * c1;
+    const double abs_s5 = std::sqrt(n1_x6 * n1_x6 + n1_y6 * n1_y6);
+    const double unit = std::sqrt(abs_s5 * abs_s5 + n1_z6 * n1_z6);  // 1 up to the target's rounding
+    const bool singular = abs_s5 < kWristSingular;
+    // The second wrist (s5 -> -s5) negates c6, s6 and x4: θ5 -> -θ5, θ6 and θ234 turn by π. One
+    // atan2 per pair (atan2 is most of the cost of this function).
+    const double c5 = n1_z6 / unit;
+    const double theta5_up = std::atan2(abs_s5 / unit, c5);
+    double c6_up = 0.0;
+    double s6_up = 0.0;
+    double theta6_up = seed(5);
+    if (singular) {
+      s6_up = std::sin(theta6_up);
+      c6_up = std::cos(theta6_up);
+    } else {
+      c6_up = n1_x6 / abs_s5;
+      s6_up = -n1_y6 / abs_s5;
+      theta6_up = std::atan2(s6_up, c6_up);
+    }
+    const KDL::Vector x4_up = c5 * c6_up * x6 - c5 * s6_up * y6 - (abs_s5 / unit) * z6;
+    const double theta234_up = std::atan2(x4_up.z(), x4_up.x() * c1 + x4_up.y() * s1);
+    const int wrist_count = singular ? 1 : 2;
     for (int i5 = 0; i5 < wrist_count; ++i5) {
-      const double s5 = i5 == 0 ? abs_s5 : -abs_s5;
-      const double theta5 = std::atan2(s5, c5);
-      const double theta6 = abs_s5 < kWristSingular ? seed(5) : std::atan2(-n1_y6 / s5, n1_x6 / s5);
-      const KDL::Frame t14 = dhTransform(rows[0], theta1[i1]).Inverse() * t * dhTransform(rows[5], theta6).Inverse() *
-                             dhTransform(rows[4], theta5).Inverse();
-      const double px = t14.p.x();
-      const double py = t14.p.y();
+      const double sign = i5 == 0 ? 1.0 : -1.0;
+      const double s5 = sign * abs_s5 / unit;
+      const double theta5 = sign * theta5_up;
+      const double c6 = sign * c6_up;
+      const double s6 = sign * s6_up;
+      const double theta6 = i5 == 0 ? theta6_up : theta6_up + kPi;
+      const double theta234 = i5 == 0 ? theta234_up : theta234_up + kPi;
+      IkBranch wrist_branch = shoulder_branch;
+      detail::chooseBranch(wrist_branch, detail::kWristBit, s5);
+      const KDL::Vector z4 = -s6 * x6 - c6 * y6;
+      const KDL::Vector p4 = p5 - p.d5 * z4;
+      // p4 in frame 1 (origin (0, 0, d1), axes x1, y1 = z0).
+      const double px = p4.x() * c1 + p4.y() * s1;
+      const double py = p4.z() - p.d1;
+      const double cos3 = (px * px + py * py - a_squares) / a2a3;
       double elbow = 0.0;
-      if (!detail::clampedAcos((px * px + py * py - p.a2 * p.a2 - p.a3 * p.a3) / (2.0 * p.a2 * p.a3), elbow)) continue;
+      if (!detail::clampedAcos(cos3, elbow)) continue;
+      const double c3 = std::clamp(cos3, -1.0, 1.0);
+      const double abs_s3 = std::sqrt(std::max(0.0, 1.0 - c3 * c3));
+      const double planar = std::atan2(py, px);
+      // θ2 = planar - atan2(a3 s3, a2 + a3 c3); the second elbow (s3 -> -s3) negates the atan2.
+      const double elbow_angle = std::atan2(p.a3 * abs_s3, p.a2 + p.a3 * c3);
       const int elbow_count = elbow < kSameBranch || kPi - elbow < kSameBranch ? 1 : 2;
       for (int i3 = 0; i3 < elbow_count; ++i3) {
         const double theta3 = i3 == 0 ? elbow : -elbow;
-        const double theta2 = std::atan2(py, px) - std::atan2(p.a3 * std::sin(theta3), p.a2 + p.a3 * std::cos(theta3));
-        const double theta234 = std::atan2(t14.M(1, 0), t14.M(0, 0));
-        q = {theta1[i1], theta2, theta3, theta234 - theta2 - theta3, theta5, theta6};
-        for (double& value : q) value = wrapToPi(value);
-        solutions.push(q);
+        const double theta2 = i3 == 0 ? planar - elbow_angle : planar + elbow_angle;
+        IkBranch branch = wrist_branch;
+        detail::chooseBranch(branch, detail::kElbowBit, i3 == 0 ? abs_s3 : -abs_s3);
+        q = {wrapSmall(theta1), wrapSmall(theta2), theta3, wrapSmall(theta234 - theta2 - theta3), theta5,
+             wrapSmall(theta6)};
+        solutions.push(q, branch);
       }
     }
   }
   return solutions.empty() ? IkStatus::Unreachable : IkStatus::Ok;
+}
+
+IkBranch Ur5Solver::branch(std::span<const double> q) const noexcept {
+  IkBranch branch;
+  if (q.size() != 6) return branch;
+  const Ur5Parameters& p = parameters_;
+  // The wrist point's component along x1 (the shoulder bit, see the derivation above):
+  // p5 in frame 1 = (a2 c2 + a3 c23 + d5 s234, ...).
+  const double lateral = p.a2 * std::cos(q[1]) + p.a3 * std::cos(q[1] + q[2]) + p.d5 * std::sin(q[1] + q[2] + q[3]);
+  detail::chooseBranch(branch, detail::kShoulderBit, lateral);
+  detail::chooseBranch(branch, detail::kElbowBit, std::sin(q[2]));
+  detail::chooseBranch(branch, detail::kWristBit, std::sin(q[4]));
+  return branch;
 }
 
 std::unique_ptr<KinematicsSolver> makeUr5Solver(SolverKind kind, const Ur5Parameters& parameters,

@@ -1,7 +1,8 @@
 #pragma once
 // Helpers shared by the kinematics tests: joint arrays from lists, random joints in limits, and
 // the property checks of the closed-form solvers (UR5, Puma 260): random joints in limits -> FK ->
-// all inverse solutions -> KDL's FK of each matches the pose; KDL's LMA lands on one of them.
+// all inverse solutions -> KDL's FK of each matches the pose, each labelled with its own branch;
+// KDL's LMA lands on one of them.
 
 #include <gtest/gtest.h>
 
@@ -72,7 +73,8 @@ struct RoundTripCounts {
 };
 
 /// `count` seeded random configurations within the limits (and ±`range`): every solution of
-/// allInverse reproduces the pose within `tolerance` (m, rad) through KDL's recursive FK on `chain`,
+/// allInverse reproduces the pose within `tolerance` (m, rad) through KDL's recursive FK on `chain`
+/// and carries the branch `solver.branch` computes from its joints (all distinct),
 /// one of them is the original configuration (mod 2π), inverse seeded with the original returns
 /// it, and inverse from a seed up to 0.05 rad away returns a configuration reaching the pose and at
 /// least as near to the seed as the original.
@@ -98,6 +100,13 @@ inline RoundTripCounts checkAnalyticRoundTrips(AnalyticSolver& solver, const KDL
       EXPECT_LT(norm(reached.p - target.p), tolerance) << "pose " << i << " solution " << s;
       EXPECT_LT(orientationError(reached.M, target.M), tolerance) << "pose " << i << " solution " << s;
       nearest = std::min(nearest, jointDistanceModulo2Pi(q, solutions[s]));
+      // The label allInverse gives a solution is the branch the solver computes from its joints,
+      // and no two solutions share a branch.
+      const IkBranch label = solutions.branch(s);
+      const IkBranch computed = solver.branch(solutions[s]);
+      EXPECT_EQ(label.bits & ~label.ambiguous, computed.bits & ~label.ambiguous) << "pose " << i << " solution " << s;
+      for (std::size_t other = 0; other < s; ++other)
+        EXPECT_FALSE(label.ambiguous == 0 && label == solutions.branch(other)) << "pose " << i << " solution " << s;
     }
     EXPECT_LT(nearest, 1e-7) << "pose " << i << ": the original configuration is not among the solutions";
 

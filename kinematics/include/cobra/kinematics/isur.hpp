@@ -103,6 +103,18 @@ class IsurPuncturingSolver final : public KinematicsSolver {
   /// platform; JointLimits when the orientation or the delta needs joints outside their limits.
   IkStatus inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept override;
 
+  /// The I-SUR's only discrete choice is the ZYX representation of the needle orientation: bit 0
+  /// set when cos(q6 + q7) < 0 (pitch beyond ±90°: the representation (yaw + π, π - pitch, roll + π)).
+  /// Its boundary, pitch ±90° (the needle axis along the base axis q4: the yaw and roll axes
+  /// align), is the wrist singularity: there the bit is ambiguous. The yaw and pitch splits are
+  /// continuous (no branches), and so is the delta's solution. Crossing the boundary within one
+  /// branch turns yaw and roll by π, which is why a Cartesian command across the vertical needle
+  /// is refused (see ContinuousIk).
+  IkBranch branch(std::span<const double> q) const noexcept override;
+  /// `inverse` among the representations on `branch`; Discontinuous when only the other fits.
+  IkStatus inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                           KDL::JntArray& q_out) noexcept override;
+
  private:
   IkStatus solveCandidate(const KDL::Frame& target, double yaw, double pitch, double roll, const KDL::JntArray& seed,
                           std::array<double, kJoints>& q) const noexcept;

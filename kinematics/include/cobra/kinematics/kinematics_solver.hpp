@@ -3,6 +3,7 @@
 /// The interface every kinematics solver implements, so that a component can switch between the
 /// KDL (iterative) and the closed-form solver of a robot by a property (thesis §6.2.4).
 
+#include <span>
 #include <string_view>
 
 #include <kdl/frames.hpp>
@@ -35,6 +36,17 @@ class KinematicsSolver {
   /// untouched unless the status is Ok.
   virtual IkStatus inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept = 0;
 
+  /// The branch configuration `q` (jointCount() values, rad / m) lies on (see IkBranch; each solver
+  /// documents its choices). Default: a solver that does not tell branches apart (IkBranch{}:
+  /// compatible with every branch). An empty IkBranch for a wrong-size `q`. No allocation.
+  virtual IkBranch branch(std::span<const double> q) const noexcept;
+
+  /// As `inverse`, among the solutions on a branch compatible with `branch` only (for a solver
+  /// with branches: the solution nearest to `seed` on that branch); Discontinuous when solutions
+  /// exist within the limits but none on that branch. Default: `inverse` (no branches).
+  virtual IkStatus inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                                   KDL::JntArray& q_out) noexcept;
+
  protected:
   KinematicsSolver() = default;
   KinematicsSolver(const KinematicsSolver&) = default;
@@ -55,6 +67,10 @@ class AnalyticSolver : public KinematicsSolver {
 
   /// allInverse, then selectNearest. No allocation.
   IkStatus inverse(const KDL::Frame& target, const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept override;
+  /// allInverse, then selectNearest among the solutions on `branch` (allInverse labels each
+  /// solution with its branch). No allocation.
+  IkStatus inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                           KDL::JntArray& q_out) noexcept override;
 
  protected:
   AnalyticSolver() = default;

@@ -71,11 +71,19 @@ class Puma260Solver final : public DhAnalyticSolver {
 
   /// Up to 8 solutions (2 shoulder × 2 elbow × 2 wrist); at the wrist singularity (θ5 = 0 or π,
   /// axes 4 and 6 aligned) θ4 takes the seed's value.
+  /// Each solution is labelled with its branch (see `branch`).
   IkStatus allInverse(const KDL::Frame& target, const KDL::JntArray& seed, IkSolutionSet& solutions) noexcept override;
   using AnalyticSolver::inverse;
 
+  /// Branch bits: 0 shoulder (set when the wrist centre lies behind the base axis along x1 =
+  /// (cos q1, sin q1, 0)), 1 elbow (sin(q3 + atan2(d4, a3)) < 0: the two law-of-cosines
+  /// solutions), 2 wrist (sin q5 < 0: flip). Each is ambiguous within kBranchMargin of 0 (wrist
+  /// centre on the base axis, stretched elbow, axes 4 and 6 aligned).
+  IkBranch branch(std::span<const double> q) const noexcept override;
+
  private:
   Puma260Parameters parameters_;
+  double elbow_offset_;  ///< atan2(d4, a3), rad
 };
 
 /// The Puma 260 solver of `kind`, all on the same DH table, limits, base and tool.

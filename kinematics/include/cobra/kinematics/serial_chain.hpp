@@ -160,15 +160,16 @@ class DhAnalyticSolver : public AnalyticSolver {
   IkStatus forward(const KDL::JntArray& q, KDL::Frame& pose) noexcept override;
 
  protected:
-  explicit DhAnalyticSolver(SerialChainModel model) : model_(std::move(model)) {}
+  explicit DhAnalyticSolver(SerialChainModel model)
+      : model_(std::move(model)), base_inverse_(model_.base().Inverse()), tool_inverse_(model_.tool().Inverse()) {}
   /// `target` (tool pose in the world) as the pose of the last DH frame in DH frame 0:
   /// base⁻¹ · target · tool⁻¹.
-  KDL::Frame lastDhFrame(const KDL::Frame& target) const noexcept {
-    return model_.base().Inverse() * target * model_.tool().Inverse();
-  }
+  KDL::Frame lastDhFrame(const KDL::Frame& target) const noexcept { return base_inverse_ * target * tool_inverse_; }
 
  private:
   SerialChainModel model_;
+  KDL::Frame base_inverse_;  // inverted once: the closed forms run at every control step
+  KDL::Frame tool_inverse_;
 };
 
 /// `closed_form` when `kind` is ClosedForm, otherwise a SerialChainSolver over `model` with the

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +25,9 @@ enum class IkStatus {
   Singular,       ///< the configuration is singular and the result is not defined there
   NoConvergence,  ///< an iterative solver stopped before reaching the tolerance
   BadInput,       ///< wrong array size, or a value that is not finite
+  /// solutions exist, but none on the current configuration's branch that the joints can reach
+  /// within one period at their velocity limits (see ContinuousIk, continuity.hpp)
+  Discontinuous,
 };
 
 /// Stable lower-case name of `status` ("ok", "unreachable", ...), for logs and events.
@@ -58,6 +62,29 @@ JointLimits revoluteLimits(std::size_t joints, double lower, double upper);
 /// Formats a double for error messages (shortest round-trip form, "2" rather than "2.000000").
 std::string formatNumber(double value);
 
+/// Which family of inverse kinematics solutions ("branch") a configuration belongs to: bit i is one
+/// binary choice of a closed form (UR5 and Puma: bit 0 shoulder, bit 1 elbow, bit 2 wrist; I-SUR:
+/// bit 0 the pitch representation). Two configurations on the same branch are joined by a joint
+/// path that crosses no singular configuration. `ambiguous` marks the choices a configuration sits
+/// on the boundary of (within kBranchMargin of a singular configuration): either value is
+/// compatible there. A solver without branches leaves both 0: everything is compatible.
+struct IkBranch {
+  std::uint8_t bits = 0;
+  std::uint8_t ambiguous = 0;
+
+  /// A branch compatible with every other (no choice made): what `KinematicsSolver::inverse` uses.
+  static constexpr IkBranch any() noexcept { return IkBranch{0, 0xFF}; }
+  /// True when no choice defined in both differs.
+  constexpr bool compatibleWith(IkBranch other) const noexcept {
+    return ((bits ^ other.bits) & ~(ambiguous | other.ambiguous)) == 0;
+  }
+  constexpr bool operator==(const IkBranch&) const noexcept = default;
+};
+
+/// Distance to a singular configuration below which a branch choice is ambiguous: for sines of
+/// joint angles (dimensionless, ~ rad near 0) and for the shoulder's lateral distance (m).
+inline constexpr double kBranchMargin = 1e-9;
+
 /// All the solutions of an analytic inverse kinematics call, in fixed storage: filling it never
 /// allocates. Each solution has `jointCount()` values (rad/m).
 class IkSolutionSet {
@@ -67,29 +94,35 @@ class IkSolutionSet {
 
   /// Empties the set and fixes the number of joints of the solutions to come.
   void reset(std::size_t joints) noexcept;
-  /// Appends one solution (`q.size()` must equal `jointCount()`); false when the set is full.
-  bool push(std::span<const double> q) noexcept;
+  /// Appends one solution (`q.size()` must equal `jointCount()`) and the branch it lies on; false
+  /// when the set is full.
+  bool push(std::span<const double> q, IkBranch branch = IkBranch{}) noexcept;
   std::size_t size() const noexcept { return count_; }
   bool empty() const noexcept { return count_ == 0; }
   std::size_t jointCount() const noexcept { return joints_; }
   std::span<const double> operator[](std::size_t i) const noexcept { return {solutions_[i].data(), joints_}; }
+  /// The branch solution `i` lies on (as the solver's `branch` would compute it from its joints).
+  IkBranch branch(std::size_t i) const noexcept { return branches_[i]; }
   /// Copies solution `i` into `q` (resized only when its size differs).
   void copyTo(std::size_t i, KDL::JntArray& q) const;
 
  private:
   std::array<std::array<double, kMaxJoints>, kMaxSolutions> solutions_{};
+  std::array<IkBranch, kMaxSolutions> branches_{};
   std::size_t count_ = 0;
   std::size_t joints_ = 0;
 };
 
-/// Chooses among `solutions` the one nearest to `seed` and writes it into `out` (same size as
-/// `seed`, untouched unless Ok). Each revolute joint of each solution is first moved by a multiple
-/// of 2π to the value inside its limits nearest to the seed (a UR5 joint spans ±2π: the same pose
-/// has two joint values); a solution none of whose representatives fits the limits is discarded.
-/// Distance: sum of squared joint differences. Returns Unreachable when `solutions` is empty,
-/// JointLimits when every solution violates the limits. Real-time safe: no allocation.
+/// Chooses among `solutions` the one nearest to `seed` whose branch is compatible with `branch`,
+/// and writes it into `out` (same size as `seed`, untouched unless Ok). Each revolute joint of each
+/// solution is first moved by a multiple of 2π to the value inside its limits nearest to the seed
+/// (a UR5 joint spans ±2π: the same pose has two joint values); a solution none of whose
+/// representatives fits the limits is discarded. Distance: sum of squared joint differences.
+/// Returns Unreachable when `solutions` is empty, JointLimits when every solution violates the
+/// limits, Discontinuous when some fit the limits but none is on `branch`. Real-time safe: no
+/// allocation.
 IkStatus selectNearest(const IkSolutionSet& solutions, const JointLimits& limits, const KDL::JntArray& seed,
-                       KDL::JntArray& out) noexcept;
+                       KDL::JntArray& out, IkBranch branch = IkBranch::any()) noexcept;
 
 /// Moves the revolute joints of `q` by multiples of 2π to the values inside `limits` nearest to
 /// `seed`; false (q partly changed) when some joint has no representative inside its limits.

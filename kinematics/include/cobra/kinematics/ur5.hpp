@@ -67,8 +67,16 @@ class Ur5Solver final : public DhAnalyticSolver {
   /// duplicates at the boundaries of these branches are dropped. At the wrist singularity
   /// (sin θ5 = 0, axes 4 and 6 aligned) θ6 takes the seed's value. BadInput for a non-finite or
   /// non-orthonormal target or a wrong-size seed.
+  /// Each solution is labelled with its branch (see `branch`).
   IkStatus allInverse(const KDL::Frame& target, const KDL::JntArray& seed, IkSolutionSet& solutions) noexcept override;
   using AnalyticSolver::inverse;
+
+  /// Branch bits: 0 shoulder (set when the wrist point p5 lies behind the base axis as seen along
+  /// x1 = (cos q1, sin q1, 0): its lateral coordinate a2 c2 + a3 c23 + d5 s234 < 0), 1 elbow (sin q3
+  /// < 0), 2 wrist (sin q5 < 0). Each is ambiguous within kBranchMargin of 0: the shoulder
+  /// singularity (p5 on the base axis), the stretched or folded elbow, the wrist singularity
+  /// (axes 4 and 6 aligned).
+  IkBranch branch(std::span<const double> q) const noexcept override;
 
  private:
   Ur5Parameters parameters_;
