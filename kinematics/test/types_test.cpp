@@ -1,10 +1,12 @@
 // Unit tests of types.hpp: status names, limit validation messages, 2π wrapping into limits and
-// the nearest-to-seed choice among analytic solutions.
+// the nearest-to-seed choice among analytic solutions (also restricted to a branch), branch
+// compatibility.
 
 #include <gtest/gtest.h>
 
 #include "cobra/test_support/test_support.hpp"
 
+#include <array>
 #include <numbers>
 
 #include "cobra/kinematics/types.hpp"
@@ -24,6 +26,7 @@ TEST(IkStatus, HasStableNames) {
   EXPECT_STREQ(toString(IkStatus::Singular), "singular");
   EXPECT_STREQ(toString(IkStatus::NoConvergence), "no convergence");
   EXPECT_STREQ(toString(IkStatus::BadInput), "bad input");
+  EXPECT_STREQ(toString(IkStatus::Discontinuous), "discontinuous");
 }
 
 TEST(ValidateLimits, MessagesNameTheRobotJointAndUnit) {
@@ -86,6 +89,39 @@ TEST(SelectNearest, ChoosesTheClosestSolutionInLimitsAndReportsWhyOtherwise) {
   EXPECT_EQ(selectNearest(set, limits, seed, out), IkStatus::Unreachable);
   KDL::JntArray wrong(3);
   EXPECT_EQ(selectNearest(set, limits, wrong, out), IkStatus::BadInput);
+}
+
+TEST(SelectNearest, KeepsToTheGivenBranch) {
+  IkSolutionSet set;
+  set.reset(2);
+  const std::array<double, 2> near_one{0.1, 0.0};
+  const std::array<double, 2> far_one{1.5, 0.0};
+  set.push(near_one, IkBranch{.bits = 1, .ambiguous = 0});
+  set.push(far_one, IkBranch{.bits = 0, .ambiguous = 0});
+  const KDL::JntArray seed = test::joints({0.0, 0.0});
+  KDL::JntArray out = test::filled(2, 7.0);
+  const JointLimits limits = revoluteLimits(2, -kPi, kPi);
+  ASSERT_EQ(selectNearest(set, limits, seed, out), IkStatus::Ok);  // any branch: the nearest
+  EXPECT_DOUBLE_EQ(out(0), 0.1);
+  ASSERT_EQ(selectNearest(set, limits, seed, out, IkBranch{.bits = 0, .ambiguous = 0}), IkStatus::Ok);
+  EXPECT_DOUBLE_EQ(out(0), 1.5);
+  ASSERT_EQ(selectNearest(set, limits, seed, out, IkBranch{.bits = 0, .ambiguous = 1}), IkStatus::Ok);  // bit 0 free
+  EXPECT_DOUBLE_EQ(out(0), 0.1);
+  out = test::filled(2, 7.0);
+  set.reset(2);
+  set.push(near_one, IkBranch{.bits = 1, .ambiguous = 0});
+  EXPECT_EQ(selectNearest(set, limits, seed, out, IkBranch{.bits = 0, .ambiguous = 0}), IkStatus::Discontinuous);
+  EXPECT_TRUE(test::isFilled(out, 7.0));
+  EXPECT_EQ(selectNearest(set, revoluteLimits(2, 0.5, 1.0), seed, out, IkBranch{}), IkStatus::JointLimits);
+}
+
+TEST(IkBranch, ChoicesOnASingularBoundaryAreCompatibleWithBothSides) {
+  EXPECT_TRUE((IkBranch{.bits = 5, .ambiguous = 0}).compatibleWith(IkBranch{.bits = 5, .ambiguous = 0}));
+  EXPECT_FALSE((IkBranch{.bits = 5, .ambiguous = 0}).compatibleWith(IkBranch{.bits = 1, .ambiguous = 0}));
+  EXPECT_TRUE((IkBranch{.bits = 5, .ambiguous = 4}).compatibleWith(IkBranch{.bits = 1, .ambiguous = 0}));
+  EXPECT_TRUE((IkBranch{.bits = 1, .ambiguous = 0}).compatibleWith(IkBranch{.bits = 5, .ambiguous = 4}));
+  EXPECT_TRUE(IkBranch::any().compatibleWith(IkBranch{.bits = 7, .ambiguous = 0}));
+  EXPECT_TRUE(IkBranch{}.compatibleWith(IkBranch{}));  // a solver without branches
 }
 
 TEST(IkSolutionSet, HoldsAtMostEightSolutions) {
