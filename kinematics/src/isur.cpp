@@ -18,19 +18,18 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * kPi;
-/// cos(pitch) below this is the gimbal lock of the ZYX angles: only yaw ∓ roll is defined there.
-constexpr double kGimbalLock = 1e-10;
 
 /// Splits the joint-angle sum `total` (rad) between joints a and b: a = seed_a + share·(change of
 /// the sum), clamped to the interval where both a and b = total - a respect their limits. The sum
 /// is an angle: total ± 2π is tried (nearest first) when total itself does not fit.
+/// The interval [lo, hi] of `a` where both joints respect their limits is returned too.
 bool splitSum(double total, double seed_a, double seed_b, double share, double lower_a, double upper_a, double lower_b,
-              double upper_b, double& a, double& b) noexcept {
+              double upper_b, double& a, double& b, double& lo, double& hi) noexcept {
   const double seed_total = seed_a + seed_b;
   const double step = total >= seed_total ? -kTwoPi : kTwoPi;
   for (const double candidate : {total, total + step, total - step}) {
-    const double lo = std::max(lower_a, candidate - upper_b);
-    const double hi = std::min(upper_a, candidate - lower_b);
+    lo = std::max(lower_a, candidate - upper_b);
+    hi = std::min(upper_a, candidate - lower_b);
     if (lo > hi) continue;
     a = std::clamp(seed_a + share * (candidate - seed_total), lo, hi);
     b = candidate - a;
@@ -38,6 +37,11 @@ bool splitSum(double total, double seed_a, double seed_b, double share, double l
   }
   return false;
 }
+
+/// Step [rad] of the search for a pitch split the delta can reach (IsurPuncturingSolver::solveCandidate).
+constexpr double kSplitSearchStep = 0.01;
+/// Bisection steps refining the first reachable split towards the preferred one (0.01 / 2^12 rad).
+constexpr int kSplitBisections = 12;
 
 /// The representative of `angle` + 2πk inside [lower, upper] nearest to `seed`; false if none.
 bool nearestInLimits(double angle, double seed, double lower, double upper, double& out) noexcept {
@@ -144,14 +148,60 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
   const JointLimits& l = limits_;
   // Orientation: yaw = q4 + q5, pitch = q6 + q7, roll = q8 (thesis §5.4.1).
   const double yaw_total = seed(3) + seed(4) + wrapToPi(yaw - seed(3) - seed(4));
+  double lo = 0.0;
+  double hi = 0.0;
   if (!splitSum(yaw_total, seed(3), seed(4), geometry_.yaw_share, l.lower[3], l.upper[3], l.lower[4], l.upper[4], q[3],
-                q[4]))
+                q[4], lo, hi))
     return IkStatus::JointLimits;
+  if (std::isfinite(geometry_.base_angle)) {
+    const double sum = q[3] + q[4];  // yaw_total, or yaw_total ± 2π where only that fits the limits
+    q[3] = std::clamp(geometry_.base_angle, lo, hi);
+    q[4] = sum - q[3];
+  }
   const double pitch_total = seed(5) + seed(6) + wrapToPi(pitch - seed(5) - seed(6));
   if (!splitSum(pitch_total, seed(5), seed(6), geometry_.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6],
-                q[5], q[6]))
+                q[5], q[6], lo, hi))
     return IkStatus::JointLimits;
+  if (std::isfinite(geometry_.pitch_difference)) {
+    q[5] = std::clamp(0.5 * (pitch_total + geometry_.pitch_difference), lo, hi);
+    q[6] = pitch_total - q[5];
+  }
   if (!nearestInLimits(roll, seed(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
+  const IkStatus preferred = placePlatform(target, q);
+  if (preferred == IkStatus::Ok || preferred == IkStatus::BadInput) return preferred;
+  // The delta cannot place its platform for the preferred split (a slider at its end, e.g. deep
+  // in a needle insertion): the pitch split is the redundancy that moves the micro arm's offset
+  // (the elbow), so take the split nearest the preferred one for which the delta reaches. The
+  // boundary of the reachable splits moves continuously with the target, so along a path the
+  // split changes continuously (and slowly: the elbow moves only as far as the delta lacks).
+  const double preferred_a = q[5];
+  std::array<double, kJoints> trial = q;
+  const auto reachable = [&](double a) noexcept {
+    trial[5] = a;
+    trial[6] = pitch_total - a;
+    return placePlatform(target, trial) == IkStatus::Ok;
+  };
+  for (double distance = kSplitSearchStep; preferred_a - distance >= lo || preferred_a + distance <= hi;
+       distance += kSplitSearchStep) {
+    for (const double direction : {-1.0, 1.0}) {
+      const double a = preferred_a + direction * distance;
+      if (a < lo || a > hi || !reachable(a)) continue;
+      // Refine between the last unreachable split and this one, keeping the reachable end.
+      double outside = preferred_a + direction * (distance - kSplitSearchStep);
+      double inside = a;
+      for (int i = 0; i < kSplitBisections; ++i) {
+        const double middle = 0.5 * (outside + inside);
+        (reachable(middle) ? inside : outside) = middle;
+      }
+      q[5] = inside;
+      q[6] = pitch_total - inside;
+      return placePlatform(target, q);
+    }
+  }
+  return preferred;
+}
+
+IkStatus IsurPuncturingSolver::placePlatform(const KDL::Frame& target, std::array<double, kJoints>& q) const noexcept {
   // Position: target.p = Rz(q4)·(p_delta + micro offset), so the delta places its platform at
   // Rz(q4)ᵀ·target.p - offset (closed form).
   const KDL::Vector offset = microForward(q[4], q[5], q[6], q[7]).p;
@@ -170,7 +220,9 @@ IkBranch IsurPuncturingSolver::branch(std::span<const double> q) const noexcept 
   // The pitch representation: cos(pitch) = cos(q6 + q7) < 0 is the second one (π - θ).
   const double cos_pitch = std::cos(q[5] + q[6]);
   if (cos_pitch < 0.0) branch.bits = 1;
-  if (std::abs(cos_pitch) < kBranchMargin) branch.ambiguous = 1;
+  // Within the wrist band the needle passes through the vertical from one representation to the
+  // other continuously (q6 + q7 crosses ±90°): either side is this branch.
+  if (std::abs(cos_pitch) < kWristBand) branch.ambiguous = 1;
   return branch;
 }
 
@@ -181,20 +233,24 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
   const KDL::Rotation& r = target.M;
   const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
   std::array<std::array<double, 3>, 2> representations{};
-  int count = 2;
-  if (cos_pitch > kGimbalLock) {
+  constexpr int count = 2;
+  if (cos_pitch > IsurPuncturingSolver::kWristBand) {
     const double yaw = std::atan2(r(1, 0), r(0, 0));
     const double pitch = std::atan2(-r(2, 0), cos_pitch);
     const double roll = std::atan2(r(2, 1), r(2, 2));
     representations[0] = {yaw, pitch, roll};
     representations[1] = {yaw + kPi, kPi - pitch, roll + kPi};
   } else {
-    // Pitch ±90°: only yaw - roll (pitch +90°) or yaw + roll (pitch -90°) is defined; roll keeps q8.
-    const double roll = seed(7);
-    const bool up = -r(2, 0) > 0.0;
-    const double yaw = up ? roll - std::atan2(r(0, 1), r(1, 1)) : std::atan2(-r(0, 1), r(1, 1)) - roll;
-    representations[0] = {yaw, up ? kPi / 2.0 : -kPi / 2.0, roll};
-    count = 1;
+    // Within kWristBand (header) of pitch ±90° the yaw of the target is ill-conditioned (a tilt of the
+    // needle in any direction turns it by up to π): the yaw q4 + q5 stays the seed's and the wrist
+    // follows the target's tilt in that yaw plane, R' = Rz(-yaw)·R ≈ Ry(pitch)·Rx(roll). The
+    // tilt across the plane (R'(1,0), at most kWristBand rad) is not followed.
+    const double yaw = seed(3) + seed(4);
+    const KDL::Rotation in_plane = KDL::Rotation::RotZ(-yaw) * r;
+    const double pitch = std::atan2(-in_plane(2, 0), in_plane(0, 0));
+    const double roll = std::atan2(-in_plane(1, 2), in_plane(1, 1));
+    representations[0] = {yaw, pitch, roll};
+    representations[1] = {yaw + kPi, kPi - pitch, roll + kPi};
   }
 
   IkStatus status = IkStatus::Unreachable;

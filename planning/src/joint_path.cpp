@@ -426,10 +426,23 @@ bool MotionPlanner::insertCrossing(std::vector<JointState>& planned, std::vector
         !checkState(before).valid() || !checkState(after).valid())
       return false;
     const auto where = static_cast<std::ptrdiff_t>(k + 1);
-    planned.insert(planned.begin() + where, {before, after});
-    poses.insert(poses.begin() + where, {before_poses, after_poses});
-    depth.insert(depth.begin() + where, {level, level});
-    crossing.insert(crossing.begin() + where, {1, 0});
+    if (before == planned[k]) {  // the segment leaves the singular set at its start: one waypoint
+      planned.insert(planned.begin() + where, after);
+      poses.insert(poses.begin() + where, after_poses);
+      depth.insert(depth.begin() + where, level);
+      crossing.insert(crossing.begin() + where, 0);
+      crossing[k] = 1;
+    } else if (after == planned[k + 1]) {  // it reaches the singular set at its end: one waypoint
+      planned.insert(planned.begin() + where, before);
+      poses.insert(poses.begin() + where, before_poses);
+      depth.insert(depth.begin() + where, level);
+      crossing.insert(crossing.begin() + where, 1);
+    } else {
+      planned.insert(planned.begin() + where, {before, after});
+      poses.insert(poses.begin() + where, {before_poses, after_poses});
+      depth.insert(depth.begin() + where, {level, level});
+      crossing.insert(crossing.begin() + where, {1, 0});
+    }
     return true;
   }
   return false;
@@ -448,6 +461,11 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
   result.joint_waypoints = {start};
   std::vector<double> a(layout.scale.size()), b(layout.scale.size()), mid(layout.scale.size());
   for (std::size_t k = 0; k + 1 < poses.size();) {
+    // A segment crossing, leaving or reaching a robot's singular set (the needle vertical) gets
+    // the waypoints that make its Cartesian segment pass through it in one plane before it is
+    // walked: the walk's steps are too coarse to see the yaw turn the controller would make
+    // within one period there.
+    if (insertCrossing(planned, poses, depth, crossing, k, std::max(depth[k], depth[k + 1]) + 1)) continue;
     JointState tracked = q;
     if (walk(poses[k], poses[k + 1], tracked, failure)) {
       q = tracked;
@@ -455,10 +473,7 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
       ++k;
       continue;
     }
-    // A segment crossing a robot's singular set (the needle through the vertical) first gets two
-    // waypoints around the crossing whose Cartesian segment passes exactly through it.
     const std::size_t level = std::max(depth[k], depth[k + 1]) + 1;
-    if (insertCrossing(planned, poses, depth, crossing, k, level)) continue;
     // Otherwise halve the segment in joint space (the planned joints' midpoint, whose tool poses
     // become a new waypoint) until it passes or max_subdivisions is reached.
     if (level > options_.max_subdivisions) {

@@ -198,24 +198,11 @@ bool IsurPuncturingModel::linkFramesAt(std::span<const double> q, std::span<KDL:
 
 Reachability IsurPuncturingModel::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                                               std::span<double> q) {
+  // The solver keeps the seed's yaw within its wrist band (the needle vertical): what the control
+  // path's IK does, so a planned path through the vertical is followed as verified.
   constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
   for (unsigned j = 0; j < kJoints; ++j) seed_(j) = seed[j];
-  KDL::Frame target = tools_in_base[0];
-  const KDL::Rotation& r = target.M;
-  if (std::hypot(r(0, 0), r(1, 0)) < kGimbalLockTolerance) {
-    // Gimbal lock: R = Rz(yaw) Ry(±90°) Rx(roll) defines yaw ∓ roll only. Keep the seed's yaw and
-    // give the roll the rest: the exactly singular target with that yaw, and the roll as the seed's
-    // q8 (the solver keeps q8 at the lock and solves the yaw from it).
-    const bool down = -r(2, 0) > 0.0;  // pitch +90°: the needle (tool x) points down
-    const double yaw = seed[3] + seed[4];
-    const double roll = down ? yaw + std::atan2(r(0, 1), r(1, 1)) : std::atan2(-r(0, 1), r(1, 1)) - yaw;
-    seed_(7) = seed[7] + kinematics::wrapToPi(roll - seed[7]);
-    if (seed_(7) > solver_.limits().upper[7]) seed_(7) -= 2.0 * std::numbers::pi;
-    if (seed_(7) < solver_.limits().lower[7]) seed_(7) += 2.0 * std::numbers::pi;
-    target.M = KDL::Rotation::RotZ(yaw) * KDL::Rotation::RotY(down ? std::numbers::pi / 2 : -std::numbers::pi / 2) *
-               KDL::Rotation::RotX(seed_(7));
-  }
-  if (solver_.inverse(target, seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
+  if (solver_.inverse(tools_in_base[0], seed_, q_) != IkStatus::Ok) return Reachability::Unreachable;
   for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
   return Reachability::Reachable;
 }
@@ -249,7 +236,7 @@ Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_
   constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
   const KDL::Rotation& r = tools_in_base[0].M;
   const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
-  if (cos_pitch < kGimbalLockTolerance) return inverseNear(tools_in_base, start, q);  // keeps the start's yaw
+  if (cos_pitch < kinematics::IsurPuncturingSolver::kWristBand) return inverseNear(tools_in_base, start, q);  // keeps the start's yaw
   const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::atan2(-r(2, 0), cos_pitch);
   const double roll = std::atan2(r(2, 1), r(2, 2));
   double best_distance = std::numeric_limits<double>::infinity();
@@ -303,13 +290,28 @@ void IsurPuncturingModel::coordinateBounds(std::span<const double> start, std::s
     lower[j] = l.lower[j];
     upper[j] = l.upper[j];
   }
-  // The base turntable only where the IK moves it: between its start and goal angles (it turns
-  // only when the micro yaw reaches a limit).
-  lower[3] = std::min(start[3], goal[3]);
-  upper[3] = std::max(start[3], goal[3]);
-  lower[4] = l.lower[4];
-  upper[4] = l.upper[4];
-  sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[5], upper[5]);
+  if (std::isfinite(g.base_angle)) {
+    // Only the yaw c[3] + c[4] counts (jointsOf splits it): c[3] is base_angle (OMPL wants a
+    // bound of some width), c[4] the rest of the yaw within both joints' limits.
+    lower[3] = g.base_angle;
+    upper[3] = g.base_angle + kBaseCoordinateWidth;
+    lower[4] = l.lower[3] + l.lower[4] - g.base_angle;
+    upper[4] = l.upper[3] + l.upper[4] - g.base_angle;
+  } else {
+    // The base turntable only where the IK moves it: between its start and goal angles (it turns
+    // only when the micro yaw reaches a limit).
+    lower[3] = std::min(start[3], goal[3]);
+    upper[3] = std::max(start[3], goal[3]);
+    lower[4] = l.lower[4];
+    upper[4] = l.upper[4];
+  }
+  if (std::isfinite(g.pitch_difference)) {
+    // q6 = (pitch + d) / 2 and q7 = (pitch - d) / 2 within their limits.
+    lower[5] = std::max(2.0 * l.lower[5] - g.pitch_difference, 2.0 * l.lower[6] + g.pitch_difference);
+    upper[5] = std::min(2.0 * l.upper[5] - g.pitch_difference, 2.0 * l.upper[6] + g.pitch_difference);
+  } else {
+    sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[5], upper[5]);
+  }
   lower[6] = l.lower[7];
   upper[6] = l.upper[7];
 }
@@ -318,7 +320,16 @@ void IsurPuncturingModel::jointsOf(std::span<const double> c, std::span<const do
                                    std::span<double> q) const {
   const kinematics::IsurGeometry& g = solver_.geometry();
   for (std::size_t j = 0; j < 5; ++j) q[j] = c[j];
-  q[5] = start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
+  if (std::isfinite(g.base_angle)) {
+    // The yaw c[3] + c[4] split as the solver splits it: the base at base_angle as far as the
+    // micro yaw's limits allow.
+    const kinematics::JointLimits& l = solver_.limits();
+    const double yaw = c[3] + c[4];
+    q[3] = std::clamp(g.base_angle, std::max(l.lower[3], yaw - l.upper[4]), std::min(l.upper[3], yaw - l.lower[4]));
+    q[4] = yaw - q[3];
+  }
+  q[5] = std::isfinite(g.pitch_difference) ? 0.5 * (c[5] + g.pitch_difference)
+                                            : start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
   q[6] = c[5] - q[5];
   q[7] = c[6];
 }
@@ -334,16 +345,37 @@ void IsurPuncturingModel::coordinateScales(std::span<double> scale) const {
 bool IsurPuncturingModel::singularCrossing(std::span<const double> a, std::span<const double> b,
                                            std::span<double> before, std::span<double> after) const {
   const double pitch_a = a[5] + a[6], pitch_b = b[5] + b[6];
+  const double share = std::isfinite(solver_.geometry().pitch_difference) ? 0.5 : solver_.geometry().pitch_share;
+  const auto atLock = [](double pitch) {
+    return std::abs(std::cos(pitch)) < kinematics::IsurPuncturingSolver::kWristBand;
+  };
+  const auto movePitch = [&](std::span<double> q, double by) {
+    q[5] += share * by;
+    q[6] += (1.0 - share) * by;
+  };
+  // An end at the lock: the Cartesian segment must leave (or reach) the vertical in that end's yaw
+  // plane, so the waypoint next to it is that end with the pitch kCrossingMargin towards the other.
+  if (atLock(pitch_a) != atLock(pitch_b)) {
+    std::copy(a.begin(), a.end(), before.begin());
+    std::copy(b.begin(), b.end(), after.begin());
+    if (atLock(pitch_a)) {
+      std::copy(a.begin(), a.end(), after.begin());
+      movePitch(after, std::copysign(kCrossingMargin, pitch_b - pitch_a));
+    } else {
+      std::copy(b.begin(), b.end(), before.begin());
+      movePitch(before, std::copysign(kCrossingMargin, pitch_a - pitch_b));
+    }
+    return true;
+  }
+  if (atLock(pitch_a)) return false;  // both ends vertical: the yaw is kept all along
   for (const double lock : {std::numbers::pi / 2, -std::numbers::pi / 2}) {
     if ((pitch_a - lock) * (pitch_b - lock) >= 0.0) continue;
     const double t = (lock - pitch_a) / (pitch_b - pitch_a);
     for (std::size_t j = 0; j < kinematics::IsurPuncturingSolver::kJoints; ++j) before[j] = a[j] + t * (b[j] - a[j]);
     std::copy(before.begin(), before.end(), after.begin());
-    const double share = solver_.geometry().pitch_share, step = std::copysign(kCrossingMargin, pitch_b - pitch_a);
-    before[5] -= share * step;
-    before[6] -= (1.0 - share) * step;
-    after[5] += share * step;
-    after[6] += (1.0 - share) * step;
+    const double step = std::copysign(kCrossingMargin, pitch_b - pitch_a);
+    movePitch(before, -step);
+    movePitch(after, step);
     return true;
   }
   return false;
@@ -351,6 +383,10 @@ bool IsurPuncturingModel::singularCrossing(std::span<const double> a, std::span<
 
 void IsurPuncturingModel::coordinatesOf(std::span<const double> q, std::span<double> c) const {
   for (std::size_t j = 0; j < 5; ++j) c[j] = q[j];
+  if (std::isfinite(solver_.geometry().base_angle)) {  // the yaw as base_angle + the rest (jointsOf)
+    c[3] = solver_.geometry().base_angle;
+    c[4] = q[3] + q[4] - c[3];
+  }
   c[5] = q[5] + q[6];
   c[6] = q[7];
 }

@@ -22,6 +22,8 @@ CartesianTrajectoryGenerator::CartesianTrajectoryGenerator(std::string name)
   addProperty(stop_time_.range(1e-4, 100.0));
   addProperty(sample_time_.range(1e-6, 10.0));
   addProperty(blend_order_.range(2, 5));
+  addProperty(continue_tolerance_.range(0.0, 1.0));
+  addProperty(continue_angle_tolerance_.range(0.0, 3.1416));
   addPort(planned_path_);
   addOperation("askGenerateTraj", std::function<void()>([this] { generate_request_.ask(activity()); }),
                "generates the trajectory of the last path received, in this component's next step; answers "
@@ -114,6 +116,7 @@ bool CartesianTrajectoryGenerator::startHook() {
   trajectory_.reset();
   stops_.clear();
   start_pending_ = false;
+  published_ = false;
   enter(Status::WaitPath);
   return true;
 }
@@ -163,6 +166,7 @@ void CartesianTrajectoryGenerator::publish() {
     pose_ports_[arm]->write(poses_[arm]);
     twist_ports_[arm]->write(twists_[arm]);
   }
+  published_ = true;
 }
 
 void CartesianTrajectoryGenerator::generate() {
@@ -174,7 +178,17 @@ void CartesianTrajectoryGenerator::generate() {
   enter(Status::GeneratingTrajectory);
   try {
     const trajectory::CartesianLimits limits{max_vel_(), max_ang_vel_(), time_acc_(), time_acc_()};
-    trajectory_.emplace(decodeCartesianPath(path_, pose_ports_.size()), limits, blend_order_());
+    std::vector<std::vector<KDL::Frame>> waypoints = decodeCartesianPath(path_, pose_ports_.size());
+    if (published_) {
+      for (std::size_t arm = 0; arm < waypoints.size() && !waypoints[arm].empty(); ++arm) {
+        const KDL::Frame& first = waypoints[arm].front();
+        const double offset = (first.p - poses_[arm].p).Norm();
+        KDL::Vector axis;
+        const double angle = (poses_[arm].M.Inverse() * first.M).GetRotAngle(axis);
+        if (offset <= continue_tolerance_() && angle <= continue_angle_tolerance_()) waypoints[arm].front() = poses_[arm];
+      }
+    }
+    trajectory_.emplace(waypoints, limits, blend_order_());
     last_failure_.clear();
     enter(Status::TrajectoryReady);
   } catch (const std::exception& e) {

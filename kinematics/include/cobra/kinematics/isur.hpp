@@ -22,6 +22,9 @@
 /// function of target and seed, which is why the thesis chose it for sampling-based planning
 /// (neighbouring samples give neighbouring configurations, "equivalent to a closed form"). Then the
 /// micro arm's offset is known and the linear delta's closed-form inverse places the platform.
+/// Where the delta cannot (a slider at its end, e.g. deep in an insertion), the pitch split moves
+/// to the nearest one (to the shares' choice) for which it can: the elbow takes over what the
+/// delta lacks, continuously along a path.
 /// In the suturing setup the 4-DOF arm (priority: it can only be translated by the macro) is solved
 /// first; the platform pose then is the base of the 6-DOF arm, solved in closed form (Puma-type
 /// arm: Puma260Solver with the micro arm's lengths).
@@ -59,8 +62,20 @@ struct IsurGeometry {
   /// Share of a yaw change (q4 + q5) taken by the base revolute q4, the rest by q5. 0: the heavy
   /// macro base holds still and the micro yaw joint turns.
   double yaw_share = 0.0;
-  /// Share of a pitch change (q6 + q7) taken by q6, the rest by q7.
+  /// Share of a pitch change (q6 + q7) taken by q6, the rest by q7 (when pitch_difference is NaN).
   double pitch_share = 0.5;
+  /// The preferred elbow q6 - q7 (rad). Finite: the pitch splits as q6 - q7 = pitch_difference
+  /// wherever the delta can place the platform, else the nearest difference for which it can: the
+  /// split is a function of the target pose alone (not of the seed), so a path that goes deep
+  /// (the delta at the end of its stroke) and comes back returns the elbow to it, and a planner
+  /// sampling joints agrees with the control path. NaN: split by pitch_share around the seed.
+  /// 0.3 rad is the puncturing setup's (world.lua initial joints: q6 = 0.85, q7 = 0.55).
+  double pitch_difference = 0.3;
+  /// The preferred base turntable angle q4 (rad). Finite: the yaw q4 + q5 is turned by the micro
+  /// yaw q5 with the base at base_angle, the base taking only what q5's limits cannot (nearest to
+  /// base_angle): a function of the target's yaw alone, so the base comes back when the yaw does.
+  /// NaN: split by yaw_share around the seed.
+  double base_angle = 0.0;
 };
 
 /// The puncturing robot as a KDL chain with the delta replaced by three Cartesian joints, joints
@@ -73,6 +88,12 @@ KDL::Chain cartesianMacroChain(const IsurMicroArm& micro);
 class IsurPuncturingSolver final : public KinematicsSolver {
  public:
   static constexpr unsigned kJoints = 8;
+  /// |cos(pitch)| below this is the band around the wrist's gimbal lock (pitch ±90°, the needle
+  /// vertical) where the target's yaw is ill-conditioned: inverse keeps the seed's yaw q4 + q5 and
+  /// follows the target's tilt in that yaw plane only (the tilt across it, at most 1e-3 rad =
+  /// 0.06°, is not followed), so a tilt noise of 1e-9 rad (rounding in an admittance's output)
+  /// turns the yaw by at most 1e-6 rad instead of up to π.
+  static constexpr double kWristBand = 1e-3;
 
   /// @throws std::invalid_argument naming the element ("I-SUR: joint 5 limits [1, 0] rad: min must
   /// be <= max", "I-SUR: parameter yaw_share is 2: give a value in [0, 1]", delta errors...).
@@ -118,6 +139,8 @@ class IsurPuncturingSolver final : public KinematicsSolver {
  private:
   IkStatus solveCandidate(const KDL::Frame& target, double yaw, double pitch, double roll, const KDL::JntArray& seed,
                           std::array<double, kJoints>& q) const noexcept;
+  /// The delta's sliders q[0..2] placing the platform for the micro joints q[3..7] (closed form).
+  IkStatus placePlatform(const KDL::Frame& target, std::array<double, kJoints>& q) const noexcept;
   KDL::Frame microForward(double q5, double q6, double q7, double q8) const noexcept;
 
   IsurGeometry geometry_;

@@ -149,10 +149,6 @@ class IsurPuncturingModel final : public RobotModel {
   /// Velocity limits of the simulated I-SUR (components/sim): sliders [m/s], revolute joints [rad/s].
   static constexpr double kMaxSliderVelocity = 0.1;
   static constexpr double kMaxRevoluteVelocity = 1.5;
-  /// |cos(pitch)| below this counts as the wrist's gimbal lock (needle vertical) in inverseNear():
-  /// there only yaw ∓ roll is defined and the yaw is kept at the seed's.
-  static constexpr double kGimbalLockTolerance = 1e-7;
-
   std::size_t jointCount() const override { return kinematics::IsurPuncturingSolver::kJoints; }
   void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
   bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
@@ -160,10 +156,10 @@ class IsurPuncturingModel final : public RobotModel {
   void seedJoints(std::span<double> q) const override;
   /// kinematics::IsurPuncturingSolver::inverse seeded with `seed` (what the control path's IK does
   /// when it tracks a path: the wrist representation nearest the seed, the redundancy split by the
-  /// shares around it, the micro yaw's limit passing the rest to the base turntable). At the gimbal
-  /// lock (needle vertical to kGimbalLockTolerance) the yaw q4 + q5 stays the seed's and the roll
-  /// q8 turns instead: a vertical goal is reached without turning the arm about the vertical, and
-  /// a step at the lock does not jump the yaw.
+  /// shares around it, the micro yaw's limit passing the rest to the base turntable). Within the
+  /// solver's wrist band (needle vertical, IsurPuncturingSolver::kWristBand) the yaw q4 + q5 stays
+  /// the seed's and the roll q8 turns instead: a vertical goal is reached without turning the arm
+  /// about the vertical, and a step at the lock does not jump the yaw.
   Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                            std::span<double> q) override;
   /// Of the two representations of the wrist angles (pitch θ and π - θ), the one nearest `start`
@@ -174,17 +170,24 @@ class IsurPuncturingModel final : public RobotModel {
   /// do.)
   Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                            std::span<double> q) override;
-  /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)]: the pitch splits
-  /// between q6 and q7 by the solver's share from the start, as the IK of the control path splits
-  /// it when it tracks a Cartesian path from the start. The base turntable q4 stays between its
+  /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)], the redundancy
+  /// resolved as the IK of the control path resolves it: with the geometry's base_angle, c[3] is
+  /// that angle and the yaw c[3] + c[4] splits between q4 and q5 by the solver's rule; with its
+  /// pitch_difference, q6 - q7 is that (NaN: the shares from the start). The base turntable q4 stays between its
   /// start and goal angles.
   std::size_t coordinateCount() const override { return 7; }
   /// The segment's pitch q6 + q7 passing ±90°: `before` and `after` are the configuration at the
   /// crossing with the pitch kCrossingMargin before and after it, yaw, roll and sliders equal, so
-  /// that the needle turns through the vertical in one plane.
+  /// that the needle turns through the vertical in one plane. A segment with one end at the
+  /// vertical (within the wrist band) and the other not: that end is `before` (or `after`) itself
+  /// and the other is it with the pitch kCrossingMargin towards the far end, so the needle leaves
+  /// (or reaches) the vertical in that end's yaw plane.
   bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,
                         std::span<double> after) const override;
   static constexpr double kCrossingMargin = 0.02;  // rad
+  /// Width of coordinate 3's bounds when the geometry's base_angle fixes the base (rad; OMPL wants
+  /// lower < upper; jointsOf uses only the yaw c[3] + c[4]).
+  static constexpr double kBaseCoordinateWidth = 1e-9;
   void coordinateScales(std::span<double> scale) const override;
   void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
                         std::span<double> upper) const override;

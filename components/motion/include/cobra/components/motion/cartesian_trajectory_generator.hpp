@@ -41,6 +41,14 @@ namespace cobra::components {
 /// this component's next step, in the order generate, start, stop: the supervisor asking spends
 /// nothing on them.
 ///
+/// Continuity of the command: a path's first waypoint is normally the arm's measured pose, which
+/// differs from the set-point the robot was last sent by its tracking error and, under the
+/// variable admittance, by the compliance displacement. Starting there would step the command (and
+/// a robot's continuity rule refuses steps it cannot make in one period). So when the first
+/// waypoint lies within `continue_tolerance` (m) and `continue_angle_tolerance` (rad) of the
+/// arm's last set-point since start, the trajectory starts from that set-point instead; farther
+/// away (another component moved the arm meanwhile) the waypoint is kept.
+///
 /// Real time: while Moving or GeneratingStop, updateHook evaluates and writes without allocating. A new
 /// path is copied when it is read, and a trajectory generated when asked (once per path, while not
 /// moving: no set-point is due then; both allocate).
@@ -94,6 +102,12 @@ class CartesianTrajectoryGenerator : public core::Component {
   core::Property<double> stop_time_{"stop_time", 0.2, "s", "time in which askStopMove brings every arm to rest"};
   core::Property<double> sample_time_{"sample_time", 0.001, "s", "period of the set-points: the activity period"};
   core::Property<int> blend_order_{"blend_order", 5, "1", "order of the polynomial blends (2..5)"};
+  core::Property<double> continue_tolerance_{
+      "continue_tolerance", 0.002, "m",
+      "a path whose first waypoint is this close to the arm's last set-point starts from that set-point"};
+  core::Property<double> continue_angle_tolerance_{
+      "continue_angle_tolerance", 0.02, "rad",
+      "the same for the orientation: angle between the first waypoint and the last set-point"};
 
   core::InputPort<trajectory::MultiAxisPath> planned_path_{"plannedPath", "path to follow, 7 values per arm per waypoint (x y z m, qx qy qz qw)", "m"};
   std::vector<std::unique_ptr<core::OutputPort<KDL::Frame>>> pose_ports_;
@@ -109,7 +123,8 @@ class CartesianTrajectoryGenerator : public core::Component {
 
   std::vector<trajectory::CartesianStop> stops_;  // one per arm while GeneratingStop (capacity reserved)
 
-  std::vector<KDL::Frame> poses_;   // workspace: one per arm
+  std::vector<KDL::Frame> poses_;   // workspace: one per arm; the last set-points once published
+  bool published_ = false;          // poses_ hold set-points sent since the last start
   std::vector<KDL::Twist> twists_;  // workspace: one per arm
 };
 
