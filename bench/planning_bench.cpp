@@ -399,3 +399,53 @@ BENCHMARK_CAPTURE(BM_Random, BITstar, std::string("BITstar"))->Name("RandomQueri
 }  // namespace
 
 BENCHMARK_MAIN();
+#include "cobra/trajectory/cartesian.hpp"
+void BM_Diag(benchmark::State& state) {
+  for (auto _ : state) {}
+  std::ifstream log("/tmp/qlog_NeedlePlanner.txt");
+  std::string line;
+  int n = 0;
+  const auto plan = cobra::puncturing::loadPlan(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/vertical_needle/preoperative.txt",
+      std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/vertical_needle/cryo_plan.txt", std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/vertical_needle/us_plan.txt");
+  StateValidator validator = makeValidator(puncturingScene(KDL::Frame(KDL::Vector(0, 0, -0.1)) * plan.preoperative.abdomen_in_task));
+  while (std::getline(log, line)) {
+    ++n;
+    std::istringstream in(line);
+    std::string word; in >> word;
+    JointState start(14);
+    for (double& v : start) in >> v;
+    in >> word;
+    double g[14];
+    for (double& v : g) in >> v;
+    DualPose goal{KDL::Frame(KDL::Rotation::Quaternion(g[3], g[4], g[5], g[6]), KDL::Vector(g[0], g[1], g[2])),
+                  KDL::Frame(KDL::Rotation::Quaternion(g[10], g[11], g[12], g[13]), KDL::Vector(g[7], g[8], g[9]))};
+    PlannerOptions o = deploymentOptions("RRTConnect");
+    o.max_validity_checks = 600000;
+    o.max_linear_velocity = 0.04; o.max_angular_velocity = 0.15;
+    MotionPlanner planner(validator, o);
+    const PlanResult r = planner.planPath(start, goal);
+    std::printf("query %d: %s %zu waypoints: %s\n", n, toString(r.status), r.waypoints.size(), r.message.c_str());
+    if (!r.solved()) continue;
+    std::vector<std::vector<KDL::Frame>> w(2);
+    for (const auto& d : r.waypoints) { w[0].push_back(d.first); w[1].push_back(d.second); }
+    cobra::trajectory::CartesianTrajectory traj(w, {0.04, 0.15, 0.2, 0.2}, 5);
+    JointState q = start, next(14);
+    double worst = 1e9, at = 0;
+    std::vector<KDL::Frame> poses(2); std::vector<KDL::Twist> tw(2);
+    for (double t = 0; t <= traj.duration(); t += 0.001) {
+      traj.evaluate(t, poses, tw);
+      std::size_t robot = 0;
+      if (validator.inverseNear({poses[0], poses[1]}, q, next, robot) != Reachability::Reachable) { std::printf("  t %.3f unreachable\n", t); break; }
+      double maxstep = 0; int jm = 0;
+      for (int j = 0; j < 14; ++j) if (std::abs(next[j]-q[j]) > maxstep) { maxstep = std::abs(next[j]-q[j]); jm = j; }
+      if (maxstep > 0.0015) std::printf("  t %.3f joint %d step %.5f\n", t, jm, maxstep);
+      q = next;
+      const ValidityResult v = validator.checkJoints(q);
+      double d = v.valid() ? v.distance : 0.0;
+      if (d < worst) { worst = d; at = t; }
+      if (!v.valid() && std::fmod(t, 0.5) < 0.001) std::printf("  t %.3f invalid: %s\n", t, describe(v).c_str());
+    }
+    std::printf("  executed worst distance %.4f at %.3f of %.3f s\n", worst, at, traj.duration());
+  }
+}
+BENCHMARK(BM_Diag)->Iterations(1);

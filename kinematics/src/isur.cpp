@@ -38,6 +38,23 @@ bool splitSum(double total, double seed_a, double seed_b, double share, double l
   return false;
 }
 
+/// Largest change [rad] per solve of a redundant joint towards the redundancy rule (base_angle,
+/// pitch_difference) from a seed that is off it: 0.5 rad/s at 1 kHz, a third of the micro joints'
+/// velocity limits, so a robot started (or left by another controller) off the rule is brought
+/// back to it continuously while it follows its Cartesian commands.
+constexpr double kRedundancyReturnStep = 5e-4;
+/// A seed within this of the rule [rad] is on it.
+constexpr double kOnRule = 1e-9;
+
+/// The redundant joint's value for this solve: `rule` (its value for the target, within [lo, hi])
+/// when the seed's value `seed` is on the rule at the seed (`seed_rule`), so that the solution is
+/// a function of the target alone; otherwise the seed's value moved towards `rule` by at most
+/// kRedundancyReturnStep.
+double towardsRule(double seed, double seed_rule, double rule, double lo, double hi) noexcept {
+  if (std::abs(seed - seed_rule) <= kOnRule) return rule;
+  return std::clamp(seed + std::clamp(rule - seed, -kRedundancyReturnStep, kRedundancyReturnStep), lo, hi);
+}
+
 /// Step [rad] of the search for a pitch split the delta can reach (IsurPuncturingSolver::solveCandidate).
 constexpr double kSplitSearchStep = 0.01;
 /// Bisection steps refining the first reachable split towards the preferred one (0.01 / 2^12 rad).
@@ -155,7 +172,11 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
     return IkStatus::JointLimits;
   if (std::isfinite(geometry_.base_angle)) {
     const double sum = q[3] + q[4];  // yaw_total, or yaw_total ± 2π where only that fits the limits
-    q[3] = std::clamp(geometry_.base_angle, lo, hi);
+    // The rule at the seed's own yaw: is the seed on it?
+    const double seed_sum = seed(3) + seed(4);
+    const double seed_rule = std::clamp(geometry_.base_angle, std::max(l.lower[3], seed_sum - l.upper[4]),
+                                        std::min(l.upper[3], seed_sum - l.lower[4]));
+    q[3] = towardsRule(seed(3), seed_rule, std::clamp(geometry_.base_angle, lo, hi), lo, hi);
     q[4] = sum - q[3];
   }
   const double pitch_total = seed(5) + seed(6) + wrapToPi(pitch - seed(5) - seed(6));
@@ -163,7 +184,12 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
                 q[5], q[6], lo, hi))
     return IkStatus::JointLimits;
   if (std::isfinite(geometry_.pitch_difference)) {
-    q[5] = std::clamp(0.5 * (pitch_total + geometry_.pitch_difference), lo, hi);
+    // On the rule the elbow q6 - q7 is pitch_difference (or, deep, the search below moves it).
+    const double seed_difference = seed(5) - seed(6);
+    const double difference = towardsRule(seed_difference, geometry_.pitch_difference, geometry_.pitch_difference,
+                                          -std::numeric_limits<double>::infinity(),
+                                          std::numeric_limits<double>::infinity());
+    q[5] = std::clamp(0.5 * (pitch_total + difference), lo, hi);
     q[6] = pitch_total - q[5];
   }
   if (!nearestInLimits(roll, seed(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
@@ -233,7 +259,7 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
   const KDL::Rotation& r = target.M;
   const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
   std::array<std::array<double, 3>, 2> representations{};
-  constexpr int count = 2;
+  int count = 2;
   if (cos_pitch > IsurPuncturingSolver::kWristBand) {
     const double yaw = std::atan2(r(1, 0), r(0, 0));
     const double pitch = std::atan2(-r(2, 0), cos_pitch);
@@ -249,8 +275,10 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
     const KDL::Rotation in_plane = KDL::Rotation::RotZ(-yaw) * r;
     const double pitch = std::atan2(-in_plane(2, 0), in_plane(0, 0));
     const double roll = std::atan2(-in_plane(1, 2), in_plane(1, 1));
+    // Only this representation: the other (yaw + π) is the arm turned half a turn about the
+    // vertical, never a continuous step. The pitch passes ±90° in the seed's plane here.
     representations[0] = {yaw, pitch, roll};
-    representations[1] = {yaw + kPi, kPi - pitch, roll + kPi};
+    count = 1;
   }
 
   IkStatus status = IkStatus::Unreachable;

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -138,9 +139,11 @@ TEST(ContinuousIk, SmallStepsAlongRandomSmoothPathsAreAccepted) {
   checkSmoothPathsAccepted(ur5, 11, 40, 1.0, 1.0);
   Puma260Solver puma;
   checkSmoothPathsAccepted(puma, 12, 40, 1.0, 1.0);
-  // The I-SUR is redundant (yaw and pitch split between two joints each, from the seed): its paths
-  // follow the solver's shares, so that the solution is q(t). Sliders: 1 cm amplitude.
-  IsurPuncturingSolver isur;
+  // The I-SUR is redundant (yaw and pitch split between two joints each): with the seed-share
+  // rule its paths follow the solver's shares, so that the solution is q(t). Sliders: 1 cm.
+  IsurGeometry shares;
+  shares.base_angle = shares.pitch_difference = std::numeric_limits<double>::quiet_NaN();
+  IsurPuncturingSolver isur(shares);
   checkSmoothPathsAccepted(isur, 13, 40, 1.5, 1.0, 0.01, followIsurShares);
 }
 

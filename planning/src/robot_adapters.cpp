@@ -164,7 +164,11 @@ void Ur5Model::coordinateBounds(std::span<const double> start, std::span<const d
   }
 }
 
-KDL::JntArray IsurPuncturingModel::defaultSeed() { return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0}); }
+KDL::JntArray IsurPuncturingModel::defaultSeed() {
+  // On the default geometry's redundancy rule: base at base_angle 0, elbow q6 - q7 = pitch_difference.
+  const double elbow = kinematics::IsurGeometry{}.pitch_difference;
+  return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.5 * elbow, -0.5 * elbow, 0.0});
+}
 
 IsurPuncturingModel::IsurPuncturingModel(const kinematics::IsurGeometry& geometry, const KDL::JntArray& seed)
     : solver_(geometry),

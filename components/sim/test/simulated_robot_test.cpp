@@ -219,9 +219,12 @@ TEST(SimulatedUR5Robot, FollowsJointAndTwistCommands) {
 }
 
 TEST(SimulatedISURRobot, ACommandAcrossTheWristSingularityIsRefusedOnceAndTheRobotHolds) {
-  // Needle 0.3° short of vertical (pitch q6 + q7 = 90° - 0.005 rad); the command tilts it 0.3°
-  // past: on the robot's branch, yaw and roll would turn by π.
-  const std::vector<double> initial{0.1, 0.1, 0.1, 0.0, 0.0, std::numbers::pi / 4 - 0.005, std::numbers::pi / 4, 0.0};
+  // Needle 0.3° short of vertical (pitch q6 + q7 = 90° - 0.005 rad, the elbow q6 - q7 on the
+  // solver's rule); the command tilts it 0.3° past: on the robot's branch, yaw and roll would turn
+  // by π.
+  const double elbow = kinematics::IsurGeometry{}.pitch_difference;
+  const double pitch = std::numbers::pi / 2 - 0.005;
+  const std::vector<double> initial{0.1, 0.1, 0.1, 0.0, 0.0, 0.5 * (pitch + elbow), 0.5 * (pitch - elbow), 0.0};
   KDL::JntArray across = jointArray(initial);
   across(5) += 0.005;
   across(6) += 0.005;

@@ -128,7 +128,8 @@ class Ur5Model final : public RobotModel {
 /// 1 delta platform, 2 micro yaw, 3 upper arm, 4 forearm, 5 needle tip, needle along -x from it).
 class IsurPuncturingModel final : public RobotModel {
  public:
-  /// Default warm-start seed: sliders at 0.1 m, every revolute joint at 0.
+  /// Default warm-start seed: sliders at 0.1 m, the revolute joints at 0 but the elbow q6 - q7 =
+  /// pitch_difference (on the solver's redundancy rule).
   static KDL::JntArray defaultSeed();
 
   explicit IsurPuncturingModel(const kinematics::IsurGeometry& geometry = kinematics::IsurGeometry{},
