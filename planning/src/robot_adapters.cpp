@@ -211,6 +211,31 @@ Reachability IsurPuncturingModel::inverseNear(std::span<const KDL::Frame> tools_
   return Reachability::Reachable;
 }
 
+Reachability IsurPuncturingModel::verticalGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                               std::span<double> q) {
+  // The needle vertical: only yaw ∓ roll is defined. Keep the start's yaw (no turn of the arm about
+  // the vertical) unless that leaves the roll within kRollMargin of a limit, where any rounding in
+  // the commands of the next motion (a descent along the needle) would need the roll past it: then
+  // turn yaw and roll together so that the roll lies kRollMargin inside.
+  const Reachability kept = inverseNear(tools_in_base, start, q);
+  if (kept != Reachability::Reachable) return kept;
+  const kinematics::JointLimits& l = solver_.limits();
+  const double excess = std::max(q[7] - (l.upper[7] - kRollMargin), (l.lower[7] + kRollMargin) - q[7]);
+  if (excess <= 0.0) return kept;
+  const double into = q[7] > 0.5 * (l.lower[7] + l.upper[7]) ? -excess : excess;  // roll change wanted
+  std::array<double, kinematics::IsurPuncturingSolver::kJoints> seed{}, turned{};
+  for (const double sign : {1.0, -1.0}) {  // yaw - roll (needle down) or yaw + roll (up) is fixed
+    std::copy(start.begin(), start.end(), seed.begin());
+    seed[4] += sign * into;
+    seed[7] = q[7] + into;
+    if (inverseNear(tools_in_base, seed, turned) != Reachability::Reachable) continue;
+    if (std::abs(turned[7] - (q[7] + into)) > 1e-6) continue;
+    std::copy(turned.begin(), turned.end(), q.begin());
+    return Reachability::Reachable;
+  }
+  return kept;
+}
+
 bool IsurPuncturingModel::onRule(const KDL::Frame& target, double yaw, double pitch, double roll,
                                  std::span<const double> seed, std::span<double> q) {
   const kinematics::JointLimits& l = solver_.limits();
@@ -240,7 +265,7 @@ Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_
   constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
   const KDL::Rotation& r = tools_in_base[0].M;
   const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
-  if (cos_pitch < kinematics::IsurPuncturingSolver::kWristBand) return inverseNear(tools_in_base, start, q);  // keeps the start's yaw
+  if (cos_pitch < kinematics::IsurPuncturingSolver::kWristBand) return verticalGoal(tools_in_base, start, q);
   const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::atan2(-r(2, 0), cos_pitch);
   const double roll = std::atan2(r(2, 1), r(2, 2));
   double best_distance = std::numeric_limits<double>::infinity();

@@ -201,6 +201,11 @@ class IsurPuncturingModel final : public RobotModel {
   /// platform.
   bool onRule(const KDL::Frame& target, double yaw, double pitch, double roll, std::span<const double> seed,
               std::span<double> q);
+  /// inverseGoal for a vertical needle (within the solver's wrist band): the start's yaw, unless the
+  /// roll then lies within kRollMargin of a limit.
+  Reachability verticalGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                            std::span<double> q);
+  static constexpr double kRollMargin = 0.2;  // rad
 
   kinematics::IsurPuncturingSolver solver_;
   WarmStart<1> warm_;
