@@ -9,6 +9,7 @@ int runApplication(run::RunOptions options, bool quiet) {
     std::printf("  %s\n", line.c_str());
     std::fflush(stdout);
   };
+  run::entryFile(options.app);  // a missing entry file is the only line printed
   if (!quiet)
     std::printf("cobra run %s%s on the %s\n", options.app.c_str(),
                 options.scenario.empty() ? "" : (", scenario " + options.scenario.string()).c_str(),
@@ -29,6 +30,7 @@ int runApplication(run::RunOptions options, bool quiet) {
     std::printf("completed in %.3f s\n", result.duration);
     return 0;
   }
+  std::fflush(stdout);
   std::fprintf(stderr, "cobra run: %s: %s\n", run::toString(result.outcome), result.reason.c_str());
   return 1;
 }
