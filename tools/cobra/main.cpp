@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--faults", run_faults, "faults file (faults.lua: on an event, a state or a time, call, write or set)");
   run_cmd->add_flag("--realtime", run_options.realtime, "threaded activities on the wall clock instead of the lockstep clock");
   run_cmd->add_flag("--quiet", run_quiet, "print no state, switch or progress line");
-  run_cmd->footer("example: cobra run apps/puncturing --report /tmp/puncturing-report\n"
+  run_cmd->footer("example: cobra run apps/puncturing --report build/demo-report\n"
                   "exit status 0 when the task charts reach their done states; else 1 and one line saying why");
 
   std::string lint_file;
