@@ -12,6 +12,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "cobra/core/component.hpp"
+#include "cobra/deploy/package_registry.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::run {
@@ -25,6 +27,17 @@ std::string readFile(const std::filesystem::path& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
+
+/// A component whose update fails from 50 ms on (its hook throws: the component goes to Exception).
+class Overheating : public core::Component {
+ public:
+  explicit Overheating(std::string name) : Component(std::move(name), core::Role::Bridge, "fails at 50 ms") {}
+
+ protected:
+  void updateHook() override {
+    if (now() >= std::chrono::milliseconds(50)) throw std::runtime_error("overheated");
+  }
+};
 
 RunOptions options(const std::filesystem::path& app = kApp) {
   RunOptions o;
@@ -79,6 +92,29 @@ TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
   EXPECT_EQ(r.outcome, Outcome::TimeLimit);
   EXPECT_NEAR(r.duration, 0.1, 1e-9);
   EXPECT_EQ(r.reason, "time limit 0.100 s reached; charts: task root.waiting");
+}
+
+TEST(Runner, InRealTimeTheTestApplicationCompletesOnTheWallClock) {
+  RunOptions o = options();
+  o.realtime = true;  // threaded activities; the time limit only bounds the wait
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  EXPECT_EQ(r.states_entered.at("task").back(), "root.done");
+  EXPECT_EQ(r.value("threshold crossings").values.size(), 1u);
+}
+
+TEST(Runner, AComponentInExceptionEndsTheRunWithItsNameAndError) {
+  RunOptions o = options(kApp / "faulty.lua");
+  o.add_packages = [](deploy::PackageRegistry& packages) {
+    packages.addBuiltin("run_test", [](deploy::PackageBuilder& package) {
+      package.component<Overheating>("Overheating", "fails at 50 ms");
+    });
+  };
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::ComponentError);
+  EXPECT_NEAR(r.duration, 0.05, 0.0015);
+  EXPECT_CONTAINS(r.reason, "component 'Heater' is in Exception: ");
+  EXPECT_CONTAINS(r.reason, "overheated");
 }
 
 TEST(Runner, ARecordedPortOfAnotherTypeIsOneLineWithFileLinePortTypeAndWhatIsAccepted) {
