@@ -33,6 +33,9 @@ std::string readFile(const std::filesystem::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+/// "fault FILE:LINE" of test/faults/`file`: the log's line when that fault was played.
+std::string fault(const std::string& file, int line) { return "fault " + (kFaults / file).string() + ":" + std::to_string(line); }
+
 /// The two-needle procedure with the faults file `faults` of test/faults/.
 RunOptions withFaults(const std::string& faults) {
   RunOptions o = options("two_needles");
@@ -143,9 +146,9 @@ TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutAComm
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
   expectInOrder(r, {"NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
-                    "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
+                    fault("forbidden_region.lua", 6), "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
                     "needle > root.NeedleTeleoperation", "needle deployment > needle_teleoperated",
-                    "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
+                    fault("forbidden_region.lua", 8), "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
                     "needle deployment > needle_autonomous_primitives", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
   // Autonomous -> teleoperated -> autonomous with the needle in tissue: the commanded pose (the
@@ -158,7 +161,8 @@ TEST(PuncturingProcedure, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) 
   const RunResult r = runApp(withFaults("needle_trapped.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"Surgeon: e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
+  expectInOrder(r, {fault("needle_trapped.lua", 3), "Surgeon: e_cryo_done",
+                    "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
                     "NeedleMonitor: e_needle_trapped", "needle > root.ExtractingNeedle.WaitDefreezing",
                     "NeedleMonitor: e_needle_free", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
                     "needle > root.ExtractingNeedle.MoveToExtractionPoint",
@@ -173,8 +177,9 @@ TEST(PuncturingProcedure, TheUltrasoundLosingTheNeedlePausesTheInsertionUntilItI
   const RunResult r = runApp(withFaults("needle_lost.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", "USMonitor: e_needle_lost",
-                    "us > root.USPositioned.SearchingNeedle", "USMonitor: e_needle_visible",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", fault("needle_lost.lua", 5),
+                    fault("needle_lost.lua", 7), "USMonitor: e_needle_lost", "us > root.USPositioned.SearchingNeedle",
+                    fault("needle_lost.lua", 9), fault("needle_lost.lua", 11), "USMonitor: e_needle_visible",
                     "us > root.USPositioned.NeedleTracked", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
 }
@@ -185,9 +190,9 @@ TEST(PuncturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySucc
   const RunResult r = runApp(withFaults("planner_fails_once.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
-                    "needle > root.WaitReaction", "Surgeon: e_recover",
-                    "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", fault("planner_fails_once.lua", 5),
+                    "NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", fault("planner_fails_once.lua", 10),
+                    "Surgeon: e_recover", "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
                     "needle > root.InsertingNeedles.WaitNeedleMounted"});
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 1u);
 }
@@ -199,10 +204,11 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   EXPECT_FALSE(r.completed());
   ASSERT_EQ(r.outcome, Outcome::SafeStop) << "ended at " << r.duration << " s: " << r.reason;
   EXPECT_LT(r.duration, 60.0) << "s: the run ends at the safe stop, not at the time limit";
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
-                    "needle > root.WaitReaction", "Surgeon: e_recover",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", fault("planner_fails_again.lua", 4),
+                    "NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", "Surgeon: e_recover",
                     "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
                     "needle > root.SafeStop", "us > root.SafeStop"});
+  EXPECT_EQ(count(r, fault("planner_fails_again.lua", 4)), 1u);
   EXPECT_EQ(count(r, "needle safe stop"), 1u);
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 2u);
   EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.InsertingNeedles.MoveToNeedleChange: "
