@@ -38,6 +38,19 @@ TEST(Faults, AFaultTheTaskDoesNotRecoverFromEndsTheRunAsUnhandledNamingTheFault)
   EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "Detector: e_above_threshold"), 0);
 }
 
+TEST(Faults, AScenarioFoldersFaultsFileIsPlayedUnlessAnotherIsGiven) {
+  RunOptions o = options("after_high.lua");
+  o.faults_file.clear();
+  o.scenario = kApp / "gain_zero_scenario";
+  const RunResult from_scenario = runApp(o);
+  EXPECT_EQ(from_scenario.outcome, Outcome::UnhandledFault);
+  EXPECT_EQ(std::count(from_scenario.log.begin(), from_scenario.log.end(),
+                       "fault " + (kApp / "gain_zero_scenario" / "faults.lua").string() + ":3"),
+            1);
+  o.faults_file = kFaults / "after_high.lua";  // --faults wins over the scenario's
+  EXPECT_TRUE(runApp(o).completed());
+}
+
 TEST(Faults, StateAndEventTriggersFireOnceEachAfterTheirDelay) {
   const RunResult r = runApp(options("after_high.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
