@@ -416,9 +416,13 @@ void Session::playActions() {
     lua_rawgeti(L, LUA_REGISTRYINDEX, a.spec.lua_ref);
     lua_pushstring(L, a.spec.where.text().c_str());
     if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
-      const std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(no message)";
+      std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(no message)";
       lua_pop(L, 1);
-      throw std::runtime_error(a.spec.where.text() + ": " + a.spec.text + " failed at" + seconds(t_) + ": " + message);
+      // The bindings put their Lua caller's place first: the player's, not the user's file.
+      if (startsWith(message, "cobra run:")) message.erase(0, message.find(": ") + 2);
+      char when[32];
+      std::snprintf(when, sizeof when, "%.3f s", t_);
+      throw std::runtime_error(a.spec.where.text() + ": " + a.spec.text + " failed at " + when + ": " + message);
     }
   }
 }

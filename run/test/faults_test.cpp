@@ -69,11 +69,28 @@ TEST(Faults, StateAndEventTriggersFireOnceEachAfterTheirDelay) {
   EXPECT_LT(below, offset);
 }
 
+TEST(Faults, AWrittenPortAndACalledOperationActOnTheDeployment) {
+  const RunResult r = runApp(options("write_and_call.lua"));
+  ASSERT_TRUE(r.completed()) << r.reason;
+  // The spike made the detector fire at 50 ms, long before the sine itself reaches 0.9 (178 ms).
+  ASSERT_EQ(r.value("threshold crossings").times.size(), 1u);
+  EXPECT_NEAR(r.value("threshold crossings").times[0], 0.05, 0.0015);
+  EXPECT_LT(r.duration, 0.1);
+  EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "fault " + (kFaults / "write_and_call.lua").string() + ":5"), 1);
+}
+
+TEST(Faults, AnOperationThatFailsEndsTheRunWithTheFaultsLineAndTheError) {
+  const std::string message = messageOf([] { runApp(options("call_with_bad_args.lua")); });
+  EXPECT_EQ(message, (kFaults / "call_with_bad_args.lua").string() +
+                         ":3: call Recorder.clear failed at 0.010 s: component 'Recorder': operation 'void clear()' "
+                         "expects 0 argument(s), got 1");
+}
+
 TEST(Faults, AnUnknownComponentIsOneLineWithFileLineTheNameAndTheComponentsThereAre) {
   const std::string message = messageOf([] { runApp(options("unknown_component.lua")); });
   EXPECT_EQ(message, (kFaults / "unknown_component.lua").string() +
                          ":5: unknown component 'Gian' in set Gian.k; did you mean 'Gain'? known components: "
-                         "Sine, Gain, Detector, TaskSup");
+                         "Sine, Gain, Detector, Recorder, TaskSup");
 }
 
 TEST(Faults, AnUnknownOperationIsOneLineWithTheOperationsOfTheComponent) {

@@ -7,6 +7,7 @@ initConfigurator(packages_list, {
   { peer_name = "Sine", component_type = "SineGenerator" },
   { peer_name = "Gain", component_type = "Gain" },
   { peer_name = "Detector", component_type = "ThresholdDetector" },
+  { peer_name = "Recorder", component_type = "Recorder" },
   { peer_name = "TaskSup", component_type = "Supervisor" },
 }, "")
 getReferences()
@@ -20,14 +21,16 @@ setActivities({
   { peer_name = "Sine", period = 0.001 },
   { peer_name = "Gain", period = 0 },
   { peer_name = "Detector", period = 0 },
+  { peer_name = "Recorder", period = 0 },
   { peer_name = "TaskSup", period = 0.01 },
 })
 connectPorts({
   { output = "Sine.out", input = "Gain.in" },
   { output = "Gain.out", input = "Detector.in" },
+  { output = "Gain.out", input = "Recorder.in", conn_policy = { type = "buffer", size = 16 } },
   { output = "Detector.events", input = "TaskSup.inputEvents", conn_policy = { type = "buffer", size = 16 } },
 })
-local all = { "Sine", "Gain", "Detector", "TaskSup" }
+local all = { "Sine", "Gain", "Detector", "Recorder", "TaskSup" }
 configureComponents(all)
 startComponents(all)
 
