@@ -141,6 +141,16 @@ plot::Panel panel(const Recording& recording, std::string title, std::string x_l
   return p;
 }
 
+/// `panel` of one column with a dashed horizontal line at `limit` over the same times.
+plot::Panel panelWithLimit(const Recording& recording, std::string title, std::string y_label, const std::string& column,
+                           const std::string& label, double limit, const std::string& limit_label) {
+  plot::Panel p = panel(recording, std::move(title), "t [s]", std::move(y_label), {{column, label}});
+  if (p.series.empty()) return p;
+  const std::vector<double>& x = p.series.front().x;
+  p.series.push_back({limit_label, {x.front(), x.back()}, {limit, limit}, true});
+  return p;
+}
+
 std::string millimetres(double metres) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2f mm", 1000.0 * metres);
@@ -183,10 +193,10 @@ std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& re
     const std::string base = "tracking." + t.spec.name;
     out.push_back({"Tool tracking error, " + t.spec.name + " (commanded " + t.spec.commanded + ", measured " +
                        t.spec.measured + ")",
-                   {panel(recording, "position error (largest per record period)", "t [s]", "error [mm]",
-                          {{base + ".mm", t.spec.name}, {base + ".accept_mm", "acceptance"}}, true),
-                    panel(recording, "orientation error (largest per record period)", "t [s]", "error [deg]",
-                          {{base + ".deg", t.spec.name}, {base + ".accept_deg", "acceptance"}}, true)}});
+                   {panelWithLimit(recording, "position error (largest per record period)", "error [mm]", base + ".mm",
+                                   t.spec.name, t.spec.accept_mm, "acceptance"),
+                    panelWithLimit(recording, "orientation error (largest per record period)", "error [deg]",
+                                   base + ".deg", t.spec.name, t.spec.accept_deg, "acceptance")}});
   }
   if (clearance != nullptr) {
     std::vector<std::pair<std::string, std::string>> contacts;

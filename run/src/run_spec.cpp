@@ -1,6 +1,7 @@
 #include "cobra/run/run_spec.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -255,7 +256,9 @@ std::string Trigger::text() const {
     case Kind::State: return "state " + chart + ":" + state;
     case Kind::Time: break;
   }
-  return "time " + std::to_string(time) + " s";
+  char text[48];
+  std::snprintf(text, sizeof text, "time %.3f s", time);
+  return text;
 }
 
 RunSpec readRunSpec(lua_State* L, const std::string& file) {

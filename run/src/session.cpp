@@ -213,10 +213,6 @@ void Session::attachTracking() {
     tracker.deg_column = recording_.addDerived("tracking." + t.name + ".deg", "deg");
     trackers_.push_back(std::move(tracker));
   }
-  for (const Tracker& t : trackers_) {
-    accept_columns_.push_back(recording_.addDerived("tracking." + t.spec.name + ".accept_mm", "mm"));
-    accept_columns_.push_back(recording_.addDerived("tracking." + t.spec.name + ".accept_deg", "deg"));
-  }
 }
 
 void Session::attachClearance() {
@@ -409,7 +405,7 @@ void Session::playActions() {
     a.due = -1.0;
     ++a.fired;
     const std::string label = std::string(a.fault ? "fault " : "action ") + a.spec.where.text();
-    say("  " + label + ": " + a.spec.text);
+    say("  " + label + " (on " + a.spec.on.text() + "): " + a.spec.text);
     result_.log.push_back(label);
     lua_State* L = lua_.get();
     lua_getglobal(L, "cobra_run_play");
@@ -475,8 +471,6 @@ void Session::record() {
     const auto [mm, deg] = trackers_[i].monitor->takeWindowMaximum();
     recording_.set(trackers_[i].mm_column, mm);
     recording_.set(trackers_[i].deg_column, deg);
-    recording_.set(accept_columns_[2 * i], trackers_[i].spec.accept_mm);
-    recording_.set(accept_columns_[2 * i + 1], trackers_[i].spec.accept_deg);
   }
   if (clearance_) {
     recording_.set(clearance_->column, clearance_->last);

@@ -90,7 +90,6 @@ class Session {
   std::vector<std::pair<std::string, std::unique_ptr<core::InputPortBase>>> event_taps_;
   Recording recording_;
   std::vector<Tracker> trackers_;
-  std::vector<std::size_t> accept_columns_;  // per tracker: mm, deg
   std::unique_ptr<ClearanceObserver> clearance_;
   std::vector<SummaryObserver> summaries_;
   std::vector<std::string> scopes_, shown_deployment_;
