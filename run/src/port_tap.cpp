@@ -53,10 +53,13 @@ core::OutputPortBase& findOutput(const core::ComponentRegistry& registry, const 
     std::vector<std::string> outputs;
     for (const core::PortBase* each : c->ports())
       if (each->direction() == core::PortDirection::Output) outputs.push_back(each->name());
-    throw std::runtime_error(where + ": " + use + ": " +
-                             (p == nullptr ? "component '" + component + "' has no port '" + port + "'"
-                                           : "port " + path + " is an input port; observe output ports") +
-                             deploy::suggestionText(port, outputs, "output ports"));
+    if (p == nullptr)
+      throw std::runtime_error(where + ": " + use + ": component '" + component + "' has no port '" + port + "'" +
+                               deploy::suggestionText(port, outputs, "output ports"));
+    std::string list;
+    for (const std::string& name : outputs) list += (list.empty() ? "" : ", ") + name;
+    throw std::runtime_error(where + ": " + use + ": port " + path + " is an input port; observe an output port: " +
+                             list);
   }
   return *out;
 }
