@@ -65,6 +65,7 @@ struct Tracker {
   std::unique_ptr<Tap<KDL::Frame>> commanded, measured;
   std::unique_ptr<Tap<KDL::JntArray>> joints;
   std::unique_ptr<TrackingMonitor> monitor;
+  std::size_t limits = 0;  // joint velocity limits given
   std::size_t mm_column = 0, deg_column = 0;
 };
 

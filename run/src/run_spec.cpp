@@ -112,6 +112,26 @@ class Reader {
     return out;
   }
 
+  /// A list of positive numbers under `key`.
+  std::vector<double> numbers(const char* key) const {
+    std::vector<double> out;
+    lua_getfield(L_, -1, key);
+    const lua_Integer n = luaL_len(L_, -1);
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L_, -1, i);
+      const bool number = lua_isnumber(L_, -1) != 0;
+      const double value = number ? lua_tonumber(L_, -1) : 0.0;
+      lua_pop(L_, 1);
+      if (!number || !(value > 0.0) || !std::isfinite(value)) {
+        lua_pop(L_, 1);
+        fail("`" + std::string(key) + "` must be a list of positive numbers (entry " + std::to_string(i) + " is not)");
+      }
+      out.push_back(value);
+    }
+    lua_pop(L_, 1);
+    return out;
+  }
+
   /// Calls `each` with a Reader on every entry of the list under `key` (tables), their line
   /// found from the string `identify` returns for the entry.
   template <class F>
@@ -360,9 +380,17 @@ RunSpec readRunSpec(lua_State* L, const std::string& file) {
     tracking.commanded = t.string("commanded", true);
     tracking.measured = t.string("measured", true);
     tracking.joints = t.string("joints", false);
-    tracking.max_velocity = t.string("max_velocity", false);
-    if (!tracking.joints.empty() && tracking.max_velocity.empty())
-      t.fail("`joints` needs `max_velocity = \"Comp.property\"` (the joints' velocity limits, rad/s or m/s)");
+    lua_getfield(L, -1, "max_velocity");
+    const bool listed = lua_istable(L, -1);
+    lua_pop(L, 1);
+    if (listed) {
+      tracking.max_velocity_values = t.numbers("max_velocity");
+    } else {
+      tracking.max_velocity = t.string("max_velocity", false);
+    }
+    if (!tracking.joints.empty() && tracking.max_velocity.empty() && tracking.max_velocity_values.empty())
+      t.fail("`joints` needs `max_velocity = \"Comp.property\"` or { limits } (the joints' velocity limits, rad/s or "
+             "m/s)");
     tracking.chart = t.string("chart", false);
     tracking.accept_mm = t.number("accept_mm", tracking.accept_mm, true);
     tracking.accept_deg = t.number("accept_deg", tracking.accept_deg, true);

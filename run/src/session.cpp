@@ -194,9 +194,10 @@ void Session::attachTracking() {
     const std::string at = t.where.text(), use = "run.tracking '" + t.name + "'";
     tracker.commanded = std::make_unique<Tap<KDL::Frame>>(refs_, t.commanded, at, use, "KDL.Frame");
     tracker.measured = std::make_unique<Tap<KDL::Frame>>(refs_, t.measured, at, use, "KDL.Frame");
-    std::vector<double> limits;
-    if (!t.joints.empty()) {
+    std::vector<double> limits = t.max_velocity_values;
+    if (!t.joints.empty())
       tracker.joints = std::make_unique<Tap<KDL::JntArray>>(refs_, t.joints, at, use, "KDL.JntArray");
+    if (!t.joints.empty() && limits.empty()) {
       core::Component* owner = ownerOf(refs_, t.max_velocity, false);
       if (owner == nullptr)
         throw std::runtime_error(at + ": " + use + ": max_velocity '" + t.max_velocity +
@@ -208,6 +209,7 @@ void Session::attachTracking() {
     }
     if (!t.chart.empty() && chartOf(t.chart) == nullptr)
       throw std::runtime_error(at + ": " + use + ": unknown chart '" + t.chart + "'");
+    tracker.limits = limits.size();
     tracker.monitor = std::make_unique<TrackingMonitor>(t.name, limits, spec_.step);
     tracker.mm_column = recording_.addDerived("tracking." + t.name + ".mm", "mm");
     tracker.deg_column = recording_.addDerived("tracking." + t.name + ".deg", "deg");
@@ -429,6 +431,10 @@ void Session::observeFidelity() {
     KDL::JntArray q;
     if (!tr.commanded->read(commanded) || !tr.measured->read(measured)) continue;
     const bool have_q = tr.joints && tr.joints->read(q);
+    if (have_q && q.rows() != tr.limits)
+      throw std::runtime_error(tr.spec.where.text() + ": run.tracking '" + tr.spec.name + "': " + tr.spec.joints + " has " +
+                               std::to_string(q.rows()) + " joints but max_velocity gives " +
+                               std::to_string(tr.limits) + " limits");
     const auto& counting = tr.spec.counts_while;
     const bool counts = counting.empty() || std::find(counting.begin(), counting.end(),
                                                       configurator_.currentDeployment(tr.spec.scope)) != counting.end();

@@ -86,6 +86,20 @@ run = {
   EXPECT_EQ(spec.clearance.pauses[0].to, (std::vector<std::string>{"Out"}));
 }
 
+TEST(RunSpec, JointVelocityLimitsAreAPropertyOrTheLimitsThemselves) {
+  const RunSpec spec = read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                            "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q',\n"
+                            "                 max_velocity = { 3.14, 0.1 } } },\n}\n");
+  EXPECT_EQ(spec.tracking[0].max_velocity_values, (std::vector<double>{3.14, 0.1}));
+  EXPECT_TRUE(spec.tracking[0].max_velocity.empty());
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q',\n"
+                         "                 max_velocity = { 3.14, -1 } } },\n}\n");
+                  }),
+                  "run.tracking[1]: `max_velocity` must be a list of positive numbers (entry 2 is not)");
+}
+
 TEST(RunSpec, AnEntryFileWithoutARunTableSaysWhatTheRunnerNeeds) {
   EXPECT_EQ(messageOf([] { read("x = 1\n"); }),
             file() + ": no `run = { charts = { ... } }` table: the runner needs to know which task charts end the run "

@@ -93,7 +93,8 @@ struct TrackingSpec {
   std::string name;
   std::string commanded, measured;  ///< Frame ports
   std::string joints;               ///< JntArray port of the measured joints ("" = no joint check)
-  std::string max_velocity;         ///< "Comp.property" (vector, rad/s or m/s per joint)
+  std::string max_velocity;         ///< "Comp.property" (vector, rad/s or m/s per joint), or
+  std::vector<double> max_velocity_values;  ///< the limits themselves (rad/s or m/s per joint)
   std::string chart;                ///< whose state is kept with the worst figures
   std::string scope;                ///< samples count while this scope's deployment is one of:
   std::vector<std::string> counts_while;
