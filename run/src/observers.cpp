@@ -141,7 +141,7 @@ plot::Panel panel(const Recording& recording, std::string title, std::string x_l
   return p;
 }
 
-/// `panel` of one column with a dashed horizontal line at `limit` over the same times.
+// `panel` of one column with a dashed horizontal line at `limit` over the same times.
 plot::Panel panelWithLimit(const Recording& recording, std::string title, std::string y_label, const std::string& column,
                            const std::string& label, double limit, const std::string& limit_label) {
   plot::Panel p = panel(recording, std::move(title), "t [s]", std::move(y_label), {{column, label}});

@@ -11,7 +11,7 @@
 namespace cobra::run {
 namespace {
 
-/// The lines of `file` (to find where an entry is written: Lua keeps no line per table entry).
+// The lines of `file` (to find where an entry is written: Lua keeps no line per table entry).
 std::vector<std::string> linesOf(const std::string& file) {
   std::ifstream in(file);
   std::vector<std::string> lines;
@@ -19,7 +19,7 @@ std::vector<std::string> linesOf(const std::string& file) {
   return lines;
 }
 
-/// Reads one Lua table (at the top of the stack while it lives) with its path for messages.
+// Reads one Lua table (at the top of the stack while it lives) with its path for messages.
 class Reader {
  public:
   Reader(lua_State* L, const std::string& file, std::vector<std::string> lines, std::string path, int line)
@@ -32,7 +32,7 @@ class Reader {
     throw std::runtime_error(where().text() + ": " + path_ + ": " + what);
   }
 
-  /// The first line at or after this entry's that contains `text` (quoted), for its children.
+  // The first line at or after this entry's that contains `text` (quoted), for its children.
   int lineOf(const std::string& text) const {
     for (std::size_t i = static_cast<std::size_t>(std::max(line_ - 1, 0)); i < lines_.size(); ++i)
       if (lines_[i].find("\"" + text + "\"") != std::string::npos || lines_[i].find("'" + text + "'") != std::string::npos)
@@ -87,7 +87,7 @@ class Reader {
     return value;
   }
 
-  /// A list of strings (or a single string) under `key`.
+  // A list of strings (or a single string) under `key`.
   std::vector<std::string> strings(const char* key) const {
     std::vector<std::string> out;
     lua_getfield(L_, -1, key);
@@ -112,7 +112,7 @@ class Reader {
     return out;
   }
 
-  /// A list of positive numbers under `key`.
+  // A list of positive numbers under `key`.
   std::vector<double> numbers(const char* key) const {
     std::vector<double> out;
     lua_getfield(L_, -1, key);
@@ -132,8 +132,8 @@ class Reader {
     return out;
   }
 
-  /// Calls `each` with a Reader on every entry of the list under `key` (tables), their line
-  /// found from the string `identify` returns for the entry.
+  // Calls `each` with a Reader on every entry of the list under `key` (tables), their line
+  // found from the string `identify` returns for the entry.
   template <class F>
   void list(const char* key, F&& each, const char* identify = "name") const {
     lua_getfield(L_, -1, key);
@@ -159,7 +159,7 @@ class Reader {
     lua_pop(L_, 1);
   }
 
-  /// Calls `f` with a Reader on the table under `key` when there is one.
+  // Calls `f` with a Reader on the table under `key` when there is one.
   template <class F>
   bool table(const char* key, F&& f) const {
     lua_getfield(L_, -1, key);
@@ -189,7 +189,7 @@ class Reader {
   int line_;
 };
 
-/// "Comp.member" -> (Comp, member).
+// "Comp.member" -> (Comp, member).
 std::pair<std::string, std::string> split(const Reader& r, const std::string& path, const char* member) {
   const auto dot = path.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
@@ -197,7 +197,7 @@ std::pair<std::string, std::string> split(const Reader& r, const std::string& pa
   return {path.substr(0, dot), path.substr(dot + 1)};
 }
 
-/// "chart:state path" -> (chart, state).
+// "chart:state path" -> (chart, state).
 std::pair<std::string, std::string> chartState(const Reader& r, const std::string& text) {
   const auto colon = text.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == text.size())
@@ -226,7 +226,7 @@ Trigger readTrigger(const Reader& entry) {
   return t;
 }
 
-/// One action or fault entry; its table is kept in the registry for the runner to play.
+// One action or fault entry; its table is kept in the registry for the runner to play.
 ActionSpec readAction(Reader& entry, bool repeat_default) {
   ActionSpec a;
   a.on = readTrigger(entry);
@@ -262,7 +262,7 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
   return a;
 }
 
-/// The identifying string of an action entry, for its line.
+// The identifying string of an action entry, for its line.
 void placeAction(Reader& entry) {
   for (const char* key : {"call", "lua"})
     if (entry.has(key)) entry.setLine(entry.lineOf(entry.string(key, false)));

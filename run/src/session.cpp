@@ -16,7 +16,7 @@
 namespace cobra::run {
 namespace {
 
-/// Plays an action's Lua table (kept in the registry): call, write, set or deployer code.
+// Plays an action's Lua table (kept in the registry): call, write, set or deployer code.
 constexpr const char* kPlayer = R"lua(
 return function(f, where)
   local function member(path)
@@ -59,7 +59,7 @@ bool containsAny(const std::string& text, const std::vector<std::string>& any) {
 
 bool startsWith(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
 
-/// The component and member of "Comp.member" when the component has that operation (or property).
+// The component and member of "Comp.member" when the component has that operation (or property).
 core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string& path, bool operation) {
   const auto dot = path.find('.');
   if (dot == std::string::npos) return nullptr;
@@ -72,7 +72,7 @@ core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string&
 
 std::string memberOf(const std::string& path) { return path.substr(path.find('.') + 1); }
 
-/// Checks what an action names against the deployment: "file:line: unknown component ...".
+// Checks what an action names against the deployment: "file:line: unknown component ...".
 void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const std::vector<Chart>& charts) {
   const std::string at = a.where.text() + ": ";
   if (a.on.kind == Trigger::Kind::State &&

@@ -21,9 +21,9 @@ class Supervisor;
 
 namespace cobra::run {
 
-/// A chart of `run.charts`: on the lockstep clock its supervisor's active state, read between two
-/// instants; in real time its taskState port (the supervisor's thread writes it; the state before
-/// the runner connected shows once the chart changes state).
+// A chart of `run.charts`: on the lockstep clock its supervisor's active state, read between two
+// instants; in real time its taskState port (the supervisor's thread writes it; the state before
+// the runner connected shows once the chart changes state).
 struct Chart {
   const ChartSpec* spec = nullptr;
   const components::Supervisor* supervisor = nullptr;
@@ -32,7 +32,7 @@ struct Chart {
   std::string last_failure;            // "Source: event at t s"
 };
 
-/// An action or fault armed by its trigger.
+// An action or fault armed by its trigger.
 struct Armed {
   ActionSpec spec;
   bool fault = false;
@@ -42,9 +42,9 @@ struct Armed {
 
 class Session {
  public:
-  /// Loads the application and attaches everything. @throws as runApp.
+  // Loads the application and attaches everything. @throws as runApp.
   Session(const RunOptions& options, std::filesystem::path entry);
-  /// Steps until the run ends, then fills the result and writes the run folder.
+  // Steps until the run ends, then fills the result and writes the run folder.
   RunResult run();
 
  private:
@@ -65,7 +65,7 @@ class Session {
   void playActions();
   void observeFidelity();
   void record();
-  /// True when the run ends after this step (sets the outcome and reason).
+  // True when the run ends after this step (sets the outcome and reason).
   bool ended();
   void noteSafeStop(const Chart& chart);
   // After the run.
