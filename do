@@ -126,8 +126,9 @@ case "${1:-help}" in
   demo)
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
-      build release --target cobra-demo example_04_trajectory example_05_admittance cobra-door
-      ./build/release/apps/demo/cobra-demo
+      build release --target cobra example_04_trajectory example_05_admittance cobra-door
+      say "a signal deployment with a one-chart task, run by cobra run (apps/demo: files only)"
+      ./build/release/tools/cobra/cobra run apps/demo --report "$PWD/build/demo-basic-report"
       say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
       ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
       say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
@@ -136,9 +137,9 @@ case "${1:-help}" in
       ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
-      build release --target cobra-puncturing
-      say "the thesis' puncturing task (ch. 4) in simulation: two robots, two needles (apps/puncturing)"
-      ./build/release/apps/puncturing/cobra-puncturing --report "$PWD/build/puncturing-report"
+      build release --target cobra
+      say "the thesis' puncturing task (ch. 4) in simulation: two robots, two needles (cobra run apps/puncturing)"
+      ./build/release/tools/cobra/cobra run apps/puncturing --report "$PWD/build/demo-report"
     fi ;;
   bench)
     build release

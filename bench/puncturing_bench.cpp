@@ -8,7 +8,8 @@
 //    real-time loop the supervisors run beside;
 //  - world: the simulated robots, patient, monitors and the planners (for scale).
 //
-// The procedure is deterministic (seeded, lockstep), so the n-th supervisor step does the same
+// The procedure runs through the runner library (cobra::run: the app's files, as `cobra run`
+// runs them). It is deterministic (seeded, lockstep), so the n-th supervisor step does the same
 // work in every run. The benchmark runs it kRuns times and reports, besides the raw figures over
 // all runs (median, p99, p99.9, worst: what a loop on this machine sees, OS and hypervisor
 // preemptions included), the worst over steps of each step's fastest run (`*_code_worst_us`): the
@@ -29,7 +30,7 @@
 
 #include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/core/component.hpp"
-#include "cobra/puncturing/procedure.hpp"
+#include "cobra/run/runner.hpp"
 
 namespace {
 
@@ -128,8 +129,8 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
       kind->runs.back().us.reserve(1200000);  // no reallocation during the run
       kind->runs.back().component.reserve(1200000);
     }
-    cobra::puncturing::ProcedureOptions options;
-    options.deployment_file = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/puncturing.lua";
+    cobra::run::RunOptions options;  // what `cobra run apps/puncturing` runs, through the runner's API
+    options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
     options.scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/two_needles";
     options.step_observer = [&](const cobra::core::Component& c, std::chrono::nanoseconds wall, std::chrono::nanoseconds) {
       const double us = static_cast<double>(wall.count()) * 1e-3;
@@ -142,7 +143,7 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
         world.record(c, us);
       }
     };
-    completed = cobra::puncturing::runProcedure(options).completed && completed;
+    completed = cobra::run::runApp(options).completed() && completed;
   }
   if (!completed) state.SkipWithError("the procedure did not complete");
   report(state, supervisors, true);

@@ -1,7 +1,8 @@
 -- The puncturing task (thesis ch. 4) in simulation: the world (deployment/world.lua), the I-SUR
 -- robot's controller (deployment/needle_robot.lua) and the UR5's (deployment/probe_robot.lua),
--- coordinated only through events. Run it with `./do demo` (build/release/apps/puncturing/
--- cobra-puncturing), or browse it: cobra console apps/puncturing/puncturing.lua --sim.
+-- coordinated only through events. Run it with `cobra run apps/puncturing` (what `./do demo` does;
+-- the `run` table at the end says what ends the run and what to observe, run/README.md), or
+-- browse it: cobra console apps/puncturing/puncturing.lua --sim.
 -- `scenario` may be set before this file runs; default: scenarios/two_needles.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/two_needles")
@@ -25,3 +26,70 @@ connectPorts({
 })
 applyDeployment("needle_autonomous_planning")
 applyDeployment("probe_autonomous_planning")
+
+-- What `cobra run` needs from this application (run/README.md).
+-- The events the charts react to as failures (charts/*.lua): the last one is a safe stop's reason.
+local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_failed", "e_traj_failed", "e_no_data",
+                   "e_comm_timeout", "e_ik_discontinuity", "e_probe_contact_lost", "e_needle_goal_missed",
+                   "e_us_goal_missed", "e_us_needle_not_found" }
+local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
+run = {
+  title = "Puncturing procedure",
+  -- The task charts end the run: both done, or one in its safe stop (the other stops with it).
+  charts = {
+    { name = "needle", supervisor = "NeedleTaskSup", done = "root.Done", safe_stop = "root.SafeStop", scope = "needle" },
+    { name = "us", supervisor = "ProbeTaskSup", done = "root.Done", safe_stop = "root.SafeStop", scope = "probe",
+      sources = { "Probe", "UR5", "USMonitor" } },
+  },
+  -- A motion's internal steps are folded into the motion in the log and the timeline.
+  fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived", "Paused" },
+  failures = failures,
+  explain = { e_plan_failed = "lastPlanResult" },
+  safe_stop_reason = "the same failure again after the reaction to the first",
+  -- The cryoablation console: the freeze starts as the needle is placed (the Patient thaws by
+  -- itself after its freeze_duration).
+  actions = {
+    { on = { state = "needle:root.WaitCryoCycle" }, call = "Patient.startFreeze" },
+  },
+  record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",
+                                      "Patient.needleDepth", "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy",
+                                      "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance" } },
+  plots = {
+    { title = "Needle-tip force against depth", unit = "N", x = "Patient.needleDepth", x_unit = "m",
+      series = { "Patient.needleAxialForce" } },
+    { title = "Commanded and measured needle tip height", unit = "m",
+      series = { "NeedleAdmittance.admPose.z", "ISUR.measCartPose.z" } },
+    { title = "Energy tanks of the variable admittances", unit = "J",
+      series = { "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy" } },
+  },
+  summary = {
+    -- Where the tip was during the freeze: when the chart leaves WaitCryoCycle.
+    { name = "placement error per needle", unit = "mm", scale = 1000, say = true,
+      distance = { "ISUR.measCartPose", "NeedleFrames.needleTarget" }, on_leave = "needle:root.WaitCryoCycle",
+      of = "NeedleFrames.needleCount" },
+    { name = "faults detected", count = detected },
+    { name = "surgeon reactions", count = { "e_recover", "e_take_over" } },
+    { name = "IK discontinuity events", count = { "e_ik_discontinuity" } },
+  },
+  -- Issue 15: the robots do what they are told during their autonomous motions (the trajectory
+  -- generator commands them); commanded = the variable admittance's output, measured = the robot's.
+  tracking = {
+    { name = "I-SUR needle", commanded = "NeedleAdmittance.admPose", measured = "ISUR.measCartPose",
+      joints = "ISUR.measJointPosition", max_velocity = "ISUR.max_velocity", chart = "needle",
+      counts_while = { scope = "needle", deployments = { "needle_autonomous_planning", "needle_autonomous_primitives" } } },
+    { name = "UR5 probe", commanded = "ProbeAdmittance.admPose", measured = "UR5.measCartPose",
+      joints = "UR5.measJointPosition", max_velocity = "UR5.max_velocity", chart = "us",
+      counts_while = { scope = "probe", deployments = { "probe_autonomous_planning", "probe_autonomous_primitives" } } },
+  },
+  -- The measured state's clearance as the needle planner measures it (allowed contacts left out),
+  -- against its threshold. The planner's scene checks the needle against the phantom, so the
+  -- samples from the descent to the skin until the extraction has ended do not count.
+  clearance = {
+    port = "NeedlePlanner.minDistance", threshold = "NeedlePlanner.clearanceThreshold",
+    contacts = { { name = "probe on skin", port = "NeedlePlanner.allowedContactDistance" } },
+    pauses = { { name = "needle in tissue", chart = "needle",
+                 from = { "MoveToSkin.Descend", "PenetratingSkin", "MoveToTumor", "WaitCryoCycle", "ExtractingNeedle" },
+                 to = { "MoveToNeedleChange", "WaitNeedleRemoved", "WaitNeedleMounted", "MoveToSkin.Approach",
+                        "WaitUSPositioning", "WaitIceballConfig", "Done" } } },
+  },
+}

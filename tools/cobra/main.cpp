@@ -1,5 +1,6 @@
 // The `cobra` command-line tool: run, check and draw Lua deployment files; write components.
 //   cobra deploy FILE [--sim] [--run-for T] [--strict]
+//   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet]
 //   cobra lint FILE
 //   cobra graph FILE -o out.svg
 //   cobra describe FILE [-o out.lua]
@@ -26,6 +27,7 @@
 #include "describe.hpp"
 #include "fsm_command.hpp"
 #include "new_component.hpp"
+#include "run_command.hpp"
 
 #include <cstdlib>
 #include <iostream>
@@ -198,6 +200,22 @@ int main(int argc, char** argv) {
   deploy_cmd->add_flag("--strict", strict, "refuse connections that break the role rules instead of warning");
   deploy_cmd->footer("example: cobra deploy apps/examples/configurator_listing.lua --sim --run-for 1");
 
+  run::RunOptions run_options;
+  std::string run_app, run_scenario, run_report, run_faults;
+  bool run_quiet = false;
+  CLI::App* run_cmd = app.add_subcommand("run", "run an application until its task charts are done, with its report");
+  run_cmd->add_option("APP", run_app, "application folder (holding <folder name>.lua) or entry file")->required();
+  run_cmd->add_option("--scenario", run_scenario, "scenario folder, given to the entry file as `scenario` "
+                                                  "(its faults.lua is played when present)");
+  run_cmd->add_option("--time-limit", run_options.time_limit, "seconds after which the run stops unfinished (default 900)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--report", run_report, "folder for events.csv, signals.csv and report.html");
+  run_cmd->add_option("--faults", run_faults, "faults file (faults.lua: on an event, a state or a time, call, write or set)");
+  run_cmd->add_flag("--realtime", run_options.realtime, "threaded activities on the wall clock instead of the lockstep clock");
+  run_cmd->add_flag("--quiet", run_quiet, "print no state, switch or progress line");
+  run_cmd->footer("example: cobra run apps/puncturing --report build/demo-report\n"
+                  "exit status 0 when the task charts reach their done states; else 1 and one line saying why");
+
   std::string lint_file;
   CLI::App* lint_cmd = app.add_subcommand("lint", "check every connection of a deployment against the role rules");
   lint_cmd->add_option("FILE", lint_file, "Lua deployment file")->required()->check(CLI::ExistingFile);
@@ -267,6 +285,13 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   try {
     if (*deploy_cmd) return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict);
+    if (*run_cmd) {
+      run_options.app = run_app;
+      run_options.scenario = run_scenario;
+      run_options.report_folder = run_report;
+      run_options.faults_file = run_faults;
+      return tools::runApplication(run_options, run_quiet);
+    }
     if (*lint_cmd) return runLint(lint_file);
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);

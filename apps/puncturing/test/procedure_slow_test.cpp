@@ -14,10 +14,10 @@
 #include <sstream>
 #include <string>
 
-#include "cobra/puncturing/procedure.hpp"
+#include "cobra/run/runner.hpp"
 #include "procedure_expectations.hpp"
 
-namespace cobra::puncturing {
+namespace cobra::run {
 namespace {
 
 using namespace testing;
@@ -74,23 +74,19 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSays
   const Registration r = draw(GetParam());
   RecordProperty("registration", "dx " + std::to_string(r.dx) + " m, dy " + std::to_string(r.dy) + " m, dyaw " +
                                      std::to_string(r.dyaw) + " rad");
-  ProcedureOptions o = options(registered("two_needles", r));
-  const ProcedureResult result = runProcedure(o);
+  RunOptions o = options(registered("two_needles", r));
+  const RunResult result = runApp(o);
   SCOPED_TRACE("seed " + std::to_string(r.seed) + ": abdomen moved by (" + std::to_string(r.dx) + ", " +
                std::to_string(r.dy) + ") m, turned by " + std::to_string(r.dyaw) + " rad");
-  const std::string outcome = result.completed   ? std::string("completed")
-                              : result.safe_stop ? "safe stop at " + std::to_string(result.duration) + " s: " +
-                                                       result.stop_reason
-                                                 : std::string("neither completed nor stopped");
-  SCOPED_TRACE(outcome);
-  ASSERT_TRUE(result.completed || result.safe_stop) << "ran to the time limit (" << result.duration << " s)";
+  SCOPED_TRACE(std::string(toString(result.outcome)) + " at " + std::to_string(result.duration) + " s: " + result.reason);
+  ASSERT_TRUE(result.completed() || result.outcome == Outcome::SafeStop) << "ended otherwise (" << result.duration << " s)";
   EXPECT_LT(result.duration, o.time_limit);
-  if (result.completed) {
+  if (result.completed()) {
     expectPlaced(result, 2);
     expectFaithful(result);
   } else {
-    EXPECT_FALSE(result.stop_reason.empty());
-    RecordProperty("safe_stop", result.stop_reason);
+    EXPECT_FALSE(result.reason.empty());
+    RecordProperty("safe_stop", result.reason);
     // Stopped before anything went wrong: no swing, no contact on the way to the safe stop.
     expectTracked(result);
     expectClear(result);
@@ -101,4 +97,4 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSays
 INSTANTIATE_TEST_SUITE_P(FiveSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u));
 
 }  // namespace
-}  // namespace cobra::puncturing
+}  // namespace cobra::run

@@ -1,56 +1,54 @@
-// The puncturing task end to end in simulation (thesis ch. 4, procedure.hpp): puncturing.lua —
-// the simulated world, both robots' controllers with their three supervisors, three deployments
-// and three configurations each — run on the lockstep clock with the scripted surgeon, nominal
-// and with faults injected at task states. Each test is one procedure (about 100 s simulated).
-// Every scenario's nominal run also meets issue 15's fidelity (procedure_expectations.hpp).
+// The puncturing task end to end in simulation through the runner's API (cobra/run/runner.hpp,
+// what `cobra run apps/puncturing` does): puncturing.lua — the simulated world, both robots'
+// controllers with their three supervisors, three deployments and three configurations each —
+// run on the lockstep clock with the scripted surgeon, nominal and with the faults files of
+// test/faults/. Each test is one procedure (about 100 s simulated). Every scenario's nominal run
+// also meets issue 15's fidelity (procedure_expectations.hpp).
 
-#include "cobra/puncturing/procedure.hpp"
+#include "cobra/run/runner.hpp"
 
 #include <gtest/gtest.h>
 
 #include "procedure_expectations.hpp"
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/test_support/test_support.hpp"
 
-namespace cobra::puncturing {
+namespace cobra::run {
 namespace {
 
 using namespace testing;
-
-/// The two-needle surgeon, except that the first reaction of the needle chart is a take-over.
-std::filesystem::path takeOverSurgeon() {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cobra_puncturing_take_over.txt";
-  std::ofstream(file) << "at 1 e_iceball_configured\n"
-                         "on needle.WaitNeedleMounted e_needle_mounted after=5\n"
-                         "on needle.WaitNeedleRemoved e_needle_removed after=4\n"
-                         "on needle.WaitCryoCycle e_cryo_done after=20\n"
-                         "on needle.WaitReaction e_take_over after=2 times=1\n"
-                         "on needle.WaitReaction e_recover after=3\n"
-                         "on us.WaitReaction e_recover after=3\n"
-                         "on needle.NeedleTeleoperation e_teleop_done after=4\n";
-  return file;
-}
 
 std::string readFile(const std::filesystem::path& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+/// "fault FILE:LINE" of test/faults/`file`: the log's line when that fault was played.
+std::string fault(const std::string& file, int line) { return "fault " + (kFaults / file).string() + ":" + std::to_string(line); }
+
+/// The two-needle procedure with the faults file `faults` of test/faults/.
+RunOptions withFaults(const std::string& faults) {
+  RunOptions o = options("two_needles");
+  o.faults_file = kFaults / faults;
+  return o;
+}
+
 TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesAToH) {
-  ProcedureOptions o = options("two_needles");
+  RunOptions o = options("two_needles");
   o.report_folder = std::filesystem::temp_directory_path() / "cobra_puncturing_nominal";
   std::filesystem::remove_all(o.report_folder);
-  const ProcedureResult r = runProcedure(o);
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
   // The run folder: the event log, the recorded signals and the HTML report with its summary.
   EXPECT_EQ(r.report, o.report_folder / "report.html");
@@ -58,7 +56,7 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_EQ(events.rfind("time [s],source,event,state\n", 0), 0u);
   EXPECT_CONTAINS(events, ",NeedleMonitor,e_target_reached");
   const std::string signals = readFile(o.report_folder / "signals.csv");
-  EXPECT_EQ(signals.rfind("time [s],tip x [m]", 0), 0u);
+  EXPECT_EQ(signals.rfind("time [s],ISUR.measCartPose.x [m],ISUR.measCartPose.y [m],ISUR.measCartPose.z [m]", 0), 0u);
   EXPECT_GT(std::count(signals.begin(), signals.end(), '\n'), 10000);  // every 10 ms for > 100 s
   const std::string html = readFile(r.report);
   EXPECT_CONTAINS(html, "2 of 2");
@@ -67,12 +65,15 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_CONTAINS(html, "Tool tracking error, I-SUR needle");
   EXPECT_CONTAINS(html, "Tool tracking error, UR5 probe");
   EXPECT_CONTAINS(html, "error [deg]");
-  EXPECT_CONTAINS(html, "planner threshold");
-  EXPECT_CONTAINS(html, "needle in tissue");
-  EXPECT_CONTAINS(html, "worst tracking, I-SUR needle (autonomous)");
+  EXPECT_CONTAINS(html, "clearance threshold");
+  EXPECT_CONTAINS(html, "needle in tissue (not counted while allowed)");
+  EXPECT_CONTAINS(html, "worst tracking, I-SUR needle (while the needle deployment is needle_autonomous_planning or "
+                        "needle_autonomous_primitives)");
   EXPECT_CONTAINS(html, "worst clearance (threshold 5.00 mm, allowed contacts apart)");
-  EXPECT_CONTAINS(signals, "needle tracking [mm],needle tracking [deg],probe tracking [mm],probe tracking [deg],"
-                           "clearance [m],clearance threshold [m],needle contact distance [m],probe contact distance [m]\n");
+  EXPECT_CONTAINS(html, "Energy tanks of the variable admittances");
+  EXPECT_CONTAINS(signals, ",tracking.I-SUR needle.mm [mm],tracking.I-SUR needle.deg [deg],tracking.UR5 probe.mm [mm],"
+                           "tracking.UR5 probe.deg [deg],");
+  EXPECT_CONTAINS(signals, ",contact.probe on skin [m],clearance [m],clearance.threshold [m]\n");
   expectInOrder(r, {
       // A: both robots at their initial poses; the surgeon configures the iceballs.
       "needle > root.WaitIceballConfig", "us > root.Idle", "Surgeon: e_iceball_configured",
@@ -104,14 +105,14 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
   EXPECT_EQ(count(r, "us > root.WaitReaction"), 0u);
   EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 2u);
-  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+  expectNoCommandJump(r);
   expectFaithful(r);
 }
 
 // The second scenario: three needles, a larger tumour off the midline, the abdomen turned 0.3 rad.
 TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletesWithEveryNeedlePlaced) {
-  const ProcedureResult r = runProcedure(options("three_needles"));
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  const RunResult r = runApp(options("three_needles"));
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 3);
   EXPECT_EQ(count(r, "NeedleMonitor: e_target_reached"), 3u);
   EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
@@ -119,7 +120,7 @@ TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletesWithEveryNeedlePlaced) 
   expectInOrder(r, {"needle > root.WaitCryoCycle", "needle > root.InsertingNeedles.WaitNeedleRemoved",
                     "needle > root.WaitCryoCycle", "needle > root.InsertingNeedles.WaitNeedleRemoved",
                     "needle > root.WaitCryoCycle", "needle > root.Done", "us > root.Done"});
-  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+  expectNoCommandJump(r);
   expectFaithful(r);
 }
 
@@ -128,8 +129,8 @@ TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletesWithEveryNeedlePlaced) 
 TEST(PuncturingProcedure, TheVerticalNeedleScenarioCompletesFaithfully) {
   const std::filesystem::path scenario = kApp / "scenarios" / "vertical_needle";
   if (!std::filesystem::exists(scenario / "cryo_plan.txt")) GTEST_SKIP() << scenario << " does not exist yet";
-  const ProcedureResult r = runProcedure(options(scenario));
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s; " << r.stop_reason;
+  const RunResult r = runApp(options(scenario));
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, plannedNeedles(scenario));
   EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
   EXPECT_EQ(count(r, "us > root.WaitReaction"), 0u);
@@ -137,33 +138,31 @@ TEST(PuncturingProcedure, TheVerticalNeedleScenarioCompletesFaithfully) {
 }
 
 TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutACommandJumpThenTheInsertionResumes) {
-  ProcedureOptions o = options("two_needles");
-  o.surgeon_file = takeOverSurgeon();
   // The monitor's margin grows to 10 cm in MoveToTumor (the tip "near" the rib), and is back to
-  // 1 mm once the surgeon has the needle.
-  o.injections = {{"needle", "MoveToTumor", 0.5, "NeedleMonitor.forbidden_margin = 0.1"},
-                  {"needle", "NeedleTeleoperation", 0.1, "NeedleMonitor.forbidden_margin = 0.001"}};
-  const ProcedureResult r = runProcedure(o);
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  // 1 mm once the surgeon has the needle; the surgeon's first reaction is a take-over.
+  RunOptions o = withFaults("forbidden_region.lua");
+  o.before_lua = "surgeon_file = [[" + (kFaults / "take_over_surgeon.txt").string() + "]]";
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
   expectInOrder(r, {"NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
-                    "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
+                    fault("forbidden_region.lua", 6), "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
                     "needle > root.NeedleTeleoperation", "needle deployment > needle_teleoperated",
-                    "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
+                    fault("forbidden_region.lua", 8), "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
                     "needle deployment > needle_autonomous_primitives", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
   // Autonomous -> teleoperated -> autonomous with the needle in tissue: the commanded pose (the
   // admittance's output) never jumps between two 1 ms steps.
-  EXPECT_LT(r.max_command_step, 1e-3) << "at " << r.max_command_step_at << " s";
+  expectNoCommandJump(r);
 }
 
 TEST(PuncturingProcedure, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
-  ProcedureOptions o = options("two_needles");
-  o.extra_lua = "Patient.freeze_duration = 15";  // s: still frozen when the surgeon says the cycle is done
-  const ProcedureResult r = runProcedure(o);
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  // The freeze lasts 15 s: still frozen when the surgeon says the cycle is done.
+  const RunResult r = runApp(withFaults("needle_trapped.lua"));
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"Surgeon: e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
+  expectInOrder(r, {fault("needle_trapped.lua", 3), "Surgeon: e_cryo_done",
+                    "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
                     "NeedleMonitor: e_needle_trapped", "needle > root.ExtractingNeedle.WaitDefreezing",
                     "NeedleMonitor: e_needle_free", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
                     "needle > root.ExtractingNeedle.MoveToExtractionPoint",
@@ -173,41 +172,27 @@ TEST(PuncturingProcedure, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) 
 }
 
 TEST(PuncturingProcedure, TheUltrasoundLosingTheNeedlePausesTheInsertionUntilItIsTrackedAgain) {
-  ProcedureOptions o = options("two_needles");
   // The image processing loses the needle 0.3 s after the probe tracks it, and sees it again 1 s
   // after the insertion paused.
-  o.injections = {{"us", "NeedleTracked", 0.3, "USMonitor.visible_distance = -1 USMonitor.lost_distance = -1"},
-                  {"needle", "MoveToTumor.Paused", 1.0,
-                   "USMonitor.visible_distance = 0.002 USMonitor.lost_distance = 0.003"}};
-  const ProcedureResult r = runProcedure(o);
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  const RunResult r = runApp(withFaults("needle_lost.lua"));
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", "USMonitor: e_needle_lost",
-                    "us > root.USPositioned.SearchingNeedle", "USMonitor: e_needle_visible",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", fault("needle_lost.lua", 5),
+                    fault("needle_lost.lua", 7), "USMonitor: e_needle_lost", "us > root.USPositioned.SearchingNeedle",
+                    fault("needle_lost.lua", 9), fault("needle_lost.lua", 11), "USMonitor: e_needle_visible",
                     "us > root.USPositioned.NeedleTracked", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
 }
 
 TEST(PuncturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySucceeds) {
-  ProcedureOptions o = options("two_needles");
-  const std::string reconfigure =
-      "stopComponents({'NeedlePlanner'}) cleanupComponents({'NeedlePlanner'}) "
-      "NeedlePlanner.min_collision_distance = %s "
-      "configureComponents({'NeedlePlanner'}) startComponents({'NeedlePlanner'})";
-  auto with = [&](const std::string& value) {
-    std::string lua = reconfigure;
-    lua.replace(lua.find("%s"), 2, value);
-    return lua;
-  };
-  // 0.5 m of required clearance: every state is "too close"; restored in WaitReaction.
-  o.injections = {{"needle", "MoveToNeedleChange", 0.0, "saved_distance = NeedlePlanner.min_collision_distance " + with("0.5")},
-                  {"needle", "WaitReaction", 0.5, with("saved_distance")}};
-  const ProcedureResult r = runProcedure(o);
-  ASSERT_TRUE(r.completed) << "stopped at " << r.duration << " s";
+  // 0.5 m of required clearance from MoveToNeedleChange on: every state is "too close"; restored
+  // in WaitReaction.
+  const RunResult r = runApp(withFaults("planner_fails_once.lua"));
+  ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
-                    "needle > root.WaitReaction", "Surgeon: e_recover",
-                    "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", fault("planner_fails_once.lua", 5),
+                    "NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", fault("planner_fails_once.lua", 10),
+                    "Surgeon: e_recover", "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_done",
                     "needle > root.InsertingNeedles.WaitNeedleMounted"});
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 1u);
 }
@@ -215,37 +200,33 @@ TEST(PuncturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySucc
 // A goal the planner cannot reach (every state "too close" from MoveToNeedleChange on): the
 // reaction's retry fails the same way, so both charts end in their safe stop, at once, saying why.
 TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSafeStopWithTheReason) {
-  ProcedureOptions o = options("two_needles");
-  o.injections = {{"needle", "MoveToNeedleChange", 0.0,
-                   "stopComponents({'NeedlePlanner'}) cleanupComponents({'NeedlePlanner'}) "
-                   "NeedlePlanner.min_collision_distance = 0.5 "
-                   "configureComponents({'NeedlePlanner'}) startComponents({'NeedlePlanner'})"}};
-  const ProcedureResult r = runProcedure(o);
-  EXPECT_FALSE(r.completed);
-  ASSERT_TRUE(r.safe_stop) << "ended at " << r.duration << " s";
+  const RunResult r = runApp(withFaults("planner_fails_again.lua"));
+  EXPECT_FALSE(r.completed());
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << "ended at " << r.duration << " s: " << r.reason;
   EXPECT_LT(r.duration, 60.0) << "s: the run ends at the safe stop, not at the time limit";
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
-                    "needle > root.WaitReaction", "Surgeon: e_recover",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToNeedleChange", fault("planner_fails_again.lua", 4),
+                    "NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", "Surgeon: e_recover",
                     "needle > root.InsertingNeedles.MoveToNeedleChange", "NeedlePlanner: e_plan_failed",
                     "needle > root.SafeStop", "us > root.SafeStop"});
+  EXPECT_EQ(count(r, fault("planner_fails_again.lua", 4)), 1u);
   EXPECT_EQ(count(r, "needle safe stop"), 1u);
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 2u);
-  EXPECT_CONTAINS(r.stop_reason, "needle chart stopped safely in root.InsertingNeedles.MoveToNeedleChange: "
-                                 "NeedlePlanner: e_plan_failed at");
-  EXPECT_CONTAINS(r.stop_reason, "the same failure again after the reaction to the first; planner: ");
-  EXPECT_CONTAINS(r.stop_reason, "too close");
+  EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.InsertingNeedles.MoveToNeedleChange: "
+                            "NeedlePlanner: e_plan_failed at");
+  EXPECT_CONTAINS(r.reason, "the same failure again after the reaction to the first; NeedlePlanner.lastPlanResult(): ");
+  EXPECT_CONTAINS(r.reason, "too close");
   // Stopped where they were: nothing swung on the way to the stop or after it (the needle robot
   // had no command yet: its first motion is the one that could not be planned).
   expectTracked(r);
   expectClear(r);
-  EXPECT_GT(r.fidelity.probe.seconds_sampled, 5.0);
+  EXPECT_GT(r.tracking[kProbe].seconds_sampled, 5.0);
 }
 
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
   deploy::ConfiguratorOptions strict;
   strict.strict_roles = true;  // the connections made at load are refused if they break a rule
   deploy::Configurator configurator(strict);
-  addPuncturingPackages(configurator);
+  components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.run("scenario = [[" + (kApp / "scenarios" / "two_needles").string() + "]]", "=scenario");
@@ -261,4 +242,4 @@ TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) 
 }
 
 }  // namespace
-}  // namespace cobra::puncturing
+}  // namespace cobra::run

@@ -9,7 +9,8 @@
 namespace cobra::components {
 
 /// Makes cobra_signal, cobra_motion, cobra_coordination, cobra_control, cobra_planning,
-/// cobra_bridges, cobra_drivers, cobra_sim and cobra_monitoring loadable by `packages`.
+/// cobra_bridges, cobra_drivers, cobra_sim, cobra_monitoring and the puncturing task's
+/// cobra_puncturing (apps/puncturing/components) loadable by `packages`.
 /// @throws core::Error when one of these names is already known to `packages`.
 void addBuiltinPackages(deploy::PackageRegistry& packages);
 

@@ -1,0 +1,150 @@
+#pragma once
+/// @file
+/// What an application declares for the runner: the `run = { ... }` table of its entry file and
+/// the entries of a faults file, read from Lua into plain structs (format: run/README.md). Every
+/// entry keeps the file:line it was written at, so that the runner's errors name it. Names of
+/// components, ports and states are checked by the runner against the deployment, not here.
+
+#include <map>
+#include <string>
+#include <vector>
+
+struct lua_State;
+
+namespace cobra::run {
+
+/// Where an entry is written: "file:line".
+struct Where {
+  std::string file;
+  int line = 0;
+  std::string text() const { return file + ":" + std::to_string(line); }
+};
+
+/// A task chart whose states end the run: the Supervisor `supervisor` runs it.
+struct ChartSpec {
+  std::string name;        ///< short name used in logs, triggers and tracking ("needle")
+  std::string supervisor;  ///< component name of its Supervisor
+  std::string done;        ///< state path that completes the chart
+  std::string safe_stop;   ///< state path of its safe stop ("" when none)
+  std::string scope;       ///< deployment scope whose switches are logged ("" = the default scope)
+  std::vector<std::string> sources;  ///< event sources (name prefixes) whose events this chart receives
+  Where where;
+};
+
+/// When an action or fault fires: an event (from `source` when given), a chart entering a state
+/// whose path starts with `state`, or a time [s].
+struct Trigger {
+  enum class Kind { Event, State, Time } kind = Kind::Time;
+  std::string event, source;  ///< Event
+  std::string chart, state;   ///< State ("needle:root.WaitCryoCycle")
+  double time = 0.0;          ///< Time [s]
+  std::string text() const;
+};
+
+/// One action of `run.actions` or one fault of a faults file: `after` s after its trigger, call
+/// an operation, write a port, set a property or run deployer Lua; once unless `repeat`.
+struct ActionSpec {
+  Trigger on;
+  double after = 0.0;  ///< s
+  bool repeat = false;
+  enum class Kind { Call, Write, Set, Lua } kind = Kind::Call;
+  std::string component;  ///< Call/Write/Set
+  std::string member;     ///< operation, port or property
+  std::string text;       ///< "call Patient.startFreeze", for logs
+  int lua_ref = -1;       ///< the entry's table in the Lua registry (value, args, code)
+  Where where;
+};
+
+/// A port recorded every `period`: "Comp.port".
+struct RecordSpec {
+  double period = 0.01;  ///< s
+  std::vector<std::pair<std::string, Where>> ports;
+};
+
+/// A figure of the report: series are recorded columns ("Comp.port" for a scalar,
+/// "Comp.port.z" for a field, "tracking.NAME.mm", ...), against time or against column `x`.
+struct PlotSpec {
+  std::string title;
+  std::string unit;    ///< of the series (axis label)
+  std::string x;       ///< column of the x axis; "" = time
+  std::string x_unit;  ///< of x
+  std::vector<std::string> series;
+  Where where;
+};
+
+/// A summary value: the distance between two Frame ports' positions, or a double port, sampled
+/// when a chart enters/leaves a state; or the number of events of some names.
+struct SummarySpec {
+  std::string name;
+  std::string unit;
+  double scale = 1.0;  ///< value = scale * port value (1000: m -> mm)
+  enum class Kind { Distance, Port, Count } kind = Kind::Count;
+  std::vector<std::string> ports;   ///< Distance: two Frame ports; Port: one double port
+  std::vector<std::string> events;  ///< Count
+  std::string chart, state;         ///< when: the chart enters (`leave` false) or leaves a state
+  bool leave = false;
+  std::string of;  ///< "Comp.operation" returning how many samples are expected (int): "2 of 2"
+  bool say = false;  ///< print each sample as a progress line
+  Where where;
+};
+
+/// One tool whose commanded and measured poses are compared (TrackingMonitor).
+struct TrackingSpec {
+  std::string name;
+  std::string commanded, measured;  ///< Frame ports
+  std::string joints;               ///< JntArray port of the measured joints ("" = no joint check)
+  std::string max_velocity;         ///< "Comp.property" (vector, rad/s or m/s per joint), or
+  std::vector<double> max_velocity_values;  ///< the limits themselves (rad/s or m/s per joint)
+  std::string chart;                ///< whose state is kept with the worst figures
+  std::string scope;                ///< samples count while this scope's deployment is one of:
+  std::vector<std::string> counts_while;
+  double accept_mm = kAcceptMm, accept_deg = kAcceptDeg;  ///< the acceptance lines of the plots
+  Where where;
+  static constexpr double kAcceptMm = 2.0, kAcceptDeg = 1.0;
+};
+
+/// A span during which clearance samples do not count (e.g. the needle in tissue: the port's
+/// component measures that contact as a collision): from a state containing one of `from` until
+/// one containing one of `to`.
+struct ClearancePause {
+  std::string name, chart;
+  std::vector<std::string> from, to;
+};
+
+struct ClearanceSpec {
+  bool declared = false;
+  std::string port;                 ///< double port, m (NaN: state not measurable)
+  double threshold = 0.0;           ///< m, when given as a number
+  std::string threshold_operation;  ///< "Comp.operation" returning it, when given as a name
+  std::vector<std::pair<std::string, std::string>> contacts;  ///< name, double port [m]
+  std::vector<ClearancePause> pauses;
+  Where where;
+};
+
+/// The whole `run` table.
+struct RunSpec {
+  std::string title;
+  std::vector<ChartSpec> charts;
+  std::vector<std::string> fold;  ///< leaf state names folded into their parent in the log
+  std::vector<std::string> failures;  ///< events whose last one is a safe stop's reason
+  std::map<std::string, std::string> explain;  ///< failure event -> operation of its source giving why
+  std::string safe_stop_reason;  ///< text added to a safe stop's reason
+  double safe_stop_linger = 2.0;  ///< s the run goes on after a safe stop (the other charts stop too)
+  double step = 0.001;  ///< s: the runner's observation period
+  std::vector<ActionSpec> actions;
+  RecordSpec record;
+  std::vector<PlotSpec> plots;
+  std::vector<SummarySpec> summary;
+  std::vector<TrackingSpec> tracking;
+  ClearanceSpec clearance;
+};
+
+/// Reads the global `run` of `L` (written in `file`, whose text gives the entries' lines).
+/// @throws std::runtime_error "file:line: run.<path>: what was expected".
+RunSpec readRunSpec(lua_State* L, const std::string& file);
+
+/// Runs the faults file `file` in `L` (it returns a list of entries, ActionSpec's format) and
+/// reads it. @throws std::runtime_error "file:line: ..." for a Lua error or a bad entry.
+std::vector<ActionSpec> readFaults(lua_State* L, const std::string& file);
+
+}  // namespace cobra::run

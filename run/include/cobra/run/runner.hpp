@@ -1,0 +1,119 @@
+#pragma once
+/// @file
+/// The generic application runner behind `cobra run APP`: loads an application's entry file (its
+/// deployment, with the `run = { ... }` table that says what ends the run and what to observe,
+/// run/README.md), plays its declared actions and a faults file, steps the clock until the task
+/// charts reach their final states, and writes the run folder (events.csv, signals.csv,
+/// report.html). It knows no application: every name it uses comes from the application's files.
+
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/report/run_report.hpp"
+#include "cobra/run/tracking.hpp"
+
+namespace cobra::deploy {
+class PackageRegistry;
+}
+
+namespace cobra::run {
+
+struct RunOptions {
+  /// The application: an entry file, or a folder holding `<folder name>.lua`.
+  std::filesystem::path app;
+  /// Scenario folder, given to the entry file as the global `scenario` before it runs; empty:
+  /// the application's default. A `faults.lua` in it is played unless `faults_file` is given.
+  std::filesystem::path scenario;
+  /// Time after which the run stops unfinished [s] (simulated on the lockstep clock).
+  double time_limit = 900.0;
+  /// Where to write the run folder; empty: no report.
+  std::filesystem::path report_folder;
+  /// A faults file (run/README.md: faults.lua); empty: the scenario's faults.lua when present.
+  std::filesystem::path faults_file;
+  /// Real time (threaded activities, wall clock) instead of the lockstep simulation clock.
+  bool realtime = false;
+  /// Called with one line per task state change, per switch, per fault and every
+  /// `progress_every` s of run time (nullptr: quiet).
+  std::function<void(const std::string&)> progress;
+  double progress_every = 10.0;  ///< s
+  /// Lua run before the entry file (after `scenario` is set), e.g. a test's surgeon script.
+  std::string before_lua;
+  /// Lua run after the entry file (a property to change for a test).
+  std::string extra_lua;
+  /// Called after every component step with its wall-clock duration (lockstep clock only).
+  core::LockstepClock::StepObserver step_observer;
+  /// Registers packages beside cobra's built-in ones (components::addBuiltinPackages).
+  std::function<void(deploy::PackageRegistry&)> add_packages;
+};
+
+enum class Outcome {
+  Completed,       ///< every task chart reached its done state
+  TimeLimit,       ///< the time limit came first
+  ComponentError,  ///< a component went to Exception or FatalError
+  UnhandledFault,  ///< a fault was injected and the task did not complete before the time limit
+  SafeStop,        ///< a task chart entered its safe-stop state
+};
+const char* toString(Outcome outcome);
+
+/// A summary value of `run.summary` sampled during the run (e.g. one placement error per needle).
+struct SummaryValue {
+  std::string name;
+  std::string unit;
+  std::vector<double> values;  ///< in `unit`, one per sample
+  std::vector<double> times;   ///< s
+  std::string text;            ///< as the report shows it
+};
+
+/// The clearance of `run.clearance` over the run (its port read every step it is written).
+struct ClearanceFigures {
+  double threshold = 0.0;  ///< m
+  /// m: the smallest clearance over the samples that count; +inf before any.
+  double worst = std::numeric_limits<double>::infinity();
+  double worst_at = 0.0;       ///< s
+  std::string worst_state;     ///< every chart's state then
+  double seconds_below = 0.0;  ///< s of samples at or under the threshold
+  double seconds_sampled = 0.0;
+  int unreachable = 0;  ///< NaN samples (the port's component could not measure the state)
+  /// Per declared contact: its name and smallest distance [m] (0: touching or inside).
+  std::vector<std::pair<std::string, double>> contacts;
+};
+
+struct RunResult {
+  Outcome outcome = Outcome::TimeLimit;
+  std::string reason;  ///< one line: why the run ended (empty when completed)
+  double duration = 0.0;  ///< s
+  std::vector<report::EventRecord> events;
+  /// What happened, in order, one line each: task states ("needle > root.WaitCryoCycle", a
+  /// chart's folded leaves left out), switches ("needle deployment > NAME", "configuration > NAME"),
+  /// every component's events ("NeedleMonitor: e_skin_touched"), safe stops ("needle safe stop")
+  /// and faults ("fault faults.lua:3").
+  std::vector<std::string> log;
+  /// Every state (full path) each chart entered, in order of first entry, by chart name.
+  std::map<std::string, std::vector<std::string>> states_entered;
+  std::vector<std::string> switches;  ///< "  12.345 s needle deployment NAME"
+  std::vector<SummaryValue> summary;
+  std::vector<TrackingFigures> tracking;  ///< one per run.tracking entry, in order
+  ClearanceFigures clearance;             ///< when run.clearance is declared
+  std::filesystem::path report;           ///< report.html, when a report folder was given
+
+  bool completed() const { return outcome == Outcome::Completed; }
+  /// The summary value called `name`. @throws std::out_of_range naming it.
+  const SummaryValue& value(const std::string& name) const;
+};
+
+/// The entry file of `app`: `app` itself when it is a file, `app/<folder name>.lua` for a folder.
+/// @throws std::runtime_error "apps/x: no entry file apps/x/x.lua (an application folder holds
+///         <name>.lua)", or "apps/x: no such file or folder".
+std::filesystem::path entryFile(const std::filesystem::path& app);
+
+/// Loads, runs and reports one run.
+/// @throws std::runtime_error (or core::Error) naming file:line for bad files: the deployment's
+///         errors, a bad `run` table, a bad faults file.
+RunResult runApp(const RunOptions& options);
+
+}  // namespace cobra::run

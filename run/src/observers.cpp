@@ -1,0 +1,256 @@
+#include "observers.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace cobra::run {
+
+std::string seconds(double t) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%8.3f s", t);
+  return buffer;
+}
+
+void Recording::addPort(const core::ComponentRegistry& registry, const std::string& path, const std::string& where,
+                        const std::string& use) {
+  for (const Port& p : ports_)
+    if (p.tap->path() == path) return;
+  ports_.push_back({std::make_unique<NumericTap>(registry, path, where, use), {}, 0});
+}
+
+std::size_t Recording::addDerived(const std::string& name, const std::string& unit) {
+  derived_.emplace_back(name, unit);
+  derived_now_.push_back(std::numeric_limits<double>::quiet_NaN());
+  return derived_.size() - 1;
+}
+
+void Recording::sample(double t) {
+  times_.push_back(t);
+  for (Port& p : ports_) {
+    p.tap->read(scratch_);
+    p.width = std::max(p.width, scratch_.size());
+    p.rows.push_back(scratch_);
+  }
+  derived_rows_.push_back(derived_now_);
+  std::fill(derived_now_.begin(), derived_now_.end(), std::numeric_limits<double>::quiet_NaN());
+}
+
+std::vector<std::string> Recording::columnNames() const {
+  std::vector<std::string> names;
+  for (const Port& p : ports_)
+    for (const std::string& field : p.tap->fields(p.width))
+      names.push_back(field.empty() ? p.tap->path() : p.tap->path() + (field[0] == '[' ? "" : ".") + field);
+  for (const auto& [name, unit] : derived_) names.push_back(name);
+  return names;
+}
+
+bool Recording::knows(const std::string& name, std::vector<std::string>& fields) const {
+  fields.clear();
+  for (const auto& [derived, unit] : derived_)
+    if (derived == name) return true;
+  for (const Port& p : ports_) {
+    const std::string& path = p.tap->path();
+    if (name.rfind(path, 0) != 0) continue;
+    const std::string rest = name.substr(path.size());
+    const std::vector<std::string> known = p.tap->fields(0);
+    if (rest.empty()) {
+      if (known.size() == 1 && known[0].empty()) return true;
+      fields = known.empty() ? std::vector<std::string>{"[0]", "[1]", "..."} : known;
+      return false;
+    }
+    if (rest[0] == '[') return known.empty() && rest.back() == ']';
+    if (rest[0] == '.') return std::find(known.begin(), known.end(), rest.substr(1)) != known.end();
+  }
+  return false;
+}
+
+std::string Recording::unitOf(const std::string& name) const {
+  for (const auto& [derived, unit] : derived_)
+    if (derived == name) return unit;
+  for (const Port& p : ports_)
+    if (name.rfind(p.tap->path(), 0) == 0) {
+      const std::string rest = name.substr(p.tap->path().size());
+      return rest.size() > 1 && rest[1] == 'q' ? "1" : p.tap->unit();  // quaternions are dimensionless
+    }
+  return "";
+}
+
+bool Recording::column(const std::string& name, std::vector<double>& x, std::vector<double>& y) const {
+  x.clear();
+  y.clear();
+  for (std::size_t d = 0; d < derived_.size(); ++d) {
+    if (derived_[d].first != name) continue;
+    for (std::size_t i = 0; i < times_.size(); ++i)
+      if (std::isfinite(derived_rows_[i][d])) x.push_back(times_[i]), y.push_back(derived_rows_[i][d]);
+    return true;
+  }
+  for (const Port& p : ports_) {
+    const std::vector<std::string> fields = p.tap->fields(p.width);
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      const std::string full =
+          fields[f].empty() ? p.tap->path() : p.tap->path() + (fields[f][0] == '[' ? "" : ".") + fields[f];
+      if (full != name) continue;
+      for (std::size_t i = 0; i < times_.size(); ++i)
+        if (f < p.rows[i].size() && std::isfinite(p.rows[i][f])) x.push_back(times_[i]), y.push_back(p.rows[i][f]);
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string Recording::csv() const {
+  std::string out = "time [s]";
+  auto header = [&](const std::string& name, const std::string& unit) {
+    const bool quote = name.find(',') != std::string::npos;
+    out += "," + std::string(quote ? "\"" : "") + name + (unit.empty() ? "" : " [" + unit + "]") + (quote ? "\"" : "");
+  };
+  for (const std::string& name : columnNames()) header(name, unitOf(name));
+  out += "\n";
+  char number[32];
+  auto put = [&](double v) {
+    if (std::isfinite(v)) {
+      std::snprintf(number, sizeof number, ",%.6g", v);
+      out += number;
+    } else {
+      out += ",";
+    }
+  };
+  for (std::size_t i = 0; i < times_.size(); ++i) {
+    std::snprintf(number, sizeof number, "%.3f", times_[i]);
+    out += number;
+    for (const Port& p : ports_) {
+      const std::size_t width = std::max<std::size_t>(p.width, 1);
+      for (std::size_t f = 0; f < width; ++f) put(f < p.rows[i].size() ? p.rows[i][f] : std::nan(""));
+    }
+    for (const double v : derived_rows_[i]) put(v);
+    out += "\n";
+  }
+  return out;
+}
+
+namespace {
+
+plot::Panel panel(const Recording& recording, std::string title, std::string x_label, std::string y_label,
+                  const std::vector<std::pair<std::string, std::string>>& series, bool dashed_last = false) {
+  plot::Panel p{std::move(title), std::move(x_label), std::move(y_label), {}};
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    plot::Series s{series[i].second, {}, {}, dashed_last && i + 1 == series.size()};
+    recording.column(series[i].first, s.x, s.y);
+    if (!s.x.empty()) p.series.push_back(std::move(s));
+  }
+  return p;
+}
+
+// `panel` of one column with a dashed horizontal line at `limit` over the same times.
+plot::Panel panelWithLimit(const Recording& recording, std::string title, std::string y_label, const std::string& column,
+                           const std::string& label, double limit, const std::string& limit_label) {
+  plot::Panel p = panel(recording, std::move(title), "t [s]", std::move(y_label), {{column, label}});
+  if (p.series.empty()) return p;
+  const std::vector<double>& x = p.series.front().x;
+  p.series.push_back({limit_label, {x.front(), x.back()}, {limit, limit}, true});
+  return p;
+}
+
+std::string millimetres(double metres) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f mm", 1000.0 * metres);
+  return text;
+}
+
+std::string worstText(const Worst& worst, const char* unit) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.2f %s at %.3f s", worst.value, unit, worst.at);
+  return text + (worst.state.empty() ? std::string() : " (" + worst.state + ")");
+}
+
+}  // namespace
+
+std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& recording,
+                                        const std::vector<Tracker>& trackers, const ClearanceObserver* clearance) {
+  std::vector<plot::Figure> out;
+  for (const PlotSpec& p : spec.plots) {
+    plot::Panel one{p.title, p.x.empty() ? "t [s]" : p.x + (p.x_unit.empty() ? "" : " [" + p.x_unit + "]"),
+                    p.unit.empty() ? "value" : "[" + p.unit + "]", {}};
+    for (const std::string& name : p.series) {
+      plot::Series s{name, {}, {}};
+      recording.column(name, s.x, s.y);
+      if (!p.x.empty()) {  // against another column, at the same sample times
+        std::vector<double> xt, xv;
+        recording.column(p.x, xt, xv);
+        std::vector<double> x, y;
+        for (std::size_t i = 0, j = 0; i < s.x.size(); ++i) {
+          while (j < xt.size() && xt[j] < s.x[i]) ++j;
+          if (j < xt.size() && xt[j] == s.x[i]) x.push_back(xv[j]), y.push_back(s.y[i]);
+        }
+        s.x = std::move(x);
+        s.y = std::move(y);
+      }
+      if (!s.x.empty()) one.series.push_back(std::move(s));
+    }
+    out.push_back({p.title, {std::move(one)}});
+  }
+  for (const Tracker& t : trackers) {
+    const std::string base = "tracking." + t.spec.name;
+    out.push_back({"Tool tracking error, " + t.spec.name + " (commanded " + t.spec.commanded + ", measured " +
+                       t.spec.measured + ")",
+                   {panelWithLimit(recording, "position error (largest per record period)", "error [mm]", base + ".mm",
+                                   t.spec.name, t.spec.accept_mm, "acceptance"),
+                    panelWithLimit(recording, "orientation error (largest per record period)", "error [deg]",
+                                   base + ".deg", t.spec.name, t.spec.accept_deg, "acceptance")}});
+  }
+  if (clearance != nullptr) {
+    std::vector<std::pair<std::string, std::string>> contacts;
+    for (const auto& [name, port] : clearance->spec.contacts) contacts.emplace_back("contact." + name, name);
+    out.push_back({"Minimum collision distance of the measured state (" + clearance->spec.port + ")",
+                   {panel(recording, "clearance against its threshold", "t [s]", "distance [m]",
+                          {{"clearance", "clearance"}, {"clearance.threshold", "clearance threshold"}}, true),
+                    panel(recording, "allowed contacts (0: touching or inside)", "t [s]", "distance [m]", contacts)}});
+  }
+  for (plot::Figure& f : out)
+    std::erase_if(f.panels, [](const plot::Panel& p) { return p.series.empty(); });
+  std::erase_if(out, [](const plot::Figure& f) { return f.panels.empty(); });
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& result, const RunSpec& spec) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  for (std::size_t i = 0; i < result.tracking.size() && i < spec.tracking.size(); ++i) {
+    const TrackingFigures& robot = result.tracking[i];
+    const TrackingSpec& t = spec.tracking[i];
+    std::string when = "every sample";
+    if (!t.counts_while.empty()) {
+      when = "while the " + (t.scope.empty() ? std::string("default") : t.scope) + " deployment is ";
+      for (std::size_t d = 0; d < t.counts_while.size(); ++d) when += (d ? " or " : "") + t.counts_while[d];
+    }
+    char above[96];
+    std::snprintf(above, sizeof above, "%.3f s above 5 mm of %.1f s sampled; largest command step %.3f mm at %.3f s",
+                  robot.seconds_above_5mm, robot.seconds_sampled, 1000.0 * robot.max_command_step,
+                  robot.max_command_step_at);
+    rows.push_back({"worst tracking, " + robot.robot + " (" + when + ")",
+                    worstText(robot.position_mm, "mm") + "; " + worstText(robot.orientation_deg, "deg") + "; " + above});
+    if (!t.joints.empty())
+      rows.push_back({"joints at their velocity limit, " + robot.robot,
+                      std::to_string(robot.joint_jumps) + " episodes; fastest " +
+                          worstText({100.0 * robot.joint_speed.value, robot.joint_speed.at, robot.joint_speed.state},
+                                    "% of the limit")});
+  }
+  if (spec.clearance.declared) {
+    const ClearanceFigures& c = result.clearance;
+    char below[128];
+    std::snprintf(below, sizeof below, "; %.3f s at or under the threshold of %.1f s counted; %d unmeasurable samples",
+                  c.seconds_below, c.seconds_sampled, c.unreachable);
+    rows.push_back({"worst clearance (threshold " + millimetres(c.threshold) + ", allowed contacts apart)",
+                    std::isinf(c.worst) ? std::string("-")
+                                        : millimetres(c.worst) + " at" + seconds(c.worst_at) + " (" + c.worst_state +
+                                              ")" + below});
+    std::string contacts;
+    for (const auto& [name, distance] : c.contacts)
+      contacts += (contacts.empty() ? "" : ", ") + name + " " + (std::isinf(distance) ? "-" : millimetres(distance));
+    for (const ClearancePause& pause : spec.clearance.pauses)
+      contacts += (contacts.empty() ? "" : ", ") + pause.name + " (not counted while allowed)";
+    rows.push_back({"allowed contacts, smallest distance (0: touching)", contacts.empty() ? "-" : contacts});
+  }
+  return rows;
+}
+
+}  // namespace cobra::run

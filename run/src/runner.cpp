@@ -1,0 +1,40 @@
+#include "cobra/run/runner.hpp"
+
+#include <stdexcept>
+
+#include "session.hpp"
+
+namespace cobra::run {
+
+const char* toString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::Completed: return "completed";
+    case Outcome::TimeLimit: return "time limit";
+    case Outcome::ComponentError: return "component error";
+    case Outcome::UnhandledFault: return "fault unhandled";
+    case Outcome::SafeStop: return "safe stop";
+  }
+  return "?";
+}
+
+const SummaryValue& RunResult::value(const std::string& name) const {
+  for (const SummaryValue& v : summary)
+    if (v.name == name) return v;
+  throw std::out_of_range("no summary value '" + name + "'");
+}
+
+std::filesystem::path entryFile(const std::filesystem::path& app) {
+  if (std::filesystem::is_regular_file(app)) return app;
+  if (!std::filesystem::is_directory(app)) throw std::runtime_error(app.string() + ": no such file or folder");
+  std::filesystem::path folder = app;
+  if (folder.filename().empty()) folder = folder.parent_path();  // "apps/x/"
+  const std::filesystem::path entry = folder / (folder.filename().string() + ".lua");
+  if (!std::filesystem::is_regular_file(entry))
+    throw std::runtime_error(folder.string() + ": no entry file " + entry.string() +
+                             " (an application folder holds <name>.lua)");
+  return entry;
+}
+
+RunResult runApp(const RunOptions& options) { return Session(options, entryFile(options.app)).run(); }
+
+}  // namespace cobra::run

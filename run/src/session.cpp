@@ -1,0 +1,616 @@
+#include "session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+#include <lua.hpp>
+
+#include "cobra/components/builtin_packages.hpp"
+#include "cobra/components/coordination/supervisor.hpp"
+#include "cobra/deploy/suggest.hpp"
+
+namespace cobra::run {
+namespace {
+
+// Plays an action's Lua table (kept in the registry): call, write, set or deployer code.
+constexpr const char* kPlayer = R"lua(
+return function(f, where)
+  local function member(path)
+    local name, rest = path:match("^([^.]+)%.(.+)$")
+    return rawget(_G, name), rest
+  end
+  if f.call then
+    local c, op = member(f.call)
+    return c[op](c, table.unpack(f.args or {}))
+  elseif f.write then
+    local c, port = member(f.write.port)
+    return c[port]:write(f.write.value)
+  elseif f.set then
+    local c, property = member(f.set.property)
+    c[property] = f.set.value
+  else
+    local chunk, message = load(f.lua, "=" .. where)
+    if not chunk then error(message, 0) end
+    return chunk()
+  end
+end
+)lua";
+
+deploy::ConfiguratorOptions configuratorOptions(bool realtime) {
+  deploy::ConfiguratorOptions options;
+  options.mode = realtime ? deploy::ClockMode::RealTime : deploy::ClockMode::Simulation;
+  return options;
+}
+
+std::string foldState(const std::string& state, const std::vector<std::string>& fold) {
+  const auto dot = state.rfind('.');
+  if (dot == std::string::npos) return state;
+  const std::string leaf = state.substr(dot + 1);
+  return std::find(fold.begin(), fold.end(), leaf) != fold.end() ? state.substr(0, dot) : state;
+}
+
+bool containsAny(const std::string& text, const std::vector<std::string>& any) {
+  return std::any_of(any.begin(), any.end(), [&](const std::string& s) { return text.find(s) != std::string::npos; });
+}
+
+bool startsWith(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
+
+// The component and member of "Comp.member" when the component has that operation (or property).
+core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string& path, bool operation) {
+  const auto dot = path.find('.');
+  if (dot == std::string::npos) return nullptr;
+  core::Component* owner = refs.find(path.substr(0, dot));
+  if (owner == nullptr) return nullptr;
+  const std::string member = path.substr(dot + 1);
+  return (operation ? owner->findOperation(member) != nullptr : owner->findProperty(member) != nullptr) ? owner
+                                                                                                       : nullptr;
+}
+
+std::string memberOf(const std::string& path) { return path.substr(path.find('.') + 1); }
+
+// Checks what an action names against the deployment: "file:line: unknown component ...".
+void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const std::vector<Chart>& charts) {
+  const std::string at = a.where.text() + ": ";
+  if (a.on.kind == Trigger::Kind::State &&
+      std::none_of(charts.begin(), charts.end(), [&](const Chart& c) { return c.spec->name == a.on.chart; })) {
+    std::vector<std::string> names;
+    for (const Chart& c : charts) names.push_back(c.spec->name);
+    throw std::runtime_error(at + "unknown chart '" + a.on.chart + "' in state '" + a.on.chart + ":" + a.on.state +
+                             "'" + deploy::suggestionText(a.on.chart, names, "charts (run.charts)"));
+  }
+  if (a.kind == ActionSpec::Kind::Lua) return;
+  core::Component* c = refs.find(a.component);
+  if (c == nullptr) {
+    std::vector<std::string> names;
+    for (const core::Component* each : refs.components()) names.push_back(each->name());
+    throw std::runtime_error(at + "unknown component '" + a.component + "' in " + a.text +
+                             deploy::suggestionText(a.component, names, "components"));
+  }
+  std::vector<std::string> known;
+  bool found = false;
+  std::string one = "operation", many = "operations";
+  if (a.kind == ActionSpec::Kind::Call) {
+    found = c->findOperation(a.member) != nullptr;
+    for (const core::OperationBase* op : c->operations()) known.push_back(op->name());
+  } else if (a.kind == ActionSpec::Kind::Write) {
+    one = "port", many = "ports";
+    found = c->findPort(a.member) != nullptr;
+    for (const core::PortBase* p : c->ports()) known.push_back(p->name());
+  } else {
+    one = "property", many = "properties";
+    found = c->findProperty(a.member) != nullptr;
+    for (const core::PropertyBase* p : c->properties()) known.push_back(p->name());
+  }
+  if (!found)
+    throw std::runtime_error(at + "component '" + a.component + "' has no " + one + " '" + a.member + "' (" + a.text +
+                             ")" + deploy::suggestionText(a.member, known, many));
+}
+
+}  // namespace
+
+Session::Session(const RunOptions& options, std::filesystem::path entry)
+    : options_(options),
+      entry_(std::move(entry)),
+      configurator_(configuratorOptions(options.realtime)),
+      deployer_(configurator_, lua_),
+      refs_(configurator_.getReferences()) {
+  components::addBuiltinPackages(configurator_.packages());
+  if (options_.add_packages) options_.add_packages(configurator_.packages());
+  if (!options_.scenario.empty()) {
+    if (!std::filesystem::is_directory(options_.scenario))
+      throw std::runtime_error("--scenario " + options_.scenario.string() + ": no such folder");
+    deployer_.run("scenario = [[" + options_.scenario.string() + "]]", "=scenario");
+  }
+  if (!options_.before_lua.empty()) deployer_.run(options_.before_lua, "=before_lua");
+  deployer_.runFile(entry_.string());
+  if (!options_.extra_lua.empty()) deployer_.run(options_.extra_lua, "=extra_lua");
+  deployer_.run("getReferences()", "=run");
+  spec_ = readRunSpec(lua_.get(), entry_.string());
+  attachCharts();
+  armActions();
+  attachEventLog();
+  for (const auto& [port, where] : spec_.record.ports) recording_.addPort(refs_, port, where.text(), "run.record");
+  attachTracking();
+  attachClearance();
+  attachPlots();
+  attachSummaries();
+  for (const ChartSpec& c : spec_.charts)
+    if (std::find(scopes_.begin(), scopes_.end(), c.scope) == scopes_.end()) scopes_.push_back(c.scope);
+  shown_deployment_.resize(scopes_.size());
+  components_ = refs_.components();
+  record_every_ = std::max(1L, std::lround(spec_.record.period / spec_.step));
+  next_progress_ = options_.progress_every;
+  if (!options_.realtime) configurator_.clock().setStepObserver(options_.step_observer);
+}
+
+void Session::attachCharts() {
+  for (const ChartSpec& c : spec_.charts) {
+    Chart chart;
+    chart.spec = &c;
+    const std::string use = "run.charts '" + c.name + "'";
+    chart.state_tap = std::make_unique<Tap<core::TaskState>>(refs_, c.supervisor + ".taskState", c.where.text(), use,
+                                                             "a Supervisor's taskState (TaskState)");
+    chart.supervisor = dynamic_cast<const components::Supervisor*>(refs_.find(c.supervisor));
+    if (chart.supervisor == nullptr)
+      throw std::runtime_error(c.where.text() + ": " + use + ": component '" + c.supervisor + "' is not a Supervisor");
+    if (!options_.realtime) chart.state = chart.supervisor->activeState();
+    charts_.push_back(std::move(chart));
+  }
+}
+
+void Session::armActions() {
+  for (const ActionSpec& a : spec_.actions) armed_.push_back({a, false});
+  std::filesystem::path faults = options_.faults_file;
+  if (faults.empty() && !options_.scenario.empty() && std::filesystem::exists(options_.scenario / "faults.lua"))
+    faults = options_.scenario / "faults.lua";
+  if (!faults.empty()) {
+    if (!std::filesystem::is_regular_file(faults))
+      throw std::runtime_error("--faults " + faults.string() + ": no such file");
+    for (ActionSpec& a : readFaults(lua_.get(), faults.string())) armed_.push_back({std::move(a), true});
+  }
+  for (const Armed& a : armed_) checkAction(a.spec, refs_, charts_);
+  lua_.run(std::string("cobra_run_play = (function() ") + kPlayer + " end)()", "=cobra run");
+}
+
+void Session::attachEventLog() {
+  for (const core::Component* c : refs_.components())
+    for (const char* port : {"events", "outputEvents"}) {
+      auto* out = dynamic_cast<core::OutputPortBase*>(c->findPort(port));
+      if (out == nullptr) continue;
+      auto reader = out->makeReader(c->name() + "_" + port, "cobra run event log");
+      out->connectTo(*reader, core::ConnPolicy::buffer(256));
+      event_taps_.emplace_back(c->name(), std::move(reader));
+    }
+}
+
+void Session::attachTracking() {
+  for (const TrackingSpec& t : spec_.tracking) {
+    Tracker tracker;
+    tracker.spec = t;
+    const std::string at = t.where.text(), use = "run.tracking '" + t.name + "'";
+    tracker.commanded = std::make_unique<Tap<KDL::Frame>>(refs_, t.commanded, at, use, "KDL.Frame");
+    tracker.measured = std::make_unique<Tap<KDL::Frame>>(refs_, t.measured, at, use, "KDL.Frame");
+    std::vector<double> limits = t.max_velocity_values;
+    if (!t.joints.empty())
+      tracker.joints = std::make_unique<Tap<KDL::JntArray>>(refs_, t.joints, at, use, "KDL.JntArray");
+    if (!t.joints.empty() && limits.empty()) {
+      core::Component* owner = ownerOf(refs_, t.max_velocity, false);
+      if (owner == nullptr)
+        throw std::runtime_error(at + ": " + use + ": max_velocity '" + t.max_velocity +
+                                 "' is not a property Comp.name of the deployment");
+      limits = owner->getProperty<std::vector<double>>(memberOf(t.max_velocity));
+      if (limits.empty())
+        throw std::runtime_error(at + ": " + use + ": " + t.max_velocity +
+                                 " is empty: the joint-jump check needs the joints' velocity limits (rad/s, m/s)");
+    }
+    if (!t.chart.empty() && chartOf(t.chart) == nullptr)
+      throw std::runtime_error(at + ": " + use + ": unknown chart '" + t.chart + "'");
+    tracker.limits = limits.size();
+    tracker.monitor = std::make_unique<TrackingMonitor>(t.name, limits, spec_.step);
+    tracker.mm_column = recording_.addDerived("tracking." + t.name + ".mm", "mm");
+    tracker.deg_column = recording_.addDerived("tracking." + t.name + ".deg", "deg");
+    trackers_.push_back(std::move(tracker));
+  }
+}
+
+void Session::attachClearance() {
+  if (!spec_.clearance.declared) return;
+  clearance_ = std::make_unique<ClearanceObserver>();
+  ClearanceObserver& c = *clearance_;
+  c.spec = spec_.clearance;
+  const std::string at = c.spec.where.text();
+  c.clearance = std::make_unique<Tap<double>>(refs_, c.spec.port, at, "run.clearance", "double (m)");
+  for (const auto& [name, port] : c.spec.contacts) {
+    c.contacts.push_back(std::make_unique<Tap<double>>(refs_, port, at, "run.clearance contact '" + name + "'", "double (m)"));
+    c.contact_columns.push_back(recording_.addDerived("contact." + name, "m"));
+    result_.clearance.contacts.emplace_back(name, std::numeric_limits<double>::infinity());
+  }
+  for (const ClearancePause& pause : c.spec.pauses)
+    if (chartOf(pause.chart) == nullptr)
+      throw std::runtime_error(at + ": run.clearance pause '" + pause.name + "': unknown chart '" + pause.chart + "'");
+  c.paused.assign(c.spec.pauses.size(), false);
+  result_.clearance.threshold = c.spec.threshold;
+  if (!c.spec.threshold_operation.empty()) {
+    core::Component* owner = ownerOf(refs_, c.spec.threshold_operation, true);
+    if (owner == nullptr)
+      throw std::runtime_error(at + ": run.clearance: threshold '" + c.spec.threshold_operation +
+                               "' is not an operation Comp.name");
+    result_.clearance.threshold = owner->call<double>(memberOf(c.spec.threshold_operation));
+  }
+  c.column = recording_.addDerived("clearance", "m");
+  c.threshold_column = recording_.addDerived("clearance.threshold", "m");
+}
+
+void Session::attachPlots() {
+  // A plot's ports are recorded too; every name it gives must be a column.
+  for (const PlotSpec& p : spec_.plots) {
+    std::vector<std::string> names = p.series;
+    if (!p.x.empty()) names.push_back(p.x);
+    const std::string use = "run.plots '" + p.title + "'";
+    for (const std::string& name : names) {
+      const bool derived = startsWith(name, "tracking.") || startsWith(name, "clearance") || startsWith(name, "contact.");
+      if (!derived) recording_.addPort(refs_, name.substr(0, name.find_first_of(".[", name.find('.') + 1)), p.where.text(), use);
+      std::vector<std::string> fields;
+      if (recording_.knows(name, fields)) continue;
+      if (fields.empty())
+        throw std::runtime_error(p.where.text() + ": " + use + ": no column '" + name + "'" +
+                                 deploy::suggestionText(name, recording_.columnNames(), "columns"));
+      std::string known;
+      for (const std::string& f : fields) known += (known.empty() ? "" : ", ") + name + (f[0] == '[' ? "" : ".") + f;
+      throw std::runtime_error(p.where.text() + ": " + use + ": " + name + " has several values; name one: " + known);
+    }
+  }
+}
+
+void Session::attachSummaries() {
+  for (const SummarySpec& s : spec_.summary) {
+    SummaryObserver o;
+    o.spec = s;
+    const std::string at = s.where.text(), use = "run.summary '" + s.name + "'";
+    if (s.kind == SummarySpec::Kind::Distance)
+      for (const std::string& port : s.ports)
+        o.frames.push_back(std::make_unique<Tap<KDL::Frame>>(refs_, port, at, use, "KDL.Frame"));
+    if (s.kind == SummarySpec::Kind::Port) o.value = std::make_unique<Tap<double>>(refs_, s.ports[0], at, use, "double");
+    if (s.kind != SummarySpec::Kind::Count && chartOf(s.chart) == nullptr)
+      throw std::runtime_error(at + ": " + use + ": unknown chart '" + s.chart + "'");
+    summaries_.push_back(std::move(o));
+    result_.summary.push_back({s.name, s.unit, {}, {}, {}});
+  }
+}
+
+RunResult Session::run() {
+  const auto start = std::chrono::steady_clock::now();
+  const auto step = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(spec_.step));
+  do {
+    if (options_.realtime) {
+      std::this_thread::sleep_for(step);
+      t_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    } else {
+      configurator_.clock().advance(step);
+      t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+    }
+    advance();
+  } while (!ended());
+  result_.duration = t_;
+  for (const Chart& c : charts_) result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
+  for (const Tracker& tr : trackers_) result_.tracking.push_back(tr.monitor->figures());
+  finishSummary();
+  say(std::string("run ended: ") + toString(result_.outcome) + (result_.reason.empty() ? "" : ": " + result_.reason));
+  if (!options_.report_folder.empty()) writeReport();
+  return std::move(result_);
+}
+
+void Session::advance() {
+  ++steps_;
+  observeCharts();
+  readEvents();
+  observeSwitches();
+  sampleSummaries();
+  playActions();
+  observeFidelity();
+  if (steps_ % record_every_ == 0) record();
+}
+
+void Session::observeCharts() {
+  core::TaskState task_state;
+  for (Chart& c : charts_) {
+    c.previous = c.state;
+    if (options_.realtime && c.state_tap->read(task_state)) c.state = task_state.path.str();
+    if (!options_.realtime) c.state = c.supervisor->activeState();
+  }
+}
+
+void Session::readEvents() {
+  for (auto& [source, reader] : event_taps_) {
+    std::string text;
+    while (reader->readText(text) == core::FlowStatus::NewData) {
+      Chart& chart = chartForSource(source);
+      result_.events.push_back({t_, source, text, chart.state});
+      const std::string event = text.substr(0, text.find(' '));
+      result_.log.push_back(source + ": " + event);
+      if (std::find(spec_.failures.begin(), spec_.failures.end(), event) != spec_.failures.end())
+        chart.last_failure = source + ": " + event + " at" + seconds(t_);
+      for (Armed& a : armed_)
+        if (a.due < 0.0 && (a.spec.repeat || a.fired == 0) && a.spec.on.kind == Trigger::Kind::Event &&
+            a.spec.on.event == event && (a.spec.on.source.empty() || a.spec.on.source == source))
+          a.due = t_ + a.spec.after;
+    }
+  }
+  for (Chart& c : charts_) {
+    const std::string folded = foldState(c.state, spec_.fold);
+    timeline_.observe(t_, c.spec->name + " chart", folded.empty() ? "(none)" : folded);
+    if (folded == c.shown) continue;
+    c.shown = folded;
+    say(c.spec->name + " > " + folded);
+    result_.log.push_back(c.spec->name + " > " + folded);
+  }
+}
+
+void Session::observeSwitches() {
+  bool switched = false;
+  for (std::size_t s = 0; s < scopes_.size(); ++s) {
+    const std::string& now = configurator_.currentDeployment(scopes_[s]);
+    if (now == shown_deployment_[s]) continue;
+    shown_deployment_[s] = now;
+    switched = true;
+    const std::string lane = (scopes_[s].empty() ? std::string() : scopes_[s] + " ") + "deployment";
+    timeline_.observe(t_, lane, now.empty() ? "(none)" : now);
+    result_.switches.push_back(seconds(t_) + " " + lane + " " + now);
+    result_.log.push_back(lane + " > " + now);
+    say("  " + lane + " -> " + now);
+  }
+  if (configurator_.currentConfiguration() != shown_configuration_) {
+    shown_configuration_ = configurator_.currentConfiguration();
+    timeline_.observe(t_, "configuration", shown_configuration_);
+    result_.switches.push_back(seconds(t_) + " configuration " + shown_configuration_);
+    result_.log.push_back("configuration > " + shown_configuration_);
+    say("  configuration -> " + shown_configuration_);
+  }
+  if (switched) components_ = refs_.components();  // a deployment may bring its own components
+}
+
+void Session::sampleSummaries() {
+  for (std::size_t i = 0; i < summaries_.size(); ++i) {
+    const SummarySpec& s = summaries_[i].spec;
+    if (s.kind == SummarySpec::Kind::Count) continue;
+    const Chart& c = *chartOf(s.chart);
+    const bool in = startsWith(c.state, s.state), was = startsWith(c.previous, s.state);
+    if (s.leave ? !(was && !in) : !(in && !was)) continue;
+    double value = NAN;
+    KDL::Frame a, b;
+    if (s.kind == SummarySpec::Kind::Distance && summaries_[i].frames[0]->read(a) && summaries_[i].frames[1]->read(b))
+      value = s.scale * (a.p - b.p).Norm();
+    if (s.kind == SummarySpec::Kind::Port && summaries_[i].value->read(value)) value *= s.scale;
+    if (std::isnan(value)) continue;
+    result_.summary[i].values.push_back(value);
+    result_.summary[i].times.push_back(t_);
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2f", value);
+    if (s.say) say("  " + s.name + ": " + text + (s.unit.empty() ? "" : " " + s.unit));
+  }
+}
+
+void Session::playActions() {
+  for (Armed& a : armed_) {
+    if (a.due < 0.0 && (a.spec.repeat || a.fired == 0)) {
+      if (a.spec.on.kind == Trigger::Kind::Time && a.fired == 0 && t_ + 1e-9 >= a.spec.on.time) a.due = t_ + a.spec.after;
+      if (a.spec.on.kind == Trigger::Kind::State) {
+        const Chart& c = *chartOf(a.spec.on.chart);
+        if (startsWith(c.state, a.spec.on.state) && !startsWith(c.previous, a.spec.on.state)) a.due = t_ + a.spec.after;
+      }
+    }
+    if (a.due < 0.0 || t_ + 1e-9 < a.due) continue;
+    a.due = -1.0;
+    ++a.fired;
+    const std::string label = std::string(a.fault ? "fault " : "action ") + a.spec.where.text();
+    say("  " + label + " (on " + a.spec.on.text() + "): " + a.spec.text);
+    result_.log.push_back(label);
+    lua_State* L = lua_.get();
+    lua_getglobal(L, "cobra_run_play");
+    lua_rawgeti(L, LUA_REGISTRYINDEX, a.spec.lua_ref);
+    lua_pushstring(L, a.spec.where.text().c_str());
+    if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
+      std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(no message)";
+      lua_pop(L, 1);
+      // The bindings put their Lua caller's place first: the player's, not the user's file.
+      if (startsWith(message, "cobra run:")) message.erase(0, message.find(": ") + 2);
+      char when[32];
+      std::snprintf(when, sizeof when, "%.3f s", t_);
+      throw std::runtime_error(a.spec.where.text() + ": " + a.spec.text + " failed at " + when + ": " + message);
+    }
+  }
+}
+
+void Session::observeFidelity() {
+  for (Tracker& tr : trackers_) {
+    KDL::Frame commanded, measured;
+    KDL::JntArray q;
+    if (!tr.commanded->read(commanded) || !tr.measured->read(measured)) continue;
+    const bool have_q = tr.joints && tr.joints->read(q);
+    if (have_q && q.rows() != tr.limits)
+      throw std::runtime_error(tr.spec.where.text() + ": run.tracking '" + tr.spec.name + "': " + tr.spec.joints + " has " +
+                               std::to_string(q.rows()) + " joints but max_velocity gives " +
+                               std::to_string(tr.limits) + " limits");
+    const auto& counting = tr.spec.counts_while;
+    const bool counts = counting.empty() || std::find(counting.begin(), counting.end(),
+                                                      configurator_.currentDeployment(tr.spec.scope)) != counting.end();
+    const Chart* c = tr.spec.chart.empty() ? nullptr : chartOf(tr.spec.chart);
+    tr.monitor->step(t_, counts, c ? c->state : std::string(), commanded, measured, have_q ? &q : nullptr);
+  }
+  if (!clearance_) return;
+  ClearanceObserver& o = *clearance_;
+  ClearanceFigures& figures = result_.clearance;
+  for (std::size_t p = 0; p < o.spec.pauses.size(); ++p) {
+    const ClearancePause& pause = o.spec.pauses[p];
+    const std::string& state = chartOf(pause.chart)->state;
+    if (containsAny(state, pause.from)) o.paused[p] = true;
+    else if (containsAny(state, pause.to)) o.paused[p] = false;
+  }
+  const bool counts = std::none_of(o.paused.begin(), o.paused.end(), [](bool b) { return b; });
+  double d = NAN;
+  if (!counts) {
+    o.last = NAN;
+  } else if (o.clearance->read(d)) {
+    o.last = d;
+    figures.seconds_sampled += spec_.step;
+    if (std::isnan(d)) {
+      ++figures.unreachable;
+    } else {
+      if (d <= figures.threshold) figures.seconds_below += spec_.step;
+      if (d < figures.worst) figures.worst = d, figures.worst_at = t_, figures.worst_state = statesText();
+    }
+  }
+  for (std::size_t k = 0; k < o.contacts.size(); ++k) {
+    double contact = NAN;
+    if (!o.contacts[k]->read(contact) || std::isnan(contact)) continue;
+    figures.contacts[k].second = std::min(figures.contacts[k].second, contact);
+    recording_.set(o.contact_columns[k], contact);
+  }
+}
+
+void Session::record() {
+  for (std::size_t i = 0; i < trackers_.size(); ++i) {
+    const auto [mm, deg] = trackers_[i].monitor->takeWindowMaximum();
+    recording_.set(trackers_[i].mm_column, mm);
+    recording_.set(trackers_[i].deg_column, deg);
+  }
+  if (clearance_) {
+    recording_.set(clearance_->column, clearance_->last);
+    recording_.set(clearance_->threshold_column, result_.clearance.threshold);
+  }
+  recording_.sample(t_);
+}
+
+void Session::noteSafeStop(const Chart& c) {
+  result_.log.push_back(c.spec->name + " safe stop");
+  if (result_.outcome == Outcome::SafeStop) return;
+  result_.outcome = Outcome::SafeStop;
+  safe_stop_at_ = t_;
+  result_.reason = c.spec->name + " chart stopped safely in " + foldState(c.previous, spec_.fold) + ": " +
+                   (c.last_failure.empty() ? "(no failure event seen)" : c.last_failure) +
+                   (spec_.safe_stop_reason.empty() ? "" : ", " + spec_.safe_stop_reason);
+  // "Source: event at t s": the source's declared operation says why (e.g. the planner's reason).
+  const auto colon = c.last_failure.find(": ");
+  if (colon != std::string::npos) {
+    const std::string source = c.last_failure.substr(0, colon);
+    const std::string event = c.last_failure.substr(colon + 2, c.last_failure.find(" at") - colon - 2);
+    const auto why = spec_.explain.find(event);
+    core::Component* owner = why == spec_.explain.end() ? nullptr : ownerOf(refs_, source + "." + why->second, true);
+    if (owner != nullptr) result_.reason += "; " + source + "." + why->second + "(): " + owner->call<std::string>(why->second);
+  }
+  say("SAFE STOP: " + result_.reason);
+}
+
+bool Session::ended() {
+  for (const Chart& c : charts_)
+    if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
+  for (const core::Component* c : components_) {
+    const core::State s = c->state();
+    if (s != core::State::Exception && s != core::State::FatalError) continue;
+    result_.outcome = Outcome::ComponentError;
+    result_.reason = "component '" + c->name() + "' is in " + std::string(core::toString(s)) + ": " + c->lastError();
+    return true;
+  }
+  if (std::all_of(charts_.begin(), charts_.end(), [](const Chart& c) { return c.state == c.spec->done; })) {
+    result_.outcome = Outcome::Completed;
+    result_.reason.clear();
+    return true;
+  }
+  if (result_.outcome == Outcome::SafeStop) {
+    const bool stopped = std::all_of(charts_.begin(), charts_.end(), [](const Chart& c) {
+      return c.state == c.spec->done || c.state == c.spec->safe_stop;
+    });
+    if (stopped || t_ - safe_stop_at_ >= spec_.safe_stop_linger) return true;
+  }
+  if (t_ >= options_.time_limit - 1e-9) {
+    char limit[64];
+    std::snprintf(limit, sizeof limit, "time limit %.3f s reached", options_.time_limit);
+    const auto fault = std::find_if(armed_.begin(), armed_.end(), [](const Armed& a) { return a.fault && a.fired > 0; });
+    if (fault != armed_.end()) {
+      result_.outcome = Outcome::UnhandledFault;
+      result_.reason = std::string(limit) + " after fault " + fault->spec.where.text() + " (" + fault->spec.text +
+                       "): the task did not recover; charts: " + statesText();
+    } else {
+      result_.outcome = Outcome::TimeLimit;
+      result_.reason = std::string(limit) + "; charts: " + statesText();
+    }
+    return true;
+  }
+  if (t_ >= next_progress_) {
+    next_progress_ += options_.progress_every;
+    say("running; " + statesText());
+  }
+  return false;
+}
+
+void Session::finishSummary() {
+  for (std::size_t i = 0; i < summaries_.size(); ++i) {
+    SummaryValue& v = result_.summary[i];
+    const SummarySpec& s = summaries_[i].spec;
+    if (s.kind == SummarySpec::Kind::Count) {
+      for (const report::EventRecord& e : result_.events)
+        if (std::find(s.events.begin(), s.events.end(), e.event.substr(0, e.event.find(' '))) != s.events.end())
+          v.values.push_back(1.0), v.times.push_back(e.time);
+      v.text = std::to_string(v.values.size());
+      continue;
+    }
+    char number[32];
+    for (const double value : v.values) {
+      std::snprintf(number, sizeof number, "%.2f", value);
+      v.text += (v.text.empty() ? "" : ", ") + std::string(number) + (s.unit.empty() ? "" : " " + s.unit);
+    }
+    if (v.text.empty()) v.text = "-";
+    if (core::Component* owner = s.of.empty() ? nullptr : ownerOf(refs_, s.of, true))
+      v.text += " (" + std::to_string(v.values.size()) + " of " + std::to_string(owner->call<int>(memberOf(s.of))) + ")";
+  }
+}
+
+void Session::writeReport() {
+  report::RunReport run;
+  run.title = spec_.title + (options_.scenario.empty() ? "" : ": " + options_.scenario.filename().string());
+  run.summary = {{"application", entry_.string()},
+                 {"result", std::string(toString(result_.outcome)) + (result_.reason.empty() ? "" : ": " + result_.reason)},
+                 {"duration", seconds(result_.duration)},
+                 {"deployment/configuration switches", std::to_string(result_.switches.size())}};
+  if (!options_.scenario.empty()) run.summary.insert(run.summary.begin() + 1, {"scenario", options_.scenario.string()});
+  for (const SummaryValue& v : result_.summary) run.summary.emplace_back(v.name, v.text);
+  for (auto& row : fidelityRows(result_, spec_)) run.summary.push_back(std::move(row));
+  run.events = result_.events;
+  run.timeline = timeline_.intervals(result_.duration);
+  run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get());
+  run.files = {"signals.csv"};
+  result_.report = report::writeRunFolder(options_.report_folder, run);
+  const std::filesystem::path signals = options_.report_folder / "signals.csv";
+  std::ofstream csv(signals);
+  csv << recording_.csv();
+  if (!csv) throw std::runtime_error("cobra run: cannot write " + signals.string());
+}
+
+Chart* Session::chartOf(const std::string& name) {
+  for (Chart& c : charts_)
+    if (c.spec->name == name) return &c;
+  return nullptr;
+}
+
+Chart& Session::chartForSource(const std::string& source) {
+  for (Chart& c : charts_)
+    for (const std::string& prefix : c.spec->sources)
+      if (startsWith(source, prefix)) return c;
+  return charts_.front();  // the first chart receives the events of the sources no chart lists
+}
+
+std::string Session::statesText() const {
+  std::string text;
+  for (const Chart& c : charts_) text += (text.empty() ? "" : ", ") + c.spec->name + " " + c.state;
+  return text;
+}
+
+void Session::say(const std::string& what) const {
+  if (options_.progress) options_.progress(seconds(t_) + "  " + what);
+}
+
+}  // namespace cobra::run

@@ -1,0 +1,108 @@
+#pragma once
+// One run of an application (runner.hpp: runApp): the deployment loaded from its entry file, the
+// observers attached by the names of its `run` table, the actions and faults armed, then one
+// observation per step until the run ends. Private to cobra::run.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cobra/deploy/deploy.hpp"
+#include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/report/run_report.hpp"
+#include "cobra/run/run_spec.hpp"
+#include "cobra/run/runner.hpp"
+#include "observers.hpp"
+
+namespace cobra::components {
+class Supervisor;
+}
+
+namespace cobra::run {
+
+// A chart of `run.charts`: on the lockstep clock its supervisor's active state, read between two
+// instants; in real time its taskState port (the supervisor's thread writes it; the state before
+// the runner connected shows once the chart changes state).
+struct Chart {
+  const ChartSpec* spec = nullptr;
+  const components::Supervisor* supervisor = nullptr;
+  std::unique_ptr<Tap<core::TaskState>> state_tap;
+  std::string state, previous, shown;  // full path now and one step before; folded, as last logged
+  std::string last_failure;            // "Source: event at t s"
+};
+
+// An action or fault armed by its trigger.
+struct Armed {
+  ActionSpec spec;
+  bool fault = false;
+  double due = -1.0;  // s; < 0: not triggered yet
+  int fired = 0;
+};
+
+class Session {
+ public:
+  // Loads the application and attaches everything. @throws as runApp.
+  Session(const RunOptions& options, std::filesystem::path entry);
+  // Steps until the run ends, then fills the result and writes the run folder.
+  RunResult run();
+
+ private:
+  // Setup: each checks the names it is given against the deployment.
+  void attachCharts();
+  void armActions();
+  void attachEventLog();
+  void attachTracking();
+  void attachClearance();
+  void attachPlots();
+  void attachSummaries();
+  // One step.
+  void advance();
+  void observeCharts();
+  void readEvents();
+  void observeSwitches();
+  void sampleSummaries();
+  void playActions();
+  void observeFidelity();
+  void record();
+  // True when the run ends after this step (sets the outcome and reason).
+  bool ended();
+  void noteSafeStop(const Chart& chart);
+  // After the run.
+  void finishSummary();
+  void writeReport();
+
+  Chart* chartOf(const std::string& name);
+  Chart& chartForSource(const std::string& source);
+  std::string statesText() const;
+  void say(const std::string& what) const;
+
+  const RunOptions& options_;
+  std::filesystem::path entry_;
+  deploy::Configurator configurator_;
+  script::LuaState lua_;
+  deploy::LuaDeployer deployer_;
+  RunSpec spec_;
+  core::ComponentRegistry& refs_;
+
+  std::vector<Chart> charts_;
+  std::vector<Armed> armed_;
+  std::vector<std::pair<std::string, std::unique_ptr<core::InputPortBase>>> event_taps_;
+  Recording recording_;
+  std::vector<Tracker> trackers_;
+  std::unique_ptr<ClearanceObserver> clearance_;
+  std::vector<SummaryObserver> summaries_;
+  std::vector<std::string> scopes_, shown_deployment_;
+  std::string shown_configuration_;
+  std::vector<core::Component*> components_;
+  report::TimelineRecorder timeline_;
+  RunResult result_;
+
+  double t_ = 0.0;  // s
+  long steps_ = 0;
+  long record_every_ = 1;
+  double next_progress_ = 0.0;
+  double safe_stop_at_ = -1.0;
+};
+
+}  // namespace cobra::run

@@ -1,0 +1,84 @@
+#include "cobra/run/tracking.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace cobra::run {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr int kLoggedEpisodes = 10;  // joint jump episodes described in joint_jump_log
+
+void raise(Worst& worst, double value, double t, const std::string& state) {
+  if (!(value > worst.value)) return;
+  worst = {value, t, state};
+}
+
+double maxOrNan(double window, double value) { return std::isnan(window) ? value : std::max(window, value); }
+
+}  // namespace
+
+TrackingMonitor::TrackingMonitor(std::string robot, std::vector<double> max_velocity, double period)
+    : max_velocity_(std::move(max_velocity)), period_(period) {
+  figures_.robot = std::move(robot);
+}
+
+void TrackingMonitor::step(double t, bool counts, const std::string& state, const KDL::Frame& commanded,
+                           const KDL::Frame& measured, const KDL::JntArray* joints) {
+  const double mm = 1000.0 * (commanded.p - measured.p).Norm();
+  KDL::Vector axis;
+  const double deg = kRadToDeg * (commanded.M.Inverse() * measured.M).GetRotAngle(axis);
+  if (have_command_) {
+    const double jump = (commanded.p - previous_command_.p).Norm();
+    if (jump > figures_.max_command_step) figures_.max_command_step = jump, figures_.max_command_step_at = t;
+  }
+  previous_command_ = commanded;
+  have_command_ = true;
+  last_mm_ = mm;
+  last_deg_ = deg;
+  window_mm_ = maxOrNan(window_mm_, mm);
+  window_deg_ = maxOrNan(window_deg_, deg);
+  if (counts) {
+    figures_.seconds_sampled += period_;
+    raise(figures_.position_mm, mm, t, state);
+    raise(figures_.orientation_deg, deg, t, state);
+    if (mm > 5.0) figures_.seconds_above_5mm += period_;
+  }
+  if (joints == nullptr || max_velocity_.empty() || joints->rows() != max_velocity_.size()) {
+    have_joints_ = false;
+    return;
+  }
+  if (have_joints_ && counts) {
+    double fraction = 0.0;
+    unsigned fastest = 0;
+    for (unsigned i = 0; i < joints->rows(); ++i) {
+      const double f = std::abs((*joints)(i) - previous_joints_(i)) / (max_velocity_[i] * period_);
+      if (f > fraction) fraction = f, fastest = i;
+    }
+    raise(figures_.joint_speed, fraction, t, state);
+    if (!in_episode_ && fraction >= kSaturated) {
+      in_episode_ = true;
+      if (figures_.joint_jumps++ < kLoggedEpisodes) {
+        char line[200];
+        std::snprintf(line, sizeof line, "%.3f s joint %u at %.0f %% of its velocity limit (%s)\n", t, fastest + 1,
+                      100.0 * fraction, state.c_str());
+        figures_.joint_jump_log += line;
+      }
+    } else if (in_episode_ && fraction < kCalm) {
+      in_episode_ = false;
+    }
+  } else if (!counts) {
+    in_episode_ = false;
+  }
+  previous_joints_ = *joints;
+  have_joints_ = true;
+}
+
+std::pair<double, double> TrackingMonitor::takeWindowMaximum() {
+  const std::pair<double, double> out{window_mm_, window_deg_};
+  window_mm_ = window_deg_ = std::numeric_limits<double>::quiet_NaN();
+  return out;
+}
+
+}  // namespace cobra::run

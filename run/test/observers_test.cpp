@@ -1,0 +1,102 @@
+// The runner's recording (src/observers.hpp: Recording, src/port_tap.hpp: NumericTap) on a
+// component with output ports of every accepted type: the columns and their units, the fields a
+// plot may name, signals.csv, and the one-line refusals of a port of another type or an input.
+
+#include "../src/observers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cobra/core/component.hpp"
+#include "cobra/core/event.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::run {
+namespace {
+
+using test_support::messageOf;
+
+/// Output ports of each type the recorder takes, one it does not, and an input.
+class Outputs : public core::Component {
+ public:
+  explicit Outputs(std::string name) : Component(std::move(name), core::Role::Calculation, "test outputs") {
+    addPort(force);
+    addPort(pose);
+    addPort(joints);
+    addPort(wrench);
+    addPort(events_out);
+    addPort(in);
+  }
+  core::OutputPort<double> force{"force", "a force", "N"};
+  core::OutputPort<KDL::Frame> pose{"pose", "a pose", "m"};
+  core::OutputPort<KDL::JntArray> joints{"joints", "joint positions", "rad"};
+  core::OutputPort<KDL::Wrench> wrench{"wrench", "a wrench", "N, N·m"};
+  core::OutputPort<core::Event> events_out{"happened", "events", ""};
+  core::InputPort<double> in{"in", "an input", "1"};
+
+ protected:
+  void updateHook() override {}
+};
+
+TEST(Recording, ColumnsPerFieldWithUnitsAndEmptyCellsBeforeData) {
+  core::ComponentRegistry registry;
+  auto& c = registry.make<Outputs>("Out");
+  Recording recording;
+  for (const char* port : {"Out.force", "Out.pose", "Out.joints"}) recording.addPort(registry, port, "f.lua:1", "run.record");
+  recording.addPort(registry, "Out.force", "f.lua:1", "run.record");  // twice: recorded once
+  const std::size_t derived = recording.addDerived("tracking.tool.mm", "mm");
+  recording.sample(0.01);  // nothing written yet
+  c.force.write(2.5);
+  c.pose.write(KDL::Frame(KDL::Vector(0.1, 0.2, 0.3)));
+  KDL::JntArray q(2);
+  q(0) = 0.5, q(1) = -0.5;
+  c.joints.write(q);
+  recording.set(derived, 1.25);
+  recording.sample(0.02);
+  EXPECT_EQ(recording.csv(),
+            "time [s],Out.force [N],Out.pose.x [m],Out.pose.y [m],Out.pose.z [m],Out.pose.qx [1],Out.pose.qy [1],"
+            "Out.pose.qz [1],Out.pose.qw [1],Out.joints[0] [rad],Out.joints[1] [rad],tracking.tool.mm [mm]\n"
+            "0.010,,,,,,,,,,,\n"
+            "0.020,2.5,0.1,0.2,0.3,0,0,0,1,0.5,-0.5,1.25\n");
+  std::vector<double> x, y;
+  ASSERT_TRUE(recording.column("Out.pose.z", x, y));
+  EXPECT_EQ(x, std::vector<double>{0.02});  // the sample before data is left out
+  EXPECT_EQ(y, std::vector<double>{0.3});
+  ASSERT_TRUE(recording.column("Out.joints[1]", x, y));
+  EXPECT_EQ(y, std::vector<double>{-0.5});
+  EXPECT_FALSE(recording.column("Out.pose.w", x, y));
+}
+
+TEST(Recording, APortWithFieldsIsNamedByOneOfThem) {
+  core::ComponentRegistry registry;
+  registry.make<Outputs>("Out");
+  Recording recording;
+  recording.addPort(registry, "Out.pose", "f.lua:1", "run.plots");
+  recording.addPort(registry, "Out.force", "f.lua:1", "run.plots");
+  std::vector<std::string> fields;
+  EXPECT_TRUE(recording.knows("Out.force", fields));
+  EXPECT_TRUE(recording.knows("Out.pose.qw", fields));
+  EXPECT_FALSE(recording.knows("Out.pose.w", fields));
+  EXPECT_FALSE(recording.knows("Out.pose", fields));
+  EXPECT_EQ(fields, (std::vector<std::string>{"x", "y", "z", "qx", "qy", "qz", "qw"}));
+}
+
+TEST(Recording, APortOfAnotherTypeAnInputOrAnUnknownPortIsRefusedInOneLine) {
+  core::ComponentRegistry registry;
+  registry.make<Outputs>("Out");
+  Recording recording;
+  EXPECT_EQ(messageOf([&] { recording.addPort(registry, "Out.happened", "f.lua:3", "run.record"); }),
+            "f.lua:3: run.record: port Out.happened is a Event; accepted: double, vector<double>, KDL.Frame, "
+            "KDL.Twist, KDL.Wrench or KDL.JntArray");
+  EXPECT_EQ(messageOf([&] { recording.addPort(registry, "Out.in", "f.lua:3", "run.record"); }),
+            "f.lua:3: run.record: port Out.in is an input port; observe an output port: events, force, pose, "
+            "joints, wrench, happened");
+  EXPECT_CONTAINS(messageOf([&] { recording.addPort(registry, "Oot.force", "f.lua:3", "run.record"); }),
+                  "f.lua:3: run.record: unknown component 'Oot'; did you mean 'Out'?");
+  EXPECT_EQ(messageOf([&] { recording.addPort(registry, "force", "f.lua:3", "run.record"); }),
+            "f.lua:3: run.record: 'force' must be written Component.port");
+}
+
+}  // namespace
+}  // namespace cobra::run

@@ -1,0 +1,148 @@
+// Reading the `run` table of an entry file (run_spec.hpp: readRunSpec): every field into its
+// struct, and a table that lacks what the runner needs is one line with file:line, the path in
+// the table and what is expected. (Faults files: faults_test.cpp.)
+
+#include "cobra/run/run_spec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cobra/script/lua_state.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::run {
+namespace {
+
+using test_support::messageOf;
+
+/// Writes `text` as an entry file, runs it and reads its `run` table.
+RunSpec read(const std::string& text, const std::string& name = "entry.lua") {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / ("cobra_run_spec_" + name);
+  std::ofstream(file) << text;
+  script::LuaState lua;
+  lua.runFile(file.string());
+  return readRunSpec(lua.get(), file.string());
+}
+
+std::string file(const std::string& name = "entry.lua") {
+  return (std::filesystem::temp_directory_path() / ("cobra_run_spec_" + name)).string();
+}
+
+TEST(RunSpec, ReadsEveryFieldOfTheTable) {
+  const RunSpec spec = read(R"(
+run = {
+  title = "T",
+  charts = { { name = "a", supervisor = "ASup", done = "root.Done", safe_stop = "root.Stop", scope = "arm",
+               sources = { "A", "B" } } },
+  fold = { "Moving" },
+  failures = { "e_x" },
+  explain = { e_x = "why" },
+  step = 0.002,
+  actions = { { on = { event = "e_go", source = "B" }, after = 1.5, call = "C.op", args = { 1, 2 } } },
+  record = { period = 0.02, ports = { "C.out", "D.pose" } },
+  plots = { { title = "P", unit = "m", x = "C.out", x_unit = "s", series = { "D.pose.z" } } },
+  summary = { { name = "S", unit = "mm", scale = 1000, distance = { "D.pose", "E.pose" }, on_leave = "a:root.Wait",
+                of = "E.count" },
+              { name = "N", count = { "e_x", "e_y" } } },
+  tracking = { { name = "tool", commanded = "C.cmd", measured = "D.pose", joints = "D.q", max_velocity = "D.vmax",
+                 chart = "a", accept_mm = 3, counts_while = { scope = "arm", deployments = { "auto" } } } },
+  clearance = { port = "E.d", threshold = 0.005, contacts = { { name = "c", port = "E.c" } },
+                pauses = { { name = "p", chart = "a", from = { "In" }, to = { "Out" } } } },
+}
+)");
+  EXPECT_EQ(spec.title, "T");
+  ASSERT_EQ(spec.charts.size(), 1u);
+  EXPECT_EQ(spec.charts[0].supervisor, "ASup");
+  EXPECT_EQ(spec.charts[0].safe_stop, "root.Stop");
+  EXPECT_EQ(spec.charts[0].scope, "arm");
+  EXPECT_EQ(spec.charts[0].sources, (std::vector<std::string>{"A", "B"}));
+  EXPECT_EQ(spec.charts[0].where.line, 4);
+  EXPECT_EQ(spec.explain.at("e_x"), "why");
+  EXPECT_EQ(spec.step, 0.002);
+  ASSERT_EQ(spec.actions.size(), 1u);
+  EXPECT_EQ(spec.actions[0].on.kind, Trigger::Kind::Event);
+  EXPECT_EQ(spec.actions[0].on.source, "B");
+  EXPECT_EQ(spec.actions[0].after, 1.5);
+  EXPECT_TRUE(spec.actions[0].repeat);  // actions repeat unless told; faults fire once
+  EXPECT_EQ(spec.actions[0].component, "C");
+  EXPECT_EQ(spec.actions[0].member, "op");
+  EXPECT_EQ(spec.actions[0].where.line, 10);
+  EXPECT_EQ(spec.record.period, 0.02);
+  EXPECT_EQ(spec.record.ports[1].first, "D.pose");
+  EXPECT_EQ(spec.plots[0].x, "C.out");
+  EXPECT_EQ(spec.plots[0].where.line, 12);
+  EXPECT_EQ(spec.summary[0].kind, SummarySpec::Kind::Distance);
+  EXPECT_TRUE(spec.summary[0].leave);
+  EXPECT_EQ(spec.summary[0].chart, "a");
+  EXPECT_EQ(spec.summary[0].state, "root.Wait");
+  EXPECT_EQ(spec.summary[1].events, (std::vector<std::string>{"e_x", "e_y"}));
+  EXPECT_EQ(spec.tracking[0].accept_mm, 3.0);
+  EXPECT_EQ(spec.tracking[0].accept_deg, 1.0);
+  EXPECT_EQ(spec.tracking[0].counts_while, (std::vector<std::string>{"auto"}));
+  EXPECT_TRUE(spec.clearance.declared);
+  EXPECT_EQ(spec.clearance.threshold, 0.005);
+  EXPECT_EQ(spec.clearance.pauses[0].to, (std::vector<std::string>{"Out"}));
+}
+
+TEST(RunSpec, JointVelocityLimitsAreAPropertyOrTheLimitsThemselves) {
+  const RunSpec spec = read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                            "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q',\n"
+                            "                 max_velocity = { 3.14, 0.1 } } },\n}\n");
+  EXPECT_EQ(spec.tracking[0].max_velocity_values, (std::vector<double>{3.14, 0.1}));
+  EXPECT_TRUE(spec.tracking[0].max_velocity.empty());
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q',\n"
+                         "                 max_velocity = { 3.14, -1 } } },\n}\n");
+                  }),
+                  "run.tracking[1]: `max_velocity` must be a list of positive numbers (entry 2 is not)");
+}
+
+TEST(RunSpec, AnEntryFileWithoutARunTableSaysWhatTheRunnerNeeds) {
+  EXPECT_EQ(messageOf([] { read("x = 1\n"); }),
+            file() + ": no `run = { charts = { ... } }` table: the runner needs to know which task charts end the run "
+                     "(run/README.md)");
+}
+
+TEST(RunSpec, ATableWithoutChartsNamesItsLine) {
+  EXPECT_EQ(messageOf([] { read("-- an app\nrun = {\n  title = 'x',\n}\n"); }),
+            file() + ":2: run: needs `charts = { { name = , supervisor = , done = } }`: the charts that end the run");
+}
+
+TEST(RunSpec, AChartWithoutItsDoneStateNamesTheEntry) {
+  EXPECT_EQ(messageOf([] { read("run = {\n  charts = {\n    { name = \"a\", supervisor = \"S\" },\n  },\n}\n"); }),
+            file() + ":3: run.charts[1]: needs `done` (a string)");
+}
+
+TEST(RunSpec, BadValuesAreRefusedWithWhatIsExpected) {
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  record = { period = 0, ports = {} },\n}\n");
+                  }),
+                  "run.record: `period` must be a finite positive number");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  summary = { { name = 'x', port = 'C.v' } },\n}\n");
+                  }),
+                  "run.summary[1]: give one of on_enter = \"chart:state\", on_leave = \"chart:state\" (when to sample)");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q' } },\n}\n");
+                  }),
+                  "run.tracking[1]: `joints` needs `max_velocity = \"Comp.property\"`");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  actions = { { on = { state = 'root.Wait' }, call = 'C.op' } },\n}\n");
+                  }),
+                  "state 'root.Wait' must be written chart:state path, e.g. needle:root.WaitCryoCycle");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  actions = { { on = { time = 1 }, call = 'op' } },\n}\n");
+                  }),
+                  "'op' must be written Component.operation");
+}
+
+}  // namespace
+}  // namespace cobra::run

@@ -1,0 +1,145 @@
+// The runner on the small test application (run/test/apps/threshold): it completes when its one
+// chart is done, ends at the time limit otherwise, writes the run folder for any application, and
+// refuses a `run` table naming an unknown port or one of a type it cannot record, in one line
+// with file:line.
+
+#include "cobra/run/runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "cobra/core/component.hpp"
+#include "cobra/deploy/package_registry.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::run {
+namespace {
+
+using test_support::messageOf;
+
+const std::filesystem::path kApp = std::filesystem::path(COBRA_SOURCE_DIR) / "run" / "test" / "apps" / "threshold";
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// A component whose update fails from 50 ms on (its hook throws: the component goes to Exception).
+class Overheating : public core::Component {
+ public:
+  explicit Overheating(std::string name) : Component(std::move(name), core::Role::Bridge, "fails at 50 ms") {}
+
+ protected:
+  void updateHook() override {
+    if (now() >= std::chrono::milliseconds(50)) throw std::runtime_error("overheated");
+  }
+};
+
+RunOptions options(const std::filesystem::path& app = kApp) {
+  RunOptions o;
+  o.app = app;
+  o.time_limit = 5.0;
+  return o;
+}
+
+TEST(Runner, TheTestApplicationCompletesWhenItsChartIsDoneAndWritesTheRunFolder) {
+  RunOptions o = options();
+  o.report_folder = std::filesystem::temp_directory_path() / "cobra_run_threshold";
+  std::filesystem::remove_all(o.report_folder);
+  std::vector<std::string> lines;
+  o.progress = [&](const std::string& line) { lines.push_back(line); };
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  EXPECT_EQ(r.outcome, Outcome::Completed);
+  EXPECT_TRUE(r.reason.empty());
+  // sin(2 pi t) > 0.9 from 0.178 s; under 0.85 again from 0.336 s; the chart steps every 10 ms.
+  EXPECT_GT(r.duration, 0.33);
+  EXPECT_LT(r.duration, 0.36);
+  const std::vector<std::string> expected = {"task > root.waiting", "Detector: e_above_threshold", "task > root.high",
+                                             "Detector: e_below_threshold", "task > root.done"};
+  std::size_t at = 0;
+  for (const std::string& line : r.log)
+    if (at < expected.size() && line == expected[at]) ++at;
+  EXPECT_EQ(at, expected.size()) << "missing in order: " << (at < expected.size() ? expected[at] : "");
+  EXPECT_EQ(r.states_entered.at("task"), (std::vector<std::string>{"root.waiting", "root.high", "root.done"}));
+  EXPECT_EQ(r.value("threshold crossings").values.size(), 1u);
+  ASSERT_EQ(r.value("signal when high").values.size(), 1u);
+  EXPECT_GT(r.value("signal when high").values[0], 0.9);
+  EXPECT_FALSE(lines.empty());
+  EXPECT_CONTAINS(lines.back(), "run ended: completed");
+  // The run folder: events, the recorded ports every 10 ms, the report with the declared plot.
+  EXPECT_EQ(r.report, o.report_folder / "report.html");
+  const std::string events = readFile(o.report_folder / "events.csv");
+  EXPECT_CONTAINS(events, ",Detector,e_above_threshold from Detector at 0.179 s,root.waiting\n");
+  const std::string signals = readFile(o.report_folder / "signals.csv");
+  EXPECT_EQ(signals.rfind("time [s],Sine.out [1],Gain.out [1]\n", 0), 0u);
+  EXPECT_EQ(std::count(signals.begin(), signals.end(), '\n'), 1 + 34);  // header, 10 ms .. 340 ms
+  const std::string html = readFile(r.report);
+  EXPECT_CONTAINS(html, "The signal and its gain");
+  EXPECT_CONTAINS(html, "threshold crossings");
+  EXPECT_CONTAINS(html, "signals.csv");
+}
+
+TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
+  RunOptions o = options();
+  o.time_limit = 0.1;
+  const RunResult r = runApp(o);
+  EXPECT_FALSE(r.completed());
+  EXPECT_EQ(r.outcome, Outcome::TimeLimit);
+  EXPECT_NEAR(r.duration, 0.1, 1e-9);
+  EXPECT_EQ(r.reason, "time limit 0.100 s reached; charts: task root.waiting");
+}
+
+TEST(Runner, InRealTimeTheTestApplicationCompletesOnTheWallClock) {
+  RunOptions o = options();
+  o.realtime = true;  // threaded activities; the time limit only bounds the wait
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  EXPECT_EQ(r.states_entered.at("task").back(), "root.done");
+  EXPECT_EQ(r.value("threshold crossings").values.size(), 1u);
+}
+
+TEST(Runner, AComponentInExceptionEndsTheRunWithItsNameAndError) {
+  RunOptions o = options(kApp / "faulty.lua");
+  o.add_packages = [](deploy::PackageRegistry& packages) {
+    packages.addBuiltin("run_test", [](deploy::PackageBuilder& package) {
+      package.component<Overheating>("Overheating", "fails at 50 ms");
+    });
+  };
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::ComponentError);
+  EXPECT_NEAR(r.duration, 0.05, 0.0015);
+  EXPECT_CONTAINS(r.reason, "component 'Heater' is in Exception: ");
+  EXPECT_CONTAINS(r.reason, "overheated");
+}
+
+TEST(Runner, ARecordedPortOfAnotherTypeIsOneLineWithFileLinePortTypeAndWhatIsAccepted) {
+  const std::string message = messageOf([] { runApp(options(kApp / "bad_record.lua")); });
+  EXPECT_EQ(message, (kApp / "bad_record.lua").string() +
+                         ":5: run.record: port Detector.events is a Event; accepted: double, vector<double>, "
+                         "KDL.Frame, KDL.Twist, KDL.Wrench or KDL.JntArray");
+}
+
+TEST(Runner, AnUnknownRecordedPortIsOneLineWithTheOutputPortsThereAre) {
+  const std::string message = messageOf([] { runApp(options(kApp / "unknown_record.lua")); });
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_EQ(message.rfind((kApp / "unknown_record.lua").string() +
+                              ":5: run.record: component 'Gain' has no port 'outt'; did you mean 'out'?",
+                          0),
+            0u)
+      << message;
+}
+
+TEST(Runner, APlotOfAPortOfAnotherTypeNamesThePlotAndTheType) {
+  const std::string message = messageOf([] { runApp(options(kApp / "bad_plot.lua")); });
+  EXPECT_EQ(message, (kApp / "bad_plot.lua").string() +
+                         ":5: run.plots 'events': port TaskSup.outputEvents is a Event; accepted: double, "
+                         "vector<double>, KDL.Frame, KDL.Twist, KDL.Wrench or KDL.JntArray");
+}
+
+}  // namespace
+}  // namespace cobra::run
