@@ -1,11 +1,11 @@
 // The door example's simulated world: what the task chart relies on happens, and only then.
-#include "door_sim.hpp"
+#include "cobra/components/door/door_sim.hpp"
 
 #include <gtest/gtest.h>
 
 #include "cobra/core/core.hpp"
 
-namespace cobra::examples {
+namespace cobra::components {
 namespace {
 
 using namespace std::chrono_literals;
@@ -75,4 +75,4 @@ TEST(DoorSim, CommandsThatStopComingCountAsZero) {
 }
 
 }  // namespace
-}  // namespace cobra::examples
+}  // namespace cobra::components
