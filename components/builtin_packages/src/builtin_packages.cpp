@@ -7,6 +7,7 @@
 #include "cobra/components/monitoring/package.hpp"
 #include "cobra/components/motion/package.hpp"
 #include "cobra/components/planning/package.hpp"
+#include "cobra/components/reporting/package.hpp"
 #include "cobra/components/signal/package.hpp"
 #include "cobra/components/sim/package.hpp"
 
@@ -22,6 +23,7 @@ void addBuiltinPackages(deploy::PackageRegistry& packages) {
   packages.addBuiltin("cobra_drivers", registerDriversPackage);
   packages.addBuiltin("cobra_sim", registerSimPackage);
   packages.addBuiltin("cobra_monitoring", registerMonitoringPackage);
+  packages.addBuiltin("cobra_reporting", registerReportingPackage);
 }
 
 }  // namespace cobra::components
