@@ -24,6 +24,8 @@ getReferences()
 -- 2. Properties.
 UR5.tool_frame = { 0, 0, 0.12, 0, 0, 0, 1 }                      -- m: the probe's face, 12 cm out of the flange
 UR5.initial_joints = { 0.0, -1.4495, -1.714, 1.5925, -1.571, 0 }  -- rad: probe down at (0.246, -0.109, 0.300) m
+UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }          -- rad/s: the UR5's joint limits (its
+                                                                   -- defaults, stated for cobra run's joint-jump check)
 TrajGen.arms_num = 1
 TrajGen.time_acc = 0.2     -- s: blends at the waypoints
 TrajGen.stop_time = 0.3    -- s
