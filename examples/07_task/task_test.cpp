@@ -80,5 +80,31 @@ TEST(TaskTutorial, TheProbeScanReachesDoneFollowingItsCommandsOverTheWholeRaster
               std::chrono::duration<double>(configurator.clock().now()).count(), worst_mm, worst_deg);
 }
 
+TEST(TaskTutorial, AScanPoseOutOfReachEndsTheTaskInFailedWithTheRobotHolding) {
+  deploy::Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.runFile(std::string(COBRA_EXAMPLES_DIR) + "/07_task/07_task.lua");
+  // 2 m away: beyond the UR5's reach (0.85 m). Read when the scan's deployment configures ScanPath.
+  lua.run("ScanPath.waypoints = { 2.0, 0.0, 0.15, 0.70710678, 0.70710678, 0, 0 }", "=test");
+  core::ComponentRegistry& refs = configurator.getReferences();
+  const auto& task = dynamic_cast<const components::Supervisor&>(refs.get("TaskSup"));
+  auto measured = tap<KDL::Frame>(refs, "UR5", "measCartPose");
+  auto chart_events = tap<core::Event>(refs, "TaskSup", "outputEvents", core::ConnPolicy::buffer(64));
+  KDL::Frame at_failure, now;
+  while (configurator.clock().now() < 60s && task.activeState() != "root.Failed" && task.activeState() != "root.Done")
+    configurator.clock().advance(1ms);
+  ASSERT_EQ(task.activeState(), "root.Failed");
+  ASSERT_NE(measured->read(at_failure), core::FlowStatus::NoData);
+  configurator.clock().advance(2s);
+  ASSERT_NE(measured->read(now), core::FlowStatus::NoData);
+  EXPECT_LT((now.p - at_failure.p).Norm(), 0.002);  // it holds where the refusal stopped it
+  EXPECT_LT(now.p.Norm(), 0.85 + 0.12);  // within the arm's reach plus the probe: nothing swung out
+  bool said = false;
+  for (core::Event e; chart_events->read(e) == core::FlowStatus::NewData;) said = said || e.name == "e_scan_failed";
+  EXPECT_TRUE(said);
+}
+
 }  // namespace
 }  // namespace cobra
