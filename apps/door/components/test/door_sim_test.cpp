@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
 namespace cobra::components {
 namespace {
@@ -72,6 +73,14 @@ TEST(DoorSim, CommandsThatStopComingCountAsZero) {
   ASSERT_EQ(w.value(w.gripped), 1.0);
   w.clock.advance(100ms);  // nobody sends the grip command: the watchdog (50 ms) opens the gripper
   EXPECT_EQ(w.value(w.gripped), 0.0);
+}
+
+TEST(DoorSim, ItsStepsAllocateNothing) {
+  World w;
+  w.arm.write(0.5);
+  w.run(0.1, 1.0, 0.0, 0.0);  // every connection has carried a sample
+  const long allocations = test_support::allocationsDuring([&] { w.run(2.0, 1.0, 2.0, 6.0); });
+  EXPECT_EQ(allocations, 0);
 }
 
 }  // namespace
