@@ -91,6 +91,7 @@ end
 run = {
   title = "Tutorial 07: a probe scan on a simulated UR5",
   charts = { { name = "scan", supervisor = "TaskSup", done = "root.Done", safe_stop = "root.Failed" } },
+  fold = { "Switching", "AskingPath", "Generating", "Moving" },  -- print each motion once, not its steps
   failures = { "e_ik_discontinuity", "e_ik_failed", "e_traj_failed", "e_no_data" },
   record = { period = 0.01, ports = { "UR5.measCartPose", "TrajGen.desCartPose_1" } },
   tracking = {
