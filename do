@@ -126,7 +126,7 @@ case "${1:-help}" in
   demo)
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
-      build release --target cobra example_04_trajectory example_05_admittance cobra-door
+      build release --target cobra example_04_trajectory example_05_admittance
       say "a signal deployment with a one-chart task, run by cobra run (apps/demo: files only)"
       ./build/release/tools/cobra/cobra run apps/demo --report "$PWD/build/demo-basic-report"
       say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
@@ -134,7 +134,7 @@ case "${1:-help}" in
       say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
       ./build/release/examples/example_05_admittance /tmp/cobra-fig-6-7.svg
       say "the thesis' door task (Figs. 2.5-2.6): three supervisors on a simulated door (apps/door)"
-      ./build/release/apps/door/cobra-door apps/door/door.lua /tmp/cobra-door.svg
+      ./build/release/tools/cobra/cobra run apps/door
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
       build release --target cobra

@@ -1,12 +1,14 @@
--- The door example (thesis §2.2, Figs. 2.5 and 2.6): a simulated door, five deployments, two
+-- The door task (thesis §2.2, Figs. 2.5 and 2.6): a simulated door, five deployments, two
 -- configurations, and the three supervisors — task, deployment, configuration — as three
 -- instances of the same Supervisor component with different charts.
--- Run: build/release/apps/door/cobra-door  (it loads this file; see main.cpp)
+-- Run: cobra run apps/door   (this file is the application's entry; `run` below says what to watch)
+-- or deploy it only: cobra deploy apps/door/door.lua --sim --run-for 12
 
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = here .. "../../components/coordination/charts/"
 
-packages_list = { "cobra_signal", "cobra_coordination", "door_example" }
+-- cobra_door: the task's own component, the simulated door (apps/door/components).
+packages_list = { "cobra_signal", "cobra_coordination", "cobra_door" }
 components_list = {
   { peer_name = "Door", component_type = "DoorSim" },
   -- set-points of the arm, gripper, handle torque and pull force (values from configurations)
@@ -83,3 +85,20 @@ deployment("grasp", { ArmCmd = "armTarget", GripCmd = "gripCommand" })
 deployment("turn", { GripCmd = "gripCommand", TorqueCmd = "handleTorque" })
 deployment("pull", { GripCmd = "gripCommand", PullCmd = "pullForce" })
 deployment("release", {})
+
+-- What `cobra run apps/door` does with this deployment: it runs until the task chart is done (or
+-- failed), records the door's measurements and draws them in the run's report.
+run = {
+  title = "The door task (thesis Figs. 2.5-2.6)",
+  charts = {
+    { name = "door", supervisor = "TaskSup", done = "root.done", safe_stop = "root.failed" },
+  },
+  record = { period = 0.01, ports = { "Door.armPosition", "Door.gripped", "Door.handleAngle", "Door.doorAngle" } },
+  plots = {
+    { title = "arm and door", unit = "m, rad",
+      series = { "Door.armPosition", "Door.handleAngle", "Door.doorAngle" } },
+  },
+  summary = {
+    { name = "door opening when released", unit = "rad", port = "Door.doorAngle", on_enter = "door:root.release" },
+  },
+}

@@ -46,11 +46,6 @@ run = {
   failures = failures,
   explain = { e_plan_failed = "lastPlanResult" },
   safe_stop_reason = "the same failure again after the reaction to the first",
-  -- The cryoablation console: the freeze starts as the needle is placed (the Patient thaws by
-  -- itself after its freeze_duration).
-  actions = {
-    { on = { state = "needle:root.WaitCryoCycle" }, call = "Patient.startFreeze" },
-  },
   record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",
                                       "Patient.needleDepth", "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy",
                                       "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance" } },

@@ -1,5 +1,6 @@
 #include "cobra/deploy/graph.hpp"
 
+#include <cctype>
 #include <set>
 #include <sstream>
 
@@ -25,8 +26,22 @@ std::string quoted(const std::string& text) {
   return out + "\"";
 }
 
-/// Port identifiers inside a record: "p_<name>" (names are identifiers already).
-std::string portId(const std::string& port) { return "p_" + port; }
+/// Port identifiers inside a record: "p_<name>", every character other than a letter, a digit or
+/// '_' written as "_xx" (its hex code): a Reporter's reader ports are named "Comp:port", and ':'
+/// separates a node from its port in DOT.
+std::string portId(const std::string& port) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string id = "p_";
+  for (const char c : port) {
+    if (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_') {
+      id += c;
+    } else {
+      const auto byte = static_cast<unsigned char>(c);
+      id += {'_', kHex[byte >> 4], kHex[byte & 0xF]};
+    }
+  }
+  return id;
+}
 
 }  // namespace
 

@@ -3,7 +3,8 @@
 -- needs by name (e_deploy_<name>, e_configure_<name>: components/coordination/charts) and asks
 -- its peers for services through void request operations (askCurrentGoal, askPlan,
 -- askGenerateTraj, askStartMove, askStopMove, nextNeedle); it advances on their events and on
--- the Decision components' (NeedleInsertionMonitor), the surgeon's and the ultrasound chart's.
+-- the Decision components' (NeedleInsertionMonitor), the surgeon's, the cryoablation console's
+-- (e_cryo_start asked, e_cryo_done answered) and the ultrasound chart's.
 -- It never touches pure data. The two robots are coordinated only through events (README.md):
 --   consumed from the ultrasound chart: e_us_positioned, e_us_needle_lost, e_us_needle_tracked
 --   emitted for it: e_needle_wait_us, e_needle_skin_reached, e_needle_extracted, e_needle_next
@@ -78,7 +79,9 @@ local chart = {
     rfsm.trans { src = 'MoveToTumor', tgt = 'root.WaitCryoCycle', events = { 'e_target_reached' },
                  effect = function() emit("e_needle_placed") end },
   },
-  WaitCryoCycle = waiting("root.WaitCryoCycle", D.primitives, C.insertion),
+  -- The needle placed: the cryoablation console (CryoConsole in deployment/world.lua) is asked for
+  -- its freeze cycle and answers e_cryo_done once the iceball has thawed.
+  WaitCryoCycle = waiting("root.WaitCryoCycle", D.primitives, C.insertion, function() emit("e_cryo_start") end),
   ExtractingNeedle = rfsm.state {
     VerifyingNeedleTrapped = motion("root.ExtractingNeedle.VerifyingNeedleTrapped", D.primitives, C.insertion),
     WaitDefreezing = waiting("root.ExtractingNeedle.WaitDefreezing", D.primitives, C.insertion),

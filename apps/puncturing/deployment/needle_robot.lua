@@ -11,10 +11,11 @@ dofile(here .. "controller.lua") {
   max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
   max_ang_vel = 0.15,  -- rad/s: turning the needle about its tip moves the delta's platform, ~0.37 m
                       -- up the arm, at 0.37 m/rad; its sliders run at 0.1 m/s
-  event_sources = { "NeedleMonitor" },
+  event_sources = { "NeedleMonitor", "Cryo" },  -- Cryo: the console's e_cryo_done
   chart_peers = { "NeedleMonitor" },  -- the chart re-arms its skin detection for each new needle
   connections = {
     { output = "NeedleFrames.needleTarget", input = "NeedleMonitor.targetPose" },
     { output = "NeedleTaskSup.taskState", input = "Surgeon.needleTaskState", conn_policy = { type = "buffer", size = 64 } },
+    { output = "NeedleTaskSup.outputEvents", input = "Cryo.inputEvents", conn_policy = { type = "buffer", size = 64 } },
   },
 }

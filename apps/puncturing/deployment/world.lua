@@ -1,7 +1,7 @@
 -- The simulated world of the puncturing task (thesis §4.3, §4.5.6-4.5.8): the I-SUR robot holding
 -- the needle, the UR5 holding the ultrasound probe, the patient (abdomen phantom, needle-tissue
--- interaction, iceball, ultrasound image), the situation awareness (two Decision components) and
--- the scripted surgeon. Swapping a simulated bridge for a real one changes its component_type
+-- interaction, iceball, ultrasound image), the situation awareness (two Decision components), the
+-- cryoablation console and the scripted surgeon. Swapping a simulated bridge for a real one changes its component_type
 -- here (the sim-only ports trueCartPose, contactWrench, handTarget stay unconnected then).
 -- Geometry as planning/scenes/puncturing.scene: world z up, table top z = 0, phantom top z = 0.1.
 -- Needs the global `scenario` (a folder of apps/puncturing/scenarios).
@@ -16,6 +16,7 @@ initConfigurator({ "cobra_sim", "cobra_monitoring", "cobra_puncturing" }, {
   { peer_name = "NeedleMonitor", component_type = "NeedleInsertionMonitor" },
   { peer_name = "USMonitor", component_type = "UltrasoundMonitor" },
   { peer_name = "Surgeon", component_type = "ScriptedSurgeon" },
+  { peer_name = "Cryo", component_type = "CryoConsole" },
 })
 getReferences()
 
@@ -33,8 +34,12 @@ Patient.thaw_time_constant = 8                       -- s  simulation speed-up o
 Patient.hold_stiffness = 3000                        -- N/m: the ice holds the needle through the tissue's
                                                      -- elasticity; 2e4 makes the insertion admittance's
                                                      -- coupled loop ring with the servo lag (unstable)
-Patient.freeze_duration = 5                          -- s: the freeze the runner starts at WaitCryoCycle
-                                                     -- (the surgeon confirms the cycle 20 s in, thawed)
+Patient.freeze_duration = 0                          -- s: the patient freezes until the console thaws it
+-- The console (asked by the needle chart in WaitCryoCycle; needle_robot.lua wires its events):
+-- 5 s of freezing grow the iceball to 9.5 mm; it reports the thaw at 1.5 mm, below the patient's
+-- 2 mm release radius, about 15 s later, so the extraction check finds the needle free.
+Cryo.freeze_duration = 5                             -- s
+Cryo.thawed_radius = 0.0015                          -- m
 NeedleMonitor.needle_axis = { 0, 0, 1 }
 NeedleMonitor.forbidden_regions = G.regionsInWorld(info)
 NeedleMonitor.forbidden_margin = 0.001               -- m
@@ -47,7 +52,7 @@ Surgeon.script_file = surgeon_file or (scenario .. "/surgeon.txt")  -- surgeon_f
 ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }
 UR5.max_velocity = { 3.14, 3.14, 3.14, 3.14, 3.14, 3.14 }
 
-local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon" }
+local world = { "ISUR", "UR5", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo" }
 local activities = {}
 for _, name in ipairs(world) do activities[#activities + 1] = { peer_name = name, period = 0.001 } end
 setActivities(activities)
@@ -61,6 +66,8 @@ connectPorts({
   { output = "Patient.needlePlaneDistance", input = "USMonitor.needlePlaneDistance" },
   { output = "Patient.needleInImage", input = "USMonitor.needleInImage" },
   { output = "Patient.probeContactForce", input = "USMonitor.probeContactForce" },
+  { output = "Cryo.freezeCommand", input = "Patient.freezeCommand" },
+  { output = "Patient.iceballRadius", input = "Cryo.iceballRadius" },
 })
 configureComponents(world)
 startComponents(world)

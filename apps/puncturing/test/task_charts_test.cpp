@@ -2,8 +2,8 @@
 // and run on the statechart engine, each in its own Lua state as in two processes, coordinated
 // only by the events they emit. Their peers are fakes that record the operations called and
 // answer as the real components do (deployment/configuration supervisors, Frame Generator,
-// planner, trajectory generator); a scripted world plays the Decision components' events and
-// the scenario's surgeon script plays the surgeon.
+// planner, trajectory generator, cryoablation console); a scripted world plays the Decision
+// components' events and the scenario's surgeon script plays the surgeon.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +21,7 @@ namespace cobra::puncturing {
 namespace {
 
 const std::string kApp = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/";
+constexpr double kCryoCycle = 20.0;  // s from the console's e_cryo_start to its e_cryo_done (world.lua: ~19.7 s)
 
 /// Fake peers in Lua: every operation call and emitted event is appended to `log` as
 /// "Peer:operation" or "emit:event"; `drain()` returns and clears them, one per line.
@@ -207,6 +208,8 @@ class Procedure {
       pending_deployment_[&c] = name;
     } else if (line.starts_with("emit:e_configure_")) {
       reply("e_configured_" + line.substr(17));
+    } else if (line == "emit:e_cryo_start") {
+      reply("e_cryo_done", kCryoCycle);  // the CryoConsole: a freeze, then the thaw
     } else if (line.starts_with("emit:e_us_") || line.starts_with("emit:e_needle_")) {
       at(now_ + 0.05, &other(c), line.substr(5));  // the inter-chart link
     } else if (line.ends_with("Frames:askCurrentGoal")) {
@@ -358,8 +361,8 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
       "needle > root.InsertingNeedles.PenetratingSkin.Switching",
       // F: the skin is punctured: the compliant needle insertion configuration.
       "needle <- e_skin_penetrated", "needle: emit:e_configure_needle_insertion",
-      "needle > root.InsertingNeedles.MoveToTumor.Switching", "needle <- e_target_reached", "needle > root.WaitCryoCycle",
-      "needle <- e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped.Switching",
+      "needle > root.InsertingNeedles.MoveToTumor.Switching", "needle <- e_target_reached",
+      "needle: emit:e_cryo_start", "needle > root.WaitCryoCycle", "needle <- e_cryo_done", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped.Switching",
       // G: extracted, a collision-free motion to the needle change pose.
       "needle > root.ExtractingNeedle.MoveToExtractionPoint.Switching", "needle: emit:e_needle_extracted",
       "needle > root.InsertingNeedles.MoveToNeedleChange.Planning", "needle > root.InsertingNeedles.WaitNeedleRemoved",
@@ -368,9 +371,11 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
       "us <- e_needle_next", "us: ProbeFrames:nextNeedle", "us > root.MoveToSkin.Approach.Switching",
       "us <- e_probe_contact", "needle <- e_us_positioned", "needle > root.InsertingNeedles.WaitNeedleMounted",
       "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching", "needle <- e_target_reached",
-      "needle <- e_cryo_done", "needle: emit:e_needle_extracted", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+      "needle: emit:e_cryo_start", "needle <- e_cryo_done", "needle: emit:e_needle_extracted", "needle > root.InsertingNeedles.WaitNeedleRemoved",
       "needle <- e_all_needles_done", "needle > root.Done"});
   EXPECT_EQ(p.count("needle <- e_target_reached"), 2u);
+  EXPECT_EQ(p.count("needle: emit:e_cryo_start"), 2u);  // one freeze cycle per needle
+  EXPECT_EQ(p.count("needle <- e_cryo_done"), 2u);
   EXPECT_EQ(p.count("needle > root.WaitReaction"), 0u);
   EXPECT_EQ(p.count("us > root.WaitReaction"), 0u);
   EXPECT_EQ(p.count("needle <- e_needle_mounted"), 2u);

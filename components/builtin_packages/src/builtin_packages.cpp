@@ -8,6 +8,7 @@
 #include "cobra/components/motion/package.hpp"
 #include "cobra/components/planning/package.hpp"
 #include "cobra/components/puncturing/package.hpp"
+#include "cobra/components/reporting/package.hpp"
 #include "cobra/components/signal/package.hpp"
 #include "cobra/components/sim/package.hpp"
 
@@ -24,6 +25,7 @@ void addBuiltinPackages(deploy::PackageRegistry& packages) {
   packages.addBuiltin("cobra_sim", registerSimPackage);
   packages.addBuiltin("cobra_monitoring", registerMonitoringPackage);
   packages.addBuiltin("cobra_puncturing", registerPuncturingPackage);
+  packages.addBuiltin("cobra_reporting", registerReportingPackage);
 }
 
 }  // namespace cobra::components

@@ -3,6 +3,7 @@
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 #include "cobra/components/motion/equivalent_wrench.hpp"
 #include "cobra/components/motion/kinematics_solver_component.hpp"
+#include "cobra/components/motion/waypoint_path.hpp"
 
 namespace cobra::components {
 
@@ -14,7 +15,9 @@ void registerMotionPackage(deploy::PackageBuilder& package) {
                                             "forward/inverse kinematics, KDL or closed form by a property (thesis §6.2.4)")
       .component<KdlKinematicsSolver>("KdlKinematicsSolver", "KinematicsSolver with KDL's LMA solver by default")
       .component<ClosedFormKinematicsSolver>("ClosedFormKinematicsSolver",
-                                             "KinematicsSolver with the robot's closed form by default");
+                                             "KinematicsSolver with the robot's closed form by default")
+      .component<WaypointPath>("WaypointPath",
+                               "a fixed Cartesian path (property waypoints) sent from the tool's measured pose on request");
 }
 
 }  // namespace cobra::components

@@ -1,5 +1,6 @@
 #include "cobra/components/sim/package.hpp"
 
+#include "cobra/components/sim/cryo_console.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"
 #include "cobra/components/sim/simulated_ftsens.hpp"
 #include "cobra/components/sim/simulated_leap_motion.hpp"
@@ -23,7 +24,9 @@ void registerSimPackage(deploy::PackageBuilder& package) {
                                    "simulated Puma 260 drives on EtherCAT, for Puma260EtherCATMaster bus = sim:<name>")
       .component<SimulatedFTSens>("SimulatedFTSens", "simulated IIT FTSens on CAN, for FTSensDriver bus = sim:<name>")
       .component<SimulatedLeapMotion>("SimulatedLeapMotion",
-                                      "simulated Leap Motion, for LeapMotionDriver device = sim:<name>");
+                                      "simulated Leap Motion, for LeapMotionDriver device = sim:<name>")
+      .component<CryoConsole>("CryoConsole",
+                              "simulated cryoablation console: freezes and thaws the patient on request (thesis ch. 4)");
 }
 
 }  // namespace cobra::components

@@ -29,6 +29,7 @@ PatientSimulator::PatientSimulator(std::string name)
   addProperty(needle_visible_length_);
   addPort(needle_tip_pose_);
   addPort(probe_pose_);
+  addPort(freeze_command_);
   addPort(needle_wrench_);
   addPort(probe_wrench_);
   addPort(needle_depth_);
@@ -101,6 +102,13 @@ void PatientSimulator::updateHook() {
                                         : static_cast<double>(now_ns - last_update_ns_) * 1e-9;
   last_update_ns_ = now_ns;
 
+  if (double command = 0.0; freeze_command_.read(command) == core::FlowStatus::NewData) {
+    if (command > 0.5) {
+      startFreeze();
+    } else {
+      startThaw();
+    }
+  }
   if (freeze_requested_) {
     freeze_requested_ = false;
     tissue_->startFreeze();

@@ -5,9 +5,10 @@
 
 #include "cobra/test_support/test_support.hpp"
 
+#include <fstream>
 #include <string>
 
-#include "cobra/components/signal/recorder.hpp"
+#include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/core/core.hpp"
 
 namespace cobra::deploy {
@@ -31,15 +32,34 @@ TEST(LuaDeployer, TheThesisConfiguratorListingRuns) {
   core::ComponentRegistry& refs = f.configurator.getReferences();
   for (const char* name : {"MotPlan", "TrajGen", "TaskSup", "Reporter"})
     EXPECT_EQ(refs.get(name).state(), core::State::Running) << name;
-  EXPECT_EQ(f.configurator.peersOf("TaskSup"), std::vector<std::string>{"MotPlan"});
+  EXPECT_EQ(f.configurator.peersOf("TaskSup"), (std::vector<std::string>{"MotPlan", "TrajGen"}));
+  EXPECT_EQ(f.configurator.peersOf("Reporter"), std::vector<std::string>{"MotPlan"});
   EXPECT_EQ(refs.get("TrajGen").activity().period(), 1ms);
-  EXPECT_EQ(refs.get("MotPlan").activity().period(), 10ms);
+  EXPECT_EQ(refs.get("MotPlan").activity().period(), 0ms);  // the planner runs when asked
   // getReferences() made every instance reachable by name, as in the thesis' console.
   EXPECT_EQ(f.lua.evaluate("MotPlan:getState()"), "Running");
-  f.lua.run("TrajGen.k = 3", "=test");
-  f.configurator.clock().advance(50ms);
-  const auto& samples = static_cast<components::Recorder&>(refs.get("Reporter")).samples();
-  EXPECT_EQ(samples.size(), 5U);  // MotPlan writes every 10 ms; TrajGen passes each on
+  EXPECT_EQ(f.lua.evaluate("TaskSup.fsm_path"), std::string(COBRA_SOURCE_DIR) + "/apps/examples/configurator_listing_task.lua");
+
+  // A plan of both tools (needle, probe: x y z [m] qx qy qz qw each) on MotPlan's path port: the
+  // task chart has TrajGen generate and follow it, and the Reporter records it.
+  const auto& chart = dynamic_cast<const components::Supervisor&>(refs.get("TaskSup"));
+  std::vector<std::string> states{std::string(chart.activeState())};
+  f.lua.run("MotPlan.plannedPath:write('[[0, 0, 0.3, 0, 0, 0, 1, 0.2, 0, 0.3, 0, 0, 0, 1], "
+            "[0.01, 0, 0.3, 0, 0, 0, 1, 0.2, 0.01, 0.3, 0, 0, 0, 1]]')",
+            "=test");
+  for (int ms = 0; ms < 2000; ++ms) {
+    f.configurator.clock().advance(1ms);
+    if (states.empty() || states.back() != chart.activeState()) states.emplace_back(chart.activeState());
+  }
+  EXPECT_EQ(states, (std::vector<std::string>{"root.Idle", "root.Generating", "root.Moving", "root.Idle"}));
+  EXPECT_EQ(f.lua.evaluate("TrajGen:status()"), "WaitPath");
+  ASSERT_TRUE(refs.get("Reporter").stop());  // the file is complete once stopped
+  std::ifstream csv(refs.get("Reporter").getProperty<std::string>("file_path"));
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_EQ(header, "time [s],MotPlan.allowedContactDistance [m],MotPlan.plannedPath [m],MotPlan.minDistance [m]");
+  EXPECT_CONTAINS(row, "0.2, 0.01, 0.3");
 }
 
 TEST(LuaDeployer, EntriesGetTheLineTheyAreWrittenOn) {

@@ -100,7 +100,7 @@ class Terminal {
 TEST(ConsoleOnATerminal, ListSetCallTraceWithCompletionAndHistory) {
   const std::string history = ::testing::TempDir() + "cobra_console_history";
   std::filesystem::remove(history);
-  const std::string listing = std::string(COBRA_SOURCE_DIR) + "/apps/examples/configurator_listing.lua";
+  const std::string listing = std::string(COBRA_SOURCE_DIR) + "/apps/examples/signal_listing.lua";
   Terminal terminal({COBRA_CLI, "console", listing, "--sim"}, history);
   ASSERT_TRUE(terminal.started());
   terminal.waitFor("loaded ");

@@ -16,7 +16,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const std::string kListing = std::string(COBRA_SOURCE_DIR) + "/apps/examples/configurator_listing.lua";
+const std::string kListing = std::string(COBRA_SOURCE_DIR) + "/apps/examples/signal_listing.lua";
 
 /// A Supervision-like sink of events, to check what `event` sends.
 class EventSink : public core::Component {

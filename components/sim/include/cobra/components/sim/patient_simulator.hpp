@@ -24,7 +24,9 @@ namespace cobra::components {
 /// probe frame U in W (z = beam, x = array, origin at the face centre).
 ///
 /// Inputs: `needleTipPose`, `probePose` (KDL::Frame, m). Until a pose has arrived its model is
-/// not stepped and its outputs stay zero.
+/// not stepped and its outputs stay zero. `freezeCommand` (1: freeze, 0: thaw; from the
+/// cryoablation console, CryoConsole): each new sample starts a freeze (> 0.5) or a thaw, as the
+/// operations below do.
 /// Outputs each update (all pure data):
 ///  - `needleWrench`: force of the tissue on the needle, W orientation, at the tip (N; torque 0):
 ///    wire it to the needle robot's contactWrench.
@@ -77,6 +79,8 @@ class PatientSimulator : public core::Component {
 
   core::InputPort<KDL::Frame> needle_tip_pose_{"needleTipPose", "needle tip pose, world frame", "m"};
   core::InputPort<KDL::Frame> probe_pose_{"probePose", "ultrasound probe pose, world frame", "m"};
+  core::InputPort<double> freeze_command_{"freezeCommand", "1: freeze around the tip, 0: thaw (from the console)",
+                                          "1"};
   core::OutputPort<KDL::Wrench> needle_wrench_{"needleWrench",
                                                "tissue force on the needle, world orientation, at the tip", "N, N·m"};
   core::OutputPort<KDL::Wrench> probe_wrench_{"probeWrench", "skin force on the probe, world orientation, at the face",

@@ -1,9 +1,9 @@
-#include "door_sim.hpp"
+#include "cobra/components/door/door_sim.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace cobra::examples {
+namespace cobra::components {
 
 DoorSim::DoorSim(std::string name)
     : Component(std::move(name), core::Role::Bridge, "Simulated arm, handle and door of the door example") {
@@ -73,4 +73,4 @@ void DoorSim::updateHook() {
   door_angle_.write(door_);
 }
 
-}  // namespace cobra::examples
+}  // namespace cobra::components

@@ -1,17 +1,19 @@
 #pragma once
-// DoorSim: the simulated world of the door example (thesis §2.2, Fig. 2.5), a Bridge component
-// that is to the example what a robot bridge is to a real cell: commands in, measurements out.
-//
-// A one-axis arm approaches a door handle; its gripper grasps the handle when it is within
-// `grip_tolerance` and the grip command is above 0.5; a torque on the grasped handle turns it
-// against a spring; past `latch_angle` the latch releases and a pull force opens the door (a
-// rotating mass with viscous damping). A force or torque command older than `command_timeout`
-// counts as zero, as a real drive's watchdog would do, so stopping the component that sends it
-// stops the action.
+/// @file
+/// DoorSim: the simulated world of the door task (thesis §2.2, Fig. 2.5), a Bridge component
+/// that is to the task what a robot bridge is to a real cell: commands in, measurements out.
+/// Package "cobra_door" (registerDoorPackage).
+///
+/// A one-axis arm approaches a door handle; its gripper grasps the handle when it is within
+/// `grip_tolerance` and the grip command is above 0.5; a torque on the grasped handle turns it
+/// against a spring; past `latch_angle` the latch releases and a pull force opens the door (a
+/// rotating mass with viscous damping). A force or torque command older than `command_timeout`
+/// counts as zero, as a real drive's watchdog would do, so stopping the component that sends it
+/// stops the action. Needs a periodic activity (1 ms in door.lua); updateHook allocates nothing.
 
 #include "cobra/core/component.hpp"
 
-namespace cobra::examples {
+namespace cobra::components {
 
 class DoorSim : public core::Component {
  public:
@@ -53,4 +55,4 @@ class DoorSim : public core::Component {
   bool gripped_state_ = false;
 };
 
-}  // namespace cobra::examples
+}  // namespace cobra::components

@@ -1,11 +1,12 @@
 // The door example's simulated world: what the task chart relies on happens, and only then.
-#include "door_sim.hpp"
+#include "cobra/components/door/door_sim.hpp"
 
 #include <gtest/gtest.h>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
-namespace cobra::examples {
+namespace cobra::components {
 namespace {
 
 using namespace std::chrono_literals;
@@ -74,5 +75,13 @@ TEST(DoorSim, CommandsThatStopComingCountAsZero) {
   EXPECT_EQ(w.value(w.gripped), 0.0);
 }
 
+TEST(DoorSim, ItsStepsAllocateNothing) {
+  World w;
+  w.arm.write(0.5);
+  w.run(0.1, 1.0, 0.0, 0.0);  // every connection has carried a sample
+  const long allocations = test_support::allocationsDuring([&] { w.run(2.0, 1.0, 2.0, 6.0); });
+  EXPECT_EQ(allocations, 0);
+}
+
 }  // namespace
-}  // namespace cobra::examples
+}  // namespace cobra::components

@@ -1,0 +1,75 @@
+#include "cobra/components/motion/waypoint_path.hpp"
+
+#include <cmath>
+
+namespace cobra::components {
+
+WaypointPath::WaypointPath(std::string name)
+    : Component(std::move(name), core::Role::Calculation,
+                "a fixed Cartesian path (property waypoints) sent from the tool's measured pose on askPath()") {
+  addProperty(waypoints_);
+  addPort(meas_pose_);
+  addPort(path_);
+  addOperation("askPath", &WaypointPath::askPath, this,
+               "writes path from the measured pose through the waypoints in the next step (e_path_sent, or "
+               "e_no_data without a measured pose)",
+               core::ExecutionThread::Client);
+  addOperation("waypointCount", std::function<int()>([this] { return static_cast<int>(waypoints_().size() / kValuesPerArm); }),
+               "number of poses in the waypoints property");
+}
+
+bool WaypointPath::configureHook() {
+  const std::vector<double>& values = waypoints_();
+  if (values.empty() || values.size() % kValuesPerArm != 0)
+    return refuse("property waypoints has " + std::to_string(values.size()) +
+                  " values; expected 7 per pose (x y z [m] qx qy qz qw), at least one pose");
+  std::vector<std::vector<double>> waypoints(1, std::vector<double>(kValuesPerArm, 0.0));
+  for (std::size_t k = 0; k < values.size(); k += kValuesPerArm) {
+    const std::vector<double> pose(values.begin() + static_cast<std::ptrdiff_t>(k),
+                                   values.begin() + static_cast<std::ptrdiff_t>(k + kValuesPerArm));
+    double norm = 0.0;
+    bool finite = true;
+    for (std::size_t i = 0; i < kValuesPerArm; ++i) {
+      finite = finite && std::isfinite(pose[i]);
+      if (i >= 3) norm += pose[i] * pose[i];
+    }
+    if (!finite || norm < 1e-12)
+      return refuse("property waypoints: pose " + std::to_string(k / kValuesPerArm + 1) +
+                    " needs finite values and a non-zero quaternion");
+    waypoints.push_back(pose);
+  }
+  path_data_ = trajectory::MultiAxisPath(std::move(waypoints));
+  path_.setDataSample(path_data_);
+  have_measured_ = false;
+  return true;
+}
+
+bool WaypointPath::startHook() {
+  ask_path_.clear();
+  return true;
+}
+
+void WaypointPath::askPath() { ask_path_.ask(activity()); }
+
+void WaypointPath::updateHook() {
+  if (meas_pose_.read(measured_) != core::FlowStatus::NoData) have_measured_ = true;
+  if (!ask_path_.take()) return;
+  if (!have_measured_) {
+    emitEvent("e_no_data");
+    return;
+  }
+  std::vector<double>& start = path_data_.waypoint(0);
+  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
+  measured_.M.GetQuaternion(qx, qy, qz, qw);
+  start[0] = measured_.p.x();
+  start[1] = measured_.p.y();
+  start[2] = measured_.p.z();
+  start[3] = qx;
+  start[4] = qy;
+  start[5] = qz;
+  start[6] = qw;
+  path_.write(path_data_);
+  emitEvent("e_path_sent");
+}
+
+}  // namespace cobra::components
