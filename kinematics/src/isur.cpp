@@ -160,8 +160,8 @@ IkStatus IsurPuncturingSolver::forward(const KDL::JntArray& q, KDL::Frame& pose)
 }
 
 IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double yaw, double pitch, double roll,
-                                              const KDL::JntArray& seed,
-                                              std::array<double, kJoints>& q) const noexcept {
+                                              const KDL::JntArray& seed, std::array<double, kJoints>& q,
+                                              bool search_elbow) const noexcept {
   const JointLimits& l = limits_;
   // Orientation: yaw = q4 + q5, pitch = q6 + q7, roll = q8 (thesis §5.4.1).
   const double yaw_total = seed(3) + seed(4) + wrapToPi(yaw - seed(3) - seed(4));
@@ -194,18 +194,26 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
   }
   if (!nearestInLimits(roll, seed(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
   const IkStatus preferred = placePlatform(target, q);
-  if (preferred == IkStatus::Ok || preferred == IkStatus::BadInput) return preferred;
+  if (preferred == IkStatus::Ok || preferred == IkStatus::BadInput || !search_elbow) return preferred;
   // The delta cannot place its platform for the preferred split (a slider at its end, e.g. deep
   // in a needle insertion): the pitch split is the redundancy that moves the micro arm's offset
   // (the elbow), so take the split nearest the preferred one for which the delta reaches. The
   // boundary of the reachable splits moves continuously with the target, so along a path the
   // split changes continuously (and slowly: the elbow moves only as far as the delta lacks).
+  // Only the upper arm's term of the micro arm's offset depends on the split a = q6 (the forearm
+  // and tool follow the pitch sum): offset(a) = fixed + Rz(q5)·Ry(a)·(upper_arm, 0, 0), so the
+  // delta's target is p(a) = Rz(q4)ᵀ·target.p - fixed - upper_arm·(cos a·cos q5, cos a·sin q5,
+  // -sin a), one sincos per trial.
   const double preferred_a = q[5];
-  std::array<double, kJoints> trial = q;
+  const IsurMicroArm& m = geometry_.micro;
+  const double c5 = std::cos(q[4]), s5 = std::sin(q[4]);
+  const KDL::Vector upper_term = KDL::Rotation::RotZ(q[4]) * KDL::Rotation::RotY(preferred_a) * KDL::Vector(m.upper_arm, 0, 0);
+  const KDL::Vector base_target = KDL::Rotation::RotZ(-q[3]) * target.p - (microForward(q[4], q[5], q[6], q[7]).p - upper_term);
+  std::array<double, 3> sliders{};
   const auto reachable = [&](double a) noexcept {
-    trial[5] = a;
-    trial[6] = pitch_total - a;
-    return placePlatform(target, trial) == IkStatus::Ok;
+    const double ca = std::cos(a), sa = std::sin(a);
+    const KDL::Vector p_delta = base_target - m.upper_arm * KDL::Vector(ca * c5, ca * s5, -sa);
+    return delta_.inversePosition(p_delta, std::span<double, 3>(sliders)) == IkStatus::Ok;
   };
   for (double distance = kSplitSearchStep; preferred_a - distance >= lo || preferred_a + distance <= hi;
        distance += kSplitSearchStep) {
@@ -287,7 +295,14 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
   for (int i = 0; i < count; ++i) {
     std::array<double, kJoints> q{};
     const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
-    const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q);
+    // The representation's branch is known from its pitch before solving (branch()): one the
+    // caller excludes (the control path's continuity rule) is solved without the elbow search,
+    // only to tell a refusal (Discontinuous) from an unreachable target.
+    IkBranch representation;
+    representation.bits = std::cos(pitch) < 0.0 ? 1u : 0u;
+    representation.ambiguous = std::abs(std::cos(pitch)) < kWristBand ? 1u : 0u;
+    const bool searched = on_branch.compatibleWith(representation);
+    const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
     if (candidate != IkStatus::Ok) {
       if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
         status = IkStatus::JointLimits;

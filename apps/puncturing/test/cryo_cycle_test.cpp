@@ -9,7 +9,6 @@
 #include <string>
 
 #include "cobra/components/builtin_packages.hpp"
-#include "cobra/components/puncturing/package.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 
@@ -23,7 +22,6 @@ const std::string kApp = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/";
 TEST(PuncturingWorld, TheConsoleFreezesThePatientOnRequestAndReportsTheThaw) {
   deploy::Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
-  configurator.packages().addBuiltin("cobra_puncturing", components::registerPuncturingPackage);
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   // What puncturing.lua gives world.lua: the scenario and the needle's tool frame (z along the needle).

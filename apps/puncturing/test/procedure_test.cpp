@@ -92,7 +92,7 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
       // F: the skin punctured: the insertion configuration to the tumour, guided by the image.
       "NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
       "NeedleConfSup: e_configured_needle_insertion", "us > root.USPositioned.NeedleTracked",
-      "NeedleMonitor: e_target_reached", "needle > root.WaitCryoCycle", "Surgeon: e_cryo_done",
+      "NeedleMonitor: e_target_reached", "needle > root.WaitCryoCycle", "Cryo: e_cryo_done",
       // G: the needle is free of ice and comes out; a planned motion to the needle change pose.
       "needle > root.ExtractingNeedle.VerifyingNeedleTrapped", "needle > root.ExtractingNeedle.MoveToExtractionPoint",
       "needle > root.InsertingNeedles.MoveToNeedleChange", "needle deployment > needle_autonomous_planning",
@@ -100,7 +100,7 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
       // H: the probe moves to the second needle's pose; the second needle goes in the same way.
       "needle > root.WaitUSPositioning", "us > root.MoveToSkin.Approach", "USMonitor: e_probe_contact",
       "needle > root.InsertingNeedles.WaitNeedleMounted", "Surgeon: e_needle_mounted", "NeedleMonitor: e_skin_touched",
-      "NeedleMonitor: e_target_reached", "Surgeon: e_cryo_done", "needle > root.InsertingNeedles.WaitNeedleRemoved",
+      "NeedleMonitor: e_target_reached", "Cryo: e_cryo_done", "needle > root.InsertingNeedles.WaitNeedleRemoved",
       "needle > root.Done", "us > root.Done"});
   EXPECT_EQ(count(r, "needle > root.WaitReaction"), 0u);
   EXPECT_EQ(count(r, "us > root.WaitReaction"), 0u);
@@ -157,11 +157,11 @@ TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutAComm
 }
 
 TEST(PuncturingProcedure, ANeedleTrappedByTheIceWaitsForTheThawThenIsExtracted) {
-  // The freeze lasts 15 s: still frozen when the surgeon says the cycle is done.
+  // The console reports the thaw while the iceball still holds the needle.
   const RunResult r = runApp(withFaults("needle_trapped.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {fault("needle_trapped.lua", 3), "Surgeon: e_cryo_done",
+  expectInOrder(r, {fault("needle_trapped.lua", 4), "Cryo: e_cryo_done",
                     "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",
                     "NeedleMonitor: e_needle_trapped", "needle > root.ExtractingNeedle.WaitDefreezing",
                     "NeedleMonitor: e_needle_free", "needle > root.ExtractingNeedle.VerifyingNeedleTrapped",

@@ -137,8 +137,10 @@ class IsurPuncturingSolver final : public KinematicsSolver {
                            KDL::JntArray& q_out) noexcept override;
 
  private:
+  /// One wrist representation; `search_elbow`: where the delta cannot reach with the preferred
+  /// split, search the nearest split it can (else return its failure).
   IkStatus solveCandidate(const KDL::Frame& target, double yaw, double pitch, double roll, const KDL::JntArray& seed,
-                          std::array<double, kJoints>& q) const noexcept;
+                          std::array<double, kJoints>& q, bool search_elbow) const noexcept;
   /// The delta's sliders q[0..2] placing the platform for the micro joints q[3..7] (closed form).
   IkStatus placePlatform(const KDL::Frame& target, std::array<double, kJoints>& q) const noexcept;
   KDL::Frame microForward(double q5, double q6, double q7, double q8) const noexcept;

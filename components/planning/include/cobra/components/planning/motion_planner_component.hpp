@@ -4,6 +4,7 @@
 /// (OMPL in the robots' joint space from their measured joints to Cartesian goals, FCL collision
 /// checks, the real I-SUR and UR5 kinematics; planning/README.md).
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,7 +45,8 @@ namespace cobra::components {
 ///   planned paths keep above clearanceThreshold(); NaN when the measured state is not a pose or
 ///   unreachable), `allowedContactDistance` (double, m: the minimum distance of the declared
 ///   allowed contacts, e.g. the probe on the skin: 0 while touching; +inf when none declared; NaN
-///   as minDistance); both published whenever a measured pose arrives, from the joints when known;
+///   as minDistance); both published when a measured pose arrives at least `clearance_period` s
+///   (property, default 0.01) after the last measurement, from the joints when known;
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
 ///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
@@ -107,6 +109,10 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   core::Property<std::string> query_log_{"query_log", "", "path",
                                          "file every query is appended to (start joints, goal poses, outcome); "
                                          "'' = none"};
+  core::Property<double> clearance_period_{
+      "clearance_period", 0.01, "s",
+      "least time between two clearance measurements of the measured state (minDistance, "
+      "allowedContactDistance); 0 = whenever a measured pose changes"};
 
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
   core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
@@ -123,6 +129,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
       "allowedContactDistance", "distance of the declared allowed contacts in the measured state", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;
+  std::int64_t last_clearance_ns_ = -1;  // when minDistance was last measured (component clock), -1: never
   std::unique_ptr<planning::MotionPlanner> planner_impl_;
   core::PendingRequest plan_request_;
   bool have_isur_ = false;
