@@ -327,7 +327,16 @@ void Session::observeCharts() {
 void Session::readEvents() {
   for (auto& [source, reader] : event_taps_) {
     std::string text;
-    while (reader->readText(text) == core::FlowStatus::NewData) {
+    // Events are formatted only when new (readText formats the last sample every step too).
+    auto* typed = dynamic_cast<core::InputPort<core::Event>*>(reader.get());
+    core::Event event_sample;
+    const auto next = [&] {
+      if (typed == nullptr) return reader->readText(text) == core::FlowStatus::NewData;
+      if (typed->read(event_sample) != core::FlowStatus::NewData) return false;
+      text = core::DataTypeTraits<core::Event>::print(event_sample);
+      return true;
+    };
+    while (next()) {
       Chart& chart = chartForSource(source);
       result_.events.push_back({t_, source, text, chart.state});
       const std::string event = text.substr(0, text.find(' '));

@@ -183,11 +183,13 @@ void MotionPlannerComponent::updateHook() {
     }
   }
   // The measured state's clearance: a monitoring figure, measured at most every clearance_period
-  // (FCL distances of every checked pair: the most expensive thing this component does per step).
+  // and only while a port of it is connected (FCL distances of every checked pair: the most
+  // expensive thing this component does per step).
   const std::int64_t now_ns = now().count();
   const bool clearance_due =
       last_clearance_ns_ < 0 || now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
-  if (measured_changed && clearance_due) {
+  const bool clearance_read = min_distance_.connected() || allowed_distance_.connected();
+  if (measured_changed && clearance_due && clearance_read) {
     last_clearance_ns_ = now_ns;
     if (measuredJoints()) {
       const planning::StateValidator::Distances d = validator_->distancesAt(joints_);

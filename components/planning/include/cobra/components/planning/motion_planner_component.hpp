@@ -46,7 +46,8 @@ namespace cobra::components {
 ///   unreachable), `allowedContactDistance` (double, m: the minimum distance of the declared
 ///   allowed contacts, e.g. the probe on the skin: 0 while touching; +inf when none declared; NaN
 ///   as minDistance); both published when a measured pose arrives at least `clearance_period` s
-///   (property, default 0.01) after the last measurement, from the joints when known;
+///   (property, default 0.01) after the last measurement while either port is connected, from the
+///   joints when known;
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
 ///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
