@@ -16,7 +16,9 @@
 // code's own worst step, since a preemption rarely hits the same step in every run. The
 // difference (`*_noise_worst_us`, the most a run added to a step) is this machine's share.
 // The slowest steps by that measure are printed with their component and chart state.
-// The benchmark time is the wall time of one procedure (about 102 s simulated).
+// The benchmark time is the wall time of one procedure (about 161 s simulated).
+// ProcedureSpeed/<scenario>: each scenario's whole procedure without observers; realtime_factor =
+// simulated s per wall s (median, and min = the worst of the repetitions).
 
 #include <benchmark/benchmark.h>
 
@@ -151,6 +153,39 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
   report(state, world, false);
 }
 BENCHMARK(BM_SupervisorsDuringAProcedure)->Iterations(kRuns)->Unit(benchmark::kSecond);
+
+/// The whole procedure of a scenario as `cobra run apps/puncturing --scenario ...` runs it (no
+/// step observer), timed by the wall clock: `realtime_factor` = simulated s per wall s (issue 15:
+/// >= 100). Repetitions give its median and worst (the smallest factor).
+void BM_ProcedureSpeed(benchmark::State& state, const std::string& scenario) {
+  double simulated = 0.0;
+  double wall = 0.0;
+  bool completed = true;
+  for (auto _ : state) {
+    cobra::run::RunOptions options;
+    options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
+    options.scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + scenario;
+    const auto started = std::chrono::steady_clock::now();
+    const cobra::run::RunResult result = cobra::run::runApp(options);
+    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    simulated = result.duration;
+    completed = completed && result.completed();
+    state.SetIterationTime(wall);
+  }
+  if (!completed) state.SkipWithError("the procedure did not complete");
+  state.counters["simulated_s"] = simulated;
+  state.counters["realtime_factor"] = wall > 0.0 ? simulated / wall : 0.0;
+}
+double minOf(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
+BENCHMARK_CAPTURE(BM_ProcedureSpeed, two_needles, std::string("two_needles"))->Name("ProcedureSpeed/two_needles")
+    ->Iterations(1)->Repetitions(3)->UseManualTime()->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_ProcedureSpeed, three_needles, std::string("three_needles"))->Name("ProcedureSpeed/three_needles")
+    ->Iterations(1)->Repetitions(3)->UseManualTime()->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_ProcedureSpeed, vertical_needle, std::string("vertical_needle"))
+    ->Name("ProcedureSpeed/vertical_needle")->Iterations(1)->Repetitions(3)->UseManualTime()
+    ->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)->Unit(benchmark::kSecond);
 
 }  // namespace
 
