@@ -57,14 +57,14 @@ TEST(ControlComponents, AdmittanceFollowsItsConfigurationsWithoutJumps) {
   d.deployer.run("applyConfiguration('free_motion')", "task.lua");
   const KDL::Wrench push(KDL::Vector(6.0, 0, 3.0), KDL::Vector::Zero());
   KDL::Frame p = d.run(3000ms, push);
-  EXPECT_NEAR(p.p.x(), 6.0 / 3000.0, 1e-6);  // F/K with free_motion's stiffness
+  EXPECT_NEAR(p.p.x(), 6.0 / 1000.0, 1e-6);  // F/K with free_motion's (compliant) stiffness
   d.deployer.run("applyConfiguration('needle_insertion')", "task.lua");
   const KDL::Frame before = p;
   p = d.run(1ms, push);
   EXPECT_LT((p.p - before.p).Norm(), 1e-4);  // no jump when the configuration changes
   p = d.run(5000ms, push);
-  EXPECT_NEAR(p.p.x(), 6.0 / 300.0, 1e-5);   // compliant sideways now
-  EXPECT_NEAR(p.p.z(), 3.0 / 1500.0, 1e-5);  // stiff along the needle
+  EXPECT_NEAR(p.p.x(), 6.0 / 3000.0, 1e-5);  // stiff sideways now: the needle keeps its line
+  EXPECT_NEAR(p.p.z(), 3.0 / 1000.0, 1e-5);  // compliant along the needle
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { d.run(100ms, push); }), 0);  // updateHook allocates nothing
   double energy = 0.0;
   ASSERT_NE(d.tank.read(energy), core::FlowStatus::NoData);
@@ -105,7 +105,9 @@ TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {
   EXPECT_EQ(d.configurator.deploymentSet().configurationNames(), (std::vector<std::string>{"contact", "free_motion"}));
   d.deployer.run("applyConfiguration('contact')", "task.lua");
   const KDL::Frame p = d.run(5000ms, KDL::Wrench(KDL::Vector(2.0, 0, 0), KDL::Vector::Zero()));
-  EXPECT_NEAR(p.p.x(), 2.0 / 200.0, 1e-5);
+  EXPECT_NEAR(p.p.x(), 2.0 / 3000.0, 1e-5);  // contact is the stiffer suturing configuration
+  d.deployer.run("applyConfiguration('free_motion')", "task.lua");
+  EXPECT_NEAR(d.run(5000ms, KDL::Wrench(KDL::Vector(2.0, 0, 0), KDL::Vector::Zero())).p.x(), 2.0 / 1000.0, 1e-5);
 }
 
 TEST(ControlComponents, BadMatricesAreRefusedAtConfigureWithTheirName) {
