@@ -5,6 +5,7 @@
 #include "cobra/run/run_spec.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -17,17 +18,22 @@ namespace {
 
 using test_support::messageOf;
 
-/// Writes `text` as an entry file, runs it and reads its `run` table.
-RunSpec read(const std::string& text, const std::string& name = "entry.lua") {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / ("cobra_run_spec_" + name);
-  std::ofstream(file) << text;
-  script::LuaState lua;
-  lua.runFile(file.string());
-  return readRunSpec(lua.get(), file.string());
+/// The entry file of the running test: one per test and process (ctest runs the tests of this
+/// file in parallel processes, which must not write each other's files).
+std::string file(const std::string& name = "entry.lua") {
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  return (std::filesystem::temp_directory_path() /
+          ("cobra_run_spec_" + test + "_" + std::to_string(::getpid()) + "_" + name))
+      .string();
 }
 
-std::string file(const std::string& name = "entry.lua") {
-  return (std::filesystem::temp_directory_path() / ("cobra_run_spec_" + name)).string();
+/// Writes `text` as an entry file, runs it and reads its `run` table.
+RunSpec read(const std::string& text, const std::string& name = "entry.lua") {
+  const std::string path = file(name);
+  std::ofstream(path) << text;
+  script::LuaState lua;
+  lua.runFile(path);
+  return readRunSpec(lua.get(), path);
 }
 
 TEST(RunSpec, ReadsEveryFieldOfTheTable) {
