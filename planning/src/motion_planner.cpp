@@ -124,13 +124,44 @@ void MotionPlanner::setSeed(std::uint32_t seed) {
 }
 
 bool MotionPlanner::spent(std::chrono::steady_clock::time_point started) const {
-  if (options_.max_validity_checks > 0) return checks_.load(std::memory_order_relaxed) >= options_.max_validity_checks;
+  if (search_disabled_) return true;
+  if (options_.max_validity_checks > 0) {
+    // A new query (PRM polls from two threads: one of them resets, a lost count is harmless).
+    const std::chrono::steady_clock::rep query = started.time_since_epoch().count();
+    std::chrono::steady_clock::rep seen = polled_query_.load(std::memory_order_relaxed);
+    if (seen != query && polled_query_.compare_exchange_strong(seen, query, std::memory_order_relaxed))
+      iterations_.store(0, std::memory_order_relaxed);
+    const std::size_t iterations = iterations_.fetch_add(1, std::memory_order_relaxed) + 1;
+    return checks_.load(std::memory_order_relaxed) >= options_.max_validity_checks ||
+           iterations > options_.max_validity_checks;
+  }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= options_.time_limit;
 }
 
 std::string MotionPlanner::budget() const {
-  if (options_.max_validity_checks > 0) return std::to_string(options_.max_validity_checks) + " validity checks";
+  if (options_.max_validity_checks > 0)
+    return std::to_string(options_.max_validity_checks) + " validity checks or planner iterations";
   return std::to_string(options_.time_limit) + " s";
+}
+
+PlanResult MotionPlanner::checkGoal(const JointState& start, const DualPose& goal) {
+  // planPath itself with a search that stops before its first iteration: the checks are the
+  // planner's own by construction, not a copy that could drift from them.
+  search_disabled_ = true;
+  PlanResult result;
+  try {
+    result = planPath(start, goal);
+  } catch (...) {
+    search_disabled_ = false;
+    throw;
+  }
+  search_disabled_ = false;
+  if (result.status == PlanStatus::NoSolution || result.status == PlanStatus::Solved) {
+    result = PlanResult{};
+    result.status = PlanStatus::Solved;
+    result.message = "accepted: the planner would search for a path";
+  }
+  return result;
 }
 
 PlanResult MotionPlanner::planPath(const DualPose& start, const DualPose& goal) {

@@ -203,6 +203,34 @@ TEST(JointSpace, BadGoalsAreRefusedNamingTheToolAndWhyBeforeAnySearch) {
   EXPECT_CONTAINS(result.message, "start joints of robot 'isur' are outside its joint limits");
 }
 
+TEST(JointSpace, CheckGoalGivesThePlannersOwnVerdictWithoutSearching) {
+  StateValidator validator = puncturingValidator();
+  MotionPlanner planner(validator, options());
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  const std::vector<DualPose> goals{
+      {start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.15, -0.1, 0.25))},   // accepted
+      {needle(KDL::Vector(0.25, -0.25, 0.01), 0.1, 0.0), start.second},                       // unreachable
+      {start.first, KDL::Frame(KDL::Rotation::RotX(kPi), KDL::Vector(0.0, 0.0, 0.05))},      // probe in the phantom
+      {needle(KDL::Vector(0.0, 0.0, 0.9), 0.0, 0.0), start.second}};                          // outside the bounds
+  for (std::size_t k = 0; k < goals.size(); ++k) {
+    const PlanResult verdict = planner.checkGoal(kStart, goals[k]);
+    EXPECT_EQ(verdict.validity_checks, 0u) << k;  // no search
+    const PlanResult planned = planner.planPath(kStart, goals[k]);
+    if (k == 0) {
+      EXPECT_EQ(verdict.status, PlanStatus::Solved) << verdict.message;
+      EXPECT_EQ(verdict.message, "accepted: the planner would search for a path");
+      EXPECT_TRUE(planned.solved()) << planned.message;
+    } else {
+      EXPECT_NE(verdict.status, PlanStatus::Solved) << k;
+      EXPECT_EQ(verdict.status, planned.status) << k;
+      EXPECT_EQ(verdict.message, planned.message) << k;
+    }
+  }
+  // Refused start joints too, with planPath's message.
+  EXPECT_CONTAINS(planner.checkGoal(JointState(13, 0.0), start).message, "start joints: 14 values expected");
+}
+
 TEST(JointSpace, AllowedContactsAreMeasuredApartFromTheClearance) {
   StateValidator validator = puncturingValidator();
   DualPose start;

@@ -44,9 +44,14 @@ struct PlannerOptions {
   /// Wall-clock limit of the search [s] (when max_validity_checks is 0).
   double time_limit = 1.0;
   /// Work limit of the search instead of time_limit: the search stops after this many state
-  /// validity checks [1] (0: time_limit applies). Its outcome then depends on the seed alone, not
-  /// on the machine's speed or load: a lockstep simulation plans the same on a laptop and on a
-  /// busy CI machine. About 50,000 checks take 1 s in the puncturing scene (bench/planning_bench).
+  /// validity checks or this many planner iterations, whichever comes first [1] (0: time_limit
+  /// applies). Its outcome then depends on the seed alone, not on the machine's speed or load: a
+  /// lockstep simulation plans the same on a laptop and on a busy CI machine. About 50,000 checks
+  /// take 1 s in the puncturing scene (bench/planning_bench). The iterations bound the lazy
+  /// planners (LazyPRM, LBKPIECE1, BITstar), which add samples without checking them and could
+  /// otherwise grow their roadmap forever; RRTConnect and RRT check at least one state per
+  /// iteration, so the checks bound them first. A lazy planner finishes the path check it is in
+  /// (LazyPRM: the candidate paths of one roadmap component) before it stops.
   std::size_t max_validity_checks = 0;
   /// Seed of OMPL's random generators (> 0): same seed, scene and query → same path, for
   /// RRTConnect and RRT. PRM grows its roadmap while another thread looks for a solution, so its
@@ -147,6 +152,13 @@ class MotionPlanner {
   /// model's configured seed (on its branch); scenes without joint space plan on SE(3)×SE(3).
   PlanResult planPath(const DualPose& start, const DualPose& goal);
 
+  /// Whether planPath(start, goal) would accept the query and search: the planner's own input,
+  /// start, bounds and goal checks (goal IK nearest the start on its branch, the redundancy rule,
+  /// the goal state's validity with the robots whose tools stay put held at the start), without
+  /// the search. Solved when accepted (then joint_waypoints is empty and the message says so),
+  /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
+  PlanResult checkGoal(const JointState& start, const DualPose& goal);
+
   const PlannerOptions& options() const { return options_; }
   /// Seed of the next planPath() (> 0; an invalid seed throws std::invalid_argument).
   void setSeed(std::uint32_t seed);
@@ -186,9 +198,11 @@ class MotionPlanner {
   /// joint space; fills result.waypoints and joint_waypoints, or returns false with `failure`.
   bool verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
               Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
-  /// True when the query's time or work budget is spent.
+  /// True when the query's time or work budget is spent. The planners poll it once per iteration
+  /// (OMPL's termination condition): each call for the query that began at `started` counts one
+  /// iteration of max_validity_checks.
   bool spent(std::chrono::steady_clock::time_point started) const;
-  /// "5.000000 s" or "250000 validity checks": the budget, for messages.
+  /// "5.000000 s" or "250000 validity checks or planner iterations": the budget, for messages.
   std::string budget() const;
 
   StateValidator& validator_;
@@ -196,6 +210,11 @@ class MotionPlanner {
   JointState max_velocity_;  // per joint of the query: velocity limit [m/s, rad/s]
   DualPose tools_scratch_;
   std::atomic<std::size_t> checks_{0};  // validity checks of the current query (PRM checks from two threads)
+  // Planner iterations (spent() calls) of the query that began at polled_query_ (its steady_clock
+  // ticks): spent() is what the planners call, so it counts and resets them itself.
+  mutable std::atomic<std::size_t> iterations_{0};
+  mutable std::atomic<std::chrono::steady_clock::rep> polled_query_{0};
+  bool search_disabled_ = false;  // checkGoal(): every budget is spent before the search starts
 };
 
 }  // namespace cobra::planning
