@@ -86,11 +86,13 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   void plan();
   void fail(const std::string& reason);
 
-  core::Property<std::string> planner_{"planner", "RRTConnect", "", "OMPL planner: RRTConnect, RRT or PRM"};
+  core::Property<std::string> planner_{"planner", "RRTConnect", "", "OMPL planner: RRTConnect, RRT, PRM, BiTRRT, LazyPRM, LBKPIECE1 or BITstar "
+                                                            "(planning::plannerNames())"};
   core::Property<double> time_limit_{"time_limit", 1.0, "s", "wall-clock limit of one planning query"};
   core::Property<int> max_validity_checks_{"max_validity_checks", 0, "1",
-                                           "work limit of one query in state validity checks, instead of time_limit "
-                                           "(0: time_limit); the outcome then does not depend on the machine's speed"};
+                                           "work limit of one query in state validity checks or planner iterations, "
+                                           "instead of time_limit (0: time_limit); the outcome then does not depend "
+                                           "on the machine's speed"};
   core::Property<int> seed_{"seed", 1, "1", "seed of OMPL's random generators (> 0): same seed, same path"};
   core::Property<std::vector<double>> first_low_{"first_bounds_low", {-0.3, -0.3, 0.0}, "m",
                                                  "lower corner of the needle (tool 1) position box, world"};
