@@ -3,8 +3,9 @@
 
 #include "bridge_test_support.hpp"
 #include "cobra/bridges/isur_robot_bridge.hpp"
-#include "cobra/bridges/isur_sim_controller.hpp"
 #include "cobra/bridges/omni_phantom_bridge.hpp"
+#include "cobra/bridges/sim/isur_controller.hpp"
+#include "cobra/bridges/sim/omni_server.hpp"
 #include "cobra/test_support/counting_new.hpp"
 
 namespace cobra::bridges {

@@ -9,7 +9,7 @@
 #include <numbers>
 
 #include "bridge_test_support.hpp"
-#include "cobra/bridges/isur_sim_controller.hpp"
+#include "cobra/bridges/sim/isur_controller.hpp"
 
 namespace cobra::bridges {
 namespace {

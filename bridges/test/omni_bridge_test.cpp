@@ -8,6 +8,7 @@
 
 #include "bridge_test_support.hpp"
 #include "cobra/bridges/isur_udp_server.hpp"
+#include "cobra/bridges/sim/omni_server.hpp"
 
 namespace cobra::bridges {
 namespace {

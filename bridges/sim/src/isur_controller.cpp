@@ -1,4 +1,4 @@
-#include "cobra/bridges/isur_sim_controller.hpp"
+#include "cobra/bridges/sim/isur_controller.hpp"
 
 #include <chrono>
 #include <cmath>

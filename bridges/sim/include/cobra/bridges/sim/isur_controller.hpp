@@ -5,7 +5,8 @@
 /// Cartesian space through sim::CartesianServo and kinematics::IsurPuncturingSolver) with an
 /// AtiNano17 wrist sensor (sim::ForceTorqueSensor), in real time on its own thread, and speaks
 /// the protocol of isur_protocol.hpp: it takes command datagrams and sends a state datagram
-/// every period to the server's address.
+/// every period to the server's address. Simulation only: the bridge's own end is IsurUdpServer
+/// (cobra/bridges/isur_udp_server.hpp).
 
 #include <atomic>
 #include <cstdint>
