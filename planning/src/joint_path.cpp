@@ -373,6 +373,24 @@ double MotionPlanner::segmentDuration(const DualPose& a, const DualPose& b) cons
   return duration;
 }
 
+PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose& from, const DualPose& to) {
+  PlanResult result;
+  result.status = PlanStatus::Solved;
+  if (joints.size() != validator_.jointCount() || !isFinitePose(from) || !isFinitePose(to)) {
+    result.status = PlanStatus::InvalidInput;
+    result.message = "the motion after the goal: joints or poses are not a state of this scene";
+    return result;
+  }
+  JointState q = joints;
+  std::string failure;
+  if (!walk(from, to, q, failure)) {
+    result.status = PlanStatus::InvalidGoal;
+    result.message = "the straight motion after the goal, to " + position(to.first) + " and " + position(to.second) +
+                     ", cannot be made: " + failure;
+  }
+  return result;
+}
+
 bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure) {
   const std::size_t steps = options_.verify_points_per_segment;
   const double duration = segmentDuration(a, b);

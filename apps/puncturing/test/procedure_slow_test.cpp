@@ -94,12 +94,7 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSays
 }
 
 // Five seeds: shifts up to 3 cm along x and y, turns up to 0.5 rad about the vertical.
-// Seeds 3 and 5 (the abdomen 2.6 cm towards -x and 2 cm towards +y) fail today and are disabled
-// until the planner checks the motion primitive that follows an approach: the probe's approach is
-// planned clear of the waiting needle, but its unplanned 3 cm descent onto the skin brings the
-// UR5's forearm within 0-2 mm of the needle at the change pose, before any safe stop.
-INSTANTIATE_TEST_SUITE_P(FiveSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 4u));
-INSTANTIATE_TEST_SUITE_P(DISABLED_PrimitiveUnchecked, RegisteredOffNominal, ::testing::Values(3u, 5u));
+INSTANTIATE_TEST_SUITE_P(FiveSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u));
 
 }  // namespace
 }  // namespace cobra::run

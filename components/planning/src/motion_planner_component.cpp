@@ -173,9 +173,13 @@ void MotionPlannerComponent::updateHook() {
   if (goal_.read(goal) == core::FlowStatus::NewData) {
     try {
       const std::vector<std::vector<KDL::Frame>> frames = decodeCartesianPath(goal, 2);
-      if (frames.size() != 1) throw std::invalid_argument("it holds " + std::to_string(frames.size()) +
-                                                          " waypoints; give exactly one (the two goal poses)");
+      if (frames.size() != 1 && frames.size() != 2)
+        throw std::invalid_argument("it holds " + std::to_string(frames.size()) +
+                                    " waypoints; give one (the two goal poses) or two (the goal and where the "
+                                    "straight motion after it goes)");
       goal_pose_ = {frames[0][0], frames[0][1]};
+      has_follow_on_ = frames.size() == 2;
+      if (has_follow_on_) follow_on_ = {frames[1][0], frames[1][1]};
       have_goal_ = true;
     } catch (const std::invalid_argument& error) {
       have_goal_ = false;
@@ -244,6 +248,15 @@ void MotionPlannerComponent::plan() {
     planner_impl_->setSeed(seed == UINT32_MAX ? 1 : seed + 1);
     return fail(std::string(planning::toString(result.status)) + ": " + result.message + "; from " +
                 describe(measured_) + " to " + describe(goal_pose_));
+  }
+  if (has_follow_on_) {
+    // The motion primitive that follows this goal: a goal whose next motion cannot be made fails
+    // now, before anything moves.
+    const planning::PlanResult next =
+        planner_impl_->checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), follow_on_);
+    if (!next.solved())
+      return fail(std::string(planning::toString(next.status)) + ": " + next.message + "; from " + describe(measured_) +
+                  " to " + describe(goal_pose_));
   }
   std::vector<std::vector<KDL::Frame>> waypoints;
   waypoints.reserve(result.waypoints.size());

@@ -230,12 +230,30 @@ TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
 
   KDL::Frame nan_probe = kProbeGoal;
   nan_probe.p.x(std::nan(""));
-  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));  // two waypoints
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));
   b.clock.advance(1ms);
   b.planner.call<void>("askPlan");
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
-  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "port goalPoses: it holds 2 waypoints");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "port goalPoses: it holds 3 waypoints; give one");
+
+  // A second waypoint is the straight motion after the goal: the needle then going down into the
+  // phantom fails at plan time, naming where it goes and why; staying at the goal is fine.
+  KDL::Frame needle_down = kNeedle;
+  needle_down.p.z(0.06);
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {needle_down, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
+                  "invalid goal: the straight motion after the goal, to (0.0000, 0.0000, 0.0600) m");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "(needle/phantom)");
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}));
 
   b.isur.write(nan_probe);
   b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}}));

@@ -1,5 +1,7 @@
 #include "cobra/components/puncturing/frame_generator.hpp"
 
+#include <array>
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -88,6 +90,7 @@ bool PuncturingFrameGenerator::configureHook() {
   last_failure_.clear();
   desired_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
   goal_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(1, std::vector<double>(kArms * kValuesPerArm)));
+  goal_then_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
   desired_poses_.setDataSample(desired_);
   goal_poses_.setDataSample(goal_);
   return true;
@@ -180,14 +183,30 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
       return;
     }
   }
+  const std::array<KDL::Frame, kArms> goals{resolved_[0], resolved_[1]};
+  // The straight motion that follows the goal (then_needle / then_probe): a second waypoint of
+  // goalPoses, which the motion planner verifies with the path (an arm without one stays).
+  const puncturing::Datum* then[kArms] = {&row->then_needle, &row->then_probe};
+  const bool follows = !then[0]->name.empty() || !then[1]->name.empty();
+  for (std::size_t a = 0; a < kArms && follows; ++a) {
+    const char* why = "";
+    const KDL::Frame* next = then[a]->name.empty() ? &goals[a] : resolve(*then[a], static_cast<Arm>(a), why);
+    if (next == nullptr) {
+      noData("task state '" + state_.path.str() + "' (" + state_table_file_() + ":" + std::to_string(row->line) +
+             "): then_" + armName(a) + "=" + describe(*then[a]) + ": " + why);
+      return;
+    }
+    encode(*next, a, goal_then_.waypoint(1));
+  }
+  trajectory::MultiAxisPath& goal = follows ? goal_then_ : goal_;
   for (std::size_t a = 0; a < kArms; ++a) {
     encode(measured_[a], a, desired_.waypoint(0));
-    encode(resolved_[a], a, desired_.waypoint(1));
-    encode(resolved_[a], a, goal_.waypoint(0));
+    encode(goals[a], a, desired_.waypoint(1));
+    encode(goals[a], a, goal.waypoint(0));
   }
   last_failure_.clear();
   desired_poses_.write(desired_);
-  goal_poses_.write(goal_);
+  goal_poses_.write(goal);
   emitEvent("e_goal_ready");
 }
 

@@ -80,11 +80,15 @@ struct Bench {
     EXPECT_NE(desired.read(path), core::FlowStatus::NoData);
     return decodeCartesianPath(path, 2);
   }
-  std::vector<KDL::Frame> goalPair() {
+  /// The goal pair (the first waypoint of goalPoses); `follow_on` (when given) gets the second,
+  /// where the state table's then_* puts the motion after the goal (empty when there is none).
+  std::vector<KDL::Frame> goalPair(std::vector<KDL::Frame>* follow_on = nullptr) {
     trajectory::MultiAxisPath path;
     EXPECT_NE(goal.read(path), core::FlowStatus::NoData);
-    EXPECT_EQ(path.size(), 1u);
-    return decodeCartesianPath(path, 2).at(0);
+    EXPECT_TRUE(path.size() == 1u || path.size() == 2u) << path.size();
+    const std::vector<std::vector<KDL::Frame>> pairs = decodeCartesianPath(path, 2);
+    if (follow_on != nullptr) *follow_on = pairs.size() == 2 ? pairs[1] : std::vector<KDL::Frame>{};
+    return pairs.at(0);
   }
   std::string lastFailure() { return generator.call<std::string>("lastFailure"); }
 };
@@ -124,6 +128,13 @@ TEST(PuncturingFrameGenerator, PublishesTheGoalPairOfEachTaskStateAsTheLibraryCo
   // The ultrasound chart's rows: the needle holds, the probe goes to its planned pose.
   EXPECT_EQ(b.ask("root.MoveToSkin.Approach.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   expectPublished(b, kNeedleMeas, a * pp::alongZ(b.plan.probes[0].pose, -0.03), "us Approach");
+  // The approach's row names the descent that follows it (then_probe): goalPoses' second waypoint,
+  // the needle staying where it holds.
+  std::vector<KDL::Frame> follow_on;
+  b.goalPair(&follow_on);
+  ASSERT_EQ(follow_on.size(), 2u);
+  EXPECT_TRUE(KDL::Equal(follow_on[0], kNeedleMeas, 1e-12));
+  EXPECT_TRUE(KDL::Equal(follow_on[1], a * pp::alongZ(b.plan.probes[0].pose, 0.004), 1e-12));
   EXPECT_EQ(b.generator.call<int>("needleCount"), 2);
 }
 
@@ -238,8 +249,11 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
   b.clock.advance(10ms);
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_all_needles_done"});
   EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_no_data"});
-  EXPECT_EQ(b.lastFailure(), "task state 'root.InsertingNeedles.MoveToTumor.AskingGoal' (" + kApp +
-                                 "state_table.txt:15): needle=target: no more needles (all planned needles are done)");
+  const pp::StateRow* row = b.table.find("root.InsertingNeedles.MoveToTumor.AskingGoal");
+  ASSERT_NE(row, nullptr);
+  EXPECT_EQ(b.lastFailure(), "task state 'root.InsertingNeedles.MoveToTumor.AskingGoal' (" + kApp + "state_table.txt:" +
+                                 std::to_string(row->line) +
+                                 "): needle=target: no more needles (all planned needles are done)");
   // A row without plan data still answers: the needle goes to its change pose.
   EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToNeedleChange.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
   b.generator.call<void>("nextNeedle");

@@ -242,9 +242,12 @@ StateTable parseStateTable(std::string_view text, std::string_view source) {
       if (s.words.size() > 1) row.state = s.words[1];
       row.needle = parseDatum(s, "needle");
       row.probe = parseDatum(s, "probe");
+      if (s.has("then_needle")) row.then_needle = parseDatum(s, "then_needle");
+      if (s.has("then_probe")) row.then_probe = parseDatum(s, "then_probe");
       row.line = s.line;
-      s.finish(2, "state PATH needle=DATUM probe=DATUM");
-      for (const Datum* d : {&row.needle, &row.probe}) {
+      s.finish(2, "state PATH needle=DATUM probe=DATUM [then_needle=DATUM] [then_probe=DATUM]");
+      for (const Datum* d : {&row.needle, &row.probe, &row.then_needle, &row.then_probe}) {
+        if (d->name.empty() && (d == &row.then_needle || d == &row.then_probe)) continue;
         const bool known = d->name == "entry" || d->name == "target" || d->name == "probe" || d->name == "hold" ||
                            table.pose(d->name) != nullptr;
         if (!known) {

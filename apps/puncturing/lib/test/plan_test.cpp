@@ -141,7 +141,24 @@ TEST(PuncturingPlan, ParseErrorsNameTheFileAndLine) {
             "s.txt:2: chart 'robot' is neither needle nor us");
   EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=entri probe=hold\n", "t.txt"); }),
             "t.txt:1: unknown datum 'entri' (expected entry, target, probe, hold or a pose defined above)");
+  EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=hold probe=probe then_probe=prob+0.004\n", "t.txt"); }),
+            "t.txt:1: unknown datum 'prob' (expected entry, target, probe, hold or a pose defined above)");
+  EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=hold probe=probe then_prob=probe\n", "t.txt"); }),
+            "t.txt:1: unknown key 'then_prob' in 'state' (expected 'state PATH needle=DATUM probe=DATUM "
+            "[then_needle=DATUM] [then_probe=DATUM]')");
   EXPECT_EQ(messageOf([&] { loadPlan(kApp + "nowhere.txt", "", ""); }), kApp + "nowhere.txt: cannot be read");
+}
+
+TEST(PuncturingPlan, AStateRowMayNameTheMotionAfterItsGoal) {
+  const StateTable table =
+      parseStateTable("state Approach needle=hold probe=probe-0.03 then_probe=probe+0.004\n"
+                      "state Descend needle=entry+0.004 probe=hold\n", "t.txt");
+  const StateRow* approach = table.find("root.Approach.AskingGoal");
+  ASSERT_NE(approach, nullptr);
+  EXPECT_EQ(approach->then_probe.name, "probe");
+  EXPECT_DOUBLE_EQ(approach->then_probe.offset, 0.004);
+  EXPECT_TRUE(approach->then_needle.name.empty());  // the needle stays at its goal
+  EXPECT_TRUE(table.find("root.Descend")->then_probe.name.empty());
 }
 
 TEST(PuncturingPlan, InfeasiblePlansAreRefusedNamingTheNeedleAndWhy) {

@@ -158,6 +158,13 @@ class MotionPlanner {
   /// the search. Solved when accepted (then joint_waypoints is empty and the message says so),
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
   PlanResult checkGoal(const JointState& start, const DualPose& goal);
+  /// The straight motion that follows a planned path (a motion primitive: e.g. the probe
+  /// descending from its approach pose onto the skin), checked as a returned path's segments are:
+  /// walked densely from `joints` (the path's last joint waypoint, at `from`) to `to` with the
+  /// control path's IK, every state valid and every joint step within its velocity limit at the
+  /// generator's speeds. Solved, or InvalidGoal with a message naming `to` and why (so that a
+  /// goal whose next motion cannot be made fails at plan time, before anything moves).
+  PlanResult checkFollowOn(const JointState& joints, const DualPose& from, const DualPose& to);
 
   const PlannerOptions& options() const { return options_; }
   /// Seed of the next planPath() (> 0; an invalid seed throws std::invalid_argument).

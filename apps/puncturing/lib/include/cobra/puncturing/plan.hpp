@@ -67,6 +67,10 @@ struct Datum {
 struct StateRow {
   std::string state;
   Datum needle, probe;
+  /// `then_needle=` / `then_probe=`: where the straight motion that follows this goal (a motion
+  /// primitive of the next task state) takes that arm; the goal is then published with it as a
+  /// second waypoint, which the motion planner verifies with the path. Empty name: none.
+  Datum then_needle, then_probe;
   int line = 0;
 };
 

@@ -38,7 +38,9 @@ namespace cobra::components {
 ///   start state without joints, solved by IK from the models' seeds; event ports: a new sample
 ///   triggers the distance report), `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values:
 ///   the needle then the probe goal, each x y z [m] qx qy qz qw, world frame: the encoding of
-///   path_type.hpp, already registered);
+///   path_type.hpp, already registered; a SECOND waypoint, when given, is where the straight
+///   motion after the goal (a motion primitive) takes the tools: a plan whose follow-on cannot be
+///   made, colliding or jumping a joint, fails with the reason before anything moves);
 ///   out: `plannedPath` (TGL.MultiAxisPath, 2 arms, path_type.hpp's encoding: what
 ///   CartesianTrajectoryGenerator reads), `minDistance` (double, m: the measured state's clearance,
 ///   the minimum distance over the checked group pairs OUTSIDE the scene's allowed contacts, what
@@ -120,7 +122,8 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
   core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
   core::InputPort<trajectory::MultiAxisPath> goal_{
-      "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world", "m"};
+      "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world; a second waypoint: "
+      "where the straight motion after the goal goes (verified with the plan)", "m"};
   core::OutputPort<trajectory::MultiAxisPath> path_out_{
       "plannedPath", "collision-free path, 2 arms, x y z qx qy qz qw per arm per waypoint, world", "m"};
   core::InputPort<KDL::JntArray> isur_joints_{"isurMeasJoints", "measured I-SUR joints (start state): q1..q3 m, q4..q8 rad",
@@ -146,6 +149,8 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   bool measuredJoints();
   planning::DualPose measured_;
   planning::DualPose goal_pose_;
+  planning::DualPose follow_on_;  // where the straight motion after the goal goes (has_follow_on_)
+  bool has_follow_on_ = false;
   std::string last_result_;
 };
 

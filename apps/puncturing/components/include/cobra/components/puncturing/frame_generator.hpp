@@ -30,8 +30,9 @@ namespace cobra::components {
 ///   chart's active state), `needleMeasPose`, `USMeasPose` (KDL.Frame, m, world);
 /// - output ports `desiredPoses` (TGL.MultiAxisPath, two waypoints [measured pair, goal pair],
 ///   7 values per arm, arm 0 = needle, arm 1 = probe, as path_type.hpp encodes them: the
-///   CartesianTrajectoryGenerator's plannedPath), `goalPoses` (the goal pair alone, one waypoint
-///   of 14 values: the MotionPlanner's goalPoses), `needleTarget` (KDL.Frame, m: the current
+///   CartesianTrajectoryGenerator's plannedPath), `goalPoses` (the goal pair, one waypoint
+///   of 14 values: the MotionPlanner's goalPoses; a second waypoint where the row has
+///   then_needle / then_probe: where the straight motion after the goal takes the arms), `needleTarget` (KDL.Frame, m: the current
 ///   needle's planned tip pose in the world, the NeedleInsertionMonitor's targetPose);
 /// - operations `askCurrentGoal()`, `nextNeedle()` (void requests answered by events),
 ///   `currentNeedle()` (int, 0-based), `needleCount()` (int), `plannedTarget(i)` (KDL.Frame:
@@ -100,7 +101,7 @@ class PuncturingFrameGenerator : public core::Component {
   core::OutputPort<trajectory::MultiAxisPath> desired_poses_{
       "desiredPoses", "[measured pair, goal pair]: needle then probe, x y z qx qy qz qw each, world", "m"};
   core::OutputPort<trajectory::MultiAxisPath> goal_poses_{
-      "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world", "m"};
+      "goalPoses", "goal: one waypoint (and where the motion after it goes), needle then probe, x y z qx qy qz qw each, world", "m"};
   core::OutputPort<KDL::Frame> needle_target_{"needleTarget", "the current needle's planned tip pose, world", "m"};
 
   std::optional<puncturing::PuncturingPlan> plan_;
@@ -112,6 +113,7 @@ class PuncturingFrameGenerator : public core::Component {
   std::array<KDL::Frame, 2> resolved_;  // workspace: the goal pair
   core::TaskState state_;
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
+  trajectory::MultiAxisPath goal_then_;       // preallocated 2 x 14: the goal and the motion after it
   std::string last_failure_;
   core::PendingRequest goal_request_, next_needle_request_;  // answered in the next step
 };
