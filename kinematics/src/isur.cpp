@@ -173,10 +173,7 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
   if (std::isfinite(geometry_.base_angle)) {
     const double sum = q[3] + q[4];  // yaw_total, or yaw_total ± 2π where only that fits the limits
     // The rule at the seed's own yaw: is the seed on it?
-    const double seed_sum = seed(3) + seed(4);
-    const double seed_rule = std::clamp(geometry_.base_angle, std::max(l.lower[3], seed_sum - l.upper[4]),
-                                        std::min(l.upper[3], seed_sum - l.lower[4]));
-    q[3] = towardsRule(seed(3), seed_rule, std::clamp(geometry_.base_angle, lo, hi), lo, hi);
+    q[3] = towardsRule(seed(3), baseOnRule(seed(3) + seed(4)), std::clamp(geometry_.base_angle, lo, hi), lo, hi);
     q[4] = sum - q[3];
   }
   const double pitch_total = seed(5) + seed(6) + wrapToPi(pitch - seed(5) - seed(6));
@@ -248,16 +245,25 @@ IkStatus IsurPuncturingSolver::inverse(const KDL::Frame& target, const KDL::JntA
   return inverseOnBranch(target, seed, IkBranch::any(), q_out);
 }
 
-IkBranch IsurPuncturingSolver::branch(std::span<const double> q) const noexcept {
+IkBranch IsurPuncturingSolver::pitchBranch(double pitch) noexcept {
+  // The pitch representation: cos(pitch) < 0 is the second one (π - θ). Within the wrist band the
+  // needle passes through the vertical from one representation to the other continuously (q6 + q7
+  // crosses ±90°): either side is this branch.
   IkBranch branch;
-  if (q.size() != kJoints) return branch;
-  // The pitch representation: cos(pitch) = cos(q6 + q7) < 0 is the second one (π - θ).
-  const double cos_pitch = std::cos(q[5] + q[6]);
+  const double cos_pitch = std::cos(pitch);
   if (cos_pitch < 0.0) branch.bits = 1;
-  // Within the wrist band the needle passes through the vertical from one representation to the
-  // other continuously (q6 + q7 crosses ±90°): either side is this branch.
   if (std::abs(cos_pitch) < kWristBand) branch.ambiguous = 1;
   return branch;
+}
+
+double IsurPuncturingSolver::baseOnRule(double yaw) const noexcept {
+  const JointLimits& l = limits_;
+  return std::clamp(geometry_.base_angle, std::max(l.lower[3], yaw - l.upper[4]), std::min(l.upper[3], yaw - l.lower[4]));
+}
+
+IkBranch IsurPuncturingSolver::branch(std::span<const double> q) const noexcept {
+  if (q.size() != kJoints) return IkBranch{};
+  return pitchBranch(q[5] + q[6]);
 }
 
 IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed,
@@ -298,10 +304,7 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
     // The representation's branch is known from its pitch before solving (branch()): one the
     // caller excludes (the control path's continuity rule) is solved without the elbow search,
     // only to tell a refusal (Discontinuous) from an unreachable target.
-    IkBranch representation;
-    representation.bits = std::cos(pitch) < 0.0 ? 1u : 0u;
-    representation.ambiguous = std::abs(std::cos(pitch)) < kWristBand ? 1u : 0u;
-    const bool searched = on_branch.compatibleWith(representation);
+    const bool searched = on_branch.compatibleWith(pitchBranch(pitch));
     const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
     if (candidate != IkStatus::Ok) {
       if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)

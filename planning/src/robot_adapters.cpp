@@ -352,9 +352,8 @@ void IsurPuncturingModel::jointsOf(std::span<const double> c, std::span<const do
   if (std::isfinite(g.base_angle)) {
     // The yaw c[3] + c[4] split as the solver splits it: the base at base_angle as far as the
     // micro yaw's limits allow.
-    const kinematics::JointLimits& l = solver_.limits();
     const double yaw = c[3] + c[4];
-    q[3] = std::clamp(g.base_angle, std::max(l.lower[3], yaw - l.upper[4]), std::min(l.upper[3], yaw - l.lower[4]));
+    q[3] = solver_.baseOnRule(yaw);
     q[4] = yaw - q[3];
   }
   q[5] = std::isfinite(g.pitch_difference) ? 0.5 * (c[5] + g.pitch_difference)

@@ -183,7 +183,8 @@ void Session::attachEventLog() {
       if (out == nullptr) continue;
       auto reader = out->makeReader(c->name() + "_" + port, "cobra run event log");
       out->connectTo(*reader, core::ConnPolicy::buffer(256));
-      event_taps_.emplace_back(c->name(), std::move(reader));
+      auto* events = dynamic_cast<core::InputPort<core::Event>*>(reader.get());
+      event_taps_.push_back({c->name(), std::move(reader), events});
     }
 }
 
@@ -325,10 +326,9 @@ void Session::observeCharts() {
 }
 
 void Session::readEvents() {
-  for (auto& [source, reader] : event_taps_) {
+  for (auto& [source, reader, typed] : event_taps_) {
     std::string text;
     // Events are formatted only when new (readText formats the last sample every step too).
-    auto* typed = dynamic_cast<core::InputPort<core::Event>*>(reader.get());
     core::Event event_sample;
     const auto next = [&] {
       if (typed == nullptr) return reader->readText(text) == core::FlowStatus::NewData;

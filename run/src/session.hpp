@@ -87,7 +87,12 @@ class Session {
 
   std::vector<Chart> charts_;
   std::vector<Armed> armed_;
-  std::vector<std::pair<std::string, std::unique_ptr<core::InputPortBase>>> event_taps_;
+  struct EventTap {
+    std::string source;                           // the component
+    std::unique_ptr<core::InputPortBase> reader;  // connected to its events/outputEvents port
+    core::InputPort<core::Event>* events;         // reader as an event port (nullptr: another type)
+  };
+  std::vector<EventTap> event_taps_;
   Recording recording_;
   std::vector<Tracker> trackers_;
   std::unique_ptr<ClearanceObserver> clearance_;

@@ -94,6 +94,11 @@ class IsurPuncturingSolver final : public KinematicsSolver {
   /// 0.06°, is not followed), so a tilt noise of 1e-9 rad (rounding in an admittance's output)
   /// turns the yaw by at most 1e-6 rad instead of up to π.
   static constexpr double kWristBand = 1e-3;
+  /// The branch (wrist representation) of a pitch q6 + q7 (rad): what branch() reports.
+  static IkBranch pitchBranch(double pitch) noexcept;
+  /// The base angle q4 (rad) the redundancy rule gives for the yaw q4 + q5 (rad): base_angle as far
+  /// as the limits of q4 and q5 allow (needs a finite geometry().base_angle).
+  double baseOnRule(double yaw) const noexcept;
 
   /// @throws std::invalid_argument naming the element ("I-SUR: joint 5 limits [1, 0] rad: min must
   /// be <= max", "I-SUR: parameter yaw_share is 2: give a value in [0, 1]", delta errors...).
