@@ -50,7 +50,7 @@ struct WoundModel {
   double upper_layer = 0.002;        ///< m, > 0: thickness of the upper layer (§5.5.2: two layers)
   double lower_layer = 0.004;        ///< m, > 0: thickness of the lower layer
   double tissue_stiffness = 400.0;   ///< N/m, > 0: thread tension per metre a stitch closes (ASSUMPTION)
-  double closure_spread = 0.008;     ///< m, > 0: half-width over which a stitch narrows the gap (ASSUMPTION)
+  double closure_spread = 0.012;     ///< m, > 0: half-width over which a stitch narrows the gap (ASSUMPTION)
   double bite = 0.004;               ///< m, > 0: skin point's distance beyond the edge
   double stitch_depth = 0.002;       ///< m, in (0, upper_layer + lower_layer): depth of the edge point
   double stitch_tolerance = 0.0015;  ///< m, > 0: how close the tip must be to the edge point
