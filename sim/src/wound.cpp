@@ -292,7 +292,14 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
 
 double Wound::stitchGap(int i) const noexcept { return gap(stitches_[static_cast<std::size_t>(i)].s); }
 
-bool Wound::closed() const noexcept {
+double Wound::maxGap() const noexcept {
+  const int samples = static_cast<int>(std::ceil(length_ / 5e-4));
+  double widest = 0.0;
+  for (int i = 0; i <= samples; ++i) widest = std::max(widest, gap(length_ * i / samples));
+  return widest;
+}
+
+bool Wound::stitchesClosed() const noexcept {
   if (stitches_.empty()) return false;
   for (int i = 0; i < static_cast<int>(stitches_.size()); ++i)
     if (!stitches_[static_cast<std::size_t>(i)].complete() || stitchGap(i) >= model_.closed_gap) return false;

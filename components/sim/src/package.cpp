@@ -7,6 +7,7 @@
 #include "cobra/components/sim/simulated_omni_phantom.hpp"
 #include "cobra/components/sim/simulated_puma260.hpp"
 #include "cobra/components/sim/simulated_robot.hpp"
+#include "cobra/components/sim/wound_simulator.hpp"
 
 namespace cobra::components {
 
@@ -26,7 +27,9 @@ void registerSimPackage(deploy::PackageBuilder& package) {
       .component<SimulatedLeapMotion>("SimulatedLeapMotion",
                                       "simulated Leap Motion, for LeapMotionDriver device = sim:<name>")
       .component<CryoConsole>("CryoConsole",
-                              "simulated cryoablation console: freezes and thaws the patient on request (thesis ch. 4)");
+                              "simulated cryoablation console: freezes and thaws the patient on request (thesis ch. 4)")
+      .component<WoundSimulator>("WoundSimulator",
+                                 "simulated suturing patient: wound, stitches, thread and its edges (thesis ch. 5)");
 }
 
 }  // namespace cobra::components

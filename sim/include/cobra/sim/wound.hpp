@@ -154,8 +154,12 @@ class Wound {
   const std::vector<Stitch>& stitches() const noexcept { return stitches_; }
   /// m: the gap at stitch i (its s).
   double stitchGap(int i) const noexcept;
-  /// Whether every stitch is complete and its gap below closed_gap.
-  bool closed() const noexcept;
+  /// m: the widest gap along the cut (sampled every 0.5 mm): what the stitches left open between
+  /// and beyond them.
+  double maxGap() const noexcept;
+  /// Whether every stitch so far is complete and closed (its gap below closed_gap). How many
+  /// stitches the wound needs is the stitch plan's business, not the wound's.
+  bool stitchesClosed() const noexcept;
   const WoundModel& model() const noexcept { return model_; }
   const ThreadModel& threadModel() const noexcept { return thread_; }
 

@@ -1,0 +1,108 @@
+#pragma once
+/// @file
+/// The simulated patient of the suturing task (thesis ch. 5): a planar wound (sim::Wound) on which
+/// the Endo Stitch applies stitches, the thread they pull, the stick that hooks it, and the wound's
+/// edges as the sensing module would see them (§5.2.1), behind ports.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/core/bounded_string.hpp"
+#include "cobra/core/component.hpp"
+#include "cobra/core/event.hpp"
+#include "cobra/sim/wound.hpp"
+
+namespace cobra::components {
+
+/// Bridge (it stands for the patient). Frames: world W; the wound frame at `wound_pose` (W_T_wound:
+/// skin z = 0, +z out of the skin; sim/README.md). Needs a periodic activity.
+///
+/// Properties (SI): `cut` (x, y pairs of the cut's centreline in the wound frame, m, >= 2 pairs;
+/// default a straight 40 mm cut along x), `wound_pose`, `max_gap` (m), `tissue_stiffness` (N/m),
+/// `closure_spread` (m), `bite` (m), `stitch_depth` (m), `stitch_tolerance` (m), `closed_gap` (m),
+/// `thread_length` (m), `thread_slack` (m), `thread_stiffness` (N/m), `breaking_tension` (N),
+/// `hook_radius` (m), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
+/// sim::WoundModel / sim::ThreadModel.
+///
+/// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
+/// the stick held by the left arm's gripper); until both have arrived the thread is not stepped.
+/// `inputEvents` (event port): `actuate_right_event` / `actuate_left_event` (defaults
+/// "e_endo_stitch_right" / "e_endo_stitch_left") actuate the Endo Stitch for that half-stitch at
+/// the tip's current pose; `release_event` ("e_release_thread") makes the stick let the thread go.
+/// Outputs: `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
+/// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
+/// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
+/// `edge_samples` places along the cut, the right then the left edge point on the skin, x y z in W,
+/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut).
+/// updateHook allocates nothing (the edge buffer is sized at configure).
+class WoundSimulator : public core::Component {
+ public:
+  explicit WoundSimulator(std::string name);
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+  void cleanupHook() override;
+
+ private:
+  void actuate(sim::WoundSide side) noexcept;
+  void publish() noexcept;
+
+  core::Property<std::vector<double>> cut_{"cut", {-0.02, 0.0, 0.02, 0.0}, "m",
+                                           "x, y pairs of the cut's centreline in the wound frame"};
+  core::Property<KDL::Frame> wound_pose_{"wound_pose", KDL::Frame::Identity(), "m",
+                                         "wound frame (skin z = 0, +z out of the skin) in the world"};
+  core::Property<double> max_gap_{"max_gap", sim::WoundModel{}.max_gap, "m", "the edges' distance at the middle"};
+  core::Property<double> tissue_stiffness_{"tissue_stiffness", sim::WoundModel{}.tissue_stiffness, "N/m",
+                                           "thread tension per metre a stitch closes"};
+  core::Property<double> closure_spread_{"closure_spread", sim::WoundModel{}.closure_spread, "m",
+                                         "half-width over which a stitch narrows the gap"};
+  core::Property<double> bite_{"bite", sim::WoundModel{}.bite, "m", "the thread's skin point beyond the edge"};
+  core::Property<double> stitch_depth_{"stitch_depth", sim::WoundModel{}.stitch_depth, "m",
+                                       "depth of the edge point the tip must reach"};
+  core::Property<double> stitch_tolerance_{"stitch_tolerance", sim::WoundModel{}.stitch_tolerance, "m",
+                                           "how close the tip must be to the edge point"};
+  core::Property<double> closed_gap_{"closed_gap", sim::WoundModel{}.closed_gap, "m",
+                                     "a stitch's gap below this counts as closed"};
+  core::Property<double> thread_length_{"thread_length", sim::ThreadModel{}.length, "m", "the whole thread"};
+  core::Property<double> thread_slack_{"thread_slack", sim::ThreadModel{}.slack, "m",
+                                       "loop left after each half-stitch"};
+  core::Property<double> thread_stiffness_{"thread_stiffness", sim::ThreadModel{}.stiffness, "N/m",
+                                           "tension per metre stretched"};
+  core::Property<double> breaking_tension_{"breaking_tension", sim::ThreadModel{}.breaking_tension, "N",
+                                           "the thread breaks above it"};
+  core::Property<double> hook_radius_{"hook_radius", sim::ThreadModel{}.hook_radius, "m",
+                                      "the stick catches the thread within this distance"};
+  core::Property<int> edge_samples_{"edge_samples", 41, "1", "points per edge on woundEdges, >= 2"};
+  core::Property<std::string> actuate_right_event_{"actuate_right_event", "e_endo_stitch_right", "",
+                                                   "actuates the Endo Stitch for a right half-stitch"};
+  core::Property<std::string> actuate_left_event_{"actuate_left_event", "e_endo_stitch_left", "",
+                                                  "actuates the Endo Stitch for a left half-stitch"};
+  core::Property<std::string> release_event_{"release_event", "e_release_thread", "", "the stick lets the thread go"};
+
+  core::InputPort<KDL::Frame> tool_tip_{"toolTipPose", "the Endo Stitch's tip, world frame", "m"};
+  core::InputPort<KDL::Frame> stick_tip_{"stickTipPose", "the stick's tip, world frame", "m"};
+  core::InputPort<core::Event> input_events_{"inputEvents", "Endo Stitch actuation and thread release requests", ""};
+  core::OutputPort<double> tension_{"threadTension", "thread tension", "N"};
+  core::OutputPort<int> stitch_count_{"stitchCount", "complete stitches", "1"};
+  core::OutputPort<double> max_stitch_gap_{"maxStitchGap", "largest gap at a stitch (0 with none)", "m"};
+  core::OutputPort<double> max_gap_out_{"maxGap", "the widest gap along the cut", "m"};
+  core::OutputPort<int> miss_reason_{"missReason", "why the last actuation applied no stitch (sim::StitchMiss)", "1"};
+  core::OutputPort<double> miss_distance_{"missDistance", "tip to the edge point at the last miss", "m"};
+  core::OutputPort<std::vector<double>> edges_{
+      "woundEdges", "right then left edge point (x y z) at each sample along the cut, world frame", "m"};
+
+  std::optional<sim::Wound> wound_;
+  KDL::Frame world_to_wound_;
+  KDL::Vector tool_, stick_;  // wound frame
+  bool have_tool_ = false, have_stick_ = false;
+  bool hooked_ = false, broken_ = false;
+  core::BoundedString<63> right_name_, left_name_, release_name_;
+  std::vector<double> edge_buffer_;
+};
+
+}  // namespace cobra::components

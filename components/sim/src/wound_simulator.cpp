@@ -1,0 +1,150 @@
+#include "cobra/components/sim/wound_simulator.hpp"
+
+#include <algorithm>
+
+namespace cobra::components {
+
+WoundSimulator::WoundSimulator(std::string name)
+    : Component(std::move(name), core::Role::Bridge,
+                "Simulated suturing patient (thesis ch. 5): a planar wound the Endo Stitch stitches, the thread it "
+                "pulls closed, the stick that hooks it, and the wound's edges for stitch planning") {
+  for (auto* p : {&max_gap_, &tissue_stiffness_, &closure_spread_, &bite_, &stitch_depth_, &stitch_tolerance_,
+                  &closed_gap_, &thread_length_, &thread_slack_, &thread_stiffness_, &breaking_tension_, &hook_radius_})
+    addProperty(*p);
+  addProperty(cut_);
+  addProperty(wound_pose_);
+  addProperty(edge_samples_);
+  for (auto* p : {&actuate_right_event_, &actuate_left_event_, &release_event_}) addProperty(*p);
+  addPort(tool_tip_);
+  addPort(stick_tip_);
+  addEventPort(input_events_);
+  addPort(tension_);
+  addPort(stitch_count_);
+  addPort(max_stitch_gap_);
+  addPort(max_gap_out_);
+  addPort(miss_reason_);
+  addPort(miss_distance_);
+  addPort(edges_);
+}
+
+bool WoundSimulator::configureHook() {
+  const std::vector<double>& cut = cut_();
+  if (cut.size() < 4 || cut.size() % 2 != 0)
+    return refuse("property cut has " + std::to_string(cut.size()) +
+                  " numbers; expected x, y pairs (m) of at least 2 points of the cut's centreline");
+  if (edge_samples_() < 2)
+    return refuse("property edge_samples is " + std::to_string(edge_samples_()) + "; expected at least 2");
+  for (const auto& [property, name] : {std::pair{&actuate_right_event_, "actuate_right_event"},
+                                       std::pair{&actuate_left_event_, "actuate_left_event"},
+                                       std::pair{&release_event_, "release_event"}}) {
+    const std::string& value = (*property)();
+    if (value.empty() || value.size() > core::BoundedString<63>::capacity())
+      return refuse("property " + std::string(name) + " is '" + value + "'; expected an event name of 1 to 63 characters");
+  }
+  sim::WoundModel wound;
+  wound.cut.clear();
+  for (std::size_t i = 0; i < cut.size(); i += 2) wound.cut.emplace_back(cut[i], cut[i + 1], 0.0);
+  wound.max_gap = max_gap_();
+  wound.tissue_stiffness = tissue_stiffness_();
+  wound.closure_spread = closure_spread_();
+  wound.bite = bite_();
+  wound.stitch_depth = stitch_depth_();
+  wound.stitch_tolerance = stitch_tolerance_();
+  wound.closed_gap = closed_gap_();
+  sim::ThreadModel thread;
+  thread.length = thread_length_();
+  thread.slack = thread_slack_();
+  thread.stiffness = thread_stiffness_();
+  thread.breaking_tension = breaking_tension_();
+  thread.hook_radius = hook_radius_();
+  try {
+    wound_.emplace(std::move(wound), thread);
+  } catch (const std::exception& e) {
+    return refuse(e.what());  // names the parameter and its range
+  }
+  world_to_wound_ = wound_pose_().Inverse();
+  right_name_.assign(actuate_right_event_());
+  left_name_.assign(actuate_left_event_());
+  release_name_.assign(release_event_());
+  edge_buffer_.assign(static_cast<std::size_t>(edge_samples_()) * 6, 0.0);
+  edges_.setDataSample(edge_buffer_);
+  return true;
+}
+
+bool WoundSimulator::startHook() {
+  have_tool_ = have_stick_ = hooked_ = broken_ = false;
+  core::Event stale;
+  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  }  // requests sent before the start are not this run's
+  publish();
+  return true;
+}
+
+void WoundSimulator::cleanupHook() { wound_.reset(); }
+
+void WoundSimulator::actuate(sim::WoundSide side) noexcept {
+  if (!have_tool_) {
+    miss_reason_.write(static_cast<int>(sim::StitchMiss::OutsideWound));
+    emitEvent("e_stitch_missed");
+    return;
+  }
+  const sim::StitchResult r = wound_->actuate(side, tool_);
+  if (r.applied()) {
+    emitEvent("e_stitch_applied");
+    return;
+  }
+  miss_reason_.write(static_cast<int>(r.miss));
+  miss_distance_.write(r.distance);
+  emitEvent("e_stitch_missed");
+}
+
+void WoundSimulator::updateHook() {
+  KDL::Frame pose;
+  if (tool_tip_.read(pose) != core::FlowStatus::NoData) {
+    tool_ = world_to_wound_ * pose.p;
+    have_tool_ = true;
+  }
+  if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
+    stick_ = world_to_wound_ * pose.p;
+    have_stick_ = true;
+  }
+  core::Event request;
+  while (input_events_.read(request) == core::FlowStatus::NewData) {
+    if (request.name == right_name_) actuate(sim::WoundSide::Right);
+    else if (request.name == left_name_) actuate(sim::WoundSide::Left);
+    else if (request.name == release_name_) wound_->releaseThread();
+  }
+  if (have_tool_ && have_stick_) wound_->step(tool_, stick_);
+  if (wound_->hooked() && !hooked_) emitEvent("e_thread_hooked");
+  hooked_ = wound_->hooked();
+  if (wound_->broken() && !broken_) emitEvent("e_thread_broken");
+  broken_ = wound_->broken();
+  publish();
+}
+
+void WoundSimulator::publish() noexcept {
+  const sim::Wound& w = *wound_;
+  tension_.write(w.tension());
+  int complete = 0;
+  double widest = 0.0;
+  for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
+    if (w.stitches()[static_cast<std::size_t>(i)].complete()) ++complete;
+    widest = std::max(widest, w.stitchGap(i));
+  }
+  stitch_count_.write(complete);
+  max_stitch_gap_.write(widest);
+  max_gap_out_.write(w.maxGap());
+  const KDL::Frame& to_world = wound_pose_();
+  const std::size_t samples = edge_buffer_.size() / 6;
+  for (std::size_t i = 0; i < samples; ++i) {
+    const double s = w.length() * static_cast<double>(i) / static_cast<double>(samples - 1);
+    const KDL::Vector right = to_world * w.edgePoint(sim::WoundSide::Right, s, 0.0);
+    const KDL::Vector left = to_world * w.edgePoint(sim::WoundSide::Left, s, 0.0);
+    double* out = &edge_buffer_[i * 6];
+    out[0] = right.x(), out[1] = right.y(), out[2] = right.z();
+    out[3] = left.x(), out[4] = left.y(), out[5] = left.z();
+  }
+  edges_.write(edge_buffer_);
+}
+
+}  // namespace cobra::components

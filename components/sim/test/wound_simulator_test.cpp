@@ -1,0 +1,159 @@
+// WoundSimulator: on the lockstep clock, with the wound placed off the world's origin: an Endo
+// Stitch actuation away from the edge is a miss with its reason and distance; both halves at the
+// stitch points apply a stitch; pulling the tool up tensions the thread and closes the gap; four
+// stitches close the wound at each stitch; the stick hooks the thread; woundEdges carries the
+// edges in the world; bad properties are refused naming them; updateHook allocates nothing.
+#include "cobra/components/sim/wound_simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+namespace cobra::components::test {
+namespace {
+
+const KDL::Frame kWoundPose(KDL::Rotation::RotZ(0.3), KDL::Vector(0.4, -0.1, 0.05));  // W_T_wound
+
+struct Bench {
+  core::LockstepClock clock;
+  WoundSimulator patient{"Patient"};
+  core::OutputPort<KDL::Frame> tool{"tool", "", "m"};
+  core::OutputPort<KDL::Frame> stick{"stick", "", "m"};
+  core::OutputPort<core::Event> requests{"requests", "", ""};
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::InputPort<double> tension{"tension", "", "N"}, widest{"widest", "", "m"}, miss_distance{"missDistance", "", "m"};
+  core::InputPort<int> count{"count", "", "1"}, miss{"miss", "", "1"};
+  core::InputPort<std::vector<double>> edges{"edges", "", "m"};
+  std::vector<std::string> said;
+  const sim::Wound model{sim::WoundModel{}};  // the same default wound, for its stitch points
+
+  Bench() {
+    clock.add(patient, std::chrono::milliseconds(1));
+    core::connectPorts(tool, patient.port("toolTipPose"));
+    core::connectPorts(stick, patient.port("stickTipPose"));
+    core::connectPorts(requests, patient.port("inputEvents"), core::ConnPolicy::buffer(8));
+    core::connectPorts(patient.port("events"), events, core::ConnPolicy::buffer(16));
+    core::connectPorts(patient.port("threadTension"), tension);
+    core::connectPorts(patient.port("maxStitchGap"), widest);
+    core::connectPorts(patient.port("missDistance"), miss_distance);
+    core::connectPorts(patient.port("stitchCount"), count);
+    core::connectPorts(patient.port("missReason"), miss);
+    core::connectPorts(patient.port("woundEdges"), edges);
+    patient.setProperty("wound_pose", kWoundPose);
+  }
+  void start() {
+    ASSERT_TRUE(patient.configure());
+    ASSERT_TRUE(patient.start());
+  }
+  /// One step with the tool at `tip` (wound frame) and the stick at `stick_tip` (wound frame).
+  void step(const KDL::Vector& tip, const KDL::Vector& stick_tip = KDL::Vector(0.0, 0.05, 0.05)) {
+    tool.write(KDL::Frame(kWoundPose * tip));
+    stick.write(KDL::Frame(kWoundPose * stick_tip));
+    clock.advance(std::chrono::milliseconds(1));
+    for (core::Event e; events.read(e) == core::FlowStatus::NewData;) said.push_back(e.name.str());
+  }
+  void actuate(const char* event, const KDL::Vector& tip) {
+    core::Event e;
+    e.name = event;
+    requests.write(e);
+    step(tip);
+  }
+  template <class T>
+  T read(core::InputPort<T>& port) {
+    T v{};
+    (void)port.read(v);
+    return v;
+  }
+  /// Both halves at s, then the tool pulled up until the stitch's gap is below 0.5 mm.
+  void stitch(double s) {
+    actuate("e_endo_stitch_right", model.stitchPoint(sim::WoundSide::Right, s));
+    const KDL::Vector tip = model.stitchPoint(sim::WoundSide::Left, s);
+    actuate("e_endo_stitch_left", tip);
+    for (double lift = 0.0; lift < 0.08 && read(widest) >= 0.0005; lift += 2e-4) step(tip + KDL::Vector(0, 0, lift));
+    step(tip);
+  }
+};
+
+TEST(WoundSimulator, AMissSaysWhyThenBothHalvesApplyAStitchThatThePullCloses) {
+  Bench b;
+  b.start();
+  b.actuate("e_endo_stitch_right", b.model.stitchPoint(sim::WoundSide::Right, 0.008) + KDL::Vector(0, 0.0025, 0));
+  EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_missed"}));
+  EXPECT_EQ(b.read(b.miss), static_cast<int>(sim::StitchMiss::FarFromEdge));
+  EXPECT_NEAR(b.read(b.miss_distance), 0.0025, 1e-9);
+  b.said.clear();
+  b.stitch(0.008);
+  EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_applied", "e_stitch_applied"}));
+  EXPECT_EQ(b.read(b.count), 1);
+  EXPECT_LT(b.read(b.widest), 0.0005);
+  EXPECT_EQ(b.read(b.tension), 0.0);  // the tool went back down: the thread is slack again
+}
+
+TEST(WoundSimulator, FourStitchesCloseTheWoundAtEachStitch) {
+  Bench b;
+  b.start();
+  for (const double s : {0.008, 0.016, 0.024, 0.032}) b.stitch(s);
+  EXPECT_EQ(b.read(b.count), 4);
+  EXPECT_LT(b.read(b.widest), 0.0005);
+  EXPECT_EQ(std::count(b.said.begin(), b.said.end(), "e_stitch_applied"), 8);
+  EXPECT_EQ(std::count(b.said.begin(), b.said.end(), "e_thread_broken"), 0);
+}
+
+TEST(WoundSimulator, TheStickHooksTheThreadAndTheEdgesArePublishedInTheWorld) {
+  Bench b;
+  b.patient.setProperty("edge_samples", 5);
+  b.start();
+  b.actuate("e_endo_stitch_right", b.model.stitchPoint(sim::WoundSide::Right, 0.02));
+  const KDL::Vector tip = b.model.stitchPoint(sim::WoundSide::Left, 0.02);
+  b.actuate("e_endo_stitch_left", tip);
+  const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
+  const KDL::Vector exit = b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
+  b.step(up, (exit + up) * 0.5 + KDL::Vector(0.001, 0, 0));
+  EXPECT_EQ(b.said.back(), "e_thread_hooked");
+
+  const std::vector<double> edges = b.read(b.edges);
+  ASSERT_EQ(edges.size(), 30u);  // 5 samples × (right, left) × xyz
+  const KDL::Vector left_middle(edges[12 + 3], edges[12 + 4], edges[12 + 5]);  // sample 2 = the middle
+  EXPECT_NEAR((left_middle - kWoundPose * b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0)).Norm(), 0.0, 1e-12);
+}
+
+TEST(WoundSimulator, BadPropertiesAreRefusedNamingThem) {
+  Bench b;
+  b.patient.setProperty("cut", std::vector<double>{0.0, 0.0, 0.04});
+  EXPECT_EQ(b.patient.configure().message, "component 'Patient': property cut has 3 numbers; expected x, y pairs (m) of at least 2 points of the cut's centreline");
+  b.patient.setProperty("cut", std::vector<double>{-0.02, 0.0, 0.02, 0.0});
+  b.patient.setProperty("breaking_tension", 0.0);
+  EXPECT_EQ(b.patient.configure().message, "component 'Patient': thread: breaking_tension is 0 N: expected a finite value > 0 N");
+}
+
+TEST(WoundSimulator, UpdatesAllocateNothing) {
+  Bench b;
+  b.start();
+  b.step(KDL::Vector(0, 0, 0.01));
+  const KDL::Frame right(kWoundPose * b.model.stitchPoint(sim::WoundSide::Right, 0.02));
+  const KDL::Frame left(kWoundPose * b.model.stitchPoint(sim::WoundSide::Left, 0.02));
+  core::Event e;
+  const long calls = test_support::allocationsDuring([&] {
+    for (int i = 0; i < 400; ++i) {  // 100 ms at the right point, then the left, pulled up 3 cm
+      const bool first = i < 100;
+      b.tool.write(first ? right : KDL::Frame(left.p + KDL::Vector(0, 0, 1e-4 * (i - 100))));
+      b.stick.write(KDL::Frame(KDL::Vector(0.0, 0.5, 0.5)));
+      if (i == 10 || i == 100) {
+        e.name = first ? "e_endo_stitch_right" : "e_endo_stitch_left";
+        b.requests.write(e);
+      }
+      b.clock.advance(std::chrono::milliseconds(1));
+    }
+  });
+  EXPECT_EQ(calls, 0);
+  EXPECT_EQ(b.read(b.count), 1);  // the loop did stitch and pull
+  EXPECT_GT(b.read(b.tension), 0.0);
+}
+
+}  // namespace
+}  // namespace cobra::components::test
