@@ -11,6 +11,7 @@
 #include "cobra/components/reporting/package.hpp"
 #include "cobra/components/signal/package.hpp"
 #include "cobra/components/sim/package.hpp"
+#include "cobra/components/suturing/package.hpp"
 
 namespace cobra::components {
 
@@ -25,6 +26,7 @@ void addBuiltinPackages(deploy::PackageRegistry& packages) {
   packages.addBuiltin("cobra_sim", registerSimPackage);
   packages.addBuiltin("cobra_monitoring", registerMonitoringPackage);
   packages.addBuiltin("cobra_puncturing", registerPuncturingPackage);
+  packages.addBuiltin("cobra_suturing", registerSuturingPackage);
   packages.addBuiltin("cobra_reporting", registerReportingPackage);
 }
 

@@ -14,9 +14,9 @@ std::string number(double v) {
   return text;
 }
 
-bool finite(const KDL::Vector& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+bool finite(const KDL::Vector& v) noexcept { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
-KDL::Vector midpoint(const WoundEdges& e, std::size_t i) { return (e.right[i] + e.left[i]) * 0.5; }
+KDL::Vector midpoint(const WoundEdges& e, std::size_t i) noexcept { return (e.right[i] + e.left[i]) * 0.5; }
 
 }  // namespace
 
@@ -55,19 +55,30 @@ void StitchPlanner::check(const WoundEdges& e) {
   }
 }
 
-double StitchPlanner::length(const WoundEdges& e) {
+bool StitchPlanner::usable(const WoundEdges& e) noexcept {
+  if (e.right.size() != e.left.size() || e.right.size() < 2) return false;
+  if (!finite(e.skin_normal) || std::abs(e.skin_normal.Norm() - 1.0) > 1e-6) return false;
+  for (std::size_t i = 0; i < e.right.size(); ++i) {
+    if (!finite(e.right[i]) || !finite(e.left[i])) return false;
+    if (i > 0 && (midpoint(e, i) - midpoint(e, i - 1)).Norm() < 1e-4) return false;
+  }
+  return true;
+}
+
+double StitchPlanner::length(const WoundEdges& e) noexcept {
   double length = 0.0;
   for (std::size_t i = 1; i < e.right.size(); ++i) length += (midpoint(e, i) - midpoint(e, i - 1)).Norm();
   return length;
 }
 
-int StitchPlanner::count(const WoundEdges& edges) const {
+int StitchPlanner::count(const WoundEdges& edges) const noexcept {
   const double usable = length(edges) - 2.0 * model_.end_margin;
   // The 1e-9 m keeps a cut of exactly n spacings from losing its last stitch to rounding.
   return usable < 0.0 ? 0 : static_cast<int>(std::floor(usable / model_.spacing + 1e-9)) + 1;
 }
 
-bool StitchPlanner::next(const WoundEdges& e, int from, StitchTarget& target) const {
+bool StitchPlanner::next(const WoundEdges& e, int from, StitchTarget& target) const noexcept {
+  if (!usable(e)) return false;
   const int stitches = count(e);
   for (int k = std::max(from, 0); k < stitches; ++k) {
     const double s = model_.end_margin + k * model_.spacing;

@@ -121,6 +121,8 @@ TEST(StitchPlan, BadEdgesAndParametersAreRefusedWithWhatWasExpected) {
   edges.left.pop_back();
   EXPECT_EQ(messageOf([&] { StitchPlanner::check(edges); }),
             "wound edges: 201 right and 200 left points: expected as many of each, facing each other across the cut");
+  StitchTarget t;
+  EXPECT_FALSE(StitchPlanner().next(edges, 0, t));  // no stitch from bad edges, no exception
   edges = WoundEdges{{KDL::Vector::Zero()}, {KDL::Vector(0, 0.01, 0)}};
   EXPECT_EQ(messageOf([&] { StitchPlanner::check(edges); }),
             "wound edges: 1 point(s) per edge: expected at least 2 along the cut");

@@ -58,16 +58,18 @@ class StitchPlanner {
   /// >= 0.1 mm apart, a unit skin normal.
   /// @throws std::invalid_argument saying what is wrong (the sensing module's data is bad input).
   static void check(const WoundEdges& edges);
+  /// check() without the message: true when `edges` pass. Real time: allocates nothing.
+  static bool usable(const WoundEdges& edges) noexcept;
 
   /// m: the centreline's length.
-  static double length(const WoundEdges& edges);
+  static double length(const WoundEdges& edges) noexcept;
   /// Stitches the cut takes: floor((length - 2·end_margin) / spacing) + 1, 0 when it is shorter
   /// than the margins.
-  int count(const WoundEdges& edges) const;
+  int count(const WoundEdges& edges) const noexcept;
   /// The first stitch of the plan whose index is >= `from` and whose place is still open, read
-  /// from the current edges; false when none is left (the wound is closed as planned).
-  /// Precondition: check(edges) passed.
-  bool next(const WoundEdges& edges, int from, StitchTarget& target) const;
+  /// from the current edges; false when none is left (the wound is closed as planned). Edges that
+  /// fail check() give no stitch rather than garbage. Real time: allocates nothing, never throws.
+  bool next(const WoundEdges& edges, int from, StitchTarget& target) const noexcept;
 
   const StitchPlanModel& model() const noexcept { return model_; }
 
