@@ -64,7 +64,7 @@ bool Puma260World::configureHook() {
   std::array<double, 6> initial{};
   for (std::size_t i = 0; i < 6; ++i) initial[i] = initial_()[i];
   try {
-    auto arm = std::make_unique<sim::MujocoPuma260Arm>(model_(), sim::Puma260ArmModel::defaults(), initial);
+    auto arm = std::make_unique<sim::MujocoPuma260Arm>(model_(), sim::MujocoPuma260Arm::defaultDrives(), initial);
     sim::MujocoPuma260Arm* raw = arm.get();
     sim::Puma260EtherCatBus& bus = device_.open(
         *this, "simulated Puma 260 drives on the MuJoCo world of component '" + name() + "'",
