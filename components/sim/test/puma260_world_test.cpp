@@ -199,6 +199,10 @@ TEST(Puma260World, BadPropertiesAreRefusedNamingTheFile) {
   EXPECT_EQ(world.lastError(), "component 'World': property initial_position has 3 numbers; give 6 joint angles in rad");
   EXPECT_THROW(world.call("injectFault", 0), std::exception);
   world.setProperty("initial_position", kReady);
+  world.setProperty("encoder_noise", -1.0);
+  EXPECT_FALSE(world.configure());
+  EXPECT_EQ(world.lastError(), "component 'World': property encoder_noise = -1.000000 rad; expected >= 0 (a standard deviation)");
+  world.setProperty("encoder_noise", 1e-5);
   EXPECT_TRUE(world.configure());
   EXPECT_EQ(world.call<std::string>("surface"),
             "cylinder centre (0.3500, 0.0000, 0.0350) m, axis (1.0000, 0.0000, 0.0000), radius 0.0800 m, length 0.1000 m");
