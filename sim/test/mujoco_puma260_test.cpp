@@ -186,6 +186,7 @@ TEST(MujocoPuma260World, ThePressedToolReadsTheContactForceAndItsWeightInTheSens
   EXPECT_LT(measured.force.z(), -0.9 * world.contactForce());
   EXPECT_NEAR(world.contactForce(), force.Norm(), 0.2 * force.Norm());  // friction is the rest
   EXPECT_NEAR(world.penetration(), 0.0006, 0.0002);
+  EXPECT_EQ(world.warningCount(), 0);
 }
 
 TEST(MujocoPuma260World, OffTheSurfaceNothingTouches) {
@@ -263,6 +264,7 @@ TEST(MujocoPuma260Arm, StepsAreDeterministicAndAllocateNothing) {
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { run(a); }), 0);
   run(b);
   for (int i = 0; i < 6; ++i) EXPECT_EQ(a.world().jointPosition(i), b.world().jointPosition(i));
+  EXPECT_EQ(a.world().warningCount(), 0);
   EXPECT_EQ(a.world().sensorWrench(), b.world().sensorWrench());
 }
 
