@@ -102,15 +102,14 @@ void enable(MujocoPuma260Arm& arm, const std::array<double, 6>& target) {
   for (int i = 0; i < 6; ++i) ASSERT_EQ(arm.drive(i).state(), Cia402State::OperationEnabled) << "drive " << i;
 }
 
-/// Joint angles (closed form, elbow up) with the tool tip at `tip`, pointing straight down.
-std::array<double, 6> toolDownAt(const KDL::Vector& tip) {
-  cobra::kinematics::Puma260Solver solver({}, cobra::kinematics::Puma260Solver::defaultLimits(), KDL::Frame::Identity(),
-                                          KDL::Frame(KDL::Vector(0, 0, 0.118)));
-  KDL::JntArray seed(6), q(6);
-  seed(1) = 1.2;
-  seed(2) = -2.4;
-  seed(4) = -0.4;
-  EXPECT_EQ(solver.inverse(KDL::Frame(KDL::Rotation::RotX(M_PI), tip), seed, q), cobra::kinematics::IkStatus::Ok);
+/// Joint angles (closed form) with the tool tip at `tip`, pointing straight down, on the branch of
+/// `seed` (default: elbow up over the surface).
+std::array<double, 6> toolDownAt(const KDL::Vector& tip, std::array<double, 6> seed = {0, 1.2, -2.4, 0, -0.4, 0}) {
+  static cobra::kinematics::Puma260Solver solver({}, cobra::kinematics::Puma260Solver::defaultLimits(),
+                                                 KDL::Frame::Identity(), KDL::Frame(KDL::Vector(0, 0, 0.118)));
+  const KDL::JntArray from = joints(seed);
+  KDL::JntArray q(6);
+  EXPECT_EQ(solver.inverse(KDL::Frame(KDL::Rotation::RotX(M_PI), tip), from, q), cobra::kinematics::IkStatus::Ok);
   return {q(0), q(1), q(2), q(3), q(4), q(5)};
 }
 
@@ -276,18 +275,8 @@ TEST(MujocoPuma260Arm, StepsAreDeterministicAndAllocateNothing) {
 // bounded contact force and penetration, no drive fault and no MuJoCo warning. Measured: 13.1 N,
 // 0.92 mm at the most.
 TEST(MujocoPuma260Arm, ACompliantToolRidesOverTheSurfaceWithoutFault) {
-  cobra::kinematics::Puma260Solver solver({}, cobra::kinematics::Puma260Solver::defaultLimits(), KDL::Frame::Identity(),
-                                          KDL::Frame(KDL::Vector(0, 0, 0.118)));
-  KDL::JntArray seed(6), q(6);
-  seed(1) = 1.2;
-  seed(2) = -2.4;
-  seed(4) = -0.4;
-  const auto ik = [&](double y, double z) {
-    EXPECT_EQ(solver.inverse(KDL::Frame(KDL::Rotation::RotX(M_PI), KDL::Vector(0.35, y, z)), seed, q),
-              cobra::kinematics::IkStatus::Ok);
-    seed = q;
-    return std::array<double, 6>{q(0), q(1), q(2), q(3), q(4), q(5)};
-  };
+  std::array<double, 6> seed = toolDownAt(KDL::Vector(0.35, -0.12, 0.10));
+  const auto ik = [&](double y, double z) { return seed = toolDownAt(KDL::Vector(0.35, y, z), seed); };
   const auto start = ik(-0.12, 0.10);
   MujocoPuma260Arm arm(kModel, MujocoPuma260Arm::defaultDrives(), start);
   enable(arm, start);
