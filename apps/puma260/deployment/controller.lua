@@ -53,7 +53,7 @@ TrajGen.arms_num = 1
 -- The smallest inertia and stiffness the admittance ever implements (fixed at configure; the
 -- configuration's are above them, the tank pays the difference) and its tank, J.
 Admittance.constant_inertia = { 1, 1, 1, 0.05, 0.05, 0.05 }
-Admittance.constant_stiffness = { 1500, 1500, 150, 30, 30, 30 }
+Admittance.constant_stiffness = { 1500, 1500, 250, 30, 30, 30 }
 Admittance.tank_initial = 2
 Admittance.tank_max = 5
 Admittance.tank_min = 0.5
