@@ -13,10 +13,12 @@
 --   G  contact lost (e_contact_lost): the surface has left the path; back to the nominal path
 --   H  at the final pose, back on the nominal path (e_on_path, e_motion_done): done
 -- Faults: a drive fault or bus error (the master has quick-stopped the drives), the contact force
--- over its limit, an IK or trajectory failure, the tank empty: root.SafeStop (the trajectory stops,
--- the admittance holds). The FTSens silent (e_comm_timeout): root.Holding, the motion stopped,
--- until the sensor is back (the nominal path resumes) or `sensor_hold` s have passed (SafeStop).
+-- over its limit, an IK or trajectory failure, the tank empty: root.Stopping (the trajectory's stop
+-- motion, the admittance holding) then root.SafeStop once the trajectory is at rest. The FTSens
+-- silent (e_comm_timeout): root.Holding, the motion stopped, until the sensor is back (the nominal
+-- path resumes) or `sensor_hold` s have passed (SafeStop).
 local sensor_hold = 1.0  -- s
+local stop_wait = 0.5    -- s: longer than the trajectory generator's stop_time
 
 local function call(peer, operation)
   local p = _G[peer]
@@ -78,7 +80,8 @@ local chart = {
   H_FinalPose = rfsm.state { entry = function() emit("e_puma_task_done") end },
   Holding = rfsm.state { entry = function() call("TrajGen", "askStopMove") emit("e_puma_holding") end },
   Resuming = motion("NominalPath"),
-  SafeStop = rfsm.state { entry = function() call("TrajGen", "askStopMove") emit("e_puma_safe_stop") end },
+  Stopping = rfsm.state { entry = function() call("TrajGen", "askStopMove") end },
+  SafeStop = rfsm.state { entry = function() emit("e_puma_safe_stop") end },
 
   rfsm.trans { src = 'initial', tgt = 'A_Nest' },
   rfsm.trans { src = 'A_Nest', tgt = 'B_Ready', events = { 'e_ready_reached@Puma' } },
@@ -95,11 +98,14 @@ local chart = {
   rfsm.trans { src = 'Holding', tgt = 'SafeStop', events = { 'e_after(' .. sensor_hold .. ')' },
                effect = function() emit("e_sensor_lost") end },
   rfsm.trans { src = 'Resuming', tgt = 'H_FinalPose', events = { done } },
+  -- At rest: the stop motion ended, or there was none; at most `stop_wait` s.
+  rfsm.trans { src = 'Stopping', tgt = 'SafeStop',
+               events = { 'e_motion_stopped@TrajGen', 'e_not_moving@TrajGen', 'e_after(' .. stop_wait .. ')' } },
 }
 local active = { 'A_Nest', 'B_Ready', 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath',
                  'Holding', 'Resuming' }
 for _, state in ipairs(active) do
-  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = failures, pn = 10 }
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Stopping', events = failures, pn = 10 }
 end
 for _, state in ipairs({ 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath', 'Resuming' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Holding', events = { 'e_comm_timeout@FTSens' }, pn = 5 }
