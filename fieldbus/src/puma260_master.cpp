@@ -196,14 +196,22 @@ std::uint32_t Puma260Master::step(double dt, const JointCommands& commands) noex
   std::uint32_t events = 0;
   for (std::size_t i = 0; i < 6; ++i) outputs_[i].controlword = sequencers_[i].next(inputs_[i].statusword);
   fillTargets(commands, events);
-  if (bus_.exchange(outputs_, inputs_) != BusStatus::Ok) {
+  const BusStatus status = bus_.exchange(outputs_, inputs_);
+  if (status != BusStatus::Ok) {
+    // A wrong working counter is its own event (with the counters kept for the log) every time it
+    // happens; either failure puts the master in Fault once: the drives quick-stop.
+    if (status == BusStatus::WorkingCounterMismatch) {
+      working_counter_fault_ = bus_.workingCounter();
+      events |= master_event::kWorkingCounterMismatch;
+    }
     if (state_ != MasterState::Fault) {
       state_ = MasterState::Fault;
       fault_slave_ = -1;
       fault_code_ = 0;
       recovering_ = false;
       setGoal(cia402::Goal::QuickStop);
-      events |= master_event::kBusError | master_event::kDriveFault;
+      hold_ = position_;
+      if (status != BusStatus::WorkingCounterMismatch) events |= master_event::kBusError | master_event::kDriveFault;
     }
     return events;
   }

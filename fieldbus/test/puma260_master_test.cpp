@@ -192,8 +192,9 @@ TEST(Puma260Master, TorqueModeAppliesTheCommandedTorque) {
   operative(rig);
   // Gravity compensation from the arm model plus 0.05 N·m on the wrist joints.
   rig.commands.torque_valid = true;
+  const cobra::sim::Puma260Arm model(cobra::sim::Puma260ArmModel::defaults());  // the bus's default arm
   for (int k = 0; k < 300; ++k) {
-    rig.commands.torque = rig.bus.arm().gravityTorque(rig.master.position());
+    rig.commands.torque = model.gravityTorque(rig.master.position());
     for (std::size_t i = 3; i < 6; ++i) rig.commands.torque[i] = 0.05;
     rig.cycle();
   }
@@ -202,6 +203,38 @@ TEST(Puma260Master, TorqueModeAppliesTheCommandedTorque) {
     EXPECT_NEAR(rig.master.torque()[i], rig.commands.torque[i], 1e-9) << "joint " << i;
   EXPECT_GT(rig.master.velocity()[3], 0.5);                        // 0.05 N·m on 0.005 kg·m² for 0.3 s
   EXPECT_NEAR(rig.master.position()[1], config().ready[1], 0.01);  // compensated: the shoulder stays
+}
+
+TEST(Puma260Master, AWrongWorkingCounterIsABusFaultThatQuickStopsEveryDrive) {
+  Rig rig;
+  operative(rig);
+  rig.commands.position_valid = true;
+  rig.commands.position = config().ready;
+  for (int k = 0; k < 100; ++k) {  // joint 1 moving at 0.5 rad/s
+    rig.commands.position[0] += 0.5 * kCycle;
+    rig.cycle();
+  }
+  ASSERT_GT(std::abs(rig.bus.arm().drive(0).velocity()), 0.1);
+  rig.bus.injectWorkingCounterFault(3);
+  rig.seen = 0;
+  const std::uint32_t first = rig.cycle();
+  EXPECT_TRUE(first & ev::kWorkingCounterMismatch);
+  EXPECT_EQ(first & ev::kBusError, 0U);  // distinct from a link down
+  EXPECT_EQ(first & ev::kDriveFault, 0U);
+  EXPECT_EQ(rig.master.state(), MasterState::Fault);
+  EXPECT_EQ(rig.master.workingCounterFault().expected, 18);
+  EXPECT_EQ(rig.master.workingCounterFault().received, 15);
+  EXPECT_TRUE(rig.cycle() & ev::kWorkingCounterMismatch);  // reported each cycle it lasts
+  EXPECT_TRUE(rig.cycle() & ev::kWorkingCounterMismatch);
+  EXPECT_EQ(rig.cycle() & ev::kWorkingCounterMismatch, 0U);  // the 3 cycles are over
+  rig.run(0.5);
+  EXPECT_EQ(rig.master.state(), MasterState::Fault);
+  for (int i = 0; i < 6; ++i) {  // quick stop (option 2): stopped, then switched off, brakes on
+    EXPECT_EQ(rig.bus.arm().drive(i).state(), cobra::sim::Cia402State::SwitchOnDisabled) << "drive " << i;
+    EXPECT_NEAR(rig.bus.arm().drive(i).velocity(), 0.0, 1e-6) << "drive " << i;
+  }
+  ASSERT_TRUE(rig.master.request(Request::FaultReset));
+  EXPECT_TRUE(rig.runUntil(ev::kInitialized, 0.1));
 }
 
 TEST(Puma260Master, CyclesAllocateNothing) {

@@ -179,26 +179,34 @@ double Cia402Drive::demandedTorque(double h) noexcept {
   return torque;
 }
 
+double Cia402Drive::controlTorque(double h, double position, double velocity) noexcept {
+  position_ = position;
+  velocity_ = velocity;
+  double torque = powered() && h > 0.0 ? demandedTorque(h) : 0.0;
+  double current = torque / model_.torque_constant;
+  if (std::abs(current) > model_.peak_current) {
+    current = std::copysign(model_.peak_current, current);
+    torque = current * model_.torque_constant;
+    internal_limit_ = true;
+  }
+  current_ = current;
+  torque_ = torque;
+  return torque;
+}
+
 void Cia402Drive::runLoops(double dt) noexcept {
-  const bool powered = state_ == Cia402State::OperationEnabled || state_ == Cia402State::QuickStopActive;
   const int substeps = std::max(1, static_cast<int>(std::ceil(dt / model_.internal_period - 1e-9)));
   const double h = dt / substeps;
-  internal_limit_ = false;
   for (int i = 0; i < substeps; ++i) {
-    double torque = powered ? demandedTorque(h) : 0.0;
-    double current = torque / model_.torque_constant;
-    if (std::abs(current) > model_.peak_current) {
-      current = std::copysign(model_.peak_current, current);
-      torque = current * model_.torque_constant;
-      internal_limit_ = true;
-    }
-    current_ = current;
-    torque_ = torque;
+    const double torque = controlTorque(h, position_, velocity_);
     // Semi-implicit Euler of J·dω/dt = τ - b·ω - τ_load: stable for the stiff viscous term.
     velocity_ = (velocity_ + h * (torque - load_torque_) / model_.inertia) / (1.0 + h * model_.viscous_friction / model_.inertia);
     position_ += velocity_ * h;
   }
-  if (!powered) return;
+}
+
+void Cia402Drive::superviseFaults(double dt) noexcept {
+  if (!powered()) return;
   over_current_time_ = internal_limit_ ? over_current_time_ + dt : 0.0;
   const bool position_mode = mode_ == Cia402Mode::CyclicSynchronousPosition || mode_ == Cia402Mode::ProfilePosition;
   following_error_ = position_mode && std::abs(setpoint_position_ - position_) > model_.following_error_window;
@@ -242,8 +250,7 @@ void Cia402Drive::updateStatusword() noexcept {
   statusword_ = word;
 }
 
-std::uint16_t Cia402Drive::step(double dt) noexcept {
-  if (!std::isfinite(dt) || dt <= 0.0) return statusword_;
+void Cia402Drive::beginCycle() noexcept {
   if (injected_fault_ != error_code::kNone && state_ != Cia402State::Fault && state_ != Cia402State::FaultReactionActive) {
     enterFault(injected_fault_);
     injected_fault_ = error_code::kNone;
@@ -264,9 +271,22 @@ std::uint16_t Cia402Drive::step(double dt) noexcept {
     pp_target_ = target_position_;
   }
   set_point_acknowledge_ = new_set_point && mode_ == Cia402Mode::ProfilePosition;
-  runLoops(dt);
+  internal_limit_ = false;
+}
+
+std::uint16_t Cia402Drive::endCycle(double dt, double position, double velocity) noexcept {
+  position_ = position;
+  velocity_ = velocity;
+  if (std::isfinite(dt) && dt > 0.0) superviseFaults(dt);
   updateStatusword();
   return statusword_;
+}
+
+std::uint16_t Cia402Drive::step(double dt) noexcept {
+  if (!std::isfinite(dt) || dt <= 0.0) return statusword_;
+  beginCycle();
+  runLoops(dt);
+  return endCycle(dt, position_, velocity_);
 }
 
 }  // namespace cobra::sim

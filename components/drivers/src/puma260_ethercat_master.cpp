@@ -58,6 +58,8 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
                "enter Operative (only from ReadyPosition); e_operative");
   addOperation("askFaultReset", std::function<void()>([this] { ask(fieldbus::Request::FaultReset); }),
                "reset the drives' faults (only in Fault); e_fault_reset, then e_initialized");
+  addOperation("busFault", std::function<std::string()>([this] { return busFault(); }),
+               "the last working-counter mismatch (expected and received counter), or that there was none");
   addOperation("slaveStatus", std::function<std::string(int)>([this](int i) { return slaveStatus(i); }),
                "one line about slave i (0-5)")
       .arg("slave", "1", "slave index, 0-5");
@@ -107,6 +109,14 @@ void Puma260EtherCATMaster::ask(fieldbus::Request request) {
   if (!master_ || !master_->request(request)) emitEvent("e_request_refused");
 }
 
+std::string Puma260EtherCATMaster::busFault() const {
+  if (!master_) return "not configured: no bus";
+  const fieldbus::WorkingCounter wc = master_->workingCounterFault();
+  if (wc.expected == 0 && wc.received == 0) return "no working-counter mismatch";
+  return "working counter " + std::to_string(wc.received) + ", expected " + std::to_string(wc.expected) +
+         ": a slave did not process its datagram (the master quick-stopped every drive)";
+}
+
 std::string Puma260EtherCATMaster::slaveStatus(int slave) const {
   if (!bus_device_) return "not configured: no bus";
   const std::string line = bus_device_->describeSlave(slave);
@@ -134,6 +144,7 @@ void Puma260EtherCATMaster::updateHook() {
   namespace ev = fieldbus::master_event;
   if (events & ev::kDriveFault) emitEvent("e_drive_fault");
   if (events & ev::kBusError) emitEvent("e_bus_error");
+  if (events & ev::kWorkingCounterMismatch) emitEvent("e_bus_fault");
   if (events & ev::kFaultReset) emitEvent("e_fault_reset");
   if (events & ev::kInitialized) emitEvent("e_initialized");
   if (events & ev::kReadyReached) emitEvent("e_ready_reached");

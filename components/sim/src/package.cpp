@@ -2,6 +2,7 @@
 
 #include "cobra/components/sim/cryo_console.hpp"
 #include "cobra/components/sim/patient_simulator.hpp"
+#include "cobra/components/sim/puma260_world.hpp"
 #include "cobra/components/sim/simulated_ftsens.hpp"
 #include "cobra/components/sim/simulated_leap_motion.hpp"
 #include "cobra/components/sim/simulated_omni_phantom.hpp"
@@ -22,6 +23,9 @@ void registerSimPackage(deploy::PackageBuilder& package) {
                                        "simulated Phantom Omni with the OmniPhantomBridge interface (thesis §4.5.9)")
       .component<SimulatedPuma260>("SimulatedPuma260",
                                    "simulated Puma 260 drives on EtherCAT, for Puma260EtherCATMaster bus = sim:<name>")
+      .component<Puma260World>("Puma260World",
+                               "the Puma 260 world in MuJoCo (arm, drives, FTSens, tool, curved surface), for "
+                               "Puma260EtherCATMaster bus = sim:<name>")
       .component<SimulatedFTSens>("SimulatedFTSens", "simulated IIT FTSens on CAN, for FTSensDriver bus = sim:<name>")
       .component<SimulatedLeapMotion>("SimulatedLeapMotion",
                                       "simulated Leap Motion, for LeapMotionDriver device = sim:<name>")

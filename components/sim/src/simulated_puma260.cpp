@@ -19,6 +19,17 @@ SimulatedPuma260::SimulatedPuma260(std::string name)
   addOperation("injectFault", &SimulatedPuma260::injectFault, this,
                "fault: an over-current fault in drive i (the drive goes to Fault)")
       .arg("slave", "1", "slave index, 0-5");
+  addOperation("injectWorkingCounterFault", &SimulatedPuma260::injectWorkingCounterFault, this,
+               "fault: the next n bus cycles come back with a wrong working counter (the last slave skips its "
+               "datagram)")
+      .arg("cycles", "1", "number of bus cycles, >= 1");
+}
+
+void SimulatedPuma260::injectWorkingCounterFault(int cycles) {
+  if (device_.get() == nullptr)
+    throw std::invalid_argument("the simulated bus exists only while the component is configured");
+  if (cycles < 1) throw std::invalid_argument("cycles = " + std::to_string(cycles) + ", expected >= 1");
+  device_.get()->injectWorkingCounterFault(cycles);
 }
 
 void SimulatedPuma260::injectFault(int slave) {

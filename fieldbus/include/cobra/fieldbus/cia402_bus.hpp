@@ -40,6 +40,17 @@ enum class BusStatus {
   Ok,
   WrongSize,  ///< the spans do not have slaveCount() elements: nothing was exchanged
   LinkDown,   ///< the frame did not come back or no device answers: inputs are stale
+  /// The frame came back with another working counter than expected: at least one slave did not
+  /// process its datagram, so neither the inputs nor the slaves' outputs can be trusted this cycle
+  /// (Cia402Bus::workingCounter says which counters).
+  WorkingCounterMismatch,
+};
+
+/// The EtherCAT working counter of a cycle: what the master expected (every slave processed the
+/// datagram) and what came back.
+struct WorkingCounter {
+  int expected = 0;
+  int received = 0;
 };
 
 /// The bus. `exchange` is real-time safe in every backend: no allocation, no blocking beyond the
@@ -54,6 +65,8 @@ class Cia402Bus {
   /// One cycle: `outputs` go to the slaves, `inputs` receive what the slaves sent back. A bus runs
   /// on its own clock (the wall clock, or the simulated world's): the master's cycle is its own.
   virtual BusStatus exchange(std::span<const Cia402Outputs> outputs, std::span<Cia402Inputs> inputs) noexcept = 0;
+  /// The working counter of the last exchange (both 0 for a backend without one).
+  virtual WorkingCounter workingCounter() const noexcept { return {}; }
 };
 
 }  // namespace cobra::fieldbus

@@ -16,7 +16,8 @@ namespace cobra::fieldbus {
 
 using JointVector = std::array<double, 6>;
 
-/// The states of Fig. 6.4, plus Fault (a drive reported a fault or the bus failed).
+/// The states of Fig. 6.4, plus Fault (a drive reported a fault, the bus failed or a cycle came
+/// back with a wrong working counter).
 enum class MasterState {
   NotInitialized,
   Initialized,
@@ -60,6 +61,9 @@ inline constexpr std::uint32_t kDriveFault = 1U << 4;
 inline constexpr std::uint32_t kFaultReset = 1U << 5;
 inline constexpr std::uint32_t kBusError = 1U << 6;
 inline constexpr std::uint32_t kCommandClamped = 1U << 7;  ///< an Operative command was clamped (first cycle of it)
+/// The cycle's working counter was not the expected one (Puma260Master::workingCounter): a slave
+/// did not process its datagram. Safe state as for a bus error: Fault, every drive quick-stops.
+inline constexpr std::uint32_t kWorkingCounterMismatch = 1U << 8;
 }  // namespace master_event
 
 enum class Request { Nest, Ready, Operative, FaultReset };
@@ -90,6 +94,8 @@ class Puma260Master {
   /// Slave that raised the last fault (-1: none or the bus) and its error code (object 0x603F).
   int faultSlave() const noexcept { return fault_slave_; }
   std::uint16_t faultCode() const noexcept { return fault_code_; }
+  /// The working counter of the last cycle that did not match (both 0: none yet).
+  WorkingCounter workingCounterFault() const noexcept { return working_counter_fault_; }
   const cia402::DriveSequencer& sequencer(int slave) const noexcept {
     return sequencers_[static_cast<std::size_t>(slave)];
   }
@@ -114,6 +120,7 @@ class Puma260Master {
   bool clamped_ = false, operative_pending_ = false, recovering_ = false;
   int fault_slave_ = -1;
   std::uint16_t fault_code_ = 0;
+  WorkingCounter working_counter_fault_{};
 };
 
 }  // namespace cobra::fieldbus

@@ -104,6 +104,12 @@ void validate(const Cia402DriveModel& model);
 /// as a drive does per bus cycle; "switch on + enable operation" 0x0F goes through Switched on
 /// first), runs its loops and the motor for dt and returns the statusword. noexcept, no
 /// allocation, deterministic.
+///
+/// Against an external plant (a physics engine integrates the joint instead of the drive's own
+/// motor model) a cycle is split in three: `beginCycle()`, then for each of the plant's integration
+/// steps `controlTorque(h, measured position, measured velocity)` gives the motor torque to apply
+/// over that step, then `endCycle(dt, position, velocity)` with the state at the end of the cycle.
+/// `step(dt)` is exactly that sequence with the drive's own motor model as the plant.
 class Cia402Drive {
  public:
   /// Starts in Not ready to switch on; the first step moves it to Switch on disabled.
@@ -122,6 +128,22 @@ class Cia402Drive {
 
   std::uint16_t step(double dt) noexcept;
 
+  /// External plant, part 1: evaluates the controlword (or the injected fault) and the mode, as
+  /// the start of `step` does.
+  void beginCycle() noexcept;
+  /// External plant, part 2: one control-loop period of `h` s (> 0) from the measured joint
+  /// position (rad) and velocity (rad/s). @return the joint torque (N·m) to apply over it, limited
+  /// by the peak current; 0 when the power stage is off (see `powered`).
+  double controlTorque(double h, double position, double velocity) noexcept;
+  /// External plant, part 3: the measured state at the end of a cycle of `dt` s; runs the fault
+  /// supervision (over-current, following error) and returns the statusword.
+  std::uint16_t endCycle(double dt, double position, double velocity) noexcept;
+  /// The power stage is on (Operation enabled or Quick stop active): the motor holds torque;
+  /// otherwise the joint is free (its brake, if any, is the plant's).
+  bool powered() const noexcept {
+    return state_ == Cia402State::OperationEnabled || state_ == Cia402State::QuickStopActive;
+  }
+
   std::uint16_t statusword() const noexcept { return statusword_; }
   Cia402State state() const noexcept { return state_; }
   Cia402Mode modeDisplay() const noexcept { return mode_; }  ///< object 0x6061
@@ -136,6 +158,7 @@ class Cia402Drive {
   void enterFault(std::uint16_t code) noexcept;
   double demandedTorque(double h) noexcept;
   void runLoops(double dt) noexcept;
+  void superviseFaults(double dt) noexcept;
   void updateStatusword() noexcept;
 
   Cia402DriveModel model_;

@@ -8,6 +8,7 @@
 #include <array>
 
 #include "cobra/sim/cia402_drive.hpp"
+#include "cobra/sim/puma260_plant.hpp"
 
 namespace cobra::sim {
 
@@ -41,17 +42,16 @@ void validate(const Puma260ArmModel& model);
 /// a moving joint is stopped with at most `brake_torque` (ASSUMPTION: fail-safe brakes that
 /// engage with the power stage off). noexcept, no
 /// allocation, deterministic.
-class Puma260Arm {
+class Puma260Arm final : public Puma260Plant {
  public:
-  static constexpr int kJoints = 6;
 
   /// @param initial joint positions (rad)
   /// @throws std::invalid_argument when the model is invalid or a position is not finite.
   explicit Puma260Arm(const Puma260ArmModel& model, const std::array<double, 6>& initial = {});
 
-  Cia402Drive& drive(int joint) noexcept { return drives_[static_cast<std::size_t>(joint)]; }
-  const Cia402Drive& drive(int joint) const noexcept { return drives_[static_cast<std::size_t>(joint)]; }
-  void step(double dt) noexcept;
+  Cia402Drive& drive(int joint) noexcept override { return drives_[static_cast<std::size_t>(joint)]; }
+  const Cia402Drive& drive(int joint) const noexcept override { return drives_[static_cast<std::size_t>(joint)]; }
+  void step(double dt) noexcept override;
 
   /// Gravity torque (N·m) each joint must hold at joint positions `q` (rad).
   std::array<double, 6> gravityTorque(const std::array<double, 6>& q) const noexcept;

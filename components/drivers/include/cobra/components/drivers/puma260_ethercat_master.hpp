@@ -27,7 +27,8 @@ namespace cobra::components {
 /// Operations (void; the answer is an event): `askReady()`, `askNest()` (only from the ready
 /// position), `askOperative()` (only from the ready position), `askFaultReset()` (only in Fault);
 /// a request the current state does not allow emits `e_request_refused`. `slaveStatus(i)` returns
-/// a line about slave i.
+/// a line about slave i; `busFault()` the expected and received working counter of the last cycle
+/// that came back with a wrong one.
 ///
 /// Ports: in `desJointPosition` (rad), `desJointVelocity` (rad/s), `desJointTorque` (N·m), used in
 /// Operative according to `control_mode`; out `measJointPosition`, `measJointVelocity`,
@@ -35,7 +36,9 @@ namespace cobra::components {
 /// MovingToReady, ReadyPosition, Operative, Fault).
 ///
 /// Events: e_initialized, e_ready_reached, e_nest_reached, e_operative, e_drive_fault,
-/// e_bus_error, e_fault_reset, e_command_clamped, e_request_refused.
+/// e_bus_error (link down), e_bus_fault (a cycle came back with a wrong working counter: every
+/// cycle it lasts; the master goes to Fault and quick-stops the drives, see `busFault()`),
+/// e_fault_reset, e_command_clamped, e_request_refused.
 class Puma260EtherCATMaster : public core::Component {
  public:
   explicit Puma260EtherCATMaster(std::string name);
@@ -49,6 +52,7 @@ class Puma260EtherCATMaster : public core::Component {
  private:
   void ask(fieldbus::Request request);
   std::string slaveStatus(int slave) const;
+  std::string busFault() const;
 
   core::Property<std::string> bus_{"bus", "", "", "EtherCAT backend: sim:<component>"};
   core::Property<std::string> control_mode_{"control_mode", "position", "", "position, velocity or torque"};

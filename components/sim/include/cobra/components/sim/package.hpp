@@ -8,7 +8,8 @@
 namespace cobra::components {
 
 /// Registers SimulatedISURRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom, and the
-/// simulated devices of the drivers: SimulatedPuma260, SimulatedFTSens, SimulatedLeapMotion.
+/// simulated devices of the drivers: SimulatedPuma260 (the analytic arm), Puma260World (the MuJoCo
+/// world), SimulatedFTSens, SimulatedLeapMotion.
 void registerSimPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components

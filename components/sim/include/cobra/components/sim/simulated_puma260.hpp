@@ -25,7 +25,11 @@ namespace cobra::components {
 ///
 /// Ports: out `trueJointPosition` (rad: the joints as they are, ground truth for the world).
 ///
-/// Operations (fault injection): `injectFault(i)` (over-current fault in drive i, 0-5).
+/// Operations (fault injection): `injectFault(i)` (over-current fault in drive i, 0-5),
+/// `injectWorkingCounterFault(n)` (the next n bus cycles come back with a wrong working counter).
+///
+/// The analytic arm without contact; Puma260World is the MuJoCo world with the FTSens, the tool
+/// and the surface, behind the same bus.
 class SimulatedPuma260 : public core::Component {
  public:
   explicit SimulatedPuma260(std::string name);
@@ -38,6 +42,7 @@ class SimulatedPuma260 : public core::Component {
 
  private:
   void injectFault(int slave);
+  void injectWorkingCounterFault(int cycles);
 
   core::Property<std::vector<double>> initial_{"initial_position", {}, "rad", "6 joint angles at power-on"};
   core::OutputPort<KDL::JntArray> true_position_{"trueJointPosition", "joint angles of the simulated arm", "rad"};
