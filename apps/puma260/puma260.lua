@@ -18,7 +18,7 @@ local phases = { { "A", "puma:root.A_Nest" }, { "B", "puma:root.B_Ready" }, { "C
                  { "D", "puma:root.D_StartPose" }, { "E", "puma:root.E_Contact" },
                  { "F", "puma:root.F_FollowingSurface" }, { "G", "puma:root.G_BackToPath" },
                  { "H", "puma:root.H_FinalPose" } }
-local failures = { "e_drive_fault", "e_bus_error", "e_force_over_limit", "e_ik_failed", "e_ik_discontinuity",
+local failures = { "e_drive_fault", "e_bus_error", "e_bus_fault", "e_force_over_limit", "e_ik_failed", "e_ik_discontinuity",
                    "e_traj_failed", "e_tank_empty", "e_request_refused", "e_no_data", "e_comm_timeout" }
 run = {
   title = "Retrofitted Puma 260: a linear path across an unexpected surface (thesis §6.3-6.4)",
@@ -41,6 +41,9 @@ run = {
     { title = "Energy tank of the variable admittance", unit = "J", series = { "Admittance.tankEnergy" } },
   },
   summary = {
+    { name = "measured tool tip from the nominal path at H", unit = "mm", scale = 1000, say = true,
+      distance = { "Kin.cartPose", "TrajGen.desCartPose_1" }, on_enter = "puma:root.H_FinalPose" },
+    { name = "contacts", count = { "e_contact" } },
     { name = "faults detected", count = failures },
   },
   tracking = {

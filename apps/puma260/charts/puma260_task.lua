@@ -39,7 +39,7 @@ local function motion(path)
   }
 end
 
-local failures = { 'e_drive_fault', 'e_bus_error', 'e_force_over_limit', 'e_ik_failed', 'e_ik_discontinuity',
+local failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_force_over_limit', 'e_ik_failed', 'e_ik_discontinuity',
                    'e_traj_failed', 'e_tank_empty', 'e_request_refused', 'e_no_data',
                    'e_deploy_failed_position_control', 'e_deploy_failed_compliant_control' }
 local done = 'e_motion_done@TrajGen'
