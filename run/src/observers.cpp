@@ -101,8 +101,9 @@ bool Recording::column(const std::string& name, std::vector<double>& x, std::vec
 std::string Recording::csv() const {
   std::string out = "time [s]";
   auto header = [&](const std::string& name, const std::string& unit) {
-    const bool quote = name.find(',') != std::string::npos;
-    out += "," + std::string(quote ? "\"" : "") + name + (unit.empty() ? "" : " [" + unit + "]") + (quote ? "\"" : "");
+    const std::string cell = name + (unit.empty() ? "" : " [" + unit + "]");  // a unit may hold a comma: "N, N·m"
+    const bool quote = cell.find(',') != std::string::npos;
+    out += "," + std::string(quote ? "\"" : "") + cell + (quote ? "\"" : "");
   };
   for (const std::string& name : columnNames()) header(name, unitOf(name));
   out += "\n";

@@ -68,6 +68,20 @@ TEST(Recording, ColumnsPerFieldWithUnitsAndEmptyCellsBeforeData) {
   EXPECT_FALSE(recording.column("Out.pose.w", x, y));
 }
 
+// A unit with a comma (a wrench's "N, N·m") is inside its header cell: the cell is quoted.
+TEST(Recording, AHeaderCellWithACommaIsQuoted) {
+  core::ComponentRegistry registry;
+  auto& c = registry.make<Outputs>("Out");
+  Recording recording;
+  recording.addPort(registry, "Out.wrench", "f.lua:1", "run.record");
+  c.wrench.write(KDL::Wrench(KDL::Vector(1, 2, 3), KDL::Vector(4, 5, 6)));
+  recording.sample(0.01);
+  EXPECT_EQ(recording.csv(),
+            "time [s],\"Out.wrench.fx [N, N·m]\",\"Out.wrench.fy [N, N·m]\",\"Out.wrench.fz [N, N·m]\","
+            "\"Out.wrench.tx [N, N·m]\",\"Out.wrench.ty [N, N·m]\",\"Out.wrench.tz [N, N·m]\"\n"
+            "0.010,1,2,3,4,5,6\n");
+}
+
 TEST(Recording, APortWithFieldsIsNamedByOneOfThem) {
   core::ComponentRegistry registry;
   registry.make<Outputs>("Out");
