@@ -40,17 +40,18 @@ class Signals {
     std::ifstream in(csv);
     std::string line;
     if (!std::getline(in, line)) return;
-    // Header cells are "name [unit]"; a unit may hold a comma ("[N, N·m]").
+    // Header cells are "name [unit]", quoted when the unit holds a comma ("[N, N·m]").
     std::string cell;
-    bool in_unit = false;
+    bool quoted = false;
     for (const char c : line + ",") {
-      if (c == ',' && !in_unit) {
+      if (c == ',' && !quoted) {
         names_.push_back(cell.substr(0, cell.find(" [")));
         cell.clear();
-        continue;
+      } else if (c == '"') {
+        quoted = !quoted;
+      } else {
+        cell += c;
       }
-      in_unit = c == '[' ? true : c == ']' ? false : in_unit;
-      cell += c;
     }
     while (std::getline(in, line)) {
       std::vector<double> row;
