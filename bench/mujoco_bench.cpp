@@ -85,7 +85,7 @@ void run(benchmark::State& state, cobra::sim::Puma260Plant& arm) {
 
 void BM_MujocoContact(benchmark::State& state) {
   const auto q = toolDownAt(0.1148);
-  cobra::sim::MujocoPuma260Arm arm(kModel, cobra::sim::Puma260ArmModel::defaults(), q);
+  cobra::sim::MujocoPuma260Arm arm(kModel, cobra::sim::MujocoPuma260Arm::defaultDrives(), q);
   enableAndSettle(arm, q);
   run(state, arm);
   state.counters["contact_force"] = arm.world().contactForce();
@@ -95,7 +95,7 @@ BENCHMARK(BM_MujocoContact)->Name("Puma260World/1s_at_1kHz/mujoco_tool_on_surfac
 
 void BM_MujocoFree(benchmark::State& state) {
   const auto q = toolDownAt(0.125);
-  cobra::sim::MujocoPuma260Arm arm(kModel, cobra::sim::Puma260ArmModel::defaults(), q);
+  cobra::sim::MujocoPuma260Arm arm(kModel, cobra::sim::MujocoPuma260Arm::defaultDrives(), q);
   enableAndSettle(arm, q);
   run(state, arm);
   state.counters["contact_force"] = arm.world().contactForce();

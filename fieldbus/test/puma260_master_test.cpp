@@ -1,7 +1,7 @@
 // Puma260Master (thesis §6.2.1, Fig. 6.4) on cobra::sim's simulated bus (stepped here before each
 // master cycle, as a sim-world component would): the state sequence through ready,
-// nest and operative, refused requests, a drive fault and its reset, and position / velocity /
-// torque commands reaching the joints.
+// nest and operative, refused requests, a drive fault and its reset, a working-counter mismatch,
+// and position / velocity / torque commands reaching the joints.
 
 #include "cobra/fieldbus/puma260_master.hpp"
 

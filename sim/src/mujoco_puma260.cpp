@@ -271,6 +271,15 @@ std::unique_ptr<MujocoPuma260World> loadAt(const std::string& path, const std::a
 
 }  // namespace
 
+Puma260ArmModel MujocoPuma260Arm::defaultDrives() {
+  Puma260ArmModel model = Puma260ArmModel::defaults();
+  for (Cia402DriveModel& drive : model.drives) {
+    drive.velocity_bandwidth = 2.0 * 3.141592653589793 * 10.0;
+    drive.position_gain = 30.0;
+  }
+  return model;
+}
+
 MujocoPuma260Arm::MujocoPuma260Arm(const std::string& path, const Puma260ArmModel& drives,
                                    const std::array<double, 6>& initial)
     : world_(loadAt(path, initial)),

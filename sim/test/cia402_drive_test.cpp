@@ -1,6 +1,7 @@
 // Cia402Drive: every transition of the CiA 402 state machine checked against the standard's
 // statusword table (decoded here independently of the drive), fault reset on the rising edge of
-// bit 7, modes of operation, injected and detected faults, no allocation, parameter errors.
+// bit 7, modes of operation, injected and detected faults, no allocation, parameter errors; the
+// external-plant cycle against step().
 
 #include "cobra/sim/cia402_drive.hpp"
 
@@ -223,6 +224,42 @@ TEST(Cia402Drive, BadParametersAreNamed) {
   m = Cia402DriveModel{};
   m.quick_stop_option = 3;
   EXPECT_CONTAINS(cobra::test_support::messageOf([&] { Cia402Drive d(m); }), "quick_stop_option = 3, expected 2");
+}
+
+// The external-plant cycle (beginCycle, controlTorque per integration step, endCycle) with the
+// plant integrated outside the drive, as MuJoCo does, gives the same drive as step() with its own
+// motor: the same integrator written here (semi-implicit Euler of J·dω/dt = τ − b·ω) must reproduce
+// step()'s trajectory exactly, through enable, a CSP move with a following-error fault and reset.
+TEST(Cia402Drive, TheExternalPlantCycleIsStepWithThePlantOutside) {
+  const Cia402DriveModel model;
+  Cia402Drive own(model, 0.1), outside(model, 0.1);
+  double q = 0.1, v = 0.0;  // the outside plant, rad and rad/s
+  bool faulted = false;
+  const double h = model.internal_period;
+  const int substeps = static_cast<int>(std::ceil(kCycle / h - 1e-9));
+  for (int k = 0; k < 600; ++k) {
+    const std::uint16_t word = k < 2 ? cw::kShutdown : k < 4 ? cw::kSwitchOnCommand
+                               : k == 400 ? static_cast<std::uint16_t>(cw::kFaultReset) : cw::kEnableOperationCommand;
+    const double target = k < 200 ? 0.1 + 0.5 * k * kCycle : 0.5;  // a jump at 200 ms: following error
+    for (Cia402Drive* d : {&own, &outside}) {
+      d->setControlword(word);
+      d->setTargetPosition(target);
+    }
+    own.step(kCycle);
+    outside.beginCycle();
+    for (int i = 0; i < substeps; ++i) {
+      const double torque = outside.controlTorque(kCycle / substeps, q, v);
+      v = (v + h * torque / model.inertia) / (1.0 + h * model.viscous_friction / model.inertia);
+      q += v * h;
+    }
+    outside.endCycle(kCycle, q, v);
+    ASSERT_EQ(outside.statusword(), own.statusword()) << "cycle " << k;
+    ASSERT_EQ(outside.position(), own.position()) << "cycle " << k;
+    ASSERT_EQ(outside.torque(), own.torque()) << "cycle " << k;
+    faulted = faulted || own.state() == Cia402State::Fault;
+  }
+  EXPECT_TRUE(faulted);  // the jump did trip the following error
+  EXPECT_EQ(own.state(), Cia402State::SwitchOnDisabled);  // reset at 400 ms
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // Puma260EtherCATMaster on the lockstep clock, on the simulated drives of a SimulatedPuma260
 // component found through its `bus` property: the states of Fig. 6.4 on currentState and the
-// events, refused requests, a drive fault and its reset, position / velocity / torque commands
-// through the ports, no allocation in updateHook, and the messages of bad properties.
+// events, refused requests, a drive fault and its reset, a working-counter mismatch (e_bus_fault),
+// position / velocity / torque commands through the ports, no allocation in updateHook, and the
+// messages of bad properties.
 
 #include "cobra/components/drivers/puma260_ethercat_master.hpp"
 
@@ -133,6 +134,20 @@ TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   EXPECT_EQ(b.runUntil("e_initialized", 50ms), (std::vector<std::string>{"e_fault_reset", "e_initialized"}));
   b.master.call("askReady");
   EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+}
+
+TEST(Puma260EtherCATMaster, AWrongWorkingCounterIsABusFaultWithTheCountersInBusFault) {
+  Bench b;
+  b.operative();
+  EXPECT_EQ(b.master.call<std::string>("busFault"), "no working-counter mismatch");
+  b.arm.call("injectWorkingCounterFault", 3);
+  EXPECT_EQ(b.runUntil("never", 5ms), (std::vector<std::string>{"e_bus_fault", "e_bus_fault", "e_bus_fault"}));
+  EXPECT_EQ(b.states.back(), "Fault");
+  EXPECT_EQ(b.master.call<std::string>("busFault"),
+            "working counter 15, expected 18: a slave did not process its datagram (the master quick-stopped every "
+            "drive)");
+  b.master.call("askFaultReset");
+  EXPECT_EQ(b.runUntil("e_initialized", 500ms), (std::vector<std::string>{"e_fault_reset", "e_initialized"}));
 }
 
 TEST(Puma260EtherCATMaster, PositionCommandsAreTrackedWithoutAllocating) {

@@ -138,6 +138,13 @@ class MujocoPuma260World {
 /// joint-space mass matrix diagonal there, armature included), as a drive's auto-tuning would.
 class MujocoPuma260Arm final : public Puma260Plant {
  public:
+  /// Puma260ArmModel::defaults() with the loops tuned for contact: velocity loop 10 Hz, position
+  /// gain 30 1/s (ASSUMPTION). With the analytic arm's 40 Hz and 60 1/s, the six loops and the
+  /// surface's contact (about 4e4 N/m) fall into a limit cycle when the tool is pressed on the
+  /// surface (forces jumping between 0 and 50 N, then an over-current fault); with these they hold
+  /// a press of 0.2-0.8 mm at a steady 9-35 N (measured: sim/test/mujoco_puma260_test.cpp).
+  static Puma260ArmModel defaultDrives();
+
   /// @param initial joint positions (rad) at power-on
   /// @throws std::invalid_argument for a bad file (see MujocoPuma260World) or drive model.
   MujocoPuma260Arm(const std::string& path, const Puma260ArmModel& drives, const std::array<double, 6>& initial);

@@ -8,12 +8,9 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 #include <string>
-#include <vector>
 
-#include "cobra/components/sim/simulated_device.hpp"
-#include "cobra/core/component.hpp"
+#include "cobra/components/sim/simulated_puma260_base.hpp"
 #include "cobra/sim/mujoco_puma260.hpp"
-#include "cobra/sim/puma260_ethercat_bus.hpp"
 
 namespace cobra::components {
 
@@ -40,23 +37,19 @@ namespace cobra::components {
 /// Operations: `injectFault(i)` (over-current fault in drive i, 0-5), `injectWorkingCounterFault(n)`
 /// (the next n bus cycles come back with a wrong working counter: the last slave does not process
 /// its datagram), `surface()` (a line describing the surface cylinder in the base frame).
-class Puma260World : public core::Component {
+class Puma260World : public SimulatedPuma260Base {
  public:
   explicit Puma260World(std::string name);
 
  protected:
   bool configureHook() override;
-  bool startHook() override;
   void updateHook() override;
   void cleanupHook() override;
 
  private:
-  void injectFault(int slave);
-  void injectWorkingCounterFault(int cycles);
   std::string describeSurface() const;
 
   core::Property<std::string> model_{"model", "", "path", "MJCF file of the world (apps/puma260/world/puma260.xml)"};
-  core::Property<std::vector<double>> initial_{"initial_position", {}, "rad", "6 joint angles at power-on"};
   core::Property<int> seed_{"seed", 1, "", "seed of the encoder noise"};
   core::Property<double> encoder_noise_{"encoder_noise", 0.0, "rad",
                                         "standard deviation of the noise on the reported joint positions"};
@@ -67,10 +60,8 @@ class Puma260World : public core::Component {
   core::OutputPort<double> penetration_{"penetration", "depth of the tool's ball in the surface, >= 0", "m"};
   core::OutputPort<KDL::JntArray> true_position_{"truePosition", "joint angles of the simulated arm", "rad"};
 
-  SimulatedDevice<sim::Puma260EtherCatBus, fieldbus::Cia402Bus> device_;
-  sim::MujocoPuma260Arm* arm_ = nullptr;  // owned by the bus in device_
+  sim::MujocoPuma260Arm* arm_ = nullptr;  // owned by the bus
   KDL::JntArray out_{6};
-  UpdateInterval interval_;
 };
 
 }  // namespace cobra::components

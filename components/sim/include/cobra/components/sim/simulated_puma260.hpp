@@ -1,23 +1,21 @@
 #pragma once
 /// @file
-/// The simulated retrofitted Puma 260 (thesis §6.1.1): six Elmo drives on the arm, on a simulated
-/// EtherCAT bus: the sim-world side of Puma260EtherCATMaster's `bus = "sim:<this component's name>"`.
+/// The simulated retrofitted Puma 260 (thesis §6.1.1): six Elmo drives on the analytic arm, on a
+/// simulated EtherCAT bus: the sim-world side of Puma260EtherCATMaster's `bus = "sim:<this
+/// component's name>"`. Puma260World is the MuJoCo world (FTSens, tool, surface) behind the same bus.
 
 #include <kdl/jntarray.hpp>
 #include <string>
-#include <vector>
 
-#include "cobra/components/sim/simulated_device.hpp"
-#include "cobra/core/component.hpp"
-#include "cobra/sim/puma260_ethercat_bus.hpp"
+#include "cobra/components/sim/simulated_puma260_base.hpp"
 
 namespace cobra::components {
 
 /// Bridge (the simulated world). Needs a periodic activity: each update applies the newest
 /// process data the master sent in earlier steps, steps the arm (sim::Puma260Arm: drives, gravity,
-/// brakes) by the time since the previous update and publishes the drives' inputs, which the
-/// master sees from its next step on (sim/device_link.hpp), whatever the order of the two in the
-/// deployment. At configure the bus is registered as `sim:<name>`
+/// brakes; no contact) by the time since the previous update and publishes the drives' inputs,
+/// which the master sees from its next step on (sim/device_link.hpp), whatever the order of the
+/// two in the deployment. At configure the bus is registered as `sim:<name>`
 /// (core::BackendRegistry<fieldbus::Cia402Bus>); configure it before its master.
 ///
 /// Properties: `initial_position` (6 joint angles at power-on, rad; default: the Puma's nominal
@@ -27,29 +25,17 @@ namespace cobra::components {
 ///
 /// Operations (fault injection): `injectFault(i)` (over-current fault in drive i, 0-5),
 /// `injectWorkingCounterFault(n)` (the next n bus cycles come back with a wrong working counter).
-///
-/// The analytic arm without contact; Puma260World is the MuJoCo world with the FTSens, the tool
-/// and the surface, behind the same bus.
-class SimulatedPuma260 : public core::Component {
+class SimulatedPuma260 : public SimulatedPuma260Base {
  public:
   explicit SimulatedPuma260(std::string name);
 
  protected:
   bool configureHook() override;
-  bool startHook() override;
   void updateHook() override;
-  void cleanupHook() override;
 
  private:
-  void injectFault(int slave);
-  void injectWorkingCounterFault(int cycles);
-
-  core::Property<std::vector<double>> initial_{"initial_position", {}, "rad", "6 joint angles at power-on"};
   core::OutputPort<KDL::JntArray> true_position_{"trueJointPosition", "joint angles of the simulated arm", "rad"};
-
-  SimulatedDevice<sim::Puma260EtherCatBus, fieldbus::Cia402Bus> device_;
   KDL::JntArray out_{6};
-  UpdateInterval interval_;
 };
 
 }  // namespace cobra::components
