@@ -65,9 +65,11 @@ struct Task {
   }
 };
 
-// m: the surface's contact stiffness, 4.4e4 N/m (world/puma260.xml), takes the 10 N limit at
-// 0.23 mm; the margin is for the contact's damping transients.
-constexpr double kMaxPenetration = 0.3e-3;
+// m: the surface's contact stiffness, about 4.3e4 N/m (world/puma260.xml), takes the 10 N limit
+// at 0.23 mm; where the tool meets the surface, the surface rises under it at up to v·|dh/dy| =
+// 7.5 mm/s while the contact force builds up to lift the admittance (D·ḣ, about 40 ms): 0.3 mm
+// more. (Measured: 0.28 mm there, about 0.02 mm on the top at 6 N.)
+constexpr double kMaxPenetration = 0.55e-3;
 constexpr double kRideTolerance = 1.0e-3;   // m: deviation - h(y) while riding (penetration, servo lag)
 constexpr double kForceNoise = 0.6;         // N: FTSens resolution 0.25 N, noise, tare
 constexpr double kBackOnPath = 1.0e-3;      // m
@@ -110,8 +112,7 @@ void expectTheTask(const RunResult& r, const RunOptions& o) {
       const double h = task.surface(y) - nominal_z;
       worst_ride = std::max(worst_ride, std::abs((z - nominal_z) - h));
       // The force over the samples of +-50 ms, by its median: the world's contact flickers off
-      // for single steps now and then (about 40 samples of 0 N in the 8.7 s of contact), which the
-      // sensor sees as single samples near 0 N.
+      // for single steps now and then, which the sensor sees as single samples near 0 N.
       if (i >= 5 && i + 5 < s.size()) {
         std::vector<double> window;
         for (std::size_t k = i - 5; k <= i + 5; ++k) window.push_back(s(k, "TipToBase.outWrench.fz"));
