@@ -51,3 +51,10 @@ run = {
       max_velocity = { 2, 2, 2, 2, 2, 2 }, chart = "puma", counts_while = { deployments = { "compliant_control" } } },
   },
 }
+-- The world's ground truth, when it has contact (deployment/world.lua): what the tests check.
+if #world.record > 0 then
+  run.plots[#run.plots + 1] = { title = "Contact force between the tool and the surface (the world's truth)", unit = "N",
+                                series = { "World.contactForce" } }
+  run.plots[#run.plots + 1] = { title = "Depth of the tool's ball in the surface (the world's truth)", unit = "m",
+                                series = { "World.penetration" } }
+end
