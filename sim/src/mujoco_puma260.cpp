@@ -194,6 +194,12 @@ void MujocoPuma260World::step(double dt) noexcept {
   for (int k = 0; k < n; ++k) integrate(dt / n);
 }
 
+int MujocoPuma260World::warningCount() const noexcept {
+  int total = 0;
+  for (int i = 0; i < mjNWARNING; ++i) total += data_->warning[i].number;
+  return total;
+}
+
 double MujocoPuma260World::jointPosition(int joint) const noexcept {
   return data_->qpos[qpos_[static_cast<std::size_t>(joint)]];
 }

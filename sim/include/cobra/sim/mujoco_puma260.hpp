@@ -108,6 +108,10 @@ class MujocoPuma260World {
   /// Mass of the tool body (kg): what the sensor carries beyond its frame.
   double toolMass() const noexcept { return tool_mass_; }
 
+  /// How many warnings MuJoCo raised since load (mjData.warning: bad accelerations, after which
+  /// MuJoCo resets the state, full contact or constraint buffers, ...): 0 in a sound run.
+  int warningCount() const noexcept;
+
   /// MuJoCo's model and data, for tests and tools (not part of the control interface).
   mjModel_* model() noexcept { return model_; }
   mjData_* data() noexcept { return data_; }
