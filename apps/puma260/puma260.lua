@@ -34,6 +34,13 @@ run = {
           dashed = true },
         { label = "actual (measured tool tip)", x = "Kin.cartPose.y", y = "Kin.cartPose.z", marks = phases },
       } },
+    { title = "Fig. 6.7 from D: the linear path across the surface", unit = "m", x_unit = "m",
+      from = "puma:root.D_StartPose",
+      paths = {
+        { label = "nominal (trajectory generator)", x = "TrajGen.desCartPose_1.y", y = "TrajGen.desCartPose_1.z",
+          dashed = true },
+        { label = "actual (measured tool tip)", x = "Kin.cartPose.y", y = "Kin.cartPose.z", marks = phases },
+      } },
     { title = "Tool tip height: nominal, commanded (admittance) and measured", unit = "m",
       series = { "TrajGen.desCartPose_1.z", "Admittance.admPose.z", "Kin.cartPose.z" } },
     { title = "Measured contact force at the tool tip (base axes)", unit = "N",

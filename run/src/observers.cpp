@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 
 namespace cobra::run {
 
@@ -164,26 +165,35 @@ std::string worstText(const Worst& worst, const char* unit) {
   return text + (worst.state.empty() ? std::string() : " (" + worst.state + ")");
 }
 
-// Column `y` against column `x` at their common sample times, the marks placed on it.
+// When chart `chart` first entered a state whose path starts with `state` (s; nullopt: never).
+std::optional<double> firstEntered(const std::vector<report::StateInterval>& timeline, const std::string& chart,
+                                   const std::string& state) {
+  const std::string lane = chart + " chart";
+  const auto entered = std::find_if(timeline.begin(), timeline.end(), [&](const report::StateInterval& interval) {
+    return interval.chart == lane && interval.state.rfind(state, 0) == 0;
+  });
+  if (entered == timeline.end()) return std::nullopt;
+  return entered->begin;
+}
+
+// Column `y` against column `x` at their common sample times from `from` s on, the marks placed on it.
 plot::Series pathSeries(const Recording& recording, const PathSpec& path,
-                        const std::vector<report::StateInterval>& timeline) {
+                        const std::vector<report::StateInterval>& timeline, double from) {
   plot::Series s{path.label, {}, {}, path.dashed};
   std::vector<double> xt, xv, yt, yv, times;
   recording.column(path.x, xt, xv);
   recording.column(path.y, yt, yv);
   for (std::size_t i = 0, j = 0; i < xt.size(); ++i) {
     while (j < yt.size() && yt[j] < xt[i]) ++j;
-    if (j < yt.size() && yt[j] == xt[i]) s.x.push_back(xv[i]), s.y.push_back(yv[j]), times.push_back(xt[i]);
+    if (j < yt.size() && yt[j] == xt[i] && xt[i] >= from)
+      s.x.push_back(xv[i]), s.y.push_back(yv[j]), times.push_back(xt[i]);
   }
   for (const PathSpec::Mark& mark : path.marks) {
-    const std::string lane = mark.chart + " chart";
-    const auto entered = std::find_if(timeline.begin(), timeline.end(), [&](const report::StateInterval& interval) {
-      return interval.chart == lane && interval.state.rfind(mark.state, 0) == 0;
-    });
-    if (entered == timeline.end()) continue;
+    const std::optional<double> begin = firstEntered(timeline, mark.chart, mark.state);
+    if (!begin || *begin < from) continue;
     if (times.empty()) break;
     // Entered after the last sample (e.g. the final state, which ends the run): the last sample.
-    const auto at = std::lower_bound(times.begin(), times.end(), entered->begin);
+    const auto at = std::lower_bound(times.begin(), times.end(), *begin);
     const std::size_t k = std::min(static_cast<std::size_t>(at - times.begin()), times.size() - 1);
     s.marker_x.push_back(s.x[k]);
     s.marker_y.push_back(s.y[k]);
@@ -202,8 +212,10 @@ std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& re
     if (!p.paths.empty()) {
       plot::Panel paths{p.title, p.paths.front().x + (p.x_unit.empty() ? "" : " [" + p.x_unit + "]"),
                         p.paths.front().y + (p.unit.empty() ? "" : " [" + p.unit + "]"), {}};
+      double from = 0.0;
+      if (!p.from_chart.empty()) from = firstEntered(timeline, p.from_chart, p.from_state).value_or(INFINITY);
       for (const PathSpec& path : p.paths) {
-        plot::Series s = pathSeries(recording, path, timeline);
+        plot::Series s = pathSeries(recording, path, timeline, from);
         if (!s.x.empty()) paths.series.push_back(std::move(s));
       }
       out.push_back({p.title, {std::move(paths)}});

@@ -397,6 +397,10 @@ RunSpec readRunSpec(lua_State* L, const std::string& file) {
           p.fail("needs either `series = { \"Comp.port\", ... }` or `paths = { { label = , x = , y = }, ... }`");
         if (!plot.paths.empty() && !plot.x.empty())
           p.fail("`x` is for series; each path names its own x and y columns");
+        if (p.has("from")) {
+          if (plot.paths.empty()) p.fail("`from` is for paths");
+          std::tie(plot.from_chart, plot.from_state) = chartState(p, p.string("from", true));
+        }
         plot.where = p.where();
         spec.plots.push_back(std::move(plot));
       },

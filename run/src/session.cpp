@@ -252,6 +252,8 @@ void Session::attachPlots() {
     std::vector<std::string> names = p.series;
     if (!p.x.empty()) names.push_back(p.x);
     const std::string use = "run.plots '" + p.title + "'";
+    if (!p.from_chart.empty() && chartOf(p.from_chart) == nullptr)
+      throw std::runtime_error(p.where.text() + ": " + use + ": from: no chart '" + p.from_chart + "' in run.charts");
     for (const PathSpec& path : p.paths) {
       names.push_back(path.x);
       names.push_back(path.y);

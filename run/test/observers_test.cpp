@@ -154,6 +154,14 @@ TEST(ReportFigures, APathIsDrawnWithItsMarksWhereTheChartEnteredTheirStates) {
   // 0.1 s; D after the last sample (1.0 s): the last one.
   EXPECT_EQ(s.marker_x, (std::vector<double>{0.0, 0.02, 0.0, 0.09}));
   EXPECT_NEAR(s.marker_y[1], 0.104, 1e-12);
+
+  // From when the arm chart entered root.B (0.25 s): the samples from 0.3 s on, B's and D's marks.
+  spec.plots[0].from_chart = "arm";
+  spec.plots[0].from_state = "root.B";
+  const plot::Series zoomed = reportFigures(spec, recording, {}, nullptr, timeline)[0].panels[0].series[0];
+  EXPECT_EQ(zoomed.x.size(), 8u);
+  EXPECT_DOUBLE_EQ(zoomed.x.front(), 0.02);
+  EXPECT_EQ(zoomed.marker_labels, (std::vector<std::string>{"B", "D"}));
 }
 
 }  // namespace

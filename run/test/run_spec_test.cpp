@@ -155,7 +155,7 @@ TEST(RunSpec, BadValuesAreRefusedWithWhatIsExpected) {
 TEST(RunSpec, PlotsOfPathsWithLabelledMarks) {
   const RunSpec spec = read(R"(run = {
   charts = { { name = "arm", supervisor = "S", done = "root.Done" } },
-  plots = { { title = "path", unit = "m", x_unit = "m",
+  plots = { { title = "path", unit = "m", x_unit = "m", from = "arm:root.B",
               paths = { { label = "nominal", x = "G.pose.y", y = "G.pose.z", dashed = true },
                         { label = "actual", x = "K.pose.y", y = "K.pose.z",
                           marks = { { "A", "arm:root.A" }, { "B", "arm:root.B.Moving" } } } } } },
@@ -164,6 +164,8 @@ TEST(RunSpec, PlotsOfPathsWithLabelledMarks) {
   ASSERT_EQ(spec.plots.size(), 1u);
   const PlotSpec& p = spec.plots[0];
   EXPECT_TRUE(p.series.empty());
+  EXPECT_EQ(p.from_chart, "arm");
+  EXPECT_EQ(p.from_state, "root.B");
   ASSERT_EQ(p.paths.size(), 2u);
   EXPECT_EQ(p.paths[0].label, "nominal");
   EXPECT_EQ(p.paths[0].x, "G.pose.y");
@@ -190,6 +192,7 @@ TEST(RunSpec, BadPathPlotsAreRefusedWithWhatIsExpected) {
                   "needs either `series");
   EXPECT_CONTAINS(plot("{ title = 'p', x = 'C.t', paths = { { label = 'l', x = 'C.x', y = 'C.y' } } }"),
                   "run.plots[1]: `x` is for series; each path names its own x and y columns");
+  EXPECT_CONTAINS(plot("{ title = 'p', from = 'a:root.B', series = { 'C.v' } }"), "run.plots[1]: `from` is for paths");
   EXPECT_CONTAINS(plot("{ title = 'p', paths = { { label = 'l', x = 'C.x' } } }"),
                   "run.plots[1].paths[1]: needs `y` (a string)");
   EXPECT_CONTAINS(plot("{ title = 'p', paths = { { label = 'l', x = 'C.x', y = 'C.y', marks = { 'A' } } } }"),

@@ -86,6 +86,9 @@ struct PlotSpec {
   std::string x_unit;  ///< of x
   std::vector<std::string> series;
   std::vector<PathSpec> paths;
+  /// Paths only: drawn from when chart `from_chart` first entered a state whose path starts with
+  /// `from_state` ("" = from the start), e.g. to zoom on a task's last phases.
+  std::string from_chart, from_state;
   Where where;
 };
 
