@@ -6,7 +6,8 @@
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
 #   test --tsan      the concurrency tests under ThreadSanitizer
-#   demo [basics]    build and run the puncturing procedure in simulation (basics: the small demos)
+#   demo [basics|puma260]  build and run the puncturing procedure in simulation (basics: the small
+#                    demos; puma260: the retrofitted Puma 260 task, thesis ch. 6)
 #   bench            build and run the benchmarks (Google Benchmark; median and max)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
@@ -126,15 +127,23 @@ case "${1:-help}" in
   demo)
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
-      build release --target cobra example_04_trajectory example_05_admittance
+      build release --target cobra example_04_trajectory example_05_variable_admittance
       say "a signal deployment with a one-chart task, run by cobra run (apps/demo: files only)"
       ./build/release/tools/cobra/cobra run apps/demo --report "$PWD/build/demo-basic-report"
       say "the thesis' Fig. 3.5: a synchronised multi-axis trajectory (examples/04_trajectory.cpp)"
       ./build/release/examples/example_04_trajectory /tmp/cobra-fig-3-5.svg
-      say "the thesis' Fig. 6.7: variable admittance touching an obstacle (examples/05_admittance.cpp)"
-      ./build/release/examples/example_05_admittance /tmp/cobra-fig-6-7.svg
+      say "the tank-based variable admittance library on a point against a bump (examples/05_variable_admittance.cpp)"
+      ./build/release/examples/example_05_variable_admittance /tmp/cobra-variable-admittance.svg
       say "the thesis' door task (Figs. 2.5-2.6): three supervisors on a simulated door (apps/door)"
       ./build/release/tools/cobra/cobra run apps/door
+    elif [ "${2:-}" = puma260 ]; then
+      say "building the Puma 260 demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
+      build release --target cobra
+      say "the thesis' retrofitted Puma 260 (ch. 6): a linear path across an unexpected surface (cobra run apps/puma260)"
+      ./build/release/tools/cobra/cobra run apps/puma260 --report "$PWD/build/demo-puma260-report"
+      say "Fig. 6.7 (nominal and actual tool path, phases A-H) is the report's first figure"
+    elif [ -n "${2:-}" ]; then
+      echo "do demo: unknown demo '$2' (expected basics or puma260)" >&2; exit 2
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
       build release --target cobra
@@ -164,6 +173,6 @@ case "${1:-help}" in
       fi
       grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
     done ;;
-  help|-h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "do: unknown command '$1'" >&2; sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+  help|-h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
 esac

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 
 namespace cobra::run {
 
@@ -101,8 +102,9 @@ bool Recording::column(const std::string& name, std::vector<double>& x, std::vec
 std::string Recording::csv() const {
   std::string out = "time [s]";
   auto header = [&](const std::string& name, const std::string& unit) {
-    const bool quote = name.find(',') != std::string::npos;
-    out += "," + std::string(quote ? "\"" : "") + name + (unit.empty() ? "" : " [" + unit + "]") + (quote ? "\"" : "");
+    const std::string cell = name + (unit.empty() ? "" : " [" + unit + "]");  // a unit may hold a comma: "N, N·m"
+    const bool quote = cell.find(',') != std::string::npos;
+    out += "," + std::string(quote ? "\"" : "") + cell + (quote ? "\"" : "");
   };
   for (const std::string& name : columnNames()) header(name, unitOf(name));
   out += "\n";
@@ -163,12 +165,62 @@ std::string worstText(const Worst& worst, const char* unit) {
   return text + (worst.state.empty() ? std::string() : " (" + worst.state + ")");
 }
 
+// When chart `chart` first entered a state whose path starts with `state` (s; nullopt: never).
+std::optional<double> firstEntered(const std::vector<report::StateInterval>& timeline, const std::string& chart,
+                                   const std::string& state) {
+  const std::string lane = chart + " chart";
+  const auto entered = std::find_if(timeline.begin(), timeline.end(), [&](const report::StateInterval& interval) {
+    return interval.chart == lane && interval.state.rfind(state, 0) == 0;
+  });
+  if (entered == timeline.end()) return std::nullopt;
+  return entered->begin;
+}
+
+// Column `y` against column `x` at their common sample times from `from` s on, the marks placed on it.
+plot::Series pathSeries(const Recording& recording, const PathSpec& path,
+                        const std::vector<report::StateInterval>& timeline, double from) {
+  plot::Series s{path.label, {}, {}, path.dashed};
+  std::vector<double> xt, xv, yt, yv, times;
+  recording.column(path.x, xt, xv);
+  recording.column(path.y, yt, yv);
+  for (std::size_t i = 0, j = 0; i < xt.size(); ++i) {
+    while (j < yt.size() && yt[j] < xt[i]) ++j;
+    if (j < yt.size() && yt[j] == xt[i] && xt[i] >= from)
+      s.x.push_back(xv[i]), s.y.push_back(yv[j]), times.push_back(xt[i]);
+  }
+  for (const PathSpec::Mark& mark : path.marks) {
+    const std::optional<double> begin = firstEntered(timeline, mark.chart, mark.state);
+    if (!begin || *begin < from) continue;
+    if (times.empty()) break;
+    // Entered after the last sample (e.g. the final state, which ends the run): the last sample.
+    const auto at = std::lower_bound(times.begin(), times.end(), *begin);
+    const std::size_t k = std::min(static_cast<std::size_t>(at - times.begin()), times.size() - 1);
+    s.marker_x.push_back(s.x[k]);
+    s.marker_y.push_back(s.y[k]);
+    s.marker_labels.push_back(mark.label);
+  }
+  return s;
+}
+
 }  // namespace
 
 std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& recording,
-                                        const std::vector<Tracker>& trackers, const ClearanceObserver* clearance) {
+                                        const std::vector<Tracker>& trackers, const ClearanceObserver* clearance,
+                                        const std::vector<report::StateInterval>& timeline) {
   std::vector<plot::Figure> out;
   for (const PlotSpec& p : spec.plots) {
+    if (!p.paths.empty()) {
+      plot::Panel paths{p.title, p.paths.front().x + (p.x_unit.empty() ? "" : " [" + p.x_unit + "]"),
+                        p.paths.front().y + (p.unit.empty() ? "" : " [" + p.unit + "]"), {}};
+      double from = 0.0;
+      if (!p.from_chart.empty()) from = firstEntered(timeline, p.from_chart, p.from_state).value_or(INFINITY);
+      for (const PathSpec& path : p.paths) {
+        plot::Series s = pathSeries(recording, path, timeline, from);
+        if (!s.x.empty()) paths.series.push_back(std::move(s));
+      }
+      out.push_back({p.title, {std::move(paths)}});
+      continue;
+    }
     plot::Panel one{p.title, p.x.empty() ? "t [s]" : p.x + (p.x_unit.empty() ? "" : " [" + p.x_unit + "]"),
                     p.unit.empty() ? "value" : "[" + p.unit + "]", {}};
     for (const std::string& name : p.series) {

@@ -87,9 +87,11 @@ struct SummaryObserver {
   std::unique_ptr<Tap<double>> value;                    // Port
 };
 
-// The figures of the report: the declared plots, one per tracked tool, the clearance.
+// The figures of the report: the declared plots, one per tracked tool, the clearance. `timeline`
+// (lanes "<chart> chart") places the marks of the plots' paths.
 std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& recording,
-                                        const std::vector<Tracker>& trackers, const ClearanceObserver* clearance);
+                                        const std::vector<Tracker>& trackers, const ClearanceObserver* clearance,
+                                        const std::vector<report::StateInterval>& timeline);
 
 // The summary rows of the fidelity figures.
 std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& result, const RunSpec& spec);

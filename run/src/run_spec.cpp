@@ -205,6 +205,43 @@ std::pair<std::string, std::string> chartState(const Reader& r, const std::strin
   return {text.substr(0, colon), text.substr(colon + 1)};
 }
 
+// A path's `marks = { { "A", "chart:state path" }, ... }`.
+std::vector<PathSpec::Mark> readMarks(const Reader& entry) {
+  std::vector<PathSpec::Mark> marks;
+  lua_State* L = entry.state();
+  lua_getfield(L, -1, "marks");
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    return marks;
+  }
+  // Pops the marks table before failing, as the Reader's own checks do.
+  const auto bad = [&](const std::string& what) {
+    lua_pop(L, 1);
+    entry.fail("`marks` " + what + "; write marks = { { \"A\", \"chart:state path\" }, ... }");
+  };
+  if (!lua_istable(L, -1)) bad("must be a list");
+  const lua_Integer n = luaL_len(L, -1);
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, -1, i);
+    std::string pair[2];
+    bool ok = lua_istable(L, -1) && luaL_len(L, -1) == 2;
+    for (int k = 0; ok && k < 2; ++k) {
+      lua_rawgeti(L, -1, k + 1);
+      ok = lua_type(L, -1) == LUA_TSTRING;
+      if (ok) pair[k] = lua_tostring(L, -1);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    if (!ok) bad("entry " + std::to_string(i) + " is not a pair of strings");
+    PathSpec::Mark mark;
+    mark.label = pair[0];
+    std::tie(mark.chart, mark.state) = chartState(entry, pair[1]);
+    marks.push_back(std::move(mark));
+  }
+  lua_pop(L, 1);
+  return marks;
+}
+
 Trigger readTrigger(const Reader& entry) {
   Trigger t;
   const bool found = entry.table("on", [&](const Reader& on) {
@@ -344,7 +381,26 @@ RunSpec readRunSpec(lua_State* L, const std::string& file) {
         plot.x = p.string("x", false);
         plot.x_unit = p.string("x_unit", false);
         plot.series = p.strings("series");
-        if (plot.series.empty()) p.fail("needs `series = { \"Comp.port\", ... }`");
+        p.list(
+            "paths",
+            [&](Reader& entry) {
+              PathSpec path;
+              path.label = entry.string("label", true);
+              path.x = entry.string("x", true);
+              path.y = entry.string("y", true);
+              path.dashed = entry.boolean("dashed", false);
+              path.marks = readMarks(entry);
+              plot.paths.push_back(std::move(path));
+            },
+            "label");
+        if (plot.series.empty() == plot.paths.empty())
+          p.fail("needs either `series = { \"Comp.port\", ... }` or `paths = { { label = , x = , y = }, ... }`");
+        if (!plot.paths.empty() && !plot.x.empty())
+          p.fail("`x` is for series; each path names its own x and y columns");
+        if (p.has("from")) {
+          if (plot.paths.empty()) p.fail("`from` is for paths");
+          std::tie(plot.from_chart, plot.from_state) = chartState(p, p.string("from", true));
+        }
         plot.where = p.where();
         spec.plots.push_back(std::move(plot));
       },

@@ -252,6 +252,16 @@ void Session::attachPlots() {
     std::vector<std::string> names = p.series;
     if (!p.x.empty()) names.push_back(p.x);
     const std::string use = "run.plots '" + p.title + "'";
+    if (!p.from_chart.empty() && chartOf(p.from_chart) == nullptr)
+      throw std::runtime_error(p.where.text() + ": " + use + ": from: no chart '" + p.from_chart + "' in run.charts");
+    for (const PathSpec& path : p.paths) {
+      names.push_back(path.x);
+      names.push_back(path.y);
+      for (const PathSpec::Mark& mark : path.marks)
+        if (chartOf(mark.chart) == nullptr)
+          throw std::runtime_error(p.where.text() + ": " + use + ": path '" + path.label + "', mark '" + mark.label +
+                                   "': no chart '" + mark.chart + "' in run.charts");
+    }
     for (const std::string& name : names) {
       const bool derived = startsWith(name, "tracking.") || startsWith(name, "clearance") || startsWith(name, "contact.");
       if (!derived) recording_.addPort(refs_, name.substr(0, name.find_first_of(".[", name.find('.') + 1)), p.where.text(), use);
@@ -590,7 +600,7 @@ void Session::writeReport() {
   for (auto& row : fidelityRows(result_, spec_)) run.summary.push_back(std::move(row));
   run.events = result_.events;
   run.timeline = timeline_.intervals(result_.duration);
-  run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get());
+  run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get(), run.timeline);
   run.files = {"signals.csv"};
   result_.report = report::writeRunFolder(options_.report_folder, run);
   const std::filesystem::path signals = options_.report_folder / "signals.csv";

@@ -68,6 +68,20 @@ TEST(Recording, ColumnsPerFieldWithUnitsAndEmptyCellsBeforeData) {
   EXPECT_FALSE(recording.column("Out.pose.w", x, y));
 }
 
+// A unit with a comma (a wrench's "N, N·m") is inside its header cell: the cell is quoted.
+TEST(Recording, AHeaderCellWithACommaIsQuoted) {
+  core::ComponentRegistry registry;
+  auto& c = registry.make<Outputs>("Out");
+  Recording recording;
+  recording.addPort(registry, "Out.wrench", "f.lua:1", "run.record");
+  c.wrench.write(KDL::Wrench(KDL::Vector(1, 2, 3), KDL::Vector(4, 5, 6)));
+  recording.sample(0.01);
+  EXPECT_EQ(recording.csv(),
+            "time [s],\"Out.wrench.fx [N, N·m]\",\"Out.wrench.fy [N, N·m]\",\"Out.wrench.fz [N, N·m]\","
+            "\"Out.wrench.tx [N, N·m]\",\"Out.wrench.ty [N, N·m]\",\"Out.wrench.tz [N, N·m]\"\n"
+            "0.010,1,2,3,4,5,6\n");
+}
+
 TEST(Recording, APortWithFieldsIsNamedByOneOfThem) {
   core::ComponentRegistry registry;
   registry.make<Outputs>("Out");
@@ -96,6 +110,58 @@ TEST(Recording, APortOfAnotherTypeAnInputOrAnUnknownPortIsRefusedInOneLine) {
                   "f.lua:3: run.record: unknown component 'Oot'; did you mean 'Out'?");
   EXPECT_EQ(messageOf([&] { recording.addPort(registry, "force", "f.lua:3", "run.record"); }),
             "f.lua:3: run.record: 'force' must be written Component.port");
+}
+
+// A path figure (run.plots[i].paths): y against x at the same sample times, and each mark on the
+// first sample at or after its chart first entered a state with that prefix; a mark whose state
+// was never entered is left out.
+TEST(ReportFigures, APathIsDrawnWithItsMarksWhereTheChartEnteredTheirStates) {
+  core::ComponentRegistry registry;
+  auto& c = registry.make<Outputs>("Out");
+  Recording recording;
+  recording.addPort(registry, "Out.pose", "f.lua:1", "run.plots");
+  for (int i = 0; i < 10; ++i) {
+    c.pose.write(KDL::Frame(KDL::Vector(0, 0.01 * i, 0.1 + 0.001 * i * i)));
+    recording.sample(0.1 * (i + 1));
+  }
+  RunSpec spec;
+  PlotSpec plot;
+  plot.title = "path";
+  plot.unit = plot.x_unit = "m";
+  PathSpec path;
+  path.label = "tool";
+  path.x = "Out.pose.y";
+  path.y = "Out.pose.z";
+  path.marks = {{"A", "arm", "root.A"}, {"B", "arm", "root.B"}, {"Z", "arm", "root.Z"}, {"C", "other", "root.C"},
+                {"D", "arm", "root.D"}};
+  plot.paths = {path};
+  spec.plots = {plot};
+  const std::vector<report::StateInterval> timeline = {
+      {"arm chart", "root.A.Waiting", 0.0, 0.25}, {"arm chart", "root.B.Moving", 0.25, 0.61},
+      {"arm chart", "root.A.Waiting", 0.61, 1.0}, {"arm chart", "root.D", 1.04, 1.04}, {"other chart", "root.C", 0.0, 1.04}};
+  const std::vector<plot::Figure> figures = reportFigures(spec, recording, {}, nullptr, timeline);
+  ASSERT_EQ(figures.size(), 1u);
+  ASSERT_EQ(figures[0].panels.size(), 1u);
+  const plot::Panel& panel = figures[0].panels[0];
+  EXPECT_EQ(panel.x_label, "Out.pose.y [m]");
+  EXPECT_EQ(panel.y_label, "Out.pose.z [m]");
+  ASSERT_EQ(panel.series.size(), 1u);
+  const plot::Series& s = panel.series[0];
+  EXPECT_EQ(s.x.size(), 10u);
+  EXPECT_NEAR(s.y[3], 0.109, 1e-12);
+  EXPECT_EQ(s.marker_labels, (std::vector<std::string>{"A", "B", "C", "D"}));
+  // A at the first sample (0.1 s, i = 0); B entered at 0.25 s: the sample at 0.3 s (i = 2); C at
+  // 0.1 s; D after the last sample (1.0 s): the last one.
+  EXPECT_EQ(s.marker_x, (std::vector<double>{0.0, 0.02, 0.0, 0.09}));
+  EXPECT_NEAR(s.marker_y[1], 0.104, 1e-12);
+
+  // From when the arm chart entered root.B (0.25 s): the samples from 0.3 s on, B's and D's marks.
+  spec.plots[0].from_chart = "arm";
+  spec.plots[0].from_state = "root.B";
+  const plot::Series zoomed = reportFigures(spec, recording, {}, nullptr, timeline)[0].panels[0].series[0];
+  EXPECT_EQ(zoomed.x.size(), 8u);
+  EXPECT_DOUBLE_EQ(zoomed.x.front(), 0.02);
+  EXPECT_EQ(zoomed.marker_labels, (std::vector<std::string>{"B", "D"}));
 }
 
 }  // namespace

@@ -150,5 +150,57 @@ TEST(RunSpec, BadValuesAreRefusedWithWhatIsExpected) {
                   "'op' must be written Component.operation");
 }
 
+// A figure of paths (each its own x and y columns) with labelled marks where a chart entered a
+// state: Fig. 6.7 of the thesis from a run.
+TEST(RunSpec, PlotsOfPathsWithLabelledMarks) {
+  const RunSpec spec = read(R"(run = {
+  charts = { { name = "arm", supervisor = "S", done = "root.Done" } },
+  plots = { { title = "path", unit = "m", x_unit = "m", from = "arm:root.B",
+              paths = { { label = "nominal", x = "G.pose.y", y = "G.pose.z", dashed = true },
+                        { label = "actual", x = "K.pose.y", y = "K.pose.z",
+                          marks = { { "A", "arm:root.A" }, { "B", "arm:root.B.Moving" } } } } } },
+}
+)");
+  ASSERT_EQ(spec.plots.size(), 1u);
+  const PlotSpec& p = spec.plots[0];
+  EXPECT_TRUE(p.series.empty());
+  EXPECT_EQ(p.from_chart, "arm");
+  EXPECT_EQ(p.from_state, "root.B");
+  ASSERT_EQ(p.paths.size(), 2u);
+  EXPECT_EQ(p.paths[0].label, "nominal");
+  EXPECT_EQ(p.paths[0].x, "G.pose.y");
+  EXPECT_EQ(p.paths[0].y, "G.pose.z");
+  EXPECT_TRUE(p.paths[0].dashed);
+  EXPECT_TRUE(p.paths[0].marks.empty());
+  EXPECT_FALSE(p.paths[1].dashed);
+  ASSERT_EQ(p.paths[1].marks.size(), 2u);
+  EXPECT_EQ(p.paths[1].marks[1].label, "B");
+  EXPECT_EQ(p.paths[1].marks[1].chart, "arm");
+  EXPECT_EQ(p.paths[1].marks[1].state, "root.B.Moving");
+}
+
+TEST(RunSpec, BadPathPlotsAreRefusedWithWhatIsExpected) {
+  const auto plot = [](const std::string& entry) {
+    return messageOf([&] {
+      read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n  plots = { " + entry + " },\n}\n");
+    });
+  };
+  EXPECT_CONTAINS(plot("{ title = 'p' }"),
+                  ":3: run.plots[1]: needs either `series = { \"Comp.port\", ... }` or `paths = { { label = , x = , y = "
+                  "}, ... }`");
+  EXPECT_CONTAINS(plot("{ title = 'p', series = { 'C.v' }, paths = { { label = 'l', x = 'C.x', y = 'C.y' } } }"),
+                  "needs either `series");
+  EXPECT_CONTAINS(plot("{ title = 'p', x = 'C.t', paths = { { label = 'l', x = 'C.x', y = 'C.y' } } }"),
+                  "run.plots[1]: `x` is for series; each path names its own x and y columns");
+  EXPECT_CONTAINS(plot("{ title = 'p', from = 'a:root.B', series = { 'C.v' } }"), "run.plots[1]: `from` is for paths");
+  EXPECT_CONTAINS(plot("{ title = 'p', paths = { { label = 'l', x = 'C.x' } } }"),
+                  "run.plots[1].paths[1]: needs `y` (a string)");
+  EXPECT_CONTAINS(plot("{ title = 'p', paths = { { label = 'l', x = 'C.x', y = 'C.y', marks = { 'A' } } } }"),
+                  "run.plots[1].paths[1]: `marks` entry 1 is not a pair of strings; write marks = { { \"A\", "
+                  "\"chart:state path\" }, ... }");
+  EXPECT_CONTAINS(plot("{ title = 'p', paths = { { label = 'l', x = 'C.x', y = 'C.y', marks = { { 'A', 'root.A' } } } } }"),
+                  "state 'root.A' must be written chart:state path");
+}
+
 }  // namespace
 }  // namespace cobra::run

@@ -60,6 +60,14 @@ void check(const Panel& panel, const Series& s) {
   for (std::size_t i = 0; i < s.x.size(); ++i)
     if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]))
       throw std::invalid_argument(where + ": point " + std::to_string(i) + " is not finite");
+  if (s.marker_x.size() != s.marker_y.size() || s.marker_labels.size() > s.marker_x.size())
+    throw std::invalid_argument(where + " has " + std::to_string(s.marker_x.size()) + " marker x, " +
+                                std::to_string(s.marker_y.size()) + " marker y and " +
+                                std::to_string(s.marker_labels.size()) +
+                                " marker labels; give as many x as y and at most one label per marker");
+  for (std::size_t i = 0; i < s.marker_x.size(); ++i)
+    if (!std::isfinite(s.marker_x[i]) || !std::isfinite(s.marker_y[i]))
+      throw std::invalid_argument(where + ": marker " + std::to_string(i) + " is not finite");
 }
 
 void drawPanel(std::ostringstream& svg, const Panel& panel, int top, int width, int height) {
@@ -68,6 +76,8 @@ void drawPanel(std::ostringstream& svg, const Panel& panel, int top, int width, 
     check(panel, s);
     for (double v : s.x) xr.add(v);
     for (double v : s.y) yr.add(v);
+    for (double v : s.marker_x) xr.add(v);
+    for (double v : s.marker_y) yr.add(v);
   }
   xr.settle(false);
   yr.settle(true);
@@ -101,9 +111,14 @@ void drawPanel(std::ostringstream& svg, const Panel& panel, int top, int width, 
         << (s.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
     for (std::size_t i = 0; i < s.x.size(); ++i) svg << px(s.x[i]) << ',' << py(s.y[i]) << ' ';
     svg << "'/>\n";
-    for (std::size_t i = 0; i < std::min(s.marker_x.size(), s.marker_y.size()); ++i)
+    for (std::size_t i = 0; i < s.marker_x.size(); ++i) {
       svg << "<circle cx='" << px(s.marker_x[i]) << "' cy='" << py(s.marker_y[i]) << "' r='3.5' fill='" << colour
           << "'/>\n";
+      if (i < s.marker_labels.size())
+        svg << "<text x='" << px(s.marker_x[i]) + 5 << "' y='" << py(s.marker_y[i]) - 6
+            << "' font-size='13' font-weight='bold' fill='" << colour << "'>" << escape(s.marker_labels[i])
+            << "</text>\n";
+    }
     const double ly = top + kTop + 14 + 18.0 * static_cast<double>(k);
     svg << "<line x1='" << width - kRight + 12 << "' y1='" << ly << "' x2='" << width - kRight + 36 << "' y2='" << ly
         << "' stroke='" << colour << "' stroke-width='2'" << (s.dashed ? " stroke-dasharray='6,4'" : "") << "/>\n"

@@ -61,14 +61,34 @@ struct RecordSpec {
   std::vector<std::pair<std::string, Where>> ports;
 };
 
+/// A path of an xy figure: column `y` against column `x` at the same sample times (e.g. a tool's
+/// y and z: its path in the y-z plane), with labelled marks where charts entered states.
+struct PathSpec {
+  std::string label;
+  std::string x, y;  ///< columns
+  bool dashed = false;
+  /// A point of the path labelled `label`, at the first sample at or after the time chart `chart`
+  /// first entered a state whose full path starts with `state` (the last sample when there is none
+  /// after it; no mark when the chart never entered such a state).
+  struct Mark {
+    std::string label, chart, state;
+  };
+  std::vector<Mark> marks;
+};
+
 /// A figure of the report: series are recorded columns ("Comp.port" for a scalar,
-/// "Comp.port.z" for a field, "tracking.NAME.mm", ...), against time or against column `x`.
+/// "Comp.port.z" for a field, "tracking.NAME.mm", ...), against time or against column `x`; or
+/// paths, each with its own x and y columns.
 struct PlotSpec {
   std::string title;
   std::string unit;    ///< of the series (axis label)
   std::string x;       ///< column of the x axis; "" = time
   std::string x_unit;  ///< of x
   std::vector<std::string> series;
+  std::vector<PathSpec> paths;
+  /// Paths only: drawn from when chart `from_chart` first entered a state whose path starts with
+  /// `from_state` ("" = from the start), e.g. to zoom on a task's last phases.
+  std::string from_chart, from_state;
   Where where;
 };
 

@@ -15,9 +15,11 @@ struct Series {
   std::vector<double> x;
   std::vector<double> y;
   bool dashed = false;
-  /// Optional markers at these x values (e.g. waypoints), drawn on the line.
+  /// Optional markers at these points (e.g. waypoints, where the phases of a task began), drawn
+  /// on the line; `marker_labels[i]`, when given, is written beside marker i (e.g. "A", "B").
   std::vector<double> marker_x{};
   std::vector<double> marker_y{};
+  std::vector<std::string> marker_labels{};
 };
 
 /// One panel: its axes fit all series (with a margin); titles and axis labels with units.
@@ -37,7 +39,8 @@ struct Figure {
 };
 
 /// The SVG text of `figure`. @throws std::invalid_argument naming the panel and series when a
-/// series has x and y of different sizes or no points, or a value is not finite.
+/// series has x and y of different sizes or no points, a value is not finite, or it has more marker
+/// labels than markers.
 std::string toSvg(const Figure& figure);
 
 /// Writes toSvg(figure) to `path`. @throws std::runtime_error naming the file when it cannot.

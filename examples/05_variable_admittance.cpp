@@ -1,13 +1,18 @@
-// Example 05: the tank-based variable admittance touching an unexpected obstacle, drawn like the
-// thesis' Fig. 6.7 (the Puma 260 following a line while a curved surface is in the way).
+// Example 05: the tank-based variable admittance library (cobra::control, thesis §4.5.3) on its own,
+// without components: a point following a line while an analytic bump is in the way.
 //
 // The reference moves along x at constant height (a TGL quintic, 0.3 m in 3 s); a bump rises
-// across its path. The admittance yields to the contact force and slides up the surface; past the
-// top a configuration change lowers the stiffness (a change the tank guards: raising it would be
-// paid from the tank), and the tool comes back to the nominal path. The tank stores what the
-// damping dissipates. The program writes nominal and actual path, contact force and tank energy to
-// an SVG file (first argument, default /tmp/cobra-fig-6-7.svg) and checks that there was contact
-// and that the tank never went below ε.
+// across its path, pushing back with a spring of 20,000 N/m. The admittance yields to the contact
+// force and slides up the surface. Past the top the program lowers the stiffness with
+// setParameters, to show what the energy tank is for: a stiffness that changes while the spring is
+// loaded could give energy back to the environment, and the tank only lets that happen within the
+// energy it stored from the damping. The program writes nominal and actual path, contact force and
+// tank energy to an SVG file (first argument, default /tmp/cobra-variable-admittance.svg) and
+// checks that there was contact and that the tank never went below ε.
+//
+// This is the library, not the thesis' experiment: Fig. 6.7 (the Puma 260 following a line across
+// an unexpected surface with one configuration throughout, §6.3-6.4) is drawn from a run of the
+// application apps/puma260 (`./do demo puma260`).
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +38,7 @@ double surface(double x) { return 0.02 * std::exp(-std::pow((x - 0.15) / 0.04, 2
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* output = argc > 1 ? argv[1] : "/tmp/cobra-fig-6-7.svg";
+  const char* output = argc > 1 ? argv[1] : "/tmp/cobra-variable-admittance.svg";
   control::AdmittanceParameters p;
   p.constant_inertia = diagonal(1, 1, 1, 0.05);
   p.constant_stiffness = diagonal(200, 200, 200, 5);
@@ -45,7 +50,7 @@ int main(int argc, char** argv) {
 
   const trajectory::Polynomial line(5, trajectory::Conditions(trajectory::State{0.0}, trajectory::State{0.3}), 3.0);
   const double dt = 1e-3, environment_stiffness = 20000.0;  // s, N/m
-  plot::Figure figure{"Variable admittance touching an obstacle (cf. thesis Fig. 6.7)", {}};
+  plot::Figure figure{"Tank-based variable admittance on a point against an analytic bump (library example)", {}};
   figure.panels = {{"path in the x-z plane", "x [m]", "z [m]", {{"nominal", {}, {}, true}, {"actual", {}, {}}, {"surface", {}, {}, true}}},
                    {"contact force", "t [s]", "F_z [N]", {{"F_z", {}, {}}}},
                    {"energy tank", "t [s]", "T [J]", {{"tank", {}, {}}, {"ε", {}, {}, true}}}};
@@ -61,7 +66,7 @@ int main(int argc, char** argv) {
     const KDL::Twist reference_twist(KDL::Vector(t < 3.0 ? s.velocity : 0.0, 0, 0), KDL::Vector::Zero());
     const double depth = surface(pose.p.x()) - pose.p.z();  // > 0: the tool is inside the obstacle
     const double fz = depth > 0.0 ? environment_stiffness * depth : 0.0;
-    if (!softened && pose.p.x() > 0.15) {  // past the top: a configuration lowers the stiffness
+    if (!softened && pose.p.x() > 0.15) {  // past the top: lower stiffness, which the tank guards
       admittance.setParameters(diagonal(3, 3, 3, 0.1), diagonal(150, 150, 150, 4), diagonal(800, 800, 400, 20));
       softened = true;
     }

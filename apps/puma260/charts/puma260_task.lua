@@ -1,0 +1,114 @@
+-- The Puma 260 task (thesis §6.4, Figs. 6.6-6.7) as the task supervisor's rFSM chart: phases A-H,
+-- each a state entered where the phase's frame of Fig. 6.6 is taken, so that the run's timeline and
+-- Fig. 6.7's letters read A-H. The first four advance on the components' answers (the EtherCAT
+-- master's states of Fig. 6.4, the FTSens driver, the trajectory generator); E, F and G on the
+-- ContactMonitor's events, i.e. on the measured contact force and the measured tool's distance
+-- from the nominal path, never on time.
+--   A  at the nest: the drives initialise (encoder initialisation), then the master moves to ready
+--   B  at ready: the sensor is tared (tool down, still), Operative, a Cartesian move to C
+--   C  at the default task pose: the admittance control is switched in, then the move to D
+--   D  at the start pose: the nominal linear trajectory D -> H starts
+--   E  contact with the surface (e_contact): the admittance keeps the tool compliant
+--   F  pushed off the nominal path (e_off_path): the tool follows the surface
+--   G  contact lost (e_contact_lost): the surface has left the path; back to the nominal path
+--   H  at the final pose, back on the nominal path (e_on_path, e_motion_done): done
+-- Faults: a drive fault or bus error (the master has quick-stopped the drives), the contact force
+-- over its limit, an IK or trajectory failure, the tank empty: root.Stopping (the trajectory's stop
+-- motion, the admittance holding) then root.SafeStop once the trajectory is at rest. The FTSens
+-- silent (e_comm_timeout): root.Holding, the motion stopped, until the sensor is back (the nominal
+-- path resumes) or `sensor_hold` s have passed (SafeStop).
+local sensor_hold = 1.0  -- s
+local stop_wait = 0.5    -- s: longer than the trajectory generator's stop_time
+
+local function call(peer, operation)
+  local p = _G[peer]
+  if p == nil then error("puma260_task: '" .. peer .. "' is not a peer of the task supervisor") end
+  p[operation](p)
+end
+
+-- A Cartesian motion along the fixed path `path` (a WaypointPath peer): its path from the measured
+-- pose, the trajectory, the motion. Its end (e_motion_done) is the enclosing phase's transition.
+local function motion(path)
+  return rfsm.state {
+    AskingPath = rfsm.state { entry = function() call(path, "askPath") end },
+    Generating = rfsm.state { entry = function() call("TrajGen", "askGenerateTraj") end },
+    Moving = rfsm.state { entry = function() call("TrajGen", "askStartMove") end },
+    rfsm.trans { src = 'initial', tgt = 'AskingPath' },
+    rfsm.trans { src = 'AskingPath', tgt = 'Generating', events = { 'e_path_ready@TrajGen' } },
+    rfsm.trans { src = 'Generating', tgt = 'Moving', events = { 'e_trajectory_ready@TrajGen' } },
+  }
+end
+
+local failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_force_over_limit', 'e_ik_failed', 'e_ik_discontinuity',
+                   'e_traj_failed', 'e_tank_empty', 'e_request_refused', 'e_no_data',
+                   'e_deploy_failed_position_control', 'e_deploy_failed_compliant_control' }
+local done = 'e_motion_done@TrajGen'
+
+local chart = {
+  A_Nest = rfsm.state {
+    Initialising = rfsm.state {},
+    MovingToReady = rfsm.state { entry = function() call("Puma", "askReady") end },
+    rfsm.trans { src = 'initial', tgt = 'Initialising' },
+    rfsm.trans { src = 'Initialising', tgt = 'MovingToReady', events = { 'e_initialized@Puma' } },
+  },
+  B_Ready = rfsm.state {
+    Taring = rfsm.state { entry = function() call("FTSens", "tare") end },
+    AskingOperative = rfsm.state { entry = function() call("Puma", "askOperative") end },
+    MovingToTaskPose = motion("ToTaskPose"),
+    rfsm.trans { src = 'initial', tgt = 'Taring' },
+    rfsm.trans { src = 'Taring', tgt = 'AskingOperative', events = { 'e_tared@FTSens' } },
+    rfsm.trans { src = 'AskingOperative', tgt = 'MovingToTaskPose', events = { 'e_operative@Puma' } },
+  },
+  C_TaskPose = rfsm.state {
+    EnablingAdmittance = rfsm.state { entry = function() emit("e_deploy_compliant_control") end },
+    MovingToStartPose = motion("ToStartPose"),
+    rfsm.trans { src = 'initial', tgt = 'EnablingAdmittance' },
+    rfsm.trans { src = 'EnablingAdmittance', tgt = 'MovingToStartPose', events = { 'e_deployed_compliant_control' } },
+  },
+  D_StartPose = motion("NominalPath"),
+  -- The nominal motion goes on in E, F and G: the trajectory generator keeps moving the reference.
+  E_Contact = rfsm.state {},
+  F_FollowingSurface = rfsm.state {},
+  G_BackToPath = rfsm.state {
+    Returning = rfsm.state {},
+    OnPath = rfsm.state {},
+    Settling = rfsm.state {},  -- the trajectory ended before the tool was back on the path
+    rfsm.trans { src = 'initial', tgt = 'Returning' },
+    rfsm.trans { src = 'Returning', tgt = 'OnPath', events = { 'e_on_path@Contact' } },
+    rfsm.trans { src = 'Returning', tgt = 'Settling', events = { done } },
+  },
+  H_FinalPose = rfsm.state { entry = function() emit("e_puma_task_done") end },
+  Holding = rfsm.state { entry = function() call("TrajGen", "askStopMove") emit("e_puma_holding") end },
+  Resuming = motion("NominalPath"),
+  Stopping = rfsm.state { entry = function() call("TrajGen", "askStopMove") end },
+  SafeStop = rfsm.state { entry = function() emit("e_puma_safe_stop") end },
+
+  rfsm.trans { src = 'initial', tgt = 'A_Nest' },
+  rfsm.trans { src = 'A_Nest', tgt = 'B_Ready', events = { 'e_ready_reached@Puma' } },
+  rfsm.trans { src = 'B_Ready', tgt = 'C_TaskPose', events = { done } },
+  rfsm.trans { src = 'C_TaskPose', tgt = 'D_StartPose', events = { done } },
+  rfsm.trans { src = 'D_StartPose', tgt = 'E_Contact', events = { 'e_contact@Contact' } },
+  rfsm.trans { src = 'D_StartPose', tgt = 'H_FinalPose', events = { done } },  -- nothing on the path
+  rfsm.trans { src = 'E_Contact', tgt = 'F_FollowingSurface', events = { 'e_off_path@Contact' } },
+  rfsm.trans { src = 'E_Contact', tgt = 'G_BackToPath', events = { 'e_contact_lost@Contact' } },  -- a touch only
+  rfsm.trans { src = 'F_FollowingSurface', tgt = 'G_BackToPath', events = { 'e_contact_lost@Contact' } },
+  rfsm.trans { src = 'G_BackToPath.OnPath', tgt = 'H_FinalPose', events = { done } },
+  rfsm.trans { src = 'G_BackToPath.Settling', tgt = 'H_FinalPose', events = { 'e_on_path@Contact' } },
+  rfsm.trans { src = 'Holding', tgt = 'Resuming', events = { 'e_comm_restored@FTSens' } },
+  rfsm.trans { src = 'Holding', tgt = 'SafeStop', events = { 'e_after(' .. sensor_hold .. ')' },
+               effect = function() emit("e_sensor_lost") end },
+  rfsm.trans { src = 'Resuming', tgt = 'H_FinalPose', events = { done } },
+  -- At rest: the stop motion ended, or there was none; at most `stop_wait` s.
+  rfsm.trans { src = 'Stopping', tgt = 'SafeStop',
+               events = { 'e_motion_stopped@TrajGen', 'e_not_moving@TrajGen', 'e_after(' .. stop_wait .. ')' } },
+}
+local active = { 'A_Nest', 'B_Ready', 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath',
+                 'Holding', 'Resuming' }
+for _, state in ipairs(active) do
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Stopping', events = failures, pn = 10 }
+end
+for _, state in ipairs({ 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath', 'Resuming' }) do
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Holding', events = { 'e_comm_timeout@FTSens' }, pn = 5 }
+end
+
+return rfsm.state(chart)
