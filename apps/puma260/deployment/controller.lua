@@ -57,6 +57,9 @@ Admittance.constant_stiffness = { 1500, 1500, 250, 30, 30, 30 }
 Admittance.tank_initial = 2
 Admittance.tank_max = 5
 Admittance.tank_min = 0.5
+-- s: a silent FTSens (no sample for 5 ms) makes the admittance hold where it is instead of pushing
+-- on with the last force; the chart's Holding (the driver's e_comm_timeout, 10 ms) then stops the path.
+Admittance.wrench_timeout = 0.005
 TaskSup.fsm_path = here .. "../charts/puma260_task.lua"
 DepSup.fsm_path = charts .. "deployment_supervisor.lua"
 addPeers({ { peer_name = "TaskSup",

@@ -1,6 +1,7 @@
 #include "cobra/components/control/variable_admittance_component.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
@@ -26,7 +27,7 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
                 "Variable admittance with energy tank (thesis §4.5.3): passive whatever its parameters' schedule") {
   for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
            &inertia_, &damping_, &stiffness_, &constant_inertia_, &constant_stiffness_, &tank_initial_, &tank_max_,
-           &tank_min_, &max_reference_speed_, &max_reference_angular_speed_})
+           &tank_min_, &max_reference_speed_, &max_reference_angular_speed_, &wrench_timeout_})
     addProperty(*p);
   addPort(ref_pose_);
   addPort(ref_twist_);
@@ -52,6 +53,8 @@ bool VariableAdmittanceController::configureHook() {
     return refuse("properties max_reference_speed (" + std::to_string(max_reference_speed_()) +
                   " m/s) and max_reference_angular_speed (" + std::to_string(max_reference_angular_speed_()) +
                   " rad/s) must be > 0");
+  if (!(wrench_timeout_() >= 0.0) || !std::isfinite(wrench_timeout_()))
+    return refuse("property wrench_timeout is " + std::to_string(wrench_timeout_()) + " s; expected >= 0 s (0: never hold)");
   p.tank = {tank_initial_(), tank_max_(), tank_min_()};
   try {
     controller_ = std::make_unique<control::VariableAdmittance>(p);
@@ -73,6 +76,8 @@ bool VariableAdmittanceController::startHook() {
   have_reference_ = false;
   stepped_ = false;
   tank_empty_ = false;
+  blind_ = false;
+  last_wrench_ = now();
   return true;
 }
 
@@ -95,10 +100,32 @@ void VariableAdmittanceController::updateHook() {
   }
   if (ref_pose_.read(reference_) != core::FlowStatus::NoData) have_reference_ = true;
   (void)ref_twist_.read(reference_twist_);
-  (void)meas_wrench_.read(wrench_);
+  bool resumed = false;
+  if (meas_wrench_.read(wrench_) == core::FlowStatus::NewData) {
+    last_wrench_ = now();
+    if (blind_) {
+      blind_ = false;
+      resumed = true;
+      emitEvent("e_wrench_restored");
+    }
+  }
   if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
   if (!have_reference_) return;
+  if (resumed && stepped_) {
+    // The reference moved on while the admittance held (e.g. a stop motion): rebase as for a
+    // reference jump, so admPose resumes from where it was held.
+    controller_->rebase(previous_reference_, reference_);
+    previous_reference_ = reference_;
+  }
   const double dt = std::chrono::duration<double>(activity().period()).count();
+  if (wrench_timeout_() > 0.0 && std::chrono::duration<double>(now() - last_wrench_).count() > wrench_timeout_()) {
+    if (!blind_) {
+      blind_ = true;
+      emitEvent("e_wrench_lost");
+    }
+    adm_twist_.write(KDL::Twist::Zero());
+    return;  // admPose keeps its last sample: the robot holds where it is
+  }
   if (stepped_) {
     const double moved = (reference_.p - previous_reference_.p).Norm();
     const double turned = (previous_reference_.M.Inverse() * reference_.M).GetRot().Norm();

@@ -100,6 +100,46 @@ TEST(ControlComponents, AReferenceJumpIsRebasedSoTheCommandedPoseStaysContinuous
   EXPECT_NEAR(settled.p.z(), jumped.p.z() + 6.0 / 4000.0, 1e-5);  // the new reference's equilibrium
 }
 
+// A silent force sensor: with wrench_timeout set, the admittance holds its pose instead of
+// pushing on with the last (stale) force, says so once, and resumes from the held state.
+TEST(ControlComponents, ABlindAdmittanceHoldsItsPoseUntilTheWrenchReturns) {
+  Deployed d("puncturing");
+  core::Component& a = d.configurator.getReferences().get("Admittance");
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::connectPorts(a.port("events"), events, core::ConnPolicy::buffer(16));
+  a.setProperty("wrench_timeout", 0.005);  // s: read each step
+  d.deployer.run("applyConfiguration('free_motion')", "task.lua");
+  const KDL::Wrench push(KDL::Vector(0, 0, 6.0), KDL::Vector::Zero());
+  d.run(20ms, push);  // moving: far from its 6 mm equilibrium
+  KDL::Frame moving_ref = KDL::Frame::Identity();
+  KDL::Frame held;
+  for (int i = 0; i < 300; ++i) {  // 0.3 s without a wrench sample; the reference moves on
+    moving_ref.p.x(moving_ref.p.x() + 1e-5);
+    d.reference.write(moving_ref);
+    d.configurator.clock().advance(1ms);
+    KDL::Frame p;
+    (void)d.pose.read(p);
+    if (i == 10) held = p;
+    if (i > 10) {
+      EXPECT_EQ(p, held) << i;  // not a micrometre: held, not driven by a stale force
+    }
+  }
+  core::Event e;
+  ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name.str(), "e_wrench_lost");
+  EXPECT_NE(events.read(e), core::FlowStatus::NewData) << e.name.str();  // once
+  const KDL::Frame resumed = d.run(1ms, push, moving_ref);
+  EXPECT_LT((resumed.p - held.p).Norm(), 1e-4);  // continuous from the held state
+  ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name.str(), "e_wrench_restored");
+  EXPECT_NE(events.read(e), core::FlowStatus::NewData) << e.name.str();  // the moved reference is no jump
+  a.setProperty("wrench_timeout", -1.0);
+  EXPECT_TRUE(a.stop());
+  EXPECT_TRUE(a.cleanup());
+  EXPECT_EQ(a.configure().message,
+            "component 'Admittance': property wrench_timeout is -1.000000 s; expected >= 0 s (0: never hold)");
+}
+
 TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {
   Deployed d("suturing");
   EXPECT_EQ(d.configurator.deploymentSet().configurationNames(), (std::vector<std::string>{"contact", "free_motion"}));

@@ -12,12 +12,13 @@ namespace cobra::components {
 FTSensDriver::FTSensDriver(std::string name)
     : Component(std::move(name), core::Role::Bridge, "IIT FTSens force/torque sensor on CAN (thesis §6.2.2)") {
   for (core::PropertyBase* p :
-       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_})
+       std::initializer_list<core::PropertyBase*>{&bus_, &address_, &stream_period_, &timeout_, &tare_samples_})
     addProperty(*p);
   addPort(meas_wrench_);
-  addOperation("tare", std::function<void()>([this] { tare_requested_ = true; }),
-               "the next complete sample becomes the zero of measWrench; e_tared when taken");
-  addOperation("clearTare", std::function<void()>([this] { tare_ = KDL::Wrench::Zero(); }),
+  addOperation("tare", std::function<void()>([this] { tare_request_.ask(activity()); }),
+               "the mean of the next tare_samples complete samples becomes the zero of measWrench; e_tared when "
+               "taken");
+  addOperation("clearTare", std::function<void()>([this] { clear_tare_request_.ask(activity()); }),
                "measWrench = raw sample again");
   addOperation("statistics", std::function<std::string()>([this] { return statistics(); }),
                "counts of samples and of frame errors");
@@ -30,6 +31,8 @@ bool FTSensDriver::configureHook() {
     return refuse("property stream_period = " + std::to_string(stream_period_()) +
                   " s; expected whole milliseconds from 0.001 to 0.255 s (the sensor's period command is 1-255 ms)");
   if (!(timeout_() > 0.0)) return refuse("property timeout = " + std::to_string(timeout_()) + " s; expected > 0 s");
+  if (tare_samples_() < 1 || tare_samples_() > 10000)
+    return refuse("property tare_samples = " + std::to_string(tare_samples_()) + "; expected 1 to 10000 samples");
   fieldbus::FtSensCodecConfig codec;
   codec.address = address_();
   try {
@@ -44,7 +47,10 @@ bool FTSensDriver::configureHook() {
     return refuse("property bus = '" + bus_() + "': " + e.what());
   }
   tare_ = KDL::Wrench::Zero();
-  tare_requested_ = timed_out_ = false;
+  tare_count_ = -1;
+  tare_request_.clear();
+  clear_tare_request_.clear();
+  timed_out_ = false;
   seen_samples_ = timeouts_ = 0;
   return true;
 }
@@ -75,13 +81,21 @@ void FTSensDriver::updateHook() {
   fieldbus::CanFrame frame;
   // Bounded: at most one receive queue's worth per update.
   for (int i = 0; i < 256 && can_->receive(frame); ++i) (void)decoder_->push(frame);
+  if (clear_tare_request_.take()) tare_ = KDL::Wrench::Zero();
+  if (tare_request_.take()) {
+    tare_sum_ = KDL::Wrench::Zero();
+    tare_count_ = 0;
+  }
   if (decoder_->samples() != seen_samples_) {
     seen_samples_ = decoder_->samples();
     last_sample_ = now();
-    if (tare_requested_) {
-      tare_ = decoder_->wrench();
-      tare_requested_ = false;
-      emitEvent("e_tared");
+    if (tare_count_ >= 0) {
+      tare_sum_ += decoder_->wrench();
+      if (++tare_count_ == tare_samples_()) {
+        tare_ = tare_sum_ / static_cast<double>(tare_count_);
+        tare_count_ = -1;
+        emitEvent("e_tared");
+      }
     }
     meas_wrench_.write(decoder_->wrench() - tare_);
     if (timed_out_) {

@@ -67,7 +67,9 @@ TEST(FTSensDriver, PublishesTheSensorsWrenchAndTares) {
   b.truth.write(wrench(0.0, 0.0));
   b.clock.advance(5ms);
   b.driver.call("tare");
-  b.clock.advance(2ms);
+  b.clock.advance(98ms);  // tare_samples: 100 samples at 1 ms, not all in yet
+  EXPECT_TRUE(b.takeEvents().empty());
+  b.clock.advance(4ms);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_tared"}));
   b.truth.write(wrench(-20.0, 0.5));
   b.clock.advance(5ms);
@@ -77,9 +79,27 @@ TEST(FTSensDriver, PublishesTheSensorsWrenchAndTares) {
   b.driver.call("clearTare");
   b.clock.advance(2ms);
   EXPECT_NEAR(b.read().force.z(), -12.0, 1.0);
-  // 34 instants (0-33 ms): the sensor takes the stream command at 1 ms (sent at start, seen one
-  // step later), samples at 1-33 ms, and the driver has seen those of 1-32 ms.
-  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "samples 32, lost 0, garbled 0, unpaired 0, timeouts 0");
+  // 134 instants (0-133 ms): the sensor takes the stream command at 1 ms (sent at start, seen one
+  // step later), samples at 1-133 ms, and the driver has seen those of 1-132 ms.
+  EXPECT_CONTAINS(b.driver.call<std::string>("statistics"), "samples 132, lost 0, garbled 0, unpaired 0, timeouts 0");
+}
+
+// A tare averages tare_samples samples: the zero it leaves is finer than the sensor's noise and
+// 0.25 N resolution, which a one-sample tare would carry into every later measurement.
+TEST(FTSensDriver, AnAveragedTareLeavesAZeroFinerThanOneSample) {
+  Bench b(wrench(8.0, 0.3));
+  b.truth.write(wrench(0.0, 0.0));
+  b.clock.advance(5ms);
+  b.driver.call("tare");
+  b.clock.advance(110ms);
+  ASSERT_EQ(b.takeEvents(), (std::vector<std::string>{"e_tared"}));
+  double sum = 0.0;
+  constexpr int kSamples = 1000;
+  for (int i = 0; i < kSamples; ++i) {
+    b.clock.advance(1ms);
+    sum += b.read().force.z();
+  }
+  EXPECT_LT(std::abs(sum / kSamples), 0.25 / 4);  // N: a quarter of the resolution
 }
 
 TEST(FTSensDriver, CountsGarbledFramesAndReportsTimeoutAndRestore) {

@@ -4,6 +4,7 @@
 /// cobra::control::VariableAdmittance.
 
 #include <kdl/frames.hpp>
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -26,6 +27,11 @@ namespace cobra::components {
 /// elsewhere (at the measured pose, after a teleoperation, ...). The controller then rebases
 /// (control::VariableAdmittance::rebase): admPose stays continuous and converges to the new
 /// reference through the admittance's dynamics.
+/// Blind: with `wrench_timeout` > 0 (s), when measWrench has brought no new sample for longer than
+/// that (a silent force sensor), the admittance HOLDS: admPose stays where it was, admTwist is
+/// zero, the controller is not stepped (it would push on with a stale force), and e_wrench_lost is
+/// emitted once; the next sample resumes it from the held state (e_wrench_restored). 0 (default):
+/// the last sample is used however old it is.
 class VariableAdmittanceController : public core::Component {
  public:
   explicit VariableAdmittanceController(std::string name);
@@ -54,6 +60,8 @@ class VariableAdmittanceController : public core::Component {
   core::Property<double> max_reference_angular_speed_{"max_reference_angular_speed", 3.0, "rad/s",
                                                       "faster reference rotation between two steps is a jump, > 0"};
 
+  core::Property<double> wrench_timeout_{"wrench_timeout", 0.0, "s",
+                                         "hold when measWrench is silent for longer than this, >= 0 (0: never)"};
   core::InputPort<KDL::Frame> ref_pose_{"refPose", "reference pose (base frame)", "m"};
   core::InputPort<KDL::Twist> ref_twist_{"refTwist", "reference twist (base frame)", "m/s, rad/s"};
   core::InputPort<KDL::Wrench> meas_wrench_{"measWrench", "measured external wrench (base frame, at the tool point)", "N, N·m"};
@@ -75,6 +83,8 @@ class VariableAdmittanceController : public core::Component {
   KDL::Frame previous_reference_ = KDL::Frame::Identity();  // the reference of the last step
   bool stepped_ = false;                                     // previous_reference_ is set
   bool tank_empty_ = false;
+  std::chrono::nanoseconds last_wrench_{0};  // when measWrench last brought a sample
+  bool blind_ = false;                       // holding: measWrench silent for wrench_timeout
 };
 
 /// A 6×6 matrix from 6 numbers (its diagonal) or 36 (row-major); false for any other count.
