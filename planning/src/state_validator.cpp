@@ -187,10 +187,22 @@ bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
 
 StateValidator::Distances StateValidator::distancesAt(std::span<const double> q) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN};
-  Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance()};
+  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN, kNaN};
+  return placedDistances();
+}
+
+StateValidator::Distances StateValidator::distancesAt(const DualPose& q) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!placeRobots(q).valid()) return {kNaN, kNaN, kNaN};
+  return placedDistances();
+}
+
+StateValidator::Distances StateValidator::placedDistances() const {
+  Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance(),
+                      world_.primitiveContactDistance()};
   for (const GroupPair& pair : world_.scene().checks)
-    distances.clearance = std::min(distances.clearance, world_.distance(pair.first, pair.second).distance);
+    distances.clearance =
+        std::min(distances.clearance, world_.distance(pair.first, pair.second, 0.0, true).distance);
   return distances;
 }
 

@@ -1,9 +1,11 @@
 // Setups vary (issue 15): a phantom is never registered exactly where the scenario says. Each
 // test runs the two-needle procedure with the abdomen registered off its nominal pose by a seeded
-// random shift and turn: the procedure completes with the fidelity of issue 15, or ends in its
-// safe stop saying why; it never swings, never comes closer than the planner's threshold, never
-// runs to the time limit. One procedure per seed
-// (about 100 s simulated, 20-40 s here): CTest label `procedure_slow`.
+// random shift and turn: the procedure completes with the fidelity of issue 15 (placed, tracked,
+// no IK discontinuity, clearance above the planner's threshold the whole run long). Where a
+// registration brings a probe pose, and the UR5's forearm with it, under the needle robot's
+// usual needle change pose, the needle robot waits at another one that leaves the probe's
+// approach free (state_table.txt: MakeRoomForProbe, MoveToNeedleChange): seeds 3, 5, 7 and 8. One
+// procedure per seed (about 100 s simulated, 5-15 s here): CTest label `procedure_slow`.
 
 #include <gtest/gtest.h>
 
@@ -70,7 +72,7 @@ std::filesystem::path registered(const std::string& name, const Registration& r)
 
 class RegisteredOffNominal : public ::testing::TestWithParam<unsigned> {};
 
-TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSaysWhy) {
+TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfully) {
   const Registration r = draw(GetParam());
   RecordProperty("registration", "dx " + std::to_string(r.dx) + " m, dy " + std::to_string(r.dy) + " m, dyaw " +
                                      std::to_string(r.dyaw) + " rad");
@@ -78,23 +80,24 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfullyOrStopsSafelyAndSays
   const RunResult result = runApp(o);
   SCOPED_TRACE("seed " + std::to_string(r.seed) + ": abdomen moved by (" + std::to_string(r.dx) + ", " +
                std::to_string(r.dy) + ") m, turned by " + std::to_string(r.dyaw) + " rad");
-  SCOPED_TRACE(std::string(toString(result.outcome)) + " at " + std::to_string(result.duration) + " s: " + result.reason);
-  ASSERT_TRUE(result.completed() || result.outcome == Outcome::SafeStop) << "ended otherwise (" << result.duration << " s)";
+  ASSERT_TRUE(result.completed()) << toString(result.outcome) << " at " << result.duration << " s: " << result.reason;
   EXPECT_LT(result.duration, o.time_limit);
-  if (result.completed()) {
-    expectPlaced(result, 2);
-    expectFaithful(result);
-  } else {
-    EXPECT_FALSE(result.reason.empty());
-    RecordProperty("safe_stop", result.reason);
-    // Stopped before anything went wrong: no swing, no contact on the way to the safe stop.
-    expectTracked(result);
-    expectClear(result);
-  }
+  expectPlaced(result, 2);
+  expectFaithful(result);
+  // The figures of the run, for the log.
+  const SummaryValue& placed = result.value("placement error per needle");
+  std::printf("seed %u (dx %+.4f m, dy %+.4f m, dyaw %+.3f rad): completed in %.1f s; placement %s mm; tracking "
+              "%.2f mm / %.2f deg (needle), %.2f mm / %.2f deg (probe); clearance %.2f mm; contacts %s %.2f mm, %s "
+              "%.2f mm\n",
+              r.seed, r.dx, r.dy, r.dyaw, result.duration, placed.text.c_str(), result.tracking[kNeedle].position_mm.value,
+              result.tracking[kNeedle].orientation_deg.value, result.tracking[kProbe].position_mm.value,
+              result.tracking[kProbe].orientation_deg.value, 1000.0 * result.clearance.worst,
+              result.clearance.contacts[0].first.c_str(), 1000.0 * result.clearance.contacts[0].second,
+              result.clearance.contacts[1].first.c_str(), 1000.0 * result.clearance.contacts[1].second);
 }
 
-// Five seeds: shifts up to 3 cm along x and y, turns up to 0.5 rad about the vertical.
-INSTANTIATE_TEST_SUITE_P(FiveSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u));
+// Eight seeds: shifts up to 3 cm along x and y, turns up to 0.5 rad about the vertical.
+INSTANTIATE_TEST_SUITE_P(EightSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u));
 
 }  // namespace
 }  // namespace cobra::run

@@ -165,6 +165,13 @@ class MotionPlanner {
   /// generator's speeds. Solved, or InvalidGoal with a message naming `to` and why (so that a
   /// goal whose next motion cannot be made fails at plan time, before anything moves).
   PlanResult checkFollowOn(const JointState& joints, const DualPose& from, const DualPose& to);
+  /// A straight motion that does not start on the planned path: e.g. where the other robot goes
+  /// next while this one waits at its goal (the probe's next approach and descent beside the
+  /// needle's waiting pose). `from` is turned into joints by the goal IK nearest `near` (the
+  /// start's branch and redundancy rule, as planPath's goal), that state must be valid, then the
+  /// motion is walked to `to` as checkFollowOn does. Solved, or InvalidGoal (InvalidInput) with a
+  /// message naming `from`, `to` and why.
+  PlanResult checkMotion(const JointState& near, const DualPose& from, const DualPose& to);
 
   const PlannerOptions& options() const { return options_; }
   /// Seed of the next planPath() (> 0; an invalid seed throws std::invalid_argument).
@@ -192,6 +199,8 @@ class MotionPlanner {
   bool insideBounds(const DualPose& tools) const;
   /// "needle", "probe and needle": the tools robot `robot` holds, for messages.
   std::string toolsOf(std::size_t robot) const;
+  /// max_velocity_: every joint's velocity limit [m/s, rad/s] from the robot models.
+  void setVelocityLimits();
   /// The shortest time the trajectory generator can take from `a` to `b` [s].
   double segmentDuration(const DualPose& a, const DualPose& b) const;
   /// Follows the Cartesian segment a → b with the continuity-keeping IK from joints `q` (updated

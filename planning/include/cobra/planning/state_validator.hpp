@@ -109,14 +109,20 @@ class StateValidator {
   Reachability inverseGoal(const DualPose& tools, std::span<const double> start, std::span<double> q,
                            std::size_t& failed_robot);
   /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
-  /// (allowed contacts left out; what the planner keeps above min_collision_distance), and
-  /// `allowed_contact` = the minimum over the declared allowed contacts (+infinity: none declared).
-  /// Both NaN when q has no forward kinematics.
+  /// with the declared contacts left out (allowed and primitive: what the planner keeps above
+  /// min_collision_distance along its paths, measured through the primitives too),
+  /// `allowed_contact` = the minimum over the allowed contacts (the probe on the skin) and
+  /// `primitive_contact` over the primitive contacts (the needle in the tissue); +infinity when the
+  /// scene declares none. All NaN when q has no forward kinematics.
   struct Distances {
     double clearance = 0.0;
     double allowed_contact = 0.0;
+    double primitive_contact = 0.0;
   };
   Distances distancesAt(std::span<const double> q);
+  /// The same for tool poses q (each robot's IK from its configured seed); all NaN when q is
+  /// unreachable or invalid.
+  Distances distancesAt(const DualPose& q);
 
   const SceneDescription& scene() const { return world_.scene(); }
   const CollisionWorld& world() const { return world_; }
@@ -126,6 +132,8 @@ class StateValidator {
   ValidityResult placeRobots(const DualPose& q);
   /// FK of every robot from joints q, moves its objects; Valid or Unreachable.
   ValidityResult placeRobotsAt(std::span<const double> q);
+  /// distancesAt() of the placed robots.
+  Distances placedDistances() const;
   /// The distance queries of check() on the placed robots.
   ValidityResult checkDistances(ValidityResult result, bool exact_distances);
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
