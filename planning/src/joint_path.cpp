@@ -119,7 +119,7 @@ bool MotionPlanner::insideBounds(const DualPose& tools) const {
   return options_.first_bounds.contains(tools.first.p) && options_.second_bounds.contains(tools.second.p);
 }
 
-ValidityResult MotionPlanner::checkState(const JointState& q) {
+ValidityResult MotionPlanner::checkState(const JointState& q, bool primitive_contacts_apart) {
   checks_.fetch_add(1, std::memory_order_relaxed);
   ValidityResult result;
   if (!validator_.toolPoses(q, tools_scratch_)) {
@@ -131,7 +131,7 @@ ValidityResult MotionPlanner::checkState(const JointState& q) {
     result.robot = "(outside the planner's tool bounds)";
     return result;
   }
-  return validator_.checkJoints(q);
+  return validator_.checkJoints(q, false, primitive_contacts_apart);
 }
 
 std::string MotionPlanner::toolsOf(std::size_t robot) const {
@@ -393,7 +393,7 @@ PlanResult MotionPlanner::checkMotion(const JointState& near, const DualPose& fr
     result.message = what + " cannot start: " + result.message;
     return result;
   }
-  result.rejected = checkState(q);
+  result.rejected = checkState(q, true);
   if (!result.rejected.valid()) {
     result.status = PlanStatus::InvalidGoal;
     result.message = what + " cannot start: " + describe(result.rejected);
@@ -401,7 +401,7 @@ PlanResult MotionPlanner::checkMotion(const JointState& near, const DualPose& fr
   }
   setVelocityLimits();
   std::string failure;
-  if (!walk(from, to, q, failure)) {
+  if (!walk(from, to, q, failure, true)) {
     result.status = PlanStatus::InvalidGoal;
     result.message = what + " cannot be made: " + failure;
   }
@@ -419,7 +419,7 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
   JointState q = joints;
   std::string failure;
   if (max_velocity_.size() != q.size()) setVelocityLimits();  // the path needed no search
-  if (!walk(from, to, q, failure)) {
+  if (!walk(from, to, q, failure, true)) {
     result.status = PlanStatus::InvalidGoal;
     result.message = "the straight motion after the goal, to " + position(to.first) + " and " + position(to.second) +
                      ", cannot be made: " + failure;
@@ -427,7 +427,8 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
   return result;
 }
 
-bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure) {
+bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
+                         bool primitive_contacts_apart) {
   const std::size_t steps = options_.verify_points_per_segment;
   const double duration = segmentDuration(a, b);
   JointState next(q.size());
@@ -453,7 +454,7 @@ bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, st
       }
     }
     q.swap(next);
-    const ValidityResult validity = checkState(q);
+    const ValidityResult validity = checkState(q, primitive_contacts_apart);
     if (!validity.valid()) {
       failure = describe(validity) + " at " + std::to_string(s) + " of a segment";
       return false;

@@ -153,7 +153,8 @@ ValidityResult StateValidator::placeRobotsAt(std::span<const double> q) {
   return result;
 }
 
-ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact_distances) {
+ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact_distances,
+                                           bool primitive_contacts_apart) {
   if (!joint_space_ || q.size() != jointCount()) {
     ValidityResult result;
     result.validity = Validity::InvalidInput;
@@ -166,7 +167,7 @@ ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact
       return result;
     }
   }
-  return checkDistances(placeRobotsAt(q), exact_distances);
+  return checkDistances(placeRobotsAt(q), exact_distances, primitive_contacts_apart);
 }
 
 bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
@@ -210,12 +211,14 @@ ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {
   return checkDistances(placeRobots(q), exact_distances);
 }
 
-ValidityResult StateValidator::checkDistances(ValidityResult result, bool exact_distances) {
+ValidityResult StateValidator::checkDistances(ValidityResult result, bool exact_distances,
+                                              bool primitive_contacts_apart) {
   if (!result.valid()) return result;
   const SceneDescription& description = world_.scene();
   const double threshold = description.min_collision_distance;
   for (const GroupPair& pair : description.checks) {
-    const GroupDistance d = world_.distance(pair.first, pair.second, exact_distances ? 0.0 : threshold);
+    const GroupDistance d =
+        world_.distance(pair.first, pair.second, exact_distances ? 0.0 : threshold, primitive_contacts_apart);
     if (d.distance <= threshold) {
       result.validity = Validity::TooClose;
       result.first_group = description.groups[pair.first];

@@ -90,7 +90,10 @@ return function(c)
   connectPorts(connections)
 
   -- The three operative modes (§4.6). The admittance runs in all of them: its commanded pose stays
-  -- continuous across a switch.
+  -- continuous across a switch. So does the planner, which plans only in the first (its goal and
+  -- path connections are that deployment's) but measures the measured state's clearance and the
+  -- declared contacts in all of them (minDistance, allowedContactDistance,
+  -- primitiveContactDistance): the needle's insertion and a teleoperation included.
   local follow = {
     { output = n("TrajGen") .. ".desCartPose_" .. arm, input = n("Admittance") .. ".refPose" },
     { output = n("TrajGen") .. ".desCartTwist_" .. arm, input = n("Admittance") .. ".refTwist" },
@@ -111,12 +114,12 @@ return function(c)
   })
   defineDeployment(c.scope .. "_autonomous_primitives", {
     scope = c.scope,
-    components = { n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance") },
+    components = { n("Frames"), n("Planner"), n("TrajGen"), n("Wrench"), n("Admittance") },
     connections = with(follow, { { output = n("Frames") .. ".desiredPoses", input = n("TrajGen") .. ".plannedPath" } }),
   })
   defineDeployment(c.scope .. "_teleoperated", {
     scope = c.scope,
-    components = { n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
+    components = { n("Planner"), n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
     connections = {
       { output = n("Omni") .. ".measCartPose", input = n("Transparency") .. ".masterPose" },
       { output = n("Omni") .. ".measTwist", input = n("Transparency") .. ".masterTwist" },

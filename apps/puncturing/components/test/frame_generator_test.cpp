@@ -355,7 +355,9 @@ TEST(PuncturingFrameGenerator, AnsweringAskCurrentGoalAllocatesNothingOnceWarm) 
   ASSERT_TRUE(b.configure());
   b.needle_meas.write(kNeedleMeas);
   b.us_meas.write(kUsMeas);
-  const char* states[] = {"root.InsertingNeedles.MoveToSkin.Approach.AskingGoal", "root.MoveToSkin.Descend.AskingGoal",
+  // Rows of one goal without then_* or room_for_* (the motion primitives'): a row with checks
+  // builds its goalPoses (the planned motions', answered outside the control loop's hot path).
+  const char* states[] = {"root.InsertingNeedles.MoveToSkin.Descend.AskingGoal", "root.MoveToSkin.Descend.AskingGoal",
                           "root.InsertingNeedles.MoveToTumor.AskingGoal"};
   for (int warm = 0; warm < 4; ++warm) {  // sizes every slot of the connections
     for (const char* s : states) {

@@ -159,7 +159,9 @@ class MotionPlanner {
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
   PlanResult checkGoal(const JointState& start, const DualPose& goal);
   /// The straight motion that follows a planned path (a motion primitive: e.g. the probe
-  /// descending from its approach pose onto the skin), checked as a returned path's segments are:
+  /// descending from its approach pose onto the skin, the needle's insertion from above its entry
+  /// to its target; the scene's primitive contacts are allowed along it), checked as a returned
+  /// path's segments are:
   /// walked densely from `joints` (the path's last joint waypoint, at `from`) to `to` with the
   /// control path's IK, every state valid and every joint step within its velocity limit at the
   /// generator's speeds. Solved, or InvalidGoal with a message naming `to` and why (so that a
@@ -195,7 +197,9 @@ class MotionPlanner {
   /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
   PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
   /// Validity of a joint state for the search and the verification (counted; the tool bounds too).
-  ValidityResult checkState(const JointState& q);
+  /// `primitive_contacts_apart`: a state of a motion primitive (checkFollowOn, checkMotion), where
+  /// the scene's primitive contacts (the needle in the tissue) are allowed.
+  ValidityResult checkState(const JointState& q, bool primitive_contacts_apart = false);
   bool insideBounds(const DualPose& tools) const;
   /// "needle", "probe and needle": the tools robot `robot` holds, for messages.
   std::string toolsOf(std::size_t robot) const;
@@ -205,7 +209,8 @@ class MotionPlanner {
   double segmentDuration(const DualPose& a, const DualPose& b) const;
   /// Follows the Cartesian segment a → b with the continuity-keeping IK from joints `q` (updated
   /// to the end's): false with `failure` at the first unreachable, discontinuous or invalid step.
-  bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure);
+  bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
+            bool primitive_contacts_apart = false);
   /// Inserts the two waypoints of RobotModel::singularCrossing into segment k when a robot's
   /// planned joints cross a singular set there (not again for a segment that starts at one).
   bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,

@@ -96,7 +96,10 @@ class StateValidator {
   /// Algorithm 4.2 without inverse kinematics: forward kinematics of every link, then the distance
   /// queries of check(). Unreachable when a robot's joints have no forward kinematics (outside the
   /// limits). No exception; no allocation on primitive scenes (as check()).
-  ValidityResult checkJoints(std::span<const double> q, bool exact_distances = false);
+  /// `primitive_contacts_apart`: the scene's primitive contacts are allowed too (a state along a
+  /// motion primitive, where the needle may be in the tissue).
+  ValidityResult checkJoints(std::span<const double> q, bool exact_distances = false,
+                             bool primitive_contacts_apart = false);
   /// The tool poses of joint state q in the world frame (the frames q of check() names). False
   /// when a robot's joints have no forward kinematics.
   bool toolPoses(std::span<const double> q, DualPose& tools);
@@ -135,7 +138,7 @@ class StateValidator {
   /// distancesAt() of the placed robots.
   Distances placedDistances() const;
   /// The distance queries of check() on the placed robots.
-  ValidityResult checkDistances(ValidityResult result, bool exact_distances);
+  ValidityResult checkDistances(ValidityResult result, bool exact_distances, bool primitive_contacts_apart = false);
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
                        std::size_t& failed_robot, bool goal);
 
