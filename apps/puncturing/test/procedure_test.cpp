@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
@@ -45,7 +47,8 @@ RunOptions withFaults(const std::string& faults) {
 
 TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesAToH) {
   RunOptions o = options("two_needles");
-  o.report_folder = std::filesystem::temp_directory_path() / "cobra_puncturing_nominal";
+  o.report_folder =  // per process: other checkouts may run the same test at the same time
+      std::filesystem::temp_directory_path() / ("cobra_puncturing_nominal_" + std::to_string(::getpid()));
   std::filesystem::remove_all(o.report_folder);
   const RunResult r = runApp(o);
   ASSERT_TRUE(r.completed()) << r.reason;

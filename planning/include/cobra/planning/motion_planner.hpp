@@ -170,9 +170,9 @@ class MotionPlanner {
   /// A straight motion that does not start on the planned path: e.g. where the other robot goes
   /// next while this one waits at its goal (the probe's next approach and descent beside the
   /// needle's waiting pose). `from` is turned into joints by the goal IK nearest `near` (the
-  /// start's branch and redundancy rule, as planPath's goal), that state must be valid, then the
-  /// motion is walked to `to` as checkFollowOn does. Solved, or InvalidGoal (InvalidInput) with a
-  /// message naming `from`, `to` and why.
+  /// start's branch and redundancy rule, as planPath's goal), that state must be valid (the
+  /// scene's primitive contacts allowed), then the motion is walked to `to` as checkFollowOn does.
+  /// Solved, or InvalidGoal (InvalidInput) with a message naming `from`, `to` and why.
   PlanResult checkMotion(const JointState& near, const DualPose& from, const DualPose& to);
 
   const PlannerOptions& options() const { return options_; }
