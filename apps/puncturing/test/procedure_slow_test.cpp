@@ -1,6 +1,6 @@
 // Setups vary (issue 15): a phantom is never registered exactly where the scenario says. Each
 // test runs the two-needle procedure with the abdomen registered off its nominal pose by a seeded
-// random shift and turn (eight seeds, none left out): the procedure completes with the fidelity
+// random shift and turn (seeds 1-8, and 54, below): the procedure completes with the fidelity
 // of issue 15 (both needles placed within 2 mm, tracking within 2 mm and 1 deg, no IK
 // discontinuity, the measured clearance above the planner's threshold the whole run long, the
 // needle's insertion included). What makes the registrations feasible (apps/puncturing/README.md,
@@ -109,8 +109,13 @@ TEST_P(RegisteredOffNominal, TheProcedureCompletesFaithfully) {
   expectFaithful(result);
 }
 
-// Eight seeds: shifts up to 3 cm along x and y, turns up to 0.5 rad about the vertical.
-INSTANTIATE_TEST_SUITE_P(EightSeeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u));
+// Seeds 1-8: shifts up to 3 cm along x and y, turns up to 0.5 rad about the vertical. With the
+// probe plan 45 mm beyond the tips the usual needle change pose leaves room for the probe in all
+// of them; seed 54 is the one of seeds 1-100 where it does not (the probe's first approach would
+// bring the UR5's forearm within 5 mm of the waiting needle: the planner's room check, run over
+// the 100 registrations), so the needle robot makes room at needle_change_aside, then waits above
+// the first needle's entry (hold) while the probe moves to the second pose.
+INSTANTIATE_TEST_SUITE_P(Seeds, RegisteredOffNominal, ::testing::Values(1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 54u));
 
 }  // namespace
 }  // namespace cobra::run
