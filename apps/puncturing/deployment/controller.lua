@@ -37,10 +37,10 @@ return function(c)
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated
-  -- time does not advance while it plans): back to the needle change pose turns the needle half a
-  -- turn about its axis past the UR5's forearm and just above the skin, a narrow passage for which
-  -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~190,000 in three_needles
-  -- (about 4 s here).
+  -- time does not advance while it plans). The way back to a needle change pose past the UR5's
+  -- forearm is the hardest query: 1,209 and 2,276 validity checks in two_needles (replayed from
+  -- the run's query log; formerly up to ~185,000), and a registration can make it a narrow passage
+  -- (README.md, "Setups vary"); a goal alternative whose search fails costs the whole budget.
   planner.max_validity_checks = 600000
   planner.max_vel = c.max_vel   -- m/s and rad/s: the trajectory generator's, for the path's
   planner.max_ang_vel = c.max_ang_vel or 0.5  -- joint-velocity check
