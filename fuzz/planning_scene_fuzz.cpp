@@ -60,12 +60,14 @@ std::string print(const SceneDescription& scene) {
   }
   for (const auto& check : scene.checks) out += "check " + scene.groups[check.first] + " " + scene.groups[check.second] + "\n";
   for (const auto& [a, b] : scene.allowed_contacts) out += "allow " + a + " " + b + "\n";
+  for (const auto& [a, b] : scene.primitive_contacts) out += "primitive_contact " + a + " " + b + "\n";
   return out;
 }
 
 bool same(const SceneDescription& a, const SceneDescription& b) {
   if (a.min_collision_distance != b.min_collision_distance || a.groups != b.groups ||
-      a.allowed_contacts != b.allowed_contacts || a.robots.size() != b.robots.size() ||
+      a.allowed_contacts != b.allowed_contacts || a.primitive_contacts != b.primitive_contacts ||
+      a.robots.size() != b.robots.size() ||
       a.objects.size() != b.objects.size() || a.checks.size() != b.checks.size())
     return false;
   for (std::size_t i = 0; i < a.robots.size(); ++i) {

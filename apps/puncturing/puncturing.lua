@@ -48,7 +48,8 @@ run = {
   safe_stop_reason = "the same failure again after the reaction to the first",
   record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",
                                       "Patient.needleDepth", "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy",
-                                      "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance" } },
+                                      "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance",
+                                      "NeedlePlanner.primitiveContactDistance" } },
   plots = {
     { title = "Needle-tip force against depth", unit = "N", x = "Patient.needleDepth", x_unit = "m",
       series = { "Patient.needleAxialForce" } },
@@ -76,15 +77,12 @@ run = {
       joints = "UR5.measJointPosition", max_velocity = "UR5.max_velocity", chart = "us",
       counts_while = { scope = "probe", deployments = { "probe_autonomous_planning", "probe_autonomous_primitives" } } },
   },
-  -- The measured state's clearance as the needle planner measures it (allowed contacts left out),
-  -- against its threshold. The planner's scene checks the needle against the phantom, so the
-  -- samples from the descent to the skin until the extraction has ended do not count.
+  -- The measured state's clearance as the needle planner measures it, the whole run long, against
+  -- its threshold; the contacts the task makes on purpose are left out of it and reported apart
+  -- (planning/scenes/puncturing.scene: `allow`, `primitive_contact`).
   clearance = {
     port = "NeedlePlanner.minDistance", threshold = "NeedlePlanner.clearanceThreshold",
-    contacts = { { name = "probe on skin", port = "NeedlePlanner.allowedContactDistance" } },
-    pauses = { { name = "needle in tissue", chart = "needle",
-                 from = { "MoveToSkin.Descend", "PenetratingSkin", "MoveToTumor", "WaitCryoCycle", "ExtractingNeedle" },
-                 to = { "MoveToNeedleChange", "WaitNeedleRemoved", "WaitNeedleMounted", "MoveToSkin.Approach",
-                        "WaitUSPositioning", "WaitIceballConfig", "Done" } } },
+    contacts = { { name = "probe on skin", port = "NeedlePlanner.allowedContactDistance" },
+                 { name = "needle in tissue", port = "NeedlePlanner.primitiveContactDistance" } },
   },
 }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 namespace cobra::planning {
 
@@ -69,15 +70,23 @@ struct DistanceSearch {
   double stop_below = 0.0;
   const fcl::CollisionObjectd* first = nullptr;
   const fcl::CollisionObjectd* second = nullptr;
-  /// The scene's allowed contacts, as pairs of objects' user data (ObjectDescription*).
+  /// The scene's allowed contacts, as pairs of objects' user data (ObjectDescription*); and its
+  /// primitive contacts when they are measured apart (nullptr otherwise).
   const std::vector<std::pair<const void*, const void*>>* allowed = nullptr;
+  const std::vector<std::pair<const void*, const void*>>* primitive = nullptr;
 };
 
-bool allowedContact(const DistanceSearch& search, const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
-  for (const auto& [x, y] : *search.allowed)
+bool listed(const std::vector<std::pair<const void*, const void*>>* pairs, const fcl::CollisionObjectd* a,
+            const fcl::CollisionObjectd* b) {
+  if (pairs == nullptr) return false;
+  for (const auto& [x, y] : *pairs)
     if ((a->getUserData() == x && b->getUserData() == y) || (a->getUserData() == y && b->getUserData() == x))
       return true;
   return false;
+}
+
+bool allowedContact(const DistanceSearch& search, const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  return listed(search.allowed, a, b) || listed(search.primitive, a, b);
 }
 
 bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data, double& distance) {
@@ -115,6 +124,10 @@ struct CollisionWorld::Impl {
   std::vector<std::vector<std::size_t>> robot_groups;            // per robot: groups it moves
   std::vector<std::size_t> links_used;                           // per robot
   std::vector<std::pair<const void*, const void*>> allowed;      // allowed contacts (user data)
+  std::vector<std::pair<std::size_t, std::size_t>> allowed_objects, primitive_objects;  // the same, scene indices
+  std::vector<std::pair<const void*, const void*>> primitive;    // primitive contacts (user data)
+  /// Minimum distance over `pairs` of objects (scene indices) [m] (+infinity for none).
+  double contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
 };
 
 CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)), impl_(std::make_unique<Impl>()) {
@@ -145,8 +158,14 @@ CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)
     impl.objects.push_back(std::move(object));
   }
   for (auto& manager : impl.managers) manager->setup();
-  for (const auto& [a, b] : scene_.allowed_contacts)
-    impl.allowed.emplace_back(&scene_.objects[scene_.objectIndex(a)], &scene_.objects[scene_.objectIndex(b)]);
+  for (const auto& [contacts, indices, user] :
+       {std::tuple{&scene_.allowed_contacts, &impl.allowed_objects, &impl.allowed},
+        std::tuple{&scene_.primitive_contacts, &impl.primitive_objects, &impl.primitive}}) {
+    for (const auto& [a, b] : *contacts) {
+      indices->emplace_back(scene_.objectIndex(a), scene_.objectIndex(b));
+      user->emplace_back(&scene_.objects[indices->back().first], &scene_.objects[indices->back().second]);
+    }
+  }
 }
 
 CollisionWorld::~CollisionWorld() = default;
@@ -163,7 +182,8 @@ void CollisionWorld::setRobotLinks(std::size_t robot, std::span<const KDL::Frame
   for (const std::size_t group : impl.robot_groups[robot]) impl.managers[group]->update();
 }
 
-GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, double stop_below) const {
+GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, double stop_below,
+                                       bool primitive_contacts_apart) const {
   DistanceSearch search;
   // FCL's own GJK instead of libccd's (FCL's default): the same distances, and no heap allocation
   // between primitives (libccd allocates its simplex per query), so a check on a primitive-only
@@ -171,6 +191,7 @@ GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, do
   search.request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
   search.stop_below = stop_below;
   search.allowed = &impl_->allowed;
+  if (primitive_contacts_apart) search.primitive = &impl_->primitive;
   impl_->managers.at(first)->distance(impl_->managers.at(second).get(), &search, distanceCallback);
   GroupDistance result;
   result.distance = search.minimum;
@@ -185,18 +206,21 @@ GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, do
   return result;
 }
 
-double CollisionWorld::allowedContactDistance() const {
+double CollisionWorld::Impl::contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
   double minimum = std::numeric_limits<double>::infinity();
   fcl::DistanceRequestd request;
   request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
-  for (const auto& [a, b] : scene_.allowed_contacts) {
+  for (const auto& [a, b] : pairs) {
     fcl::DistanceResultd result;
-    fcl::distance(impl_->objects[scene_.objectIndex(a)].get(), impl_->objects[scene_.objectIndex(b)].get(), request,
-                  result);
+    fcl::distance(objects[a].get(), objects[b].get(), request, result);
     minimum = std::min(minimum, std::max(0.0, result.min_distance));
   }
   return minimum;
 }
+
+double CollisionWorld::allowedContactDistance() const { return impl_->contactDistance(impl_->allowed_objects); }
+
+double CollisionWorld::primitiveContactDistance() const { return impl_->contactDistance(impl_->primitive_objects); }
 
 KDL::Frame CollisionWorld::objectPose(std::size_t object) const {
   return toKdl(impl_->objects.at(object)->getTransform());

@@ -119,7 +119,7 @@ bool MotionPlanner::insideBounds(const DualPose& tools) const {
   return options_.first_bounds.contains(tools.first.p) && options_.second_bounds.contains(tools.second.p);
 }
 
-ValidityResult MotionPlanner::checkState(const JointState& q) {
+ValidityResult MotionPlanner::checkState(const JointState& q, bool primitive_contacts_apart) {
   checks_.fetch_add(1, std::memory_order_relaxed);
   ValidityResult result;
   if (!validator_.toolPoses(q, tools_scratch_)) {
@@ -131,7 +131,7 @@ ValidityResult MotionPlanner::checkState(const JointState& q) {
     result.robot = "(outside the planner's tool bounds)";
     return result;
   }
-  return validator_.checkJoints(q);
+  return validator_.checkJoints(q, false, primitive_contacts_apart);
 }
 
 std::string MotionPlanner::toolsOf(std::size_t robot) const {
@@ -265,12 +265,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
     result.joint_waypoints = {start, goal_joints};
     return detail::finished(std::move(result), PlanStatus::Solved, "solved: the tools are at the goal already", started);
   }
-  max_velocity_.assign(start.size(), 0.0);
-  for (std::size_t r = 0; r < moving.size(); ++r) {
-    RobotModel& model = validator_.model(r);
-    std::vector<double> lower(model.jointCount()), upper(model.jointCount());
-    model.jointLimits(lower, upper, std::span<double>(max_velocity_).subspan(validator_.jointOffset(r), model.jointCount()));
-  }
+  setVelocityLimits();
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
   std::uint32_t seed = options_.seed;
@@ -373,6 +368,46 @@ double MotionPlanner::segmentDuration(const DualPose& a, const DualPose& b) cons
   return duration;
 }
 
+void MotionPlanner::setVelocityLimits() {
+  max_velocity_.assign(validator_.jointCount(), 0.0);
+  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
+    RobotModel& model = validator_.model(r);
+    std::vector<double> lower(model.jointCount()), upper(model.jointCount());
+    model.jointLimits(lower, upper, std::span<double>(max_velocity_).subspan(validator_.jointOffset(r), model.jointCount()));
+  }
+}
+
+PlanResult MotionPlanner::checkMotion(const JointState& near, const DualPose& from, const DualPose& to) {
+  PlanResult result;
+  if (!validator_.hasJointSpace() || near.size() != validator_.jointCount() || !isFinitePose(from) ||
+      !isFinitePose(to)) {
+    result.status = PlanStatus::InvalidInput;
+    result.message = "a motion to verify: joints or poses are not a state of this scene";
+    return result;
+  }
+  const std::string what = "the straight motion from " + position(from.first) + " and " + position(from.second) +
+                           " to " + position(to.first) + " and " + position(to.second);
+  JointState q;
+  result = goalJoints(near, from, q);
+  if (!result.solved()) {
+    result.message = what + " cannot start: " + result.message;
+    return result;
+  }
+  result.rejected = checkState(q, true);
+  if (!result.rejected.valid()) {
+    result.status = PlanStatus::InvalidGoal;
+    result.message = what + " cannot start: " + describe(result.rejected);
+    return result;
+  }
+  setVelocityLimits();
+  std::string failure;
+  if (!walk(from, to, q, failure, true)) {
+    result.status = PlanStatus::InvalidGoal;
+    result.message = what + " cannot be made: " + failure;
+  }
+  return result;
+}
+
 PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose& from, const DualPose& to) {
   PlanResult result;
   result.status = PlanStatus::Solved;
@@ -383,7 +418,8 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
   }
   JointState q = joints;
   std::string failure;
-  if (!walk(from, to, q, failure)) {
+  if (max_velocity_.size() != q.size()) setVelocityLimits();  // the path needed no search
+  if (!walk(from, to, q, failure, true)) {
     result.status = PlanStatus::InvalidGoal;
     result.message = "the straight motion after the goal, to " + position(to.first) + " and " + position(to.second) +
                      ", cannot be made: " + failure;
@@ -391,7 +427,8 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
   return result;
 }
 
-bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure) {
+bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
+                         bool primitive_contacts_apart) {
   const std::size_t steps = options_.verify_points_per_segment;
   const double duration = segmentDuration(a, b);
   JointState next(q.size());
@@ -417,7 +454,7 @@ bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, st
       }
     }
     q.swap(next);
-    const ValidityResult validity = checkState(q);
+    const ValidityResult validity = checkState(q, primitive_contacts_apart);
     if (!validity.valid()) {
       failure = describe(validity) + " at " + std::to_string(s) + " of a segment";
       return false;

@@ -75,6 +75,10 @@ void SceneDescription::validate() const {
     if (objectIndex(a) == npos || objectIndex(b) == npos || a == b)
       throw std::invalid_argument("scene: allowed contact '" + a + "'-'" + b +
                                   "' must name two different declared objects");
+  for (const auto& [a, b] : primitive_contacts)
+    if (objectIndex(a) == npos || objectIndex(b) == npos || a == b)
+      throw std::invalid_argument("scene: primitive contact '" + a + "'-'" + b +
+                                  "' must name two different declared objects");
 }
 
 namespace {
@@ -232,18 +236,20 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     }
     if (pair.first == pair.second) line.fail("a check needs two different groups");
     scene.checks.push_back(pair);
-  } else if (statement == "allow") {
+  } else if (statement == "allow" || statement == "primitive_contact") {
+    const bool allow = statement == "allow";
     std::string pair[2];
     for (std::string& name : pair) {
       name = std::string(line.word("an object name"));
       if (scene.objectIndex(name) == SceneDescription::npos)
         line.fail("unknown object '" + name + "' (declare it with `object` first)");
     }
-    if (pair[0] == pair[1]) line.fail("an allowed contact needs two different objects");
-    scene.allowed_contacts.emplace_back(pair[0], pair[1]);
+    if (pair[0] == pair[1])
+      line.fail(std::string(allow ? "an allowed" : "a primitive") + " contact needs two different objects");
+    (allow ? scene.allowed_contacts : scene.primitive_contacts).emplace_back(pair[0], pair[1]);
   } else {
     line.fail("unknown statement '" + std::string(statement) +
-              "' (min_collision_distance, robot, group, object, check, allow)");
+              "' (min_collision_distance, robot, group, object, check, allow, primitive_contact)");
   }
   line.end();
 }

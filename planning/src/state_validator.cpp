@@ -153,7 +153,8 @@ ValidityResult StateValidator::placeRobotsAt(std::span<const double> q) {
   return result;
 }
 
-ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact_distances) {
+ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact_distances,
+                                           bool primitive_contacts_apart) {
   if (!joint_space_ || q.size() != jointCount()) {
     ValidityResult result;
     result.validity = Validity::InvalidInput;
@@ -166,7 +167,7 @@ ValidityResult StateValidator::checkJoints(std::span<const double> q, bool exact
       return result;
     }
   }
-  return checkDistances(placeRobotsAt(q), exact_distances);
+  return checkDistances(placeRobotsAt(q), exact_distances, primitive_contacts_apart);
 }
 
 bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
@@ -187,10 +188,22 @@ bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
 
 StateValidator::Distances StateValidator::distancesAt(std::span<const double> q) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN};
-  Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance()};
+  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN, kNaN};
+  return placedDistances();
+}
+
+StateValidator::Distances StateValidator::distancesAt(const DualPose& q) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!placeRobots(q).valid()) return {kNaN, kNaN, kNaN};
+  return placedDistances();
+}
+
+StateValidator::Distances StateValidator::placedDistances() const {
+  Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance(),
+                      world_.primitiveContactDistance()};
   for (const GroupPair& pair : world_.scene().checks)
-    distances.clearance = std::min(distances.clearance, world_.distance(pair.first, pair.second).distance);
+    distances.clearance =
+        std::min(distances.clearance, world_.distance(pair.first, pair.second, 0.0, true).distance);
   return distances;
 }
 
@@ -198,12 +211,14 @@ ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {
   return checkDistances(placeRobots(q), exact_distances);
 }
 
-ValidityResult StateValidator::checkDistances(ValidityResult result, bool exact_distances) {
+ValidityResult StateValidator::checkDistances(ValidityResult result, bool exact_distances,
+                                              bool primitive_contacts_apart) {
   if (!result.valid()) return result;
   const SceneDescription& description = world_.scene();
   const double threshold = description.min_collision_distance;
   for (const GroupPair& pair : description.checks) {
-    const GroupDistance d = world_.distance(pair.first, pair.second, exact_distances ? 0.0 : threshold);
+    const GroupDistance d =
+        world_.distance(pair.first, pair.second, exact_distances ? 0.0 : threshold, primitive_contacts_apart);
     if (d.distance <= threshold) {
       result.validity = Validity::TooClose;
       result.first_group = description.groups[pair.first];

@@ -249,6 +249,30 @@ TEST(JointSpace, AllowedContactsAreMeasuredApartFromTheClearance) {
   JointState up(kStart.size());
   ASSERT_EQ(validator.inverseNear(lifted, q, up, robot), Reachability::Reachable);
   EXPECT_NEAR(validator.distancesAt(up).allowed_contact, 0.03, 1e-6);
+  // The needle's own contact (a primitive contact of the scene) is measured apart as well.
+  EXPECT_NEAR(validator.distancesAt(up).primitive_contact, start.first.p.z() - 0.1, 2e-3);
+}
+
+TEST(JointSpace, APrimitiveContactIsMeasuredApartButPlannedStatesKeepTheirClearanceFromIt) {
+  StateValidator validator = puncturingValidator();
+  ASSERT_EQ(validator.scene().primitive_contacts.size(), 1u);  // puncturing.scene: needle/phantom
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  // The needle's tip 1 cm into the phantom's top (z = 0.1 m), as after the skin's puncture.
+  DualPose inserted = start;
+  inserted.first.p.z(0.09);
+  JointState q(kStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(validator.inverseNear(inserted, kStart, q, robot), Reachability::Reachable);
+  const StateValidator::Distances d = validator.distancesAt(q);
+  EXPECT_EQ(d.primitive_contact, 0.0);
+  EXPECT_GT(d.clearance, validator.scene().min_collision_distance);  // nothing else is near
+  EXPECT_EQ(d.clearance, validator.distancesAt(inserted).clearance);  // the same from the tool poses
+  // For the planner the needle in the phantom is still too close: plans never take it there.
+  const ValidityResult verdict = validator.checkJoints(q, true);
+  EXPECT_EQ(verdict.validity, Validity::TooClose);
+  EXPECT_EQ(verdict.first_object, "needle");
+  EXPECT_EQ(verdict.second_object, "phantom");
 }
 
 }  // namespace

@@ -295,12 +295,13 @@ std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& r
                     std::isinf(c.worst) ? std::string("-")
                                         : millimetres(c.worst) + " at" + seconds(c.worst_at) + " (" + c.worst_state +
                                               ")" + below});
-    std::string contacts;
+    // Each declared contact on its own row: a contact the task makes on purpose is not a clearance.
     for (const auto& [name, distance] : c.contacts)
-      contacts += (contacts.empty() ? "" : ", ") + name + " " + (std::isinf(distance) ? "-" : millimetres(distance));
-    for (const ClearancePause& pause : spec.clearance.pauses)
-      contacts += (contacts.empty() ? "" : ", ") + pause.name + " (not counted while allowed)";
-    rows.push_back({"allowed contacts, smallest distance (0: touching)", contacts.empty() ? "-" : contacts});
+      rows.push_back({"allowed contact '" + name + "', smallest distance (0: touching or inside)",
+                      std::isinf(distance) ? std::string("-") : millimetres(distance)});
+    std::string paused;
+    for (const ClearancePause& pause : spec.clearance.pauses) paused += (paused.empty() ? "" : ", ") + pause.name;
+    if (!paused.empty()) rows.push_back({"clearance not counted while", paused});
   }
   return rows;
 }

@@ -8,10 +8,13 @@
 -- It never touches pure data. The two robots are coordinated only through events (README.md):
 --   consumed from the ultrasound chart: e_us_positioned, e_us_needle_lost, e_us_needle_tracked
 --   emitted for it: e_needle_wait_us, e_needle_skin_reached, e_needle_extracted, e_needle_next
--- Per needle: WaitUSPositioning, then InsertingNeedles (to the needle change pose, the used
--- needle removed, a new one mounted, to the skin, through it, to the tumour), WaitCryoCycle,
--- ExtractingNeedle (a short pull tells whether the ice still holds the needle), back to the
--- needle change pose (§4.9 phases G-H).
+-- First, before the probe moves, MakeRoomForProbe: to the needle change pose that leaves the
+-- probe's first approach free (the state table lists the alternatives, the planner takes the
+-- first that does; the surgeon mounts the needle there). Per needle: WaitUSPositioning, then
+-- InsertingNeedles (to the needle change pose, the used needle removed, a new one mounted, to
+-- the skin, through it, to the tumour), WaitCryoCycle, ExtractingNeedle (a short pull tells
+-- whether the ice still holds the needle), back to the needle change pose (§4.9 phases G-H),
+-- again one that leaves the probe's next approach free.
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §4.6-4.7) its deployment and configuration supervisors know.
@@ -41,6 +44,7 @@ local insertion_faults = { 'e_force_over_threshold', table.unpack(faults) }
 
 local chart = {
   WaitIceballConfig = waiting("root.WaitIceballConfig", D.planning, C.free),
+  MakeRoomForProbe = motion("root.MakeRoomForProbe", D.planning, C.free, { planned = true }),
   WaitUSPositioning = waiting("root.WaitUSPositioning", D.planning, C.free, function() emit("e_needle_wait_us") end),
   InsertingNeedles = rfsm.state {
     MoveToNeedleChange = motion("root.InsertingNeedles.MoveToNeedleChange", D.planning, C.free, { planned = true }),
@@ -110,7 +114,10 @@ local chart = {
   Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
-  rfsm.trans { src = 'WaitIceballConfig', tgt = 'WaitUSPositioning', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'WaitIceballConfig', tgt = 'MakeRoomForProbe', events = { 'e_iceball_configured' } },
+  -- At a needle change pose: the probe may move (WaitUSPositioning says so), the needle is mounted there.
+  rfsm.trans { src = 'MakeRoomForProbe', tgt = 'WaitUSPositioning', events = { 'e_motion_done' },
+               effect = function() at_change = true end },
   rfsm.trans { src = 'WaitUSPositioning', tgt = 'InsertingNeedles.WaitNeedleMounted', events = { 'e_us_positioned' },
                guard = function() return at_change end },
   rfsm.trans { src = 'WaitUSPositioning', tgt = 'InsertingNeedles', events = { 'e_us_positioned' },
@@ -119,12 +126,12 @@ local chart = {
   rfsm.trans { src = 'WaitCryoCycle', tgt = 'ExtractingNeedle', events = { 'e_cryo_done' } },
   rfsm.trans { src = 'WaitReaction', tgt = 'NeedleTeleoperation', events = { 'e_take_over' } },
 }
-for _, reaction in ipairs({ { 'InsertingNeedles', insertion_faults }, { 'ExtractingNeedle', faults },
-                            { 'WaitUSPositioning', faults } }) do
+for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles', insertion_faults },
+                            { 'ExtractingNeedle', faults }, { 'WaitUSPositioning', faults } }) do
   for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
 end
 -- The ultrasound chart stopped safely: so does this one, from wherever it is.
-for _, state in ipairs({ 'WaitIceballConfig', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+for _, state in ipairs({ 'WaitIceballConfig', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop' }, pn = 20 }
 end
@@ -132,7 +139,7 @@ end
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that
 -- was interrupted; a motion starts again from where the needle is.
 local resumable = {
-  "root.WaitUSPositioning", "root.InsertingNeedles.MoveToNeedleChange", "root.InsertingNeedles.WaitNeedleRemoved",
+  "root.MakeRoomForProbe", "root.WaitUSPositioning", "root.InsertingNeedles.MoveToNeedleChange", "root.InsertingNeedles.WaitNeedleRemoved",
   "root.InsertingNeedles.WaitNeedleMounted", "root.InsertingNeedles.MoveToSkin.Approach",
   "root.InsertingNeedles.MoveToSkin.Descend", "root.InsertingNeedles.PenetratingSkin",
   "root.InsertingNeedles.MoveToTumor", "root.ExtractingNeedle.VerifyingNeedleTrapped",

@@ -4,8 +4,8 @@
 -- operations; it advances on their events, on the UltrasoundMonitor's (e_probe_contact,
 -- e_probe_contact_lost, e_needle_visible, e_needle_lost), the surgeon's and the needle chart's.
 -- The two robots are coordinated only through events (README.md):
---   consumed from the needle chart: e_needle_wait_us, e_needle_skin_reached, e_needle_extracted,
---                                   e_needle_next
+--   consumed from the needle chart: e_needle_wait_us (the probe may move), e_needle_skin_reached,
+--                                   e_needle_extracted, e_needle_next
 --   emitted for it: e_us_positioned, e_us_needle_tracked, e_us_needle_lost
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
@@ -60,7 +60,9 @@ local chart = {
   Done = rfsm.state { entry = function() emit("e_us_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'Idle' },
-  rfsm.trans { src = 'Idle', tgt = 'MoveToSkin', events = { 'e_iceball_configured' } },
+  -- The needle robot waits where it leaves room for the probe (its MakeRoomForProbe, then
+  -- WaitUSPositioning): the probe moves only then.
+  rfsm.trans { src = 'Idle', tgt = 'MoveToSkin', events = { 'e_needle_wait_us' } },
   rfsm.trans { src = 'MoveToSkin', tgt = 'WaitNeedleSkinReached', events = { 'e_probe_contact' },
                effect = function() stop() emit("e_us_positioned") end },
   -- Phase H: on to the next needle's probe pose, once the Frame Generator has one; none after the

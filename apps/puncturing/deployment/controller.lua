@@ -37,10 +37,10 @@ return function(c)
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated
-  -- time does not advance while it plans): back to the needle change pose turns the needle half a
-  -- turn about its axis past the UR5's forearm and just above the skin, a narrow passage for which
-  -- RRT-Connect needs up to ~185,000 validity checks in two_needles and ~190,000 in three_needles
-  -- (about 4 s here).
+  -- time does not advance while it plans). The way back to a needle change pose past the UR5's
+  -- forearm is the hardest query: 1,209 and 2,276 validity checks in two_needles (replayed from
+  -- the run's query log; formerly up to ~185,000), and a registration can make it a narrow passage
+  -- (README.md, "Setups vary"); a goal alternative whose search fails costs the whole budget.
   planner.max_validity_checks = 600000
   planner.max_vel = c.max_vel   -- m/s and rad/s: the trajectory generator's, for the path's
   planner.max_ang_vel = c.max_ang_vel or 0.5  -- joint-velocity check
@@ -90,7 +90,10 @@ return function(c)
   connectPorts(connections)
 
   -- The three operative modes (§4.6). The admittance runs in all of them: its commanded pose stays
-  -- continuous across a switch.
+  -- continuous across a switch. So does the planner, which plans only in the first (its goal and
+  -- path connections are that deployment's) but measures the measured state's clearance and the
+  -- declared contacts in all of them (minDistance, allowedContactDistance,
+  -- primitiveContactDistance): the needle's insertion and a teleoperation included.
   local follow = {
     { output = n("TrajGen") .. ".desCartPose_" .. arm, input = n("Admittance") .. ".refPose" },
     { output = n("TrajGen") .. ".desCartTwist_" .. arm, input = n("Admittance") .. ".refTwist" },
@@ -111,12 +114,12 @@ return function(c)
   })
   defineDeployment(c.scope .. "_autonomous_primitives", {
     scope = c.scope,
-    components = { n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance") },
+    components = { n("Frames"), n("Planner"), n("TrajGen"), n("Wrench"), n("Admittance") },
     connections = with(follow, { { output = n("Frames") .. ".desiredPoses", input = n("TrajGen") .. ".plannedPath" } }),
   })
   defineDeployment(c.scope .. "_teleoperated", {
     scope = c.scope,
-    components = { n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
+    components = { n("Planner"), n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
     connections = {
       { output = n("Omni") .. ".measCartPose", input = n("Transparency") .. ".masterPose" },
       { output = n("Omni") .. ".measTwist", input = n("Transparency") .. ".masterTwist" },

@@ -63,11 +63,14 @@ inline void expectTracked(const RunResult& r) {
   }
 }
 
-/// The measured state's clearance (the needle planner's minDistance, allowed contacts left out)
-/// stayed above the planner's threshold, every sample measurable.
+/// The measured state's clearance (the needle planner's minDistance, the declared contacts left
+/// out: the probe on the skin, the needle in the tissue) stayed above the planner's threshold the
+/// whole run long, the needle's insertion included (no pause), every sample measurable.
 inline void expectClear(const RunResult& r) {
   const ClearanceFigures& c = r.clearance;
   EXPECT_GT(c.threshold, 0.0);
+  // One sample per 1 ms step from the first measured pose (within the first 10 ms) to the end.
+  EXPECT_GE(c.seconds_sampled, r.duration - 0.02) << "s of clearance samples in a run of " << r.duration << " s";
   EXPECT_GT(c.worst, c.threshold) << "clearance " << 1000.0 * c.worst << " mm (threshold " << 1000.0 * c.threshold
                                   << " mm) at " << c.worst_at << " s, " << c.worst_state << "; " << c.seconds_below
                                   << " s at or under the threshold";
@@ -93,6 +96,9 @@ inline void expectFaithful(const RunResult& r) {
   EXPECT_TRUE(events.empty()) << "e_ik_discontinuity events:" << events;
   EXPECT_GT(r.clearance.seconds_sampled, 10.0);
   expectClear(r);
+  // The declared contacts were made (each reported apart, 0: touching or inside).
+  ASSERT_EQ(r.clearance.contacts.size(), 2u);
+  for (const auto& [name, distance] : r.clearance.contacts) EXPECT_EQ(distance, 0.0) << name;
 }
 
 /// Asserts that `lines` appear in the run's log in this order (other lines may come between).

@@ -306,6 +306,9 @@ const Scenario kIkDiscontinuityAgain{"two_needles", 2, [](Procedure& p) {
                                        p.fault("root.InsertingNeedles.MoveToSkin.Approach", "e_ik_discontinuity", 2);
                                      }};
 const Scenario kPlanFailureAgain{"two_needles", 2, [](Procedure& p) { p.failPlan(p.us(), 2); }};
+// No needle change pose leaves room for the probe (the planner refuses every alternative): the
+// needle robot's first motion fails, and again after the reaction; the probe never moves.
+const Scenario kNoRoomForProbe{"two_needles", 2, [](Procedure& p) { p.failPlan(p.needle(), 2); }};
 const Scenario kMissedGoals{"three_needles", 3, [](Procedure& p) {
                               p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // no puncture
                               p.fault("root.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
@@ -346,12 +349,16 @@ TEST(PuncturingCharts, ANominalTwoNeedleProcedureGoesThroughThePhasesAToHOfSecti
   expectInOrder(p, {
       // A: both robots at their initial poses, waiting for the plan.
       "needle > root.WaitIceballConfig", "us > root.Idle",
-      // B: the plan is loaded: the UR5 moves toward the phantom, a planned free motion.
-      "us <- e_iceball_configured", "us > root.MoveToSkin.Approach.Switching", "us: ProbeFrames:askCurrentGoal",
+      // The plan is loaded: the I-SUR robot first goes to a needle change pose that leaves room
+      // for the probe's approach (a planned motion), then lets the probe move.
+      "needle <- e_iceball_configured", "needle > root.MakeRoomForProbe.Switching", "needle: NeedlePlanner:askPlan",
+      "needle: emit:e_needle_wait_us", "needle > root.WaitUSPositioning",
+      // B: the UR5 moves toward the phantom, a planned free motion.
+      "us <- e_needle_wait_us", "us > root.MoveToSkin.Approach.Switching", "us: ProbeFrames:askCurrentGoal",
       "us: ProbePlanner:askPlan", "us: ProbeTrajGen:askGenerateTraj", "us: ProbeTrajGen:askStartMove",
-      // C: the probe touches the skin; the I-SUR robot moves to the insertion point.
+      // C: the probe touches the skin; the I-SUR robot, at the needle change pose, gets its needle.
       "us <- e_probe_contact", "us: emit:e_us_positioned", "needle <- e_us_positioned",
-      "needle > root.InsertingNeedles.MoveToNeedleChange.Switching", "needle <- e_needle_mounted",
+      "needle > root.InsertingNeedles.WaitNeedleMounted", "needle <- e_needle_mounted",
       "needle: NeedleMonitor:reset", "needle > root.InsertingNeedles.MoveToSkin.Approach.Switching",
       "needle: NeedlePlanner:askPlan",
       // D: at the phantom, the insertion starts (a motion primitive).
@@ -468,6 +475,20 @@ TEST(PuncturingCharts, APlannerFailingTwiceForTheSameGoalEndsInTheSafeStop) {
   EXPECT_EQ(p.count("us > root.WaitReaction"), 1u);
 }
 
+TEST(PuncturingCharts, NoRoomForTheProbeEndsInTheSafeStopBeforeTheProbeMoves) {
+  const auto run_ = run(kNoRoomForProbe);
+  Procedure& p = *run_;
+  ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+  expectInOrder(p, {"needle > root.MakeRoomForProbe.Switching", "needle: NeedlePlanner:askPlan",
+                    "needle <- e_plan_failed", "needle > root.WaitReaction", "needle <- e_recover",
+                    "needle > root.MakeRoomForProbe.Switching", "needle: NeedlePlanner:askPlan",
+                    "needle <- e_plan_failed", "needle > root.SafeStop", "us <- e_needle_safe_stop",
+                    "us > root.SafeStop"});
+  EXPECT_EQ(p.count("us: ProbePlanner:askPlan"), 0u);  // the probe waited for room and never moved
+  EXPECT_EQ(p.count("needle: emit:e_needle_wait_us"), 0u);
+}
+
 TEST(PuncturingCharts, MissedGoalsContactLossAndTakeOverOfTheProbe) {
   const auto run_ = run(kMissedGoals);
   Procedure& p = *run_;
@@ -496,7 +517,8 @@ TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetri
 TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTests) {
   std::map<std::string, std::set<std::string>> entered;
   for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
-                                   &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain}) {
+                                   &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain,
+                                   &kNoRoomForProbe}) {
     const auto p = run(*scenario);
     for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
   }

@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Writes a probe plan (us_plan.txt) for a cryo plan: the probe face on the skin in the vertical
-plane that contains each needle, 35 mm beyond where the needle's tip lies (seen from above), its
-beam pointing at the needle's target. Usage: probe_plan.py cryo_plan.txt > us_plan.txt
+plane that contains each needle, 45 mm beyond where the needle's tip lies (seen from above), its
+beam pointing at the needle's target. 45 mm, not 35: nearer, the UR5 holding the probe comes
+within 5 mm of the I-SUR's micro arm at the needle's target in registrations turned by tens of
+degrees (apps/puncturing/README.md, "Setups vary"). Usage: probe_plan.py cryo_plan.txt > us_plan.txt
 (the offline US probe planner of thesis §4.2.2, in its simplest form)."""
 import math
 import sys
 
-BEYOND = 0.035  # m: probe face centre past the tip's horizontal offset from the entry
+BEYOND = 0.045  # m: probe face centre past the tip's horizontal offset from the entry
 
 
 def vec(text):

@@ -51,6 +51,7 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
   addPort(isur_joints_);
   addPort(ur5_joints_);
   addPort(allowed_distance_);
+  addPort(primitive_distance_);
   addPort(goal_);
   addPort(path_out_);
   addPort(min_distance_);
@@ -172,14 +173,7 @@ void MotionPlannerComponent::updateHook() {
   trajectory::MultiAxisPath goal;
   if (goal_.read(goal) == core::FlowStatus::NewData) {
     try {
-      const std::vector<std::vector<KDL::Frame>> frames = decodeCartesianPath(goal, 2);
-      if (frames.size() != 1 && frames.size() != 2)
-        throw std::invalid_argument("it holds " + std::to_string(frames.size()) +
-                                    " waypoints; give one (the two goal poses) or two (the goal and where the "
-                                    "straight motion after it goes)");
-      goal_pose_ = {frames[0][0], frames[0][1]};
-      has_follow_on_ = frames.size() == 2;
-      if (has_follow_on_) follow_on_ = {frames[1][0], frames[1][1]};
+      readGoal(goal);
       have_goal_ = true;
     } catch (const std::invalid_argument& error) {
       have_goal_ = false;
@@ -192,23 +186,20 @@ void MotionPlannerComponent::updateHook() {
   const std::int64_t now_ns = now().count();
   const bool clearance_due =
       last_clearance_ns_ < 0 || now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
-  const bool clearance_read = min_distance_.connected() || allowed_distance_.connected();
+  const bool clearance_read =
+      min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected();
   if (measured_changed && clearance_due && clearance_read) {
     last_clearance_ns_ = now_ns;
-    if (measuredJoints()) {
-      const planning::StateValidator::Distances d = validator_->distancesAt(joints_);
-      min_distance_.write(d.clearance);
-      allowed_distance_.write(d.allowed_contact);
-    } else {
-      const double clearance = validator_->minimumDistance(measured_);
-      min_distance_.write(clearance);
-      allowed_distance_.write(std::isnan(clearance) ? clearance : validator_->world().allowedContactDistance());
-    }
+    const planning::StateValidator::Distances d =
+        measuredJoints() ? validator_->distancesAt(joints_) : validator_->distancesAt(measured_);
+    min_distance_.write(d.clearance);
+    allowed_distance_.write(d.allowed_contact);
+    primitive_distance_.write(d.primitive_contact);
   }
   if (plan_request_.take()) plan();
 }
 
-void MotionPlannerComponent::logQuery(const planning::PlanResult& result) const {
+void MotionPlannerComponent::logQuery(const planning::DualPose& goal, const planning::PlanResult& result) const {
   if (query_log_().empty()) return;
   std::FILE* file = std::fopen(query_log_().c_str(), "a");
   if (file == nullptr) {
@@ -219,13 +210,63 @@ void MotionPlannerComponent::logQuery(const planning::PlanResult& result) const 
   std::fprintf(file, "start");
   for (const double q : joints_) std::fprintf(file, " %.17g", q);
   std::fprintf(file, " goal");
-  for (const KDL::Frame* f : {&goal_pose_.first, &goal_pose_.second}) {
+  for (const KDL::Frame* f : {&goal.first, &goal.second}) {
     double x = 0, y = 0, z = 0, w = 0;
     f->M.GetQuaternion(x, y, z, w);
     for (const double v : {f->p.x(), f->p.y(), f->p.z(), x, y, z, w}) std::fprintf(file, " %.17g", v);
   }
   std::fprintf(file, " # %s: %s\n", name().c_str(), planning::toString(result.status));
   std::fclose(file);
+}
+
+void MotionPlannerComponent::readGoal(const trajectory::MultiAxisPath& goal) {
+  const std::size_t pairs = goal.axisCount() / (2 * kValuesPerArm);
+  if (goal.empty() || goal.axisCount() % (2 * kValuesPerArm) != 0 || (pairs != 1 && pairs % 2 != 0))
+    throw std::invalid_argument(
+        "a waypoint holds " + std::to_string(goal.axisCount()) +
+        " values; give 14 per goal alternative (the two goal poses) or 28 + 28 per motion to make room for (the "
+        "goal, where the straight motion after it goes, then each later motion's start and end pair)");
+  const std::vector<std::vector<KDL::Frame>> frames = decodeCartesianPath(goal, 2 * pairs);
+  alternatives_.clear();
+  for (const std::vector<KDL::Frame>& f : frames) {
+    GoalAlternative a;
+    a.goal = {f[0], f[1]};
+    if (pairs > 1) {
+      a.follow_on = {f[2], f[3]};
+      a.has_follow_on = !KDL::Equal(f[0], f[2], 0.0) || !KDL::Equal(f[1], f[3], 0.0);
+    }
+    for (std::size_t p = 2; p + 1 < pairs; p += 2)
+      a.room.push_back({{f[2 * p], f[2 * p + 1]}, {f[2 * p + 2], f[2 * p + 3]}});
+    alternatives_.push_back(std::move(a));
+  }
+}
+
+planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternative& a, bool from_joints,
+                                                            bool checked_first) {
+  if (checked_first) {
+    // The cheap checks before the search: the goal state and the motions it must leave room for.
+    planning::PlanResult checked = planner_impl_->checkGoal(joints_, a.goal);
+    for (std::size_t k = 0; k < a.room.size() && checked.solved(); ++k)
+      checked = planner_impl_->checkMotion(joints_, a.room[k].first, a.room[k].second);
+    if (!checked.solved()) return checked;
+  }
+  planning::PlanResult result =
+      from_joints ? planner_impl_->planPath(joints_, a.goal) : planner_impl_->planPath(measured_, a.goal);
+  if (from_joints) logQuery(a.goal, result);
+  if (!result.solved()) {
+    // The same query with the same seed would fail the same way: the next request explores anew.
+    const std::uint32_t seed = planner_impl_->options().seed;
+    planner_impl_->setSeed(seed == UINT32_MAX ? 1 : seed + 1);
+    return result;
+  }
+  if (a.has_follow_on) {
+    // The motion primitive that follows this goal: a goal whose next motion cannot be made fails
+    // now, before anything moves.
+    const planning::PlanResult next =
+        planner_impl_->checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), a.follow_on);
+    if (!next.solved()) return next;
+  }
+  return result;
 }
 
 void MotionPlannerComponent::plan() {
@@ -239,31 +280,37 @@ void MotionPlannerComponent::plan() {
   if ((have_isur_joints_ || have_ur5_joints_) && !from_joints && !joints_.empty())
     return fail("ports isurMeasJoints/UR5MeasJoints: need both, with the I-SUR's 8 and the UR5's 6 joints (got " +
                 std::to_string(isur_q_.rows()) + " and " + std::to_string(ur5_q_.rows()) + ")");
-  const planning::PlanResult result =
-      from_joints ? planner_impl_->planPath(joints_, goal_pose_) : planner_impl_->planPath(measured_, goal_pose_);
-  if (from_joints) logQuery(result);
-  if (!result.solved()) {
-    // The same query with the same seed would fail the same way: the next request explores anew.
-    const std::uint32_t seed = planner_impl_->options().seed;
-    planner_impl_->setSeed(seed == UINT32_MAX ? 1 : seed + 1);
-    return fail(std::string(planning::toString(result.status)) + ": " + result.message + "; from " +
-                describe(measured_) + " to " + describe(goal_pose_));
+  const bool rooms = std::any_of(alternatives_.begin(), alternatives_.end(),
+                                 [](const GoalAlternative& a) { return !a.room.empty(); });
+  if (rooms && !from_joints)
+    return fail("the goal asks for room for a later motion, which is checked from the measured joints: connect "
+                "ports isurMeasJoints and UR5MeasJoints");
+  // The first alternative that passes its checks and to which a path is found (the preferred
+  // first: the state table's order). One alternative keeps the messages of a single goal.
+  std::string refused;
+  planning::PlanResult result;
+  std::size_t chosen = 0;
+  for (; chosen < alternatives_.size(); ++chosen) {
+    const GoalAlternative& a = alternatives_[chosen];
+    result = planAlternative(a, from_joints, from_joints && (alternatives_.size() > 1 || !a.room.empty()));
+    if (result.solved()) break;
+    const std::string why = std::string(planning::toString(result.status)) + ": " + result.message;
+    if (alternatives_.size() == 1) return fail(why + "; from " + describe(measured_) + " to " + describe(a.goal));
+    refused += std::string(refused.empty() ? "" : "; ") + "goal " + std::to_string(chosen + 1) + " of " +
+               std::to_string(alternatives_.size()) + " " + describe(a.goal) + ": " + why;
   }
-  if (has_follow_on_) {
-    // The motion primitive that follows this goal: a goal whose next motion cannot be made fails
-    // now, before anything moves.
-    const planning::PlanResult next =
-        planner_impl_->checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), follow_on_);
-    if (!next.solved())
-      return fail(std::string(planning::toString(next.status)) + ": " + next.message + "; from " + describe(measured_) +
-                  " to " + describe(goal_pose_));
-  }
+  if (chosen == alternatives_.size())
+    return fail("none of the " + std::to_string(alternatives_.size()) + " goal alternatives can be taken from " +
+                describe(measured_) + ": " + refused);
   std::vector<std::vector<KDL::Frame>> waypoints;
   waypoints.reserve(result.waypoints.size());
   for (const planning::DualPose& q : result.waypoints) waypoints.push_back({q.first, q.second});
   path_out_.write(encodeCartesianPath(waypoints));
   last_result_ = "solved: " + result.message + " in " + std::to_string(result.planning_time) + " s, " +
                  std::to_string(result.validity_checks) + " validity checks";
+  if (alternatives_.size() > 1)
+    last_result_ += "; goal " + std::to_string(chosen + 1) + " of " + std::to_string(alternatives_.size()) +
+                    (refused.empty() ? "" : " (" + refused + ")");
   emitEvent("e_plan_done");
 }
 

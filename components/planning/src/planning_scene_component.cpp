@@ -144,11 +144,12 @@ SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
     std::erase_if(scene.objects, [&](const ObjectDescription& o) {
       return o.attached_to.robot_name == "ur5" && !contains(ur5, o.attached_to.link_index);
     });
-    // The allowed contacts of the objects that list left out go with them.
-    std::erase_if(scene.allowed_contacts, [&](const auto& pair) {
-      return scene.objectIndex(pair.first) == SceneDescription::npos ||
-             scene.objectIndex(pair.second) == SceneDescription::npos;
-    });
+    // The declared contacts of the objects that list left out go with them.
+    for (auto* contacts : {&scene.allowed_contacts, &scene.primitive_contacts})
+      std::erase_if(*contacts, [&](const auto& pair) {
+        return scene.objectIndex(pair.first) == SceneDescription::npos ||
+               scene.objectIndex(pair.second) == SceneDescription::npos;
+      });
   }
 
   if (!(s.phantom_pose == KDL::Frame::Identity())) {

@@ -148,9 +148,11 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   core::OutputPort<KDL::JntArray> isur_joints{"isurJoints", "", "m, rad"};
   core::OutputPort<KDL::JntArray> ur5_joints{"ur5Joints", "", "rad"};
   core::InputPort<double> allowed{"allowed", "", "m"};
+  core::InputPort<double> primitive{"primitive", "", "m"};
   core::connectPorts(isur_joints, b.planner.port("isurMeasJoints"));
   core::connectPorts(ur5_joints, b.planner.port("UR5MeasJoints"));
   core::connectPorts(b.planner.port("allowedContactDistance"), allowed);
+  core::connectPorts(b.planner.port("primitiveContactDistance"), primitive);
   // The I-SUR at the simulated robot's start (apps/puncturing/deployment/world.lua), the UR5 on
   // that start's branch with the probe pressed onto the phantom.
   KDL::JntArray isur(8), ur5(6);
@@ -179,6 +181,10 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   ASSERT_EQ(b.min_distance.read(clearance), core::FlowStatus::NewData);
   ASSERT_EQ(allowed.read(contact), core::FlowStatus::NewData);
   EXPECT_EQ(contact, 0.0);  // the probe touches the skin: an allowed contact, reported apart
+  // The needle's contact with the phantom (the scene's primitive contact), reported apart too:
+  // its tip 0.26 m above the table, 0.16 m above the phantom's top.
+  ASSERT_EQ(primitive.read(contact), core::FlowStatus::NewData);
+  EXPECT_NEAR(contact, 0.16, 0.002);
   EXPECT_GT(clearance, b.planner.call<double>("clearanceThreshold"));  // nothing else is near
   EXPECT_EQ(b.planner.call<double>("clearanceThreshold"), 0.005);      // the scene's
 
@@ -189,6 +195,34 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   b.clock.advance(1ms);
   ASSERT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}))
       << b.planner.call<std::string>("lastPlanResult");
+
+  // Goal alternatives that must leave room for a later straight motion of the probe (the needle
+  // waiting at its goal): over to the needle's tip cannot be made, 2.8 cm down can. The first
+  // alternative is refused before any search, the second taken.
+  const KDL::Frame lifted = probeDown(0.1, -0.05, 0.148);
+  const auto room = [&](const KDL::Frame& probe_to) {
+    return std::vector<KDL::Frame>{needle_pose, lifted, needle_pose, lifted, needle_pose, lifted, needle_pose, probe_to};
+  };
+  const KDL::Frame at_needle = probeDown(-0.05, 0.05, 0.2);
+  b.goal.write(encodeCartesianPath({room(at_needle), room(probeDown(0.1, -0.05, 0.12))}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  ASSERT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}))
+      << b.planner.call<std::string>("lastPlanResult");
+  const std::string chosen = b.planner.call<std::string>("lastPlanResult");
+  EXPECT_CONTAINS(chosen, "; goal 2 of 2 (goal 1 of 2 first (");
+  EXPECT_CONTAINS(chosen, "invalid goal: the straight motion from (-0.0503, 0.0497, 0.2606) m and (0.1000, -0.0500, "
+                          "0.1480) m to (-0.0503, 0.0497, 0.2606) m and (-0.0500, 0.0500, 0.2000) m cannot be made: "
+                          "too close: micro/ur5");
+  // Neither leaves room: the plan fails naming each alternative and why.
+  b.goal.write(encodeCartesianPath({room(at_needle), room(probeDown(-0.04, 0.05, 0.2))}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "none of the 2 goal alternatives can be taken from");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "; goal 2 of 2 first (");
 
   // Joints of the wrong size are refused naming the ports.
   isur_joints.write(KDL::JntArray(7));
@@ -230,30 +264,67 @@ TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {
 
   KDL::Frame nan_probe = kProbeGoal;
   nan_probe.p.x(std::nan(""));
-  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));
-  b.clock.advance(1ms);
-  b.planner.call<void>("askPlan");
-  b.clock.advance(1ms);
-  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
-  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "port goalPoses: it holds 3 waypoints; give one");
-
-  // A second waypoint is the straight motion after the goal: the needle then going down into the
-  // phantom fails at plan time, naming where it goes and why; staying at the goal is fine.
-  KDL::Frame needle_down = kNeedle;
-  needle_down.p.z(0.06);
-  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {needle_down, kProbeGoal}}));
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal, kNeedle, kProbeGoal, kNeedle, kProbeGoal}}));
   b.clock.advance(1ms);
   b.planner.call<void>("askPlan");
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
   EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
-                  "invalid goal: the straight motion after the goal, to (0.0000, 0.0000, 0.0600) m");
-  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "(needle/phantom)");
-  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}, {kNeedle, kProbeGoal}}));
+                  "port goalPoses: a waypoint holds 42 values; give 14 per goal alternative (the two goal poses) or "
+                  "28 + 28 per motion to make room for");
+
+  // A second pair is the straight motion after the goal: the probe then going over to the
+  // needle fails at plan time, naming where it goes and why; staying at the goal is fine.
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal, kNeedle, probeDown(0.0, 0.0, 0.25)}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
+                  "invalid goal: the straight motion after the goal, to (0.0000, 0.0000, 0.2000) m and (0.0000, "
+                  "0.0000, 0.2500) m, cannot be made: too close: micro/ur5");
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal, kNeedle, kProbeGoal}}));
   b.clock.advance(1ms);
   b.planner.call<void>("askPlan");
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}));
+  // The needle going down into the phantom after the goal is the scene's primitive contact (the
+  // insertion): allowed along the motion after the goal, never as a planned state (above).
+  KDL::Frame needle_down = kNeedle;
+  needle_down.p.z(0.06);
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal, needle_down, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}))
+      << b.planner.call<std::string>("lastPlanResult");
+
+  // Goal alternatives, the preferred first: the first that can be reached is taken, and the
+  // result says which and why the ones before it were not.
+  b.goal.write(encodeCartesianPath({{needleDown(0.0, 0.0, 0.06), kProbeGoal}, {kNeedle, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_done"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
+                  "; goal 2 of 2 (goal 1 of 2 first (0.0000, 0.0000, 0.0600 m;");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "invalid goal: goal state is not valid: too close");
+  b.goal.write(encodeCartesianPath({{needleDown(0.0, 0.0, 0.06), kProbeGoal}, {needleDown(0.02, 0.0, 0.06), kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "none of the 2 goal alternatives can be taken from first (");
+  EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"), "; goal 2 of 2 first (0.0200, 0.0000, 0.0600 m;");
+  // Room for a later motion is checked from the measured joints, which this bench does not give.
+  b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal, kNeedle, kProbeGoal, kNeedle, kProbeStart, kNeedle, kProbeGoal}}));
+  b.clock.advance(1ms);
+  b.planner.call<void>("askPlan");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
+  EXPECT_EQ(b.planner.call<std::string>("lastPlanResult"),
+            "the goal asks for room for a later motion, which is checked from the measured joints: connect ports "
+            "isurMeasJoints and UR5MeasJoints");
 
   b.isur.write(nan_probe);
   b.goal.write(encodeCartesianPath({{kNeedle, kProbeGoal}}));

@@ -58,7 +58,8 @@ TEST(LuaDeployer, TheThesisConfiguratorListingRuns) {
   std::string header, row;
   std::getline(csv, header);
   std::getline(csv, row);
-  EXPECT_EQ(header, "time [s],MotPlan.allowedContactDistance [m],MotPlan.plannedPath [m],MotPlan.minDistance [m]");
+  EXPECT_EQ(header, "time [s],MotPlan.allowedContactDistance [m],MotPlan.primitiveContactDistance [m],"
+                    "MotPlan.plannedPath [m],MotPlan.minDistance [m]");
   EXPECT_CONTAINS(row, "0.2, 0.01, 0.3");
 }
 

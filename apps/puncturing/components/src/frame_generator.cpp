@@ -1,5 +1,6 @@
 #include "cobra/components/puncturing/frame_generator.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include <cstdio>
@@ -10,9 +11,10 @@ namespace {
 
 constexpr std::size_t kArms = 2;  // arm 0 = needle, arm 1 = probe
 
-/// Writes `pose` as x y z qx qy qz qw at `values[arm * 7]` (path_type.hpp's encoding).
-void encode(const KDL::Frame& pose, std::size_t arm, std::vector<double>& values) noexcept {
-  double* out = values.data() + arm * kValuesPerArm;
+/// Writes `pose` as x y z qx qy qz qw at `values[slot * 7]` (path_type.hpp's encoding; slot =
+/// pair * 2 + arm in a waypoint of several pairs).
+void encode(const KDL::Frame& pose, std::size_t slot, std::vector<double>& values) noexcept {
+  double* out = values.data() + slot * kValuesPerArm;
   out[0] = pose.p.x();
   out[1] = pose.p.y();
   out[2] = pose.p.z();
@@ -90,7 +92,6 @@ bool PuncturingFrameGenerator::configureHook() {
   last_failure_.clear();
   desired_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
   goal_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(1, std::vector<double>(kArms * kValuesPerArm)));
-  goal_then_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
   desired_poses_.setDataSample(desired_);
   goal_poses_.setDataSample(goal_);
   return true;
@@ -105,6 +106,7 @@ const KDL::Frame& PuncturingFrameGenerator::abdomen() {
 const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& datum, Arm arm, const char*& why) {
   const auto a = static_cast<std::size_t>(arm);
   KDL::Frame& out = resolved_[a];
+  bool next = false;
   if (datum.name == "hold") {
     if (!have_measured_[a]) {
       why = arm == Arm::Needle ? "no pose on needleMeasPose yet" : "no pose on USMeasPose yet";
@@ -114,14 +116,16 @@ const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& dat
   } else if (const KDL::Frame* fixed = table_.pose(datum.name)) {
     out = *fixed;
   } else {
-    if (static_cast<std::size_t>(needle_) >= plan_->needles.size()) {
-      why = "no more needles (all planned needles are done)";
+    puncturing::planDatum(datum.name, next);
+    const auto i = static_cast<std::size_t>(needle_) + (next ? 1 : 0);
+    if (i >= plan_->needles.size()) {
+      why = next ? "no needle after the current one" : "no more needles (all planned needles are done)";
       return nullptr;
     }
-    const auto i = static_cast<std::size_t>(needle_);
-    if (datum.name == "entry") {
+    const std::string_view name = std::string_view(datum.name).substr(next ? 5 : 0);
+    if (name == "entry") {
       out = abdomen_ * puncturing::needleEntryPose(plan_->needles[i]);
-    } else if (datum.name == "target") {
+    } else if (name == "target") {
       out = abdomen_ * puncturing::needleTargetPose(plan_->needles[i]);
     } else {
       out = abdomen_ * plan_->probes[i].pose;
@@ -167,13 +171,20 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
     noData("task state '" + state_.path.str() + "' matches no row of " + state_table_file_());
     return;
   }
-  const puncturing::Datum* datums[kArms] = {&row->needle, &row->probe};
-  for (std::size_t a = 0; a < kArms; ++a) {
-    const char* why = "";
-    if (resolve(*datums[a], static_cast<Arm>(a), why) == nullptr) {
-      noData("task state '" + state_.path.str() + "' (" + state_table_file_() + ":" + std::to_string(row->line) +
-             "): " + armName(a) + "=" + describe(*datums[a]) + ": " + why);
-      return;
+  const auto where = [&] { return "task state '" + state_.path.str() + "' (" + state_table_file_() + ":" +
+                                   std::to_string(row->line) + "): "; };
+  // Every goal alternative of the row (one arm lists them, the other's datum is the same for each).
+  const std::size_t alternatives = std::max(row->needle.size(), row->probe.size());
+  const std::vector<puncturing::Datum>* datums[kArms] = {&row->needle, &row->probe};
+  for (std::size_t k = 0; k < alternatives; ++k) {
+    for (std::size_t a = 0; a < kArms; ++a) {
+      const puncturing::Datum& datum = (*datums[a])[std::min(k, datums[a]->size() - 1)];
+      const char* why = "";
+      if (resolve(datum, static_cast<Arm>(a), why) == nullptr) {
+        noData(where() + armName(a) + "=" + describe(datum) + ": " + why);
+        return;
+      }
+      if (k == 0) goal_pair_[a] = resolved_[a];
     }
   }
   for (std::size_t a = 0; a < kArms; ++a) {
@@ -183,26 +194,67 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
       return;
     }
   }
-  const std::array<KDL::Frame, kArms> goals{resolved_[0], resolved_[1]};
-  // The straight motion that follows the goal (then_needle / then_probe): a second waypoint of
-  // goalPoses, which the motion planner verifies with the path (an arm without one stays).
-  const puncturing::Datum* then[kArms] = {&row->then_needle, &row->then_probe};
-  const bool follows = !then[0]->name.empty() || !then[1]->name.empty();
-  for (std::size_t a = 0; a < kArms && follows; ++a) {
-    const char* why = "";
-    const KDL::Frame* next = then[a]->name.empty() ? &goals[a] : resolve(*then[a], static_cast<Arm>(a), why);
-    if (next == nullptr) {
-      noData("task state '" + state_.path.str() + "' (" + state_table_file_() + ":" + std::to_string(row->line) +
-             "): then_" + armName(a) + "=" + describe(*then[a]) + ": " + why);
-      return;
-    }
-    encode(*next, a, goal_then_.waypoint(1));
+  const bool follows = !row->then_needle.name.empty() || !row->then_probe.name.empty();
+  const bool rooms = !row->room_for_needle.from.name.empty() || !row->room_for_probe.from.name.empty();
+  if (alternatives == 1 && !follows && !rooms) {
+    for (std::size_t a = 0; a < kArms; ++a) encode(goal_pair_[a], a, goal_.waypoint(0));
+    publish(goal_);
+    return;
   }
-  trajectory::MultiAxisPath& goal = follows ? goal_then_ : goal_;
+  // goalPoses with checks (MotionPlanner): one waypoint per alternative, [goal pair, where the
+  // straight motion after it goes (the goal again for an arm without then_*), then per room_for_*
+  // the other arm's later motion (its start pair, its end pair) with this arm at its goal].
+  std::vector<std::vector<double>> waypoints;
+  for (std::size_t k = 0; k < alternatives; ++k) {
+    std::array<KDL::Frame, kArms> goals;
+    for (std::size_t a = 0; a < kArms; ++a) {
+      const char* why = "";
+      goals[a] = *resolve((*datums[a])[std::min(k, datums[a]->size() - 1)], static_cast<Arm>(a), why);
+    }
+    std::vector<double> values(2 * kArms * kValuesPerArm);
+    const puncturing::Datum* then[kArms] = {&row->then_needle, &row->then_probe};
+    for (std::size_t a = 0; a < kArms; ++a) {
+      encode(goals[a], a, values);
+      const char* why = "";
+      const KDL::Frame* next = then[a]->name.empty() ? &goals[a] : resolve(*then[a], static_cast<Arm>(a), why);
+      if (next == nullptr) {
+        noData(where() + "then_" + armName(a) + "=" + describe(*then[a]) + ": " + why);
+        return;
+      }
+      encode(*next, kArms + a, values);
+    }
+    const puncturing::DatumMotion* room[kArms] = {&row->room_for_needle, &row->room_for_probe};
+    for (std::size_t a = 0; a < kArms; ++a) {
+      if (room[a]->from.name.empty()) continue;
+      const std::size_t other = 1 - a, at = values.size();
+      values.resize(at + 2 * kArms * kValuesPerArm);
+      bool skipped = false;
+      for (std::size_t end = 0; end < 2 && !skipped; ++end) {
+        const puncturing::Datum& datum = end == 0 ? room[a]->from : room[a]->to;
+        const char* why = "";
+        const KDL::Frame* pose = resolve(datum, static_cast<Arm>(a), why);
+        bool next = false;
+        if (pose == nullptr && puncturing::planDatum(datum.name, next) && next) {
+          skipped = true;  // after the last needle no such motion comes: nothing to make room for
+        } else if (pose == nullptr) {
+          noData(where() + "room_for_" + armName(a) + "=" + describe(datum) + ": " + why);
+          return;
+        } else {
+          encode(*pose, at / kValuesPerArm + end * kArms + a, values);
+          encode(goals[other], at / kValuesPerArm + end * kArms + other, values);
+        }
+      }
+      if (skipped) values.resize(at);
+    }
+    waypoints.push_back(std::move(values));
+  }
+  publish(trajectory::MultiAxisPath(std::move(waypoints)));
+}
+
+void PuncturingFrameGenerator::publish(const trajectory::MultiAxisPath& goal) {
   for (std::size_t a = 0; a < kArms; ++a) {
     encode(measured_[a], a, desired_.waypoint(0));
-    encode(goals[a], a, desired_.waypoint(1));
-    encode(goals[a], a, goal.waypoint(0));
+    encode(goal_pair_[a], a, desired_.waypoint(1));
   }
   last_failure_.clear();
   desired_poses_.write(desired_);

@@ -80,15 +80,21 @@ struct Bench {
     EXPECT_NE(desired.read(path), core::FlowStatus::NoData);
     return decodeCartesianPath(path, 2);
   }
-  /// The goal pair (the first waypoint of goalPoses); `follow_on` (when given) gets the second,
-  /// where the state table's then_* puts the motion after the goal (empty when there is none).
-  std::vector<KDL::Frame> goalPair(std::vector<KDL::Frame>* follow_on = nullptr) {
+  /// The goal pair of goal alternative `alternative` (a waypoint of goalPoses); `checks` (when
+  /// given) gets the rest of its waypoint: where the motion after the goal goes (then_*), then the
+  /// start and end pairs of each room_for_* (empty for a row without either).
+  std::vector<KDL::Frame> goalPair(std::vector<KDL::Frame>* checks = nullptr, std::size_t alternative = 0) {
     trajectory::MultiAxisPath path;
     EXPECT_NE(goal.read(path), core::FlowStatus::NoData);
-    EXPECT_TRUE(path.size() == 1u || path.size() == 2u) << path.size();
-    const std::vector<std::vector<KDL::Frame>> pairs = decodeCartesianPath(path, 2);
-    if (follow_on != nullptr) *follow_on = pairs.size() == 2 ? pairs[1] : std::vector<KDL::Frame>{};
-    return pairs.at(0);
+    const std::vector<std::vector<KDL::Frame>> alternatives = decodeCartesianPath(path, path.axisCount() / kValuesPerArm);
+    const std::vector<KDL::Frame>& pairs = alternatives.at(alternative);
+    if (checks != nullptr) *checks = std::vector<KDL::Frame>(pairs.begin() + 2, pairs.end());
+    return {pairs[0], pairs[1]};
+  }
+  std::size_t alternatives() {
+    trajectory::MultiAxisPath path;
+    EXPECT_NE(goal.read(path), core::FlowStatus::NoData);
+    return path.size();
   }
   std::string lastFailure() { return generator.call<std::string>("lastFailure"); }
 };
@@ -138,6 +144,50 @@ TEST(PuncturingFrameGenerator, PublishesTheGoalPairOfEachTaskStateAsTheLibraryCo
   EXPECT_EQ(b.generator.call<int>("needleCount"), 2);
 }
 
+TEST(PuncturingFrameGenerator, PublishesTheGoalAlternativesOfARowWithTheRoomEachMustLeave) {
+  Bench b;
+  ASSERT_TRUE(b.configure()) << b.generator.lastError();
+  b.needle_meas.write(kNeedleMeas);
+  b.us_meas.write(kUsMeas);
+  const KDL::Frame a = b.plan.preoperative.abdomen_in_task;
+  // Back to a needle change pose (state_table.txt): the alternatives in the table's order, each
+  // with the probe holding, the follow-on "stay" and the room for the probe's next approach and
+  // descent (next_probe: the second needle's probe pose) beside that needle pose.
+  EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToNeedleChange.Planning"), std::vector<std::string>{"e_goal_ready"});
+  const KDL::Frame needle_poses[] = {*b.table.pose("needle_change"), kNeedleMeas, *b.table.pose("needle_change_aside"),
+                                     *b.table.pose("needle_change_far")};
+  ASSERT_EQ(b.alternatives(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    std::vector<KDL::Frame> checks;
+    const std::vector<KDL::Frame> goal = b.goalPair(&checks, k);
+    EXPECT_TRUE(KDL::Equal(goal[0], needle_poses[k], 1e-12)) << k;
+    EXPECT_TRUE(KDL::Equal(goal[1], kUsMeas, 1e-12)) << k;
+    ASSERT_EQ(checks.size(), 6u) << k;
+    EXPECT_TRUE(KDL::Equal(checks[0], goal[0], 1e-12));  // no then_*: the goal again
+    EXPECT_TRUE(KDL::Equal(checks[1], goal[1], 1e-12));
+    EXPECT_TRUE(KDL::Equal(checks[2], needle_poses[k], 1e-12));  // the needle waits at its goal
+    EXPECT_TRUE(KDL::Equal(checks[3], a * pp::alongZ(b.plan.probes[1].pose, -0.03), 1e-12));
+    EXPECT_TRUE(KDL::Equal(checks[4], needle_poses[k], 1e-12));
+    EXPECT_TRUE(KDL::Equal(checks[5], a * pp::alongZ(b.plan.probes[1].pose, 0.004), 1e-12));
+  }
+  expectPublished(b, needle_poses[0], kUsMeas, "desiredPoses: the first alternative");
+  // Before the probe's first approach the room is for the current needle's probe pose.
+  EXPECT_EQ(b.ask("root.MakeRoomForProbe.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
+  ASSERT_EQ(b.alternatives(), 3u);
+  std::vector<KDL::Frame> checks;
+  b.goalPair(&checks, 2);
+  ASSERT_EQ(checks.size(), 6u);
+  EXPECT_TRUE(KDL::Equal(checks[3], a * pp::alongZ(b.plan.probes[0].pose, -0.03), 1e-12));
+  // At the last needle no probe motion follows: the room check is left out.
+  b.generator.call<void>("nextNeedle");
+  b.clock.advance(10ms);
+  b.takeEvents();
+  EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToNeedleChange.Planning"), std::vector<std::string>{"e_goal_ready"});
+  ASSERT_EQ(b.alternatives(), 4u);
+  b.goalPair(&checks, 0);
+  EXPECT_EQ(checks.size(), 2u);  // the follow-on pair only
+}
+
 TEST(PuncturingFrameGenerator, MatchesHandComputedPosesOfTheFirstNeedle) {
   Bench b;
   ASSERT_TRUE(b.configure());
@@ -151,8 +201,8 @@ TEST(PuncturingFrameGenerator, MatchesHandComputedPosesOfTheFirstNeedle) {
   EXPECT_NEAR((tip.p - KDL::Vector(-0.005, 0.0, 0.042)).Norm(), 0.0, 1e-12);
   EXPECT_NEAR((tip.M.UnitZ() - axis).Norm(), 0.0, 1e-12);
   ASSERT_EQ(b.ask("root.ExtractingNeedle.MoveToExtractionPoint.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
-  tip = b.goalPair()[0];  // 2 cm back along the needle from the entry point (-0.02, -0.006, 0.1)
-  EXPECT_NEAR((tip.p - (KDL::Vector(-0.02, -0.006, 0.1) - axis * 0.02)).Norm(), 0.0, 1e-12);
+  tip = b.goalPair()[0];  // 6 cm back along the needle from the entry point (-0.02, -0.006, 0.1)
+  EXPECT_NEAR((tip.p - (KDL::Vector(-0.02, -0.006, 0.1) - axis * 0.06)).Norm(), 0.0, 1e-12);
   KDL::Frame target;
   ASSERT_NE(b.target.read(target), core::FlowStatus::NoData);
   EXPECT_NEAR((target.p - KDL::Vector(-0.005, 0.0, 0.042)).Norm(), 0.0, 1e-12);
@@ -305,7 +355,9 @@ TEST(PuncturingFrameGenerator, AnsweringAskCurrentGoalAllocatesNothingOnceWarm) 
   ASSERT_TRUE(b.configure());
   b.needle_meas.write(kNeedleMeas);
   b.us_meas.write(kUsMeas);
-  const char* states[] = {"root.InsertingNeedles.MoveToSkin.Approach.AskingGoal", "root.MoveToSkin.Descend.AskingGoal",
+  // Rows of one goal without then_* or room_for_* (the motion primitives'): a row with checks
+  // builds its goalPoses (the planned motions', answered outside the control loop's hot path).
+  const char* states[] = {"root.InsertingNeedles.MoveToSkin.Descend.AskingGoal", "root.MoveToSkin.Descend.AskingGoal",
                           "root.InsertingNeedles.MoveToTumor.AskingGoal"};
   for (int warm = 0; warm < 4; ++warm) {  // sizes every slot of the connections
     for (const char* s : states) {

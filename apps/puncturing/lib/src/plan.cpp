@@ -127,6 +127,12 @@ KDL::Frame needleEntryPose(const PlannedNeedle& needle) {
   return pose;
 }
 
+bool planDatum(std::string_view name, bool& next) {
+  next = name.starts_with("next_");
+  if (next) name.remove_prefix(5);
+  return name == "entry" || name == "target" || name == "probe";
+}
+
 KDL::Frame alongZ(const KDL::Frame& pose, double offset) {
   return KDL::Frame(pose.M, pose.p + pose.M.UnitZ() * offset);
 }

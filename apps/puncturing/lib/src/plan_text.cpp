@@ -121,8 +121,7 @@ std::string frame(const KDL::Frame& f) {
   return "xyz=" + vec(f.p) + " rpy=" + number(r) + "," + number(p) + "," + number(y);
 }
 
-Datum parseDatum(Statement& s, const std::string& key) {
-  const std::string& text = s.raw(key);
+Datum parseDatum(Statement& s, const std::string& key, const std::string& text) {
   Datum d;
   const std::size_t sign = text.find_first_of("+-");
   d.name = text.substr(0, sign);
@@ -131,6 +130,28 @@ Datum parseDatum(Statement& s, const std::string& key) {
     d.offset = s.parseNumber(key, std::string_view(text).substr(sign + (text[sign] == '+' ? 1 : 0)), "m");
   }
   return d;
+}
+Datum parseDatum(Statement& s, const std::string& key) { return parseDatum(s, key, s.raw(key)); }
+
+/// `A|B|C`: the alternatives of one arm's goal.
+std::vector<Datum> parseAlternatives(Statement& s, const std::string& key) {
+  std::vector<Datum> out;
+  const std::string& text = s.raw(key);
+  for (std::size_t start = 0;;) {
+    const std::size_t bar = text.find('|', start);
+    out.push_back(parseDatum(s, key, text.substr(start, bar - start)));
+    if (bar == std::string::npos) return out;
+    start = bar + 1;
+  }
+}
+
+/// `A..B`: a straight motion from datum A to datum B.
+DatumMotion parseMotion(Statement& s, const std::string& key) {
+  const std::string& text = s.raw(key);
+  const std::size_t dots = text.find("..");
+  if (dots == std::string::npos)
+    s.fail("value of '" + key + "' is '" + text + "', expected FROM..TO (two datums: where the motion starts and ends)");
+  return {parseDatum(s, key, text.substr(0, dots)), parseDatum(s, key, text.substr(dots + 2))};
 }
 
 }  // namespace
@@ -231,27 +252,41 @@ StateTable parseStateTable(std::string_view text, std::string_view source) {
     if (s.words[0] == "pose") {
       if (s.words.size() != 2) s.fail("expected 'pose NAME xyz=X,Y,Z rpy=R,P,Y'");
       const std::string& name = s.words[1];
-      if (name == "entry" || name == "target" || name == "probe" || name == "hold") {
-        s.fail("pose name '" + name + "' is reserved (entry, target, probe, hold)");
+      bool next = false;
+      if (planDatum(name, next) || name == "hold") {
+        s.fail("pose name '" + name + "' is reserved (entry, target, probe, next_entry, next_target, next_probe, hold)");
       }
+      if (name.find_first_of("+-|") != std::string::npos)
+        s.fail("pose name '" + name + "' holds + - or |, which a datum reads as an offset or an alternative");
       if (table.pose(name)) s.fail("pose '" + name + "' is defined twice");
       table.poses.emplace_back(name, s.frame());
       s.finish(2, "pose NAME xyz=X,Y,Z rpy=R,P,Y");
     } else if (s.words[0] == "state") {
       StateRow row;
       if (s.words.size() > 1) row.state = s.words[1];
-      row.needle = parseDatum(s, "needle");
-      row.probe = parseDatum(s, "probe");
+      row.needle = parseAlternatives(s, "needle");
+      row.probe = parseAlternatives(s, "probe");
       if (s.has("then_needle")) row.then_needle = parseDatum(s, "then_needle");
       if (s.has("then_probe")) row.then_probe = parseDatum(s, "then_probe");
+      if (s.has("room_for_needle")) row.room_for_needle = parseMotion(s, "room_for_needle");
+      if (s.has("room_for_probe")) row.room_for_probe = parseMotion(s, "room_for_probe");
       row.line = s.line;
-      s.finish(2, "state PATH needle=DATUM probe=DATUM [then_needle=DATUM] [then_probe=DATUM]");
-      for (const Datum* d : {&row.needle, &row.probe, &row.then_needle, &row.then_probe}) {
-        if (d->name.empty() && (d == &row.then_needle || d == &row.then_probe)) continue;
-        const bool known = d->name == "entry" || d->name == "target" || d->name == "probe" || d->name == "hold" ||
-                           table.pose(d->name) != nullptr;
+      s.finish(2, "state PATH needle=DATUM[|DATUM...] probe=DATUM[|DATUM...] [then_needle=DATUM] [then_probe=DATUM] "
+                  "[room_for_needle=DATUM..DATUM] [room_for_probe=DATUM..DATUM]");
+      if (row.needle.size() > 1 && row.probe.size() > 1)
+        s.fail("both arms list alternatives (A|B); list them for one arm, the other's goal is the same for each");
+      std::vector<const Datum*> datums;
+      for (const std::vector<Datum>* arm : {&row.needle, &row.probe})
+        for (const Datum& d : *arm) datums.push_back(&d);
+      for (const Datum* d : {&row.then_needle, &row.then_probe, &row.room_for_needle.from, &row.room_for_needle.to,
+                             &row.room_for_probe.from, &row.room_for_probe.to})
+        if (!d->name.empty()) datums.push_back(d);
+      for (const Datum* d : datums) {
+        bool next = false;
+        const bool known = planDatum(d->name, next) || d->name == "hold" || table.pose(d->name) != nullptr;
         if (!known) {
-          s.fail("unknown datum '" + d->name + "' (expected entry, target, probe, hold or a pose defined above)");
+          s.fail("unknown datum '" + d->name +
+                 "' (expected entry, target, probe, next_entry, next_target, next_probe, hold or a pose defined above)");
         }
       }
       for (const StateRow& other : table.rows) {

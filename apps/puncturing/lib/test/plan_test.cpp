@@ -140,12 +140,29 @@ TEST(PuncturingPlan, ParseErrorsNameTheFileAndLine) {
   EXPECT_EQ(messageOf([&] { parseSurgeonScript("\non robot.WaitCryoCycle e_cryo_done\n", "s.txt"); }),
             "s.txt:2: chart 'robot' is neither needle nor us");
   EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=entri probe=hold\n", "t.txt"); }),
-            "t.txt:1: unknown datum 'entri' (expected entry, target, probe, hold or a pose defined above)");
+            "t.txt:1: unknown datum 'entri' (expected entry, target, probe, next_entry, next_target, next_probe, hold "
+            "or a pose defined above)");
   EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=hold probe=probe then_probe=prob+0.004\n", "t.txt"); }),
-            "t.txt:1: unknown datum 'prob' (expected entry, target, probe, hold or a pose defined above)");
+            "t.txt:1: unknown datum 'prob' (expected entry, target, probe, next_entry, next_target, next_probe, hold "
+            "or a pose defined above)");
   EXPECT_EQ(messageOf([&] { parseStateTable("state MoveToSkin needle=hold probe=probe then_prob=probe\n", "t.txt"); }),
-            "t.txt:1: unknown key 'then_prob' in 'state' (expected 'state PATH needle=DATUM probe=DATUM "
-            "[then_needle=DATUM] [then_probe=DATUM]')");
+            "t.txt:1: unknown key 'then_prob' in 'state' (expected 'state PATH needle=DATUM[|DATUM...] "
+            "probe=DATUM[|DATUM...] [then_needle=DATUM] [then_probe=DATUM] [room_for_needle=DATUM..DATUM] "
+            "[room_for_probe=DATUM..DATUM]')");
+  EXPECT_EQ(messageOf([&] { parseStateTable("pose a xyz=0,0,0\npose b xyz=0,0,0\nstate S needle=a|b probe=hold|a\n",
+                                            "t.txt"); }),
+            "t.txt:3: both arms list alternatives (A|B); list them for one arm, the other's goal is the same for each");
+  EXPECT_EQ(messageOf([&] { parseStateTable("state S needle=hold probe=hold room_for_probe=next_probe\n", "t.txt"); }),
+            "t.txt:1: value of 'room_for_probe' is 'next_probe', expected FROM..TO (two datums: where the motion "
+            "starts and ends)");
+  EXPECT_EQ(messageOf([&] { parseStateTable("state S needle=hold|entri probe=hold\n", "t.txt"); }),
+            "t.txt:1: unknown datum 'entri' (expected entry, target, probe, next_entry, next_target, next_probe, hold "
+            "or a pose defined above)");
+  EXPECT_EQ(messageOf([&] { parseStateTable("pose change-2 xyz=0,0,0\n", "t.txt"); }),
+            "t.txt:1: pose name 'change-2' holds + - or |, which a datum reads as an offset or an alternative");
+  EXPECT_EQ(messageOf([&] { parseStateTable("pose next_probe xyz=0,0,0\n", "t.txt"); }),
+            "t.txt:1: pose name 'next_probe' is reserved (entry, target, probe, next_entry, next_target, next_probe, "
+            "hold)");
   EXPECT_EQ(messageOf([&] { loadPlan(kApp + "nowhere.txt", "", ""); }), kApp + "nowhere.txt: cannot be read");
 }
 
@@ -159,6 +176,32 @@ TEST(PuncturingPlan, AStateRowMayNameTheMotionAfterItsGoal) {
   EXPECT_DOUBLE_EQ(approach->then_probe.offset, 0.004);
   EXPECT_TRUE(approach->then_needle.name.empty());  // the needle stays at its goal
   EXPECT_TRUE(table.find("root.Descend")->then_probe.name.empty());
+}
+
+TEST(PuncturingPlan, AStateRowMayListGoalAlternativesAndTheRoomTheyMustLeave) {
+  const StateTable table = parseStateTable(
+      "pose change xyz=0,0,0.3\npose change_left xyz=-0.1,0,0.3\n"
+      "state MoveToNeedleChange needle=change|change_left|hold probe=hold "
+      "room_for_probe=next_probe-0.03..next_probe+0.004\n",
+      "t.txt");
+  const StateRow* row = table.find("root.InsertingNeedles.MoveToNeedleChange.Planning");
+  ASSERT_NE(row, nullptr);
+  ASSERT_EQ(row->needle.size(), 3u);  // in the table's order: the preferred first
+  EXPECT_EQ(row->needle[0].name, "change");
+  EXPECT_EQ(row->needle[1].name, "change_left");
+  EXPECT_EQ(row->needle[2].name, "hold");
+  ASSERT_EQ(row->probe.size(), 1u);
+  EXPECT_EQ(row->room_for_probe.from.name, "next_probe");
+  EXPECT_DOUBLE_EQ(row->room_for_probe.from.offset, -0.03);
+  EXPECT_EQ(row->room_for_probe.to.name, "next_probe");
+  EXPECT_DOUBLE_EQ(row->room_for_probe.to.offset, 0.004);
+  EXPECT_TRUE(row->room_for_needle.from.name.empty());
+  bool next = false;
+  EXPECT_TRUE(planDatum("next_target", next));
+  EXPECT_TRUE(next);
+  EXPECT_TRUE(planDatum("entry", next));
+  EXPECT_FALSE(next);
+  EXPECT_FALSE(planDatum("next_hold", next));
 }
 
 TEST(PuncturingPlan, InfeasiblePlansAreRefusedNamingTheNeedleAndWhy) {
@@ -204,9 +247,9 @@ TEST(PuncturingPlan, StateTableFindsTheDeepestMatchingRow) {
   EXPECT_EQ(table.find("root.InsertingNeedles.WaitNeedleMounted")->line, 4);
   EXPECT_EQ(table.find("root.WaitCryoCycle"), nullptr);
   EXPECT_EQ(table.find("root.InsertingNeedles.MoveToSkinny"), table.find("root.InsertingNeedles"));
-  EXPECT_DOUBLE_EQ(table.rows[1].needle.offset, 0.005);
-  EXPECT_DOUBLE_EQ(table.rows[0].needle.offset, -0.02);
-  EXPECT_EQ(table.rows[2].needle.name, "change");
+  EXPECT_DOUBLE_EQ(table.rows[1].needle.at(0).offset, 0.005);
+  EXPECT_DOUBLE_EQ(table.rows[0].needle.at(0).offset, -0.02);
+  EXPECT_EQ(table.rows[2].needle.at(0).name, "change");
   ASSERT_NE(table.pose("change"), nullptr);
   EXPECT_DOUBLE_EQ(table.pose("change")->p.z(), 0.4);
 }

@@ -1,8 +1,8 @@
--- The needle planner requires 0.5 m of clearance from MoveToNeedleChange on (every state is "too
+-- The needle planner requires 0.5 m of clearance from its first motion (MakeRoomForProbe) on (every state is "too
 -- close": the plan fails); the reaction restores its distance, so the retry succeeds. The
 -- property is read at configure: the planner is reconfigured through the deployer.
 return {
-  { on = { state = "needle:root.InsertingNeedles.MoveToNeedleChange" },
+  { on = { state = "needle:root.MakeRoomForProbe" },
     lua = "saved_distance = NeedlePlanner.min_collision_distance "
        .. "stopComponents({'NeedlePlanner'}) cleanupComponents({'NeedlePlanner'}) "
        .. "NeedlePlanner.min_collision_distance = 0.5 "

@@ -53,12 +53,17 @@ class CollisionWorld {
   /// it (the returned distance is then that pair's, an upper bound of the minimum) and skips pairs
   /// that cannot be under it: a returned distance above `stop_below` is only known to be above it
   /// (+infinity when every pair was skipped). Pass 0 for the exact minimum.
-  GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0) const;
+  /// `primitive_contacts_apart`: leave the scene's primitive contacts out too (the measured
+  /// clearance; the validity check keeps them in).
+  GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0,
+                         bool primitive_contacts_apart = false) const;
 
   /// Minimum distance over the scene's allowed contacts (object pairs left out of distance()) [m]:
   /// how deep the probe presses into the skin is not a clearance, but still worth reporting apart.
   /// 0 when touching or interpenetrating; +infinity when the scene declares none.
   double allowedContactDistance() const;
+  /// The same over the scene's primitive contacts (the needle in the tissue) [m].
+  double primitiveContactDistance() const;
 
   /// World pose of object `object` (index in scene().objects), e.g. for a visualiser.
   KDL::Frame objectPose(std::size_t object) const;

@@ -159,12 +159,21 @@ class MotionPlanner {
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
   PlanResult checkGoal(const JointState& start, const DualPose& goal);
   /// The straight motion that follows a planned path (a motion primitive: e.g. the probe
-  /// descending from its approach pose onto the skin), checked as a returned path's segments are:
+  /// descending from its approach pose onto the skin, the needle's insertion from above its entry
+  /// to its target; the scene's primitive contacts are allowed along it), checked as a returned
+  /// path's segments are:
   /// walked densely from `joints` (the path's last joint waypoint, at `from`) to `to` with the
   /// control path's IK, every state valid and every joint step within its velocity limit at the
   /// generator's speeds. Solved, or InvalidGoal with a message naming `to` and why (so that a
   /// goal whose next motion cannot be made fails at plan time, before anything moves).
   PlanResult checkFollowOn(const JointState& joints, const DualPose& from, const DualPose& to);
+  /// A straight motion that does not start on the planned path: e.g. where the other robot goes
+  /// next while this one waits at its goal (the probe's next approach and descent beside the
+  /// needle's waiting pose). `from` is turned into joints by the goal IK nearest `near` (the
+  /// start's branch and redundancy rule, as planPath's goal), that state must be valid (the
+  /// scene's primitive contacts allowed), then the motion is walked to `to` as checkFollowOn does.
+  /// Solved, or InvalidGoal (InvalidInput) with a message naming `from`, `to` and why.
+  PlanResult checkMotion(const JointState& near, const DualPose& from, const DualPose& to);
 
   const PlannerOptions& options() const { return options_; }
   /// Seed of the next planPath() (> 0; an invalid seed throws std::invalid_argument).
@@ -188,15 +197,20 @@ class MotionPlanner {
   /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
   PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
   /// Validity of a joint state for the search and the verification (counted; the tool bounds too).
-  ValidityResult checkState(const JointState& q);
+  /// `primitive_contacts_apart`: a state of a motion primitive (checkFollowOn, checkMotion), where
+  /// the scene's primitive contacts (the needle in the tissue) are allowed.
+  ValidityResult checkState(const JointState& q, bool primitive_contacts_apart = false);
   bool insideBounds(const DualPose& tools) const;
   /// "needle", "probe and needle": the tools robot `robot` holds, for messages.
   std::string toolsOf(std::size_t robot) const;
+  /// max_velocity_: every joint's velocity limit [m/s, rad/s] from the robot models.
+  void setVelocityLimits();
   /// The shortest time the trajectory generator can take from `a` to `b` [s].
   double segmentDuration(const DualPose& a, const DualPose& b) const;
   /// Follows the Cartesian segment a → b with the continuity-keeping IK from joints `q` (updated
   /// to the end's): false with `failure` at the first unreachable, discontinuous or invalid step.
-  bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure);
+  bool walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
+            bool primitive_contacts_apart = false);
   /// Inserts the two waypoints of RobotModel::singularCrossing into segment k when a robot's
   /// planned joints cross a singular set there (not again for a segment that starts at one).
   bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,

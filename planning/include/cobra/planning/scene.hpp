@@ -20,6 +20,9 @@
 ///     check macro micro                             # a distance query of the validator
 ///     allow us_probe phantom                        # a contact the task requires: this object
 ///                                                   # pair is left out of every distance query
+///     primitive_contact needle phantom              # a contact only the motion primitives make:
+///                                                   # planned states keep the clearance from it,
+///                                                   # the measured clearance reports it apart
 ///
 /// `object NAME GROUP ATTACH SHAPE ... at POSE`: ATTACH is `world` or `ROBOT.LINK` (link index as
 /// the robot model reports it); the pose is the shape frame in the attachment frame. Mesh paths are
@@ -69,6 +72,13 @@ struct SceneDescription {
   /// requires (thesis §4.5: "the only contacts allowed are those required by the task"), e.g. the
   /// ultrasound probe pressed on the phantom while the other robot plans.
   std::vector<std::pair<std::string, std::string>> allowed_contacts;
+  /// Object pairs (by name) in contact only during the task's motion primitives, never along a
+  /// planned path (e.g. the needle through the skin into the tissue: the descent, the insertion
+  /// and the extraction are straight motions, not planned). The validity check keeps them at
+  /// min_collision_distance like any checked pair (a plan never takes the needle into the
+  /// phantom); the measured clearance (StateValidator::distancesAt) leaves them out and reports
+  /// their distance apart.
+  std::vector<std::pair<std::string, std::string>> primitive_contacts;
   /// Index of an object by name; npos when absent.
   std::size_t objectIndex(std::string_view name) const;
 

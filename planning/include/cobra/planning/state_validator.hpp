@@ -96,7 +96,10 @@ class StateValidator {
   /// Algorithm 4.2 without inverse kinematics: forward kinematics of every link, then the distance
   /// queries of check(). Unreachable when a robot's joints have no forward kinematics (outside the
   /// limits). No exception; no allocation on primitive scenes (as check()).
-  ValidityResult checkJoints(std::span<const double> q, bool exact_distances = false);
+  /// `primitive_contacts_apart`: the scene's primitive contacts are allowed too (a state along a
+  /// motion primitive, where the needle may be in the tissue).
+  ValidityResult checkJoints(std::span<const double> q, bool exact_distances = false,
+                             bool primitive_contacts_apart = false);
   /// The tool poses of joint state q in the world frame (the frames q of check() names). False
   /// when a robot's joints have no forward kinematics.
   bool toolPoses(std::span<const double> q, DualPose& tools);
@@ -109,14 +112,20 @@ class StateValidator {
   Reachability inverseGoal(const DualPose& tools, std::span<const double> start, std::span<double> q,
                            std::size_t& failed_robot);
   /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
-  /// (allowed contacts left out; what the planner keeps above min_collision_distance), and
-  /// `allowed_contact` = the minimum over the declared allowed contacts (+infinity: none declared).
-  /// Both NaN when q has no forward kinematics.
+  /// with the declared contacts left out (allowed and primitive: what the planner keeps above
+  /// min_collision_distance along its paths, measured through the primitives too),
+  /// `allowed_contact` = the minimum over the allowed contacts (the probe on the skin) and
+  /// `primitive_contact` over the primitive contacts (the needle in the tissue); +infinity when the
+  /// scene declares none. All NaN when q has no forward kinematics.
   struct Distances {
     double clearance = 0.0;
     double allowed_contact = 0.0;
+    double primitive_contact = 0.0;
   };
   Distances distancesAt(std::span<const double> q);
+  /// The same for tool poses q (each robot's IK from its configured seed); all NaN when q is
+  /// unreachable or invalid.
+  Distances distancesAt(const DualPose& q);
 
   const SceneDescription& scene() const { return world_.scene(); }
   const CollisionWorld& world() const { return world_; }
@@ -126,8 +135,10 @@ class StateValidator {
   ValidityResult placeRobots(const DualPose& q);
   /// FK of every robot from joints q, moves its objects; Valid or Unreachable.
   ValidityResult placeRobotsAt(std::span<const double> q);
+  /// distancesAt() of the placed robots.
+  Distances placedDistances() const;
   /// The distance queries of check() on the placed robots.
-  ValidityResult checkDistances(ValidityResult result, bool exact_distances);
+  ValidityResult checkDistances(ValidityResult result, bool exact_distances, bool primitive_contacts_apart = false);
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
                        std::size_t& failed_robot, bool goal);
 

@@ -58,19 +58,31 @@ struct PlannedProbe {
 /// What a row of the state table asks for one arm: a named datum moved `offset` m along the
 /// tool's z axis (needle axis or beam; > 0 deeper, < 0 retracted).
 struct Datum {
-  std::string name;  ///< entry, target, probe, hold, or a `pose` of the table
+  std::string name;  ///< entry, target, probe, next_entry, next_target, next_probe, hold, or a `pose`
   double offset = 0.0;
+};
+
+/// A straight motion of one arm from one datum to another (`room_for_*=FROM..TO`).
+struct DatumMotion {
+  Datum from, to;  ///< empty names: none
 };
 
 /// A row: when the task state's path contains `state` (dot-separated components, e.g.
 /// "MoveToSkin.Approach"), the goal pair is needle = `needle`, probe = `probe`.
 struct StateRow {
   std::string state;
-  Datum needle, probe;
+  /// The goal datum of each arm (at least one). Several on one arm (`needle=a|b|c`) are
+  /// alternatives, the preferred first: the motion planner takes the first that passes its checks
+  /// (the goal, then_*, room_for_*) and to which it finds a path. At most one arm lists several.
+  std::vector<Datum> needle, probe;
   /// `then_needle=` / `then_probe=`: where the straight motion that follows this goal (a motion
-  /// primitive of the next task state) takes that arm; the goal is then published with it as a
-  /// second waypoint, which the motion planner verifies with the path. Empty name: none.
+  /// primitive of the next task state) takes that arm; the goal is then published with it, and the
+  /// motion planner verifies it with the path. Empty name: none.
   Datum then_needle, then_probe;
+  /// `room_for_needle=A..B` / `room_for_probe=A..B`: a straight motion that arm makes later, from
+  /// A to B, while the other arm stays at this goal (e.g. the probe's next approach and descent
+  /// beside the needle's waiting pose): the planner verifies every goal alternative with it.
+  DatumMotion room_for_needle, room_for_probe;
   int line = 0;
 };
 
@@ -156,6 +168,10 @@ double distanceToRegion(const KDL::Vector& p, const KDL::Vector& q, const Forbid
 /// True when the dot-separated components of `state` appear contiguously in `path`
 /// ("MoveToSkin.Descend" in "root.InsertingNeedles.MoveToSkin.Descend.Moving").
 bool pathContains(std::string_view path, std::string_view state);
+
+/// Whether `name` is a datum of the current needle's plan (entry, target, probe) or of the next
+/// one's (next_entry, next_target, next_probe); `next` says which.
+bool planDatum(std::string_view name, bool& next);
 
 /// `pose` moved `offset` m along its own z axis.
 KDL::Frame alongZ(const KDL::Frame& pose, double offset);

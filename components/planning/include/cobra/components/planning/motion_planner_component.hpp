@@ -36,20 +36,26 @@ namespace cobra::components {
 ///   [q1 q2 q3 m, q4..q8 rad], UR5 [6 rad]; the start state when both have data: the path starts
 ///   on the robots' actual IK branches), `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the
 ///   start state without joints, solved by IK from the models' seeds; event ports: a new sample
-///   triggers the distance report), `goalPoses` (TGL.MultiAxisPath with ONE waypoint of 14 values:
-///   the needle then the probe goal, each x y z [m] qx qy qz qw, world frame: the encoding of
-///   path_type.hpp, already registered; a SECOND waypoint, when given, is where the straight
-///   motion after the goal (a motion primitive) takes the tools: a plan whose follow-on cannot be
-///   made, colliding or jumping a joint, fails with the reason before anything moves);
+///   triggers the distance report), `goalPoses` (TGL.MultiAxisPath: one waypoint per goal
+///   ALTERNATIVE, the preferred first, each of 14 values: the needle then the probe goal, each
+///   x y z [m] qx qy qz qw, world frame: the encoding of path_type.hpp; or of 28 + 28·k values:
+///   the goal pair, the pair where the straight motion after it (a motion primitive) takes the
+///   tools (the goal again: none), then k later straight motions as start and end pairs that the
+///   goal must leave room for (e.g. the probe's next approach and descent while the needle waits
+///   at this goal). askPlan takes the first alternative whose goal state is valid, whose later
+///   motions can be made beside it (MotionPlanner::checkMotion from the measured joints), to
+///   which a path is found and whose follow-on can be made (colliding or jumping a joint fails);
+///   none: e_plan_failed with each alternative's reason, before anything moves);
 ///   out: `plannedPath` (TGL.MultiAxisPath, 2 arms, path_type.hpp's encoding: what
 ///   CartesianTrajectoryGenerator reads), `minDistance` (double, m: the measured state's clearance,
-///   the minimum distance over the checked group pairs OUTSIDE the scene's allowed contacts, what
-///   planned paths keep above clearanceThreshold(); NaN when the measured state is not a pose or
-///   unreachable), `allowedContactDistance` (double, m: the minimum distance of the declared
-///   allowed contacts, e.g. the probe on the skin: 0 while touching; +inf when none declared; NaN
-///   as minDistance); both published when a measured pose arrives at least `clearance_period` s
-///   (property, default 0.01) after the last measurement while either port is connected, from the
-///   joints when known;
+///   the minimum distance over the checked group pairs OUTSIDE the scene's declared contacts
+///   (`allow` and `primitive_contact`), what planned paths keep above clearanceThreshold(); NaN
+///   when the measured state is not a pose or unreachable), `allowedContactDistance` (double, m:
+///   the minimum distance of the scene's allowed contacts, e.g. the probe on the skin: 0 while
+///   touching; +inf when none declared; NaN as minDistance), `primitiveContactDistance` (double, m:
+///   the same for its primitive contacts, e.g. the needle in the tissue); published when a
+///   measured pose arrives at least `clearance_period` s (property, default 0.01) after the last
+///   measurement while one of them is connected, from the joints when known;
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
 ///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
@@ -82,8 +88,20 @@ class MotionPlannerComponent : public PlanningSceneComponent {
  private:
   void askPlan();
   double checkDistancePoses(KDL::Frame first, KDL::Frame second);
+  /// One goal alternative of goalPoses and what it is verified with.
+  struct GoalAlternative {
+    planning::DualPose goal;
+    planning::DualPose follow_on;  // where the straight motion after the goal goes (has_follow_on)
+    bool has_follow_on = false;
+    /// Later straight motions (start pair, end pair) the goal must leave room for.
+    std::vector<std::pair<planning::DualPose, planning::DualPose>> room;
+  };
+  /// alternatives_ from a goalPoses sample. @throws std::invalid_argument saying what is wrong.
+  void readGoal(const trajectory::MultiAxisPath& goal);
+  /// One alternative: (with `checked_first`) its goal and room checks, the search, its follow-on.
+  planning::PlanResult planAlternative(const GoalAlternative& a, bool from_joints, bool checked_first);
   /// Appends the query and its outcome to query_log (when set).
-  void logQuery(const planning::PlanResult& result) const;
+  void logQuery(const planning::DualPose& goal, const planning::PlanResult& result) const;
   /// Runs one query from the measured poses to the goal; writes the path or says why not.
   void plan();
   void fail(const std::string& reason);
@@ -122,17 +140,21 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   core::InputPort<KDL::Frame> isur_meas_{"isurMeasPose", "measured needle tip pose (start state), world", "m"};
   core::InputPort<KDL::Frame> ur5_meas_{"UR5MeasPose", "measured probe tip pose (start state), world", "m"};
   core::InputPort<trajectory::MultiAxisPath> goal_{
-      "goalPoses", "goal: one waypoint, needle then probe, x y z qx qy qz qw each, world; a second waypoint: "
-      "where the straight motion after the goal goes (verified with the plan)", "m"};
+      "goalPoses", "goal alternatives, one waypoint each, the preferred first: the needle then the probe goal, "
+      "x y z qx qy qz qw each, world; with 28 + 28 k values: then where the straight motion after the goal goes, "
+      "and k later motions (start pair, end pair) it must leave room for", "m"};
   core::OutputPort<trajectory::MultiAxisPath> path_out_{
       "plannedPath", "collision-free path, 2 arms, x y z qx qy qz qw per arm per waypoint, world", "m"};
   core::InputPort<KDL::JntArray> isur_joints_{"isurMeasJoints", "measured I-SUR joints (start state): q1..q3 m, q4..q8 rad",
                                               "m, rad"};
   core::InputPort<KDL::JntArray> ur5_joints_{"UR5MeasJoints", "measured UR5 joints (start state)", "rad"};
   core::OutputPort<double> min_distance_{
-      "minDistance", "clearance of the measured state outside the allowed contacts (NaN: unreachable)", "m"};
+      "minDistance", "clearance of the measured state outside the declared contacts (NaN: unreachable)", "m"};
   core::OutputPort<double> allowed_distance_{
-      "allowedContactDistance", "distance of the declared allowed contacts in the measured state", "m"};
+      "allowedContactDistance", "distance of the scene's allowed contacts in the measured state", "m"};
+  core::OutputPort<double> primitive_distance_{
+      "primitiveContactDistance",
+      "distance of the scene's primitive contacts (made by the motion primitives) in the measured state", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;
   std::int64_t last_clearance_ns_ = -1;  // when minDistance was last measured (component clock), -1: never
@@ -148,9 +170,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   /// Fills joints_ from the latest joint samples; false when they are missing or do not fit.
   bool measuredJoints();
   planning::DualPose measured_;
-  planning::DualPose goal_pose_;
-  planning::DualPose follow_on_;  // where the straight motion after the goal goes (has_follow_on_)
-  bool has_follow_on_ = false;
+  std::vector<GoalAlternative> alternatives_;  // the latest goalPoses, the preferred first
   std::string last_result_;
 };
 

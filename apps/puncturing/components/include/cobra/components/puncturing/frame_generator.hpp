@@ -30,9 +30,13 @@ namespace cobra::components {
 ///   chart's active state), `needleMeasPose`, `USMeasPose` (KDL.Frame, m, world);
 /// - output ports `desiredPoses` (TGL.MultiAxisPath, two waypoints [measured pair, goal pair],
 ///   7 values per arm, arm 0 = needle, arm 1 = probe, as path_type.hpp encodes them: the
-///   CartesianTrajectoryGenerator's plannedPath), `goalPoses` (the goal pair, one waypoint
-///   of 14 values: the MotionPlanner's goalPoses; a second waypoint where the row has
-///   then_needle / then_probe: where the straight motion after the goal takes the arms), `needleTarget` (KDL.Frame, m: the current
+///   CartesianTrajectoryGenerator's plannedPath; its goal is the row's first alternative),
+///   `goalPoses` (the MotionPlanner's goalPoses: one waypoint per goal alternative of the row,
+///   the preferred first; 14 values (the goal pair) for a row without then_* or room_for_*,
+///   otherwise 28 + 28 per room_for_*: the goal pair, where the straight motion after it goes
+///   (then_*; the goal again for an arm without one), and per room_for_* that arm's later motion
+///   as its start pair and end pair with the other arm at its goal; a room_for_* naming a next_*
+///   datum is left out after the last needle), `needleTarget` (KDL.Frame, m: the current
 ///   needle's planned tip pose in the world, the NeedleInsertionMonitor's targetPose);
 /// - operations `askCurrentGoal()`, `nextNeedle()` (void requests answered by events),
 ///   `currentNeedle()` (int, 0-based), `needleCount()` (int), `plannedTarget(i)` (KDL.Frame:
@@ -46,8 +50,9 @@ namespace cobra::components {
 ///
 /// Datums (state table): entry / target = the current needle's tip frame at its skin entry /
 /// at its target, probe = its planned probe pose (all three in frame A, mapped with
-/// abdomenFrame), hold = the arm's measured pose (world), a named pose = a fixed task-frame pose;
-/// then moved `offset` m along the tool's own z axis.
+/// abdomenFrame; next_entry, next_target, next_probe: the same of the needle after the current
+/// one), hold = the arm's measured pose (world), a named pose = a fixed task-frame pose; then
+/// moved `offset` m along the tool's own z axis.
 ///
 /// askCurrentGoal and nextNeedle are answered in this component's next step (they only mark the
 /// request and wake the activity: core::PendingRequest), so the supervisor that asks spends
@@ -56,8 +61,10 @@ namespace cobra::components {
 ///
 /// Real time: the answer (a table lookup over the rows, a few frame products) and nextNeedle
 /// allocate nothing once the first answer has sized the port connections, when they answer
-/// e_goal_ready or e_all_needles_done: the paths are preallocated at configure and refilled in
-/// place. Answering e_no_data builds the message (allocates) and prints it.
+/// e_goal_ready for a row of one goal without then_* or room_for_*, or e_all_needles_done: the
+/// paths are preallocated at configure and refilled in place. A row with alternatives or checks
+/// (a planned motion's goal) builds its goalPoses, and answering e_no_data builds the message
+/// (both allocate).
 class PuncturingFrameGenerator : public core::Component {
  public:
   explicit PuncturingFrameGenerator(std::string name);
@@ -86,6 +93,8 @@ class PuncturingFrameGenerator : public core::Component {
   /// The pose `datum` asks for `arm`, or nullptr when its data is missing (`why` then says which).
   const KDL::Frame* resolve(const puncturing::Datum& datum, Arm arm, const char*& why);
   void noData(const std::string& reason);
+  /// Writes desiredPoses [measured pair, goal_pair_], goalPoses = `goal` and emits e_goal_ready.
+  void publish(const trajectory::MultiAxisPath& goal);
 
   core::Property<std::string> preoperative_file_{"preoperative_info_file", "", "",
                                                  "preoperative information (abdomen, tumour, forbidden regions)"};
@@ -101,7 +110,8 @@ class PuncturingFrameGenerator : public core::Component {
   core::OutputPort<trajectory::MultiAxisPath> desired_poses_{
       "desiredPoses", "[measured pair, goal pair]: needle then probe, x y z qx qy qz qw each, world", "m"};
   core::OutputPort<trajectory::MultiAxisPath> goal_poses_{
-      "goalPoses", "goal: one waypoint (and where the motion after it goes), needle then probe, x y z qx qy qz qw each, world", "m"};
+      "goalPoses", "goal alternatives, one waypoint each: the goal pair (needle then probe, x y z qx qy qz qw each, "
+      "world), with the checks of its row (then_*, room_for_*) after it", "m"};
   core::OutputPort<KDL::Frame> needle_target_{"needleTarget", "the current needle's planned tip pose, world", "m"};
 
   std::optional<puncturing::PuncturingPlan> plan_;
@@ -110,10 +120,10 @@ class PuncturingFrameGenerator : public core::Component {
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   std::array<KDL::Frame, 2> measured_;
   std::array<bool, 2> have_measured_{false, false};
-  std::array<KDL::Frame, 2> resolved_;  // workspace: the goal pair
+  std::array<KDL::Frame, 2> resolved_;   // workspace: the datum resolve() resolved last, per arm
+  std::array<KDL::Frame, 2> goal_pair_;  // the goal pair of the row's first alternative
   core::TaskState state_;
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
-  trajectory::MultiAxisPath goal_then_;       // preallocated 2 x 14: the goal and the motion after it
   std::string last_failure_;
   core::PendingRequest goal_request_, next_needle_request_;  // answered in the next step
 };
