@@ -298,29 +298,35 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
   IkStatus status = IkStatus::Unreachable;
   double best_distance = std::numeric_limits<double>::infinity();
   std::array<double, kJoints> best{};
-  for (int i = 0; i < count; ++i) {
-    std::array<double, kJoints> q{};
-    const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
-    // The representation's branch is known from its pitch before solving (branch()): one the
-    // caller excludes (the control path's continuity rule) is solved without the elbow search,
-    // only to tell a refusal (Discontinuous) from an unreachable target.
-    const bool searched = on_branch.compatibleWith(pitchBranch(pitch));
-    const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
-    if (candidate != IkStatus::Ok) {
-      if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
-        status = IkStatus::JointLimits;
-      continue;
-    }
-    if (!on_branch.compatibleWith(branch(q))) {
-      if (status != IkStatus::Ok) status = IkStatus::Discontinuous;
-      continue;
-    }
-    double distance = 0.0;
-    for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
-    if (distance < best_distance) {
-      best_distance = distance;
-      best = q;
-      status = IkStatus::Ok;
+  // The representations on the caller's branch first. One the caller excludes (the control
+  // path's continuity rule) is solved only when none of those solves, and without the elbow
+  // search: only to tell a refusal (Discontinuous) from an unreachable target. (The outcome does
+  // not depend on the order: a solution on the branch wins, then Discontinuous, then JointLimits.)
+  for (const bool on_branch_pass : {true, false}) {
+    if (!on_branch_pass && status == IkStatus::Ok) break;
+    for (int i = 0; i < count; ++i) {
+      std::array<double, kJoints> q{};
+      const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
+      // The representation's branch is known from its pitch before solving (branch()).
+      const bool searched = on_branch.compatibleWith(pitchBranch(pitch));
+      if (searched != on_branch_pass) continue;
+      const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
+      if (candidate != IkStatus::Ok) {
+        if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
+          status = IkStatus::JointLimits;
+        continue;
+      }
+      if (!on_branch.compatibleWith(branch(q))) {
+        if (status != IkStatus::Ok) status = IkStatus::Discontinuous;
+        continue;
+      }
+      double distance = 0.0;
+      for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = q;
+        status = IkStatus::Ok;
+      }
     }
   }
   if (status != IkStatus::Ok) return status;

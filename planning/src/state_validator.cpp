@@ -189,8 +189,15 @@ StateValidator::Distances StateValidator::distancesAt(std::span<const double> q)
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN};
   Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance()};
-  for (const GroupPair& pair : world_.scene().checks)
-    distances.clearance = std::min(distances.clearance, world_.distance(pair.first, pair.second).distance);
+  // A measured state moves little between two calls: the pair closest last time is measured first
+  // and bounds every group pair's search (the same minimum, most pairs never measured).
+  if (closest_.first != kNoObject) distances.clearance = world_.objectDistance(closest_.first, closest_.second);
+  for (const GroupPair& pair : world_.scene().checks) {
+    const GroupDistance d = world_.distanceUnder(pair.first, pair.second, distances.clearance);
+    if (d.first_index == kNoObject || !(d.distance < distances.clearance)) continue;
+    distances.clearance = d.distance;
+    closest_ = {d.first_index, d.second_index};
+  }
   return distances;
 }
 

@@ -29,6 +29,8 @@ struct Chart {
   const components::Supervisor* supervisor = nullptr;
   std::unique_ptr<Tap<core::TaskState>> state_tap;
   std::string state, previous, shown;  // full path now and one step before; folded, as last logged
+  std::string lane;                    // its timeline lane: "NAME chart"
+  bool changed = true;                 // state differs from previous (or the first step)
   std::string last_failure;            // "Source: event at t s"
 };
 

@@ -99,6 +99,8 @@ bool MotionPlannerComponent::configureHook() {
   options.tool_names = {"needle", "probe"};
   planner_impl_ = std::make_unique<planning::MotionPlanner>(*validator_, options);
   joints_.assign(validator_->hasJointSpace() ? validator_->jointCount() : 0, 0.0);
+  clearance_joints_.clear();
+  clearance_joints_.reserve(joints_.size());  // updateHook copies joints_ here without allocating
   have_isur_ = have_ur5_ = have_goal_ = have_isur_joints_ = have_ur5_joints_ = false;
   last_result_.clear();
   return true;
@@ -196,9 +198,12 @@ void MotionPlannerComponent::updateHook() {
   if (measured_changed && clearance_due && clearance_read) {
     last_clearance_ns_ = now_ns;
     if (measuredJoints()) {
-      const planning::StateValidator::Distances d = validator_->distancesAt(joints_);
-      min_distance_.write(d.clearance);
-      allowed_distance_.write(d.allowed_contact);
+      if (joints_ != clearance_joints_) {
+        clearance_ = validator_->distancesAt(joints_);
+        clearance_joints_ = joints_;
+      }
+      min_distance_.write(clearance_.clearance);
+      allowed_distance_.write(clearance_.allowed_contact);
     } else {
       const double clearance = validator_->minimumDistance(measured_);
       min_distance_.write(clearance);

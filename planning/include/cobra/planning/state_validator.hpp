@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <kdl/frames.hpp>
@@ -111,7 +112,8 @@ class StateValidator {
   /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
   /// (allowed contacts left out; what the planner keeps above min_collision_distance), and
   /// `allowed_contact` = the minimum over the declared allowed contacts (+infinity: none declared).
-  /// Both NaN when q has no forward kinematics.
+  /// Both NaN when q has no forward kinematics. Made for a measured state sampled along a motion:
+  /// the closest pair of the last call is measured first and bounds the search of every pair.
   struct Distances {
     double clearance = 0.0;
     double allowed_contact = 0.0;
@@ -139,6 +141,8 @@ class StateValidator {
   std::vector<std::vector<double>> seeds_;           // per robot: its configured seed, preallocated
   std::vector<std::size_t> joint_offsets_{0};       // per robot, then the total
   bool joint_space_ = true;
+  static constexpr std::size_t kNoObject = static_cast<std::size_t>(-1);
+  std::pair<std::size_t, std::size_t> closest_{kNoObject, kNoObject};  // distancesAt's last closest objects
 };
 
 /// True when every element is finite and both rotations are orthonormal (to 1e-6).
