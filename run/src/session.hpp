@@ -3,6 +3,7 @@
 // observers attached by the names of its `run` table, the actions and faults armed, then one
 // observation per step until the run ends. Private to cobra::run.
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <utility>
@@ -95,6 +96,9 @@ class Session {
     core::InputPort<core::Event>* events;         // reader as an event port (nullptr: another type)
   };
   std::vector<EventTap> event_taps_;
+  // Set by every event tap of type Event when an event arrives (PortBase::setNewDataFlag): the
+  // taps are read only then, not polled at every step. Taps of another type are polled.
+  std::atomic<bool> new_events_{true};
   Recording recording_;
   std::vector<Tracker> trackers_;
   std::unique_ptr<ClearanceObserver> clearance_;

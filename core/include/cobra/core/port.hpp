@@ -4,6 +4,7 @@
 /// that each own a lock-free channel (see channel.hpp). Many readers per writer.
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -52,6 +53,14 @@ class PortBase {
   void disconnect();
   /// Tells the owner that new data arrived on this event port. Real-time safe.
   void notifyNewData() noexcept;
+  /// For an input port that belongs to no component (an observer's reader, e.g. the runner's event
+  /// log): makes it an event port whose new data sets `*flag` (release) instead of waking an owner,
+  /// so that the observer reads its ports only after a flag was set rather than polling each at
+  /// every step. `flag` must outlive the port's connections. Call before connecting.
+  void setNewDataFlag(std::atomic<bool>* flag) noexcept {
+    new_data_flag_ = flag;
+    event_port_ = true;
+  }
 
  protected:
   /// Adds/removes a channel in the list the real-time path iterates; only ever called
@@ -73,6 +82,7 @@ class PortBase {
   const TypeInfo* type_;
   bool event_port_ = false;
   Component* owner_ = nullptr;
+  std::atomic<bool>* new_data_flag_ = nullptr;  // see setNewDataFlag
   mutable std::mutex links_mutex_;
   std::vector<std::shared_ptr<ChannelBase>> links_;
 };
