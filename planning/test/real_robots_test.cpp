@@ -199,6 +199,7 @@ TEST_F(PuncturingScene, DistancesAlongAMotionEqualThoseMeasuredAfresh) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> small(-0.003, 0.003), jump(-0.15, 0.15);
   int measured = 0;
+  std::vector<double> previous = q;  // the state before q
   for (int i = 0; i < 400; ++i) {
     std::vector<double> next = q;
     for (double& value : next) value += i % 50 == 49 ? jump(rng) : small(rng);
@@ -209,12 +210,17 @@ TEST_F(PuncturingScene, DistancesAlongAMotionEqualThoseMeasuredAfresh) {
       EXPECT_TRUE(std::isnan(d.clearance)) << "state " << i;
       continue;
     }
+    previous = q;
     q = next;
     ++measured;
     EXPECT_NEAR(d.clearance, expected.clearance, 1e-9) << "state " << i;
     EXPECT_EQ(d.allowed_contact, expected.allowed_contact) << "state " << i;
   }
   EXPECT_GT(measured, 200) << "the walk must stay mostly inside the joint limits";
+  // The monitoring query runs in the planner component's step: on primitives it allocates nothing.
+  double clearance = 0.0;
+  EXPECT_EQ(allocationsDuring([&] { clearance = validator.distancesAt(previous).clearance; }), 0);
+  EXPECT_FALSE(std::isnan(clearance));
 }
 
 /// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
