@@ -240,7 +240,8 @@ void Component::step() noexcept {
   if (state() != State::Running) return;
   try {
     updateHook();
-    update_count_.fetch_add(1, std::memory_order_relaxed);
+    // Only the stepping thread writes it: a plain increment, not a locked read-modify-write.
+    update_count_.store(update_count_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     enterException("updateHook", e.what());
   } catch (...) {

@@ -44,6 +44,7 @@ void PortBase::changeBetweenSteps(const std::function<void()>& change) {
 
 void PortBase::notifyNewData() noexcept {
   if (owner_ != nullptr) owner_->activity().trigger();
+  else if (new_data_flag_ != nullptr) new_data_flag_->store(true, std::memory_order_release);
 }
 
 void linkChannel(const std::shared_ptr<ChannelBase>& channel) {

@@ -203,6 +203,55 @@ TEST(Port, ManyReadersEachGetEverySample) {
   }
 }
 
+// readNew: NewData copies the sample like read; OldData and NoData leave the output as it was
+// (read copies the last sample again), for data and buffer connections alike.
+TEST(Port, ReadNewCopiesOnlyNewSamples) {
+  for (const ConnPolicy policy : {ConnPolicy::data(), ConnPolicy::buffer(4)}) {
+    OutputPort<int> out{"out", "", "1"};
+    InputPort<int> in{"in", "", "1"};
+    int v = -1;
+    EXPECT_EQ(in.readNew(v), FlowStatus::NoData);
+    connect(out, in, policy);
+    EXPECT_EQ(in.readNew(v), FlowStatus::NoData);
+    EXPECT_EQ(v, -1);
+    ASSERT_EQ(out.write(7), WriteStatus::Written);
+    EXPECT_EQ(in.readNew(v), FlowStatus::NewData);
+    EXPECT_EQ(v, 7);
+    v = -2;
+    EXPECT_EQ(in.readNew(v), FlowStatus::OldData);
+    EXPECT_EQ(v, -2);
+    EXPECT_EQ(in.read(v), FlowStatus::OldData);
+    EXPECT_EQ(v, 7);
+  }
+}
+
+// An input that belongs to no component with a new-data flag: every write sets the flag, and a
+// cleared flag stays clear while nothing is written; another reader's flag is not touched.
+TEST(Port, ANewDataFlagIsSetByEveryWrite) {
+  OutputPort<int> out{"out", "", "1"};
+  InputPort<int> flagged{"flagged", "", "1"};
+  InputPort<int> plain{"plain", "", "1"};
+  std::atomic<bool> flag{false};
+  flagged.setNewDataFlag(&flag);
+  EXPECT_TRUE(flagged.isEventPort());
+  connect(out, flagged, ConnPolicy::buffer(8));
+  connect(out, plain, ConnPolicy::buffer(8));
+  EXPECT_FALSE(flag.load());
+  ASSERT_EQ(out.write(1), WriteStatus::Written);
+  EXPECT_TRUE(flag.exchange(false));
+  int v = 0;
+  EXPECT_EQ(flagged.readNew(v), FlowStatus::NewData);
+  EXPECT_FALSE(flag.load());
+  ASSERT_EQ(out.write(2), WriteStatus::Written);
+  ASSERT_EQ(out.write(3), WriteStatus::Written);
+  EXPECT_TRUE(flag.exchange(false));
+  EXPECT_EQ(flagged.readNew(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 2);
+  EXPECT_EQ(flagged.readNew(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 3);
+  EXPECT_FALSE(flag.load());
+}
+
 TEST(Port, AFullBufferReportsDroppedButOtherReadersStillGetTheSample) {
   OutputPort<int> out{"out", "", "1"};
   InputPort<int> small{"small", "", "1"};

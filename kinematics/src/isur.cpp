@@ -119,11 +119,33 @@ IsurPuncturingSolver::IsurPuncturingSolver(const IsurGeometry& geometry, std::st
 }
 
 KDL::Frame IsurPuncturingSolver::microForward(double q5, double q6, double q7, double q8) const noexcept {
+  // mount · Rz(q5) · shoulder · Ry(q6) · upper arm · Ry(q7) · forearm · Rx(q8) · tool, each factor
+  // a pure rotation about an axis or a pure translation: written out instead of nine general frame
+  // products (the control path runs it three times per step). The cross-check against KDL's chain
+  // (cartesianMacroChain) is in isur_test.
   const IsurMicroArm& m = geometry_.micro;
-  return KDL::Frame(m.mount) * KDL::Frame(KDL::Rotation::RotZ(q5)) * KDL::Frame(m.shoulder) *
-         KDL::Frame(KDL::Rotation::RotY(q6)) * KDL::Frame(KDL::Vector(m.upper_arm, 0.0, 0.0)) *
-         KDL::Frame(KDL::Rotation::RotY(q7)) * KDL::Frame(KDL::Vector(m.forearm, 0.0, 0.0)) *
-         KDL::Frame(KDL::Rotation::RotX(q8)) * KDL::Frame(m.tool);
+  const double c5 = std::cos(q5), s5 = std::sin(q5);
+  const double c6 = std::cos(q6), s6 = std::sin(q6);
+  const double c7 = std::cos(q7), s7 = std::sin(q7);
+  const double c8 = std::cos(q8), s8 = std::sin(q8);
+  // Position, from the tool inwards: v = Rx(q8)·tool + forearm, then Ry(q7)·v + upper arm, ...
+  double x = m.tool.x() + m.forearm;
+  double y = c8 * m.tool.y() - s8 * m.tool.z();
+  double z = s8 * m.tool.y() + c8 * m.tool.z();
+  double t = c7 * x + s7 * z;
+  z = c7 * z - s7 * x;
+  x = t + m.upper_arm;
+  t = c6 * x + s6 * z;
+  z = c6 * z - s6 * x + m.shoulder.z();
+  x = t + m.shoulder.x();
+  y += m.shoulder.y();
+  const KDL::Vector p(c5 * x - s5 * y + m.mount.x(), s5 * x + c5 * y + m.mount.y(), z + m.mount.z());
+  // Rotation Rz(q5)·Ry(q6 + q7)·Rx(q8).
+  const double cb = c6 * c7 - s6 * s7, sb = s6 * c7 + c6 * s7;
+  return KDL::Frame(KDL::Rotation(c5 * cb, c5 * sb * s8 - s5 * c8, c5 * sb * c8 + s5 * s8,  //
+                                  s5 * cb, s5 * sb * s8 + c5 * c8, s5 * sb * c8 - c5 * s8,  //
+                                  -sb, cb * s8, cb * c8),
+                    p);
 }
 
 IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& pose) const noexcept {
@@ -298,29 +320,35 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
   IkStatus status = IkStatus::Unreachable;
   double best_distance = std::numeric_limits<double>::infinity();
   std::array<double, kJoints> best{};
-  for (int i = 0; i < count; ++i) {
-    std::array<double, kJoints> q{};
-    const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
-    // The representation's branch is known from its pitch before solving (branch()): one the
-    // caller excludes (the control path's continuity rule) is solved without the elbow search,
-    // only to tell a refusal (Discontinuous) from an unreachable target.
-    const bool searched = on_branch.compatibleWith(pitchBranch(pitch));
-    const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
-    if (candidate != IkStatus::Ok) {
-      if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
-        status = IkStatus::JointLimits;
-      continue;
-    }
-    if (!on_branch.compatibleWith(branch(q))) {
-      if (status != IkStatus::Ok) status = IkStatus::Discontinuous;
-      continue;
-    }
-    double distance = 0.0;
-    for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
-    if (distance < best_distance) {
-      best_distance = distance;
-      best = q;
-      status = IkStatus::Ok;
+  // The representations on the caller's branch first. One the caller excludes (the control
+  // path's continuity rule) is solved only when none of those solves, and without the elbow
+  // search: only to tell a refusal (Discontinuous) from an unreachable target. (The outcome does
+  // not depend on the order: a solution on the branch wins, then Discontinuous, then JointLimits.)
+  for (const bool on_branch_pass : {true, false}) {
+    if (!on_branch_pass && status == IkStatus::Ok) break;
+    for (int i = 0; i < count; ++i) {
+      std::array<double, kJoints> q{};
+      const auto& [yaw, pitch, roll] = representations[static_cast<std::size_t>(i)];
+      // The representation's branch is known from its pitch before solving (branch()).
+      const bool searched = on_branch.compatibleWith(pitchBranch(pitch));
+      if (searched != on_branch_pass) continue;
+      const IkStatus candidate = solveCandidate(target, yaw, pitch, roll, seed, q, searched);
+      if (candidate != IkStatus::Ok) {
+        if (status != IkStatus::Ok && status != IkStatus::Discontinuous && candidate == IkStatus::JointLimits)
+          status = IkStatus::JointLimits;
+        continue;
+      }
+      if (!on_branch.compatibleWith(branch(q))) {
+        if (status != IkStatus::Ok) status = IkStatus::Discontinuous;
+        continue;
+      }
+      double distance = 0.0;
+      for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = q;
+        status = IkStatus::Ok;
+      }
     }
   }
   if (status != IkStatus::Ok) return status;

@@ -24,6 +24,19 @@ void checkFinite(const std::string& robot, std::size_t joint, const char* parame
                               formatNumber(value) + ": give a finite value in " + unit);
 }
 
+/// KDL's Frame product (frames.inl, frames.cpp), written out in KDL's own order of operations:
+/// the same bits (serial_chain_test compares them), without a call into the shared library.
+KDL::Frame product(const KDL::Frame& a, const KDL::Frame& b) noexcept {
+  const double* l = a.M.data;
+  const double* r = b.M.data;
+  return KDL::Frame(KDL::Rotation(l[0] * r[0] + l[1] * r[3] + l[2] * r[6], l[0] * r[1] + l[1] * r[4] + l[2] * r[7],
+                                  l[0] * r[2] + l[1] * r[5] + l[2] * r[8], l[3] * r[0] + l[4] * r[3] + l[5] * r[6],
+                                  l[3] * r[1] + l[4] * r[4] + l[5] * r[7], l[3] * r[2] + l[4] * r[5] + l[5] * r[8],
+                                  l[6] * r[0] + l[7] * r[3] + l[8] * r[6], l[6] * r[1] + l[7] * r[4] + l[8] * r[7],
+                                  l[6] * r[2] + l[7] * r[5] + l[8] * r[8]),
+                    a.M * b.p + a.p);
+}
+
 void checkFiniteFrame(const std::string& robot, const char* which, const KDL::Frame& frame) {
   if (validFrame(frame)) return;
   throw std::invalid_argument(robot + ": the " + std::string(which) +
@@ -31,6 +44,17 @@ void checkFiniteFrame(const std::string& robot, const char* which, const KDL::Fr
 }
 
 }  // namespace
+
+KDL::Frame SerialChainModel::link(std::size_t i, double q) const noexcept {
+  // KDL::Frame::DH's formula with the row's cos α and sin α computed once: the same bits.
+  const DhRow& row = rows_[i];
+  const double theta = row.type == JointType::Revolute ? row.theta + q : row.theta;
+  const double d = row.type == JointType::Revolute ? row.d : row.d + q;
+  const double ct = std::cos(theta), st = std::sin(theta);
+  const double ca = alpha_trig_[i][0], sa = alpha_trig_[i][1];
+  return KDL::Frame(KDL::Rotation(ct, -st * ca, st * sa, st, ct * ca, -ct * sa, 0, sa, ca),
+                    KDL::Vector(row.a * ct, row.a * st, d));
+}
 
 KDL::Frame dhTransform(const DhRow& row, double q) noexcept {
   if (row.type == JointType::Revolute) return KDL::Frame::DH(row.a, row.alpha, row.d, row.theta + q);
@@ -55,6 +79,7 @@ SerialChainModel::SerialChainModel(std::string name, std::vector<DhRow> rows, co
     limits_.types.push_back(row.type);
     limits_.lower.push_back(row.lower);
     limits_.upper.push_back(row.upper);
+    alpha_trig_.push_back({std::cos(row.alpha), std::sin(row.alpha)});
   }
   validateLimits(name_, limits_, rows_.size());
 
@@ -74,15 +99,15 @@ SerialChainModel::SerialChainModel(std::string name, std::vector<DhRow> rows, co
 
 KDL::Frame SerialChainModel::forward(std::span<const double> q) const noexcept {
   KDL::Frame pose = base_;
-  for (std::size_t i = 0; i < rows_.size() && i < q.size(); ++i) pose = pose * dhTransform(rows_[i], q[i]);
-  return pose * tool_;
+  for (std::size_t i = 0; i < rows_.size() && i < q.size(); ++i) pose = product(pose, link(i, q[i]));
+  return product(pose, tool_);
 }
 
 bool SerialChainModel::linkFrames(std::span<const double> q, std::span<KDL::Frame> frames) const noexcept {
   if (q.size() != rows_.size() || frames.size() != linkCount()) return false;
   frames[0] = base_;
-  for (std::size_t i = 0; i < rows_.size(); ++i) frames[i + 1] = frames[i] * dhTransform(rows_[i], q[i]);
-  frames[rows_.size() + 1] = frames[rows_.size()] * tool_;
+  for (std::size_t i = 0; i < rows_.size(); ++i) frames[i + 1] = product(frames[i], link(i, q[i]));
+  frames[rows_.size() + 1] = product(frames[rows_.size()], tool_);
   return true;
 }
 

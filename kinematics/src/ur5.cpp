@@ -79,6 +79,34 @@ double wrapSmall(double angle) noexcept {
 // Everything is computed from the sines and cosines the geometry already gives (no DH products,
 // one atan2 per angle): the eight solutions cost about as much as KDL's forward kinematics.
 IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& seed, IkSolutionSet& solutions) noexcept {
+  return solve(target, seed, IkBranch::any(), solutions);
+}
+
+IkStatus Ur5Solver::inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                                    KDL::JntArray& q_out) noexcept {
+  if (q_out.rows() != jointCount()) return IkStatus::BadInput;
+  // The solutions on `branch` alone first (one shoulder, wrist and elbow when the branch is not
+  // ambiguous: a quarter of the work, and the selection among one). The nearest of them fitting
+  // the limits is the nearest on the branch among all eight, so it is the answer; when none
+  // fits, all eight tell whether another branch would have (Discontinuous) or not (JointLimits).
+  if (solve(target, seed, branch, on_branch_) == IkStatus::Ok &&
+      selectNearest(on_branch_, limits(), seed, q_out, branch) == IkStatus::Ok)
+    return IkStatus::Ok;
+  return AnalyticSolver::inverseOnBranch(target, seed, branch, q_out);
+}
+
+namespace {
+
+/// True when the choices `decided` (branch bits) made so far in `partial` are compatible with
+/// `keep` (IkBranch::compatibleWith restricted to those bits).
+bool keeps(IkBranch keep, IkBranch partial, std::uint8_t decided) noexcept {
+  return ((keep.bits ^ partial.bits) & decided & ~(keep.ambiguous | partial.ambiguous)) == 0;
+}
+
+}  // namespace
+
+IkStatus Ur5Solver::solve(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch keep,
+                          IkSolutionSet& solutions) const noexcept {
   solutions.reset(6);
   if (!validFrame(target) || !validJointArray(seed, 6)) return IkStatus::BadInput;
   const Ur5Parameters& p = parameters_;
@@ -110,6 +138,7 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
                               : -(cos_phi * cos_shoulder + sin_phi * sin_shoulder);
     IkBranch shoulder_branch;
     detail::chooseBranch(shoulder_branch, detail::kShoulderBit, (i1 == 0 ? 1.0 : -1.0) * r * cos_shoulder);
+    if (!keeps(keep, shoulder_branch, detail::kShoulderBit)) continue;
     // n1 seen from the flange: (s5 c6, -s5 s6, c5). atan2 keeps θ5 accurate near the singularity,
     // where acos of the position formula (p·n1 = d4 + d6 c5) would lose half the digits.
     const double n1_x6 = x6.x() * s1 - x6.y() * c1;
@@ -146,6 +175,7 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
       const double theta234 = i5 == 0 ? theta234_up : theta234_up + kPi;
       IkBranch wrist_branch = shoulder_branch;
       detail::chooseBranch(wrist_branch, detail::kWristBit, s5);
+      if (!keeps(keep, wrist_branch, detail::kShoulderBit | detail::kWristBit)) continue;
       const KDL::Vector z4 = -s6 * x6 - c6 * y6;
       const KDL::Vector p4 = p5 - p.d5 * z4;
       // p4 in frame 1 (origin (0, 0, d1), axes x1, y1 = z0).
@@ -165,6 +195,7 @@ IkStatus Ur5Solver::allInverse(const KDL::Frame& target, const KDL::JntArray& se
         const double theta2 = i3 == 0 ? planar - elbow_angle : planar + elbow_angle;
         IkBranch branch = wrist_branch;
         detail::chooseBranch(branch, detail::kElbowBit, i3 == 0 ? abs_s3 : -abs_s3);
+        if (!keep.compatibleWith(branch)) continue;
         q = {wrapSmall(theta1), wrapSmall(theta2), theta3, wrapSmall(theta234 - theta2 - theta3), theta5,
              wrapSmall(theta6)};
         solutions.push(q, branch);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <kdl/chainfksolverpos_recursive.hpp>
 
@@ -86,6 +87,35 @@ TEST(SerialChain, ForwardMatchesKdlRecursiveSolver) {
       const KDL::Frame by_dh = model.forward(std::span<const double>(q.data.data(), q.rows()));
       EXPECT_TRUE(KDL::Equal(by_dh, by_kdl, 1e-12)) << model.name();
       EXPECT_TRUE(KDL::Equal(by_solver, by_kdl, 1e-12)) << model.name();
+    }
+  }
+}
+
+// 500 seeded random configurations per model: forward and linkFrames (written-out products with
+// each row's cos α, sin α computed once) give exactly KDL's own base · Π Frame::DH · tool, bit
+// for bit, so the control path's poses did not change by a rounding when they were sped up.
+TEST(SerialChain, ForwardIsKdlsFrameProductBitForBit) {
+  std::mt19937 rng(2);
+  for (const SerialChainModel& model : {sixAxisModel(), scaraModel()}) {
+    std::vector<KDL::Frame> links(model.linkCount());
+    for (int i = 0; i < 500; ++i) {
+      const KDL::JntArray q = randomJoints(model.limits(), rng);
+      const std::span<const double> values(q.data.data(), q.rows());
+      KDL::Frame expected = model.base();
+      for (unsigned j = 0; j < q.rows(); ++j) expected = expected * dhTransform(model.rows()[j], q(j));
+      const KDL::Frame last = expected;
+      expected = expected * model.tool();
+      const KDL::Frame by_model = model.forward(values);
+      ASSERT_TRUE(model.linkFrames(values, links));
+      for (int k = 0; k < 9; ++k) {
+        EXPECT_EQ(by_model.M.data[k], expected.M.data[k]) << model.name();
+        EXPECT_EQ(links.back().M.data[k], expected.M.data[k]) << model.name();
+        EXPECT_EQ(links[links.size() - 2].M.data[k], last.M.data[k]) << model.name();
+      }
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(by_model.p(k), expected.p(k)) << model.name();
+        EXPECT_EQ(links.back().p(k), expected.p(k)) << model.name();
+      }
     }
   }
 }

@@ -201,6 +201,40 @@ TEST(Ur5, JointLimitsExcludeSolutions) {
   EXPECT_TRUE(test::isFilled(out, 42.0));
 }
 
+// inverseOnBranch solves the branch's own solutions first: 5,000 seeded random poses, seeds near
+// them and branches (every one of the eight, and IkBranch::any()), some with the elbow limited so
+// that only another branch fits: the answer and the status are exactly those of the generic
+// selection among all eight solutions (AnalyticSolver::inverseOnBranch).
+TEST(Ur5, InverseOnBranchIsTheSelectionAmongAllEight) {
+  std::mt19937 rng(11);
+  JointLimits narrow = Ur5Solver::defaultLimits();
+  narrow.lower[2] = 0.1;
+  narrow.upper[2] = 2.5;
+  Ur5Solver full;
+  Ur5Solver limited(Ur5Parameters{}, narrow);
+  std::uniform_real_distribution<double> nudge(-0.05, 0.05);
+  std::uniform_int_distribution<int> bits(0, 8);
+  int refused = 0;
+  for (int i = 0; i < 5000; ++i) {
+    Ur5Solver& ur5 = i % 2 == 0 ? full : limited;
+    const KDL::JntArray q = randomJoints(rng);
+    KDL::Frame target;
+    ASSERT_EQ(ur5.forward(q, target), IkStatus::Ok);
+    KDL::JntArray seed = q;
+    for (unsigned j = 0; j < 6; ++j) seed(j) += nudge(rng);
+    const int b = bits(rng);
+    const IkBranch branch = b == 8 ? IkBranch::any() : IkBranch{static_cast<std::uint8_t>(b), 0};
+    KDL::JntArray fast(6), generic(6);
+    for (unsigned j = 0; j < 6; ++j) fast(j) = generic(j) = 42.0;
+    const IkStatus by_branch = ur5.inverseOnBranch(target, seed, branch, fast);
+    const IkStatus by_all = ur5.AnalyticSolver::inverseOnBranch(target, seed, branch, generic);
+    ASSERT_EQ(by_branch, by_all) << "pose " << i;
+    for (unsigned j = 0; j < 6; ++j) EXPECT_EQ(fast(j), generic(j)) << "pose " << i << " joint " << j;
+    refused += by_branch != IkStatus::Ok ? 1 : 0;
+  }
+  EXPECT_GT(refused, 100) << "some branches must have no solution in the limits";
+}
+
 TEST(Ur5, BadInputIsRefused) {
   Ur5Solver ur5;
   KDL::JntArray seed(6);

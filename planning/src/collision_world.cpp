@@ -9,6 +9,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
@@ -63,6 +64,18 @@ std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const ObjectDescription& o
   return model;
 }
 
+/// What the last measurement of a pair of objects found: its distance [m] (< 0: never measured)
+/// and how far each object had travelled then (CollisionWorld::Impl::travelled).
+struct PairMemo {
+  double distance = -1.0;
+  double travelled_first = 0.0;
+  double travelled_second = 0.0;
+};
+
+/// A pair's memo may bound it only this much [m] under its memo's distance: the narrow phase's
+/// own tolerance (FCL's default distance_tolerance), so a rounding never hides a closer pair.
+constexpr double kMemoSlack = 1e-6;
+
 /// State of one broadphase distance search (FCL's callback protocol: return true to stop).
 struct DistanceSearch {
   fcl::DistanceRequestd request;
@@ -74,6 +87,11 @@ struct DistanceSearch {
   /// primitive contacts when they are measured apart (nullptr otherwise).
   const std::vector<std::pair<const void*, const void*>>* allowed = nullptr;
   const std::vector<std::pair<const void*, const void*>>* primitive = nullptr;
+  /// The scene's objects (an object's user data points into it): its index keys the memos.
+  const ObjectDescription* objects = nullptr;
+  std::size_t object_count = 0;
+  std::vector<PairMemo>* memos = nullptr;  // object_count² (lower index first)
+  const std::vector<double>* travelled = nullptr;
 };
 
 bool listed(const std::vector<std::pair<const void*, const void*>>* pairs, const fcl::CollisionObjectd* a,
@@ -89,6 +107,10 @@ bool allowedContact(const DistanceSearch& search, const fcl::CollisionObjectd* a
   return listed(search.allowed, a, b) || listed(search.primitive, a, b);
 }
 
+std::size_t indexOf(const DistanceSearch& search, const fcl::CollisionObjectd* object) {
+  return static_cast<std::size_t>(static_cast<const ObjectDescription*>(object->getUserData()) - search.objects);
+}
+
 bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data, double& distance) {
   auto& search = *static_cast<DistanceSearch*>(data);
   // With a threshold, pairs whose bounding boxes are at least that far apart cannot be under it:
@@ -96,18 +118,46 @@ bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* 
   const bool skip = (search.stop_below > 0.0 && a->getAABB().distance(b->getAABB()) >= search.stop_below) ||
                     allowedContact(search, a, b);
   if (!skip && search.minimum > search.stop_below) {
-    fcl::DistanceResultd result;
-    fcl::distance(a, b, search.request, result);
-    // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
-    const double d = std::max(0.0, result.min_distance);
-    if (d < search.minimum) {
-      search.minimum = d;
-      search.first = a;
-      search.second = b;
+    const std::size_t i = indexOf(search, a), j = indexOf(search, b);
+    const bool ordered = i < j;
+    PairMemo& memo = (*search.memos)[ordered ? i * search.object_count + j : j * search.object_count + i];
+    const double moved = (*search.travelled)[i] + (*search.travelled)[j] - memo.travelled_first - memo.travelled_second;
+    // An exact minimum skips a pair that cannot be closer than the smallest distance found so
+    // far: neither object can have come closer than the distance it had at its last measurement
+    // minus the distance both travelled since. Thresholded checks (the planner's) never do.
+    const bool bounded = search.stop_below == 0.0 && memo.distance >= 0.0 &&
+                         memo.distance - moved >= search.minimum + kMemoSlack;
+    if (!bounded) {
+      fcl::DistanceResultd result;
+      fcl::distance(a, b, search.request, result);
+      // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
+      const double d = std::max(0.0, result.min_distance);
+      memo = {d, (*search.travelled)[ordered ? i : j], (*search.travelled)[ordered ? j : i]};
+      if (d < search.minimum) {
+        search.minimum = d;
+        search.first = a;
+        search.second = b;
+      }
     }
   }
   distance = search.stop_below > 0.0 ? std::min(search.minimum, search.stop_below) : search.minimum;
   return search.minimum <= search.stop_below;
+}
+
+/// Farthest any point of `geometry` is from its own frame's origin [m].
+double reach(const fcl::CollisionGeometryd& geometry) { return geometry.aabb_center.norm() + geometry.aabb_radius; }
+
+/// An upper bound of how far any point within `reach` m of the frame's origin moves from
+/// `before` to `after` [m]: the origin's displacement plus reach times the rotation's largest
+/// stretch ‖R_after − R_before‖₂ = 2 sin(θ/2) = √(3 − tr(R_beforeᵀ R_after)) (θ: the angle between
+/// them). 0 for the same transform.
+double travel(const fcl::Transform3d& before, const fcl::Transform3d& after, double reach) {
+  if (before.matrix() == after.matrix()) return 0.0;
+  const double trace = (before.linear().transpose() * after.linear()).trace();
+  // Rounding may leave 3 − trace a little negative, or under the true value: the square root of
+  // 1e-15 (3e-8) covers it for the sizes of a scene.
+  const double stretch = std::sqrt(std::max(0.0, 3.0 - trace) + 1e-15);
+  return (after.translation() - before.translation()).norm() + reach * stretch;
 }
 
 }  // namespace
@@ -124,10 +174,15 @@ struct CollisionWorld::Impl {
   std::vector<std::vector<std::size_t>> robot_groups;            // per robot: groups it moves
   std::vector<std::size_t> links_used;                           // per robot
   std::vector<std::pair<const void*, const void*>> allowed;      // allowed contacts (user data)
-  std::vector<std::pair<std::size_t, std::size_t>> allowed_objects, primitive_objects;  // the same, scene indices
+  std::vector<std::pair<std::size_t, std::size_t>> allowed_indices, primitive_indices;  // the same, object indices
   std::vector<std::pair<const void*, const void*>> primitive;    // primitive contacts (user data)
   /// Minimum distance over `pairs` of objects (scene indices) [m] (+infinity for none).
   double contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
+  // Per object: how far [m] it reaches from its frame's origin, and an upper bound of the path
+  // length any of its points travelled since the world was made (never decreases).
+  std::vector<double> reach;
+  std::vector<double> travelled;
+  std::vector<PairMemo> memos;  // per pair of objects, [lower index * objects + higher index]
 };
 
 CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)), impl_(std::make_unique<Impl>()) {
@@ -154,18 +209,21 @@ CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)
     auto object = std::make_unique<fcl::CollisionObjectd>(makeGeometry(description), toFcl(pose));
     object->computeAABB();
     object->setUserData(&scene_.objects[i]);
+    impl.reach.push_back(reach(*object->collisionGeometry()));
     impl.managers[group]->registerObject(object.get());
     impl.objects.push_back(std::move(object));
   }
   for (auto& manager : impl.managers) manager->setup();
   for (const auto& [contacts, indices, user] :
-       {std::tuple{&scene_.allowed_contacts, &impl.allowed_objects, &impl.allowed},
-        std::tuple{&scene_.primitive_contacts, &impl.primitive_objects, &impl.primitive}}) {
+       {std::tuple{&scene_.allowed_contacts, &impl.allowed_indices, &impl.allowed},
+        std::tuple{&scene_.primitive_contacts, &impl.primitive_indices, &impl.primitive}}) {
     for (const auto& [a, b] : *contacts) {
       indices->emplace_back(scene_.objectIndex(a), scene_.objectIndex(b));
       user->emplace_back(&scene_.objects[indices->back().first], &scene_.objects[indices->back().second]);
     }
   }
+  impl.travelled.assign(scene_.objects.size(), 0.0);
+  impl.memos.resize(scene_.objects.size() * scene_.objects.size());
 }
 
 CollisionWorld::~CollisionWorld() = default;
@@ -176,7 +234,9 @@ void CollisionWorld::setRobotLinks(std::size_t robot, std::span<const KDL::Frame
   Impl& impl = *impl_;
   for (const Impl::Attached& attached : impl.attached[robot]) {
     fcl::CollisionObjectd& object = *impl.objects[attached.object];
-    object.setTransform(toFcl(links_in_world[attached.link]) * impl.offsets[attached.object]);
+    const fcl::Transform3d pose = toFcl(links_in_world[attached.link]) * impl.offsets[attached.object];
+    impl.travelled[attached.object] += travel(object.getTransform(), pose, impl.reach[attached.object]);
+    object.setTransform(pose);
     object.computeAABB();
   }
   for (const std::size_t group : impl.robot_groups[robot]) impl.managers[group]->update();
@@ -184,7 +244,22 @@ void CollisionWorld::setRobotLinks(std::size_t robot, std::span<const KDL::Frame
 
 GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, double stop_below,
                                        bool primitive_contacts_apart) const {
+  return query(first, second, stop_below, std::numeric_limits<double>::infinity(), primitive_contacts_apart);
+}
+
+GroupDistance CollisionWorld::distanceUnder(std::size_t first, std::size_t second, double bound,
+                                            bool primitive_contacts_apart) const {
+  return query(first, second, 0.0, bound, primitive_contacts_apart);
+}
+
+GroupDistance CollisionWorld::query(std::size_t first, std::size_t second, double stop_below, double bound,
+                                    bool primitive_contacts_apart) const {
   DistanceSearch search;
+  search.minimum = bound;
+  search.objects = scene_.objects.data();
+  search.object_count = scene_.objects.size();
+  search.memos = &impl_->memos;
+  search.travelled = &impl_->travelled;
   // FCL's own GJK instead of libccd's (FCL's default): the same distances, and no heap allocation
   // between primitives (libccd allocates its simplex per query), so a check on a primitive-only
   // scene allocates nothing (real_robots_test, bench/planning_bench.cpp).
@@ -202,8 +277,18 @@ GroupDistance CollisionWorld::distance(std::size_t first, std::size_t second, do
     if (a->group != scene_.groups[first]) std::swap(a, b);
     result.first_object = a->name;
     result.second_object = b->name;
+    result.first_index = static_cast<std::size_t>(a - scene_.objects.data());
+    result.second_index = static_cast<std::size_t>(b - scene_.objects.data());
   }
   return result;
+}
+
+double CollisionWorld::objectDistance(std::size_t a, std::size_t b) const {
+  fcl::DistanceRequestd request;
+  request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
+  fcl::DistanceResultd result;
+  fcl::distance(impl_->objects.at(a).get(), impl_->objects.at(b).get(), request, result);
+  return std::max(0.0, result.min_distance);
 }
 
 double CollisionWorld::Impl::contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
@@ -218,9 +303,9 @@ double CollisionWorld::Impl::contactDistance(const std::vector<std::pair<std::si
   return minimum;
 }
 
-double CollisionWorld::allowedContactDistance() const { return impl_->contactDistance(impl_->allowed_objects); }
+double CollisionWorld::allowedContactDistance() const { return impl_->contactDistance(impl_->allowed_indices); }
 
-double CollisionWorld::primitiveContactDistance() const { return impl_->contactDistance(impl_->primitive_objects); }
+double CollisionWorld::primitiveContactDistance() const { return impl_->contactDistance(impl_->primitive_indices); }
 
 KDL::Frame CollisionWorld::objectPose(std::size_t object) const {
   return toKdl(impl_->objects.at(object)->getTransform());

@@ -198,12 +198,19 @@ StateValidator::Distances StateValidator::distancesAt(const DualPose& q) {
   return placedDistances();
 }
 
-StateValidator::Distances StateValidator::placedDistances() const {
+StateValidator::Distances StateValidator::placedDistances() {
   Distances distances{std::numeric_limits<double>::infinity(), world_.allowedContactDistance(),
                       world_.primitiveContactDistance()};
-  for (const GroupPair& pair : world_.scene().checks)
-    distances.clearance =
-        std::min(distances.clearance, world_.distance(pair.first, pair.second, 0.0, true).distance);
+  // A measured state moves little between two calls: the pair closest last time is measured first
+  // and bounds every group pair's search (the same minimum, most pairs never measured). Declared
+  // contacts (allowed and primitive) are left out, so closest_ is never one of them.
+  if (closest_.first != kNoObject) distances.clearance = world_.objectDistance(closest_.first, closest_.second);
+  for (const GroupPair& pair : world_.scene().checks) {
+    const GroupDistance d = world_.distanceUnder(pair.first, pair.second, distances.clearance, true);
+    if (d.first_index == kNoObject || !(d.distance < distances.clearance)) continue;
+    distances.clearance = d.distance;
+    closest_ = {d.first_index, d.second_index};
+  }
   return distances;
 }
 

@@ -21,6 +21,8 @@
 
 namespace cobra::run {
 
+struct Chart;
+
 // Columns sampled every record period: the recorded ports' fields and the derived figures
 // (tracking errors, clearance), by name ("Comp.port", "Comp.port.z", "tracking.NAME.mm").
 class Recording {
@@ -67,6 +69,8 @@ struct Tracker {
   std::unique_ptr<TrackingMonitor> monitor;
   std::size_t limits = 0;  // joint velocity limits given
   std::size_t mm_column = 0, deg_column = 0;
+  const Chart* chart = nullptr;  // spec.chart's (nullptr: none)
+  KDL::JntArray joint_sample;    // the joints' last sample (kept: reading it allocates once)
 };
 
 // `run.clearance`: the port's samples against the threshold, the contacts apart.
@@ -75,6 +79,7 @@ struct ClearanceObserver {
   std::unique_ptr<Tap<double>> clearance;
   std::vector<std::unique_ptr<Tap<double>>> contacts;
   std::vector<bool> paused;  // per pause
+  std::vector<const Chart*> pause_charts;  // per pause: its chart
   std::size_t column = 0, threshold_column = 0;
   std::vector<std::size_t> contact_columns;
   double last = std::numeric_limits<double>::quiet_NaN();

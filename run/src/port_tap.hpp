@@ -38,8 +38,8 @@ class Tap {
   }
   // The newest value; false when the port never had data.
   bool read(T& value) { return typed_->read(value) != core::FlowStatus::NoData; }
-  // True when a value was written since the last call.
-  bool readNew(T& value) { return typed_->read(value) == core::FlowStatus::NewData; }
+  // True when a value was written since the last call (then copied into `value`).
+  bool readNew(T& value) { return typed_->readNew(value) == core::FlowStatus::NewData; }
 
  private:
   std::unique_ptr<core::InputPortBase> reader_;

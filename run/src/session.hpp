@@ -3,6 +3,7 @@
 // observers attached by the names of its `run` table, the actions and faults armed, then one
 // observation per step until the run ends. Private to cobra::run.
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <utility>
@@ -29,6 +30,8 @@ struct Chart {
   const components::Supervisor* supervisor = nullptr;
   std::unique_ptr<Tap<core::TaskState>> state_tap;
   std::string state, previous, shown;  // full path now and one step before; folded, as last logged
+  std::string lane;                    // its timeline lane: "NAME chart"
+  bool changed = true;                 // state differs from previous (or the first step)
   std::string last_failure;            // "Source: event at t s"
 };
 
@@ -93,6 +96,9 @@ class Session {
     core::InputPort<core::Event>* events;         // reader as an event port (nullptr: another type)
   };
   std::vector<EventTap> event_taps_;
+  // Set by every event tap of type Event when an event arrives (PortBase::setNewDataFlag): the
+  // taps are read only then, not polled at every step. Taps of another type are polled.
+  std::atomic<bool> new_events_{true};
   Recording recording_;
   std::vector<Tracker> trackers_;
   std::unique_ptr<ClearanceObserver> clearance_;

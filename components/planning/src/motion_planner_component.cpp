@@ -100,6 +100,8 @@ bool MotionPlannerComponent::configureHook() {
   options.tool_names = {"needle", "probe"};
   planner_impl_ = std::make_unique<planning::MotionPlanner>(*validator_, options);
   joints_.assign(validator_->hasJointSpace() ? validator_->jointCount() : 0, 0.0);
+  clearance_joints_.clear();
+  clearance_joints_.reserve(joints_.size());  // updateHook copies joints_ here without allocating
   have_isur_ = have_ur5_ = have_goal_ = have_isur_joints_ = have_ur5_joints_ = false;
   last_result_.clear();
   return true;
@@ -190,11 +192,17 @@ void MotionPlannerComponent::updateHook() {
       min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected();
   if (measured_changed && clearance_due && clearance_read) {
     last_clearance_ns_ = now_ns;
-    const planning::StateValidator::Distances d =
-        measuredJoints() ? validator_->distancesAt(joints_) : validator_->distancesAt(measured_);
-    min_distance_.write(d.clearance);
-    allowed_distance_.write(d.allowed_contact);
-    primitive_distance_.write(d.primitive_contact);
+    if (measuredJoints()) {
+      if (joints_ != clearance_joints_) {  // the same joints: the same distances, not measured again
+        clearance_ = validator_->distancesAt(joints_);
+        clearance_joints_ = joints_;
+      }
+    } else {
+      clearance_ = validator_->distancesAt(measured_);
+    }
+    min_distance_.write(clearance_.clearance);
+    allowed_distance_.write(clearance_.allowed_contact);
+    primitive_distance_.write(clearance_.primitive_contact);
   }
   if (plan_request_.take()) plan();
 }

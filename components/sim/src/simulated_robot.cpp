@@ -107,6 +107,8 @@ bool SimulatedServoRobotBase::configureHook() {
   if (solver_->forward(robot_->position(), fk) != kinematics::IkStatus::Ok)
     return refuse("forward kinematics fails at initial_joints; give a configuration inside the workspace");
   commanded_pose_ = measured_pose_ = previous_pose_ = true_pose_ = base_frame_() * fk * tool_frame_();
+  measured_fk_.reset(joints);
+  true_fk_.reset(joints);
   refusing_ = told_failed_ = told_discontinuity_ = false;
   return true;
 }
@@ -176,12 +178,20 @@ void SimulatedServoRobotBase::updateHook() {
 }
 
 void SimulatedServoRobotBase::publish(double dt) noexcept {
+  // Forward kinematics only of joints that changed since the last step: a robot at rest (the
+  // servo settles exactly on its command, the encoders hold their count) has the same poses.
   KDL::Frame fk;
-  if (solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok)
-    measured_pose_ = base_frame_() * fk * tool_frame_();
-  if (solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok) {
+  if (!measured_fk_.same(robot_->measured())) {
+    measured_fk_.ok = solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok;
+    if (measured_fk_.ok) measured_pose_ = base_frame_() * fk * tool_frame_();
+  }
+  if (!true_fk_.same(robot_->position())) {
+    true_fk_.ok = solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok;
+    if (true_fk_.ok) fk_true_pose_ = base_frame_() * fk * tool_frame_();
+  }
+  if (true_fk_.ok) {
     previous_pose_ = true_pose_;
-    true_pose_ = base_frame_() * fk * tool_frame_();
+    true_pose_ = fk_true_pose_;
   }
   meas_joint_position_.write(robot_->measured());
   meas_cart_pose_.write(measured_pose_);

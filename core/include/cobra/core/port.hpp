@@ -4,6 +4,7 @@
 /// that each own a lock-free channel (see channel.hpp). Many readers per writer.
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -52,6 +53,14 @@ class PortBase {
   void disconnect();
   /// Tells the owner that new data arrived on this event port. Real-time safe.
   void notifyNewData() noexcept;
+  /// For an input port that belongs to no component (an observer's reader, e.g. the runner's event
+  /// log): makes it an event port whose new data sets `*flag` (release) instead of waking an owner,
+  /// so that the observer reads its ports only after a flag was set rather than polling each at
+  /// every step. `flag` must outlive the port's connections. Call before connecting.
+  void setNewDataFlag(std::atomic<bool>* flag) noexcept {
+    new_data_flag_ = flag;
+    event_port_ = true;
+  }
 
  protected:
   /// Adds/removes a channel in the list the real-time path iterates; only ever called
@@ -73,6 +82,7 @@ class PortBase {
   const TypeInfo* type_;
   bool event_port_ = false;
   Component* owner_ = nullptr;
+  std::atomic<bool>* new_data_flag_ = nullptr;  // see setNewDataFlag
   mutable std::mutex links_mutex_;
   std::vector<std::shared_ptr<ChannelBase>> links_;
 };
@@ -218,6 +228,19 @@ class InputPort final : public InputPortBase {
       }
     }
     return last_ == nullptr ? FlowStatus::NoData : last_->pop(out, true);
+  }
+
+  /// As `read`, but copies only a new sample: `out` is left as it is on OldData too. For readers
+  /// that act on new samples only (an event log), where read's copy of the last sample again at
+  /// every step is wasted. Real-time safe.
+  FlowStatus readNew(T& out) {
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      if (channels_[i]->pop(out, false) == FlowStatus::NewData) {
+        last_ = channels_[i];
+        return FlowStatus::NewData;
+      }
+    }
+    return last_ == nullptr ? FlowStatus::NoData : FlowStatus::OldData;
   }
 
   FlowStatus readText(std::string& text) override {

@@ -5,6 +5,7 @@
 /// frames, the KDL::Chain built from them) and a solver over KDL (`SerialChainSolver`: FK,
 /// Jacobian, and IK by Newton–Raphson with joint limits or by Levenberg–Marquardt).
 
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -84,8 +85,12 @@ class SerialChainModel {
   bool linkFrames(std::span<const double> q, std::span<KDL::Frame> frames) const noexcept;
 
  private:
+  /// dhTransform(rows()[i], q), bit for bit, from the row's precomputed cos α and sin α.
+  KDL::Frame link(std::size_t i, double q) const noexcept;
+
   std::string name_;
   std::vector<DhRow> rows_;
+  std::vector<std::array<double, 2>> alpha_trig_;  // per row: cos α, sin α
   JointLimits limits_;
   KDL::Frame base_;
   KDL::Frame tool_;

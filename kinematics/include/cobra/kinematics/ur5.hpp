@@ -77,9 +77,19 @@ class Ur5Solver final : public DhAnalyticSolver {
   /// singularity (p5 on the base axis), the stretched or folded elbow, the wrist singularity
   /// (axes 4 and 6 aligned).
   IkBranch branch(std::span<const double> q) const noexcept override;
+  /// As AnalyticSolver::inverseOnBranch (the same answer), solving the branch's solutions first
+  /// and all eight only when none of those fits the limits (to tell Discontinuous from
+  /// JointLimits). No allocation.
+  IkStatus inverseOnBranch(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch branch,
+                           KDL::JntArray& q_out) noexcept override;
 
  private:
+  /// allInverse restricted to the solutions compatible with `keep` (IkBranch::any(): all).
+  IkStatus solve(const KDL::Frame& target, const KDL::JntArray& seed, IkBranch keep,
+                 IkSolutionSet& solutions) const noexcept;
+
   Ur5Parameters parameters_;
+  IkSolutionSet on_branch_;  // inverseOnBranch's workspace
 };
 
 /// The UR5 solver of `kind`, all on the same DH table, limits, base and tool.

@@ -24,6 +24,9 @@ struct GroupDistance {
   /// The closest objects (names from the scene); empty when a group is empty.
   std::string_view first_object;
   std::string_view second_object;
+  /// The closest objects' indices in scene().objects; npos when a group is empty.
+  std::size_t first_index = static_cast<std::size_t>(-1);
+  std::size_t second_index = static_cast<std::size_t>(-1);
 };
 
 /// Preallocated FCL objects and managers for one scene. Not thread-safe: one per planner thread.
@@ -58,6 +61,19 @@ class CollisionWorld {
   GroupDistance distance(std::size_t first, std::size_t second, double stop_below = 0.0,
                          bool primitive_contacts_apart = false) const;
 
+  /// The exact minimum distance between groups `first` and `second` when it is under `bound` [m];
+  /// otherwise distance = `bound` and no closest objects. Pairs whose bounding boxes are `bound`
+  /// or more apart are never measured, so a caller that already knows a distance at least the
+  /// minimum (another group pair's, the closest pair of its last query) skips most of the narrow
+  /// phase: the minimum over several queries, each bounded by the smallest before it, is the
+  /// minimum of unbounded queries.
+  GroupDistance distanceUnder(std::size_t first, std::size_t second, double bound,
+                              bool primitive_contacts_apart = false) const;
+
+  /// Distance between objects `a` and `b` (indices in scene().objects) [m], 0 when touching or
+  /// interpenetrating; whether or not the scene checks or allows the pair.
+  double objectDistance(std::size_t a, std::size_t b) const;
+
   /// Minimum distance over the scene's allowed contacts (object pairs left out of distance()) [m]:
   /// how deep the probe presses into the skin is not a clearance, but still worth reporting apart.
   /// 0 when touching or interpenetrating; +infinity when the scene declares none.
@@ -69,6 +85,9 @@ class CollisionWorld {
   KDL::Frame objectPose(std::size_t object) const;
 
  private:
+  GroupDistance query(std::size_t first, std::size_t second, double stop_below, double bound,
+                      bool primitive_contacts_apart) const;
+
   struct Impl;
   SceneDescription scene_;
   std::unique_ptr<Impl> impl_;

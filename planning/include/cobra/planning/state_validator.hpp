@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <kdl/frames.hpp>
@@ -116,7 +117,9 @@ class StateValidator {
   /// min_collision_distance along its paths, measured through the primitives too),
   /// `allowed_contact` = the minimum over the allowed contacts (the probe on the skin) and
   /// `primitive_contact` over the primitive contacts (the needle in the tissue); +infinity when the
-  /// scene declares none. All NaN when q has no forward kinematics.
+  /// scene declares none. All NaN when q has no forward kinematics. Made for a measured state
+  /// sampled along a motion: the closest pair of the last call is measured first and bounds the
+  /// search of every pair.
   struct Distances {
     double clearance = 0.0;
     double allowed_contact = 0.0;
@@ -136,7 +139,7 @@ class StateValidator {
   /// FK of every robot from joints q, moves its objects; Valid or Unreachable.
   ValidityResult placeRobotsAt(std::span<const double> q);
   /// distancesAt() of the placed robots.
-  Distances placedDistances() const;
+  Distances placedDistances();
   /// The distance queries of check() on the placed robots.
   ValidityResult checkDistances(ValidityResult result, bool exact_distances, bool primitive_contacts_apart = false);
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
@@ -150,6 +153,8 @@ class StateValidator {
   std::vector<std::vector<double>> seeds_;           // per robot: its configured seed, preallocated
   std::vector<std::size_t> joint_offsets_{0};       // per robot, then the total
   bool joint_space_ = true;
+  static constexpr std::size_t kNoObject = static_cast<std::size_t>(-1);
+  std::pair<std::size_t, std::size_t> closest_{kNoObject, kNoObject};  // distancesAt's last closest objects
 };
 
 /// True when every element is finite and both rotations are orthonormal (to 1e-6).

@@ -55,7 +55,8 @@ namespace cobra::components {
 ///   touching; +inf when none declared; NaN as minDistance), `primitiveContactDistance` (double, m:
 ///   the same for its primitive contacts, e.g. the needle in the tissue); published when a
 ///   measured pose arrives at least `clearance_period` s (property, default 0.01) after the last
-///   measurement while one of them is connected, from the joints when known;
+///   measurement while one of them is connected, from the joints when known (the same joints as
+///   the last measurement: the same values, not measured again);
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
 ///   when unreachable; runs between two steps, so a caller waits while a plan is being computed),
@@ -158,6 +159,10 @@ class MotionPlannerComponent : public PlanningSceneComponent {
 
   std::unique_ptr<planning::StateValidator> validator_;
   std::int64_t last_clearance_ns_ = -1;  // when minDistance was last measured (component clock), -1: never
+  // The joint state of the last clearance measurement and its result: a robot at rest (its
+  // encoders unchanged) is not measured again.
+  planning::JointState clearance_joints_;
+  planning::StateValidator::Distances clearance_;
   std::unique_ptr<planning::MotionPlanner> planner_impl_;
   core::PendingRequest plan_request_;
   bool have_isur_ = false;

@@ -132,6 +132,26 @@ class SimulatedServoRobotBase : public core::Component {
   std::optional<sim::ForceTorqueSensor> sensor_model_;
   KDL::JntArray joint_command_;
   KDL::Frame commanded_pose_, measured_pose_, previous_pose_, true_pose_;  // previous_pose_: true, last step
+  KDL::Frame fk_true_pose_;  // the true pose of the joints true_fk_ holds
+  /// The joints of a pose computed last and whether their forward kinematics succeeded: publish
+  /// computes a pose again only for other joints.
+  struct LastForward {
+    KDL::JntArray joints;
+    bool ok = false;
+    bool known = false;
+    void reset(unsigned n) {
+      joints.resize(n);
+      known = ok = false;
+    }
+    /// True when `q` is what was computed last (exactly); otherwise remembers it (no allocation).
+    bool same(const KDL::JntArray& q) noexcept {
+      if (known && q.data == joints.data) return true;
+      joints.data = q.data;
+      known = true;
+      return false;
+    }
+  };
+  LastForward measured_fk_, true_fk_;
   KDL::Twist twist_command_;
   std::int64_t last_update_ns_ = -1;
   std::int64_t twist_until_ns_ = -1;
