@@ -62,8 +62,21 @@ void roundTrip(const T& value, Parse parse, Print print, Equal equal) {
 }
 
 bool known(const p::StateTable& table, const p::Datum& d) {
-  return d.name == "entry" || d.name == "target" || d.name == "probe" || d.name == "hold" || table.pose(d.name);
+  for (const char* datum : {"entry", "target", "probe", "next_entry", "next_target", "next_probe", "hold"})
+    if (d.name == datum) return true;
+  return table.pose(d.name) != nullptr;
 }
+
+/// A goal: at least one alternative, each a known datum.
+bool known(const p::StateTable& table, const std::vector<p::Datum>& alternatives) {
+  if (alternatives.empty()) return false;
+  for (const p::Datum& d : alternatives)
+    if (!known(table, d)) return false;
+  return true;
+}
+
+/// An optional datum (then_*, room_for_*): none, or a known one.
+bool noneOrKnown(const p::StateTable& table, const p::Datum& d) { return d.name.empty() || known(table, d); }
 
 }  // namespace
 
@@ -94,7 +107,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (const auto table = parsed(p::parseStateTable, text)) {
     int previous = 0;
     for (const p::StateRow& row : table->rows) {
-      if (row.state.empty() || row.line <= previous || !known(*table, row.needle) || !known(*table, row.probe))
+      if (row.state.empty() || row.line <= previous || !known(*table, row.needle) || !known(*table, row.probe) ||
+          !noneOrKnown(*table, row.then_needle) || !noneOrKnown(*table, row.then_probe) ||
+          !noneOrKnown(*table, row.room_for_needle.from) || !noneOrKnown(*table, row.room_for_needle.to) ||
+          !noneOrKnown(*table, row.room_for_probe.from) || !noneOrKnown(*table, row.room_for_probe.to))
         std::abort();
       if (table->find(row.state) == nullptr) std::abort();  // a row's own state finds a row
       previous = row.line;
