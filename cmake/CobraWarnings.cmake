@@ -26,6 +26,19 @@ elseif(NOT COBRA_SANITIZER STREQUAL "")
   message(FATAL_ERROR "COBRA_SANITIZER must be '', 'address', 'thread' or 'fuzzer', not '${COBRA_SANITIZER}'")
 endif()
 
+# Debug information: line tables only (-g1: function names, files and lines for debuggers,
+# sanitizer reports and backtraces, without variable and type descriptions), compressed in objects
+# and executables. Full -g made each test executable linking the whole runtime ~130 MB (a release
+# build ~6 GB), which filled the CI machine's disk before its sanitizer builds; -g1 with
+# compression keeps a build under 1 GB. Set COBRA_DEBUG_INFO=-g for full debug info.
+set(COBRA_DEBUG_INFO "-g1" CACHE STRING "Debug information level of every build (-g1, -g, -g0)")
+if(NOT COBRA_DEBUG_INFO STREQUAL "-g0")
+  # Every target of the build (not only those linking cobra_build_flags); after the build type's
+  # own -g, and the last -g option wins.
+  add_compile_options(${COBRA_DEBUG_INFO} -gz)
+  add_link_options(-Wl,--compress-debug-sections=zlib)
+endif()
+
 # A slice of the tests (the CI's sanitizer slice): only tests labelled with one of these are built
 # by the `selected_tests` target and registered with CTest; the others stay out of `all`.
 set(COBRA_TEST_LABELS "" CACHE STRING "Build and register only the tests with one of these labels (empty: all)")
