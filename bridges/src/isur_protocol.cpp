@@ -28,45 +28,97 @@ wire::FrameHeader header(MessageType type, const Stamp& stamp) noexcept {
   return {kMagic, kVersion, static_cast<std::uint16_t>(type), stamp.sequence, stamp.timestamp_ns, 0};
 }
 
-// Reads the u16 n | u16 flags | u32 reserved prefix shared by JointCommand and State.
-DecodeStatus readJointPrefix(wire::Reader& r, std::size_t payload_length, std::size_t fixed, std::uint16_t& n,
-                             std::uint16_t& flags) noexcept {
-  if (payload_length < 8) return DecodeStatus::BadLength;
-  n = r.u16();
-  flags = r.u16();
+bool validJointCount(std::uint16_t n) noexcept { return n >= 1 && n <= kMaxJoints; }
+bool validToolCount(std::uint16_t m) noexcept { return m >= 1 && m <= kMaxTools; }
+/// At least one tool, none at or above m.
+bool validMask(std::uint16_t mask, std::uint16_t m) noexcept { return mask != 0 && (mask >> m) == 0; }
+/// Known flags, and no tool-1 flag on a one-tool robot.
+bool validFlags(std::uint16_t flags, std::uint16_t m) noexcept {
+  return (flags & ~kKnownStateFlags) == 0 && (m > 1 || (flags & kWrenchSaturatedTool1) == 0);
+}
+
+DecodeStatus decodeJointCommand(wire::Reader& r, std::size_t length, Command& c) noexcept {
+  if (length < 8) return DecodeStatus::BadLength;
+  c.joint_count = r.u16();
+  const std::uint16_t reserved16 = r.u16();
+  const std::uint32_t reserved32 = r.u32();
+  if (!validJointCount(c.joint_count) || length != 8 + 8 * std::size_t{c.joint_count}) return DecodeStatus::BadLength;
+  if (reserved16 != 0 || reserved32 != 0) return DecodeStatus::BadValue;
+  for (std::size_t i = 0; i < c.joint_count; ++i) c.joints[i] = r.f64();
+  if (!wire::allFinite(std::span<const double>(c.joints.data(), c.joint_count))) return DecodeStatus::NonFinite;
+  return DecodeStatus::Ok;
+}
+
+DecodeStatus decodeCartesianCommand(wire::Reader& r, std::size_t length, Command& c) noexcept {
+  if (length < 8) return DecodeStatus::BadLength;
+  c.tool_count = r.u16();
+  c.tool_mask = r.u16();
   const std::uint32_t reserved = r.u32();
-  if (n < 1 || n > kMaxJoints) return DecodeStatus::BadLength;
-  if (payload_length != 8 + fixed + 8 * std::size_t{n}) return DecodeStatus::BadLength;
-  if (reserved != 0) return DecodeStatus::BadValue;
+  if (!validToolCount(c.tool_count)) return DecodeStatus::BadValue;
+  if (length != 8 + 56 * std::size_t{c.tool_count}) return DecodeStatus::BadLength;
+  if (reserved != 0 || !validMask(c.tool_mask, c.tool_count)) return DecodeStatus::BadValue;
+  for (std::size_t t = 0; t < c.tool_count; ++t)
+    if (const DecodeStatus s = readPose(r, c.poses[t]); s != DecodeStatus::Ok) return s;
+  return DecodeStatus::Ok;
+}
+
+DecodeStatus decodeToolActuation(wire::Reader& r, std::size_t length, Command& c) noexcept {
+  if (length != 8) return DecodeStatus::BadLength;
+  c.actuation.tool = r.u16();
+  const std::uint16_t reserved = r.u16();
+  c.actuation.request = r.u32();
+  if (c.actuation.tool >= kMaxTools || reserved != 0 || c.actuation.request == 0) return DecodeStatus::BadValue;
   return DecodeStatus::Ok;
 }
 
 }  // namespace
 
 std::size_t encode(const Command& command, const Stamp& stamp, std::span<std::uint8_t> out) noexcept {
-  if (command.type == MessageType::JointCommand) {
-    if (command.joint_count < 1 || command.joint_count > kMaxJoints) return 0;
-    return wire::writeFrame(out, header(command.type, stamp), [&](wire::Writer& w) {
-      w.u16(command.joint_count);
-      w.u16(0);
-      w.u32(0);
-      for (std::size_t i = 0; i < command.joint_count; ++i) w.f64(command.joints[i]);
-    });
+  switch (command.type) {
+    case MessageType::JointCommand:
+      if (!validJointCount(command.joint_count)) return 0;
+      return wire::writeFrame(out, header(command.type, stamp), [&](wire::Writer& w) {
+        w.u16(command.joint_count);
+        w.u16(0);
+        w.u32(0);
+        for (std::size_t i = 0; i < command.joint_count; ++i) w.f64(command.joints[i]);
+      });
+    case MessageType::CartesianCommand:
+      if (!validToolCount(command.tool_count) || !validMask(command.tool_mask, command.tool_count)) return 0;
+      return wire::writeFrame(out, header(command.type, stamp), [&](wire::Writer& w) {
+        w.u16(command.tool_count);
+        w.u16(command.tool_mask);
+        w.u32(0);
+        for (std::size_t t = 0; t < command.tool_count; ++t) writePose(w, command.poses[t]);
+      });
+    case MessageType::ToolActuation:
+      if (command.actuation.tool >= kMaxTools || command.actuation.request == 0) return 0;
+      return wire::writeFrame(out, header(command.type, stamp), [&](wire::Writer& w) {
+        w.u16(command.actuation.tool);
+        w.u16(0);
+        w.u32(command.actuation.request);
+      });
+    case MessageType::State: break;
   }
-  if (command.type == MessageType::CartesianCommand)
-    return wire::writeFrame(out, header(command.type, stamp), [&](wire::Writer& w) { writePose(w, command.pose); });
   return 0;
 }
 
 std::size_t encode(const State& state, const Stamp& stamp, std::span<std::uint8_t> out) noexcept {
-  if (state.joint_count < 1 || state.joint_count > kMaxJoints) return 0;
+  if (!validJointCount(state.joint_count) || !validToolCount(state.tool_count) ||
+      !validFlags(state.flags, state.tool_count))
+    return 0;
   return wire::writeFrame(out, header(MessageType::State, stamp), [&](wire::Writer& w) {
     w.u16(state.joint_count);
     w.u16(state.flags);
-    w.u32(0);
+    w.u16(state.tool_count);
+    w.u16(0);
+    w.u32(state.actuations);
+    w.u32(state.actuation_request);
     for (std::size_t i = 0; i < state.joint_count; ++i) w.f64(state.joints[i]);
-    writePose(w, state.pose);
-    for (const double v : state.wrench) w.f64(v);
+    for (std::size_t t = 0; t < state.tool_count; ++t) {
+      writePose(w, state.tools[t].pose);
+      for (const double v : state.tools[t].wrench) w.f64(v);
+    }
   });
 }
 
@@ -77,21 +129,15 @@ DecodeStatus decode(std::span<const std::uint8_t> datagram, Command& out, wire::
   if (framed != DecodeStatus::Ok) return framed;
   wire::Reader r(payload);
   Command c;
-  if (h.type == static_cast<std::uint16_t>(MessageType::JointCommand)) {
-    c.type = MessageType::JointCommand;
-    std::uint16_t flags = 0;
-    if (const DecodeStatus s = readJointPrefix(r, payload.size(), 0, c.joint_count, flags); s != DecodeStatus::Ok)
-      return s;
-    if (flags != 0) return DecodeStatus::BadValue;
-    for (std::size_t i = 0; i < c.joint_count; ++i) c.joints[i] = r.f64();
-    if (!wire::allFinite(std::span<const double>(c.joints.data(), c.joint_count))) return DecodeStatus::NonFinite;
-  } else if (h.type == static_cast<std::uint16_t>(MessageType::CartesianCommand)) {
-    c.type = MessageType::CartesianCommand;
-    if (payload.size() != 56) return DecodeStatus::BadLength;
-    if (const DecodeStatus s = readPose(r, c.pose); s != DecodeStatus::Ok) return s;
-  } else {
-    return DecodeStatus::BadType;
+  DecodeStatus status = DecodeStatus::BadType;
+  switch (static_cast<MessageType>(h.type)) {
+    case MessageType::JointCommand: status = decodeJointCommand(r, payload.size(), c); break;
+    case MessageType::CartesianCommand: status = decodeCartesianCommand(r, payload.size(), c); break;
+    case MessageType::ToolActuation: status = decodeToolActuation(r, payload.size(), c); break;
+    case MessageType::State: break;
   }
+  if (status != DecodeStatus::Ok) return status;
+  c.type = static_cast<MessageType>(h.type);
   out = c;
   header = h;
   return DecodeStatus::Ok;
@@ -103,16 +149,27 @@ DecodeStatus decode(std::span<const std::uint8_t> datagram, State& out, wire::Fr
   const DecodeStatus framed = wire::checkFrame(datagram, kMagic, kVersion, kMaxPayload, h, payload);
   if (framed != DecodeStatus::Ok) return framed;
   if (h.type != static_cast<std::uint16_t>(MessageType::State)) return DecodeStatus::BadType;
+  if (payload.size() < kStatePrefix) return DecodeStatus::BadLength;
   wire::Reader r(payload);
   State st;
-  if (const DecodeStatus s = readJointPrefix(r, payload.size(), 104, st.joint_count, st.flags); s != DecodeStatus::Ok)
-    return s;
-  if ((st.flags & ~kKnownStateFlags) != 0) return DecodeStatus::BadValue;
+  st.joint_count = r.u16();
+  st.flags = r.u16();
+  st.tool_count = r.u16();
+  const std::uint16_t reserved = r.u16();
+  st.actuations = r.u32();
+  st.actuation_request = r.u32();
+  if (!validJointCount(st.joint_count)) return DecodeStatus::BadLength;
+  if (!validToolCount(st.tool_count)) return DecodeStatus::BadValue;
+  if (payload.size() != kStatePrefix + 8 * std::size_t{st.joint_count} + kStateBytesPerTool * st.tool_count)
+    return DecodeStatus::BadLength;
+  if (reserved != 0 || !validFlags(st.flags, st.tool_count)) return DecodeStatus::BadValue;
   for (std::size_t i = 0; i < st.joint_count; ++i) st.joints[i] = r.f64();
   if (!wire::allFinite(std::span<const double>(st.joints.data(), st.joint_count))) return DecodeStatus::NonFinite;
-  if (const DecodeStatus s = readPose(r, st.pose); s != DecodeStatus::Ok) return s;
-  for (double& v : st.wrench) v = r.f64();
-  if (!wire::allFinite(st.wrench)) return DecodeStatus::NonFinite;
+  for (std::size_t t = 0; t < st.tool_count; ++t) {
+    if (const DecodeStatus s = readPose(r, st.tools[t].pose); s != DecodeStatus::Ok) return s;
+    for (double& v : st.tools[t].wrench) v = r.f64();
+    if (!wire::allFinite(st.tools[t].wrench)) return DecodeStatus::NonFinite;
+  }
   out = st;
   header = h;
   return DecodeStatus::Ok;

@@ -9,7 +9,7 @@ namespace {
 
 constexpr std::array<std::string_view, kDecodeStatusCount> kNames = {
     "ok",        "truncated", "bad_magic", "bad_version", "bad_type", "bad_length",
-    "bad_crc",   "non_finite", "bad_value", "late",       "delayed",  "wrong_joint_count"};
+    "bad_crc",   "non_finite", "bad_value", "late",       "delayed",  "wrong_joint_count", "wrong_tool_count"};
 
 constexpr std::array<std::uint32_t, 256> makeCrcTable() {
   std::array<std::uint32_t, 256> table{};

@@ -1,7 +1,7 @@
 #pragma once
 // Shared helpers of the socket tests: unique shared memory names, bounded polling on the lockstep
 // clock (each step also sleeps 1 ms of wall time, so that the far end's threads make progress),
-// and an event collector.
+// an event collector, and a start configuration of the two-tool (suturing) I-SUR.
 #include <unistd.h>
 
 #include <atomic>
@@ -13,6 +13,8 @@
 
 #include "cobra/bridges/shared_memory.hpp"
 #include "cobra/core/core.hpp"
+#include "cobra/kinematics/isur.hpp"
+#include "cobra/test_support/event_names.hpp"
 
 namespace cobra::bridges::test {
 
@@ -43,13 +45,32 @@ struct EventLog {
   std::vector<std::string> names;
   explicit EventLog(core::Component& c) { core::connectPorts(c.events(), in, core::ConnPolicy::buffer(64)); }
   void drain() {
-    core::Event e;
-    while (in.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
+    for (std::string& name : test_support::takeEventNames(in)) names.push_back(std::move(name));
   }
   std::string last() {
     drain();
     return names.empty() ? std::string() : names.back();
   }
 };
+
+/// Joints (14, rad / m) of the suturing I-SUR that its split IK gives back for their own tool poses
+/// (a fixed point of inverse ∘ forward, so a Cartesian command of the current poses is a zero
+/// step): the needle arm at the puncturing setup's elbow (q6 = 0.85, q7 = 0.55 rad), the gripper
+/// arm bent away from its wrist singularity (q13 = 0.8 rad), the delta sliders mid-stroke.
+inline std::vector<double> suturingStart() {
+  kinematics::IsurSuturingSolver solver;
+  KDL::JntArray guess(kinematics::IsurSuturingSolver::kJoints);
+  for (unsigned i = 0; i < guess.rows(); ++i) guess(i) = 0.5 * (solver.limits().lower[i] + solver.limits().upper[i]);
+  guess(5) = 0.85;
+  guess(6) = 0.55;
+  const double left[6] = {0.3, -0.6, 0.4, 0.2, 0.8, 0.1};
+  for (unsigned i = 0; i < 6; ++i) guess(8 + i) = left[i];
+  KDL::Frame stitch, gripper;
+  KDL::JntArray q(guess.rows());
+  if (solver.forward(guess, stitch, gripper) != kinematics::IkStatus::Ok ||
+      solver.inverse(stitch, gripper, guess, q) != kinematics::IkStatus::Ok)
+    return {};
+  return std::vector<double>(q.data.data(), q.data.data() + q.rows());
+}
 
 }  // namespace cobra::bridges::test

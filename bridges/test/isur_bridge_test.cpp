@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numbers>
 
@@ -212,7 +213,10 @@ TEST(ISURRobotBridge, MalformedTruncatedCorruptLateAndDelayedStatesAreCountedAnd
   six.joint_count = 6;
   fake.send(fake.frame(six, 104), port);  // wrong joint count
   fake.send(std::vector<std::uint8_t>(2000, 0xAB), port);  // oversized garbage
-  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.rejected("all") == 9; })) << rig.rejected("all");
+  isur::State two_tools = valid;
+  two_tools.tool_count = 2;
+  fake.send(fake.frame(two_tools, 106), port);  // wrong tool count: a suturing robot's state
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.rejected("all") == 10; })) << rig.rejected("all");
   EXPECT_EQ(rig.rejected("truncated"), 1);
   EXPECT_EQ(rig.rejected("bad_magic"), 1);
   EXPECT_EQ(rig.rejected("bad_crc"), 1);
@@ -220,12 +224,13 @@ TEST(ISURRobotBridge, MalformedTruncatedCorruptLateAndDelayedStatesAreCountedAnd
   EXPECT_EQ(rig.rejected("late"), 2);
   EXPECT_EQ(rig.rejected("delayed"), 1);
   EXPECT_EQ(rig.rejected("wrong_joint_count"), 1);
+  EXPECT_EQ(rig.rejected("wrong_tool_count"), 1);
   EXPECT_EQ(rig.rejected("bad_length"), 1);
   EXPECT_EQ(rig.bridge.call<int>("acceptedCount"), 1);
   for (int i = 0; i < 5; ++i) rig.clock.advance(1ms);
   EXPECT_TRUE(near(rig.joints(), expected, 0.0)) << "the bridge must keep publishing the last valid state";
 
-  fake.send(fake.frame(other, 105), port);  // valid again
+  fake.send(fake.frame(other, 107), port);  // valid again
   expected(0) = 0.5;
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return near(rig.joints(), expected, 0.0); }));
   EXPECT_THROW(rig.rejected("nonsense"), core::Error);
@@ -247,6 +252,220 @@ TEST(ISURRobotBridge, RaisesCommTimeoutWhenTheControllerFallsSilentAndCommRestor
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.events.last() == "e_comm_restored"; }));
 }
 
+// The two-tool bridge (tools = 2, the suturing I-SUR) against the simulated two-tool controller.
+struct SuturingRig {
+  test::UniqueShm shm;
+  core::LockstepClock clock;
+  ISURRobotBridge bridge{"isur"};
+  core::OutputPort<KDL::JntArray> des_joints{"des_joints", "", "m, rad", KDL::JntArray(14)};
+  std::array<core::OutputPort<KDL::Frame>, 2> des_pose{{{"des_right", "", "m"}, {"des_left", "", "m"}}};
+  core::OutputPort<core::Event> requests{"requests", "", ""};
+  core::InputPort<KDL::JntArray> meas_joints{"meas_joints", "", "m, rad"};
+  std::array<core::InputPort<KDL::Frame>, 2> meas_pose{{{"meas_right", "", "m"}, {"meas_left", "", "m"}}};
+  std::array<core::InputPort<KDL::Wrench>, 2> meas_wrench{{{"wrench_right", "", "N"}, {"wrench_left", "", "N"}}};
+  core::InputPort<int> actuations{"actuations", "", "1"};
+  test::EventLog events{bridge};
+
+  explicit SuturingRig(std::uint16_t controller_port) {
+    clock.add(bridge, 1ms);
+    bridge.setProperty("shm_name", shm.name);
+    bridge.setProperty("run_server", true);
+    bridge.setProperty("controller_port", static_cast<int>(controller_port));
+    bridge.setProperty("timeout", 0.05);
+    bridge.setProperty("joints", 14);
+    bridge.setProperty("tools", 2);
+    const core::Result configured = bridge.configure();
+    EXPECT_TRUE(configured) << configured.message;
+    // The per-tool ports exist once configured with tools = 2.
+    core::connectPorts(des_joints, bridge.port("desJointPosition"));
+    core::connectPorts(des_pose[0], bridge.port("desRightCartPose"));
+    core::connectPorts(des_pose[1], bridge.port("desLeftCartPose"));
+    core::connectPorts(requests, bridge.port("inputEvents"), core::ConnPolicy::buffer(8));
+    core::connectPorts(bridge.port("measJointPosition"), meas_joints);
+    core::connectPorts(bridge.port("measRightCartPose"), meas_pose[0]);
+    core::connectPorts(bridge.port("measLeftCartPose"), meas_pose[1]);
+    core::connectPorts(bridge.port("measRightWrench"), meas_wrench[0]);
+    core::connectPorts(bridge.port("measLeftWrench"), meas_wrench[1]);
+    core::connectPorts(bridge.port("endoStitchActuations"), actuations);
+    EXPECT_TRUE(bridge.start());
+  }
+  KDL::JntArray joints() {
+    KDL::JntArray q;
+    meas_joints.read(q);
+    return q;
+  }
+  void actuate() {
+    core::Event e;
+    e.name = "e_actuate_endo_stitch";
+    requests.write(e);
+  }
+  long emitted(const char* name) {
+    events.drain();
+    return std::count(events.names.begin(), events.names.end(), name);
+  }
+};
+
+IsurSimControllerOptions suturingController() {
+  IsurSimControllerOptions options;
+  options.tools = 2;
+  options.initial_joints = test::suturingStart();
+  options.actuation_time = 0.05;
+  return options;
+}
+
+KDL::JntArray jntArray(const std::vector<double>& q) {
+  KDL::JntArray a(static_cast<unsigned>(q.size()));
+  for (unsigned i = 0; i < a.rows(); ++i) a(i) = q[i];
+  return a;
+}
+
+TEST(ISURRobotBridge, WithTwoToolsCarriesFourteenJointsBothToolPosesAndBothWrenches) {
+  ASSERT_EQ(test::suturingStart().size(), 14U);
+  IsurSimController controller(suturingController());
+  controller.start();
+  SuturingRig rig(controller.local().port());
+  EXPECT_THROW(rig.bridge.port("desCartPose"), core::Error) << "the one-tool ports are gone with tools = 2";
+  controller.setExternalWrench(KDL::Wrench(KDL::Vector(0, 0, 2.0), KDL::Vector::Zero()), 0);
+  controller.setExternalWrench(KDL::Wrench(KDL::Vector(-1.0, 0, 0), KDL::Vector::Zero()), 1);
+  KDL::JntArray target = jntArray(test::suturingStart());
+  target(1) += 0.005;   // m: a delta slider
+  target(10) += 0.05;   // rad: the gripper arm's third joint
+  rig.des_joints.write(target);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return near(rig.joints(), target, 1e-4); }))
+      << "measured joints never reached the command";
+  kinematics::IsurSuturingSolver solver;
+  KDL::Frame stitch, gripper;
+  ASSERT_EQ(solver.forward(rig.joints(), stitch, gripper), kinematics::IkStatus::Ok);
+  KDL::Frame right, left;
+  ASSERT_NE(rig.meas_pose[0].read(right), core::FlowStatus::NoData);
+  ASSERT_NE(rig.meas_pose[1].read(left), core::FlowStatus::NoData);
+  EXPECT_TRUE(KDL::Equal(right.p, stitch.p, 1e-3));
+  EXPECT_TRUE(KDL::Equal(left.p, gripper.p, 1e-3));
+  EXPECT_GT((right.p - left.p).Norm(), 0.01) << "two different tools";
+  KDL::Wrench w_right, w_left;
+  ASSERT_NE(rig.meas_wrench[0].read(w_right), core::FlowStatus::NoData);
+  ASSERT_NE(rig.meas_wrench[1].read(w_left), core::FlowStatus::NoData);
+  EXPECT_NEAR(w_right.force.z(), 2.0, 0.1);  // AtiNano43 / AtiNano17 noise and resolution are far below 0.1 N
+  EXPECT_NEAR(w_right.force.x(), 0.0, 0.1);
+  EXPECT_NEAR(w_left.force.x(), -1.0, 0.1);
+  EXPECT_NEAR(w_left.force.z(), 0.0, 0.1);
+  EXPECT_EQ(rig.bridge.call<int>("rejectedCount", std::string("all")), 0);
+  EXPECT_EQ(controller.counters().rejected(), 0U);
+}
+
+TEST(ISURRobotBridge, WithTwoToolsEachToolFollowsItsCartesianCommandAndAnUncommandedToolStays) {
+  IsurSimController controller(suturingController());
+  controller.start();
+  SuturingRig rig(controller.local().port());
+  kinematics::IsurSuturingSolver solver;
+  KDL::Frame right0, left0;
+  ASSERT_EQ(solver.forward(jntArray(test::suturingStart()), right0, left0), kinematics::IkStatus::Ok);
+  const auto commanded = [&](KDL::Frame& right, KDL::Frame& left) {
+    return solver.forward(controller.commandedJoints(), right, left) == kinematics::IkStatus::Ok;
+  };
+  // The right tool (Endo Stitch) alone, 0.1 mm per command: the left keeps its pose although the
+  // platform under it moves.
+  KDL::Frame right_target = right0;
+  for (int k = 1; k <= 20; ++k) {
+    right_target.p = right0.p + KDL::Vector(0.0, 0.0, -1e-4 * k);
+    rig.des_pose[0].write(right_target);
+    ASSERT_TRUE(pollUntil(rig.clock, [&] {
+      KDL::Frame r, l;
+      return commanded(r, l) && KDL::Equal(r, right_target, 1e-9);
+    })) << "right command " << k << " was not applied";
+    KDL::Frame r, l;
+    ASSERT_TRUE(commanded(r, l));
+    ASSERT_TRUE(KDL::Equal(l, left0, 1e-9)) << "the uncommanded left tool moved at " << k;
+  }
+  // Then both: the left 0.1 mm per command along x, the right held at its last target.
+  KDL::Frame left_target = left0;
+  for (int k = 1; k <= 20; ++k) {
+    left_target.p = left0.p + KDL::Vector(1e-4 * k, 0.0, 0.0);
+    rig.des_pose[1].write(left_target);
+    ASSERT_TRUE(pollUntil(rig.clock, [&] {
+      KDL::Frame r, l;
+      return commanded(r, l) && KDL::Equal(l, left_target, 1e-9) && KDL::Equal(r, right_target, 1e-9);
+    })) << "left command " << k << " was not applied";
+  }
+  rig.events.drain();
+  for (const std::string& name : rig.events.names)
+    EXPECT_EQ(name.rfind("e_ik_", 0), std::string::npos) << "no refusal on continuous paths: " << name;
+  KDL::Frame right, left;
+  ASSERT_TRUE(pollUntil(rig.clock, [&] {
+    return rig.meas_pose[0].read(right) != core::FlowStatus::NoData &&
+           rig.meas_pose[1].read(left) != core::FlowStatus::NoData && KDL::Equal(right, right_target, 1e-4) &&
+           KDL::Equal(left, left_target, 1e-4);
+  })) << "the measured poses never reached the commands";
+}
+
+TEST(ISURRobotBridge, WithTwoToolsACommandBeyondTheVelocityBoundIsRefusedAndTheRobotHolds) {
+  IsurSimController controller(suturingController());
+  controller.start();
+  SuturingRig rig(controller.local().port());
+  kinematics::IsurSuturingSolver solver;
+  const KDL::JntArray start = jntArray(test::suturingStart());
+  KDL::Frame right0, left0;
+  ASSERT_EQ(solver.forward(start, right0, left0), kinematics::IkStatus::Ok);
+  KDL::Frame far = left0;
+  far.p += KDL::Vector(0.0, 0.02, 0.0);  // 2 cm in one 2 ms period: 10 m/s
+  rig.des_pose[1].write(far);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_ik_discontinuity") == 1; }));
+  for (int i = 0; i < 200; ++i) {
+    rig.clock.advance(1ms);
+    ASSERT_TRUE(near(controller.commandedJoints(), start, 0.0)) << "the command changed at " << i;
+  }
+  EXPECT_EQ(rig.emitted("e_ik_discontinuity"), 1) << "once per refusal episode";
+  KDL::Frame unreachable = right0;
+  unreachable.p += KDL::Vector(0.0, 0.0, -5.0);  // 5 m below: out of reach
+  rig.des_pose[0].write(unreachable);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_ik_failed") == 1; }));
+  // Acceptable commands again: both tools where they are.
+  rig.des_pose[0].write(right0);
+  rig.des_pose[1].write(left0);
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_ik_solved") == 1; }));
+  EXPECT_TRUE(near(controller.commandedJoints(), start, 1e-9));
+}
+
+TEST(ISURRobotBridge, WithTwoToolsTheActuateEventActuatesTheEndoStitchOnceAndItsCountComesBack) {
+  IsurSimController controller(suturingController());
+  controller.start();
+  SuturingRig rig(controller.local().port());
+  rig.des_joints.write(jntArray(test::suturingStart()));  // the controller learns where to send states
+  int count = -1;
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.actuations.read(count) != core::FlowStatus::NoData; }));
+  EXPECT_EQ(count, 0);
+  rig.actuate();
+  rig.clock.advance(1ms);
+  rig.actuate();  // while the first is unanswered or running: refused
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_endo_stitch_actuated") == 1; }));
+  rig.actuations.read(count);
+  EXPECT_EQ(count, 1);
+  EXPECT_EQ(controller.actuations(), 1U);
+  EXPECT_EQ(rig.emitted("e_endo_stitch_busy"), 1);
+  // The server repeats an unacknowledged request; the controller handles each request once.
+  for (int i = 0; i < 100; ++i) rig.clock.advance(1ms);
+  EXPECT_EQ(controller.actuations(), 1U);
+  rig.actuate();
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_endo_stitch_actuated") == 2; }));
+  rig.actuations.read(count);
+  EXPECT_EQ(count, 2);
+  EXPECT_EQ(controller.actuations(), 2U);
+}
+
+TEST(ISURRobotBridge, AOneToolControllerRefusesAnActuationAndATwoToolBridgeRejectsItsStates) {
+  IsurSimController controller(IsurSimControllerOptions{});  // the puncturing robot: 8 joints, 1 tool
+  controller.start();
+  SuturingRig rig(controller.local().port());
+  rig.des_joints.write(jntArray(test::suturingStart()));  // 14 joints: wrong_joint_count at the controller
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return controller.counters().get(wire::DecodeStatus::WrongJointCount) > 0; }));
+  rig.des_pose[0].write(KDL::Frame(KDL::Vector(0.0, 0.0, -0.3)));
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return controller.counters().get(wire::DecodeStatus::WrongToolCount) > 0; }));
+  rig.actuate();  // a valid datagram: the controller now sends states (8 joints, 1 tool)
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.bridge.call<int>("rejectedCount", std::string("all")) > 0; }));
+  EXPECT_EQ(rig.bridge.call<int>("acceptedCount"), 0);
+  EXPECT_EQ(controller.actuations(), 0U);
+}
+
 TEST(ISURRobotBridge, ConfigurationErrorsNameTheProperty) {
   ISURRobotBridge bridge("isur");
   bridge.setProperty("shm_name", "no_slash");
@@ -259,6 +478,13 @@ TEST(ISURRobotBridge, ConfigurationErrorsNameTheProperty) {
   r = bridge.configure();
   ASSERT_FALSE(r);
   EXPECT_NE(r.message.find("controller_port is 0"), std::string::npos) << r.message;
+  EXPECT_THROW(bridge.setProperty("tools", 3), core::Error);
+  bridge.setProperty("run_server", false);
+  bridge.setProperty("tools", 2);
+  bridge.setProperty("actuate_event", std::string());
+  r = bridge.configure();
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.message.find("property actuate_event is ''"), std::string::npos) << r.message;
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ int usage(const char* why) {
   std::fprintf(stderr,
                "cobra-isur-server: %s\n"
                "usage: cobra-isur-server --controller HOST:PORT [--shm /NAME] [--listen HOST:PORT] [--joints N]\n"
-               "                         [--period S] [--max-delay S]\n",
+               "                         [--tools M] [--period S] [--max-delay S]\n",
                why);
   return 2;
 }
@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
       options.shm_name = value;
     } else if (flag == "--joints") {
       options.joints = static_cast<std::uint16_t>(std::atoi(value.c_str()));
+    } else if (flag == "--tools") {
+      options.tools = static_cast<std::uint16_t>(std::atoi(value.c_str()));
     } else if (flag == "--period") {
       options.command_period = std::atof(value.c_str());
     } else if (flag == "--max-delay") {

@@ -1,5 +1,6 @@
 #include "cobra/bridges/isur_robot_bridge.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cobra/core/error.hpp"
@@ -33,6 +34,8 @@ ISURRobotBridge::ISURRobotBridge(std::string name)
   addPort(meas_wrench_);
   addProperty(shm_name_);
   addProperty(joints_.range(1, isur::kMaxJoints));
+  addProperty(tools_.range(1, isur::kMaxTools));
+  addProperty(actuate_event_);
   addProperty(timeout_.range(1e-3, 3600.0));
   addProperty(run_server_);
   addProperty(controller_host_);
@@ -41,7 +44,7 @@ ISURRobotBridge::ISURRobotBridge(std::string name)
   addProperty(max_delay_.range(0.0, 10.0));
   addOperation("rejectedCount", &ISURRobotBridge::rejectedCount, this,
                "state datagrams rejected for `reason` (truncated, bad_magic, bad_version, bad_type, bad_length, "
-               "bad_crc, non_finite, bad_value, late, delayed, wrong_joint_count) or \"all\"",
+               "bad_crc, non_finite, bad_value, late, delayed, wrong_joint_count, wrong_tool_count) or \"all\"",
                core::ExecutionThread::Client)
       .arg("reason", "", "a reason name, or all");
   addOperation("acceptedCount", &ISURRobotBridge::acceptedCount, this, "valid state datagrams received by the server",
@@ -49,12 +52,45 @@ ISURRobotBridge::ISURRobotBridge(std::string name)
   addOperation("serverPort", &ISURRobotBridge::serverPort, this,
                "the UDP port the in-process server receives states on (0 without run_server)",
                core::ExecutionThread::Client);
+  des_poses_ = {&des_cart_pose_, nullptr};
+  meas_poses_ = {&meas_cart_pose_, nullptr};
+  meas_wrenches_ = {&meas_wrench_, nullptr};
 }
 
 ISURRobotBridge::~ISURRobotBridge() = default;
 
+void ISURRobotBridge::registerToolPorts(unsigned tools) {
+  if (tools == tools_registered_) return;
+  if (tools == 2) {
+    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_})
+      removePort(*p);
+    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_right_pose_, &des_left_pose_, &meas_right_pose_,
+                                                                    &meas_left_pose_, &meas_right_wrench_,
+                                                                    &meas_left_wrench_, &actuations_out_})
+      addPort(*p);
+    addEventPort(input_events_);
+    des_poses_ = {&des_right_pose_, &des_left_pose_};
+    meas_poses_ = {&meas_right_pose_, &meas_left_pose_};
+    meas_wrenches_ = {&meas_right_wrench_, &meas_left_wrench_};
+  } else {
+    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_right_pose_, &des_left_pose_, &meas_right_pose_,
+                                                                    &meas_left_pose_, &meas_right_wrench_,
+                                                                    &meas_left_wrench_, &actuations_out_, &input_events_})
+      removePort(*p);
+    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_})
+      addPort(*p);
+    des_poses_ = {&des_cart_pose_, nullptr};
+    meas_poses_ = {&meas_cart_pose_, nullptr};
+    meas_wrenches_ = {&meas_wrench_, nullptr};
+  }
+  tools_registered_ = tools;
+}
+
 bool ISURRobotBridge::configureHook() {
   const auto n = static_cast<unsigned>(joints_());
+  const auto tools = static_cast<unsigned>(tools_());
+  if (tools == 2 && (actuate_event_().empty() || actuate_event_().size() > core::BoundedString<63>::capacity()))
+    return refuse("property actuate_event is '" + actuate_event_() + "'; expected an event name of 1 to 63 characters");
   try {
     server_.reset();
     block_ = std::make_unique<SharedBlock<IsurSharedBlock>>(shm_name_());
@@ -66,6 +102,7 @@ bool ISURRobotBridge::configureHook() {
       options.controller_port = static_cast<std::uint16_t>(controller_port_());
       options.bind_port = static_cast<std::uint16_t>(server_port_());
       options.joints = static_cast<std::uint16_t>(n);
+      options.tools = static_cast<std::uint16_t>(tools);
       options.max_delay = max_delay_();
       server_ = std::make_unique<IsurUdpServer>(options);
     }
@@ -73,9 +110,14 @@ bool ISURRobotBridge::configureHook() {
     block_.reset();
     return refuse(e.what());
   }
+  registerToolPorts(tools);
+  actuate_name_.assign(actuate_event_());
   q_in_.resize(n);
   q_out_.resize(n);
   meas_joints_.setDataSample(q_out_);
+  command_ = isur::Command{};
+  command_.tool_count = static_cast<std::uint16_t>(tools);
+  command_.tool_mask = 0;
   return true;
 }
 
@@ -85,11 +127,15 @@ bool ISURRobotBridge::startHook() {
   last_version_ = (*block_)->state.version();  // a state left from an earlier run is not fresh
   have_state_ = false;
   refusing_ = told_failed_ = told_discontinuity_ = false;
+  request_open_ = have_count_ = false;
+  command_.tool_mask = 0;
+  core::Event stale;
+  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  }  // requests sent before the start are not this run's
   return true;
 }
 
-void ISURRobotBridge::updateHook() {
-  IsurSharedBlock& block = **block_;
+void ISURRobotBridge::readCommands(IsurSharedBlock& block) noexcept {
   if (des_joints_.read(q_in_) == core::FlowStatus::NewData && q_in_.rows() == q_out_.rows()) {
     bool finite = true;
     for (unsigned i = 0; i < q_in_.rows(); ++i) finite = finite && std::isfinite(q_in_(i));
@@ -97,26 +143,81 @@ void ISURRobotBridge::updateHook() {
       command_.type = isur::MessageType::JointCommand;
       command_.joint_count = static_cast<std::uint16_t>(q_in_.rows());
       for (unsigned i = 0; i < q_in_.rows(); ++i) command_.joints[i] = q_in_(i);
+      command_.tool_mask = 0;  // tools not commanded again keep the pose of this joint command
       block.command.write(command_);
     }
   }
-  KDL::Frame pose;
-  if (des_cart_pose_.read(pose) == core::FlowStatus::NewData) {
-    command_.type = isur::MessageType::CartesianCommand;
-    toPose(pose, command_.pose);
-    if (wire::allFinite(command_.pose.position) && wire::allFinite(command_.pose.quaternion))
-      block.command.write(command_);
+  bool new_pose = false;
+  for (std::size_t t = 0; t < command_.tool_count; ++t) {
+    KDL::Frame pose;
+    if (des_poses_[t]->read(pose) != core::FlowStatus::NewData) continue;
+    isur::Pose wire_pose;
+    toPose(pose, wire_pose);
+    if (!wire::allFinite(wire_pose.position) || !wire::allFinite(wire_pose.quaternion)) continue;
+    command_.poses[t] = wire_pose;
+    command_.tool_mask = static_cast<std::uint16_t>(command_.tool_mask | (1U << t));
+    new_pose = true;
   }
+  if (new_pose) {
+    command_.type = isur::MessageType::CartesianCommand;
+    block.command.write(command_);
+  }
+}
+
+void ISURRobotBridge::readActuationRequests(IsurSharedBlock& block) noexcept {
+  if (tools_registered_ < 2) return;
+  core::Event request;
+  while (input_events_.read(request) == core::FlowStatus::NewData) {
+    if (!(request.name == actuate_name_)) continue;
+    if (request_open_ || (have_state_ && (state_.flags & isur::kActuating) != 0)) {
+      emitEvent("e_endo_stitch_busy");
+      continue;
+    }
+    // A number the controller has not handled yet (it handles each number once, even across restarts).
+    request_ = std::max(request_, state_.actuation_request) + 1;
+    if (request_ == 0) request_ = 1;
+    block.actuation.write(isur::Actuation{.tool = 0, .request = request_});
+    request_open_ = true;
+  }
+}
+
+void ISURRobotBridge::reportActuations() noexcept {
+  if (request_open_ && state_.actuation_request == request_) {
+    request_open_ = false;
+    if ((state_.flags & isur::kActuationRefused) != 0) emitEvent("e_endo_stitch_busy");
+  }
+  if (!have_count_) {
+    have_count_ = true;
+    actuation_base_ = state_.actuations;
+    actuations_seen_ = 0;
+    actuations_out_.write(0);
+    return;
+  }
+  const std::uint32_t count = state_.actuations - actuation_base_;
+  if (count == actuations_seen_) return;
+  actuations_seen_ = count;
+  actuations_out_.write(static_cast<int>(count));
+  emitEvent("e_endo_stitch_actuated");
+}
+
+void ISURRobotBridge::updateHook() {
+  IsurSharedBlock& block = **block_;
+  readCommands(block);
+  readActuationRequests(block);
   const std::uint64_t version = block.state.read(state_);
-  const bool fresh = version != 0 && version != last_version_ && state_.joint_count == q_out_.rows();
+  const bool fresh = version != 0 && version != last_version_ && state_.joint_count == q_out_.rows() &&
+                     state_.tool_count == tools_registered_;
   if (version != 0) last_version_ = version;
   if (fresh) {
     for (unsigned i = 0; i < q_out_.rows(); ++i) q_out_(i) = state_.joints[i];
-    if (state_.flags & isur::kPoseValid) pose_out_ = toFrame(state_.pose);
-    const auto& w = state_.wrench;
-    wrench_out_ = KDL::Wrench(KDL::Vector(w[0], w[1], w[2]), KDL::Vector(w[3], w[4], w[5]));
+    for (std::size_t t = 0; t < tools_registered_; ++t) {
+      if (state_.flags & isur::kPoseValid) pose_out_[t] = toFrame(state_.tools[t].pose);
+      const auto& w = state_.tools[t].wrench;
+      wrench_out_[t] = KDL::Wrench(KDL::Vector(w[0], w[1], w[2]), KDL::Vector(w[3], w[4], w[5]));
+    }
     have_state_ = true;
     reportCartesianStatus(state_.flags);
+    if (tools_registered_ == 2) reportActuations();
   }
   switch (watchdog_.update(fresh, now().count(), toNs(timeout_()))) {
     case CommWatchdog::Change::TimedOut: emitEvent("e_comm_timeout"); break;
@@ -144,8 +245,10 @@ void ISURRobotBridge::reportCartesianStatus(std::uint16_t flags) {
 
 void ISURRobotBridge::publish() {
   meas_joints_.write(q_out_);
-  meas_cart_pose_.write(pose_out_);
-  meas_wrench_.write(wrench_out_);
+  for (std::size_t t = 0; t < tools_registered_; ++t) {
+    meas_poses_[t]->write(pose_out_[t]);
+    meas_wrenches_[t]->write(wrench_out_[t]);
+  }
 }
 
 void ISURRobotBridge::cleanupHook() {
@@ -161,7 +264,7 @@ int ISURRobotBridge::rejectedCount(std::string reason) {
   if (!wire::parseDecodeStatus(reason, status) || status == wire::DecodeStatus::Ok)
     throw core::Error("component '" + name() + "': rejectedCount: unknown reason '" + reason +
                       "'; give all, truncated, bad_magic, bad_version, bad_type, bad_length, bad_crc, non_finite, "
-                      "bad_value, late, delayed or wrong_joint_count");
+                      "bad_value, late, delayed, wrong_joint_count or wrong_tool_count");
   return static_cast<int>(counters.get(status));
 }
 

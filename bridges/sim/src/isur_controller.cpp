@@ -11,13 +11,24 @@ namespace cobra::bridges {
 namespace {
 
 const IsurSimControllerOptions& checked(const IsurSimControllerOptions& o) {
+  const std::string who = "I-SUR simulated controller: ";
   if (!(o.period > 0.0 && o.period <= 0.1))
-    throw std::runtime_error("I-SUR simulated controller: period is " + std::to_string(o.period) +
-                             " s: give (0, 0.1]");
+    throw std::runtime_error(who + "period is " + std::to_string(o.period) + " s: give (0, 0.1]");
+  if (o.tools < 1 || o.tools > isur::kMaxTools)
+    throw std::runtime_error(who + "tools is " + std::to_string(o.tools) + ": give 1 (puncturing) or 2 (suturing)");
+  if (!(o.actuation_time > 0.0 && std::isfinite(o.actuation_time)))
+    throw std::runtime_error(who + "actuation_time is " + std::to_string(o.actuation_time) + " s: give > 0");
   return o;
 }
 
-std::vector<double> middleOf(const kinematics::JointLimits& limits) {
+std::vector<double> initialJoints(const IsurSimControllerOptions& o, const kinematics::JointLimits& limits) {
+  if (!o.initial_joints.empty()) {
+    if (o.initial_joints.size() != limits.lower.size())
+      throw std::runtime_error("I-SUR simulated controller: initial_joints has " +
+                               std::to_string(o.initial_joints.size()) + " values: give " +
+                               std::to_string(limits.lower.size()) + " (rad / m)");
+    return o.initial_joints;
+  }
   std::vector<double> q(limits.lower.size());
   for (std::size_t i = 0; i < q.size(); ++i) q[i] = 0.5 * (limits.lower[i] + limits.upper[i]);
   return q;
@@ -41,12 +52,24 @@ IsurSimController::IsurSimController(IsurSimControllerOptions options)
       socket_(options_.bind_host, options_.bind_port),
       server_(resolve(options_.server_host, options_.server_port)),
       server_known_(options_.server_port != 0),
-      sensor_(sim::atiNano17(), options_.seed) {
+      external_(options_.tools, KDL::Wrench::Zero()) {
+  const kinematics::JointLimits* limits = nullptr;
+  if (options_.tools == 1) {
+    puncturing_ = std::make_unique<kinematics::IsurPuncturingSolver>();
+    limits = &puncturing_->limits();
+    sensors_.emplace_back(sim::atiNano17(), options_.seed);
+  } else {
+    suturing_ = std::make_unique<kinematics::IsurSuturingSolver>();
+    limits = &suturing_->limits();
+    sensors_.emplace_back(sim::atiNano43(), options_.seed);  // the Endo Stitch arm (§5.3.2)
+    sensors_.emplace_back(sim::atiNano17(), options_.seed + 1);
+  }
   robot_ = std::make_unique<sim::ServoRobot>(
-      sim::uniformServoModel("I-SUR", solver_.limits(), options_.servo_time_constant, options_.max_velocity,
+      sim::uniformServoModel("I-SUR", *limits, options_.servo_time_constant, options_.max_velocity,
                              options_.encoder_counts),
-      middleOf(solver_.limits()));
-  cartesian_ = std::make_unique<sim::CartesianServo>(solver_, *robot_, options_.period);
+      initialJoints(options_, *limits));
+  if (puncturing_) cartesian_ = std::make_unique<sim::CartesianServo>(*puncturing_, *robot_, options_.period);
+  solution_.resize(robot_->jointCount());
 }
 
 IsurSimController::~IsurSimController() { stop(); }
@@ -61,9 +84,12 @@ void IsurSimController::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void IsurSimController::setExternalWrench(const KDL::Wrench& wrench) {
+void IsurSimController::setExternalWrench(const KDL::Wrench& wrench, std::size_t tool) {
   const std::lock_guard lock(mutex_);
-  external_ = wrench;
+  if (tool >= external_.size())
+    throw std::out_of_range("I-SUR simulated controller: tool " + std::to_string(tool) + " of a robot with " +
+                            std::to_string(external_.size()) + " tools");
+  external_[tool] = wrench;
 }
 
 KDL::JntArray IsurSimController::commandedJoints() const {
@@ -74,6 +100,16 @@ KDL::JntArray IsurSimController::commandedJoints() const {
 KDL::JntArray IsurSimController::jointPositions() const {
   const std::lock_guard lock(mutex_);
   return robot_->position();
+}
+
+std::uint32_t IsurSimController::actuations() const {
+  const std::lock_guard lock(mutex_);
+  return actuations_;
+}
+
+bool IsurSimController::forward(const KDL::JntArray& q, KDL::Frame& tool0, KDL::Frame& tool1) noexcept {
+  if (puncturing_) return puncturing_->forward(q, tool0) == kinematics::IkStatus::Ok;
+  return suturing_->forward(q, tool0, tool1) == kinematics::IkStatus::Ok;
 }
 
 void IsurSimController::receiveAll() noexcept {
@@ -93,6 +129,9 @@ void IsurSimController::receiveAll() noexcept {
     if (status == wire::DecodeStatus::Ok && command.type == isur::MessageType::JointCommand &&
         command.joint_count != robot_->jointCount())
       status = wire::DecodeStatus::WrongJointCount;
+    if (status == wire::DecodeStatus::Ok && command.type == isur::MessageType::CartesianCommand &&
+        command.tool_count != options_.tools)
+      status = wire::DecodeStatus::WrongToolCount;
     counters_.count(status);
     if (status != wire::DecodeStatus::Ok) continue;
     if (options_.server_port == 0) {
@@ -100,16 +139,53 @@ void IsurSimController::receiveAll() noexcept {
       server_known_ = true;
     }
     const std::lock_guard lock(mutex_);
-    if (command.type == isur::MessageType::JointCommand) {
+    apply(command);
+  }
+}
+
+void IsurSimController::apply(const isur::Command& command) noexcept {
+  switch (command.type) {
+    case isur::MessageType::JointCommand:
       robot_->command(std::span<const double>(command.joints.data(), command.joint_count));
       held_ = discontinuous_ = false;
-    } else {
-      // The server repeats its latest command: the same pose again is a zero step.
-      const sim::CartesianCommandStatus outcome = cartesian_->command(toFrame(command.pose));
-      held_ = outcome.holding;
-      discontinuous_ = outcome.holding && outcome.ik == kinematics::IkStatus::Discontinuous;
-    }
+      break;
+    case isur::MessageType::CartesianCommand: commandPoses(command); break;
+    case isur::MessageType::ToolActuation: actuate(command.actuation); break;
+    case isur::MessageType::State: break;
   }
+}
+
+void IsurSimController::commandPoses(const isur::Command& command) noexcept {
+  // The server repeats its latest command: the same poses again are a zero step.
+  kinematics::IkStatus ik = kinematics::IkStatus::Ok;
+  if (cartesian_) {
+    const sim::CartesianCommandStatus outcome = cartesian_->command(toFrame(command.poses[0]));
+    held_ = outcome.holding;
+    discontinuous_ = outcome.holding && outcome.ik == kinematics::IkStatus::Discontinuous;
+    return;
+  }
+  // Two tools: a tool without a new target keeps the pose of the current joint command.
+  const KDL::JntArray& current = robot_->commanded();
+  KDL::Frame targets[2];
+  if (!forward(current, targets[0], targets[1])) ik = kinematics::IkStatus::BadInput;
+  for (std::size_t t = 0; t < 2; ++t)
+    if ((command.tool_mask >> t) & 1U) targets[t] = toFrame(command.poses[t]);
+  if (ik == kinematics::IkStatus::Ok) ik = suturing_->inverse(targets[0], targets[1], current, solution_);
+  if (ik == kinematics::IkStatus::Ok) {
+    const double allowed = options_.max_velocity * options_.period;
+    for (unsigned i = 0; i < solution_.rows(); ++i)
+      if (std::abs(solution_(i) - current(i)) > allowed) ik = kinematics::IkStatus::Discontinuous;
+  }
+  if (ik == kinematics::IkStatus::Ok && !robot_->command(solution_)) ik = kinematics::IkStatus::BadInput;
+  held_ = ik != kinematics::IkStatus::Ok;
+  discontinuous_ = ik == kinematics::IkStatus::Discontinuous;
+}
+
+void IsurSimController::actuate(const isur::Actuation& actuation) noexcept {
+  if (actuation.request == last_request_) return;  // a repeat of a request already handled
+  last_request_ = actuation.request;
+  request_refused_ = options_.tools < 2 || actuation.tool != 0 || actuation_left_ > 0.0;
+  if (!request_refused_) actuation_left_ = options_.actuation_time;
 }
 
 void IsurSimController::stepAndSend(double dt) noexcept {
@@ -117,18 +193,32 @@ void IsurSimController::stepAndSend(double dt) noexcept {
   {
     const std::lock_guard lock(mutex_);
     robot_->step(dt);
-    const sim::ForceTorqueReading& reading = sensor_.step(dt, external_);
+    if (actuation_left_ > 0.0) {
+      actuation_left_ -= dt;
+      if (actuation_left_ <= 1e-12) {
+        actuation_left_ = 0.0;
+        ++actuations_;
+      }
+    }
     state.joint_count = static_cast<std::uint16_t>(robot_->jointCount());
+    state.tool_count = options_.tools;
     for (unsigned i = 0; i < robot_->jointCount(); ++i) state.joints[i] = robot_->measured()(i);
-    KDL::Frame pose;
-    if (solver_.forward(robot_->measured(), pose) == kinematics::IkStatus::Ok) {
-      toPose(pose, state.pose);
+    KDL::Frame poses[2];
+    if (forward(robot_->measured(), poses[0], poses[1])) {
+      for (std::size_t t = 0; t < options_.tools; ++t) toPose(poses[t], state.tools[t].pose);
       state.flags |= isur::kPoseValid;
     }
-    if (reading.anySaturated()) state.flags |= isur::kWrenchSaturated;
+    for (std::size_t t = 0; t < options_.tools; ++t) {
+      const sim::ForceTorqueReading& reading = sensors_[t].step(dt, external_[t]);
+      if (reading.anySaturated()) state.flags |= isur::wrenchSaturatedFlag(t);
+      for (unsigned i = 0; i < 6; ++i) state.tools[t].wrench[i] = reading.wrench(static_cast<int>(i));
+    }
     if (held_) state.flags |= isur::kCartesianHeld;
     if (discontinuous_) state.flags |= isur::kCartesianDiscontinuous;
-    for (unsigned i = 0; i < 6; ++i) state.wrench[i] = reading.wrench(static_cast<int>(i));
+    if (actuation_left_ > 0.0) state.flags |= isur::kActuating;
+    if (request_refused_) state.flags |= isur::kActuationRefused;
+    state.actuations = actuations_;
+    state.actuation_request = last_request_;
   }
   if (!sending_.load() || !server_known_) return;
   std::array<std::uint8_t, isur::kMaxFrameSize> out;

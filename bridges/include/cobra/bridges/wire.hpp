@@ -27,9 +27,10 @@ enum class DecodeStatus : std::uint8_t {
   Late,             ///< sequence number not newer than the last accepted one
   Delayed,          ///< sender timestamp older than allowed (see LatenessFilter)
   WrongJointCount,  ///< joint count differs from what the receiver was configured for
+  WrongToolCount,   ///< tool count differs from what the receiver was configured for
 };
 /// Number of DecodeStatus values (array sizes for per-reason counters).
-inline constexpr std::size_t kDecodeStatusCount = 12;
+inline constexpr std::size_t kDecodeStatusCount = 13;
 
 /// "ok", "truncated", "bad_magic", ... (stable names, used by counters and the components' operations).
 std::string_view toString(DecodeStatus status) noexcept;
