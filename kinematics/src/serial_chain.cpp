@@ -1,5 +1,7 @@
 #include "cobra/kinematics/serial_chain.hpp"
 
+#include <dlfcn.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -111,6 +113,30 @@ bool SerialChainModel::linkFrames(std::span<const double> q, std::span<KDL::Fram
   return true;
 }
 
+std::string kdlLmaConflict() {
+  // KDL's ChainIkSolverPos_LMA::CartToJnt locates liborocos-kdl; the Eigen functions it calls out of
+  // line (JacobiSVD<MatrixXd> constructor, allocate, destructor) must resolve into the same library.
+  constexpr const char* kLmaSolve = "_ZN3KDL20ChainIkSolverPos_LMA9CartToJntERKNS_8JntArrayERKNS_5FrameERS1_";
+  constexpr const char* kEigenCalls[] = {
+      "_ZN5Eigen9JacobiSVDINS_6MatrixIdLin1ELin1ELi0ELin1ELin1EEELi2EEC1Ellj",
+      "_ZN5Eigen9JacobiSVDINS_6MatrixIdLin1ELin1ELi0ELin1ELin1EEELi2EE8allocateEllj",
+      "_ZN5Eigen9JacobiSVDINS_6MatrixIdLin1ELin1ELi0ELin1ELin1EEELi2EED1Ev",
+  };
+  Dl_info kdl{};
+  void* const solve = dlsym(RTLD_DEFAULT, kLmaSolve);
+  if (solve == nullptr || dladdr(solve, &kdl) == 0) return "";  // KDL's LMA is not loaded (or not exported)
+  for (const char* symbol : kEigenCalls) {
+    Dl_info bound{};
+    void* const target = dlsym(RTLD_DEFAULT, symbol);
+    if (target == nullptr || dladdr(target, &bound) == 0 || bound.dli_fbase == kdl.dli_fbase) continue;
+    return std::string("KDL's Levenberg-Marquardt solver (") + kdl.dli_fname + ") cannot run in this process: its " +
+           "Eigen::JacobiSVD calls bind to the copy in " + bound.dli_fname +
+           ", built against another Eigen version with another member layout (Debian 12's OMPL 1.5 uses Eigen 3.3, "
+           "KDL 1.5.1 Eigen 3.4), and the first solve would abort the process in Eigen's SVD assertion";
+  }
+  return "";
+}
+
 struct SerialChainSolver::Workspace {
   explicit Workspace(const SerialChainModel& model, const IterativeIkOptions& options)
       : fk(model.chain()),
@@ -196,6 +222,11 @@ SerialChainSolver::SerialChainSolver(SerialChainModel model, IterativeIkOptions 
                                 formatNumber(options_.position_tolerance) + " m, orientation " +
                                 formatNumber(options_.orientation_tolerance) + " rad)");
   if (options_.max_iterations == 0) throw std::invalid_argument(model_->name() + ": IK max_iterations must be >= 1");
+  if (options_.method == IterativeIk::LevenbergMarquardt) {
+    if (const std::string conflict = kdlLmaConflict(); !conflict.empty())
+      throw std::invalid_argument(model_->name() + ": " + conflict + "; use KDL's Newton-Raphson solver (kdl_nr) or "
+                                  "the closed form");
+  }
   work_ = std::make_unique<Workspace>(*model_, options_);
 }
 

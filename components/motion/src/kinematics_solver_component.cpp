@@ -52,7 +52,8 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
 KinematicsSolverComponent::~KinematicsSolverComponent() = default;
 
 KdlKinematicsSolver::KdlKinematicsSolver(std::string name) : KinematicsSolverComponent(std::move(name)) {
-  setProperty("solver", std::string("kdl_lma"));
+  // Not kdl_lma: KDL's LMA aborts a process that also loads Debian's OMPL (kinematics::kdlLmaConflict).
+  setProperty("solver", std::string("kdl_nr"));
 }
 
 ClosedFormKinematicsSolver::ClosedFormKinematicsSolver(std::string name) : KinematicsSolverComponent(std::move(name)) {
@@ -70,6 +71,10 @@ bool KinematicsSolverComponent::configureHook() {
     kind = kinematics::parseSolverKind(solver_kind_());
   } catch (const std::exception& e) {
     return refuse(std::string("property solver: ") + e.what());
+  }
+  if (kind == kinematics::SolverKind::KdlLevenbergMarquardt) {
+    if (const std::string conflict = kinematics::kdlLmaConflict(); !conflict.empty())
+      return refuse("property solver is 'kdl_lma': " + conflict + "; set solver to kdl_nr or closed_form");
   }
   try {
     // Base and tool frames are applied here, the same way for every robot and solver.

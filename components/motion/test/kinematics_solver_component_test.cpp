@@ -203,7 +203,7 @@ TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
 TEST(KinematicsSolverComponent, TheKdlAndClosedFormTypesAreInterchangeable) {
   KdlKinematicsSolver kdl("IK");
   ClosedFormKinematicsSolver closed("IK");
-  EXPECT_EQ(kdl.getProperty<std::string>("solver"), "kdl_lma");
+  EXPECT_EQ(kdl.getProperty<std::string>("solver"), "kdl_nr");
   EXPECT_EQ(closed.getProperty<std::string>("solver"), "closed_form");
   const core::ComponentInfo a = core::describe(kdl), b = core::describe(closed);
   ASSERT_EQ(a.ports.size(), b.ports.size());

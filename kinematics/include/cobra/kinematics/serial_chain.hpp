@@ -113,6 +113,21 @@ struct IterativeIkOptions {
   double orientation_tolerance = 1e-9;
 };
 
+/// Why KDL's Levenberg–Marquardt solver (KDL::ChainIkSolverPos_LMA) cannot run in this process,
+/// or "" when it can. The solver keeps an Eigen::JacobiSVD<Eigen::MatrixXd> whose out-of-line
+/// template functions (its constructor, allocate, destructor) liborocos-kdl exports as weak symbols,
+/// and the dynamic linker binds KDL's own calls to them to the FIRST definition in the process.
+/// Debian 12's libompl.so.16 (OMPL 1.5.2, built against Eigen 3.3) exports the same functions with
+/// Eigen 3.3's member layout (3.4 added SVDBase::m_info before the flags), while liborocos-kdl 1.5.1
+/// is built against Eigen 3.4: in a process that loads OMPL before KDL (every cobra program linking
+/// the planning library, the `cobra` tool among them) the SVD is set up by OMPL's copy and read by
+/// KDL's inlined code, `computeU()` reads a wrong byte, and Eigen's assertion in matrixU() (KDL is
+/// built with assertions) aborts the process on the first solve. Nothing in cobra's flags can change
+/// that binding (it is the system libraries' ODR violation), so the check looks at it: it names the
+/// library a call of KDL's would reach when that is not liborocos-kdl itself. NR_JL is not affected
+/// (KDL's own SVD_HH, no Eigen decomposition).
+std::string kdlLmaConflict();
+
 /// FK, Jacobian and iterative IK of a SerialChainModel through KDL's solvers, all constructed once
 /// here. KDL's answer is finished by at most 4 Gauss–Newton steps with an exact residual (KDL rounds
 /// rotation errors below 1e-6 rad to zero) and then judged by its forward kinematics.
@@ -122,7 +137,8 @@ struct IterativeIkOptions {
 class SerialChainSolver final : public KinematicsSolver {
  public:
   /// @throws std::invalid_argument when an option is out of range (tolerances must be > 0 and
-  /// max_iterations >= 1).
+  /// max_iterations >= 1), or when `options.method` is LevenbergMarquardt and kdlLmaConflict() says
+  /// KDL's LMA cannot run in this process (the message says why and to use NewtonRaphsonJL).
   explicit SerialChainSolver(SerialChainModel model, IterativeIkOptions options = IterativeIkOptions{});
   ~SerialChainSolver() override;
   SerialChainSolver(SerialChainSolver&&) noexcept;

@@ -19,7 +19,9 @@ namespace cobra::components {
 /// Calculation component. Properties: `robot` ("ur5", "puma260" or "dh": the `dh_table`
 /// property, 7 numbers per joint: a (m), alpha (rad), d (m), theta offset (rad), type (0 revolute,
 /// 1 prismatic), lower and upper limit (rad or m)), `solver` ("closed_form", "kdl_nr",
-/// "kdl_lma"; "dh" robots have no closed form), `base_frame` and `tool_frame` (m),
+/// "kdl_lma"; "dh" robots have no closed form; configure refuses kdl_lma in a process where KDL's
+/// LMA cannot run, e.g. one that loads Debian's OMPL first: kinematics::kdlLmaConflict says why),
+/// `base_frame` and `tool_frame` (m),
 /// `max_joint_velocity` (rad/s, m/s per joint; empty: the UR5's 3.14 rad/s, required for the
 /// others) and `period` (s; 0: the activity's period).
 ///
@@ -89,7 +91,9 @@ class KinematicsSolverComponent : public core::Component {
 };
 
 /// The thesis' two interchangeable components (§6.2.4) as two type names: the same interface, the
-/// KDL solver (Levenberg-Marquardt) or the closed form by default. Either can be set to the other.
+/// KDL solver (Newton-Raphson with joint limits: KDL's Levenberg-Marquardt cannot run in a process
+/// with the planning library, see kinematics::kdlLmaConflict) or the closed form by default. Either
+/// can be set to the other.
 class KdlKinematicsSolver : public KinematicsSolverComponent {
  public:
   explicit KdlKinematicsSolver(std::string name);
