@@ -6,14 +6,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "cobra/text/number.hpp"
+
 namespace cobra::fieldbus {
 namespace {
 
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
+using text::number;
 
 void requirePositive(const char* parameter, double value, const char* unit) {
   if (!std::isfinite(value) || value <= 0.0) {

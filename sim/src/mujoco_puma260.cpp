@@ -7,14 +7,12 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "cobra/text/number.hpp"
+
 namespace cobra::sim {
 namespace {
 
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
+std::string number(double value) { return text::number(value, 3); }
 
 /// MuJoCo's multi-line messages on one line.
 std::string oneLine(std::string text) {

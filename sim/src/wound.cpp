@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cobra/text/number.hpp"
+
 namespace cobra::sim {
 namespace {
 
@@ -13,11 +15,7 @@ void require(bool ok, const std::string& what, const std::string& expected) {
   if (!ok) throw std::invalid_argument(what + ": expected " + expected);
 }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
+using text::number;
 
 /// Distance from p to the segment [a, b] (m).
 double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {

@@ -7,6 +7,7 @@
 
 #include "cobra/core/core.hpp"
 #include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/event_names.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -42,12 +43,7 @@ struct Rig {
     measured.write(KDL::Frame(KDL::Vector(0.35, 0.01, 0.10 + off)));
     clock.advance(1ms);
   }
-  Events take() {
-    Events out;
-    core::Event e;
-    while (events.read(e) == core::FlowStatus::NewData) out.push_back(e.name.str());
-    return out;
-  }
+  Events take() { return test_support::takeEventNames(events); }
 };
 
 TEST(ContactMonitor, ContactIsMadeAboveTheContactForceAndLostAfterTheReleaseTimeBelowTheReleaseForce) {

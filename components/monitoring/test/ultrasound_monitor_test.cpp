@@ -6,6 +6,7 @@
 
 #include "cobra/components/sim/patient_simulator.hpp"
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/event_names.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -46,12 +47,7 @@ struct Rig {
     needle.write(KDL::Frame(KDL::Rotation::RotX(3.141592653589793), KDL::Vector(x, 0, -0.03)));
     clock.advance(1ms);
   }
-  Events take() {
-    Events out;
-    core::Event e;
-    while (events.read(e) == core::FlowStatus::NewData) out.push_back(e.name.str());
-    return out;
-  }
+  Events take() { return test_support::takeEventNames(events); }
 };
 
 TEST(UltrasoundMonitor, VisibilityFollowsTheNeedlesDistanceToThePlaneWithHysteresis) {

@@ -5,14 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "cobra/text/number.hpp"
+
 namespace cobra::suturing {
 namespace {
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
+using text::number;
 
 bool finite(const KDL::Vector& v) noexcept { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
