@@ -10,13 +10,19 @@
 //  - ValidityCheck/puncturing_joints: StateValidator::checkJoints() on the joint states of those
 //    valid poses: what the joint-space planner pays per state (forward kinematics, no IK).
 //  - ValidityCheck/stand_in_peer: the library tests' stand-in scene (FCL only).
-//  - ScenarioQueries/<scenario>: the planning queries of the puncturing procedure of that
-//    scenario, reconstructed from its files (ScenarioRun: the goals the charts and the Frame
-//    Generator ask for, each start where the previous plan ended; the scene's phantom placed as in
-//    the run), the whole sequence planned 5 times with the deployment's settings (RRTConnect,
-//    work limit 600,000 checks, the trajectory generator speeds of the planner that asks);
-//    counters `median_ms`, `max_ms`, `success_rate`, `queries` (per sequence); a failed query's
-//    reason goes to stderr. Target: median < 50 ms, worst < 250 ms, 100 % success.
+//  - ScenarioQueries/<scenario>: the planning requests the puncturing procedure of that scenario
+//    makes, measured where it makes them: the whole procedure runs kScenarioRuns times as `cobra
+//    run apps/puncturing --scenario ...` runs it (cobra::run::runApp: lockstep, seeded, a work
+//    limit instead of a time limit, so every run makes the same requests), and every step of a
+//    MotionPlanner component (NeedlePlanner, USPlanner) in which it served a request (it emitted
+//    e_plan_done or e_plan_failed) is timed by the wall clock. That step is the whole request as
+//    the procedure has it served, from the state table's rows through the Frame Generator: the goal
+//    alternatives in order, each one's goal check and room_for_* checks, the search, the then_*
+//    follow-on check (and the step's clearance measurement, microseconds). Counters: `queries`
+//    (requests per procedure), `median_ms`, `p95_ms`, `max_ms` over every request of every run,
+//    `cpu_median_ms`, `cpu_max_ms` (the stepping thread's CPU time of those steps: without the time
+//    a loaded machine gives to other processes), `success_rate` (e_plan_done over requests); the slowest request's planner and simulated time
+//    go to stderr. The count of requests is checked against the events in the run's log.
 //  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
 //    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
 //    poses; a third moves the needle, a third the probe, a third both; kept only when the planner
@@ -36,6 +42,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
@@ -45,9 +52,10 @@
 
 #include "../planning/test/stand_in_robots.hpp"
 #include "../test_support/include/cobra/test_support/counting_new.hpp"
+#include "cobra/core/core.hpp"
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
-#include "cobra/puncturing/plan.hpp"
+#include "cobra/run/runner.hpp"
 
 namespace {
 
@@ -55,7 +63,7 @@ using namespace cobra::planning;
 
 constexpr int kRepetitions = 10;
 constexpr int kRandomQueries = 1000;
-constexpr int kScenarioRepeats = 5;
+constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
 /// CPU time of the whole process [s]: on a shared machine the wall-clock planning time also counts
@@ -221,103 +229,66 @@ void BM_ValidityStandIn(benchmark::State& state) {
 BENCHMARK(BM_ValidityStandIn)->Name("ValidityCheck/stand_in_peer")->Repetitions(kRepetitions)
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
-/// One planning query: start joints, goal tool poses.
-struct Query {
-  JointState start;
-  DualPose goal;
-  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
-  double max_angular_velocity = 0.5;   // rad/s
-};
-
-/// The joints apps/puncturing/deployment/world.lua starts the simulated robots at (I-SUR, UR5).
-const JointState kInitialJoints{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0,
-                                0.798,    -1.4495,  -1.714,   1.5925, -1.571, -2.344};
-
-/// The planning queries of a procedure, reconstructed from the scenario's files the way the
-/// charts and the Frame Generator make them (apps/puncturing/state_table.txt): the needle to its
-/// change pose, then per needle the probe to 30 mm above its pose, the needle to 20 mm above its
-/// entry (the probe on the skin), the needle back to the change pose. Each query starts where the
-/// previous plan ended (its last joint waypoint, as a continuity-keeping control path arrives);
-/// the primitives between them (descend, insert, extract) return the needle to where its
-/// approach ended and put the probe on its planned pose, tracked by the continuity IK.
-class ScenarioRun {
- public:
-  explicit ScenarioRun(const std::string& name)
-      : folder_(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + name),
-        plan_(cobra::puncturing::loadPlan(folder_ + "/preoperative.txt", folder_ + "/cryo_plan.txt",
-                                          folder_ + "/us_plan.txt")),
-        abdomen_(plan_.preoperative.abdomen_in_task),
-        // puncturing.lua: the scene's phantom sits at the nominal abdomen (0, 0, 0.1).
-        validator_(makeValidator(puncturingScene(KDL::Frame(KDL::Vector(0, 0, -0.1)) * abdomen_))) {
-    const cobra::puncturing::StateTable table = cobra::puncturing::parseStateTable(
-        cobra::puncturing::readText(std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/state_table.txt"),
-        "state_table.txt");
-    for (const auto& [pose_name, pose] : table.poses)
-      if (pose_name == "needle_change") change_ = pose;
-  }
-
-  /// Plans every query of the procedure; calls `planned` with each query and its result.
-  void run(const std::function<void(const Query&, const PlanResult&)>& planned) {
-    JointState q = kInitialJoints;
-    DualPose tools;
-    const auto plan = [&](const DualPose& goal, bool needle) {
-      Query query{q, goal, needle ? 0.04 : 0.08, needle ? 0.15 : 0.5};  // needle_robot.lua, probe_robot.lua
-      PlannerOptions o = deploymentOptions("RRTConnect");
-      o.max_validity_checks = 600000;
-      o.max_linear_velocity = query.max_linear_velocity;
-      o.max_angular_velocity = query.max_angular_velocity;
-      MotionPlanner planner(validator_, o);
-      const PlanResult result = planner.planPath(query.start, query.goal);
-      planned(query, result);
-      if (result.solved()) q = result.joint_waypoints.back();
-    };
-    const auto place = [&](const DualPose& at) {  // a primitive ends there
-      std::size_t robot = 0;
-      JointState next(q.size());
-      if (validator_.inverseNear(at, q, next, robot) == Reachability::Reachable) q = next;
-    };
-    validator_.toolPoses(q, tools);
-    plan({change_, tools.second}, true);
-    for (std::size_t i = 0; i < plan_.needles.size(); ++i) {
-      const KDL::Frame probe = abdomen_ * plan_.probes[i].pose;
-      validator_.toolPoses(q, tools);
-      plan({tools.first, cobra::puncturing::alongZ(probe, -0.03)}, false);
-      validator_.toolPoses(q, tools);
-      place({tools.first, probe});
-      const KDL::Frame entry = abdomen_ * cobra::puncturing::needleEntryPose(plan_.needles[i]);
-      plan({cobra::puncturing::alongZ(entry, -0.02), probe}, true);
-      plan({change_, probe}, true);
-    }
-  }
-
- private:
-  std::string folder_;
-  cobra::puncturing::PuncturingPlan plan_;
-  KDL::Frame abdomen_;
-  StateValidator validator_;
-  KDL::Frame change_;
-};
-
+/// The requests the scenario's procedure makes, each timed where it is served (see the file comment).
 void BM_Scenario(benchmark::State& state, const std::string& scenario) {
-  std::vector<double> times_ms;
-  int solved = 0, total = 0;
-  std::string failures;
+  std::vector<double> times_ms, cpu_ms;
+  int requests = 0, solved = 0, logged = 0;
+  double slowest_ms = 0.0;
+  std::string slowest;
   for (auto _ : state) {
-    for (int repeat = 0; repeat < kScenarioRepeats; ++repeat) {
-      ScenarioRun run(scenario);
-      run.run([&](const Query&, const PlanResult& result) {
-        times_ms.push_back(1e3 * result.planning_time);
-        solved += result.solved() ? 1 : 0;
-        ++total;
-        if (!result.solved() && repeat == 0) failures += result.message + "; ";
-      });
+    for (int run = 0; run < kScenarioRuns; ++run) {
+      // A tap on each planner's events, connected the first time it steps (before it is asked:
+      // its first steps measure the clearance of the first measured poses).
+      std::map<const cobra::core::Component*, std::unique_ptr<cobra::core::InputPort<cobra::core::Event>>> taps;
+      cobra::run::RunOptions options;
+      options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
+      options.scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + scenario;
+      options.step_observer = [&](const cobra::core::Component& c, std::chrono::nanoseconds wall,
+                                  std::chrono::nanoseconds cpu) {
+        if (c.name().size() < 7 || c.name().compare(c.name().size() - 7, 7, "Planner") != 0) return;
+        auto& tap = taps[&c];
+        if (!tap) {
+          tap = std::make_unique<cobra::core::InputPort<cobra::core::Event>>("plannerEvents", "", "");
+          cobra::core::connectPorts(const_cast<cobra::core::Component&>(c).events(), *tap,
+                                    cobra::core::ConnPolicy::buffer(64));
+          return;
+        }
+        cobra::core::Event e;
+        while (tap->read(e) == cobra::core::FlowStatus::NewData) {
+          const bool done = e.name == std::string_view("e_plan_done");
+          if (!done && !(e.name == std::string_view("e_plan_failed"))) continue;
+          const double ms = 1e-6 * static_cast<double>(wall.count());
+          times_ms.push_back(ms);
+          cpu_ms.push_back(1e-6 * static_cast<double>(cpu.count()));
+          ++requests;
+          solved += done ? 1 : 0;
+          if (ms > slowest_ms) {
+            slowest_ms = ms;
+            slowest = c.name() + " at " + std::to_string(std::chrono::duration<double>(c.now()).count()) +
+                      " s simulated";
+          }
+        }
+      };
+      const cobra::run::RunResult result = cobra::run::runApp(options);
+      if (!result.completed()) state.SkipWithError(("the procedure did not complete: " + result.reason).c_str());
+      for (const std::string& line : result.log)
+        if (line.find("Planner: e_plan_done") != std::string::npos ||
+            line.find("Planner: e_plan_failed") != std::string::npos)
+          ++logged;
     }
   }
-  if (!failures.empty()) std::fprintf(stderr, "%s: %s\n", scenario.c_str(), failures.c_str());
-  state.counters["queries"] = static_cast<double>(total) / kScenarioRepeats;
+  if (logged != requests)
+    state.SkipWithError(("timed " + std::to_string(requests) + " requests, the runs' logs have " +
+                         std::to_string(logged)).c_str());
+  if (requests == 0) return;
+  std::fprintf(stderr, "%s: slowest request %.1f ms, %s\n", scenario.c_str(), slowest_ms, slowest.c_str());
+  state.counters["queries"] = static_cast<double>(requests) / kScenarioRuns;
   state.counters["median_ms"] = quantile(times_ms, 0.5);
+  state.counters["p95_ms"] = quantile(times_ms, 0.95);
   state.counters["max_ms"] = maxOf(times_ms);
-  state.counters["success_rate"] = static_cast<double>(solved) / total;
+  state.counters["cpu_median_ms"] = quantile(cpu_ms, 0.5);
+  state.counters["cpu_max_ms"] = maxOf(cpu_ms);
+  state.counters["success_rate"] = static_cast<double>(solved) / requests;
 }
 BENCHMARK_CAPTURE(BM_Scenario, two_needles, std::string("two_needles"))->Name("ScenarioQueries/two_needles")
     ->Iterations(1)->Unit(benchmark::kMillisecond);
@@ -325,6 +296,14 @@ BENCHMARK_CAPTURE(BM_Scenario, three_needles, std::string("three_needles"))->Nam
     ->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Scenario, vertical_needle, std::string("vertical_needle"))
     ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
+
+/// One planning query: start joints, goal tool poses.
+struct Query {
+  JointState start;
+  DualPose goal;
+  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
+  double max_angular_velocity = 0.5;   // rad/s
+};
 
 /// kRandomQueries seeded feasible queries (the same for every planner).
 std::vector<Query> randomQueries(StateValidator& validator) {

@@ -17,17 +17,14 @@
 // difference (`*_noise_worst_us`, the most a run added to a step) is this machine's share.
 // The slowest steps by that measure are printed with their component and chart state.
 // The benchmark time is the wall time of one procedure (about 161 s simulated).
-// ProcedureSpeed/<scenario>: each scenario's whole procedure as `cobra run` runs it (the runner's
-// observers attached, no step observer); realtime_factor = simulated s per wall s (median, and
-// min = the worst of the repetitions); cpu_realtime_factor = simulated s per CPU s of the process,
-// the same figure without the time a loaded machine gives to other processes.
+// ProcedureSpeed/<scenario>: each scenario's whole procedure as `cobra run` runs it (app_speed.hpp:
+// realtime_factor = simulated s per wall s, cpu_realtime_factor = per CPU s; median and worst).
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <map>
 #include <numeric>
 #include <string>
@@ -36,6 +33,8 @@
 #include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/run/runner.hpp"
+
+#include "app_speed.hpp"
 
 namespace {
 
@@ -157,49 +156,13 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
 }
 BENCHMARK(BM_SupervisorsDuringAProcedure)->Iterations(kRuns)->Unit(benchmark::kSecond);
 
-/// CPU time of this process [s] (every thread; the lockstep run has one).
-double processCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-/// The whole procedure of a scenario as `cobra run apps/puncturing --scenario ...` runs it (no
-/// step observer), timed by the wall clock: `realtime_factor` = simulated s per wall s (issue 15:
-/// >= 100). Repetitions give its median and worst (the smallest factor).
-void BM_ProcedureSpeed(benchmark::State& state, const std::string& scenario) {
-  double simulated = 0.0;
-  double wall = 0.0;
-  double cpu = 0.0;
-  bool completed = true;
-  for (auto _ : state) {
-    cobra::run::RunOptions options;
-    options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
-    options.scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + scenario;
-    const double cpu_started = processCpuSeconds();
-    const auto started = std::chrono::steady_clock::now();
-    const cobra::run::RunResult result = cobra::run::runApp(options);
-    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    cpu = processCpuSeconds() - cpu_started;
-    simulated = result.duration;
-    completed = completed && result.completed();
-    state.SetIterationTime(wall);
-  }
-  if (!completed) state.SkipWithError("the procedure did not complete");
-  state.counters["simulated_s"] = simulated;
-  state.counters["realtime_factor"] = wall > 0.0 ? simulated / wall : 0.0;
-  state.counters["cpu_realtime_factor"] = cpu > 0.0 ? simulated / cpu : 0.0;
-}
-double minOf(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, two_needles, std::string("two_needles"))->Name("ProcedureSpeed/two_needles")
-    ->Iterations(1)->Repetitions(3)->UseManualTime()->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)
-    ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, three_needles, std::string("three_needles"))->Name("ProcedureSpeed/three_needles")
-    ->Iterations(1)->Repetitions(3)->UseManualTime()->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)
-    ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, vertical_needle, std::string("vertical_needle"))
-    ->Name("ProcedureSpeed/vertical_needle")->Iterations(1)->Repetitions(3)->UseManualTime()
-    ->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)->Unit(benchmark::kSecond);
+/// The whole procedure of each scenario (issue 15: realtime_factor >= 100); see app_speed.hpp.
+const bool kProcedureSpeedRegistered = [] {
+  for (const char* scenario : {"two_needles", "three_needles", "vertical_needle"})
+    cobra::bench::registerAppSpeed(std::string("ProcedureSpeed/") + scenario,
+                                   {"apps/puncturing", std::string("apps/puncturing/scenarios/") + scenario});
+  return true;
+}();
 
 }  // namespace
 

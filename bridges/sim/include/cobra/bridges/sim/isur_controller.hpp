@@ -36,7 +36,11 @@ struct IsurSimControllerOptions {
   std::string server_host = "127.0.0.1";
   std::uint16_t server_port = 0;         ///< where states go; 0: to the sender of the last valid command
   std::uint16_t tools = 1;               ///< 1: puncturing setup (8 joints), 2: suturing setup (14 joints)
-  std::vector<double> initial_joints;    ///< rad / m, one per joint; empty: the middle of the joint limits
+  /// rad / m, one per joint; empty: the middle of the joint limits. With two tools, a Cartesian
+  /// command of the current poses is a zero step only from joints the split IK gives back for
+  /// their own poses (its redundancy rule fixes the macro and elbow shares); from others the first
+  /// Cartesian command may move a joint more than the velocity bound allows, and is refused.
+  std::vector<double> initial_joints;
   double period = 0.002;                 ///< s, > 0: simulation step and state period
   double servo_time_constant = 0.02;     ///< s: first-order lag of every joint
   double max_velocity = 1.0;             ///< rad/s or m/s per joint
