@@ -526,7 +526,8 @@ bool IsurSuturingModel::singularCrossing(std::span<const double> a, std::span<co
 
 void IsurSuturingModel::coordinateScales(std::span<double> scale) const {
   right_.coordinateScales(scale.first(kRightCoordinates));
-  for (std::size_t i = kRightCoordinates; i < coordinateCount(); ++i) scale[i] = IsurPuncturingModel::kMaxRevoluteVelocity;
+  for (std::size_t i = kRightCoordinates; i < coordinateCount(); ++i)
+    scale[i] = IsurPuncturingModel::kMaxRevoluteVelocity;
 }
 
 void IsurSuturingModel::coordinateBounds(std::span<const double> start, std::span<const double> goal,
@@ -541,7 +542,8 @@ void IsurSuturingModel::coordinateBounds(std::span<const double> start, std::spa
   // The elbow (Puma260Solver::branch bit 1: sin(q3 + atan2(d4, a3))) and the wrist (bit 2: sin q5)
   // stay on the start's side of their singularities.
   const double elbow_offset = std::atan2(left_parameters_.d4, left_parameters_.a3);
-  for (const auto& [joint, offset] : {std::pair<std::size_t, double>{2, elbow_offset}, std::pair<std::size_t, double>{4, 0.0}}) {
+  using JointOffset = std::pair<std::size_t, double>;
+  for (const auto& [joint, offset] : {JointOffset{2, elbow_offset}, JointOffset{4, 0.0}}) {
     double low = 0.0, high = 0.0;
     branchInterval(start[kRightJoints + joint], offset, kBranchBoundMargin, low, high);
     lower[kRightCoordinates + joint] = std::max(lower[kRightCoordinates + joint], low);

@@ -61,7 +61,8 @@ void expectBranchKept(IsurSuturingModel& model, const PlanResult& result, kinema
   constexpr std::uint8_t kGripperArm = 0x0E;
   for (std::size_t k = 0; k < result.joint_waypoints.size(); ++k) {
     const JointState& q = result.joint_waypoints[k];
-    EXPECT_EQ(branchOf(model, q).bits & kGripperArm, start.bits & kGripperArm) << "query " << query << " waypoint " << k;
+    EXPECT_EQ(branchOf(model, q).bits & kGripperArm, start.bits & kGripperArm)
+        << "query " << query << " waypoint " << k;
     if (k == 0) continue;
     const JointState& previous = result.joint_waypoints[k - 1];
     if ((branchOf(model, q).bits & 1u) == (branchOf(model, previous).bits & 1u)) continue;
