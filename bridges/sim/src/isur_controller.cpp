@@ -69,6 +69,9 @@ IsurSimController::IsurSimController(IsurSimControllerOptions options)
                              options_.encoder_counts),
       initialJoints(options_, *limits));
   if (puncturing_) cartesian_ = std::make_unique<sim::CartesianServo>(*puncturing_, *robot_, options_.period);
+  if (suturing_)
+    suturing_continuity_ = std::make_unique<kinematics::ContinuousIsurSuturingIk>(
+        *suturing_, std::vector<double>(robot_->jointCount(), options_.max_velocity), options_.period);
   solution_.resize(robot_->jointCount());
 }
 
@@ -170,12 +173,7 @@ void IsurSimController::commandPoses(const isur::Command& command) noexcept {
   if (!forward(current, targets[0], targets[1])) ik = kinematics::IkStatus::BadInput;
   for (std::size_t t = 0; t < 2; ++t)
     if ((command.tool_mask >> t) & 1U) targets[t] = toFrame(command.poses[t]);
-  if (ik == kinematics::IkStatus::Ok) ik = suturing_->inverse(targets[0], targets[1], current, solution_);
-  if (ik == kinematics::IkStatus::Ok) {
-    const double allowed = options_.max_velocity * options_.period;
-    for (unsigned i = 0; i < solution_.rows(); ++i)
-      if (std::abs(solution_(i) - current(i)) > allowed) ik = kinematics::IkStatus::Discontinuous;
-  }
+  if (ik == kinematics::IkStatus::Ok) ik = suturing_continuity_->solve(targets[0], targets[1], current, solution_);
   if (ik == kinematics::IkStatus::Ok && !robot_->command(solution_)) ik = kinematics::IkStatus::BadInput;
   held_ = ik != kinematics::IkStatus::Ok;
   discontinuous_ = ik == kinematics::IkStatus::Discontinuous;

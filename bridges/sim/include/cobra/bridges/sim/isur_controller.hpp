@@ -25,6 +25,7 @@
 #include "cobra/bridges/receive_counters.hpp"
 #include "cobra/bridges/socket.hpp"
 #include "cobra/kinematics/isur.hpp"
+#include "cobra/kinematics/isur_continuity.hpp"
 #include "cobra/sim/ft_sensor.hpp"
 #include "cobra/sim/servo.hpp"
 
@@ -57,13 +58,10 @@ struct IsurSimControllerOptions {
 /// kCartesianDiscontinuous when the rule below refused it — when:
 ///  - one tool: the continuity rule (sim::CartesianServo, kinematics::ContinuousIk) refuses it (another
 ///    IK branch, or a joint more than max_velocity · period away), or the IK cannot solve it;
-///  - two tools: kinematics::IsurSuturingSolver::inverse (the split IK of §5.4.1, seeded with the
-///    current joint command) cannot solve it, or its solution moves a joint more than max_velocity ·
-///    period (then Discontinuous). The solver has no branch-keeping entry yet, so this velocity bound
-///    is the whole continuity check: a wrist flip of either arm is a step of about π on its roll and
-///    yaw joints and is refused by it, but a branch change within one step's reach of a singular
-///    configuration is not detected. A tool whose mask bit is clear keeps the pose of the current
-///    joint command.
+///  - two tools: the same rule for the split IK of §5.4.1 (kinematics::ContinuousIsurSuturingIk:
+///    each sub-structure, the macro + Endo Stitch arm and the gripper arm, on the IK branch of the
+///    current joint command, every joint within max_velocity · period), or the split IK cannot solve
+///    it. A tool whose mask bit is clear keeps the pose of the current joint command.
 ///
 /// A ToolActuation of tool 0 on the suturing setup starts an Endo Stitch actuation of
 /// actuation_time s (states carry kActuating); when it ends the completed count in the states
@@ -111,6 +109,7 @@ class IsurSimController {
   bool server_known_ = false;  // touched by the controller thread only
   std::unique_ptr<kinematics::IsurPuncturingSolver> puncturing_;  // tools = 1
   std::unique_ptr<kinematics::IsurSuturingSolver> suturing_;      // tools = 2
+  std::unique_ptr<kinematics::ContinuousIsurSuturingIk> suturing_continuity_;  // tools = 2
   std::unique_ptr<sim::ServoRobot> robot_;
   std::unique_ptr<sim::CartesianServo> cartesian_;  // tools = 1
   std::vector<sim::ForceTorqueSensor> sensors_;     // one per tool
