@@ -11,6 +11,7 @@
 
 #include "bridge_test_support.hpp"
 #include "cobra/bridges/sim/isur_controller.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::bridges {
 namespace {
@@ -427,7 +428,9 @@ TEST(ISURRobotBridge, WithTwoToolsACommandBeyondTheVelocityBoundIsRefusedAndTheR
 }
 
 TEST(ISURRobotBridge, WithTwoToolsTheActuateEventActuatesTheEndoStitchOnceAndItsCountComesBack) {
-  IsurSimController controller(suturingController());
+  IsurSimControllerOptions options = suturingController();
+  options.actuation_time = 0.3;  // s: far longer than the two requests below take, even on a loaded machine
+  IsurSimController controller(options);
   controller.start();
   SuturingRig rig(controller.local().port());
   rig.des_joints.write(jntArray(test::suturingStart()));  // the controller learns where to send states
@@ -442,14 +445,41 @@ TEST(ISURRobotBridge, WithTwoToolsTheActuateEventActuatesTheEndoStitchOnceAndIts
   EXPECT_EQ(count, 1);
   EXPECT_EQ(controller.actuations(), 1U);
   EXPECT_EQ(rig.emitted("e_endo_stitch_busy"), 1);
-  // The server repeats an unacknowledged request; the controller handles each request once.
-  for (int i = 0; i < 100; ++i) rig.clock.advance(1ms);
+  // The server repeats a request until a state acknowledges it: no second actuation, no refusal.
+  EXPECT_FALSE(pollUntil(rig.clock, [] { return false; }, 100));
   EXPECT_EQ(controller.actuations(), 1U);
+  EXPECT_EQ(rig.emitted("e_endo_stitch_busy"), 1);
   rig.actuate();
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.emitted("e_endo_stitch_actuated") == 2; }));
   rig.actuations.read(count);
   EXPECT_EQ(count, 2);
   EXPECT_EQ(controller.actuations(), 2U);
+}
+
+TEST(IsurSimController, HandlesEachActuationRequestNumberOnce) {
+  IsurSimControllerOptions options = suturingController();
+  options.actuation_time = 0.01;
+  IsurSimController controller(options);
+  controller.start();
+  UdpSocket server("127.0.0.1", 0);
+  std::uint32_t sequence = 0;
+  const auto request = [&](std::uint32_t number) {
+    isur::Command c;
+    c.type = isur::MessageType::ToolActuation;
+    c.actuation = {.tool = 0, .request = number};
+    std::vector<std::uint8_t> bytes(isur::kMaxFrameSize);
+    bytes.resize(isur::encode(c, {++sequence, static_cast<std::uint64_t>(steadyNanoseconds())}, bytes));
+    ASSERT_TRUE(server.sendTo(controller.local(), bytes));
+  };
+  request(7);
+  ASSERT_TRUE(test_support::waitUntil([&] { return controller.actuations() == 1; }));
+  request(7);  // a repeat of a number already handled, after its actuation ended: ignored
+  request(7);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 10 actuation times
+  EXPECT_EQ(controller.actuations(), 1U);
+  request(8);
+  ASSERT_TRUE(test_support::waitUntil([&] { return controller.actuations() == 2; }));
+  EXPECT_EQ(controller.counters().rejected(), 0U);
 }
 
 TEST(ISURRobotBridge, AOneToolControllerRefusesAnActuationAndATwoToolBridgeRejectsItsStates) {
