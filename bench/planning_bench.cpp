@@ -21,8 +21,9 @@
 //    follow-on check (and the step's clearance measurement, microseconds). Counters: `queries`
 //    (requests per procedure), `median_ms`, `p95_ms`, `max_ms` over every request of every run,
 //    `cpu_median_ms`, `cpu_max_ms` (the stepping thread's CPU time of those steps: without the time
-//    a loaded machine gives to other processes), `success_rate` (e_plan_done over requests); the slowest request's planner and simulated time
-//    go to stderr. The count of requests is checked against the events in the run's log.
+//    a loaded machine gives to other processes), `success_rate` (e_plan_done over requests); the
+//    slowest request's planner and simulated time go to stderr. The count of requests is checked
+//    against the events in the run's log.
 //  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
 //    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
 //    poses; a third moves the needle, a third the probe, a third both; kept only when the planner

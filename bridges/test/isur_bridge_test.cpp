@@ -496,6 +496,28 @@ TEST(ISURRobotBridge, AOneToolControllerRefusesAnActuationAndATwoToolBridgeRejec
   EXPECT_EQ(controller.actuations(), 0U);
 }
 
+TEST(ISURRobotBridge, ConfiguringAnotherToolCountSwapsThePerToolPorts) {
+  test::UniqueShm shm;
+  ISURRobotBridge bridge("isur");
+  bridge.setProperty("shm_name", shm.name);
+  EXPECT_NO_THROW(bridge.port("desCartPose"));
+  EXPECT_THROW(bridge.port("desRightCartPose"), core::Error);
+  bridge.setProperty("tools", 2);
+  ASSERT_TRUE(bridge.configure());
+  for (const char* name : {"desRightCartPose", "desLeftCartPose", "measRightCartPose", "measLeftCartPose",
+                           "measRightWrench", "measLeftWrench", "inputEvents", "endoStitchActuations",
+                           "desJointPosition", "measJointPosition"})
+    EXPECT_NO_THROW(bridge.port(name)) << name;
+  for (const char* name : {"desCartPose", "measCartPose", "measWrench"})
+    EXPECT_THROW(bridge.port(name), core::Error) << name;
+  ASSERT_TRUE(bridge.cleanup());
+  bridge.setProperty("tools", 1);
+  ASSERT_TRUE(bridge.configure());
+  for (const char* name : {"desCartPose", "measCartPose", "measWrench"}) EXPECT_NO_THROW(bridge.port(name)) << name;
+  for (const char* name : {"desRightCartPose", "inputEvents", "endoStitchActuations"})
+    EXPECT_THROW(bridge.port(name), core::Error) << name;
+}
+
 TEST(ISURRobotBridge, ConfigurationErrorsNameTheProperty) {
   ISURRobotBridge bridge("isur");
   bridge.setProperty("shm_name", "no_slash");

@@ -122,7 +122,8 @@ TEST(IsurProtocol, TwoToolStateCarriesBothPosesBothWrenchesAndTheActuationFields
   // Tool 1's wrench fz sits after the joints, tool 0 (104 bytes) and tool 1's pose (56 bytes).
   double fz = 0.0;
   std::uint64_t bits = 0;
-  for (int i = 0; i < 8; ++i) bits |= std::uint64_t{bytes[40 + 112 + 104 + 56 + 16 + static_cast<std::size_t>(i)]} << (8 * i);
+  constexpr std::size_t kTool1Fz = 40 + 112 + 104 + 56 + 16;
+  for (std::size_t i = 0; i < 8; ++i) bits |= std::uint64_t{bytes[kTool1Fz + i]} << (8 * i);
   std::memcpy(&fz, &bits, 8);
   EXPECT_EQ(fz, s.tools[1].wrench[2]);
 }

@@ -61,24 +61,21 @@ ISURRobotBridge::~ISURRobotBridge() = default;
 
 void ISURRobotBridge::registerToolPorts(unsigned tools) {
   if (tools == tools_registered_) return;
+  const std::array<core::PortBase*, 3> one_tool{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_};
+  const std::array<core::PortBase*, 7> two_tools{&des_right_pose_,    &des_left_pose_,    &meas_right_pose_,
+                                                 &meas_left_pose_,    &meas_right_wrench_, &meas_left_wrench_,
+                                                 &actuations_out_};
   if (tools == 2) {
-    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_})
-      removePort(*p);
-    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_right_pose_, &des_left_pose_, &meas_right_pose_,
-                                                                    &meas_left_pose_, &meas_right_wrench_,
-                                                                    &meas_left_wrench_, &actuations_out_})
-      addPort(*p);
+    for (core::PortBase* p : one_tool) removePort(*p);
+    for (core::PortBase* p : two_tools) addPort(*p);
     addEventPort(input_events_);
     des_poses_ = {&des_right_pose_, &des_left_pose_};
     meas_poses_ = {&meas_right_pose_, &meas_left_pose_};
     meas_wrenches_ = {&meas_right_wrench_, &meas_left_wrench_};
   } else {
-    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_right_pose_, &des_left_pose_, &meas_right_pose_,
-                                                                    &meas_left_pose_, &meas_right_wrench_,
-                                                                    &meas_left_wrench_, &actuations_out_, &input_events_})
-      removePort(*p);
-    for (core::PortBase* p : std::initializer_list<core::PortBase*>{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_})
-      addPort(*p);
+    for (core::PortBase* p : two_tools) removePort(*p);
+    removePort(input_events_);
+    for (core::PortBase* p : one_tool) addPort(*p);
     des_poses_ = {&des_cart_pose_, nullptr};
     meas_poses_ = {&meas_cart_pose_, nullptr};
     meas_wrenches_ = {&meas_wrench_, nullptr};

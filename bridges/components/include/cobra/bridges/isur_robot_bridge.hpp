@@ -90,8 +90,8 @@ class ISURRobotBridge : public core::Component {
   core::OutputPort<KDL::Frame> meas_right_pose_{"measRightCartPose", "measured Endo Stitch tip pose, robot base frame",
                                                 "m"};
   core::OutputPort<KDL::Frame> meas_left_pose_{"measLeftCartPose", "measured stick tip pose, robot base frame", "m"};
-  core::OutputPort<KDL::Wrench> meas_right_wrench_{"measRightWrench", "Endo Stitch arm F/T sensor (AtiNano43), sensor frame",
-                                                   "N, N·m"};
+  core::OutputPort<KDL::Wrench> meas_right_wrench_{
+      "measRightWrench", "Endo Stitch arm F/T sensor (AtiNano43), sensor frame", "N, N·m"};
   core::OutputPort<KDL::Wrench> meas_left_wrench_{"measLeftWrench", "gripper arm F/T sensor (AtiNano17), sensor frame",
                                                   "N, N·m"};
   core::InputPort<core::Event> input_events_{"inputEvents", "requests: actuate_event actuates the Endo Stitch", ""};
