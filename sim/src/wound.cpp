@@ -249,6 +249,7 @@ StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
     return r;
   }
   rest_ = rest;
+  ++revision_;
   r.stitch = static_cast<int>(stitches_.size()) - 1;
   return r;
 }
@@ -266,6 +267,7 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
   else if (segmentDistance(stick, *last, tool) <= thread_.hook_radius) {
     hooked_ = true;
     hook_ = stick;
+    ++revision_;
   }
   double path = fixedPath() + freePath(tool);
   Stitch& pulled = stitches_.back();
@@ -278,6 +280,7 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     const double closure = std::clamp(std::max(pulled.closure, balance), 0.0, std::max(0.0, others));
     if (closure != pulled.closure) {
       pulled.closure = closure;
+      ++revision_;
       path = fixedPath() + freePath(tool);
     }
   }
@@ -287,7 +290,19 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     broken_ = true;
     hooked_ = false;
     tension_ = 0.0;
+    ++revision_;
   }
+}
+
+void Wound::releaseThread() noexcept {
+  if (!hooked_) return;
+  hooked_ = false;
+  ++revision_;
+}
+
+WoundSide Wound::sideAt(const KDL::Vector& p) const noexcept {
+  const double s = nearestS(p);
+  return KDL::dot(p - centre(s), normal(s)) > 0.0 ? WoundSide::Left : WoundSide::Right;
 }
 
 double Wound::stitchGap(int i) const noexcept { return gap(stitches_[static_cast<std::size_t>(i)].s); }

@@ -14,9 +14,10 @@ WoundSimulator::WoundSimulator(std::string name)
   addProperty(cut_);
   addProperty(wound_pose_);
   addProperty(edge_samples_);
-  for (auto* p : {&actuate_right_event_, &actuate_left_event_, &release_event_}) addProperty(*p);
+  addProperty(release_event_);
   addPort(tool_tip_);
   addPort(stick_tip_);
+  addPort(actuations_);
   addEventPort(input_events_);
   addPort(tension_);
   addPort(stitch_count_);
@@ -34,13 +35,8 @@ bool WoundSimulator::configureHook() {
                   " numbers; expected x, y pairs (m) of at least 2 points of the cut's centreline");
   if (edge_samples_() < 2)
     return refuse("property edge_samples is " + std::to_string(edge_samples_()) + "; expected at least 2");
-  for (const auto& [property, name] : {std::pair{&actuate_right_event_, "actuate_right_event"},
-                                       std::pair{&actuate_left_event_, "actuate_left_event"},
-                                       std::pair{&release_event_, "release_event"}}) {
-    const std::string& value = (*property)();
-    if (value.empty() || value.size() > core::BoundedString<63>::capacity())
-      return refuse("property " + std::string(name) + " is '" + value + "'; expected an event name of 1 to 63 characters");
-  }
+  if (release_event_().empty() || release_event_().size() > core::BoundedString<63>::capacity())
+    return refuse("property release_event is '" + release_event_() + "'; expected an event name of 1 to 63 characters");
   sim::WoundModel wound;
   wound.cut.clear();
   for (std::size_t i = 0; i < cut.size(); i += 2) wound.cut.emplace_back(cut[i], cut[i + 1], 0.0);
@@ -63,8 +59,6 @@ bool WoundSimulator::configureHook() {
     return refuse(e.what());  // names the parameter and its range
   }
   world_to_wound_ = wound_pose_().Inverse();
-  right_name_.assign(actuate_right_event_());
-  left_name_.assign(actuate_left_event_());
   release_name_.assign(release_event_());
   edge_buffer_.assign(static_cast<std::size_t>(edge_samples_()) * 6, 0.0);
   edges_.setDataSample(edge_buffer_);
@@ -73,22 +67,23 @@ bool WoundSimulator::configureHook() {
 
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
+  actuations_seen_ = 0;
   core::Event stale;
   while (input_events_.read(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
-  publish();
+  publish(true);
   return true;
 }
 
 void WoundSimulator::cleanupHook() { wound_.reset(); }
 
-void WoundSimulator::actuate(sim::WoundSide side) noexcept {
+void WoundSimulator::actuate() noexcept {
   if (!have_tool_) {
     miss_reason_.write(static_cast<int>(sim::StitchMiss::OutsideWound));
     emitEvent("e_stitch_missed");
     return;
   }
-  const sim::StitchResult r = wound_->actuate(side, tool_);
+  const sim::StitchResult r = wound_->actuate(wound_->sideAt(tool_), tool_);
   if (r.applied()) {
     emitEvent("e_stitch_applied");
     return;
@@ -108,23 +103,28 @@ void WoundSimulator::updateHook() {
     stick_ = world_to_wound_ * pose.p;
     have_stick_ = true;
   }
+  int count = 0;
+  if (actuations_.read(count) == core::FlowStatus::NewData) {
+    if (count < actuations_seen_) actuations_seen_ = count;  // the robot restarted its count
+    for (; actuations_seen_ < count; ++actuations_seen_) actuate();
+  }
   core::Event request;
   while (input_events_.read(request) == core::FlowStatus::NewData) {
-    if (request.name == right_name_) actuate(sim::WoundSide::Right);
-    else if (request.name == left_name_) actuate(sim::WoundSide::Left);
-    else if (request.name == release_name_) wound_->releaseThread();
+    if (request.name == release_name_) wound_->releaseThread();
   }
   if (have_tool_ && have_stick_) wound_->step(tool_, stick_);
   if (wound_->hooked() && !hooked_) emitEvent("e_thread_hooked");
   hooked_ = wound_->hooked();
   if (wound_->broken() && !broken_) emitEvent("e_thread_broken");
   broken_ = wound_->broken();
-  publish();
+  publish(false);
 }
 
-void WoundSimulator::publish() noexcept {
+void WoundSimulator::publish(bool all) noexcept {
   const sim::Wound& w = *wound_;
   tension_.write(w.tension());
+  if (!all && w.revision() == published_revision_) return;
+  published_revision_ = w.revision();
   int complete = 0;
   double widest = 0.0;
   for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
