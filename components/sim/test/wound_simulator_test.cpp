@@ -85,7 +85,7 @@ struct Bench {
 TEST(WoundSimulator, AMissSaysWhyThenBothHalvesApplyAStitchThatThePullCloses) {
   Bench b;
   b.start();
-  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.008) + KDL::Vector(0, 0.0025, 0));
+  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.008) + KDL::Vector(0, 0, -0.0025));  // too deep
   EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_missed"}));
   EXPECT_EQ(b.read(b.miss), static_cast<int>(sim::StitchMiss::FarFromEdge));
   EXPECT_NEAR(b.read(b.miss_distance), 0.0025, 1e-9);
@@ -175,6 +175,12 @@ TEST(WoundSimulator, BadPropertiesAreRefusedNamingThem) {
 TEST(WoundSimulator, UpdatesAllocateNothing) {
   Bench b;
   b.start();
+  b.actuations.write(b.actuated);  // the robot publishes its count from its start
+  // A connection made after configure has its slots sized from the edge buffer (setDataSample);
+  // one made before (the Bench's) gets them sized by its first writes, which now come only when
+  // the wound changes.
+  b.edges.disconnect();
+  core::connectPorts(b.patient.port("woundEdges"), b.edges);
   b.step(KDL::Vector(0, 0, 0.01));
   const KDL::Frame right(kWoundPose * b.model.stitchPoint(sim::WoundSide::Right, 0.02));
   const KDL::Frame left(kWoundPose * b.model.stitchPoint(sim::WoundSide::Left, 0.02));

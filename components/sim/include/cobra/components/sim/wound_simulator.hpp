@@ -43,7 +43,9 @@ namespace cobra::components {
 /// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut). The
 /// gap-dependent outputs are recomputed only when the wound's revision changed (sim::Wound::revision);
 /// the tension every step.
-/// updateHook allocates nothing (the edge buffer is sized at configure).
+/// updateHook allocates nothing once its connections' slots have the edges' size: those made after
+/// configure from the start (the edge buffer is sized there, setDataSample), one made before by its
+/// first writes (which come only when the wound changes).
 class WoundSimulator : public core::Component {
  public:
   explicit WoundSimulator(std::string name);
