@@ -30,6 +30,30 @@ void validateMaxVelocity(std::string_view robot, const JointLimits& limits, cons
   }
 }
 
+IkStatus checkJointSteps(const KDL::JntArray& candidate, const KDL::JntArray& current,
+                         const std::vector<double>& max_velocity, double dt, ContinuityRefusal& refusal) noexcept {
+  // The joint that exceeds its step by the largest factor is the one reported.
+  int worst = -1;
+  double worst_ratio = 1.0;
+  for (unsigned j = 0; j < candidate.rows(); ++j) {
+    const double allowed = max_velocity[j] * dt;
+    const double step = std::abs(candidate(j) - current(j));
+    if (step <= allowed * (1.0 + kRelativeSlack) + kAbsoluteSlack) continue;
+    const double ratio = step / allowed;
+    if (ratio > worst_ratio) {
+      worst_ratio = ratio;
+      worst = static_cast<int>(j);
+    }
+  }
+  if (worst < 0) return IkStatus::Ok;
+  const auto j = static_cast<unsigned>(worst);
+  refusal = ContinuityRefusal{.branch_change = false,
+                              .joint = worst,
+                              .step = std::abs(candidate(j) - current(j)),
+                              .allowed = max_velocity[j] * dt};
+  return IkStatus::Discontinuous;
+}
+
 ContinuousIk::ContinuousIk(KinematicsSolver& solver, std::vector<double> max_velocity, double period)
     : solver_(solver), max_velocity_(std::move(max_velocity)), period_(period), candidate_(solver.jointCount()) {
   validateMaxVelocity(solver.name(), solver.limits(), max_velocity_);
@@ -53,27 +77,7 @@ IkStatus ContinuousIk::solve(const KDL::Frame& target, const KDL::JntArray& curr
     return status;
   }
   if (status != IkStatus::Ok) return status;
-  // The joint that exceeds its step by the largest factor is the one reported.
-  int worst = -1;
-  double worst_ratio = 1.0;
-  for (unsigned j = 0; j < n; ++j) {
-    const double allowed = max_velocity_[j] * dt;
-    const double step = std::abs(candidate_(j) - current(j));
-    if (step <= allowed * (1.0 + kRelativeSlack) + kAbsoluteSlack) continue;
-    const double ratio = step / allowed;
-    if (ratio > worst_ratio) {
-      worst_ratio = ratio;
-      worst = static_cast<int>(j);
-    }
-  }
-  if (worst >= 0) {
-    const auto j = static_cast<unsigned>(worst);
-    refusal_ = ContinuityRefusal{.branch_change = false,
-                                 .joint = worst,
-                                 .step = std::abs(candidate_(j) - current(j)),
-                                 .allowed = max_velocity_[j] * dt};
-    return IkStatus::Discontinuous;
-  }
+  if (checkJointSteps(candidate_, current, max_velocity_, dt, refusal_) != IkStatus::Ok) return IkStatus::Discontinuous;
   for (unsigned j = 0; j < n; ++j) q_out(j) = candidate_(j);
   return IkStatus::Ok;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -411,19 +412,70 @@ IkStatus IsurSuturingSolver::linkFrames(const KDL::JntArray& q, std::span<KDL::F
 
 IkStatus IsurSuturingSolver::inverse(const KDL::Frame& stitch_target, const KDL::Frame& gripper_target,
                                      const KDL::JntArray& seed, KDL::JntArray& q_out) noexcept {
+  return inverseOnBranch(stitch_target, gripper_target, seed, IkBranch::any(), q_out);
+}
+
+IkBranch IsurSuturingSolver::branch(std::span<const double> q) const noexcept {
+  if (q.size() != kJoints) return IkBranch{};
+  const IkBranch right = right_.branch(q.first(kRightJoints));
+  const IkBranch left = left_.branch(q.subspan(kRightJoints, kLeftJoints));
+  return IkBranch{static_cast<std::uint8_t>(right.bits | (left.bits << kLeftBranchShift)),
+                  static_cast<std::uint8_t>(right.ambiguous | (left.ambiguous << kLeftBranchShift))};
+}
+
+IkBranch IsurSuturingSolver::rightBranch(IkBranch branch) noexcept {
+  constexpr std::uint8_t kRightMask = (1u << kLeftBranchShift) - 1u;
+  return IkBranch{static_cast<std::uint8_t>(branch.bits & kRightMask),
+                  static_cast<std::uint8_t>(branch.ambiguous & kRightMask)};
+}
+
+IkBranch IsurSuturingSolver::leftBranch(IkBranch branch) noexcept {
+  return IkBranch{static_cast<std::uint8_t>(branch.bits >> kLeftBranchShift),
+                  static_cast<std::uint8_t>(branch.ambiguous >> kLeftBranchShift)};
+}
+
+IkStatus IsurSuturingSolver::inverseOnBranch(const KDL::Frame& stitch_target, const KDL::Frame& gripper_target,
+                                             const KDL::JntArray& seed, IkBranch on_branch,
+                                             KDL::JntArray& q_out) noexcept {
   if (!validJointArray(seed, kJoints) || q_out.rows() != kJoints || !validFrame(gripper_target))
     return IkStatus::BadInput;
-  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) seed_right_(j) = seed(j);
-  for (unsigned j = 0; j < 6; ++j) seed_left_(j) = seed(IsurPuncturingSolver::kJoints + j);
-  IkStatus status = right_.inverse(stitch_target, seed_right_, q_right_);
+  for (unsigned j = 0; j < kRightJoints; ++j) seed_right_(j) = seed(j);
+  for (unsigned j = 0; j < kLeftJoints; ++j) seed_left_(j) = seed(kRightJoints + j);
+  IkStatus status = right_.inverseOnBranch(stitch_target, seed_right_, rightBranch(on_branch), q_right_);
+  if (status == IkStatus::Ok) status = solveGripperArm(gripper_target, leftBranch(on_branch));
   if (status != IkStatus::Ok) return status;
+  for (unsigned j = 0; j < kRightJoints; ++j) q_out(j) = q_right_(j);
+  for (unsigned j = 0; j < kLeftJoints; ++j) q_out(kRightJoints + j) = q_left_(j);
+  return IkStatus::Ok;
+}
+
+IkStatus IsurSuturingSolver::inverseEndoStitchArm(const KDL::Frame& stitch_target, const KDL::JntArray& q,
+                                                  IkBranch right_branch, KDL::JntArray& q_out) noexcept {
+  if (!validJointArray(q, kJoints) || q_out.rows() != kJoints) return IkStatus::BadInput;
+  for (unsigned j = 0; j < kRightJoints; ++j) seed_right_(j) = q(j);
+  const IkStatus status = right_.inverseOnBranch(stitch_target, seed_right_, right_branch, q_right_);
+  if (status != IkStatus::Ok) return status;
+  for (unsigned j = 0; j < kLeftJoints; ++j) q_out(kRightJoints + j) = q(kRightJoints + j);
+  for (unsigned j = 0; j < kRightJoints; ++j) q_out(j) = q_right_(j);
+  return IkStatus::Ok;
+}
+
+IkStatus IsurSuturingSolver::solveGripperArm(const KDL::Frame& gripper_target, IkBranch left_branch) noexcept {
   KDL::Frame platform;
-  status = right_.platformPose(q_right_, platform);
+  const IkStatus status = right_.platformPose(q_right_, platform);
   if (status != IkStatus::Ok) return status;
-  status = left_.inverse((platform * left_mount_).Inverse() * gripper_target, seed_left_, q_left_);
+  return left_.inverseOnBranch((platform * left_mount_).Inverse() * gripper_target, seed_left_, left_branch, q_left_);
+}
+
+IkStatus IsurSuturingSolver::inverseGripperArm(const KDL::Frame& gripper_target, const KDL::JntArray& q,
+                                               IkBranch left_branch, KDL::JntArray& q_out) noexcept {
+  if (!validJointArray(q, kJoints) || q_out.rows() != kJoints || !validFrame(gripper_target)) return IkStatus::BadInput;
+  for (unsigned j = 0; j < kRightJoints; ++j) q_right_(j) = q(j);
+  for (unsigned j = 0; j < kLeftJoints; ++j) seed_left_(j) = q(kRightJoints + j);
+  const IkStatus status = solveGripperArm(gripper_target, left_branch);
   if (status != IkStatus::Ok) return status;
-  for (unsigned j = 0; j < IsurPuncturingSolver::kJoints; ++j) q_out(j) = q_right_(j);
-  for (unsigned j = 0; j < 6; ++j) q_out(IsurPuncturingSolver::kJoints + j) = q_left_(j);
+  for (unsigned j = 0; j < kRightJoints; ++j) q_out(j) = q(j);
+  for (unsigned j = 0; j < kLeftJoints; ++j) q_out(kRightJoints + j) = q_left_(j);
   return IkStatus::Ok;
 }
 

@@ -16,6 +16,10 @@ void registerSimPackage(deploy::PackageBuilder& package) {
   package
       .component<SimulatedISURRobot>(
           "SimulatedISURRobot", "simulated I-SUR puncturing robot with the ISURRobotBridge interface (thesis §4.5.7)")
+      .component<SimulatedISURSuturingRobot>(
+          "SimulatedISURSuturingRobot",
+          "simulated two-armed I-SUR suturing robot (thesis §5.3): Endo Stitch and gripper arms, split IK, Endo Stitch "
+          "actuation")
       .component<SimulatedUR5Robot>("SimulatedUR5Robot",
                                     "simulated UR5 with the UR5RobotBridge interface (thesis §4.5.8)")
       .component<PatientSimulator>(

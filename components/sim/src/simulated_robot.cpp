@@ -4,8 +4,6 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
-#include "cobra/kinematics/isur.hpp"
-#include "cobra/kinematics/ur5.hpp"
 
 namespace cobra::components {
 namespace {
@@ -19,53 +17,88 @@ bool perJoint(const std::vector<double>& given, const std::vector<double>& fallb
   return out.size() == joints;
 }
 
-sim::ForceTorqueSensorModel sensorPreset(const std::string& name) {
+sim::ForceTorqueSensorModel sensorPreset(const std::string& property, const std::string& name) {
   if (name == "atiNano17") return sim::atiNano17();
   if (name == "atiNano43") return sim::atiNano43();
   if (name == "ftSens") return sim::ftSens();
-  throw std::invalid_argument("property sensor is '" + name + "'; expected atiNano17, atiNano43 or ftSens");
+  throw std::invalid_argument("property " + property + " is '" + name + "'; expected atiNano17, atiNano43 or ftSens");
+}
+
+std::string toolDoc(const SimulatedToolDefaults& tool, const char* text) {
+  return tool.what.empty() ? std::string(text) : std::string(text) + " (" + tool.what + ")";
 }
 
 }  // namespace
 
+SimulatedServoRobotBase::Tool::Tool(const SimulatedToolDefaults& d)
+    : tool_frame(d.property_prefix + "tool_frame", KDL::Frame::Identity(), "m",
+                 toolDoc(d, "pose of the tool in the frame of the kinematics' tool point")),
+      sensor(d.property_prefix + "sensor", d.sensor, "",
+             toolDoc(d, "force/torque sensor preset at the tool: atiNano17, atiNano43 or ftSens")),
+      sensor_bias(d.property_prefix + "sensor_bias", KDL::Wrench::Zero(), "N, N·m",
+                  toolDoc(d, "offset the tool's sensor adds to the true wrench")),
+      des_cart_pose("des" + d.port_infix + "CartPose",
+                    toolDoc(d, "desired tool pose, world frame; refused (last valid command held; "
+                               "e_ik_discontinuity) unless reachable on the current IK branch within max_velocity x "
+                               "step length on every joint, or e_ik_failed when out of reach"),
+                    "m"),
+      contact_wrench("contact" + d.port_infix + "Wrench",
+                     toolDoc(d, "simulation only: true wrench on the tool, world orientation, at the tool point"),
+                     "N, N·m"),
+      meas_cart_pose("meas" + d.port_infix + "CartPose", toolDoc(d, "measured tool pose (encoders), world frame"),
+                     "m"),
+      meas_wrench("meas" + d.port_infix + "Wrench",
+                  toolDoc(d, "force/torque sensor reading, tool frame, at the tool point"), "N, N·m"),
+      true_cart_pose("true" + d.port_infix + "CartPose", toolDoc(d, "simulation only: true tool pose, world frame"),
+                     "m") {}
+
 SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string doc, SimulatedRobotDefaults defaults)
     : Component(std::move(name), core::Role::Bridge, std::move(doc)), defaults_(std::move(defaults)) {
+  if (defaults_.tools.empty()) throw std::invalid_argument("simulated robot " + defaults_.robot + " has no tool");
+  for (const SimulatedToolDefaults& tool : defaults_.tools) tools_.push_back(std::make_unique<Tool>(tool));
   addProperty(base_frame_);
-  addProperty(tool_frame_);
+  for (auto& tool : tools_) addProperty(tool->tool_frame);
   addProperty(initial_joints_);
   addProperty(time_constant_);
   addProperty(max_velocity_);
   addProperty(encoder_counts_);
-  addProperty(sensor_);
-  addProperty(sensor_bias_);
+  for (auto& tool : tools_) {
+    addProperty(tool->sensor);
+    addProperty(tool->sensor_bias);
+  }
   addProperty(sensor_cutoff_);
   addProperty(seed_);
-  addPort(des_cart_pose_);
   addPort(des_joint_position_);
-  addPort(contact_wrench_);
-  addPort(meas_cart_pose_);
   addPort(meas_joint_position_);
-  addPort(meas_wrench_);
-  addPort(true_cart_pose_);
+  for (auto& tool : tools_) {
+    addPort(tool->des_cart_pose);
+    addPort(tool->contact_wrench);
+    addPort(tool->meas_cart_pose);
+    addPort(tool->meas_wrench);
+    addPort(tool->true_cart_pose);
+  }
   if (defaults_.twist_ports) {
     addProperty(twist_timeout_);
     addPort(des_twist_);
     addPort(meas_twist_);
   }
+  const std::size_t n = tools_.size();
+  targets_.resize(n);
+  solve_targets_.resize(n);
+  fk_.resize(n);
 }
 
 SimulatedServoRobotBase::~SimulatedServoRobotBase() = default;
 
 bool SimulatedServoRobotBase::configureHook() {
-  servo_.reset();
   robot_.reset();
-  sensor_model_.reset();
+  for (auto& tool : tools_) tool->sensor_model.reset();
   try {
-    solver_ = makeSolver();
+    kinematics_ = makeKinematics();
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
   }
-  const unsigned joints = solver_->jointCount();
+  const auto joints = static_cast<unsigned>(kinematics_->limits().size());
   const std::string robot = defaults_.robot;
   if (initial_joints_().size() != joints)
     return refuse("property initial_joints has " + count(initial_joints_().size(), "value") + "; the " + robot +
@@ -81,32 +114,43 @@ bool SimulatedServoRobotBase::configureHook() {
     return refuse("property time_constant is " + std::to_string(time_constant_()) + " s; expected > 0 s");
   if (defaults_.twist_ports && !(twist_timeout_() > 0.0))
     return refuse("property twist_timeout is " + std::to_string(twist_timeout_()) + " s; expected > 0 s");
-  if (!kinematics::validFrame(base_frame_()) || !kinematics::validFrame(tool_frame_()))
-    return refuse("properties base_frame and tool_frame must be finite frames with an orthonormal rotation");
+  if (!kinematics::validFrame(base_frame_()))
+    return refuse("property base_frame must be a finite frame with an orthonormal rotation");
+  for (auto& tool : tools_) {
+    if (!kinematics::validFrame(tool->tool_frame()))
+      return refuse("property " + tool->tool_frame.name() + " must be a finite frame with an orthonormal rotation");
+  }
   try {
-    sim::ServoRobotModel model{name(), solver_->limits(), std::vector<double>(joints, time_constant_()), velocity,
+    sim::ServoRobotModel model{name(), kinematics_->limits(), std::vector<double>(joints, time_constant_()), velocity,
                                counts};
     robot_.emplace(std::move(model), initial_joints_());
-    // The servo's default dt (used when two updates share a time stamp): the activity's period,
-    // or 1 ms for an activity without one.
+    // The default dt (used when two updates share a time stamp): the activity's period, or 1 ms
+    // for an activity without one.
     const double period = std::chrono::duration<double>(activity().period()).count();
-    servo_.emplace(*solver_, *robot_, period > 0.0 ? period : 1e-3);
-    sim::ForceTorqueSensorModel sensor = sensorPreset(sensor_());
-    sensor.name = name() + " " + sensor_();
-    sensor.bias = sensor_bias_();
-    sensor.filter_cutoff_hz = sensor_cutoff_();
-    sensor_model_.emplace(std::move(sensor), static_cast<std::uint64_t>(seed_()));
+    default_dt_ = period > 0.0 ? period : 1e-3;
+    kinematics_->setContinuity(velocity, default_dt_);
+    for (std::size_t i = 0; i < tools_.size(); ++i) {
+      Tool& tool = *tools_[i];
+      sim::ForceTorqueSensorModel sensor = sensorPreset(tool.sensor.name(), tool.sensor());
+      sensor.name = name() + " " + tool.sensor();
+      sensor.bias = tool.sensor_bias();
+      sensor.filter_cutoff_hz = sensor_cutoff_();
+      tool.sensor_model.emplace(std::move(sensor), static_cast<std::uint64_t>(seed_()) + i);
+    }
   } catch (const std::invalid_argument& e) {
-    servo_.reset();
     robot_.reset();
+    for (auto& tool : tools_) tool->sensor_model.reset();
     return refuse(e.what());
   }
   joint_command_.resize(joints);
+  solution_.resize(joints);
   meas_joint_position_.setDataSample(KDL::JntArray(joints));
-  KDL::Frame fk;
-  if (solver_->forward(robot_->position(), fk) != kinematics::IkStatus::Ok)
+  if (kinematics_->forward(robot_->position(), fk_) != kinematics::IkStatus::Ok)
     return refuse("forward kinematics fails at initial_joints; give a configuration inside the workspace");
-  commanded_pose_ = measured_pose_ = previous_pose_ = true_pose_ = base_frame_() * fk * tool_frame_();
+  for (std::size_t i = 0; i < tools_.size(); ++i) {
+    Tool& tool = *tools_[i];
+    tool.commanded = tool.measured = tool.previous = tool.true_pose = tool.fk_true = toWorld(i, fk_[i]);
+  }
   measured_fk_.reset(joints);
   true_fk_.reset(joints);
   refusing_ = told_failed_ = told_discontinuity_ = false;
@@ -120,10 +164,13 @@ bool SimulatedServoRobotBase::startHook() {
 }
 
 void SimulatedServoRobotBase::cleanupHook() {
-  servo_.reset();
   robot_.reset();
-  sensor_model_.reset();
-  solver_.reset();
+  for (auto& tool : tools_) tool->sensor_model.reset();
+  kinematics_.reset();
+}
+
+KDL::Frame SimulatedServoRobotBase::toWorld(std::size_t tool, const KDL::Frame& fk) const noexcept {
+  return base_frame_() * fk * tools_[tool]->tool_frame();
 }
 
 double SimulatedServoRobotBase::stepLength() noexcept {
@@ -134,12 +181,16 @@ double SimulatedServoRobotBase::stepLength() noexcept {
   return dt;
 }
 
-void SimulatedServoRobotBase::commandCartesian(const KDL::Frame& world_target, double dt) noexcept {
-  const KDL::Frame target = base_frame_().Inverse() * world_target * tool_frame_().Inverse();
-  const sim::CartesianCommandStatus status = dt > 0.0 ? servo_->command(target, dt) : servo_->command(target);
-  if (status.holding) {
+void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
+  const KDL::Frame base_inverse = base_frame_().Inverse();
+  for (std::size_t i = 0; i < tools_.size(); ++i)
+    solve_targets_[i] = base_inverse * targets_[i] * tools_[i]->tool_frame().Inverse();
+  kinematics::IkStatus status =
+      kinematics_->solve(solve_targets_, robot_->commanded(), dt > 0.0 ? dt : default_dt_, solution_);
+  if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;
+  if (status != kinematics::IkStatus::Ok) {
     // One event per reason and refusal episode (until a command is accepted again).
-    if (status.ik == kinematics::IkStatus::Discontinuous) {
+    if (status == kinematics::IkStatus::Discontinuous) {
       if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
       told_discontinuity_ = true;
     } else {
@@ -151,27 +202,43 @@ void SimulatedServoRobotBase::commandCartesian(const KDL::Frame& world_target, d
   }
   if (refusing_) emitEvent("e_ik_solved");
   refusing_ = told_failed_ = told_discontinuity_ = false;
-  commanded_pose_ = world_target;
+  for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->commanded = targets_[i];
+}
+
+void SimulatedServoRobotBase::commandedFromJoints() noexcept {
+  if (kinematics_->forward(robot_->commanded(), fk_) != kinematics::IkStatus::Ok) return;
+  for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->commanded = toWorld(i, fk_[i]);
 }
 
 void SimulatedServoRobotBase::updateHook() {
   const double dt = stepLength();
   const std::int64_t now_ns = last_update_ns_;
-  KDL::Frame pose;
-  if (des_cart_pose_.read(pose) == core::FlowStatus::NewData && kinematics::validFrame(pose)) {
+  bool cartesian = false;
+  for (std::size_t i = 0; i < tools_.size(); ++i) {
+    Tool& tool = *tools_[i];
+    targets_[i] = tool.commanded;
+    KDL::Frame pose;
+    if (tool.des_cart_pose.read(pose) == core::FlowStatus::NewData && kinematics::validFrame(pose)) {
+      targets_[i] = pose;
+      cartesian = true;
+    }
+  }
+  if (cartesian) {
     twist_until_ns_ = -1;
-    commandCartesian(pose, dt);
+    commandCartesian(dt);
   }
   if (des_joint_position_.read(joint_command_) == core::FlowStatus::NewData && robot_->command(joint_command_)) {
     twist_until_ns_ = -1;
-    KDL::Frame fk;
-    if (solver_->forward(robot_->commanded(), fk) == kinematics::IkStatus::Ok)
-      commanded_pose_ = base_frame_() * fk * tool_frame_();
+    commandedFromJoints();
   }
   if (defaults_.twist_ports) {
     if (des_twist_.read(twist_command_) == core::FlowStatus::NewData)
       twist_until_ns_ = now_ns + static_cast<std::int64_t>(twist_timeout_() * 1e9);
-    if (now_ns <= twist_until_ns_ && dt > 0.0) commandCartesian(KDL::addDelta(commanded_pose_, twist_command_, dt), dt);
+    if (now_ns <= twist_until_ns_ && dt > 0.0) {
+      for (std::size_t i = 0; i < tools_.size(); ++i) targets_[i] = tools_[i]->commanded;
+      targets_[0] = KDL::addDelta(tools_[0]->commanded, twist_command_, dt);
+      commandCartesian(dt);
+    }
   }
   robot_->step(dt);
   publish(dt);
@@ -180,56 +247,30 @@ void SimulatedServoRobotBase::updateHook() {
 void SimulatedServoRobotBase::publish(double dt) noexcept {
   // Forward kinematics only of joints that changed since the last step: a robot at rest (the
   // servo settles exactly on its command, the encoders hold their count) has the same poses.
-  KDL::Frame fk;
   if (!measured_fk_.same(robot_->measured())) {
-    measured_fk_.ok = solver_->forward(robot_->measured(), fk) == kinematics::IkStatus::Ok;
-    if (measured_fk_.ok) measured_pose_ = base_frame_() * fk * tool_frame_();
+    measured_fk_.ok = kinematics_->forward(robot_->measured(), fk_) == kinematics::IkStatus::Ok;
+    if (measured_fk_.ok)
+      for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->measured = toWorld(i, fk_[i]);
   }
   if (!true_fk_.same(robot_->position())) {
-    true_fk_.ok = solver_->forward(robot_->position(), fk) == kinematics::IkStatus::Ok;
-    if (true_fk_.ok) fk_true_pose_ = base_frame_() * fk * tool_frame_();
-  }
-  if (true_fk_.ok) {
-    previous_pose_ = true_pose_;
-    true_pose_ = fk_true_pose_;
+    true_fk_.ok = kinematics_->forward(robot_->position(), fk_) == kinematics::IkStatus::Ok;
+    if (true_fk_.ok)
+      for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->fk_true = toWorld(i, fk_[i]);
   }
   meas_joint_position_.write(robot_->measured());
-  meas_cart_pose_.write(measured_pose_);
-  true_cart_pose_.write(true_pose_);
-  if (defaults_.twist_ports && dt > 0.0) meas_twist_.write(KDL::diff(previous_pose_, true_pose_, dt));
-  KDL::Wrench contact = KDL::Wrench::Zero();
-  (void)contact_wrench_.read(contact);  // the latest value holds until the simulator writes another
-  meas_wrench_.write(sensor_model_->step(dt, true_pose_.M.Inverse() * contact).wrench);
-}
-
-SimulatedISURRobot::SimulatedISURRobot(std::string name)
-    : SimulatedServoRobotBase(
-          std::move(name),
-          "Simulated I-SUR puncturing robot (thesis §4.5.7 interface): stiff servo, IK, ATI Nano17 at the needle",
-          SimulatedRobotDefaults{.robot = "I-SUR",
-                                 .initial_joints = {0.1, 0.1, 0.1, 0.0, 0.0, 0.6, 0.6, 0.0},
-                                 .max_velocity = {0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5},
-                                 .encoder_counts = {1e6, 1e6, 1e6, 262144, 262144, 262144, 262144, 262144},
-                                 .sensor = "atiNano17",
-                                 .twist_ports = false}) {}
-
-std::unique_ptr<kinematics::KinematicsSolver> SimulatedISURRobot::makeSolver() const {
-  return std::make_unique<kinematics::IsurPuncturingSolver>();
-}
-
-SimulatedUR5Robot::SimulatedUR5Robot(std::string name)
-    : SimulatedServoRobotBase(
-          std::move(name),
-          "Simulated UR5 (thesis §4.5.8 interface): stiff servo, closed-form IK, twist commands, ATI Nano43",
-          SimulatedRobotDefaults{.robot = "UR5",
-                                 .initial_joints = {0.0, -1.57, 1.57, -1.57, -1.57, 0.0},
-                                 .max_velocity = std::vector<double>(6, 3.14),
-                                 .encoder_counts = std::vector<double>(6, 262144),
-                                 .sensor = "atiNano43",
-                                 .twist_ports = true}) {}
-
-std::unique_ptr<kinematics::KinematicsSolver> SimulatedUR5Robot::makeSolver() const {
-  return std::make_unique<kinematics::Ur5Solver>();
+  for (auto& tool_pointer : tools_) {
+    Tool& tool = *tool_pointer;
+    if (true_fk_.ok) {
+      tool.previous = tool.true_pose;
+      tool.true_pose = tool.fk_true;
+    }
+    tool.meas_cart_pose.write(tool.measured);
+    tool.true_cart_pose.write(tool.true_pose);
+    KDL::Wrench contact = KDL::Wrench::Zero();
+    (void)tool.contact_wrench.read(contact);  // the latest value holds until the simulator writes another
+    tool.meas_wrench.write(tool.sensor_model->step(dt, tool.true_pose.M.Inverse() * contact).wrench);
+  }
+  if (defaults_.twist_ports && dt > 0.0) meas_twist_.write(KDL::diff(tools_[0]->previous, tools_[0]->true_pose, dt));
 }
 
 }  // namespace cobra::components

@@ -71,6 +71,13 @@ class ContinuousIk {
   ContinuityRefusal refusal_;
 };
 
+/// Rule 2 of the file comment on a candidate solution: Ok when |candidate_i - current_i| <=
+/// max_velocity_i · dt on every joint (rad / m; dt in s); otherwise Discontinuous, with `refusal`
+/// naming the joint that exceeds its step by the largest factor. The sizes must agree (the callers
+/// check them). No allocation.
+IkStatus checkJointSteps(const KDL::JntArray& candidate, const KDL::JntArray& current,
+                         const std::vector<double>& max_velocity, double dt, ContinuityRefusal& refusal) noexcept;
+
 /// Checks `max_velocity` (one finite value > 0 per joint of `limits`, rad/s or m/s) for `robot`.
 /// @throws std::invalid_argument as ContinuousIk's constructor.
 void validateMaxVelocity(std::string_view robot, const JointLimits& limits, const std::vector<double>& max_velocity);

@@ -195,7 +195,44 @@ class IsurSuturingSolver {
   IkStatus inverse(const KDL::Frame& stitch_target, const KDL::Frame& gripper_target, const KDL::JntArray& seed,
                    KDL::JntArray& q_out) noexcept;
 
+  /// Joints of the macro + Endo Stitch sub-structure (q1..q8) and of the 6-DOF arm (q9..q14).
+  static constexpr unsigned kRightJoints = IsurPuncturingSolver::kJoints;
+  static constexpr unsigned kLeftJoints = 6;
+  /// Bit of IkBranch::bits where the 6-DOF arm's branch bits start (bit 0 is the Endo Stitch arm's).
+  static constexpr unsigned kLeftBranchShift = 1;
+  /// The branch of a configuration (14 values, m / rad): bit 0 (and its ambiguity) the Endo Stitch
+  /// sub-structure's wrist representation (IsurPuncturingSolver::branch: the pitch q6 + q7 beyond
+  /// ±90°), bits 1..3 the 6-DOF arm's shoulder, elbow and wrist (Puma260Solver::branch of q9..q14,
+  /// shifted by kLeftBranchShift). An empty IkBranch for a wrong-size `q`. No allocation.
+  IkBranch branch(std::span<const double> q) const noexcept;
+  /// `inverse` with each sub-structure on its part of `branch` (the split IK of §5.4.1 keeping the
+  /// branch of the current configuration): the Endo Stitch sub-structure by
+  /// IsurPuncturingSolver::inverseOnBranch, then the 6-DOF arm by Puma260Solver::inverseOnBranch
+  /// from the platform pose that gives. Discontinuous when a sub-structure reaches its target only
+  /// on another branch (e.g. the Endo Stitch across its vertical, the gripper arm's wrist flipped).
+  /// `q_out` (14) untouched unless Ok. No allocation.
+  IkStatus inverseOnBranch(const KDL::Frame& stitch_target, const KDL::Frame& gripper_target,
+                           const KDL::JntArray& seed, IkBranch branch, KDL::JntArray& q_out) noexcept;
+  /// The first step of the split IK alone: the macro + Endo Stitch joints q1..q8 putting the Endo
+  /// Stitch at `stitch_target`, nearest `q`'s q1..q8 among the solutions on `right_branch`
+  /// (IsurPuncturingSolver's bit, not shifted). `q_out` (14) = `q` with q1..q8 replaced (the
+  /// gripper moves with the platform); untouched unless Ok. No allocation.
+  IkStatus inverseEndoStitchArm(const KDL::Frame& stitch_target, const KDL::JntArray& q, IkBranch right_branch,
+                                KDL::JntArray& q_out) noexcept;
+  /// The branch bits of each sub-structure in a suturing IkBranch (not shifted).
+  static IkBranch rightBranch(IkBranch branch) noexcept;
+  static IkBranch leftBranch(IkBranch branch) noexcept;
+  /// The second step of the split IK alone: the 6-DOF arm's joints q9..q14 putting the gripper at
+  /// `gripper_target` from the platform of `q`'s macro joints, nearest `q`'s q9..q14 among the
+  /// solutions on `left_branch` (Puma260Solver's bits, not shifted). `q_out` (14) = `q` with
+  /// q9..q14 replaced; untouched unless Ok. No allocation.
+  IkStatus inverseGripperArm(const KDL::Frame& gripper_target, const KDL::JntArray& q, IkBranch left_branch,
+                             KDL::JntArray& q_out) noexcept;
+
  private:
+  /// The 6-DOF arm for the platform of q_right_, seeded by seed_left_, into q_left_.
+  IkStatus solveGripperArm(const KDL::Frame& gripper_target, IkBranch left_branch) noexcept;
+
   IsurPuncturingSolver right_;
   Puma260Solver left_;
   KDL::Frame left_mount_;

@@ -7,7 +7,7 @@
 
 namespace cobra::components {
 
-/// Registers SimulatedISURRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom, and the
+/// Registers SimulatedISURRobot, SimulatedISURSuturingRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom, and the
 /// simulated devices of the drivers: SimulatedPuma260 (the analytic arm), Puma260World (the MuJoCo
 /// world), SimulatedFTSens, SimulatedLeapMotion.
 void registerSimPackage(deploy::PackageBuilder& package);
