@@ -29,6 +29,8 @@ SuturingFrameGenerator::SuturingFrameGenerator(std::string name)
                 "current task state, from the current stitch's targets and a state table") {
   addProperty(state_table_file_);
   for (auto* p : {&pull_offset_, &aside_offset_, &hook_offset_, &push_offset_}) addProperty(*p);
+  addProperty(right_half_state_);
+  addProperty(left_half_state_);
   addPort(task_state_);
   addPort(right_stitch_);
   addPort(left_stitch_);
@@ -63,6 +65,7 @@ bool SuturingFrameGenerator::configureHook() {
 
 bool SuturingFrameGenerator::startHook() {
   have_stitch_ = have_measured_ = {false, false};
+  last_half_ = 0;
   state_ = {};
   last_failure_.clear();
   goal_request_.clear();
@@ -93,13 +96,18 @@ puncturing::DatumSource::Outcome SuturingFrameGenerator::resolve(const puncturin
   }
   const KDL::Rotation& frame = stitch_[0].M;
   const KDL::Vector centre = (stitch_[0].p + stitch_[1].p) * 0.5;
+  // The last half's frame: y outward from the wound on its side (-y of the stitch frame on the right).
+  const auto fromEdge = [&](const KDL::Vector& offset) {
+    const double outward = last_half_ == 0 ? -1.0 : 1.0;
+    return stitch_[last_half_].p + frame * KDL::Vector(offset.x(), outward * offset.y(), offset.z());
+  };
   if (datum.name == "right_edge") pose = toolAt(frame, stitch_[0].p);
   else if (datum.name == "left_edge") pose = toolAt(frame, stitch_[1].p);
   else if (datum.name == "centre") pose = toolAt(frame, centre);
   else if (datum.name == "pull") pose = toolAt(frame, centre + frame * pull_offset_());
-  else if (datum.name == "aside") pose = toolAt(frame, centre + frame * aside_offset_());
-  else if (datum.name == "hook") pose = toolAt(frame, centre + frame * hook_offset_());
-  else pose = toolAt(frame, centre + frame * push_offset_());  // "push": the parser admits no other name
+  else if (datum.name == "aside") pose = toolAt(frame, fromEdge(aside_offset_()));
+  else if (datum.name == "hook") pose = toolAt(frame, fromEdge(hook_offset_()));
+  else pose = toolAt(frame, fromEdge(push_offset_()));  // "push": the parser admits no other name
   return Outcome::Resolved;
 }
 
@@ -118,6 +126,8 @@ void SuturingFrameGenerator::answer() {
     noData("no task state on currentTaskState yet");
     return;
   }
+  if (puncturing::pathContains(state_.path.view(), right_half_state_())) last_half_ = 0;
+  else if (puncturing::pathContains(state_.path.view(), left_half_state_())) last_half_ = 1;
   std::string no_row;
   const puncturing::StateRow* row = puncturing::rowFor(table_, state_.path.view(), state_table_file_(), no_row);
   if (row == nullptr) {

@@ -108,20 +108,26 @@ TEST(SuturingFrameGenerator, EachDatumIsAToolPoseOverTheCurrentStitch) {
   expectPose(b.goalPair().first, expected(KDL::Vector(0.0, w, 0.01)));  // left_edge-0.01: 1 cm out of the skin
   ASSERT_EQ(b.ask("root.AutonomousMode.PullThread.AskingGoal"), "e_goal_ready");
   expectPose(b.goalPair().first, expected(KDL::Vector(0.0, 0.0, 0.037)));  // pull_offset's default
+  // The thread leaves the skin beyond the left edge now (the last half asked for was the left one):
+  // the stick's datums from the left target, outward = +y.
   ASSERT_EQ(b.ask("root.AutonomousMode.HookThread.AskingGoal"), "e_goal_ready");
-  expectPose(b.goalPair().second, expected(KDL::Vector(0.0, 0.0, 0.032)));
+  expectPose(b.goalPair().second, expected(KDL::Vector(0.0, w + 0.0005, 0.02)));
   ASSERT_EQ(b.ask("root.AutonomousMode.PushThread.AskingGoal"), "e_goal_ready");
-  expectPose(b.goalPair().second, expected(KDL::Vector(-0.012, 0.0, 0.028)));
+  expectPose(b.goalPair().second, expected(KDL::Vector(-0.015, w + 0.0005, 0.02)));
+  // After a right half, from the right target, outward = -y.
+  ASSERT_EQ(b.ask("root.AutonomousMode.ApplyRightStitch.DisengageNeedle.AskingGoal"), "e_goal_ready");
+  ASSERT_EQ(b.ask("root.AutonomousMode.HookThread.AskingGoal"), "e_goal_ready");
+  expectPose(b.goalPair().second, expected(KDL::Vector(0.0, -w - 0.0005, 0.02)));
 }
 
 TEST(SuturingFrameGenerator, AnOffsetPropertyMovesItsDatum) {
   Bench b;
-  b.generator.setProperty("hook_offset", KDL::Vector(0.001, 0.002, 0.02));
+  b.generator.setProperty("hook_offset", KDL::Vector(0.001, 0.002, 0.03));
   b.start();
   b.plan();
   b.measure();
-  ASSERT_EQ(b.ask("root.AutonomousMode.HookThread.AskingGoal"), "e_goal_ready");
-  expectPose(b.goalPair().second, expected(KDL::Vector(0.001, 0.002, 0.02)));
+  ASSERT_EQ(b.ask("root.AutonomousMode.HookThread.AskingGoal"), "e_goal_ready");  // right half before any
+  expectPose(b.goalPair().second, expected(KDL::Vector(0.001, -0.003 - 0.002, 0.03)));
 }
 
 TEST(SuturingFrameGenerator, ARowWithACheckPublishesTheMotionAfterItsGoal) {
@@ -137,7 +143,7 @@ TEST(SuturingFrameGenerator, ARowWithACheckPublishesTheMotionAfterItsGoal) {
   const KDL::Frame over = expected(KDL::Vector(0.0, 0.0, 0.03));
   EXPECT_NEAR(goal.waypoint(0)[2], over.p.z(), 1e-12);
   EXPECT_NEAR(goal.waypoint(0)[14 + 2], expected(KDL::Vector(0.0, 0.0, 0.0)).p.z(), 1e-12);
-  EXPECT_NEAR(goal.waypoint(0)[7], expected(KDL::Vector(0.012, 0.0, 0.032)).p.x(), 1e-12);  // the stick aside
+  EXPECT_NEAR(goal.waypoint(0)[7], expected(KDL::Vector(0.015, -0.0035, 0.02)).p.x(), 1e-12);  // the stick aside
 }
 
 TEST(SuturingFrameGenerator, MissingDataAnswersNoDataNamingTheStateTheLineAndThePort) {

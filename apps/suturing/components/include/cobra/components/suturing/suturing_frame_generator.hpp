@@ -26,12 +26,16 @@ namespace cobra::components {
 /// into the skin and x along the cut (so that NAME+M is M m deeper, NAME-M M m out of the skin, as in
 /// the puncturing table): `right_edge` / `left_edge` = the current stitch's right / left target
 /// (the StitchPlanner's rightStitchPose / leftStitchPose: the edge point at the stitch depth);
-/// `centre` = their midpoint (inside the wound); `pull` (the Endo Stitch pulling the thread), `aside`
-/// (the stick beside the stitch, ahead along the cut), `hook` (the stick through the free thread),
-/// `push` (the stick having pushed the thread back along the cut) = `centre` moved by the properties
-/// `pull_offset`, `aside_offset`, `hook_offset`, `push_offset` (m, in the stitch frame: x along the
-/// cut, y from the right edge to the left, z out of the skin); `hold` = the arm's measured pose; a
-/// table `pose` = a fixed world pose.
+/// `centre` = their midpoint (inside the wound); `pull` (the Endo Stitch pulling the thread) =
+/// `centre` moved by `pull_offset` (m, stitch frame: x along the cut, y from the right edge to the
+/// left, z out of the skin); `aside` (the stick beside the thread, ahead along the cut), `hook` (the
+/// stick through the free thread), `push` (the stick having pushed the thread back along the cut) =
+/// the edge target of the last half-stitch moved by `aside_offset`, `hook_offset`, `push_offset`
+/// (m, in that half's frame: x along the cut, y outward from the wound on that side, z out of the
+/// skin): the free thread leaves the skin beyond the edge of the last half. The last half is the
+/// one of the last task state answered whose path contains `right_half_state` or
+/// `left_half_state` (default ApplyRightStitch, ApplyLeftStitch; the right one before any);
+/// `hold` = the arm's measured pose; a table `pose` = a fixed world pose.
 ///
 /// Interface:
 /// - properties `state_table_file` (read at configure: a bad file refuses configure with
@@ -69,12 +73,18 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   core::Property<std::string> state_table_file_{"state_table_file", "", "", "state -> goal datum of each arm"};
   core::Property<KDL::Vector> pull_offset_{"pull_offset", KDL::Vector(0.0, 0.0, 0.037), "m",
                                            "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
-  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(0.012, 0.0, 0.032), "m",
-                                            "the stick beside the stitch, from its centre (stitch frame)"};
-  core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0, 0.032), "m",
-                                           "the stick through the free thread, from the centre (stitch frame)"};
-  core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.012, 0.0, 0.028), "m",
-                                           "the stick having pushed the thread aside, from the centre (stitch frame)"};
+  // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
+  // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
+  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(0.015, 0.0005, 0.02), "m",
+                                            "the stick beside the thread, from the last half's edge target (half frame)"};
+  core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0005, 0.02), "m",
+                                           "the stick through the free thread, from the last half's edge target"};
+  core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.015, 0.0005, 0.02), "m",
+                                           "the stick having pushed the thread aside, from the last half's edge target"};
+  core::Property<std::string> right_half_state_{"right_half_state", "ApplyRightStitch", "",
+                                                "task state path component of the right half-stitch"};
+  core::Property<std::string> left_half_state_{"left_half_state", "ApplyLeftStitch", "",
+                                               "task state path component of the left half-stitch"};
 
   core::InputPort<core::TaskState> task_state_{"currentTaskState", "the task chart's active state", ""};
   core::InputPort<KDL::Frame> right_stitch_{"rightStitchPose", "the current stitch's right target, world", "m"};
@@ -91,6 +101,7 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   core::TaskState state_;
   std::array<KDL::Frame, 2> stitch_, measured_, goal_pair_;  // stitch_: right, left target
   std::array<bool, 2> have_stitch_{false, false}, have_measured_{false, false};
+  std::size_t last_half_ = 0;  // 0: right, 1: left
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
   puncturing::GoalFailure failure_;
   std::string last_failure_;
