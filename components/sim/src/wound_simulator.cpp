@@ -13,6 +13,8 @@ WoundSimulator::WoundSimulator(std::string name)
     addProperty(*p);
   addProperty(cut_);
   addProperty(wound_pose_);
+  addProperty(tool_tip_offset_);
+  addProperty(stick_tip_offset_);
   addProperty(edge_samples_);
   addProperty(release_event_);
   addPort(tool_tip_);
@@ -96,11 +98,11 @@ void WoundSimulator::actuate() noexcept {
 void WoundSimulator::updateHook() {
   KDL::Frame pose;
   if (tool_tip_.read(pose) != core::FlowStatus::NoData) {
-    tool_ = world_to_wound_ * pose.p;
+    tool_ = world_to_wound_ * (pose * tool_tip_offset_().p);
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_ = world_to_wound_ * pose.p;
+    stick_ = world_to_wound_ * (pose * stick_tip_offset_().p);
     have_stick_ = true;
   }
   int count = 0;
@@ -122,28 +124,31 @@ void WoundSimulator::updateHook() {
 
 void WoundSimulator::publish(bool all) noexcept {
   const sim::Wound& w = *wound_;
+  if (all || w.revision() != published_revision_) {  // the gap changed: recompute what depends on it
+    published_revision_ = w.revision();
+    complete_ = 0;
+    widest_stitch_gap_ = 0.0;
+    for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
+      if (w.stitches()[static_cast<std::size_t>(i)].complete()) ++complete_;
+      widest_stitch_gap_ = std::max(widest_stitch_gap_, w.stitchGap(i));
+    }
+    widest_gap_ = w.maxGap();
+    const KDL::Frame& to_world = wound_pose_();
+    const std::size_t samples = edge_buffer_.size() / 6;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const double s = w.length() * static_cast<double>(i) / static_cast<double>(samples - 1);
+      const KDL::Vector right = to_world * w.edgePoint(sim::WoundSide::Right, s, 0.0);
+      const KDL::Vector left = to_world * w.edgePoint(sim::WoundSide::Left, s, 0.0);
+      double* out = &edge_buffer_[i * 6];
+      out[0] = right.x(), out[1] = right.y(), out[2] = right.z();
+      out[3] = left.x(), out[4] = left.y(), out[5] = left.z();
+    }
+  }
+  // Written every step (a reader connected later gets them too); recomputed only above.
   tension_.write(w.tension());
-  if (!all && w.revision() == published_revision_) return;
-  published_revision_ = w.revision();
-  int complete = 0;
-  double widest = 0.0;
-  for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
-    if (w.stitches()[static_cast<std::size_t>(i)].complete()) ++complete;
-    widest = std::max(widest, w.stitchGap(i));
-  }
-  stitch_count_.write(complete);
-  max_stitch_gap_.write(widest);
-  max_gap_out_.write(w.maxGap());
-  const KDL::Frame& to_world = wound_pose_();
-  const std::size_t samples = edge_buffer_.size() / 6;
-  for (std::size_t i = 0; i < samples; ++i) {
-    const double s = w.length() * static_cast<double>(i) / static_cast<double>(samples - 1);
-    const KDL::Vector right = to_world * w.edgePoint(sim::WoundSide::Right, s, 0.0);
-    const KDL::Vector left = to_world * w.edgePoint(sim::WoundSide::Left, s, 0.0);
-    double* out = &edge_buffer_[i * 6];
-    out[0] = right.x(), out[1] = right.y(), out[2] = right.z();
-    out[3] = left.x(), out[4] = left.y(), out[5] = left.z();
-  }
+  stitch_count_.write(complete_);
+  max_stitch_gap_.write(widest_stitch_gap_);
+  max_gap_out_.write(widest_gap_);
   edges_.write(edge_buffer_);
 }
 

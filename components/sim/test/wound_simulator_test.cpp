@@ -176,11 +176,6 @@ TEST(WoundSimulator, UpdatesAllocateNothing) {
   Bench b;
   b.start();
   b.actuations.write(b.actuated);  // the robot publishes its count from its start
-  // A connection made after configure has its slots sized from the edge buffer (setDataSample);
-  // one made before (the Bench's) gets them sized by its first writes, which now come only when
-  // the wound changes.
-  b.edges.disconnect();
-  core::connectPorts(b.patient.port("woundEdges"), b.edges);
   b.step(KDL::Vector(0, 0, 0.01));
   const KDL::Frame right(kWoundPose * b.model.stitchPoint(sim::WoundSide::Right, 0.02));
   const KDL::Frame left(kWoundPose * b.model.stitchPoint(sim::WoundSide::Left, 0.02));

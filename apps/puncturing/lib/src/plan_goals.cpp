@@ -8,11 +8,13 @@ namespace {
 
 constexpr std::size_t kArms = 2;
 
-/// `datum` with its offset applied, into `pose`.
+/// `datum` with its offset applied, as the arm is commanded, into `pose`.
 DatumSource::Outcome resolveMoved(DatumSource& source, const Datum& datum, std::size_t arm, KDL::Frame& pose,
                                   const char*& why) {
   const DatumSource::Outcome outcome = source.resolve(datum, arm, pose, why);
-  if (outcome == DatumSource::Outcome::Resolved && datum.offset != 0.0) pose = alongZ(pose, datum.offset);
+  if (outcome != DatumSource::Outcome::Resolved) return outcome;
+  if (datum.offset != 0.0) pose = alongZ(pose, datum.offset);
+  source.command(arm, pose);
   return outcome;
 }
 

@@ -29,7 +29,9 @@ namespace cobra::components {
 /// sim::WoundModel / sim::ThreadModel.
 ///
 /// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
-/// the stick held by the left arm's gripper); until both have arrived the thread is not stepped.
+/// the stick held by the left arm's gripper), each moved by `tool_tip` / `stick_tip` (KDL::Frame,
+/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity); until
+/// both have arrived the thread is not stepped.
 /// `endoStitchActuations` (int, the robot's count of completed Endo Stitch actuations, from 0 at
 /// its start): each increment applies a half-stitch at the tip's current pose, on the edge the
 /// tip is at (sim::Wound::sideAt): the chart asks the robot to actuate the tool, the tool's
@@ -40,12 +42,12 @@ namespace cobra::components {
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
 /// `edge_samples` places along the cut, the right then the left edge point on the skin, x y z in W,
-/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut). The
-/// gap-dependent outputs are recomputed only when the wound's revision changed (sim::Wound::revision);
-/// the tension every step.
+/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut), all
+/// written every step; the gap-dependent ones are recomputed only when the wound's revision
+/// changed (sim::Wound::revision).
 /// updateHook allocates nothing once its connections' slots have the edges' size: those made after
 /// configure from the start (the edge buffer is sized there, setDataSample), one made before by its
-/// first writes (which come only when the wound changes).
+/// first writes.
 class WoundSimulator : public core::Component {
  public:
   explicit WoundSimulator(std::string name);
@@ -58,7 +60,7 @@ class WoundSimulator : public core::Component {
 
  private:
   void actuate() noexcept;
-  /// Writes the tension, and the gap-dependent outputs when the wound's revision changed (or `all`).
+  /// Writes the outputs, recomputing the gap-dependent ones when the wound's revision changed (or `all`).
   void publish(bool all) noexcept;
 
   core::Property<std::vector<double>> cut_{"cut", {-0.02, 0.0, 0.02, 0.0}, "m",
@@ -86,6 +88,10 @@ class WoundSimulator : public core::Component {
                                            "the thread breaks above it"};
   core::Property<double> hook_radius_{"hook_radius", sim::ThreadModel{}.hook_radius, "m",
                                       "the stick catches the thread within this distance"};
+  core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
+                                              "the Endo Stitch's tip in the frame toolTipPose gives"};
+  core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
+                                               "the stick's tip in the frame stickTipPose gives"};
   core::Property<int> edge_samples_{"edge_samples", 41, "1", "points per edge on woundEdges, >= 2"};
   core::Property<std::string> release_event_{"release_event", "e_release_thread", "", "the stick lets the thread go"};
 
@@ -109,6 +115,9 @@ class WoundSimulator : public core::Component {
   bool hooked_ = false, broken_ = false;
   int actuations_seen_ = 0;
   std::uint64_t published_revision_ = 0;
+  int complete_ = 0;                 // of the published revision: complete stitches,
+  double widest_stitch_gap_ = 0.0;   // m: the widest gap at a stitch,
+  double widest_gap_ = 0.0;          // m: the widest gap along the cut
   core::BoundedString<63> release_name_;
   std::vector<double> edge_buffer_;
 };
