@@ -152,15 +152,16 @@ TEST(SuturingFrameGenerator, ARowWithACheckPublishesTheMotionAfterItsGoal) {
 TEST(SuturingFrameGenerator, MissingDataAnswersNoDataNamingTheStateTheLineAndThePort) {
   Bench b;
   b.start();
+  const std::string line = std::to_string(b.generator.table().find("root.AutonomousMode.PullThread")->line);
   EXPECT_EQ(b.ask("root.AutonomousMode.PullThread.AskingGoal"), "e_no_data");
   EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
             "task state 'root.AutonomousMode.PullThread.AskingGoal' (" + kApp +
-                "state_table.txt:28): right=pull: no stitch planned yet (rightStitchPose and leftStitchPose)");
+                "state_table.txt:" + line + "): right=pull: no stitch planned yet (rightStitchPose and leftStitchPose)");
   b.plan();
   EXPECT_EQ(b.ask("root.AutonomousMode.PullThread.AskingGoal"), "e_no_data");
   EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
             "task state 'root.AutonomousMode.PullThread.AskingGoal' (" + kApp +
-                "state_table.txt:28): left=hold: no pose on leftMeasPose yet");
+                "state_table.txt:" + line + "): left=hold: no pose on leftMeasPose yet");
   EXPECT_EQ(b.ask("root.WaitStitchesPlan"), "e_no_data");
   EXPECT_EQ(b.generator.call<std::string>("lastFailure"),
             "task state 'root.WaitStitchesPlan' matches no row of " + kApp + "state_table.txt");
