@@ -32,6 +32,8 @@ local controller = {
   { peer_name = "RightAdmittance", component_type = "VariableAdmittance" },
   { peer_name = "LeftAdmittance", component_type = "VariableAdmittance" },
   { peer_name = "Validator", component_type = "StateValidator" },
+  { peer_name = "RightClutch", component_type = "TeleoperationClutch" },
+  { peer_name = "LeftClutch", component_type = "TeleoperationClutch" },
   { peer_name = "TaskSup", component_type = "Supervisor" },
   { peer_name = "DepSup", component_type = "Supervisor" },
   { peer_name = "ConfSup", component_type = "Supervisor" },
@@ -97,7 +99,7 @@ local connections = {
   { output = "TaskSup.outputEvents", input = "Patient.inputEvents", conn_policy = buffered },  -- the stick lets go
 }
 for _, source in ipairs({ "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "RightAdmittance",
-                          "LeftAdmittance", "ISUR", "Patient", "Validator", "DepSup", "ConfSup" }) do
+                          "LeftAdmittance", "ISUR", "Patient", "Validator", "Surgeon", "DepSup", "ConfSup" }) do
   local port = (source == "DepSup" or source == "ConfSup") and ".outputEvents" or ".events"
   connections[#connections + 1] = { output = source .. port, input = "TaskSup.inputEvents", conn_policy = buffered }
 end
@@ -136,14 +138,21 @@ defineDeployment("suturing_autonomous_primitives", {
 })
 -- Fig. 5.12: the surgeon's hands (the device) drive the admittances, whose set-points reach the
 -- robot only through the State Validator (reachable and collision-free, else the last valid pair).
-local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator" }
+-- The clutches start with the deployment (InitHapticDevice): each tool then follows its device's
+-- motion from where both were, so that taking over moves nothing by itself.
+local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator",
+                       "RightClutch", "LeftClutch" }
 for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.peer_name end
 defineDeployment("suturing_teleoperated", {
   scope = "suture",
   components = teleoperated,
   connections = {
-    { output = device.right, input = "RightAdmittance.refPose" },
-    { output = device.left, input = "LeftAdmittance.refPose" },
+    { output = device.right, input = "RightClutch.masterPose" },
+    { output = device.left, input = "LeftClutch.masterPose" },
+    { output = "ISUR.measRightCartPose", input = "RightClutch.slavePose" },
+    { output = "ISUR.measLeftCartPose", input = "LeftClutch.slavePose" },
+    { output = "RightClutch.desPose", input = "RightAdmittance.refPose" },
+    { output = "LeftClutch.desPose", input = "LeftAdmittance.refPose" },
     { output = "RightAdmittance.admPose", input = "Validator.desPoseIn_1" },
     { output = "LeftAdmittance.admPose", input = "Validator.desPoseIn_2" },
     { output = "Validator.desPoseOut_1", input = "ISUR.desRightCartPose" },

@@ -5,9 +5,14 @@
 -- Geometry as planning/scenes/suturing.scene: world z up, table top z = 0, the I-SUR's base 1 m
 -- above it; the phantom (0.06 m high) placed under the wound (suturing.lua: phantom_pose).
 -- Needs the globals `wound` (the scenario's wound.lua), `tool_frame`, `stick_tip` (suturing.lua).
-initConfigurator({ "cobra_sim" }, {
+-- The surgeon's console (the puncturing task's ScriptedSurgeon): its say(event) operation gives the
+-- surgeon's decisions (e_take_over, e_teleop_done, e_recover) to the chart; its script is empty
+-- unless `surgeon_file` names one.
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+initConfigurator({ "cobra_sim", "cobra_puncturing" }, {
   { peer_name = "ISUR", component_type = "SimulatedISURSuturingRobot" },
   { peer_name = "Patient", component_type = "WoundSimulator" },
+  { peer_name = "Surgeon", component_type = "ScriptedSurgeon" },
 })
 getReferences()
 
@@ -28,8 +33,11 @@ Patient.wound_pose = wound.wound_pose
 Patient.max_gap = wound.max_gap
 Patient.closed_gap = wound.closed_gap
 
-local world = { "ISUR", "Patient" }
-setActivities({ { peer_name = "ISUR", period = 0.001 }, { peer_name = "Patient", period = 0.001 } })
+Surgeon.script_file = surgeon_file or (here .. "surgeon.txt")
+
+local world = { "ISUR", "Patient", "Surgeon" }
+setActivities({ { peer_name = "ISUR", period = 0.001 }, { peer_name = "Patient", period = 0.001 },
+                { peer_name = "Surgeon", period = 0.001 } })
 connectPorts({
   { output = "ISUR.trueRightCartPose", input = "Patient.toolTipPose" },
   { output = "ISUR.trueLeftCartPose", input = "Patient.stickTipPose" },

@@ -2,6 +2,7 @@
 
 #include "cobra/components/suturing/stitch_planner.hpp"
 #include "cobra/components/suturing/suturing_frame_generator.hpp"
+#include "cobra/components/suturing/teleoperation_clutch.hpp"
 
 namespace cobra::components {
 
@@ -10,6 +11,8 @@ void registerSuturingPackage(deploy::PackageBuilder& package) {
       "StitchPlanner", "the next stitch's right and left targets from the wound's current edges (thesis §5.2.1)");
   package.component<SuturingFrameGenerator>(
       "SuturingFrameGenerator", "the goal poses of the Endo Stitch and the stick for the task state (thesis §5.5)");
+  package.component<TeleoperationClutch>(
+      "TeleoperationClutch", "the tool follows the haptic device's motion from the teleoperation's start (§5.5)");
 }
 
 }  // namespace cobra::components
