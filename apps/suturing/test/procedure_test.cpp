@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/components/builtin_packages.hpp"
+#include "cobra/deploy/deploy.hpp"
+#include "cobra/deploy/lua_deployer.hpp"
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -186,6 +190,32 @@ TEST(SuturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySuccee
   expectInOrder(r, {"suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound", "SuturePlanner: e_plan_failed",
                     "suture > root.WaitReaction", "Surgeon: e_recover",
                     "suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound"});
+}
+
+/// Loaded with the strict role rules (a connection that breaks one is refused at load), with
+/// either haptic device: no violation in any deployment, both configurations there.
+void expectNoRoleViolation(const std::string& device) {
+  deploy::ConfiguratorOptions strict;
+  strict.strict_roles = true;
+  deploy::Configurator configurator(strict);
+  components::addBuiltinPackages(configurator.packages());
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.run("teleop_device = '" + device + "'", "=device");
+  ASSERT_NO_THROW(deployer.runFile((kApp / "suturing.lua").string()));
+  EXPECT_TRUE(configurator.warnings().empty());
+  const deploy::DeploymentSet& set = configurator.deploymentSet();
+  ASSERT_EQ(set.deploymentNames().size(), 3u);  // §5.5.1
+  for (const std::string& name : set.deploymentNames()) {
+    const auto violations = deploy::lint(set.deployment(name).connections, configurator.getReferences());
+    EXPECT_TRUE(violations.empty()) << name << ":\n" << deploy::toText(violations);
+  }
+  EXPECT_EQ(set.configurationNames().size(), 2u);  // §5.5.2: free motion, contact
+}
+
+TEST(SuturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentWithEitherDevice) {
+  expectNoRoleViolation("leap");
+  expectNoRoleViolation("omni");
 }
 
 }  // namespace
