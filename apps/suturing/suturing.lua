@@ -63,6 +63,8 @@ run = {
     -- After each stitch (the thread pulled, hooked and pushed): the widest gap at any stitch so far.
     { name = "gap at the stitches after each stitch", unit = "mm", scale = 1000, say = true,
       port = "Patient.maxStitchGap", on_enter = "suture:root.AutonomousMode.GetStitchTargetPose" },
+    { name = "thread tension at the end of each pull", unit = "N", port = "Patient.threadTension",
+      on_leave = "suture:root.AutonomousMode.PullThread" },
     { name = "widest gap along the cut at the end", unit = "mm", scale = 1000, port = "Patient.maxGap",
       on_enter = "suture:root.Done" },
     { name = "faults detected", count = failures },

@@ -72,6 +72,17 @@ struct Bench {
     (void)port.read(v);
     return v;
   }
+  /// Both halves at s = 20 mm, then the tool 15 mm up (within the slack): returns the tool's tip;
+  /// `midway` is where the free thread's middle then is (wound frame).
+  KDL::Vector stitchAndLift(KDL::Vector& midway) {
+    actuate(model.stitchPoint(sim::WoundSide::Right, 0.02));
+    const KDL::Vector tip = model.stitchPoint(sim::WoundSide::Left, 0.02);
+    actuate(tip);
+    const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
+    const KDL::Vector exit = model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
+    midway = (exit + up) * 0.5;
+    return up;
+  }
   /// Both halves at s, then the tool pulled up until the stitch's gap is below 0.5 mm.
   void stitch(double s) {
     actuate(model.stitchPoint(sim::WoundSide::Right, s));
@@ -111,12 +122,9 @@ TEST(WoundSimulator, TheStickHooksTheThreadAndTheEdgesArePublishedInTheWorld) {
   Bench b;
   b.patient.setProperty("edge_samples", 5);
   b.start();
-  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.02));
-  const KDL::Vector tip = b.model.stitchPoint(sim::WoundSide::Left, 0.02);
-  b.actuate(tip);
-  const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
-  const KDL::Vector exit = b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
-  b.step(up, (exit + up) * 0.5 + KDL::Vector(0.001, 0, 0));
+  KDL::Vector midway;
+  const KDL::Vector up = b.stitchAndLift(midway);
+  b.step(up, midway + KDL::Vector(0.001, 0, 0));
   EXPECT_EQ(b.said.back(), "e_thread_hooked");
 
   const std::vector<double> edges = b.read(b.edges);
@@ -146,12 +154,8 @@ TEST(WoundSimulator, SeveralActuationsInOneStepEachTryAHalfAndARestartedCountIsA
 TEST(WoundSimulator, TheReleaseEventLetsTheHookedThreadGo) {
   Bench b;
   b.start();
-  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.02));
-  const KDL::Vector tip = b.model.stitchPoint(sim::WoundSide::Left, 0.02);
-  b.actuate(tip);
-  const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
-  const KDL::Vector exit = b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
-  const KDL::Vector stick = (exit + up) * 0.5;
+  KDL::Vector stick;
+  const KDL::Vector up = b.stitchAndLift(stick);
   b.step(up, stick);
   ASSERT_EQ(b.said.back(), "e_thread_hooked");
   core::Event e;
