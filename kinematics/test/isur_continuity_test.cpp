@@ -59,7 +59,9 @@ bool randomOnRule(IsurSuturingSolver& solver, std::mt19937& rng, KDL::JntArray& 
   return std::abs(std::cos(pitch)) > 0.05 && std::abs(std::sin(q(12))) > 0.05 && std::abs(std::cos(q(10))) > 0.05;
 }
 
-double poseError(const KDL::Frame& a, const KDL::Frame& b) { return std::max(norm(a.p - b.p), orientationError(a.M, b.M)); }
+double poseError(const KDL::Frame& a, const KDL::Frame& b) {
+  return std::max(norm(a.p - b.p), orientationError(a.M, b.M));
+}
 
 // 1000 seeded random configurations on the rule, each with a target from a neighbour on the rule
 // at most half the velocity bound away per joint: the continuity-ruled split IK solves it on the

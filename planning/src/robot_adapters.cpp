@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <initializer_list>
 #include <limits>
 #include <memory>
@@ -420,13 +421,36 @@ void IsurPuncturingModel::coordinatesOf(std::span<const double> q, std::span<dou
 }
 
 KDL::JntArray IsurSuturingModel::defaultSeed() {
-  return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, -0.5, 0.0, 0.5, 0.0});
+  // The Endo Stitch sub-structure on the default geometry's redundancy rule, as IsurPuncturingModel's.
+  const double elbow = kinematics::IsurGeometry{}.pitch_difference;
+  return jointArray({0.1, 0.1, 0.1, 0.0, 0.0, 0.5 * elbow, -0.5 * elbow, 0.0, 0.0, 0.5, -0.5, 0.0, 0.5, 0.0});
 }
+
+namespace {
+
+KDL::JntArray rightPart(const KDL::JntArray& q) {
+  KDL::JntArray right(kinematics::IsurSuturingSolver::kRightJoints);
+  for (unsigned j = 0; j < right.rows(); ++j) right(j) = q(j);
+  return right;
+}
+
+/// The interval [low, high] between two consecutive zeros of sin(x + offset) that holds `x`
+/// (a Puma-type arm's elbow or wrist branch: its sign), `margin` inside them.
+void branchInterval(double x, double offset, double margin, double& low, double& high) {
+  const double k = std::floor((x + offset) / std::numbers::pi);
+  low = k * std::numbers::pi - offset + margin;
+  high = (k + 1.0) * std::numbers::pi - offset - margin;
+}
+
+}  // namespace
 
 IsurSuturingModel::IsurSuturingModel(const kinematics::IsurSuturingGeometry& geometry, const KDL::JntArray& seed)
     : solver_(geometry),
+      right_(geometry.right, rightPart(seed.rows() == kinematics::IsurSuturingSolver::kJoints ? seed : defaultSeed())),
+      left_parameters_(geometry.left),
       warm_(kinematics::IsurSuturingSolver::kJoints, seed, "I-SUR suturing"),
-      q_(kinematics::IsurSuturingSolver::kJoints) {}
+      q_(kinematics::IsurSuturingSolver::kJoints),
+      seed_(kinematics::IsurSuturingSolver::kJoints) {}
 
 Reachability IsurSuturingModel::solve(std::span<const KDL::Frame> tools_in_base, std::span<KDL::Frame> links_in_base) {
   if (solver_.inverse(tools_in_base[0], tools_in_base[1], warm_.seedFor(tools_in_base), q_) != IkStatus::Ok)
@@ -434,6 +458,108 @@ Reachability IsurSuturingModel::solve(std::span<const KDL::Frame> tools_in_base,
   if (solver_.linkFrames(q_, links_in_base) != IkStatus::Ok) return Reachability::Unreachable;
   warm_.keep(q_, tools_in_base);
   return Reachability::Reachable;
+}
+
+void IsurSuturingModel::jointLimits(std::span<double> lower, std::span<double> upper,
+                                    std::span<double> max_velocity) const {
+  const kinematics::JointLimits& limits = solver_.limits();
+  for (std::size_t j = 0; j < jointCount(); ++j) {
+    lower[j] = limits.lower[j];
+    upper[j] = limits.upper[j];
+    max_velocity[j] =
+        j < 3 ? IsurPuncturingModel::kMaxSliderVelocity : IsurPuncturingModel::kMaxRevoluteVelocity;
+  }
+}
+
+bool IsurSuturingModel::linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) {
+  for (unsigned j = 0; j < kinematics::IsurSuturingSolver::kJoints; ++j) q_(j) = q[j];
+  return solver_.limits().contains(q_, 1e-9) && solver_.linkFrames(q_, links_in_base) == IkStatus::Ok;
+}
+
+void IsurSuturingModel::seedJoints(std::span<double> q) const {
+  for (unsigned j = 0; j < kinematics::IsurSuturingSolver::kJoints; ++j) q[j] = warm_.initial()(j);
+}
+
+Reachability IsurSuturingModel::reachability(IkStatus status) const {
+  if (status == IkStatus::Ok) return Reachability::Reachable;
+  return status == IkStatus::Discontinuous ? Reachability::OtherBranch : Reachability::Unreachable;
+}
+
+Reachability IsurSuturingModel::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                                            std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
+  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = seed[j];
+  const IkStatus status =
+      solver_.inverseOnBranch(tools_in_base[0], tools_in_base[1], seed_, solver_.branch(seed), q_);
+  if (status != IkStatus::Ok) return reachability(status);
+  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+  return Reachability::Reachable;
+}
+
+Reachability IsurSuturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                            std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
+  const Reachability right = right_.inverseGoal(tools_in_base.first(1), start.first(kRightJoints),
+                                                std::span<double>(seed_.data.data(), kRightJoints));
+  if (right != Reachability::Reachable) return right;
+  for (unsigned j = kRightJoints; j < kJoints; ++j) seed_(j) = start[j];
+  const IkStatus status = solver_.inverseGripperArm(
+      tools_in_base[1], seed_, kinematics::IsurSuturingSolver::leftBranch(solver_.branch(start)), q_);
+  if (status != IkStatus::Ok) return reachability(status);
+  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+  return Reachability::Reachable;
+}
+
+bool IsurSuturingModel::singularCrossing(std::span<const double> a, std::span<const double> b,
+                                         std::span<double> before, std::span<double> after) const {
+  if (!right_.singularCrossing(a.first(kRightJoints), b.first(kRightJoints), before.first(kRightJoints),
+                               after.first(kRightJoints)))
+    return false;
+  // The 6-DOF arm on the segment where the Endo Stitch's pitch is (the fraction of its change).
+  const double pitch_a = a[5] + a[6], pitch_b = b[5] + b[6];
+  for (const std::span<double> q : {before, after}) {
+    const double t = pitch_b == pitch_a ? 0.5 : std::clamp((q[5] + q[6] - pitch_a) / (pitch_b - pitch_a), 0.0, 1.0);
+    for (std::size_t j = kRightJoints; j < jointCount(); ++j) q[j] = a[j] + t * (b[j] - a[j]);
+  }
+  return true;
+}
+
+void IsurSuturingModel::coordinateScales(std::span<double> scale) const {
+  right_.coordinateScales(scale.first(kRightCoordinates));
+  for (std::size_t i = kRightCoordinates; i < coordinateCount(); ++i)
+    scale[i] = IsurPuncturingModel::kMaxRevoluteVelocity;
+}
+
+void IsurSuturingModel::coordinateBounds(std::span<const double> start, std::span<const double> goal,
+                                         std::span<double> lower, std::span<double> upper) const {
+  right_.coordinateBounds(start.first(kRightJoints), goal.first(kRightJoints), lower.first(kRightCoordinates),
+                          upper.first(kRightCoordinates));
+  const kinematics::JointLimits& limits = solver_.limits();
+  for (std::size_t j = 0; j < kLeftJoints; ++j) {
+    lower[kRightCoordinates + j] = limits.lower[kRightJoints + j];
+    upper[kRightCoordinates + j] = limits.upper[kRightJoints + j];
+  }
+  // The elbow (Puma260Solver::branch bit 1: sin(q3 + atan2(d4, a3))) and the wrist (bit 2: sin q5)
+  // stay on the start's side of their singularities.
+  const double elbow_offset = std::atan2(left_parameters_.d4, left_parameters_.a3);
+  using JointOffset = std::pair<std::size_t, double>;
+  for (const auto& [joint, offset] : {JointOffset{2, elbow_offset}, JointOffset{4, 0.0}}) {
+    double low = 0.0, high = 0.0;
+    branchInterval(start[kRightJoints + joint], offset, kBranchBoundMargin, low, high);
+    lower[kRightCoordinates + joint] = std::max(lower[kRightCoordinates + joint], low);
+    upper[kRightCoordinates + joint] = std::min(upper[kRightCoordinates + joint], high);
+  }
+}
+
+void IsurSuturingModel::jointsOf(std::span<const double> c, std::span<const double> start,
+                                 std::span<double> q) const {
+  right_.jointsOf(c.first(kRightCoordinates), start.first(kRightJoints), q.first(kRightJoints));
+  for (std::size_t j = 0; j < kLeftJoints; ++j) q[kRightJoints + j] = c[kRightCoordinates + j];
+}
+
+void IsurSuturingModel::coordinatesOf(std::span<const double> q, std::span<double> c) const {
+  right_.coordinatesOf(q.first(kRightJoints), c.first(kRightCoordinates));
+  for (std::size_t j = 0; j < kLeftJoints; ++j) c[kRightCoordinates + j] = q[kRightJoints + j];
 }
 
 RobotModels makeRobotModels(const SceneDescription& scene) {

@@ -5,7 +5,10 @@
 // two sensors, the Endo Stitch actuation, property errors, registration, and no allocation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <utility>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -14,6 +17,8 @@
 #include "cobra/components/sim/simulated_robot.hpp"
 #include "cobra/deploy/package_registry.hpp"
 #include "cobra/kinematics/isur.hpp"
+#include "cobra/planning/motion_planner.hpp"
+#include "cobra/planning/robot_adapters.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "puncturing_world.hpp"
@@ -336,6 +341,83 @@ TEST(SimulatedISURSuturingRobot, UpdatesAllocateNothing) {
   EXPECT_EQ(actuated, 1);
   EXPECT_EQ(busy, 2);
   EXPECT_EQ(rig.latest(rig.actuations), 1);
+}
+
+/// `a` to `b` at `s` in [0, 1]: the position on the line, the rotation on the geodesic (what the
+/// Cartesian trajectory generator follows between two waypoints).
+KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
+  KDL::Vector axis;
+  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
+  return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
+}
+
+// The planner (planning::MotionPlanner on planning/scenes/suturing.scene, joint space from the
+// robot's joints) and the robot agree: the planned Cartesian waypoints, commanded every 1 ms at
+// the planner's generator speeds (each segment at least as long as the planner assumed), are
+// followed with no refusal (no e_ik_* event: no branch change, no joint beyond its speed), the
+// Endo Stitch passing through its vertical between the two crossing waypoints, and the robot ends
+// on the planned goal joints.
+TEST(SimulatedISURSuturingRobot, APlannedPathThroughTheEndoStitchsVerticalIsFollowedWithoutARefusal) {
+  planning::SceneDescription scene =
+      planning::loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/suturing.scene");
+  const KDL::Frame base = scene.robots[0].base_in_world;
+  planning::RobotModels models = planning::makeRobotModels(scene);
+  planning::StateValidator validator(std::move(scene), std::move(models));
+  planning::PlannerOptions options;
+  options.first_bounds = {{-0.8, -0.8, 0.0}, {0.8, 0.8, 1.2}};
+  options.second_bounds = options.first_bounds;
+  options.max_validity_checks = 100000;
+  options.max_linear_velocity = 0.04;   // m/s
+  options.max_angular_velocity = 0.15;  // rad/s
+  planning::MotionPlanner planner(validator, options);
+  // The goal: the Endo Stitch pitched past its vertical (1.9 rad), turned and rolled, the
+  // gripper arm moved on its branch, the platform shifted.
+  const planning::JointState start(kInitial.begin(), kInitial.end());
+  const planning::JointState goal_joints{0.12, 0.09, 0.11, 0.0, 0.6, 1.1, 0.8, 0.5, 0.4, 0.2, -0.2, 0.5, 0.9, -0.5};
+  planning::DualPose goal;
+  ASSERT_TRUE(validator.toolPoses(goal_joints, goal));
+  const planning::PlanResult plan = planner.planPath(start, goal);
+  ASSERT_TRUE(plan.solved()) << plan.message;
+  bool crossed = false;
+  for (const planning::JointState& q : plan.joint_waypoints) crossed = crossed || q[5] + q[6] > std::numbers::pi / 2;
+  EXPECT_TRUE(crossed);
+
+  SuturingRig rig(base);
+  rig.start();
+  (void)rig.takeEvents();
+  double worst_right = 0.0, worst_left = 0.0;  // m, commanded to measured
+  for (std::size_t k = 0; k + 1 < plan.waypoints.size(); ++k) {
+    const planning::DualPose& a = plan.waypoints[k];
+    const planning::DualPose& b = plan.waypoints[k + 1];
+    double duration = options.blend_time;
+    for (const auto& [from, to] : {std::pair{&a.first, &b.first}, std::pair{&a.second, &b.second}}) {
+      for (int i = 0; i < 3; ++i)
+        duration = std::max(duration, std::abs(to->p(i) - from->p(i)) / options.max_linear_velocity);
+      KDL::Vector axis;
+      duration = std::max(duration, (from->M.Inverse() * to->M).GetRotAngle(axis) / options.max_angular_velocity);
+    }
+    const int steps = static_cast<int>(std::ceil(duration / 1e-3));
+    for (int i = 1; i <= steps; ++i) {
+      const double s = static_cast<double>(i) / steps;
+      const KDL::Frame right = interpolate(a.first, b.first, s), left = interpolate(a.second, b.second, s);
+      rig.right_command.write(right);
+      rig.left_command.write(left);
+      rig.step();
+      worst_right = std::max(worst_right, (rig.latest(rig.right_pose).p - right.p).Norm());
+      worst_left = std::max(worst_left, (rig.latest(rig.left_pose).p - left.p).Norm());
+    }
+    ASSERT_TRUE(rig.takeEvents().empty()) << "segment " << k << " of " << plan.waypoints.size() - 1;
+  }
+  rig.step(200);
+  const KDL::JntArray q = rig.latest(rig.joints);
+  for (unsigned j = 0; j < 14; ++j) EXPECT_NEAR(q(j), plan.joint_waypoints.back()[j], 1e-4) << "joint " << j + 1;
+  // The servo lags its command by speed x time constant: 0.04 m/s x 0.01 s per axis, plus the
+  // platform's share of a rotation.
+  EXPECT_LT(worst_right, 2e-3);
+  EXPECT_LT(worst_left, 2e-3);
+  RecordProperty("waypoints", static_cast<int>(plan.waypoints.size()));
+  RecordProperty("worst_tracking_right_m", std::to_string(worst_right));
+  RecordProperty("worst_tracking_left_m", std::to_string(worst_left));
 }
 
 TEST(SimulatedISURSuturingRobot, BadPropertiesAreRefusedWithTheirNameAndWhatIsExpected) {

@@ -7,7 +7,7 @@
 /// Cartesian trajectory generator follows) that are verified, and densified where needed, so that
 /// the Cartesian interpolation between waypoints is collision-free AND joint-continuous for the
 /// control path's IK at the generator's speed limits (README: "Joint-space planning").
-/// Scenes whose robot models offer no joint space (the suturing robot) are planned as before on
+/// Scenes whose robot models offer no joint space (stand-in robots of the tests) are planned as before on
 /// SE(3)×SE(3) with IK inside the validity check.
 
 #include <array>

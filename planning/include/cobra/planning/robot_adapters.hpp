@@ -13,9 +13,10 @@
 /// checked before it except along such a chain of small steps. resetWarmStart() forgets the
 /// previous solution. solve() allocates nothing (all joint arrays are preallocated).
 ///
-/// Ur5Model and IsurPuncturingModel also offer the joint space the motion planner searches
-/// (RobotModel::jointCount() and after); IsurSuturingModel does not yet (its scenes are planned
-/// on SE(3)×SE(3) through solve(), as before).
+/// All three also offer the joint space the motion planner searches (RobotModel::jointCount() and
+/// after): the planner searches joints (or the redundancy-resolved coordinates of the I-SUR) with
+/// forward kinematics only, and turns goals into joints with the continuity-keeping IK the
+/// control path uses (the start's branch).
 
 #include <array>
 #include <span>
@@ -215,6 +216,17 @@ class IsurPuncturingModel final : public RobotModel {
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
 /// = gripper (6-DOF arm). Links: kinematics::IsurSuturingSolver::linkFrames (12).
+///
+/// Joint space: the 14 joints of the solver; velocity limits those of the simulated robot
+/// (SimulatedISURSuturingRobot: 0.1 m/s sliders, 1.5 rad/s revolute). The macro + Endo Stitch
+/// sub-structure (q1..q8) is planned exactly as IsurPuncturingModel plans the puncturing robot
+/// (its seven redundancy-resolved coordinates, its goal rule, its crossings of the vertical
+/// Endo Stitch through the singular pose itself); the 6-DOF arm's joints q9..q14 are coordinates
+/// themselves, bounded to the start's elbow and wrist branch (kinematics::Puma260Solver::branch:
+/// the planner never searches across the arm's elbow or wrist singularity, which the control
+/// path's IK refuses to cross). inverseNear is the split IK on the seed's branch
+/// (IsurSuturingSolver::inverseOnBranch: what kinematics::ContinuousIsurSuturingIk solves), so a
+/// verified path is one the robot follows without a branch change.
 class IsurSuturingModel final : public RobotModel {
  public:
   /// Default warm-start seed: sliders at 0.1 m, the 6-DOF arm at (0, 0.5, -0.5, 0, 0.5, 0) rad.
@@ -235,10 +247,50 @@ class IsurSuturingModel final : public RobotModel {
   const KDL::JntArray& joints() const { return warm_.joints(); }
   kinematics::IsurSuturingSolver& solver() { return solver_; }
 
+  static constexpr std::size_t kRightJoints = kinematics::IsurSuturingSolver::kRightJoints;
+  static constexpr std::size_t kLeftJoints = kinematics::IsurSuturingSolver::kLeftJoints;
+  /// Coordinates of the macro + Endo Stitch sub-structure (IsurPuncturingModel's).
+  static constexpr std::size_t kRightCoordinates = 7;
+  /// How far inside the 6-DOF arm's elbow and wrist singularities its coordinate bounds stay (rad):
+  /// near them the Cartesian path needs large joint speeds.
+  static constexpr double kBranchBoundMargin = 0.02;
+  std::size_t jointCount() const override { return kinematics::IsurSuturingSolver::kJoints; }
+  void jointLimits(std::span<double> lower, std::span<double> upper, std::span<double> max_velocity) const override;
+  bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
+  /// Tool 0: link 5 (the Endo Stitch tip); tool 1: link 11 (the gripper).
+  std::size_t toolLink(std::size_t tool) const override { return tool == 0 ? 5 : 11; }
+  void seedJoints(std::span<double> q) const override;
+  /// The split IK on the branch of `seed` (both sub-structures), nearest it; OtherBranch when only
+  /// another branch reaches the tools.
+  Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
+                           std::span<double> q) override;
+  /// The Endo Stitch sub-structure by IsurPuncturingModel::inverseGoal (its redundancy rule from
+  /// the start), then the 6-DOF arm from that platform on the start's branch, nearest the start.
+  Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                           std::span<double> q) override;
+  /// IsurPuncturingModel::singularCrossing of q1..q8; the 6-DOF arm's joints on the segment at the
+  /// same fraction as the pitch q6 + q7 of each of the two configurations.
+  bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,
+                        std::span<double> after) const override;
+  /// 13 coordinates: IsurPuncturingModel's 7 of q1..q8, then q9..q14 (rad).
+  std::size_t coordinateCount() const override { return kRightCoordinates + kLeftJoints; }
+  void coordinateScales(std::span<double> scale) const override;
+  /// q1..q8's as IsurPuncturingModel's; q9..q14 within their limits and, for the elbow q11 and the
+  /// wrist q13, within the start's branch (kBranchBoundMargin inside its singular boundaries).
+  void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,
+                        std::span<double> upper) const override;
+  void jointsOf(std::span<const double> c, std::span<const double> start, std::span<double> q) const override;
+  void coordinatesOf(std::span<const double> q, std::span<double> c) const override;
+
  private:
+  Reachability reachability(kinematics::IkStatus status) const;
+
   kinematics::IsurSuturingSolver solver_;
+  IsurPuncturingModel right_;  // the macro + Endo Stitch sub-structure's planning rules
+  kinematics::Puma260Parameters left_parameters_;
   WarmStart<2> warm_;
   KDL::JntArray q_;
+  KDL::JntArray seed_;
 };
 
 /// The real robot models for the robots of `scene`, by name: `ur5` → Ur5Model; `isur` with one

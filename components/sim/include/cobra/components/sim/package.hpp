@@ -7,9 +7,10 @@
 
 namespace cobra::components {
 
-/// Registers SimulatedISURRobot, SimulatedISURSuturingRobot, SimulatedUR5Robot, PatientSimulator, SimulatedOmniPhantom, and the
-/// simulated devices of the drivers: SimulatedPuma260 (the analytic arm), Puma260World (the MuJoCo
-/// world), SimulatedFTSens, SimulatedLeapMotion.
+/// Registers SimulatedISURRobot, SimulatedISURSuturingRobot, SimulatedUR5Robot, PatientSimulator,
+/// SimulatedOmniPhantom, CryoConsole, WoundSimulator, and the simulated devices of the drivers:
+/// SimulatedPuma260 (the analytic arm), Puma260World (the MuJoCo world), SimulatedFTSens,
+/// SimulatedLeapMotion.
 void registerSimPackage(deploy::PackageBuilder& package);
 
 }  // namespace cobra::components
