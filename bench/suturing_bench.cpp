@@ -4,14 +4,15 @@
 //    runner's observers attached); realtime_factor = simulated s per wall s (median, and min = the
 //    worst of the repetitions), cpu_realtime_factor = the same per CPU s of the process. Peer: the
 //    puncturing task's default procedure (ProcedureSpeed/puncturing_two_needles).
-//  - SuturingQueries/<planner>: the planned motions of the default procedure (MoveOverWound before
-//    each half-stitch: the Endo Stitch from its initial pose, or from the pull above the previous
-//    stitch, to 3 cm above the next stitch's centre, the stick holding), reconstructed from the
-//    app's files (the straight cut's four stitches on the wound's frame, the robot's initial
+//  - SuturingQueries/<planner>: planned motions like the default procedure's MoveOverWound, in the
+//    robot's joint space as the deployment plans them (from the measured joints): the Endo Stitch
+//    from its initial pose to 3 cm above the first stitch's centre, then on to above each next
+//    stitch (each query from the joints where the previous path ended), the stick holding;
+//    reconstructed from the app's files (the straight cut's four stitches, the robot's initial
 //    joints, the app's tool frame and phantom placement) on planning/scenes/suturing.scene with the
-//    real two-armed I-SUR model, planned 5 times each with the deployment's settings (work limit
-//    20,000 checks); counters median_ms, p95_ms, max_ms, success_rate. RRTConnect (the deployment's)
-//    beside BiTRRT on the same queries.
+//    real two-armed I-SUR model, the sequence planned with 5 seeds and the deployment's settings
+//    (work limit 20,000 checks); counters median_ms, p95_ms, max_ms, success_rate. RRTConnect (the
+//    deployment's) beside BiTRRT on the same queries.
 
 #include <benchmark/benchmark.h>
 
@@ -83,29 +84,21 @@ const KDL::Frame kBase(KDL::Vector(0.0, 0.0, 1.0));
 const double kInitialJoints[14] = {0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
                                    0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266};
 
-struct Query {
-  cobra::planning::DualPose start, goal;
-};
-
-std::vector<Query> suturingQueries() {
+/// The goals: the Endo Stitch 3 cm above each stitch's centre, the stick where it starts.
+std::vector<cobra::planning::DualPose> suturingGoals() {
   cobra::kinematics::IsurSuturingSolver solver;
   KDL::JntArray q(14);
   for (unsigned i = 0; i < 14; ++i) q(i) = kInitialJoints[i];
   KDL::Frame right, left;
   (void)solver.forward(q, right, left);
-  const KDL::Frame right0 = kBase * right * kToolFrame, stick = kBase * left * kToolFrame;
+  const KDL::Frame stick = kBase * left * kToolFrame;
   const KDL::Rotation down = KDL::Rotation::RotX(kPi);  // the datums: z into the skin, x along the cut
-  std::vector<Query> queries;
-  KDL::Frame from = right0;
+  std::vector<cobra::planning::DualPose> goals;
   for (int k = 0; k < 4; ++k) {
     const KDL::Vector centre(0.178 - 0.02 + 0.008 * (k + 1), 0.0, 0.06 - 0.002);
-    const KDL::Frame over(down, centre + KDL::Vector(0.0, 0.0, 0.03));
-    queries.push_back({{from, stick}, {over, stick}});                           // the right half
-    const KDL::Frame pull(down, centre + KDL::Vector(0.0, 0.0, 0.037));
-    queries.push_back({{pull, stick}, {over, stick}});                           // the left half
-    from = pull;
+    goals.push_back({KDL::Frame(down, centre + KDL::Vector(0.0, 0.0, 0.03)), stick});
   }
-  return queries;
+  return goals;
 }
 
 void BM_SuturingQueries(benchmark::State& state, const std::string& planner_name) {
@@ -123,20 +116,25 @@ void BM_SuturingQueries(benchmark::State& state, const std::string& planner_name
   options.second_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
   options.max_linear_velocity = 0.02;
   options.max_angular_velocity = 0.3;
-  const std::vector<Query> queries = suturingQueries();
+  const std::vector<cobra::planning::DualPose> goals = suturingGoals();
   std::vector<double> times_ms;
   int solved = 0, asked = 0;
   for (auto _ : state) {
     for (int repetition = 0; repetition < 5; ++repetition) {
       options.seed = static_cast<std::uint32_t>(repetition + 1);
       cobra::planning::MotionPlanner planner(validator, options);
-      for (const Query& query : queries) {
+      cobra::planning::JointState start(std::begin(kInitialJoints), std::end(kInitialJoints));
+      for (const cobra::planning::DualPose& goal : goals) {
         const auto started = std::chrono::steady_clock::now();
-        const cobra::planning::PlanResult result = planner.planPath(query.start, query.goal);
+        const cobra::planning::PlanResult result = planner.planPath(start, goal);
         times_ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
         ++asked;
-        if (result.status == cobra::planning::PlanStatus::Solved) ++solved;
-        else std::fprintf(stderr, "%s: %s\n", planner_name.c_str(), result.message.c_str());
+        if (result.status == cobra::planning::PlanStatus::Solved) {
+          ++solved;
+          start = result.joint_waypoints.back();
+        } else {
+          std::fprintf(stderr, "%s: %s\n", planner_name.c_str(), result.message.c_str());
+        }
       }
     }
   }
