@@ -201,6 +201,29 @@ double Wound::freeThreadDistance(const KDL::Vector& p) const noexcept {
   return std::min(segmentDistance(p, *last, hook_), segmentDistance(p, hook_, tool_));
 }
 
+namespace {
+/// Unit vector from `from` to `to`, zero when they coincide.
+KDL::Vector towards(const KDL::Vector& from, const KDL::Vector& to) noexcept {
+  const KDL::Vector d = to - from;
+  const double n = d.Norm();
+  return n > 1e-12 ? d / n : KDL::Vector::Zero();
+}
+}  // namespace
+
+KDL::Vector Wound::toolForce() const noexcept {
+  KDL::Vector storage;
+  const KDL::Vector* last = lastSkinPoint(storage);
+  if (last == nullptr || broken_ || tension_ <= 0.0) return KDL::Vector::Zero();
+  return towards(tool_, hooked_ ? hook_ : *last) * tension_;
+}
+
+KDL::Vector Wound::stickForce() const noexcept {
+  KDL::Vector storage;
+  const KDL::Vector* last = lastSkinPoint(storage);
+  if (last == nullptr || broken_ || !hooked_ || tension_ <= 0.0) return KDL::Vector::Zero();
+  return (towards(hook_, *last) + towards(hook_, tool_)) * tension_;
+}
+
 StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
   StitchResult r;
   r.side = side;

@@ -219,6 +219,36 @@ TEST(Wound, TheRevisionChangesWithTheWoundsStateNotWithTheTension) {
   EXPECT_FALSE(changed());  // already free
 }
 
+TEST(Wound, TheTensedThreadPullsTheToolTowardItsHookAndTheStickBothWays) {
+  Wound wound(WoundModel{});
+  EXPECT_EQ(wound.toolForce(), KDL::Vector::Zero());  // no stitch
+  ASSERT_TRUE(wound.actuate(WoundSide::Right, wound.stitchPoint(WoundSide::Right, 0.02)).applied());
+  const KDL::Vector tip = wound.stitchPoint(WoundSide::Left, 0.02);
+  ASSERT_TRUE(wound.actuate(WoundSide::Left, tip).applied());
+  const KDL::Vector far(1.0, 1.0, 1.0);
+  wound.step(tip + KDL::Vector(0.0, 0.0, 0.005), far);
+  EXPECT_EQ(wound.toolForce(), KDL::Vector::Zero());  // slack
+  const KDL::Vector exit = wound.edgePoint(WoundSide::Left, 0.02, 0.0) + KDL::Vector(0.0, WoundModel{}.bite, 0.0);
+  KDL::Vector tool = tip + KDL::Vector(0.0, 0.0, 0.015);
+  const KDL::Vector stick = (exit + tool) * 0.5 - KDL::Vector(0.012, 0.0, 0.0);  // hooks, pushed 12 mm aside
+  wound.step(tool, (exit + tool) * 0.5);
+  ASSERT_TRUE(wound.hooked());
+  for (int i = 0; i < 400 && wound.tension() < 2.0; ++i) {  // the tool up 0.1 mm a step, the stick holding
+    tool += KDL::Vector(0.0, 0.0, 1e-4);
+    wound.step(tool, stick);
+  }
+  ASSERT_GT(wound.tension(), 2.0);
+  const KDL::Vector last = wound.edgePoint(WoundSide::Left, 0.02, 0.0) +
+                           wound.normal(0.02) * WoundModel{}.bite;  // the left skin point
+  const KDL::Vector to_hook = (stick - tool) / (stick - tool).Norm();
+  EXPECT_NEAR((wound.toolForce() - to_hook * wound.tension()).Norm(), 0.0, 1e-9);
+  const KDL::Vector expected = ((last - stick) / (last - stick).Norm() + (tool - stick) / (tool - stick).Norm()) *
+                               wound.tension();
+  EXPECT_NEAR((wound.stickForce() - expected).Norm(), 0.0, 1e-9);
+  wound.releaseThread();
+  EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
+}
+
 TEST(Wound, FourPulledStitchesCloseAFortyMillimetreCut) {
   const WoundModel model;
   Wound wound(model);

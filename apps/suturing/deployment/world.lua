@@ -42,6 +42,11 @@ connectPorts({
   { output = "ISUR.trueRightCartPose", input = "Patient.toolTipPose" },
   { output = "ISUR.trueLeftCartPose", input = "Patient.stickTipPose" },
   { output = "ISUR.endoStitchActuations", input = "Patient.endoStitchActuations" },
+  -- The thread pulls on the Endo Stitch (its sensor measures it, its admittance gives way). The
+  -- stick's pull (Patient.stickWrench) is left out: released at once when the stick lets the
+  -- thread go, its step makes the stick arm's compliant admittance jump beyond what the robot
+  -- follows continuously (e_ik_discontinuity).
+  { output = "Patient.toolWrench", input = "ISUR.contactRightWrench" },
 })
 configureComponents(world)
 startComponents(world)

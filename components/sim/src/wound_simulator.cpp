@@ -22,6 +22,8 @@ WoundSimulator::WoundSimulator(std::string name)
   addPort(actuations_);
   addEventPort(input_events_);
   addPort(tension_);
+  addPort(tool_wrench_);
+  addPort(stick_wrench_);
   addPort(stitch_count_);
   addPort(max_stitch_gap_);
   addPort(max_gap_out_);
@@ -146,6 +148,9 @@ void WoundSimulator::publish(bool all) noexcept {
   }
   // Written every step (a reader connected later gets them too); recomputed only above.
   tension_.write(w.tension());
+  const KDL::Rotation& to_world = wound_pose_().M;
+  tool_wrench_.write(KDL::Wrench(to_world * w.toolForce(), KDL::Vector::Zero()));
+  stick_wrench_.write(KDL::Wrench(to_world * w.stickForce(), KDL::Vector::Zero()));
   stitch_count_.write(complete_);
   max_stitch_gap_.write(widest_stitch_gap_);
   max_gap_out_.write(widest_gap_);

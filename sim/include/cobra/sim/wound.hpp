@@ -159,6 +159,11 @@ class Wound {
   double threadRest() const noexcept { return rest_; }
   /// m: the free thread's (last skin point to tool, via the stick) distance from `p`; +inf with no stitch.
   double freeThreadDistance(const KDL::Vector& p) const noexcept;
+  /// N, W: the force the tensed thread puts on the tool's tip (tension along the free thread, toward
+  /// the hook or the last skin point) and on the stick while hooked (the thread bent round it:
+  /// tension along both of its sides); zero when slack, broken or without a stitch.
+  KDL::Vector toolForce() const noexcept;
+  KDL::Vector stickForce() const noexcept;
   const std::vector<Stitch>& stitches() const noexcept { return stitches_; }
   /// m: the gap at stitch i (its s).
   double stitchGap(int i) const noexcept;

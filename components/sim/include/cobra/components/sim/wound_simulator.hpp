@@ -38,7 +38,9 @@ namespace cobra::components {
 /// needle transfer is what the wound sees. A count lower than the last one (the robot restarted)
 /// is taken as the new origin. `inputEvents` (event port): `release_event` ("e_release_thread")
 /// makes the stick let the thread go.
-/// Outputs: `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
+/// Outputs: `toolWrench`, `stickWrench` (KDL::Wrench, N, world axes, at the tips, no torque: the
+/// tensed thread's pull, sim::Wound::toolForce / stickForce; a robot's contact wrench inputs);
+/// `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
 /// `edge_samples` places along the cut, the right then the left edge point on the skin, x y z in W,
@@ -100,6 +102,8 @@ class WoundSimulator : public core::Component {
   core::InputPort<int> actuations_{"endoStitchActuations", "the robot's count of completed Endo Stitch actuations", "1"};
   core::InputPort<core::Event> input_events_{"inputEvents", "thread release requests", ""};
   core::OutputPort<double> tension_{"threadTension", "thread tension", "N"};
+  core::OutputPort<KDL::Wrench> tool_wrench_{"toolWrench", "the thread's pull on the Endo Stitch's tip, world", "N"};
+  core::OutputPort<KDL::Wrench> stick_wrench_{"stickWrench", "the hooked thread's pull on the stick's tip, world", "N"};
   core::OutputPort<int> stitch_count_{"stitchCount", "complete stitches", "1"};
   core::OutputPort<double> max_stitch_gap_{"maxStitchGap", "largest gap at a stitch (0 with none)", "m"};
   core::OutputPort<double> max_gap_out_{"maxGap", "the widest gap along the cut", "m"};
