@@ -6,8 +6,9 @@
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
 #   test --tsan      the concurrency tests under ThreadSanitizer
-#   demo [basics|puma260]  build and run the puncturing procedure in simulation (basics: the small
-#                    demos; puma260: the retrofitted Puma 260 task, thesis ch. 6)
+#   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
+#                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
+#                    suturing: the two-armed suturing task, thesis ch. 5)
 #   bench            build and run the benchmarks (Google Benchmark; median and max)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
@@ -142,8 +143,13 @@ case "${1:-help}" in
       say "the thesis' retrofitted Puma 260 (ch. 6): a linear path across an unexpected surface (cobra run apps/puma260)"
       ./build/release/tools/cobra/cobra run apps/puma260 --report "$PWD/build/demo-puma260-report"
       say "Fig. 6.7 (nominal and actual tool path, phases A-H) is the report's first figure"
+    elif [ "${2:-}" = suturing ]; then
+      say "building the suturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
+      build release --target cobra
+      say "the thesis' suturing task (ch. 5) in simulation: a 40 mm cut closed with 4 stitches (cobra run apps/suturing)"
+      ./build/release/tools/cobra/cobra run apps/suturing --report "$PWD/build/demo-suturing-report"
     elif [ -n "${2:-}" ]; then
-      echo "do demo: unknown demo '$2' (expected basics or puma260)" >&2; exit 2
+      echo "do demo: unknown demo '$2' (expected basics, puma260 or suturing)" >&2; exit 2
     else
       say "building the puncturing demo (first time: installs packages and compiles, 15-20 minutes on 2 cores)"
       build release --target cobra

@@ -199,6 +199,29 @@ double Wound::freeThreadDistance(const KDL::Vector& p) const noexcept {
   return std::min(segmentDistance(p, *last, hook_), segmentDistance(p, hook_, tool_));
 }
 
+namespace {
+/// Unit vector from `from` to `to`, zero when they coincide.
+KDL::Vector towards(const KDL::Vector& from, const KDL::Vector& to) noexcept {
+  const KDL::Vector d = to - from;
+  const double n = d.Norm();
+  return n > 1e-12 ? d / n : KDL::Vector::Zero();
+}
+}  // namespace
+
+KDL::Vector Wound::toolForce() const noexcept {
+  KDL::Vector storage;
+  const KDL::Vector* last = lastSkinPoint(storage);
+  if (last == nullptr || broken_ || tension_ <= 0.0) return KDL::Vector::Zero();
+  return towards(tool_, hooked_ ? hook_ : *last) * tension_;
+}
+
+KDL::Vector Wound::stickForce() const noexcept {
+  KDL::Vector storage;
+  const KDL::Vector* last = lastSkinPoint(storage);
+  if (last == nullptr || broken_ || !hooked_ || tension_ <= 0.0) return KDL::Vector::Zero();
+  return (towards(hook_, *last) + towards(hook_, tool_)) * tension_;
+}
+
 StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
   StitchResult r;
   r.side = side;
@@ -247,6 +270,7 @@ StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
     return r;
   }
   rest_ = rest;
+  ++revision_;
   r.stitch = static_cast<int>(stitches_.size()) - 1;
   return r;
 }
@@ -264,6 +288,7 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
   else if (segmentDistance(stick, *last, tool) <= thread_.hook_radius) {
     hooked_ = true;
     hook_ = stick;
+    ++revision_;
   }
   double path = fixedPath() + freePath(tool);
   Stitch& pulled = stitches_.back();
@@ -276,6 +301,7 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     const double closure = std::clamp(std::max(pulled.closure, balance), 0.0, std::max(0.0, others));
     if (closure != pulled.closure) {
       pulled.closure = closure;
+      ++revision_;
       path = fixedPath() + freePath(tool);
     }
   }
@@ -285,7 +311,19 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     broken_ = true;
     hooked_ = false;
     tension_ = 0.0;
+    ++revision_;
   }
+}
+
+void Wound::releaseThread() noexcept {
+  if (!hooked_) return;
+  hooked_ = false;
+  ++revision_;
+}
+
+WoundSide Wound::sideAt(const KDL::Vector& p) const noexcept {
+  const double s = nearestS(p);
+  return KDL::dot(p - centre(s), normal(s)) > 0.0 ? WoundSide::Left : WoundSide::Right;
 }
 
 double Wound::stitchGap(int i) const noexcept { return gap(stitches_[static_cast<std::size_t>(i)].s); }

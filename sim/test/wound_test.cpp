@@ -184,6 +184,71 @@ TEST(Wound, TheStickHooksTheFreeThreadAndPushesItAside) {
   EXPECT_FALSE(wound.hooked());
 }
 
+TEST(Wound, TheRevisionChangesWithTheWoundsStateNotWithTheTension) {
+  Wound wound(WoundModel{});
+  const KDL::Vector far(1.0, 1.0, 1.0);
+  std::uint64_t seen = wound.revision();
+  const auto changed = [&] {
+    const bool moved = wound.revision() != seen;
+    seen = wound.revision();
+    return moved;
+  };
+  EXPECT_EQ(wound.sideAt(wound.stitchPoint(WoundSide::Right, 0.01)), WoundSide::Right);
+  EXPECT_EQ(wound.sideAt(wound.stitchPoint(WoundSide::Left, 0.01)), WoundSide::Left);
+  EXPECT_FALSE(wound.actuate(WoundSide::Right, KDL::Vector(0.0, 0.0, 0.01)).applied());
+  EXPECT_FALSE(changed());  // a miss changes nothing
+  ASSERT_TRUE(wound.actuate(WoundSide::Right, wound.stitchPoint(WoundSide::Right, 0.02)).applied());
+  EXPECT_TRUE(changed());
+  const KDL::Vector tip = wound.stitchPoint(WoundSide::Left, 0.02);
+  ASSERT_TRUE(wound.actuate(WoundSide::Left, tip).applied());
+  EXPECT_TRUE(changed());
+  wound.step(tip + KDL::Vector(0.0, 0.0, 0.005), far);  // within the slack: the tension alone moves
+  EXPECT_FALSE(changed());
+  pullUp(wound, tip, 0.1, [&] { return wound.stitches()[0].closure > 0.0; });
+  EXPECT_TRUE(changed());  // the closure moved the edges
+  const KDL::Vector exit = wound.edgePoint(WoundSide::Left, 0.02, 0.0) + KDL::Vector(0.0, WoundModel{}.bite, 0.0);
+  const KDL::Vector tool = tip + KDL::Vector(0.0, 0.0, 0.002);
+  wound.step(tool, far);
+  changed();
+  wound.step(tool, (exit + tool) * 0.5);
+  ASSERT_TRUE(wound.hooked());
+  EXPECT_TRUE(changed());
+  wound.releaseThread();
+  EXPECT_TRUE(changed());
+  wound.releaseThread();
+  EXPECT_FALSE(changed());  // already free
+}
+
+TEST(Wound, TheTensedThreadPullsTheToolTowardItsHookAndTheStickBothWays) {
+  Wound wound(WoundModel{});
+  EXPECT_EQ(wound.toolForce(), KDL::Vector::Zero());  // no stitch
+  ASSERT_TRUE(wound.actuate(WoundSide::Right, wound.stitchPoint(WoundSide::Right, 0.02)).applied());
+  const KDL::Vector tip = wound.stitchPoint(WoundSide::Left, 0.02);
+  ASSERT_TRUE(wound.actuate(WoundSide::Left, tip).applied());
+  const KDL::Vector far(1.0, 1.0, 1.0);
+  wound.step(tip + KDL::Vector(0.0, 0.0, 0.005), far);
+  EXPECT_EQ(wound.toolForce(), KDL::Vector::Zero());  // slack
+  const KDL::Vector exit = wound.edgePoint(WoundSide::Left, 0.02, 0.0) + KDL::Vector(0.0, WoundModel{}.bite, 0.0);
+  KDL::Vector tool = tip + KDL::Vector(0.0, 0.0, 0.015);
+  const KDL::Vector stick = (exit + tool) * 0.5 - KDL::Vector(0.012, 0.0, 0.0);  // hooks, pushed 12 mm aside
+  wound.step(tool, (exit + tool) * 0.5);
+  ASSERT_TRUE(wound.hooked());
+  for (int i = 0; i < 400 && wound.tension() < 2.0; ++i) {  // the tool up 0.1 mm a step, the stick holding
+    tool += KDL::Vector(0.0, 0.0, 1e-4);
+    wound.step(tool, stick);
+  }
+  ASSERT_GT(wound.tension(), 2.0);
+  const KDL::Vector last = wound.edgePoint(WoundSide::Left, 0.02, 0.0) +
+                           wound.normal(0.02) * WoundModel{}.bite;  // the left skin point
+  const KDL::Vector to_hook = (stick - tool) / (stick - tool).Norm();
+  EXPECT_NEAR((wound.toolForce() - to_hook * wound.tension()).Norm(), 0.0, 1e-9);
+  const KDL::Vector expected = ((last - stick) / (last - stick).Norm() + (tool - stick) / (tool - stick).Norm()) *
+                               wound.tension();
+  EXPECT_NEAR((wound.stickForce() - expected).Norm(), 0.0, 1e-9);
+  wound.releaseThread();
+  EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
+}
+
 TEST(Wound, FourPulledStitchesCloseAFortyMillimetreCut) {
   const WoundModel model;
   Wound wound(model);

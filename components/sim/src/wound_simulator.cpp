@@ -13,12 +13,17 @@ WoundSimulator::WoundSimulator(std::string name)
     addProperty(*p);
   addProperty(cut_);
   addProperty(wound_pose_);
+  addProperty(tool_tip_offset_);
+  addProperty(stick_tip_offset_);
   addProperty(edge_samples_);
-  for (auto* p : {&actuate_right_event_, &actuate_left_event_, &release_event_}) addProperty(*p);
+  addProperty(release_event_);
   addPort(tool_tip_);
   addPort(stick_tip_);
+  addPort(actuations_);
   addEventPort(input_events_);
   addPort(tension_);
+  addPort(tool_wrench_);
+  addPort(stick_wrench_);
   addPort(stitch_count_);
   addPort(max_stitch_gap_);
   addPort(max_gap_out_);
@@ -34,13 +39,8 @@ bool WoundSimulator::configureHook() {
                   " numbers; expected x, y pairs (m) of at least 2 points of the cut's centreline");
   if (edge_samples_() < 2)
     return refuse("property edge_samples is " + std::to_string(edge_samples_()) + "; expected at least 2");
-  for (const auto& [property, name] : {std::pair{&actuate_right_event_, "actuate_right_event"},
-                                       std::pair{&actuate_left_event_, "actuate_left_event"},
-                                       std::pair{&release_event_, "release_event"}}) {
-    const std::string& value = (*property)();
-    if (value.empty() || value.size() > core::BoundedString<63>::capacity())
-      return refuse("property " + std::string(name) + " is '" + value + "'; expected an event name of 1 to 63 characters");
-  }
+  if (release_event_().empty() || release_event_().size() > core::BoundedString<63>::capacity())
+    return refuse("property release_event is '" + release_event_() + "'; expected an event name of 1 to 63 characters");
   sim::WoundModel wound;
   wound.cut.clear();
   for (std::size_t i = 0; i < cut.size(); i += 2) wound.cut.emplace_back(cut[i], cut[i + 1], 0.0);
@@ -63,8 +63,6 @@ bool WoundSimulator::configureHook() {
     return refuse(e.what());  // names the parameter and its range
   }
   world_to_wound_ = wound_pose_().Inverse();
-  right_name_.assign(actuate_right_event_());
-  left_name_.assign(actuate_left_event_());
   release_name_.assign(release_event_());
   edge_buffer_.assign(static_cast<std::size_t>(edge_samples_()) * 6, 0.0);
   edges_.setDataSample(edge_buffer_);
@@ -73,22 +71,23 @@ bool WoundSimulator::configureHook() {
 
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
+  actuations_seen_ = 0;
   core::Event stale;
   while (input_events_.read(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
-  publish();
+  publish(true);
   return true;
 }
 
 void WoundSimulator::cleanupHook() { wound_.reset(); }
 
-void WoundSimulator::actuate(sim::WoundSide side) noexcept {
+void WoundSimulator::actuate() noexcept {
   if (!have_tool_) {
     miss_reason_.write(static_cast<int>(sim::StitchMiss::OutsideWound));
     emitEvent("e_stitch_missed");
     return;
   }
-  const sim::StitchResult r = wound_->actuate(side, tool_);
+  const sim::StitchResult r = wound_->actuate(wound_->sideAt(tool_), tool_);
   if (r.applied()) {
     emitEvent("e_stitch_applied");
     return;
@@ -101,49 +100,60 @@ void WoundSimulator::actuate(sim::WoundSide side) noexcept {
 void WoundSimulator::updateHook() {
   KDL::Frame pose;
   if (tool_tip_.read(pose) != core::FlowStatus::NoData) {
-    tool_ = world_to_wound_ * pose.p;
+    tool_ = world_to_wound_ * (pose * tool_tip_offset_().p);
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_ = world_to_wound_ * pose.p;
+    stick_ = world_to_wound_ * (pose * stick_tip_offset_().p);
     have_stick_ = true;
+  }
+  int count = 0;
+  if (actuations_.read(count) == core::FlowStatus::NewData) {
+    if (count < actuations_seen_) actuations_seen_ = count;  // the robot restarted its count
+    for (; actuations_seen_ < count; ++actuations_seen_) actuate();
   }
   core::Event request;
   while (input_events_.read(request) == core::FlowStatus::NewData) {
-    if (request.name == right_name_) actuate(sim::WoundSide::Right);
-    else if (request.name == left_name_) actuate(sim::WoundSide::Left);
-    else if (request.name == release_name_) wound_->releaseThread();
+    if (request.name == release_name_) wound_->releaseThread();
   }
   if (have_tool_ && have_stick_) wound_->step(tool_, stick_);
   if (wound_->hooked() && !hooked_) emitEvent("e_thread_hooked");
   hooked_ = wound_->hooked();
   if (wound_->broken() && !broken_) emitEvent("e_thread_broken");
   broken_ = wound_->broken();
-  publish();
+  publish(false);
 }
 
-void WoundSimulator::publish() noexcept {
+void WoundSimulator::publish(bool all) noexcept {
   const sim::Wound& w = *wound_;
+  if (all || w.revision() != published_revision_) {  // the gap changed: recompute what depends on it
+    published_revision_ = w.revision();
+    complete_ = 0;
+    widest_stitch_gap_ = 0.0;
+    for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
+      if (w.stitches()[static_cast<std::size_t>(i)].complete()) ++complete_;
+      widest_stitch_gap_ = std::max(widest_stitch_gap_, w.stitchGap(i));
+    }
+    widest_gap_ = w.maxGap();
+    const KDL::Frame& to_world = wound_pose_();
+    const std::size_t samples = edge_buffer_.size() / 6;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const double s = w.length() * static_cast<double>(i) / static_cast<double>(samples - 1);
+      const KDL::Vector right = to_world * w.edgePoint(sim::WoundSide::Right, s, 0.0);
+      const KDL::Vector left = to_world * w.edgePoint(sim::WoundSide::Left, s, 0.0);
+      double* out = &edge_buffer_[i * 6];
+      out[0] = right.x(), out[1] = right.y(), out[2] = right.z();
+      out[3] = left.x(), out[4] = left.y(), out[5] = left.z();
+    }
+  }
+  // Written every step (a reader connected later gets them too); recomputed only above.
   tension_.write(w.tension());
-  int complete = 0;
-  double widest = 0.0;
-  for (int i = 0; i < static_cast<int>(w.stitches().size()); ++i) {
-    if (w.stitches()[static_cast<std::size_t>(i)].complete()) ++complete;
-    widest = std::max(widest, w.stitchGap(i));
-  }
-  stitch_count_.write(complete);
-  max_stitch_gap_.write(widest);
-  max_gap_out_.write(w.maxGap());
-  const KDL::Frame& to_world = wound_pose_();
-  const std::size_t samples = edge_buffer_.size() / 6;
-  for (std::size_t i = 0; i < samples; ++i) {
-    const double s = w.length() * static_cast<double>(i) / static_cast<double>(samples - 1);
-    const KDL::Vector right = to_world * w.edgePoint(sim::WoundSide::Right, s, 0.0);
-    const KDL::Vector left = to_world * w.edgePoint(sim::WoundSide::Left, s, 0.0);
-    double* out = &edge_buffer_[i * 6];
-    out[0] = right.x(), out[1] = right.y(), out[2] = right.z();
-    out[3] = left.x(), out[4] = left.y(), out[5] = left.z();
-  }
+  const KDL::Rotation& to_world = wound_pose_().M;
+  tool_wrench_.write(KDL::Wrench(to_world * w.toolForce(), KDL::Vector::Zero()));
+  stick_wrench_.write(KDL::Wrench(to_world * w.stickForce(), KDL::Vector::Zero()));
+  stitch_count_.write(complete_);
+  max_stitch_gap_.write(widest_stitch_gap_);
+  max_gap_out_.write(widest_gap_);
   edges_.write(edge_buffer_);
 }
 

@@ -1,6 +1,7 @@
 // WoundSimulator: on the lockstep clock, with the wound placed off the world's origin: an Endo
-// Stitch actuation away from the edge is a miss with its reason and distance; both halves at the
-// stitch points apply a stitch; pulling the tool up tensions the thread and closes the gap; four
+// Stitch actuation (the robot's actuation count rising) away from the edge is a miss with its
+// reason and distance; both halves at the stitch points apply a stitch, each on the edge the tip
+// is at; pulling the tool up tensions the thread and closes the gap; four
 // stitches close the wound at each stitch; the stick hooks the thread; woundEdges carries the
 // edges in the world; bad properties are refused naming them; updateHook allocates nothing.
 #include "cobra/components/sim/wound_simulator.hpp"
@@ -24,7 +25,9 @@ struct Bench {
   WoundSimulator patient{"Patient"};
   core::OutputPort<KDL::Frame> tool{"tool", "", "m"};
   core::OutputPort<KDL::Frame> stick{"stick", "", "m"};
+  core::OutputPort<int> actuations{"actuations", "", "1"};  // the robot's Endo Stitch count
   core::OutputPort<core::Event> requests{"requests", "", ""};
+  int actuated = 0;
   core::InputPort<core::Event> events{"events", "", ""};
   core::InputPort<double> tension{"tension", "", "N"}, widest{"widest", "", "m"}, miss_distance{"missDistance", "", "m"};
   core::InputPort<int> count{"count", "", "1"}, miss{"miss", "", "1"};
@@ -36,6 +39,7 @@ struct Bench {
     clock.add(patient, std::chrono::milliseconds(1));
     core::connectPorts(tool, patient.port("toolTipPose"));
     core::connectPorts(stick, patient.port("stickTipPose"));
+    core::connectPorts(actuations, patient.port("endoStitchActuations"));
     core::connectPorts(requests, patient.port("inputEvents"), core::ConnPolicy::buffer(8));
     core::connectPorts(patient.port("events"), events, core::ConnPolicy::buffer(16));
     core::connectPorts(patient.port("threadTension"), tension);
@@ -57,10 +61,9 @@ struct Bench {
     clock.advance(std::chrono::milliseconds(1));
     for (core::Event e; events.read(e) == core::FlowStatus::NewData;) said.push_back(e.name.str());
   }
-  void actuate(const char* event, const KDL::Vector& tip) {
-    core::Event e;
-    e.name = event;
-    requests.write(e);
+  /// The robot actuated the Endo Stitch once more with the tip at `tip` (wound frame).
+  void actuate(const KDL::Vector& tip) {
+    actuations.write(++actuated);
     step(tip);
   }
   template <class T>
@@ -69,11 +72,22 @@ struct Bench {
     (void)port.read(v);
     return v;
   }
+  /// Both halves at s = 20 mm, then the tool 15 mm up (within the slack): returns the tool's tip;
+  /// `midway` is where the free thread's middle then is (wound frame).
+  KDL::Vector stitchAndLift(KDL::Vector& midway) {
+    actuate(model.stitchPoint(sim::WoundSide::Right, 0.02));
+    const KDL::Vector tip = model.stitchPoint(sim::WoundSide::Left, 0.02);
+    actuate(tip);
+    const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
+    const KDL::Vector exit = model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
+    midway = (exit + up) * 0.5;
+    return up;
+  }
   /// Both halves at s, then the tool pulled up until the stitch's gap is below 0.5 mm.
   void stitch(double s) {
-    actuate("e_endo_stitch_right", model.stitchPoint(sim::WoundSide::Right, s));
+    actuate(model.stitchPoint(sim::WoundSide::Right, s));
     const KDL::Vector tip = model.stitchPoint(sim::WoundSide::Left, s);
-    actuate("e_endo_stitch_left", tip);
+    actuate(tip);
     for (double lift = 0.0; lift < 0.08 && read(widest) >= 0.0005; lift += 2e-4) step(tip + KDL::Vector(0, 0, lift));
     step(tip);
   }
@@ -82,7 +96,7 @@ struct Bench {
 TEST(WoundSimulator, AMissSaysWhyThenBothHalvesApplyAStitchThatThePullCloses) {
   Bench b;
   b.start();
-  b.actuate("e_endo_stitch_right", b.model.stitchPoint(sim::WoundSide::Right, 0.008) + KDL::Vector(0, 0.0025, 0));
+  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.008) + KDL::Vector(0, 0, -0.0025));  // too deep
   EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_missed"}));
   EXPECT_EQ(b.read(b.miss), static_cast<int>(sim::StitchMiss::FarFromEdge));
   EXPECT_NEAR(b.read(b.miss_distance), 0.0025, 1e-9);
@@ -108,18 +122,49 @@ TEST(WoundSimulator, TheStickHooksTheThreadAndTheEdgesArePublishedInTheWorld) {
   Bench b;
   b.patient.setProperty("edge_samples", 5);
   b.start();
-  b.actuate("e_endo_stitch_right", b.model.stitchPoint(sim::WoundSide::Right, 0.02));
-  const KDL::Vector tip = b.model.stitchPoint(sim::WoundSide::Left, 0.02);
-  b.actuate("e_endo_stitch_left", tip);
-  const KDL::Vector up = tip + KDL::Vector(0, 0, 0.015);
-  const KDL::Vector exit = b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0);
-  b.step(up, (exit + up) * 0.5 + KDL::Vector(0.001, 0, 0));
+  KDL::Vector midway;
+  const KDL::Vector up = b.stitchAndLift(midway);
+  b.step(up, midway + KDL::Vector(0.001, 0, 0));
   EXPECT_EQ(b.said.back(), "e_thread_hooked");
 
   const std::vector<double> edges = b.read(b.edges);
   ASSERT_EQ(edges.size(), 30u);  // 5 samples × (right, left) × xyz
   const KDL::Vector left_middle(edges[12 + 3], edges[12 + 4], edges[12 + 5]);  // sample 2 = the middle
   EXPECT_NEAR((left_middle - kWoundPose * b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0)).Norm(), 0.0, 1e-12);
+}
+
+TEST(WoundSimulator, SeveralActuationsInOneStepEachTryAHalfAndARestartedCountIsANewOrigin) {
+  Bench b;
+  b.start();
+  b.actuations.write(b.actuated += 2);  // two actuations seen in one step at the right edge point
+  b.step(b.model.stitchPoint(sim::WoundSide::Right, 0.01));
+  // The first applies the right half; the second, on the same (right) edge, is refused.
+  EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_applied", "e_stitch_missed"}));
+  EXPECT_EQ(b.read(b.miss), static_cast<int>(sim::StitchMiss::RightStillOpen));
+  b.said.clear();
+  b.actuated = 0;  // the robot restarted: 0 is the new origin, 1 the next actuation
+  b.actuations.write(0);
+  b.step(b.model.stitchPoint(sim::WoundSide::Left, 0.01));
+  EXPECT_TRUE(b.said.empty());
+  b.actuate(b.model.stitchPoint(sim::WoundSide::Left, 0.01));
+  EXPECT_EQ(b.said, (std::vector<std::string>{"e_stitch_applied"}));
+  EXPECT_EQ(b.read(b.count), 1);
+}
+
+TEST(WoundSimulator, TheReleaseEventLetsTheHookedThreadGo) {
+  Bench b;
+  b.start();
+  KDL::Vector stick;
+  const KDL::Vector up = b.stitchAndLift(stick);
+  b.step(up, stick);
+  ASSERT_EQ(b.said.back(), "e_thread_hooked");
+  core::Event e;
+  e.name = "e_release_thread";
+  b.requests.write(e);
+  b.step(up, stick + KDL::Vector(0.0, 0.0, 0.02));  // the stick withdraws up, away from the thread
+  b.said.clear();
+  b.step(up, stick);  // back where it hooked: caught again, so it had let go
+  EXPECT_EQ(b.said, (std::vector<std::string>{"e_thread_hooked"}));
 }
 
 TEST(WoundSimulator, BadPropertiesAreRefusedNamingThem) {
@@ -134,19 +179,16 @@ TEST(WoundSimulator, BadPropertiesAreRefusedNamingThem) {
 TEST(WoundSimulator, UpdatesAllocateNothing) {
   Bench b;
   b.start();
+  b.actuations.write(b.actuated);  // the robot publishes its count from its start
   b.step(KDL::Vector(0, 0, 0.01));
   const KDL::Frame right(kWoundPose * b.model.stitchPoint(sim::WoundSide::Right, 0.02));
   const KDL::Frame left(kWoundPose * b.model.stitchPoint(sim::WoundSide::Left, 0.02));
-  core::Event e;
   const long calls = test_support::allocationsDuring([&] {
     for (int i = 0; i < 400; ++i) {  // 100 ms at the right point, then the left, pulled up 3 cm
       const bool first = i < 100;
       b.tool.write(first ? right : KDL::Frame(left.p + KDL::Vector(0, 0, 1e-4 * (i - 100))));
       b.stick.write(KDL::Frame(KDL::Vector(0.0, 0.5, 0.5)));
-      if (i == 10 || i == 100) {
-        e.name = first ? "e_endo_stitch_right" : "e_endo_stitch_left";
-        b.requests.write(e);
-      }
+      if (i == 10 || i == 100) b.actuations.write(++b.actuated);
       b.clock.advance(std::chrono::milliseconds(1));
     }
   });

@@ -10,25 +10,7 @@ namespace cobra::components {
 namespace {
 
 constexpr std::size_t kArms = 2;  // arm 0 = needle, arm 1 = probe
-
-/// Writes `pose` as x y z qx qy qz qw at `values[slot * 7]` (path_type.hpp's encoding; slot =
-/// pair * 2 + arm in a waypoint of several pairs).
-void encode(const KDL::Frame& pose, std::size_t slot, std::vector<double>& values) noexcept {
-  double* out = values.data() + slot * kValuesPerArm;
-  out[0] = pose.p.x();
-  out[1] = pose.p.y();
-  out[2] = pose.p.z();
-  pose.M.GetQuaternion(out[3], out[4], out[5], out[6]);
-}
-
-const char* armName(std::size_t arm) { return arm == 0 ? "needle" : "probe"; }
-
-std::string describe(const puncturing::Datum& datum) {
-  if (datum.offset == 0.0) return datum.name;
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%+g", datum.offset);
-  return datum.name + buffer;
-}
+static_assert(puncturing::kPoseValues == kValuesPerArm, "the table's goal encoding is the motion components' path encoding");
 
 }  // namespace
 
@@ -103,16 +85,15 @@ const KDL::Frame& PuncturingFrameGenerator::abdomen() {
   return abdomen_;
 }
 
-const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& datum, Arm arm, const char*& why) {
-  const auto a = static_cast<std::size_t>(arm);
-  KDL::Frame& out = resolved_[a];
+puncturing::DatumSource::Outcome PuncturingFrameGenerator::resolve(const puncturing::Datum& datum, std::size_t arm,
+                                                                   KDL::Frame& out, const char*& why) {
   bool next = false;
   if (datum.name == "hold") {
-    if (!have_measured_[a]) {
-      why = arm == Arm::Needle ? "no pose on needleMeasPose yet" : "no pose on USMeasPose yet";
-      return nullptr;
+    if (!have_measured_[arm]) {
+      why = arm == 0 ? "no pose on needleMeasPose yet" : "no pose on USMeasPose yet";
+      return Outcome::Missing;
     }
-    out = measured_[a];
+    out = measured_[arm];
   } else if (const KDL::Frame* fixed = table_.pose(datum.name)) {
     out = *fixed;
   } else {
@@ -120,7 +101,7 @@ const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& dat
     const auto i = static_cast<std::size_t>(needle_) + (next ? 1 : 0);
     if (i >= plan_->needles.size()) {
       why = next ? "no needle after the current one" : "no more needles (all planned needles are done)";
-      return nullptr;
+      return next ? Outcome::NotComing : Outcome::Missing;
     }
     const std::string_view name = std::string_view(datum.name).substr(next ? 5 : 0);
     if (name == "entry") {
@@ -131,8 +112,7 @@ const KDL::Frame* PuncturingFrameGenerator::resolve(const puncturing::Datum& dat
       out = abdomen_ * plan_->probes[i].pose;
     }
   }
-  if (datum.offset != 0.0) out = puncturing::alongZ(out, datum.offset);
-  return &out;
+  return Outcome::Resolved;
 }
 
 void PuncturingFrameGenerator::noData(const std::string& reason) {
@@ -166,26 +146,17 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
     noData("no task state on currentTaskState yet");
     return;
   }
-  const puncturing::StateRow* row = table_.find(state_.path.view());
+  std::string no_row;
+  const puncturing::StateRow* row = puncturing::rowFor(table_, state_.path.view(), state_table_file_(), no_row);
   if (row == nullptr) {
-    noData("task state '" + state_.path.str() + "' matches no row of " + state_table_file_());
+    noData(no_row);
     return;
   }
-  const auto where = [&] { return "task state '" + state_.path.str() + "' (" + state_table_file_() + ":" +
-                                   std::to_string(row->line) + "): "; };
-  // Every goal alternative of the row (one arm lists them, the other's datum is the same for each).
-  const std::size_t alternatives = std::max(row->needle.size(), row->probe.size());
-  const std::vector<puncturing::Datum>* datums[kArms] = {&row->needle, &row->probe};
-  for (std::size_t k = 0; k < alternatives; ++k) {
-    for (std::size_t a = 0; a < kArms; ++a) {
-      const puncturing::Datum& datum = (*datums[a])[std::min(k, datums[a]->size() - 1)];
-      const char* why = "";
-      if (resolve(datum, static_cast<Arm>(a), why) == nullptr) {
-        noData(where() + armName(a) + "=" + describe(datum) + ": " + why);
-        return;
-      }
-      if (k == 0) goal_pair_[a] = resolved_[a];
-    }
+  const auto where = [&] { return puncturing::rowWhere(state_.path.view(), state_table_file_(), *row); };
+  const std::array<std::string, kArms>& arms = puncturing::puncturingVocabulary().arms;
+  if (!puncturing::firstGoal(*row, arms, *this, goal_pair_, failure_)) {
+    noData(where() + failure_.message());
+    return;
   }
   for (std::size_t a = 0; a < kArms; ++a) {
     if (!have_measured_[a]) {
@@ -194,67 +165,23 @@ void PuncturingFrameGenerator::answerCurrentGoal() {
       return;
     }
   }
-  const bool follows = !row->then_needle.name.empty() || !row->then_probe.name.empty();
-  const bool rooms = !row->room_for_needle.from.name.empty() || !row->room_for_probe.from.name.empty();
-  if (alternatives == 1 && !follows && !rooms) {
-    for (std::size_t a = 0; a < kArms; ++a) encode(goal_pair_[a], a, goal_.waypoint(0));
+  if (!puncturing::hasChecks(*row)) {
+    for (std::size_t a = 0; a < kArms; ++a) puncturing::encodePose(goal_pair_[a], a, goal_.waypoint(0));
     publish(goal_);
     return;
   }
-  // goalPoses with checks (MotionPlanner): one waypoint per alternative, [goal pair, where the
-  // straight motion after it goes (the goal again for an arm without then_*), then per room_for_*
-  // the other arm's later motion (its start pair, its end pair) with this arm at its goal].
   std::vector<std::vector<double>> waypoints;
-  for (std::size_t k = 0; k < alternatives; ++k) {
-    std::array<KDL::Frame, kArms> goals;
-    for (std::size_t a = 0; a < kArms; ++a) {
-      const char* why = "";
-      goals[a] = *resolve((*datums[a])[std::min(k, datums[a]->size() - 1)], static_cast<Arm>(a), why);
-    }
-    std::vector<double> values(2 * kArms * kValuesPerArm);
-    const puncturing::Datum* then[kArms] = {&row->then_needle, &row->then_probe};
-    for (std::size_t a = 0; a < kArms; ++a) {
-      encode(goals[a], a, values);
-      const char* why = "";
-      const KDL::Frame* next = then[a]->name.empty() ? &goals[a] : resolve(*then[a], static_cast<Arm>(a), why);
-      if (next == nullptr) {
-        noData(where() + "then_" + armName(a) + "=" + describe(*then[a]) + ": " + why);
-        return;
-      }
-      encode(*next, kArms + a, values);
-    }
-    const puncturing::DatumMotion* room[kArms] = {&row->room_for_needle, &row->room_for_probe};
-    for (std::size_t a = 0; a < kArms; ++a) {
-      if (room[a]->from.name.empty()) continue;
-      const std::size_t other = 1 - a, at = values.size();
-      values.resize(at + 2 * kArms * kValuesPerArm);
-      bool skipped = false;
-      for (std::size_t end = 0; end < 2 && !skipped; ++end) {
-        const puncturing::Datum& datum = end == 0 ? room[a]->from : room[a]->to;
-        const char* why = "";
-        const KDL::Frame* pose = resolve(datum, static_cast<Arm>(a), why);
-        bool next = false;
-        if (pose == nullptr && puncturing::planDatum(datum.name, next) && next) {
-          skipped = true;  // after the last needle no such motion comes: nothing to make room for
-        } else if (pose == nullptr) {
-          noData(where() + "room_for_" + armName(a) + "=" + describe(datum) + ": " + why);
-          return;
-        } else {
-          encode(*pose, at / kValuesPerArm + end * kArms + a, values);
-          encode(goals[other], at / kValuesPerArm + end * kArms + other, values);
-        }
-      }
-      if (skipped) values.resize(at);
-    }
-    waypoints.push_back(std::move(values));
+  if (!puncturing::checkedGoals(*row, arms, *this, waypoints, failure_)) {
+    noData(where() + failure_.message());
+    return;
   }
   publish(trajectory::MultiAxisPath(std::move(waypoints)));
 }
 
 void PuncturingFrameGenerator::publish(const trajectory::MultiAxisPath& goal) {
   for (std::size_t a = 0; a < kArms; ++a) {
-    encode(measured_[a], a, desired_.waypoint(0));
-    encode(goal_pair_[a], a, desired_.waypoint(1));
+    puncturing::encodePose(measured_[a], a, desired_.waypoint(0));
+    puncturing::encodePose(goal_pair_[a], a, desired_.waypoint(1));
   }
   last_failure_.clear();
   desired_poses_.write(desired_);

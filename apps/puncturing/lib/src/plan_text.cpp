@@ -1,5 +1,6 @@
 // The text formats of the puncturing data (apps/puncturing/README.md): one statement per line,
 // `#` starts a comment, words separated by blanks, parameters as key=value, vectors as X,Y,Z.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -246,16 +247,34 @@ std::vector<PlannedProbe> parseProbePlan(std::string_view text, std::string_view
   return probes;
 }
 
+const TableVocabulary& puncturingVocabulary() {
+  static const TableVocabulary vocabulary{{"needle", "probe"},
+                                          {"entry", "target", "probe", "next_entry", "next_target", "next_probe"}};
+  return vocabulary;
+}
+
 StateTable parseStateTable(std::string_view text, std::string_view source) {
+  return parseStateTable(text, source, puncturingVocabulary());
+}
+
+StateTable parseStateTable(std::string_view text, std::string_view source, const TableVocabulary& vocabulary) {
+  std::string reserved;  // "entry, target, ..., hold"
+  for (const std::string& d : vocabulary.datums) reserved += d + ", ";
+  reserved += "hold";
+  const auto datum = [&](const std::string& name) {
+    return name == "hold" || std::find(vocabulary.datums.begin(), vocabulary.datums.end(), name) != vocabulary.datums.end();
+  };
+  const std::string& a0 = vocabulary.arms[0];
+  const std::string& a1 = vocabulary.arms[1];
+  const std::string usage = "state PATH " + a0 + "=DATUM[|DATUM...] " + a1 + "=DATUM[|DATUM...] [then_" + a0 +
+                            "=DATUM] [then_" + a1 + "=DATUM] [room_for_" + a0 + "=DATUM..DATUM] [room_for_" + a1 +
+                            "=DATUM..DATUM]";
   StateTable table;
   for (Statement& s : statements(text, source)) {
     if (s.words[0] == "pose") {
       if (s.words.size() != 2) s.fail("expected 'pose NAME xyz=X,Y,Z rpy=R,P,Y'");
       const std::string& name = s.words[1];
-      bool next = false;
-      if (planDatum(name, next) || name == "hold") {
-        s.fail("pose name '" + name + "' is reserved (entry, target, probe, next_entry, next_target, next_probe, hold)");
-      }
+      if (datum(name)) s.fail("pose name '" + name + "' is reserved (" + reserved + ")");
       if (name.find_first_of("+-|") != std::string::npos)
         s.fail("pose name '" + name + "' holds + - or |, which a datum reads as an offset or an alternative");
       if (table.pose(name)) s.fail("pose '" + name + "' is defined twice");
@@ -264,15 +283,13 @@ StateTable parseStateTable(std::string_view text, std::string_view source) {
     } else if (s.words[0] == "state") {
       StateRow row;
       if (s.words.size() > 1) row.state = s.words[1];
-      row.needle = parseAlternatives(s, "needle");
-      row.probe = parseAlternatives(s, "probe");
-      if (s.has("then_needle")) row.then_needle = parseDatum(s, "then_needle");
-      if (s.has("then_probe")) row.then_probe = parseDatum(s, "then_probe");
-      if (s.has("room_for_needle")) row.room_for_needle = parseMotion(s, "room_for_needle");
-      if (s.has("room_for_probe")) row.room_for_probe = parseMotion(s, "room_for_probe");
+      for (std::size_t arm = 0; arm < 2; ++arm) row.goal(arm) = parseAlternatives(s, vocabulary.arms[arm]);
+      for (std::size_t arm = 0; arm < 2; ++arm)
+        if (s.has("then_" + vocabulary.arms[arm])) row.then(arm) = parseDatum(s, "then_" + vocabulary.arms[arm]);
+      for (std::size_t arm = 0; arm < 2; ++arm)
+        if (s.has("room_for_" + vocabulary.arms[arm])) row.roomFor(arm) = parseMotion(s, "room_for_" + vocabulary.arms[arm]);
       row.line = s.line;
-      s.finish(2, "state PATH needle=DATUM[|DATUM...] probe=DATUM[|DATUM...] [then_needle=DATUM] [then_probe=DATUM] "
-                  "[room_for_needle=DATUM..DATUM] [room_for_probe=DATUM..DATUM]");
+      s.finish(2, usage.c_str());
       if (row.needle.size() > 1 && row.probe.size() > 1)
         s.fail("both arms list alternatives (A|B); list them for one arm, the other's goal is the same for each");
       std::vector<const Datum*> datums;
@@ -282,12 +299,8 @@ StateTable parseStateTable(std::string_view text, std::string_view source) {
                              &row.room_for_probe.from, &row.room_for_probe.to})
         if (!d->name.empty()) datums.push_back(d);
       for (const Datum* d : datums) {
-        bool next = false;
-        const bool known = planDatum(d->name, next) || d->name == "hold" || table.pose(d->name) != nullptr;
-        if (!known) {
-          s.fail("unknown datum '" + d->name +
-                 "' (expected entry, target, probe, next_entry, next_target, next_probe, hold or a pose defined above)");
-        }
+        if (!datum(d->name) && table.pose(d->name) == nullptr)
+          s.fail("unknown datum '" + d->name + "' (expected " + reserved + " or a pose defined above)");
       }
       for (const StateRow& other : table.rows) {
         if (other.state == row.state) s.fail("state '" + row.state + "' is already at line " + std::to_string(other.line));

@@ -25,7 +25,8 @@ struct Bench {
   WoundSimulator patient{"Patient"};
   StitchPlannerComponent planner{"StitchPlanner"};
   core::OutputPort<KDL::Frame> tool{"tool", "", "m"}, stick{"stick", "", "m"};
-  core::OutputPort<core::Event> actuation{"actuation", "", ""};
+  core::OutputPort<int> actuations{"actuations", "", "1"};  // the robot's Endo Stitch count
+  int actuated = 0;
   core::InputPort<core::Event> events{"events", "", ""};
   core::InputPort<KDL::Frame> right{"right", "", "m"}, left{"left", "", "m"};
   core::InputPort<int> index{"index", "", "1"}, planned{"planned", "", "1"};
@@ -39,7 +40,7 @@ struct Bench {
     if (connect_edges) core::connectPorts(patient.port("woundEdges"), planner.port("woundEdges"));
     core::connectPorts(tool, patient.port("toolTipPose"));
     core::connectPorts(stick, patient.port("stickTipPose"));
-    core::connectPorts(actuation, patient.port("inputEvents"), core::ConnPolicy::buffer(8));
+    core::connectPorts(actuations, patient.port("endoStitchActuations"));
     core::connectPorts(planner.port("events"), events, core::ConnPolicy::buffer(8));
     core::connectPorts(planner.port("rightStitchPose"), right);
     core::connectPorts(planner.port("leftStitchPose"), left);
@@ -76,12 +77,9 @@ struct Bench {
   /// Applies the planned stitch on the simulated wound and pulls it closed (world frame).
   void applyPlanned() {
     const KDL::Frame r = read(right), l = read(left);
-    core::Event e;
-    e.name = "e_endo_stitch_right";
-    actuation.write(e);
+    actuations.write(++actuated);
     step(r.p);
-    e.name = "e_endo_stitch_left";
-    actuation.write(e);
+    actuations.write(++actuated);
     step(l.p);
     const KDL::Vector up = l.M.UnitZ();  // out of the skin
     for (double lift = 0.0; lift < 0.08 && read(stitch_gap) >= 0.0005; lift += 2e-4) step(l.p + up * lift);

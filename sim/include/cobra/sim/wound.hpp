@@ -138,7 +138,15 @@ class Wound {
   /// closes under the tension; over breaking_tension the thread breaks.
   void step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept;
   /// The stick lets the thread go (its gripper opens or it withdraws).
-  void releaseThread() noexcept { hooked_ = false; }
+  void releaseThread() noexcept;
+  /// The edge `p` (m, W) is on: the side of the centreline it lies (Left where the in-plane
+  /// normal points, Right otherwise): the half-stitch an Endo Stitch actuated there tries.
+  WoundSide sideAt(const KDL::Vector& p) const noexcept;
+  /// Changes whenever the wound's state changes: a half-stitch applied, a stitch's closure, the
+  /// thread hooked, released or broken. It does not change with the thread's tension and path,
+  /// which follow the tools continuously. Readers recompute what depends on the gap (edges,
+  /// maxGap, stitch gaps) only when it changed.
+  std::uint64_t revision() const noexcept { return revision_; }
 
   double tension() const noexcept { return tension_; }  ///< N
   bool broken() const noexcept { return broken_; }
@@ -151,6 +159,11 @@ class Wound {
   double threadRest() const noexcept { return rest_; }
   /// m: the free thread's (last skin point to tool, via the stick) distance from `p`; +inf with no stitch.
   double freeThreadDistance(const KDL::Vector& p) const noexcept;
+  /// N, W: the force the tensed thread puts on the tool's tip (tension along the free thread, toward
+  /// the hook or the last skin point) and on the stick while hooked (the thread bent round it:
+  /// tension along both of its sides); zero when slack, broken or without a stitch.
+  KDL::Vector toolForce() const noexcept;
+  KDL::Vector stickForce() const noexcept;
   const std::vector<Stitch>& stitches() const noexcept { return stitches_; }
   /// m: the gap at stitch i (its s).
   double stitchGap(int i) const noexcept;
@@ -188,6 +201,7 @@ class Wound {
   bool hooked_ = false;
   KDL::Vector hook_;
   KDL::Vector tool_;
+  std::uint64_t revision_ = 0;
 };
 
 }  // namespace cobra::sim

@@ -12,6 +12,7 @@
 /// has z along the beam and x along the array, its imaging plane is its x-z plane (as in sim/).
 /// Units: m, rad.
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -69,6 +70,10 @@ struct DatumMotion {
 
 /// A row: when the task state's path contains `state` (dot-separated components, e.g.
 /// "MoveToSkin.Approach"), the goal pair is needle = `needle`, probe = `probe`.
+///
+/// The table serves any two-arm task (TableVocabulary): arm 0 is the vocabulary's first arm (the
+/// needle here; the Endo Stitch in the suturing task), arm 1 its second (the probe; the stick).
+/// goal(arm), then(arm) and roomFor(arm) name the fields by arm.
 struct StateRow {
   std::string state;
   /// The goal datum of each arm (at least one). Several on one arm (`needle=a|b|c`) are
@@ -84,7 +89,26 @@ struct StateRow {
   /// beside the needle's waiting pose): the planner verifies every goal alternative with it.
   DatumMotion room_for_needle, room_for_probe;
   int line = 0;
+
+  std::vector<Datum>& goal(std::size_t arm) noexcept { return arm == 0 ? needle : probe; }
+  const std::vector<Datum>& goal(std::size_t arm) const noexcept { return arm == 0 ? needle : probe; }
+  Datum& then(std::size_t arm) noexcept { return arm == 0 ? then_needle : then_probe; }
+  const Datum& then(std::size_t arm) const noexcept { return arm == 0 ? then_needle : then_probe; }
+  DatumMotion& roomFor(std::size_t arm) noexcept { return arm == 0 ? room_for_needle : room_for_probe; }
+  const DatumMotion& roomFor(std::size_t arm) const noexcept { return arm == 0 ? room_for_needle : room_for_probe; }
 };
+
+/// The words of one task's state table: its two arms' keys (`needle=`, `then_needle=`,
+/// `room_for_needle=` ...) and the datums its Frame Generator resolves from the task's data
+/// (besides `hold` and the table's own poses, which every table has).
+struct TableVocabulary {
+  std::array<std::string, 2> arms;
+  std::vector<std::string> datums;
+};
+
+/// The puncturing table's: arms needle and probe; datums entry, target, probe, next_entry,
+/// next_target, next_probe.
+const TableVocabulary& puncturingVocabulary();
 
 /// The Frame Generator's configurable table (thesis §4.5.5) and its fixed task-frame poses.
 struct StateTable {
@@ -131,7 +155,8 @@ struct PuncturingPlan {
 PreoperativeInfo parsePreoperative(std::string_view text, std::string_view source);
 std::vector<PlannedNeedle> parseCryoPlan(std::string_view text, std::string_view source);
 std::vector<PlannedProbe> parseProbePlan(std::string_view text, std::string_view source);
-StateTable parseStateTable(std::string_view text, std::string_view source);
+StateTable parseStateTable(std::string_view text, std::string_view source);  ///< puncturingVocabulary()
+StateTable parseStateTable(std::string_view text, std::string_view source, const TableVocabulary& vocabulary);
 SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source);
 
 /// The text forms: parse(print(x)) == x, numbers exactly (printed as their shortest exact decimal),

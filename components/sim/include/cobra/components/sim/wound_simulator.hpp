@@ -4,6 +4,7 @@
 /// the Endo Stitch applies stitches, the thread they pull, the stick that hooks it, and the wound's
 /// edges as the sensing module would see them (§5.2.1), behind ports.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,16 +29,27 @@ namespace cobra::components {
 /// sim::WoundModel / sim::ThreadModel.
 ///
 /// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
-/// the stick held by the left arm's gripper); until both have arrived the thread is not stepped.
-/// `inputEvents` (event port): `actuate_right_event` / `actuate_left_event` (defaults
-/// "e_endo_stitch_right" / "e_endo_stitch_left") actuate the Endo Stitch for that half-stitch at
-/// the tip's current pose; `release_event` ("e_release_thread") makes the stick let the thread go.
-/// Outputs: `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
+/// the stick held by the left arm's gripper), each moved by `tool_tip` / `stick_tip` (KDL::Frame,
+/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity); until
+/// both have arrived the thread is not stepped.
+/// `endoStitchActuations` (int, the robot's count of completed Endo Stitch actuations, from 0 at
+/// its start): each increment applies a half-stitch at the tip's current pose, on the edge the
+/// tip is at (sim::Wound::sideAt): the chart asks the robot to actuate the tool, the tool's
+/// needle transfer is what the wound sees. A count lower than the last one (the robot restarted)
+/// is taken as the new origin. `inputEvents` (event port): `release_event` ("e_release_thread")
+/// makes the stick let the thread go.
+/// Outputs: `toolWrench`, `stickWrench` (KDL::Wrench, N, world axes, at the tips, no torque: the
+/// tensed thread's pull, sim::Wound::toolForce / stickForce; a robot's contact wrench inputs);
+/// `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
 /// `edge_samples` places along the cut, the right then the left edge point on the skin, x y z in W,
-/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut).
-/// updateHook allocates nothing (the edge buffer is sized at configure).
+/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut), all
+/// written every step; the gap-dependent ones are recomputed only when the wound's revision
+/// changed (sim::Wound::revision).
+/// updateHook allocates nothing once its connections' slots have the edges' size: those made after
+/// configure from the start (the edge buffer is sized there, setDataSample), one made before by its
+/// first writes.
 class WoundSimulator : public core::Component {
  public:
   explicit WoundSimulator(std::string name);
@@ -49,8 +61,9 @@ class WoundSimulator : public core::Component {
   void cleanupHook() override;
 
  private:
-  void actuate(sim::WoundSide side) noexcept;
-  void publish() noexcept;
+  void actuate() noexcept;
+  /// Writes the outputs, recomputing the gap-dependent ones when the wound's revision changed (or `all`).
+  void publish(bool all) noexcept;
 
   core::Property<std::vector<double>> cut_{"cut", {-0.02, 0.0, 0.02, 0.0}, "m",
                                            "x, y pairs of the cut's centreline in the wound frame"};
@@ -77,17 +90,20 @@ class WoundSimulator : public core::Component {
                                            "the thread breaks above it"};
   core::Property<double> hook_radius_{"hook_radius", sim::ThreadModel{}.hook_radius, "m",
                                       "the stick catches the thread within this distance"};
+  core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
+                                              "the Endo Stitch's tip in the frame toolTipPose gives"};
+  core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
+                                               "the stick's tip in the frame stickTipPose gives"};
   core::Property<int> edge_samples_{"edge_samples", 41, "1", "points per edge on woundEdges, >= 2"};
-  core::Property<std::string> actuate_right_event_{"actuate_right_event", "e_endo_stitch_right", "",
-                                                   "actuates the Endo Stitch for a right half-stitch"};
-  core::Property<std::string> actuate_left_event_{"actuate_left_event", "e_endo_stitch_left", "",
-                                                  "actuates the Endo Stitch for a left half-stitch"};
   core::Property<std::string> release_event_{"release_event", "e_release_thread", "", "the stick lets the thread go"};
 
   core::InputPort<KDL::Frame> tool_tip_{"toolTipPose", "the Endo Stitch's tip, world frame", "m"};
   core::InputPort<KDL::Frame> stick_tip_{"stickTipPose", "the stick's tip, world frame", "m"};
-  core::InputPort<core::Event> input_events_{"inputEvents", "Endo Stitch actuation and thread release requests", ""};
+  core::InputPort<int> actuations_{"endoStitchActuations", "the robot's count of completed Endo Stitch actuations", "1"};
+  core::InputPort<core::Event> input_events_{"inputEvents", "thread release requests", ""};
   core::OutputPort<double> tension_{"threadTension", "thread tension", "N"};
+  core::OutputPort<KDL::Wrench> tool_wrench_{"toolWrench", "the thread's pull on the Endo Stitch's tip, world", "N"};
+  core::OutputPort<KDL::Wrench> stick_wrench_{"stickWrench", "the hooked thread's pull on the stick's tip, world", "N"};
   core::OutputPort<int> stitch_count_{"stitchCount", "complete stitches", "1"};
   core::OutputPort<double> max_stitch_gap_{"maxStitchGap", "largest gap at a stitch (0 with none)", "m"};
   core::OutputPort<double> max_gap_out_{"maxGap", "the widest gap along the cut", "m"};
@@ -101,7 +117,12 @@ class WoundSimulator : public core::Component {
   KDL::Vector tool_, stick_;  // wound frame
   bool have_tool_ = false, have_stick_ = false;
   bool hooked_ = false, broken_ = false;
-  core::BoundedString<63> right_name_, left_name_, release_name_;
+  int actuations_seen_ = 0;
+  std::uint64_t published_revision_ = 0;
+  int complete_ = 0;                 // of the published revision: complete stitches,
+  double widest_stitch_gap_ = 0.0;   // m: the widest gap at a stitch,
+  double widest_gap_ = 0.0;          // m: the widest gap along the cut
+  core::BoundedString<63> release_name_;
   std::vector<double> edge_buffer_;
 };
 

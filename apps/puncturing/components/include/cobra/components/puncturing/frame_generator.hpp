@@ -16,6 +16,7 @@
 #include "cobra/core/event.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
+#include "cobra/puncturing/plan_goals.hpp"
 
 namespace cobra::components {
 
@@ -65,7 +66,7 @@ namespace cobra::components {
 /// paths are preallocated at configure and refilled in place. A row with alternatives or checks
 /// (a planned motion's goal) builds its goalPoses, and answering e_no_data builds the message
 /// (both allocate).
-class PuncturingFrameGenerator : public core::Component {
+class PuncturingFrameGenerator : public core::Component, private puncturing::DatumSource {
  public:
   explicit PuncturingFrameGenerator(std::string name);
 
@@ -90,8 +91,8 @@ class PuncturingFrameGenerator : public core::Component {
   KDL::Frame plannedTarget(int index);
   /// Reads abdomenFrame (keeps the last sample, or the nominal pose) and returns it.
   const KDL::Frame& abdomen();
-  /// The pose `datum` asks for `arm`, or nullptr when its data is missing (`why` then says which).
-  const KDL::Frame* resolve(const puncturing::Datum& datum, Arm arm, const char*& why);
+  /// The pose `datum` names for `arm` (DatumSource: the table's evaluator asks).
+  Outcome resolve(const puncturing::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
   void noData(const std::string& reason);
   /// Writes desiredPoses [measured pair, goal_pair_], goalPoses = `goal` and emits e_goal_ready.
   void publish(const trajectory::MultiAxisPath& goal);
@@ -120,10 +121,10 @@ class PuncturingFrameGenerator : public core::Component {
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   std::array<KDL::Frame, 2> measured_;
   std::array<bool, 2> have_measured_{false, false};
-  std::array<KDL::Frame, 2> resolved_;   // workspace: the datum resolve() resolved last, per arm
   std::array<KDL::Frame, 2> goal_pair_;  // the goal pair of the row's first alternative
   core::TaskState state_;
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
+  puncturing::GoalFailure failure_;
   std::string last_failure_;
   core::PendingRequest goal_request_, next_needle_request_;  // answered in the next step
 };

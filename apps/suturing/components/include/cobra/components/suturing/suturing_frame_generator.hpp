@@ -1,0 +1,121 @@
+#pragma once
+/// @file
+/// The suturing task's Frame Generator (thesis §5.5, after the puncturing one of §4.5.5): the goal
+/// poses of both arms for the current task state, from a state table whose datums are the current
+/// stitch (the StitchPlanner's targets, input ports) and the arms' measured poses. The table's
+/// parser and evaluator are the puncturing Frame Generator's (cobra/puncturing/plan_goals.hpp):
+/// only the datums differ.
+
+#include <array>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/core/component.hpp"
+#include "cobra/core/event.hpp"
+#include "cobra/core/request.hpp"
+#include "cobra/puncturing/plan.hpp"
+#include "cobra/puncturing/plan_goals.hpp"
+#include "cobra/components/motion/path_type.hpp"
+
+namespace cobra::components {
+
+/// Bridge. Arms: `right` (arm 0, the Endo Stitch's tip) and `left` (arm 1, the stick's tip).
+///
+/// Datums (state table, `state PATH right=DATUM left=DATUM`): each a tool pose whose z axis points
+/// into the skin and x along the cut (so that NAME+M is M m deeper, NAME-M M m out of the skin, as in
+/// the puncturing table): `right_edge` / `left_edge` = the current stitch's right / left target
+/// (the StitchPlanner's rightStitchPose / leftStitchPose: the edge point at the stitch depth);
+/// `centre` = their midpoint (inside the wound); `pull` (the Endo Stitch pulling the thread) =
+/// `centre` moved by `pull_offset` (m, stitch frame: x along the cut, y from the right edge to the
+/// left, z out of the skin); `aside` (the stick beside the thread, ahead along the cut), `hook` (the
+/// stick through the free thread), `push` (the stick having pushed the thread back along the cut) =
+/// the edge target of the last half-stitch moved by `aside_offset`, `hook_offset`, `push_offset`
+/// (m, in that half's frame: x along the cut, y outward from the wound on that side, z out of the
+/// skin): the free thread leaves the skin beyond the edge of the last half. The last half is the
+/// one of the last task state answered whose path contains `right_half_state` or
+/// `left_half_state` (default ApplyRightStitch, ApplyLeftStitch; the right one before any);
+/// `hold` = the arm's measured pose; a table `pose` = a fixed world pose.
+///
+/// Each arm is commanded in its robot tool frame, in which its tool's tip (the datums' frame) is
+/// `right_tip` / `left_tip` (KDL.Frame, m: e.g. the stick's tip 0.15 m out of the gripper): the goal
+/// is the datum pose times the tip's inverse, and `hold` the measured pose times the tip.
+///
+/// Interface:
+/// - properties `state_table_file` (read at configure: a bad file refuses configure with
+///   "component 'X': FILE:LINE: message"), the four offsets above;
+/// - inputs `currentTaskState` (TaskState), `rightStitchPose`, `leftStitchPose` (KDL.Frame, m, world:
+///   x along the cut, z out of the skin), `rightMeasPose`, `leftMeasPose` (KDL.Frame, m, world);
+/// - outputs `desiredPoses` (TGL.MultiAxisPath, [measured pair, goal pair], 7 values per arm, right
+///   then left: the CartesianTrajectoryGenerator's plannedPath), `goalPoses` (the MotionPlanner's:
+///   the goal pair, or with checks (alternatives, then_*, room_for_*) one waypoint per alternative as
+///   the puncturing Frame Generator writes it);
+/// - operations `askCurrentGoal()` (answered in this component's next step with e_goal_ready or
+///   e_no_data), `lastFailure()` (why the last e_no_data: the state, the table line, the datum).
+/// Real time: answering a row of one goal without checks allocates nothing once the ports are
+/// connected (paths preallocated at configure); e_no_data builds its message.
+class SuturingFrameGenerator : public core::Component, private puncturing::DatumSource {
+ public:
+  explicit SuturingFrameGenerator(std::string name);
+
+  /// The table's words: arms right and left, the datums above.
+  static const puncturing::TableVocabulary& vocabulary();
+  const puncturing::StateTable& table() const { return table_; }
+  /// The request askCurrentGoal (from any thread): answered in the next step.
+  void askCurrentGoal() { goal_request_.ask(activity()); }
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void updateHook() override;
+
+ private:
+  Outcome resolve(const puncturing::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
+  void command(std::size_t arm, KDL::Frame& pose) const noexcept override;
+  void answer();
+  void noData(const std::string& reason);
+
+  core::Property<std::string> state_table_file_{"state_table_file", "", "", "state -> goal datum of each arm"};
+  core::Property<KDL::Vector> pull_offset_{"pull_offset", KDL::Vector(0.0, 0.0, 0.037), "m",
+                                           "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
+  // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
+  // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
+  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(0.015, 0.0005, 0.02), "m",
+                                            "the stick beside the thread, from the last half's edge target (half frame)"};
+  core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0005, 0.02), "m",
+                                           "the stick through the free thread, from the last half's edge target"};
+  core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.006, 0.0005, 0.02), "m",
+                                           "the stick having pushed the thread aside, from the last half's edge target"};
+  core::Property<KDL::Frame> right_tip_{"right_tip", KDL::Frame::Identity(), "m",
+                                        "the Endo Stitch's tip in the right arm's commanded frame"};
+  core::Property<KDL::Frame> left_tip_{"left_tip", KDL::Frame::Identity(), "m",
+                                       "the stick's tip in the left arm's commanded frame"};
+  core::Property<std::string> right_half_state_{"right_half_state", "ApplyRightStitch", "",
+                                                "task state path component of the right half-stitch"};
+  core::Property<std::string> left_half_state_{"left_half_state", "ApplyLeftStitch", "",
+                                               "task state path component of the left half-stitch"};
+
+  core::InputPort<core::TaskState> task_state_{"currentTaskState", "the task chart's active state", ""};
+  core::InputPort<KDL::Frame> right_stitch_{"rightStitchPose", "the current stitch's right target, world", "m"};
+  core::InputPort<KDL::Frame> left_stitch_{"leftStitchPose", "the current stitch's left target, world", "m"};
+  core::InputPort<KDL::Frame> right_meas_{"rightMeasPose", "measured Endo Stitch tip pose, world", "m"};
+  core::InputPort<KDL::Frame> left_meas_{"leftMeasPose", "measured stick tip pose, world", "m"};
+  core::OutputPort<trajectory::MultiAxisPath> desired_poses_{
+      "desiredPoses", "[measured pair, goal pair]: right then left, x y z qx qy qz qw each, world", "m"};
+  core::OutputPort<trajectory::MultiAxisPath> goal_poses_{
+      "goalPoses", "goal alternatives, one waypoint each: the goal pair (right then left, x y z qx qy qz qw each, "
+      "world), with the checks of its row after it", "m"};
+
+  puncturing::StateTable table_;
+  core::TaskState state_;
+  std::array<KDL::Frame, 2> stitch_, measured_, goal_pair_;  // stitch_: right, left target
+  std::array<bool, 2> have_stitch_{false, false}, have_measured_{false, false};
+  std::size_t last_half_ = 0;  // 0: right, 1: left
+  std::array<KDL::Frame, 2> tip_, tip_inverse_;  // right_tip, left_tip and their inverses (configure)
+  trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
+  puncturing::GoalFailure failure_;
+  std::string last_failure_;
+  core::PendingRequest goal_request_;
+};
+
+}  // namespace cobra::components

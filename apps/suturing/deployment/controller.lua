@@ -1,0 +1,169 @@
+-- The two-armed I-SUR's controller for the suturing task (thesis §5.5.1-5.5.2, Fig. 5.12): the
+-- three deployments (autonomous with motion planning, autonomous with motion primitives,
+-- teleoperated with the State Validator between the admittances and the robot) of scope
+-- "suture", the configurations suturing_free_motion and suturing_contact (configurations/), and
+-- the task/deployment/configuration supervisors of the puncturing task, reused unchanged. One
+-- variable admittance per arm, each with its energy tank.
+-- Needs the globals `tool_frame`, `stick_tip`, `phantom_pose`, `teleop_device`
+-- ("leap" or "omni": which haptic device the teleoperated deployment reads).
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+local charts = here .. "../../../components/coordination/charts/"
+local buffered = { type = "buffer", size = 64 }
+
+local devices = {
+  -- Leap Motion (§5.4.4): the simulated device and the driver reading it; both hands.
+  leap = { components = { { peer_name = "LeapSim", component_type = "SimulatedLeapMotion" },
+                          { peer_name = "Leap", component_type = "LeapMotionDriver" } },
+           right = "Leap.measRightPose", left = "Leap.measLeftPose" },
+  -- Two Phantom Omnis, one per arm.
+  omni = { components = { { peer_name = "RightOmni", component_type = "SimulatedOmniPhantom" },
+                          { peer_name = "LeftOmni", component_type = "SimulatedOmniPhantom" } },
+           right = "RightOmni.measCartPose", left = "LeftOmni.measCartPose" },
+}
+local device = assert(devices[teleop_device], "teleop_device must be leap or omni, not " .. tostring(teleop_device))
+
+local controller = {
+  { peer_name = "Stitches", component_type = "StitchPlanner" },
+  { peer_name = "SutureFrames", component_type = "SuturingFrameGenerator" },
+  { peer_name = "SuturePlanner", component_type = "MotionPlanner" },
+  { peer_name = "SutureTrajGen", component_type = "CartesianTrajectoryGenerator" },
+  { peer_name = "RightWrench", component_type = "EquivalentWrench" },
+  { peer_name = "LeftWrench", component_type = "EquivalentWrench" },
+  { peer_name = "RightAdmittance", component_type = "VariableAdmittance" },
+  { peer_name = "LeftAdmittance", component_type = "VariableAdmittance" },
+  { peer_name = "Validator", component_type = "StateValidator" },
+  { peer_name = "RightClutch", component_type = "TeleoperationClutch" },
+  { peer_name = "LeftClutch", component_type = "TeleoperationClutch" },
+  { peer_name = "TaskSup", component_type = "Supervisor" },
+  { peer_name = "DepSup", component_type = "Supervisor" },
+  { peer_name = "ConfSup", component_type = "Supervisor" },
+}
+for _, c in ipairs(device.components) do controller[#controller + 1] = c end
+initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim", "cobra_drivers",
+                   "cobra_suturing" }, controller, here .. "configurations")
+getReferences()
+
+SutureFrames.state_table_file = here .. "../state_table.txt"
+SutureFrames.left_tip = stick_tip
+for _, p in ipairs({ SuturePlanner, Validator }) do
+  p.scene_file = here .. "../../../planning/scenes/suturing.scene"
+  p.phantom_pose = phantom_pose
+  p.first_tool_frame = tool_frame          -- both arms' (the scene's robot takes the first's for both)
+end
+SuturePlanner.first_bounds_low = { 0.05, -0.12, 0.05 }    -- m: the Endo Stitch's tip over the phantom
+SuturePlanner.first_bounds_high = { 0.3, 0.12, 0.3 }
+SuturePlanner.second_bounds_low = { 0.05, -0.12, 0.05 }   -- m: the stick's tip
+SuturePlanner.second_bounds_high = { 0.3, 0.12, 0.3 }
+SuturePlanner.max_validity_checks = 20000  -- a work limit: the same plan on any machine
+SuturePlanner.max_vel = 0.02                -- m/s: near the patient, slowly (the trajectory generator's)
+SuturePlanner.max_ang_vel = 0.3             -- rad/s
+SutureTrajGen.arms_num = 2                  -- 1: the Endo Stitch, 2: the stick
+SutureTrajGen.max_vel = 0.02
+SutureTrajGen.max_ang_vel = 0.3
+for _, w in ipairs({ RightWrench, LeftWrench }) do
+  w.invert_reference = true          -- the measured tool pose turns the sensor wrench
+  w.change_application_point = false -- into world axes, at the tool point
+end
+TaskSup.fsm_path = here .. "../charts/suturing.lua"
+DepSup.fsm_path = charts .. "deployment_supervisor.lua"
+ConfSup.fsm_path = charts .. "configuration_supervisor.lua"
+if Leap then Leap.device = "sim:LeapSim" end
+addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches" } } })
+
+local always = { "Stitches", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup", "DepSup",
+                 "ConfSup" }
+local activities = { { peer_name = "SuturePlanner", period = 0 } }  -- event-driven: plans outside the 1 kHz loop
+for _, c in ipairs(controller) do
+  if c.peer_name ~= "SuturePlanner" then activities[#activities + 1] = { peer_name = c.peer_name, period = 0.001 } end
+end
+setActivities(activities)
+
+local connections = {
+  { output = "Patient.woundEdges", input = "Stitches.woundEdges" },  -- the sensing module's stand-in
+  { output = "Stitches.rightStitchPose", input = "SutureFrames.rightStitchPose" },
+  { output = "Stitches.leftStitchPose", input = "SutureFrames.leftStitchPose" },
+  { output = "ISUR.measRightCartPose", input = "SutureFrames.rightMeasPose" },
+  { output = "ISUR.measLeftCartPose", input = "SutureFrames.leftMeasPose" },
+  { output = "TaskSup.taskState", input = "SutureFrames.currentTaskState" },
+  { output = "ISUR.measRightCartPose", input = "SuturePlanner.isurMeasPose" },  -- the planner's first and
+  { output = "ISUR.measLeftCartPose", input = "SuturePlanner.UR5MeasPose" },    -- second tool: right, left
+  -- The start state and the measured clearance from the robot's joints (the path starts on its
+  -- actual IK branches). The planner takes joints only once both its joint inputs have data, the
+  -- UR5's too, although the suturing scene has only the I-SUR: the same joints go to both.
+  { output = "ISUR.measJointPosition", input = "SuturePlanner.isurMeasJoints" },
+  { output = "ISUR.measJointPosition", input = "SuturePlanner.UR5MeasJoints" },
+  { output = "ISUR.measRightWrench", input = "RightWrench.inWrench" },
+  { output = "ISUR.measRightCartPose", input = "RightWrench.referenceFrame" },
+  { output = "ISUR.measLeftWrench", input = "LeftWrench.inWrench" },
+  { output = "ISUR.measLeftCartPose", input = "LeftWrench.referenceFrame" },
+  { output = "RightWrench.outWrench", input = "RightAdmittance.measWrench" },
+  { output = "LeftWrench.outWrench", input = "LeftAdmittance.measWrench" },
+  { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
+  { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
+  { output = "TaskSup.outputEvents", input = "ISUR.inputEvents", conn_policy = buffered },     -- the Endo Stitch
+  { output = "TaskSup.outputEvents", input = "Patient.inputEvents", conn_policy = buffered },  -- the stick lets go
+}
+for _, source in ipairs({ "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "RightAdmittance",
+                          "LeftAdmittance", "ISUR", "Patient", "Validator", "Surgeon", "DepSup", "ConfSup" }) do
+  local port = (source == "DepSup" or source == "ConfSup") and ".outputEvents" or ".events"
+  connections[#connections + 1] = { output = source .. port, input = "TaskSup.inputEvents", conn_policy = buffered }
+end
+connectPorts(connections)
+
+-- The admittances run in every deployment (their commanded poses stay continuous across a
+-- switch), and so does the planner, which measures the clearance of the measured state in all.
+local follow = {
+  { output = "SutureTrajGen.desCartPose_1", input = "RightAdmittance.refPose" },
+  { output = "SutureTrajGen.desCartTwist_1", input = "RightAdmittance.refTwist" },
+  { output = "SutureTrajGen.desCartPose_2", input = "LeftAdmittance.refPose" },
+  { output = "SutureTrajGen.desCartTwist_2", input = "LeftAdmittance.refTwist" },
+  { output = "RightAdmittance.admPose", input = "ISUR.desRightCartPose" },
+  { output = "LeftAdmittance.admPose", input = "ISUR.desLeftCartPose" },
+}
+local function with(list, more)
+  local all = {}
+  for _, x in ipairs(list) do all[#all + 1] = x end
+  for _, x in ipairs(more) do all[#all + 1] = x end
+  return all
+end
+local autonomous = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "RightWrench", "LeftWrench", "RightAdmittance",
+                     "LeftAdmittance" }
+defineDeployment("suturing_autonomous_planning", {
+  scope = "suture",
+  components = autonomous,
+  connections = with(follow, {
+    { output = "SutureFrames.goalPoses", input = "SuturePlanner.goalPoses" },
+    { output = "SuturePlanner.plannedPath", input = "SutureTrajGen.plannedPath" },
+  }),
+})
+defineDeployment("suturing_autonomous_primitives", {
+  scope = "suture",
+  components = autonomous,
+  connections = with(follow, { { output = "SutureFrames.desiredPoses", input = "SutureTrajGen.plannedPath" } }),
+})
+-- Fig. 5.12: the surgeon's hands (the device) drive the admittances, whose set-points reach the
+-- robot only through the State Validator (reachable and collision-free, else the last valid pair).
+-- The clutches start with the deployment (InitHapticDevice): each tool then follows its device's
+-- motion from where both were, so that taking over moves nothing by itself.
+local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator",
+                       "RightClutch", "LeftClutch" }
+for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.peer_name end
+defineDeployment("suturing_teleoperated", {
+  scope = "suture",
+  components = teleoperated,
+  connections = {
+    { output = device.right, input = "RightClutch.masterPose" },
+    { output = device.left, input = "LeftClutch.masterPose" },
+    { output = "ISUR.measRightCartPose", input = "RightClutch.slavePose" },
+    { output = "ISUR.measLeftCartPose", input = "LeftClutch.slavePose" },
+    { output = "RightClutch.desPose", input = "RightAdmittance.refPose" },
+    { output = "LeftClutch.desPose", input = "LeftAdmittance.refPose" },
+    { output = "RightAdmittance.admPose", input = "Validator.desPoseIn_1" },
+    { output = "LeftAdmittance.admPose", input = "Validator.desPoseIn_2" },
+    { output = "Validator.desPoseOut_1", input = "ISUR.desRightCartPose" },
+    { output = "Validator.desPoseOut_2", input = "ISUR.desLeftCartPose" },
+  },
+})
+configureComponents(always)
+configureComponents({ "SutureTrajGen" })  -- its desCartPose_i ports exist once configured
+startComponents(always)

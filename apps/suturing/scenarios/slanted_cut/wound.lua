@@ -1,0 +1,12 @@
+-- The second scenario (issue 17): a 36 mm cut slanted -15 degrees from the world's x axis, 5 mm open
+-- at its middle: 3 stitches at the 8 mm spacing and margins. Same fields as straight_cut/wound.lua.
+-- (At +15 degrees the two upper arms come within 0.7 mm of each other: README.md, Known limits.)
+local a = math.rad(-15)
+local h = 0.018
+return {
+  cut = { -h * math.cos(a), -h * math.sin(a), h * math.cos(a), h * math.sin(a) },
+  wound_pose = { 0.178, 0.0, 0.06, 0, 0, 0, 1 },
+  max_gap = 0.005,
+  closed_gap = 0.0005,
+  stitches = 3,
+}

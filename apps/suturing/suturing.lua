@@ -1,0 +1,89 @@
+-- The suturing task (thesis ch. 5) in simulation: the world (deployment/world.lua: the two-armed
+-- I-SUR and the wound) and the robot's controller (deployment/controller.lua: the deployments of
+-- §5.5.1, the configurations of §5.5.2, the supervisors, the chart of Fig. 5.11). Run it with
+-- `cobra run apps/suturing` (what `./do demo suturing` does; the `run` table at the end says what
+-- ends the run and what to observe, run/README.md).
+-- `scenario` may be set before this file runs; default: scenarios/straight_cut.
+local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
+scenario = scenario or (here .. "scenarios/straight_cut")
+wound = dofile(scenario .. "/wound.lua")
+local G = dofile(here .. "../puncturing/deployment/geometry.lua")  -- G.frame(x, y, z, roll, pitch, yaw)
+
+-- The haptic device of the teleoperated deployment: "leap" (Leap Motion, both hands) or "omni" (two
+-- Phantom Omnis). Switching is this one line.
+teleop_device = teleop_device or "leap"
+
+-- This application's frames (m, rad). Both tools' datums have z into the skin and x along the cut
+-- (the Frame Generator's). The Endo Stitch's tip frame has the instrument along its x axis;
+-- pointing straight down it would sit where its wrist's two representations meet, so its datum
+-- frame holds it 21 deg from the vertical (its initial pitch): the robot's right tool frame.
+-- The planner and the State Validator take one tool frame for both tools of the two-armed robot
+-- (components/planning: the first's), so the left arm is commanded in the same frame on its
+-- gripper, and the stick's tip, 0.15 m along the gripper's axis with the gripper leaning in from
+-- the left about 34 deg from the vertical (a pose from which the left arm reaches every stick
+-- position around a stitch, searched with the split IK), is `stick_tip` in that frame:
+-- tool_frame^-1 * (gripper -> stick tip datum), computed once.
+tool_frame = G.frame(0, 0, 0, math.pi, -1.2, 0)
+stick_tip = G.frame(0.139805863, 0, -0.0543536632, 2.77295847, -0.484786581, 0.692127747)
+-- The suturing scene's phantom (0.25 x 0.2 x 0.06 m) centred under the wound.
+phantom_pose = G.frame(wound.wound_pose[1], wound.wound_pose[2], 0)
+
+dofile(here .. "deployment/world.lua")
+dofile(here .. "deployment/controller.lua")
+applyDeployment("suturing_autonomous_planning")
+
+-- What `cobra run` needs from this application (run/README.md).
+local failures = { "e_plan_failed", "e_traj_failed", "e_no_data", "e_comm_timeout", "e_ik_discontinuity", "e_ik_failed",
+                   "e_no_wound_data", "e_stitch_missed", "e_endo_stitch_busy", "e_thread_broken" }
+run = {
+  title = "Suturing procedure",
+  charts = {
+    { name = "suture", supervisor = "TaskSup", done = "root.Done", safe_stop = "root.SafeStop", scope = "suture" },
+  },
+  fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived" },
+  failures = failures,
+  explain = { e_plan_failed = "lastPlanResult" },
+  safe_stop_reason = "the same failure again after the reaction to the first, or the thread broke",
+  record = { period = 0.01, ports = { "ISUR.measRightCartPose", "ISUR.measLeftCartPose", "RightAdmittance.admPose",
+                                      "Patient.threadTension", "Patient.maxStitchGap", "Patient.maxGap",
+                                      "RightAdmittance.tankEnergy", "LeftAdmittance.tankEnergy",
+                                      "SuturePlanner.minDistance" } },
+  plots = {
+    { title = "Thread tension", unit = "N", series = { "Patient.threadTension" } },
+    { title = "The wound's gap: widest along the cut, widest at a stitch", unit = "m",
+      series = { "Patient.maxGap", "Patient.maxStitchGap" } },
+    { title = "Endo Stitch tip height, commanded and measured", unit = "m",
+      series = { "RightAdmittance.admPose.z", "ISUR.measRightCartPose.z" } },
+    { title = "Energy tanks of the variable admittances", unit = "J",
+      series = { "RightAdmittance.tankEnergy", "LeftAdmittance.tankEnergy" } },
+  },
+  summary = {
+    { name = "half-stitches applied", count = { "e_stitch_applied" } },
+    { name = "stitches completed", count = { "e_stitch_done" } },
+    -- After each stitch (the thread pulled, hooked and pushed): the widest gap at any stitch so far.
+    { name = "gap at the stitches after each stitch", unit = "mm", scale = 1000, say = true,
+      port = "Patient.maxStitchGap", on_enter = "suture:root.AutonomousMode.GetStitchTargetPose" },
+    { name = "thread tension at the end of each pull", unit = "N", port = "Patient.threadTension",
+      on_leave = "suture:root.AutonomousMode.PullThread" },
+    { name = "widest gap along the cut at the end", unit = "mm", scale = 1000, port = "Patient.maxGap",
+      on_enter = "suture:root.Done" },
+    { name = "faults detected", count = failures },
+    { name = "surgeon reactions", count = { "e_recover", "e_take_over" } },
+  },
+  -- The arms do what they are told during the autonomous motions; commanded = each admittance's output.
+  tracking = {
+    { name = "Endo Stitch", commanded = "RightAdmittance.admPose", measured = "ISUR.measRightCartPose",
+      joints = "ISUR.measJointPosition", max_velocity = "ISUR.max_velocity", chart = "suture",
+      counts_while = { scope = "suture", deployments = { "suturing_autonomous_planning", "suturing_autonomous_primitives" } } },
+    { name = "stick", commanded = "LeftAdmittance.admPose", measured = "ISUR.measLeftCartPose",
+      joints = "ISUR.measJointPosition", max_velocity = "ISUR.max_velocity", chart = "suture",
+      counts_while = { scope = "suture", deployments = { "suturing_autonomous_planning", "suturing_autonomous_primitives" } } },
+  },
+  -- The measured state's clearance as the planner measures it (planning/scenes/suturing.scene),
+  -- except while the Endo Stitch is in the wound on purpose (inside it, at its edge, the stitch and
+  -- out again): from MoveInsideWound until the thread is pulled.
+  clearance = {
+    port = "SuturePlanner.minDistance", threshold = "SuturePlanner.clearanceThreshold",
+    pauses = { { name = "Endo Stitch in the wound", chart = "suture", from = { "MoveInsideWound" }, to = { "PullThread" } } },
+  },
+}
