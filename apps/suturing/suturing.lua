@@ -47,7 +47,7 @@ run = {
   record = { period = 0.01, ports = { "ISUR.measRightCartPose", "ISUR.measLeftCartPose", "RightAdmittance.admPose",
                                       "Patient.threadTension", "Patient.maxStitchGap", "Patient.maxGap",
                                       "RightAdmittance.tankEnergy", "LeftAdmittance.tankEnergy",
-                                      "SuturePlanner.minDistance" } },
+                                      "SuturePlanner.minDistance", "SuturePlanner.primitiveContactDistance" } },
   plots = {
     { title = "Thread tension", unit = "N", series = { "Patient.threadTension" } },
     { title = "The wound's gap: widest along the cut, widest at a stitch", unit = "m",
@@ -80,10 +80,10 @@ run = {
       counts_while = { scope = "suture", deployments = { "suturing_autonomous_planning", "suturing_autonomous_primitives" } } },
   },
   -- The measured state's clearance as the planner measures it (planning/scenes/suturing.scene),
-  -- except while the Endo Stitch is in the wound on purpose (inside it, at its edge, the stitch and
-  -- out again): from MoveInsideWound until the thread is pulled.
+  -- the whole run long; the Endo Stitch in the wound (a contact only the motion primitives make,
+  -- `primitive_contact`) is left out of it and reported apart.
   clearance = {
     port = "SuturePlanner.minDistance", threshold = "SuturePlanner.clearanceThreshold",
-    pauses = { { name = "Endo Stitch in the wound", chart = "suture", from = { "MoveInsideWound" }, to = { "PullThread" } } },
+    contacts = { { name = "Endo Stitch in the wound", port = "SuturePlanner.primitiveContactDistance" } },
   },
 }
