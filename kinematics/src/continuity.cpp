@@ -58,7 +58,7 @@ IkStatus ContinuousIk::solve(const KDL::Frame& target, const KDL::JntArray& curr
   double worst_ratio = 1.0;
   for (unsigned j = 0; j < n; ++j) {
     const double allowed = max_velocity_[j] * dt;
-    const double step = std::abs(candidate_(j) - current(j));
+    const double step = std::abs(candidate_.data(j) - current.data(j));
     if (step <= allowed * (1.0 + kRelativeSlack) + kAbsoluteSlack) continue;
     const double ratio = step / allowed;
     if (ratio > worst_ratio) {
@@ -70,11 +70,11 @@ IkStatus ContinuousIk::solve(const KDL::Frame& target, const KDL::JntArray& curr
     const auto j = static_cast<unsigned>(worst);
     refusal_ = ContinuityRefusal{.branch_change = false,
                                  .joint = worst,
-                                 .step = std::abs(candidate_(j) - current(j)),
+                                 .step = std::abs(candidate_.data(j) - current.data(j)),
                                  .allowed = max_velocity_[j] * dt};
     return IkStatus::Discontinuous;
   }
-  for (unsigned j = 0; j < n; ++j) q_out(j) = candidate_(j);
+  for (unsigned j = 0; j < n; ++j) q_out.data(j) = candidate_.data(j);
   return IkStatus::Ok;
 }
 
