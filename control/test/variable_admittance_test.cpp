@@ -165,6 +165,32 @@ TEST(VariableAdmittance, ChangingParametersNeverMakesThePoseJump) {
             AdmittanceStatus::BadParameters);  // inertia below the constant part
 }
 
+TEST(VariableAdmittance, EachStepIsTheBackwardEulerStepOfTheParametersInForceThen) {
+  // Steps under one set of parameters, then another, then the first again: every step's error
+  // rate is the backward Euler solution with the matrices of that step (an independent LDLT here),
+  // so no factorisation of an earlier step's system is used for a later one.
+  const AdmittanceParameters p = baseline();
+  VariableAdmittance a(p);
+  const Matrix6 stiffer = diagonal(5000.0, 50.0), heavier = diagonal(10.0, 0.5);
+  const KDL::Wrench push(KDL::Vector(5.0, -2.0, 1.0), KDL::Vector::Zero());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  for (int i = 0; i < 90; ++i) {
+    const int phase = (i / 30) % 3;
+    const Matrix6& inertia = phase == 1 ? heavier : p.inertia;
+    const Matrix6& stiffness = phase == 1 ? stiffer : p.stiffness;
+    ASSERT_EQ(a.setParameters(inertia, p.damping, stiffness), AdmittanceStatus::Ok);
+    const Vector6 x = a.error(), v = a.errorRate();
+    Vector6 force;
+    force << 5.0, -2.0, 1.0, 0.0, 0.0, 0.0;
+    const Matrix6 system = inertia + kDt * p.damping + kDt * kDt * stiffness;
+    const Vector6 expected = system.ldlt().solve(inertia * v + kDt * (force - stiffness * x));
+    ASSERT_EQ(a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), push, kDt, pose, twist), AdmittanceStatus::Ok);
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(a.errorRate()(k), expected(k), 1e-12 * (1.0 + std::abs(expected(k)))) << "step " << i << " axis " << k;
+  }
+}
+
 /// One random run: a push, a stiff wall, and a random schedule of Λd and Kd.
 struct RunResult {
   double delivered = 0.0;   // energy the controller gave the environment, J
