@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <random>
 #include <thread>
 
 #include "cobra/components/builtin_packages.hpp"
@@ -95,6 +96,34 @@ TEST(ConfiguratorClient, ASupervisorsRequestIsCarriedOutBetweenInstantsAndAnswer
   f.configurator.clock().advance(1ms);
   EXPECT_EQ(f.component("Amp").getProperty<double>("k"), 5.0);
   EXPECT_EQ(f.supervisor().answers().back(), "done loud");
+}
+
+// The between-instants hook services only when a request came since its last service: over 60
+// instants with requests in a seeded random third of them (and direct serviceRequests calls in
+// between), each request is carried out in the instant it is made, none is left waiting.
+TEST(ConfiguratorClient, EveryRequestIsCarriedOutInTheInstantItIsMade) {
+  ClientFixture f(deploy::ClockMode::Simulation);
+  f.configurator.deploymentSet().addConfiguration({"quiet", {"quiet.cfg", 1}, {{"Amp", "k", "0.5", {"quiet.cfg", 2}}}});
+  f.send("e_deploy_amplify");
+  f.configurator.clock().advance(1ms);
+  std::mt19937 rng(5);
+  std::size_t answered = f.supervisor().answers().size();
+  double expected_k = f.component("Amp").getProperty<double>("k");
+  for (int instant = 0; instant < 60; ++instant) {
+    const bool request = rng() % 3 == 0;
+    if (request) {
+      const bool loud = rng() % 2 == 0;
+      f.send(loud ? "e_configure_loud" : "e_configure_quiet");
+      expected_k = loud ? 5.0 : 0.5;
+    }
+    if (rng() % 5 == 0) {
+      EXPECT_FALSE(f.configurator.serviceRequests());  // nothing queued outside a step
+    }
+    f.configurator.clock().advance(1ms);
+    EXPECT_EQ(f.component("Amp").getProperty<double>("k"), expected_k) << "instant " << instant;
+    EXPECT_EQ(f.supervisor().answers().size(), answered + (request ? 1 : 0)) << "instant " << instant;
+    answered = f.supervisor().answers().size();
+  }
 }
 
 TEST(ConfiguratorClient, AFailedSwitchChangesNothingAndTheAnswerSaysWhy) {

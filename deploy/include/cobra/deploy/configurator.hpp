@@ -228,6 +228,9 @@ class Configurator {
   mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
   std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;
   std::atomic<std::uint32_t> service_wakeups_{0};
+  /// service_wakeups_ when the lockstep clock's between-instants hook last serviced: the hook,
+  /// run twice per simulated instant, services only when a request came since (no lock, no scan).
+  std::uint32_t hook_serviced_wakeups_ = 0;
   std::atomic<bool> service_stopping_{false};
   std::thread service_thread_;  // real time only, started with the first client
 };
