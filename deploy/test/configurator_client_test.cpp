@@ -139,6 +139,23 @@ TEST(ConfiguratorClient, AFailedSwitchChangesNothingAndTheAnswerSaysWhy) {
   EXPECT_EQ(f.component("Amp").getProperty<double>("k"), 1.0);
   EXPECT_EQ(f.configurator.currentDeployment(), "");
   EXPECT_CONTAINS(f.configurator.warnings().back(), "nowhere");
+  EXPECT_EQ(f.configurator.switchCount(), 0U);  // nothing applied: observers see no change
+}
+
+// switchCount counts what was applied: observers (the runner's switch and tracking lanes) look
+// the deployments and configuration up again only when it changed.
+TEST(ConfiguratorClient, TheSwitchCountGrowsWithEachAppliedSwitchOnly) {
+  ClientFixture f(deploy::ClockMode::Simulation);
+  EXPECT_EQ(f.configurator.switchCount(), 0U);
+  f.send("e_deploy_amplify");
+  f.configurator.clock().advance(1ms);
+  EXPECT_EQ(f.configurator.switchCount(), 1U);
+  f.send("e_configure_loud");
+  f.send("e_configure_broken");
+  f.configurator.clock().advance(1ms);
+  EXPECT_EQ(f.configurator.switchCount(), 2U);
+  f.configurator.applyDeployment("amplify");  // again, the same: applied, so counted
+  EXPECT_EQ(f.configurator.switchCount(), 3U);
 }
 
 TEST(ConfiguratorClient, RequestsAreRefusedWhenTheQueueIsFullOrTheNameTooLong) {
