@@ -115,13 +115,8 @@ bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* 
   auto& search = *static_cast<DistanceSearch*>(data);
   // With a threshold, pairs whose bounding boxes are at least that far apart cannot be under it:
   // skip their narrow phase (GJK, the dominant cost) and let the broadphase prune by the threshold.
-  // And a pair whose boxes are already as far apart as the smallest distance found (or the bound
-  // the search started from) cannot lower it: FCL's traversal prunes such pairs by their boxes
-  // only after its first callback, so the first pair it reaches in each query would otherwise be
-  // measured whatever its distance (the slack as for the memos below).
-  const double boxes = a->getAABB().distance(b->getAABB());
-  const bool skip = (search.stop_below > 0.0 && boxes >= search.stop_below) ||
-                    boxes >= search.minimum + kMemoSlack || allowedContact(search, a, b);
+  const bool skip = (search.stop_below > 0.0 && a->getAABB().distance(b->getAABB()) >= search.stop_below) ||
+                    allowedContact(search, a, b);
   if (!skip && search.minimum > search.stop_below) {
     const std::size_t i = indexOf(search, a), j = indexOf(search, b);
     const bool ordered = i < j;
