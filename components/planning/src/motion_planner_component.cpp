@@ -180,8 +180,11 @@ void MotionPlannerComponent::updateHook() {
   const std::int64_t now_ns = now().count();
   const bool clearance_due =
       last_clearance_ns_ < 0 || now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
+  // Whether a port of it is connected is asked (a lock per port) once per clearance_period too:
+  // a planner nobody reads the clearance of (the probe's) would otherwise ask every step.
   const bool clearance_wanted =
       clearance_due && (min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected());
+  if (clearance_due && !clearance_wanted) last_clearance_ns_ = now_ns;
   // The measured pose ports trigger this component at the robots' rate; their latest samples
   // are read only when a measurement or a plan uses them (the connections keep the latest).
   if (!plan_now && !clearance_wanted) return;

@@ -479,6 +479,27 @@ TEST(MotionPlannerComponent, ClearanceIsMeasuredEveryPeriodFromTheLatestJoints) 
   EXPECT_EQ(sampled_at, (std::vector<int>{0, 10, 20, 30, 40}));
 }
 
+// Nobody reading the clearance: none is measured (the probe's planner in the puncturing app);
+// connected later, its first sample comes within one clearance_period (10 ms).
+TEST(MotionPlannerComponent, TheClearanceIsMeasuredOnlyWhileItsPortsAreRead) {
+  Bench b;
+  b.min_distance.disconnect();
+  for (int ms = 0; ms < 25; ++ms) {
+    b.measure(needleDown(0.0, 0.0, 0.2), probeDown(-0.1, 0.0, 0.12));
+    b.clock.advance(1ms);
+  }
+  core::connectPorts(b.planner.port("minDistance"), b.min_distance);
+  int first = -1;
+  for (int ms = 0; ms < 12 && first < 0; ++ms) {
+    b.measure(needleDown(0.0, 0.0, 0.2), probeDown(-0.1, 0.0, 0.12));
+    b.clock.advance(1ms);
+    double clearance = 0.0;
+    if (b.min_distance.read(clearance) == core::FlowStatus::NewData) first = ms;
+  }
+  EXPECT_GE(first, 0) << "no clearance sample within 12 ms of connecting";
+  EXPECT_LE(first, 10);
+}
+
 TEST(MotionPlannerComponent, StartRefusesAPeriodicActivity) {
   MotionPlannerComponent planner("Planner");
   configureScene(planner);
