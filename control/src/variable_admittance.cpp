@@ -108,6 +108,8 @@ VariableAdmittance::VariableAdmittance(const AdmittanceParameters& p) : paramete
     throw std::invalid_argument("VariableAdmittance: tank energies must satisfy 0 < min_energy < initial_energy <= "
                                 "max_energy (J), got " + std::to_string(t.min_energy) + ", " +
                                 std::to_string(t.initial_energy) + ", " + std::to_string(t.max_energy));
+  variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
+  variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
   reset();
 }
 
@@ -129,6 +131,8 @@ AdmittanceStatus VariableAdmittance::setParameters(const Matrix6& inertia, const
   parameters_.inertia = inertia;
   parameters_.damping = damping;
   parameters_.stiffness = stiffness;
+  variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
+  variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
   return AdmittanceStatus::Ok;
 }
 
@@ -180,12 +184,11 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   force.tail<3>() = error_jacobian_.transpose() * Eigen::Vector3d(torque.x(), torque.y(), torque.z());
 
   const double sigma = tank_ <= parameters_.tank.max_energy ? 1.0 : 0.0;  // eq. 4.7
-  const double energy_before = constantEnergy(x_, v_);
+  // H_c(x̃, ẋ̃) now: what the last step, rebase or reset stored for this very x̃ and ẋ̃.
+  const double energy_before = audit_.stored;
   Vector6 x_next, v_next;
   integrate(parameters_.inertia, parameters_.stiffness, force, dt, variable_factor_, x_next, v_next);
-  const Matrix6 variable_inertia = parameters_.inertia - parameters_.constant_inertia;
-  const Matrix6 variable_stiffness = parameters_.stiffness - parameters_.constant_stiffness;
-  Vector6 w = -variable_stiffness * x_next - variable_inertia * ((v_next - v_) / dt);  // eq. 4.11
+  Vector6 w = -variable_stiffness_ * x_next - variable_inertia_ * ((v_next - v_) / dt);  // eq. 4.11
   Vector6 dx = x_next - x_;
   double delta = (force + w).dot(dx) - (constantEnergy(x_next, v_next) - energy_before);
   double tank_next = tank_ + sigma * delta - w.dot(dx);

@@ -123,6 +123,9 @@ class VariableAdmittance {
     bool known = false;
   };
   AdmittanceParameters parameters_;
+  /// Λd − Λc and Kd − Kc (eq. 4.11's variable parts), set with the parameters.
+  Matrix6 variable_inertia_ = Matrix6::Zero();
+  Matrix6 variable_stiffness_ = Matrix6::Zero();
   Factorisation variable_factor_, constant_factor_;
   /// J_l at the rotation part of x_, computed at the end of the last step for the output twist:
   /// the next step's generalised force needs it at the same x_ (reset and rebase change x_ and
