@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -107,6 +108,8 @@ VariableAdmittance::VariableAdmittance(const AdmittanceParameters& p) : paramete
     throw std::invalid_argument("VariableAdmittance: tank energies must satisfy 0 < min_energy < initial_energy <= "
                                 "max_energy (J), got " + std::to_string(t.min_energy) + ", " +
                                 std::to_string(t.initial_energy) + ", " + std::to_string(t.max_energy));
+  variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
+  variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
   reset();
 }
 
@@ -114,6 +117,7 @@ void VariableAdmittance::reset() noexcept {
   x_.setZero();
   v_.setZero();
   tank_ = parameters_.tank.initial_energy;
+  error_jacobian_known_ = false;
   audit_ = EnergyAudit{};
   audit_.tank = tank_;
 }
@@ -127,6 +131,8 @@ AdmittanceStatus VariableAdmittance::setParameters(const Matrix6& inertia, const
   parameters_.inertia = inertia;
   parameters_.damping = damping;
   parameters_.stiffness = stiffness;
+  variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
+  variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
   return AdmittanceStatus::Ok;
 }
 
@@ -135,10 +141,16 @@ double VariableAdmittance::constantEnergy(const Vector6& x, const Vector6& v) co
 }
 
 void VariableAdmittance::integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt,
-                                   Vector6& x_next, Vector6& v_next) const noexcept {
+                                   Factorisation& factor, Vector6& x_next, Vector6& v_next) const noexcept {
   const Matrix6 system = M + dt * parameters_.damping + dt * dt * K;
+  // Bitwise comparison: the same bits factorise to the same bits.
+  if (!factor.known || std::memcmp(system.data(), factor.system.data(), sizeof(double) * 36) != 0) {
+    factor.system = system;
+    factor.llt.compute(system);
+    factor.known = true;
+  }
   const Vector6 rhs = M * v_ + dt * (force - K * x_);
-  v_next = Eigen::LLT<Matrix6>(system).solve(rhs);
+  v_next = factor.llt.solve(rhs);
   x_next = x_ + dt * v_next;
 }
 
@@ -153,6 +165,7 @@ void VariableAdmittance::rebase(const KDL::Frame& old_reference, const KDL::Fram
   x_(3) = r.x();
   x_(4) = r.y();
   x_(5) = r.z();
+  error_jacobian_known_ = false;
   audit_.stored = constantEnergy(x_, v_);
 }
 
@@ -167,22 +180,23 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   const KDL::Vector torque = reference.M.Inverse(wrench.torque);
   Vector6 force;
   force.head<3>() = Eigen::Vector3d(wrench.force.x(), wrench.force.y(), wrench.force.z());
-  force.tail<3>() = leftJacobian(x_.tail<3>()).transpose() * Eigen::Vector3d(torque.x(), torque.y(), torque.z());
+  if (!error_jacobian_known_) error_jacobian_ = leftJacobian(x_.tail<3>());
+  force.tail<3>() = error_jacobian_.transpose() * Eigen::Vector3d(torque.x(), torque.y(), torque.z());
 
   const double sigma = tank_ <= parameters_.tank.max_energy ? 1.0 : 0.0;  // eq. 4.7
-  const double energy_before = constantEnergy(x_, v_);
+  // H_c(x̃, ẋ̃) now: what the last step, rebase or reset stored for this very x̃ and ẋ̃.
+  const double energy_before = audit_.stored;
   Vector6 x_next, v_next;
-  integrate(parameters_.inertia, parameters_.stiffness, force, dt, x_next, v_next);
-  const Matrix6 variable_inertia = parameters_.inertia - parameters_.constant_inertia;
-  const Matrix6 variable_stiffness = parameters_.stiffness - parameters_.constant_stiffness;
-  Vector6 w = -variable_stiffness * x_next - variable_inertia * ((v_next - v_) / dt);  // eq. 4.11
+  integrate(parameters_.inertia, parameters_.stiffness, force, dt, variable_factor_, x_next, v_next);
+  Vector6 w = -variable_stiffness_ * x_next - variable_inertia_ * ((v_next - v_) / dt);  // eq. 4.11
   Vector6 dx = x_next - x_;
   double delta = (force + w).dot(dx) - (constantEnergy(x_next, v_next) - energy_before);
   double tank_next = tank_ + sigma * delta - w.dot(dx);
   AdmittanceStatus status = AdmittanceStatus::Ok;
   if (parameters_.use_tank && tank_next < parameters_.tank.min_energy) {
     // The tank cannot pay for w: implement the constant parts only (w = 0).
-    integrate(parameters_.constant_inertia, parameters_.constant_stiffness, force, dt, x_next, v_next);
+    integrate(parameters_.constant_inertia, parameters_.constant_stiffness, force, dt, constant_factor_, x_next,
+              v_next);
     w.setZero();
     dx = x_next - x_;
     delta = force.dot(dx) - (constantEnergy(x_next, v_next) - energy_before);
@@ -201,7 +215,9 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   pose.p = reference.p + KDL::Vector(x_(0), x_(1), x_(2));
   pose.M = reference.M * expRotation(x_);
   twist.vel = reference_twist.vel + KDL::Vector(v_(0), v_(1), v_(2));
-  const Eigen::Vector3d relative_rate = leftJacobian(x_.tail<3>()) * v_.tail<3>();  // rad/s, reference axes
+  error_jacobian_ = leftJacobian(x_.tail<3>());
+  error_jacobian_known_ = true;
+  const Eigen::Vector3d relative_rate = error_jacobian_ * v_.tail<3>();  // rad/s, reference axes
   twist.rot = reference_twist.rot + reference.M * KDL::Vector(relative_rate.x(), relative_rate.y(), relative_rate.z());
   return status;
 }

@@ -165,6 +165,66 @@ TEST(VariableAdmittance, ChangingParametersNeverMakesThePoseJump) {
             AdmittanceStatus::BadParameters);  // inertia below the constant part
 }
 
+TEST(VariableAdmittance, EachStepIsTheBackwardEulerStepOfTheParametersInForceThen) {
+  // Steps under one set of parameters, then another, then the first again: every step's error
+  // rate is the backward Euler solution with the matrices of that step (an independent LDLT here),
+  // so no factorisation of an earlier step's system is used for a later one.
+  const AdmittanceParameters p = baseline();
+  VariableAdmittance a(p);
+  const Matrix6 stiffer = diagonal(5000.0, 50.0), heavier = diagonal(10.0, 0.5);
+  const KDL::Wrench push(KDL::Vector(5.0, -2.0, 1.0), KDL::Vector::Zero());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  for (int i = 0; i < 90; ++i) {
+    const int phase = (i / 30) % 3;
+    const Matrix6& inertia = phase == 1 ? heavier : p.inertia;
+    const Matrix6& stiffness = phase == 1 ? stiffer : p.stiffness;
+    ASSERT_EQ(a.setParameters(inertia, p.damping, stiffness), AdmittanceStatus::Ok);
+    const Vector6 x = a.error(), v = a.errorRate();
+    Vector6 force;
+    force << 5.0, -2.0, 1.0, 0.0, 0.0, 0.0;
+    const Matrix6 system = inertia + kDt * p.damping + kDt * kDt * stiffness;
+    const Vector6 expected = system.ldlt().solve(inertia * v + kDt * (force - stiffness * x));
+    ASSERT_EQ(a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), push, kDt, pose, twist), AdmittanceStatus::Ok);
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(a.errorRate()(k), expected(k), 1e-12 * (1.0 + std::abs(expected(k)))) << "step " << i << " axis " << k;
+  }
+}
+
+// Parameters set on a running admittance act exactly as the same parameters given at
+// construction: 300 steps of a push (with a reference jump rebased half-way) give bit-identical
+// poses, tank energies and energy audits (each step's variable parts and stored energy are the
+// ones of the parameters and state in force, none left from before).
+TEST(VariableAdmittance, ParametersSetLaterStepLikeParametersGivenAtConstruction) {
+  AdmittanceParameters later = baseline();
+  later.inertia = diagonal(3.0, 0.2);
+  later.stiffness = diagonal(900.0, 20.0);
+  later.damping = diagonal(60.0, 2.0);
+  VariableAdmittance changed(baseline()), constructed(later);
+  ASSERT_EQ(changed.setParameters(later.inertia, later.damping, later.stiffness), AdmittanceStatus::Ok);
+  const KDL::Wrench push(KDL::Vector(4.0, -1.0, 2.0), KDL::Vector(0.05, 0.0, -0.02));
+  KDL::Frame reference = KDL::Frame::Identity();
+  KDL::Frame pose_a, pose_b;
+  KDL::Twist twist_a, twist_b;
+  for (int i = 0; i < 300; ++i) {
+    if (i == 150) {
+      const KDL::Frame moved(KDL::Rotation::RotZ(0.01), KDL::Vector(0.002, 0.0, 0.0));
+      changed.rebase(reference, moved);
+      constructed.rebase(reference, moved);
+      reference = moved;
+    }
+    ASSERT_EQ(changed.step(reference, KDL::Twist::Zero(), push, kDt, pose_a, twist_a),
+              constructed.step(reference, KDL::Twist::Zero(), push, kDt, pose_b, twist_b));
+    ASSERT_EQ(changed.tankEnergy(), constructed.tankEnergy()) << "step " << i;
+    ASSERT_EQ(changed.audit().stored, constructed.audit().stored) << "step " << i;
+    ASSERT_EQ(changed.audit().injected_by_w, constructed.audit().injected_by_w) << "step " << i;
+    ASSERT_EQ(changed.audit().dissipated, constructed.audit().dissipated) << "step " << i;
+    for (int k = 0; k < 9; ++k) ASSERT_EQ(pose_a.M.data[k], pose_b.M.data[k]) << "step " << i;
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(pose_a.p.data[k], pose_b.p.data[k]) << "step " << i;
+  }
+  EXPECT_NE(changed.audit().injected_by_w, 0.0);  // the variable parts did work
+}
+
 /// One random run: a push, a stiff wall, and a random schedule of Λd and Kd.
 struct RunResult {
   double delivered = 0.0;   // energy the controller gave the environment, J

@@ -18,6 +18,11 @@ std::string LockstepActivity::describe() const {
 
 std::chrono::nanoseconds LockstepActivity::now() const { return clock_ ? clock_->now() : last_now_; }
 
+void LockstepActivity::trigger() noexcept {
+  triggered_ = true;
+  if (period_.count() == 0 && clock_ != nullptr) clock_->trigger_pending_ = true;
+}
+
 LockstepActivity::~LockstepActivity() {
   if (clock_ != nullptr) clock_->forget(this);
 }
@@ -120,6 +125,8 @@ void LockstepClock::runTriggered(std::chrono::nanoseconds t) {
   // Event-driven components react in the same instant, in the order they were added, until
   // no more triggers arrive.
   for (int round = 0; round < kMaxTriggerRounds; ++round) {
+    if (!trigger_pending_) return;  // no event-driven component was triggered since the last scan
+    trigger_pending_ = false;
     bool any = false;
     for (const Entry& e : entries_) {
       LockstepActivity& a = *e.activity;

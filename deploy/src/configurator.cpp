@@ -24,7 +24,17 @@ Configurator::Configurator(ConfiguratorOptions options)
     : options_(std::move(options)),
       packages_(options_.package_path),
       clock_(options_.mode == ClockMode::Simulation ? std::make_unique<core::LockstepClock>() : nullptr) {
-  if (clock_) clock_->setBetweenInstants([this] { return serviceRequests(); });
+  if (clock_) {
+    clock_->setBetweenInstants([this] {
+      // Every request bumps service_wakeups_ after queueing (ConfiguratorClient::requestSwitch):
+      // the count read before servicing covers every request serviceRequests then finds, and a
+      // request queued while it runs bumps it again for the next call.
+      const std::uint32_t wakeups = service_wakeups_.load(std::memory_order_acquire);
+      if (wakeups == hook_serviced_wakeups_) return false;
+      hook_serviced_wakeups_ = wakeups;
+      return serviceRequests();
+    });
+  }
 }
 
 Configurator::~Configurator() {

@@ -75,6 +75,7 @@ void Configurator::applyConfiguration(const std::string& name) {
     journal.record(value.component + "." + value.property, [&property, before] { property.setFromText(before); });
   }
   current_configuration_ = name;
+  switch_count_.fetch_add(1, std::memory_order_release);
 }
 
 /// What a deployment switch changes, computed before anything changes.
@@ -267,6 +268,7 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
     journal.fail(context + e.what());  // the previous deployment runs again
   }
   current_deployments_[next.scope] = name;
+  switch_count_.fetch_add(1, std::memory_order_release);
   return violations;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <random>
 #include <thread>
 
 #include "cobra/components/builtin_packages.hpp"
@@ -97,6 +98,34 @@ TEST(ConfiguratorClient, ASupervisorsRequestIsCarriedOutBetweenInstantsAndAnswer
   EXPECT_EQ(f.supervisor().answers().back(), "done loud");
 }
 
+// The between-instants hook services only when a request came since its last service: over 60
+// instants with requests in a seeded random third of them (and direct serviceRequests calls in
+// between), each request is carried out in the instant it is made, none is left waiting.
+TEST(ConfiguratorClient, EveryRequestIsCarriedOutInTheInstantItIsMade) {
+  ClientFixture f(deploy::ClockMode::Simulation);
+  f.configurator.deploymentSet().addConfiguration({"quiet", {"quiet.cfg", 1}, {{"Amp", "k", "0.5", {"quiet.cfg", 2}}}});
+  f.send("e_deploy_amplify");
+  f.configurator.clock().advance(1ms);
+  std::mt19937 rng(5);
+  std::size_t answered = f.supervisor().answers().size();
+  double expected_k = f.component("Amp").getProperty<double>("k");
+  for (int instant = 0; instant < 60; ++instant) {
+    const bool request = rng() % 3 == 0;
+    if (request) {
+      const bool loud = rng() % 2 == 0;
+      f.send(loud ? "e_configure_loud" : "e_configure_quiet");
+      expected_k = loud ? 5.0 : 0.5;
+    }
+    if (rng() % 5 == 0) {
+      EXPECT_FALSE(f.configurator.serviceRequests());  // nothing queued outside a step
+    }
+    f.configurator.clock().advance(1ms);
+    EXPECT_EQ(f.component("Amp").getProperty<double>("k"), expected_k) << "instant " << instant;
+    EXPECT_EQ(f.supervisor().answers().size(), answered + (request ? 1 : 0)) << "instant " << instant;
+    answered = f.supervisor().answers().size();
+  }
+}
+
 TEST(ConfiguratorClient, AFailedSwitchChangesNothingAndTheAnswerSaysWhy) {
   ClientFixture f(deploy::ClockMode::Simulation);
   f.send("e_configure_broken");
@@ -110,6 +139,23 @@ TEST(ConfiguratorClient, AFailedSwitchChangesNothingAndTheAnswerSaysWhy) {
   EXPECT_EQ(f.component("Amp").getProperty<double>("k"), 1.0);
   EXPECT_EQ(f.configurator.currentDeployment(), "");
   EXPECT_CONTAINS(f.configurator.warnings().back(), "nowhere");
+  EXPECT_EQ(f.configurator.switchCount(), 0U);  // nothing applied: observers see no change
+}
+
+// switchCount counts what was applied: observers (the runner's switch and tracking lanes) look
+// the deployments and configuration up again only when it changed.
+TEST(ConfiguratorClient, TheSwitchCountGrowsWithEachAppliedSwitchOnly) {
+  ClientFixture f(deploy::ClockMode::Simulation);
+  EXPECT_EQ(f.configurator.switchCount(), 0U);
+  f.send("e_deploy_amplify");
+  f.configurator.clock().advance(1ms);
+  EXPECT_EQ(f.configurator.switchCount(), 1U);
+  f.send("e_configure_loud");
+  f.send("e_configure_broken");
+  f.configurator.clock().advance(1ms);
+  EXPECT_EQ(f.configurator.switchCount(), 2U);
+  f.configurator.applyDeployment("amplify");  // again, the same: applied, so counted
+  EXPECT_EQ(f.configurator.switchCount(), 3U);
 }
 
 TEST(ConfiguratorClient, RequestsAreRefusedWhenTheQueueIsFullOrTheNameTooLong) {

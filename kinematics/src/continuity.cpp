@@ -37,7 +37,7 @@ IkStatus checkJointSteps(const KDL::JntArray& candidate, const KDL::JntArray& cu
   double worst_ratio = 1.0;
   for (unsigned j = 0; j < candidate.rows(); ++j) {
     const double allowed = max_velocity[j] * dt;
-    const double step = std::abs(candidate(j) - current(j));
+    const double step = std::abs(candidate.data(j) - current.data(j));
     if (step <= allowed * (1.0 + kRelativeSlack) + kAbsoluteSlack) continue;
     const double ratio = step / allowed;
     if (ratio > worst_ratio) {
@@ -49,7 +49,7 @@ IkStatus checkJointSteps(const KDL::JntArray& candidate, const KDL::JntArray& cu
   const auto j = static_cast<unsigned>(worst);
   refusal = ContinuityRefusal{.branch_change = false,
                               .joint = worst,
-                              .step = std::abs(candidate(j) - current(j)),
+                              .step = std::abs(candidate.data(j) - current.data(j)),
                               .allowed = max_velocity[j] * dt};
   return IkStatus::Discontinuous;
 }
@@ -78,7 +78,7 @@ IkStatus ContinuousIk::solve(const KDL::Frame& target, const KDL::JntArray& curr
   }
   if (status != IkStatus::Ok) return status;
   if (checkJointSteps(candidate_, current, max_velocity_, dt, refusal_) != IkStatus::Ok) return IkStatus::Discontinuous;
-  for (unsigned j = 0; j < n; ++j) q_out(j) = candidate_(j);
+  for (unsigned j = 0; j < n; ++j) q_out.data(j) = candidate_.data(j);
   return IkStatus::Ok;
 }
 

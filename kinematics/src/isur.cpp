@@ -154,7 +154,7 @@ IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& 
   KDL::Vector p_delta;
   const IkStatus status = delta_.forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta);
   if (status != IkStatus::Ok) return status;
-  pose = KDL::Frame(KDL::Rotation::RotZ(q(3))) * KDL::Frame(p_delta);
+  pose = KDL::Frame(KDL::Rotation::RotZ(q.data(3))) * KDL::Frame(p_delta);
   return IkStatus::Ok;
 }
 
@@ -164,12 +164,12 @@ IkStatus IsurPuncturingSolver::linkFrames(const KDL::JntArray& q, std::span<KDL:
   const IkStatus status = platformPose(q, platform);
   if (status != IkStatus::Ok) return status;
   const IsurMicroArm& m = geometry_.micro;
-  frames[0] = KDL::Frame(KDL::Rotation::RotZ(q(3)));
+  frames[0] = KDL::Frame(KDL::Rotation::RotZ(q.data(3)));
   frames[1] = platform;
-  frames[2] = platform * KDL::Frame(m.mount) * KDL::Frame(KDL::Rotation::RotZ(q(4)));
-  frames[3] = frames[2] * KDL::Frame(m.shoulder) * KDL::Frame(KDL::Rotation::RotY(q(5)));
-  frames[4] = frames[3] * KDL::Frame(KDL::Vector(m.upper_arm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotY(q(6)));
-  frames[5] = frames[4] * KDL::Frame(KDL::Vector(m.forearm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotX(q(7))) *
+  frames[2] = platform * KDL::Frame(m.mount) * KDL::Frame(KDL::Rotation::RotZ(q.data(4)));
+  frames[3] = frames[2] * KDL::Frame(m.shoulder) * KDL::Frame(KDL::Rotation::RotY(q.data(5)));
+  frames[4] = frames[3] * KDL::Frame(KDL::Vector(m.upper_arm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotY(q.data(6)));
+  frames[5] = frames[4] * KDL::Frame(KDL::Vector(m.forearm, 0.0, 0.0)) * KDL::Frame(KDL::Rotation::RotX(q.data(7))) *
               KDL::Frame(m.tool);
   return IkStatus::Ok;
 }
@@ -178,7 +178,7 @@ IkStatus IsurPuncturingSolver::forward(const KDL::JntArray& q, KDL::Frame& pose)
   KDL::Frame platform;
   const IkStatus status = platformPose(q, platform);
   if (status != IkStatus::Ok) return status;
-  pose = platform * microForward(q(4), q(5), q(6), q(7));
+  pose = platform * microForward(q.data(4), q.data(5), q.data(6), q.data(7));
   return IkStatus::Ok;
 }
 
@@ -186,33 +186,34 @@ IkStatus IsurPuncturingSolver::solveCandidate(const KDL::Frame& target, double y
                                               const KDL::JntArray& seed, std::array<double, kJoints>& q,
                                               bool search_elbow) const noexcept {
   const JointLimits& l = limits_;
+  const Eigen::VectorXd& s = seed.data;  // not KDL's JntArray::operator(), a library call per element
   // Orientation: yaw = q4 + q5, pitch = q6 + q7, roll = q8 (thesis §5.4.1).
-  const double yaw_total = seed(3) + seed(4) + wrapToPi(yaw - seed(3) - seed(4));
+  const double yaw_total = s(3) + s(4) + wrapToPi(yaw - s(3) - s(4));
   double lo = 0.0;
   double hi = 0.0;
-  if (!splitSum(yaw_total, seed(3), seed(4), geometry_.yaw_share, l.lower[3], l.upper[3], l.lower[4], l.upper[4], q[3],
+  if (!splitSum(yaw_total, s(3), s(4), geometry_.yaw_share, l.lower[3], l.upper[3], l.lower[4], l.upper[4], q[3],
                 q[4], lo, hi))
     return IkStatus::JointLimits;
   if (std::isfinite(geometry_.base_angle)) {
     const double sum = q[3] + q[4];  // yaw_total, or yaw_total ± 2π where only that fits the limits
     // The rule at the seed's own yaw: is the seed on it?
-    q[3] = towardsRule(seed(3), baseOnRule(seed(3) + seed(4)), std::clamp(geometry_.base_angle, lo, hi), lo, hi);
+    q[3] = towardsRule(s(3), baseOnRule(s(3) + s(4)), std::clamp(geometry_.base_angle, lo, hi), lo, hi);
     q[4] = sum - q[3];
   }
-  const double pitch_total = seed(5) + seed(6) + wrapToPi(pitch - seed(5) - seed(6));
-  if (!splitSum(pitch_total, seed(5), seed(6), geometry_.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6],
+  const double pitch_total = s(5) + s(6) + wrapToPi(pitch - s(5) - s(6));
+  if (!splitSum(pitch_total, s(5), s(6), geometry_.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6],
                 q[5], q[6], lo, hi))
     return IkStatus::JointLimits;
   if (std::isfinite(geometry_.pitch_difference)) {
     // On the rule the elbow q6 - q7 is pitch_difference (or, deep, the search below moves it).
-    const double seed_difference = seed(5) - seed(6);
+    const double seed_difference = s(5) - s(6);
     const double difference = towardsRule(seed_difference, geometry_.pitch_difference, geometry_.pitch_difference,
                                           -std::numeric_limits<double>::infinity(),
                                           std::numeric_limits<double>::infinity());
     q[5] = std::clamp(0.5 * (pitch_total + difference), lo, hi);
     q[6] = pitch_total - q[5];
   }
-  if (!nearestInLimits(roll, seed(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
+  if (!nearestInLimits(roll, s(7), l.lower[7], l.upper[7], q[7])) return IkStatus::JointLimits;
   const IkStatus preferred = placePlatform(target, q);
   if (preferred == IkStatus::Ok || preferred == IkStatus::BadInput || !search_elbow) return preferred;
   // The delta cannot place its platform for the preferred split (a slider at its end, e.g. deep
@@ -308,7 +309,7 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
     // needle in any direction turns it by up to π): the yaw q4 + q5 stays the seed's and the wrist
     // follows the target's tilt in that yaw plane, R' = Rz(-yaw)·R ≈ Ry(pitch)·Rx(roll). The
     // tilt across the plane (R'(1,0), at most kWristBand rad) is not followed.
-    const double yaw = seed(3) + seed(4);
+    const double yaw = seed.data(3) + seed.data(4);
     const KDL::Rotation in_plane = KDL::Rotation::RotZ(-yaw) * r;
     const double pitch = std::atan2(-in_plane(2, 0), in_plane(0, 0));
     const double roll = std::atan2(-in_plane(1, 2), in_plane(1, 1));
@@ -344,7 +345,7 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
         continue;
       }
       double distance = 0.0;
-      for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed(j)) * (q[j] - seed(j));
+      for (unsigned j = 0; j < kJoints; ++j) distance += (q[j] - seed.data(j)) * (q[j] - seed.data(j));
       if (distance < best_distance) {
         best_distance = distance;
         best = q;
@@ -353,7 +354,7 @@ IkStatus IsurPuncturingSolver::inverseOnBranch(const KDL::Frame& target, const K
     }
   }
   if (status != IkStatus::Ok) return status;
-  for (unsigned j = 0; j < kJoints; ++j) q_out(j) = best[j];
+  for (unsigned j = 0; j < kJoints; ++j) q_out.data(j) = best[j];
   return IkStatus::Ok;
 }
 

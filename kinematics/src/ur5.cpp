@@ -153,7 +153,7 @@ IkStatus Ur5Solver::solve(const KDL::Frame& target, const KDL::JntArray& seed, I
     const double theta5_up = std::atan2(abs_s5 / unit, c5);
     double c6_up = 0.0;
     double s6_up = 0.0;
-    double theta6_up = seed(5);
+    double theta6_up = seed.data(5);
     if (singular) {
       s6_up = std::sin(theta6_up);
       c6_up = std::cos(theta6_up);

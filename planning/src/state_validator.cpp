@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -74,6 +75,8 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
     joint_offsets_.push_back(joint_offsets_.back() + model.jointCount());
     joint_space_ = joint_space_ && model.jointCount() > 0;
     seeds_.emplace_back(model.jointCount());
+    placed_joints_.emplace_back(model.jointCount());
+    placed_known_.push_back(false);
   }
 }
 
@@ -126,6 +129,7 @@ ValidityResult StateValidator::placeRobots(const DualPose& q) {
     const KDL::Frame world_in_base = placement.base_in_world.Inverse();
     for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
       tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r];
+    placed_known_[r] = false;  // placed from tool poses now, or left where the failed solve leaves it
     if (models_[r]->solve(tools_[r], links_[r]) != Reachability::Reachable) {
       result.validity = Validity::Unreachable;
       result.robot = placement.name;
@@ -142,6 +146,10 @@ ValidityResult StateValidator::placeRobotsAt(std::span<const double> q) {
   const SceneDescription& description = world_.scene();
   for (std::size_t r = 0; r < models_.size(); ++r) {
     const std::span<const double> joints = q.subspan(joint_offsets_[r], joint_offsets_[r + 1] - joint_offsets_[r]);
+    // Bitwise: the same joint values give the same link frames (-0.0 and 0.0 differ, and are moved).
+    if (placed_known_[r] &&
+        std::memcmp(joints.data(), placed_joints_[r].data(), joints.size() * sizeof(double)) == 0)
+      continue;
     if (!models_[r]->linkFramesAt(joints, links_[r])) {
       result.validity = Validity::Unreachable;
       result.robot = description.robots[r].name;
@@ -149,6 +157,8 @@ ValidityResult StateValidator::placeRobotsAt(std::span<const double> q) {
     }
     for (KDL::Frame& link : links_[r]) link = description.robots[r].base_in_world * link;
     world_.setRobotLinks(r, links_[r]);
+    std::copy(joints.begin(), joints.end(), placed_joints_[r].begin());
+    placed_known_[r] = true;
   }
   return result;
 }

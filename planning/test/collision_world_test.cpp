@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "cobra/planning/collision_world.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -130,6 +132,52 @@ TEST(CollisionWorld, StopBelowEndsEarlyWithAnUpperBound) {
   EXPECT_LE(world.distance(0, 1, 1.0).distance, 1.0);
   EXPECT_NEAR(world.distance(0, 1, 0.06).distance, 0.05, 1e-6);  // under the threshold: that pair
   EXPECT_GT(world.distance(0, 1, 0.04).distance, 0.04);          // none under it: only a bound
+}
+
+// distanceUnder is the exact minimum over the groups' pairs whenever it is under the bound: 300
+// seeded random placements of a robot's box, cylinder and sphere among a fixed box, capsule and
+// sphere, each queried unbounded and with bounds just above and just below the minimum of the
+// pairs' own distances (objectDistance, one narrow phase per pair: an independent minimum). A
+// pair skipped although closer than the bound (a stale memo, say) would return the bound instead.
+TEST(CollisionWorld, DistanceUnderABoundIsTheExactMinimumOfItsPairs) {
+  const SceneDescription scene = parseScene(
+      "robot r tools 0 base 0 0 0 0 0 0\ngroup a\ngroup b\n"
+      "object brick a r.0 box 0.08 0.05 0.03 at 0 0 0 0 0 0\n"
+      "object rod a r.1 cylinder 0.02 0.2 at 0 0 0 0 0 0\n"
+      "object ball a r.2 sphere 0.04 at 0 0 0 0 0 0\n"
+      "object table b world box 0.4 0.4 0.02 at 0 0 -0.2 0 0 0\n"
+      "object post b world capsule 0.03 0.3 at 0.2 0.1 0 0 0 0\n"
+      "object knob b world sphere 0.05 at -0.15 -0.1 0.05 0 0 0\ncheck a b\n",
+      "u.scene", test::dataDir());
+  CollisionWorld world(scene);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> position(-0.25, 0.25), angle(-3.1, 3.1), margin(0.0, 0.03);
+  const std::size_t robot_objects[] = {0, 1, 2}, fixed_objects[] = {3, 4, 5};
+  int bounded_hits = 0;
+  for (int n = 0; n < 300; ++n) {
+    std::array<KDL::Frame, 3> links{};
+    for (KDL::Frame& link : links)
+      link = KDL::Frame(KDL::Rotation::RPY(angle(rng), angle(rng), angle(rng)),
+                        KDL::Vector(position(rng), position(rng), position(rng)));
+    world.setRobotLinks(0, links);
+    double minimum = std::numeric_limits<double>::infinity();
+    for (const std::size_t i : robot_objects)
+      for (const std::size_t j : fixed_objects) minimum = std::min(minimum, world.objectDistance(i, j));
+    EXPECT_NEAR(world.distanceUnder(0, 1, std::numeric_limits<double>::infinity()).distance, minimum, 1e-9)
+        << "placement " << n;
+    if (minimum == 0.0) continue;  // overlapping: no bound under it
+    const double above = minimum + margin(rng);
+    const GroupDistance under = world.distanceUnder(0, 1, above);
+    if (above > minimum + 1e-6) {
+      EXPECT_NEAR(under.distance, minimum, 1e-9) << "placement " << n << ", bound " << above;
+      EXPECT_FALSE(under.first_object.empty()) << "placement " << n;
+      ++bounded_hits;
+    }
+    const GroupDistance below = world.distanceUnder(0, 1, 0.999 * minimum);
+    EXPECT_EQ(below.distance, 0.999 * minimum) << "placement " << n;
+    EXPECT_TRUE(below.first_object.empty()) << "placement " << n;
+  }
+  EXPECT_GT(bounded_hits, 100);  // about half the placements overlap
 }
 
 }  // namespace

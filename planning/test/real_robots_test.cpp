@@ -223,6 +223,50 @@ TEST_F(PuncturingScene, DistancesAlongAMotionEqualThoseMeasuredAfresh) {
   EXPECT_FALSE(std::isnan(clearance));
 }
 
+// A robot whose joints did not change since distancesAt placed it is not placed again: 300 seeded
+// states in which only the I-SUR moves, only the UR5 moves, or both, with pose checks (which place
+// both robots from tool poses) in between, give the distances of a validator measuring each state
+// afresh. A placement kept after a pose check moved the robots would give the pose's distances.
+TEST_F(PuncturingScene, DistancesOfARobotHoldingStillAreThoseOfItsJoints) {
+  StateValidator validator = makeValidator();
+  std::vector<double> q(validator.jointCount());
+  std::size_t failed = 0;
+  ASSERT_EQ(validator.inverseNear(kFree, {}, q, failed), Reachability::Reachable);
+  const std::size_t isur_joints = validator.model(0).jointCount();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> small(-0.004, 0.004);
+  const DualPose elsewhere{needleDown(0.05, 0.05, 0.25), probeDown(-0.15, 0.05, 0.2)};
+  int measured = 0;
+  for (int i = 0; i < 300; ++i) {
+    std::vector<double> next = q;
+    const int moving = i % 3;  // 0: the I-SUR, 1: the UR5, 2: both
+    for (std::size_t j = 0; j < next.size(); ++j) {
+      if (moving == 2 || (moving == 0) == (j < isur_joints)) next[j] += small(rng);
+    }
+    if (i % 7 == 6) {
+      EXPECT_NE(validator.check(elsewhere).validity, Validity::InvalidInput);
+    }
+    if (i % 11 == 10) (void)validator.distancesAt(elsewhere);
+    const StateValidator::Distances d = validator.distancesAt(next);
+    StateValidator fresh = makeValidator();
+    const StateValidator::Distances expected = fresh.distancesAt(next);
+    if (std::isnan(expected.clearance)) {
+      EXPECT_TRUE(std::isnan(d.clearance)) << "state " << i;
+      continue;
+    }
+    q = next;
+    ++measured;
+    EXPECT_NEAR(d.clearance, expected.clearance, 1e-9) << "state " << i;
+    EXPECT_EQ(d.allowed_contact, expected.allowed_contact) << "state " << i;
+    EXPECT_EQ(d.primitive_contact, expected.primitive_contact) << "state " << i;
+    // The same state again: nothing moves, the same distances.
+    const StateValidator::Distances again = validator.distancesAt(next);
+    EXPECT_EQ(again.allowed_contact, d.allowed_contact) << "state " << i;
+    EXPECT_NEAR(again.clearance, d.clearance, 1e-9) << "state " << i;
+  }
+  EXPECT_GT(measured, 200) << "the walk must stay mostly inside the joint limits";
+}
+
 /// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
 KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double t) {
   KDL::Vector axis;

@@ -71,6 +71,7 @@ struct Tracker {
   std::size_t mm_column = 0, deg_column = 0;
   const Chart* chart = nullptr;  // spec.chart's (nullptr: none)
   KDL::JntArray joint_sample;    // the joints' last sample (kept: reading it allocates once)
+  bool counts = false;           // spec.scope's deployment is one of spec.counts_while (or none given)
 };
 
 // `run.clearance`: the port's samples against the threshold, the contacts apart.

@@ -382,6 +382,9 @@ void Session::readEvents() {
 }
 
 void Session::observeSwitches() {
+  const std::uint64_t switches = configurator_.switchCount();  // read first: a switch after it shows next step
+  if (switches == switches_seen_) return;
+  switches_seen_ = switches;
   bool switched = false;
   for (std::size_t s = 0; s < scopes_.size(); ++s) {
     const std::string& now = configurator_.currentDeployment(scopes_[s]);
@@ -458,6 +461,15 @@ void Session::playActions() {
 
 void Session::observeFidelity() {
   static const std::string kNoState;
+  const std::uint64_t switches = configurator_.switchCount();
+  if (switches != tracker_switches_seen_) {
+    tracker_switches_seen_ = switches;
+    for (Tracker& tr : trackers_) {
+      const auto& counting = tr.spec.counts_while;
+      tr.counts = counting.empty() || std::find(counting.begin(), counting.end(),
+                                                configurator_.currentDeployment(tr.spec.scope)) != counting.end();
+    }
+  }
   for (Tracker& tr : trackers_) {
     KDL::Frame commanded, measured;
     KDL::JntArray& q = tr.joint_sample;  // kept: reading into it reuses its storage
@@ -467,10 +479,7 @@ void Session::observeFidelity() {
       throw std::runtime_error(tr.spec.where.text() + ": run.tracking '" + tr.spec.name + "': " + tr.spec.joints + " has " +
                                std::to_string(q.rows()) + " joints but max_velocity gives " +
                                std::to_string(tr.limits) + " limits");
-    const auto& counting = tr.spec.counts_while;
-    const bool counts = counting.empty() || std::find(counting.begin(), counting.end(),
-                                                      configurator_.currentDeployment(tr.spec.scope)) != counting.end();
-    tr.monitor->step(t_, counts, tr.chart ? tr.chart->state : kNoState, commanded, measured, have_q ? &q : nullptr);
+    tr.monitor->step(t_, tr.counts, tr.chart ? tr.chart->state : kNoState, commanded, measured, have_q ? &q : nullptr);
   }
   if (!clearance_) return;
   ClearanceObserver& o = *clearance_;

@@ -4,6 +4,7 @@
 // observation per step until the run ends. Private to cobra::run.
 
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -105,6 +106,10 @@ class Session {
   std::vector<SummaryObserver> summaries_;
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;
+  /// Configurator::switchCount() when observeSwitches and the trackers last looked (max: never):
+  /// the same count, the same deployments and configuration (looked up in maps otherwise).
+  std::uint64_t switches_seen_ = UINT64_MAX;
+  std::uint64_t tracker_switches_seen_ = UINT64_MAX;
   std::vector<core::Component*> components_;
   report::TimelineRecorder timeline_;
   RunResult result_;

@@ -53,7 +53,7 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
     double fraction = 0.0;
     unsigned fastest = 0;
     for (unsigned i = 0; i < joints->rows(); ++i) {
-      const double f = std::abs((*joints)(i) - previous_joints_(i)) / (max_velocity_[i] * period_);
+      const double f = std::abs(joints->data(i) - previous_joints_.data(i)) / (max_velocity_[i] * period_);
       if (f > fraction) fraction = f, fastest = i;
     }
     raise(figures_.joint_speed, fraction, t, state);
@@ -71,7 +71,7 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
   } else if (!counts) {
     in_episode_ = false;
   }
-  previous_joints_ = *joints;
+  previous_joints_.data = joints->data;  // Eigen's copy: no reallocation at the same size
   have_joints_ = true;
 }
 

@@ -162,18 +162,9 @@ bool MotionPlannerComponent::measuredJoints() {
 }
 
 void MotionPlannerComponent::updateHook() {
-  const core::FlowStatus isur = isur_meas_.read(measured_.first);
-  const core::FlowStatus ur5 = ur5_meas_.read(measured_.second);
-  have_isur_ = have_isur_ || isur != core::FlowStatus::NoData;
-  have_ur5_ = have_ur5_ || ur5 != core::FlowStatus::NoData;
-  const core::FlowStatus isur_joints = isur_joints_.read(isur_q_);
-  const core::FlowStatus ur5_joints = ur5_joints_.read(ur5_q_);
-  have_isur_joints_ = have_isur_joints_ || isur_joints != core::FlowStatus::NoData;
-  have_ur5_joints_ = have_ur5_joints_ || ur5_joints != core::FlowStatus::NoData;
-  const bool measured_changed =
-      have_isur_ && have_ur5_ && (isur == core::FlowStatus::NewData || ur5 == core::FlowStatus::NewData);
+  // A new goal is taken as it arrives (readNew: no copy of the old one each step).
   trajectory::MultiAxisPath goal;
-  if (goal_.read(goal) == core::FlowStatus::NewData) {
+  if (goal_.readNew(goal) == core::FlowStatus::NewData) {
     try {
       readGoal(goal);
       have_goal_ = true;
@@ -182,15 +173,33 @@ void MotionPlannerComponent::updateHook() {
       last_result_ = std::string("port goalPoses: ") + error.what();
     }
   }
+  const bool plan_now = plan_request_.take();
   // The measured state's clearance: a monitoring figure, measured at most every clearance_period
   // and only while a port of it is connected (FCL distances of every checked pair: the most
   // expensive thing this component does per step).
   const std::int64_t now_ns = now().count();
   const bool clearance_due =
       last_clearance_ns_ < 0 || now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
-  const bool clearance_read =
-      min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected();
-  if (measured_changed && clearance_due && clearance_read) {
+  // Whether a port of it is connected is asked (a lock per port) once per clearance_period too:
+  // a planner nobody reads the clearance of (the probe's) would otherwise ask every step.
+  const bool clearance_wanted =
+      clearance_due && (min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected());
+  if (clearance_due && !clearance_wanted) last_clearance_ns_ = now_ns;
+  // The measured pose ports trigger this component at the robots' rate; their latest samples
+  // are read only when a measurement or a plan uses them (the connections keep the latest).
+  if (!plan_now && !clearance_wanted) return;
+  const core::FlowStatus isur = isur_meas_.read(measured_.first);
+  const core::FlowStatus ur5 = ur5_meas_.read(measured_.second);
+  have_isur_ = have_isur_ || isur != core::FlowStatus::NoData;
+  have_ur5_ = have_ur5_ || ur5 != core::FlowStatus::NoData;
+  const core::FlowStatus isur_joints = isur_joints_.read(isur_q_);
+  const core::FlowStatus ur5_joints = ur5_joints_.read(ur5_q_);
+  have_isur_joints_ = have_isur_joints_ || isur_joints != core::FlowStatus::NoData;
+  have_ur5_joints_ = have_ur5_joints_ || ur5_joints != core::FlowStatus::NoData;
+  // New since the last read: since the last measurement, when no plan read them in between.
+  const bool measured_changed =
+      have_isur_ && have_ur5_ && (isur == core::FlowStatus::NewData || ur5 == core::FlowStatus::NewData);
+  if (measured_changed && clearance_wanted) {
     last_clearance_ns_ = now_ns;
     if (measuredJoints()) {
       if (joints_ != clearance_joints_) {  // the same joints: the same distances, not measured again
@@ -204,7 +213,7 @@ void MotionPlannerComponent::updateHook() {
     allowed_distance_.write(clearance_.allowed_contact);
     primitive_distance_.write(clearance_.primitive_contact);
   }
-  if (plan_request_.take()) plan();
+  if (plan_now) plan();
 }
 
 void MotionPlannerComponent::logQuery(const planning::DualPose& goal, const planning::PlanResult& result) const {

@@ -11,6 +11,7 @@
 #include <span>
 #include <filesystem>
 #include <numbers>
+#include <random>
 
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 #include "cobra/core/core.hpp"
@@ -430,6 +431,73 @@ TEST(MotionPlannerComponent, ToolFramesLetTheApplicationNameItsOwnToolFrames) {
   EXPECT_NEAR(app_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart), expected, 1e-9);
   const double other = model_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart);
   EXPECT_TRUE(std::isnan(other) || std::abs(other - expected) > 1e-4) << "without it the rotated pose is another needle";
+}
+
+// The measured state's clearance is measured every clearance_period (10 ms) from the joints
+// written last: 45 steps of a seeded random walk of both robots' joints (the poses written with
+// them trigger the planner every step) give one minDistance sample every 10 ms, each equal to
+// what a separate validator measures at the joints of that step, not of an earlier one.
+TEST(MotionPlannerComponent, ClearanceIsMeasuredEveryPeriodFromTheLatestJoints) {
+  Bench b;
+  core::OutputPort<KDL::JntArray> isur_joints{"isurJoints", "", "m, rad"};
+  core::OutputPort<KDL::JntArray> ur5_joints{"ur5Joints", "", "rad"};
+  core::connectPorts(isur_joints, b.planner.port("isurMeasJoints"));
+  core::connectPorts(ur5_joints, b.planner.port("UR5MeasJoints"));
+  core::InputPort<double> primitive{"primitive", "", "m"};  // the needle to the phantom: the I-SUR's
+  core::connectPorts(b.planner.port("primitiveContactDistance"), primitive);
+  planning::StateValidator reference(planning::loadScene(scenes() + "/puncturing.scene"),
+                                     {{"isur", std::make_shared<planning::IsurPuncturingModel>()},
+                                      {"ur5", std::make_shared<planning::Ur5Model>()}});
+  KDL::JntArray isur(8), ur5(6);
+  const double isur_q[8] = {0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0};
+  const double ur5_q[6] = {0.798, -1.4495, -1.714, 1.5925, -1.571, -2.344};
+  for (unsigned j = 0; j < 8; ++j) isur(j) = isur_q[j];
+  for (unsigned j = 0; j < 6; ++j) ur5(j) = ur5_q[j];
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> step(-0.002, 0.002);
+  std::vector<int> sampled_at;
+  for (int ms = 0; ms < 45; ++ms) {
+    for (unsigned j = 0; j < 8; ++j) isur(j) += j < 3 ? std::abs(step(rng)) : step(rng);  // sliders: from 0 up
+    if (ms % 4 == 0)
+      for (unsigned j = 0; j < 6; ++j) ur5(j) += step(rng);  // the UR5 holds still in between
+    isur_joints.write(isur);
+    ur5_joints.write(ur5);
+    b.measure(needleDown(0.0, 0.0, 0.2), probeDown(-0.1, 0.0, 0.12));  // triggers the planner
+    b.clock.advance(1ms);
+    double clearance = 0.0;
+    if (b.min_distance.read(clearance) != core::FlowStatus::NewData) continue;
+    sampled_at.push_back(ms);
+    std::vector<double> q(isur.data.data(), isur.data.data() + 8);
+    q.insert(q.end(), ur5.data.data(), ur5.data.data() + 6);
+    const planning::StateValidator::Distances expected = reference.distancesAt(q);
+    ASSERT_FALSE(std::isnan(expected.clearance)) << "at " << ms << " ms: the walk left the joint limits";
+    EXPECT_NEAR(clearance, expected.clearance, 1e-9) << "at " << ms << " ms";
+    double needle_to_phantom = 0.0;
+    ASSERT_EQ(primitive.read(needle_to_phantom), core::FlowStatus::NewData);
+    EXPECT_EQ(needle_to_phantom, expected.primitive_contact) << "at " << ms << " ms";
+  }
+  EXPECT_EQ(sampled_at, (std::vector<int>{0, 10, 20, 30, 40}));
+}
+
+// Nobody reading the clearance: none is measured (the probe's planner in the puncturing app);
+// connected later, its first sample comes within one clearance_period (10 ms).
+TEST(MotionPlannerComponent, TheClearanceIsMeasuredOnlyWhileItsPortsAreRead) {
+  Bench b;
+  b.min_distance.disconnect();
+  for (int ms = 0; ms < 25; ++ms) {
+    b.measure(needleDown(0.0, 0.0, 0.2), probeDown(-0.1, 0.0, 0.12));
+    b.clock.advance(1ms);
+  }
+  core::connectPorts(b.planner.port("minDistance"), b.min_distance);
+  int first = -1;
+  for (int ms = 0; ms < 12 && first < 0; ++ms) {
+    b.measure(needleDown(0.0, 0.0, 0.2), probeDown(-0.1, 0.0, 0.12));
+    b.clock.advance(1ms);
+    double clearance = 0.0;
+    if (b.min_distance.read(clearance) == core::FlowStatus::NewData) first = ms;
+  }
+  EXPECT_GE(first, 0) << "no clearance sample within 12 ms of connecting";
+  EXPECT_LE(first, 10);
 }
 
 TEST(MotionPlannerComponent, StartRefusesAPeriodicActivity) {

@@ -27,6 +27,7 @@
 /// the initial tank. A step whose w would take the tank below ε is recomputed with w = 0 (eq.
 /// 4.11), so T ≥ ε always. σ = 1 while T ≤ T̄ (eq. 4.7).
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <kdl/frames.hpp>
 
@@ -107,11 +108,30 @@ class VariableAdmittance {
 
  private:
   double constantEnergy(const Vector6& x, const Vector6& v) const noexcept;
-  /// Backward Euler with inertia M and stiffness K; writes x_next, v_next.
-  void integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt, Vector6& x_next,
-                 Vector6& v_next) const noexcept;
+  /// Backward Euler with inertia M and stiffness K; writes x_next, v_next. `factor`: the
+  /// factorisation kept for this (M, K) pair.
+  struct Factorisation;
+  void integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt, Factorisation& factor,
+                 Vector6& x_next, Vector6& v_next) const noexcept;
 
+  /// The Cholesky factorisation of the last system matrix M + dt·D + dt²·K of one (M, K) pair:
+  /// while the parameters and dt are unchanged (every step between configurations) the matrix is
+  /// bit for bit the same, so factorising it again would give exactly this factorisation.
+  struct Factorisation {
+    Matrix6 system;
+    Eigen::LLT<Matrix6> llt;
+    bool known = false;
+  };
   AdmittanceParameters parameters_;
+  /// Λd − Λc and Kd − Kc (eq. 4.11's variable parts), set with the parameters.
+  Matrix6 variable_inertia_ = Matrix6::Zero();
+  Matrix6 variable_stiffness_ = Matrix6::Zero();
+  Factorisation variable_factor_, constant_factor_;
+  /// J_l at the rotation part of x_, computed at the end of the last step for the output twist:
+  /// the next step's generalised force needs it at the same x_ (reset and rebase change x_ and
+  /// clear `error_jacobian_known_`).
+  Eigen::Matrix3d error_jacobian_ = Eigen::Matrix3d::Identity();
+  bool error_jacobian_known_ = false;
   Vector6 x_ = Vector6::Zero();
   Vector6 v_ = Vector6::Zero();
   double tank_ = 0.0;

@@ -23,7 +23,7 @@ class LockstepActivity final : public Activity {
   std::string describe() const override;
   std::chrono::nanoseconds period() const override { return period_; }
   std::chrono::nanoseconds now() const override;
-  void trigger() noexcept override { triggered_ = true; }
+  void trigger() noexcept override;
 
  private:
   friend class LockstepClock;
@@ -96,6 +96,9 @@ class LockstepClock {
   std::uint64_t steps_ = 0;
   std::function<bool()> between_instants_;
   StepObserver step_observer_;
+  /// Set when an event-driven (period 0) component is triggered: runTriggered scans for them
+  /// only then (it runs twice per instant; most instants' second call finds nothing).
+  bool trigger_pending_ = false;
 };
 
 }  // namespace cobra::core

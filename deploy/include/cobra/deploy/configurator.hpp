@@ -12,6 +12,7 @@
 /// Nothing half-deployed keeps running.
 
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -153,6 +154,9 @@ class Configurator {
   const std::string& currentDeployment(std::string_view scope = {}) const;
   /// The configuration last applied, or "".
   const std::string& currentConfiguration() const { return current_configuration_; }
+  /// How many deployments and configurations were applied so far: an observer that sees the same
+  /// count again knows currentDeployment() and currentConfiguration() are what they were.
+  std::uint64_t switchCount() const { return switch_count_.load(std::memory_order_acquire); }
 
   /// The simulation clock. @throws core::Error in ClockMode::RealTime.
   core::LockstepClock& clock();
@@ -228,6 +232,10 @@ class Configurator {
   mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
   std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;
   std::atomic<std::uint32_t> service_wakeups_{0};
+  std::atomic<std::uint64_t> switch_count_{0};  // see switchCount()
+  /// service_wakeups_ when the lockstep clock's between-instants hook last serviced: the hook,
+  /// run twice per simulated instant, services only when a request came since (no lock, no scan).
+  std::uint32_t hook_serviced_wakeups_ = 0;
   std::atomic<bool> service_stopping_{false};
   std::thread service_thread_;  // real time only, started with the first client
 };

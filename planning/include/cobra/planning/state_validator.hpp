@@ -151,6 +151,12 @@ class StateValidator {
   std::vector<KDL::Frame> model_tool_in_tool_;      // per robot: the scene's `tool`, inverted
   std::vector<std::vector<KDL::Frame>> links_;      // per robot, preallocated
   std::vector<std::vector<double>> seeds_;           // per robot: its configured seed, preallocated
+  /// Per robot: the joints placeRobotsAt last placed its objects at, while they are still placed
+  /// there (placed_known_); a robot at the same joints again is not moved again (its FK, its
+  /// objects' bounding boxes and its groups' broadphase trees): the measured state's clearance,
+  /// sampled while one robot moves and the other holds still, and the planner's walks of one arm.
+  std::vector<std::vector<double>> placed_joints_;  // preallocated
+  std::vector<bool> placed_known_;
   std::vector<std::size_t> joint_offsets_{0};       // per robot, then the total
   bool joint_space_ = true;
   static constexpr std::size_t kNoObject = static_cast<std::size_t>(-1);

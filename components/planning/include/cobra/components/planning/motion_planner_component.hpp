@@ -55,7 +55,7 @@ namespace cobra::components {
 ///   touching; +inf when none declared; NaN as minDistance), `primitiveContactDistance` (double, m:
 ///   the same for its primitive contacts, e.g. the needle in the tissue); published when a
 ///   measured pose arrives at least `clearance_period` s (property, default 0.01) after the last
-///   measurement while one of them is connected, from the joints when known (the same joints as
+///   measurement while one of them is connected (a connection is seen within clearance_period), from the joints when known (the same joints as
 ///   the last measurement: the same values, not measured again);
 /// - operations `askPlan()` (void, returns at once: the request runs in this component's next
 ///   step), `checkDistancePoses(Frame, Frame)` (min distance in m for the two tool poses; NaN
