@@ -126,11 +126,15 @@ TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAT
                     s + "PullThread", s + "GetStitchTargetPose", "suture > root.Done"});
   EXPECT_EQ(count(r, "Patient: e_thread_hooked"), 8u);
   EXPECT_EQ(count(r, "Patient: e_thread_broken"), 0u);
-  // The measured clearance stays above the planner's threshold outside the Endo Stitch's spans in
-  // the wound (the run table's pause).
-  EXPECT_GT(r.clearance.seconds_sampled, 10.0);
+  // The measured clearance stays above the planner's threshold the whole run long, the Endo
+  // Stitch's contact with the phantom (a primitive contact of the scene) left out and reported
+  // apart: it does reach into the phantom, at every half-stitch.
+  EXPECT_GT(r.clearance.seconds_sampled, 50.0);
   EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s, " << r.clearance.worst_state;
   EXPECT_EQ(r.clearance.unreachable, 0);
+  ASSERT_EQ(r.clearance.contacts.size(), 1u);
+  EXPECT_EQ(r.clearance.contacts[0].first, "Endo Stitch in the wound");
+  EXPECT_EQ(r.clearance.contacts[0].second, 0.0);
   // Both energy tanks stayed above their floor (never empty).
   EXPECT_GT(columnMinimum(o.report_folder, "RightAdmittance.tankEnergy [J]"), kTankMinJ);
   EXPECT_GT(columnMinimum(o.report_folder, "LeftAdmittance.tankEnergy [J]"), kTankMinJ);
