@@ -104,7 +104,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       return true;
     });
   }
-  if (const auto table = parsed(p::parseStateTable, text)) {
+  // parseStateTable is overloaded (the vocabulary): the puncturing one, as the frame generator reads it.
+  constexpr auto parse_puncturing_table = static_cast<p::StateTable (*)(std::string_view, std::string_view)>(
+      p::parseStateTable);
+  if (const auto table = parsed(parse_puncturing_table, text)) {
     int previous = 0;
     for (const p::StateRow& row : table->rows) {
       if (row.state.empty() || row.line <= previous || !known(*table, row.needle) || !known(*table, row.probe) ||
