@@ -88,10 +88,8 @@ local connections = {
   { output = "ISUR.measRightCartPose", input = "SuturePlanner.isurMeasPose" },  -- the planner's first and
   { output = "ISUR.measLeftCartPose", input = "SuturePlanner.UR5MeasPose" },    -- second tool: right, left
   -- The start state and the measured clearance from the robot's joints (the path starts on its
-  -- actual IK branches). The planner takes joints only once both its joint inputs have data, the
-  -- UR5's too, although the suturing scene has only the I-SUR: the same joints go to both.
+  -- actual IK branches; the suturing scene's only robot is the I-SUR).
   { output = "ISUR.measJointPosition", input = "SuturePlanner.isurMeasJoints" },
-  { output = "ISUR.measJointPosition", input = "SuturePlanner.UR5MeasJoints" },
   { output = "ISUR.measRightWrench", input = "RightWrench.inWrench" },
   { output = "ISUR.measRightCartPose", input = "RightWrench.referenceFrame" },
   { output = "ISUR.measLeftWrench", input = "LeftWrench.inWrench" },

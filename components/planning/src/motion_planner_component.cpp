@@ -151,14 +151,33 @@ void MotionPlannerComponent::fail(const std::string& reason) {
 }
 
 bool MotionPlannerComponent::measuredJoints() {
-  if (!have_isur_joints_ || !have_ur5_joints_ || joints_.empty()) return false;
+  if (joints_.empty()) return false;
+  // The joints of every robot of the scene, and only those: the suturing scene has the I-SUR
+  // alone, so UR5MeasJoints stays unconnected there.
   const planning::SceneDescription& scene = validator_->scene();
   for (std::size_t r = 0; r < scene.robots.size(); ++r) {
-    const KDL::JntArray* q = scene.robots[r].name == "isur" ? &isur_q_ : scene.robots[r].name == "ur5" ? &ur5_q_ : nullptr;
-    if (q == nullptr || q->rows() != validator_->model(r).jointCount()) return false;
-    for (unsigned j = 0; j < q->rows(); ++j) joints_[validator_->jointOffset(r) + j] = (*q)(j);
+    const bool isur = scene.robots[r].name == "isur";
+    if (!isur && scene.robots[r].name != "ur5") return false;
+    const KDL::JntArray& q = isur ? isur_q_ : ur5_q_;
+    if (!(isur ? have_isur_joints_ : have_ur5_joints_) || q.rows() != validator_->model(r).jointCount()) return false;
+    for (unsigned j = 0; j < q.rows(); ++j) joints_[validator_->jointOffset(r) + j] = q.data(j);
   }
   return true;
+}
+
+std::string MotionPlannerComponent::expectedJoints() const {
+  const planning::SceneDescription& scene = validator_->scene();
+  std::string expected, got;
+  for (std::size_t r = 0; r < scene.robots.size(); ++r) {
+    const bool isur = scene.robots[r].name == "isur";
+    const bool have = isur ? have_isur_joints_ : have_ur5_joints_;
+    const std::string port = isur ? "isurMeasJoints" : "UR5MeasJoints";
+    expected += std::string(expected.empty() ? "" : ", ") + port + " " +
+                std::to_string(validator_->model(r).jointCount()) + " joints";
+    got += std::string(got.empty() ? "" : ", ") +
+           (have ? std::to_string((isur ? isur_q_ : ur5_q_).rows()) : std::string("no data"));
+  }
+  return "the scene's robots need " + expected + " (got " + got + ")";
 }
 
 void MotionPlannerComponent::updateHook() {
@@ -295,8 +314,7 @@ void MotionPlannerComponent::plan() {
                                                               : std::string("no goal on port goalPoses"));
   const bool from_joints = measuredJoints();
   if ((have_isur_joints_ || have_ur5_joints_) && !from_joints && !joints_.empty())
-    return fail("ports isurMeasJoints/UR5MeasJoints: need both, with the I-SUR's 8 and the UR5's 6 joints (got " +
-                std::to_string(isur_q_.rows()) + " and " + std::to_string(ur5_q_.rows()) + ")");
+    return fail("ports isurMeasJoints/UR5MeasJoints: " + expectedJoints());
   const bool rooms = std::any_of(alternatives_.begin(), alternatives_.end(),
                                  [](const GoalAlternative& a) { return !a.room.empty(); });
   if (rooms && !from_joints)

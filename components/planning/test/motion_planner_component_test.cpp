@@ -232,7 +232,8 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   b.clock.advance(1ms);
   EXPECT_EQ(b.takeEvents(b.events), (std::vector<std::string>{"e_plan_failed"}));
   EXPECT_CONTAINS(b.planner.call<std::string>("lastPlanResult"),
-                  "ports isurMeasJoints/UR5MeasJoints: need both, with the I-SUR's 8 and the UR5's 6 joints (got 7 and 6)");
+                  "ports isurMeasJoints/UR5MeasJoints: the scene's robots need isurMeasJoints 8 joints, UR5MeasJoints 6 "
+                  "joints (got 7, 6)");
 }
 
 TEST(MotionPlannerComponent, FailuresAreEventsWithTheReason) {

@@ -33,7 +33,8 @@ namespace cobra::components {
 ///   appended as one line `start Q1..Qn goal X Y Z QX QY QZ QW X Y Z QX QY QZ QW # outcome`, the
 ///   format bench/planning_bench.cpp replays; read when a plan is asked);
 /// - ports in: `isurMeasJoints`, `UR5MeasJoints` (KDL.JntArray: the measured joints, I-SUR
-///   [q1 q2 q3 m, q4..q8 rad], UR5 [6 rad]; the start state when both have data: the path starts
+///   [q1 q2 q3 m, q4..q8 rad; 14 on the suturing scene], UR5 [6 rad]; the start state when those
+///   of every robot of the scene have data (the suturing scene: the I-SUR's only): the path starts
 ///   on the robots' actual IK branches), `isurMeasPose`, `UR5MeasPose` (KDL.Frame, world, m: the
 ///   start state without joints, solved by IK from the models' seeds; event ports: a new sample
 ///   triggers the distance report), `goalPoses` (TGL.MultiAxisPath: one waypoint per goal
@@ -174,6 +175,8 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   planning::JointState joints_;  // the scene's joint layout, filled from the two joint ports
   /// Fills joints_ from the latest joint samples; false when they are missing or do not fit.
   bool measuredJoints();
+  /// What the joint ports must give for this scene and what they gave (a failure's reason).
+  std::string expectedJoints() const;
   planning::DualPose measured_;
   std::vector<GoalAlternative> alternatives_;  // the latest goalPoses, the preferred first
   std::string last_result_;
