@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <string>
 #include <vector>
 
@@ -28,52 +27,13 @@
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
 #include "cobra/planning/state_validator.hpp"
-#include "cobra/run/runner.hpp"
+#include "app_speed.hpp"
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const std::string kSource = COBRA_SOURCE_DIR;
 
-double processCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double minOf(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-
-/// One procedure of `app` with `scenario`, timed by the wall clock.
-void BM_ProcedureSpeed(benchmark::State& state, const std::string& app, const std::string& scenario) {
-  double simulated = 0.0, wall = 0.0, cpu = 0.0;
-  bool completed = true;
-  for (auto _ : state) {
-    cobra::run::RunOptions options;
-    options.app = kSource + "/apps/" + app;
-    options.scenario = kSource + "/apps/" + app + "/scenarios/" + scenario;
-    const double cpu_started = processCpuSeconds();
-    const auto started = std::chrono::steady_clock::now();
-    const cobra::run::RunResult result = cobra::run::runApp(options);
-    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    cpu = processCpuSeconds() - cpu_started;
-    simulated = result.duration;
-    completed = completed && result.completed();
-    state.SetIterationTime(wall);
-  }
-  if (!completed) state.SkipWithError("the procedure did not complete");
-  state.counters["simulated_s"] = simulated;
-  state.counters["realtime_factor"] = wall > 0.0 ? simulated / wall : 0.0;
-  state.counters["cpu_realtime_factor"] = cpu > 0.0 ? simulated / cpu : 0.0;
-}
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, straight_cut, std::string("suturing"), std::string("straight_cut"))
-    ->Name("ProcedureSpeed/straight_cut")->Iterations(1)->Repetitions(3)->UseManualTime()
-    ->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, slanted_cut, std::string("suturing"), std::string("slanted_cut"))
-    ->Name("ProcedureSpeed/slanted_cut")->Iterations(1)->Repetitions(3)->UseManualTime()
-    ->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_ProcedureSpeed, puncturing, std::string("puncturing"), std::string("two_needles"))
-    ->Name("ProcedureSpeed/puncturing_two_needles")->Iterations(1)->Repetitions(3)->UseManualTime()
-    ->ReportAggregatesOnly(true)->ComputeStatistics("min", minOf)->Unit(benchmark::kSecond);
 
 // apps/suturing: suturing.lua (tool_frame, phantom under the wound), deployment/world.lua (base,
 // initial joints), scenarios/straight_cut (the wound at (0.178, 0, 0.06), a 40 mm cut along x),
@@ -155,4 +115,16 @@ BENCHMARK_CAPTURE(BM_SuturingQueries, BiTRRT, std::string("BiTRRT"))
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  // The whole procedure (app_speed.hpp), the puncturing task's default procedure as the peer.
+  for (const char* scenario : {"straight_cut", "slanted_cut"})
+    cobra::bench::registerAppSpeed(std::string("ProcedureSpeed/") + scenario,
+                                   {"apps/suturing", std::string("apps/suturing/scenarios/") + scenario});
+  cobra::bench::registerAppSpeed("ProcedureSpeed/puncturing_two_needles",
+                                 {"apps/puncturing", "apps/puncturing/scenarios/two_needles"});
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
