@@ -16,6 +16,7 @@
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/script/rfsm.hpp"
 #include "cobra/statechart/machine.hpp"
+#include "cobra/test_support/chart_fakes.hpp"
 
 namespace cobra::puncturing {
 namespace {
@@ -23,27 +24,10 @@ namespace {
 const std::string kApp = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/";
 constexpr double kCryoCycle = 20.0;  // s from the console's e_cryo_start to its e_cryo_done (world.lua: ~19.7 s)
 
-/// Fake peers in Lua: every operation call and emitted event is appended to `log` as
-/// "Peer:operation" or "emit:event"; `drain()` returns and clears them, one per line.
-constexpr const char* kFakes = R"(
-log = {}
-function emit(name) log[#log + 1] = "emit:" .. name end
-function raise(name) log[#log + 1] = "raise:" .. name end
-local function fake(peer)
-  return setmetatable({}, { __index = function(_, op) return function() log[#log + 1] = peer .. ":" .. op end end })
-end
-for _, p in ipairs({ "NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "NeedleMonitor", "ProbeFrames", "ProbePlanner",
-                    "ProbeTrajGen" }) do
-  _G[p] = fake(p)
-end
-function drain() local text = table.concat(log, "\n") log = {} return text end
-)";
-
-/// Puts the states entered into the same log as the calls, so that the order of both is kept.
-struct Entered : statechart::Observer {
-  script::LuaState* lua = nullptr;
-  void entered(std::string_view fqn) override { lua->run("log[#log + 1] = 'enter:" + std::string(fqn) + "'"); }
-};
+/// Fake peers in Lua (test_support/chart_fakes.hpp).
+const std::string kFakes = test_support::fakePeersLua(
+    {"NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "NeedleMonitor", "ProbeFrames", "ProbePlanner", "ProbeTrajGen"});
+using Entered = test_support::EntryLogger;
 
 /// One chart with its own Lua state, as its own Supervisor would run it.
 struct ChartRun {

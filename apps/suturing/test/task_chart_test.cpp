@@ -14,6 +14,7 @@
 
 #include "cobra/script/rfsm.hpp"
 #include "cobra/statechart/machine.hpp"
+#include "cobra/test_support/chart_fakes.hpp"
 
 namespace cobra::suturing {
 namespace {
@@ -21,21 +22,10 @@ namespace {
 const std::string kApp = std::string(COBRA_SOURCE_DIR) + "/apps/suturing/";
 constexpr double kActuation = 0.3;  // s: the Endo Stitch's actuation_time
 
-constexpr const char* kFakes = R"(
-log = {}
-function emit(name) log[#log + 1] = "emit:" .. name end
-function raise(name) log[#log + 1] = "raise:" .. name end
-local function fake(peer)
-  return setmetatable({}, { __index = function(_, op) return function() log[#log + 1] = peer .. ":" .. op end end })
-end
-for _, p in ipairs({ "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches" }) do _G[p] = fake(p) end
-function drain() local text = table.concat(log, "\n") log = {} return text end
-)";
-
-struct Entered : statechart::Observer {
-  script::LuaState* lua = nullptr;
-  void entered(std::string_view fqn) override { lua->run("log[#log + 1] = 'enter:" + std::string(fqn) + "'"); }
-};
+// Fake peers in Lua (test_support/chart_fakes.hpp).
+const std::string kFakes =
+    test_support::fakePeersLua({"SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches"});
+using Entered = test_support::EntryLogger;
 
 /// The chart, its fake peers and world, on a clock in 10 ms ticks.
 class Procedure {
