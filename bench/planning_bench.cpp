@@ -56,7 +56,7 @@
 #include "cobra/core/core.hpp"
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
-#include "cobra/run/runner.hpp"
+#include "app_speed.hpp"
 
 namespace {
 
@@ -67,21 +67,10 @@ constexpr int kRandomQueries = 1000;
 constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
-/// CPU time of the whole process [s]: on a shared machine the wall-clock planning time also counts
-/// the time other processes hold the cores.
-double processCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
-
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return std::nan("");
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(q * double(values.size() - 1))];
-}
+using cobra::bench::processCpuSeconds;
+using cobra::bench::maxOf;
+using cobra::bench::quantile;
+using cobra::bench::BM_AppPlanningRequests;
 
 SceneDescription standInScene() {
   const std::string dir = std::string(COBRA_SOURCE_DIR) + "/planning/test/data";
@@ -231,71 +220,14 @@ BENCHMARK(BM_ValidityStandIn)->Name("ValidityCheck/stand_in_peer")->Repetitions(
     ->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->Unit(benchmark::kMicrosecond);
 
 /// The requests the scenario's procedure makes, each timed where it is served (see the file comment).
-void BM_Scenario(benchmark::State& state, const std::string& scenario) {
-  std::vector<double> times_ms, cpu_ms;
-  int requests = 0, solved = 0, logged = 0;
-  double slowest_ms = 0.0;
-  std::string slowest;
-  for (auto _ : state) {
-    for (int run = 0; run < kScenarioRuns; ++run) {
-      // A tap on each planner's events, connected the first time it steps (before it is asked:
-      // its first steps measure the clearance of the first measured poses).
-      std::map<const cobra::core::Component*, std::unique_ptr<cobra::core::InputPort<cobra::core::Event>>> taps;
-      cobra::run::RunOptions options;
-      options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
-      options.scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/" + scenario;
-      options.step_observer = [&](const cobra::core::Component& c, std::chrono::nanoseconds wall,
-                                  std::chrono::nanoseconds cpu) {
-        if (c.name().size() < 7 || c.name().compare(c.name().size() - 7, 7, "Planner") != 0) return;
-        auto& tap = taps[&c];
-        if (!tap) {
-          tap = std::make_unique<cobra::core::InputPort<cobra::core::Event>>("plannerEvents", "", "");
-          cobra::core::connectPorts(const_cast<cobra::core::Component&>(c).events(), *tap,
-                                    cobra::core::ConnPolicy::buffer(64));
-          return;
-        }
-        cobra::core::Event e;
-        while (tap->read(e) == cobra::core::FlowStatus::NewData) {
-          const bool done = e.name == std::string_view("e_plan_done");
-          if (!done && !(e.name == std::string_view("e_plan_failed"))) continue;
-          const double ms = 1e-6 * static_cast<double>(wall.count());
-          times_ms.push_back(ms);
-          cpu_ms.push_back(1e-6 * static_cast<double>(cpu.count()));
-          ++requests;
-          solved += done ? 1 : 0;
-          if (ms > slowest_ms) {
-            slowest_ms = ms;
-            slowest = c.name() + " at " + std::to_string(std::chrono::duration<double>(c.now()).count()) +
-                      " s simulated";
-          }
-        }
-      };
-      const cobra::run::RunResult result = cobra::run::runApp(options);
-      if (!result.completed()) state.SkipWithError(("the procedure did not complete: " + result.reason).c_str());
-      for (const std::string& line : result.log)
-        if (line.find("Planner: e_plan_done") != std::string::npos ||
-            line.find("Planner: e_plan_failed") != std::string::npos)
-          ++logged;
-    }
-  }
-  if (logged != requests)
-    state.SkipWithError(("timed " + std::to_string(requests) + " requests, the runs' logs have " +
-                         std::to_string(logged)).c_str());
-  if (requests == 0) return;
-  std::fprintf(stderr, "%s: slowest request %.1f ms, %s\n", scenario.c_str(), slowest_ms, slowest.c_str());
-  state.counters["queries"] = static_cast<double>(requests) / kScenarioRuns;
-  state.counters["median_ms"] = quantile(times_ms, 0.5);
-  state.counters["p95_ms"] = quantile(times_ms, 0.95);
-  state.counters["max_ms"] = maxOf(times_ms);
-  state.counters["cpu_median_ms"] = quantile(cpu_ms, 0.5);
-  state.counters["cpu_max_ms"] = maxOf(cpu_ms);
-  state.counters["success_rate"] = static_cast<double>(solved) / requests;
-}
-BENCHMARK_CAPTURE(BM_Scenario, two_needles, std::string("two_needles"))->Name("ScenarioQueries/two_needles")
-    ->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Scenario, three_needles, std::string("three_needles"))->Name("ScenarioQueries/three_needles")
-    ->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Scenario, vertical_needle, std::string("vertical_needle"))
+BENCHMARK_CAPTURE(BM_AppPlanningRequests, two_needles,
+                  cobra::bench::AppTask{"apps/puncturing", "apps/puncturing/scenarios/two_needles"}, kScenarioRuns)
+    ->Name("ScenarioQueries/two_needles")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AppPlanningRequests, three_needles,
+                  cobra::bench::AppTask{"apps/puncturing", "apps/puncturing/scenarios/three_needles"}, kScenarioRuns)
+    ->Name("ScenarioQueries/three_needles")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AppPlanningRequests, vertical_needle,
+                  cobra::bench::AppTask{"apps/puncturing", "apps/puncturing/scenarios/vertical_needle"}, kScenarioRuns)
     ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
 
 /// One planning query: start joints, goal tool poses.

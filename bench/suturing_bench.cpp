@@ -4,6 +4,8 @@
 //    runner's observers attached); realtime_factor = simulated s per wall s (median, and min = the
 //    worst of the repetitions), cpu_realtime_factor = the same per CPU s of the process. Peer: the
 //    puncturing task's default procedure (ProcedureSpeed/puncturing_two_needles).
+//  - ProcedureRequests/<scenario>: the planning requests the procedure makes, timed where it
+//    makes them (app_speed.hpp's BM_AppPlanningRequests, 3 runs).
 //  - SuturingQueries/<planner>: planned motions like the default procedure's MoveOverWound, in the
 //    robot's joint space as the deployment plans them (from the measured joints): the Endo Stitch
 //    from its initial pose to 3 cm above the first stitch's centre, then on to above each next
@@ -122,6 +124,15 @@ int main(int argc, char** argv) {
                                    {"apps/suturing", std::string("apps/suturing/scenarios/") + scenario});
   cobra::bench::registerAppSpeed("ProcedureSpeed/puncturing_two_needles",
                                  {"apps/puncturing", "apps/puncturing/scenarios/two_needles"});
+  // The planning requests the procedure itself makes (app_speed.hpp), beside the reconstructed
+  // queries that compare planners above.
+  for (const char* scenario : {"straight_cut", "slanted_cut"})
+    benchmark::RegisterBenchmark((std::string("ProcedureRequests/") + scenario).c_str(),
+                                 cobra::bench::BM_AppPlanningRequests,
+                                 cobra::bench::AppTask{"apps/suturing", std::string("apps/suturing/scenarios/") + scenario},
+                                 3)
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
