@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "cobra/kinematics/frame_product.hpp"
 #include "cobra/kinematics/geometry.hpp"
 
 #include "checks.hpp"
@@ -154,7 +155,7 @@ IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& 
   KDL::Vector p_delta;
   const IkStatus status = delta_.forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta);
   if (status != IkStatus::Ok) return status;
-  pose = KDL::Frame(KDL::Rotation::RotZ(q.data(3))) * KDL::Frame(p_delta);
+  pose = frameProduct(KDL::Frame(KDL::Rotation::RotZ(q.data(3))), KDL::Frame(p_delta));
   return IkStatus::Ok;
 }
 
@@ -178,7 +179,7 @@ IkStatus IsurPuncturingSolver::forward(const KDL::JntArray& q, KDL::Frame& pose)
   KDL::Frame platform;
   const IkStatus status = platformPose(q, platform);
   if (status != IkStatus::Ok) return status;
-  pose = platform * microForward(q.data(4), q.data(5), q.data(6), q.data(7));
+  pose = frameProduct(platform, microForward(q.data(4), q.data(5), q.data(6), q.data(7)));
   return IkStatus::Ok;
 }
 

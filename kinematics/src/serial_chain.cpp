@@ -12,6 +12,7 @@
 #include <kdl/chainiksolvervel_pinv.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 
+#include "cobra/kinematics/frame_product.hpp"
 #include "cobra/kinematics/geometry.hpp"
 
 namespace cobra::kinematics {
@@ -24,19 +25,6 @@ void checkFinite(const std::string& robot, std::size_t joint, const char* parame
   if (std::isfinite(value)) return;
   throw std::invalid_argument(robot + ": joint " + std::to_string(joint + 1) + " DH parameter " + parameter + " is " +
                               formatNumber(value) + ": give a finite value in " + unit);
-}
-
-/// KDL's Frame product (frames.inl, frames.cpp), written out in KDL's own order of operations:
-/// the same bits (serial_chain_test compares them), without a call into the shared library.
-KDL::Frame product(const KDL::Frame& a, const KDL::Frame& b) noexcept {
-  const double* l = a.M.data;
-  const double* r = b.M.data;
-  return KDL::Frame(KDL::Rotation(l[0] * r[0] + l[1] * r[3] + l[2] * r[6], l[0] * r[1] + l[1] * r[4] + l[2] * r[7],
-                                  l[0] * r[2] + l[1] * r[5] + l[2] * r[8], l[3] * r[0] + l[4] * r[3] + l[5] * r[6],
-                                  l[3] * r[1] + l[4] * r[4] + l[5] * r[7], l[3] * r[2] + l[4] * r[5] + l[5] * r[8],
-                                  l[6] * r[0] + l[7] * r[3] + l[8] * r[6], l[6] * r[1] + l[7] * r[4] + l[8] * r[7],
-                                  l[6] * r[2] + l[7] * r[5] + l[8] * r[8]),
-                    a.M * b.p + a.p);
 }
 
 void checkFiniteFrame(const std::string& robot, const char* which, const KDL::Frame& frame) {
@@ -101,15 +89,15 @@ SerialChainModel::SerialChainModel(std::string name, std::vector<DhRow> rows, co
 
 KDL::Frame SerialChainModel::forward(std::span<const double> q) const noexcept {
   KDL::Frame pose = base_;
-  for (std::size_t i = 0; i < rows_.size() && i < q.size(); ++i) pose = product(pose, link(i, q[i]));
-  return product(pose, tool_);
+  for (std::size_t i = 0; i < rows_.size() && i < q.size(); ++i) pose = frameProduct(pose, link(i, q[i]));
+  return frameProduct(pose, tool_);
 }
 
 bool SerialChainModel::linkFrames(std::span<const double> q, std::span<KDL::Frame> frames) const noexcept {
   if (q.size() != rows_.size() || frames.size() != linkCount()) return false;
   frames[0] = base_;
-  for (std::size_t i = 0; i < rows_.size(); ++i) frames[i + 1] = product(frames[i], link(i, q[i]));
-  frames[rows_.size() + 1] = product(frames[rows_.size()], tool_);
+  for (std::size_t i = 0; i < rows_.size(); ++i) frames[i + 1] = frameProduct(frames[i], link(i, q[i]));
+  frames[rows_.size() + 1] = frameProduct(frames[rows_.size()], tool_);
   return true;
 }
 

@@ -17,6 +17,24 @@ void raise(Worst& worst, double value, double t, const std::string& state) {
 
 double maxOrNan(double window, double value) { return std::isnan(window) ? value : std::max(window, value); }
 
+// The angle of the rotation Aᵀ·B [rad, 0..π] without forming it: its trace and the vector of its
+// antisymmetric part are sums of products of A's and B's columns, and atan2(|v|/2, (tr - 1)/2) is
+// accurate at small angles too (where acos of the trace alone loses half the digits).
+double angleBetween(const KDL::Rotation& a, const KDL::Rotation& b) {
+  const double* A = a.data;  // row-major: A[3 * row + column]
+  const double* B = b.data;
+  double trace = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double* ak = A + 3 * k;
+    const double* bk = B + 3 * k;
+    trace += ak[0] * bk[0] + ak[1] * bk[1] + ak[2] * bk[2];
+    sx += ak[2] * bk[1] - ak[1] * bk[2];
+    sy += ak[0] * bk[2] - ak[2] * bk[0];
+    sz += ak[1] * bk[0] - ak[0] * bk[1];
+  }
+  return std::atan2(0.5 * std::sqrt(sx * sx + sy * sy + sz * sz), 0.5 * (trace - 1.0));
+}
+
 }  // namespace
 
 TrackingMonitor::TrackingMonitor(std::string robot, std::vector<double> max_velocity, double period)
@@ -27,8 +45,7 @@ TrackingMonitor::TrackingMonitor(std::string robot, std::vector<double> max_velo
 void TrackingMonitor::step(double t, bool counts, const std::string& state, const KDL::Frame& commanded,
                            const KDL::Frame& measured, const KDL::JntArray* joints) {
   const double mm = 1000.0 * (commanded.p - measured.p).Norm();
-  KDL::Vector axis;
-  const double deg = kRadToDeg * (commanded.M.Inverse() * measured.M).GetRotAngle(axis);
+  const double deg = kRadToDeg * angleBetween(commanded.M, measured.M);
   if (have_command_) {
     const double jump = (commanded.p - previous_command_.p).Norm();
     if (jump > figures_.max_command_step) figures_.max_command_step = jump, figures_.max_command_step_at = t;

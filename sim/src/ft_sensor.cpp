@@ -85,13 +85,12 @@ void validate(const ForceTorqueSensorModel& m) {
 }
 
 ForceTorqueSensor::ForceTorqueSensor(ForceTorqueSensorModel model, std::uint64_t seed)
-    : model_(std::move(model)), rng_(seed) {
+    : model_(std::move(model)), noise_(seed) {
   validate(model_);
 }
 
 void ForceTorqueSensor::reset(std::uint64_t seed, const KDL::Wrench& wrench) noexcept {
-  rng_.seed(seed);
-  normal_.reset();
+  noise_.seed(seed);
   filtered_ = toArray(wrench + model_.bias);
   filter_started_ = true;
   reading_ = ForceTorqueReading{};
@@ -102,15 +101,18 @@ const ForceTorqueReading& ForceTorqueSensor::step(double dt, const KDL::Wrench& 
   // Exact discretisation of dy/dt = 2π fc (x - y) over dt for a held input.
   double alpha = 1.0;
   if (model_.filter_cutoff_hz > 0.0) {
-    alpha = (std::isfinite(dt) && dt > 0.0) ? 1.0 - std::exp(-2.0 * std::numbers::pi * model_.filter_cutoff_hz * dt) : 0.0;
-    if (!filter_started_) alpha = 1.0;
+    if (dt != alpha_dt_) {
+      alpha_ = (std::isfinite(dt) && dt > 0.0) ? 1.0 - std::exp(-2.0 * std::numbers::pi * model_.filter_cutoff_hz * dt) : 0.0;
+      alpha_dt_ = dt;
+    }
+    alpha = filter_started_ ? alpha_ : 1.0;
   }
   filter_started_ = true;
   AxisArray out{};
   std::uint8_t saturated = 0;
   for (std::size_t i = 0; i < 6; ++i) {
     filtered_[i] += alpha * (input[i] - filtered_[i]);
-    double v = filtered_[i] + model_.noise_std[i] * normal_(rng_);
+    double v = filtered_[i] + model_.noise_std[i] * noise_.sample();
     const double limit = model_.saturation[i];
     if (!(std::abs(v) <= limit)) {  // also catches NaN input: report it as saturated at +limit
       v = std::signbit(v) ? -limit : limit;

@@ -26,7 +26,7 @@ void validate(const HandTrackerModel& m) {
   if (!std::isfinite(m.position_noise) || m.position_noise < 0) reject("position_noise", m.position_noise, ">= 0 m");
 }
 
-HandTracker::HandTracker(const HandTrackerModel& model, std::uint64_t seed) : model_(model), rng_(seed) {
+HandTracker::HandTracker(const HandTrackerModel& model, std::uint64_t seed) : model_(model), noise_(seed) {
   validate(model_);
   tan_half_x_ = std::tan(model_.fov_x / 2);
   tan_half_y_ = std::tan(model_.fov_y / 2);
@@ -42,7 +42,7 @@ void HandTracker::track(bool present, const KDL::Frame& truth, TrackedHand& out)
   out.valid = present && inFieldOfView(truth.p);
   if (!out.valid) return;
   const double s = model_.position_noise;
-  const double nx = normal_(rng_), ny = normal_(rng_), nz = normal_(rng_);  // fixed order: reproducible
+  const double nx = noise_.sample(), ny = noise_.sample(), nz = noise_.sample();  // fixed order: reproducible
   out.pose = KDL::Frame(truth.M, truth.p + KDL::Vector(s * nx, s * ny, s * nz));
 }
 

@@ -20,7 +20,7 @@ void Puma260EtherCatBus::setEncoderNoise(double std_dev, std::uint64_t seed) {
                                 " rad, expected >= 0 (a standard deviation)");
   }
   encoder_noise_ = std_dev;
-  rng_.seed(seed);
+  noise_.seed(seed);
 }
 
 std::string Puma260EtherCatBus::describeSlave(int index) const {
@@ -80,7 +80,7 @@ void Puma260EtherCatBus::publish(std::int64_t stamp) noexcept {
   Inputs in;
   for (int i = 0; i < 6; ++i) {
     const Cia402Drive& d = arm_->drive(i);
-    const double noise = encoder_noise_ > 0.0 ? encoder_noise_ * normal_(rng_) : 0.0;
+    const double noise = encoder_noise_ > 0.0 ? encoder_noise_ * noise_.sample() : 0.0;
     in[static_cast<std::size_t>(i)] = {d.statusword(), static_cast<std::int8_t>(d.modeDisplay()),
                                        d.position() + noise, d.velocity(),
                                        d.torque(),     d.errorCode()};

@@ -70,6 +70,7 @@ ServoRobot::ServoRobot(ServoRobotModel model, std::span<const double> initial) :
                                 std::to_string(initial.size()) + " values, expected " + std::to_string(n));
   }
   resolution_.resize(n);
+  decay_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double counts = model_.encoder_counts[i];
     const double span = model_.limits.types[i] == kinematics::JointType::Revolute ? 2.0 * std::numbers::pi : 1.0;
@@ -96,7 +97,7 @@ bool ServoRobot::command(std::span<const double> q_command) noexcept {
   for (std::size_t i = 0; i < n; ++i) {
     const double clamped = std::clamp(q_command[i], model_.limits.lower[i], model_.limits.upper[i]);
     if (clamped != q_command[i]) pending_position_limited_ |= (std::uint64_t{1} << i);
-    q_cmd_(static_cast<unsigned>(i)) = clamped;
+    q_cmd_.data[static_cast<Eigen::Index>(i)] = clamped;
   }
   return true;
 }
@@ -109,17 +110,27 @@ ServoStatus ServoRobot::step(double dt) noexcept {
   ServoStatus status;
   status.position_limited = std::exchange(pending_position_limited_, 0);
   if (!std::isfinite(dt) || dt <= 0.0) return status;
-  for (unsigned i = 0; i < q_.rows(); ++i) {
-    const double target = q_cmd_(i) + (q_(i) - q_cmd_(i)) * std::exp(-dt / model_.time_constant[i]);
+  const std::size_t n = decay_.size();
+  if (dt != decay_dt_) {
+    for (std::size_t i = 0; i < n; ++i) decay_[i] = std::exp(-dt / model_.time_constant[i]);
+    decay_dt_ = dt;
+  }
+  // Raw element access: KDL::JntArray's operator() is an out-of-line call per element.
+  double* q = q_.data.data();
+  double* qd = qd_.data.data();
+  double* q_meas = q_meas_.data.data();
+  const double* q_cmd = q_cmd_.data.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double target = q_cmd[i] + (q[i] - q_cmd[i]) * decay_[i];
     const double max_step = model_.max_velocity[i] * dt;
-    double delta = target - q_(i);
+    double delta = target - q[i];
     if (std::abs(delta) > max_step) {
       delta = std::copysign(max_step, delta);
       status.velocity_limited |= (std::uint64_t{1} << i);
     }
-    q_(i) = std::clamp(q_(i) + delta, model_.limits.lower[i], model_.limits.upper[i]);
-    qd_(i) = delta / dt;
-    q_meas_(i) = resolution_[i] > 0.0 ? resolution_[i] * std::round(q_(i) / resolution_[i]) : q_(i);
+    q[i] = std::clamp(q[i] + delta, model_.limits.lower[i], model_.limits.upper[i]);
+    qd[i] = delta / dt;
+    q_meas[i] = resolution_[i] > 0.0 ? resolution_[i] * std::round(q[i] / resolution_[i]) : q[i];
   }
   return status;
 }

@@ -29,11 +29,19 @@ Machine::Machine(const Chart& chart, std::function<std::chrono::nanoseconds()> c
       doo_restart_(chart.nodes().size(), 1),
       entry_time_(chart.nodes().size(), std::chrono::nanoseconds(0)),
       time_fired_(chart.transitions().size(), 0),
+      timed_path_(chart.nodes().size(), 0),
       queue_(capacity_ + internalReserve(chart)),
       current_(queue_.size()),
       current_entries_(queue_.size()),
       path_(chart.nodes().size() + 1),
       down_(chart.nodes().size() + 1) {
+  for (std::size_t n = 0; n < timed_path_.size(); ++n) {
+    for (int s = static_cast<int>(n);; s = chart.nodes()[static_cast<std::size_t>(s)].parent) {
+      for (int ti : chart.nodes()[static_cast<std::size_t>(s)].transitions)
+        if (chart.transitions()[static_cast<std::size_t>(ti)].time_spec >= 0.0) timed_path_[n] = 1;
+      if (s == 0 || timed_path_[n]) break;
+    }
+  }
   reset();
 }
 
@@ -101,7 +109,7 @@ void Machine::failed(const char* callback, std::string_view element, const char*
 }
 
 void Machine::checkTimeEvents() noexcept {
-  if (!entered_) return;
+  if (!entered_ || !timed_path_[at(active_leaf_ < 0 ? 0 : active_leaf_)]) return;
   const auto now = clock_ ? clock_() : std::chrono::nanoseconds(0);
   // From the active leaf up to the root, as rFSM's check_act_timeevents.
   for (int s = active_leaf_ < 0 ? 0 : active_leaf_;; s = chart_->nodes()[at(s)].parent) {

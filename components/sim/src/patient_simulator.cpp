@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/kinematics/frame_product.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::components {
@@ -122,11 +123,11 @@ void PatientSimulator::updateHook() {
 
   KDL::Frame pose;
   if (needle_tip_pose_.read(pose) != core::FlowStatus::NoData) {
-    needle_tip_ = world_to_phantom_ * pose * tip_to_needle_();
+    needle_tip_ = kinematics::frameProduct(kinematics::frameProduct(world_to_phantom_, pose), tip_to_needle_());
     have_needle_ = true;
   }
   if (probe_pose_.read(pose) != core::FlowStatus::NoData) {
-    probe_ = world_to_phantom_ * pose;
+    probe_ = kinematics::frameProduct(world_to_phantom_, pose);
     have_probe_ = true;
   }
   const KDL::Rotation& to_world = phantom_pose_().M;

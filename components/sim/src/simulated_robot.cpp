@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/kinematics/frame_product.hpp"
 
 namespace cobra::components {
 namespace {
@@ -170,7 +171,7 @@ void SimulatedServoRobotBase::cleanupHook() {
 }
 
 KDL::Frame SimulatedServoRobotBase::toWorld(std::size_t tool, const KDL::Frame& fk) const noexcept {
-  return base_frame_() * fk * tools_[tool]->tool_frame();
+  return kinematics::frameProduct(kinematics::frameProduct(base_frame_(), fk), tools_[tool]->tool_frame());
 }
 
 double SimulatedServoRobotBase::stepLength() noexcept {
@@ -184,7 +185,8 @@ double SimulatedServoRobotBase::stepLength() noexcept {
 void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   const KDL::Frame base_inverse = base_frame_().Inverse();
   for (std::size_t i = 0; i < tools_.size(); ++i)
-    solve_targets_[i] = base_inverse * targets_[i] * tools_[i]->tool_frame().Inverse();
+    solve_targets_[i] =
+        kinematics::frameProduct(kinematics::frameProduct(base_inverse, targets_[i]), tools_[i]->tool_frame().Inverse());
   kinematics::IkStatus status =
       kinematics_->solve(solve_targets_, robot_->commanded(), dt > 0.0 ? dt : default_dt_, solution_);
   if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;

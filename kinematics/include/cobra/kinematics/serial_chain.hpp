@@ -19,6 +19,7 @@
 
 #include "cobra/kinematics/kinematics_solver.hpp"
 #include "cobra/kinematics/types.hpp"
+#include "cobra/kinematics/frame_product.hpp"
 
 namespace KDL {
 class ChainFkSolverPos_recursive;
@@ -185,7 +186,9 @@ class DhAnalyticSolver : public AnalyticSolver {
       : model_(std::move(model)), base_inverse_(model_.base().Inverse()), tool_inverse_(model_.tool().Inverse()) {}
   /// `target` (tool pose in the world) as the pose of the last DH frame in DH frame 0:
   /// base⁻¹ · target · tool⁻¹.
-  KDL::Frame lastDhFrame(const KDL::Frame& target) const noexcept { return base_inverse_ * target * tool_inverse_; }
+  KDL::Frame lastDhFrame(const KDL::Frame& target) const noexcept {
+    return frameProduct(frameProduct(base_inverse_, target), tool_inverse_);
+  }
 
  private:
   SerialChainModel model_;

@@ -6,10 +6,11 @@
 
 #include <array>
 #include <cstdint>
-#include <random>
 #include <string>
 
 #include <kdl/frames.hpp>
+
+#include "cobra/sim/gaussian_noise.hpp"
 
 namespace cobra::sim {
 
@@ -64,9 +65,10 @@ class ForceTorqueSensor {
 
  private:
   ForceTorqueSensorModel model_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  GaussianNoise noise_;
   AxisArray filtered_{};
+  double alpha_dt_ = -1.0;  // s: the dt alpha_ was computed for (a control loop's dt is constant)
+  double alpha_ = 1.0;
   bool filter_started_ = false;
   ForceTorqueReading reading_;
 };

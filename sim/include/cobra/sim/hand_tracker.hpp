@@ -8,9 +8,9 @@
 
 #include <cstdint>
 #include <kdl/frames.hpp>
-#include <random>
 
 #include "cobra/fieldbus/hand_tracker_device.hpp"
+#include "cobra/sim/gaussian_noise.hpp"
 
 namespace cobra::sim {
 
@@ -56,8 +56,7 @@ class HandTracker {
   void track(bool present, const KDL::Frame& truth, TrackedHand& out) noexcept;
 
   HandTrackerModel model_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  GaussianNoise noise_;
   double since_frame_ = 0.0;  // s since the last frame
   double tan_half_x_ = 0.0, tan_half_y_ = 0.0;
   HandFrame frame_;

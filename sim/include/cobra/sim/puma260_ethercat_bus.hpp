@@ -10,12 +10,12 @@
 #include <array>
 #include <atomic>
 #include <memory>
-#include <random>
 #include <string>
 
 #include "cobra/fieldbus/cia402_bus.hpp"
 #include "cobra/sim/device_link.hpp"
 #include "cobra/sim/puma260_arm.hpp"
+#include "cobra/sim/gaussian_noise.hpp"
 
 namespace cobra::sim {
 
@@ -71,8 +71,7 @@ class Puma260EtherCatBus final : public fieldbus::Cia402Bus {
   std::unique_ptr<Puma260Plant> arm_;
   std::atomic<int> wrong_counter_cycles_{0};
   double encoder_noise_ = 0.0;  // rad
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  GaussianNoise noise_;
   fieldbus::WorkingCounter working_counter_{kExpectedWorkingCounter, kExpectedWorkingCounter};  // host side
   StampedMailbox<Outputs> outputs_;
   StampedMailbox<Inputs> inputs_;

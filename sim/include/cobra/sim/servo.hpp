@@ -68,6 +68,8 @@ class ServoRobot {
  private:
   ServoRobotModel model_;
   std::vector<double> resolution_;  // encoder step per joint (rad / m), 0 = exact
+  std::vector<double> decay_;       // exp(-decay_dt_ / time_constant) per joint
+  double decay_dt_ = -1.0;          // s: the dt decay_ holds (a control loop's dt is constant)
   KDL::JntArray q_, qd_, q_meas_, q_cmd_;
   std::uint64_t pending_position_limited_ = 0;
 };

@@ -128,6 +128,9 @@ class Machine {
   std::vector<char> doo_restart_;                  // per node: next doo call restarts
   std::vector<std::chrono::nanoseconds> entry_time_;  // per node
   std::vector<char> time_fired_;                   // per transition
+  // Per node: whether it or an ancestor has a time transition (most leaves have none, and
+  // checkTimeEvents runs every step: it returns at once for them).
+  std::vector<char> timed_path_;
   std::vector<QueuedEvent> queue_;                 // events for the next step, from index 0
   std::size_t queue_size_ = 0, internal_queued_ = 0;
   std::vector<QueuedEvent> current_;               // this step's events (swapped with queue_)
