@@ -3,6 +3,15 @@
 #include <algorithm>
 
 namespace cobra::components {
+namespace {
+
+/// The wrench of `force` (N, world axes) applied at a tip `lever` m (world axes) from a frame's
+/// origin, about that origin: torque = lever × force (N·m).
+KDL::Wrench atPortFrame(const KDL::Vector& force, const KDL::Vector& lever) noexcept {
+  return {force, lever * force};
+}
+
+}  // namespace
 
 WoundSimulator::WoundSimulator(std::string name)
     : Component(std::move(name), core::Role::Bridge,
@@ -71,6 +80,7 @@ bool WoundSimulator::configureHook() {
 
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
+  tool_lever_ = stick_lever_ = KDL::Vector::Zero();
   actuations_seen_ = 0;
   core::Event stale;
   while (input_events_.read(stale) == core::FlowStatus::NewData) {
@@ -100,11 +110,13 @@ void WoundSimulator::actuate() noexcept {
 void WoundSimulator::updateHook() {
   KDL::Frame pose;
   if (tool_tip_.read(pose) != core::FlowStatus::NoData) {
-    tool_ = world_to_wound_ * (pose * tool_tip_offset_().p);
+    tool_lever_ = pose.M * tool_tip_offset_().p;
+    tool_ = world_to_wound_ * (pose.p + tool_lever_);
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_ = world_to_wound_ * (pose * stick_tip_offset_().p);
+    stick_lever_ = pose.M * stick_tip_offset_().p;
+    stick_ = world_to_wound_ * (pose.p + stick_lever_);
     have_stick_ = true;
   }
   int count = 0;
@@ -149,8 +161,8 @@ void WoundSimulator::publish(bool all) noexcept {
   // Written every step (a reader connected later gets them too); recomputed only above.
   tension_.write(w.tension());
   const KDL::Rotation& to_world = wound_pose_().M;
-  tool_wrench_.write(KDL::Wrench(to_world * w.toolForce(), KDL::Vector::Zero()));
-  stick_wrench_.write(KDL::Wrench(to_world * w.stickForce(), KDL::Vector::Zero()));
+  tool_wrench_.write(atPortFrame(to_world * w.toolForce(), tool_lever_));
+  stick_wrench_.write(atPortFrame(to_world * w.stickForce(), stick_lever_));
   stitch_count_.write(complete_);
   max_stitch_gap_.write(widest_stitch_gap_);
   max_gap_out_.write(widest_gap_);
