@@ -71,6 +71,8 @@ void validate(const ThreadModel& t) {
   positive(t.stiffness, "stiffness", "N/m");
   positive(t.breaking_tension, "breaking_tension", "N");
   positive(t.hook_radius, "hook_radius", "m");
+  require(std::isfinite(t.release_time) && t.release_time >= 0.0, "thread: release_time is " + number(t.release_time) + " s",
+          "a finite value >= 0 s");
 }
 
 const char* toString(WoundSide side) noexcept { return side == WoundSide::Right ? "right" : "left"; }
@@ -275,7 +277,7 @@ StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
   return r;
 }
 
-void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
+void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick, double dt) noexcept {
   tool_ = tool;
   KDL::Vector storage;
   const KDL::Vector* last = lastSkinPoint(storage);
@@ -284,7 +286,19 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     path_ = fixedPath();
     return;
   }
-  if (hooked_) hook_ = stick;
+  if (releasing_) {
+    release_left_ -= std::max(0.0, dt);
+    if (release_left_ <= 0.0) {
+      releasing_ = hooked_ = false;
+      ++revision_;
+    } else {
+      // The bend point slides from where the stick let go to the straight thread, linearly in time.
+      const KDL::Vector line = *last + (tool - *last) * std::clamp(KDL::dot(released_at_ - *last, tool - *last) /
+                                                                       std::max(1e-12, KDL::dot(tool - *last, tool - *last)),
+                                                                   0.0, 1.0);
+      hook_ = line + (released_at_ - line) * (release_left_ / thread_.release_time);
+    }
+  } else if (hooked_) hook_ = stick;
   else if (segmentDistance(stick, *last, tool) <= thread_.hook_radius) {
     hooked_ = true;
     hook_ = stick;
@@ -309,14 +323,20 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
   tension_ = std::max(0.0, thread_.stiffness * (path - rest_));
   if (tension_ > thread_.breaking_tension) {
     broken_ = true;
-    hooked_ = false;
+    hooked_ = releasing_ = false;
     tension_ = 0.0;
     ++revision_;
   }
 }
 
 void Wound::releaseThread() noexcept {
-  if (!hooked_) return;
+  if (!hooked_ || releasing_) return;
+  if (thread_.release_time > 0.0) {
+    releasing_ = true;
+    release_left_ = thread_.release_time;
+    released_at_ = hook_;
+    return;
+  }
   hooked_ = false;
   ++revision_;
 }

@@ -249,6 +249,39 @@ TEST(Wound, TheTensedThreadPullsTheToolTowardItsHookAndTheStickBothWays) {
   EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
 }
 
+TEST(Wound, ReleasedOverATimeTheThreadsPullOnTheStickFadesToNothing) {
+  ThreadModel thread;
+  thread.release_time = 0.2;
+  Wound wound(WoundModel{}, thread);
+  ASSERT_TRUE(wound.actuate(WoundSide::Right, wound.stitchPoint(WoundSide::Right, 0.02)).applied());
+  const KDL::Vector tip = wound.stitchPoint(WoundSide::Left, 0.02);
+  ASSERT_TRUE(wound.actuate(WoundSide::Left, tip).applied());
+  const KDL::Vector exit = wound.edgePoint(WoundSide::Left, 0.02, 0.0) + KDL::Vector(0.0, WoundModel{}.bite, 0.0);
+  KDL::Vector tool = tip + KDL::Vector(0.0, 0.0, 0.015);
+  wound.step(tool, (exit + tool) * 0.5, 1e-3);
+  ASSERT_TRUE(wound.hooked());
+  const KDL::Vector stick = (exit + tool) * 0.5 - KDL::Vector(0.012, 0.0, 0.0);  // pushed 12 mm aside
+  for (int i = 0; i < 400 && wound.tension() < 2.0; ++i) {
+    tool += KDL::Vector(0.0, 0.0, 1e-4);
+    wound.step(tool, stick, 1e-3);
+  }
+  const double held = wound.stickForce().Norm();
+  ASSERT_GT(held, 1.0);
+  wound.releaseThread();
+  double previous = held;
+  int steps = 0;
+  for (; wound.hooked() && steps < 1000; ++steps) {  // 1 ms steps, the stick and the tool holding
+    wound.step(tool, stick, 1e-3);
+    const double pull = wound.stickForce().Norm();
+    EXPECT_LE(pull, previous + 1e-12) << steps;  // it only fades
+    EXPECT_LT(previous - pull, 0.05 * held) << steps;  // by less than 5 % of it a millisecond
+    previous = pull;
+  }
+  EXPECT_NEAR(steps, 200, 1);  // gone after release_time
+  EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
+  EXPECT_FALSE(wound.releasing());
+}
+
 TEST(Wound, FourPulledStitchesCloseAFortyMillimetreCut) {
   const WoundModel model;
   Wound wound(model);

@@ -18,7 +18,8 @@ WoundSimulator::WoundSimulator(std::string name)
                 "Simulated suturing patient (thesis ch. 5): a planar wound the Endo Stitch stitches, the thread it "
                 "pulls closed, the stick that hooks it, and the wound's edges for stitch planning") {
   for (auto* p : {&max_gap_, &tissue_stiffness_, &closure_spread_, &bite_, &stitch_depth_, &stitch_tolerance_,
-                  &closed_gap_, &thread_length_, &thread_slack_, &thread_stiffness_, &breaking_tension_, &hook_radius_})
+                  &closed_gap_, &thread_length_, &thread_slack_, &thread_stiffness_, &breaking_tension_, &hook_radius_,
+                  &release_time_})
     addProperty(*p);
   addProperty(cut_);
   addProperty(wound_pose_);
@@ -66,6 +67,7 @@ bool WoundSimulator::configureHook() {
   thread.stiffness = thread_stiffness_();
   thread.breaking_tension = breaking_tension_();
   thread.hook_radius = hook_radius_();
+  thread.release_time = release_time_();
   try {
     wound_.emplace(std::move(wound), thread);
   } catch (const std::exception& e) {
@@ -81,6 +83,7 @@ bool WoundSimulator::configureHook() {
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
   tool_lever_ = stick_lever_ = KDL::Vector::Zero();
+  last_update_ns_ = -1;
   actuations_seen_ = 0;
   core::Event stale;
   while (input_events_.read(stale) == core::FlowStatus::NewData) {
@@ -128,7 +131,10 @@ void WoundSimulator::updateHook() {
   while (input_events_.read(request) == core::FlowStatus::NewData) {
     if (request.name == release_name_) wound_->releaseThread();
   }
-  if (have_tool_ && have_stick_) wound_->step(tool_, stick_);
+  const std::int64_t now_ns = now().count();
+  const double dt = last_update_ns_ < 0 ? 0.0 : static_cast<double>(now_ns - last_update_ns_) * 1e-9;  // s
+  last_update_ns_ = now_ns;
+  if (have_tool_ && have_stick_) wound_->step(tool_, stick_, dt);
   if (wound_->hooked() && !hooked_) emitEvent("e_thread_hooked");
   hooked_ = wound_->hooked();
   if (wound_->broken() && !broken_) emitEvent("e_thread_broken");

@@ -186,7 +186,8 @@ TEST(WoundSimulator, TheReleaseEventLetsTheHookedThreadGo) {
   core::Event e;
   e.name = "e_release_thread";
   b.requests.write(e);
-  b.step(up, stick + KDL::Vector(0.0, 0.0, 0.02));  // the stick withdraws up, away from the thread
+  // The stick withdraws up, away from the thread, which slides off it within release_time (0.2 s).
+  for (int ms = 0; ms < 201; ++ms) b.step(up, stick + KDL::Vector(0.0, 0.0, 0.02));
   b.said.clear();
   b.step(up, stick);  // back where it hooked: caught again, so it had let go
   EXPECT_EQ(b.said, (std::vector<std::string>{"e_thread_hooked"}));

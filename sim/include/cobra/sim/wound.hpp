@@ -65,6 +65,11 @@ struct ThreadModel {
   double stiffness = 800.0;          ///< N/m, > 0: tension per metre stretched (ASSUMPTION)
   double breaking_tension = 15.0;    ///< N, > 0: the thread breaks above it (ASSUMPTION, of a 2-0 suture's knot pull)
   double hook_radius = 0.002;        ///< m, > 0: the stick catches the free thread within this distance
+  /// s, >= 0: how long the thread takes to slide off the stick once it lets go (0: at once). The
+  /// bend point moves from the stick's tip to the thread's straight line over this time, so the
+  /// thread's pull on the stick fades instead of vanishing in one step (ASSUMPTION for a non-zero
+  /// value: the gripper turns the stick's tip out of the thread at a finite speed).
+  double release_time = 0.0;
 };
 
 /// @throws std::invalid_argument naming the parameter (and the cut's point) and the expected range.
@@ -133,12 +138,17 @@ class Wound {
 
   /// The Endo Stitch's switch: tries `side`'s half-stitch with the tip at `tip` (m, W).
   StitchResult actuate(WoundSide side, const KDL::Vector& tip) noexcept;
-  /// Advances the thread with the tool's tip at `tool` and the stick's tip at `stick` (m, W):
-  /// the stick hooks the free thread when it comes within hook_radius of it; a complete stitch
-  /// closes under the tension; over breaking_tension the thread breaks.
-  void step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept;
-  /// The stick lets the thread go (its gripper opens or it withdraws).
+  /// Advances the thread with the tool's tip at `tool` and the stick's tip at `stick` (m, W), `dt`
+  /// s after the last step: the stick hooks the free thread when it comes within hook_radius of
+  /// it; a release under way advances by dt; a complete stitch closes under the tension; over
+  /// breaking_tension the thread breaks.
+  void step(const KDL::Vector& tool, const KDL::Vector& stick, double dt = 0.0) noexcept;
+  /// The stick lets the thread go: at once with release_time 0, else the thread slides off it over
+  /// release_time (hooked() and releasing() stay true meanwhile, the bend point moving from where
+  /// the stick held it to the straight line from the last skin point to the tool).
   void releaseThread() noexcept;
+  /// Whether the thread is sliding off the stick (a release under way).
+  bool releasing() const noexcept { return releasing_; }
   /// The edge `p` (m, W) is on: the side of the centreline it lies (Left where the in-plane
   /// normal points, Right otherwise): the half-stitch an Endo Stitch actuated there tries.
   WoundSide sideAt(const KDL::Vector& p) const noexcept;
@@ -199,7 +209,10 @@ class Wound {
   double rest_ = 0.0;
   bool broken_ = false;
   bool hooked_ = false;
+  bool releasing_ = false;
+  double release_left_ = 0.0;  // s: of a release under way
   KDL::Vector hook_;
+  KDL::Vector released_at_;    // m: the bend point when the stick let go
   KDL::Vector tool_;
   std::uint64_t revision_ = 0;
 };

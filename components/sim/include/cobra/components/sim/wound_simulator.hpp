@@ -25,7 +25,8 @@ namespace cobra::components {
 /// default a straight 40 mm cut along x), `wound_pose`, `max_gap` (m), `tissue_stiffness` (N/m),
 /// `closure_spread` (m), `bite` (m), `stitch_depth` (m), `stitch_tolerance` (m), `closed_gap` (m),
 /// `thread_length` (m), `thread_slack` (m), `thread_stiffness` (N/m), `breaking_tension` (N),
-/// `hook_radius` (m), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
+/// `hook_radius` (m), `release_time` (s, default 0.2: the thread's pull on the stick fades over it
+/// once the stick lets go, instead of vanishing in one step), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
 /// sim::WoundModel / sim::ThreadModel.
 ///
 /// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
@@ -93,6 +94,9 @@ class WoundSimulator : public core::Component {
                                            "the thread breaks above it"};
   core::Property<double> hook_radius_{"hook_radius", sim::ThreadModel{}.hook_radius, "m",
                                       "the stick catches the thread within this distance"};
+  // ASSUMPTION: the gripper turns the stick's tip out of the thread in 0.2 s (sim::ThreadModel::release_time).
+  core::Property<double> release_time_{"release_time", 0.2, "s",
+                                       "the thread slides off the stick over this time once it lets go, >= 0"};
   core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
                                               "the Endo Stitch's tip in the frame toolTipPose gives"};
   core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
@@ -124,6 +128,7 @@ class WoundSimulator : public core::Component {
   bool have_tool_ = false, have_stick_ = false;
   bool hooked_ = false, broken_ = false;
   int actuations_seen_ = 0;
+  std::int64_t last_update_ns_ = -1;  // clock time of the last update; -1: none since start
   std::uint64_t published_revision_ = 0;
   int complete_ = 0;                 // of the published revision: complete stitches,
   double widest_stitch_gap_ = 0.0;   // m: the widest gap at a stitch,
