@@ -17,12 +17,17 @@ void require(bool ok, const std::string& what, const std::string& expected) {
 
 using text::number;
 
-/// Distance from p to the segment [a, b] (m).
-double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
+/// The point of the segment [a, b] nearest to p (m).
+KDL::Vector closestOnSegment(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
   const KDL::Vector ab = b - a;
   const double squared = KDL::dot(ab, ab);
   const double t = squared > 0.0 ? std::clamp(KDL::dot(p - a, ab) / squared, 0.0, 1.0) : 0.0;
-  return (p - (a + ab * t)).Norm();
+  return a + ab * t;
+}
+
+/// Distance from p to the segment [a, b] (m).
+double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
+  return (p - closestOnSegment(p, a, b)).Norm();
 }
 
 }  // namespace
@@ -290,19 +295,26 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick, double dt) n
     release_left_ -= std::max(0.0, dt);
     if (release_left_ <= 0.0) {
       releasing_ = hooked_ = false;
+      armed_ = false;  // it catches the thread again only once they have been apart
       ++revision_;
     } else {
       // The bend point slides from where the stick let go to the straight thread, linearly in time.
-      const KDL::Vector line = *last + (tool - *last) * std::clamp(KDL::dot(released_at_ - *last, tool - *last) /
-                                                                       std::max(1e-12, KDL::dot(tool - *last, tool - *last)),
-                                                                   0.0, 1.0);
+      const KDL::Vector line = closestOnSegment(released_at_, *last, tool);
       hook_ = line + (released_at_ - line) * (release_left_ / thread_.release_time);
     }
-  } else if (hooked_) hook_ = stick;
-  else if (segmentDistance(stick, *last, tool) <= thread_.hook_radius) {
-    hooked_ = true;
-    hook_ = stick;
-    ++revision_;
+  } else if (hooked_) hook_ = stick + hook_offset_;
+  else {
+    const KDL::Vector touched = closestOnSegment(stick, *last, tool);
+    const bool touching = (touched - stick).Norm() <= thread_.hook_radius;
+    if (!touching) armed_ = true;
+    else if (armed_) {
+      // Caught where it touches the stick's side: the thread is still straight, and bends as the
+      // stick moves on (its pull grows from zero instead of appearing in one step).
+      hooked_ = true;
+      hook_offset_ = touched - stick;
+      hook_ = touched;
+      ++revision_;
+    }
   }
   double path = fixedPath() + freePath(tool);
   Stitch& pulled = stitches_.back();
@@ -338,6 +350,7 @@ void Wound::releaseThread() noexcept {
     return;
   }
   hooked_ = false;
+  armed_ = false;
   ++revision_;
 }
 

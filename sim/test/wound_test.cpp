@@ -174,10 +174,13 @@ TEST(Wound, TheStickHooksTheFreeThreadAndPushesItAside) {
   wound.step(tool, middle + KDL::Vector(0.0015, 0.0, 0.0));
   ASSERT_TRUE(wound.hooked());
   const double straight = wound.threadPath();
-  const KDL::Vector aside = middle - KDL::Vector(0.015, 0.0, 0.0);  // pushed 15 mm along the cut
-  wound.step(tool, aside);
+  // Caught where it touched the stick's side, 1.5 mm from its tip: still straight, no pull yet.
+  EXPECT_NEAR((wound.hookPoint() - middle).Norm(), 0.0, kTol);
+  EXPECT_NEAR(wound.threadPath(), straight, kTol);
+  const KDL::Vector aside = middle - KDL::Vector(0.015, 0.0, 0.0);  // the tip pushed 15 mm along the cut
+  wound.step(tool, aside + KDL::Vector(0.0015, 0.0, 0.0));
   EXPECT_GT(wound.threadPath(), straight);
-  EXPECT_NEAR((wound.hookPoint() - aside).Norm(), 0.0, kTol);
+  EXPECT_NEAR((wound.hookPoint() - aside).Norm(), 0.0, kTol);  // the touching point moved with it
   EXPECT_NEAR(wound.freeThreadDistance(aside), 0.0, kTol);   // it bends round the stick
   EXPECT_GT(wound.freeThreadDistance(middle), 0.005);        // and left the place it hung
   wound.releaseThread();
@@ -280,6 +283,13 @@ TEST(Wound, ReleasedOverATimeTheThreadsPullOnTheStickFadesToNothing) {
   EXPECT_NEAR(steps, 200, 1);  // gone after release_time
   EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
   EXPECT_FALSE(wound.releasing());
+  // Resting against the thread it let go, the stick does not catch it; come back to it, it does.
+  const KDL::Vector touching = (exit + tool) * 0.5 + KDL::Vector(0.001, 0.0, 0.0);
+  wound.step(tool, touching, 1e-3);
+  EXPECT_FALSE(wound.hooked());
+  wound.step(tool, touching + KDL::Vector(0.01, 0.0, 0.0), 1e-3);
+  wound.step(tool, touching, 1e-3);
+  EXPECT_TRUE(wound.hooked());
 }
 
 TEST(Wound, FourPulledStitchesCloseAFortyMillimetreCut) {
