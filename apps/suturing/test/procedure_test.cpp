@@ -136,6 +136,16 @@ void expectSutured(const RunResult& r, std::size_t stitches) {
   }
 }
 
+/// The stick catches the thread in HookThread only (the wound model catches a thread any motion of
+/// the stick passes through).
+void expectCaughtOnlyByTheHookingMotion(const RunResult& r) {
+  for (const report::EventRecord& e : r.events) {
+    if (e.event.rfind("e_thread_hooked", 0) == 0) {
+      EXPECT_EQ(e.state.rfind("root.AutonomousMode.HookThread", 0), 0u) << e.time << " s " << e.state;
+    }
+  }
+}
+
 /// The hooked thread's pull on the stick reaches the left arm's sensor (the robot's measured
 /// wrench) as the wound model computes it, and the arm follows its commands through every hook,
 /// push and release.
@@ -223,11 +233,7 @@ TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAT
                     s + "ApplyLeftStitch.MoveOverWound", s + "ApplyLeftStitch.ApplyStitch", "Patient: e_stitch_applied",
                     s + "PullThread", s + "GetStitchTargetPose", "suture > root.Done"});
   EXPECT_EQ(count(r, "Patient: e_thread_hooked"), 8u);
-  for (const report::EventRecord& e : r.events) {  // caught by the stick's hooking motion, nowhere else
-    if (e.event.rfind("e_thread_hooked", 0) == 0) {
-      EXPECT_EQ(e.state.rfind("root.AutonomousMode.HookThread", 0), 0u) << e.time << " s " << e.state;
-    }
-  }
+  expectCaughtOnlyByTheHookingMotion(r);
   EXPECT_EQ(count(r, "Patient: e_thread_broken"), 0u);
   // The measured clearance stays above the planner's threshold the whole run long, the Endo
   // Stitch's contact with the phantom (a primitive contact of the scene) left out and reported
@@ -248,6 +254,15 @@ TEST(SuturingProcedure, TheSlantedCutIsClosedWithThreeStitches) {
   const RunResult r = runApp(options("slanted_cut"));
   expectSutured(r, 3);
   EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s, " << r.clearance.worst_state;
+}
+
+// Each stitch at its own direction (+7.4, 0, -7.4 degrees at the stitches): the stick's goal before
+// each stitch follows the stitch, so the turning platform does not fold the arms together.
+TEST(SuturingProcedure, TheCurvedCutIsClosedWithThreeStitches) {
+  const RunResult r = runApp(options("curved_cut"));
+  expectSutured(r, 3);
+  EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s, " << r.clearance.worst_state;
+  expectCaughtOnlyByTheHookingMotion(r);
 }
 
 /// The surgeon takes over mid-stitch: the motion stops, the haptic device's deployment starts, the
