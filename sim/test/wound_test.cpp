@@ -330,6 +330,9 @@ TEST(Wound, BadModelsAreRefusedWithTheParameterAndTheExpectedRange) {
   t = ThreadModel{};
   t.breaking_tension = -1.0;
   EXPECT_EQ(messageOf([&] { Wound w(WoundModel{}, t); }), "thread: breaking_tension is -1 N: expected a finite value > 0 N");
+  t = ThreadModel{};
+  t.release_time = -0.1;
+  EXPECT_EQ(messageOf([&] { Wound w(WoundModel{}, t); }), "thread: release_time is -0.1 s: expected a finite value >= 0 s");
 }
 
 TEST(Wound, ActuatingAndSteppingAllocateNothing) {
