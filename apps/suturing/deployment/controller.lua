@@ -70,7 +70,8 @@ end
 -- PushThread's start) displaces from its admittance's output by a few tenths of a mm, under the
 -- default's 1 mm a step; unrebased, that step reached the robot as a command jump it refused
 -- (e_ik_discontinuity). The paths themselves move the tools at most 0.02 m/s and 0.3 rad/s (the
--- gripper, 0.15 m behind the stick's tip, below 0.07 m/s).
+-- gripper, 0.15 m behind the stick's tip, below 0.07 m/s); a teleoperation's device moving faster
+-- is reached through the admittance's dynamics instead of step by step.
 for _, a in ipairs({ RightAdmittance, LeftAdmittance }) do
   a.max_reference_speed = 0.1
   a.max_reference_angular_speed = 1.0
