@@ -244,6 +244,16 @@ TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAT
   ASSERT_EQ(r.clearance.contacts.size(), 1u);
   EXPECT_EQ(r.clearance.contacts[0].first, "Endo Stitch in the wound");
   EXPECT_EQ(r.clearance.contacts[0].second, 0.0);
+  // The admittances' rebase threshold (0.1 m/s, 1 rad/s: controller.lua) catches each motion's
+  // start at the measured pose and nothing of the motions themselves.
+  std::vector<double> starts;
+  for (const report::EventRecord& e : r.events)
+    if (e.event.rfind("e_moving", 0) == 0) starts.push_back(e.time);
+  for (const report::EventRecord& e : r.events) {
+    if (e.event.rfind("e_reference_jump", 0) != 0) continue;
+    EXPECT_TRUE(std::any_of(starts.begin(), starts.end(), [&](double t) { return e.time >= t && e.time - t <= 0.003; }))
+        << e.source << " at " << e.time << " s in " << e.state;
+  }
   const Signals signals(o.report_folder);
   expectTheThreadsPullOnTheStick(r, signals);
   expectTheTanksHoldTheWorkAgainstTheThread(r, signals);
