@@ -47,7 +47,9 @@ run = {
   record = { period = 0.01, ports = { "ISUR.measRightCartPose", "ISUR.measLeftCartPose", "RightAdmittance.admPose",
                                       "Patient.threadTension", "Patient.maxStitchGap", "Patient.maxGap",
                                       "RightAdmittance.tankEnergy", "LeftAdmittance.tankEnergy",
-                                      "SuturePlanner.minDistance", "SuturePlanner.primitiveContactDistance" } },
+                                      "SuturePlanner.minDistance", "SuturePlanner.primitiveContactDistance",
+                                      "Patient.stickWrench", "ISUR.measLeftWrench", "LeftAdmittance.admPose",
+                                      "ISUR.measLeftCartPose" } },
   plots = {
     { title = "Thread tension", unit = "N", series = { "Patient.threadTension" } },
     { title = "The wound's gap: widest along the cut, widest at a stitch", unit = "m",
@@ -65,6 +67,16 @@ run = {
       port = "Patient.maxStitchGap", on_enter = "suture:root.AutonomousMode.GetStitchTargetPose" },
     { name = "thread tension at the end of each pull", unit = "N", port = "Patient.threadTension",
       on_leave = "suture:root.AutonomousMode.PullThread" },
+    -- The energy tanks around the work against the thread (README.md, "Energy tanks"): the Endo
+    -- Stitch's over each pull (the contact configuration), the stick's over each hook and push.
+    { name = "Endo Stitch tank at the start of each pull", unit = "J", port = "RightAdmittance.tankEnergy",
+      on_enter = "suture:root.AutonomousMode.PullThread" },
+    { name = "Endo Stitch tank at the end of each pull", unit = "J", port = "RightAdmittance.tankEnergy",
+      on_leave = "suture:root.AutonomousMode.PullThread" },
+    { name = "stick tank before each hook", unit = "J", port = "LeftAdmittance.tankEnergy",
+      on_enter = "suture:root.AutonomousMode.HookThread" },
+    { name = "stick tank after each push", unit = "J", port = "LeftAdmittance.tankEnergy",
+      on_leave = "suture:root.AutonomousMode.PushThread" },
     { name = "widest gap along the cut at the end", unit = "mm", scale = 1000, port = "Patient.maxGap",
       on_enter = "suture:root.Done" },
     { name = "faults detected", count = failures },

@@ -17,12 +17,17 @@ void require(bool ok, const std::string& what, const std::string& expected) {
 
 using text::number;
 
-/// Distance from p to the segment [a, b] (m).
-double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
+/// The point of the segment [a, b] nearest to p (m).
+KDL::Vector closestOnSegment(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
   const KDL::Vector ab = b - a;
   const double squared = KDL::dot(ab, ab);
   const double t = squared > 0.0 ? std::clamp(KDL::dot(p - a, ab) / squared, 0.0, 1.0) : 0.0;
-  return (p - (a + ab * t)).Norm();
+  return a + ab * t;
+}
+
+/// Distance from p to the segment [a, b] (m).
+double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) noexcept {
+  return (p - closestOnSegment(p, a, b)).Norm();
 }
 
 }  // namespace
@@ -71,6 +76,8 @@ void validate(const ThreadModel& t) {
   positive(t.stiffness, "stiffness", "N/m");
   positive(t.breaking_tension, "breaking_tension", "N");
   positive(t.hook_radius, "hook_radius", "m");
+  require(std::isfinite(t.release_time) && t.release_time >= 0.0, "thread: release_time is " + number(t.release_time) + " s",
+          "a finite value >= 0 s");
 }
 
 const char* toString(WoundSide side) noexcept { return side == WoundSide::Right ? "right" : "left"; }
@@ -275,7 +282,7 @@ StitchResult Wound::actuate(WoundSide side, const KDL::Vector& tip) noexcept {
   return r;
 }
 
-void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
+void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick, double dt) noexcept {
   tool_ = tool;
   KDL::Vector storage;
   const KDL::Vector* last = lastSkinPoint(storage);
@@ -284,11 +291,30 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
     path_ = fixedPath();
     return;
   }
-  if (hooked_) hook_ = stick;
-  else if (segmentDistance(stick, *last, tool) <= thread_.hook_radius) {
-    hooked_ = true;
-    hook_ = stick;
-    ++revision_;
+  if (releasing_) {
+    release_left_ -= std::max(0.0, dt);
+    if (release_left_ <= 0.0) {
+      releasing_ = hooked_ = false;
+      armed_ = false;  // it catches the thread again only once they have been apart
+      ++revision_;
+    } else {
+      // The bend point slides from where the stick let go to the straight thread, linearly in time.
+      const KDL::Vector line = closestOnSegment(released_at_, *last, tool);
+      hook_ = line + (released_at_ - line) * (release_left_ / thread_.release_time);
+    }
+  } else if (hooked_) hook_ = stick + hook_offset_;
+  else {
+    const KDL::Vector touched = closestOnSegment(stick, *last, tool);
+    const bool touching = (touched - stick).Norm() <= thread_.hook_radius;
+    if (!touching) armed_ = true;
+    else if (armed_) {
+      // Caught where it touches the stick's side: the thread is still straight, and bends as the
+      // stick moves on (its pull grows from zero instead of appearing in one step).
+      hooked_ = true;
+      hook_offset_ = touched - stick;
+      hook_ = touched;
+      ++revision_;
+    }
   }
   double path = fixedPath() + freePath(tool);
   Stitch& pulled = stitches_.back();
@@ -309,15 +335,22 @@ void Wound::step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept {
   tension_ = std::max(0.0, thread_.stiffness * (path - rest_));
   if (tension_ > thread_.breaking_tension) {
     broken_ = true;
-    hooked_ = false;
+    hooked_ = releasing_ = false;
     tension_ = 0.0;
     ++revision_;
   }
 }
 
 void Wound::releaseThread() noexcept {
-  if (!hooked_) return;
+  if (!hooked_ || releasing_) return;
+  if (thread_.release_time > 0.0) {
+    releasing_ = true;
+    release_left_ = thread_.release_time;
+    released_at_ = hook_;
+    return;
+  }
   hooked_ = false;
+  armed_ = false;
   ++revision_;
 }
 

@@ -174,10 +174,13 @@ TEST(Wound, TheStickHooksTheFreeThreadAndPushesItAside) {
   wound.step(tool, middle + KDL::Vector(0.0015, 0.0, 0.0));
   ASSERT_TRUE(wound.hooked());
   const double straight = wound.threadPath();
-  const KDL::Vector aside = middle - KDL::Vector(0.015, 0.0, 0.0);  // pushed 15 mm along the cut
-  wound.step(tool, aside);
+  // Caught where it touched the stick's side, 1.5 mm from its tip: still straight, no pull yet.
+  EXPECT_NEAR((wound.hookPoint() - middle).Norm(), 0.0, kTol);
+  EXPECT_NEAR(wound.threadPath(), straight, kTol);
+  const KDL::Vector aside = middle - KDL::Vector(0.015, 0.0, 0.0);  // the tip pushed 15 mm along the cut
+  wound.step(tool, aside + KDL::Vector(0.0015, 0.0, 0.0));
   EXPECT_GT(wound.threadPath(), straight);
-  EXPECT_NEAR((wound.hookPoint() - aside).Norm(), 0.0, kTol);
+  EXPECT_NEAR((wound.hookPoint() - aside).Norm(), 0.0, kTol);  // the touching point moved with it
   EXPECT_NEAR(wound.freeThreadDistance(aside), 0.0, kTol);   // it bends round the stick
   EXPECT_GT(wound.freeThreadDistance(middle), 0.005);        // and left the place it hung
   wound.releaseThread();
@@ -249,6 +252,46 @@ TEST(Wound, TheTensedThreadPullsTheToolTowardItsHookAndTheStickBothWays) {
   EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
 }
 
+TEST(Wound, ReleasedOverATimeTheThreadsPullOnTheStickFadesToNothing) {
+  ThreadModel thread;
+  thread.release_time = 0.2;
+  Wound wound(WoundModel{}, thread);
+  ASSERT_TRUE(wound.actuate(WoundSide::Right, wound.stitchPoint(WoundSide::Right, 0.02)).applied());
+  const KDL::Vector tip = wound.stitchPoint(WoundSide::Left, 0.02);
+  ASSERT_TRUE(wound.actuate(WoundSide::Left, tip).applied());
+  const KDL::Vector exit = wound.edgePoint(WoundSide::Left, 0.02, 0.0) + KDL::Vector(0.0, WoundModel{}.bite, 0.0);
+  KDL::Vector tool = tip + KDL::Vector(0.0, 0.0, 0.015);
+  wound.step(tool, (exit + tool) * 0.5, 1e-3);
+  ASSERT_TRUE(wound.hooked());
+  const KDL::Vector stick = (exit + tool) * 0.5 - KDL::Vector(0.012, 0.0, 0.0);  // pushed 12 mm aside
+  for (int i = 0; i < 400 && wound.tension() < 2.0; ++i) {
+    tool += KDL::Vector(0.0, 0.0, 1e-4);
+    wound.step(tool, stick, 1e-3);
+  }
+  const double held = wound.stickForce().Norm();
+  ASSERT_GT(held, 1.0);
+  wound.releaseThread();
+  double previous = held;
+  int steps = 0;
+  for (; wound.hooked() && steps < 1000; ++steps) {  // 1 ms steps, the stick and the tool holding
+    wound.step(tool, stick, 1e-3);
+    const double pull = wound.stickForce().Norm();
+    EXPECT_LE(pull, previous + 1e-12) << steps;  // it only fades
+    EXPECT_LT(previous - pull, 0.05 * held) << steps;  // by less than 5 % of it a millisecond
+    previous = pull;
+  }
+  EXPECT_NEAR(steps, 200, 1);  // gone after release_time
+  EXPECT_EQ(wound.stickForce(), KDL::Vector::Zero());
+  EXPECT_FALSE(wound.releasing());
+  // Resting against the thread it let go, the stick does not catch it; come back to it, it does.
+  const KDL::Vector touching = (exit + tool) * 0.5 + KDL::Vector(0.001, 0.0, 0.0);
+  wound.step(tool, touching, 1e-3);
+  EXPECT_FALSE(wound.hooked());
+  wound.step(tool, touching + KDL::Vector(0.01, 0.0, 0.0), 1e-3);
+  wound.step(tool, touching, 1e-3);
+  EXPECT_TRUE(wound.hooked());
+}
+
 TEST(Wound, FourPulledStitchesCloseAFortyMillimetreCut) {
   const WoundModel model;
   Wound wound(model);
@@ -287,6 +330,9 @@ TEST(Wound, BadModelsAreRefusedWithTheParameterAndTheExpectedRange) {
   t = ThreadModel{};
   t.breaking_tension = -1.0;
   EXPECT_EQ(messageOf([&] { Wound w(WoundModel{}, t); }), "thread: breaking_tension is -1 N: expected a finite value > 0 N");
+  t = ThreadModel{};
+  t.release_time = -0.1;
+  EXPECT_EQ(messageOf([&] { Wound w(WoundModel{}, t); }), "thread: release_time is -0.1 s: expected a finite value >= 0 s");
 }
 
 TEST(Wound, ActuatingAndSteppingAllocateNothing) {

@@ -64,6 +64,18 @@ for _, w in ipairs({ RightWrench, LeftWrench }) do
   w.invert_reference = true          -- the measured tool pose turns the sensor wrench
   w.change_application_point = false -- into world axes, at the tool point
 end
+-- A reference faster than 0.1 m/s / 1 rad/s between two steps is a jump the admittance rebases
+-- (its output stays continuous) instead of the default 1 m/s / 3 rad/s: every motion's path
+-- starts at the measured pose, which the thread's pull on an arm (the hooked stick's at
+-- PushThread's start) displaces from its admittance's output by a few tenths of a mm, under the
+-- default's 1 mm a step; unrebased, that step reached the robot as a command jump it refused
+-- (e_ik_discontinuity). The paths themselves move the tools at most 0.02 m/s and 0.3 rad/s (the
+-- gripper, 0.15 m behind the stick's tip, below 0.07 m/s); a teleoperation's device moving faster
+-- is reached through the admittance's dynamics instead of step by step.
+for _, a in ipairs({ RightAdmittance, LeftAdmittance }) do
+  a.max_reference_speed = 0.1
+  a.max_reference_angular_speed = 1.0
+end
 TaskSup.fsm_path = here .. "../charts/suturing.lua"
 DepSup.fsm_path = charts .. "deployment_supervisor.lua"
 ConfSup.fsm_path = charts .. "configuration_supervisor.lua"

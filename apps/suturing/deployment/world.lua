@@ -42,11 +42,10 @@ connectPorts({
   { output = "ISUR.trueRightCartPose", input = "Patient.toolTipPose" },
   { output = "ISUR.trueLeftCartPose", input = "Patient.stickTipPose" },
   { output = "ISUR.endoStitchActuations", input = "Patient.endoStitchActuations" },
-  -- The thread pulls on the Endo Stitch (its sensor measures it, its admittance gives way). The
-  -- stick's pull (Patient.stickWrench) is left out: released at once when the stick lets the
-  -- thread go, its step makes the stick arm's compliant admittance jump beyond what the robot
-  -- follows continuously (e_ik_discontinuity).
+  -- The thread pulls on the Endo Stitch and, while hooked, on the stick (each arm's sensor measures
+  -- it about its tool point, its admittance gives way).
   { output = "Patient.toolWrench", input = "ISUR.contactRightWrench" },
+  { output = "Patient.stickWrench", input = "ISUR.contactLeftWrench" },
 })
 configureComponents(world)
 startComponents(world)

@@ -3,13 +3,23 @@
 #include <algorithm>
 
 namespace cobra::components {
+namespace {
+
+/// The wrench of `force` (N, world axes) applied at a tip `lever` m (world axes) from a frame's
+/// origin, about that origin: torque = lever × force (N·m).
+KDL::Wrench atPortFrame(const KDL::Vector& force, const KDL::Vector& lever) noexcept {
+  return {force, lever * force};
+}
+
+}  // namespace
 
 WoundSimulator::WoundSimulator(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "Simulated suturing patient (thesis ch. 5): a planar wound the Endo Stitch stitches, the thread it "
                 "pulls closed, the stick that hooks it, and the wound's edges for stitch planning") {
   for (auto* p : {&max_gap_, &tissue_stiffness_, &closure_spread_, &bite_, &stitch_depth_, &stitch_tolerance_,
-                  &closed_gap_, &thread_length_, &thread_slack_, &thread_stiffness_, &breaking_tension_, &hook_radius_})
+                  &closed_gap_, &thread_length_, &thread_slack_, &thread_stiffness_, &breaking_tension_, &hook_radius_,
+                  &release_time_})
     addProperty(*p);
   addProperty(cut_);
   addProperty(wound_pose_);
@@ -57,6 +67,7 @@ bool WoundSimulator::configureHook() {
   thread.stiffness = thread_stiffness_();
   thread.breaking_tension = breaking_tension_();
   thread.hook_radius = hook_radius_();
+  thread.release_time = release_time_();
   try {
     wound_.emplace(std::move(wound), thread);
   } catch (const std::exception& e) {
@@ -71,6 +82,8 @@ bool WoundSimulator::configureHook() {
 
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
+  tool_lever_ = stick_lever_ = KDL::Vector::Zero();
+  last_update_ns_ = -1;
   actuations_seen_ = 0;
   core::Event stale;
   while (input_events_.read(stale) == core::FlowStatus::NewData) {
@@ -100,11 +113,13 @@ void WoundSimulator::actuate() noexcept {
 void WoundSimulator::updateHook() {
   KDL::Frame pose;
   if (tool_tip_.read(pose) != core::FlowStatus::NoData) {
-    tool_ = world_to_wound_ * (pose * tool_tip_offset_().p);
+    tool_lever_ = pose.M * tool_tip_offset_().p;
+    tool_ = world_to_wound_ * (pose.p + tool_lever_);
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_ = world_to_wound_ * (pose * stick_tip_offset_().p);
+    stick_lever_ = pose.M * stick_tip_offset_().p;
+    stick_ = world_to_wound_ * (pose.p + stick_lever_);
     have_stick_ = true;
   }
   int count = 0;
@@ -116,7 +131,10 @@ void WoundSimulator::updateHook() {
   while (input_events_.read(request) == core::FlowStatus::NewData) {
     if (request.name == release_name_) wound_->releaseThread();
   }
-  if (have_tool_ && have_stick_) wound_->step(tool_, stick_);
+  const std::int64_t now_ns = now().count();
+  const double dt = last_update_ns_ < 0 ? 0.0 : static_cast<double>(now_ns - last_update_ns_) * 1e-9;  // s
+  last_update_ns_ = now_ns;
+  if (have_tool_ && have_stick_) wound_->step(tool_, stick_, dt);
   if (wound_->hooked() && !hooked_) emitEvent("e_thread_hooked");
   hooked_ = wound_->hooked();
   if (wound_->broken() && !broken_) emitEvent("e_thread_broken");
@@ -149,8 +167,8 @@ void WoundSimulator::publish(bool all) noexcept {
   // Written every step (a reader connected later gets them too); recomputed only above.
   tension_.write(w.tension());
   const KDL::Rotation& to_world = wound_pose_().M;
-  tool_wrench_.write(KDL::Wrench(to_world * w.toolForce(), KDL::Vector::Zero()));
-  stick_wrench_.write(KDL::Wrench(to_world * w.stickForce(), KDL::Vector::Zero()));
+  tool_wrench_.write(atPortFrame(to_world * w.toolForce(), tool_lever_));
+  stick_wrench_.write(atPortFrame(to_world * w.stickForce(), stick_lever_));
   stitch_count_.write(complete_);
   max_stitch_gap_.write(widest_stitch_gap_);
   max_gap_out_.write(widest_gap_);

@@ -133,6 +133,31 @@ TEST(WoundSimulator, TheStickHooksTheThreadAndTheEdgesArePublishedInTheWorld) {
   EXPECT_NEAR((left_middle - kWoundPose * b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0)).Norm(), 0.0, 1e-12);
 }
 
+TEST(WoundSimulator, TheHookedThreadsPullOnTheStickIsAWrenchAboutTheStickPortsFrame) {
+  Bench b;
+  // The stick's tip 0.15 m along the z axis of the frame stickTipPose gives, that frame turned.
+  const KDL::Frame tip_offset(KDL::Vector(0.0, 0.0, 0.15));
+  const KDL::Rotation gripper = KDL::Rotation::RPY(0.4, -0.3, 0.2);
+  b.patient.setProperty("stick_tip", tip_offset);
+  core::InputPort<KDL::Wrench> wrench{"wrench", "", "N, N·m"};
+  core::connectPorts(b.patient.port("stickWrench"), wrench);
+  b.start();
+  KDL::Vector midway;
+  const KDL::Vector up = b.stitchAndLift(midway);
+  const KDL::Vector lever = gripper * tip_offset.p;  // world axes
+  // The gripper placed so that the stick's tip is at `tip` (wound frame); the tool holding at `up`.
+  const auto stickAt = [&](const KDL::Vector& tip) {
+    b.stick.write(KDL::Frame(gripper, kWoundPose * tip - lever));
+    b.tool.write(KDL::Frame(kWoundPose * up));
+    b.clock.advance(std::chrono::milliseconds(1));
+  };
+  stickAt(midway);
+  for (double aside = 0.0; aside < 0.012; aside += 2e-4) stickAt(midway - KDL::Vector(aside, 0.0, 0.0));
+  const KDL::Wrench w = b.read(wrench);
+  ASSERT_GT(w.force.Norm(), 0.1);  // the thread bent round the stick pulls on it
+  EXPECT_NEAR((w.torque - lever * w.force).Norm(), 0.0, 1e-12);  // about the gripper: lever × force
+}
+
 TEST(WoundSimulator, SeveralActuationsInOneStepEachTryAHalfAndARestartedCountIsANewOrigin) {
   Bench b;
   b.start();
@@ -161,7 +186,8 @@ TEST(WoundSimulator, TheReleaseEventLetsTheHookedThreadGo) {
   core::Event e;
   e.name = "e_release_thread";
   b.requests.write(e);
-  b.step(up, stick + KDL::Vector(0.0, 0.0, 0.02));  // the stick withdraws up, away from the thread
+  // The stick withdraws up, away from the thread, which slides off it within release_time (0.2 s).
+  for (int ms = 0; ms < 201; ++ms) b.step(up, stick + KDL::Vector(0.0, 0.0, 0.02));
   b.said.clear();
   b.step(up, stick);  // back where it hooked: caught again, so it had let go
   EXPECT_EQ(b.said, (std::vector<std::string>{"e_thread_hooked"}));

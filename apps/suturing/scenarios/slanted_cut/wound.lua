@@ -1,6 +1,6 @@
 -- The second scenario (issue 17): a 36 mm cut slanted -15 degrees from the world's x axis, 5 mm open
 -- at its middle: 3 stitches at the 8 mm spacing and margins. Same fields as straight_cut/wound.lua.
--- (At +15 degrees the two upper arms come within 0.7 mm of each other: README.md, Known limits.)
+-- Its mirror at +15 degrees: slanted_cut_positive.
 local a = math.rad(-15)
 local h = 0.018
 return {

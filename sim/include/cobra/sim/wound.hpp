@@ -21,7 +21,9 @@
 ///    point); the thread follows it. The right half comes first, then the left half of the same
 ///    stitch (thesis §5.1: the right edge, then the left).
 ///  - Thread: anchored at the first stitch's right skin point; its path runs through every skin
-///    point in order and then, free, to the tool's tip (through the stick's tip while hooked).
+///    point in order and then, free, to the tool's tip (round the stick while hooked).
+///    The stick catches the free thread where it touches it (within hook_radius of its tip): the
+///    thread bends round that point, which moves with the stick, so its pull grows from zero.
 ///    Each half-stitch draws the thread through with the needle, leaving `slack` m of loop: its
 ///    rest length becomes the path at that moment plus the slack (never more than the thread's
 ///    `length`). A path longer than the rest length stretches it: T = stiffness·(path - rest).
@@ -65,6 +67,11 @@ struct ThreadModel {
   double stiffness = 800.0;          ///< N/m, > 0: tension per metre stretched (ASSUMPTION)
   double breaking_tension = 15.0;    ///< N, > 0: the thread breaks above it (ASSUMPTION, of a 2-0 suture's knot pull)
   double hook_radius = 0.002;        ///< m, > 0: the stick catches the free thread within this distance
+  /// s, >= 0: how long the thread takes to slide off the stick once it lets go (0: at once). The
+  /// bend point moves from the stick's tip to the thread's straight line over this time, so the
+  /// thread's pull on the stick fades instead of vanishing in one step (ASSUMPTION for a non-zero
+  /// value: the gripper turns the stick's tip out of the thread at a finite speed).
+  double release_time = 0.0;
 };
 
 /// @throws std::invalid_argument naming the parameter (and the cut's point) and the expected range.
@@ -133,12 +140,19 @@ class Wound {
 
   /// The Endo Stitch's switch: tries `side`'s half-stitch with the tip at `tip` (m, W).
   StitchResult actuate(WoundSide side, const KDL::Vector& tip) noexcept;
-  /// Advances the thread with the tool's tip at `tool` and the stick's tip at `stick` (m, W):
-  /// the stick hooks the free thread when it comes within hook_radius of it; a complete stitch
-  /// closes under the tension; over breaking_tension the thread breaks.
-  void step(const KDL::Vector& tool, const KDL::Vector& stick) noexcept;
-  /// The stick lets the thread go (its gripper opens or it withdraws).
+  /// Advances the thread with the tool's tip at `tool` and the stick's tip at `stick` (m, W), `dt`
+  /// s after the last step: the stick hooks the free thread when it comes within hook_radius of
+  /// it; a release under way advances by dt; a complete stitch closes under the tension; over
+  /// breaking_tension the thread breaks.
+  void step(const KDL::Vector& tool, const KDL::Vector& stick, double dt = 0.0) noexcept;
+  /// The stick lets the thread go: at once with release_time 0, else the thread slides off it over
+  /// release_time (hooked() and releasing() stay true meanwhile, the bend point moving from where
+  /// the stick held it to the straight line from the last skin point to the tool). Let go, the
+  /// stick catches the thread again only after they have been farther than hook_radius apart (a
+  /// stick resting against the thread it let go does not hook it: it must come to it).
   void releaseThread() noexcept;
+  /// Whether the thread is sliding off the stick (a release under way).
+  bool releasing() const noexcept { return releasing_; }
   /// The edge `p` (m, W) is on: the side of the centreline it lies (Left where the in-plane
   /// normal points, Right otherwise): the half-stitch an Endo Stitch actuated there tries.
   WoundSide sideAt(const KDL::Vector& p) const noexcept;
@@ -151,7 +165,8 @@ class Wound {
   double tension() const noexcept { return tension_; }  ///< N
   bool broken() const noexcept { return broken_; }
   bool hooked() const noexcept { return hooked_; }
-  /// m: where the hooked thread bends round the stick (meaningful while hooked()).
+  /// m: where the hooked thread bends round the stick (meaningful while hooked()): the point of the
+  /// stick's side it touched when caught (within hook_radius of the tip), moving with the stick.
   const KDL::Vector& hookPoint() const noexcept { return hook_; }
   /// m: the thread's length along its path (anchor, skin points, stick, tool).
   double threadPath() const noexcept { return path_; }
@@ -199,7 +214,12 @@ class Wound {
   double rest_ = 0.0;
   bool broken_ = false;
   bool hooked_ = false;
+  bool releasing_ = false;
+  bool armed_ = true;          // the stick may catch the thread: not let go of it while touching it since
+  double release_left_ = 0.0;  // s: of a release under way
   KDL::Vector hook_;
+  KDL::Vector hook_offset_;    // m: the bend point from the stick's tip, where the thread touched it
+  KDL::Vector released_at_;    // m: the bend point when the stick let go
   KDL::Vector tool_;
   std::uint64_t revision_ = 0;
 };

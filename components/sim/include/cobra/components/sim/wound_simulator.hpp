@@ -25,7 +25,8 @@ namespace cobra::components {
 /// default a straight 40 mm cut along x), `wound_pose`, `max_gap` (m), `tissue_stiffness` (N/m),
 /// `closure_spread` (m), `bite` (m), `stitch_depth` (m), `stitch_tolerance` (m), `closed_gap` (m),
 /// `thread_length` (m), `thread_slack` (m), `thread_stiffness` (N/m), `breaking_tension` (N),
-/// `hook_radius` (m), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
+/// `hook_radius` (m), `release_time` (s, default 0.2: the thread's pull on the stick fades over it
+/// once the stick lets go, instead of vanishing in one step), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
 /// sim::WoundModel / sim::ThreadModel.
 ///
 /// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
@@ -38,8 +39,11 @@ namespace cobra::components {
 /// needle transfer is what the wound sees. A count lower than the last one (the robot restarted)
 /// is taken as the new origin. `inputEvents` (event port): `release_event` ("e_release_thread")
 /// makes the stick let the thread go.
-/// Outputs: `toolWrench`, `stickWrench` (KDL::Wrench, N, world axes, at the tips, no torque: the
-/// tensed thread's pull, sim::Wound::toolForce / stickForce; a robot's contact wrench inputs);
+/// Outputs: `toolWrench`, `stickWrench` (KDL::Wrench, N, N·m, world axes: the tensed thread's pull
+/// on the tip, sim::Wound::toolForce / stickForce, about the origin of the frame `toolTipPose` /
+/// `stickTipPose` gives — the robot's tool point —, so the torque is the tip's lever arm (`tool_tip` /
+/// `stick_tip`, in world axes) × the force; a robot's contact wrench inputs, whose reference point
+/// is that tool point);
 /// `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
@@ -90,6 +94,9 @@ class WoundSimulator : public core::Component {
                                            "the thread breaks above it"};
   core::Property<double> hook_radius_{"hook_radius", sim::ThreadModel{}.hook_radius, "m",
                                       "the stick catches the thread within this distance"};
+  // ASSUMPTION: the gripper turns the stick's tip out of the thread in 0.2 s (sim::ThreadModel::release_time).
+  core::Property<double> release_time_{"release_time", 0.2, "s",
+                                       "the thread slides off the stick over this time once it lets go, >= 0"};
   core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
                                               "the Endo Stitch's tip in the frame toolTipPose gives"};
   core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
@@ -102,8 +109,8 @@ class WoundSimulator : public core::Component {
   core::InputPort<int> actuations_{"endoStitchActuations", "the robot's count of completed Endo Stitch actuations", "1"};
   core::InputPort<core::Event> input_events_{"inputEvents", "thread release requests", ""};
   core::OutputPort<double> tension_{"threadTension", "thread tension", "N"};
-  core::OutputPort<KDL::Wrench> tool_wrench_{"toolWrench", "the thread's pull on the Endo Stitch's tip, world", "N"};
-  core::OutputPort<KDL::Wrench> stick_wrench_{"stickWrench", "the hooked thread's pull on the stick's tip, world", "N"};
+  core::OutputPort<KDL::Wrench> tool_wrench_{"toolWrench", "the thread's pull on the Endo Stitch's tip, world, about the toolTipPose frame's origin", "N, N·m"};
+  core::OutputPort<KDL::Wrench> stick_wrench_{"stickWrench", "the hooked thread's pull on the stick's tip, world, about the stickTipPose frame's origin", "N, N·m"};
   core::OutputPort<int> stitch_count_{"stitchCount", "complete stitches", "1"};
   core::OutputPort<double> max_stitch_gap_{"maxStitchGap", "largest gap at a stitch (0 with none)", "m"};
   core::OutputPort<double> max_gap_out_{"maxGap", "the widest gap along the cut", "m"};
@@ -115,9 +122,13 @@ class WoundSimulator : public core::Component {
   std::optional<sim::Wound> wound_;
   KDL::Frame world_to_wound_;
   KDL::Vector tool_, stick_;  // wound frame
+  // m, world axes: each tip from the origin of the frame its port gives (the tip offset rotated
+  // into the world): the wrenches' lever arms.
+  KDL::Vector tool_lever_ = KDL::Vector::Zero(), stick_lever_ = KDL::Vector::Zero();
   bool have_tool_ = false, have_stick_ = false;
   bool hooked_ = false, broken_ = false;
   int actuations_seen_ = 0;
+  std::int64_t last_update_ns_ = -1;  // clock time of the last update; -1: none since start
   std::uint64_t published_revision_ = 0;
   int complete_ = 0;                 // of the published revision: complete stitches,
   double widest_stitch_gap_ = 0.0;   // m: the widest gap at a stitch,
