@@ -62,7 +62,9 @@ void BM_Procedure(benchmark::State& state, bool studio) {
   bool completed = true;
   for (auto _ : state) {
     cobra::run::RunOptions options = procedure();
-    cobra::studio::VisualizerBridge bridge(cobra::studio::BridgeOptions{.record = true});
+    cobra::studio::BridgeOptions recording;
+    recording.record = true;
+    cobra::studio::VisualizerBridge bridge(recording);
     std::unique_ptr<cobra::studio::Server> server;
     std::atomic<bool> stop{false};
     std::atomic<long> frames{0};

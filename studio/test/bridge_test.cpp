@@ -123,7 +123,7 @@ TEST(VisualizerBridge, AnUnknownPortOfTheStudioTableNamesTheAppFileLineAndThePor
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()), kApps + "bad_port.lua:6: run.studio.signals: component 'Gain' has no port 'outt'; "
-                                             "did you mean 'out'? output ports: out") << e.what();
+                                             "did you mean 'out'? known output ports: events, out") << e.what();
   }
   bridge.fail("the message");
   int status = 0;
@@ -145,15 +145,17 @@ TEST(VisualizerBridge, AnInputCallingAnUnknownOperationNamesTheAppFileLine) {
   }
 }
 
-// The frame's numbers after `"key":[` (a flat list), from `from`.
+// The numbers of the list after `"key":` (nested lists flattened), from `from`.
 std::vector<double> numbersAfter(const std::string& text, const std::string& key, std::size_t from = 0) {
   std::vector<double> out;
   auto at = text.find("\"" + key + "\":[", from);
   if (at == std::string::npos) return out;
-  at += key.size() + 4;
-  while (at < text.size() && text[at] != ']' ) {
-    if (text[at] == '[' || text[at] == ',') {
+  at += key.size() + 3;
+  for (int depth = 0; at < text.size();) {
+    if (text[at] == '[' || text[at] == ']' || text[at] == ',') {
+      depth += text[at] == '[' ? 1 : (text[at] == ']' ? -1 : 0);
       ++at;
+      if (depth == 0) break;
       continue;
     }
     std::size_t used = 0;

@@ -109,10 +109,16 @@ TEST(StudioServer, RefusesEveryRequestAndTheWebSocketUpgradeWithoutTheRightToken
   websocket::stream<tcp::socket> ws(io);
   ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
   websocket::response_type response;
-  EXPECT_THROW(ws.handshake(response, "127.0.0.1", "/ws"), beast::system_error);
-  EXPECT_EQ(response.result_int(), 403u);
-  EXPECT_EQ(response.body(), "{\"error\":\"missing or wrong token\"}");
-  EXPECT_EQ(server.stats().forbidden, 8);
+  beast::error_code refused;
+  ws.handshake(response, "127.0.0.1", "/ws", refused);
+  EXPECT_EQ(refused, websocket::error::upgrade_declined) << refused.message();
+  // The same upgrade request by hand, to see the answer (Beast 1.74 keeps it from the caller).
+  const Reply upgrade = request(server.port(), http::verb::get, "/ws?token=wrong",  {},
+                                {{"Upgrade", "websocket"}, {"Connection", "Upgrade"}, {"Sec-WebSocket-Version", "13"},
+                                 {"Sec-WebSocket-Key", "dGhlIHNhbXBsZSBub25jZQ=="}});
+  EXPECT_EQ(upgrade.status, 403);
+  EXPECT_EQ(upgrade.body, "{\"error\":\"missing or wrong token\"}");
+  EXPECT_EQ(server.stats().forbidden, 9);
 }
 
 TEST(StudioServer, ServesTheWebFolderAndTheApiWithTheTokenInTheQueryAHeaderOrItsCookie) {
@@ -210,7 +216,9 @@ TEST(StudioServer, AClientThatStopsReadingGetsTheNewestFrameOnlyAndTheOthersAreS
 }
 
 TEST(StudioServer, ARunGoesOnWithAClientThatStopsReadingAndOneThatDisappears) {
-  VisualizerBridge bridge(BridgeOptions{.record = true});
+  BridgeOptions recording;
+  recording.record = true;
+  VisualizerBridge bridge(recording);
   ServerOptions o = options();
   o.send_buffer = 8192;
   Server server(bridge, o);
