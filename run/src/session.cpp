@@ -167,7 +167,13 @@ void Session::attachObserver() {
     const auto scope = std::find(scopes_.begin(), scopes_.end(), c.spec->scope) - scopes_.begin();
     view_deployments_.push_back(&shown_deployment_[static_cast<std::size_t>(scope)]);
   }
-  options_.observer->attach({spec_, refs_, entry_, options_.scenario, options_.report_folder, result_.clearance.threshold});
+  // The scenario: the option's, else the one the entry file chose (its global `scenario`).
+  std::filesystem::path scenario = options_.scenario;
+  lua_State* L = lua_.get();
+  lua_getglobal(L, "scenario");
+  if (scenario.empty() && lua_type(L, -1) == LUA_TSTRING) scenario = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  options_.observer->attach({spec_, refs_, entry_, scenario, options_.report_folder, result_.clearance.threshold});
 }
 
 void Session::attachCharts() {

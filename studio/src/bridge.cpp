@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 
@@ -124,7 +125,9 @@ struct VisualizerBridge::Impl {
   void buildModel(const planning::SceneDescription* scene, const run::StudioSpec& studio);
   void fill(Snapshot& s, const run::StepView& now);
   void appendFrame(std::string& out, const Snapshot& s) const;
-  std::string modelJson(const char* mode, double duration) const;
+  // The model; `states`: each chart's states (a replay: those the run entered; live: none yet).
+  std::string modelJson(const char* mode, double duration, const std::map<std::string, std::vector<std::string>>& states) const;
+  std::size_t model_charts_at = 0;  // in model_body: just after "charts":[
 };
 
 VisualizerBridge::VisualizerBridge(BridgeOptions options) : impl_(std::make_unique<Impl>()) {
@@ -295,7 +298,7 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
     }
   }
   out += "],\"charts\":[";
-  for (std::size_t i = 0; i < charts.size(); ++i) out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(charts[i]) + ",\"states\":[]}";
+  model_charts_at = out.size();  // modelJson writes the charts' list here
   out += "],\"signals\":[";
   for (std::size_t i = 0; i < signals.size(); ++i)
     out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(signals[i].name) + ",\"unit\":" + json::quoted(signals[i].unit) + "}";
@@ -320,13 +323,22 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
   out += "]}";
 }
 
-std::string VisualizerBridge::Impl::modelJson(const char* mode, double duration) const {
+std::string VisualizerBridge::Impl::modelJson(const char* mode, double duration,
+                                              const std::map<std::string, std::vector<std::string>>& states) const {
   std::string out = std::string("{\"protocol\":1,\"mode\":\"") + mode + "\"";
   if (duration >= 0.0) {
     out += ",\"duration\":";
     json::appendNumber(out, duration);
   }
-  return out + model_body;
+  out.append(model_body, 0, model_charts_at);
+  for (std::size_t i = 0; i < charts.size(); ++i) {
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(charts[i]) + ",\"states\":[";
+    const auto found = states.find(charts[i]);
+    if (found != states.end())
+      for (std::size_t k = 0; k < found->second.size(); ++k) out += (k ? "," : "") + json::quoted(found->second[k]);
+    out += "]}";
+  }
+  return out.append(model_body, model_charts_at, std::string::npos);
 }
 
 void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
@@ -489,7 +501,7 @@ std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result
     m.end_message = std::move(end);
   }
   if (m.report_folder.empty() || !m.attached.load()) return {};
-  const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration) + ",\"frames\":[" + m.frames +
+  const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration, result.states_entered) + ",\"frames\":[" + m.frames +
                                 "],\"events\":[" + m.events + "]}";
   return {writeReplayFolder(m.report_folder / "studio", recording, m.options.web_folder)};
 }
@@ -513,7 +525,7 @@ std::string VisualizerBridge::model(int& status) {
     return "{\"error\":\"the run is loading; ask again\"}";
   }
   status = 200;
-  return m.modelJson("live", -1.0);
+  return m.modelJson("live", -1.0, {});
 }
 
 std::string VisualizerBridge::recording() {

@@ -51,6 +51,12 @@ class CountingObserver final : public run::RunObserver {
       answer = bridge_.input(press);
       press_at = -1.0;
     }
+    // The console's user: presses a button once the first chart is in a state containing `when`.
+    for (auto& [when, input] : press_in_state)
+      if (!when.empty() && now.states[0]->find(when) != std::string::npos) {
+        answer = bridge_.input(input);
+        when.clear();
+      }
   }
   void event(double t, const std::string& source, const std::string& name) override { bridge_.event(t, source, name); }
   bool nextInput(std::size_t& index) override { return bridge_.nextInput(index); }
@@ -59,6 +65,7 @@ class CountingObserver final : public run::RunObserver {
   long allocations = 0, steps = 0;
   double press_at = -1.0;
   std::string press;
+  std::vector<std::pair<std::string, std::string>> press_in_state;  // state part -> input
   InputAnswer answer;
 
  private:
@@ -79,6 +86,8 @@ TEST(VisualizerBridge, RecordsThirtyFramesPerSimulatedSecondAndTheEventsIntoTheR
   const std::string recording = readFile(folder / "studio" / "recording.json");
   const std::string model(json::member(recording, "model"));
   EXPECT_NE(model.find("\"mode\":\"replay\""), std::string::npos) << model;
+  EXPECT_NE(model.find("\"charts\":[{\"name\":\"task\",\"states\":[\"root.waiting\",\"root.high\",\"root.done\"]}],\"signals\""),
+            std::string::npos) << model;
   EXPECT_NE(model.find("\"signals\":[{\"name\":\"Sine.out\",\"unit\":\"1\"}"), std::string::npos) << model;
   EXPECT_NE(model.find("{\"name\":\"clear_recorder\",\"label\":\"Clear the recorder\",\"target\":\"Recorder.clear\"}"),
             std::string::npos) << model;
@@ -145,6 +154,34 @@ TEST(VisualizerBridge, AnInputCallingAnUnknownOperationNamesTheAppFileLine) {
   }
 }
 
+std::vector<std::string> interactiveNeedleStates(bool mount) {
+  VisualizerBridge bridge;
+  CountingObserver surgeon(bridge);
+  surgeon.press_in_state = {{"WaitIceballConfig", "iceball_configured"}};
+  if (mount) surgeon.press_in_state.emplace_back("WaitNeedleMounted", "needle_mounted");
+  run::RunOptions options;
+  options.app = kSource + "/apps/puncturing";
+  options.interactive = true;  // no surgeon script: the buttons are the surgeon
+  options.time_limit = 40.0;   // s
+  options.observer = &surgeon;
+  const run::RunResult result = run::runApp(options);
+  EXPECT_EQ(surgeon.answer.status, 200) << surgeon.answer.error;
+  return result.states_entered.at("needle");
+}
+
+TEST(VisualizerBridge, InAnInteractivePuncturingRunTheNeedleMountedButtonAdvancesTheNeedleChart) {
+  const auto waiting = [](const std::vector<std::string>& states) {
+    return std::find(states.begin(), states.end(), "root.InsertingNeedles.WaitNeedleMounted") != states.end();
+  };
+  const std::vector<std::string> unmounted = interactiveNeedleStates(false);
+  ASSERT_TRUE(waiting(unmounted));
+  EXPECT_EQ(unmounted.back(), "root.InsertingNeedles.WaitNeedleMounted") << "no script: the chart waits for the button";
+  const std::vector<std::string> mounted = interactiveNeedleStates(true);
+  ASSERT_TRUE(waiting(mounted));
+  EXPECT_NE(mounted.back(), "root.InsertingNeedles.WaitNeedleMounted");
+  EXPECT_NE(std::find(mounted.begin(), mounted.end(), "root.InsertingNeedles.MoveToSkin.Approach"), mounted.end());
+}
+
 // The numbers of the list after `"key":` (nested lists flattened), from `from`.
 std::vector<double> numbersAfter(const std::string& text, const std::string& key, std::size_t from = 0) {
   std::vector<double> out;
@@ -186,6 +223,8 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
   EXPECT_NE(model.find("{\"name\":\"needle\",\"group\":\"micro\",\"robot\":\"isur\",\"link\":5,\"shape\":{\"type\":\"cylinder\","
                        "\"size\":[0.0008,0.15]},\"pose\":[-0.075,0,0,"), std::string::npos) << model;
   EXPECT_NE(model.find("{\"name\":\"iceball\",\"kind\":\"sphere\",\"frame\":\"world\"}"), std::string::npos);
+  EXPECT_NE(model.find("\"app\":\"puncturing\",\"scenario\":\"two_needles\""), std::string::npos) << model;
+  EXPECT_NE(model.find("\"charts\":[{\"name\":\"needle\",\"states\":[]},{\"name\":\"us\",\"states\":[]}],"), std::string::npos);
 
   std::uint64_t seq = 0;
   std::string frame;
