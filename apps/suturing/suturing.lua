@@ -86,4 +86,7 @@ run = {
     port = "SuturePlanner.minDistance", threshold = "SuturePlanner.clearanceThreshold",
     contacts = { { name = "Endo Stitch in the wound", port = "SuturePlanner.primitiveContactDistance" } },
   },
+  -- cobra studio (studio/README.md): the planner's scene with the two-armed I-SUR's measured joints.
+  studio = { scene = "SuturePlanner", robots = { isur = "ISUR.measJointPosition" },
+             signals = { "Patient.threadTension", "Patient.maxGap" } },
 }

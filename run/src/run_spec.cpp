@@ -361,7 +361,17 @@ void readStudio(const Reader& run, StudioSpec& studio) {
     studio.scene = s.string("scene", false);
     studio.scene_where = {s.where().file, studio.scene.empty() ? s.line() : s.lineOf(studio.scene)};
     s.entries("robots", [&](const std::string& name, const Reader& entry) {
-      studio.robots.push_back({name, portName(entry, "the robot's measured joints, KDL.JntArray"), entry.where()});
+      const char* what = "the robot's measured joints, KDL.JntArray; or { \"Comp.port\", joints = N }";
+      if (!lua_istable(L, -1)) {
+        studio.robots.push_back({name, portName(entry, what), 0, entry.where()});
+        return;
+      }
+      lua_rawgeti(L, -1, 1);
+      const std::string port = portName(entry, what);
+      lua_pop(L, 1);
+      const double joints = entry.number("joints", 0.0, true);
+      if (joints != std::floor(joints)) entry.fail("`joints` must be a whole number");
+      studio.robots.push_back({name, port, static_cast<int>(joints), entry.where()});
     });
     s.entries("extras", [&](const std::string& name, const Reader& entry) {
       if (!lua_istable(L, -1)) entry.fail("must be a table: { sphere = \"Comp.framePort\", radius = \"Comp.port\" }, "

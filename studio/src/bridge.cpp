@@ -203,6 +203,12 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
       view.tools = view.model->toolCount();
       view.frames.assign(view.links, KDL::Frame::Identity());
     }
+    if (scene == nullptr) {
+      view.joints = static_cast<std::size_t>(r.count);
+      if (view.joints == 0)
+        throw std::runtime_error(at + ": " + use + ": without run.studio.scene no robot model gives the joints; write " +
+                                 r.name + " = { \"" + r.joints + "\", joints = N }");
+    }
     view.q.resize(static_cast<unsigned>(view.joints));
     view.offset = width;
     width += view.joints + 7 * view.links;

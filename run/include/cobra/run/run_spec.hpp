@@ -152,6 +152,7 @@ struct StudioSpec {
   /// A robot of the scene (its name there, "isur") and its measured joints (KDL.JntArray port).
   struct Robot {
     std::string name, joints;
+    int count = 0;  ///< joints, when no scene gives the robot's model (`{ "Comp.port", joints = 6 }`)
     Where where;
   };
   std::vector<Robot> robots;
