@@ -5,9 +5,11 @@
 //  - WithStudio: with the Robot Visualizer Bridge recording (30 frames per simulated s: a live
 //    run records for /api/recording) and the server streaming to one WebSocket client that reads
 //    every frame (as `cobra run --studio --pace 0` with one browser open).
-// Counters: realtime_factor = simulated s per wall s (median and min = the worst repetition),
-// cpu_realtime_factor = per CPU s of the process (the server's thread included), client_fps =
-// frames the client received per wall s, published = snapshots the bridge published.
+// Counters: realtime_factor = simulated s per wall s; cpu_realtime_factor = per CPU s of the
+// process (the server's and the client's threads included); run_thread_realtime_factor = per CPU s
+// of the run's own thread (what the bridge costs the run, whatever the machine's other load);
+// client_fps = frames the client received per wall s; published = snapshots the bridge published.
+// Three interleaved pairs of rows: read the median and the worst of each side.
 
 #include <benchmark/benchmark.h>
 
@@ -31,6 +33,13 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
+
+// CPU time of the calling thread [s] (the lockstep run's steps all run on it).
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 cobra::run::RunOptions procedure() {
   cobra::run::RunOptions options;
@@ -58,7 +67,7 @@ void readFrames(unsigned short port, const std::string& token, std::atomic<bool>
 }
 
 void BM_Procedure(benchmark::State& state, bool studio) {
-  double simulated = 0.0, wall = 0.0, cpu = 0.0, client_fps = 0.0, published = 0.0;
+  double simulated = 0.0, wall = 0.0, cpu = 0.0, thread_cpu = 0.0, client_fps = 0.0, published = 0.0;
   bool completed = true;
   for (auto _ : state) {
     cobra::run::RunOptions options = procedure();
@@ -75,10 +84,12 @@ void BM_Procedure(benchmark::State& state, bool studio) {
       options.observer = &bridge;
     }
     const double cpu_started = cobra::bench::processCpuSeconds();
+    const double thread_started = threadCpuSeconds();
     const auto started = std::chrono::steady_clock::now();
     const cobra::run::RunResult result = cobra::run::runApp(options);
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     cpu = cobra::bench::processCpuSeconds() - cpu_started;
+    thread_cpu = threadCpuSeconds() - thread_started;
     simulated = result.duration;
     completed = completed && result.completed();
     if (studio) {
@@ -95,6 +106,7 @@ void BM_Procedure(benchmark::State& state, bool studio) {
   state.counters["simulated_s"] = simulated;
   state.counters["realtime_factor"] = wall > 0.0 ? simulated / wall : 0.0;
   state.counters["cpu_realtime_factor"] = cpu > 0.0 ? simulated / cpu : 0.0;
+  state.counters["run_thread_realtime_factor"] = thread_cpu > 0.0 ? simulated / thread_cpu : 0.0;
   if (studio) {
     state.counters["client_fps"] = client_fps;
     state.counters["published"] = published;

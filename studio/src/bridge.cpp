@@ -1,6 +1,7 @@
 #include "cobra/studio/bridge.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -106,17 +107,19 @@ struct VisualizerBridge::Impl {
   std::chrono::steady_clock::time_point next_wall{};
   bool recording_on = false;
 
-  // The run's thread's recording; its frames reach `shared_frames` when the lock is free.
-  std::string frames, pending_frames, frame_text, events;
+  // The recording: snapshots copied by the run's thread into `pending`, moved into `recorded`
+  // when the lock is free, turned into JSON only when asked (/api/recording, the replay files).
+  std::vector<Snapshot> pending;
+  std::string events;
   std::mutex shared_mutex;  // the server's side; the run's thread only try_locks it
-  std::string shared_frames;
+  std::vector<Snapshot> recorded;
   std::string error;  // fail() or finished()'s end message
   std::string end_message;
   bool ended = false;
 
   SpscRing<EventItem, 1024> event_queue;
   SpscRing<std::size_t, 64> input_queue;
-  std::atomic<long> published{0}, recorded{0}, events_dropped{0};
+  std::atomic<long> published{0}, recorded_count{0}, events_dropped{0};
 
   std::unique_ptr<planning::SceneDescription> attachScene(const run::RunContext& run);
   void attachRobots(const run::RunContext& run, const planning::SceneDescription* scene, planning::RobotModels& models);
@@ -125,6 +128,15 @@ struct VisualizerBridge::Impl {
   void buildModel(const planning::SceneDescription* scene, const run::StudioSpec& studio);
   void fill(Snapshot& s, const run::StepView& now);
   void appendFrame(std::string& out, const Snapshot& s) const;
+  // [FRAME, ...] of `recorded`.
+  std::string framesJson() const {
+    std::string out = "[";
+    for (std::size_t i = 0; i < recorded.size(); ++i) {
+      if (i) out += ',';
+      appendFrame(out, recorded[i]);
+    }
+    return out + "]";
+  }
   // The model; `states`: each chart's states (a replay: those the run entered; live: none yet).
   std::string modelJson(const char* mode, double duration, const std::map<std::string, std::vector<std::string>>& states) const;
   std::size_t model_charts_at = 0;  // in model_body: just after "charts":[
@@ -461,17 +473,13 @@ void VisualizerBridge::step(const run::StepView& now) {
   if (sim_tick) {
     while (m.next_frame <= now.t + 1e-9) m.next_frame += 1.0 / m.options.frame_rate;
     if (m.recording_on) {
-      // The replay's frames: text that grows as the run goes (as the runner's recorders grow).
-      const char* separator = m.recorded.load(std::memory_order_relaxed) == 0 ? "" : ",";
-      m.frame_text.clear();
-      m.appendFrame(m.frame_text, s);
-      (m.frames += separator) += m.frame_text;
-      (m.pending_frames += separator) += m.frame_text;
-      m.recorded.fetch_add(1, std::memory_order_relaxed);
+      // The replay's frames: copies that grow with the run (as the runner's recorders grow).
+      m.pending.push_back(s);
+      m.recorded_count.fetch_add(1, std::memory_order_relaxed);
       if (m.shared_mutex.try_lock()) {
-        m.shared_frames += m.pending_frames;
+        std::move(m.pending.begin(), m.pending.end(), std::back_inserter(m.recorded));
         m.shared_mutex.unlock();
-        m.pending_frames.clear();
+        m.pending.clear();
       }
     }
   }
@@ -502,13 +510,14 @@ std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result
                     ",\"message\":" + json::quoted(result.reason) + "}";
   {
     const std::lock_guard<std::mutex> lock(m.shared_mutex);
-    m.shared_frames += m.pending_frames;
-    m.pending_frames.clear();
+    std::move(m.pending.begin(), m.pending.end(), std::back_inserter(m.recorded));
+    m.pending.clear();
     m.end_message = std::move(end);
   }
   if (m.report_folder.empty() || !m.attached.load()) return {};
-  const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration, result.states_entered) + ",\"frames\":[" + m.frames +
-                                "],\"events\":[" + m.events + "]}";
+  // No more frames come: `recorded` is read here and by the server only.
+  const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration, result.states_entered) +
+                                ",\"frames\":" + m.framesJson() + ",\"events\":[" + m.events + "]}";
   return {writeReplayFolder(m.report_folder / "studio", recording, m.options.web_folder)};
 }
 
@@ -536,7 +545,7 @@ std::string VisualizerBridge::model(int& status) {
 
 std::string VisualizerBridge::recording() {
   const std::lock_guard<std::mutex> lock(impl_->shared_mutex);
-  return "{\"frames\":[" + impl_->shared_frames + "]}";
+  return "{\"frames\":" + impl_->framesJson() + "}";
 }
 
 bool VisualizerBridge::latestFrame(std::uint64_t& seq, std::string& message) {
@@ -581,7 +590,7 @@ InputAnswer VisualizerBridge::input(const std::string& name) {
 }
 
 BridgeStats VisualizerBridge::stats() const {
-  return {impl_->published.load(), impl_->recorded.load(), impl_->events_dropped.load()};
+  return {impl_->published.load(), impl_->recorded_count.load(), impl_->events_dropped.load()};
 }
 
 }  // namespace cobra::studio

@@ -1,5 +1,6 @@
 #include "cobra/studio/json.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 
@@ -76,8 +77,9 @@ void appendNumber(std::string& out, double value) {
     return;
   }
   char text[32];
-  const int n = std::snprintf(text, sizeof text, "%.9g", value);
-  out.append(text, static_cast<std::size_t>(n));
+  // As printf's %.9g, several times faster (a recording writes thousands of numbers per frame).
+  const auto end = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 9).ptr;
+  out.append(text, static_cast<std::size_t>(end - text));
 }
 
 std::string quoted(std::string_view text) {

@@ -75,6 +75,7 @@ struct Server::Impl {
   unsigned short port = 0;
   std::vector<std::weak_ptr<WsSession>> sessions;  // the io thread's only
   std::uint64_t frame_seq = 0;
+  std::shared_ptr<const std::string> last_frame, end_message;
   std::string frame_text;
   std::vector<std::string> messages;
   std::atomic<long> clients{0}, frames_sent{0}, frames_coalesced{0}, messages_dropped{0}, forbidden{0};
@@ -101,6 +102,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       if (error) return;
       self->open_ = true;
       self->server_->clients.fetch_add(1);
+      // A client that comes late gets the newest frame and, after the run, its end.
+      if (self->server_->end_message) self->offerMessage(self->server_->end_message);
+      if (self->server_->last_frame) self->offerFrame(self->server_->last_frame);
       self->read();
       self->flush();
     });
@@ -294,11 +298,16 @@ void Server::Impl::tick() {
     self->messages.clear();
     self->source.takeMessages(self->messages);
     std::shared_ptr<const std::string> frame;
-    if (self->source.latestFrame(self->frame_seq, self->frame_text)) frame = std::make_shared<const std::string>(self->frame_text);
+    if (self->source.latestFrame(self->frame_seq, self->frame_text)) self->last_frame = frame = std::make_shared<const std::string>(self->frame_text);
+    std::vector<std::shared_ptr<const std::string>> shared;
+    for (const std::string& m : self->messages) {
+      shared.push_back(std::make_shared<const std::string>(m));
+      if (m.rfind("{\"type\":\"end\"", 0) == 0) self->end_message = shared.back();
+    }
     for (const auto& weak : self->sessions) {
       const auto session = weak.lock();
       if (!session || !session->open()) continue;
-      for (const std::string& m : self->messages) session->offerMessage(std::make_shared<const std::string>(m));
+      for (const auto& m : shared) session->offerMessage(m);
       if (frame) session->offerFrame(frame);
     }
     self->tick();

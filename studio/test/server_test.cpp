@@ -248,6 +248,16 @@ TEST(StudioServer, ARunGoesOnWithAClientThatStopsReadingAndOneThatDisappears) {
   EXPECT_GE(bridge.stats().published, 90);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_EQ(server.stats().clients, 1) << "the vanished client is gone, the slow one still connected";
+  // A client that comes after the run gets its end and its last frame.
+  asio::io_context io;
+  websocket::stream<tcp::socket> late(io);
+  late.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+  late.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+  beast::flat_buffer end, frame;
+  late.read(end);
+  late.read(frame);
+  EXPECT_EQ(beast::buffers_to_string(end.data()), "{\"type\":\"end\",\"outcome\":\"time limit\",\"message\":\"" + result.reason + "\"}");
+  EXPECT_EQ(beast::buffers_to_string(frame.data()).rfind("{\"type\":\"frame\",\"t\":3,\"robots\":{\"isur\":", 0), 0u);
 }
 
 }  // namespace
