@@ -8,7 +8,7 @@
 // Counters: realtime_factor = simulated s per wall s; cpu_realtime_factor = per CPU s of the
 // process (the server's and the client's threads included); run_thread_realtime_factor = per CPU s
 // of the run's own thread (what the bridge costs the run, whatever the machine's other load);
-// client_fps = frames the client received per wall s; published = snapshots the bridge published.
+// client_fps = frames the client received per wall s (first to last frame); published = snapshots the bridge published.
 // Three interleaved pairs of rows: read the median and the worst of each side.
 
 #include <benchmark/benchmark.h>
@@ -48,8 +48,11 @@ cobra::run::RunOptions procedure() {
   return options;
 }
 
-// Reads every message of the server's WebSocket until `stop`, counting frames.
-void readFrames(unsigned short port, const std::string& token, std::atomic<bool>& stop, std::atomic<long>& frames) {
+// Reads every message of the server's WebSocket until `stop`, counting frames; `seconds`: from the
+// first frame to the last.
+void readFrames(unsigned short port, const std::string& token, std::atomic<bool>& stop, std::atomic<long>& frames,
+                double& seconds) {
+  std::chrono::steady_clock::time_point first{}, last{};
   asio::io_context io;
   websocket::stream<tcp::socket> ws(io);
   ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), port});
@@ -61,7 +64,11 @@ void readFrames(unsigned short port, const std::string& token, std::atomic<bool>
     ws.read(buffer, error);
     if (error) return;
     const std::string text = beast::buffers_to_string(buffer.data());
-    if (text.rfind("{\"type\":\"frame\"", 0) == 0) frames.fetch_add(1);
+    if (text.rfind("{\"type\":\"frame\"", 0) == 0) {
+      last = std::chrono::steady_clock::now();
+      if (frames.fetch_add(1) == 0) first = last;
+      seconds = std::chrono::duration<double>(last - first).count();
+    }
     if (text.rfind("{\"type\":\"end\"", 0) == 0) return;
   }
 }
@@ -77,10 +84,11 @@ void BM_Procedure(benchmark::State& state, bool studio) {
     std::unique_ptr<cobra::studio::Server> server;
     std::atomic<bool> stop{false};
     std::atomic<long> frames{0};
+    double streamed = 0.0;  // s
     std::thread client;
     if (studio) {
       server = std::make_unique<cobra::studio::Server>(bridge, cobra::studio::ServerOptions{});
-      client = std::thread(readFrames, server->port(), server->token(), std::ref(stop), std::ref(frames));
+      client = std::thread(readFrames, server->port(), server->token(), std::ref(stop), std::ref(frames), std::ref(streamed));
       options.observer = &bridge;
     }
     const double cpu_started = cobra::bench::processCpuSeconds();
@@ -97,7 +105,7 @@ void BM_Procedure(benchmark::State& state, bool studio) {
       stop = true;
       server.reset();
       client.join();
-      client_fps = static_cast<double>(frames.load()) / wall;
+      client_fps = streamed > 0.0 ? static_cast<double>(frames.load() - 1) / streamed : 0.0;
       published = static_cast<double>(bridge.stats().published);
     }
     state.SetIterationTime(wall);

@@ -75,6 +75,7 @@ struct Server::Impl {
   unsigned short port = 0;
   std::vector<std::weak_ptr<WsSession>> sessions;  // the io thread's only
   std::uint64_t frame_seq = 0;
+  asio::steady_timer::time_point next_tick{};
   std::shared_ptr<const std::string> last_frame, end_message;
   std::string frame_text;
   std::vector<std::string> messages;
@@ -290,7 +291,12 @@ void Server::Impl::accept() {
 }
 
 void Server::Impl::tick() {
-  timer.expires_after(std::chrono::duration_cast<asio::steady_timer::duration>(std::chrono::duration<double>(1.0 / options.frame_rate)));
+  // On a fixed schedule (each tick one period after the one before, not after it ran), so that a
+  // busy thread does not stretch the period; one that fell more than a period behind starts again.
+  const auto period = std::chrono::duration_cast<asio::steady_timer::duration>(std::chrono::duration<double>(1.0 / options.frame_rate));
+  const auto now = asio::steady_timer::clock_type::now();
+  next_tick = next_tick + period < now ? now + period : next_tick + period;
+  timer.expires_at(next_tick);
   timer.async_wait([this](beast::error_code error) {
     Impl* self = this;
     if (error) return;
