@@ -97,6 +97,7 @@ struct VisualizerBridge::Impl {
   std::filesystem::path report_folder;
   double threshold = 0.0;
   std::vector<std::string> charts, input_names;
+  std::vector<std::pair<std::string, std::filesystem::path>> meshes;  // scene object -> its mesh file
   std::vector<RobotView> robots;
   std::vector<ExtraView> extras;
   std::vector<SignalView> signals;
@@ -295,7 +296,10 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
         case planning::ShapeKind::Cylinder:
         case planning::ShapeKind::Capsule: out += ",\"size\":["; break;
         case planning::ShapeKind::Sphere: out += ",\"size\":["; break;
-        case planning::ShapeKind::Mesh: out += ",\"file\":" + json::quoted("/api/mesh/" + o.name); break;
+        case planning::ShapeKind::Mesh:
+          out += ",\"file\":" + json::quoted("/api/mesh/" + o.name);
+          meshes.emplace_back(o.name, o.shape.mesh_path);
+          break;
       }
       const int n = o.shape.kind == planning::ShapeKind::Box ? 3 : (o.shape.kind == planning::ShapeKind::Sphere ? 1 : 2);
       if (o.shape.kind != planning::ShapeKind::Mesh) {
@@ -518,7 +522,7 @@ std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result
   // No more frames come: `recorded` is read here and by the server only.
   const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration, result.states_entered) +
                                 ",\"frames\":" + m.framesJson() + ",\"events\":[" + m.events + "]}";
-  return {writeReplayFolder(m.report_folder / "studio", recording, m.options.web_folder)};
+  return {writeReplayFolder(m.report_folder / "studio", recording, m.options.web_folder, m.meshes)};
 }
 
 void VisualizerBridge::fail(const std::string& message) {
@@ -586,6 +590,13 @@ InputAnswer VisualizerBridge::input(const std::string& name) {
     return {400, "no input '" + name + "': expected one of " + (list.empty() ? "(none: the application declares no run.studio.inputs)" : list)};
   }
   if (!m.input_queue.push(static_cast<std::size_t>(found - m.input_names.begin()))) return {409, "too many inputs waiting"};
+  return {};
+}
+
+std::filesystem::path VisualizerBridge::mesh(const std::string& name) {
+  if (!impl_->attached.load(std::memory_order_acquire)) return {};
+  for (const auto& [object, file] : impl_->meshes)
+    if (object == name) return file;
   return {};
 }
 

@@ -19,10 +19,17 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
 }  // namespace
 
 std::string writeReplayFolder(const std::filesystem::path& folder, const std::string& recording_json,
-                              const std::filesystem::path& web_folder) {
+                              const std::filesystem::path& web_folder,
+                              const std::vector<std::pair<std::string, std::filesystem::path>>& meshes) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) throw std::runtime_error("cobra studio: cannot create " + folder.string() + ": " + error.message());
+  if (!meshes.empty()) std::filesystem::create_directories(folder / "meshes", error);
+  for (const auto& [name, file] : meshes) {
+    std::filesystem::copy_file(file, folder / "meshes" / (name + file.extension().string()),
+                               std::filesystem::copy_options::overwrite_existing, error);
+    if (error) throw std::runtime_error("cobra studio: cannot copy the mesh " + file.string() + ": " + error.message());
+  }
   writeFile(folder / "recording.json", recording_json);
   // The page reads window.COBRA_RECORDING when it is opened from the file system (no server).
   writeFile(folder / "recording.js", "window.COBRA_RECORDING = " + recording_json + ";\n");
@@ -34,7 +41,7 @@ std::string writeReplayFolder(const std::filesystem::path& folder, const std::st
   return "studio/index.html";
 }
 
-Replay::Replay(const std::filesystem::path& run_folder) {
+Replay::Replay(const std::filesystem::path& run_folder) : folder_(run_folder / "studio") {
   const std::string name = run_folder.string();
   if (!std::filesystem::is_directory(run_folder)) throw std::runtime_error(name + ": no such folder (give a run folder of cobra run APP --report DIR)");
   const std::filesystem::path file = run_folder / "studio" / "recording.json";
@@ -65,5 +72,12 @@ bool Replay::latestFrame(std::uint64_t&, std::string&) { return false; }
 void Replay::takeMessages(std::vector<std::string>&) {}
 
 InputAnswer Replay::input(const std::string&) { return {409, "replay: no inputs"}; }
+
+std::filesystem::path Replay::mesh(const std::string& name) {
+  if (name.find('/') != std::string::npos) return {};
+  for (const char* extension : {".stl", ".STL", ".obj", ".OBJ"})
+    if (std::filesystem::is_regular_file(folder_ / "meshes" / (name + extension))) return folder_ / "meshes" / (name + extension);
+  return {};
+}
 
 }  // namespace cobra::studio

@@ -265,6 +265,14 @@ http::response<http::string_body> Server::Impl::respond(const http::request<http
     return reply(answer.status, "{\"error\":" + json::quoted(answer.error) + "}");
   }
   if (!get) return reply(405, "{\"error\":\"method not allowed\"}");
+  if (path.rfind("/api/mesh/", 0) == 0) {
+    const std::filesystem::path file = source.mesh(path.substr(10));
+    std::ifstream in(file, std::ios::binary);
+    if (file.empty() || !in) return reply(404, "{\"error\":" + json::quoted("no mesh for object '" + path.substr(10) + "'") + "}");
+    std::stringstream body;
+    body << in.rdbuf();
+    return reply(200, body.str(), file.extension() == ".obj" || file.extension() == ".OBJ" ? "model/obj" : "model/stl");
+  }
   if (path.rfind("/api/", 0) == 0) return reply(404, "{\"error\":" + json::quoted("no such resource: " + path) + "}");
   // The web front end's files.
   const std::string relative = path == "/" ? "index.html" : path.substr(1);

@@ -37,8 +37,12 @@ TEST(Replay, ServesTheRecordedModelAndFramesAndRefusesInputs) {
   const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_replay";
   std::filesystem::remove_all(folder);
   const std::string recording = R"({"model":{"protocol":1,"mode":"replay","duration":2},"frames":[{"type":"frame","t":0}],"events":[]})";
-  EXPECT_EQ(writeReplayFolder(folder / "studio", recording, {}), "studio/recording.json");
+  const auto mesh = std::filesystem::temp_directory_path() / "cobra_studio_replay_phantom.stl";
+  std::ofstream(mesh) << "solid phantom\nendsolid phantom\n";
+  EXPECT_EQ(writeReplayFolder(folder / "studio", recording, {}, {{"phantom", mesh}}), "studio/recording.json");
   Replay replay(folder);
+  EXPECT_EQ(replay.mesh("phantom"), folder / "studio" / "meshes" / "phantom.stl");
+  EXPECT_EQ(replay.mesh("table"), std::filesystem::path());
   int status = 0;
   EXPECT_EQ(replay.model(status), R"({"protocol":1,"mode":"replay","duration":2})");
   EXPECT_EQ(status, 200);

@@ -45,6 +45,10 @@ class FakeSource final : public StudioSource {
   void takeMessages(std::vector<std::string>& messages) override {
     if (events) messages.push_back("{\"type\":\"event\",\"t\":0,\"source\":\"fake\",\"name\":\"e_tick\"}");
   }
+  std::filesystem::path mesh(const std::string& name) override {
+    return name == "phantom" ? std::filesystem::temp_directory_path() / "cobra_studio_server_web" / "index.html"
+                             : std::filesystem::path();
+  }
   InputAnswer input(const std::string& name) override {
     if (name != "go") return {400, "no input '" + name + "': expected one of go"};
     ++inputs;
@@ -137,6 +141,13 @@ TEST(StudioServer, ServesTheWebFolderAndTheApiWithTheTokenInTheQueryAHeaderOrIts
   EXPECT_EQ(model.body, "{\"protocol\":1,\"mode\":\"live\"}");
   EXPECT_EQ(request(server.port(), http::verb::get, std::string("/../secret?token=") + kToken).status, 400);
   EXPECT_EQ(request(server.port(), http::verb::get, std::string("/assets/none.js?token=") + kToken).status, 404);
+  const Reply mesh = request(server.port(), http::verb::get, std::string("/api/mesh/phantom?token=") + kToken);
+  EXPECT_EQ(mesh.status, 200);
+  EXPECT_EQ(mesh.body, "<html>studio</html>");  // the file the source names, as it is
+  EXPECT_EQ(mesh.type, "model/stl");
+  const Reply none = request(server.port(), http::verb::get, std::string("/api/mesh/table?token=") + kToken);
+  EXPECT_EQ(none.status, 404);
+  EXPECT_EQ(none.body, "{\"error\":\"no mesh for object 'table'\"}");
   EXPECT_EQ(server.url(), "http://127.0.0.1:" + std::to_string(server.port()) + "/?token=" + kToken);
 }
 

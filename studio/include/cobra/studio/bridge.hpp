@@ -67,6 +67,7 @@ class VisualizerBridge final : public run::RunObserver, public StudioSource {
   bool latestFrame(std::uint64_t& seq, std::string& message) override;
   void takeMessages(std::vector<std::string>& messages) override;
   InputAnswer input(const std::string& name) override;
+  std::filesystem::path mesh(const std::string& name) override;
 
   BridgeStats stats() const;
 
@@ -76,10 +77,11 @@ class VisualizerBridge final : public run::RunObserver, public StudioSource {
 };
 
 /// Writes the replay files into `folder` (DIR/studio): recording.json = {"model","frames","events"},
-/// recording.js (window.COBRA_RECORDING = ...;) and, from `web_folder` when it holds index.html,
-/// the page and its assets. Returns the file the report links ("studio/index.html" or
+/// recording.js (window.COBRA_RECORDING = ...;), the scene's mesh files as meshes/NAME (`meshes`:
+/// object name -> file) and, from `web_folder` when it holds index.html, the page and its assets. Returns the file the report links ("studio/index.html" or
 /// "studio/recording.json"). @throws std::runtime_error naming a file it cannot write.
 std::string writeReplayFolder(const std::filesystem::path& folder, const std::string& recording_json,
-                              const std::filesystem::path& web_folder);
+                              const std::filesystem::path& web_folder,
+                              const std::vector<std::pair<std::string, std::filesystem::path>>& meshes = {});
 
 }  // namespace cobra::studio

@@ -25,8 +25,11 @@ class Replay final : public StudioSource {
   void takeMessages(std::vector<std::string>& messages) override;
   /// 409 "replay: no inputs".
   InputAnswer input(const std::string& name) override;
+  /// RUN_DIR/studio/meshes/NAME when the recording copied it.
+  std::filesystem::path mesh(const std::string& name) override;
 
  private:
+  std::filesystem::path folder_;
   std::string model_, frames_;
 };
 

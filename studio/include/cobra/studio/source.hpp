@@ -4,6 +4,7 @@
 /// one (Replay). Every function is called on the server's thread only.
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ class StudioSource {
   virtual void takeMessages(std::vector<std::string>& messages) = 0;
   /// POST /api/input and the WebSocket's input message.
   virtual InputAnswer input(const std::string& name) = 0;
+  /// GET /api/mesh/NAME: the mesh file of scene object `name`; "" when it has none.
+  virtual std::filesystem::path mesh(const std::string& name) = 0;
 };
 
 }  // namespace cobra::studio
