@@ -47,6 +47,8 @@ struct RobotView {
   std::unique_ptr<run::Tap<KDL::JntArray>> tap;
   KDL::JntArray q;                  // the last sample (sized once: reading it allocates nothing)
   std::vector<KDL::Frame> frames;   // link frames in the base frame
+  bool have_frames = false;         // frames_world holds the link poses for the joints frames_q
+  std::vector<double> frames_q, frames_world;
   std::size_t offset = 0;           // q at values[offset], then 7 per link
 };
 
@@ -223,6 +225,8 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
                                  r.name + " = { \"" + r.joints + "\", joints = N }");
     }
     view.q.resize(static_cast<unsigned>(view.joints));
+    view.frames_q.assign(view.joints, kNaN);
+    view.frames_world.assign(7 * view.links, kNaN);
     view.offset = width;
     width += view.joints + 7 * view.links;
     robots.push_back(std::move(view));
@@ -375,8 +379,17 @@ void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
     }
     for (std::size_t j = 0; j < r.joints; ++j) q[j] = r.q(static_cast<unsigned>(j));
     double* links = q + r.joints;
-    if (r.model && r.model->linkFramesAt(std::span<const double>(r.q.data.data(), r.joints), r.frames)) {
+    // A robot at rest (often one of two) keeps its link frames: the forward kinematics runs only
+    // when a joint moved since the frames were computed.
+    if (r.have_frames && std::equal(q, q + r.joints, r.frames_q.begin())) {
+      std::copy(r.frames_world.begin(), r.frames_world.end(), links);
+      continue;
+    }
+    r.have_frames = r.model && r.model->linkFramesAt(std::span<const double>(r.q.data.data(), r.joints), r.frames);
+    if (r.have_frames) {
       for (std::size_t l = 0; l < r.links; ++l) writePose(r.base * r.frames[l], links + 7 * l);
+      std::copy(q, q + r.joints, r.frames_q.begin());
+      std::copy(links, links + 7 * r.links, r.frames_world.begin());
     } else {
       std::fill(links, links + 7 * r.links, kNaN);
     }
