@@ -26,11 +26,14 @@ void printResult(const run::RunResult& result) {
   if (!result.report.empty()) std::printf("report: %s\n", result.report.c_str());
 }
 
-std::unique_ptr<studio::Server> startServer(studio::StudioSource& source, const StudioCommandOptions& options) {
+// `fallback_web`: the page to serve when no built front end is found (a run folder's copy).
+std::unique_ptr<studio::Server> startServer(studio::StudioSource& source, const StudioCommandOptions& options,
+                                            const std::filesystem::path& fallback_web = {}) {
   studio::ServerOptions server;
   server.bind = options.bind;
   server.port = options.port;
   server.web_folder = studio::findWebFolder(options.executable);
+  if (server.web_folder.empty() && std::filesystem::is_regular_file(fallback_web / "index.html")) server.web_folder = fallback_web;
   auto started = std::make_unique<studio::Server>(source, server);
   if (options.bind != "127.0.0.1")
     std::printf("studio: warning: listening on %s: whoever reaches it with the token can see and drive the run\n",
@@ -96,7 +99,7 @@ int runApplication(run::RunOptions options, bool quiet, const StudioCommandOptio
 int serveRecording(const std::filesystem::path& folder, const StudioCommandOptions& studio,
                    const std::atomic<bool>& interrupted) {
   studio::Replay replay(folder);  // a folder that is not a run folder: one line, exit status 2
-  const auto server = startServer(replay, studio);
+  const auto server = startServer(replay, studio, folder / "studio");
   serveOn(studio, interrupted);
   return 0;
 }
