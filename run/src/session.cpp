@@ -621,7 +621,9 @@ bool Session::ended() {
   }
   if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
     result_.outcome = Outcome::Interrupted;
-    result_.reason = "interrupted at" + seconds(t_) + "; charts: " + statesText();
+    char at[48];
+    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
+    result_.reason = std::string(at) + "; charts: " + statesText();
     return true;
   }
   if (t_ >= options_.time_limit - 1e-9) {
