@@ -391,6 +391,11 @@ void readStudio(const Reader& run, StudioSpec& studio) {
         extra.radius = entry.string("radius", true);
         split(entry, extra.radius, "port");
       }
+      if (extra.kind == "points") {
+        const double max = entry.number("max", extra.max, true);
+        if (max != std::floor(max)) entry.fail("`max` must be a whole number of points");
+        extra.max = static_cast<int>(max);
+      }
       if (extra.kind == "plane") {
         if (!entry.has("size")) entry.fail("a plane needs `size = { width, height }` in m");
         const std::vector<double> size = entry.numbers("size");

@@ -55,8 +55,11 @@ struct RobotView {
 struct ExtraView {
   run::StudioSpec::Extra spec;
   std::unique_ptr<run::Tap<KDL::Frame>> pose;
+  std::unique_ptr<run::Tap<std::vector<double>>> list;  // points of a vector<double> port
+  std::vector<double> sample;                          // its last value (capacity reserved)
   std::unique_ptr<run::Tap<double>> radius;
-  std::size_t offset = 0;  // sphere: centre (3), radius; plane: pose (7); points: one point (3)
+  std::size_t points = 1;  // points: at most this many
+  std::size_t offset = 0;  // sphere: centre (3), radius; plane: pose (7); points: count, then 3 each
 };
 
 struct SignalView {
@@ -238,10 +241,18 @@ void VisualizerBridge::Impl::attachExtras(const run::RunContext& run) {
     const std::string at = e.where.text(), use = "run.studio.extras." + e.name;
     ExtraView view;
     view.spec = e;
-    view.pose = std::make_unique<run::Tap<KDL::Frame>>(run.registry, e.pose, at, use, "KDL.Frame");
+    const bool frame = e.kind != "points" || run::findOutput(run.registry, e.pose, at, use).type().name == "KDL.Frame";
+    if (frame) {
+      view.pose = std::make_unique<run::Tap<KDL::Frame>>(run.registry, e.pose, at, use, "KDL.Frame");
+    } else {
+      view.list = std::make_unique<run::Tap<std::vector<double>>>(run.registry, e.pose, at, use,
+                                                                  "KDL.Frame or vector<double> (x y z triples, m)");
+      view.points = static_cast<std::size_t>(e.max);
+      view.sample.reserve(3 * view.points);
+    }
     if (e.kind == "sphere") view.radius = std::make_unique<run::Tap<double>>(run.registry, e.radius, at, use, "double (m)");
     view.offset = width;
-    width += e.kind == "plane" ? 7 : (e.kind == "sphere" ? 4 : 3);
+    width += e.kind == "plane" ? 7 : (e.kind == "sphere" ? 4 : 1 + 3 * view.points);
     extras.push_back(std::move(view));
   }
 }
@@ -396,8 +407,18 @@ void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
   }
   for (ExtraView& e : extras) {
     double* out = v + e.offset;
+    if (e.list) {  // x y z triples, as many as fit
+      const std::size_t n = e.list->read(e.sample) ? std::min(e.points, e.sample.size() / 3) : 0;
+      out[0] = static_cast<double>(n);
+      std::copy(e.sample.begin(), e.sample.begin() + static_cast<std::ptrdiff_t>(3 * n), out + 1);
+      continue;
+    }
     KDL::Frame pose;
     const bool have = e.pose->read(pose);
+    if (e.spec.kind == "points") {
+      out[0] = have ? 1.0 : 0.0;
+      out += 1;
+    }
     if (e.spec.kind == "plane") {
       if (have) writePose(pose, out);
       else std::fill(out, out + 7, kNaN);
@@ -448,14 +469,25 @@ void VisualizerBridge::Impl::appendFrame(std::string& out, const Snapshot& s) co
     if (e.spec.kind == "plane") {
       out += "\"pose\":";
       appendPose(out, x);
+    } else if (e.spec.kind == "points") {
+      out += "\"points\":[";
+      for (std::size_t p = 0; p < static_cast<std::size_t>(x[0]); ++p) {
+        out += p ? ",[" : "[";
+        for (std::size_t k = 0; k < 3; ++k) {
+          if (k) out += ',';
+          json::appendNumber(out, x[1 + 3 * p + k]);
+        }
+        out += ']';
+      }
+      out += ']';
     } else {
-      out += e.spec.kind == "sphere" ? "\"center\":[" : "\"points\":[[";
+      out += "\"center\":[";
       for (int k = 0; k < 3; ++k) {
         if (k) out += ',';
         json::appendNumber(out, x[k]);
       }
-      out += e.spec.kind == "sphere" ? "],\"radius\":" : "]]";
-      if (e.spec.kind == "sphere") json::appendNumber(out, x[3]);
+      out += "],\"radius\":";
+      json::appendNumber(out, x[3]);
     }
     out += '}';
   }

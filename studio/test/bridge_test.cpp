@@ -260,3 +260,33 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
 
 }  // namespace
 }  // namespace cobra::studio
+
+namespace cobra::studio {
+namespace {
+
+TEST(VisualizerBridge, SuturingWoundEdgesAreThePointsOfAVectorPortAndTheStepAllocatesNothing) {
+  VisualizerBridge bridge;
+  CountingObserver observer(bridge);
+  run::RunOptions options;
+  options.app = kSource + "/apps/suturing";
+  options.time_limit = 0.2;  // s
+  options.observer = &observer;
+  run::runApp(options);
+  EXPECT_EQ(observer.allocations, 0);
+  int status = 0;
+  const std::string model = bridge.model(status);
+  EXPECT_NE(model.find("{\"name\":\"wound_edges\",\"kind\":\"points\",\"frame\":\"world\"}"), std::string::npos) << model;
+  EXPECT_NE(model.find("{\"name\":\"isur\",\"joints\":[\"q1\""), std::string::npos) << model;
+  std::uint64_t seq = 0;
+  std::string frame;
+  ASSERT_TRUE(bridge.latestFrame(seq, frame));
+  const auto at = frame.find("\"wound_edges\":{\"points\":[[");
+  ASSERT_NE(at, std::string::npos) << frame;
+  const std::vector<double> xyz = numbersAfter(frame, "points", at);
+  EXPECT_GE(xyz.size(), 6u) << "both edges' points";
+  EXPECT_LE(xyz.size(), 3u * 400u) << "at most max = 400 points";
+  EXPECT_EQ(xyz.size() % 3, 0u);
+}
+
+}  // namespace
+}  // namespace cobra::studio

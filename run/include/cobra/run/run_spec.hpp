@@ -157,12 +157,14 @@ struct StudioSpec {
   };
   std::vector<Robot> robots;
   /// Something drawn beside the robots: kind "sphere" (center: Frame port, radius: double port [m]),
-  /// "plane" (pose: Frame port, size: width and height [m]) or "points" (pose: Frame port, one point).
+  /// "plane" (pose: Frame port, size: width and height [m]) or "points" (a Frame port: one point;
+  /// or a vector<double> port of x y z triples [m]: at most `max` points).
   struct Extra {
     std::string name, kind;
-    std::string pose;    ///< Frame port: the sphere's centre, the plane's pose, the point
+    std::string pose;    ///< the sphere's centre, the plane's pose (Frame ports), the points
     std::string radius;  ///< sphere: double port [m]
     double width = 0.0, height = 0.0;  ///< plane [m]
+    int max = 256;       ///< points of a vector port shown at most
     Where where;
   };
   std::vector<Extra> extras;
