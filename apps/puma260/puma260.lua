@@ -57,6 +57,10 @@ run = {
     { name = "Puma 260 tool", commanded = "Admittance.admPose", measured = "Kin.cartPose", joints = "Puma.measJointPosition",
       max_velocity = { 2, 2, 2, 2, 2, 2 }, chart = "puma", counts_while = { deployments = { "compliant_control" } } },
   },
+  -- cobra studio (studio/README.md): no planning scene (no Puma 260 robot model in the planner): the
+  -- joints, the tool's commanded and measured points.
+  studio = { robots = { puma = { "Puma.measJointPosition", joints = 6 } },
+             extras = { nominal = { points = "TrajGen.desCartPose_1" }, tool = { points = "Kin.cartPose" } } },
 }
 -- The world's ground truth, when it has contact (deployment/world.lua): what the tests check.
 if #world.record > 0 then

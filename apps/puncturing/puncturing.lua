@@ -85,4 +85,22 @@ run = {
     contacts = { { name = "probe on skin", port = "NeedlePlanner.allowedContactDistance" },
                  { name = "needle in tissue", port = "NeedlePlanner.primitiveContactDistance" } },
   },
+  -- cobra studio (studio/README.md): the needle planner's scene drawn with the robots' measured
+  -- joints; the iceball at the needle tip; the ultrasound image plane (6 x 10 cm) on the probe
+  -- face; the surgeon's confirmations as buttons (cobra run apps/puncturing --studio --interactive).
+  studio = {
+    scene = "NeedlePlanner",
+    robots = { isur = "ISUR.measJointPosition", ur5 = "UR5.measJointPosition" },
+    extras = { iceball = { sphere = "ISUR.measCartPose", radius = "Patient.iceballRadius" },
+               us_plane = { plane = "UR5.measCartPose", size = { 0.06, 0.1 } } },
+    signals = { "Patient.needleAxialForce", "Patient.needleDepth", "Patient.iceballRadius", "NeedlePlanner.minDistance" },
+    inputs = {
+      iceball_configured = { "Surgeon.say", "e_iceball_configured" },
+      needle_mounted = { "Surgeon.say", "e_needle_mounted" },
+      needle_removed = { "Surgeon.say", "e_needle_removed" },
+      recover = { "Surgeon.say", "e_recover", label = "Recover (after a fault)" },
+      take_over = { "Surgeon.say", "e_take_over", label = "Take over (teleoperation)" },
+      teleop_done = { "Surgeon.say", "e_teleop_done", label = "Teleoperation done" },
+    },
+  },
 }

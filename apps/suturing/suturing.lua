@@ -98,4 +98,9 @@ run = {
     port = "SuturePlanner.minDistance", threshold = "SuturePlanner.clearanceThreshold",
     contacts = { { name = "Endo Stitch in the wound", port = "SuturePlanner.primitiveContactDistance" } },
   },
+  -- cobra studio (studio/README.md): the planner's scene with the two-armed I-SUR's measured joints,
+  -- the wound's edge points.
+  studio = { scene = "SuturePlanner", robots = { isur = "ISUR.measJointPosition" },
+             extras = { wound_edges = { points = "Patient.woundEdges", max = 400 } },
+             signals = { "Patient.threadTension", "Patient.maxGap" } },
 }

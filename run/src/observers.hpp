@@ -17,7 +17,7 @@
 #include "cobra/run/run_spec.hpp"
 #include "cobra/run/runner.hpp"
 #include "cobra/run/tracking.hpp"
-#include "port_tap.hpp"
+#include "cobra/run/port_tap.hpp"
 
 namespace cobra::run {
 

@@ -1,4 +1,4 @@
-#include "port_tap.hpp"
+#include "cobra/run/port_tap.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,5 +1,7 @@
 #include "cobra/run/run_spec.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -177,6 +179,45 @@ class Reader {
     return true;
   }
 
+  // Calls `each(name, entry)` on every `name = value` of the table under `key`, in the order of
+  // their lines (Lua keeps none), each entry's line the first at or after this one writing `name =`.
+  template <class F>
+  void entries(const char* key, F&& each) const {
+    std::vector<std::pair<int, std::string>> names;
+    table(key, [&](const Reader& t) {
+      lua_pushnil(L_);
+      while (lua_next(L_, -2) != 0) {
+        lua_pop(L_, 1);
+        if (lua_type(L_, -1) != LUA_TSTRING) {
+          lua_pop(L_, 1);
+          t.fail("entries must be written name = ...");
+        }
+        const std::string name = lua_tostring(L_, -1);
+        names.emplace_back(t.lineOfKey(name), name);
+      }
+      std::sort(names.begin(), names.end());
+      for (const auto& [line, name] : names) {
+        lua_getfield(L_, -1, name.c_str());
+        Reader entry(L_, file_, lines_, t.path_ + "." + name, line);
+        each(name, entry);
+        lua_pop(L_, 1);
+      }
+    });
+  }
+
+  // The first line at or after this entry's that writes `name =` (a key of a table).
+  int lineOfKey(const std::string& name) const {
+    for (std::size_t i = static_cast<std::size_t>(std::max(line_ - 1, 0)); i < lines_.size(); ++i) {
+      for (std::size_t at = lines_[i].find(name); at != std::string::npos; at = lines_[i].find(name, at + 1)) {
+        const bool starts = at == 0 || !(std::isalnum(static_cast<unsigned char>(lines_[i][at - 1])) || lines_[i][at - 1] == '_');
+        std::size_t after = at + name.size();
+        while (after < lines_[i].size() && lines_[i][after] == ' ') ++after;
+        if (starts && after < lines_[i].size() && lines_[i][after] == '=') return static_cast<int>(i + 1);
+      }
+    }
+    return line_;
+  }
+
   lua_State* state() const { return L_; }
   int line() const { return line_; }
   void setLine(int line) { line_ = line; }
@@ -303,6 +344,105 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
 void placeAction(Reader& entry) {
   for (const char* key : {"call", "lua"})
     if (entry.has(key)) entry.setLine(entry.lineOf(entry.string(key, false)));
+}
+
+// A Frame or double port name: the value of an entry, a string "Comp.port".
+std::string portName(const Reader& entry, const std::string& what) {
+  if (lua_type(entry.state(), -1) != LUA_TSTRING) entry.fail("must be a port name \"Comp.port\" (" + what + ")");
+  std::string port = lua_tostring(entry.state(), -1);
+  split(entry, port, "port");
+  return port;
+}
+
+// run.studio (StudioSpec; format: studio/README.md).
+void readStudio(const Reader& run, StudioSpec& studio) {
+  lua_State* L = run.state();
+  studio.declared = run.table("studio", [&](const Reader& s) {
+    studio.scene = s.string("scene", false);
+    studio.scene_where = {s.where().file, studio.scene.empty() ? s.line() : s.lineOf(studio.scene)};
+    s.entries("robots", [&](const std::string& name, const Reader& entry) {
+      const char* what = "the robot's measured joints, KDL.JntArray; or { \"Comp.port\", joints = N }";
+      if (!lua_istable(L, -1)) {
+        studio.robots.push_back({name, portName(entry, what), 0, entry.where()});
+        return;
+      }
+      lua_rawgeti(L, -1, 1);
+      const std::string port = portName(entry, what);
+      lua_pop(L, 1);
+      const double joints = entry.number("joints", 0.0, true);
+      if (joints != std::floor(joints)) entry.fail("`joints` must be a whole number");
+      studio.robots.push_back({name, port, static_cast<int>(joints), entry.where()});
+    });
+    s.entries("extras", [&](const std::string& name, const Reader& entry) {
+      if (!lua_istable(L, -1)) entry.fail("must be a table: { sphere = \"Comp.framePort\", radius = \"Comp.port\" }, "
+                                          "{ plane = \"Comp.framePort\", size = { w, h } } or { points = \"Comp.framePort\" }");
+      StudioSpec::Extra extra;
+      extra.name = name;
+      for (const char* kind : {"sphere", "plane", "points"})
+        if (entry.has(kind)) {
+          if (!extra.kind.empty()) entry.fail("give one of sphere, plane, points");
+          extra.kind = kind;
+          extra.pose = entry.string(kind, true);
+        }
+      if (extra.kind.empty()) entry.fail("needs one of sphere = \"Comp.framePort\" (the centre), plane = \"Comp.framePort\", "
+                                         "points = \"Comp.framePort\"");
+      split(entry, extra.pose, "port");
+      if (extra.kind == "sphere") {
+        extra.radius = entry.string("radius", true);
+        split(entry, extra.radius, "port");
+      }
+      if (extra.kind == "points") {
+        const double max = entry.number("max", extra.max, true);
+        if (max != std::floor(max)) entry.fail("`max` must be a whole number of points");
+        extra.max = static_cast<int>(max);
+      }
+      if (extra.kind == "plane") {
+        if (!entry.has("size")) entry.fail("a plane needs `size = { width, height }` in m");
+        const std::vector<double> size = entry.numbers("size");
+        if (size.size() != 2) entry.fail("`size` must be { width, height } in m");
+        extra.width = size[0], extra.height = size[1];
+      }
+      extra.where = entry.where();
+      studio.extras.push_back(std::move(extra));
+    });
+    for (const std::string& signal : s.strings("signals")) studio.signals.emplace_back(signal, Where{s.where().file, s.lineOf(signal)});
+    s.entries("inputs", [&](const std::string& name, const Reader& entry) {
+      StudioSpec::Input input;
+      input.name = name;
+      if (!lua_istable(L, -1) || luaL_len(L, -1) < 1)
+        entry.fail("must be { \"Comp.operation\", args..., label = \"...\" }, e.g. { \"Surgeon.say\", \"e_needle_mounted\" }");
+      const lua_Integer n = luaL_len(L, -1);
+      for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, -1, i);
+        const bool text = lua_type(L, -1) == LUA_TSTRING;
+        std::string value = text ? lua_tostring(L, -1) : std::string();
+        lua_pop(L, 1);
+        if (!text) entry.fail("entry " + std::to_string(i) + " must be a string (the operation, then its arguments)");
+        if (i == 1) input.call = value;
+        else input.args.push_back(std::move(value));
+      }
+      split(entry, input.call, "operation");
+      input.label = entry.string("label", false);
+      if (input.label.empty()) {
+        input.label = name;
+        std::replace(input.label.begin(), input.label.end(), '_', ' ');
+        input.label[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(input.label[0])));
+      }
+      input.where = entry.where();
+      // The action the runner plays: { call = "Comp.operation", args = { ... } }.
+      lua_newtable(L);
+      lua_pushstring(L, input.call.c_str());
+      lua_setfield(L, -2, "call");
+      lua_newtable(L);
+      for (std::size_t i = 0; i < input.args.size(); ++i) {
+        lua_pushstring(L, input.args[i].c_str());
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+      lua_setfield(L, -2, "args");
+      input.lua_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      studio.inputs.push_back(std::move(input));
+    });
+  });
 }
 
 }  // namespace
@@ -479,6 +619,7 @@ RunSpec readRunSpec(lua_State* L, const std::string& file) {
           {pause.string("name", true), pause.string("chart", true), pause.strings("from"), pause.strings("to")});
     });
   });
+  readStudio(run, spec.studio);
   lua_pop(L, 1);
   return spec;
 }

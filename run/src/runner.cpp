@@ -13,6 +13,7 @@ const char* toString(Outcome outcome) {
     case Outcome::ComponentError: return "component error";
     case Outcome::UnhandledFault: return "fault unhandled";
     case Outcome::SafeStop: return "safe stop";
+    case Outcome::Interrupted: return "interrupted";
   }
   return "?";
 }

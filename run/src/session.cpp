@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 
@@ -125,6 +126,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
       throw std::runtime_error("--scenario " + options_.scenario.string() + ": no such folder");
     deployer_.run("scenario = [[" + options_.scenario.string() + "]]", "=scenario");
   }
+  if (options_.interactive) deployer_.run("interactive = true", "=interactive");
   if (!options_.before_lua.empty()) deployer_.run(options_.before_lua, "=before_lua");
   deployer_.runFile(entry_.string());
   if (!options_.extra_lua.empty()) deployer_.run(options_.extra_lua, "=extra_lua");
@@ -145,6 +147,33 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   record_every_ = std::max(1L, std::lround(spec_.record.period / spec_.step));
   next_progress_ = options_.progress_every;
   if (!options_.realtime) configurator_.clock().setStepObserver(options_.step_observer);
+  if (options_.observer != nullptr) attachObserver();
+}
+
+void Session::attachObserver() {
+  for (const StudioSpec::Input& input : spec_.studio.inputs) {
+    ActionSpec call;
+    call.kind = ActionSpec::Kind::Call;
+    call.component = input.call.substr(0, input.call.find('.'));
+    call.member = memberOf(input.call);
+    call.text = "call " + input.call + " (run.studio.inputs." + input.name + ")";
+    call.lua_ref = input.lua_ref;
+    call.where = input.where;
+    checkAction(call, refs_, charts_);
+    inputs_.push_back(std::move(call));
+  }
+  for (Chart& c : charts_) {
+    view_states_.push_back(&c.state);
+    const auto scope = std::find(scopes_.begin(), scopes_.end(), c.spec->scope) - scopes_.begin();
+    view_deployments_.push_back(&shown_deployment_[static_cast<std::size_t>(scope)]);
+  }
+  // The scenario: the option's, else the one the entry file chose (its global `scenario`).
+  std::filesystem::path scenario = options_.scenario;
+  lua_State* L = lua_.get();
+  lua_getglobal(L, "scenario");
+  if (scenario.empty() && lua_type(L, -1) == LUA_TSTRING) scenario = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  options_.observer->attach({spec_, refs_, entry_, scenario, options_.report_folder, result_.clearance.threshold});
 }
 
 void Session::attachCharts() {
@@ -301,6 +330,7 @@ void Session::attachSummaries() {
 RunResult Session::run() {
   const auto start = std::chrono::steady_clock::now();
   const auto step = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(spec_.step));
+  const double t0 = options_.realtime ? 0.0 : std::chrono::duration<double>(configurator_.clock().now()).count();
   do {
     if (options_.realtime) {
       std::this_thread::sleep_for(step);
@@ -308,6 +338,10 @@ RunResult Session::run() {
     } else {
       configurator_.clock().advance(step);
       t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+      // Paced: simulated time is held back to `pace` simulated s per wall s (a viewer watches).
+      if (options_.pace > 0.0)
+        std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>((t_ - t0) / options_.pace)));
     }
     advance();
   } while (!ended());
@@ -316,7 +350,9 @@ RunResult Session::run() {
   for (const Tracker& tr : trackers_) result_.tracking.push_back(tr.monitor->figures());
   finishSummary();
   say(std::string("run ended: ") + toString(result_.outcome) + (result_.reason.empty() ? "" : ": " + result_.reason));
-  if (!options_.report_folder.empty()) writeReport();
+  std::vector<std::string> files;
+  if (options_.observer != nullptr) files = options_.observer->finished(result_);
+  if (!options_.report_folder.empty()) writeReport(files);
   return std::move(result_);
 }
 
@@ -329,6 +365,16 @@ void Session::advance() {
   playActions();
   observeFidelity();
   if (steps_ % record_every_ == 0) record();
+  if (options_.observer != nullptr) {
+    std::size_t input = 0;
+    while (options_.observer->nextInput(input) && input < inputs_.size()) {
+      say("  input " + spec_.studio.inputs[input].name + ": " + inputs_[input].text);
+      result_.log.push_back("input " + spec_.studio.inputs[input].name);
+      play(inputs_[input]);
+    }
+    options_.observer->step({t_, view_states_, view_deployments_, shown_configuration_,
+                             clearance_ ? clearance_->last : std::numeric_limits<double>::quiet_NaN()});
+  }
 }
 
 void Session::observeCharts() {
@@ -362,6 +408,7 @@ void Session::readEvents() {
       result_.events.push_back({t_, source, text, chart.state});
       const std::string event = text.substr(0, text.find(' '));
       result_.log.push_back(source + ": " + event);
+      if (options_.observer != nullptr) options_.observer->event(t_, source, event);
       if (std::find(spec_.failures.begin(), spec_.failures.end(), event) != spec_.failures.end())
         chart.last_failure = source + ": " + event + " at" + seconds(t_);
       for (Armed& a : armed_)
@@ -378,6 +425,7 @@ void Session::readEvents() {
     c.shown = folded;
     say(c.spec->name + " > " + folded);
     result_.log.push_back(c.spec->name + " > " + folded);
+    if (options_.observer != nullptr) options_.observer->event(t_, c.spec->name, folded);
   }
 }
 
@@ -443,19 +491,23 @@ void Session::playActions() {
     const std::string label = std::string(a.fault ? "fault " : "action ") + a.spec.where.text();
     say("  " + label + " (on " + a.spec.on.text() + "): " + a.spec.text);
     result_.log.push_back(label);
-    lua_State* L = lua_.get();
-    lua_getglobal(L, "cobra_run_play");
-    lua_rawgeti(L, LUA_REGISTRYINDEX, a.spec.lua_ref);
-    lua_pushstring(L, a.spec.where.text().c_str());
-    if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
-      std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(no message)";
-      lua_pop(L, 1);
-      // The bindings put their Lua caller's place first: the player's, not the user's file.
-      if (startsWith(message, "cobra run:")) message.erase(0, message.find(": ") + 2);
-      char when[32];
-      std::snprintf(when, sizeof when, "%.3f s", t_);
-      throw std::runtime_error(a.spec.where.text() + ": " + a.spec.text + " failed at " + when + ": " + message);
-    }
+    play(a.spec);
+  }
+}
+
+void Session::play(const ActionSpec& action) {
+  lua_State* L = lua_.get();
+  lua_getglobal(L, "cobra_run_play");
+  lua_rawgeti(L, LUA_REGISTRYINDEX, action.lua_ref);
+  lua_pushstring(L, action.where.text().c_str());
+  if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
+    std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(no message)";
+    lua_pop(L, 1);
+    // The bindings put their Lua caller's place first: the player's, not the user's file.
+    if (startsWith(message, "cobra run:")) message.erase(0, message.find(": ") + 2);
+    char when[32];
+    std::snprintf(when, sizeof when, "%.3f s", t_);
+    throw std::runtime_error(action.where.text() + ": " + action.text + " failed at " + when + ": " + message);
   }
 }
 
@@ -567,6 +619,13 @@ bool Session::ended() {
     });
     if (stopped || t_ - safe_stop_at_ >= spec_.safe_stop_linger) return true;
   }
+  if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
+    result_.outcome = Outcome::Interrupted;
+    char at[48];
+    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
+    result_.reason = std::string(at) + "; charts: " + statesText();
+    return true;
+  }
   if (t_ >= options_.time_limit - 1e-9) {
     char limit[64];
     std::snprintf(limit, sizeof limit, "time limit %.3f s reached", options_.time_limit);
@@ -610,7 +669,7 @@ void Session::finishSummary() {
   }
 }
 
-void Session::writeReport() {
+void Session::writeReport(const std::vector<std::string>& observer_files) {
   report::RunReport run;
   run.title = spec_.title + (options_.scenario.empty() ? "" : ": " + options_.scenario.filename().string());
   run.summary = {{"application", entry_.string()},
@@ -624,6 +683,7 @@ void Session::writeReport() {
   run.timeline = timeline_.intervals(result_.duration);
   run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get(), run.timeline);
   run.files = {"signals.csv"};
+  run.files.insert(run.files.end(), observer_files.begin(), observer_files.end());
   result_.report = report::writeRunFolder(options_.report_folder, run);
   const std::filesystem::path signals = options_.report_folder / "signals.csv";
   std::ofstream csv(signals);

@@ -60,6 +60,7 @@ class Session {
   void attachClearance();
   void attachPlots();
   void attachSummaries();
+  void attachObserver();
   // One step.
   void advance();
   void observeCharts();
@@ -67,6 +68,8 @@ class Session {
   void observeSwitches();
   void sampleSummaries();
   void playActions();
+  // Plays an action's (or input's) Lua table. @throws naming its file:line and the time.
+  void play(const ActionSpec& action);
   void observeFidelity();
   void record();
   // True when the run ends after this step (sets the outcome and reason).
@@ -74,7 +77,7 @@ class Session {
   void noteSafeStop(const Chart& chart);
   // After the run.
   void finishSummary();
-  void writeReport();
+  void writeReport(const std::vector<std::string>& observer_files);
 
   Chart* chartOf(const std::string& name);
   Chart& chartForSource(const std::string& source);
@@ -113,6 +116,9 @@ class Session {
   std::vector<core::Component*> components_;
   report::TimelineRecorder timeline_;
   RunResult result_;
+  // The observer's view (options_.observer): pointers into charts_ and shown_deployment_.
+  std::vector<ActionSpec> inputs_;  // run.studio.inputs as calls
+  std::vector<const std::string*> view_states_, view_deployments_;
 
   double t_ = 0.0;  // s
   long steps_ = 0;

@@ -1,4 +1,4 @@
-// The runner's recording (src/observers.hpp: Recording, src/port_tap.hpp: NumericTap) on a
+// The runner's recording (src/observers.hpp: Recording, cobra/run/port_tap.hpp: NumericTap) on a
 // component with output ports of every accepted type: the columns and their units, the fields a
 // plot may name, signals.csv, and the one-line refusals of a port of another type or an input.
 

@@ -204,3 +204,62 @@ TEST(RunSpec, BadPathPlotsAreRefusedWithWhatIsExpected) {
 
 }  // namespace
 }  // namespace cobra::run
+
+namespace cobra::run {
+namespace {
+
+TEST(RunSpec, ReadsTheStudioTableInTheOrderOfItsLines) {
+  const RunSpec spec = read(R"(
+run = {
+  charts = { { name = "a", supervisor = "ASup", done = "root.Done" } },
+  studio = {
+    scene = "Planner",
+    robots = { zeta = "Z.q",
+               alpha = { "A.q", joints = 6 } },
+    extras = { ball = { sphere = "B.pose", radius = "B.r" },
+               image = { plane = "U.pose", size = { 0.06, 0.1 } } },
+    signals = { "C.out", "D.pose.z" },
+    inputs = { mounted = { "Surgeon.say", "e_needle_mounted" },
+               recover = { "Surgeon.say", "e_recover", label = "Recover now" } },
+  },
+}
+)");
+  const StudioSpec& s = spec.studio;
+  ASSERT_TRUE(s.declared);
+  EXPECT_EQ(s.scene, "Planner");
+  ASSERT_EQ(s.robots.size(), 2u);
+  EXPECT_EQ(s.robots[0].name, "zeta");  // the order of the lines, not of Lua's table
+  EXPECT_EQ(s.robots[0].where.line, 6);
+  EXPECT_EQ(s.robots[1].joints, "A.q");
+  EXPECT_EQ(s.robots[1].count, 6);
+  ASSERT_EQ(s.extras.size(), 2u);
+  EXPECT_EQ(s.extras[0].kind, "sphere");
+  EXPECT_EQ(s.extras[0].radius, "B.r");
+  EXPECT_EQ(s.extras[1].kind, "plane");
+  EXPECT_DOUBLE_EQ(s.extras[1].height, 0.1);
+  ASSERT_EQ(s.signals.size(), 2u);
+  EXPECT_EQ(s.signals[1].first, "D.pose.z");
+  ASSERT_EQ(s.inputs.size(), 2u);
+  EXPECT_EQ(s.inputs[0].label, "Mounted");
+  EXPECT_EQ(s.inputs[0].call, "Surgeon.say");
+  EXPECT_EQ(s.inputs[0].args, std::vector<std::string>{"e_needle_mounted"});
+  EXPECT_EQ(s.inputs[1].label, "Recover now");
+  EXPECT_EQ(s.inputs[1].where.line, 12);
+  EXPECT_FALSE(read("run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } } }").studio.declared);
+}
+
+TEST(RunSpec, ABadStudioEntryIsOneLineWithFileLineAndWhatIsExpected) {
+  const std::string head = "run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n";
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = { ball = { sphere = 'B.pose' } } } }"); }),
+            file() + ":2: run.studio.extras.ball: needs `radius` (a string)");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n image = { plane = 'U.pose' } } } }"); }),
+            file() + ":3: run.studio.extras.image: a plane needs `size = { width, height }` in m");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { inputs = {\n go = 'Surgeon.say' } } }"); }),
+            file() + ":3: run.studio.inputs.go: must be { \"Comp.operation\", args..., label = \"...\" }, e.g. "
+                     "{ \"Surgeon.say\", \"e_needle_mounted\" }");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { robots = { isur = 'ISURq' } } }"); }),
+            file() + ":2: run.studio.robots.isur: 'ISURq' must be written Component.port");
+}
+
+}  // namespace
+}  // namespace cobra::run

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -92,6 +94,28 @@ TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
   EXPECT_EQ(r.outcome, Outcome::TimeLimit);
   EXPECT_NEAR(r.duration, 0.1, 1e-9);
   EXPECT_EQ(r.reason, "time limit 0.100 s reached; charts: task root.waiting");
+}
+
+TEST(Runner, AnInterruptEndsTheRunAfterTheStepWithTheChartsStates) {
+  RunOptions o = options();
+  const std::atomic<bool> interrupted{true};  // Ctrl-C came before the first step ended
+  o.interrupt = &interrupted;
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::Interrupted);
+  EXPECT_NEAR(r.duration, 0.001, 1e-9);
+  EXPECT_EQ(r.reason, "interrupted at 0.001 s; charts: task root.waiting");
+  EXPECT_STREQ(toString(r.outcome), "interrupted");
+}
+
+TEST(Runner, APacedLockstepRunTakesAtLeastItsSimulatedTimeOverThePaceOnTheWallClock) {
+  RunOptions o = options();
+  o.time_limit = 0.2;  // s simulated
+  o.pace = 2.0;        // simulated s per wall s: at least 0.1 s of wall clock (sleeps never end early)
+  const auto start = std::chrono::steady_clock::now();
+  const RunResult r = runApp(o);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.outcome, Outcome::TimeLimit);
+  EXPECT_GE(wall, 0.1);
 }
 
 TEST(Runner, InRealTimeTheTestApplicationCompletesOnTheWallClock) {

@@ -1,6 +1,8 @@
 // The `cobra` command-line tool: run, check and draw Lua deployment files; write components.
 //   cobra deploy FILE [--sim] [--run-for T] [--strict]
 //   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet]
+//                 [--studio [--studio-port N] [--studio-bind ADDR] [--studio-linger S]] [--pace X] [--interactive]
+//   cobra studio RUN_DIR [--port N] [--bind ADDR]
 //   cobra lint FILE
 //   cobra graph FILE -o out.svg
 //   cobra describe FILE [-o out.lua]
@@ -213,8 +215,32 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--faults", run_faults, "faults file (faults.lua: on an event, a state or a time, call, write or set)");
   run_cmd->add_flag("--realtime", run_options.realtime, "threaded activities on the wall clock instead of the lockstep clock");
   run_cmd->add_flag("--quiet", run_quiet, "print no state, switch or progress line");
+  tools::StudioCommandOptions studio_options;
+  studio_options.executable = argv[0];
+  double pace = -1.0;
+  run_cmd->add_flag("--studio", studio_options.live, "serve the run to cobra studio in the browser while it runs "
+                                                    "(prints the URL; the lockstep clock is paced to real time)");
+  run_cmd->add_option("--studio-port", studio_options.port, "studio's port (default 0: any free port)");
+  run_cmd->add_option("--studio-bind", studio_options.bind, "address studio listens on (default 127.0.0.1)");
+  run_cmd->add_option("--studio-linger", studio_options.linger, "s studio stays after the run (default: until Ctrl-C)");
+  run_cmd->add_option("--pace", pace, "simulated s per wall s on the lockstep clock (0 = as fast as possible; "
+                                      "default 1 with --studio, else 0)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_flag("--interactive", run_options.interactive,
+                    "the entry file gets `interactive = true`: studio's buttons give the surgeon's inputs");
   run_cmd->footer("example: cobra run apps/puncturing --report build/demo-report\n"
+                  "         cobra run apps/puncturing --studio --interactive\n"
                   "exit status 0 when the task charts reach their done states; else 1 and one line saying why");
+
+  std::string studio_folder;
+  tools::StudioCommandOptions replay_options;
+  replay_options.executable = argv[0];
+  CLI::App* studio_cmd = app.add_subcommand("studio", "replay a recorded run in the browser (cobra studio)");
+  studio_cmd->add_option("RUN_DIR", studio_folder, "run folder written by cobra run APP --report RUN_DIR")->required();
+  studio_cmd->add_option("--port", replay_options.port, "port (default 0: any free port)");
+  studio_cmd->add_option("--bind", replay_options.bind, "address to listen on (default 127.0.0.1)");
+  studio_cmd->footer("example: cobra run apps/puncturing --report build/demo-report && cobra studio build/demo-report\n"
+                     "prints the URL to open; serves until Ctrl-C");
 
   std::string lint_file;
   CLI::App* lint_cmd = app.add_subcommand("lint", "check every connection of a deployment against the role rules");
@@ -290,8 +316,10 @@ int main(int argc, char** argv) {
       run_options.scenario = run_scenario;
       run_options.report_folder = run_report;
       run_options.faults_file = run_faults;
-      return tools::runApplication(run_options, run_quiet);
+      run_options.pace = pace >= 0.0 ? pace : (studio_options.live && !run_options.realtime ? 1.0 : 0.0);
+      return tools::runApplication(run_options, run_quiet, studio_options, g_interrupted);
     }
+    if (*studio_cmd) return tools::serveRecording(studio_folder, replay_options, g_interrupted);
     if (*lint_cmd) return runLint(lint_file);
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);

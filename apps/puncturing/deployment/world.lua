@@ -46,7 +46,9 @@ NeedleMonitor.forbidden_margin = 0.001               -- m
 NeedleMonitor.extraction_threshold = 4               -- N: the 6 mm test pull against the ice gives about 6 N
 NeedleMonitor.release_force = 1                      -- N
 USMonitor.contact_lost_time = 0.2                    -- s: the force dips while the probe's reference moves
-Surgeon.script_file = surgeon_file or (scenario .. "/surgeon.txt")  -- surgeon_file: a test's script
+-- surgeon_file: a test's script; `interactive` (cobra run --interactive): a person gives the
+-- surgeon's events with cobra studio's buttons, so the script says nothing.
+Surgeon.script_file = surgeon_file or (interactive and here .. "../interactive_surgeon.txt" or scenario .. "/surgeon.txt")
 -- m/s, rad/s: the robots' joint velocity limits (the simulated servos' defaults, stated here because
 -- the procedure runner's joint-jump check reads them: apps/puncturing/README.md, Fidelity).
 ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5 }

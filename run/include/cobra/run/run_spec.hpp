@@ -141,6 +141,45 @@ struct ClearanceSpec {
   Where where;
 };
 
+/// `run.studio`: what cobra studio shows of the run and the surgeon's inputs it offers
+/// (studio/README.md). Entries are name = value tables, kept in the order of their lines.
+struct StudioSpec {
+  bool declared = false;
+  /// The component whose planning scene is drawn (a MotionPlanner or StateValidator: the same
+  /// scene it checks collisions in); "" = no scene (robots show their joints only).
+  std::string scene;
+  Where scene_where;
+  /// A robot of the scene (its name there, "isur") and its measured joints (KDL.JntArray port).
+  struct Robot {
+    std::string name, joints;
+    int count = 0;  ///< joints, when no scene gives the robot's model (`{ "Comp.port", joints = 6 }`)
+    Where where;
+  };
+  std::vector<Robot> robots;
+  /// Something drawn beside the robots: kind "sphere" (center: Frame port, radius: double port [m]),
+  /// "plane" (pose: Frame port, size: width and height [m]) or "points" (a Frame port: one point;
+  /// or a vector<double> port of x y z triples [m]: at most `max` points).
+  struct Extra {
+    std::string name, kind;
+    std::string pose;    ///< the sphere's centre, the plane's pose (Frame ports), the points
+    std::string radius;  ///< sphere: double port [m]
+    double width = 0.0, height = 0.0;  ///< plane [m]
+    int max = 256;       ///< points of a vector port shown at most
+    Where where;
+  };
+  std::vector<Extra> extras;
+  /// Plottable columns: "Comp.port" (double) or "Comp.port.field" as run.record names them.
+  std::vector<std::pair<std::string, Where>> signals;
+  /// A surgeon's input: a button of the console calling `call` ("Surgeon.say") with `args`.
+  struct Input {
+    std::string name, label, call;
+    std::vector<std::string> args;
+    int lua_ref = -1;  ///< { call = , args = } in the Lua registry (played as an action)
+    Where where;
+  };
+  std::vector<Input> inputs;
+};
+
 /// The whole `run` table.
 struct RunSpec {
   std::string title;
@@ -157,6 +196,7 @@ struct RunSpec {
   std::vector<SummarySpec> summary;
   std::vector<TrackingSpec> tracking;
   ClearanceSpec clearance;
+  StudioSpec studio;
 };
 
 /// Reads the global `run` of `L` (written in `file`, whose text gives the entries' lines).

@@ -6,6 +6,7 @@
 /// charts reach their final states, and writes the run folder (events.csv, signals.csv,
 /// report.html). It knows no application: every name it uses comes from the application's files.
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -20,8 +21,54 @@
 namespace cobra::deploy {
 class PackageRegistry;
 }
+namespace cobra::core {
+class ComponentRegistry;
+}
 
 namespace cobra::run {
+
+struct RunSpec;
+struct RunResult;
+
+/// What a run observer is shown of a run at setup (RunObserver::attach).
+struct RunContext {
+  const RunSpec& spec;                      ///< the `run` table (run.studio: what to show)
+  const core::ComponentRegistry& registry;  ///< the deployment, to connect to ports by name
+  std::filesystem::path entry;              ///< the application's entry file
+  std::filesystem::path scenario;           ///< "" = the application's default
+  std::filesystem::path report_folder;      ///< "" = no report
+  double clearance_threshold = 0.0;         ///< m (run.clearance; 0 when not declared)
+};
+
+/// The run between two instants of its clock, for RunObserver::step. States and deployments are
+/// per chart of `run.charts`, in its order.
+struct StepView {
+  double t = 0.0;                                  ///< s of run time
+  const std::vector<const std::string*>& states;   ///< each chart's active state (full path)
+  const std::vector<const std::string*>& deployments;  ///< each chart's scope's deployment
+  const std::string& configuration;
+  double clearance = 0.0;  ///< m, the last clearance sample (NaN: none or paused)
+};
+
+/// Something that watches a run from the run's own thread (cobra studio's Robot Visualizer Bridge,
+/// studio/README.md): connected at setup, called once per step after the runner's observation,
+/// told of every event and chart state entry, and asked for inputs to play (e.g. a surgeon's
+/// button: run.studio.inputs). step() must not block the run: it is on the runner's step.
+class RunObserver {
+ public:
+  virtual ~RunObserver() = default;
+  /// @throws std::runtime_error naming the entry file:line and what is wrong (an unknown port).
+  virtual void attach(const RunContext& run) = 0;
+  virtual void step(const StepView& now) = 0;
+  /// An event of a component's `events` or a supervisor's `outputEvents` (`source` the component),
+  /// or a chart entering a state (`source` the chart's name, `name` the state's folded path).
+  virtual void event(double t, const std::string& source, const std::string& name) = 0;
+  /// The next input to play (an index into run.studio.inputs); false when none is waiting.
+  virtual bool nextInput(std::size_t& index) = 0;
+  /// The run ended (before the run folder is written). Returns files it wrote into the report
+  /// folder for the report to link (relative paths).
+  virtual std::vector<std::string> finished(const RunResult& result) = 0;
+};
 
 struct RunOptions {
   /// The application: an entry file, or a folder holding `<folder name>.lua`.
@@ -49,6 +96,16 @@ struct RunOptions {
   core::LockstepClock::StepObserver step_observer;
   /// Registers packages beside cobra's built-in ones (components::addBuiltinPackages).
   std::function<void(deploy::PackageRegistry&)> add_packages;
+  /// Lockstep clock only: simulated s per wall s the run is held to (1 = real time; 0 = as fast
+  /// as the CPU goes, the default).
+  double pace = 0.0;
+  /// Given to the entry file as the global `interactive = true` before it runs: the application
+  /// lets a person give the surgeon's inputs (e.g. no surgeon script; run.studio.inputs).
+  bool interactive = false;
+  /// Watches the run from its thread (cobra studio's bridge); nullptr: none.
+  RunObserver* observer = nullptr;
+  /// When set and true, the run ends after the current step (Ctrl-C): Outcome::Interrupted.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 enum class Outcome {
@@ -57,6 +114,7 @@ enum class Outcome {
   ComponentError,  ///< a component went to Exception or FatalError
   UnhandledFault,  ///< a fault was injected and the task did not complete before the time limit
   SafeStop,        ///< a task chart entered its safe-stop state
+  Interrupted,     ///< RunOptions::interrupt was set (Ctrl-C)
 };
 const char* toString(Outcome outcome);
 

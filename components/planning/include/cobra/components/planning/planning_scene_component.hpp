@@ -61,6 +61,11 @@ planning::SceneDescription buildPlanningScene(const PlanningSceneSettings& setti
 /// The scene file stays the primary description (the thesis' lists are data the scene already
 /// holds per object); the properties exist for the thesis' deployment files and override it.
 class PlanningSceneComponent : public core::Component {
+ public:
+  /// The scene this component checks collisions in: the scene file with the properties'
+  /// overrides (e.g. for cobra studio to draw the same geometry). @throws as buildPlanningScene.
+  planning::SceneDescription sceneDescription() const { return buildPlanningScene(settings()); }
+
  protected:
   PlanningSceneComponent(std::string name, std::string doc);
 

@@ -1,6 +1,7 @@
 #pragma once
-// Reading components' output ports by name, for the runner's observers (not real-time: the
-// runner reads between two instants of the clock). Private to cobra::run.
+/// @file
+/// Reading components' output ports by name, for the runner's observers and a RunObserver
+/// (cobra studio): read between two instants of the clock, from the run's thread.
 
 #include <memory>
 #include <string>

@@ -1,0 +1,275 @@
+// cobra studio's server (studio/src/server.cpp) through a small Beast client: the token on every
+// request and on the WebSocket upgrade, the files of the web folder, inputs, frames and events
+// streamed; a client that stops reading and one that disappears while a real run goes on.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "cobra/run/runner.hpp"
+#include "cobra/studio/bridge.hpp"
+#include "cobra/studio/server.hpp"
+
+namespace cobra::studio {
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+
+constexpr const char* kToken = "0123456789abcdef0123456789abcdef";
+
+// A source whose frames are always new (`frame_size` bytes) and which emits one event per call.
+class FakeSource final : public StudioSource {
+ public:
+  std::string model(int& status) override {
+    status = 200;
+    return "{\"protocol\":1,\"mode\":\"live\"}";
+  }
+  std::string recording() override { return "{\"frames\":[]}"; }
+  bool latestFrame(std::uint64_t& seq, std::string& message) override {
+    ++seq;
+    message = "{\"type\":\"frame\",\"t\":" + std::to_string(seq) + ",\"pad\":\"" + std::string(frame_size, 'x') + "\"}";
+    return true;
+  }
+  void takeMessages(std::vector<std::string>& messages) override {
+    if (events) messages.push_back("{\"type\":\"event\",\"t\":0,\"source\":\"fake\",\"name\":\"e_tick\"}");
+  }
+  std::filesystem::path mesh(const std::string& name) override {
+    return name == "phantom" ? std::filesystem::temp_directory_path() / "cobra_studio_server_web" / "index.html"
+                             : std::filesystem::path();
+  }
+  InputAnswer input(const std::string& name) override {
+    if (name != "go") return {400, "no input '" + name + "': expected one of go"};
+    ++inputs;
+    return {};
+  }
+  std::size_t frame_size = 100;
+  bool events = false;
+  std::atomic<int> inputs{0};
+};
+
+struct Reply {
+  int status = 0;
+  std::string body, cookie, type;
+};
+
+Reply request(unsigned short port, http::verb verb, const std::string& target, const std::string& body = {},
+              const std::vector<std::pair<std::string, std::string>>& headers = {}) {
+  asio::io_context io;
+  tcp::socket socket(io);
+  socket.connect({asio::ip::make_address("127.0.0.1"), port});
+  http::request<http::string_body> req{verb, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  for (const auto& [name, value] : headers) req.set(name, value);
+  req.body() = body;
+  req.prepare_payload();
+  http::write(socket, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(socket, buffer, res);
+  return {static_cast<int>(res.result_int()), res.body(), std::string(res[http::field::set_cookie]),
+          std::string(res[http::field::content_type])};
+}
+
+std::filesystem::path webFolder() {
+  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_server_web";
+  std::filesystem::create_directories(folder / "assets");
+  std::ofstream(folder / "index.html") << "<html>studio</html>";
+  std::ofstream(folder / "assets" / "app.js") << "console.log(1);";
+  return folder;
+}
+
+ServerOptions options() {
+  ServerOptions o;
+  o.token = kToken;
+  o.web_folder = webFolder();
+  return o;
+}
+
+TEST(StudioServer, RefusesEveryRequestAndTheWebSocketUpgradeWithoutTheRightToken) {
+  FakeSource source;
+  Server server(source, options());
+  for (const std::string target : {"/", "/api/model", "/api/recording", "/assets/app.js", "/api/model?token=wrong"}) {
+    const Reply r = request(server.port(), http::verb::get, target);
+    EXPECT_EQ(r.status, 403) << target;
+    EXPECT_EQ(r.body, "{\"error\":\"missing or wrong token\"}") << target;
+  }
+  EXPECT_EQ(request(server.port(), http::verb::post, "/api/input", "{\"name\":\"go\"}").status, 403);
+  EXPECT_EQ(request(server.port(), http::verb::get, "/api/model", {}, {{"X-Cobra-Token", "nope"}}).status, 403);
+  EXPECT_EQ(source.inputs.load(), 0);
+
+  asio::io_context io;
+  websocket::stream<tcp::socket> ws(io);
+  ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+  websocket::response_type response;
+  beast::error_code refused;
+  ws.handshake(response, "127.0.0.1", "/ws", refused);
+  EXPECT_EQ(refused, websocket::error::upgrade_declined) << refused.message();
+  // The same upgrade request by hand, to see the answer (Beast 1.74 keeps it from the caller).
+  const Reply upgrade = request(server.port(), http::verb::get, "/ws?token=wrong",  {},
+                                {{"Upgrade", "websocket"}, {"Connection", "Upgrade"}, {"Sec-WebSocket-Version", "13"},
+                                 {"Sec-WebSocket-Key", "dGhlIHNhbXBsZSBub25jZQ=="}});
+  EXPECT_EQ(upgrade.status, 403);
+  EXPECT_EQ(upgrade.body, "{\"error\":\"missing or wrong token\"}");
+  EXPECT_EQ(server.stats().forbidden, 9);
+}
+
+TEST(StudioServer, ServesTheWebFolderAndTheApiWithTheTokenInTheQueryAHeaderOrItsCookie) {
+  FakeSource source;
+  Server server(source, options());
+  const Reply page = request(server.port(), http::verb::get, std::string("/?token=") + kToken);
+  EXPECT_EQ(page.status, 200);
+  EXPECT_EQ(page.body, "<html>studio</html>");
+  EXPECT_EQ(page.type, "text/html; charset=utf-8");
+  EXPECT_EQ(page.cookie, std::string("cobra_token=") + kToken + "; HttpOnly; SameSite=Strict; Path=/");
+  const Reply script = request(server.port(), http::verb::get, "/assets/app.js", {}, {{"Cookie", std::string("a=1; cobra_token=") + kToken}});
+  EXPECT_EQ(script.status, 200);
+  EXPECT_EQ(script.type, "text/javascript; charset=utf-8");
+  const Reply model = request(server.port(), http::verb::get, "/api/model", {}, {{"X-Cobra-Token", kToken}});
+  EXPECT_EQ(model.status, 200);
+  EXPECT_EQ(model.body, "{\"protocol\":1,\"mode\":\"live\"}");
+  EXPECT_EQ(request(server.port(), http::verb::get, std::string("/../secret?token=") + kToken).status, 400);
+  EXPECT_EQ(request(server.port(), http::verb::get, std::string("/assets/none.js?token=") + kToken).status, 404);
+  const Reply mesh = request(server.port(), http::verb::get, std::string("/api/mesh/phantom?token=") + kToken);
+  EXPECT_EQ(mesh.status, 200);
+  EXPECT_EQ(mesh.body, "<html>studio</html>");  // the file the source names, as it is
+  EXPECT_EQ(mesh.type, "model/stl");
+  const Reply none = request(server.port(), http::verb::get, std::string("/api/mesh/table?token=") + kToken);
+  EXPECT_EQ(none.status, 404);
+  EXPECT_EQ(none.body, "{\"error\":\"no mesh for object 'table'\"}");
+  EXPECT_EQ(server.url(), "http://127.0.0.1:" + std::to_string(server.port()) + "/?token=" + kToken);
+}
+
+TEST(StudioServer, PlaysInputsAndNamesTheKnownOnesForAnUnknownOne) {
+  FakeSource source;
+  Server server(source, options());
+  const std::vector<std::pair<std::string, std::string>> token = {{"X-Cobra-Token", kToken}};
+  const Reply ok = request(server.port(), http::verb::post, "/api/input", "{\"name\":\"go\"}", token);
+  EXPECT_EQ(ok.status, 200);
+  EXPECT_EQ(ok.body, "{\"ok\":true}");
+  const Reply unknown = request(server.port(), http::verb::post, "/api/input", "{\"name\":\"stop\"}", token);
+  EXPECT_EQ(unknown.status, 400);
+  EXPECT_EQ(unknown.body, "{\"error\":\"no input 'stop': expected one of go\"}");
+  EXPECT_EQ(request(server.port(), http::verb::post, "/api/input", "name=go", token).status, 400);
+  EXPECT_EQ(source.inputs.load(), 1);
+}
+
+TEST(StudioServer, StreamsFramesAndEventsAndTakesInputsOverTheWebSocket) {
+  FakeSource source;
+  source.events = true;
+  Server server(source, options());
+  asio::io_context io;
+  websocket::stream<tcp::socket> ws(io);
+  ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+  ws.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+  ws.write(asio::buffer(std::string("{\"type\":\"input\",\"name\":\"go\"}")));
+  int frames = 0, events = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (frames < 5) {
+    beast::flat_buffer buffer;
+    ws.read(buffer);
+    const std::string text = beast::buffers_to_string(buffer.data());
+    frames += text.rfind("{\"type\":\"frame\"", 0) == 0;
+    events += text.rfind("{\"type\":\"event\"", 0) == 0;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(events, 4);
+  EXPECT_LE(frames, 30.0 * seconds + 2.0) << "at most 30 frames per wall-clock second";
+  EXPECT_EQ(source.inputs.load(), 1);
+  ws.close(websocket::close_code::normal);
+}
+
+// A WebSocket client whose kernel receive buffer is tiny and that never reads.
+struct SlowClient {
+  asio::io_context io;
+  websocket::stream<tcp::socket> ws{io};
+  explicit SlowClient(unsigned short port) {
+    ws.next_layer().open(tcp::v4());
+    ws.next_layer().set_option(asio::socket_base::receive_buffer_size(2048));
+    ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), port});
+    ws.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+  }
+};
+
+TEST(StudioServer, AClientThatStopsReadingGetsTheNewestFrameOnlyAndTheOthersAreServed) {
+  FakeSource source;
+  source.frame_size = 32768;  // B: a few frames fill the kernel buffers
+  source.events = true;
+  ServerOptions o = options();
+  o.send_buffer = 8192;
+  o.max_messages = 4;
+  Server server(source, o);
+  SlowClient slow(server.port());
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const ServerStats stats = server.stats();
+  EXPECT_GT(stats.frames_coalesced, 0);
+  EXPECT_LT(stats.frames_sent, 20) << "the slow client's socket is full after a few frames";
+  EXPECT_GT(stats.messages_dropped, 0) << "its event queue is bounded";
+  // Another client is served meanwhile.
+  asio::io_context io;
+  websocket::stream<tcp::socket> ws(io);
+  ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+  ws.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+  beast::flat_buffer buffer;
+  ws.read(buffer);
+  EXPECT_EQ(request(server.port(), http::verb::get, std::string("/api/model?token=") + kToken).status, 200);
+}
+
+TEST(StudioServer, ARunGoesOnWithAClientThatStopsReadingAndOneThatDisappears) {
+  BridgeOptions recording;
+  recording.record = true;
+  VisualizerBridge bridge(recording);
+  ServerOptions o = options();
+  o.send_buffer = 8192;
+  Server server(bridge, o);
+  SlowClient slow(server.port());
+  std::atomic<bool> vanished{false};
+  std::thread gone([&] {
+    asio::io_context io;
+    websocket::stream<tcp::socket> ws(io);
+    ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+    ws.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+    beast::flat_buffer buffer;
+    ws.read(buffer);  // one frame, then the socket is closed without a word
+    ws.next_layer().close();
+    vanished = true;
+  });
+  run::RunOptions options;
+  options.app = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing";
+  options.time_limit = 3.0;  // s
+  options.pace = 1.0;        // paced to real time, as cobra run --studio: 3 s of wall clock
+  options.observer = &bridge;
+  const run::RunResult result = run::runApp(options);
+  gone.join();
+  EXPECT_EQ(result.outcome, run::Outcome::TimeLimit) << result.reason;
+  EXPECT_NEAR(result.duration, 3.0, 1e-9);
+  EXPECT_TRUE(vanished.load());
+  EXPECT_GT(server.stats().frames_coalesced, 0) << "the slow client's frames were replaced, not queued";
+  EXPECT_GE(bridge.stats().published, 90);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(server.stats().clients, 1) << "the vanished client is gone, the slow one still connected";
+  // A client that comes after the run gets its end and its last frame.
+  asio::io_context io;
+  websocket::stream<tcp::socket> late(io);
+  late.next_layer().connect({asio::ip::make_address("127.0.0.1"), server.port()});
+  late.handshake("127.0.0.1", std::string("/ws?token=") + kToken);
+  beast::flat_buffer end, frame;
+  late.read(end);
+  late.read(frame);
+  EXPECT_EQ(beast::buffers_to_string(end.data()), "{\"type\":\"end\",\"outcome\":\"time limit\",\"message\":\"" + result.reason + "\"}");
+  EXPECT_EQ(beast::buffers_to_string(frame.data()).rfind("{\"type\":\"frame\",\"t\":3,\"robots\":{\"isur\":", 0), 0u);
+}
+
+}  // namespace
+}  // namespace cobra::studio
