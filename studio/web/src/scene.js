@@ -1,0 +1,232 @@
+// The 3D view: the planning scene's objects on the robots' link frames and in the world, the
+// extras (iceball, ultrasound plane, paths, wound/thread, stitches), orbit camera controls.
+// cobra's world is z up (m, rad); the camera's up is +z so no transform sits between the scene
+// root and the link frames: a link group's world matrix is exactly the frame's pose.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { STLLoader } from 'three/examples/jsm/loaders/STLLoader.js';
+import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
+
+export const BACKGROUND = 0x1d2126;
+const PALETTE = [0x4e9ad8, 0xe0a040, 0x6cc070, 0xc46fd0, 0xd86060, 0x60c8c8, 0xb0b060];
+
+/** Sets an Object3D's position and quaternion from [x, y, z, qx, qy, qz, qw] (m). */
+export function setPose(object, pose, where) {
+  if (!Array.isArray(pose) || pose.length !== 7 || !pose.every(Number.isFinite)) {
+    throw new Error(`${where}: expected a pose [x,y,z,qx,qy,qz,qw] of 7 numbers, got ${JSON.stringify(pose)}`);
+  }
+  object.position.set(pose[0], pose[1], pose[2]);
+  object.quaternion.set(pose[3], pose[4], pose[5], pose[6]);
+}
+
+function shapeGeometry(shape, where) {
+  const size = shape.size ?? [];
+  const need = { box: 3, cylinder: 2, capsule: 2, sphere: 1 }[shape.type];
+  if (need === undefined) {
+    throw new Error(`${where}: unknown shape type '${shape.type}' (expected box, cylinder, capsule, sphere or mesh)`);
+  }
+  if (size.length < need || !size.slice(0, need).every((v) => Number.isFinite(v) && v >= 0)) {
+    throw new Error(`${where}: shape ${shape.type} needs ${need} non-negative sizes [m], got ${JSON.stringify(size)}`);
+  }
+  switch (shape.type) {
+    case 'box': return new THREE.BoxGeometry(size[0], size[1], size[2]);
+    // three builds cylinders and capsules along y; the protocol's (and planning's) are along z.
+    case 'cylinder': return new THREE.CylinderGeometry(size[0], size[0], size[1], 32).rotateX(Math.PI / 2);
+    case 'capsule': return new THREE.CapsuleGeometry(size[0], size[1], 8, 24).rotateX(Math.PI / 2);
+    default: return new THREE.SphereGeometry(size[0], 32, 16);
+  }
+}
+
+/** Loads a mesh shape (STL or OBJ under /api/mesh/) into `parent`, scaled by shape.scale. */
+function loadMesh(shape, material, parent, onError, where) {
+  const file = String(shape.file ?? '');
+  const scale = shape.scale ?? 1;
+  const url = new URL(file, window.location.href);
+  const token = new URLSearchParams(window.location.search).get('token');
+  if (token) url.searchParams.set('token', token);
+  const fail = (err) => onError(`${where}: mesh '${file}' cannot be loaded: ${err?.message ?? err}`);
+  if (/\.stl$/i.test(file)) {
+    new STLLoader().load(url.href, (geometry) => {
+      const mesh = new THREE.Mesh(geometry, material);
+      mesh.scale.setScalar(scale);
+      parent.add(mesh);
+    }, undefined, fail);
+  } else if (/\.obj$/i.test(file)) {
+    new OBJLoader().load(url.href, (group) => {
+      group.traverse((child) => { if (child.isMesh) child.material = material; });
+      group.scale.setScalar(scale);
+      parent.add(group);
+    }, undefined, fail);
+  } else {
+    fail(new Error('expected a .stl or .obj file'));
+  }
+}
+
+function makeExtra(extra) {
+  const color = 0xffb347;
+  switch (extra.kind) {
+    case 'sphere': return new THREE.Mesh(new THREE.SphereGeometry(1, 32, 16),
+      new THREE.MeshStandardMaterial({ color: 0xaee6ff, transparent: true, opacity: 0.6 }));
+    case 'plane': return new THREE.Mesh(new THREE.PlaneGeometry(1, 1),
+      new THREE.MeshBasicMaterial({ color: 0x9ad0ff, transparent: true, opacity: 0.35, side: THREE.DoubleSide }));
+    case 'polyline':
+    case 'path': return new THREE.Line(new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ color: extra.kind === 'path' ? 0x7fff7f : color }));
+    case 'points': return new THREE.Points(new THREE.BufferGeometry(),
+      new THREE.PointsMaterial({ color, size: 6, sizeAttenuation: false }));
+    default: throw new Error(`model extras '${extra.name}': unknown kind '${extra.kind}' (expected sphere, plane, polyline, points or path)`);
+  }
+}
+
+function setPoints(object, points) {
+  object.geometry.setFromPoints((points ?? []).map((p) => new THREE.Vector3(p[0], p[1], p[2])));
+  object.geometry.computeBoundingSphere();
+}
+
+/** Applies one extra's frame data (see studio/web/README.md for the payload of each kind). */
+function updateExtra(extra, object, data) {
+  if (!data) return;
+  switch (extra.kind) {
+    case 'sphere':
+      object.position.fromArray(data.center ?? [0, 0, 0]);
+      object.scale.setScalar(Math.max(data.radius ?? 0, 1e-9));
+      object.visible = (data.radius ?? 0) > 0;
+      break;
+    case 'plane':
+      setPose(object, data.pose, `frame extras '${extra.name}'.pose`);
+      object.scale.set(data.size?.[0] ?? 0.1, data.size?.[1] ?? 0.1, 1);
+      break;
+    default: setPoints(object, data.points);
+  }
+}
+
+export class StudioView {
+  /** Builds the view for `model` (the protocol's /api/model) inside the element `container`. */
+  constructor(container, model, onError) {
+    this.model = model;
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(BACKGROUND);
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    container.append(this.renderer.domElement);
+    this.camera = new THREE.PerspectiveCamera(45, 1, 0.01, 50);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(1.4, -1.4, 1.1);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.target.set(0.2, 0, 0.2);
+    this.controls.addEventListener('change', () => this.render());
+    this.fitted = false;
+    this.addLightsAndGrid();
+    this.links = new Map();
+    for (const robot of model.robots ?? []) {
+      const groups = Array.from({ length: robot.links }, (_, i) => {
+        const group = new THREE.Group();
+        group.name = `${robot.name}.${i}`;
+        this.scene.add(group);
+        return group;
+      });
+      this.links.set(robot.name, groups);
+    }
+    this.addObjects(model.objects ?? [], onError);
+    this.extras = new Map();
+    for (const extra of model.extras ?? []) {
+      const object = makeExtra(extra);
+      object.name = extra.name;
+      object.visible = extra.kind !== 'sphere';
+      this.scene.add(object);
+      this.extras.set(extra.name, { extra, object });
+    }
+    this.resizeObserver = new ResizeObserver(() => this.resize(container));
+    this.resizeObserver.observe(container);
+    this.resize(container);
+  }
+
+  addLightsAndGrid() {
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+    sun.position.set(2, -1, 3);
+    this.scene.add(sun);
+    const grid = new THREE.GridHelper(2, 20, 0x56606c, 0x3a414b);
+    grid.rotateX(Math.PI / 2); // three's grid lies in xz; cobra's floor is the xy plane
+    this.scene.add(grid);
+    this.scene.add(new THREE.AxesHelper(0.1));
+  }
+
+  addObjects(objects, onError) {
+    const groups = [...new Set(objects.map((o) => o.group))];
+    for (const [index, object] of objects.entries()) {
+      const where = `model objects[${index}] '${object.name}'`;
+      let parent = this.scene;
+      if (object.robot) {
+        parent = this.links.get(object.robot)?.[object.link];
+        if (!parent) {
+          throw new Error(`${where}: robot '${object.robot}' link ${object.link} is not in the model's robots (expected a robot name and 0 <= link < its links)`);
+        }
+      }
+      const world = !object.robot;
+      const material = new THREE.MeshStandardMaterial({
+        color: PALETTE[groups.indexOf(object.group) % PALETTE.length],
+        roughness: 0.6, metalness: 0.1, transparent: world, opacity: world ? 0.55 : 1,
+      });
+      const holder = new THREE.Group();
+      holder.name = object.name;
+      setPose(holder, object.pose, `${where}.pose`);
+      if (object.shape?.type === 'mesh') loadMesh(object.shape, material, holder, onError, where);
+      else holder.add(new THREE.Mesh(shapeGeometry(object.shape ?? {}, where), material));
+      parent.add(holder);
+    }
+  }
+
+  /** The group placed at link `index` of `robot` (its world matrix = the frame's link pose). */
+  linkObject(robot, index) {
+    return this.links.get(robot)?.[index] ?? null;
+  }
+
+  /** Places every link and extra from a FRAME message and redraws. */
+  applyFrame(frame) {
+    for (const [name, state] of Object.entries(frame.robots ?? {})) {
+      const groups = this.links.get(name);
+      if (!groups) continue;
+      (state.links ?? []).forEach((pose, i) => {
+        if (groups[i]) setPose(groups[i], pose, `frame t=${frame.t} robots '${name}' links[${i}]`);
+      });
+    }
+    for (const [name, data] of Object.entries(frame.extras ?? {})) {
+      const entry = this.extras.get(name);
+      if (entry) updateExtra(entry.extra, entry.object, data);
+    }
+    this.scene.updateMatrixWorld(true);
+    if (!this.fitted) this.fitCamera();
+    this.render();
+  }
+
+  /** Points the camera at everything drawn, once, after the first frame placed the robots. */
+  fitCamera() {
+    this.fitted = true;
+    const box = new THREE.Box3();
+    this.scene.traverse((o) => { if (o.isMesh && o.visible) box.expandByObject(o); });
+    if (box.isEmpty()) return;
+    const center = box.getCenter(new THREE.Vector3());
+    const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.05);
+    const distance = radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    this.controls.target.copy(center);
+    this.camera.position.copy(center).add(new THREE.Vector3(0.8, -1, 0.6).normalize().multiplyScalar(distance));
+    this.camera.near = distance / 100;
+    this.camera.far = distance * 10;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+  }
+
+  resize(container) {
+    const width = Math.max(container.clientWidth, 1);
+    const height = Math.max(container.clientHeight, 1);
+    this.renderer.setSize(width, height, false);
+    this.camera.aspect = width / height;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  render() {
+    this.renderer.render(this.scene, this.camera);
+  }
+}

@@ -1,0 +1,53 @@
+// The live page against the fixture server: the WebGL view draws, and every link's world matrix
+// in three's scene graph equals the streamed frame's link pose (cobra's forward kinematics).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { startFixtureServer, loadFixtures } from './fixture_server.mjs';
+import { launch, openStudio, readLinks, linkError, countDrawnPixels } from './browser.mjs';
+
+const BACKGROUND = [0x1d, 0x21, 0x26];
+let server;
+let browser;
+before(async () => {
+  server = await startFixtureServer('live');
+  browser = await launch();
+});
+after(async () => {
+  await browser?.close();
+  await server?.close();
+});
+
+test('the WebGL canvas shows the robots and the scene (non-background pixels)', async (t) => {
+  const { page, errors } = await openStudio(browser, server.pageUrl, t);
+  const { drawn, total } = await countDrawnPixels(page, BACKGROUND);
+  assert.ok(drawn > total * 0.02, `only ${drawn} of ${total} pixels differ from the background`);
+  assert.deepEqual(errors, []);
+  assert.equal(await page.locator('#error').isHidden(), true);
+});
+
+test('each link world matrix equals the frame link pose within 1e-6 m', async (t) => {
+  const { recording } = loadFixtures();
+  const { page } = await openStudio(browser, server.pageUrl, t);
+  const seen = new Set();
+  for (let sample = 0; sample < 10; sample += 1) {
+    const { t, links } = await readLinks(page);
+    const frame = recording.frames.find((f) => f.t === t);
+    assert.ok(frame, `the page shows t = ${t}, which is no fixture frame`);
+    const worst = linkError(links, frame);
+    assert.ok(worst < 1e-6, `t = ${t}: a link matrix element is off by ${worst}`);
+    seen.add(t);
+    await page.waitForTimeout(70);
+  }
+  assert.ok(seen.size >= 3, `the page showed only ${seen.size} distinct frames in 10 samples 70 ms apart`);
+});
+
+test('the console shows chart states, deployments, configurations and clearance of the frame', async (t) => {
+  const { page } = await openStudio(browser, server.pageUrl, t);
+  await page.waitForFunction(() => window.cobraStudio.frameTime() >= 1.6 && window.cobraStudio.frameTime() < 2.4);
+  const text = await page.locator('#console').innerText();
+  assert.match(text, /deployment task\s+execution/);
+  assert.match(text, /configuration arm\s+admittance/);
+  assert.match(await page.locator('#charts tr[data-key="task"]').innerText(), /task\s+Insert\.Advance/);
+  assert.match(await page.locator('#clearance').innerText(), /^clearance -?\d+\.\d mm \(min 5\.0 mm\) (valid|INVALID)$/);
+  assert.ok(await page.locator('#plots .uplot').count() >= 1, 'no plot is drawn for the first signal');
+});
