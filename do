@@ -38,6 +38,8 @@ setup() {
   for p in "${PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
   done
+  # The studio page is built with npm (studio/web); a node that ships its own npm is kept.
+  command -v npm >/dev/null || missing+=(nodejs npm)
   [ ${#missing[@]} -eq 0 ] && return 0
   say "installing Debian packages: ${missing[*]}"
   local sudo=()
@@ -83,6 +85,7 @@ build() {
   [ -t 1 ] || status="[%f/%t, %es] "  # plain lines say the elapsed seconds themselves
   if [ "$preset" = fuzz ]; then setup "${FUZZ_PACKAGES[@]}"; else setup; fi
   mkdir -p build
+  sh studio/web/tools/npm_ci_if_needed.sh  # quick and offline when node_modules is current
   log="build/$preset.log"
   : >"$log"
   if ! { { [ -f "build/$preset/build.ninja" ] || cmake --preset "$preset"; } &&

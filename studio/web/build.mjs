@@ -1,12 +1,14 @@
-// Bundles the page into dist/: index.html, assets/studio.js (one classic script: module scripts
-// do not load from file://, where a run folder's replay opens) and assets/studio.css.
+// Bundles the page into DIR (argument; default studio/web/dist): index.html, assets/studio.js (one
+// classic script: module scripts do not load from file://, where a run folder's replay opens),
+// assets/studio.css and the bundled packages' licences (assets/studio.js.LEGAL.txt).
+// Usage: node build.mjs [DIR]   (CMake's studio_web target passes the build tree's folder)
 import { build } from 'esbuild';
 import { copyFileSync, mkdirSync, rmSync } from 'node:fs';
-import { dirname, join } from 'node:path';
+import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const dist = join(here, 'dist');
+const dist = resolve(process.argv[2] ?? join(here, 'dist'));
 rmSync(dist, { recursive: true, force: true });
 mkdirSync(join(dist, 'assets'), { recursive: true });
 await build({

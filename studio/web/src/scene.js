@@ -83,20 +83,32 @@ function setPoints(object, points) {
   object.geometry.computeBoundingSphere();
 }
 
-/** Applies one extra's frame data (see studio/web/README.md for the payload of each kind). */
+const finite = (values, n) => Array.isArray(values) && values.length === n && values.every(Number.isFinite);
+
+/**
+ * Applies one extra's frame data (the payload of each kind: studio/web/README.md). The server
+ * sends null for a value it could not read (a port not written yet): that extra is hidden.
+ */
 function updateExtra(extra, object, data) {
   if (!data) return;
   switch (extra.kind) {
     case 'sphere':
-      object.position.fromArray(data.center ?? [0, 0, 0]);
-      object.scale.setScalar(Math.max(data.radius ?? 0, 1e-9));
-      object.visible = (data.radius ?? 0) > 0;
+      object.visible = finite(data.center, 3) && Number.isFinite(data.radius) && data.radius > 0;
+      if (object.visible) {
+        object.position.fromArray(data.center);
+        object.scale.setScalar(data.radius);
+      }
       break;
-    case 'plane':
-      setPose(object, data.pose, `frame extras '${extra.name}'.pose`);
-      object.scale.set(data.size?.[0] ?? 0.1, data.size?.[1] ?? 0.1, 1);
+    case 'plane': {
+      const size = data.size ?? extra.size ?? [0.1, 0.1];
+      object.visible = finite(data.pose, 7) && finite(size, 2);
+      if (object.visible) {
+        setPose(object, data.pose, `frame extras '${extra.name}'.pose`);
+        object.scale.set(size[0], size[1], 1);
+      }
       break;
-    default: setPoints(object, data.points);
+    }
+    default: setPoints(object, (data.points ?? []).filter((p) => finite(p, 3)));
   }
 }
 
@@ -182,13 +194,18 @@ export class StudioView {
     return this.links.get(robot)?.[index] ?? null;
   }
 
-  /** Places every link and extra from a FRAME message and redraws. */
+  /**
+   * Places every link and extra from a FRAME message and redraws. A link whose pose the server
+   * sent as nulls (no joint state yet, or the kinematics failed) is hidden until it has one.
+   */
   applyFrame(frame) {
     for (const [name, state] of Object.entries(frame.robots ?? {})) {
       const groups = this.links.get(name);
       if (!groups) continue;
       (state.links ?? []).forEach((pose, i) => {
-        if (groups[i]) setPose(groups[i], pose, `frame t=${frame.t} robots '${name}' links[${i}]`);
+        if (!groups[i]) return;
+        groups[i].visible = finite(pose, 7);
+        if (groups[i].visible) setPose(groups[i], pose, `frame t=${frame.t} robots '${name}' links[${i}]`);
       });
     }
     for (const [name, data] of Object.entries(frame.extras ?? {})) {

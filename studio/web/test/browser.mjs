@@ -51,11 +51,15 @@ export function poseMatrix([x, y, z, qx, qy, qz, qw]) {
   ];
 }
 
-/** Largest element difference between the page's link matrices and a frame's link poses. */
+/**
+ * Largest element difference between the page's link matrices and a frame's link poses (links
+ * the frame sent as nulls are skipped: the page hides them and keeps their last pose).
+ */
 export function linkError(pageLinks, frame) {
   let worst = 0;
   for (const [robot, state] of Object.entries(frame.robots)) {
     state.links.forEach((pose, i) => {
+      if (pose.includes(null)) return;
       const want = poseMatrix(pose);
       pageLinks[robot][i].forEach((v, k) => { worst = Math.max(worst, Math.abs(v - want[k])); });
     });

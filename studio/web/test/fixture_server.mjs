@@ -8,12 +8,13 @@
 //   mode 'drop':   like live, but the server closes every WebSocket after its first frame.
 import { createServer } from 'node:http';
 import { readFileSync, existsSync } from 'node:fs';
-import { dirname, join, extname, normalize } from 'node:path';
+import { dirname, join, extname, normalize, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { WebSocketServer } from 'ws';
 
 const here = dirname(fileURLToPath(import.meta.url));
-export const DIST = join(here, '..', 'dist');
+/** The built page: $COBRA_STUDIO_WEB_DIST (CTest passes the build tree's), else studio/web/dist. */
+export const DIST = resolve(process.env.COBRA_STUDIO_WEB_DIST ?? join(here, '..', 'dist'));
 export const FIXTURES = join(here, 'fixtures');
 export const TOKEN = '0123456789abcdef0123456789abcdef';
 export const MODEL_ERROR = "app 'fixture': studio table names port 'arm.nope', which the app does not have";

@@ -100,13 +100,15 @@ function model(mode) {
     ],
     extras: [
       { name: 'iceball', kind: 'sphere', frame: 'world' },
-      { name: 'us_plane', kind: 'plane', frame: 'world' },
+      { name: 'us_plane', kind: 'plane', frame: 'world', size: [0.12, 0.1] },
       { name: 'nominal_path', kind: 'path', frame: 'world' },
       { name: 'wound', kind: 'polyline', frame: 'world' },
       { name: 'stitches', kind: 'points', frame: 'world' },
     ],
   };
 }
+
+const probeLost = (t) => t >= 3 - 1e-9 && t < 3.2 - 1e-9;
 
 function frame(t, path) {
   const qa = [0.6 * Math.sin(0.5 * t), 0.5 + 0.3 * Math.sin(t), -0.9 + 0.5 * Math.sin(0.7 * t), 2 * t];
@@ -117,10 +119,11 @@ function frame(t, path) {
   const r = (v) => Math.round(v * 1e9) / 1e9; // signals rounded to 1e-9 only to keep the file short
   return {
     type: 'frame', t: r(t),
-    robots: { arm: { q: qa, links: arm.map(pose7) }, probe: { q: qp, links: probeLinks(qp).map(pose7) } },
+    // The probe's state is lost for 0.2 s: the server sends nulls for what it cannot read.
+    robots: { arm: { q: qa, links: arm.map(pose7) }, probe: probeLost(t) ? { q: [null, null], links: [Array(7).fill(null), Array(7).fill(null)] } : { q: qp, links: probeLinks(qp).map(pose7) } },
     extras: {
       iceball: { center: PHANTOM.center, radius: t < 2.5 ? 0 : 0.02 * Math.min(1, (t - 2.5) / 1.5) },
-      us_plane: { pose: [0.35, 0.1, 0.2, ...axisAngle(X, Math.PI / 2)], size: [0.12, 0.1] },
+      us_plane: { pose: [0.35, 0.1, 0.2, ...axisAngle(X, Math.PI / 2)] },
       nominal_path: { points: path },
       wound: { points: [[0.3, 0.05, 0.18], [0.4, 0.15, 0.18]] },
       stitches: { points: [[0.32, 0.07, 0.18], [0.35, 0.1, 0.18], [0.38, 0.13, 0.18]].slice(0, Math.floor(t)) },

@@ -19,7 +19,10 @@ async function scrubTo(page, index) {
   await page.waitForFunction((t) => window.cobraStudio.frameTime() === t, recording.frames[index].t);
 }
 
-/** Scrubs to three frames and checks the links, the task chart and the greyed-out events. */
+/**
+ * Scrubs to three frames (one where the probe's pose is null) and checks the links, the task
+ * chart and the greyed-out events.
+ */
 async function checkScrubbing(page) {
   assert.equal(await page.locator('#scrub').getAttribute('max'), String(recording.frames.length - 1));
   const start = await readLinks(page);
@@ -31,6 +34,9 @@ async function checkScrubbing(page) {
     const now = await readLinks(page);
     assert.ok(linkError(now.links, frame) < 1e-6, `frame ${index}: a link is off the recorded pose`);
     assert.ok(linkError(now.links, recording.frames[0]) > 0.01, `frame ${index}: the arm did not move from t = 0`);
+    const lost = frame.robots.probe.links[1].includes(null);
+    assert.equal(await page.evaluate(() => window.cobraStudio.linkObject('probe', 1).visible), !lost,
+      `frame ${index}: the probe's link should be ${lost ? 'hidden (null pose)' : 'shown'}`);
     assert.match(await page.locator('#charts tr[data-key="task"]').innerText(), new RegExp(`task\\s+${frame.charts.task.replace('.', '\\.')}$`));
     const future = await page.locator('#events li.future').count();
     assert.equal(future, recording.events.filter((e) => e.t > frame.t + 1e-9).length);
