@@ -1,6 +1,8 @@
 // The surgeon's console beside the 3D view: every chart's active state, the deployments and
 // configurations in force, the event log, the inputs as buttons, the clearance and the outcome.
 
+const MAX_LIVE_EVENTS = 2000; // a live log keeps the newest; a replay shows the whole recording
+
 function fillTable(table, rows) {
   table.replaceChildren(...rows.map(([key, value]) => {
     const tr = document.createElement('tr');
@@ -54,7 +56,8 @@ export class Panel {
       li.textContent = `${Number(msg.t ?? 0).toFixed(2)} s  ${msg.source}: ${msg.name}`;
     }
     this.events.append(li);
-    li.scrollIntoView({ block: 'nearest' });
+    if (this.model.mode !== 'replay' && this.events.children.length > MAX_LIVE_EVENTS) this.events.firstElementChild.remove();
+    this.events.scrollTop = this.events.scrollHeight; // the log's own scroll only, not the console's
   }
 
   setOutcome(msg) {
@@ -64,7 +67,14 @@ export class Panel {
 
   /** Replay: greys out the events after `t` and shows the outcome only once the end is reached. */
   showEventsUntil(t, end) {
-    for (const li of this.events.children) li.classList.toggle('future', Number(li.dataset.t) > t + 1e-9);
+    let last = null;
+    for (const li of this.events.children) {
+      const future = Number(li.dataset.t) > t + 1e-9;
+      li.classList.toggle('future', future);
+      if (!future) last = li;
+    }
+    // Scrolls the log (only) so the newest past event is its last visible line.
+    this.events.scrollTop = last ? last.offsetTop + last.offsetHeight - this.events.clientHeight : 0;
     this.setOutcome(end && t >= (end.t ?? Infinity) - 1e-9 ? end : null);
   }
 

@@ -37,28 +37,41 @@ function shapeGeometry(shape, where) {
   }
 }
 
-/** Loads a mesh shape (STL or OBJ under /api/mesh/) into `parent`, scaled by shape.scale. */
-function loadMesh(shape, material, parent, onError, where) {
+/**
+ * Parses a mesh file's bytes: STL (binary or ASCII) or OBJ, told apart by content since the
+ * server names meshes /api/mesh/NAME without an extension.
+ */
+function parseMesh(buffer, material) {
+  const bytes = new Uint8Array(buffer);
+  const head = new TextDecoder().decode(bytes.subarray(0, 512)).trimStart();
+  const view = new DataView(buffer);
+  const binaryStl = bytes.length >= 84 && 84 + 50 * view.getUint32(80, true) === bytes.length;
+  if (binaryStl || (head.startsWith('solid') && /facet/.test(new TextDecoder().decode(bytes.subarray(0, 4096))))) {
+    return new THREE.Mesh(new STLLoader().parse(buffer), material);
+  }
+  if (/^(#|v|vn|vt|f|o|g|s|mtllib|usemtl)\s/m.test(head)) {
+    const group = new OBJLoader().parse(new TextDecoder().decode(bytes));
+    group.traverse((child) => { if (child.isMesh) child.material = material; });
+    return group;
+  }
+  throw new Error('expected an STL (binary or ASCII) or OBJ file');
+}
+
+/** Fetches a mesh shape (STL or OBJ, from shape.file) into `parent`, scaled by shape.scale. */
+async function loadMesh(shape, material, parent, where) {
   const file = String(shape.file ?? '');
-  const scale = shape.scale ?? 1;
   const url = new URL(file, window.location.href);
   const token = new URLSearchParams(window.location.search).get('token');
   if (token) url.searchParams.set('token', token);
-  const fail = (err) => onError(`${where}: mesh '${file}' cannot be loaded: ${err?.message ?? err}`);
-  if (/\.stl$/i.test(file)) {
-    new STLLoader().load(url.href, (geometry) => {
-      const mesh = new THREE.Mesh(geometry, material);
-      mesh.scale.setScalar(scale);
-      parent.add(mesh);
-    }, undefined, fail);
-  } else if (/\.obj$/i.test(file)) {
-    new OBJLoader().load(url.href, (group) => {
-      group.traverse((child) => { if (child.isMesh) child.material = material; });
-      group.scale.setScalar(scale);
-      parent.add(group);
-    }, undefined, fail);
-  } else {
-    fail(new Error('expected a .stl or .obj file'));
+  try {
+    const response = await fetch(url, { headers: token ? { 'X-Cobra-Token': token } : {} });
+    if (!response.ok) throw new Error(`HTTP ${response.status}`);
+    const object = parseMesh(await response.arrayBuffer(), material);
+    object.scale.setScalar(shape.scale ?? 1);
+    parent.add(object);
+    object.updateMatrixWorld(true);
+  } catch (err) {
+    throw new Error(`${where}: mesh '${file}' cannot be loaded: ${err.message}`, { cause: err });
   }
 }
 
@@ -139,6 +152,7 @@ export class StudioView {
       });
       this.links.set(robot.name, groups);
     }
+    this.meshes = []; // promises of the meshes being fetched
     this.addObjects(model.objects ?? [], onError);
     this.extras = new Map();
     for (const extra of model.extras ?? []) {
@@ -183,7 +197,9 @@ export class StudioView {
       const holder = new THREE.Group();
       holder.name = object.name;
       setPose(holder, object.pose, `${where}.pose`);
-      if (object.shape?.type === 'mesh') loadMesh(object.shape, material, holder, onError, where);
+      if (object.shape?.type === 'mesh') {
+        this.meshes.push(loadMesh(object.shape, material, holder, where).then(() => this.render(), (err) => onError(err.message)));
+      }
       else holder.add(new THREE.Mesh(shapeGeometry(object.shape ?? {}, where), material));
       parent.add(holder);
     }

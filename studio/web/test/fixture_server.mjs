@@ -61,6 +61,12 @@ export async function startFixtureServer(mode = 'live') {
       if (mode === 'error') return json(res, 500, { error: MODEL_ERROR });
       return json(res, 200, mode === 'replay' ? recording.model : liveModel);
     }
+    if (url.pathname.startsWith('/api/mesh/')) {
+      const file = join(FIXTURES, 'meshes', url.pathname.slice('/api/mesh/'.length).replace(/[^a-z_]/g, ''));
+      if (!existsSync(file)) return json(res, 404, { error: `no mesh ${url.pathname}` });
+      res.writeHead(200, { 'Content-Type': 'application/octet-stream' });
+      return res.end(readFileSync(file));
+    }
     if (url.pathname === '/api/recording') return json(res, 200, { frames: recording.frames, events: recording.events });
     if (url.pathname === '/api/input' && req.method === 'POST') {
       let body = '';

@@ -27,7 +27,7 @@ test('pressing "Needle mounted" sends the input and the needle chart advances', 
   assert.deepEqual(server.inputs, []);
   await page.getByRole('button', { name: 'Needle mounted' }).click();
   await page.waitForFunction(() => document.querySelector('#charts tr[data-key="needle"]').innerText.includes('Mounted')
-    && !document.querySelector('#charts tr[data-key="needle"]').innerText.includes('Wait'));
+    && !document.querySelector('#charts tr[data-key="needle"]').innerText.includes('Wait'), null, { timeout: 10000 });
   assert.deepEqual(server.inputs, ['needle_mounted']);
   await page.locator('#events li', { hasText: 'needle: e_needle_mounted' }).waitFor();
 });

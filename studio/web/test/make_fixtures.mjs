@@ -61,9 +61,23 @@ const PHANTOM = { center: [0.35, 0.1, 0.1], radius: 0.08 };
 const THRESHOLD = 0.005; // m
 const alongX = axisAngle(Y, Math.PI / 2); // turns a z-axis shape onto +x
 
+// A square pyramid, 40 mm base and 30 mm high, in mm (a CAD export's units): the mesh objects'
+// file, written as ASCII STL and as OBJ, drawn at scale 0.001.
+const PYRAMID = { vertices: [[-20, -20, 0], [20, -20, 0], [20, 20, 0], [-20, 20, 0], [0, 0, 30]],
+  triangles: [[0, 2, 1], [0, 3, 2], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]] };
+function stl({ vertices, triangles }) {
+  const facets = triangles.map((t) => `facet normal 0 0 0\n outer loop\n${t.map((i) => `  vertex ${vertices[i].join(' ')}\n`).join('')} endloop\nendfacet\n`);
+  return `solid pyramid\n${facets.join('')}endsolid pyramid\n`;
+}
+function obj({ vertices, triangles }) {
+  return `# pyramid, mm\n${vertices.map((v) => `v ${v.join(' ')}`).join('\n')}\n${triangles.map((t) => `f ${t.map((i) => i + 1).join(' ')}`).join('\n')}\n`;
+}
+
 const objects = [
   { name: 'table', group: 'environment', robot: '', link: -1, shape: { type: 'box', size: [1.2, 1.0, 0.04] }, pose: [0, 0, 0.02, 0, 0, 0, 1] },
   { name: 'phantom', group: 'environment', robot: '', link: -1, shape: { type: 'sphere', size: [PHANTOM.radius] }, pose: [...PHANTOM.center, 0, 0, 0, 1] },
+  { name: 'marker_stl', group: 'environment', robot: '', link: -1, shape: { type: 'mesh', file: '/api/mesh/marker_stl', scale: 0.001 }, pose: [-0.3, 0.3, 0.04, 0, 0, 0, 1] },
+  { name: 'marker_obj', group: 'environment', robot: '', link: -1, shape: { type: 'mesh', file: '/api/mesh/marker_obj', scale: 0.001 }, pose: [-0.3, -0.3, 0.04, 0, 0, 0, 1] },
   { name: 'arm_base', group: 'arm', robot: 'arm', link: 0, shape: { type: 'cylinder', size: [0.08, 0.1] }, pose: [0, 0, 0.05, 0, 0, 0, 1] },
   { name: 'arm_shoulder', group: 'arm', robot: 'arm', link: 1, shape: { type: 'box', size: [0.09, 0.09, 0.1] }, pose: [0, 0, 0.05, 0, 0, 0, 1] },
   { name: 'arm_upper', group: 'arm', robot: 'arm', link: 2, shape: { type: 'capsule', size: [0.03, UPPER] }, pose: [UPPER / 2, 0, 0, ...alongX] },
@@ -144,6 +158,9 @@ const events = TASK_STATES.map(([t, s]) => ({ type: 'event', t, source: 'task', 
 events.push({ type: 'end', t: DURATION, outcome: 'Completed', message: 'synthetic run finished' });
 
 mkdirSync(OUT, { recursive: true });
+mkdirSync(join(OUT, 'meshes'), { recursive: true });
+writeFileSync(join(OUT, 'meshes', 'marker_stl'), stl(PYRAMID));
+writeFileSync(join(OUT, 'meshes', 'marker_obj'), obj(PYRAMID));
 writeFileSync(join(OUT, 'model.json'), JSON.stringify(model('live')) + '\n');
 const recording = { model: model('replay'), frames, events };
 writeFileSync(join(OUT, 'recording.json'), JSON.stringify(recording) + '\n');

@@ -51,3 +51,35 @@ test('the console shows chart states, deployments, configurations and clearance 
   assert.match(await page.locator('#clearance').innerText(), /^clearance -?\d+\.\d mm \(min 5\.0 mm\) (valid|INVALID)$/);
   assert.ok(await page.locator('#plots .uplot').count() >= 1, 'no plot is drawn for the first signal');
 });
+
+test('mesh objects (STL and OBJ, in mm) are fetched, parsed and scaled to m', async (t) => {
+  const { page } = await openStudio(browser, server.pageUrl, t);
+  for (const name of ['marker_stl', 'marker_obj']) {
+    await page.waitForFunction((n) => window.cobraStudio.scene.getObjectByName(n).children.length > 0, name, { timeout: 10000 });
+    const box = await page.evaluate((n) => {
+      const holder = window.cobraStudio.scene.getObjectByName(n);
+      let triangles = 0;
+      holder.traverse((o) => { if (o.isMesh) triangles += o.geometry.attributes.position.count / 3; });
+      const b = new holder.position.constructor(); // a three.js Vector3
+      const bounds = { min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] };
+      holder.updateMatrixWorld(true);
+      holder.traverse((o) => {
+        if (!o.isMesh) return;
+        const p = o.geometry.attributes.position;
+        for (let i = 0; i < p.count; i += 1) {
+          const v = b.fromBufferAttribute(p, i).applyMatrix4(o.matrixWorld);
+          ['x', 'y', 'z'].forEach((k, j) => {
+            bounds.min[j] = Math.min(bounds.min[j], v[k]);
+            bounds.max[j] = Math.max(bounds.max[j], v[k]);
+          });
+        }
+      });
+      return { triangles, bounds };
+    }, name);
+    assert.equal(box.triangles, 6, `${name}: triangles`);
+    const want = { min: [-0.32, name === 'marker_stl' ? 0.28 : -0.32, 0.04], max: [-0.28, name === 'marker_stl' ? 0.32 : -0.28, 0.07] };
+    for (const k of ['min', 'max']) {
+      box.bounds[k].forEach((v, j) => assert.ok(Math.abs(v - want[k][j]) < 1e-9, `${name}: ${k}[${j}] = ${v}, expected ${want[k][j]}`));
+    }
+  }
+});
