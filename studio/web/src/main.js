@@ -124,6 +124,8 @@ async function main() {
       frameTime: () => state.frame?.t ?? null,
       /** Replay: shows the last frame at or before `t` [s] and returns its time; live: null. */
       seek: (t) => state.seek?.(t) ?? null,
+      /** Replay: the recording's events (the log's source); live: []. */
+      events: replay?.events ?? [],
     };
     if (replay) startReplay(replay, view, panel, plots, state);
     else startLive(view, panel, plots, state);
