@@ -4,6 +4,9 @@
 # Called by ./do build and by the CMake target studio_web.
 set -eu
 cd "$(dirname "$0")/.."
+# Without Node.js >= 20 the CMake of studio/web skips the page with a warning saying so.
+command -v npm >/dev/null && command -v node >/dev/null || exit 0
+[ "$(node -p 'process.versions.node.split(".")[0]')" -ge 20 ] || exit 0
 stamp=node_modules/.cobra-package-lock.sha256
 want=$(sha256sum package-lock.json | cut -d' ' -f1)
 if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then exit 0; fi
