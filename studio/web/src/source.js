@@ -15,13 +15,24 @@ function apiUrl(path) {
   return url;
 }
 
-/** GETs a JSON document; a non-2xx answer throws an Error with the server's `error` text. */
+const LOADING_RETRY_MS = 250;
+const LOADING_LIMIT_MS = 120000; // how long the page waits for a run that is still loading
+
+/**
+ * GETs a JSON document; a non-2xx answer throws an Error with the server's `error` text. HTTP 503
+ * (the run is still loading) is asked again every LOADING_RETRY_MS for up to LOADING_LIMIT_MS.
+ */
 async function getJson(path) {
   let response;
-  try {
-    response = await fetch(apiUrl(path), { headers: { 'X-Cobra-Token': pageToken() } });
-  } catch (err) {
-    throw new Error(`${path}: the cobra server cannot be reached (${err.message})`, { cause: err });
+  const start = Date.now();
+  for (;;) {
+    try {
+      response = await fetch(apiUrl(path), { headers: { 'X-Cobra-Token': pageToken() } });
+    } catch (err) {
+      throw new Error(`${path}: the cobra server cannot be reached (${err.message})`, { cause: err });
+    }
+    if (response.status !== 503 || Date.now() - start > LOADING_LIMIT_MS) break;
+    await new Promise((resolve) => setTimeout(resolve, LOADING_RETRY_MS));
   }
   const text = await response.text();
   let body;

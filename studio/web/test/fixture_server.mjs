@@ -6,6 +6,7 @@
 //   mode 'replay': /api/model is the recording's model, /api/recording its frames and events.
 //   mode 'error':  /api/model answers 500 { error }.
 //   mode 'drop':   like live, but the server closes every WebSocket after its first frame.
+//   mode 'loading': like live, but /api/model answers 503 (the run is loading) 3 times first.
 import { createServer } from 'node:http';
 import { readFileSync, existsSync } from 'node:fs';
 import { dirname, join, extname, normalize, resolve } from 'node:path';
@@ -42,6 +43,7 @@ export async function startFixtureServer(mode = 'live') {
   const { liveModel, recording } = loadFixtures();
   const inputs = []; // names received, by POST or WebSocket, in order
   let needle = 'WaitMounted';
+  let loading = mode === 'loading' ? 3 : 0;
   const sockets = new Set();
   const accept = (name) => {
     if (!liveModel.inputs.some((i) => i.name === name)) {
@@ -59,6 +61,10 @@ export async function startFixtureServer(mode = 'live') {
     if (tokenOf(req, url) !== TOKEN) return json(res, 403, { error: 'missing or wrong token' });
     if (url.pathname === '/api/model') {
       if (mode === 'error') return json(res, 500, { error: MODEL_ERROR });
+      if (loading > 0) {
+        loading -= 1;
+        return json(res, 503, { error: 'the run is loading; ask again' });
+      }
       return json(res, 200, mode === 'replay' ? recording.model : liveModel);
     }
     if (url.pathname.startsWith('/api/mesh/')) {
@@ -115,6 +121,7 @@ export async function startFixtureServer(mode = 'live') {
   const url = `http://127.0.0.1:${server.address().port}/`;
   return {
     url,
+    modelRequestsLeftLoading: () => loading,
     pageUrl: `${url}?token=${TOKEN}`,
     inputs,
     close: () => new Promise((resolve) => {
