@@ -7,6 +7,7 @@ import { loadSession, connectLive, postInput } from './source.js';
 import { StudioView } from './scene.js';
 import { Panel } from './panel.js';
 import { Plots } from './plots.js';
+import { Trails } from './trails.js';
 
 /** Shows `message` in the page's error banner (errors stay visible until the page reloads). */
 function showError(message) {
@@ -29,12 +30,13 @@ function frameIndexAt(frames, time) {
   return lo;
 }
 
-function startReplay(replay, view, panel, plots, state) {
+function startReplay(replay, view, panel, plots, trails, state) {
   const { frames, events } = replay;
   if (frames.length === 0) throw new Error('recording: no frames (the run recorded nothing)');
   for (const e of events) panel.addEvent(e);
   const end = events.find((e) => e.type === 'end');
   plots.setFrames(frames);
+  trails.setFrames(frames);
   const slider = document.getElementById('scrub');
   const label = document.getElementById('scrub-time');
   const play = document.getElementById('play');
@@ -43,6 +45,7 @@ function startReplay(replay, view, panel, plots, state) {
   const show = (index) => {
     const frame = frames[index];
     state.frame = frame;
+    trails.draw(view, index);
     view.applyFrame(frame);
     panel.showFrame(frame);
     panel.showEventsUntil(frame.t, end);
@@ -81,12 +84,13 @@ function startReplay(replay, view, panel, plots, state) {
  * frame, once per animation frame, so a page slower than the stream skips frames instead of
  * queueing them (the server does the same per client).
  */
-function startLive(view, panel, plots, state) {
+function startLive(view, panel, plots, trails, state) {
   let newest = null;
   const show = () => {
     const frame = newest;
     newest = null;
     state.frame = frame;
+    trails.draw(view);
     view.applyFrame(frame);
     panel.showFrame(frame);
   };
@@ -95,6 +99,7 @@ function startLive(view, panel, plots, state) {
       if (newest === null) requestAnimationFrame(show);
       newest = msg;
       plots.addFrame(msg);
+      trails.addFrame(msg);
     },
     event: (msg) => panel.addEvent(msg),
     end: (msg) => panel.addEvent(msg),
@@ -127,8 +132,9 @@ async function main() {
       /** Replay: the recording's events (the log's source); live: []. */
       events: replay?.events ?? [],
     };
-    if (replay) startReplay(replay, view, panel, plots, state);
-    else startLive(view, panel, plots, state);
+    const trails = new Trails(model);
+    if (replay) startReplay(replay, view, panel, plots, trails, state);
+    else startLive(view, panel, plots, trails, state);
   } catch (err) {
     showError(err.message);
   }

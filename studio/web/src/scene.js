@@ -75,8 +75,10 @@ async function loadMesh(shape, material, parent, where) {
   }
 }
 
-function makeExtra(extra) {
-  const color = 0xffb347;
+const EXTRA_COLORS = [0xffb347, 0x7fff7f, 0xff6f91, 0x9ad0ff, 0xf0f060];
+
+function makeExtra(extra, index) {
+  const color = EXTRA_COLORS[index % EXTRA_COLORS.length];
   switch (extra.kind) {
     case 'sphere': return new THREE.Mesh(new THREE.SphereGeometry(1, 32, 16),
       new THREE.MeshStandardMaterial({ color: 0xaee6ff, transparent: true, opacity: 0.6 }));
@@ -84,16 +86,17 @@ function makeExtra(extra) {
       new THREE.MeshBasicMaterial({ color: 0x9ad0ff, transparent: true, opacity: 0.35, side: THREE.DoubleSide }));
     case 'polyline':
     case 'path': return new THREE.Line(new THREE.BufferGeometry(),
-      new THREE.LineBasicMaterial({ color: extra.kind === 'path' ? 0x7fff7f : color }));
+      new THREE.LineBasicMaterial({ color }));
     case 'points': return new THREE.Points(new THREE.BufferGeometry(),
-      new THREE.PointsMaterial({ color, size: 6, sizeAttenuation: false }));
+      new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false }));
     default: throw new Error(`model extras '${extra.name}': unknown kind '${extra.kind}' (expected sphere, plane, polyline, points or path)`);
   }
 }
 
 function setPoints(object, points) {
-  object.geometry.setFromPoints((points ?? []).map((p) => new THREE.Vector3(p[0], p[1], p[2])));
-  object.geometry.computeBoundingSphere();
+  // A new geometry each time: three's setFromPoints only refills an existing attribute's size.
+  object.geometry.dispose();
+  object.geometry = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(p[0], p[1], p[2])));
 }
 
 const finite = (values, n) => Array.isArray(values) && values.length === n && values.every(Number.isFinite);
@@ -155,12 +158,18 @@ export class StudioView {
     this.meshes = []; // promises of the meshes being fetched
     this.addObjects(model.objects ?? [], onError);
     this.extras = new Map();
-    for (const extra of model.extras ?? []) {
-      const object = makeExtra(extra);
+    for (const [index, extra] of (model.extras ?? []).entries()) {
+      const object = makeExtra(extra, index);
       object.name = extra.name;
       object.visible = extra.kind !== 'sphere';
       this.scene.add(object);
-      this.extras.set(extra.name, { extra, object });
+      let trail = null;
+      if (extra.kind === 'points') {
+        trail = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: object.material.color }));
+        trail.name = `${extra.name}.trail`;
+        this.scene.add(trail);
+      }
+      this.extras.set(extra.name, { extra, object, trail });
     }
     this.resizeObserver = new ResizeObserver(() => this.resize(container));
     this.resizeObserver.observe(container);
@@ -203,6 +212,12 @@ export class StudioView {
       else holder.add(new THREE.Mesh(shapeGeometry(object.shape ?? {}, where), material));
       parent.add(holder);
     }
+  }
+
+  /** Draws the trail of a 'points' extra: where its first point was, oldest first ([x,y,z] m). */
+  setTrail(name, points) {
+    const trail = this.extras.get(name)?.trail;
+    if (trail) setPoints(trail, points);
   }
 
   /** The group placed at link `index` of `robot` (its world matrix = the frame's link pose). */

@@ -118,6 +118,7 @@ function model(mode) {
       { name: 'nominal_path', kind: 'path', frame: 'world' },
       { name: 'wound', kind: 'polyline', frame: 'world' },
       { name: 'stitches', kind: 'points', frame: 'world' },
+      { name: 'tool', kind: 'points', frame: 'world' },
     ],
   };
 }
@@ -140,6 +141,7 @@ function frame(t, path) {
       us_plane: { pose: [0.35, 0.1, 0.2, ...axisAngle(X, Math.PI / 2)] },
       nominal_path: { points: path },
       wound: { points: [[0.3, 0.05, 0.18], [0.4, 0.15, 0.18]] },
+      tool: { points: [tip] },
       stitches: { points: [[0.32, 0.07, 0.18], [0.35, 0.1, 0.18], [0.38, 0.13, 0.18]].slice(0, Math.floor(t)) },
     },
     charts: { task: stateAt(t), needle: 'WaitMounted' },

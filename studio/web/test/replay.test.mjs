@@ -20,8 +20,8 @@ async function scrubTo(page, index) {
 }
 
 /**
- * Scrubs to three frames (one where the probe's pose is null) and checks the links, the task
- * chart and the greyed-out events.
+ * Scrubs to three frames (one where the probe's pose is null) and checks the links, the tool's
+ * trail, the task chart and the greyed-out events.
  */
 async function checkScrubbing(page) {
   assert.equal(await page.locator('#scrub').getAttribute('max'), String(recording.frames.length - 1));
@@ -34,6 +34,10 @@ async function checkScrubbing(page) {
     const now = await readLinks(page);
     assert.ok(linkError(now.links, frame) < 1e-6, `frame ${index}: a link is off the recorded pose`);
     assert.ok(linkError(now.links, recording.frames[0]) > 0.01, `frame ${index}: the arm did not move from t = 0`);
+    const trail = await page.evaluate(() => Array.from(window.cobraStudio.scene.getObjectByName('tool.trail').geometry.attributes.position.array));
+    const want = recording.frames.slice(0, index + 1).flatMap((f) => f.extras.tool.points[0]);
+    assert.equal(trail.length, want.length, `frame ${index}: the tool's trail has ${trail.length / 3} points, expected ${index + 1}`);
+    assert.ok(trail.every((v, k) => Math.abs(v - want[k]) < 1e-6), `frame ${index}: the tool's trail is not the recorded tool points`);
     const lost = frame.robots.probe.links[1].includes(null);
     assert.equal(await page.evaluate(() => window.cobraStudio.linkObject('probe', 1).visible), !lost,
       `frame ${index}: the probe's link should be ${lost ? 'hidden (null pose)' : 'shown'}`);
