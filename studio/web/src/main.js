@@ -122,6 +122,18 @@ async function main() {
     const panel = new Panel(document, model);
     const plots = new Plots(document.getElementById('signal-list'), document.getElementById('plots'), model.signals ?? []);
     panel.addInputs(postInput, showError);
+    for (const entry of view.legend()) {
+      const li = document.createElement('li');
+      const swatch = document.createElement('span');
+      swatch.style.background = entry.color;
+      li.append(swatch, `${entry.name} (${entry.kind})`);
+      document.getElementById('legend').append(li);
+    }
+    document.getElementById('plots-section').hidden = (model.signals ?? []).length === 0;
+    document.getElementById('fit').addEventListener('click', () => {
+      view.fitCamera();
+      view.render();
+    });
     window.cobraStudio = {
       scene: view.scene,
       model,

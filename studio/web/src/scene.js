@@ -8,6 +8,7 @@ import { STLLoader } from 'three/examples/jsm/loaders/STLLoader.js';
 import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
 
 export const BACKGROUND = 0x1d2126;
+const MIN_FIT_RADIUS = 0.25; // m: a view of a single point or a small path still shows its surroundings
 const PALETTE = [0x4e9ad8, 0xe0a040, 0x6cc070, 0xc46fd0, 0xd86060, 0x60c8c8, 0xb0b060];
 
 /** Sets an Object3D's position and quaternion from [x, y, z, qx, qy, qz, qw] (m). */
@@ -183,8 +184,10 @@ export class StudioView {
     this.scene.add(sun);
     const grid = new THREE.GridHelper(2, 20, 0x56606c, 0x3a414b);
     grid.rotateX(Math.PI / 2); // three's grid lies in xz; cobra's floor is the xy plane
-    this.scene.add(grid);
-    this.scene.add(new THREE.AxesHelper(0.1));
+    const axes = new THREE.AxesHelper(0.1);
+    grid.userData.helper = true;
+    axes.userData.helper = true;
+    this.scene.add(grid, axes);
   }
 
   addObjects(objects, onError) {
@@ -212,6 +215,13 @@ export class StudioView {
       else holder.add(new THREE.Mesh(shapeGeometry(object.shape ?? {}, where), material));
       parent.add(holder);
     }
+  }
+
+  /** Each extra's name, kind and CSS colour, for the view's legend. */
+  legend() {
+    return [...this.extras.values()].map(({ extra, object }) => ({
+      name: extra.name, kind: extra.kind, color: `#${object.material.color.getHexString()}`,
+    }));
   }
 
   /** Draws the trail of a 'points' extra: where its first point was, oldest first ([x,y,z] m). */
@@ -248,14 +258,19 @@ export class StudioView {
     this.render();
   }
 
-  /** Points the camera at everything drawn, once, after the first frame placed the robots. */
+  /**
+   * Points the camera at everything drawn but the grid and axes (after the first frame placed the
+   * robots, and on "Fit view"), at least MIN_FIT_RADIUS m around it.
+   */
   fitCamera() {
     this.fitted = true;
     const box = new THREE.Box3();
-    this.scene.traverse((o) => { if (o.isMesh && o.visible) box.expandByObject(o); });
+    this.scene.traverse((o) => {
+      if ((o.isMesh || o.isLine || o.isPoints) && !o.userData.helper && o.visible && o.geometry.attributes.position) box.expandByObject(o);
+    });
     if (box.isEmpty()) return;
     const center = box.getCenter(new THREE.Vector3());
-    const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.05);
+    const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, MIN_FIT_RADIUS);
     const distance = radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2));
     this.controls.target.copy(center);
     this.camera.position.copy(center).add(new THREE.Vector3(0.8, -1, 0.6).normalize().multiplyScalar(distance));
