@@ -9,9 +9,13 @@ import { Panel } from './panel.js';
 import { Plots } from './plots.js';
 import { Trails } from './trails.js';
 
-/** Shows `message` in the page's error banner (errors stay visible until the page reloads). */
+/**
+ * Shows `message` in the page's error banner (errors stay visible until the page reloads; one
+ * that repeats, as a bad frame would every frame, is shown once).
+ */
 function showError(message) {
   const banner = document.getElementById('error');
+  if ([...banner.children].some((line) => line.textContent === message)) return;
   const line = document.createElement('div');
   line.textContent = message;
   banner.append(line);
@@ -52,7 +56,13 @@ function startReplay(replay, view, panel, plots, trails, state) {
     plots.setCursor(frame.t);
     label.textContent = `${frame.t.toFixed(2)} / ${frames.at(-1).t.toFixed(2)} s`;
   };
-  slider.addEventListener('input', () => show(Number(slider.value)));
+  slider.addEventListener('input', () => {
+    try {
+      show(Number(slider.value));
+    } catch (err) {
+      showError(err.message);
+    }
+  });
   state.seek = (t) => {
     const index = frameIndexAt(frames, t);
     slider.value = String(index);
@@ -90,9 +100,13 @@ function startLive(view, panel, plots, trails, state) {
     const frame = newest;
     newest = null;
     state.frame = frame;
-    trails.draw(view);
-    view.applyFrame(frame);
-    panel.showFrame(frame);
+    try {
+      trails.draw(view);
+      view.applyFrame(frame);
+      panel.showFrame(frame);
+    } catch (err) {
+      showError(err.message);
+    }
   };
   connectLive({
     frame(msg) {
