@@ -155,6 +155,8 @@ async function main() {
       frameTime: () => state.frame?.t ?? null,
       /** Replay: shows the last frame at or before `t` [s] and returns its time; live: null. */
       seek: (t) => state.seek?.(t) ?? null,
+      /** Camera at `position` looking at `target` ([x,y,z] m). */
+      setCamera: (position, target) => view.setCamera(position, target),
       /** Replay: the recording's events (the log's source); live: []. */
       events: replay?.events ?? [],
     };

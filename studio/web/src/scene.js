@@ -10,6 +10,7 @@ import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
 export const BACKGROUND = 0x1d2126;
 const MIN_FIT_RADIUS = 0.25; // m: a view of a single point or a small path still shows its surroundings
 const PALETTE = [0x4e9ad8, 0xe0a040, 0x6cc070, 0xc46fd0, 0xd86060, 0x60c8c8, 0xb0b060];
+const WORLD_PALETTE = [0x8a9099, 0xe8b4a0, 0xd05050, 0x9a7fd0, 0x70b0a0, 0xc0c070];
 
 /** Sets an Object3D's position and quaternion from [x, y, z, qx, qy, qz, qw] (m). */
 export function setPose(object, pose, where) {
@@ -190,8 +191,14 @@ export class StudioView {
     this.scene.add(grid, axes);
   }
 
+  /**
+   * Robot-borne objects take their collision group's colour (macro, micro, ur5 ... tell apart),
+   * and so do world objects of such a group (a robot's fixed frame); other world objects get one
+   * colour each (the table, the phantom and its parts). World objects are translucent.
+   */
   addObjects(objects, onError) {
-    const groups = [...new Set(objects.map((o) => o.group))];
+    const groups = [...new Set(objects.filter((o) => o.robot).map((o) => o.group))];
+    let worldIndex = 0;
     for (const [index, object] of objects.entries()) {
       const where = `model objects[${index}] '${object.name}'`;
       let parent = this.scene;
@@ -202,8 +209,10 @@ export class StudioView {
         }
       }
       const world = !object.robot;
+      const color = groups.includes(object.group) ? PALETTE[groups.indexOf(object.group) % PALETTE.length]
+        : WORLD_PALETTE[worldIndex++ % WORLD_PALETTE.length];
       const material = new THREE.MeshStandardMaterial({
-        color: PALETTE[groups.indexOf(object.group) % PALETTE.length],
+        color,
         roughness: 0.6, metalness: 0.1, transparent: world, opacity: world ? 0.55 : 1,
       });
       const holder = new THREE.Group();
@@ -215,6 +224,18 @@ export class StudioView {
       else holder.add(new THREE.Mesh(shapeGeometry(object.shape ?? {}, where), material));
       parent.add(holder);
     }
+  }
+
+  /** Places the camera at `position` looking at `target` ([x,y,z] m, world) and redraws. */
+  setCamera(position, target) {
+    this.camera.position.fromArray(position);
+    this.controls.target.fromArray(target);
+    const distance = this.camera.position.distanceTo(this.controls.target);
+    this.camera.near = distance / 100;
+    this.camera.far = distance * 20;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.render();
   }
 
   /** Each extra's name, kind and CSS colour, for the view's legend. */

@@ -1,16 +1,19 @@
 // End to end against cobra itself (issue 19's acceptance): the page served by
 // `cobra run apps/puncturing --studio --interactive` and by `cobra studio RUN_DIR`.
 // Needs COBRA_BIN (the cobra tool) and COBRA_SOURCE_DIR (the repo); CTest passes both, and
-// registers this file only in a tree that has the studio server (studio/CMakeLists.txt).
+// registers this file only in a tree that has the studio server (studio/CMakeLists.txt). The
+// replay test saves the puncturing phases A-H (thesis Fig. 4.22) as A.png ... H.png in
+// COBRA_STUDIO_SHOTS (CTest: build/<preset>/studio-phases), else in a temporary folder.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import WebSocket from 'ws';
 import { launch, openStudio, readLinks, linkError, countDrawnPixels } from './browser.mjs';
+import { PUNCTURING_CAMERA, PUNCTURING_PHASES, parseAt, shoot } from '../tools/shots.mjs';
 
 const { COBRA_BIN, COBRA_SOURCE_DIR } = process.env;
 const skip = !COBRA_BIN || !COBRA_SOURCE_DIR ? 'COBRA_BIN and COBRA_SOURCE_DIR not set (CTest sets them)' : false;
@@ -129,4 +132,13 @@ test('replay: cobra studio RUN_DIR and the run folder\'s file:// page scrub the 
     }
     assert.deepEqual(errors, []);
   }
+  const shots = process.env.COBRA_STUDIO_SHOTS ?? join(dir, 'phases');
+  mkdirSync(shots, { recursive: true });
+  const { page } = await openStudio(browser, url, t);
+  const names = Object.keys(PUNCTURING_PHASES);
+  const saved = await shoot(page, Object.values(PUNCTURING_PHASES).map(parseAt), (i) => join(shots, `${names[i]}.png`), PUNCTURING_CAMERA);
+  const times = saved.map((s) => s.t);
+  assert.deepEqual(times, [...times].sort((a, b) => a - b), 'phases A-H are not in the order of the run');
+  assert.equal(new Set(times).size, names.length, `phases A-H at ${times.join(', ')} s: two share a frame`);
+  for (const { file } of saved) assert.ok(statSync(file).size > 10000, `${file}: no picture`);
 });
