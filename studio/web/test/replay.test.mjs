@@ -87,3 +87,22 @@ test('a file:// page without recording.js says what is missing', async () => {
     rmSync(dir, { recursive: true, force: true });
   }
 });
+
+test('Play runs through the recording and Pause stops it where it is', async (t) => {
+  const server = await startFixtureServer('replay');
+  try {
+    const { page } = await openStudio(browser, server.pageUrl, t);
+    const play = page.locator('#play');
+    await play.click();
+    assert.equal(await play.innerText(), 'Pause');
+    await page.waitForFunction(() => window.cobraStudio.frameTime() >= 0.5, null, { timeout: 10000 });
+    await play.click();
+    assert.equal(await play.innerText(), 'Play');
+    const paused = await page.evaluate(() => window.cobraStudio.frameTime());
+    await page.waitForTimeout(300);
+    assert.equal(await page.evaluate(() => window.cobraStudio.frameTime()), paused);
+    assert.equal(await page.locator('#scrub').inputValue(), String(recording.frames.findIndex((f) => f.t === paused)));
+  } finally {
+    await server.close();
+  }
+});
