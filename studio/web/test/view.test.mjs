@@ -83,3 +83,13 @@ test('mesh objects (STL and OBJ, in mm) are fetched, parsed and scaled to m', as
     }
   }
 });
+
+test('ticking a signal adds its plot, unticking removes it', async (t) => {
+  const { page } = await openStudio(browser, server.pageUrl, t);
+  const titles = () => page.locator('#plots .u-title').allInnerTexts();
+  assert.deepEqual(await titles(), ['arm.q1.deg [deg]']);
+  await page.getByLabel('clearance.mm [mm]').check();
+  assert.deepEqual(await titles(), ['arm.q1.deg [deg]', 'clearance.mm [mm]']);
+  await page.getByLabel('arm.q1.deg [deg]').uncheck();
+  assert.deepEqual(await titles(), ['clearance.mm [mm]']);
+});
