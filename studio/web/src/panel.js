@@ -21,8 +21,9 @@ export class Panel {
     this.doc = doc;
     this.model = model;
     this.events = doc.getElementById('events');
-    doc.getElementById('mode').textContent =
-      `${model.app ?? ''}${model.scenario ? ` / ${model.scenario}` : ''} · ${model.mode}`;
+    const run = `${model.app ?? ''}${model.scenario ? ` / ${model.scenario}` : ''}`;
+    doc.getElementById('mode').textContent = `${run} · ${model.mode}`;
+    doc.title = `${run} · cobra studio`;
     fillTable(doc.getElementById('charts'), (model.charts ?? []).map((c) => [c.name, '–']));
   }
 

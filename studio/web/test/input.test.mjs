@@ -16,9 +16,10 @@ after(async () => {
   await server?.close();
 });
 
-test('one button per model input, labelled from the model', async (t) => {
+test('one button per model input, labelled from the model; the title names the run', async (t) => {
   const { page } = await openStudio(browser, server.pageUrl, t);
   assert.deepEqual(await page.locator('#inputs button').allInnerTexts(), ['Needle mounted', 'Cryo cycle done']);
+  assert.equal(await page.title(), 'fixture / synthetic_arm · cobra studio');
 });
 
 test('pressing "Needle mounted" sends the input and the needle chart advances', async (t) => {
