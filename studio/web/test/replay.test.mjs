@@ -20,15 +20,18 @@ async function scrubTo(page, index) {
 }
 
 /**
- * Scrubs to three frames (one where the probe's pose is null) and checks the links, the tool's
- * trail, the task chart and the greyed-out events.
+ * Scrubs to four frames (one with too little clearance, one where the probe's pose is null) and
+ * checks the links, the tool's trail, the clearance's colour, the task chart and the greyed-out
+ * events.
  */
 async function checkScrubbing(page) {
   assert.equal(await page.locator('#scrub').getAttribute('max'), String(recording.frames.length - 1));
   const start = await readLinks(page);
   assert.equal(start.t, 0);
   assert.ok(linkError(start.links, recording.frames[0]) < 1e-6);
-  for (const index of [45, 90, recording.frames.length - 1]) {
+  const invalid = recording.frames.findIndex((f) => !f.clearance.valid);
+  assert.ok(invalid > 0, 'the fixture has no frame with too little clearance');
+  for (const index of [45, invalid, 90, recording.frames.length - 1]) {
     await scrubTo(page, index);
     const frame = recording.frames[index];
     const now = await readLinks(page);
@@ -38,6 +41,7 @@ async function checkScrubbing(page) {
     const want = recording.frames.slice(0, index + 1).flatMap((f) => f.extras.tool.points[0]);
     assert.equal(trail.length, want.length, `frame ${index}: the tool's trail has ${trail.length / 3} points, expected ${index + 1}`);
     assert.ok(trail.every((v, k) => Math.abs(v - want[k]) < 1e-6), `frame ${index}: the tool's trail is not the recorded tool points`);
+    assert.equal(await page.locator('#clearance').getAttribute('class'), `clearance ${frame.clearance.valid ? 'valid' : 'invalid'}`);
     const lost = frame.robots.probe.links[1].includes(null);
     assert.equal(await page.evaluate(() => window.cobraStudio.linkObject('probe', 1).visible), !lost,
       `frame ${index}: the probe's link should be ${lost ? 'hidden (null pose)' : 'shown'}`);
