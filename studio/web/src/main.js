@@ -117,6 +117,7 @@ function startLive(view, panel, plots, trails, state) {
     },
     event: (msg) => panel.addEvent(msg),
     end: (msg) => panel.addEvent(msg),
+    error: (msg) => showError(`/ws: ${msg.error}`),
     closed: showError,
   });
 }

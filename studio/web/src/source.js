@@ -84,9 +84,9 @@ export async function loadSession() {
 }
 
 /**
- * The live connection: calls handlers.frame(msg), .event(msg), .end(msg) per server message and
- * handlers.closed(reason) once when the socket closes before the run's end. Inputs go by POST
- * (postInput), whose answer carries the server's error text.
+ * The live connection: calls handlers.frame(msg), .event(msg), .end(msg), .error(msg) per server
+ * message (by its type) and handlers.closed(reason) once when the socket closes before the run's
+ * end. Inputs go by POST (postInput), whose answer carries the server's error text.
  */
 export function connectLive(handlers) {
   const url = apiUrl('ws');
