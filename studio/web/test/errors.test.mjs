@@ -1,8 +1,8 @@
 // Errors reach the page as a visible message: /api/model answering 500 { error }, a WebSocket
-// the server closes; a 503 (the run is still loading) is no error: the page asks again.
+// the server closes, an error message on the WebSocket; a 503 (the run is still loading) is no error: the page asks again.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { startFixtureServer, MODEL_ERROR } from './fixture_server.mjs';
+import { startFixtureServer, MODEL_ERROR, WS_ERROR } from './fixture_server.mjs';
 import { launch, openStudio } from './browser.mjs';
 
 let browser;
@@ -30,6 +30,11 @@ test('a 500 from /api/model shows the server error text', async () => {
 test('a WebSocket closed by the server shows that the view stopped', async () => {
   const text = await bannerOf('drop', '?token=0123456789abcdef0123456789abcdef');
   assert.match(text, /^\/ws: the connection to the cobra server closed \(code 1011: fixture server dropped the connection\); the view is stopped$/);
+});
+
+test('an error message on the WebSocket shows its text', async () => {
+  const text = await bannerOf('wserror', '?token=0123456789abcdef0123456789abcdef');
+  assert.equal(text, `/ws: ${WS_ERROR}`);
 });
 
 test('a 503 from /api/model (the run is loading) is asked again until the model comes', async (t) => {

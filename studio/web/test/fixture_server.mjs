@@ -6,6 +6,7 @@
 //   mode 'replay': /api/model is the recording's model, /api/recording its frames and events.
 //   mode 'error':  /api/model answers 500 { error }.
 //   mode 'drop':   like live, but the server closes every WebSocket after its first frame.
+//   mode 'wserror': like live, but the server also sends a WebSocket { type: 'error' } message.
 //   mode 'loading': like live, but /api/model answers 503 (the run is loading) 3 times first.
 import { createServer } from 'node:http';
 import { readFileSync, existsSync } from 'node:fs';
@@ -19,6 +20,7 @@ export const DIST = resolve(process.env.COBRA_STUDIO_WEB_DIST ?? join(here, '..'
 export const FIXTURES = join(here, 'fixtures');
 export const TOKEN = '0123456789abcdef0123456789abcdef';
 export const MODEL_ERROR = "app 'fixture': studio table names port 'arm.nope', which the app does not have";
+export const WS_ERROR = "no input 'x': expected one of needle_mounted, cryo_done";
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.txt': 'text/plain' };
 
 export function loadFixtures() {
@@ -106,6 +108,7 @@ export async function startFixtureServer(mode = 'live') {
         index += 1;
         ws.send(JSON.stringify({ ...frame, charts: { ...frame.charts, needle } }));
         if (mode === 'drop') ws.close(1011, 'fixture server dropped the connection');
+        if (mode === 'wserror' && index === 1) ws.send(JSON.stringify({ type: 'error', error: WS_ERROR }));
       }, 1000 / 30);
       ws.on('message', (data) => {
         const msg = JSON.parse(String(data));
