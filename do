@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev)
+PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 # Leaks of libraries cobra cannot free, each explained in the file; ASan's leak check stays on.
 LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
@@ -83,6 +83,7 @@ build() {
   [ -t 1 ] || status="[%f/%t, %es] "  # plain lines say the elapsed seconds themselves
   if [ "$preset" = fuzz ]; then setup "${FUZZ_PACKAGES[@]}"; else setup; fi
   mkdir -p build
+  sh studio/web/tools/npm_ci_if_needed.sh  # quick and offline when node_modules is current
   log="build/$preset.log"
   : >"$log"
   if ! { { [ -f "build/$preset/build.ninja" ] || cmake --preset "$preset"; } &&

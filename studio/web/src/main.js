@@ -1,0 +1,172 @@
+// cobra studio's page: loads the session (live server, replay server, or recording.js from the
+// file system), builds the 3D view and the console, then follows the WebSocket (live) or the
+// timeline (replay). Exposes window.cobraStudio for tests.
+import 'uplot/dist/uPlot.min.css';
+import './style.css';
+import { loadSession, connectLive, postInput } from './source.js';
+import { StudioView } from './scene.js';
+import { Panel } from './panel.js';
+import { Plots } from './plots.js';
+import { Trails } from './trails.js';
+
+/**
+ * Shows `message` in the page's error banner (errors stay visible until the page reloads; one
+ * that repeats, as a bad frame would every frame, is shown once).
+ */
+function showError(message) {
+  const banner = document.getElementById('error');
+  if ([...banner.children].some((line) => line.textContent === message)) return;
+  const line = document.createElement('div');
+  line.textContent = message;
+  banner.append(line);
+  banner.hidden = false;
+}
+
+/** Index of the last frame with t <= time (frames sorted by t); 0 before the first. */
+function frameIndexAt(frames, time) {
+  let lo = 0;
+  let hi = frames.length - 1;
+  while (lo < hi) {
+    const mid = (lo + hi + 1) >> 1;
+    if (frames[mid].t <= time) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+function startReplay(replay, view, panel, plots, trails, state) {
+  const { frames, events } = replay;
+  if (frames.length === 0) throw new Error('recording: no frames (the run recorded nothing)');
+  for (const e of events) panel.addEvent(e);
+  const end = events.find((e) => e.type === 'end');
+  plots.setFrames(frames);
+  trails.setFrames(frames);
+  const slider = document.getElementById('scrub');
+  const label = document.getElementById('scrub-time');
+  const play = document.getElementById('play');
+  document.getElementById('timeline').hidden = false;
+  slider.max = String(frames.length - 1);
+  const show = (index) => {
+    const frame = frames[index];
+    state.frame = frame;
+    trails.draw(view, index);
+    view.applyFrame(frame);
+    panel.showFrame(frame);
+    panel.showEventsUntil(frame.t, end);
+    plots.setCursor(frame.t);
+    label.textContent = `${frame.t.toFixed(2)} / ${frames.at(-1).t.toFixed(2)} s`;
+  };
+  slider.addEventListener('input', () => {
+    try {
+      show(Number(slider.value));
+    } catch (err) {
+      showError(err.message);
+    }
+  });
+  state.seek = (t) => {
+    const index = frameIndexAt(frames, t);
+    slider.value = String(index);
+    show(index);
+    return frames[index].t;
+  };
+  let timer = null;
+  play.addEventListener('click', () => {
+    if (timer) {
+      clearInterval(timer);
+      timer = null;
+      play.textContent = 'Play';
+      return;
+    }
+    play.textContent = 'Pause';
+    const t0 = performance.now() / 1000 - state.frame.t + (Number(slider.value) >= frames.length - 1 ? frames.at(-1).t : 0);
+    timer = setInterval(() => {
+      const index = frameIndexAt(frames, performance.now() / 1000 - t0);
+      slider.value = String(index);
+      show(index);
+      if (index >= frames.length - 1) play.click();
+    }, 1000 / 30);
+  });
+  show(0);
+}
+
+/**
+ * Live: every frame's signals go to the plots, but the view and the console show only the newest
+ * frame, once per animation frame, so a page slower than the stream skips frames instead of
+ * queueing them (the server does the same per client).
+ */
+function startLive(view, panel, plots, trails, state) {
+  let newest = null;
+  const show = () => {
+    const frame = newest;
+    newest = null;
+    state.frame = frame;
+    try {
+      trails.draw(view);
+      view.applyFrame(frame);
+      panel.showFrame(frame);
+    } catch (err) {
+      showError(err.message);
+    }
+  };
+  connectLive({
+    frame(msg) {
+      if (newest === null) requestAnimationFrame(show);
+      newest = msg;
+      plots.addFrame(msg);
+      trails.addFrame(msg);
+    },
+    event: (msg) => panel.addEvent(msg),
+    end: (msg) => panel.addEvent(msg),
+    error: (msg) => showError(`/ws: ${msg.error}`),
+    closed: showError,
+  });
+}
+
+async function main() {
+  const state = { frame: null, seek: null };
+  let session;
+  try {
+    session = await loadSession();
+  } catch (err) {
+    showError(err.message);
+    return;
+  }
+  const { model, replay } = session;
+  try {
+    const view = new StudioView(document.getElementById('view'), model, showError);
+    const panel = new Panel(document, model);
+    const plots = new Plots(document.getElementById('signal-list'), document.getElementById('plots'), model.signals ?? []);
+    panel.addInputs(postInput, showError);
+    for (const entry of view.legend()) {
+      const li = document.createElement('li');
+      const swatch = document.createElement('span');
+      swatch.style.background = entry.color;
+      li.append(swatch, `${entry.name} (${entry.kind})`);
+      document.getElementById('legend').append(li);
+    }
+    document.getElementById('plots-section').hidden = (model.signals ?? []).length === 0;
+    document.getElementById('fit').addEventListener('click', () => {
+      view.fitCamera();
+      view.render();
+    });
+    window.cobraStudio = {
+      scene: view.scene,
+      model,
+      linkObject: (robot, index) => view.linkObject(robot, index),
+      frameTime: () => state.frame?.t ?? null,
+      /** Replay: shows the last frame at or before `t` [s] and returns its time; live: null. */
+      seek: (t) => state.seek?.(t) ?? null,
+      /** Camera at `position` looking at `target` ([x,y,z] m). */
+      setCamera: (position, target) => view.setCamera(position, target),
+      /** Replay: the recording's events (the log's source); live: []. */
+      events: replay?.events ?? [],
+    };
+    const trails = new Trails(model);
+    if (replay) startReplay(replay, view, panel, plots, trails, state);
+    else startLive(view, panel, plots, trails, state);
+  } catch (err) {
+    showError(err.message);
+  }
+}
+
+main();
