@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace cobra::planning {
@@ -128,11 +129,17 @@ bool distanceCallback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* 
     const bool bounded = search.stop_below == 0.0 && memo.distance >= 0.0 &&
                          memo.distance - moved >= search.minimum + kMemoSlack;
     if (!bounded) {
-      fcl::DistanceResultd result;
-      fcl::distance(a, b, search.request, result);
-      // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
-      const double d = std::max(0.0, result.min_distance);
-      memo = {d, (*search.travelled)[ordered ? i : j], (*search.travelled)[ordered ? j : i]};
+      // Neither object moved since the pair was measured (travel is exactly 0 only for the same
+      // transform): the same distance, without the narrow phase. Objects on a robot's fixed base
+      // and the world's never move, and one robot often holds while the other moves.
+      double d = memo.distance;
+      if (!(memo.distance >= 0.0 && moved == 0.0)) {
+        fcl::DistanceResultd result;
+        fcl::distance(a, b, search.request, result);
+        // FCL reports penetration as a negative value (-1 without signed distance): clamp to contact.
+        d = std::max(0.0, result.min_distance);
+        memo = {d, (*search.travelled)[ordered ? i : j], (*search.travelled)[ordered ? j : i]};
+      }
       if (d < search.minimum) {
         search.minimum = d;
         search.first = a;
@@ -177,7 +184,10 @@ struct CollisionWorld::Impl {
   std::vector<std::pair<std::size_t, std::size_t>> allowed_indices, primitive_indices;  // the same, object indices
   std::vector<std::pair<const void*, const void*>> primitive;    // primitive contacts (user data)
   /// Minimum distance over `pairs` of objects (scene indices) [m] (+infinity for none).
-  double contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
+  double contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs);
+  /// Distance between objects `a` and `b` [m]: the pair's memo while neither moved since it was
+  /// measured (the same transforms, the same distance), else measured and memoised.
+  double pairDistance(std::size_t a, std::size_t b);
   // Per object: how far [m] it reaches from its frame's origin, and an upper bound of the path
   // length any of its points travelled since the world was made (never decreases).
   std::vector<double> reach;
@@ -283,23 +293,30 @@ GroupDistance CollisionWorld::query(std::size_t first, std::size_t second, doubl
   return result;
 }
 
-double CollisionWorld::objectDistance(std::size_t a, std::size_t b) const {
+double CollisionWorld::Impl::pairDistance(std::size_t a, std::size_t b) {
+  const std::size_t lo = std::min(a, b), hi = std::max(a, b);
+  PairMemo& memo = memos[lo * objects.size() + hi];
+  if (memo.distance >= 0.0 && memo.travelled_first == travelled[lo] && memo.travelled_second == travelled[hi])
+    return memo.distance;
   fcl::DistanceRequestd request;
   request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
   fcl::DistanceResultd result;
-  fcl::distance(impl_->objects.at(a).get(), impl_->objects.at(b).get(), request, result);
-  return std::max(0.0, result.min_distance);
+  fcl::distance(objects[a].get(), objects[b].get(), request, result);
+  const double d = std::max(0.0, result.min_distance);
+  memo = {d, travelled[lo], travelled[hi]};
+  return d;
 }
 
-double CollisionWorld::Impl::contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
+double CollisionWorld::objectDistance(std::size_t a, std::size_t b) const {
+  if (a >= impl_->objects.size() || b >= impl_->objects.size())
+    throw std::out_of_range("CollisionWorld::objectDistance: object " + std::to_string(std::max(a, b)) +
+                            " out of range (the scene has " + std::to_string(impl_->objects.size()) + ")");
+  return impl_->pairDistance(a, b);
+}
+
+double CollisionWorld::Impl::contactDistance(const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
   double minimum = std::numeric_limits<double>::infinity();
-  fcl::DistanceRequestd request;
-  request.gjk_solver_type = fcl::GJKSolverType::GST_INDEP;
-  for (const auto& [a, b] : pairs) {
-    fcl::DistanceResultd result;
-    fcl::distance(objects[a].get(), objects[b].get(), request, result);
-    minimum = std::min(minimum, std::max(0.0, result.min_distance));
-  }
+  for (const auto& [a, b] : pairs) minimum = std::min(minimum, pairDistance(a, b));
   return minimum;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "cobra/planning/collision_world.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -178,6 +179,47 @@ TEST(CollisionWorld, DistanceUnderABoundIsTheExactMinimumOfItsPairs) {
     EXPECT_TRUE(below.first_object.empty()) << "placement " << n;
   }
   EXPECT_GT(bounded_hits, 100);  // about half the placements overlap
+}
+
+// The pair memos answer while neither object moved and are measured again when one did: over
+// seeded random sequences (seed 23) in which each step moves one link, all, or none (the same
+// frames set again), every pair's distance and the group minimum equal those of a world that
+// measures the same placement afresh (bitwise: the same narrow phase on the same transforms).
+TEST(CollisionWorld, MemoisedDistancesEqualFreshOnesWhateverMoved) {
+  const std::string text =
+      "robot r tools 0 base 0 0 0 0 0 0\ngroup a\ngroup b\n"
+      "object brick a r.0 box 0.08 0.05 0.03 at 0 0 0 0 0 0\n"
+      "object rod a r.1 cylinder 0.02 0.2 at 0 0 0 0 0 0\n"
+      "object ball a r.2 sphere 0.04 at 0 0 0 0 0 0\n"
+      "object table b world box 0.4 0.4 0.02 at 0 0 -0.2 0 0 0\n"
+      "object post b world capsule 0.03 0.3 at 0.2 0.1 0 0 0 0\ncheck a b\n";
+  const SceneDescription scene = parseScene(text, "m.scene", test::dataDir());
+  CollisionWorld world(scene);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> position(-0.25, 0.25), angle(-3.1, 3.1);
+  std::uniform_int_distribution<int> which(0, 4);  // 0-2: that link, 3: all, 4: none
+  std::array<KDL::Frame, 3> links{};
+  const auto random = [&] {
+    return KDL::Frame(KDL::Rotation::RPY(angle(rng), angle(rng), angle(rng)),
+                      KDL::Vector(position(rng), position(rng), position(rng)));
+  };
+  for (KDL::Frame& link : links) link = random();
+  for (int n = 0; n < 200; ++n) {
+    const int move = which(rng);
+    for (int i = 0; i < 3; ++i)
+      if (move == i || move == 3) links[static_cast<std::size_t>(i)] = random();
+    world.setRobotLinks(0, links);
+    CollisionWorld fresh(scene);
+    fresh.setRobotLinks(0, links);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 3; j < 5; ++j)
+        EXPECT_EQ(world.objectDistance(i, j), fresh.objectDistance(i, j)) << "step " << n << ", pair " << i << "-" << j;
+    CollisionWorld fresh_group(scene);
+    fresh_group.setRobotLinks(0, links);
+    EXPECT_EQ(world.distanceUnder(0, 1, std::numeric_limits<double>::infinity()).distance,
+              fresh_group.distanceUnder(0, 1, std::numeric_limits<double>::infinity()).distance)
+        << "step " << n;
+  }
 }
 
 }  // namespace
