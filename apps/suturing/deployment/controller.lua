@@ -4,7 +4,7 @@
 -- "suture", the configurations suturing_free_motion and suturing_contact (configurations/), and
 -- the task/deployment/configuration supervisors of the puncturing task, reused unchanged. One
 -- variable admittance per arm, each with its energy tank.
--- Needs the globals `tool_frame`, `stick_tip`, `phantom_pose`, `teleop_device`
+-- Needs the globals `right_tool_frame`, `left_tool_frame`, `phantom_pose`, `teleop_device`
 -- ("leap" or "omni": which haptic device the teleoperated deployment reads).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = here .. "../../../components/coordination/charts/"
@@ -44,11 +44,11 @@ initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra
 getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
-SutureFrames.left_tip = stick_tip
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose
-  p.first_tool_frame = tool_frame          -- both arms' (the scene's robot takes the first's for both)
+  p.first_tool_frame = right_tool_frame    -- the scene's I-SUR tool 0: the Endo Stitch's tip (frames.lua)
+  p.second_tool_frame = left_tool_frame    -- its tool 1: the stick's tip (frames.lua)
 end
 SuturePlanner.first_bounds_low = { 0.05, -0.12, 0.05 }    -- m: the Endo Stitch's tip over the phantom
 SuturePlanner.first_bounds_high = { 0.3, 0.12, 0.3 }

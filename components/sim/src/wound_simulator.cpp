@@ -14,7 +14,6 @@ WoundSimulator::WoundSimulator(std::string name)
   addProperty(cut_);
   addProperty(wound_pose_);
   addProperty(tool_tip_offset_);
-  addProperty(stick_tip_offset_);
   addProperty(edge_samples_);
   addProperty(release_event_);
   addPort(tool_tip_);
@@ -104,7 +103,7 @@ void WoundSimulator::updateHook() {
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_ = world_to_wound_ * (pose * stick_tip_offset_().p);
+    stick_ = world_to_wound_ * pose.p;
     have_stick_ = true;
   }
   int count = 0;

@@ -28,10 +28,11 @@ namespace cobra::components {
 /// `hook_radius` (m), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
 /// sim::WoundModel / sim::ThreadModel.
 ///
-/// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
-/// the stick held by the left arm's gripper), each moved by `tool_tip` / `stick_tip` (KDL::Frame,
-/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity); until
-/// both have arrived the thread is not stepped.
+/// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip, moved by `tool_tip`, KDL::Frame,
+/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity),
+/// `stickTipPose` (KDL::Frame, m, W: the tip of the stick held by the left arm's gripper, e.g. the
+/// robot's left tool pose with its tool frame on the stick's tip); until both have arrived the
+/// thread is not stepped.
 /// `endoStitchActuations` (int, the robot's count of completed Endo Stitch actuations, from 0 at
 /// its start): each increment applies a half-stitch at the tip's current pose, on the edge the
 /// tip is at (sim::Wound::sideAt): the chart asks the robot to actuate the tool, the tool's
@@ -92,8 +93,6 @@ class WoundSimulator : public core::Component {
                                       "the stick catches the thread within this distance"};
   core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
                                               "the Endo Stitch's tip in the frame toolTipPose gives"};
-  core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
-                                               "the stick's tip in the frame stickTipPose gives"};
   core::Property<int> edge_samples_{"edge_samples", 41, "1", "points per edge on woundEdges, >= 2"};
   core::Property<std::string> release_event_{"release_event", "e_release_thread", "", "the stick lets the thread go"};
 
