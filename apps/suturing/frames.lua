@@ -15,10 +15,15 @@ local frames = {}
 -- the vertical (its initial pitch).
 frames.right_tool = G.frame(0, 0, 0, math.pi, -1.2, 0)
 -- The stick the gripper holds: its tip 0.15 m along the gripper's axis (z of the gripper frame;
--- the object `stick` of planning/scenes/suturing.scene ends there), the gripper leaning 0.6 rad
--- (34 deg) from the datum's z (a pose from which the left arm reaches every stick position around
--- a stitch, searched with the split IK): the datum's rotation in the gripper frame is
--- RotY(-0.6) * RotZ(-0.6), the quaternion (s^2, s c, s c, c^2) with s, c = sin, cos of -0.3.
-local s, c = math.sin(-0.3), math.cos(-0.3)
-frames.left_tool = { 0, 0, 0.15, s * s, s * c, s * c, c * c }
+-- the object `stick` of planning/scenes/suturing.scene ends there), the gripper leaning LEAN rad
+-- from the datum's z, turned TURN rad about its axis (a pose from which the left arm reaches every
+-- stick position around a stitch with its stick clear of the Endo Stitch, searched with the split
+-- IK and the scene): the datum's rotation in the gripper frame is RotY(-LEAN) * RotZ(TURN).
+local function rotYZ(y_angle, z_angle)  -- the quaternion of RotY(y_angle) * RotZ(z_angle)
+  local sy, cy, sz, cz = math.sin(y_angle / 2), math.cos(y_angle / 2), math.sin(z_angle / 2), math.cos(z_angle / 2)
+  return { sy * sz, sy * cz, cy * sz, cy * cz }
+end
+local LEAN, TURN = 0.6, -0.6
+local q = rotYZ(-LEAN, TURN)
+frames.left_tool = { 0, 0, 0.15, q[1], q[2], q[3], q[4] }
 return frames
