@@ -45,7 +45,7 @@ const KDL::Frame kRightToolFrame(KDL::Rotation::RPY(kPi, -1.2, 0.0));
 const KDL::Frame kLeftToolFrame(KDL::Rotation::RotY(-0.6) * KDL::Rotation::RotZ(-0.6), KDL::Vector(0.0, 0.0, 0.15));
 const KDL::Frame kBase(KDL::Vector(0.0, 0.0, 1.0));
 const double kInitialJoints[14] = {0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
-                                   0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266};
+                                   -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985};
 
 /// The goals: the Endo Stitch 3 cm above each stitch's centre, the stick where it starts.
 std::vector<cobra::planning::DualPose> suturingGoals() {

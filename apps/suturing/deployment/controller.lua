@@ -44,6 +44,16 @@ initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra
 getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
+-- m: where the stick works against the Endo Stitch's 10 mm envelope (planning/scenes/suturing.scene,
+-- the stick an object of its own): the Endo Stitch pulls the thread 12 mm ahead along the cut (37 mm
+-- above the stitch's centre), so that the stick hooks it 10 mm above the last half's edge target
+-- (8 mm above the skin) well clear of the pulling instrument, and pushes it back 16 mm along the
+-- cut: nearer, the Endo Stitch, leaning back, reaches the stick as it enters the wound for the next
+-- half; farther, the left arm's upper arm reaches the right arm's. Measured worst clearance 4.3 mm
+-- (threshold 4 mm) on both scenarios (README).
+SutureFrames.pull_offset = { 0.012, 0.0, 0.037 }
+SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
+SutureFrames.push_offset = { -0.016, 0.0005, 0.012 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose

@@ -22,9 +22,12 @@ ISUR.right_tool_frame = right_tool_frame             -- the Endo Stitch's tip (f
 ISUR.left_tool_frame = left_tool_frame               -- the stick's tip (frames.lua)
 -- m, rad: the Endo Stitch 11.5 cm above the phantom over the cut's middle, tilted 21 deg from the
 -- vertical (its pitch share q6 + q7 = 1.2 rad: away from the vertical, where its wrist's two
--- representations meet); the stick's tip 9 cm above the skin beside it (frames.lua's tool frames).
+-- representations meet); the stick's tip 9 cm above the skin, 3 cm behind and 5 cm left of the
+-- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch when it descends into the
+-- wound, and the straight motion to the first hook passes behind it (planning/scenes/suturing.scene's
+-- stick; a start over the cut put the stick 3.6 mm from the Endo Stitch).
 ISUR.initial_joints = { 0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
-                        0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266 }
+                        -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985 }
 -- m/s, rad/s: the joints' velocity limits (the simulated servos' defaults, stated here because the
 -- runner's joint-jump check reads them): the delta's three sliders, then eleven revolute joints.
 ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5 }

@@ -1,7 +1,7 @@
 // The suturing application's tool frames (apps/suturing/frames.lua, the one place they are given)
-// are what they say: the left tool is the tip of the stick on the gripper's axis, the right one the
-// Endo Stitch's tip held off its singular vertical; the pose the robot measures, the planner plans
-// and the wound sees is there.
+// agree with the suturing scene's geometry: the left tool's frame is the tip of the scene's stick,
+// so the pose the robot measures, the planner plans and the wound sees is where the stick ends; the
+// right one is the Endo Stitch's tip held off its singular vertical.
 
 #include <gtest/gtest.h>
 
@@ -37,15 +37,21 @@ class SuturingFrames : public ::testing::Test {
   KDL::Frame right, left;
 };
 
-TEST_F(SuturingFrames, TheLeftToolIsTheSticksTipOnTheGrippersAxis) {
-  // 0.15 m out along the gripper's axis (z of the scene's I-SUR tool 1, link 11), where nothing of
-  // the gripper itself is (its envelope lies behind the gripper frame).
-  EXPECT_LT((left.p - KDL::Vector(0.0, 0.0, 0.15)).Norm(), 1e-15);
+TEST_F(SuturingFrames, TheLeftToolIsTheTipOfTheScenesStick) {
   const cobra::planning::SceneDescription scene = cobra::planning::loadScene(kSource + "/planning/scenes/suturing.scene");
-  const std::size_t gripper = scene.objectIndex("gripper");
-  ASSERT_NE(gripper, cobra::planning::SceneDescription::npos);
-  EXPECT_EQ(scene.objects[gripper].attached_to.link_index, 11u);
-  EXPECT_LT(scene.objects[gripper].offset.p.z() + scene.objects[gripper].shape.dimensions[2] / 2, 1e-12);
+  const std::size_t index = scene.objectIndex("stick");
+  ASSERT_NE(index, cobra::planning::SceneDescription::npos) << "the suturing scene has no object 'stick'";
+  const cobra::planning::ObjectDescription& stick = scene.objects[index];
+  // On the gripper (the I-SUR's tool 1, link 11), a cylinder along its axis from where it grasps it.
+  EXPECT_EQ(stick.attached_to.robot_name, "isur");
+  EXPECT_EQ(stick.attached_to.link_index, 11u);
+  ASSERT_EQ(stick.shape.kind, cobra::planning::ShapeKind::Cylinder);
+  const double length = stick.shape.dimensions[1];
+  EXPECT_NEAR(length, 0.15, 1e-12);
+  const KDL::Vector tip = stick.offset * KDL::Vector(0.0, 0.0, length / 2);
+  const KDL::Vector grasp = stick.offset * KDL::Vector(0.0, 0.0, -length / 2);
+  EXPECT_LT((tip - left.p).Norm(), 1e-12) << "stick tip at z " << tip.z() << " m, left tool at z " << left.p.z() << " m";
+  EXPECT_LT(grasp.Norm(), 1e-12) << "the stick starts where the gripper holds it";
   // The datum's z (into the skin) leans 0.6 rad from the gripper's axis (the stick's).
   EXPECT_NEAR(std::acos(KDL::dot(left.M.UnitZ(), KDL::Vector(0, 0, 1))), 0.6, 1e-12);
 }

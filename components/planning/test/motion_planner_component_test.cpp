@@ -454,7 +454,7 @@ TEST(MotionPlannerComponent, EachToolOfTheTwoArmedRobotTakesTheFrameOfItsPoseOfQ
   planning::StateValidator app_frames(scene, planning::makeRobotModels(scene));
   // The suturing application's initial joints (apps/suturing/deployment/world.lua).
   const std::vector<double> q{0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
-                              0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266};
+                              -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985};
   planning::DualPose model_poses, app_poses;
   ASSERT_TRUE(model_frames.toolPoses(q, model_poses));
   ASSERT_TRUE(app_frames.toolPoses(q, app_poses));
