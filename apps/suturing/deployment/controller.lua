@@ -4,7 +4,7 @@
 -- "suture", the configurations suturing_free_motion and suturing_contact (configurations/), and
 -- the task/deployment/configuration supervisors of the puncturing task, reused unchanged. One
 -- variable admittance per arm, each with its energy tank.
--- Needs the globals `tool_frame`, `stick_tip`, `phantom_pose`, `teleop_device`
+-- Needs the globals `right_tool_frame`, `left_tool_frame`, `phantom_pose`, `teleop_device`
 -- ("leap" or "omni": which haptic device the teleoperated deployment reads).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = here .. "../../../components/coordination/charts/"
@@ -44,11 +44,21 @@ initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra
 getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
-SutureFrames.left_tip = stick_tip
+-- m: where the stick works against the Endo Stitch's 10 mm envelope (planning/scenes/suturing.scene,
+-- the stick an object of its own): the Endo Stitch pulls the thread 12 mm ahead along the cut (37 mm
+-- above the stitch's centre), so that the stick hooks it 10 mm above the last half's edge target
+-- (8 mm above the skin) well clear of the pulling instrument, and pushes it back 16 mm along the
+-- cut: nearer, the Endo Stitch, leaning back, reaches the stick as it enters the wound for the next
+-- half; farther, the left arm's upper arm reaches the right arm's. Measured worst clearance 4.3 mm
+-- (threshold 4 mm) on both scenarios (README).
+SutureFrames.pull_offset = { 0.012, 0.0, 0.037 }
+SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
+SutureFrames.push_offset = { -0.016, 0.0005, 0.012 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose
-  p.first_tool_frame = tool_frame          -- both arms' (the scene's robot takes the first's for both)
+  p.first_tool_frame = right_tool_frame    -- the scene's I-SUR tool 0: the Endo Stitch's tip (frames.lua)
+  p.second_tool_frame = left_tool_frame    -- its tool 1: the stick's tip (frames.lua)
 end
 SuturePlanner.first_bounds_low = { 0.05, -0.12, 0.05 }    -- m: the Endo Stitch's tip over the phantom
 SuturePlanner.first_bounds_high = { 0.3, 0.12, 0.3 }

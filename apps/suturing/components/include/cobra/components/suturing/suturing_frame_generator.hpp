@@ -37,9 +37,9 @@ namespace cobra::components {
 /// `left_half_state` (default ApplyRightStitch, ApplyLeftStitch; the right one before any);
 /// `hold` = the arm's measured pose; a table `pose` = a fixed world pose.
 ///
-/// Each arm is commanded in its robot tool frame, in which its tool's tip (the datums' frame) is
-/// `right_tip` / `left_tip` (KDL.Frame, m: e.g. the stick's tip 0.15 m out of the gripper): the goal
-/// is the datum pose times the tip's inverse, and `hold` the measured pose times the tip.
+/// Each arm is commanded in its tool's datum frame (the robot's tool frame is the tip: the
+/// application gives it once, apps/suturing/frames.lua): a goal is the datum pose itself, `hold`
+/// the measured pose.
 ///
 /// Interface:
 /// - properties `state_table_file` (read at configure: a bad file refuses configure with
@@ -71,7 +71,6 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
 
  private:
   Outcome resolve(const puncturing::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
-  void command(std::size_t arm, KDL::Frame& pose) const noexcept override;
   void answer();
   void noData(const std::string& reason);
 
@@ -86,10 +85,6 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
                                            "the stick through the free thread, from the last half's edge target"};
   core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.006, 0.0005, 0.02), "m",
                                            "the stick having pushed the thread aside, from the last half's edge target"};
-  core::Property<KDL::Frame> right_tip_{"right_tip", KDL::Frame::Identity(), "m",
-                                        "the Endo Stitch's tip in the right arm's commanded frame"};
-  core::Property<KDL::Frame> left_tip_{"left_tip", KDL::Frame::Identity(), "m",
-                                       "the stick's tip in the left arm's commanded frame"};
   core::Property<std::string> right_half_state_{"right_half_state", "ApplyRightStitch", "",
                                                 "task state path component of the right half-stitch"};
   core::Property<std::string> left_half_state_{"left_half_state", "ApplyLeftStitch", "",
@@ -111,7 +106,6 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   std::array<KDL::Frame, 2> stitch_, measured_, goal_pair_;  // stitch_: right, left target
   std::array<bool, 2> have_stitch_{false, false}, have_measured_{false, false};
   std::size_t last_half_ = 0;  // 0: right, 1: left
-  std::array<KDL::Frame, 2> tip_, tip_inverse_;  // right_tip, left_tip and their inverses (configure)
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
   puncturing::GoalFailure failure_;
   std::string last_failure_;
