@@ -54,6 +54,7 @@ SutureFrames.state_table_file = here .. "../state_table.txt"
 SutureFrames.pull_offset = { 0.012, 0.0, 0.037 }
 SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
 SutureFrames.push_offset = { -0.016, 0.0005, 0.012 }
+SutureFrames.aside_offset = { -0.016, 0.015, 0.015 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose
