@@ -51,10 +51,10 @@ SutureFrames.state_table_file = here .. "../state_table.txt"
 -- cut: nearer, the Endo Stitch, leaning back, reaches the stick as it enters the wound for the next
 -- half; farther, the left arm's upper arm reaches the right arm's. Measured worst clearance 4.3 mm
 -- (threshold 4 mm) on both scenarios (README).
-SutureFrames.pull_offset = { 0.012, 0.0, 0.037 }
+SutureFrames.pull_offset = { 0.008, 0.0, 0.037 }
 SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
-SutureFrames.push_offset = { -0.016, 0.0005, 0.012 }
-SutureFrames.aside_offset = { -0.016, 0.015, 0.015 }
+SutureFrames.push_offset = { -0.010, 0.0005, 0.012 }
+SutureFrames.aside_offset = { -0.016, 0.018, 0.015 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose

@@ -105,7 +105,7 @@ puncturing::DatumSource::Outcome SuturingFrameGenerator::resolve(const puncturin
   else if (datum.name == "left_edge") pose = toolAt(frame, stitch_[1].p);
   else if (datum.name == "centre") pose = toolAt(frame, centre);
   else if (datum.name == "pull") pose = toolAt(frame, centre + frame * pull_offset_());
-  else if (datum.name == "aside") pose = toolAt(frame, fromEdge(aside_offset_()));
+  else if (datum.name == "aside") pose = toolAt(frame, centre + frame * aside_offset_());
   else if (datum.name == "hook") pose = toolAt(frame, fromEdge(hook_offset_()));
   else pose = toolAt(frame, fromEdge(push_offset_()));  // "push": the parser admits no other name
   return Outcome::Resolved;

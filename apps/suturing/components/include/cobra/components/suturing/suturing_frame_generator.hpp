@@ -28,9 +28,11 @@ namespace cobra::components {
 /// (the StitchPlanner's rightStitchPose / leftStitchPose: the edge point at the stitch depth);
 /// `centre` = their midpoint (inside the wound); `pull` (the Endo Stitch pulling the thread) =
 /// `centre` moved by `pull_offset` (m, stitch frame: x along the cut, y from the right edge to the
-/// left, z out of the skin); `aside` (the stick beside the thread, ahead along the cut), `hook` (the
-/// stick through the free thread), `push` (the stick having pushed the thread back along the cut) =
-/// the edge target of the last half-stitch moved by `aside_offset`, `hook_offset`, `push_offset`
+/// left, z out of the skin); `aside` (where the stick waits out of the Endo Stitch's way while it
+/// stitches: the same place for both halves) = `centre` moved by `aside_offset` (stitch frame, so
+/// +y is the left edge's side, the stick's own); `hook` (the stick through the free thread), `push`
+/// (the stick having pushed the thread back along the cut) = the edge target of the last
+/// half-stitch moved by `hook_offset`, `push_offset`
 /// (m, in that half's frame: x along the cut, y outward from the wound on that side, z out of the
 /// skin): the free thread leaves the skin beyond the edge of the last half. The last half is the
 /// one of the last task state answered whose path contains `right_half_state` or
@@ -79,8 +81,9 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
                                            "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
   // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
   // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
-  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(0.015, 0.0005, 0.02), "m",
-                                            "the stick beside the thread, from the last half's edge target (half frame)"};
+  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(-0.016, 0.018, 0.015), "m",
+                                            "the stick waiting out of the Endo Stitch's way, from the stitch's centre "
+                                            "(stitch frame: +y towards the left edge)"};
   core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0005, 0.02), "m",
                                            "the stick through the free thread, from the last half's edge target"};
   core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.006, 0.0005, 0.02), "m",
