@@ -44,13 +44,17 @@ initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra
 getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
--- m: where the stick works against the Endo Stitch's 10 mm envelope (planning/scenes/suturing.scene,
--- the stick an object of its own): the Endo Stitch pulls the thread 12 mm ahead along the cut (37 mm
--- above the stitch's centre), so that the stick hooks it 10 mm above the last half's edge target
--- (8 mm above the skin) well clear of the pulling instrument, and pushes it back 16 mm along the
--- cut: nearer, the Endo Stitch, leaning back, reaches the stick as it enters the wound for the next
--- half; farther, the left arm's upper arm reaches the right arm's. Measured worst clearance 4.3 mm
--- (threshold 4 mm) on both scenarios (README).
+-- m, stitch frames (x along the cut, z out of the skin): where each tool works, against the Endo
+-- Stitch's 10 mm envelope and the stick (planning/scenes/suturing.scene; measured, README "Where the
+-- stick works"). The Endo Stitch pulls the thread 8 mm ahead along the cut, 37 mm above the
+-- stitch's centre (12 mm and 10 mm ahead, the +15 degree cut's first pull ended in
+-- e_ik_discontinuity: the robot refused a pose off its IK branch). The stick hooks it 12 mm above
+-- the last half's edge target, 3.5 mm ahead and 1.2 mm outward (on the free thread there), and pushes it 10 mm back
+-- along the cut (16 mm folded the two upper arms to 1.7 mm on the +15 degree cut; the thread's
+-- pull, up to 4.9 N on the compliant stick, stops it about 5 mm short anyway). Before each half it
+-- waits aside, 16 mm back, 18 mm towards the left edge (its own side) and 15 mm above the stitch's
+-- centre (state_table.txt, MoveOverWound: the same place for both halves, off the thread's line
+-- and out of the Endo Stitch's way). Worst clearance 4.85 mm (the +15 degree cut) to 5.44 mm.
 SutureFrames.pull_offset = { 0.008, 0.0, 0.037 }
 SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
 SutureFrames.push_offset = { -0.010, 0.0005, 0.012 }

@@ -23,9 +23,9 @@ ISUR.left_tool_frame = left_tool_frame               -- the stick's tip (frames.
 -- m, rad: the Endo Stitch 11.5 cm above the phantom over the cut's middle, tilted 21 deg from the
 -- vertical (its pitch share q6 + q7 = 1.2 rad: away from the vertical, where its wrist's two
 -- representations meet); the stick's tip 9 cm above the skin, 3 cm behind and 5 cm left of the
--- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch when it descends into the
--- wound, and the straight motion to the first hook passes behind it (planning/scenes/suturing.scene's
--- stick; a start over the cut put the stick 3.6 mm from the Endo Stitch).
+-- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch (planning/scenes/suturing.scene's
+-- stick; a start over the cut put the stick 3.6 mm from it); the first motion, planned, takes the
+-- stick aside (state_table.txt, MoveOverWound).
 ISUR.initial_joints = { 0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
                         -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985 }
 -- m/s, rad/s: the joints' velocity limits (the simulated servos' defaults, stated here because the
