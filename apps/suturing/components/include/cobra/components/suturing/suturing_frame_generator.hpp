@@ -79,11 +79,13 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   core::Property<std::string> state_table_file_{"state_table_file", "", "", "state -> goal datum of each arm"};
   core::Property<KDL::Vector> pull_offset_{"pull_offset", KDL::Vector(0.0, 0.0, 0.037), "m",
                                            "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
-  // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
-  // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
+  // The default: the suturing application's (apps/suturing/deployment/controller.lua, where it is
+  // argued), off the free thread's line and out of the Endo Stitch's way on the I-SUR.
   core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(-0.016, 0.018, 0.015), "m",
                                             "the stick waiting out of the Endo Stitch's way, from the stitch's centre "
                                             "(stitch frame: +y towards the left edge)"};
+  // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
+  // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
   core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0005, 0.02), "m",
                                            "the stick through the free thread, from the last half's edge target"};
   core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.006, 0.0005, 0.02), "m",
