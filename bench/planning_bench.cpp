@@ -85,7 +85,7 @@ SceneDescription standInScene() {
 SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
   SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/scenes/puncturing.scene");
   for (RobotPlacement& robot : scene.robots)
-    if (robot.name == "isur") robot.tool_in_model_tool = KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0));
+    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
   for (ObjectDescription& object : scene.objects)
     if (object.name == "phantom") object.offset = phantom * object.offset;
   return scene;

@@ -37,14 +37,15 @@ constexpr double kPi = 3.14159265358979323846;
 const std::string kSource = COBRA_SOURCE_DIR;
 
 
-// apps/suturing: suturing.lua (tool_frame, phantom under the wound), deployment/world.lua (base,
+// apps/suturing: frames.lua (the tools' frames), suturing.lua (phantom under the wound), deployment/world.lua (base,
 // initial joints), scenarios/straight_cut (the wound at (0.178, 0, 0.06), a 40 mm cut along x),
 // the StitchPlanner's defaults (8 mm spacing and margins, 2 mm deep), state_table.txt
 // (MoveOverWound: centre-0.03), the Frame Generator's pull_offset (0.037 m above the centre).
-const KDL::Frame kToolFrame(KDL::Rotation::RPY(kPi, -1.2, 0.0));
+const KDL::Frame kRightToolFrame(KDL::Rotation::RPY(kPi, -1.2, 0.0));
+const KDL::Frame kLeftToolFrame(KDL::Rotation::RotY(-0.6) * KDL::Rotation::RotZ(-0.6), KDL::Vector(0.0, 0.0, 0.15));
 const KDL::Frame kBase(KDL::Vector(0.0, 0.0, 1.0));
 const double kInitialJoints[14] = {0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
-                                   0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266};
+                                   -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985};
 
 /// The goals: the Endo Stitch 3 cm above each stitch's centre, the stick where it starts.
 std::vector<cobra::planning::DualPose> suturingGoals() {
@@ -53,7 +54,7 @@ std::vector<cobra::planning::DualPose> suturingGoals() {
   for (unsigned i = 0; i < 14; ++i) q(i) = kInitialJoints[i];
   KDL::Frame right, left;
   (void)solver.forward(q, right, left);
-  const KDL::Frame stick = kBase * left * kToolFrame;
+  const KDL::Frame stick = kBase * left * kLeftToolFrame;
   const KDL::Rotation down = KDL::Rotation::RotX(kPi);  // the datums: z into the skin, x along the cut
   std::vector<cobra::planning::DualPose> goals;
   for (int k = 0; k < 4; ++k) {
@@ -66,7 +67,8 @@ std::vector<cobra::planning::DualPose> suturingGoals() {
 void BM_SuturingQueries(benchmark::State& state, const std::string& planner_name) {
   cobra::components::PlanningSceneSettings settings;
   settings.scene_file = kSource + "/planning/scenes/suturing.scene";
-  settings.first_tool_frame = kToolFrame;
+  settings.first_tool_frame = kRightToolFrame;
+  settings.second_tool_frame = kLeftToolFrame;
   settings.phantom_pose = KDL::Frame(KDL::Vector(0.178, 0.0, 0.0));
   cobra::planning::SceneDescription scene = cobra::components::buildPlanningScene(settings);
   cobra::planning::RobotModels models = cobra::planning::makeRobotModels(scene);

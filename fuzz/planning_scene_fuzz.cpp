@@ -48,7 +48,9 @@ std::string print(const SceneDescription& scene) {
   for (const auto& robot : scene.robots) {
     out += "robot " + robot.name + " tools";
     for (const std::size_t tool : robot.tool_indices) out += " " + std::to_string(tool);
-    out += " base " + pose(robot.base_in_world) + " tool " + pose(robot.tool_in_model_tool) + "\n";
+    out += " base " + pose(robot.base_in_world) + "\n";
+    for (std::size_t t = 0; t < robot.tool_indices.size(); ++t)
+      out += "tool " + robot.name + " " + std::to_string(t) + " at " + pose(robot.toolFrame(t)) + "\n";
   }
   for (const auto& group : scene.groups) out += "group " + group + "\n";
   for (const auto& object : scene.objects) {
@@ -72,9 +74,10 @@ bool same(const SceneDescription& a, const SceneDescription& b) {
     return false;
   for (std::size_t i = 0; i < a.robots.size(); ++i) {
     const auto &x = a.robots[i], &y = b.robots[i];
-    if (x.name != y.name || x.tool_indices != y.tool_indices || !sameFrame(x.base_in_world, y.base_in_world) ||
-        !sameFrame(x.tool_in_model_tool, y.tool_in_model_tool))
+    if (x.name != y.name || x.tool_indices != y.tool_indices || !sameFrame(x.base_in_world, y.base_in_world))
       return false;
+    for (std::size_t t = 0; t < x.tool_indices.size(); ++t)
+      if (!sameFrame(x.toolFrame(t), y.toolFrame(t))) return false;
   }
   for (std::size_t i = 0; i < a.objects.size(); ++i) {
     const auto &x = a.objects[i], &y = b.objects[i];

@@ -13,18 +13,12 @@ local G = dofile(here .. "../puncturing/deployment/geometry.lua")  -- G.frame(x,
 -- Phantom Omnis). Switching is this one line.
 teleop_device = teleop_device or "leap"
 
--- This application's frames (m, rad). Both tools' datums have z into the skin and x along the cut
--- (the Frame Generator's). The Endo Stitch's tip frame has the instrument along its x axis;
--- pointing straight down it would sit where its wrist's two representations meet, so its datum
--- frame holds it 21 deg from the vertical (its initial pitch): the robot's right tool frame.
--- The planner and the State Validator take one tool frame for both tools of the two-armed robot
--- (components/planning: the first's), so the left arm is commanded in the same frame on its
--- gripper, and the stick's tip, 0.15 m along the gripper's axis with the gripper leaning in from
--- the left about 34 deg from the vertical (a pose from which the left arm reaches every stick
--- position around a stitch, searched with the split IK), is `stick_tip` in that frame:
--- tool_frame^-1 * (gripper -> stick tip datum), computed once.
-tool_frame = G.frame(0, 0, 0, math.pi, -1.2, 0)
-stick_tip = G.frame(0.139805863, 0, -0.0543536632, 2.77295847, -0.484786581, 0.692127747)
+-- This application's tool frames (frames.lua, the one place they are given): the Endo Stitch's tip
+-- (right) and the stick's tip (left), in which the robot, the planner, the State Validator, the
+-- Frame Generator and the wound all see the tools.
+local frames = dofile(here .. "frames.lua")
+right_tool_frame = frames.right_tool
+left_tool_frame = frames.left_tool
 -- The suturing scene's phantom (0.25 x 0.2 x 0.06 m) centred under the wound.
 phantom_pose = G.frame(wound.wound_pose[1], wound.wound_pose[2], 0)
 

@@ -45,6 +45,10 @@ void SceneDescription::validate() const {
       throw std::invalid_argument("scene: robot '" + robot.name + "' must take one or two tools of q (0 and/or 1)");
     for (const std::size_t tool : robot.tool_indices)
       if (tool > 1) throw std::invalid_argument("scene: robot '" + robot.name + "': tool index must be 0 or 1");
+    if (!robot.tool_frames.empty() && robot.tool_frames.size() != robot.tool_indices.size())
+      throw std::invalid_argument("scene: robot '" + robot.name + "' has " + std::to_string(robot.tool_indices.size()) +
+                                  " tool(s) but " + std::to_string(robot.tool_frames.size()) +
+                                  " tool frames: give one per tool (or none: identity)");
   }
   for (std::size_t i = 0; i < groups.size(); ++i)
     if (groupIndex(groups[i]) != i) throw std::invalid_argument("scene: group '" + groups[i] + "' declared twice");
@@ -184,7 +188,35 @@ Attachment parseAttachment(Line& line, const SceneDescription& scene) {
   return attachment;
 }
 
-void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::path& base_dir) {
+/// `tools 0 1` as written, for messages.
+std::string toolsText(const RobotPlacement& robot) {
+  std::string text = "tools";
+  for (const std::size_t tool : robot.tool_indices) text += " " + std::to_string(tool);
+  return text;
+}
+
+/// Parse state across lines: the (robot, tool) pairs a `tool` statement has given.
+using ToolsGiven = std::vector<std::pair<std::size_t, std::size_t>>;
+
+void parseToolStatement(Line& line, SceneDescription& scene, ToolsGiven& given) {
+  const std::string name(line.word("a robot name"));
+  const std::size_t r = scene.robotIndex(name);
+  if (r == SceneDescription::npos) line.fail("unknown robot '" + name + "' (declare it with `robot` first)");
+  RobotPlacement& robot = scene.robots[r];
+  const std::size_t tool = line.index("a tool index of the robot");
+  const std::size_t count = robot.tool_indices.size();
+  if (tool >= count)
+    line.fail("robot '" + name + "' has " + std::to_string(count) + " tool" + (count == 1 ? "" : "s") + " (`" +
+              toolsText(robot) + "`): no tool " + std::to_string(tool) +
+              " (a tool index counts the robot's tools from 0, in the order of its `tools`)");
+  if (std::find(given.begin(), given.end(), std::pair{r, tool}) != given.end())
+    line.fail("tool " + std::to_string(tool) + " of robot '" + name + "' given twice");
+  given.emplace_back(r, tool);
+  line.keyword("at");
+  robot.setToolFrame(tool, line.pose());
+}
+
+void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::path& base_dir, ToolsGiven& tools) {
   const std::string_view statement = line.word("a statement");
   if (statement == "min_collision_distance") {
     scene.min_collision_distance = line.number("a distance [m]");
@@ -206,9 +238,11 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     robot.base_in_world = line.pose();
     if (!line.atEnd()) {
       line.keyword("tool");
-      robot.tool_in_model_tool = line.pose();
+      robot.tool_frames.assign(robot.tool_indices.size(), line.pose());
     }
     scene.robots.push_back(std::move(robot));
+  } else if (statement == "tool") {
+    parseToolStatement(line, scene, tools);
   } else if (statement == "group") {
     const std::string name(line.word("a group name"));
     if (scene.groupIndex(name) != SceneDescription::npos) line.fail("group '" + name + "' declared twice");
@@ -249,7 +283,7 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
     (allow ? scene.allowed_contacts : scene.primitive_contacts).emplace_back(pair[0], pair[1]);
   } else {
     line.fail("unknown statement '" + std::string(statement) +
-              "' (min_collision_distance, robot, group, object, check, allow, primitive_contact)");
+              "' (min_collision_distance, robot, tool, group, object, check, allow, primitive_contact)");
   }
   line.end();
 }
@@ -258,6 +292,7 @@ void parseStatement(Line& line, SceneDescription& scene, const std::filesystem::
 
 SceneDescription parseScene(std::string_view text, const std::string& source, const std::filesystem::path& base_dir) {
   SceneDescription scene;
+  ToolsGiven tools;
   std::size_t line_number = 0;
   while (!text.empty()) {
     ++line_number;
@@ -266,7 +301,7 @@ SceneDescription parseScene(std::string_view text, const std::string& source, co
     text = newline == std::string_view::npos ? std::string_view{} : text.substr(newline + 1);
     content = content.substr(0, content.find('#'));
     Line line(content, source + ":" + std::to_string(line_number));
-    if (!line.empty()) parseStatement(line, scene, base_dir);
+    if (!line.empty()) parseStatement(line, scene, base_dir, tools);
   }
   scene.validate();
   return scene;

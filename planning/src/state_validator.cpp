@@ -71,7 +71,13 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
     models_.push_back(it->second);
     tools_.emplace_back(model.toolCount());
     links_.emplace_back(model.linkCount());
-    model_tool_in_tool_.push_back(placement.tool_in_model_tool.Inverse());
+    std::vector<KDL::Frame> frames, inverses;
+    for (std::size_t t = 0; t < placement.tool_indices.size(); ++t) {
+      frames.push_back(placement.toolFrame(t));
+      inverses.push_back(frames.back().Inverse());
+    }
+    tool_in_model_tool_.push_back(std::move(frames));
+    model_tool_in_tool_.push_back(std::move(inverses));
     joint_offsets_.push_back(joint_offsets_.back() + model.jointCount());
     joint_space_ = joint_space_ && model.jointCount() > 0;
     seeds_.emplace_back(model.jointCount());
@@ -97,7 +103,7 @@ Reachability StateValidator::inverse(const DualPose& q, std::span<const double> 
     const RobotPlacement& placement = description.robots[r];
     const KDL::Frame world_in_base = placement.base_in_world.Inverse();
     for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
-      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r];
+      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r][t];
     const std::size_t n = joint_offsets_[r + 1] - joint_offsets_[r];
     std::span<const double> robot_seed;
     if (seed.empty()) {
@@ -128,7 +134,7 @@ ValidityResult StateValidator::placeRobots(const DualPose& q) {
     const RobotPlacement& placement = description.robots[r];
     const KDL::Frame world_in_base = placement.base_in_world.Inverse();
     for (std::size_t t = 0; t < placement.tool_indices.size(); ++t)
-      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r];
+      tools_[r][t] = world_in_base * (placement.tool_indices[t] == 0 ? q.first : q.second) * model_tool_in_tool_[r][t];
     placed_known_[r] = false;  // placed from tool poses now, or left where the failed solve leaves it
     if (models_[r]->solve(tools_[r], links_[r]) != Reachability::Reachable) {
       result.validity = Validity::Unreachable;
@@ -188,8 +194,7 @@ bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
     if (!models_[r]->linkFramesAt(joints, links_[r])) return false;
     const RobotPlacement& placement = description.robots[r];
     for (std::size_t t = 0; t < placement.tool_indices.size(); ++t) {
-      const KDL::Frame tool = placement.base_in_world * links_[r][models_[r]->toolLink(t)] *
-                              placement.tool_in_model_tool;
+      const KDL::Frame tool = placement.base_in_world * links_[r][models_[r]->toolLink(t)] * tool_in_model_tool_[r][t];
       (placement.tool_indices[t] == 0 ? tools.first : tools.second) = tool;
     }
   }

@@ -31,7 +31,7 @@ const JointState kStart{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0, 0.798, 
 StateValidator puncturingValidator() {
   SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/puncturing.scene");
   for (RobotPlacement& robot : scene.robots)
-    if (robot.name == "isur") robot.tool_in_model_tool = KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0));
+    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
 }

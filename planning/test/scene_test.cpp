@@ -50,10 +50,54 @@ TEST(Scene, PoseIsXyzThenRollPitchYaw) {
 
 TEST(Scene, RobotsMayNameTheirToolFrame) {
   const SceneDescription scene = parse("robot r tools 0 base 0 0 1 0 0 0 tool 0 0 0.1 0 1.5708 0\n");
-  EXPECT_TRUE(KDL::Equal(scene.robots[0].tool_in_model_tool,
+  EXPECT_TRUE(KDL::Equal(scene.robots[0].toolFrame(0),
                          KDL::Frame(KDL::Rotation::RPY(0, 1.5708, 0), KDL::Vector(0, 0, 0.1)), 1e-12));
-  EXPECT_TRUE(KDL::Equal(parse("robot r tools 0 base 0 0 1 0 0 0\n").robots[0].tool_in_model_tool,
-                         KDL::Frame::Identity(), 1e-15));
+  EXPECT_TRUE(KDL::Equal(parse("robot r tools 0 base 0 0 1 0 0 0\n").robots[0].toolFrame(0), KDL::Frame::Identity(),
+                         1e-15));
+}
+
+TEST(Scene, EachToolOfATwoToolRobotHasItsOwnFrame) {
+  // The robot line's `tool` gives every tool's frame; a `tool` statement one tool's (its index
+  // among the robot's tools, not the pose of q it takes: `tools 1 0` makes tool 0 the second pose).
+  const SceneDescription scene = parse(
+      "robot r tools 1 0 base 0 0 1 0 0 0 tool 0 0 0 0 1.5708 0\n"
+      "tool r 1 at 0 0 0.15 0 -0.6 0\n");
+  const RobotPlacement& robot = scene.robots[0];
+  ASSERT_EQ(robot.tool_frames.size(), 2u);
+  EXPECT_TRUE(KDL::Equal(robot.toolFrame(0), KDL::Frame(KDL::Rotation::RPY(0, 1.5708, 0)), 1e-12));
+  EXPECT_TRUE(KDL::Equal(robot.toolFrame(1), KDL::Frame(KDL::Rotation::RPY(0, -0.6, 0), KDL::Vector(0, 0, 0.15)), 1e-12));
+  // Without the robot line's `tool`, the tools a statement does not name stay identity.
+  const SceneDescription one = parse("robot r tools 0 1 base 0 0 1 0 0 0\ntool r 1 at 0 0 0.15 0 0 0\n");
+  EXPECT_TRUE(KDL::Equal(one.robots[0].toolFrame(0), KDL::Frame::Identity(), 1e-15));
+  EXPECT_TRUE(KDL::Equal(one.robots[0].toolFrame(1), KDL::Frame(KDL::Vector(0, 0, 0.15)), 1e-15));
+}
+
+TEST(Scene, AToolTheRobotDoesNotHaveIsNamedWithTheRobotsToolCount) {
+  EXPECT_CONTAINS(messageOf([] { parse("robot r tools 0 1 base 0 0 1 0 0 0\n\ntool r 2 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:3: robot 'r' has 2 tools (`tools 0 1`): no tool 2 (a tool index counts the robot's "
+                  "tools from 0, in the order of its `tools`)");
+  EXPECT_CONTAINS(messageOf([] { parse("robot ur5 tools 1 base 0 0 1 0 0 0\ntool ur5 1 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:2: robot 'ur5' has 1 tool (`tools 1`): no tool 1");
+  EXPECT_CONTAINS(messageOf([] { parse("tool r 0 at 0 0 0 0 0 0\n"); }),
+                  "s.scene:1: unknown robot 'r' (declare it with `robot` first)");
+  EXPECT_CONTAINS(messageOf([] { parse("robot r tools 0 base 0 0 1 0 0 0\ntool r 0 at 0 0 0 0 0 0\n"
+                                       "tool r 0 at 0 0 0.1 0 0 0\n"); }),
+                  "s.scene:3: tool 0 of robot 'r' given twice");
+  EXPECT_CONTAINS(messageOf([] { parse("robot r tools 0 base 0 0 1 0 0 0\ntool r 0 0 0 0 0 0 0\n"); }),
+                  "s.scene:2: expected 'at', found '0'");
+}
+
+TEST(Scene, ValidateWantsOneToolFramePerTool) {
+  SceneDescription scene;
+  RobotPlacement robot;
+  robot.name = "isur";
+  robot.tool_indices = {0, 1};
+  robot.tool_frames = {KDL::Frame::Identity()};
+  scene.robots.push_back(robot);
+  EXPECT_CONTAINS(messageOf([&] { scene.validate(); }),
+                  "scene: robot 'isur' has 2 tool(s) but 1 tool frames: give one per tool (or none: identity)");
+  scene.robots[0].tool_frames.clear();
+  EXPECT_NO_THROW(scene.validate());
 }
 
 TEST(Scene, CommentsAndBlankLinesAreIgnored) {

@@ -116,7 +116,7 @@ TEST(StateValidator, TheSceneToolFrameIsWhatThePosesName) {
   // from the tool): the shifted scene at q moved up 0.1 m sees exactly the plain scene at q, and
   // not the plain scene at the moved q.
   SceneDescription scene = test::twoRobotScene();
-  scene.robots[0].tool_in_model_tool = KDL::Frame(KDL::Vector(0, 0, 0.1));
+  scene.robots[0].setToolFrame(0, KDL::Frame(KDL::Vector(0, 0, 0.1)));
   StateValidator shifted(scene, test::twoRobotModels());
   StateValidator plain(test::twoRobotScene(), test::twoRobotModels());
   const DualPose q = toolsAt({-0.3, 0, 0.17}, {0.6, 0.3, 0.3});

@@ -34,7 +34,7 @@ StateValidator puncturingValidator(const std::string& extra = "") {
   const std::filesystem::path file = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/puncturing.scene";
   SceneDescription scene = parseScene(test::readText(file) + extra, file.string(), file.parent_path());
   for (RobotPlacement& robot : scene.robots)
-    if (robot.name == "isur") robot.tool_in_model_tool = KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0));
+    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
 }

@@ -4,7 +4,7 @@
 -- "suture", the configurations suturing_free_motion and suturing_contact (configurations/), and
 -- the task/deployment/configuration supervisors of the puncturing task, reused unchanged. One
 -- variable admittance per arm, each with its energy tank.
--- Needs the globals `tool_frame`, `stick_tip`, `phantom_pose`, `teleop_device`
+-- Needs the globals `right_tool_frame`, `left_tool_frame`, `phantom_pose`, `teleop_device`
 -- ("leap" or "omni": which haptic device the teleoperated deployment reads).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = here .. "../../../components/coordination/charts/"
@@ -44,11 +44,26 @@ initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra
 getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
-SutureFrames.left_tip = stick_tip
+-- m, stitch frames (x along the cut, z out of the skin): where each tool works, against the Endo
+-- Stitch's 10 mm envelope and the stick (planning/scenes/suturing.scene; measured, README "Where the
+-- stick works"). The Endo Stitch pulls the thread 8 mm ahead along the cut, 37 mm above the
+-- stitch's centre (12 mm and 10 mm ahead, the +15 degree cut's first pull ended in
+-- e_ik_discontinuity: the robot refused a pose off its IK branch). The stick hooks it 12 mm above
+-- the last half's edge target, 3.5 mm ahead and 1.2 mm outward (on the free thread there), and pushes it 10 mm back
+-- along the cut (16 mm folded the two upper arms to 1.7 mm on the +15 degree cut; the thread's
+-- pull, up to 4.9 N on the compliant stick, stops it about 5 mm short anyway). Before each half it
+-- waits aside, 16 mm back, 18 mm towards the left edge (its own side) and 15 mm above the stitch's
+-- centre (state_table.txt, MoveOverWound: the same place for both halves, off the thread's line
+-- and out of the Endo Stitch's way). Worst clearance 4.85 mm (the +15 degree cut) to 5.44 mm.
+SutureFrames.pull_offset = { 0.008, 0.0, 0.037 }
+SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
+SutureFrames.push_offset = { -0.010, 0.0005, 0.012 }
+SutureFrames.aside_offset = { -0.016, 0.018, 0.015 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
   p.scene_file = here .. "../../../planning/scenes/suturing.scene"
   p.phantom_pose = phantom_pose
-  p.first_tool_frame = tool_frame          -- both arms' (the scene's robot takes the first's for both)
+  p.first_tool_frame = right_tool_frame    -- the scene's I-SUR tool 0: the Endo Stitch's tip (frames.lua)
+  p.second_tool_frame = left_tool_frame    -- its tool 1: the stick's tip (frames.lua)
 end
 SuturePlanner.first_bounds_low = { 0.05, -0.12, 0.05 }    -- m: the Endo Stitch's tip over the phantom
 SuturePlanner.first_bounds_high = { 0.3, 0.12, 0.3 }

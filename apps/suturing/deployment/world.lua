@@ -4,7 +4,8 @@
 -- component_type here (the sim-only ports true*CartPose stay unconnected then).
 -- Geometry as planning/scenes/suturing.scene: world z up, table top z = 0, the I-SUR's base 1 m
 -- above it; the phantom (0.06 m high) placed under the wound (suturing.lua: phantom_pose).
--- Needs the globals `wound` (the scenario's wound.lua), `tool_frame`, `stick_tip` (suturing.lua).
+-- Needs the globals `wound` (the scenario's wound.lua), `right_tool_frame`, `left_tool_frame`
+-- (suturing.lua, from frames.lua).
 -- The surgeon's console (the puncturing task's ScriptedSurgeon): its say(event) operation gives the
 -- surgeon's decisions (e_take_over, e_teleop_done, e_recover) to the chart; its script is empty
 -- unless `surgeon_file` names one.
@@ -17,17 +18,19 @@ initConfigurator({ "cobra_sim", "cobra_puncturing" }, {
 getReferences()
 
 ISUR.base_frame = { 0, 0, 1.0, 0, 0, 0, 1 }         -- m: as the suturing scene's `robot isur ... base`
-ISUR.right_tool_frame = tool_frame                   -- the tool frame of this application (suturing.lua)
-ISUR.left_tool_frame = tool_frame
+ISUR.right_tool_frame = right_tool_frame             -- the Endo Stitch's tip (frames.lua)
+ISUR.left_tool_frame = left_tool_frame               -- the stick's tip (frames.lua)
 -- m, rad: the Endo Stitch 11.5 cm above the phantom over the cut's middle, tilted 21 deg from the
 -- vertical (its pitch share q6 + q7 = 1.2 rad: away from the vertical, where its wrist's two
--- representations meet); the stick's tip 9 cm above the skin beside it (suturing.lua's tool frames).
+-- representations meet); the stick's tip 9 cm above the skin, 3 cm behind and 5 cm left of the
+-- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch (planning/scenes/suturing.scene's
+-- stick; a start over the cut put the stick 3.6 mm from it); the first motion, planned, takes the
+-- stick aside (state_table.txt, MoveOverWound).
 ISUR.initial_joints = { 0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
-                        0.512402, 1.07422, -1.40825, 0.18719, -0.268661, -0.108266 }
+                        -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985 }
 -- m/s, rad/s: the joints' velocity limits (the simulated servos' defaults, stated here because the
 -- runner's joint-jump check reads them): the delta's three sliders, then eleven revolute joints.
 ISUR.max_velocity = { 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5 }
-Patient.stick_tip = stick_tip                        -- the stick's tip on the left arm's tool frame
 Patient.cut = wound.cut
 Patient.wound_pose = wound.wound_pose
 Patient.max_gap = wound.max_gap

@@ -160,9 +160,12 @@ SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
     phantom->offset = s.phantom_pose * phantom->offset;
   }
   for (planning::RobotPlacement& robot : scene.robots) {
-    // A robot taking both poses (Algorithm 5.1) has one tool frame for both: the first's.
-    const KDL::Frame& tool = robot.tool_indices.front() == 0 ? s.first_tool_frame : s.second_tool_frame;
-    if (!(tool == KDL::Frame::Identity())) robot.tool_in_model_tool = tool;
+    // Each tool takes the frame of the pose of q it serves (a robot taking both poses, Algorithm
+    // 5.1: each of its tools its own).
+    for (std::size_t t = 0; t < robot.tool_indices.size(); ++t) {
+      const KDL::Frame& tool = robot.tool_indices[t] == 0 ? s.first_tool_frame : s.second_tool_frame;
+      if (!(tool == KDL::Frame::Identity())) robot.setToolFrame(t, tool);
+    }
   }
   if (s.min_collision_distance >= 0.0) scene.min_collision_distance = s.min_collision_distance;
   try {

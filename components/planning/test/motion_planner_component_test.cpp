@@ -415,8 +415,8 @@ TEST(MotionPlannerComponent, ToolFramesLetTheApplicationNameItsOwnToolFrames) {
   s.scene_file = "puncturing.scene";
   s.first_tool_frame = KDL::Frame(KDL::Rotation::RotY(kPi / 2));
   const planning::SceneDescription scene = buildPlanningScene(s);
-  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("isur")].tool_in_model_tool, s.first_tool_frame, 1e-15));
-  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("ur5")].tool_in_model_tool, KDL::Frame::Identity(), 1e-15));
+  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("isur")].toolFrame(0), s.first_tool_frame, 1e-15));
+  EXPECT_TRUE(KDL::Equal(scene.robots[scene.robotIndex("ur5")].toolFrame(0), KDL::Frame::Identity(), 1e-15));
 
   auto configured = [&](MotionPlannerComponent& planner, bool app) {
     configureScene(planner);
@@ -432,6 +432,40 @@ TEST(MotionPlannerComponent, ToolFramesLetTheApplicationNameItsOwnToolFrames) {
   EXPECT_NEAR(app_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart), expected, 1e-9);
   const double other = model_convention.call<double>("checkDistancePoses", needle_z_along, kProbeStart);
   EXPECT_TRUE(std::isnan(other) || std::abs(other - expected) > 1e-4) << "without it the rotated pose is another needle";
+}
+
+TEST(MotionPlannerComponent, EachToolOfTheTwoArmedRobotTakesTheFrameOfItsPoseOfQ) {
+  // The suturing scene's I-SUR takes both poses of q with one solver: the first pose names the
+  // Endo Stitch datum (first_tool_frame), the second the tip of the stick on the gripper
+  // (second_tool_frame), each in its own tool's model frame.
+  PlanningSceneSettings model_settings;
+  model_settings.models_folder = scenes();
+  model_settings.scene_file = "suturing.scene";
+  PlanningSceneSettings app_settings = model_settings;
+  app_settings.first_tool_frame = KDL::Frame(KDL::Rotation::RPY(kPi, -1.2, 0.0));
+  app_settings.second_tool_frame = KDL::Frame(KDL::Rotation::RotY(-0.6), KDL::Vector(0.0, 0.0, 0.15));
+  const planning::SceneDescription scene = buildPlanningScene(app_settings);
+  ASSERT_EQ(scene.robots.size(), 1u);
+  EXPECT_TRUE(KDL::Equal(scene.robots[0].toolFrame(0), app_settings.first_tool_frame, 1e-15));
+  EXPECT_TRUE(KDL::Equal(scene.robots[0].toolFrame(1), app_settings.second_tool_frame, 1e-15));
+
+  const planning::SceneDescription model_scene = buildPlanningScene(model_settings);
+  planning::StateValidator model_frames(model_scene, planning::makeRobotModels(model_scene));
+  planning::StateValidator app_frames(scene, planning::makeRobotModels(scene));
+  // The suturing application's initial joints (apps/suturing/deployment/world.lua).
+  const std::vector<double> q{0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,
+                              -0.0755758, 1.01212, -0.823385, 0.541061, -0.755379, 0.171985};
+  planning::DualPose model_poses, app_poses;
+  ASSERT_TRUE(model_frames.toolPoses(q, model_poses));
+  ASSERT_TRUE(app_frames.toolPoses(q, app_poses));
+  EXPECT_TRUE(KDL::Equal(app_poses.first, model_poses.first * app_settings.first_tool_frame, 1e-12));
+  EXPECT_TRUE(KDL::Equal(app_poses.second, model_poses.second * app_settings.second_tool_frame, 1e-12));
+  // The same physical state through either convention's poses: the same clearance.
+  const double expected = model_frames.minimumDistance(model_poses);
+  ASSERT_TRUE(std::isfinite(expected));
+  EXPECT_NEAR(app_frames.minimumDistance(app_poses), expected, 1e-9);
+  const double other = model_frames.minimumDistance(app_poses);
+  EXPECT_TRUE(std::isnan(other) || std::abs(other - expected) > 1e-4) << "the stick's tip is not the gripper";
 }
 
 // The measured state's clearance is measured every clearance_period (10 ms) from the joints

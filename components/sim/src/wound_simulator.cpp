@@ -24,7 +24,6 @@ WoundSimulator::WoundSimulator(std::string name)
   addProperty(cut_);
   addProperty(wound_pose_);
   addProperty(tool_tip_offset_);
-  addProperty(stick_tip_offset_);
   addProperty(edge_samples_);
   addProperty(release_event_);
   addPort(tool_tip_);
@@ -82,7 +81,7 @@ bool WoundSimulator::configureHook() {
 
 bool WoundSimulator::startHook() {
   have_tool_ = have_stick_ = hooked_ = broken_ = false;
-  tool_lever_ = stick_lever_ = KDL::Vector::Zero();
+  tool_lever_ = KDL::Vector::Zero();
   last_update_ns_ = -1;
   actuations_seen_ = 0;
   core::Event stale;
@@ -118,8 +117,7 @@ void WoundSimulator::updateHook() {
     have_tool_ = true;
   }
   if (stick_tip_.read(pose) != core::FlowStatus::NoData) {
-    stick_lever_ = pose.M * stick_tip_offset_().p;
-    stick_ = world_to_wound_ * (pose.p + stick_lever_);
+    stick_ = world_to_wound_ * pose.p;
     have_stick_ = true;
   }
   int count = 0;
@@ -168,7 +166,8 @@ void WoundSimulator::publish(bool all) noexcept {
   tension_.write(w.tension());
   const KDL::Rotation& to_world = wound_pose_().M;
   tool_wrench_.write(atPortFrame(to_world * w.toolForce(), tool_lever_));
-  stick_wrench_.write(atPortFrame(to_world * w.stickForce(), stick_lever_));
+  // stickTipPose is the stick's tip itself (the left tool frame, apps/suturing/frames.lua): no lever.
+  stick_wrench_.write(KDL::Wrench(to_world * w.stickForce(), KDL::Vector::Zero()));
   stitch_count_.write(complete_);
   max_stitch_gap_.write(widest_stitch_gap_);
   max_gap_out_.write(widest_gap_);

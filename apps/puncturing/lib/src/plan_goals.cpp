@@ -8,13 +8,12 @@ namespace {
 
 constexpr std::size_t kArms = 2;
 
-/// `datum` with its offset applied, as the arm is commanded, into `pose`.
+/// `datum` with its offset applied (the arm is commanded in its datum's frame), into `pose`.
 DatumSource::Outcome resolveMoved(DatumSource& source, const Datum& datum, std::size_t arm, KDL::Frame& pose,
                                   const char*& why) {
   const DatumSource::Outcome outcome = source.resolve(datum, arm, pose, why);
   if (outcome != DatumSource::Outcome::Resolved) return outcome;
   if (datum.offset != 0.0) pose = alongZ(pose, datum.offset);
-  source.command(arm, pose);
   return outcome;
 }
 

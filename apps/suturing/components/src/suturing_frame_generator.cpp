@@ -29,8 +29,6 @@ SuturingFrameGenerator::SuturingFrameGenerator(std::string name)
                 "current task state, from the current stitch's targets and a state table") {
   addProperty(state_table_file_);
   for (auto* p : {&pull_offset_, &aside_offset_, &hook_offset_, &push_offset_}) addProperty(*p);
-  addProperty(right_tip_);
-  addProperty(left_tip_);
   addProperty(right_half_state_);
   addProperty(left_half_state_);
   addPort(task_state_);
@@ -56,8 +54,6 @@ bool SuturingFrameGenerator::configureHook() {
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
   }
-  tip_ = {right_tip_(), left_tip_()};
-  tip_inverse_ = {tip_[0].Inverse(), tip_[1].Inverse()};
   desired_ = trajectory::MultiAxisPath(
       std::vector<std::vector<double>>(2, std::vector<double>(kArms * puncturing::kPoseValues)));
   goal_ = trajectory::MultiAxisPath(
@@ -87,7 +83,7 @@ puncturing::DatumSource::Outcome SuturingFrameGenerator::resolve(const puncturin
       why = arm == 0 ? "no pose on rightMeasPose yet" : "no pose on leftMeasPose yet";
       return Outcome::Missing;
     }
-    pose = measured_[arm] * tip_[arm];
+    pose = measured_[arm];
     return Outcome::Resolved;
   }
   if (const KDL::Frame* fixed = table_.pose(datum.name)) {
@@ -109,14 +105,10 @@ puncturing::DatumSource::Outcome SuturingFrameGenerator::resolve(const puncturin
   else if (datum.name == "left_edge") pose = toolAt(frame, stitch_[1].p);
   else if (datum.name == "centre") pose = toolAt(frame, centre);
   else if (datum.name == "pull") pose = toolAt(frame, centre + frame * pull_offset_());
-  else if (datum.name == "aside") pose = toolAt(frame, fromEdge(aside_offset_()));
+  else if (datum.name == "aside") pose = toolAt(frame, centre + frame * aside_offset_());
   else if (datum.name == "hook") pose = toolAt(frame, fromEdge(hook_offset_()));
   else pose = toolAt(frame, fromEdge(push_offset_()));  // "push": the parser admits no other name
   return Outcome::Resolved;
-}
-
-void SuturingFrameGenerator::command(std::size_t arm, KDL::Frame& pose) const noexcept {
-  pose = pose * tip_inverse_[arm];
 }
 
 void SuturingFrameGenerator::noData(const std::string& reason) {

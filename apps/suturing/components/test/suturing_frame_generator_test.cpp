@@ -145,7 +145,13 @@ TEST(SuturingFrameGenerator, ARowWithACheckPublishesTheMotionAfterItsGoal) {
   const KDL::Frame over = expected(KDL::Vector(0.0, 0.0, 0.03));
   EXPECT_NEAR(goal.waypoint(0)[2], over.p.z(), 1e-12);
   EXPECT_NEAR(goal.waypoint(0)[14 + 2], expected(KDL::Vector(0.0, 0.0, 0.0)).p.z(), 1e-12);
-  EXPECT_NEAR(goal.waypoint(0)[7], expected(KDL::Vector(0.015, -0.0035, 0.02)).p.x(), 1e-12);  // the stick aside
+  // The stick aside: aside_offset's default from the centre, in the stitch frame (+y: the left edge's side).
+  const KDL::Frame aside = expected(KDL::Vector(-0.016, 0.018, 0.015));
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(goal.waypoint(0)[7 + i], aside.p[i], 1e-12);
+  // The same place before the left half (not mirrored like the thread's datums).
+  ASSERT_EQ(b.ask("root.AutonomousMode.ApplyLeftStitch.MoveOverWound.AskingGoal"), "e_goal_ready");
+  ASSERT_NE(b.goal.read(goal), core::FlowStatus::NoData);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(goal.waypoint(0)[7 + i], aside.p[i], 1e-12);
   std::filesystem::remove(path);
 }
 

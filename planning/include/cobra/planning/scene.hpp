@@ -10,7 +10,10 @@
 ///     robot isur tools 0 base 0 0 0.8 0 0 0         # robot isur takes tool 0 of q; base in world
 ///     robot ur5 tools 1 base 0.6 0 0 0 0 3.1416     # `tools 0 1` for one solver of both tools
 ///     robot isur tools 0 base 0 0 0.8 0 0 0 tool 0 0 0 0 1.5708 0   # optional: the frame q names,
-///                                                   # in the model's tool frame (same for both tools)
+///                                                   # in the model's tool frame (every tool's)
+///     tool isur 1 at 0 0 0.15 0 0 0                 # the frame of ONE tool of a robot: its index
+///                                                   # among the robot's tools (the order of its
+///                                                   # `tools`, from 0), in that tool's model frame
 ///     group environment                             # one FCL broadphase manager per group
 ///     object table environment world box 1.2 0.8 0.04 at 0 0 -0.02 0 0 0
 ///     object column macro isur.0 cylinder 0.03 0.4 at 0 0 0 0 0 0
@@ -27,6 +30,8 @@
 /// `object NAME GROUP ATTACH SHAPE ... at POSE`: ATTACH is `world` or `ROBOT.LINK` (link index as
 /// the robot model reports it); the pose is the shape frame in the attachment frame. Mesh paths are
 /// relative to the scene file. Names are unique per kind; groups and robots are declared before use.
+/// A `tool` statement overrides the robot line's `tool` for that tool; one tool's frame is given by
+/// at most one `tool` statement.
 
 #include <cstddef>
 #include <filesystem>
@@ -48,9 +53,21 @@ struct RobotPlacement {
   KDL::Frame base_in_world = KDL::Frame::Identity();
   /// Indices (0 = first, 1 = second pose of q ∈ SE(3)×SE(3)) in the order the solver takes them.
   std::vector<std::size_t> tool_indices;
-  /// The frame the poses of q give, in the robot model's tool frame [m, rad] (e.g. an
-  /// application whose needle frames have z along the needle, where the model's needle is x).
-  KDL::Frame tool_in_model_tool = KDL::Frame::Identity();
+  /// Per tool of the robot (the order of tool_indices, i.e. the robot model's tools): the frame
+  /// its pose of q gives, in the model's frame of that tool [m, rad] (e.g. an application whose
+  /// needle frames have z along the needle, where the model's needle is x; the tip of a stick the
+  /// gripper holds, where the model's tool is the gripper). Empty: identity for every tool.
+  std::vector<KDL::Frame> tool_frames;
+
+  /// tool_frames[tool], identity when tool_frames is empty.
+  KDL::Frame toolFrame(std::size_t tool) const {
+    return tool_frames.empty() ? KDL::Frame::Identity() : tool_frames.at(tool);
+  }
+  /// Sets the frame of tool `tool` (< tool_indices.size()), the others kept (identity if unset).
+  void setToolFrame(std::size_t tool, const KDL::Frame& frame) {
+    tool_frames.resize(tool_indices.size(), KDL::Frame::Identity());
+    tool_frames.at(tool) = frame;
+  }
 };
 
 /// A distance query between two groups (Algorithm 4.2, lines 8-12).

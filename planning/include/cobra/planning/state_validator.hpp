@@ -148,7 +148,8 @@ class StateValidator {
   CollisionWorld world_;
   std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order
   std::vector<std::vector<KDL::Frame>> tools_;      // per robot, preallocated
-  std::vector<KDL::Frame> model_tool_in_tool_;      // per robot: the scene's `tool`, inverted
+  std::vector<std::vector<KDL::Frame>> tool_in_model_tool_;  // per robot and tool: the scene's tool frame
+  std::vector<std::vector<KDL::Frame>> model_tool_in_tool_;  // the same, inverted
   std::vector<std::vector<KDL::Frame>> links_;      // per robot, preallocated
   std::vector<std::vector<double>> seeds_;           // per robot: its configured seed, preallocated
   /// Per robot: the joints placeRobotsAt last placed its objects at, while they are still placed

@@ -39,12 +39,6 @@ class DatumSource {
   /// The pose (m, rad, task frame) `datum` names for `arm` before its offset, into `pose`; on
   /// Missing or NotComing, `why` says what is missing. Must allocate nothing when it resolves.
   virtual Outcome resolve(const Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) = 0;
-  /// The pose `arm` is commanded to for its datum pose `pose` (resolved, its offset applied), in
-  /// place; the default: the same (the arm is commanded in its datum's frame). Allocates nothing.
-  virtual void command(std::size_t arm, KDL::Frame& pose) const noexcept {
-    (void)arm;
-    (void)pose;
-  }
 
  protected:
   ~DatumSource() = default;

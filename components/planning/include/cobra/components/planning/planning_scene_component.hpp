@@ -30,9 +30,10 @@ struct PlanningSceneSettings {
   double mesh_scale = 0.001;
   double min_collision_distance = -1.0;
   KDL::Frame phantom_pose = KDL::Frame::Identity();
-  /// The frames the two poses of q give, each in its robot model's tool frame (identity: as the
-  /// scene says). E.g. an application whose needle frame has z along the needle, where the I-SUR
-  /// model's needle is its tool's x axis: RotY(90°).
+  /// The frames the two poses of q give, each in the model frame of the robot tool that takes it
+  /// (identity: as the scene says). E.g. an application whose needle frame has z along the needle,
+  /// where the I-SUR model's needle is its tool's x axis: RotY(90°); a two-tool robot's second
+  /// tool a stick's tip on its gripper.
   KDL::Frame first_tool_frame = KDL::Frame::Identity();
   KDL::Frame second_tool_frame = KDL::Frame::Identity();
 };
@@ -56,8 +57,9 @@ planning::SceneDescription buildPlanningScene(const PlanningSceneSettings& setti
 /// - `mesh_scale` (m per mesh unit, 0.001 for CAD in mm), `min_collision_distance` (m; < 0: the
 ///   scene's), `phantom_pose` (KDL.Frame, m: places the phantom frame, in which the scene's object
 ///   `phantom` is given, in the world; identity = as in the scene), `first_tool_frame` and
-///   `second_tool_frame` (KDL.Frame, m: the frame each pose of q names, in the tool frame of the
-///   robot model that takes it; non-identity values replace the scene's `tool`).
+///   `second_tool_frame` (KDL.Frame, m: the frame each pose of q names, in the model frame of the
+///   robot tool that takes it, also for a robot that takes both; non-identity values replace the
+///   scene's frame of that tool).
 /// The scene file stays the primary description (the thesis' lists are data the scene already
 /// holds per object); the properties exist for the thesis' deployment files and override it.
 class PlanningSceneComponent : public core::Component {
@@ -93,9 +95,9 @@ class PlanningSceneComponent : public core::Component {
   core::Property<double> min_collision_distance_{"min_collision_distance", -1.0, "m",
                                                  "distance every checked pair must exceed (< 0: the scene's)"};
   core::Property<KDL::Frame> first_tool_frame_{"first_tool_frame", KDL::Frame::Identity(), "m",
-                                              "frame the first pose of q names, in its robot model's tool frame"};
+                                              "frame the first pose of q names, in the model frame of the tool that takes it"};
   core::Property<KDL::Frame> second_tool_frame_{"second_tool_frame", KDL::Frame::Identity(), "m",
-                                               "frame the second pose of q names, in its robot model's tool frame"};
+                                               "frame the second pose of q names, in the model frame of the tool that takes it"};
   core::Property<KDL::Frame> phantom_pose_{"phantom_pose", KDL::Frame::Identity(), "m",
                                            "pose of the phantom frame in the world (identity: as in the scene)"};
 };

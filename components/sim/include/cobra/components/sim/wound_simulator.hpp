@@ -29,10 +29,11 @@ namespace cobra::components {
 /// once the stick lets go, instead of vanishing in one step), `edge_samples` (points per edge published on woundEdges, >= 2). Defaults:
 /// sim::WoundModel / sim::ThreadModel.
 ///
-/// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip), `stickTipPose` (KDL::Frame, m, W:
-/// the stick held by the left arm's gripper), each moved by `tool_tip` / `stick_tip` (KDL::Frame,
-/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity); until
-/// both have arrived the thread is not stepped.
+/// Inputs: `toolTipPose` (KDL::Frame, m, W: the Endo Stitch's tip, moved by `tool_tip`, KDL::Frame,
+/// m: the tip in the frame the port gives, e.g. a robot's tool frame; default identity),
+/// `stickTipPose` (KDL::Frame, m, W: the tip of the stick held by the left arm's gripper, e.g. the
+/// robot's left tool pose with its tool frame on the stick's tip); until both have arrived the
+/// thread is not stepped.
 /// `endoStitchActuations` (int, the robot's count of completed Endo Stitch actuations, from 0 at
 /// its start): each increment applies a half-stitch at the tip's current pose, on the edge the
 /// tip is at (sim::Wound::sideAt): the chart asks the robot to actuate the tool, the tool's
@@ -41,9 +42,10 @@ namespace cobra::components {
 /// makes the stick let the thread go.
 /// Outputs: `toolWrench`, `stickWrench` (KDL::Wrench, N, N·m, world axes: the tensed thread's pull
 /// on the tip, sim::Wound::toolForce / stickForce, about the origin of the frame `toolTipPose` /
-/// `stickTipPose` gives — the robot's tool point —, so the torque is the tip's lever arm (`tool_tip` /
-/// `stick_tip`, in world axes) × the force; a robot's contact wrench inputs, whose reference point
-/// is that tool point);
+/// `stickTipPose` gives — the robot's tool point —, so the torque is the tip's lever arm (`tool_tip`,
+/// in world axes) × the force; `stickTipPose` is the stick's tip itself (the left tool frame), so
+/// `stickWrench` has no torque; a robot's contact wrench inputs, whose reference point is that
+/// tool point);
 /// `events`: e_stitch_applied, e_stitch_missed (why: `missReason`, the sim::StitchMiss
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
@@ -99,8 +101,6 @@ class WoundSimulator : public core::Component {
                                        "the thread slides off the stick over this time once it lets go, >= 0"};
   core::Property<KDL::Frame> tool_tip_offset_{"tool_tip", KDL::Frame::Identity(), "m",
                                               "the Endo Stitch's tip in the frame toolTipPose gives"};
-  core::Property<KDL::Frame> stick_tip_offset_{"stick_tip", KDL::Frame::Identity(), "m",
-                                               "the stick's tip in the frame stickTipPose gives"};
   core::Property<int> edge_samples_{"edge_samples", 41, "1", "points per edge on woundEdges, >= 2"};
   core::Property<std::string> release_event_{"release_event", "e_release_thread", "", "the stick lets the thread go"};
 
@@ -122,9 +122,9 @@ class WoundSimulator : public core::Component {
   std::optional<sim::Wound> wound_;
   KDL::Frame world_to_wound_;
   KDL::Vector tool_, stick_;  // wound frame
-  // m, world axes: each tip from the origin of the frame its port gives (the tip offset rotated
-  // into the world): the wrenches' lever arms.
-  KDL::Vector tool_lever_ = KDL::Vector::Zero(), stick_lever_ = KDL::Vector::Zero();
+  // m, world axes: the Endo Stitch's tip from the origin of the frame toolTipPose gives (the tip
+  // offset rotated into the world): toolWrench's lever arm.
+  KDL::Vector tool_lever_ = KDL::Vector::Zero();
   bool have_tool_ = false, have_stick_ = false;
   bool hooked_ = false, broken_ = false;
   int actuations_seen_ = 0;

@@ -28,18 +28,20 @@ namespace cobra::components {
 /// (the StitchPlanner's rightStitchPose / leftStitchPose: the edge point at the stitch depth);
 /// `centre` = their midpoint (inside the wound); `pull` (the Endo Stitch pulling the thread) =
 /// `centre` moved by `pull_offset` (m, stitch frame: x along the cut, y from the right edge to the
-/// left, z out of the skin); `aside` (the stick beside the thread, ahead along the cut), `hook` (the
-/// stick through the free thread), `push` (the stick having pushed the thread back along the cut) =
-/// the edge target of the last half-stitch moved by `aside_offset`, `hook_offset`, `push_offset`
+/// left, z out of the skin); `aside` (where the stick waits out of the Endo Stitch's way while it
+/// stitches: the same place for both halves) = `centre` moved by `aside_offset` (stitch frame, so
+/// +y is the left edge's side, the stick's own); `hook` (the stick through the free thread), `push`
+/// (the stick having pushed the thread back along the cut) = the edge target of the last
+/// half-stitch moved by `hook_offset`, `push_offset`
 /// (m, in that half's frame: x along the cut, y outward from the wound on that side, z out of the
 /// skin): the free thread leaves the skin beyond the edge of the last half. The last half is the
 /// one of the last task state answered whose path contains `right_half_state` or
 /// `left_half_state` (default ApplyRightStitch, ApplyLeftStitch; the right one before any);
 /// `hold` = the arm's measured pose; a table `pose` = a fixed world pose.
 ///
-/// Each arm is commanded in its robot tool frame, in which its tool's tip (the datums' frame) is
-/// `right_tip` / `left_tip` (KDL.Frame, m: e.g. the stick's tip 0.15 m out of the gripper): the goal
-/// is the datum pose times the tip's inverse, and `hold` the measured pose times the tip.
+/// Each arm is commanded in its tool's datum frame (the robot's tool frame is the tip: the
+/// application gives it once, apps/suturing/frames.lua): a goal is the datum pose itself, `hold`
+/// the measured pose.
 ///
 /// Interface:
 /// - properties `state_table_file` (read at configure: a bad file refuses configure with
@@ -71,25 +73,23 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
 
  private:
   Outcome resolve(const puncturing::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
-  void command(std::size_t arm, KDL::Frame& pose) const noexcept override;
   void answer();
   void noData(const std::string& reason);
 
   core::Property<std::string> state_table_file_{"state_table_file", "", "", "state -> goal datum of each arm"};
   core::Property<KDL::Vector> pull_offset_{"pull_offset", KDL::Vector(0.0, 0.0, 0.037), "m",
                                            "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
+  // The default: the suturing application's (apps/suturing/deployment/controller.lua, where it is
+  // argued), off the free thread's line and out of the Endo Stitch's way on the I-SUR.
+  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(-0.016, 0.018, 0.015), "m",
+                                            "the stick waiting out of the Endo Stitch's way, from the stitch's centre "
+                                            "(stitch frame: +y towards the left edge)"};
   // The thread datums' defaults, for the sim::Wound defaults (4 mm bite, the pull 37 mm above the
   // stitch's centre): 18 mm above the skin the free thread is about 0.4 mm outward of the edge.
-  core::Property<KDL::Vector> aside_offset_{"aside_offset", KDL::Vector(0.015, 0.0005, 0.02), "m",
-                                            "the stick beside the thread, from the last half's edge target (half frame)"};
   core::Property<KDL::Vector> hook_offset_{"hook_offset", KDL::Vector(0.0, 0.0005, 0.02), "m",
                                            "the stick through the free thread, from the last half's edge target"};
   core::Property<KDL::Vector> push_offset_{"push_offset", KDL::Vector(-0.006, 0.0005, 0.02), "m",
                                            "the stick having pushed the thread aside, from the last half's edge target"};
-  core::Property<KDL::Frame> right_tip_{"right_tip", KDL::Frame::Identity(), "m",
-                                        "the Endo Stitch's tip in the right arm's commanded frame"};
-  core::Property<KDL::Frame> left_tip_{"left_tip", KDL::Frame::Identity(), "m",
-                                       "the stick's tip in the left arm's commanded frame"};
   core::Property<std::string> right_half_state_{"right_half_state", "ApplyRightStitch", "",
                                                 "task state path component of the right half-stitch"};
   core::Property<std::string> left_half_state_{"left_half_state", "ApplyLeftStitch", "",
@@ -111,7 +111,6 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   std::array<KDL::Frame, 2> stitch_, measured_, goal_pair_;  // stitch_: right, left target
   std::array<bool, 2> have_stitch_{false, false}, have_measured_{false, false};
   std::size_t last_half_ = 0;  // 0: right, 1: left
-  std::array<KDL::Frame, 2> tip_, tip_inverse_;  // right_tip, left_tip and their inverses (configure)
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
   puncturing::GoalFailure failure_;
   std::string last_failure_;
