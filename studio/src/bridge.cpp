@@ -90,8 +90,6 @@ void writePose(const KDL::Frame& f, double* out) {
   f.M.GetQuaternion(out[3], out[4], out[5], out[6]);
 }
 
-const char* shapeType(planning::ShapeKind kind) { return planning::toString(kind); }
-
 }  // namespace
 
 struct VisualizerBridge::Impl {
@@ -303,7 +301,7 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
       out += std::string(first ? "" : ",") + "{\"name\":" + json::quoted(o.name) + ",\"group\":" + json::quoted(o.group) +
              ",\"robot\":" + json::quoted(o.attached_to.robot_name) + ",\"link\":" +
              (o.attached_to.isWorld() ? std::string("-1") : std::to_string(o.attached_to.link_index)) +
-             ",\"shape\":{\"type\":\"" + shapeType(o.shape.kind) + "\"";
+             ",\"shape\":{\"type\":\"" + planning::toString(o.shape.kind) + "\"";
       first = false;
       const auto& d = o.shape.dimensions;
       switch (o.shape.kind) {

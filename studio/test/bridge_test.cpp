@@ -17,6 +17,7 @@
 #include "cobra/studio/bridge.hpp"
 #include "cobra/studio/json.hpp"
 #include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -127,13 +128,9 @@ TEST(VisualizerBridge, AnUnknownPortOfTheStudioTableNamesTheAppFileLineAndThePor
   run::RunOptions options;
   options.app = kApps + "bad_port.lua";
   options.observer = &bridge;
-  try {
-    run::runApp(options);
-    FAIL() << "expected an error";
-  } catch (const std::exception& e) {
-    EXPECT_EQ(std::string(e.what()), kApps + "bad_port.lua:6: run.studio.signals: component 'Gain' has no port 'outt'; "
-                                             "did you mean 'out'? known output ports: events, out") << e.what();
-  }
+  EXPECT_EQ(test_support::messageOf([&] { run::runApp(options); }),
+            kApps + "bad_port.lua:6: run.studio.signals: component 'Gain' has no port 'outt'; "
+                    "did you mean 'out'? known output ports: events, out");
   bridge.fail("the message");
   int status = 0;
   EXPECT_EQ(bridge.model(status), "{\"error\":\"the message\"}");
@@ -145,13 +142,8 @@ TEST(VisualizerBridge, AnInputCallingAnUnknownOperationNamesTheAppFileLine) {
   run::RunOptions options;
   options.app = kApps + "bad_input.lua";
   options.observer = &bridge;
-  try {
-    run::runApp(options);
-    FAIL() << "expected an error";
-  } catch (const std::exception& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.rfind(kApps + "bad_input.lua:6: component 'Recorder' has no operation 'clean'", 0), 0u) << message;
-  }
+  const std::string message = test_support::messageOf([&] { run::runApp(options); });
+  EXPECT_EQ(message.rfind(kApps + "bad_input.lua:6: component 'Recorder' has no operation 'clean'", 0), 0u) << message;
 }
 
 std::vector<std::string> interactiveNeedleStates(bool mount) {

@@ -7,17 +7,13 @@
 
 #include "cobra/studio/bridge.hpp"
 #include "cobra/studio/replay.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::studio {
 namespace {
 
 std::string errorOf(const std::filesystem::path& folder) {
-  try {
-    Replay replay(folder);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test_support::messageOf([&] { Replay replay(folder); });
 }
 
 TEST(Replay, AFolderThatIsNotARunFolderIsOneLineNamingItAndWhatIsMissing) {

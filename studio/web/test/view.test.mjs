@@ -1,24 +1,16 @@
 // The live page against the fixture server: the WebGL view draws, and every link's world matrix
 // in three's scene graph equals the streamed frame's link pose (cobra's forward kinematics).
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { startFixtureServer, loadFixtures } from './fixture_server.mjs';
-import { launch, openStudio, readLinks, linkError, countDrawnPixels } from './browser.mjs';
+import { loadFixtures } from './fixture_server.mjs';
+import { openStudio, readLinks, linkError, countDrawnPixels } from './browser.mjs';
+import { liveFixture } from './live_fixture.mjs';
 
 const BACKGROUND = [0x1d, 0x21, 0x26];
-let server;
-let browser;
-before(async () => {
-  server = await startFixtureServer('live');
-  browser = await launch();
-});
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
+const live = liveFixture();
 
 test('the WebGL canvas shows the robots and the scene (non-background pixels)', async (t) => {
-  const { page, errors } = await openStudio(browser, server.pageUrl, t);
+  const { page, errors } = await openStudio(live.browser, live.server.pageUrl, t);
   const { drawn, total } = await countDrawnPixels(page, BACKGROUND);
   assert.ok(drawn > total * 0.02, `only ${drawn} of ${total} pixels differ from the background`);
   assert.deepEqual(errors, []);
@@ -27,7 +19,7 @@ test('the WebGL canvas shows the robots and the scene (non-background pixels)', 
 
 test('each link world matrix equals the frame link pose within 1e-6 m', async (t) => {
   const { recording } = loadFixtures();
-  const { page } = await openStudio(browser, server.pageUrl, t);
+  const { page } = await openStudio(live.browser, live.server.pageUrl, t);
   const seen = new Set();
   for (let sample = 0; sample < 10; sample += 1) {
     const { t, links } = await readLinks(page);
@@ -42,7 +34,7 @@ test('each link world matrix equals the frame link pose within 1e-6 m', async (t
 });
 
 test('the console shows chart states, deployments, configurations and clearance of the frame', async (t) => {
-  const { page } = await openStudio(browser, server.pageUrl, t);
+  const { page } = await openStudio(live.browser, live.server.pageUrl, t);
   await page.waitForFunction(() => window.cobraStudio.frameTime() >= 1.6 && window.cobraStudio.frameTime() < 2.4);
   const text = await page.locator('#console').innerText();
   assert.match(text, /deployment task\s+execution/);
@@ -53,7 +45,7 @@ test('the console shows chart states, deployments, configurations and clearance 
 });
 
 test('mesh objects (STL and OBJ, in mm) are fetched, parsed and scaled to m', async (t) => {
-  const { page } = await openStudio(browser, server.pageUrl, t);
+  const { page } = await openStudio(live.browser, live.server.pageUrl, t);
   for (const name of ['marker_stl', 'marker_obj']) {
     await page.waitForFunction((n) => window.cobraStudio.scene.getObjectByName(n).children.length > 0, name, { timeout: 10000 });
     const box = await page.evaluate((n) => {
@@ -85,7 +77,7 @@ test('mesh objects (STL and OBJ, in mm) are fetched, parsed and scaled to m', as
 });
 
 test('ticking a signal adds its plot, unticking removes it', async (t) => {
-  const { page } = await openStudio(browser, server.pageUrl, t);
+  const { page } = await openStudio(live.browser, live.server.pageUrl, t);
   const titles = () => page.locator('#plots .u-title').allInnerTexts();
   assert.deepEqual(await titles(), ['arm.q1.deg [deg]']);
   await page.getByLabel('clearance.mm [mm]').check();
