@@ -87,12 +87,22 @@ run = {
   },
   -- cobra studio (studio/README.md): the needle planner's scene drawn with the robots' measured
   -- joints; the iceball at the needle tip; the ultrasound image plane (6 x 10 cm) on the probe
-  -- face; the surgeon's confirmations as buttons (cobra run apps/puncturing --studio --interactive).
+  -- face; the simulated patient's tumour and tissue layers (its phantom.txt, across the scene's
+  -- phantom box) and the forbidden regions the needle monitor checks (preoperative.txt); the
+  -- needle tip's and the probe's commanded and measured paths; the surgeon's confirmations as
+  -- buttons (cobra run apps/puncturing --studio --interactive).
   studio = {
     scene = "NeedlePlanner",
     robots = { isur = "ISUR.measJointPosition", ur5 = "UR5.measJointPosition" },
     extras = { iceball = { sphere = "ISUR.measCartPose", radius = "Patient.iceballRadius" },
-               us_plane = { plane = "UR5.measCartPose", size = { 0.06, 0.1 } } },
+               us_plane = { plane = "UR5.measCartPose", size = { 0.06, 0.1 } },
+               tumour = { spheres = "Patient.tumour" },
+               forbidden = { capsules = "NeedleMonitor.forbidden_regions" },
+               layers = { slabs = "Patient.layer_depths", pose = "Patient.phantom_pose", size = "phantom" },
+               needle_commanded = { points = "NeedleAdmittance.admPose" },
+               needle_measured = { points = "ISUR.measCartPose" },
+               probe_commanded = { points = "ProbeAdmittance.admPose" },
+               probe_measured = { points = "UR5.measCartPose" } },
     signals = { "Patient.needleAxialForce", "Patient.needleDepth", "Patient.iceballRadius", "NeedlePlanner.minDistance" },
     inputs = {
       iceball_configured = { "Surgeon.say", "e_iceball_configured" },

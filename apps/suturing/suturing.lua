@@ -93,8 +93,14 @@ run = {
     contacts = { { name = "Endo Stitch in the wound", port = "SuturePlanner.primitiveContactDistance" } },
   },
   -- cobra studio (studio/README.md): the planner's scene with the two-armed I-SUR's measured joints,
-  -- the wound's edge points.
+  -- the wound's edges (woundEdges: right and left point at each sample, two lines), the thread's
+  -- path, the stitches in the tissue (at most 16 stitches: 34 thread points, 96 stitch points), the
+  -- Endo Stitch's commanded and measured paths.
   studio = { scene = "SuturePlanner", robots = { isur = "ISUR.measJointPosition" },
-             extras = { wound_edges = { points = "Patient.woundEdges", max = 400 } },
+             extras = { wound_edges = { polyline = "Patient.woundEdges", strands = 2, max = 400 },
+                        thread = { polyline = "Patient.threadPath", max = 34 },
+                        stitches = { segments = "Patient.stitchLines", max = 96 },
+                        endo_stitch_commanded = { points = "RightAdmittance.admPose" },
+                        endo_stitch_measured = { points = "ISUR.measRightCartPose" } },
              signals = { "Patient.threadTension", "Patient.maxGap" } },
 }

@@ -354,6 +354,58 @@ std::string portName(const Reader& entry, const std::string& what) {
   return port;
 }
 
+// One entry of run.studio.extras (StudioSpec::Extra; format: studio/README.md).
+StudioSpec::Extra readExtra(const std::string& name, const Reader& entry) {
+  static constexpr const char* kKinds[] = {"sphere", "plane", "points", "polyline", "segments", "spheres", "capsules", "cylinders", "slabs"};
+  static constexpr const char* kForms =
+      "sphere = \"Comp.framePort\" (the centre, with radius = \"Comp.port\"), plane = \"Comp.framePort\", "
+      "points, polyline or segments = \"Comp.port\" (x y z triples), spheres, capsules or cylinders = \"Comp.property\", "
+      "slabs = \"Comp.property\" (depth pairs, with pose and size)";
+  if (!lua_istable(entry.state(), -1)) entry.fail(std::string("must be a table with one of ") + kForms);
+  StudioSpec::Extra extra;
+  extra.name = name;
+  for (const char* kind : kKinds)
+    if (entry.has(kind)) {
+      if (!extra.kind.empty()) entry.fail("give one kind, not both " + extra.kind + " and " + kind);
+      extra.kind = kind;
+      extra.pose = entry.string(kind, true);
+    }
+  if (extra.kind.empty()) entry.fail(std::string("needs one of ") + kForms);
+  const bool property = extra.kind == "spheres" || extra.kind == "capsules" || extra.kind == "cylinders" || extra.kind == "slabs";
+  split(entry, extra.pose, property ? "property" : "port");
+  if (extra.kind == "sphere") {
+    extra.radius = entry.string("radius", true);
+    split(entry, extra.radius, "port");
+  }
+  if (extra.kind == "points" || extra.kind == "polyline" || extra.kind == "segments") {
+    const double max = entry.number("max", extra.max, true);
+    if (max != std::floor(max)) entry.fail("`max` must be a whole number of points");
+    extra.max = static_cast<int>(max);
+  }
+  if (extra.kind == "polyline") {
+    const double strands = entry.number("strands", 1.0, true);
+    if (strands != std::floor(strands)) entry.fail("`strands` must be a whole number of lines");
+    extra.strands = static_cast<int>(strands);
+  }
+  if (extra.kind == "slabs") {
+    extra.frame = entry.string("pose", true);
+    split(entry, extra.frame, "property");
+    if (!entry.has("size")) entry.fail("slabs need `size = { width, height }` in m or `size = \"object\"` (a box of run.studio.scene)");
+    lua_getfield(entry.state(), -1, "size");
+    const bool named = lua_type(entry.state(), -1) == LUA_TSTRING;
+    lua_pop(entry.state(), 1);
+    if (named) extra.footprint = entry.string("size", true);
+  }
+  if (extra.kind == "plane" || (extra.kind == "slabs" && extra.footprint.empty())) {
+    if (!entry.has("size")) entry.fail("a plane needs `size = { width, height }` in m");
+    const std::vector<double> size = entry.numbers("size");
+    if (size.size() != 2) entry.fail("`size` must be { width, height } in m");
+    extra.width = size[0], extra.height = size[1];
+  }
+  extra.where = entry.where();
+  return extra;
+}
+
 // run.studio (StudioSpec; format: studio/README.md).
 void readStudio(const Reader& run, StudioSpec& studio) {
   lua_State* L = run.state();
@@ -373,38 +425,7 @@ void readStudio(const Reader& run, StudioSpec& studio) {
       if (joints != std::floor(joints)) entry.fail("`joints` must be a whole number");
       studio.robots.push_back({name, port, static_cast<int>(joints), entry.where()});
     });
-    s.entries("extras", [&](const std::string& name, const Reader& entry) {
-      if (!lua_istable(L, -1)) entry.fail("must be a table: { sphere = \"Comp.framePort\", radius = \"Comp.port\" }, "
-                                          "{ plane = \"Comp.framePort\", size = { w, h } } or { points = \"Comp.framePort\" }");
-      StudioSpec::Extra extra;
-      extra.name = name;
-      for (const char* kind : {"sphere", "plane", "points"})
-        if (entry.has(kind)) {
-          if (!extra.kind.empty()) entry.fail("give one of sphere, plane, points");
-          extra.kind = kind;
-          extra.pose = entry.string(kind, true);
-        }
-      if (extra.kind.empty()) entry.fail("needs one of sphere = \"Comp.framePort\" (the centre), plane = \"Comp.framePort\", "
-                                         "points = \"Comp.framePort\"");
-      split(entry, extra.pose, "port");
-      if (extra.kind == "sphere") {
-        extra.radius = entry.string("radius", true);
-        split(entry, extra.radius, "port");
-      }
-      if (extra.kind == "points") {
-        const double max = entry.number("max", extra.max, true);
-        if (max != std::floor(max)) entry.fail("`max` must be a whole number of points");
-        extra.max = static_cast<int>(max);
-      }
-      if (extra.kind == "plane") {
-        if (!entry.has("size")) entry.fail("a plane needs `size = { width, height }` in m");
-        const std::vector<double> size = entry.numbers("size");
-        if (size.size() != 2) entry.fail("`size` must be { width, height } in m");
-        extra.width = size[0], extra.height = size[1];
-      }
-      extra.where = entry.where();
-      studio.extras.push_back(std::move(extra));
-    });
+    s.entries("extras", [&](const std::string& name, const Reader& entry) { studio.extras.push_back(readExtra(name, entry)); });
     for (const std::string& signal : s.strings("signals")) studio.signals.emplace_back(signal, Where{s.where().file, s.lineOf(signal)});
     s.entries("inputs", [&](const std::string& name, const Reader& entry) {
       StudioSpec::Input input;

@@ -261,5 +261,59 @@ TEST(RunSpec, ABadStudioEntryIsOneLineWithFileLineAndWhatIsExpected) {
             file() + ":2: run.studio.robots.isur: 'ISURq' must be written Component.port");
 }
 
+TEST(RunSpec, ReadsTheStudioExtrasOfFixedShapesAndLines) {
+  const RunSpec spec = read(R"(
+run = {
+  charts = { { name = "a", supervisor = "ASup", done = "root.Done" } },
+  studio = {
+    extras = { tumour = { spheres = "Patient.tumour" },
+               forbidden = { capsules = "Monitor.forbidden_regions" },
+               surface = { cylinders = "World.surface_cylinder" },
+               layers = { slabs = "Patient.layer_depths", pose = "Patient.phantom_pose", size = "phantom" },
+               sheet = { slabs = "P.depths", pose = "P.pose", size = { 0.3, 0.2 } },
+               edges = { polyline = "Patient.woundEdges", strands = 2, max = 100 },
+               stitches = { segments = "Patient.stitchLines" } },
+  },
+}
+)");
+  const std::vector<StudioSpec::Extra>& e = spec.studio.extras;
+  ASSERT_EQ(e.size(), 7u);
+  EXPECT_EQ(e[0].kind, "spheres");
+  EXPECT_EQ(e[0].pose, "Patient.tumour");
+  EXPECT_EQ(e[1].kind, "capsules");
+  EXPECT_EQ(e[2].kind, "cylinders");
+  EXPECT_EQ(e[3].kind, "slabs");
+  EXPECT_EQ(e[3].frame, "Patient.phantom_pose");
+  EXPECT_EQ(e[3].footprint, "phantom");
+  EXPECT_EQ(e[3].where.line, 8);
+  EXPECT_EQ(e[4].footprint, "");
+  EXPECT_DOUBLE_EQ(e[4].width, 0.3);
+  EXPECT_DOUBLE_EQ(e[4].height, 0.2);
+  EXPECT_EQ(e[5].kind, "polyline");
+  EXPECT_EQ(e[5].strands, 2);
+  EXPECT_EQ(e[5].max, 100);
+  EXPECT_EQ(e[6].kind, "segments");
+  EXPECT_EQ(e[6].strands, 1);
+}
+
+TEST(RunSpec, ABadStudioExtraOfTheNewKindsIsOneLineWithFileLine) {
+  const std::string head = "run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n";
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n layers = { slabs = 'P.depths', size = { 1, 1 } } } } }"); }),
+            file() + ":3: run.studio.extras.layers: needs `pose` (a string)");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n layers = { slabs = 'P.depths', pose = 'P.pose' } } } }"); }),
+            file() + ":3: run.studio.extras.layers: slabs need `size = { width, height }` in m or `size = \"object\"` (a box of "
+                     "run.studio.scene)");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n layers = { slabs = 'P.depths', pose = 'Ppose', size = 'box' } } } }"); }),
+            file() + ":3: run.studio.extras.layers: 'Ppose' must be written Component.property");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n r = { capsules = 'M.regions', spheres = 'M.s' } } } }"); }),
+            file() + ":3: run.studio.extras.r: give one kind, not both spheres and capsules");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n edges = { polyline = 'P.edges', strands = 1.5 } } } }"); }),
+            file() + ":3: run.studio.extras.edges: `strands` must be a whole number of lines");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n t = { tumour = 'P.tumour' } } } }"); }),
+            file() + ":3: run.studio.extras.t: needs one of sphere = \"Comp.framePort\" (the centre, with radius = \"Comp.port\"), "
+                     "plane = \"Comp.framePort\", points, polyline or segments = \"Comp.port\" (x y z triples), spheres, capsules or "
+                     "cylinders = \"Comp.property\", slabs = \"Comp.property\" (depth pairs, with pose and size)");
+}
+
 }  // namespace
 }  // namespace cobra::run

@@ -20,6 +20,7 @@
 #include "cobra/run/run_spec.hpp"
 #include "cobra/studio/json.hpp"
 #include "cobra/studio/triple_buffer.hpp"
+#include "extras.hpp"
 #include "spsc_ring.hpp"
 
 namespace cobra::studio {
@@ -50,16 +51,6 @@ struct RobotView {
   bool have_frames = false;         // frames_world holds the link poses for the joints frames_q
   std::vector<double> frames_q, frames_world;
   std::size_t offset = 0;           // q at values[offset], then 7 per link
-};
-
-struct ExtraView {
-  run::StudioSpec::Extra spec;
-  std::unique_ptr<run::Tap<KDL::Frame>> pose;
-  std::unique_ptr<run::Tap<std::vector<double>>> list;  // points of a vector<double> port
-  std::vector<double> sample;                          // its last value (capacity reserved)
-  std::unique_ptr<run::Tap<double>> radius;
-  std::size_t points = 1;  // points: at most this many
-  std::size_t offset = 0;  // sphere: centre (3), radius; plane: pose (7); points: count, then 3 each
 };
 
 struct SignalView {
@@ -102,7 +93,7 @@ struct VisualizerBridge::Impl {
   std::vector<std::string> charts, input_names;
   std::vector<std::pair<std::string, std::filesystem::path>> meshes;  // scene object -> its mesh file
   std::vector<RobotView> robots;
-  std::vector<ExtraView> extras;
+  Extras extras;  // what is drawn beside the robots (extras.hpp)
   std::vector<SignalView> signals;
   std::size_t width = 0;
   std::unique_ptr<TripleBuffer<Snapshot>> snapshots;
@@ -127,7 +118,7 @@ struct VisualizerBridge::Impl {
 
   std::unique_ptr<planning::SceneDescription> attachScene(const run::RunContext& run);
   void attachRobots(const run::RunContext& run, const planning::SceneDescription* scene, planning::RobotModels& models);
-  void attachExtras(const run::RunContext& run);
+  void attachExtras(const run::RunContext& run, const planning::SceneDescription* scene);
   void attachSignals(const run::RunContext& run);
   void buildModel(const planning::SceneDescription* scene, const run::StudioSpec& studio);
   void fill(Snapshot& s, const run::StepView& now);
@@ -162,7 +153,7 @@ void VisualizerBridge::attach(const run::RunContext& run) {
   for (const run::ChartSpec& c : run.spec.charts) m.charts.push_back(c.name);
   for (const run::StudioSpec::Input& i : run.spec.studio.inputs) m.input_names.push_back(i.name);
   const std::unique_ptr<planning::SceneDescription> scene = m.attachScene(run);
-  m.attachExtras(run);
+  m.attachExtras(run, scene.get());
   m.attachSignals(run);
   m.buildModel(scene.get(), run.spec.studio);
   Snapshot initial;
@@ -234,25 +225,9 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
   }
 }
 
-void VisualizerBridge::Impl::attachExtras(const run::RunContext& run) {
-  for (const run::StudioSpec::Extra& e : run.spec.studio.extras) {
-    const std::string at = e.where.text(), use = "run.studio.extras." + e.name;
-    ExtraView view;
-    view.spec = e;
-    const bool frame = e.kind != "points" || run::findOutput(run.registry, e.pose, at, use).type().name == "KDL.Frame";
-    if (frame) {
-      view.pose = std::make_unique<run::Tap<KDL::Frame>>(run.registry, e.pose, at, use, "KDL.Frame");
-    } else {
-      view.list = std::make_unique<run::Tap<std::vector<double>>>(run.registry, e.pose, at, use,
-                                                                  "KDL.Frame or vector<double> (x y z triples, m)");
-      view.points = static_cast<std::size_t>(e.max);
-      view.sample.reserve(3 * view.points);
-    }
-    if (e.kind == "sphere") view.radius = std::make_unique<run::Tap<double>>(run.registry, e.radius, at, use, "double (m)");
-    view.offset = width;
-    width += e.kind == "plane" ? 7 : (e.kind == "sphere" ? 4 : 1 + 3 * view.points);
-    extras.push_back(std::move(view));
-  }
+void VisualizerBridge::Impl::attachExtras(const run::RunContext& run, const planning::SceneDescription* scene) {
+  extras.attach(run, scene, width);
+  width += extras.width();
 }
 
 void VisualizerBridge::Impl::attachSignals(const run::RunContext& run) {
@@ -342,19 +317,7 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
     out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(studio.inputs[i].name) + ",\"label\":" +
            json::quoted(studio.inputs[i].label) + ",\"target\":" + json::quoted(studio.inputs[i].call) + "}";
   out += "],\"extras\":[";
-  for (std::size_t i = 0; i < extras.size(); ++i) {
-    const run::StudioSpec::Extra& e = extras[i].spec;
-    const char* kind = e.kind == "sphere" ? "sphere" : (e.kind == "plane" ? "plane" : "points");
-    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(e.name) + ",\"kind\":\"" + kind + "\",\"frame\":\"world\"";
-    if (e.kind == "plane") {
-      out += ",\"size\":[";
-      json::appendNumber(out, e.width);
-      out += ',';
-      json::appendNumber(out, e.height);
-      out += ']';
-    }
-    out += '}';
-  }
+  extras.appendModel(out);
   out += "]}";
 }
 
@@ -403,31 +366,7 @@ void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
       std::fill(links, links + 7 * r.links, kNaN);
     }
   }
-  for (ExtraView& e : extras) {
-    double* out = v + e.offset;
-    if (e.list) {  // x y z triples, as many as fit
-      const std::size_t n = e.list->read(e.sample) ? std::min(e.points, e.sample.size() / 3) : 0;
-      out[0] = static_cast<double>(n);
-      std::copy(e.sample.begin(), e.sample.begin() + static_cast<std::ptrdiff_t>(3 * n), out + 1);
-      continue;
-    }
-    KDL::Frame pose;
-    const bool have = e.pose->read(pose);
-    if (e.spec.kind == "points") {
-      out[0] = have ? 1.0 : 0.0;
-      out += 1;
-    }
-    if (e.spec.kind == "plane") {
-      if (have) writePose(pose, out);
-      else std::fill(out, out + 7, kNaN);
-      continue;
-    }
-    out[0] = have ? pose.p.x() : kNaN, out[1] = have ? pose.p.y() : kNaN, out[2] = have ? pose.p.z() : kNaN;
-    if (e.radius) {
-      double radius = kNaN;
-      out[3] = e.radius->read(radius) ? radius : kNaN;
-    }
-  }
+  extras.fill(v);
   for (SignalView& sig : signals) {
     sig.tap->read(sig.row);
     v[sig.offset] = sig.field < sig.row.size() ? sig.row[sig.field] : kNaN;
@@ -460,35 +399,7 @@ void VisualizerBridge::Impl::appendFrame(std::string& out, const Snapshot& s) co
     out += "]}";
   }
   out += "},\"extras\":{";
-  for (std::size_t i = 0; i < extras.size(); ++i) {
-    const ExtraView& e = extras[i];
-    const double* x = v + e.offset;
-    out += std::string(i ? "," : "") + json::quoted(e.spec.name) + ":{";
-    if (e.spec.kind == "plane") {
-      out += "\"pose\":";
-      appendPose(out, x);
-    } else if (e.spec.kind == "points") {
-      out += "\"points\":[";
-      for (std::size_t p = 0; p < static_cast<std::size_t>(x[0]); ++p) {
-        out += p ? ",[" : "[";
-        for (std::size_t k = 0; k < 3; ++k) {
-          if (k) out += ',';
-          json::appendNumber(out, x[1 + 3 * p + k]);
-        }
-        out += ']';
-      }
-      out += ']';
-    } else {
-      out += "\"center\":[";
-      for (int k = 0; k < 3; ++k) {
-        if (k) out += ',';
-        json::appendNumber(out, x[k]);
-      }
-      out += "],\"radius\":";
-      json::appendNumber(out, x[3]);
-    }
-    out += '}';
-  }
+  extras.appendFrame(out, v);
   out += "},\"charts\":{";
   for (std::size_t c = 0; c < charts.size(); ++c) out += std::string(c ? "," : "") + json::quoted(charts[c]) + ":" + json::quoted(s.states[c].view());
   out += "},\"deployments\":{";

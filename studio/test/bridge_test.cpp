@@ -256,7 +256,7 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
 namespace cobra::studio {
 namespace {
 
-TEST(VisualizerBridge, SuturingWoundEdgesAreThePointsOfAVectorPortAndTheStepAllocatesNothing) {
+TEST(VisualizerBridge, SuturingWoundEdgesAreTwoLinesOfAVectorPortAndTheStepAllocatesNothing) {
   VisualizerBridge bridge;
   CountingObserver observer(bridge);
   run::RunOptions options;
@@ -267,7 +267,7 @@ TEST(VisualizerBridge, SuturingWoundEdgesAreThePointsOfAVectorPortAndTheStepAllo
   EXPECT_EQ(observer.allocations, 0);
   int status = 0;
   const std::string model = bridge.model(status);
-  EXPECT_NE(model.find("{\"name\":\"wound_edges\",\"kind\":\"points\",\"frame\":\"world\"}"), std::string::npos) << model;
+  EXPECT_NE(model.find("{\"name\":\"wound_edges\",\"kind\":\"polyline\",\"frame\":\"world\",\"strands\":2}"), std::string::npos) << model;
   EXPECT_NE(model.find("{\"name\":\"isur\",\"joints\":[\"q1\""), std::string::npos) << model;
   std::uint64_t seq = 0;
   std::string frame;

@@ -4,7 +4,8 @@
 -- wrench at the sensor feeds a simulated FTSens on a simulated CAN bus. The drivers of
 -- deployment/controller.lua find them by name (Puma.bus = "sim:World", FTSens.bus =
 -- "sim:FTSensSim"); on the real set-up this file goes and those two properties name the real
--- buses. Sets `world`: the buses and the ports of the world's ground truth the run records.
+-- buses. Sets `world`: the buses, the ports of the world's ground truth the run records and the
+-- property giving the contact surface.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 initConfigurator({ "cobra_sim" }, {
   { peer_name = "World", component_type = "Puma260World" },
@@ -20,4 +21,5 @@ connectPorts({ { output = "World.sensorWrench", input = "FTSensSim.trueWrench" }
 configureComponents({ "World", "FTSensSim" })  -- before their drivers: each registers its bus at configure
 startComponents({ "World", "FTSensSim" })
 world = { bus = "sim:World", ftsens = "sim:FTSensSim",
-          record = { "World.toolPose", "World.contactForce", "World.penetration" } }
+          record = { "World.toolPose", "World.contactForce", "World.penetration" },
+          surface = "World.surface_cylinder" }  -- the contact surface (cobra studio draws it)

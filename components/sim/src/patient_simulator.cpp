@@ -28,6 +28,8 @@ PatientSimulator::PatientSimulator(std::string name)
   addProperty(image_depth_);
   addProperty(image_half_width_);
   addProperty(needle_visible_length_);
+  addProperty(tumour_.readOnly());
+  addProperty(layer_depths_.readOnly());
   addPort(needle_tip_pose_);
   addPort(probe_pose_);
   addPort(freeze_command_);
@@ -74,6 +76,15 @@ bool PatientSimulator::configureHook() {
     return refuse(std::string(scenario_file_().empty() ? "" : "property scenario_file: ") + e.what());
   }
   world_to_phantom_ = phantom_pose_().Inverse();
+  const sim::PhantomScenario& phantom = tissue_->scenario();
+  const KDL::Vector centre = phantom_pose_() * phantom.tumour_center;
+  tumour_.setFromOwner({centre.x(), centre.y(), centre.z(), phantom.tumour_radius});
+  std::vector<double> depths;
+  for (std::size_t i = 0; i < phantom.layers.size(); ++i) {
+    const double top = sim::layerTop(phantom, i);
+    depths.insert(depths.end(), {top, top + phantom.layers[i].thickness});
+  }
+  layer_depths_.setFromOwner(depths);
   have_needle_ = have_probe_ = false;
   freeze_requested_ = thaw_requested_ = false;
   thaw_at_ns_ = -1;

@@ -16,6 +16,7 @@ Puma260World::Puma260World(std::string name)
                                                                   &penetration_, &true_position_})
     addPort(*p);
   true_position_.setDataSample(KDL::JntArray(6));
+  addProperty(surface_cylinder_.readOnly());
   addOperation("surface", std::function<std::string()>([this] { return describeSurface(); }),
                "the curved surface: cylinder centre, axis, radius and length in the base frame (m)");
 }
@@ -44,6 +45,9 @@ bool Puma260World::configureHook() {
     openBus("simulated Puma 260 drives on the MuJoCo world of component '" + name() + "'", std::move(arm))
         .setEncoderNoise(encoder_noise_(), static_cast<std::uint64_t>(seed_()));
     arm_ = raw;
+    const sim::CylinderSurface& c = raw->world().surface();
+    const KDL::Vector a = c.centre - c.axis * c.half_length, b = c.centre + c.axis * c.half_length;
+    surface_cylinder_.setFromOwner({a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), c.radius});
   } catch (const std::invalid_argument& e) {
     SimulatedPuma260Base::cleanupHook();
     arm_ = nullptr;

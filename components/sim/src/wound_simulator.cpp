@@ -39,6 +39,8 @@ WoundSimulator::WoundSimulator(std::string name)
   addPort(miss_reason_);
   addPort(miss_distance_);
   addPort(edges_);
+  addPort(thread_path_);
+  addPort(stitch_lines_);
 }
 
 bool WoundSimulator::configureHook() {
@@ -76,6 +78,13 @@ bool WoundSimulator::configureHook() {
   release_name_.assign(release_event_());
   edge_buffer_.assign(static_cast<std::size_t>(edge_samples_()) * 6, 0.0);
   edges_.setDataSample(edge_buffer_);
+  const auto stitches = static_cast<std::size_t>(wound_->model().max_stitches);
+  thread_buffer_.assign(3 * (2 * stitches + 2), 0.0);  // two skin points per stitch, the bend, the tip
+  thread_path_.setDataSample(thread_buffer_);
+  stitch_buffer_.assign(6 * 3 * stitches, 0.0);  // three segments per complete stitch
+  stitch_lines_.setDataSample(stitch_buffer_);
+  thread_buffer_.clear();
+  stitch_buffer_.clear();
   return true;
 }
 
@@ -172,6 +181,38 @@ void WoundSimulator::publish(bool all) noexcept {
   max_stitch_gap_.write(widest_stitch_gap_);
   max_gap_out_.write(widest_gap_);
   edges_.write(edge_buffer_);
+  publishThread();
+}
+
+void WoundSimulator::publishThread() noexcept {
+  const sim::Wound& w = *wound_;
+  const KDL::Frame& to_world = wound_pose_();
+  const auto put = [&to_world](std::vector<double>& out, const KDL::Vector& wound_point) {
+    const KDL::Vector p = to_world * wound_point;
+    out.insert(out.end(), {p.x(), p.y(), p.z()});  // within the capacity reserved at configure
+  };
+  thread_buffer_.clear();
+  stitch_buffer_.clear();
+  const auto& stitches = w.stitches();
+  for (int i = 0; i < static_cast<int>(stitches.size()); ++i) {
+    const sim::Stitch& st = stitches[static_cast<std::size_t>(i)];
+    for (const sim::WoundSide side : {sim::WoundSide::Right, sim::WoundSide::Left}) {
+      if (!(side == sim::WoundSide::Right ? st.right : st.left)) continue;
+      put(thread_buffer_, w.skinPoint(i, side));
+      put(stitch_buffer_, w.skinPoint(i, side));
+      put(stitch_buffer_, w.stitchPoint(side, st.s));
+    }
+    if (st.complete()) {
+      put(stitch_buffer_, w.stitchPoint(sim::WoundSide::Right, st.s));
+      put(stitch_buffer_, w.stitchPoint(sim::WoundSide::Left, st.s));
+    }
+  }
+  if (!stitches.empty() && !w.broken()) {
+    if (w.hooked()) put(thread_buffer_, w.hookPoint());
+    if (have_tool_) put(thread_buffer_, tool_);
+  }
+  thread_path_.write(thread_buffer_);
+  stitch_lines_.write(stitch_buffer_);
 }
 
 }  // namespace cobra::components

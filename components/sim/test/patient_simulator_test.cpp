@@ -126,6 +126,22 @@ TEST(PatientSimulator, AFreezeDurationThawsByItself) {
   EXPECT_LT(world.read(radius), 0.002);
 }
 
+TEST(PatientSimulator, TheTumourAndTheLayerDepthsAreReadOnlyPropertiesSetAtConfigure) {
+  PatientSimulator patient("patient");
+  patient.setProperty("scenario_file", thickFatScenario());
+  const KDL::Frame pose(KDL::Rotation::RotX(0.2), KDL::Vector(0.1, -0.2, 0.3));
+  patient.setProperty("phantom_pose", pose);
+  ASSERT_TRUE(patient.configure());
+  const std::vector<double> tumour = patient.getProperty<std::vector<double>>("tumour");
+  ASSERT_EQ(tumour.size(), 4u);
+  const KDL::Vector centre = pose * KDL::Vector(0, 0, -0.5);  // the file's centre, frame P
+  EXPECT_NEAR((KDL::Vector(tumour[0], tumour[1], tumour[2]) - centre).Norm(), 0.0, 1e-12);
+  EXPECT_EQ(tumour[3], 0.01);
+  EXPECT_EQ(patient.getProperty<std::vector<double>>("layer_depths"), (std::vector<double>{0.0, 0.002, 0.002, 0.002 + 0.1}));
+  EXPECT_CONTAINS(test_support::messageOf([&] { patient.setProperty("tumour", std::vector<double>{0, 0, 0, 1}); }),
+                  "read-only");
+}
+
 TEST(PatientSimulator, BadScenarioFilesAreRefusedNamingTheFileAndLine) {
   PatientSimulator missing("patient");
   missing.setProperty("scenario_file", std::string("/nonexistent/abdomen.txt"));

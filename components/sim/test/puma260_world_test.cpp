@@ -108,6 +108,16 @@ TEST(Puma260World, TheMasterDrivesTheMujocoArmFromTheNestToReadyAndBack) {
   EXPECT_EQ(rig.last(rig.contact_force), 0.0);
 }
 
+TEST(Puma260World, TheSurfaceCylinderIsAReadOnlyPropertyOfTheFilesGeometry) {
+  Rig rig;
+  // apps/puma260/world/puma260.xml: radius 0.08 m, half-length 0.05 m, centred at (0.35, 0, 0.035) m,
+  // its axis turned onto the base x axis by Ry(pi/2).
+  const std::vector<double> want{0.30, 0.0, 0.035, 0.40, 0.0, 0.035, 0.08};
+  const std::vector<double> got = rig.world.getProperty<std::vector<double>>("surface_cylinder");
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(got[i], want[i], 1e-9) << "value " << i;
+}
+
 TEST(Puma260World, ToolPressedOnTheSurfaceThroughTheMasterShowsContactForceAndPenetration) {
   Rig rig;
   rig.operative();

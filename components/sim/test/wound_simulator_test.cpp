@@ -3,7 +3,7 @@
 // reason and distance; both halves at the stitch points apply a stitch, each on the edge the tip
 // is at; pulling the tool up tensions the thread and closes the gap; four
 // stitches close the wound at each stitch; the stick hooks the thread; woundEdges carries the
-// edges in the world; bad properties are refused naming them; updateHook allocates nothing.
+// edges in the world, threadPath and stitchLines the thread; bad properties are refused naming them; updateHook allocates nothing.
 #include "cobra/components/sim/wound_simulator.hpp"
 
 #include <gtest/gtest.h>
@@ -131,6 +131,46 @@ TEST(WoundSimulator, TheStickHooksTheThreadAndTheEdgesArePublishedInTheWorld) {
   ASSERT_EQ(edges.size(), 30u);  // 5 samples × (right, left) × xyz
   const KDL::Vector left_middle(edges[12 + 3], edges[12 + 4], edges[12 + 5]);  // sample 2 = the middle
   EXPECT_NEAR((left_middle - kWoundPose * b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0)).Norm(), 0.0, 1e-12);
+}
+
+TEST(WoundSimulator, ThreadPathAndStitchLinesFollowTheStitchesTheStickAndTheTipInTheWorld) {
+  Bench b;
+  core::InputPort<std::vector<double>> thread{"thread", "", "m"}, lines{"lines", "", "m"};
+  core::connectPorts(b.patient.port("threadPath"), thread);
+  core::connectPorts(b.patient.port("stitchLines"), lines);
+  b.start();
+  const auto point = [](const std::vector<double>& v, std::size_t i) { return KDL::Vector(v[3 * i], v[3 * i + 1], v[3 * i + 2]); };
+  const auto world = [](const KDL::Vector& wound_point) { return kWoundPose * wound_point; };
+  b.step(KDL::Vector(0, 0, 0.01));
+  EXPECT_TRUE(b.read(thread).empty());  // no stitch: the thread is on the needle
+  EXPECT_TRUE(b.read(lines).empty());
+
+  b.actuate(b.model.stitchPoint(sim::WoundSide::Right, 0.02));  // the right half only
+  const KDL::Vector tip(0.0, 0.0, 0.02);
+  b.step(tip);
+  std::vector<double> path = b.read(thread), segments = b.read(lines);
+  ASSERT_EQ(path.size(), 6u);  // the right skin point, the tip
+  ASSERT_EQ(segments.size(), 6u);  // one segment: skin point to edge point
+  EXPECT_NEAR((point(path, 1) - world(tip)).Norm(), 0.0, 1e-12);
+  // The right skin point: bite beyond the (still open) right edge, on the skin.
+  const double out = 0.5 * b.model.initialGap(0.02) + b.model.model().bite;
+  EXPECT_NEAR((point(path, 0) - world(b.model.centre(0.02) - b.model.normal(0.02) * out)).Norm(), 0.0, 1e-12);
+  EXPECT_NEAR((point(segments, 0) - point(path, 0)).Norm(), 0.0, 1e-12);
+  EXPECT_NEAR((point(segments, 1) - world(b.model.stitchPoint(sim::WoundSide::Right, 0.02))).Norm(), 0.0, 1e-12);
+
+  b.actuate(b.model.stitchPoint(sim::WoundSide::Left, 0.02));
+  const KDL::Vector up = b.model.stitchPoint(sim::WoundSide::Left, 0.02) + KDL::Vector(0, 0, 0.015);
+  const KDL::Vector midway = (b.model.edgePoint(sim::WoundSide::Left, 0.02, 0.0) + KDL::Vector(0, 0.004, 0) + up) * 0.5;
+  b.step(up, midway + KDL::Vector(0.001, 0, 0));
+  ASSERT_EQ(b.said.back(), "e_thread_hooked");
+  path = b.read(thread), segments = b.read(lines);
+  ASSERT_EQ(path.size(), 12u);  // right and left skin points, the bend round the stick, the tip
+  EXPECT_NEAR((point(path, 3) - world(up)).Norm(), 0.0, 1e-12);
+  EXPECT_LT((point(path, 2) - world(midway + KDL::Vector(0.001, 0, 0))).Norm(), 0.0025);  // within hook_radius of the stick
+  ASSERT_EQ(segments.size(), 3u * 6u);  // two halves and the crossing
+  const double gap = (point(segments, 4) - point(segments, 5)).Norm();  // the crossing: edge point to edge point
+  EXPECT_GT(gap, 0.0);
+  EXPECT_LE(gap, b.model.initialGap(0.02) + 1e-12);
 }
 
 TEST(WoundSimulator, TheHookedThreadsPullOnTheStickIsAForceAtTheStickTip) {

@@ -156,15 +156,24 @@ struct StudioSpec {
     Where where;
   };
   std::vector<Robot> robots;
-  /// Something drawn beside the robots: kind "sphere" (center: Frame port, radius: double port [m]),
-  /// "plane" (pose: Frame port, size: width and height [m]) or "points" (a Frame port: one point;
-  /// or a vector<double> port of x y z triples [m]: at most `max` points).
+  /// Something drawn beside the robots, in the world frame (studio/README.md, "Extras"). Kinds
+  /// read from ports every frame: "sphere" (centre: Frame port, radius: double port [m]), "plane"
+  /// (pose: Frame port, size: width and height [m]), "points", "polyline" (`strands` lines, the
+  /// port's points dealt to them in turn) and "segments" (point pairs): a vector<double> port of
+  /// x y z triples [m], at most `max` points ("points" also takes a Frame port: one point). Kinds
+  /// read once from a vector<double> property at setup (fixed shapes): "spheres" (x y z radius
+  /// each), "capsules" and "cylinders" (the axis' end points x y z x y z, radius each) and "slabs"
+  /// (top and bottom depth pairs below the x-y plane of the Frame property `frame`, each a box of
+  /// width x height, or of the x and y lengths of the box `footprint` of the drawn scene) [m].
   struct Extra {
     std::string name, kind;
-    std::string pose;    ///< the sphere's centre, the plane's pose (Frame ports), the points
+    std::string pose;    ///< "Comp.member" of the kind: the sphere's centre, the plane's pose, the points, the property
     std::string radius;  ///< sphere: double port [m]
-    double width = 0.0, height = 0.0;  ///< plane [m]
-    int max = 256;       ///< points of a vector port shown at most
+    double width = 0.0, height = 0.0;  ///< plane, slabs [m]
+    int max = 256;       ///< points, polyline, segments: points of a vector port shown at most
+    int strands = 1;     ///< polyline: lines the points alternate between
+    std::string frame;      ///< slabs: the Frame property of the skin's pose ("Comp.property")
+    std::string footprint;  ///< slabs: a box object of the drawn scene giving width and height ("" = width, height)
     Where where;
   };
   std::vector<Extra> extras;

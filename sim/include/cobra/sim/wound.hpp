@@ -182,6 +182,9 @@ class Wound {
   const std::vector<Stitch>& stitches() const noexcept { return stitches_; }
   /// m: the gap at stitch i (its s).
   double stitchGap(int i) const noexcept;
+  /// m, W: where the thread leaves the skin for `side`'s half of stitch i (bite metres beyond
+  /// that edge, on the skin): the thread's path runs through these points in order.
+  KDL::Vector skinPoint(int stitch, WoundSide side) const noexcept;
   /// m: the widest gap along the cut (sampled every 0.5 mm): what the stitches left open between
   /// and beyond them.
   double maxGap() const noexcept;
@@ -197,7 +200,6 @@ class Wound {
     double along;  // m, from the segment's start
   };
   Locus locate(double s) const noexcept;
-  KDL::Vector skinPoint(int stitch, WoundSide side) const noexcept;
   /// Thread length from the anchor to the last skin point (m).
   double fixedPath() const noexcept;
   /// Length of the free thread to `tool` (m), through the stick while hooked.

@@ -8,6 +8,7 @@
 #include <kdl/frames.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cobra/core/component.hpp"
 #include "cobra/sim/needle_tissue.hpp"
@@ -39,6 +40,10 @@ namespace cobra::components {
 ///    `needleVisible` (0/1): the model's verdict (coupled, in the plane, in the image);
 ///    `tumourVisible` (0/1); `probeContactForce` (N): how hard the probe presses on the skin.
 ///  - `iceballRadius` (m).
+/// Read-only properties, set at configure from the phantom scenario (what cobra studio draws):
+/// `tumour` (vector<double>, m: the tumour's centre x y z in the world, then its radius) and
+/// `layer_depths` (vector<double>, m: each layer's top and bottom depth below the skin along -z of
+/// phantom_pose, skin first).
 /// Operations: `startFreeze()` starts a freeze cycle around the tip (thawing by itself after
 /// `freeze_duration` s when that is > 0), `startThaw()` stops it. updateHook allocates nothing.
 class PatientSimulator : public core::Component {
@@ -76,6 +81,11 @@ class PatientSimulator : public core::Component {
   core::Property<double> image_half_width_{"image_half_width", 0.03, "m", "half the image width, > 0"};
   core::Property<double> needle_visible_length_{"needle_visible_length", 0.03, "m",
                                                 "shaft length behind the tip that must lie in the plane, > 0"};
+
+  core::Property<std::vector<double>> tumour_{"tumour", {}, "m",
+                                              "set at configure: the tumour's centre (x y z, world) and radius"};
+  core::Property<std::vector<double>> layer_depths_{
+      "layer_depths", {}, "m", "set at configure: each layer's top and bottom depth below the skin (phantom frame)"};
 
   core::InputPort<KDL::Frame> needle_tip_pose_{"needleTipPose", "needle tip pose, world frame", "m"};
   core::InputPort<KDL::Frame> probe_pose_{"probePose", "ultrasound probe pose, world frame", "m"};

@@ -8,6 +8,7 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 #include <string>
+#include <vector>
 
 #include "cobra/components/sim/simulated_puma260_base.hpp"
 #include "cobra/sim/mujoco_puma260.hpp"
@@ -34,6 +35,10 @@ namespace cobra::components {
 /// (double, m, >= 0: depth of the tool's ball in the surface), `truePosition` (KDL::JntArray, rad:
 /// the joints as they are).
 ///
+/// Read-only property `surface_cylinder` (vector<double>, m, set at configure from the MJCF file):
+/// the curved surface's cylinder as its axis' end points a (x y z) and b (x y z) and its radius,
+/// in the base frame (what cobra studio draws).
+///
 /// Operations: `injectFault(i)` (over-current fault in drive i, 0-5), `injectWorkingCounterFault(n)`
 /// (the next n bus cycles come back with a wrong working counter: the last slave does not process
 /// its datagram), `surface()` (a line describing the surface cylinder in the base frame).
@@ -53,6 +58,8 @@ class Puma260World : public SimulatedPuma260Base {
   core::Property<int> seed_{"seed", 1, "", "seed of the encoder noise"};
   core::Property<double> encoder_noise_{"encoder_noise", 0.0, "rad",
                                         "standard deviation of the noise on the reported joint positions"};
+  core::Property<std::vector<double>> surface_cylinder_{
+      "surface_cylinder", {}, "m", "set at configure: the surface cylinder's axis end points (x y z each) and radius, base frame"};
   core::OutputPort<KDL::Wrench> sensor_wrench_{"sensorWrench",
                                                "wrench the tool exerts on the FTSens, sensor frame", "N, N·m"};
   core::OutputPort<KDL::Frame> tool_pose_{"toolPose", "true tool tip pose in the base frame", "m"};

@@ -50,7 +50,13 @@ namespace cobra::components {
 /// code, and `missDistance`, m), e_thread_hooked, e_thread_broken; `threadTension` (N), `stitchCount` (complete stitches), `maxStitchGap`
 /// (m, the largest gap at a stitch, 0 with none), `woundEdges` (vector<double>: for each of
 /// `edge_samples` places along the cut, the right then the left edge point on the skin, x y z in W,
-/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut), all
+/// m: the sensing module's stand-in, §5.2.1), `maxGap` (m, the widest gap along the cut),
+/// `threadPath` (vector<double>: the thread's path as sim::Wound computes its length, x y z in W,
+/// m: the skin points of the half-stitches in order, the point where it bends round the stick
+/// while hooked, then the Endo Stitch's tip unless broken; empty before the first stitch),
+/// `stitchLines` (vector<double>: the thread inside the tissue, segments of two points (6 numbers),
+/// x y z in W, m: per half-stitch its skin point to its edge point at stitch_depth, per complete
+/// stitch also the crossing from the right edge point to the left one), all
 /// written every step; the gap-dependent ones are recomputed only when the wound's revision
 /// changed (sim::Wound::revision).
 /// updateHook allocates nothing once its connections' slots have the edges' size: those made after
@@ -70,6 +76,8 @@ class WoundSimulator : public core::Component {
   void actuate() noexcept;
   /// Writes the outputs, recomputing the gap-dependent ones when the wound's revision changed (or `all`).
   void publish(bool all) noexcept;
+  /// Writes threadPath and stitchLines (they follow the tools: every step).
+  void publishThread() noexcept;
 
   core::Property<std::vector<double>> cut_{"cut", {-0.02, 0.0, 0.02, 0.0}, "m",
                                            "x, y pairs of the cut's centreline in the wound frame"};
@@ -118,6 +126,10 @@ class WoundSimulator : public core::Component {
   core::OutputPort<double> miss_distance_{"missDistance", "tip to the edge point at the last miss", "m"};
   core::OutputPort<std::vector<double>> edges_{
       "woundEdges", "right then left edge point (x y z) at each sample along the cut, world frame", "m"};
+  core::OutputPort<std::vector<double>> thread_path_{
+      "threadPath", "the thread's path (x y z per point): skin points in order, the stick's bend, the tip; world", "m"};
+  core::OutputPort<std::vector<double>> stitch_lines_{
+      "stitchLines", "the thread in the tissue: segments (two x y z points each), skin point to edge point; world", "m"};
 
   std::optional<sim::Wound> wound_;
   KDL::Frame world_to_wound_;
@@ -135,6 +147,8 @@ class WoundSimulator : public core::Component {
   double widest_gap_ = 0.0;          // m: the widest gap along the cut
   core::BoundedString<63> release_name_;
   std::vector<double> edge_buffer_;
+  // Sized at configure for the wound's max_stitches (resized within that capacity: no allocation).
+  std::vector<double> thread_buffer_, stitch_buffer_;
 };
 
 }  // namespace cobra::components
