@@ -18,6 +18,7 @@
 #include "cobra/studio/json.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "json_numbers.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -172,26 +173,6 @@ TEST(VisualizerBridge, InAnInteractivePuncturingRunTheNeedleMountedButtonAdvance
   ASSERT_TRUE(waiting(mounted));
   EXPECT_NE(mounted.back(), "root.InsertingNeedles.WaitNeedleMounted");
   EXPECT_NE(std::find(mounted.begin(), mounted.end(), "root.InsertingNeedles.MoveToSkin.Approach"), mounted.end());
-}
-
-// The numbers of the list after `"key":` (nested lists flattened), from `from`.
-std::vector<double> numbersAfter(const std::string& text, const std::string& key, std::size_t from = 0) {
-  std::vector<double> out;
-  auto at = text.find("\"" + key + "\":[", from);
-  if (at == std::string::npos) return out;
-  at += key.size() + 3;
-  for (int depth = 0; at < text.size();) {
-    if (text[at] == '[' || text[at] == ']' || text[at] == ',') {
-      depth += text[at] == '[' ? 1 : (text[at] == ']' ? -1 : 0);
-      ++at;
-      if (depth == 0) break;
-      continue;
-    }
-    std::size_t used = 0;
-    out.push_back(std::stod(text.substr(at, 32), &used));
-    at += used;
-  }
-  return out;
 }
 
 TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirBasesAndTheStepAllocatesNothing) {
