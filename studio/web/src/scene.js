@@ -1,11 +1,13 @@
 // The 3D view: the planning scene's objects on the robots' link frames and in the world, the
-// extras (iceball, ultrasound plane, paths, wound/thread, stitches), orbit camera controls.
+// extras (iceball, ultrasound plane, paths, wound/thread, stitches; the fixed shapes of shapes.js:
+// tumour, forbidden regions, tissue layers, contact surface), orbit camera controls.
 // cobra's world is z up (m, rad); the camera's up is +z so no transform sits between the scene
 // root and the link frames: a link group's world matrix is exactly the frame's pose.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { STLLoader } from 'three/examples/jsm/loaders/STLLoader.js';
 import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
+import { FIXED_KINDS, makeFixedExtra, makeStrands, setPoints, setStrands } from './shapes.js';
 
 export const BACKGROUND = 0x1d2126;
 const MIN_FIT_RADIUS = 0.25; // m: a view of a single point or a small path still shows its surroundings
@@ -78,27 +80,30 @@ async function loadMesh(shape, material, parent, where) {
 }
 
 const EXTRA_COLORS = [0xffb347, 0x7fff7f, 0xff6f91, 0x9ad0ff, 0xf0f060];
+// Fixed shapes by what they usually are (a tumour, forbidden regions, a surface); others cycle.
+const FIXED_COLORS = { spheres: 0xb060e0, capsules: 0xff4040, cylinders: 0xd89878, boxes: 0xe8c0a8 };
 
+/** The three.js object of one model extra; its colour in userData.color (for the legend). */
 function makeExtra(extra, index) {
-  const color = EXTRA_COLORS[index % EXTRA_COLORS.length];
-  switch (extra.kind) {
-    case 'sphere': return new THREE.Mesh(new THREE.SphereGeometry(1, 32, 16),
-      new THREE.MeshStandardMaterial({ color: 0xaee6ff, transparent: true, opacity: 0.6 }));
-    case 'plane': return new THREE.Mesh(new THREE.PlaneGeometry(1, 1),
-      new THREE.MeshBasicMaterial({ color: 0x9ad0ff, transparent: true, opacity: 0.35, side: THREE.DoubleSide }));
-    case 'polyline':
-    case 'path': return new THREE.Line(new THREE.BufferGeometry(),
-      new THREE.LineBasicMaterial({ color }));
-    case 'points': return new THREE.Points(new THREE.BufferGeometry(),
-      new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false }));
-    default: throw new Error(`model extras '${extra.name}': unknown kind '${extra.kind}' (expected sphere, plane, polyline, points or path)`);
-  }
-}
-
-function setPoints(object, points) {
-  // A new geometry each time: three's setFromPoints only refills an existing attribute's size.
-  object.geometry.dispose();
-  object.geometry = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(p[0], p[1], p[2])));
+  const color = FIXED_COLORS[extra.kind] ?? EXTRA_COLORS[index % EXTRA_COLORS.length];
+  const object = (() => {
+    if (FIXED_KINDS[extra.kind]) return makeFixedExtra(extra, color);
+    switch (extra.kind) {
+      case 'sphere': return new THREE.Mesh(new THREE.SphereGeometry(1, 32, 16),
+        new THREE.MeshStandardMaterial({ color: 0xaee6ff, transparent: true, opacity: 0.6 }));
+      case 'plane': return new THREE.Mesh(new THREE.PlaneGeometry(1, 1),
+        new THREE.MeshBasicMaterial({ color: 0x9ad0ff, transparent: true, opacity: 0.35, side: THREE.DoubleSide }));
+      case 'polyline': return makeStrands(extra, color);
+      case 'segments': return new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color }));
+      case 'path': return new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color }));
+      case 'points': return new THREE.Points(new THREE.BufferGeometry(),
+        new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false }));
+      default: throw new Error(`model extras '${extra.name}': unknown kind '${extra.kind}' (expected sphere, plane, points, `
+        + 'polyline, segments, path, spheres, capsules, cylinders or boxes)');
+    }
+  })();
+  object.userData.color = object.material?.color ?? new THREE.Color(color);
+  return object;
 }
 
 const finite = (values, n) => Array.isArray(values) && values.length === n && values.every(Number.isFinite);
@@ -126,6 +131,7 @@ function updateExtra(extra, object, data) {
       }
       break;
     }
+    case 'polyline': setStrands(object, (data.points ?? []).filter((p) => finite(p, 3))); break;
     default: setPoints(object, (data.points ?? []).filter((p) => finite(p, 3)));
   }
 }
@@ -167,7 +173,7 @@ export class StudioView {
       this.scene.add(object);
       let trail = null;
       if (extra.kind === 'points') {
-        trail = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: object.material.color }));
+        trail = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: object.userData.color }));
         trail.name = `${extra.name}.trail`;
         this.scene.add(trail);
       }
@@ -241,7 +247,7 @@ export class StudioView {
   /** Each extra's name, kind and CSS colour, for the view's legend. */
   legend() {
     return [...this.extras.values()].map(({ extra, object }) => ({
-      name: extra.name, kind: extra.kind, color: `#${object.material.color.getHexString()}`,
+      name: extra.name, kind: extra.kind, color: `#${object.userData.color.getHexString()}`,
     }));
   }
 
