@@ -220,6 +220,7 @@ export class StudioView {
       const material = new THREE.MeshStandardMaterial({
         color,
         roughness: 0.6, metalness: 0.1, transparent: world, opacity: world ? 0.55 : 1,
+        depthWrite: !world, // what lies inside a world object (the phantom's tumour) shows through it
       });
       const holder = new THREE.Group();
       holder.name = object.name;

@@ -45,7 +45,7 @@ function fixedShape(kind, s, material, index) {
     }
     default: { // boxes: pose (7), full lengths (3)
       const mesh = new THREE.Mesh(new THREE.BoxGeometry(s[7], s[8], s[9]),
-        translucent(BOX_TINTS[index % BOX_TINTS.length], 0.3));
+        translucent(BOX_TINTS[index % BOX_TINTS.length], material.opacity));
       mesh.position.set(s[0], s[1], s[2]);
       mesh.quaternion.set(s[3], s[4], s[5], s[6]);
       return mesh;
@@ -61,7 +61,9 @@ function fixedShape(kind, s, material, index) {
 export function makeFixedExtra(extra, color) {
   const per = FIXED_KINDS[extra.kind];
   const group = new THREE.Group();
-  const material = translucent(color, extra.kind === 'cylinders' ? 0.6 : 0.45);
+  // What lies inside the layers (a tumour, forbidden regions) is drawn after them and more opaque,
+  // so that it shows through them.
+  const material = translucent(color, extra.kind === 'boxes' ? 0.2 : 0.7);
   (extra.shapes ?? []).forEach((s, i) => {
     const where = `model extras '${extra.name}' shapes[${i}]`;
     if (!Array.isArray(s) || s.length !== per || !s.every(Number.isFinite)) {
@@ -69,6 +71,7 @@ export function makeFixedExtra(extra, color) {
     }
     const mesh = fixedShape(extra.kind, s, material, i);
     mesh.name = `${extra.name}[${i}]`;
+    mesh.renderOrder = extra.kind === 'boxes' ? 0 : 1;
     group.add(mesh);
   });
   return group;
