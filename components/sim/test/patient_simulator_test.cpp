@@ -128,7 +128,10 @@ TEST(PatientSimulator, AFreezeDurationThawsByItself) {
 
 TEST(PatientSimulator, TheTumourAndTheLayerDepthsAreReadOnlyPropertiesSetAtConfigure) {
   PatientSimulator patient("patient");
-  patient.setProperty("scenario_file", thickFatScenario());
+  // A file of its own: tests run in parallel processes, and thickFatScenario() rewrites its file.
+  patient.setProperty("scenario_file", writeFile("cobra_sim_layer_depths.txt",
+                                                 "layer skin thickness=0.002\nlayer fat thickness=0.1\n"
+                                                 "tumour center=0,0,-0.5 radius=0.01\n"));
   const KDL::Frame pose(KDL::Rotation::RotX(0.2), KDL::Vector(0.1, -0.2, 0.3));
   patient.setProperty("phantom_pose", pose);
   ASSERT_TRUE(patient.configure());
