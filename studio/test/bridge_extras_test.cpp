@@ -1,7 +1,8 @@
 // What the Robot Visualizer Bridge draws beside the robots (studio/src/extras.cpp) on the real
 // applications: the puncturing phantom's tumour, forbidden regions and tissue layers are the
 // components' own numbers (read once, in the model) and the scenario files' numbers; the suturing
-// wound's edges, thread and stitches in a frame are the ports' values at that frame; a wrong fixed
+// wound's edges, thread and stitches in a frame are the ports' values at that frame; the Puma 260's
+// contact surface is its MuJoCo world's cylinder; a wrong fixed
 // shape is one line naming the app file:line, the property and what was expected.
 
 #include <gtest/gtest.h>
@@ -140,6 +141,31 @@ TEST(VisualizerBridgeExtras, SuturingEdgesThreadAndStitchesInAFrameAreThePortsVa
   expectNear(numbersAfter(frame, "points", frame.find("\"stitches\":{")), stitches, 1e-9, "stitches");
   expectNear(numbersAfter(frame, "points", frame.find("\"wound_edges\":{")), probe.ports["Patient.woundEdges"], 1e-9,
              "wound_edges");
+}
+
+TEST(VisualizerBridgeExtras, ThePuma260ContactSurfaceIsTheWorldsCylinderAndTheAnalyticWorldHasNone) {
+  VisualizerBridge bridge;
+  Probe probe(bridge, {"World.surface_cylinder"}, {});
+  run::RunOptions options;
+  options.app = kSource + "/apps/puma260";
+  options.time_limit = 0.1;  // s
+  options.observer = &probe;
+  run::runApp(options);
+  int status = 0;
+  const std::string model = bridge.model(status);
+  const std::string surface = entryOf(model, "{\"name\":\"surface\",\"kind\":\"cylinders\",\"frame\":\"world\",\"shapes\":[[");
+  ASSERT_FALSE(surface.empty()) << model;
+  expectNear(numbersAfter(surface, "shapes"), probe.properties["World.surface_cylinder"], 1e-9, "surface = World.surface_cylinder");
+  // apps/puma260/world/puma260.xml: radius 0.08 m, 0.1 m long along the base x axis at (0.35, 0, 0.035) m.
+  expectNear(numbersAfter(surface, "shapes"), {0.30, 0.0, 0.035, 0.40, 0.0, 0.035, 0.08}, 1e-9, "surface = puma260.xml");
+
+  VisualizerBridge analytic;
+  options.scenario = kSource + "/apps/puma260/scenarios/no_contact";
+  options.observer = &analytic;
+  run::runApp(options);
+  const std::string without = analytic.model(status);
+  ASSERT_EQ(status, 200) << without;
+  EXPECT_EQ(without.find("\"surface\""), std::string::npos) << "the analytic world has no surface: " << without;
 }
 
 std::string shapeError(const std::string& which) {

@@ -1,8 +1,8 @@
 // The extras cobra sends beside the robots, in the page's scene graph: the recorded runs of
 // `cobra run apps/puncturing` and `cobra run apps/suturing` (their run folders' file:// pages, as
 // the report links them) show the tumour sphere, every forbidden capsule and every tissue layer
-// where and as large as the model says, and the suturing wound's two edges, thread and stitches
-// as the lines of the frame shown. Needs COBRA_BIN and COBRA_SOURCE_DIR (CTest sets both).
+// where and as large as the model says, the suturing wound's two edges, thread and stitches as the
+// lines of the frame shown, and the Puma 260's contact surface (`cobra run apps/puma260`). Needs COBRA_BIN and COBRA_SOURCE_DIR (CTest sets both).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFile } from 'node:child_process';
@@ -80,14 +80,8 @@ test('puncturing: the tumour sphere, the forbidden capsules and the tissue layer
   assert.ok(forbidden.shapes.length >= 2, 'the rib and the vessel');
   const capsules = await readShapes(page, 'forbidden');
   assert.equal(capsules.length, forbidden.shapes.length);
-  capsules.forEach((c, i) => {
-    // Three's capsule runs along its local y: the axis' ends are the centre -/+ half its length along y turned.
-    const [x, y, z, w] = c.quaternion;
-    const axis = [2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)];
-    const half = c.parameters.height / 2; // three: the middle section's height
-    const a = c.position.map((v, k) => v - axis[k] * half);
-    const b = c.position.map((v, k) => v + axis[k] * half);
-    near([...a, ...b, c.parameters.radius], forbidden.shapes[i], `forbidden[${i}] a, b, radius`);
+  capsules.forEach((c, i) => { // three: `height` is the capsule's middle section
+    near([...axisEnds(c, c.parameters.height), c.parameters.radius], forbidden.shapes[i], `forbidden[${i}] a, b, radius`);
   });
 
   const layers = extraOf(recording.model, 'layers');
@@ -98,6 +92,24 @@ test('puncturing: the tumour sphere, the forbidden capsules and the tissue layer
     const { width, height, depth } = box.parameters;
     near([...box.position, ...box.quaternion, width, height, depth], layers.shapes[i], `layers[${i}] pose, size`);
   });
+  assert.deepEqual(errors, []);
+});
+
+/** The axis' end points [a, b] of a mesh built along its local y (three's capsules and cylinders). */
+function axisEnds(mesh, length) {
+  const [x, y, z, w] = mesh.quaternion;
+  const axis = [2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)];
+  return [-1, 1].flatMap((sign) => mesh.position.map((v, k) => v + sign * axis[k] * length / 2));
+}
+
+test('puma260: the contact surface is the cylinder cobra sent', { skip, timeout: 180000 }, async (t) => {
+  const { recording, url } = await record('puma260', 1);
+  const { page, errors } = await openStudio(browser, url, t);
+  const surface = extraOf(recording.model, 'surface');
+  assert.equal(surface.kind, 'cylinders');
+  const [cylinder] = await readShapes(page, 'surface');
+  near([...axisEnds(cylinder, cylinder.parameters.height), cylinder.parameters.radiusTop], surface.shapes[0], 'surface a, b, radius');
+  assert.equal(cylinder.parameters.radiusBottom, cylinder.parameters.radiusTop);
   assert.deepEqual(errors, []);
 });
 
