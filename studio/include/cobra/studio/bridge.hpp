@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// The Robot Visualizer Bridge (thesis §4.5.6) as cobra studio's observer of a run: at setup it
-/// connects to the ports the application names in `run.studio` (joints, extras, signals) and loads
+/// connects to the ports the application names in `run.studio` (joints, extras, signals), reads the
+/// properties of its fixed extras (a phantom's tumour and layers, forbidden regions) and loads
 /// the planning scene of the component it names (the scene the MotionPlanner checks collisions
 /// in: one source for collision and drawing); during the run it copies them, with each robot's
 /// link frames (forward kinematics of the scene's robot models placed at their bases), the
