@@ -72,7 +72,10 @@ function startReplay(replay, view, panel, plots, trails, state, model) {
     trails.draw(view, index);
     view.applyFrame(frame);
     panel.showFrame(frame, previousEntries(frames, index, model.charts ?? []));
-    panel.showEventsUntil(frame.t, end);
+    // The last frame is the end of the timeline: the run ended there (its end time may fall
+    // between two recorded frames).
+    const last = index === frames.length - 1;
+    panel.showEventsUntil(last && end ? Math.max(frame.t, end.t ?? frame.t) : frame.t, end);
     plots.setCursor(frame.t);
     label.textContent = `${frame.t.toFixed(2)} / ${frames.at(-1).t.toFixed(2)} s`;
   };
