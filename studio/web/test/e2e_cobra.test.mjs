@@ -78,9 +78,9 @@ test('live: the page renders, links equal the streamed FK, the token is required
   assert.equal(await needle.innerText(), 'root.WaitIceballConfig');
   await page.waitForTimeout(1000);
   assert.equal(await needle.innerText(), 'root.WaitIceballConfig', 'the needle chart went on without the surgeon');
-  await page.getByRole('button', { name: 'Iceball configured' }).click();
+  await page.locator('#inputs').getByRole('button', { name: 'Iceball configured' }).click();
   await page.waitForFunction(() => document.querySelector('#charts tr[data-key="needle"] td:last-child').textContent === 'root.InsertingNeedles.WaitNeedleMounted', null, { timeout: 120000 });
-  await page.getByRole('button', { name: 'Needle mounted' }).click();
+  await page.locator('#inputs').getByRole('button', { name: 'Needle mounted' }).click();
   await page.waitForFunction(() => document.querySelector('#charts tr[data-key="needle"] td:last-child').textContent.startsWith('root.InsertingNeedles.MoveToSkin'), null, { timeout: 30000 });
   assert.equal(await page.locator('#error').isHidden(), true, await page.locator('#error').innerText());
   assert.deepEqual(errors, []);
