@@ -87,7 +87,9 @@ run = {
   },
   -- cobra studio (studio/README.md): the needle planner's scene drawn with the robots' measured
   -- joints; the iceball at the needle tip; the ultrasound image plane (6 x 10 cm) on the probe
-  -- face; the surgeon's confirmations as buttons (cobra run apps/puncturing --studio --interactive).
+  -- face; the surgeon's confirmations as buttons (cobra run apps/puncturing --studio --interactive),
+  -- each enabled while a chart waits for its event (the first argument): after a fault, Recover and
+  -- Take over are the needle or ultrasound chart's choices.
   studio = {
     scene = "NeedlePlanner",
     robots = { isur = "ISUR.measJointPosition", ur5 = "UR5.measJointPosition" },
