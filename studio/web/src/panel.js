@@ -47,6 +47,7 @@ export class Panel {
       if (states.length === 0) continue;
       const details = this.doc.createElement('details');
       details.dataset.chart = chart.name;
+      details.open = true;
       const summary = this.doc.createElement('summary');
       summary.textContent = `${chart.name}: ${states.length} states`;
       const list = this.doc.createElement('ul');
@@ -60,7 +61,7 @@ export class Panel {
         list.append(li);
         return [path, li];
       });
-      this.stateItems.set(chart.name, items);
+      this.stateItems.set(chart.name, { items, list, leaf: null });
       details.append(summary, list);
       box.append(details);
     }
@@ -77,8 +78,16 @@ export class Panel {
     doc.getElementById('clock').textContent = `t = ${frame.t.toFixed(2)} s`;
     const charts = frame.charts ?? {};
     fillTable(doc.getElementById('charts'), (this.model.charts ?? []).map((c) => [c.name, charts[c.name] ?? '–']));
-    for (const [chart, items] of this.stateItems) {
-      for (const [path, li] of items) li.classList.toggle('active', isActive(path, charts[chart]));
+    for (const [chart, tree] of this.stateItems) {
+      if (tree.leaf === charts[chart]) continue;
+      tree.leaf = charts[chart];
+      let leaf = null;
+      for (const [path, li] of tree.items) {
+        li.classList.toggle('active', isActive(path, tree.leaf));
+        if (path === tree.leaf) leaf = li;
+      }
+      // The list scrolls (itself only) to keep the active leaf in the middle of its view.
+      if (leaf) tree.list.scrollTop = leaf.offsetTop - (tree.list.clientHeight - leaf.offsetHeight) / 2;
     }
     const deployments = frame.deployments ?? {};
     const configurations = frame.configurations ?? {};
