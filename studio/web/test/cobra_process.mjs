@@ -6,13 +6,14 @@ const { COBRA_BIN } = process.env;
 const started = [];
 
 /**
- * Starts `cobra ARGS`; resolves to { url, child, stderr() } once it printed its studio line
- * (stderr(): what it wrote on stderr so far).
+ * Starts `cobra ARGS`; resolves to { url, child, stdout(), stderr() } once it printed its studio
+ * line (stdout(), stderr(): what it wrote on each so far).
  */
 export function startCobra(args) {
   const child = spawn(COBRA_BIN, args, { stdio: ['ignore', 'pipe', 'pipe'] });
   started.push(child);
   let output = '';
+  let out = '';
   let errors = '';
   return new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`cobra ${args.join(' ')}: no studio line in 60 s; output:\n${output}`)), 60000);
@@ -21,10 +22,13 @@ export function startCobra(args) {
       const m = /^studio: (http:\/\/\S+)$/m.exec(output);
       if (m) {
         clearTimeout(timer);
-        resolve({ url: m[1], child, stderr: () => errors });
+        resolve({ url: m[1], child, stdout: () => out, stderr: () => errors });
       }
     };
-    child.stdout.on('data', read);
+    child.stdout.on('data', (chunk) => {
+      out += chunk;
+      read(chunk);
+    });
     child.stderr.on('data', (chunk) => {
       errors += chunk;
       read(chunk);

@@ -1,7 +1,7 @@
 // The surgeon's console against cobra itself (issue 19): after a fault the charts' reactions are
 // offered as choices and pressing one moves the chart; a studio table naming a port the
-// application lacks is the same one line in the page and on stderr; a replay ends with how the
-// run ended. Needs COBRA_BIN and COBRA_SOURCE_DIR (CTest sets both).
+// application lacks is the same one line in the page and on stderr; a live page and a replay end
+// with how the run ended. Needs COBRA_BIN and COBRA_SOURCE_DIR (CTest sets both).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
@@ -84,6 +84,23 @@ test('a studio table naming a port the application lacks: the page shows the lin
   } finally {
     await page.close();
   }
+});
+
+test('live: a page that comes after the run ended shows how it ended, as cobra run printed it', { skip, timeout: 120000 }, async (t) => {
+  const app = join(SOURCE, 'studio', 'test', 'apps', 'threshold_studio.lua');
+  const { url, stdout } = await startCobra(['run', app, '--studio', '--quiet']);
+  const deadline = Date.now() + 30000;
+  while (!/^completed in /m.test(stdout()) && Date.now() < deadline) await new Promise((r) => setTimeout(r, 50));
+  const line = /^completed in \d+\.\d{3} s$/m.exec(stdout())?.[0];
+  assert.ok(line, `no end line in:\n${stdout()}`);
+  const { page, errors } = await openStudio(browser, url, t);
+  await page.locator('#end-section').waitFor({ state: 'visible', timeout: 15000 });
+  assert.equal(await cell(page, 'end', 'outcome').textContent(), 'completed');
+  assert.equal(await cell(page, 'end', 'exit status').textContent(), '0');
+  assert.equal(await cell(page, 'end', 'cobra run').textContent(), line);
+  assert.equal(await cell(page, 'end', 'final task').textContent(), 'root.done');
+  assert.equal(await page.locator('#choices-section').isHidden(), true, 'a chart in its done state waits for nothing');
+  assert.deepEqual(errors, []);
 });
 
 test('a replay ends with how the run ended: outcome, exit status, the line cobra run printed and the final states', { skip, timeout: 240000 }, async (t) => {
