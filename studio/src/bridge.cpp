@@ -90,6 +90,29 @@ void writePose(const KDL::Frame& f, double* out) {
   f.M.GetQuaternion(out[3], out[4], out[5], out[6]);
 }
 
+// A chart's members of the model after its name: its scope, its states (connectors left out:
+// never active) and the transitions leaving them.
+std::string chartMembers(const std::string& scope, const statechart::ChartDescription& d) {
+  std::string out = "\"scope\":" + json::quoted(scope) + ",\"states\":[";
+  std::vector<std::string> states;
+  for (const statechart::ChartDescription::Node& n : d.nodes) {
+    if (n.connector) continue;
+    out += (states.empty() ? "" : ",") + json::quoted(n.path);
+    states.push_back(n.path);
+  }
+  out += "],\"transitions\":[";
+  bool first = true;
+  for (const statechart::ChartDescription::Transition& t : d.transitions) {
+    if (std::find(states.begin(), states.end(), t.src) == states.end()) continue;
+    out += std::string(first ? "" : ",") + "{\"src\":" + json::quoted(t.src) + ",\"tgt\":" + json::quoted(t.tgt) +
+           ",\"events\":[";
+    for (std::size_t e = 0; e < t.events.size(); ++e) out += (e ? "," : "") + json::quoted(t.events[e]);
+    out += std::string("],\"guarded\":") + (t.guarded ? "true" : "false") + "}";
+    first = false;
+  }
+  return out + "]";
+}
+
 }  // namespace
 
 struct VisualizerBridge::Impl {
@@ -291,26 +314,8 @@ void VisualizerBridge::Impl::attachSignals(const run::RunContext& run) {
 
 void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene, const run::RunContext& run) {
   const run::StudioSpec& studio = run.spec.studio;
-  for (std::size_t c = 0; c < run.spec.charts.size(); ++c) {
-    // The states (connectors left out: never active) and the transitions leaving them.
-    std::string out = "\"scope\":" + json::quoted(run.spec.charts[c].scope) + ",\"states\":[";
-    const statechart::ChartDescription none;
-    const statechart::ChartDescription& d = c < run.charts.size() ? run.charts[c] : none;
-    std::vector<std::string> states;
-    for (const statechart::ChartDescription::Node& n : d.nodes)
-      if (!n.connector) out += (states.empty() ? "" : ",") + json::quoted(n.path), states.push_back(n.path);
-    out += "],\"transitions\":[";
-    bool first = true;
-    for (const statechart::ChartDescription::Transition& t : d.transitions) {
-      if (std::find(states.begin(), states.end(), t.src) == states.end()) continue;
-      out += std::string(first ? "" : ",") + "{\"src\":" + json::quoted(t.src) + ",\"tgt\":" + json::quoted(t.tgt) +
-             ",\"events\":[";
-      for (std::size_t e = 0; e < t.events.size(); ++e) out += (e ? "," : "") + json::quoted(t.events[e]);
-      out += std::string("],\"guarded\":") + (t.guarded ? "true" : "false") + "}";
-      first = false;
-    }
-    chart_json.push_back(out + "]");
-  }
+  for (std::size_t c = 0; c < run.spec.charts.size(); ++c)
+    chart_json.push_back(chartMembers(run.spec.charts[c].scope, c < run.charts.size() ? run.charts[c] : statechart::ChartDescription{}));
   std::string& out = model_body;
   out += ",\"app\":" + json::quoted(app) + ",\"scenario\":" + json::quoted(scenario) + ",\"robots\":[";
   for (std::size_t i = 0; i < robots.size(); ++i) {
