@@ -108,7 +108,7 @@ export class Panel {
   /** Enables the inputs some chart accepts now and lists each waiting chart's choices. */
   showOffers(frame, since) {
     const offers = offersByChart(this.model, frame);
-    const key = JSON.stringify(Object.entries(offers).map(([c, inputs]) => [c, inputs.map((i) => i.name)]));
+    const key = JSON.stringify(Object.entries(offers).map(([c, inputs]) => [c, frame.charts[c], inputs.map((i) => i.name)]));
     const offered = new Set(Object.values(offers).flat().map((i) => i.name));
     for (const [name, button] of this.buttons) {
       const input = this.model.inputs.find((i) => i.name === name);
