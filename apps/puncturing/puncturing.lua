@@ -90,7 +90,9 @@ run = {
   -- face; the simulated patient's tumour and tissue layers (its phantom.txt, across the scene's
   -- phantom box) and the forbidden regions the needle monitor checks (preoperative.txt); the
   -- needle tip's and the probe's commanded and measured paths; the surgeon's confirmations as
-  -- buttons (cobra run apps/puncturing --studio --interactive).
+  -- buttons (cobra run apps/puncturing --studio --interactive), each enabled while a chart waits
+  -- for its event (the first argument): after a fault, Recover and Take over are the needle or
+  -- ultrasound chart's choices.
   studio = {
     scene = "NeedlePlanner",
     robots = { isur = "ISUR.measJointPosition", ur5 = "UR5.measJointPosition" },

@@ -444,6 +444,7 @@ void readStudio(const Reader& run, StudioSpec& studio) {
       }
       split(entry, input.call, "operation");
       input.label = entry.string("label", false);
+      input.event = entry.string("event", false, input.args.empty() ? std::string() : input.args.front());
       if (input.label.empty()) {
         input.label = name;
         std::replace(input.label.begin(), input.label.end(), '_', ' ');

@@ -1,5 +1,6 @@
 #include "cobra/run/runner.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "session.hpp"
@@ -22,6 +23,17 @@ const SummaryValue& RunResult::value(const std::string& name) const {
   for (const SummaryValue& v : summary)
     if (v.name == name) return v;
   throw std::out_of_range("no summary value '" + name + "'");
+}
+
+int exitStatus(const RunResult& result) { return result.completed() ? 0 : 1; }
+
+std::string endLine(const RunResult& result) {
+  if (result.completed()) {
+    char line[64];
+    std::snprintf(line, sizeof line, "completed in %.3f s", result.duration);
+    return line;
+  }
+  return std::string("cobra run: ") + toString(result.outcome) + ": " + result.reason;
 }
 
 std::filesystem::path entryFile(const std::filesystem::path& app) {

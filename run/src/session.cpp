@@ -13,6 +13,7 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
 #include "cobra/deploy/suggest.hpp"
+#include "cobra/statechart/description.hpp"
 
 namespace cobra::run {
 namespace {
@@ -143,6 +144,10 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   for (const ChartSpec& c : spec_.charts)
     if (std::find(scopes_.begin(), scopes_.end(), c.scope) == scopes_.end()) scopes_.push_back(c.scope);
   shown_deployment_.resize(scopes_.size());
+  scope_configuration_.resize(scopes_.size());
+  if (!options_.realtime)
+    for (const core::Component* c : refs_.components())
+      if (const auto* supervisor = dynamic_cast<const components::Supervisor*>(c)) switchers_.emplace_back(supervisor, "");
   components_ = refs_.components();
   record_every_ = std::max(1L, std::lround(spec_.record.period / spec_.step));
   next_progress_ = options_.progress_every;
@@ -162,10 +167,11 @@ void Session::attachObserver() {
     checkAction(call, refs_, charts_);
     inputs_.push_back(std::move(call));
   }
+  std::vector<statechart::ChartDescription> descriptions;
   for (Chart& c : charts_) {
     view_states_.push_back(&c.state);
-    const auto scope = std::find(scopes_.begin(), scopes_.end(), c.spec->scope) - scopes_.begin();
-    view_deployments_.push_back(&shown_deployment_[static_cast<std::size_t>(scope)]);
+    const statechart::Chart* loaded = c.supervisor->chart();
+    descriptions.push_back(loaded != nullptr ? statechart::describe(*loaded) : statechart::ChartDescription{});
   }
   // The scenario: the option's, else the one the entry file chose (its global `scenario`).
   std::filesystem::path scenario = options_.scenario;
@@ -173,7 +179,8 @@ void Session::attachObserver() {
   lua_getglobal(L, "scenario");
   if (scenario.empty() && lua_type(L, -1) == LUA_TSTRING) scenario = lua_tostring(L, -1);
   lua_pop(L, 1);
-  options_.observer->attach({spec_, refs_, entry_, scenario, options_.report_folder, result_.clearance.threshold});
+  options_.observer->attach({spec_, refs_, entry_, scenario, options_.report_folder, result_.clearance.threshold,
+                             std::move(descriptions), scopes_});
 }
 
 void Session::attachCharts() {
@@ -346,7 +353,10 @@ RunResult Session::run() {
     advance();
   } while (!ended());
   result_.duration = t_;
-  for (const Chart& c : charts_) result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
+  for (const Chart& c : charts_) {
+    result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
+    result_.final_states.emplace_back(c.spec->name, c.state);
+  }
   for (const Tracker& tr : trackers_) result_.tracking.push_back(tr.monitor->figures());
   finishSummary();
   say(std::string("run ended: ") + toString(result_.outcome) + (result_.reason.empty() ? "" : ": " + result_.reason));
@@ -372,7 +382,7 @@ void Session::advance() {
       result_.log.push_back("input " + spec_.studio.inputs[input].name);
       play(inputs_[input]);
     }
-    options_.observer->step({t_, view_states_, view_deployments_, shown_configuration_,
+    options_.observer->step({t_, view_states_, shown_deployment_, scope_configuration_, shown_configuration_,
                              clearance_ ? clearance_->last : std::numeric_limits<double>::quiet_NaN()});
   }
 }
@@ -445,14 +455,36 @@ void Session::observeSwitches() {
     result_.log.push_back(lane + " > " + now);
     say("  " + lane + " -> " + now);
   }
+  for (auto& [supervisor, seen] : switchers_) {
+    if (supervisor->lastConfiguration() == seen) continue;
+    seen.assign(supervisor->lastConfiguration());
+    assignConfiguration(seen);
+  }
   if (configurator_.currentConfiguration() != shown_configuration_) {
     shown_configuration_ = configurator_.currentConfiguration();
+    assignConfiguration(shown_configuration_);
     timeline_.observe(t_, "configuration", shown_configuration_);
     result_.switches.push_back(seconds(t_) + " configuration " + shown_configuration_);
     result_.log.push_back("configuration > " + shown_configuration_);
     say("  configuration -> " + shown_configuration_);
   }
   if (switched) components_ = refs_.components();  // a deployment may bring its own components
+}
+
+void Session::assignConfiguration(const std::string& name) {
+  const deploy::DeploymentSet& set = configurator_.deploymentSet();
+  const deploy::ConfigurationSpec* configuration = set.findConfiguration(name);
+  bool any = false;
+  for (std::size_t s = 0; s < scopes_.size() && configuration != nullptr; ++s) {
+    const deploy::DeploymentSpec* deployment = set.findDeployment(shown_deployment_[s]);
+    if (deployment == nullptr) continue;
+    const bool sets = std::any_of(configuration->values.begin(), configuration->values.end(), [&](const auto& value) {
+      return std::any_of(deployment->components.begin(), deployment->components.end(),
+                         [&](const deploy::NameEntry& c) { return c.name == value.component; });
+    });
+    if (sets) scope_configuration_[s] = name, any = true;
+  }
+  if (!any) std::fill(scope_configuration_.begin(), scope_configuration_.end(), name);
 }
 
 void Session::sampleSummaries() {

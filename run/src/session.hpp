@@ -66,6 +66,8 @@ class Session {
   void observeCharts();
   void readEvents();
   void observeSwitches();
+  // The scopes whose configuration `name` is now (sets a component of their deployment; all when none).
+  void assignConfiguration(const std::string& name);
   void sampleSummaries();
   void playActions();
   // Plays an action's (or input's) Lua table. @throws naming its file:line and the time.
@@ -109,6 +111,10 @@ class Session {
   std::vector<SummaryObserver> summaries_;
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;
+  std::vector<std::string> scope_configuration_;  // per scope: the configuration in force (StepView)
+  // Lockstep clock: every Supervisor with the configuration it last had applied, as last seen
+  // (two applied in one step are both seen; Configurator::currentConfiguration keeps the last only).
+  std::vector<std::pair<const components::Supervisor*, std::string>> switchers_;
   /// Configurator::switchCount() when observeSwitches and the trackers last looked (max: never):
   /// the same count, the same deployments and configuration (looked up in maps otherwise).
   std::uint64_t switches_seen_ = UINT64_MAX;
@@ -116,9 +122,9 @@ class Session {
   std::vector<core::Component*> components_;
   report::TimelineRecorder timeline_;
   RunResult result_;
-  // The observer's view (options_.observer): pointers into charts_ and shown_deployment_.
+  // The observer's view (options_.observer): pointers into charts_.
   std::vector<ActionSpec> inputs_;  // run.studio.inputs as calls
-  std::vector<const std::string*> view_states_, view_deployments_;
+  std::vector<const std::string*> view_states_;
 
   double t_ = 0.0;  // s
   long steps_ = 0;

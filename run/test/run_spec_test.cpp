@@ -220,7 +220,7 @@ run = {
                image = { plane = "U.pose", size = { 0.06, 0.1 } } },
     signals = { "C.out", "D.pose.z" },
     inputs = { mounted = { "Surgeon.say", "e_needle_mounted" },
-               recover = { "Surgeon.say", "e_recover", label = "Recover now" } },
+               recover = { "Surgeon.say", "e_recover", label = "Recover now", event = "e_recover_now" } },
   },
 }
 )");
@@ -243,7 +243,9 @@ run = {
   EXPECT_EQ(s.inputs[0].label, "Mounted");
   EXPECT_EQ(s.inputs[0].call, "Surgeon.say");
   EXPECT_EQ(s.inputs[0].args, std::vector<std::string>{"e_needle_mounted"});
+  EXPECT_EQ(s.inputs[0].event, "e_needle_mounted");  // default: the first argument
   EXPECT_EQ(s.inputs[1].label, "Recover now");
+  EXPECT_EQ(s.inputs[1].event, "e_recover_now");
   EXPECT_EQ(s.inputs[1].where.line, 12);
   EXPECT_FALSE(read("run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } } }").studio.declared);
 }

@@ -10,37 +10,13 @@
 #include "cobra/statechart/machine.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "figure32.hpp"
 
 namespace cobra::statechart {
 namespace {
 
-TransitionSpec trans(std::string src, std::string tgt, std::vector<std::string> events = {}, std::string origin = {}) {
-  TransitionSpec t;
-  t.src = std::move(src);
-  t.tgt = std::move(tgt);
-  t.events = std::move(events);
-  t.origin = std::move(origin);
-  return t;
-}
-
-/// Fig. 3.2 of the thesis, with its last transition's target spelt `tgt` (the listing has `tqt`).
-Chart figure32() {
-  ChartBuilder b;
-  b.addState("root", "on");
-  b.addState("root.on", "moving");
-  b.addState("root.on", "waiting");
-  b.addTransition("root.on", trans("initial", "waiting"));
-  b.addTransition("root.on", trans("waiting", "moving", {"e_start"}));
-  b.addTransition("root.on", trans("moving", "waiting", {"e_stop"}));
-  b.addState("root", "error");
-  b.addState("root", "fatal_error");
-  b.addTransition("root", trans("initial", "on"));
-  b.addTransition("root", trans("on", "error", {"e_error"}));
-  b.addTransition("root", trans("error", "on", {"e_error_fixed"}));
-  b.addTransition("root", trans("error", "fatal_error", {"e_fatal_error"}));
-  b.addTransition("root", trans("fatal_error", "initial", {"e_reset"}));
-  return b.build();
-}
+using test::figure32;
+using test::trans;
 
 TEST(Chart, Figure32BehavesAsTheFigureSaysOnASequenceVisitingEveryTransition) {
   const Chart chart = figure32();

@@ -18,6 +18,7 @@
 #include "cobra/planning/robot_adapters.hpp"
 #include "cobra/run/port_tap.hpp"
 #include "cobra/run/run_spec.hpp"
+#include "cobra/statechart/description.hpp"
 #include "cobra/studio/json.hpp"
 #include "cobra/studio/triple_buffer.hpp"
 #include "extras.hpp"
@@ -30,13 +31,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 using State = core::BoundedString<127>;
 
 // What the server's thread reads: every number of a frame in one vector laid out by the Layout,
-// the charts' states, deployments and the configuration.
+// the charts' active states, each scope's deployment and configuration in force.
 struct Snapshot {
   double t = 0.0;
   std::uint64_t seq = 0;
   std::vector<double> values;
-  std::vector<State> states, deployments;
-  State configuration;
+  std::vector<State> states, deployments, configurations;
   double clearance = kNaN;
 };
 
@@ -81,6 +81,29 @@ void writePose(const KDL::Frame& f, double* out) {
   f.M.GetQuaternion(out[3], out[4], out[5], out[6]);
 }
 
+// A chart's members of the model after its name: its scope, its states (connectors left out:
+// never active) and the transitions leaving them.
+std::string chartMembers(const std::string& scope, const statechart::ChartDescription& d) {
+  std::string out = "\"scope\":" + json::quoted(scope) + ",\"states\":[";
+  std::vector<std::string> states;
+  for (const statechart::ChartDescription::Node& n : d.nodes) {
+    if (n.connector) continue;
+    out += (states.empty() ? "" : ",") + json::quoted(n.path);
+    states.push_back(n.path);
+  }
+  out += "],\"transitions\":[";
+  bool first = true;
+  for (const statechart::ChartDescription::Transition& t : d.transitions) {
+    if (std::find(states.begin(), states.end(), t.src) == states.end()) continue;
+    out += std::string(first ? "" : ",") + "{\"src\":" + json::quoted(t.src) + ",\"tgt\":" + json::quoted(t.tgt) +
+           ",\"events\":[";
+    for (std::size_t e = 0; e < t.events.size(); ++e) out += (e ? "," : "") + json::quoted(t.events[e]);
+    out += std::string("],\"guarded\":") + (t.guarded ? "true" : "false") + "}";
+    first = false;
+  }
+  return out + "]";
+}
+
 }  // namespace
 
 struct VisualizerBridge::Impl {
@@ -90,7 +113,7 @@ struct VisualizerBridge::Impl {
   std::string app, scenario, model_body;  // model_body: the model's members after "mode" and "duration"
   std::filesystem::path report_folder;
   double threshold = 0.0;
-  std::vector<std::string> charts, input_names;
+  std::vector<std::string> charts, scopes, input_names;
   std::vector<std::pair<std::string, std::filesystem::path>> meshes;  // scene object -> its mesh file
   std::vector<RobotView> robots;
   Extras extras;  // what is drawn beside the robots (extras.hpp)
@@ -120,7 +143,9 @@ struct VisualizerBridge::Impl {
   void attachRobots(const run::RunContext& run, const planning::SceneDescription* scene, planning::RobotModels& models);
   void attachExtras(const run::RunContext& run, const planning::SceneDescription* scene);
   void attachSignals(const run::RunContext& run);
-  void buildModel(const planning::SceneDescription* scene, const run::StudioSpec& studio);
+  void buildModel(const planning::SceneDescription* scene, const run::RunContext& run);
+  // The model's charts: each one's scope, states and the transitions leaving them (run.charts order).
+  std::vector<std::string> chart_json;
   void fill(Snapshot& s, const run::StepView& now);
   void appendFrame(std::string& out, const Snapshot& s) const;
   // [FRAME, ...] of `recorded`.
@@ -151,15 +176,17 @@ void VisualizerBridge::attach(const run::RunContext& run) {
   m.threshold = run.clearance_threshold;
   m.recording_on = m.options.record || !run.report_folder.empty();
   for (const run::ChartSpec& c : run.spec.charts) m.charts.push_back(c.name);
+  m.scopes = run.scopes;
   for (const run::StudioSpec::Input& i : run.spec.studio.inputs) m.input_names.push_back(i.name);
   const std::unique_ptr<planning::SceneDescription> scene = m.attachScene(run);
   m.attachExtras(run, scene.get());
   m.attachSignals(run);
-  m.buildModel(scene.get(), run.spec.studio);
+  m.buildModel(scene.get(), run);
   Snapshot initial;
   initial.values.assign(m.width, kNaN);
   initial.states.resize(m.charts.size());
-  initial.deployments.resize(m.charts.size());
+  initial.deployments.resize(m.scopes.size());
+  initial.configurations.resize(m.scopes.size());
   m.snapshots = std::make_unique<TripleBuffer<Snapshot>>(initial);
   m.next_wall = std::chrono::steady_clock::now();
   m.attached.store(true, std::memory_order_release);
@@ -260,7 +287,10 @@ void VisualizerBridge::Impl::attachSignals(const run::RunContext& run) {
   }
 }
 
-void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene, const run::StudioSpec& studio) {
+void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene, const run::RunContext& run) {
+  const run::StudioSpec& studio = run.spec.studio;
+  for (std::size_t c = 0; c < run.spec.charts.size(); ++c)
+    chart_json.push_back(chartMembers(run.spec.charts[c].scope, c < run.charts.size() ? run.charts[c] : statechart::ChartDescription{}));
   std::string& out = model_body;
   out += ",\"app\":" + json::quoted(app) + ",\"scenario\":" + json::quoted(scenario) + ",\"robots\":[";
   for (std::size_t i = 0; i < robots.size(); ++i) {
@@ -307,6 +337,10 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
       out += '}';
     }
   }
+  out += "],\"scopes\":[";
+  for (std::size_t i = 0; i < scopes.size(); ++i) out += (i ? "," : "") + json::quoted(scopes[i]);
+  out += "],\"failures\":[";  // run.failures: the events the console names as what led to a choice
+  for (std::size_t i = 0; i < run.spec.failures.size(); ++i) out += (i ? "," : "") + json::quoted(run.spec.failures[i]);
   out += "],\"charts\":[";
   model_charts_at = out.size();  // modelJson writes the charts' list here
   out += "],\"signals\":[";
@@ -315,7 +349,8 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
   out += "],\"inputs\":[";
   for (std::size_t i = 0; i < studio.inputs.size(); ++i)
     out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(studio.inputs[i].name) + ",\"label\":" +
-           json::quoted(studio.inputs[i].label) + ",\"target\":" + json::quoted(studio.inputs[i].call) + "}";
+           json::quoted(studio.inputs[i].label) + ",\"target\":" + json::quoted(studio.inputs[i].call) +
+           ",\"event\":" + json::quoted(studio.inputs[i].event) + "}";
   out += "],\"extras\":[";
   extras.appendModel(out);
   out += "]}";
@@ -330,11 +365,14 @@ std::string VisualizerBridge::Impl::modelJson(const char* mode, double duration,
   }
   out.append(model_body, 0, model_charts_at);
   for (std::size_t i = 0; i < charts.size(); ++i) {
-    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(charts[i]) + ",\"states\":[";
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(charts[i]) + "," + chart_json[i];
     const auto found = states.find(charts[i]);
-    if (found != states.end())
+    if (found != states.end()) {
+      out += ",\"entered\":[";
       for (std::size_t k = 0; k < found->second.size(); ++k) out += (k ? "," : "") + json::quoted(found->second[k]);
-    out += "]}";
+      out += "]";
+    }
+    out += "}";
   }
   return out.append(model_body, model_charts_at, std::string::npos);
 }
@@ -371,11 +409,11 @@ void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
     sig.tap->read(sig.row);
     v[sig.offset] = sig.field < sig.row.size() ? sig.row[sig.field] : kNaN;
   }
-  for (std::size_t c = 0; c < s.states.size(); ++c) {
-    s.states[c].assign(*now.states[c]);
-    s.deployments[c].assign(*now.deployments[c]);
+  for (std::size_t c = 0; c < s.states.size(); ++c) s.states[c].assign(*now.states[c]);
+  for (std::size_t k = 0; k < s.deployments.size(); ++k) {
+    s.deployments[k].assign(now.deployments[k]);
+    s.configurations[k].assign(now.configurations[k]);
   }
-  s.configuration.assign(now.configuration);
   s.clearance = now.clearance;
 }
 
@@ -403,9 +441,12 @@ void VisualizerBridge::Impl::appendFrame(std::string& out, const Snapshot& s) co
   out += "},\"charts\":{";
   for (std::size_t c = 0; c < charts.size(); ++c) out += std::string(c ? "," : "") + json::quoted(charts[c]) + ":" + json::quoted(s.states[c].view());
   out += "},\"deployments\":{";
-  for (std::size_t c = 0; c < charts.size(); ++c)
-    out += std::string(c ? "," : "") + json::quoted(charts[c]) + ":" + json::quoted(s.deployments[c].view());
-  out += "},\"configurations\":{\"current\":" + json::quoted(s.configuration.view()) + "},\"signals\":{";
+  for (std::size_t k = 0; k < scopes.size(); ++k)
+    out += std::string(k ? "," : "") + json::quoted(scopes[k]) + ":" + json::quoted(s.deployments[k].view());
+  out += "},\"configurations\":{";
+  for (std::size_t k = 0; k < scopes.size(); ++k)
+    out += std::string(k ? "," : "") + json::quoted(scopes[k]) + ":" + json::quoted(s.configurations[k].view());
+  out += "},\"signals\":{";
   for (std::size_t i = 0; i < signals.size(); ++i) {
     out += std::string(i ? "," : "") + json::quoted(signals[i].name) + ":";
     json::appendNumber(out, v[signals[i].offset]);
@@ -464,18 +505,25 @@ bool VisualizerBridge::nextInput(std::size_t& index) { return impl_->input_queue
 
 std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result) {
   Impl& m = *impl_;
-  std::string end = "{\"type\":\"end\",\"outcome\":" + json::quoted(run::toString(result.outcome)) +
-                    ",\"message\":" + json::quoted(result.reason) + "}";
+  // How the run ended, as `cobra run` says it: outcome, exit status, its last line, the final states.
+  std::string end = "{\"type\":\"end\",\"t\":";
+  json::appendNumber(end, result.duration);
+  end += ",\"outcome\":" + json::quoted(run::toString(result.outcome)) + ",\"message\":" + json::quoted(result.reason) +
+         ",\"status\":" + std::to_string(run::exitStatus(result)) + ",\"line\":" + json::quoted(run::endLine(result)) +
+         ",\"states\":{";
+  for (std::size_t c = 0; c < result.final_states.size(); ++c)
+    end += (c ? "," : "") + json::quoted(result.final_states[c].first) + ":" + json::quoted(result.final_states[c].second);
+  end += "}}";
   {
     const std::lock_guard<std::mutex> lock(m.shared_mutex);
     std::move(m.pending.begin(), m.pending.end(), std::back_inserter(m.recorded));
     m.pending.clear();
-    m.end_message = std::move(end);
+    m.end_message = end;
   }
   if (m.report_folder.empty() || !m.attached.load()) return {};
   // No more frames come: `recorded` is read here and by the server only.
   const std::string recording = "{\"model\":" + m.modelJson("replay", result.duration, result.states_entered) +
-                                ",\"frames\":" + m.framesJson() + ",\"events\":[" + m.events + "]}";
+                                ",\"frames\":" + m.framesJson() + ",\"events\":[" + m.events + "],\"end\":" + end + "}";
   return {writeReplayFolder(m.report_folder / "studio", recording, m.options.web_folder, m.meshes)};
 }
 

@@ -57,7 +57,9 @@ Replay::Replay(const std::filesystem::path& run_folder) : folder_(run_folder / "
   if (model_.empty() || frames.size() < 2 || frames.front() != '[')
     throw std::runtime_error(file.string() + ": not a studio recording: expected {\"model\": {...}, \"frames\": [...], \"events\": [...]}");
   const std::string_view events = json::member(all, "events");
-  frames_ = "{\"frames\":" + std::string(frames) + ",\"events\":" + (events.empty() ? std::string("[]") : std::string(events)) + "}";
+  const std::string_view end = json::member(all, "end");  // how the run ended (older recordings: none)
+  frames_ = "{\"frames\":" + std::string(frames) + ",\"events\":" + (events.empty() ? std::string("[]") : std::string(events)) +
+            (end.empty() ? std::string() : ",\"end\":" + std::string(end)) + "}";
 }
 
 std::string Replay::model(int& status) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -88,10 +89,16 @@ TEST(VisualizerBridge, RecordsThirtyFramesPerSimulatedSecondAndTheEventsIntoTheR
   const std::string recording = readFile(folder / "studio" / "recording.json");
   const std::string model(json::member(recording, "model"));
   EXPECT_NE(model.find("\"mode\":\"replay\""), std::string::npos) << model;
-  EXPECT_NE(model.find("\"charts\":[{\"name\":\"task\",\"states\":[\"root.waiting\",\"root.high\",\"root.done\"]}],\"signals\""),
+  // Every state and the transitions leaving them (the chart's description), and in a replay the
+  // states the run entered, in order.
+  EXPECT_NE(model.find("\"scopes\":[\"\"],"), std::string::npos) << model;
+  EXPECT_NE(model.find("\"charts\":[{\"name\":\"task\",\"scope\":\"\",\"states\":[\"root\",\"root.done\",\"root.high\",\"root.waiting\"],"
+                       "\"transitions\":[{\"src\":\"root.high\",\"tgt\":\"root.done\",\"events\":[\"e_below_threshold\"],\"guarded\":false},"
+                       "{\"src\":\"root.waiting\",\"tgt\":\"root.high\",\"events\":[\"e_above_threshold\"],\"guarded\":false}],"
+                       "\"entered\":[\"root.waiting\",\"root.high\",\"root.done\"]}],"),
             std::string::npos) << model;
   EXPECT_NE(model.find("\"signals\":[{\"name\":\"Sine.out\",\"unit\":\"1\"}"), std::string::npos) << model;
-  EXPECT_NE(model.find("{\"name\":\"clear_recorder\",\"label\":\"Clear the recorder\",\"target\":\"Recorder.clear\"}"),
+  EXPECT_NE(model.find("{\"name\":\"clear_recorder\",\"label\":\"Clear the recorder\",\"target\":\"Recorder.clear\",\"event\":\"\"}"),
             std::string::npos) << model;
   // One frame at the first step (t = 1 ms: k = 0), then one at the first step at or after each k/30 s.
   const std::string frames(json::member(recording, "frames"));
@@ -104,6 +111,40 @@ TEST(VisualizerBridge, RecordsThirtyFramesPerSimulatedSecondAndTheEventsIntoTheR
   // The page opened from the file system reads the same recording.
   EXPECT_EQ(readFile(folder / "studio" / "recording.js"), "window.COBRA_RECORDING = " + recording + ";\n");
   EXPECT_NE(readFile(folder / "report.html").find("studio/recording.json"), std::string::npos);
+  // How the run ended, as `cobra run` says it.
+  std::string end(json::member(recording, "end"));
+  char line[64];
+  std::snprintf(line, sizeof line, "completed in %.3f s", result.duration);
+  EXPECT_EQ(run::endLine(result), line);
+  EXPECT_NE(end.find(std::string("\"outcome\":\"completed\",\"message\":\"\",\"status\":0,\"line\":\"") + line +
+                     "\",\"states\":{\"task\":\"root.done\"}}"),
+            std::string::npos) << end;
+}
+
+TEST(VisualizerBridge, ARunThatStopsSafelyRecordsItsOutcomeStatusTheLineCobraRunPrintsAndTheFinalStates) {
+  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_bridge_safe_stop";
+  std::filesystem::remove_all(folder);
+  VisualizerBridge bridge;
+  run::RunOptions options;
+  options.app = kSource + "/apps/puncturing";
+  options.faults_file = kSource + "/apps/puncturing/test/faults/planner_fails_again.lua";
+  options.report_folder = folder;
+  options.observer = &bridge;
+  const run::RunResult result = run::runApp(options);
+  ASSERT_EQ(result.outcome, run::Outcome::SafeStop) << result.reason;
+  EXPECT_EQ(run::exitStatus(result), 1);
+  EXPECT_EQ(run::endLine(result), "cobra run: safe stop: " + result.reason);
+  const std::string recording = readFile(folder / "studio" / "recording.json");
+  const std::string end(json::member(recording, "end"));
+  std::string message, line;
+  ASSERT_TRUE(json::stringMember(end, "message", message)) << end;
+  ASSERT_TRUE(json::stringMember(end, "line", line)) << end;
+  EXPECT_EQ(message, result.reason);
+  EXPECT_EQ(line, run::endLine(result));
+  EXPECT_EQ(message.rfind("needle chart stopped safely in root.MakeRoomForProbe: NeedlePlanner: e_plan_failed at", 0), 0u) << message;
+  EXPECT_NE(end.find("\"outcome\":\"safe stop\""), std::string::npos) << end;
+  EXPECT_NE(end.find("\"status\":1,"), std::string::npos) << end;
+  EXPECT_NE(end.find("\"states\":{\"needle\":\"root.SafeStop\",\"us\":\"root.SafeStop\"}"), std::string::npos) << end;
 }
 
 TEST(VisualizerBridge, PlaysAnInputOfTheConsoleAndRefusesAnUnknownOneNamingTheInputs) {
@@ -197,7 +238,17 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
                        "\"size\":[0.0008,0.15]},\"pose\":[-0.075,0,0,"), std::string::npos) << model;
   EXPECT_NE(model.find("{\"name\":\"iceball\",\"kind\":\"sphere\",\"frame\":\"world\"}"), std::string::npos);
   EXPECT_NE(model.find("\"app\":\"puncturing\",\"scenario\":\"two_needles\""), std::string::npos) << model;
-  EXPECT_NE(model.find("\"charts\":[{\"name\":\"needle\",\"states\":[]},{\"name\":\"us\",\"states\":[]}],"), std::string::npos);
+  // Live: every state of each chart (no "entered"), the transitions with their events, the scopes
+  // and the event each input sends.
+  EXPECT_NE(model.find("\"scopes\":[\"needle\",\"probe\"],"), std::string::npos) << model;
+  EXPECT_NE(model.find("\"charts\":[{\"name\":\"needle\",\"scope\":\"needle\",\"states\":[\"root\","), std::string::npos) << model;
+  EXPECT_NE(model.find("{\"name\":\"us\",\"scope\":\"probe\",\"states\":[\"root\","), std::string::npos) << model;
+  EXPECT_NE(model.find("\"root.InsertingNeedles.WaitNeedleMounted\""), std::string::npos) << model;
+  EXPECT_NE(model.find("{\"src\":\"root.WaitReaction\",\"tgt\":\"root.NeedleTeleoperation\",\"events\":[\"e_take_over\"],"
+                       "\"guarded\":false}"), std::string::npos) << model;
+  EXPECT_EQ(model.find("\"entered\""), std::string::npos) << model;
+  EXPECT_NE(model.find("\"target\":\"Surgeon.say\",\"event\":\"e_take_over\"}"), std::string::npos) << model;
+  EXPECT_NE(model.find("\"failures\":[\"e_forbidden_region\","), std::string::npos) << model;
 
   std::uint64_t seq = 0;
   std::string frame;
@@ -228,7 +279,11 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
     }
   }
   EXPECT_NE(frame.find("\"charts\":{\"needle\":\"root."), std::string::npos) << frame;
-  EXPECT_NE(frame.find("\"deployments\":{\"needle\":\"needle_autonomous_planning\""), std::string::npos) << frame;
+  // Each scope's deployment and configuration: both robots' configurations are applied in the
+  // same step at 1 ms, and each scope shows its own.
+  EXPECT_NE(frame.find("\"deployments\":{\"needle\":\"needle_autonomous_planning\",\"probe\":\"probe_autonomous_planning\"},"
+                       "\"configurations\":{\"needle\":\"needle_free_motion\",\"probe\":\"probe_free_motion\"}"),
+            std::string::npos) << frame;
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // A recorded run served again (studio/src/replay.cpp): a folder that is not a run folder is one
-// line naming it and what is missing; a recording's model and frames are served as recorded.
+// line naming it and what is missing; a recording's model, frames and end are served as recorded.
 
 #include <gtest/gtest.h>
 
@@ -46,6 +46,14 @@ TEST(Replay, ServesTheRecordedModelAndFramesAndRefusesInputs) {
   const InputAnswer answer = replay.input("needle_mounted");
   EXPECT_EQ(answer.status, 409);
   EXPECT_EQ(answer.error, "replay: no inputs");
+}
+
+TEST(Replay, ServesHowTheRunEndedWithTheFrames) {
+  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_replay_end";
+  std::filesystem::remove_all(folder);
+  const std::string end = R"({"type":"end","t":2,"outcome":"safe stop","message":"why","status":1,"line":"cobra run: safe stop: why","states":{"task":"root.SafeStop"}})";
+  writeReplayFolder(folder / "studio", R"({"model":{"protocol":1},"frames":[{"type":"frame","t":0}],"events":[],"end":)" + end + "}", {});
+  EXPECT_EQ(Replay(folder).recording(), R"({"frames":[{"type":"frame","t":0}],"events":[],"end":)" + end + "}");
 }
 
 }  // namespace

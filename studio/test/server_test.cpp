@@ -267,7 +267,10 @@ TEST(StudioServer, ARunGoesOnWithAClientThatStopsReadingAndOneThatDisappears) {
   beast::flat_buffer end, frame;
   late.read(end);
   late.read(frame);
-  EXPECT_EQ(beast::buffers_to_string(end.data()), "{\"type\":\"end\",\"outcome\":\"time limit\",\"message\":\"" + result.reason + "\"}");
+  EXPECT_EQ(beast::buffers_to_string(end.data()), "{\"type\":\"end\",\"t\":3,\"outcome\":\"time limit\",\"message\":\"" +
+                                                   result.reason + "\",\"status\":1,\"line\":\"" + run::endLine(result) +
+                                                   "\",\"states\":{\"needle\":\"" + result.final_states[0].second +
+                                                   "\",\"us\":\"" + result.final_states[1].second + "\"}}");
   EXPECT_EQ(beast::buffers_to_string(frame.data()).rfind("{\"type\":\"frame\",\"t\":3,\"robots\":{\"isur\":", 0), 0u);
 }
 

@@ -85,12 +85,12 @@ int runApplication(run::RunOptions options, bool quiet, const StudioCommandOptio
     return 2;
   }
   printResult(result);
-  const int status = result.completed() ? 0 : 1;
+  const int status = run::exitStatus(result);
   if (result.completed()) {
-    std::printf("completed in %.3f s\n", result.duration);
+    std::printf("%s\n", run::endLine(result).c_str());
   } else {
     std::fflush(stdout);
-    std::fprintf(stderr, "cobra run: %s: %s\n", run::toString(result.outcome), result.reason.c_str());
+    std::fprintf(stderr, "%s\n", run::endLine(result).c_str());
   }
   if (server) serveOn(studio, interrupted);
   return status;

@@ -93,6 +93,8 @@ Supervisor::~Supervisor() {
 
 std::string_view Supervisor::activeState() const { return machine_ ? machine_->activeLeaf() : std::string_view(); }
 
+const statechart::Chart* Supervisor::chart() const noexcept { return machine_ ? &machine_->chart() : nullptr; }
+
 bool Supervisor::configureHook() {
   cleanupHook();
   if (fsm_path_().empty()) return refuse("set fsm_path to the chart file (an rFSM file: return rfsm.state{ ... })");
@@ -191,6 +193,7 @@ void Supervisor::emitChartEvent(std::string_view name) noexcept {
 void Supervisor::onRequestDone(const deploy::SwitchRequest& request, bool ok, std::string_view message) {
   (void)message;  // the Configurator keeps it in its warnings
   const bool deployment = request.kind == deploy::SwitchRequest::Kind::Deployment;
+  if (ok && !deployment) last_configuration_ = request.name;
   std::string name = std::string(deployment ? "e_deployment_" : "e_configuration_") + (ok ? "done@" : "failed@") +
                      request.name.str();
   core::Event answer;

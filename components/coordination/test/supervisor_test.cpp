@@ -4,12 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/package.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/deploy/deploy.hpp"
+#include "cobra/statechart/description.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 
@@ -75,6 +77,20 @@ TEST(Supervisor, RunsTheThesisFigure32ChartOnItsEventsAndPublishesTheTaskState) 
   }
   EXPECT_EQ(cell.states(), (std::vector<std::string>{"root.on.waiting", "root.on.moving", "root.error",
                                                      "root.on.waiting"}));  // e_stop in waiting: no change
+}
+
+TEST(Supervisor, ShowsItsLoadedChartReadOnlyOnceConfigured) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  const auto& sup = static_cast<Supervisor&>(cell.get("Sup"));
+  EXPECT_EQ(sup.chart(), nullptr);
+  cell.get("Sup").setProperty("fsm_path", kSource + "/script/test/charts/fig32.lua");
+  cell.configurator.configureComponents({{"Sup", {}}});
+  ASSERT_NE(sup.chart(), nullptr);
+  const statechart::ChartDescription d = statechart::describe(*sup.chart());
+  const bool error_on_e_error = std::any_of(d.transitions.begin(), d.transitions.end(), [](const auto& t) {
+    return t.src == "root.on" && t.tgt == "root.error" && t.events == std::vector<std::string>{"e_error"};
+  });
+  EXPECT_TRUE(error_on_e_error);
 }
 
 TEST(Supervisor, ChartsEmitEventsCallPeersAndSeeSourcesOfEvents) {
@@ -170,6 +186,10 @@ return rfsm.state {
   EXPECT_EQ(answers, std::vector<std::string>{"e_deployed_record"});
   EXPECT_EQ(cell.configurator.currentDeployment(), "record");
   EXPECT_EQ(cell.configurator.currentConfiguration(), "loud");
+  // The supervisor that asked for the configuration says which one was applied for it; the
+  // deployment supervisor asked for none.
+  EXPECT_EQ(static_cast<Supervisor&>(cell.get("ConfSup")).lastConfiguration(), "loud");
+  EXPECT_EQ(static_cast<Supervisor&>(cell.get("DepSup")).lastConfiguration(), "");
   EXPECT_EQ(cell.get("Rec").state(), core::State::Running);
   EXPECT_GT(static_cast<Recorder&>(cell.get("Rec")).samples().size(), 5U);
   EXPECT_EQ(static_cast<Recorder&>(cell.get("Rec")).samples().back().value, 7.0);

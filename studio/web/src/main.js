@@ -34,11 +34,31 @@ function frameIndexAt(frames, time) {
   return lo;
 }
 
-function startReplay(replay, view, panel, plots, trails, state) {
+/**
+ * Per chart, the time it entered the state before the one it is in at frames[index] (the start of
+ * the previous run of equal states; the first frame's time when there is none).
+ */
+function previousEntries(frames, index, charts) {
+  const since = {};
+  for (const { name } of charts) {
+    let i = index;
+    for (let run = 0; run < 2; run += 1) {
+      const state = frames[i].charts?.[name];
+      while (i > 0 && frames[i - 1].charts?.[name] === state) i -= 1;
+      if (run === 0 && i > 0) i -= 1;
+    }
+    since[name] = frames[i].t;
+  }
+  return since;
+}
+
+function startReplay(replay, view, panel, plots, trails, state, model) {
   const { frames, events } = replay;
   if (frames.length === 0) throw new Error('recording: no frames (the run recorded nothing)');
   for (const e of events) panel.addEvent(e);
-  const end = events.find((e) => e.type === 'end');
+  // How the run ended: the recording's `end` (older recordings: an end message among the events).
+  const end = replay.end ?? events.find((e) => e.type === 'end');
+  if (replay.end) panel.addEvent(replay.end);
   plots.setFrames(frames);
   trails.setFrames(frames);
   const slider = document.getElementById('scrub');
@@ -51,8 +71,11 @@ function startReplay(replay, view, panel, plots, trails, state) {
     state.frame = frame;
     trails.draw(view, index);
     view.applyFrame(frame);
-    panel.showFrame(frame);
-    panel.showEventsUntil(frame.t, end);
+    panel.showFrame(frame, previousEntries(frames, index, model.charts ?? []));
+    // The last frame is the end of the timeline: the run ended there (its end time may fall
+    // between two recorded frames).
+    const last = index === frames.length - 1;
+    panel.showEventsUntil(last && end ? Math.max(frame.t, end.t ?? frame.t) : frame.t, end);
     plots.setCursor(frame.t);
     label.textContent = `${frame.t.toFixed(2)} / ${frames.at(-1).t.toFixed(2)} s`;
   };
@@ -94,8 +117,10 @@ function startReplay(replay, view, panel, plots, trails, state) {
  * frame, once per animation frame, so a page slower than the stream skips frames instead of
  * queueing them (the server does the same per client).
  */
-function startLive(view, panel, plots, trails, state) {
+function startLive(view, panel, plots, trails, state, model) {
   let newest = null;
+  // Per chart: its state, when it entered it and when it entered the one before.
+  const entries = Object.fromEntries((model.charts ?? []).map((c) => [c.name, { state: undefined, at: 0, before: 0 }]));
   const show = () => {
     const frame = newest;
     newest = null;
@@ -103,13 +128,17 @@ function startLive(view, panel, plots, trails, state) {
     try {
       trails.draw(view);
       view.applyFrame(frame);
-      panel.showFrame(frame);
+      panel.showFrame(frame, Object.fromEntries(Object.entries(entries).map(([name, e]) => [name, e.before])));
     } catch (err) {
       showError(err.message);
     }
   };
   connectLive({
     frame(msg) {
+      for (const [name, e] of Object.entries(entries)) {
+        if (msg.charts?.[name] === e.state) continue;
+        Object.assign(e, { state: msg.charts?.[name], before: e.at, at: msg.t });
+      }
       if (newest === null) requestAnimationFrame(show);
       newest = msg;
       plots.addFrame(msg);
@@ -160,10 +189,12 @@ async function main() {
       setCamera: (position, target) => view.setCamera(position, target),
       /** Replay: the recording's events (the log's source); live: []. */
       events: replay?.events ?? [],
+      /** Replay: how the run ended (the recording's end), else null. */
+      end: replay?.end ?? null,
     };
     const trails = new Trails(model);
-    if (replay) startReplay(replay, view, panel, plots, trails, state);
-    else startLive(view, panel, plots, trails, state);
+    if (replay) startReplay(replay, view, panel, plots, trails, state, model);
+    else startLive(view, panel, plots, trails, state, model);
   } catch (err) {
     showError(err.message);
   }

@@ -42,7 +42,10 @@ async function getJson(path) {
     throw new Error(`${path}: HTTP ${response.status}: expected JSON, got ${JSON.stringify(text.slice(0, 120))}`);
   }
   if (!response.ok || body.error) {
-    throw new Error(`${path}: HTTP ${response.status}: ${body.error ?? 'no error text'}`);
+    const err = new Error(`${path}: HTTP ${response.status}: ${body.error ?? 'no error text'}`);
+    err.status = response.status;
+    err.serverError = body.error;
+    throw err;
   }
   return body;
 }
@@ -62,11 +65,12 @@ function checkRecording(rec, where) {
   if (!rec || typeof rec !== 'object' || !rec.model || !Array.isArray(rec.frames)) {
     throw new Error(`${where}: expected { model, frames: [...], events: [...] }`);
   }
-  return { model: rec.model, frames: rec.frames, events: rec.events ?? [] };
+  return { model: rec.model, frames: rec.frames, events: rec.events ?? [], end: rec.end ?? null };
 }
 
 /**
- * Resolves to { model, replay } where replay = { frames, events } in replay mode, else null.
+ * Resolves to { model, replay } where replay = { frames, events, end } in replay mode (end: how
+ * the run ended, or null for a recording without it), else null.
  * Throws an Error whose message names the failing source.
  */
 export async function loadSession() {
@@ -75,12 +79,20 @@ export async function loadSession() {
     const rec = checkRecording(window.COBRA_RECORDING, 'window.COBRA_RECORDING');
     return { model: { ...rec.model, mode: 'replay' }, replay: rec };
   }
-  const model = await getJson('api/model');
+  let model;
+  try {
+    model = await getJson('api/model');
+  } catch (err) {
+    // The run could not start (a bad application file, an unknown port of its studio table): the
+    // page shows the very line `cobra run` printed on the command line.
+    if (err.status === 500 && err.serverError) throw new Error(`cobra: ${err.serverError}`, { cause: err });
+    throw err;
+  }
   if (model.protocol !== 1) throw new Error(`api/model: protocol ${model.protocol}, expected 1`);
   if (model.mode !== 'replay') return { model, replay: null };
   const rec = await getJson('api/recording');
   if (!Array.isArray(rec.frames)) throw new Error('api/recording: expected { "frames": [...] }');
-  return { model, replay: { frames: rec.frames, events: rec.events ?? [] } };
+  return { model, replay: { frames: rec.frames, events: rec.events ?? [], end: rec.end ?? null } };
 }
 
 /**

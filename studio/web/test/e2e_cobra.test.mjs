@@ -6,57 +6,30 @@
 // COBRA_STUDIO_SHOTS (CTest: build/<preset>/studio-phases), else in a temporary folder.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import WebSocket from 'ws';
 import { launch, openStudio, readLinks, linkError, countDrawnPixels } from './browser.mjs';
+import { runCobra, startCobra, stopCobras } from './cobra_process.mjs';
 import { PUNCTURING_CAMERA, PUNCTURING_PHASES, parseAt, shoot } from '../tools/shots.mjs';
 
 const { COBRA_BIN, COBRA_SOURCE_DIR } = process.env;
 const skip = !COBRA_BIN || !COBRA_SOURCE_DIR ? 'COBRA_BIN and COBRA_SOURCE_DIR not set (CTest sets them)' : false;
 const APP = COBRA_SOURCE_DIR ? join(COBRA_SOURCE_DIR, 'apps', 'puncturing') : '';
 const BACKGROUND = [0x1d, 0x21, 0x26];
-const processes = [];
 let browser;
 
-/** Starts cobra with `args`; resolves to { url, child } once it printed its studio line. */
-function startCobra(args) {
-  const child = spawn(COBRA_BIN, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-  processes.push(child);
-  let output = '';
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`cobra ${args.join(' ')}: no studio line in 60 s; output:\n${output}`)), 60000);
-    const read = (chunk) => {
-      output += chunk;
-      const m = /^studio: (http:\/\/\S+)$/m.exec(output);
-      if (m) {
-        clearTimeout(timer);
-        resolve({ url: m[1], child });
-      }
-    };
-    child.stdout.on('data', read);
-    child.stderr.on('data', read);
-    child.on('exit', (code) => reject(new Error(`cobra ${args.join(' ')} exited with ${code} before its studio line:\n${output}`)));
-  });
-}
-
 /** Runs cobra to its end; rejects with its output when it fails. */
-function runCobra(args) {
-  return new Promise((resolve, reject) => {
-    const child = spawn(COBRA_BIN, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-    let output = '';
-    child.stdout.on('data', (c) => { output += c; });
-    child.stderr.on('data', (c) => { output += c; });
-    child.on('exit', (code) => (code === 0 ? resolve(output) : reject(new Error(`cobra ${args.join(' ')}: exit ${code}\n${output}`))));
-  });
+async function runCobraOk(args) {
+  const { status, stdout, stderr } = await runCobra(args);
+  if (status !== 0) throw new Error(`cobra ${args.join(' ')}: exit ${status}\n${stdout}${stderr}`);
 }
 
 before(async () => { if (!skip) browser = await launch(); });
 after(async () => {
-  for (const child of processes) if (child.exitCode === null) child.kill('SIGKILL');
+  stopCobras();
   await browser?.close();
 });
 
@@ -105,9 +78,9 @@ test('live: the page renders, links equal the streamed FK, the token is required
   assert.equal(await needle.innerText(), 'root.WaitIceballConfig');
   await page.waitForTimeout(1000);
   assert.equal(await needle.innerText(), 'root.WaitIceballConfig', 'the needle chart went on without the surgeon');
-  await page.getByRole('button', { name: 'Iceball configured' }).click();
+  await page.locator('#inputs').getByRole('button', { name: 'Iceball configured' }).click();
   await page.waitForFunction(() => document.querySelector('#charts tr[data-key="needle"] td:last-child').textContent === 'root.InsertingNeedles.WaitNeedleMounted', null, { timeout: 120000 });
-  await page.getByRole('button', { name: 'Needle mounted' }).click();
+  await page.locator('#inputs').getByRole('button', { name: 'Needle mounted' }).click();
   await page.waitForFunction(() => document.querySelector('#charts tr[data-key="needle"] td:last-child').textContent.startsWith('root.InsertingNeedles.MoveToSkin'), null, { timeout: 30000 });
   assert.equal(await page.locator('#error').isHidden(), true, await page.locator('#error').innerText());
   assert.deepEqual(errors, []);
@@ -116,7 +89,7 @@ test('live: the page renders, links equal the streamed FK, the token is required
 test('replay: cobra studio RUN_DIR and the run folder\'s file:// page scrub the recorded run', { skip, timeout: 240000 }, async (t) => {
   const dir = mkdtempSync(join(tmpdir(), 'cobra-studio-e2e-'));
   t.after(() => rmSync(dir, { recursive: true, force: true }));
-  await runCobra(['run', APP, '--quiet', '--report', dir]);
+  await runCobraOk(['run', APP, '--quiet', '--report', dir]);
   const recording = JSON.parse(readFileSync(join(dir, 'studio', 'recording.json'), 'utf8'));
   const { url } = await startCobra(['studio', dir]);
   for (const address of [url, pathToFileURL(join(dir, 'studio', 'index.html')).href]) {

@@ -22,9 +22,9 @@ async function bannerOf(mode, query) {
   }
 }
 
-test('a 500 from /api/model shows the server error text', async () => {
+test('a 500 from /api/model (the run could not start) shows the line cobra printed: cobra: and the error text', async () => {
   const text = await bannerOf('error', '?token=0123456789abcdef0123456789abcdef');
-  assert.equal(text, `api/model: HTTP 500: ${MODEL_ERROR}`);
+  assert.equal(text, `cobra: ${MODEL_ERROR}`);
 });
 
 test('a WebSocket closed by the server shows that the view stopped', async () => {

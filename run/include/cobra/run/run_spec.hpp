@@ -182,6 +182,9 @@ struct StudioSpec {
   /// A surgeon's input: a button of the console calling `call` ("Surgeon.say") with `args`.
   struct Input {
     std::string name, label, call;
+    /// The event the input makes a component send (`event = "..."`; default: its first
+    /// argument, as `Surgeon.say`'s): the console offers the input when a chart waits for it.
+    std::string event;
     std::vector<std::string> args;
     int lua_ref = -1;  ///< { call = , args = } in the Lua registry (played as an action)
     Where where;

@@ -17,6 +17,7 @@
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/report/run_report.hpp"
 #include "cobra/run/tracking.hpp"
+#include "cobra/statechart/description.hpp"
 
 namespace cobra::deploy {
 class PackageRegistry;
@@ -38,15 +39,22 @@ struct RunContext {
   std::filesystem::path scenario;           ///< "" = the application's default
   std::filesystem::path report_folder;      ///< "" = no report
   double clearance_threshold = 0.0;         ///< m (run.clearance; 0 when not declared)
+  /// Each chart of `run.charts` (in its order) as its supervisor loaded it: states, transitions.
+  std::vector<statechart::ChartDescription> charts;
+  /// The deployment scopes of `run.charts` ("" is the default scope), in order of first mention.
+  std::vector<std::string> scopes;
 };
 
-/// The run between two instants of its clock, for RunObserver::step. States and deployments are
-/// per chart of `run.charts`, in its order.
+/// The run between two instants of its clock, for RunObserver::step. States are per chart of
+/// `run.charts`, deployments and configurations per scope of RunContext::scopes, in their order.
 struct StepView {
   double t = 0.0;                                  ///< s of run time
   const std::vector<const std::string*>& states;   ///< each chart's active state (full path)
-  const std::vector<const std::string*>& deployments;  ///< each chart's scope's deployment
-  const std::string& configuration;
+  const std::vector<std::string>& deployments;     ///< each scope's deployment in force ("": none yet)
+  /// Each scope's configuration in force: the last one applied that sets a property of a
+  /// component of the scope's deployment (one that sets none of any scope's applies to all).
+  const std::vector<std::string>& configurations;
+  const std::string& configuration;  ///< the configuration applied last, whatever its scope
   double clearance = 0.0;  ///< m, the last clearance sample (NaN: none or paused)
 };
 
@@ -153,6 +161,8 @@ struct RunResult {
   std::vector<std::string> log;
   /// Every state (full path) each chart entered, in order of first entry, by chart name.
   std::map<std::string, std::vector<std::string>> states_entered;
+  /// Each chart's active state (full path) when the run ended, in the order of run.charts.
+  std::vector<std::pair<std::string, std::string>> final_states;
   std::vector<std::string> switches;  ///< "  12.345 s needle deployment NAME"
   std::vector<SummaryValue> summary;
   std::vector<TrackingFigures> tracking;  ///< one per run.tracking entry, in order
@@ -163,6 +173,12 @@ struct RunResult {
   /// The summary value called `name`. @throws std::out_of_range naming it.
   const SummaryValue& value(const std::string& name) const;
 };
+
+/// `cobra run`'s exit status for a run that ended: 0 completed, 1 otherwise.
+int exitStatus(const RunResult& result);
+/// The line `cobra run` prints when the run ended: "completed in 163.400 s", else
+/// "cobra run: SafeStop: <reason>" (on stderr).
+std::string endLine(const RunResult& result);
 
 /// The entry file of `app`: `app` itself when it is a file, `app/<folder name>.lua` for a folder.
 /// @throws std::runtime_error "apps/x: no entry file apps/x/x.lua (an application folder holds

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "cobra/core/bounded_string.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/deploy/configurator_client.hpp"
 #include "cobra/script/lua_state.hpp"
@@ -45,6 +46,13 @@ class Supervisor : public core::Component, public deploy::ConfiguratorClient {
 
   /// The chart's active leaf ("" before start). From the component's thread or when not running.
   std::string_view activeState() const;
+  /// The loaded chart (immutable until the next configure), e.g. for statechart::describe;
+  /// nullptr before configure.
+  const statechart::Chart* chart() const noexcept;
+  /// The configuration the Configurator last applied at this supervisor's request ("" none): an
+  /// observer sees each supervisor's own even when two are applied between two of its looks.
+  /// From the component's thread or, on the lockstep clock, between two instants.
+  std::string_view lastConfiguration() const noexcept { return last_configuration_.view(); }
 
  protected:
   bool configureHook() override;
@@ -77,6 +85,7 @@ class Supervisor : public core::Component, public deploy::ConfiguratorClient {
   std::unique_ptr<statechart::Machine> machine_;
   std::unique_ptr<statechart::Observer> observer_;
   const char* published_ = nullptr;  // the leaf last written on taskState
+  core::BoundedString<63> last_configuration_;  // written by onRequestDone (the Configurator's side)
 };
 
 }  // namespace cobra::components
