@@ -4,7 +4,6 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -133,6 +132,7 @@ AdmittanceStatus VariableAdmittance::setParameters(const Matrix6& inertia, const
   parameters_.stiffness = stiffness;
   variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
   variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
+  ++revision_;
   return AdmittanceStatus::Ok;
 }
 
@@ -142,11 +142,12 @@ double VariableAdmittance::constantEnergy(const Vector6& x, const Vector6& v) co
 
 void VariableAdmittance::integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt,
                                    Factorisation& factor, Vector6& x_next, Vector6& v_next) const noexcept {
-  const Matrix6 system = M + dt * parameters_.damping + dt * dt * K;
-  // Bitwise comparison: the same bits factorise to the same bits.
-  if (!factor.known || std::memcmp(system.data(), factor.system.data(), sizeof(double) * 36) != 0) {
-    factor.system = system;
-    factor.llt.compute(system);
+  // The same parameters and dt give the same system matrix bit for bit, hence the same
+  // factorisation: it is worked out again only when one of them changed.
+  if (!factor.known || factor.revision != revision_ || factor.dt != dt) {
+    factor.llt.compute(M + dt * parameters_.damping + dt * dt * K);
+    factor.revision = revision_;
+    factor.dt = dt;
     factor.known = true;
   }
   const Vector6 rhs = M * v_ + dt * (force - K * x_);
@@ -190,7 +191,8 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   integrate(parameters_.inertia, parameters_.stiffness, force, dt, variable_factor_, x_next, v_next);
   Vector6 w = -variable_stiffness_ * x_next - variable_inertia_ * ((v_next - v_) / dt);  // eq. 4.11
   Vector6 dx = x_next - x_;
-  double delta = (force + w).dot(dx) - (constantEnergy(x_next, v_next) - energy_before);
+  double energy_after = constantEnergy(x_next, v_next);
+  double delta = (force + w).dot(dx) - (energy_after - energy_before);
   double tank_next = tank_ + sigma * delta - w.dot(dx);
   AdmittanceStatus status = AdmittanceStatus::Ok;
   if (parameters_.use_tank && tank_next < parameters_.tank.min_energy) {
@@ -199,7 +201,8 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
               v_next);
     w.setZero();
     dx = x_next - x_;
-    delta = force.dot(dx) - (constantEnergy(x_next, v_next) - energy_before);
+    energy_after = constantEnergy(x_next, v_next);
+    delta = force.dot(dx) - (energy_after - energy_before);
     tank_next = tank_ + sigma * delta;
     status = AdmittanceStatus::TankEmpty;
   }
@@ -209,7 +212,7 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   x_ = x_next;
   v_ = v_next;
   tank_ = tank_next;
-  audit_.stored = constantEnergy(x_, v_);
+  audit_.stored = energy_after;
   audit_.tank = tank_;
 
   pose.p = reference.p + KDL::Vector(x_(0), x_(1), x_(2));

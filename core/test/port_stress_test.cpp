@@ -181,6 +181,53 @@ TEST(PortStressBuffer, RetriedWritesReachAReaderThatKeepsUpExactlyOnceInOrder) {
   RecordProperty("retries", std::to_string(retries));
 }
 
+// Several writer threads into one input (a supervisor's event port): the reader skips its scan
+// while the buffered write count has not changed since a scan found every connection empty, so a
+// sample pushed during a scan must still be read by a later call. Each writer's samples arrive
+// exactly once and in order.
+TEST(PortStressFanIn, EveryWritersSamplesReachAReaderThatSkipsEmptyScans) {
+  constexpr int kWriters = 3;
+  constexpr std::uint64_t kWrites = 20'000;
+  constexpr double kWriterStride = 1e6;  // writer w's samples are w * 1e6 + seq (exact doubles)
+  InputPort<double> in{"in", "", "1"};
+  std::vector<std::unique_ptr<OutputPort<double>>> outs;
+  for (int w = 0; w < kWriters; ++w) {
+    outs.push_back(std::make_unique<OutputPort<double>>("out" + std::to_string(w), "", "1"));
+    connect(*outs.back(), in, ConnPolicy::buffer(8));
+  }
+  std::vector<std::thread> writers;
+  for (int w = 0; w < kWriters; ++w) {
+    writers.emplace_back([&, w] {
+      for (std::uint64_t seq = 1; seq <= kWrites; ++seq) {
+        while (outs[w]->write(w * kWriterStride + static_cast<double>(seq)) == WriteStatus::Dropped)
+          std::this_thread::yield();
+      }
+    });
+  }
+  std::vector<std::uint64_t> last(kWriters, 0);
+  std::uint64_t received = 0, out_of_order = 0, empty_reads = 0;
+  while (received < kWriters * kWrites) {
+    double v = 0.0;
+    if (in.readNew(v) != FlowStatus::NewData) {
+      ++empty_reads;
+      std::this_thread::yield();
+      continue;
+    }
+    const auto w = static_cast<std::size_t>(v / kWriterStride);
+    const auto seq = static_cast<std::uint64_t>(v - static_cast<double>(w) * kWriterStride);
+    ASSERT_LT(w, static_cast<std::size_t>(kWriters));
+    if (seq != last[w] + 1) ++out_of_order;
+    last[w] = seq;
+    ++received;
+  }
+  for (auto& t : writers) t.join();
+  double v = 0.0;
+  EXPECT_EQ(in.readNew(v), FlowStatus::OldData) << "a sample beyond the writes";
+  EXPECT_EQ(out_of_order, 0u);
+  for (int w = 0; w < kWriters; ++w) EXPECT_EQ(last[w], kWrites) << "writer " << w;
+  RecordProperty("empty_reads", std::to_string(empty_reads));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Properties set from another thread while a periodic component reads them in updateHook. The
 // setter sets `a` to k (a 64-element vector) and then `b` to k; each set is applied between two

@@ -287,6 +287,53 @@ TEST(Port, OneInputWithTwoWritersReadsBoth) {
   EXPECT_EQ(in.read(v), FlowStatus::OldData);
 }
 
+// An input whose connections are all buffered skips its scan until a writer pushes again; one
+// with a data connection among them always scans. Either way every sample is read once.
+TEST(Port, AnEmptyScanIsSkippedOnlyUntilTheNextWrite) {
+  OutputPort<int> a{"a", "", "1"};
+  OutputPort<int> b{"b", "", "1"};
+  OutputPort<int> latest{"latest", "", "1"};
+  InputPort<int> buffered{"buffered", "", "1"};
+  InputPort<int> mixed{"mixed", "", "1"};
+  connect(a, buffered, ConnPolicy::buffer(4));
+  connect(b, buffered, ConnPolicy::circular(2));
+  connect(a, mixed, ConnPolicy::buffer(4));
+  connect(latest, mixed);
+  int v = 0;
+  EXPECT_EQ(buffered.readNew(v), FlowStatus::NoData);
+  EXPECT_EQ(buffered.readNew(v), FlowStatus::NoData);
+  ASSERT_EQ(b.write(7), WriteStatus::Written);
+  EXPECT_EQ(buffered.read(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 7);
+  EXPECT_EQ(buffered.read(v), FlowStatus::OldData);
+  EXPECT_EQ(buffered.read(v), FlowStatus::OldData);
+  EXPECT_EQ(v, 7);
+  // Three writes into the circular connection of size 2: the oldest is overwritten.
+  ASSERT_EQ(a.write(1), WriteStatus::Written);
+  ASSERT_EQ(b.write(8), WriteStatus::Written);
+  ASSERT_EQ(b.write(9), WriteStatus::Written);
+  ASSERT_EQ(b.write(10), WriteStatus::Written);
+  std::vector<int> got;
+  while (buffered.readNew(v) == FlowStatus::NewData) got.push_back(v);
+  EXPECT_EQ(got, (std::vector<int>{1, 9, 10}));
+  EXPECT_EQ(buffered.readNew(v), FlowStatus::OldData);
+  // The mixed input: the data connection is not counted, so it is always looked at.
+  EXPECT_EQ(mixed.readNew(v), FlowStatus::NewData);  // a's 1
+  EXPECT_EQ(v, 1);
+  EXPECT_EQ(mixed.readNew(v), FlowStatus::OldData);
+  ASSERT_EQ(latest.write(5), WriteStatus::Written);
+  EXPECT_EQ(mixed.readNew(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 5);
+  // Disconnecting the data connection makes the input count-driven; nothing is lost either way.
+  ASSERT_TRUE(disconnectPorts(latest, mixed));
+  EXPECT_EQ(mixed.readNew(v), FlowStatus::NoData);  // the connection last read from is gone
+  ASSERT_EQ(a.write(2), WriteStatus::Written);
+  EXPECT_EQ(mixed.readNew(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 2);
+  EXPECT_EQ(buffered.readNew(v), FlowStatus::NewData);
+  EXPECT_EQ(v, 2);
+}
+
 TEST(Port, DisconnectPortsRemovesOneConnection) {
   OutputPort<int> out{"out", "", "1"};
   InputPort<int> a{"a", "", "1"};

@@ -61,21 +61,28 @@ TEST(Ur5, ZeroConfigurationIsTheKnownStretchedPose) {
   EXPECT_NEAR(pose.p.z(), 0.089159 - 0.09465, 1e-15);
 }
 
-// 1000 seeded random configurations: FK equals KDL's ChainFkSolverPos_recursive on the chain.
+// 1000 seeded random configurations each with and without base and tool frames: the closed-form
+// FK equals KDL's ChainFkSolverPos_recursive on the DH chain, and cobra's own chain product.
 TEST(Ur5, ForwardMatchesKdl) {
   std::mt19937 rng(11);
   const KDL::Frame base(KDL::Rotation::RPY(0.1, 0.2, 0.3), KDL::Vector(0.4, -0.1, 0.8));
   const KDL::Frame tool(KDL::Rotation::RotY(0.3), KDL::Vector(0.0, 0.02, 0.15));
-  Ur5Solver ur5(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
-  KDL::ChainFkSolverPos_recursive kdl(ur5.model().chain());
-  for (int i = 0; i < 1000; ++i) {
-    const KDL::JntArray q = randomJoints(rng, 2 * kPi);
-    KDL::Frame ours;
-    KDL::Frame theirs;
-    ASSERT_EQ(ur5.forward(q, ours), IkStatus::Ok);
-    ASSERT_GE(kdl.JntToCart(q, theirs), 0);
-    EXPECT_LT(norm(ours.p - theirs.p), 1e-12);
-    EXPECT_LT(orientationError(ours.M, theirs.M), 1e-12);
+  Ur5Solver placed(Ur5Parameters{}, Ur5Solver::defaultLimits(), base, tool);
+  Ur5Solver bare;
+  for (Ur5Solver* ur5 : {&placed, &bare}) {
+    KDL::ChainFkSolverPos_recursive kdl(ur5->model().chain());
+    for (int i = 0; i < 1000; ++i) {
+      const KDL::JntArray q = randomJoints(rng, 2 * kPi);
+      KDL::Frame ours;
+      KDL::Frame theirs;
+      ASSERT_EQ(ur5->forward(q, ours), IkStatus::Ok);
+      ASSERT_GE(kdl.JntToCart(q, theirs), 0);
+      EXPECT_LT(norm(ours.p - theirs.p), 1e-12);
+      EXPECT_LT(orientationError(ours.M, theirs.M), 1e-12);
+      const KDL::Frame chain = ur5->model().forward(std::span<const double>(q.data.data(), 6));
+      EXPECT_LT(norm(ours.p - chain.p), 1e-12);
+      EXPECT_LT(orientationError(ours.M, chain.M), 1e-12);
+    }
   }
 }
 

@@ -388,14 +388,29 @@ void Session::advance() {
 }
 
 void Session::observeCharts() {
-  core::TaskState task_state;
   for (Chart& c : charts_) {
-    c.previous = c.state;
-    if (options_.realtime && c.state_tap->readNew(task_state)) c.state.assign(task_state.path.view());
-    if (!options_.realtime) c.state.assign(c.supervisor->activeState());
-    // What depends on the state alone (its folded form, the timeline, the clearance's pauses) is
-    // worked out again only when it changes: most steps leave every chart where it was.
-    c.changed = steps_ == 1 || c.state != c.previous;
+    if (options_.realtime) {
+      core::TaskState task_state;
+      c.previous = c.state;
+      if (c.state_tap->readNew(task_state)) c.state.assign(task_state.path.view());
+      c.changed = steps_ == 1 || c.state != c.previous;
+      continue;
+    }
+    // Lockstep: the chart's active leaf is one of its own strings, so the same pointer is the
+    // same state; the strings are copied only when it changed (and once more the step after, to
+    // make `previous` equal to it). What depends on the state alone (its folded form, the
+    // timeline, the clearance's pauses) is worked out again only when `changed`: most steps leave
+    // every chart where it was.
+    const std::string_view leaf = c.supervisor->activeState();
+    if (steps_ == 1 || leaf.data() != c.leaf || leaf.size() != c.state.size()) {
+      c.previous = c.state;
+      c.state.assign(leaf);
+      c.leaf = leaf.data();
+      c.changed = true;
+    } else {
+      if (c.changed) c.previous = c.state;
+      c.changed = false;
+    }
   }
 }
 

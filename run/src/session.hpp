@@ -33,6 +33,7 @@ struct Chart {
   std::string state, previous, shown;  // full path now and one step before; folded, as last logged
   std::string lane;                    // its timeline lane: "NAME chart"
   bool changed = true;                 // state differs from previous (or the first step)
+  const char* leaf = nullptr;          // lockstep: the supervisor's active leaf string `state` copies
   std::string last_failure;            // "Source: event at t s"
 };
 

@@ -62,14 +62,16 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
     raise(figures_.orientation_deg, deg, t, state);
     if (mm > 5.0) figures_.seconds_above_5mm += period_;
   }
-  if (joints == nullptr || max_velocity_.empty() || joints->rows() != max_velocity_.size()) {
+  // rows() once: KDL::JntArray::rows is an out-of-line call.
+  const unsigned n = joints == nullptr ? 0 : joints->rows();
+  if (joints == nullptr || max_velocity_.empty() || n != max_velocity_.size()) {
     have_joints_ = false;
     return;
   }
   if (have_joints_ && counts) {
     double fraction = 0.0;
     unsigned fastest = 0;
-    for (unsigned i = 0; i < joints->rows(); ++i) {
+    for (unsigned i = 0; i < n; ++i) {
       const double f = std::abs(joints->data(i) - previous_joints_.data(i)) / (max_velocity_[i] * period_);
       if (f > fraction) fraction = f, fastest = i;
     }

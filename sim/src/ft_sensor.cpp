@@ -118,7 +118,8 @@ const ForceTorqueReading& ForceTorqueSensor::step(double dt, const KDL::Wrench& 
       v = std::signbit(v) ? -limit : limit;
       saturated = static_cast<std::uint8_t>(saturated | (1U << i));
     }
-    if (model_.resolution[i] > 0.0) v = model_.resolution[i] * std::round(v / model_.resolution[i]);
+    // The nearest count (rint: ties to even, inlined by the compiler; round is a libm call).
+    if (model_.resolution[i] > 0.0) v = model_.resolution[i] * std::rint(v / model_.resolution[i]);
     out[i] = v;
   }
   reading_.wrench = KDL::Wrench(KDL::Vector(out[0], out[1], out[2]), KDL::Vector(out[3], out[4], out[5]));

@@ -84,7 +84,7 @@ ServoRobot::ServoRobot(ServoRobotModel model, std::span<const double> initial) :
     q_(i) = std::clamp(initial[i], model_.limits.lower[i], model_.limits.upper[i]);
     qd_(i) = 0.0;
     q_cmd_(i) = q_(i);
-    q_meas_(i) = resolution_[i] > 0.0 ? resolution_[i] * std::round(q_(i) / resolution_[i]) : q_(i);
+    q_meas_(i) = resolution_[i] > 0.0 ? resolution_[i] * std::rint(q_(i) / resolution_[i]) : q_(i);
   }
 }
 
@@ -130,7 +130,8 @@ ServoStatus ServoRobot::step(double dt) noexcept {
     }
     q[i] = std::clamp(q[i] + delta, model_.limits.lower[i], model_.limits.upper[i]);
     qd[i] = delta / dt;
-    q_meas[i] = resolution_[i] > 0.0 ? resolution_[i] * std::round(q[i] / resolution_[i]) : q[i];
+    // The encoder's nearest count (rint: ties to even, inlined by the compiler; round is a libm call).
+    q_meas[i] = resolution_[i] > 0.0 ? resolution_[i] * std::rint(q[i] / resolution_[i]) : q[i];
   }
   return status;
 }

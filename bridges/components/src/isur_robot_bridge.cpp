@@ -127,7 +127,7 @@ bool ISURRobotBridge::startHook() {
   request_open_ = have_count_ = false;
   command_.tool_mask = 0;
   core::Event stale;
-  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
   return true;
 }
@@ -164,7 +164,7 @@ void ISURRobotBridge::readCommands(IsurSharedBlock& block) noexcept {
 void ISURRobotBridge::readActuationRequests(IsurSharedBlock& block) noexcept {
   if (tools_registered_ < 2) return;
   core::Event request;
-  while (input_events_.read(request) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(request) == core::FlowStatus::NewData) {
     if (!(request.name == actuate_name_)) continue;
     if (request_open_ || (have_state_ && (state_.flags & isur::kActuating) != 0)) {
       emitEvent("e_endo_stitch_busy");

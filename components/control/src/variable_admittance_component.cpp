@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
@@ -81,6 +82,20 @@ bool VariableAdmittanceController::startHook() {
   return true;
 }
 
+bool VariableAdmittanceController::referenceJumped(double dt) const noexcept {
+  // Compared squared and through the cosine (no square root, no axis): the step moved by
+  // |Δp| > v_max·dt, or turned by θ > ω_max·dt where 1 + 2 cos θ = trace(R_prevᵀ R), the sum of
+  // the two matrices' elementwise products.
+  const KDL::Vector moved = reference_.p - previous_reference_.p;
+  const double step = max_reference_speed_() * dt;
+  if (KDL::dot(moved, moved) > step * step) return true;
+  const double turn = max_reference_angular_speed_() * dt;
+  if (!(turn < std::numbers::pi)) return false;  // no rotation exceeds π
+  double trace = 0.0;
+  for (int i = 0; i < 9; ++i) trace += previous_reference_.M.data[i] * reference_.M.data[i];
+  return 0.5 * (trace - 1.0) < std::cos(turn);
+}
+
 void VariableAdmittanceController::updateHook() {
   // A configuration changed the matrices: hand them over (the state, hence the pose, is kept).
   if (inertia_() != applied_inertia_ || damping_() != applied_damping_ || stiffness_() != applied_stiffness_) {
@@ -126,13 +141,9 @@ void VariableAdmittanceController::updateHook() {
     adm_twist_.write(KDL::Twist::Zero());
     return;  // admPose keeps its last sample: the robot holds where it is
   }
-  if (stepped_) {
-    const double moved = (reference_.p - previous_reference_.p).Norm();
-    const double turned = (previous_reference_.M.Inverse() * reference_.M).GetRot().Norm();
-    if (moved > max_reference_speed_() * dt || turned > max_reference_angular_speed_() * dt) {
-      controller_->rebase(previous_reference_, reference_);
-      emitEvent("e_reference_jump");
-    }
+  if (stepped_ && referenceJumped(dt)) {
+    controller_->rebase(previous_reference_, reference_);
+    emitEvent("e_reference_jump");
   }
   previous_reference_ = reference_;
   stepped_ = true;

@@ -98,6 +98,18 @@ TEST(ControlComponents, AReferenceJumpIsRebasedSoTheCommandedPoseStaysContinuous
   EXPECT_EQ(e.name.str(), "e_reference_jump");
   const KDL::Frame settled = d.run(5000ms, skin, jumped);
   EXPECT_NEAR(settled.p.z(), jumped.p.z() + 6.0 / 4000.0, 1e-5);  // the new reference's equilibrium
+  // Turning at 2 rad/s (2 mrad per 1 ms step, below max_reference_angular_speed 3 rad/s) is
+  // followed; a 0.2 rad turn within one step is a jump.
+  KDL::Frame turning = jumped;
+  for (int i = 0; i < 20; ++i) {
+    turning.M = KDL::Rotation::RotZ(0.002) * turning.M;
+    d.run(1ms, skin, turning);
+  }
+  EXPECT_EQ(events.readNew(e), core::FlowStatus::OldData);
+  turning.M = KDL::Rotation::RotZ(0.2) * turning.M;
+  d.run(1ms, skin, turning);
+  ASSERT_EQ(events.readNew(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name.str(), "e_reference_jump");
 }
 
 // A silent force sensor: with wrench_timeout set, the admittance holds its pose instead of

@@ -165,7 +165,7 @@ void Supervisor::raiseJoined(std::string_view a, std::string_view b) noexcept {
 void Supervisor::updateHook() {
   if (!machine_) return;
   core::Event event;
-  while (input_events_.read(event) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(event) == core::FlowStatus::NewData) {
     raiseJoined(event.name, {});
     if (!event.source.empty() && event.name.view().find('@') == std::string_view::npos) raiseJoined(event.name, event.source);
   }

@@ -129,7 +129,7 @@ double CartesianTrajectoryGenerator::elapsed() const {
 
 void CartesianTrajectoryGenerator::updateHook() {
   if (status() != Status::Moving && status() != Status::GeneratingStop &&
-      planned_path_.read(path_) == core::FlowStatus::NewData) {
+      planned_path_.readNew(path_) == core::FlowStatus::NewData) {
     trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
     enter(Status::PathReady);
   }

@@ -39,7 +39,7 @@ bool CryoConsole::startHook() {
                   "console's thaw sensor (e.g. Patient.iceballRadius)");
   phase_ = Phase::Idle;
   core::Event stale;
-  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
   cycle_phase_.write(static_cast<double>(Phase::Idle));
   return true;
@@ -52,7 +52,7 @@ void CryoConsole::enter(Phase phase) noexcept {
 
 void CryoConsole::updateHook() {
   core::Event request;
-  while (input_events_.read(request) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(request) == core::FlowStatus::NewData) {
     if (request.name == start_name_ && phase_ == Phase::Idle) {
       freeze_command_.write(1.0);
       thaw_at_ = now() + std::chrono::nanoseconds(static_cast<std::int64_t>(freeze_duration_() * 1e9));

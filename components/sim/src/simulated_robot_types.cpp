@@ -155,7 +155,7 @@ bool SimulatedISURSuturingRobot::configureHook() {
 
 bool SimulatedISURSuturingRobot::startHook() {
   core::Event stale;
-  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
   actuation_done_ns_ = -1;
   return SimulatedServoRobotBase::startHook();
@@ -171,7 +171,7 @@ void SimulatedISURSuturingRobot::updateHook() {
     emitEvent("e_endo_stitch_actuated");
   }
   core::Event request;
-  while (input_events_.read(request) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(request) == core::FlowStatus::NewData) {
     if (request.name != actuate_name_) continue;
     if (actuation_done_ns_ >= 0) {
       emitEvent("e_endo_stitch_busy");

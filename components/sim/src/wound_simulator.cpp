@@ -94,7 +94,7 @@ bool WoundSimulator::startHook() {
   last_update_ns_ = -1;
   actuations_seen_ = 0;
   core::Event stale;
-  while (input_events_.read(stale) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(stale) == core::FlowStatus::NewData) {
   }  // requests sent before the start are not this run's
   publish(true);
   return true;
@@ -135,7 +135,7 @@ void WoundSimulator::updateHook() {
     for (; actuations_seen_ < count; ++actuations_seen_) actuate();
   }
   core::Event request;
-  while (input_events_.read(request) == core::FlowStatus::NewData) {
+  while (input_events_.readNew(request) == core::FlowStatus::NewData) {
     if (request.name == release_name_) wound_->releaseThread();
   }
   const std::int64_t now_ns = now().count();

@@ -27,6 +27,8 @@
 /// the initial tank. A step whose w would take the tank below ε is recomputed with w = 0 (eq.
 /// 4.11), so T ≥ ε always. σ = 1 while T ≤ T̄ (eq. 4.7).
 
+#include <cstdint>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <kdl/frames.hpp>
@@ -114,12 +116,14 @@ class VariableAdmittance {
   void integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt, Factorisation& factor,
                  Vector6& x_next, Vector6& v_next) const noexcept;
 
-  /// The Cholesky factorisation of the last system matrix M + dt·D + dt²·K of one (M, K) pair:
-  /// while the parameters and dt are unchanged (every step between configurations) the matrix is
-  /// bit for bit the same, so factorising it again would give exactly this factorisation.
+  /// The Cholesky factorisation of the system matrix M + dt·D + dt²·K of one (M, K) pair for the
+  /// parameters of `revision` and this dt: while neither changes (every step between
+  /// configurations) the matrix is bit for bit the same, so factorising it again would give
+  /// exactly this factorisation.
   struct Factorisation {
-    Matrix6 system;
     Eigen::LLT<Matrix6> llt;
+    std::uint64_t revision = 0;
+    double dt = 0.0;  // s
     bool known = false;
   };
   AdmittanceParameters parameters_;
@@ -127,6 +131,8 @@ class VariableAdmittance {
   Matrix6 variable_inertia_ = Matrix6::Zero();
   Matrix6 variable_stiffness_ = Matrix6::Zero();
   Factorisation variable_factor_, constant_factor_;
+  /// Counts the parameter sets (setParameters): a factorisation of another revision is stale.
+  std::uint64_t revision_ = 0;
   /// J_l at the rotation part of x_, computed at the end of the last step for the output twist:
   /// the next step's generalised force needs it at the same x_ (reset and rebase change x_ and
   /// clear `error_jacobian_known_`).

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -61,6 +62,11 @@ class PortBase {
     new_data_flag_ = flag;
     event_port_ = true;
   }
+  /// Input side: one more sample was pushed into one of this port's buffered (buffer, circular)
+  /// connections. A reader whose scan found them all empty scans again only once this count
+  /// changed (an event port with many writers, e.g. a supervisor's, is mostly empty). Real-time
+  /// safe; called by the writer after the push.
+  void countBufferedWrite() noexcept { buffered_writes_.fetch_add(1, std::memory_order_release); }
 
  protected:
   /// Adds/removes a channel in the list the real-time path iterates; only ever called
@@ -83,6 +89,11 @@ class PortBase {
   bool event_port_ = false;
   Component* owner_ = nullptr;
   std::atomic<bool>* new_data_flag_ = nullptr;  // see setNewDataFlag
+
+ protected:
+  std::atomic<std::uint64_t> buffered_writes_{0};  // see countBufferedWrite
+
+ private:
   mutable std::mutex links_mutex_;
   std::vector<std::shared_ptr<ChannelBase>> links_;
 };
@@ -182,6 +193,7 @@ class OutputPort final : public OutputPortBase {
         status = WriteStatus::Dropped;
         continue;
       }
+      if (channel.policy().kind != ConnPolicy::Kind::Data) channel.reader().countBufferedWrite();
       if (channel.reader().isEventPort()) channel.reader().notifyNewData();
     }
     return status;
@@ -221,12 +233,7 @@ class InputPort final : public InputPortBase {
   /// again (OldData), or leaves `out` as it is when nothing ever arrived (NoData). With several
   /// connections, the first one in connection order that has unread data is read.
   FlowStatus read(T& out) {
-    for (std::size_t i = 0; i < channels_.size(); ++i) {
-      if (channels_[i]->pop(out, false) == FlowStatus::NewData) {
-        last_ = channels_[i];
-        return FlowStatus::NewData;
-      }
-    }
+    if (popNew(out)) return FlowStatus::NewData;
     return last_ == nullptr ? FlowStatus::NoData : last_->pop(out, true);
   }
 
@@ -234,12 +241,7 @@ class InputPort final : public InputPortBase {
   /// that act on new samples only (an event log), where read's copy of the last sample again at
   /// every step is wasted. Real-time safe.
   FlowStatus readNew(T& out) {
-    for (std::size_t i = 0; i < channels_.size(); ++i) {
-      if (channels_[i]->pop(out, false) == FlowStatus::NewData) {
-        last_ = channels_[i];
-        return FlowStatus::NewData;
-      }
-    }
+    if (popNew(out)) return FlowStatus::NewData;
     return last_ == nullptr ? FlowStatus::NoData : FlowStatus::OldData;
   }
 
@@ -254,16 +256,45 @@ class InputPort final : public InputPortBase {
 
  protected:
   void attachChannel(ChannelBase& channel) override {
-    channels_.add(static_cast<Channel<T>*>(&channel));
+    if (channels_.add(static_cast<Channel<T>*>(&channel)) && channel.policy().kind == ConnPolicy::Kind::Data)
+      ++data_channels_;
+    quiet_known_ = false;
   }
   void detachChannel(ChannelBase& channel) override {
-    channels_.remove(&channel);
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      if (channels_[i] != &channel) continue;
+      if (channel.policy().kind == ConnPolicy::Kind::Data) --data_channels_;
+      channels_.remove(&channel);
+      break;
+    }
     if (last_ == &channel) last_ = nullptr;
   }
 
  private:
+  /// Pops the next new sample of the first connection that has one. When every connection is
+  /// buffered, a scan that found them all empty is remembered with the write count it started
+  /// from: until a writer pushes again (the count changes), there is nothing to scan for.
+  bool popNew(T& out) {
+    const bool counted = data_channels_ == 0;
+    const std::uint64_t writes = counted ? buffered_writes_.load(std::memory_order_acquire) : 0;
+    if (counted && quiet_known_ && writes == quiet_at_) return false;
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      if (channels_[i]->pop(out, false) == FlowStatus::NewData) {
+        last_ = channels_[i];
+        return true;
+      }
+    }
+    // A push counted after `writes` was loaded changes the count: the next call scans again.
+    quiet_at_ = writes;
+    quiet_known_ = counted;
+    return false;
+  }
+
   detail::ChannelList<T> channels_;
   Channel<T>* last_ = nullptr;
+  std::size_t data_channels_ = 0;  // connections of the data policy (not counted by buffered_writes_)
+  std::uint64_t quiet_at_ = 0;     // buffered_writes_ when a scan last found nothing
+  bool quiet_known_ = false;
 };
 
 /// Throws the error for an impossible connection; defined in port.cpp.

@@ -45,6 +45,10 @@ class VariableAdmittanceController : public core::Component {
   void updateHook() override;
 
  private:
+  /// True when the reference moved or turned faster than max_reference_speed /
+  /// max_reference_angular_speed over `dt` s since the last step (a jump to rebase on).
+  bool referenceJumped(double dt) const noexcept;
+
   core::Property<std::vector<double>> inertia_{"inertia", {2, 2, 2, 0.1, 0.1, 0.1}, "kg, kg·m²", "Λd: 6 (diagonal) or 36 numbers"};
   core::Property<std::vector<double>> damping_{"damping", {60, 60, 60, 2, 2, 2}, "N·s/m, N·m·s/rad", "D: 6 or 36 numbers"};
   core::Property<std::vector<double>> stiffness_{"stiffness", {500, 500, 500, 10, 10, 10}, "N/m, N·m/rad", "Kd: 6 or 36 numbers"};
