@@ -103,8 +103,11 @@ std::string EndpointQos::describe(bool with_depth) const {
 Participant::Participant(int domain, const std::string& name, bool log) : log_(log) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
-  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos, this,
-                                                                                    fdds::StatusMask::all());
+  // Only the QoS statuses: with data_on_readers in the mask, Fast DDS would call this listener
+  // instead of each reader's on_data_available. Discovery callbacks come whatever the mask.
+  const fdds::StatusMask mask =
+      fdds::StatusMask::offered_incompatible_qos() << fdds::StatusMask::requested_incompatible_qos();
+  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos, this, mask);
   if (participant_ == nullptr)
     throw core::Error("dds: cannot create the domain participant '" + name + "' on domain " + std::to_string(domain) +
                       " (domain ids are 0..232)");
