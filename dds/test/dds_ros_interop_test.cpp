@@ -2,12 +2,14 @@
 // from the type support fastddsgen generates from geometry_msgs/msg/Pose.idl, receives the pose
 // a cobra port publishes, on the topic and type names a ROS 2 node uses ("rt/needle/pose",
 // "geometry_msgs::msg::dds_::Pose_"); and a plain Fast DDS publisher feeds a cobra input port.
+#include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
 #include <gtest/gtest.h>
 
 #include "cobra/core/port.hpp"
