@@ -1,5 +1,6 @@
 #include "cobra/dds/dds_transport.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cmath>

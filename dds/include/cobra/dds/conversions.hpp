@@ -29,7 +29,6 @@
 #include <kdl/jntarray.hpp>
 
 #include "cobra/core/event.hpp"
-#include "cobra/core/data_type.hpp"
 #include "cobra_msgs/msg/EventPubSubTypes.h"
 #include "cobra_msgs/msg/JntArrayPubSubTypes.h"
 #include "cobra_msgs/msg/TaskStatePubSubTypes.h"
