@@ -62,6 +62,33 @@ connectPorts({
   EXPECT_EQ(got, 2.5);
 }
 
+TEST(DdsDeploy, SwitchingToADeploymentWithoutTheConnectionRemovesBothEnds) {
+  Fixture f(126);
+  f.deployer.run(R"(
+initConfigurator({ "cobra_signal" }, {
+  { peer_name = "Source", component_type = "Constant" },
+  { peer_name = "Amp", component_type = "Gain" },
+})
+defineDeployment("remote", {
+  components = { "Source", "Amp" },
+  connections = { { output = "Source.out", input = "Amp.in",
+                    conn_policy = { transport = "dds", topic = "signal/remote" } } },
+})
+defineDeployment("alone", { components = { "Source" } })
+applyDeployment("remote")
+)",
+                 "switch.lua");
+  core::ComponentRegistry& refs = f.configurator.getReferences();
+  core::PortBase& out = refs.get("Source").port("out");
+  core::PortBase& in = refs.get("Amp").port("in");
+  ASSERT_TRUE(out.connectedTo(in));
+  ASSERT_TRUE(f.dds.transport->waitForMatch("signal/remote", 5s));
+  f.deployer.run("applyDeployment('alone')", "switch2.lua");
+  EXPECT_FALSE(out.connected());
+  EXPECT_FALSE(in.connected());
+  EXPECT_FALSE(f.dds.transport->waitForMatch("signal/remote", 50ms));  // no end left on the topic
+}
+
 TEST(DdsDeploy, BadTransportsAndQosAreRefusedWithTheFileAndLine) {
   Fixture f(125);
   f.deployer.run(kComponents, "components.lua");
