@@ -205,6 +205,9 @@ void Participant::addLocal(const EndpointInfo& info, fdds::DomainEntity* entity)
     locals_.push_back({info, entity});
     for (const auto& [guid, remote] : remotes_)
       if (auto r = typeMismatchLocked(locals_.back(), guid, remote)) reports.push_back(std::move(*r));
+    for (const auto& [unclaimed, policy] : unclaimed_qos_)
+      if (unclaimed == entity) reports.push_back(qosReportLocked(locals_.back(), policy));
+    std::erase_if(unclaimed_qos_, [&](const auto& u) { return u.first == entity; });
   }
   deliver(reports);
 }
@@ -212,6 +215,7 @@ void Participant::addLocal(const EndpointInfo& info, fdds::DomainEntity* entity)
 void Participant::removeLocal(fdds::DomainEntity* entity) noexcept {
   std::lock_guard lock(mutex_);
   std::erase_if(locals_, [&](const Local& l) { return l.entity == entity; });
+  std::erase_if(unclaimed_qos_, [&](const auto& u) { return u.first == entity; });
 }
 
 std::optional<Participant::Report> Participant::typeMismatchLocked(const Local& local, const std::string& guid,
@@ -286,29 +290,35 @@ void Participant::incompatibleQos(fdds::DomainEntity* entity, std::uint32_t poli
   {
     std::lock_guard lock(mutex_);
     const auto local = std::find_if(locals_.begin(), locals_.end(), [&](const Local& l) { return l.entity == entity; });
-    if (local == locals_.end()) return;
-    const EndpointInfo& e = local->info;
-    // Name the far ends that cannot match this one (discovery told their QoS); all of the other
-    // side when none is found (the far end was not discovered yet).
-    std::string others;
-    for (const bool all : {false, true}) {
-      for (const auto& [guid, remote] : remotes_) {
-        if (remote.topic != e.topic || remote.writer == e.writer) continue;
-        const std::string why = e.writer ? incompatibility(e.qos, remote.qos) : incompatibility(remote.qos, e.qos);
-        if (!all && why.empty()) continue;
-        others += std::string(others.empty() ? "" : "; ") + "a " + (remote.writer ? "writer" : "reader") +
-                  " in participant '" + remote.participant + "' " + (remote.writer ? "offers " : "requests ") +
-                  remote.qos.describe(false);
-      }
-      if (!others.empty()) break;
-    }
-    if (others.empty()) others = std::string("an end of the other side ") + (e.writer ? "requests" : "offers") + " more";
-    reports.push_back({"e_dds_incompatible_qos", "qos|" + e.port + "|" + e.topic + "|" + std::to_string(policy),
-                       "dds topic '" + e.topic + "': incompatible QoS (" + policyName(policy) + "): " + describeLocal(e) +
-                           (e.writer ? " offers " : " requests ") + e.qos.describe(false) + ", but " + others +
-                           "; they never connect (a reader cannot request more than the writer offers)"});
+    // Fast DDS may call this from inside create_datawriter/create_datareader, before addLocal
+    // knows the end: kept until it does.
+    if (local == locals_.end()) unclaimed_qos_.emplace_back(entity, policy);
+    else reports.push_back(qosReportLocked(*local, policy));
   }
   deliver(reports);
+}
+
+Participant::Report Participant::qosReportLocked(const Local& local, std::uint32_t policy) const {
+  const EndpointInfo& e = local.info;
+  // Name the far ends that cannot match this one (discovery told their QoS); all of the other
+  // side when none is found (the far end was not discovered yet).
+  std::string others;
+  for (const bool all : {false, true}) {
+    for (const auto& [guid, remote] : remotes_) {
+      if (remote.topic != e.topic || remote.writer == e.writer) continue;
+      const std::string why = e.writer ? incompatibility(e.qos, remote.qos) : incompatibility(remote.qos, e.qos);
+      if (!all && why.empty()) continue;
+      others += std::string(others.empty() ? "" : "; ") + "a " + (remote.writer ? "writer" : "reader") +
+                " in participant '" + remote.participant + "' " + (remote.writer ? "offers " : "requests ") +
+                remote.qos.describe(false);
+    }
+    if (!others.empty()) break;
+  }
+  if (others.empty()) others = std::string("an end of the other side ") + (e.writer ? "requests" : "offers") + " more";
+  return {"e_dds_incompatible_qos", "qos|" + e.port + "|" + e.topic + "|" + std::to_string(policy),
+          "dds topic '" + e.topic + "': incompatible QoS (" + policyName(policy) + "): " + describeLocal(e) +
+              (e.writer ? " offers " : " requests ") + e.qos.describe(false) + ", but " + others +
+              "; they never connect (a reader cannot request more than the writer offers)"};
 }
 
 void Participant::deliver(const std::vector<Report>& reports) {

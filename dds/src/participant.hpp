@@ -105,6 +105,8 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   /// topic with different types.
   std::optional<Report> typeMismatchLocked(const Local& local, const std::string& guid, const Remote& remote) const;
   void incompatibleQos(eprosima::fastdds::dds::DomainEntity* entity, std::uint32_t policy);
+  /// The report of Fast DDS's incompatible `policy` for `local`, naming the far ends' QoS.
+  Report qosReportLocked(const Local& local, std::uint32_t policy) const;
   /// Keeps, logs and sends the reports not seen before. Called without the lock held.
   void deliver(const std::vector<Report>& reports);
 
@@ -119,6 +121,7 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   std::map<std::string, std::string> participant_names_;  // by GUID prefix text
   std::vector<std::string> problems_;
   std::vector<std::string> reported_;  // keys of problems reported once
+  std::vector<std::pair<eprosima::fastdds::dds::DomainEntity*, std::uint32_t>> unclaimed_qos_;  // see incompatibleQos
   std::mutex events_mutex_;            // the events port has one writer at a time
   core::OutputPort<core::Event> events_{"ddsEvents", "problems of the dds transport: e_dds_type_mismatch, "
                                                      "e_dds_incompatible_qos (source: the topic)", ""};
