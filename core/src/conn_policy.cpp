@@ -24,21 +24,29 @@ std::string toString(WriteStatus status) {
 
 ConnPolicy ConnPolicy::buffer(std::size_t n) {
   if (n == 0) throw Error("connection policy buffer(n) needs n >= 1 samples, got 0");
-  return {Kind::Buffer, n};
+  ConnPolicy policy;
+  policy.kind = Kind::Buffer;
+  policy.size = n;
+  return policy;
 }
 
 ConnPolicy ConnPolicy::circular(std::size_t n) {
   if (n == 0) throw Error("connection policy circular(n) needs n >= 1 samples, got 0");
-  return {Kind::Circular, n};
+  ConnPolicy policy;
+  policy.kind = Kind::Circular;
+  policy.size = n;
+  return policy;
 }
 
 std::string ConnPolicy::describe() const {
+  std::string text = "?";
   switch (kind) {
-    case Kind::Data: return "data";
-    case Kind::Buffer: return "buffer(" + std::to_string(size) + ")";
-    case Kind::Circular: return "circular(" + std::to_string(size) + ")";
+    case Kind::Data: text = "data"; break;
+    case Kind::Buffer: text = "buffer(" + std::to_string(size) + ")"; break;
+    case Kind::Circular: text = "circular(" + std::to_string(size) + ")"; break;
   }
-  return "?";
+  if (!transport.empty()) text += " over " + transport + " topic '" + topic + "'";
+  return text;
 }
 
 }  // namespace cobra::core

@@ -4,6 +4,7 @@
 
 #include "cobra/core/activity.hpp"
 #include "cobra/core/component.hpp"
+#include "cobra/core/transport.hpp"
 
 namespace cobra::core {
 
@@ -29,8 +30,9 @@ bool PortBase::connected() const {
 
 bool PortBase::connectedTo(const PortBase& other) const {
   std::lock_guard lock(links_mutex_);
-  return std::any_of(links_.begin(), links_.end(),
-                     [&](const auto& c) { return &c->writer() == &other || &c->reader() == &other; });
+  return std::any_of(links_.begin(), links_.end(), [&](const auto& c) {
+    return &c->writer() == &other || &c->reader() == &other || c->peer() == &other;
+  });
 }
 
 void PortBase::disconnect() {
@@ -43,8 +45,12 @@ void PortBase::changeBetweenSteps(const std::function<void()>& change) {
 }
 
 void PortBase::notifyNewData() noexcept {
-  if (owner_ != nullptr) owner_->activity().trigger();
-  else if (new_data_flag_ != nullptr) new_data_flag_->store(true, std::memory_order_release);
+  if (owner_ != nullptr) {
+    owner_->activity().trigger();
+  } else if (new_data_flag_ != nullptr) {
+    new_data_flag_->store(true, std::memory_order_release);
+    new_data_flag_->notify_one();  // a transport's sending thread waits on it; no waiter: one load
+  }
 }
 
 void linkChannel(const std::shared_ptr<ChannelBase>& channel) {
@@ -61,9 +67,14 @@ void linkChannel(const std::shared_ptr<ChannelBase>& channel) {
   writer.links_.push_back(channel);
 }
 
-void unlinkChannel(const std::shared_ptr<ChannelBase>& channel) {
+void unlinkChannel(const std::shared_ptr<ChannelBase>& channel_ref) {
+  // A copy: `channel_ref` may be an element of a list erased below, and a transport's end held by
+  // the channel must outlive the ports' locks taken here (it may own one of the ports).
+  const std::shared_ptr<ChannelBase> channel = channel_ref;
   PortBase& reader = channel->reader();
   PortBase& writer = channel->writer();
+  // A transport's threads stop using the end's hidden port before it loses the channel.
+  if (TransportEnd* end = channel->transportEnd()) end->close();
   // Writer first: once it no longer pushes, the reader can let go safely.
   writer.changeBetweenSteps([&] { writer.detachChannel(*channel); });
   reader.changeBetweenSteps([&] { reader.detachChannel(*channel); });
@@ -97,17 +108,44 @@ void connectPorts(PortBase& output, PortBase& input, ConnPolicy policy) {
     checkConnectable(output, input);  // reports the direction problem
     throwConnectionError(output, input, "the first port must be an output");
   }
-  typed_output->connectTo(input, policy);
+  if (policy.transport.empty()) {
+    typed_output->connectTo(input, policy);
+    return;
+  }
+  checkConnectable(output, input);
+  if (output.type().id != input.type().id)
+    throwConnectionError(output, input,
+                         "the types differ (" + std::string(output.type().name) + " vs " +
+                             std::string(input.type().name) + "); connect ports of the same type");
+  try {
+    const std::shared_ptr<Transport> transport = TransportRegistry::get(policy.transport);
+    transport->check(policy);
+    // Reader's end first, so that the writer's end finds its reader when it is discovered.
+    auto* typed_input = dynamic_cast<InputPortBase*>(&input);
+    if (typed_input == nullptr) throw Error("the second port must be a typed input port");
+    transport->makeReaderEnd(*typed_input, policy, &output);
+    transport->makeWriterEnd(*typed_output, policy, &input);
+  } catch (const std::exception& e) {
+    disconnectPorts(output, input);  // the end made before the failure
+    throwConnectionError(output, input, e.what());
+  }
 }
 
 bool disconnectPorts(PortBase& output, PortBase& input) {
+  bool found = false;
   for (const auto& channel : output.connections()) {
-    if (&channel->reader() == &input) {
+    if (&channel->reader() == &input || channel->peer() == &input) {
       unlinkChannel(channel);
-      return true;
+      found = true;
     }
   }
-  return false;
+  for (const auto& channel : input.connections()) {
+    if (channel->peer() == &output) {
+      unlinkChannel(channel);
+      found = true;
+    }
+  }
+  return found;
 }
 
 }  // namespace cobra::core

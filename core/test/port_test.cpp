@@ -206,7 +206,7 @@ TEST(Port, ManyReadersEachGetEverySample) {
 // readNew: NewData copies the sample like read; OldData and NoData leave the output as it was
 // (read copies the last sample again), for data and buffer connections alike.
 TEST(Port, ReadNewCopiesOnlyNewSamples) {
-  for (const ConnPolicy policy : {ConnPolicy::data(), ConnPolicy::buffer(4)}) {
+  for (const ConnPolicy& policy : {ConnPolicy::data(), ConnPolicy::buffer(4)}) {
     OutputPort<int> out{"out", "", "1"};
     InputPort<int> in{"in", "", "1"};
     int v = -1;

@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "cobra/core/error.hpp"
+#include "cobra/core/transport.hpp"
 
 namespace cobra::deploy {
 namespace {
@@ -32,7 +33,9 @@ PortPath parsePortPath(const std::string& text, const SourceLocation& where) {
   return {text.substr(0, dot), text.substr(dot + 1)};
 }
 
-core::ConnPolicy toConnPolicy(const ConnPolicySpec& spec, const SourceLocation& where) {
+namespace {
+
+core::ConnPolicy localPolicy(const ConnPolicySpec& spec, const SourceLocation& where) {
   const std::string type = lowercase(spec.type);
   if (type == "data") return core::ConnPolicy::data();
   const bool buffer = type == "buffer";
@@ -44,6 +47,27 @@ core::ConnPolicy toConnPolicy(const ConnPolicySpec& spec, const SourceLocation& 
     throw core::Error(where.text() + ": a " + type + " connection needs size >= 1, got " + std::to_string(spec.size));
   const auto size = static_cast<std::size_t>(spec.size);
   return buffer ? core::ConnPolicy::buffer(size) : core::ConnPolicy::circular(size);
+}
+
+}  // namespace
+
+core::ConnPolicy toConnPolicy(const ConnPolicySpec& spec, const SourceLocation& where) {
+  core::ConnPolicy policy = localPolicy(spec, where);
+  if (spec.transport.empty()) {
+    if (!spec.topic.empty() || !spec.qos.empty())
+      throw core::Error(where.text() + ": conn_policy." + (spec.topic.empty() ? "qos" : "topic") +
+                        " needs a transport: add transport = \"dds\" (or another registered transport)");
+    return policy;
+  }
+  policy.transport = spec.transport;
+  policy.topic = spec.topic;
+  policy.options = spec.qos;
+  try {
+    core::TransportRegistry::get(spec.transport)->check(policy);
+  } catch (const core::Error& e) {
+    throw core::Error(where.text() + ": conn_policy: " + e.what());
+  }
+  return policy;
 }
 
 core::Scheduler toScheduler(const std::string& name, const SourceLocation& where) {

@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <utility>
@@ -235,6 +236,29 @@ ConnPolicySpec readPolicy(lua_State* L, int entry, const SourceLocation& where) 
   const double size = numberField(L, policy, "size", where, 1.0);
   if (size != static_cast<double>(static_cast<int>(size))) fail(where, "conn_policy.size must be an integer");
   spec.size = static_cast<int>(size);
+  spec.transport = stringField(L, policy, "transport", where, false);
+  spec.topic = stringField(L, policy, "topic", where, false);
+  rawField(L, policy, "qos");
+  const int qos = lua_gettop(L);
+  if (!lua_isnil(L, qos)) {
+    requireTable(L, qos, where, "conn_policy.qos");
+    lua_pushnil(L);
+    while (lua_next(L, qos) != 0) {  // key at -2, value at -1
+      if (lua_type(L, -2) != LUA_TSTRING)
+        fail(where, std::string("conn_policy.qos keys must be names, e.g. reliability = \"reliable\"; got a ") +
+                        luaL_typename(L, -2));
+      const std::string key = lua_tostring(L, -2);
+      const int type = lua_type(L, -1);
+      if (type != LUA_TSTRING && type != LUA_TNUMBER)
+        fail(where, "conn_policy.qos." + key + " must be a string or a number, got " + luaL_typename(L, -1));
+      lua_pushvalue(L, -1);  // lua_tostring converts in place: convert a copy, not the value lua_next needs
+      spec.qos.emplace_back(key, lua_tostring(L, -1));
+      lua_pop(L, 2);
+    }
+    // Lua's table order is not the file's: sort, so that messages and comparisons are stable.
+    std::sort(spec.qos.begin(), spec.qos.end());
+  }
+  lua_pop(L, 1);
   return spec;
 }
 

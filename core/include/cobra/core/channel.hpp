@@ -12,6 +12,7 @@
 namespace cobra::core {
 
 class PortBase;
+class TransportEnd;
 
 /// Untyped part of a connection: the two ports it links and its policy.
 class ChannelBase {
@@ -26,10 +27,23 @@ class ChannelBase {
   PortBase& writer() const { return *writer_; }
   PortBase& reader() const { return *reader_; }
 
+  /// For one end of a transport's connection (see transport.hpp): the port at the far end when
+  /// it is in this process, else nullptr; always nullptr for a local connection.
+  PortBase* peer() const { return peer_.load(std::memory_order_acquire); }
+  /// The transport's end this channel belongs to, or nullptr for a local connection.
+  TransportEnd* transportEnd() const { return transport_end_.get(); }
+  /// Ties a transport's end to this channel: `end` lives as long as the channel, `peer` as above.
+  void holdTransportEnd(std::shared_ptr<TransportEnd> end, PortBase* peer) {
+    transport_end_ = std::move(end);
+    peer_.store(peer, std::memory_order_release);  // other threads may ask connectedTo meanwhile
+  }
+
  private:
   ConnPolicy policy_;
   PortBase* writer_;
   PortBase* reader_;
+  std::atomic<PortBase*> peer_{nullptr};
+  std::shared_ptr<TransportEnd> transport_end_;
 };
 
 /// Lock-free single-producer single-consumer channel holding up to `n` samples of T.

@@ -12,3 +12,4 @@
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/core/port.hpp"
 #include "cobra/core/property.hpp"
+#include "cobra/core/transport.hpp"

@@ -121,7 +121,8 @@ class InputPortBase : public PortBase {
 class OutputPortBase : public PortBase {
  public:
   using PortBase::PortBase;
-  /// Connects this output to `input` with `policy`.
+  /// Connects this output to `input` with `policy`, in this process whatever `policy.transport`
+  /// says (`connectPorts` honours it).
   /// @throws Error naming both ports when `input` is not an input port, the types differ, they
   /// are already connected, or a port has too many connections.
   virtual void connectTo(PortBase& input, ConnPolicy policy) = 0;
@@ -133,9 +134,11 @@ class OutputPortBase : public PortBase {
   virtual WriteStatus writeText(std::string_view text) = 0;
 };
 
-/// Connects `output` to `input` (any order of checks is reported as one clear message).
+/// Connects `output` to `input` (any order of checks is reported as one clear message). A policy
+/// that names a transport carries the connection through it (transport.hpp).
 void connectPorts(PortBase& output, PortBase& input, ConnPolicy policy = ConnPolicy::data());
-/// Removes the connection between `output` and `input`; returns false when there was none.
+/// Removes the connection between `output` and `input` (both ends of one made through a
+/// transport); returns false when there was none.
 bool disconnectPorts(PortBase& output, PortBase& input);
 
 namespace detail {
@@ -326,7 +329,7 @@ std::unique_ptr<OutputPortBase> InputPort<T>::makeWriter(std::string name, std::
 /// Typed convenience: `connect(gen.out, gain.in, ConnPolicy::buffer(8))`.
 template <RegisteredDataType T>
 void connect(OutputPort<T>& output, InputPort<T>& input, ConnPolicy policy = ConnPolicy::data()) {
-  output.connectTo(input, policy);
+  connectPorts(output, input, std::move(policy));
 }
 
 }  // namespace cobra::core

@@ -61,9 +61,19 @@ struct ActivitySpec {
 /// `conn_policy = { type = "buffer", size = 8 }`. `type` is "data", "buffer" or "circular"
 /// (case-insensitive; RTT's "DATA", "BUFFER", "CIRCULAR_BUFFER" are accepted too); `size` is
 /// the number of samples kept and is ignored for data connections.
+/// A connection between processes names a transport (core/transport.hpp), its topic and QoS:
+/// `conn_policy = { type = "buffer", size = 16, transport = "dds", topic = "needle/events",
+/// qos = { reliability = "reliable", depth = 16, lease = 0.1 } }`.
 struct ConnPolicySpec {
+  ConnPolicySpec() = default;
+  ConnPolicySpec(std::string type_name, int samples) : type(std::move(type_name)), size(samples) {}
+
   std::string type = "data";
   int size = 1;
+  std::string transport;  ///< "" in this process, else a registered transport ("dds")
+  std::string topic;      ///< the transport's name of the connection
+  /// `qos = { key = value }` in the order written, values as text ("16", "0.1", "reliable").
+  std::vector<std::pair<std::string, std::string>> qos;
 };
 
 /// `{ output = "MotPlan.path", input = "TrajGen.path", conn_policy = cp }` of `connections_list`.
@@ -84,8 +94,9 @@ struct PortPath {
 /// @throws core::Error prefixed with `where` when there is no '.' or a side is empty.
 PortPath parsePortPath(const std::string& text, const SourceLocation& where);
 
-/// The core policy of `spec`. @throws core::Error prefixed with `where` on an unknown type or a
-/// size below 1.
+/// The core policy of `spec`. @throws core::Error prefixed with `where` on an unknown type, a
+/// size below 1, an unknown transport (listing those registered), or a topic or QoS the transport
+/// refuses (naming the key and the allowed values).
 core::ConnPolicy toConnPolicy(const ConnPolicySpec& spec, const SourceLocation& where);
 
 /// The core scheduler named by `name` (see ActivitySpec). @throws core::Error prefixed with

@@ -36,7 +36,23 @@ long allocationsDuring(F&& body) {
   return newCalls() - before;
 }
 
+/// Calls of operator new made by the calling thread (constant-initialised: no TLS guard).
+inline long& threadNewCalls() {
+  thread_local long calls = 0;
+  return calls;
+}
+
+/// Number of operator new calls the calling thread made while `body` runs: for a real-time path
+/// measured while other threads (a transport's, a middleware's) allocate as they please.
+template <class F>
+long allocationsOnThisThreadDuring(F&& body) {
+  const long before = threadNewCalls();
+  body();
+  return threadNewCalls() - before;
+}
+
 inline void* countedAllocation(std::size_t size) noexcept {
+  ++threadNewCalls();
   newCounters().calls.fetch_add(1, std::memory_order_relaxed);
   newCounters().bytes.fetch_add(size, std::memory_order_relaxed);
   return std::malloc(size == 0 ? 1 : size);

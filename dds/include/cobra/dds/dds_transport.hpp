@@ -1,0 +1,83 @@
+#pragma once
+/// @file
+/// The "dds" transport: a connection whose samples travel over Fast DDS, one topic per
+/// connection, so that its two ends may be in different processes or hosts, and a ROS 2 node can
+/// subscribe to (or publish on) it.
+///
+/// In a deployment file:
+/// @code
+/// conn_policy = { type = "buffer", size = 16, transport = "dds", topic = "needle/events",
+///                 qos = { reliability = "reliable", depth = 16, lease = 0.1 } }
+/// @endcode
+/// - `topic`: a ROS 2 name ("needle/pose", a leading '/' allowed); the DDS topic is "rt/" + it, as
+///   ROS 2 names it. The type is the ROS 2 message of the port's type (conversions.hpp).
+/// - `qos.reliability`: "reliable" (default) or "best_effort"; `qos.depth`: samples DDS keeps
+///   per topic for a late or slow reader (default: the connection's size); `qos.lease`: the
+///   liveliness lease in s (default: infinite); `qos.durability`: "volatile" (default) or
+///   "transient_local" (a late reader gets the last `depth` samples).
+/// Each end keeps the semantics of the connection's type: `data` (latest value) or `buffer(n)` /
+/// `circular(n)` (FIFO of n) between the port and the transport, and the flow status of reads.
+///
+/// The real-time side never waits on DDS: a port's write pushes into the lock-free channel of the
+/// writer's end (preallocated like any connection) and sets a flag; the end's own thread takes
+/// the samples, converts and publishes them. On the reader's side, Fast DDS's listener thread
+/// converts each sample and writes it into the channel the input port reads.
+///
+/// Problems DDS reports or that discovery shows (a topic whose two ends have different types, a
+/// QoS the two ends cannot agree on) are logged to stderr, kept (`problems()`) and sent as an
+/// event on `events()` (`e_dds_type_mismatch`, `e_dds_incompatible_qos`, source: the topic), each
+/// naming the topic and both ends' types or QoS.
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cobra/core/port.hpp"
+#include "cobra/core/transport.hpp"
+
+namespace cobra::dds {
+
+namespace detail {
+class Participant;
+}
+
+/// One DDS domain participant and the connections it carries. Thread-safe.
+class DdsTransport final : public core::Transport {
+ public:
+  struct Options {
+    int domain = 0;                    ///< DDS domain id (0..232), as ROS_DOMAIN_ID
+    std::string participant = "cobra";  ///< the participant's name, seen by discovery tools
+    bool log = true;                   ///< also print problems on stderr
+  };
+
+  explicit DdsTransport(Options options);
+  ~DdsTransport() override;
+  DdsTransport(const DdsTransport&) = delete;
+  DdsTransport& operator=(const DdsTransport&) = delete;
+
+  void check(const core::ConnPolicy& policy) const override;
+  void makeWriterEnd(core::OutputPortBase& output, const core::ConnPolicy& policy, core::PortBase* peer) override;
+  void makeReaderEnd(core::InputPortBase& input, const core::ConnPolicy& policy, core::PortBase* peer) override;
+
+  /// Problem events (`e_dds_type_mismatch`, `e_dds_incompatible_qos`); connect it like any
+  /// output port, e.g. to a supervisor's inputEvents with a buffer policy.
+  core::OutputPort<core::Event>& events();
+  /// Every problem reported so far, as its full message.
+  std::vector<std::string> problems() const;
+  /// Waits until every end on `topic` (the ROS 2 name, as in the policy) in this participant is
+  /// matched with at least one end of the other side; false after `timeout`.
+  bool waitForMatch(const std::string& topic, std::chrono::milliseconds timeout) const;
+  /// The DDS topic of a connection's `topic`: "rt/needle/pose" for "needle/pose" or "/needle/pose".
+  static std::string ddsTopic(const std::string& topic);
+
+ private:
+  std::shared_ptr<detail::Participant> participant_;
+};
+
+/// Registers a DdsTransport as `name` ("dds") in core's TransportRegistry, so that connection
+/// policies with `transport = "dds"` use it. Registering again from the same owner replaces it.
+/// @return the registered transport (e.g. to connect its events()).
+std::shared_ptr<DdsTransport> registerDdsTransport(DdsTransport::Options options = {}, const std::string& name = "dds");
+
+}  // namespace cobra::dds

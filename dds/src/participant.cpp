@@ -1,0 +1,367 @@
+#include "participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/rtps/builtin/data/ReaderProxyData.h>
+#include <fastdds/rtps/builtin/data/WriterProxyData.h>
+#include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
+#include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "cobra/core/error.hpp"
+#include "cobra/text/number.hpp"
+
+namespace cobra::dds::detail {
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+
+namespace {
+
+std::string text(const rtps::GUID_t& guid) {
+  std::ostringstream out;
+  out << guid;
+  return out.str();
+}
+
+std::string text(const rtps::GuidPrefix_t& prefix) {
+  std::ostringstream out;
+  out << prefix;
+  return out.str();
+}
+
+double seconds(const eprosima::fastrtps::Duration_t& duration) {
+  if (duration == eprosima::fastrtps::c_TimeInfinite) return 0.0;
+  return static_cast<double>(duration.to_ns()) * 1e-9;
+}
+
+template <class Qos>
+EndpointQos qosOf(const Qos& qos) {
+  EndpointQos out;
+  out.reliable = qos.m_reliability.kind == fdds::RELIABLE_RELIABILITY_QOS;
+  out.transient_local = qos.m_durability.kind != fdds::VOLATILE_DURABILITY_QOS;
+  out.lease = seconds(qos.m_liveliness.lease_duration);
+  out.depth = 0;  // not announced by discovery
+  return out;
+}
+
+/// Why a writer offering `w` and a reader requesting `r` cannot match, or "" when they can.
+std::string incompatibility(const EndpointQos& w, const EndpointQos& r) {
+  if (r.reliable && !w.reliable) return "reliability";
+  if (r.transient_local && !w.transient_local) return "durability";
+  if (r.lease > 0.0 && (w.lease == 0.0 || w.lease > r.lease)) return "lease";
+  return "";
+}
+
+const char* policyName(std::uint32_t id) {
+  switch (id) {
+    case fdds::DURABILITY_QOS_POLICY_ID: return "durability";
+    case fdds::DEADLINE_QOS_POLICY_ID: return "deadline";
+    case fdds::OWNERSHIP_QOS_POLICY_ID: return "ownership";
+    case fdds::LIVELINESS_QOS_POLICY_ID: return "liveliness lease";
+    case fdds::RELIABILITY_QOS_POLICY_ID: return "reliability";
+    case fdds::DESTINATIONORDER_QOS_POLICY_ID: return "destination order";
+    case fdds::PRESENTATION_QOS_POLICY_ID: return "presentation";
+    case fdds::DATAREPRESENTATION_QOS_POLICY_ID: return "data representation";
+    default: return "a QoS policy";
+  }
+}
+
+std::string describeLocal(const EndpointInfo& e) {
+  return std::string(e.writer ? "the writer of " : "the reader of ") + e.port + " (" + e.cobra_type + ") in this process";
+}
+
+template <class Qos>
+void applyQos(Qos& qos, const EndpointQos& wanted) {
+  qos.reliability().kind = wanted.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  qos.durability().kind = wanted.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = wanted.depth;
+  qos.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+  if (wanted.lease > 0.0) {
+    qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(static_cast<long double>(wanted.lease));
+    // Fast DDS asserts liveliness at this period; it must be below the lease.
+    qos.liveliness().announcement_period = eprosima::fastrtps::Duration_t(static_cast<long double>(wanted.lease) / 3);
+  }
+}
+
+}  // namespace
+
+std::string EndpointQos::describe(bool with_depth) const {
+  std::string out = std::string(reliable ? "reliable" : "best_effort") + ", " + (transient_local ? "transient_local" : "volatile");
+  if (with_depth) out += ", depth " + std::to_string(depth);
+  out += ", lease " + (lease > 0.0 ? text::number(lease) + " s" : std::string("infinite"));
+  return out;
+}
+
+Participant::Participant(int domain, const std::string& name, bool log) : log_(log) {
+  fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+  qos.name(name);
+  // Only the QoS statuses: with data_on_readers in the mask, Fast DDS would call this listener
+  // instead of each reader's on_data_available. Discovery callbacks come whatever the mask.
+  const fdds::StatusMask mask =
+      fdds::StatusMask::offered_incompatible_qos() << fdds::StatusMask::requested_incompatible_qos();
+  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos, this, mask);
+  if (participant_ == nullptr)
+    throw core::Error("dds: cannot create the domain participant '" + name + "' on domain " + std::to_string(domain) +
+                      " (domain ids are 0..232)");
+  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (publisher_ == nullptr || subscriber_ == nullptr) {
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    throw core::Error("dds: cannot create the publisher and subscriber of participant '" + name + "'");
+  }
+}
+
+Participant::~Participant() {
+  participant_->set_listener(nullptr);
+  participant_->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic* Participant::acquireTopic(const EndpointInfo& info, const fdds::TypeSupport& type) {
+  std::lock_guard lock(mutex_);
+  auto it = topics_.find(info.topic);
+  if (it != topics_.end()) {
+    if (it->second.type_name != info.type_name) {
+      const auto other = std::find_if(locals_.begin(), locals_.end(), [&](const Local& l) { return l.info.topic == info.topic; });
+      throw core::Error("dds topic '" + info.topic + "' carries " + it->second.type_name + " in this process" +
+                        (other != locals_.end() ? " (" + describeLocal(other->info) + ")" : std::string()) + ", but " +
+                        info.port + " (" + info.cobra_type + ") needs " + info.type_name +
+                        "; one topic carries one type: use another topic");
+    }
+    ++it->second.users;
+    return it->second.topic;
+  }
+  if (participant_->find_type(info.type_name).empty() && type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+    throw core::Error("dds: cannot register the type " + info.type_name);
+  fdds::Topic* topic = participant_->create_topic(info.topic, info.type_name, fdds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) throw core::Error("dds: cannot create the topic '" + info.topic + "' of type " + info.type_name);
+  topics_.emplace(info.topic, SharedTopic{topic, info.type_name, 1});
+  return topic;
+}
+
+void Participant::releaseTopic(const std::string& name) noexcept {
+  std::lock_guard lock(mutex_);
+  auto it = topics_.find(name);
+  if (it == topics_.end() || --it->second.users > 0) return;
+  participant_->delete_topic(it->second.topic);
+  topics_.erase(it);
+}
+
+fdds::DataWriter* Participant::createWriter(const EndpointInfo& info, const fdds::TypeSupport& type) {
+  fdds::Topic* topic = acquireTopic(info, type);
+  fdds::DataWriterQos qos = publisher_->get_default_datawriter_qos();
+  applyQos(qos, info.qos);
+  fdds::DataWriter* writer = publisher_->create_datawriter(topic, qos, nullptr, fdds::StatusMask::none());
+  if (writer == nullptr) {
+    releaseTopic(info.topic);
+    throw core::Error("dds: Fast DDS refused the writer of topic '" + info.topic + "' with QoS " + info.qos.describe());
+  }
+  addLocal(info, writer);
+  return writer;
+}
+
+fdds::DataReader* Participant::createReader(const EndpointInfo& info, const fdds::TypeSupport& type,
+                                            fdds::DataReaderListener* listener) {
+  fdds::Topic* topic = acquireTopic(info, type);
+  fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
+  applyQos(qos, info.qos);
+  fdds::DataReader* reader = subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::data_available());
+  if (reader == nullptr) {
+    releaseTopic(info.topic);
+    throw core::Error("dds: Fast DDS refused the reader of topic '" + info.topic + "' with QoS " + info.qos.describe());
+  }
+  addLocal(info, reader);
+  return reader;
+}
+
+void Participant::deleteWriter(fdds::DataWriter* writer) noexcept {
+  const std::string topic = writer->get_topic()->get_name();
+  removeLocal(writer);
+  publisher_->delete_datawriter(writer);
+  releaseTopic(topic);
+}
+
+void Participant::deleteReader(fdds::DataReader* reader) noexcept {
+  const std::string topic = reader->get_topicdescription()->get_name();
+  reader->set_listener(nullptr);
+  removeLocal(reader);
+  subscriber_->delete_datareader(reader);
+  releaseTopic(topic);
+}
+
+void Participant::addLocal(const EndpointInfo& info, fdds::DomainEntity* entity) {
+  std::vector<Report> reports;
+  {
+    std::lock_guard lock(mutex_);
+    locals_.push_back({info, entity});
+    for (const auto& [guid, remote] : remotes_)
+      if (auto r = typeMismatchLocked(locals_.back(), guid, remote)) reports.push_back(std::move(*r));
+    for (const auto& [unclaimed, policy] : unclaimed_qos_)
+      if (unclaimed == entity) reports.push_back(qosReportLocked(locals_.back(), policy));
+    std::erase_if(unclaimed_qos_, [&](const auto& u) { return u.first == entity; });
+  }
+  deliver(reports);
+}
+
+void Participant::removeLocal(fdds::DomainEntity* entity) noexcept {
+  std::lock_guard lock(mutex_);
+  std::erase_if(locals_, [&](const Local& l) { return l.entity == entity; });
+  std::erase_if(unclaimed_qos_, [&](const auto& u) { return u.first == entity; });
+}
+
+std::optional<Participant::Report> Participant::typeMismatchLocked(const Local& local, const std::string& guid,
+                                                                   const Remote& remote) const {
+  if (remote.topic != local.info.topic || remote.writer == local.info.writer || remote.type_name == local.info.type_name)
+    return std::nullopt;
+  const EndpointInfo& e = local.info;
+  return Report{"e_dds_type_mismatch", "type|" + e.port + "|" + guid,
+                "dds topic '" + e.topic + "': the two ends' types differ: " + describeLocal(e) +
+                    (e.writer ? " sends " : " expects ") + e.type_name + ", but a " +
+                    (remote.writer ? "writer" : "reader") + " in participant '" + remote.participant + "' " +
+                    (remote.writer ? "sends " : "expects ") + remote.type_name +
+                    "; they never connect (use ports of one type on both ends, or another topic)"};
+}
+
+void Participant::remoteDiscovered(const std::string& guid, Remote remote) {
+  std::vector<Report> reports;
+  {
+    std::lock_guard lock(mutex_);
+    const std::string prefix = guid.substr(0, guid.rfind('|'));
+    if (auto it = participant_names_.find(prefix); it != participant_names_.end()) remote.participant = it->second;
+    else remote.participant = "?";
+    for (const Local& local : locals_)
+      if (auto r = typeMismatchLocked(local, guid, remote)) reports.push_back(std::move(*r));
+    remotes_[guid] = std::move(remote);
+  }
+  deliver(reports);
+}
+
+void Participant::on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) {
+  std::lock_guard lock(mutex_);
+  participant_names_[text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
+}
+
+void Participant::on_subscriber_discovery(fdds::DomainParticipant*, rtps::ReaderDiscoveryInfo&& info) {
+  const rtps::GUID_t& guid = info.info.guid();
+  if (guid.guidPrefix == participant_->guid().guidPrefix) return;  // our own end
+  const std::string key = text(guid);  // "<prefix>|<entity>"
+  if (info.status == rtps::ReaderDiscoveryInfo::REMOVED_READER) {
+    std::lock_guard lock(mutex_);
+    remotes_.erase(key);
+    return;
+  }
+  remoteDiscovered(key, Remote{info.info.topicName().to_string(), info.info.typeName().to_string(), "", false,
+                               qosOf(info.info.m_qos)});
+}
+
+void Participant::on_publisher_discovery(fdds::DomainParticipant*, rtps::WriterDiscoveryInfo&& info) {
+  const rtps::GUID_t& guid = info.info.guid();
+  if (guid.guidPrefix == participant_->guid().guidPrefix) return;
+  const std::string key = text(guid);  // "<prefix>|<entity>"
+  if (info.status == rtps::WriterDiscoveryInfo::REMOVED_WRITER) {
+    std::lock_guard lock(mutex_);
+    remotes_.erase(key);
+    return;
+  }
+  remoteDiscovered(key, Remote{info.info.topicName().to_string(), info.info.typeName().to_string(), "", true,
+                               qosOf(info.info.m_qos)});
+}
+
+void Participant::on_offered_incompatible_qos(fdds::DataWriter* writer, const fdds::OfferedIncompatibleQosStatus& status) {
+  incompatibleQos(writer, status.last_policy_id);
+}
+
+void Participant::on_requested_incompatible_qos(fdds::DataReader* reader,
+                                                const fdds::RequestedIncompatibleQosStatus& status) {
+  incompatibleQos(reader, status.last_policy_id);
+}
+
+void Participant::incompatibleQos(fdds::DomainEntity* entity, std::uint32_t policy) {
+  std::vector<Report> reports;
+  {
+    std::lock_guard lock(mutex_);
+    const auto local = std::find_if(locals_.begin(), locals_.end(), [&](const Local& l) { return l.entity == entity; });
+    // Fast DDS may call this from inside create_datawriter/create_datareader, before addLocal
+    // knows the end: kept until it does.
+    if (local == locals_.end()) unclaimed_qos_.emplace_back(entity, policy);
+    else reports.push_back(qosReportLocked(*local, policy));
+  }
+  deliver(reports);
+}
+
+Participant::Report Participant::qosReportLocked(const Local& local, std::uint32_t policy) const {
+  const EndpointInfo& e = local.info;
+  // Name the far ends that cannot match this one (discovery told their QoS); all of the other
+  // side when none is found (the far end was not discovered yet).
+  std::string others;
+  for (const bool all : {false, true}) {
+    for (const auto& [guid, remote] : remotes_) {
+      if (remote.topic != e.topic || remote.writer == e.writer) continue;
+      const std::string why = e.writer ? incompatibility(e.qos, remote.qos) : incompatibility(remote.qos, e.qos);
+      if (!all && why.empty()) continue;
+      others += std::string(others.empty() ? "" : "; ") + "a " + (remote.writer ? "writer" : "reader") +
+                " in participant '" + remote.participant + "' " + (remote.writer ? "offers " : "requests ") +
+                remote.qos.describe(false);
+    }
+    if (!others.empty()) break;
+  }
+  if (others.empty()) others = std::string("an end of the other side ") + (e.writer ? "requests" : "offers") + " more";
+  return {"e_dds_incompatible_qos", "qos|" + e.port + "|" + e.topic + "|" + std::to_string(policy),
+          "dds topic '" + e.topic + "': incompatible QoS (" + policyName(policy) + "): " + describeLocal(e) +
+              (e.writer ? " offers " : " requests ") + e.qos.describe(false) + ", but " + others +
+              "; they never connect (a reader cannot request more than the writer offers)"};
+}
+
+void Participant::deliver(const std::vector<Report>& reports) {
+  for (const Report& r : reports) {
+    {
+      std::lock_guard lock(mutex_);
+      if (std::find(reported_.begin(), reported_.end(), r.key) != reported_.end()) continue;
+      reported_.push_back(r.key);
+      problems_.push_back(r.message);
+    }
+    if (log_) std::cerr << "cobra dds: " << r.message << std::endl;
+    core::Event event;
+    event.name = r.event;
+    const std::string topic = r.message.substr(r.message.find('\'') + 1);
+    event.source.assign(topic.substr(0, topic.find('\'')));
+    event.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch());
+    std::lock_guard lock(events_mutex_);
+    events_.write(event);
+  }
+}
+
+std::vector<std::string> Participant::problems() const {
+  std::lock_guard lock(mutex_);
+  return problems_;
+}
+
+bool Participant::allMatched(const std::string& topic) const {
+  std::lock_guard lock(mutex_);
+  bool any = false;
+  for (const Local& local : locals_) {
+    if (local.info.topic != topic) continue;
+    any = true;
+    if (local.info.writer) {
+      fdds::PublicationMatchedStatus status;
+      static_cast<fdds::DataWriter*>(local.entity)->get_publication_matched_status(status);
+      if (status.current_count < 1) return false;
+    } else {
+      fdds::SubscriptionMatchedStatus status;
+      static_cast<fdds::DataReader*>(local.entity)->get_subscription_matched_status(status);
+      if (status.current_count < 1) return false;
+    }
+  }
+  return any;
+}
+
+}  // namespace cobra::dds::detail
