@@ -36,6 +36,13 @@ Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& phi) {
   return Eigen::Matrix3d::Identity() + a * hat + b * hat * hat;
 }
 
+/// m·v; with `diagonal` (every parameter matrix is diagonal, the usual case) only m's diagonal is
+/// used: the same bits, since the products of the zeros add exact zeros.
+Vector6 times(const Matrix6& m, const Vector6& v, bool diagonal) noexcept {
+  if (diagonal) return m.diagonal().cwiseProduct(v);
+  return m * v;
+}
+
 /// Shortest decimal form of a number for messages ("-1", "0.5", "2e+04").
 std::string shortNumber(double value) {
   char text[32];
@@ -109,7 +116,14 @@ VariableAdmittance::VariableAdmittance(const AdmittanceParameters& p) : paramete
                                 std::to_string(t.initial_energy) + ", " + std::to_string(t.max_energy));
   variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
   variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
+  diagonal_ = allDiagonal();
   reset();
+}
+
+bool VariableAdmittance::allDiagonal() const noexcept {
+  const AdmittanceParameters& p = parameters_;
+  return p.constant_inertia.isDiagonal(0.0) && p.constant_stiffness.isDiagonal(0.0) && p.inertia.isDiagonal(0.0) &&
+         p.damping.isDiagonal(0.0) && p.stiffness.isDiagonal(0.0);
 }
 
 void VariableAdmittance::reset() noexcept {
@@ -132,26 +146,32 @@ AdmittanceStatus VariableAdmittance::setParameters(const Matrix6& inertia, const
   parameters_.stiffness = stiffness;
   variable_inertia_ = parameters_.inertia - parameters_.constant_inertia;
   variable_stiffness_ = parameters_.stiffness - parameters_.constant_stiffness;
+  diagonal_ = allDiagonal();
   ++revision_;
   return AdmittanceStatus::Ok;
 }
 
 double VariableAdmittance::constantEnergy(const Vector6& x, const Vector6& v) const noexcept {
-  return 0.5 * v.dot(parameters_.constant_inertia * v) + 0.5 * x.dot(parameters_.constant_stiffness * x);
+  return 0.5 * v.dot(times(parameters_.constant_inertia, v, diagonal_)) +
+         0.5 * x.dot(times(parameters_.constant_stiffness, x, diagonal_));
 }
 
 void VariableAdmittance::integrate(const Matrix6& M, const Matrix6& K, const Vector6& force, double dt,
                                    Factorisation& factor, Vector6& x_next, Vector6& v_next) const noexcept {
   // The same parameters and dt give the same system matrix bit for bit, hence the same
   // factorisation: it is worked out again only when one of them changed.
+  // A diagonal system is solved entry by entry (its Cholesky factor would be its square root).
   if (!factor.known || factor.revision != revision_ || factor.dt != dt) {
-    factor.llt.compute(M + dt * parameters_.damping + dt * dt * K);
+    if (diagonal_)
+      factor.diagonal = M.diagonal() + dt * parameters_.damping.diagonal() + dt * dt * K.diagonal();
+    else
+      factor.llt.compute(M + dt * parameters_.damping + dt * dt * K);
     factor.revision = revision_;
     factor.dt = dt;
     factor.known = true;
   }
-  const Vector6 rhs = M * v_ + dt * (force - K * x_);
-  v_next = factor.llt.solve(rhs);
+  const Vector6 rhs = times(M, v_, diagonal_) + dt * (force - times(K, x_, diagonal_));
+  v_next = diagonal_ ? Vector6(rhs.cwiseQuotient(factor.diagonal)) : Vector6(factor.llt.solve(rhs));
   x_next = x_ + dt * v_next;
 }
 
@@ -189,7 +209,8 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   const double energy_before = audit_.stored;
   Vector6 x_next, v_next;
   integrate(parameters_.inertia, parameters_.stiffness, force, dt, variable_factor_, x_next, v_next);
-  Vector6 w = -variable_stiffness_ * x_next - variable_inertia_ * ((v_next - v_) / dt);  // eq. 4.11
+  Vector6 w = -times(variable_stiffness_, x_next, diagonal_) -
+              times(variable_inertia_, (v_next - v_) / dt, diagonal_);  // eq. 4.11
   Vector6 dx = x_next - x_;
   double energy_after = constantEnergy(x_next, v_next);
   double delta = (force + w).dot(dx) - (energy_after - energy_before);

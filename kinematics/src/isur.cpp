@@ -155,7 +155,8 @@ IkStatus IsurPuncturingSolver::platformPose(const KDL::JntArray& q, KDL::Frame& 
   KDL::Vector p_delta;
   const IkStatus status = delta_.forwardPosition(std::span<const double, 3>(q.data.data(), 3), p_delta);
   if (status != IkStatus::Ok) return status;
-  pose = frameProduct(KDL::Frame(KDL::Rotation::RotZ(q.data(3))), KDL::Frame(p_delta));
+  const KDL::Rotation base_turn = KDL::Rotation::RotZ(q.data(3));
+  pose = KDL::Frame(base_turn, base_turn * p_delta);  // Rz(q4) · Trans(p_delta)
   return IkStatus::Ok;
 }
 

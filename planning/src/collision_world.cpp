@@ -223,7 +223,15 @@ CollisionWorld::CollisionWorld(SceneDescription scene) : scene_(std::move(scene)
     impl.managers[group]->registerObject(object.get());
     impl.objects.push_back(std::move(object));
   }
-  for (auto& manager : impl.managers) manager->setup();
+  for (auto& manager : impl.managers) {
+    manager->setup();
+    // From now on a moved robot's links are refitted in place (update()) and the tree is not
+    // rebalanced: a group's tree holds a handful of objects, and FCL's default incremental passes
+    // (leaves removed and reinserted after every move, for every validity check of a plan) cost
+    // more than the traversal they could save. The distances do not depend on the tree's shape.
+    manager->tree_incremental_balance_pass = 0;
+    manager->max_tree_nonbalanced_level = std::numeric_limits<int>::max();
+  }
   for (const auto& [contacts, indices, user] :
        {std::tuple{&scene_.allowed_contacts, &impl.allowed_indices, &impl.allowed},
         std::tuple{&scene_.primitive_contacts, &impl.primitive_indices, &impl.primitive}}) {

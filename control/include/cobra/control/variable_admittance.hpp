@@ -122,6 +122,7 @@ class VariableAdmittance {
   /// exactly this factorisation.
   struct Factorisation {
     Eigen::LLT<Matrix6> llt;
+    Vector6 diagonal = Vector6::Zero();  // the system's diagonal, when every matrix is diagonal
     std::uint64_t revision = 0;
     double dt = 0.0;  // s
     bool known = false;
@@ -133,6 +134,10 @@ class VariableAdmittance {
   Factorisation variable_factor_, constant_factor_;
   /// Counts the parameter sets (setParameters): a factorisation of another revision is stale.
   std::uint64_t revision_ = 0;
+  /// Every parameter matrix is diagonal (the component's 6-number properties): products and the
+  /// solve use the diagonals only (6 instead of 36 multiplications each).
+  bool diagonal_ = false;
+  bool allDiagonal() const noexcept;
   /// J_l at the rotation part of x_, computed at the end of the last step for the output twist:
   /// the next step's generalised force needs it at the same x_ (reset and rebase change x_ and
   /// clear `error_jacobian_known_`).
