@@ -49,6 +49,10 @@ TEST(DdsRosInterop, APlainFastDdsSubscriberOfGeometryMsgsPoseReceivesCobrasPose)
   core::OutputPort<KDL::Frame> pose("pose", "needle tip pose", "m");
   core::connectToTransport(pose, dds.policy("needle/pose"));
   ASSERT_TRUE(dds.transport->waitForMatch("needle/pose", 5s));
+  ASSERT_TRUE(test::pollUntil([&] {  // and the plain reader has matched cobra's writer
+    fdds::SubscriptionMatchedStatus matched;
+    return reader->get_subscription_matched_status(matched) == ReturnCode_t::RETCODE_OK && matched.current_count > 0;
+  }));
 
   const KDL::Frame frame(KDL::Rotation::RPY(0.3, 0.2, -0.1), KDL::Vector(0.25, -0.1, 0.05));
   pose.write(frame);
@@ -76,6 +80,12 @@ TEST(DdsRosInterop, APlainFastDdsPublisherOfGeometryMsgsPoseFeedsACobraInput) {
   core::InputPort<KDL::Frame> pose("pose", "needle tip pose", "m");
   core::connectToTransport(pose, dds.policy("needle/pose"));
   ASSERT_TRUE(dds.transport->waitForMatch("needle/pose", 5s));
+  // Discovery is two-sided: the plain writer must have matched cobra's reader too, or a volatile
+  // sample written before is never sent to it (seen once in 40 runs with six tests in parallel).
+  ASSERT_TRUE(test::pollUntil([&] {
+    fdds::PublicationMatchedStatus matched;
+    return writer->get_publication_matched_status(matched) == ReturnCode_t::RETCODE_OK && matched.current_count > 0;
+  }));
 
   geometry_msgs::msg::Pose msg;
   msg.position().x(1.5);
