@@ -26,6 +26,7 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/core/core.hpp"
+#include "latency_counters.hpp"
 #include "cobra/dds/dds_transport.hpp"
 
 namespace {
@@ -95,11 +96,7 @@ void pingPong(benchmark::State& state, cobra::core::OutputPort<KDL::Frame>& ping
     state.SetIterationTime(ns * 1e-9);
   }
   if (one_way_ns.empty()) return;
-  std::sort(one_way_ns.begin(), one_way_ns.end());
-  const auto at = [&](double q) { return one_way_ns[static_cast<std::size_t>(q * static_cast<double>(one_way_ns.size() - 1))]; };
-  state.counters["p50_ns"] = at(0.50);
-  state.counters["p99_ns"] = at(0.99);
-  state.counters["max_ns"] = one_way_ns.back();
+  cobra::bench::setLatencyCounters(state, one_way_ns);
   state.counters["resent"] = resent;
 }
 

@@ -32,6 +32,7 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/core/core.hpp"
+#include "latency_counters.hpp"
 
 namespace {
 
@@ -202,12 +203,7 @@ void BM_PingPong(benchmark::State& state) {
   }
   stop.store(true, std::memory_order_relaxed);
   echo.join();
-  if (one_way_ns.empty()) return;
-  std::sort(one_way_ns.begin(), one_way_ns.end());
-  const auto at = [&](double q) { return one_way_ns[static_cast<std::size_t>(q * static_cast<double>(one_way_ns.size() - 1))]; };
-  state.counters["p50_ns"] = at(0.50);
-  state.counters["p99_ns"] = at(0.99);
-  state.counters["max_ns"] = one_way_ns.back();
+  cobra::bench::setLatencyCounters(state, one_way_ns);
 }
 
 BENCHMARK_TEMPLATE(BM_PingPong, PortLink<double>)->Name("BM_PingPong/lockfree_data_double")->UseManualTime()->Apply(configure);

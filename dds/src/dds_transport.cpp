@@ -9,6 +9,7 @@
 #include <thread>
 #include <typeindex>
 
+#include "cobra/core/data_type.hpp"
 #include "cobra/core/error.hpp"
 #include "cobra/dds/conversions.hpp"
 #include "participant.hpp"
@@ -37,24 +38,14 @@ EndpointQos parseQos(const core::ConnPolicy& policy) {
       if (value != "volatile" && value != "transient_local") throw core::Error(bad + "\"volatile\" or \"transient_local\"");
       qos.transient_local = value == "transient_local";
     } else if (key == "depth") {
-      std::size_t used = 0;
-      long depth = 0;
-      try {
-        depth = std::stol(value, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != value.size() || depth < 1 || depth > 1000000) throw core::Error(bad + "an integer >= 1 (samples)");
-      qos.depth = static_cast<int>(depth);
+      // The port text parsers (data_type.hpp): the whole value must be the number.
+      int depth = 0;
+      if (!core::DataTypeTraits<int>::parse(value, depth) || depth < 1 || depth > 1000000)
+        throw core::Error(bad + "an integer >= 1 (samples)");
+      qos.depth = depth;
     } else if (key == "lease") {
-      std::size_t used = 0;
-      double lease = 0;
-      try {
-        lease = std::stod(value, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != value.size() || !(lease > 0.0) || !std::isfinite(lease))
+      double lease = 0.0;
+      if (!core::DataTypeTraits<double>::parse(value, lease) || !(lease > 0.0) || !std::isfinite(lease))
         throw core::Error(bad + "a number of seconds > 0, e.g. 0.1");
       qos.lease = lease;
     } else {

@@ -12,14 +12,8 @@ namespace cobra::dds {
 namespace {
 
 using namespace std::chrono_literals;
+using test::event;
 constexpr int kDomain = 118;
-
-core::Event event(const std::string& name) {
-  core::Event e;
-  e.name.assign(name);
-  e.source = "test";
-  return e;
-}
 
 TEST(DdsProcesses, AFrameAndEventsCrossToAnotherProcessAndBack) {
   const pid_t peer = fork();

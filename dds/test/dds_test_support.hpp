@@ -1,5 +1,5 @@
 #pragma once
-// Helpers of the dds tests: a transport registered for one test, and polling with a deadline.
+// Helpers of the dds tests: a transport registered for one test, an event, and polling with a deadline.
 
 #include <chrono>
 #include <functional>
@@ -10,6 +10,7 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/core/event.hpp"
 #include "cobra/core/transport.hpp"
 #include "cobra/dds/dds_transport.hpp"
 
@@ -34,6 +35,14 @@ struct RegisteredTransport {
   std::string name;
   std::shared_ptr<DdsTransport> transport;
 };
+
+/// An event named `name` from source "test", as the tests send them across.
+inline core::Event event(const std::string& name) {
+  core::Event e;
+  e.name.assign(name);
+  e.source = "test";
+  return e;
+}
 
 /// Polls `done` every millisecond until it is true or `timeout` passed; returns its last value.
 inline bool pollUntil(const std::function<bool()>& done, std::chrono::milliseconds timeout = std::chrono::seconds(5)) {

@@ -15,15 +15,9 @@ namespace cobra::dds {
 namespace {
 
 using namespace std::chrono_literals;
+using test::event;
 using test::pollUntil;
 using test::RegisteredTransport;
-
-core::Event event(const std::string& name) {
-  core::Event e;
-  e.name.assign(name);
-  e.source = "test";
-  return e;
-}
 
 TEST(DdsTransport, DataConnectionBetweenTwoParticipantsKeepsTheLatestFrame) {
   RegisteredTransport a("dds_data_a", 111, "cobra_a");
