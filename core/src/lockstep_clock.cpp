@@ -76,6 +76,7 @@ void LockstepClock::advance(std::chrono::nanoseconds duration) {
     runInstant(next);
   }
   now_ = end;
+  if (sync_ != nullptr) sync_->reached(now_);
 }
 
 namespace {

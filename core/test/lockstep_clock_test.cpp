@@ -372,6 +372,40 @@ std::vector<std::pair<std::int64_t, double>> runPipeline() {
   return trace;
 }
 
+/// Records when the clock met it, and what the component had done by then.
+class RecordingSync : public ClockSync {
+ public:
+  explicit RecordingSync(const Ticker& ticker) : ticker_(&ticker) {}
+  std::vector<std::pair<std::chrono::nanoseconds, std::size_t>> met;  // (t, the ticker's steps so far)
+  void reached(std::chrono::nanoseconds t) noexcept override { met.emplace_back(t, ticker_->times.size()); }
+  void setDone(bool) noexcept override {}
+  bool peersDone() const noexcept override { return true; }
+  std::vector<std::string> lostPeers() const override { return {}; }
+
+ private:
+  const Ticker* ticker_;
+};
+
+TEST(LockstepClock, MeetsItsClockSyncAtTheEndOfEveryAdvanceAfterItsSteps) {
+  Trace trace;
+  Ticker ticker("T", trace);
+  LockstepClock clock;
+  clock.add(ticker, 1ms);
+  ASSERT_TRUE(ticker.configure());
+  ASSERT_TRUE(ticker.start());
+  RecordingSync sync(ticker);
+  clock.setClockSync(&sync);
+  EXPECT_EQ(clock.clockSync(), &sync);
+  clock.advance(1ms);   // the step at 0
+  clock.advance(3ms);   // the steps at 1, 2 and 3 ms
+  clock.setClockSync(nullptr);
+  clock.advance(1ms);   // not met
+  ASSERT_EQ(sync.met.size(), 2U);
+  EXPECT_EQ(sync.met[0], std::make_pair(std::chrono::nanoseconds(1ms), std::size_t{1}));
+  EXPECT_EQ(sync.met[1], std::make_pair(std::chrono::nanoseconds(4ms), std::size_t{4}));
+  EXPECT_TRUE(ticker.stop());
+}
+
 TEST(LockstepClock, TwoRunsOfAPipelineGiveIdenticalTraces) {
   const auto first = runPipeline();
   const auto second = runPipeline();

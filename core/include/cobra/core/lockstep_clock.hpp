@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/core/clock_sync.hpp"
 
 namespace cobra::core {
 
@@ -72,6 +73,10 @@ class LockstepClock {
   /// while one is set.
   using StepObserver = std::function<void(const Component&, std::chrono::nanoseconds wall, std::chrono::nanoseconds cpu)>;
   void setStepObserver(StepObserver observer) { step_observer_ = std::move(observer); }
+  /// `sync` (not owned; nullptr: none) is met at the end of every `advance`: one simulated run
+  /// split over processes (core/clock_sync.hpp). It must outlive its use by this clock.
+  void setClockSync(ClockSync* sync) { sync_ = sync; }
+  ClockSync* clockSync() const { return sync_; }
   /// Number of component steps run so far.
   std::uint64_t steps() const { return steps_; }
   /// Most rounds of triggered steps in one instant before the clock reports a trigger loop.
@@ -96,6 +101,7 @@ class LockstepClock {
   std::uint64_t steps_ = 0;
   std::function<bool()> between_instants_;
   StepObserver step_observer_;
+  ClockSync* sync_ = nullptr;
   /// Set when an event-driven (period 0) component is triggered: runTriggered scans for them
   /// only then (it runs twice per instant; most instants' second call finds nothing).
   bool trigger_pending_ = false;
