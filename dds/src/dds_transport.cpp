@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <thread>
 #include <typeindex>
 
@@ -66,74 +67,100 @@ fdds::TypeSupport typeSupport() {
   return fdds::TypeSupport(new typename Wire<T>::PubSub());
 }
 
-/// Writer's end: the port writes into the channel to `hidden_`; this end's thread takes what
-/// arrives, converts it and publishes it.
+/// Writer's end: the port writes into the channel to `hidden_`; this end's thread looks every
+/// `poll` for what arrived, converts it and publishes it (a write sets `fresh_` and makes no
+/// system call: nobody waits on the flag). In lockstep the clock meeting flushes instead.
 template <class T>
-class WriterEnd final : public core::TransportEnd {
+class WriterEnd final : public core::TransportEnd, public detail::WriterEndHook {
  public:
   WriterEnd(std::shared_ptr<Participant> participant, std::unique_ptr<core::InputPort<T>> hidden,
-            fdds::DataWriter* writer)
-      : participant_(std::move(participant)), hidden_(std::move(hidden)), writer_(writer) {
+            fdds::DataWriter* writer, EndpointInfo info)
+      : participant_(std::move(participant)), hidden_(std::move(hidden)), writer_(writer), info_(std::move(info)) {
     hidden_->setNewDataFlag(&fresh_);
   }
   ~WriterEnd() override { close(); }
 
   core::InputPort<T>& hidden() { return *hidden_; }
   void start() {
+    participant_->addWriterEnd(this);
     thread_ = std::thread([this] { run(); });
   }
 
   void close() noexcept override {
     if (writer_ == nullptr) return;
+    participant_->removeWriterEnd(this);
     stop_.store(true);
-    fresh_.store(true);
-    fresh_.notify_one();
     if (thread_.joinable()) thread_.join();
     participant_->deleteWriter(writer_);
     writer_ = nullptr;
   }
 
+  void flush() noexcept override {
+    fresh_.store(false);
+    drain();
+  }
+  std::int64_t published() const noexcept override { return published_.load(); }
+  fdds::DataWriter* writer() const noexcept override { return writer_; }
+  const EndpointInfo& info() const noexcept override { return info_; }
+
  private:
   void run() {
-    typename Wire<T>::Msg msg;
-    T value{};
-    for (;;) {
-      fresh_.wait(false);
+    const auto poll = participant_->poll();
+    while (!stop_.load()) {
+      std::this_thread::sleep_for(poll);
+      if (participant_->lockstep() || !fresh_.load()) continue;
       fresh_.store(false);  // before draining: a sample written during the drain sets it again
-      if (stop_.load()) return;
-      while (hidden_->readNew(value) == core::FlowStatus::NewData) {
-        toMsg(value, msg);
-        writer_->write(&msg);
-      }
+      drain();
+    }
+  }
+
+  /// Publishes what the channel holds; the thread's poll and a meeting's flush may both call it.
+  void drain() noexcept {
+    std::lock_guard lock(drain_mutex_);
+    while (hidden_->readNew(value_) == core::FlowStatus::NewData) {
+      toMsg(value_, msg_);
+      // Keyless types, no dispose: the writer's sequence numbers are its writes, 1, 2, ...
+      if (writer_->write(&msg_)) published_.fetch_add(1);
     }
   }
 
   std::shared_ptr<Participant> participant_;
   std::unique_ptr<core::InputPort<T>> hidden_;
   fdds::DataWriter* writer_;
+  EndpointInfo info_;
+  std::mutex drain_mutex_;
+  typename Wire<T>::Msg msg_;  // under drain_mutex_
+  T value_{};                  // under drain_mutex_
+  std::atomic<std::int64_t> published_{0};
   std::atomic<bool> fresh_{false};
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
 
 /// Reader's end: Fast DDS's listener converts each sample and writes it through `hidden_` into
-/// the channel the input port reads.
+/// the channel the input port reads; in lockstep it holds the samples until the clock meeting
+/// releases them.
 template <class T>
-class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListener {
+class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListener, public detail::ReaderEndHook {
  public:
-  ReaderEnd(std::shared_ptr<Participant> participant, std::unique_ptr<core::OutputPort<T>> hidden)
-      : participant_(std::move(participant)), hidden_(std::move(hidden)) {}
+  ReaderEnd(std::shared_ptr<Participant> participant, std::unique_ptr<core::OutputPort<T>> hidden, EndpointInfo info)
+      : participant_(std::move(participant)), hidden_(std::move(hidden)), info_(std::move(info)) {}
   ~ReaderEnd() override { close(); }
 
   core::OutputPort<T>& hidden() { return *hidden_; }
   /// Creates the DDS reader once the channel to the input port exists (samples may arrive at once).
-  void start(const EndpointInfo& info) { reader_ = participant_->createReader(info, typeSupport<T>(), this); }
+  void start() {
+    participant_->addReaderEnd(this);
+    reader_ = participant_->createReader(info_, typeSupport<T>(), this);
+  }
 
   void close() noexcept override {
     {
       std::lock_guard lock(mutex_);  // waits for a listener call in progress
+      if (closed_) return;
       closed_ = true;
     }
+    participant_->removeReaderEnd(this);
     if (reader_ != nullptr) participant_->deleteReader(reader_);
     reader_ = nullptr;
   }
@@ -142,21 +169,52 @@ class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListen
     std::lock_guard lock(mutex_);  // Fast DDS may call from several receive threads
     if (closed_) return;
     fdds::SampleInfo info;
+    const bool hold = participant_->lockstep();
     while (reader->take_next_sample(&msg_, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
       fromMsg(msg_, value_);
-      hidden_->write(value_);
+      const auto& writer = info.sample_identity.writer_guid();
+      const auto sequence = info.sample_identity.sequence_number().to64long();
+      std::int64_t& highest = received_[writer];  // one node per far writer, on its first sample
+      highest = std::max<std::int64_t>(highest, static_cast<std::int64_t>(sequence));
+      if (hold) held_.push_back({writer, static_cast<std::int64_t>(sequence), value_});
+      else hidden_->write(value_);
     }
   }
 
+  std::int64_t received(const eprosima::fastrtps::rtps::GUID_t& writer) const override {
+    std::lock_guard lock(mutex_);
+    const auto it = received_.find(writer);
+    return it == received_.end() ? 0 : it->second;
+  }
+
+  void release(const std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t>& bounds) override {
+    std::lock_guard lock(mutex_);
+    std::erase_if(held_, [&](const Held& h) {
+      const auto bound = bounds.find(h.writer);
+      if (bound != bounds.end() && h.sequence > bound->second) return false;
+      hidden_->write(h.value);
+      return true;
+    });
+  }
+  const EndpointInfo& info() const noexcept override { return info_; }
+
  private:
+  struct Held {
+    eprosima::fastrtps::rtps::GUID_t writer;
+    std::int64_t sequence;
+    T value;
+  };
   std::shared_ptr<Participant> participant_;
   std::unique_ptr<core::OutputPort<T>> hidden_;
+  EndpointInfo info_;
   fdds::DataReader* reader_ = nullptr;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   bool closed_ = false;
   typename Wire<T>::Msg msg_;
   T value_{};
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> received_;
+  std::vector<Held> held_;  // lockstep: in arrival order
 };
 
 struct Binding {
@@ -175,7 +233,7 @@ Binding binding() {
     std::unique_ptr<core::InputPort<T>> hidden(
         static_cast<core::InputPort<T>*>(output.makeReader("dds:" + info.topic, "writer's end of a dds connection").release()));
     fdds::DataWriter* writer = participant->createWriter(info, typeSupport<T>());
-    auto end = std::make_shared<WriterEnd<T>>(participant, std::move(hidden), writer);
+    auto end = std::make_shared<WriterEnd<T>>(participant, std::move(hidden), writer, info);
     core::attachTransportEnd(output, end->hidden(), policy, end, peer);
     end->start();
   };
@@ -184,9 +242,9 @@ Binding binding() {
     const EndpointInfo info = endpointInfo<T>(input, policy, false);
     std::unique_ptr<core::OutputPort<T>> hidden(
         static_cast<core::OutputPort<T>*>(input.makeWriter("dds:" + info.topic, "reader's end of a dds connection").release()));
-    auto end = std::make_shared<ReaderEnd<T>>(participant, std::move(hidden));
+    auto end = std::make_shared<ReaderEnd<T>>(participant, std::move(hidden), info);
     core::attachTransportEnd(input, end->hidden(), policy, end, peer);
-    end->start(info);
+    end->start();
   };
   return b;
 }
@@ -223,7 +281,7 @@ const Binding& bindingOf(const core::PortBase& port) {
 }  // namespace
 
 DdsTransport::DdsTransport(Options options)
-    : participant_(std::make_shared<Participant>(options.domain, options.participant, options.log)) {}
+    : participant_(std::make_shared<Participant>(options)) {}
 
 DdsTransport::~DdsTransport() = default;
 

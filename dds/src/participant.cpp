@@ -7,10 +7,14 @@
 #include <fastdds/rtps/builtin/data/WriterProxyData.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 #include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+#include <fastrtps/utils/IPLocator.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -77,6 +81,9 @@ std::string describeLocal(const EndpointInfo& e) {
   return std::string(e.writer ? "the writer of " : "the reader of ") + e.port + " (" + e.cobra_type + ") in this process";
 }
 
+/// A millisecond duration in Fast DDS's type.
+eprosima::fastrtps::Duration_t milliseconds(std::uint32_t ms) { return eprosima::fastrtps::Duration_t(0, ms * 1000000U); }
+
 template <class Qos>
 void applyQos(Qos& qos, const EndpointQos& wanted) {
   qos.reliability().kind = wanted.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
@@ -100,9 +107,34 @@ std::string EndpointQos::describe(bool with_depth) const {
   return out;
 }
 
-Participant::Participant(int domain, const std::string& name, bool log) : log_(log) {
+Participant::Participant(const DdsTransport::Options& options)
+    : poll_(std::chrono::nanoseconds(static_cast<std::int64_t>(options.poll * 1e9))), log_(options.log) {
+  const int domain = options.domain;
+  const std::string& name = options.participant;
+  if (!(options.poll > 0.0 && options.poll <= 1.0))
+    throw core::Error("dds participant '" + name + "': poll = " + text::number(options.poll) + ": expected a period in s in (0, 1]");
+  if (!(options.drop_share >= 0.0 && options.drop_share <= 1.0))
+    throw core::Error("dds participant '" + name + "': drop_share = " + text::number(options.drop_share) +
+                      ": expected a share in [0, 1]");
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
+  for (const std::string& address : options.initial_peers) {
+    rtps::Locator_t locator;
+    if (!eprosima::fastrtps::rtps::IPLocator::isIPv4(address) ||
+        !eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, address))
+      throw core::Error("dds participant '" + name + "': initial peer '" + address +
+                        "' is not an IPv4 address (expected e.g. 10.0.0.2)");
+    // Port 0: Fast DDS tries the well-known discovery ports of the first participants there.
+    qos.wire_protocol().builtin.initialPeersList.push_back(locator);
+  }
+  if (options.drop_share > 0.0) {
+    auto lossy = std::make_shared<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor>();
+    const auto percent = static_cast<std::uint8_t>(std::lround(options.drop_share * 100.0));
+    lossy->dropDataMessagesPercentage = percent;
+    lossy->dropDataFragMessagesPercentage = percent;
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(lossy);
+  }
   // Only the QoS statuses: with data_on_readers in the mask, Fast DDS would call this listener
   // instead of each reader's on_data_available. Discovery callbacks come whatever the mask.
   const fdds::StatusMask mask =
@@ -160,6 +192,11 @@ fdds::DataWriter* Participant::createWriter(const EndpointInfo& info, const fdds
   fdds::Topic* topic = acquireTopic(info, type);
   fdds::DataWriterQos qos = publisher_->get_default_datawriter_qos();
   applyQos(qos, info.qos);
+  // Fast DDS's default heartbeat period is 3 s: a lost sample would wait that long for its
+  // retransmission, and a clock meeting with it. 5 ms here.
+  qos.reliable_writer_qos().times.heartbeatPeriod = milliseconds(5);
+  qos.reliable_writer_qos().times.initialHeartbeatDelay = milliseconds(1);
+  qos.reliable_writer_qos().times.nackResponseDelay = milliseconds(1);
   fdds::DataWriter* writer = publisher_->create_datawriter(topic, qos, nullptr, fdds::StatusMask::none());
   if (writer == nullptr) {
     releaseTopic(info.topic);
@@ -174,6 +211,7 @@ fdds::DataReader* Participant::createReader(const EndpointInfo& info, const fdds
   fdds::Topic* topic = acquireTopic(info, type);
   fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
   applyQos(qos, info.qos);
+  qos.reliable_reader_qos().times.heartbeatResponseDelay = milliseconds(1);
   fdds::DataReader* reader = subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::data_available());
   if (reader == nullptr) {
     releaseTopic(info.topic);
@@ -337,7 +375,63 @@ void Participant::deliver(const std::vector<Report>& reports) {
     event.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch());
     std::lock_guard lock(events_mutex_);
     events_.write(event);
+    if (event_sink_) event_sink_(event);
   }
+}
+
+void Participant::setEventSink(std::function<void(const core::Event&)> sink) {
+  std::lock_guard lock(events_mutex_);
+  event_sink_ = std::move(sink);
+}
+
+void Participant::addWriterEnd(WriterEndHook* end) {
+  std::lock_guard lock(ends_mutex_);
+  writer_ends_.push_back(end);
+}
+
+void Participant::removeWriterEnd(WriterEndHook* end) noexcept {
+  std::lock_guard lock(ends_mutex_);
+  std::erase(writer_ends_, end);
+}
+
+void Participant::addReaderEnd(ReaderEndHook* end) {
+  std::lock_guard lock(ends_mutex_);
+  reader_ends_.push_back(end);
+}
+
+void Participant::removeReaderEnd(ReaderEndHook* end) noexcept {
+  std::lock_guard lock(ends_mutex_);
+  std::erase(reader_ends_, end);
+}
+
+void Participant::withEnds(
+    const std::function<void(const std::vector<WriterEndHook*>&, const std::vector<ReaderEndHook*>&)>& visit) {
+  std::lock_guard lock(ends_mutex_);
+  visit(writer_ends_, reader_ends_);
+}
+
+int Participant::compatibleRemoteReaders(const std::string& topic, const std::string& type_name,
+                                         const EndpointQos& offered) const {
+  std::lock_guard lock(mutex_);
+  int count = 0;
+  for (const auto& [guid, remote] : remotes_)
+    if (!remote.writer && remote.topic == topic && remote.type_name == type_name &&
+        incompatibility(offered, remote.qos).empty())
+      ++count;
+  return count;
+}
+
+bool Participant::mayMatchRemoteWriter(const std::string& guid, const EndpointInfo& reader) const {
+  std::lock_guard lock(mutex_);
+  const auto it = remotes_.find(guid);
+  if (it == remotes_.end()) return true;
+  return it->second.type_name == reader.type_name && incompatibility(it->second.qos, reader.qos).empty();
+}
+
+std::string Participant::participantName(const rtps::GuidPrefix_t& prefix) const {
+  std::lock_guard lock(mutex_);
+  const auto it = participant_names_.find(text(prefix));
+  return it == participant_names_.end() ? std::string() : it->second;
 }
 
 std::vector<std::string> Participant::problems() const {

@@ -12,6 +12,10 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -19,6 +23,7 @@
 #include <vector>
 
 #include "cobra/core/port.hpp"
+#include "cobra/dds/dds_transport.hpp"
 
 namespace cobra::dds::detail {
 
@@ -43,10 +48,67 @@ struct EndpointInfo {
   EndpointQos qos;
 };
 
+/// A local writer end as the clock meeting (DdsLink) sees it.
+class WriterEndHook {
+ public:
+  /// Publishes every sample the end's channel holds, on the caller's thread.
+  virtual void flush() noexcept = 0;
+  /// The DDS sequence number of the last sample the end published (0: none yet).
+  virtual std::int64_t published() const noexcept = 0;
+  virtual eprosima::fastdds::dds::DataWriter* writer() const noexcept = 0;
+  virtual const EndpointInfo& info() const noexcept = 0;
+
+ protected:
+  ~WriterEndHook() = default;
+};
+
+/// A local reader end as the clock meeting sees it.
+class ReaderEndHook {
+ public:
+  /// The highest sequence number received from `writer` (0: none).
+  virtual std::int64_t received(const eprosima::fastrtps::rtps::GUID_t& writer) const = 0;
+  /// In lockstep: writes into the input port's channel the samples held back so far whose
+  /// sequence number is at most `bounds[writer]` (all of a writer missing from `bounds`).
+  virtual void release(const std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t>& bounds) = 0;
+  virtual const EndpointInfo& info() const noexcept = 0;
+
+ protected:
+  ~ReaderEndHook() = default;
+};
+
 class Participant final : public eprosima::fastdds::dds::DomainParticipantListener {
  public:
-  Participant(int domain, const std::string& name, bool log);
+  explicit Participant(const DdsTransport::Options& options);
   ~Participant() override;
+
+  eprosima::fastdds::dds::DomainParticipant* entity() const { return participant_; }
+  eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
+  eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
+  /// Period at which a writer end's thread looks for samples to send (wall-clock runs).
+  std::chrono::nanoseconds poll() const { return poll_; }
+
+  /// Lockstep: writer ends send only when the clock meeting flushes them, reader ends hold what
+  /// arrives until the meeting releases it (so that a sample written in [t - d, t) is read from
+  /// t on, whichever process runs ahead). Set by DdsLink before the first step.
+  void setLockstep(bool lockstep) { lockstep_.store(lockstep); }
+  bool lockstep() const { return lockstep_.load(); }
+  void addWriterEnd(WriterEndHook* end);
+  void removeWriterEnd(WriterEndHook* end) noexcept;
+  void addReaderEnd(ReaderEndHook* end);
+  void removeReaderEnd(ReaderEndHook* end) noexcept;
+  /// Runs `visit` with the lists of local ends, holding the lock that keeps them alive.
+  void withEnds(const std::function<void(const std::vector<WriterEndHook*>&, const std::vector<ReaderEndHook*>&)>& visit);
+  /// Remote readers on `topic` that discovery announced with `type_name` and a QoS that a
+  /// writer offering `offered` satisfies: the readers a writer end should be matched with.
+  int compatibleRemoteReaders(const std::string& topic, const std::string& type_name, const EndpointQos& offered) const;
+  /// False when discovery announced the remote writer `guid` (text) with another type than
+  /// `reader`'s or a QoS it cannot match; true when compatible or not announced yet.
+  bool mayMatchRemoteWriter(const std::string& guid, const EndpointInfo& reader) const;
+  /// The name of the participant with this GUID prefix, as discovery told it ("" if unknown).
+  std::string participantName(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
+  /// Also sends each problem event to `sink` (DdsLink forwards them on its events port);
+  /// nullptr: none.
+  void setEventSink(std::function<void(const core::Event&)> sink);
 
   /// Creates the DDS writer (reader) of a local end; types are registered and topics shared as
   /// needed. @throws core::Error when the topic carries another type in this participant or
@@ -111,6 +173,12 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   void deliver(const std::vector<Report>& reports);
 
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  std::chrono::nanoseconds poll_;
+  std::atomic<bool> lockstep_{false};
+  std::mutex ends_mutex_;
+  std::vector<WriterEndHook*> writer_ends_;
+  std::vector<ReaderEndHook*> reader_ends_;
+  std::function<void(const core::Event&)> event_sink_;  // under events_mutex_
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   bool log_;

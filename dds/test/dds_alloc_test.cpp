@@ -70,7 +70,7 @@ TEST(DdsAllocations, WritingEventsIntoABufferedWritersEndAllocatesNothing) {
     drain();
   }
   EXPECT_EQ(allocations, 0);
-  ASSERT_TRUE(test::pollUntil(drain));
+  ASSERT_TRUE(test::pollUntil(drain)) << received << " of 300 events arrived";
 }
 
 TEST(DdsAllocations, ReadingFromTheReadersEndAllocatesNothing) {

@@ -49,6 +49,16 @@ class DdsTransport final : public core::Transport {
     int domain = 0;                    ///< DDS domain id (0..232), as ROS_DOMAIN_ID
     std::string participant = "cobra";  ///< the participant's name, seen by discovery tools
     bool log = true;                   ///< also print problems on stderr
+    /// IPv4 addresses of hosts to discover by unicast (when multicast is not routed, e.g. across
+    /// a veth pair); empty: multicast discovery only.
+    std::vector<std::string> initial_peers = {};
+    /// Fault injection: the share (0..1) of outgoing data messages that Fast DDS's test UDPv4
+    /// transport drops (then the participant uses UDPv4 only). 0: Fast DDS's own transports.
+    double drop_share = 0.0;
+    /// Period (s) at which a writer end's thread looks for samples to send: the latency a
+    /// wall-clock run adds to each sample, at most. A port's write only pushes and sets a flag;
+    /// it makes no system call.
+    double poll = 1e-4;
   };
 
   explicit DdsTransport(Options options);
@@ -72,6 +82,7 @@ class DdsTransport final : public core::Transport {
   static std::string ddsTopic(const std::string& topic);
 
  private:
+  friend class DdsLink;  // its clock meetings and liveliness use the participant
   std::shared_ptr<detail::Participant> participant_;
 };
 

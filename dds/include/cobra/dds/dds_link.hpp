@@ -1,0 +1,112 @@
+#pragma once
+/// @file
+/// DdsLink: the one component per process that links it to the other processes of a run over
+/// Fast DDS (issue 21, thesis §4.4): it owns the DDS participant of the "dds" transport, watches
+/// the liveliness of the peer processes, and meets them at every instant of a lockstep run
+/// (core::ClockSync).
+///
+/// In a deployment file (package cobra_dds):
+/// @code
+/// initConfigurator({ "cobra_dds", ... }, { { peer_name = "Link", component_type = "DdsLink" }, ... })
+/// -- Link.participant = "needle"; Link.peers = "probe"; Link.lease = 0.1
+/// configureComponents({ "Link" })  -- before any connection with transport = "dds"
+/// @endcode
+///
+/// Properties (all read at configure):
+/// - `domain` (int, 0..232): the DDS domain id, as ROS_DOMAIN_ID;
+/// - `participant` (text): this process's name, which its peers list (e.g. "needle");
+/// - `peers` (text): the participants this process runs with, separated by commas ("probe");
+/// - `lease` (s): the liveliness lease: a peer whose liveliness lapses for `lease` (killed, its
+///   host unreachable), or that stays silent for `lease` at a clock meeting, is lost;
+/// - `join_timeout` (s): how long a meeting waits for a peer never heard of yet (its process
+///   starting) before giving it up;
+/// - `initial_peers` (text): IPv4 addresses for unicast discovery, separated by commas, when
+///   multicast does not reach the other host (e.g. across a veth pair);
+/// - `drop_share` (1, 0..1): fault injection, 0 in production: Fast DDS's test UDPv4 transport
+///   drops that share of the outgoing data messages (reliable connections retransmit them);
+/// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
+///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
+///   the meetings instead.
+///
+/// Output port `events` (every component's; Event, source: the peer's participant name, or the
+/// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done),
+/// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's
+/// threads and the clock's thread, one at a time (a mutex serialises them; the port's readers
+/// never take it). DdsLink has no update hook, so the component's own thread never writes it.
+///
+/// Lockstep runs: a DdsLink with peers stepped by a LockstepClock (its activity is a
+/// LockstepActivity when it is configured or started) puts the transport in lockstep: writer
+/// ends send only when the meeting flushes them and reader ends hold what arrives until the
+/// meeting releases it. Set it as the clock's ClockSync (`clock.setClockSync(&link)`): without
+/// meetings nothing would travel. (Without peers, a simulated run's dds connections, e.g. to a
+/// ROS 2 tool, send as in wall-clock runs.) At `reached(t)` it flushes every
+/// writer end, announces {participant, t, done, each writer's last sequence number} on the topic
+/// `rt/cobra/link`, waits until every live peer has announced t and every reader end has received
+/// from that peer's writers up to the announced sequence numbers (Fast DDS's sample identities:
+/// a keep-last history may replace samples, so counts would not do), then releases the held
+/// samples up to those numbers into the input ports. A sample written in [t - d, t) is thus read
+/// from t on in every process, whichever runs ahead: two runs give the same traces.
+/// Peers on one topic with several writers: within one instant their samples come in arrival
+/// order.
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "cobra/core/clock_sync.hpp"
+#include "cobra/core/component.hpp"
+#include "cobra/dds/dds_transport.hpp"
+
+namespace cobra::dds {
+
+/// See the file's description. One per process (a second one refuses to configure).
+class DdsLink final : public core::Component, public core::ClockSync {
+ public:
+  explicit DdsLink(std::string name);
+  ~DdsLink() override;
+
+  void reached(std::chrono::nanoseconds t) noexcept override;
+  void setDone(bool done) noexcept override;
+  bool peersDone() const noexcept override;
+  std::vector<std::string> lostPeers() const override;
+
+  /// The transport whose participant this link made; nullptr unless configured.
+  std::shared_ptr<DdsTransport> transport() const;
+
+ protected:
+  bool configureHook() override;
+  bool startHook() override;
+  void cleanupHook() override;
+
+ private:
+  class Meeting;
+  /// Stepped by a LockstepClock, with peers: samples travel only at the clock meetings.
+  bool lockstep() const;
+  void emit(const std::string& event, const std::string& source);
+
+  core::Property<int> domain_{"domain", 0, "", "DDS domain id (as ROS_DOMAIN_ID)"};
+  core::Property<std::string> participant_{"participant", std::string("cobra"), "",
+                                           "this process's participant name, which its peers list"};
+  core::Property<std::string> peers_{"peers", std::string(), "",
+                                     "participant names of the processes this one runs with, comma-separated"};
+  core::Property<double> lease_{"lease", 1.0, "s", "liveliness lease: a peer silent this long is lost"};
+  core::Property<double> join_timeout_{"join_timeout", 10.0, "s",
+                                       "how long a clock meeting waits for a peer never heard of yet"};
+  core::Property<std::string> initial_peers_{"initial_peers", std::string(), "",
+                                             "IPv4 addresses for unicast discovery, comma-separated"};
+  core::Property<double> drop_share_{"drop_share", 0.0, "1",
+                                     "fault injection: share of outgoing data messages dropped (0 in production)"};
+  core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  std::unique_ptr<Meeting> meeting_;
+  std::shared_ptr<DdsTransport> transport_;
+  std::mutex events_mutex_;  // the events port has one writer at a time
+};
+
+/// Registers, once per process, the transport "dds" whose participant is the configured
+/// DdsLink's: a connection over it made while no DdsLink is configured is refused, naming that.
+/// The package cobra_dds calls it when it loads.
+void registerLinkedTransport();
+
+}  // namespace cobra::dds

@@ -1,0 +1,509 @@
+#include "cobra/dds/dds_link.hpp"
+
+#include <fastdds/dds/core/status/LivelinessChangedStatus.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+#include <algorithm>
+#include <condition_variable>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "cobra/core/error.hpp"
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/text/number.hpp"
+#include "cobra_msgs/msg/LinkMeetingPubSubTypes.h"
+#include "participant.hpp"
+
+namespace cobra::dds {
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr const char* kMeetingTopic = "rt/cobra/link";
+constexpr const char* kMeetingType = "cobra_msgs::msg::dds_::LinkMeeting_";
+
+/// "a, b,c" -> {"a", "b", "c"}.
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const auto first = item.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;
+    out.push_back(item.substr(first, item.find_last_not_of(" \t") - first + 1));
+  }
+  return out;
+}
+
+eprosima::fastrtps::Duration_t duration(double seconds) {
+  return eprosima::fastrtps::Duration_t(static_cast<long double>(seconds));
+}
+
+std::string text(const rtps::GUID_t& guid) {
+  std::ostringstream out;
+  out << guid;
+  return out.str();
+}
+
+/// The DdsLink of this process whose participant the "dds" transport uses.
+struct Current {
+  std::mutex mutex;
+  const DdsLink* link = nullptr;
+  std::shared_ptr<DdsTransport> transport;
+};
+Current& current() {
+  static Current c;
+  return c;
+}
+
+}  // namespace
+
+/// The meeting topic's writer and reader, what the peers announced, and their liveliness.
+class DdsLink::Meeting final : public fdds::DataReaderListener {
+ public:
+  struct Settings {
+    std::string self;
+    std::vector<std::string> peers;
+    double lease;
+    double join_timeout;
+  };
+
+  Meeting(DdsLink& link, detail::Participant& participant, Settings settings)
+      : link_(link), participant_(participant), settings_(std::move(settings)), started_(Clock::now()) {
+    for (const auto& name : settings_.peers) peers_[name];
+    type_ = fdds::TypeSupport(new cobra_msgs::msg::LinkMeetingPubSubType());
+    fdds::DomainParticipant* p = participant_.entity();
+    if (p->find_type(kMeetingType).empty() && type_.register_type(p) != ReturnCode_t::RETCODE_OK)
+      throw core::Error(std::string("cannot register the DDS type ") + kMeetingType);
+    topic_ = p->create_topic(kMeetingTopic, kMeetingType, fdds::TOPIC_QOS_DEFAULT);
+    if (topic_ == nullptr) throw core::Error(std::string("cannot create the DDS topic ") + kMeetingTopic);
+
+    // Reliable, and kept for a peer that joins late (its first meeting still sees the last ones).
+    // AUTOMATIC liveliness: Fast DDS asserts it every lease/4 from its own thread, whatever the
+    // components do.
+    fdds::DataWriterQos wq = participant_.publisher()->get_default_datawriter_qos();
+    wq.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    wq.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    wq.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    wq.history().depth = 16;
+    wq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+    wq.liveliness().lease_duration = duration(settings_.lease);
+    wq.liveliness().announcement_period = duration(settings_.lease / 4);
+    wq.reliable_writer_qos().times.heartbeatPeriod = duration(0.005);
+    wq.reliable_writer_qos().times.initialHeartbeatDelay = duration(0.001);
+    wq.reliable_writer_qos().times.nackResponseDelay = duration(0.001);
+    writer_ = participant_.publisher()->create_datawriter(topic_, wq, nullptr, fdds::StatusMask::none());
+    fdds::DataReaderQos rq = participant_.subscriber()->get_default_datareader_qos();
+    rq.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    rq.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    rq.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    rq.history().depth = 16;
+    rq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+    // Fast DDS checks each writer's liveliness against the reader's lease: the processes of
+    // one run use one lease (a writer offering a longer one than a reader requests never matches).
+    rq.liveliness().lease_duration = duration(settings_.lease);
+    rq.reliable_reader_qos().times.heartbeatResponseDelay = duration(0.001);
+    reader_ = participant_.subscriber()->create_datareader(
+        topic_, rq, this, fdds::StatusMask::data_available() << fdds::StatusMask::liveliness_changed());
+    if (writer_ == nullptr || reader_ == nullptr) {
+      close();
+      throw core::Error(std::string("Fast DDS refused the writer or reader of ") + kMeetingTopic);
+    }
+  }
+
+  /// The hello: peers learn this process's name and reader ends before its first instant.
+  void hello() {
+    started_ = Clock::now();
+    announce(-1, false);
+  }
+
+  ~Meeting() override { close(); }
+
+  void close() noexcept {
+    fdds::DomainParticipant* p = participant_.entity();
+    // The peers may still need a retransmission of the last announcement (lost packets).
+    if (writer_ != nullptr) writer_->wait_for_acknowledgments(duration(settings_.lease));
+    if (reader_ != nullptr) {
+      reader_->set_listener(nullptr);
+      participant_.subscriber()->delete_datareader(reader_);
+    }
+    if (writer_ != nullptr) participant_.publisher()->delete_datawriter(writer_);
+    if (topic_ != nullptr) p->delete_topic(topic_);
+    reader_ = nullptr;
+    writer_ = nullptr;
+    topic_ = nullptr;
+  }
+
+  void setDone(bool done) { done_.store(done); }
+
+  bool peersDone() const {
+    std::lock_guard lock(mutex_);
+    return std::all_of(peers_.begin(), peers_.end(), [](const auto& p) { return p.second.lost || p.second.done; });
+  }
+
+  std::vector<std::string> lost() const {
+    std::lock_guard lock(mutex_);
+    return lost_;
+  }
+
+  void reached(std::chrono::nanoseconds t) {
+    std::vector<cobra_msgs::msg::LinkWriter> writers;
+    flushWriters(writers);
+    announce(t.count(), done_.load(), std::move(writers));
+    waitForPeers(t.count());
+  }
+
+  // DataReaderListener: the peers' announcements and liveliness (Fast DDS's threads).
+  void on_data_available(fdds::DataReader* reader) override {
+    cobra_msgs::msg::LinkMeeting sample;
+    fdds::SampleInfo info;
+    std::vector<std::string> joined;
+    {
+      std::lock_guard lock(mutex_);
+      while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data || sample.participant() == settings_.self) continue;
+        names_[text(info.sample_identity.writer_guid())] = sample.participant();
+        const auto peer = peers_.find(sample.participant());
+        if (peer == peers_.end()) continue;  // a process of another run on this domain
+        Peer& p = peer->second;
+        p.heard = Clock::now();
+        if (!p.seen) joined.push_back(sample.participant());
+        p.seen = true;
+        p.readers = sample.readers();
+        if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
+      }
+    }
+    changed_.notify_all();
+    for (const auto& name : joined) link_.emit("e_peer_joined", name);
+  }
+
+  void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
+    if (status.alive_count_change >= 0) return;
+    // Lapsed (killed, unreachable) or its writer gone (the process left): lost, unless it said
+    // it was done.
+    const std::string guid = text(rtps::iHandle2GUID(status.last_publication_handle));
+    std::string name;
+    {
+      std::lock_guard lock(mutex_);
+      if (auto it = names_.find(guid); it != names_.end()) name = it->second;
+    }
+    if (name.empty()) name = participant_.participantName(rtps::iHandle2GUID(status.last_publication_handle).guidPrefix);
+    if (!name.empty()) lose(name, "its liveliness lapsed");
+  }
+
+ private:
+  struct Peer {
+    bool seen = false;  // its hello (or a meeting) arrived
+    std::vector<std::string> readers;  // "topic|type" of its reader ends, as it last said
+    bool lost = false;
+    bool done = false;
+    Clock::time_point heard{};
+    struct Announced {
+      bool done;
+      std::vector<cobra_msgs::msg::LinkWriter> writers;
+    };
+    std::map<std::int64_t, Announced> announced;  // by instant (ns)
+  };
+
+  void announce(std::int64_t stamp, bool done, std::vector<cobra_msgs::msg::LinkWriter> writers = {}) {
+    cobra_msgs::msg::LinkMeeting sample;
+    sample.participant(settings_.self);
+    sample.stamp_ns(stamp);
+    sample.done(done);
+    sample.writers(std::move(writers));
+    participant_.withEnds([&](const auto&, const std::vector<detail::ReaderEndHook*>& readers) {
+      for (const detail::ReaderEndHook* r : readers) sample.readers().push_back(r->info().topic + "|" + r->info().type_name);
+    });
+    writer_->write(&sample);
+  }
+
+  /// Sends what every writer end holds, first waiting (at most join_timeout from the link's
+  /// start) until it is matched with the readers the peers said they have on its topic: a
+  /// sample sent before would be lost. The first time, waits for every peer's hello.
+  void flushWriters(std::vector<cobra_msgs::msg::LinkWriter>& announced) {
+    const auto deadline = started_ + std::chrono::duration_cast<Clock::duration>(
+                                         std::chrono::duration<double>(settings_.join_timeout));
+    while (Clock::now() < deadline && !allSeen()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    participant_.withEnds([&](const std::vector<detail::WriterEndHook*>& writers, const auto&) {
+      for (detail::WriterEndHook* w : writers) {
+        const detail::EndpointInfo& info = w->info();
+        const int expected = readersOf(info.topic + "|" + info.type_name);
+        for (;;) {
+          fdds::PublicationMatchedStatus status;
+          w->writer()->get_publication_matched_status(status);
+          if (status.current_count >= expected || Clock::now() >= deadline) break;
+          std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        w->flush();
+        cobra_msgs::msg::LinkWriter entry;
+        entry.topic(info.topic);
+        entry.guid(text(w->writer()->guid()));
+        entry.last_sequence(w->published());
+        announced.push_back(std::move(entry));
+      }
+    });
+  }
+
+  bool allSeen() const {
+    std::lock_guard lock(mutex_);
+    return std::all_of(peers_.begin(), peers_.end(), [](const auto& p) { return p.second.seen || p.second.lost; });
+  }
+
+  /// How many reader ends the live peers said they have with `topic_type` ("topic|type").
+  int readersOf(const std::string& topic_type) const {
+    std::lock_guard lock(mutex_);
+    long count = 0;
+    for (const auto& [name, p] : peers_)
+      if (!p.lost) count += std::count(p.readers.begin(), p.readers.end(), topic_type);
+    return static_cast<int>(count);
+  }
+
+  /// True when every reader end of this process on a topic `writers` announce has received from
+  /// them up to the announced sequence numbers (writers it cannot match are not waited for).
+  bool receivedAll(const std::vector<cobra_msgs::msg::LinkWriter>& writers,
+                   const std::vector<detail::ReaderEndHook*>& readers) const {
+    for (const auto& w : writers) {
+      if (w.last_sequence() == 0) continue;
+      rtps::GUID_t guid;
+      std::istringstream(w.guid()) >> guid;
+      for (const detail::ReaderEndHook* r : readers)
+        if (r->info().topic == w.topic() && participant_.mayMatchRemoteWriter(w.guid(), r->info()) &&
+            r->received(guid) < w.last_sequence())
+          return false;
+    }
+    return true;
+  }
+
+  void waitForPeers(std::int64_t t) {
+    const auto wait_start = Clock::now();
+    for (;;) {
+      std::vector<std::pair<std::string, std::string>> losses;  // name, why
+      bool ready = true;
+      std::map<rtps::GUID_t, std::int64_t> bounds;
+      participant_.withEnds([&](const auto&, const std::vector<detail::ReaderEndHook*>& readers) {
+        std::lock_guard lock(mutex_);
+        const auto now = Clock::now();
+        for (auto& [name, p] : peers_) {
+          if (p.lost) continue;
+          const auto it = p.announced.find(t);
+          if (it != p.announced.end() && receivedAll(it->second.writers, readers)) {
+            for (const auto& w : it->second.writers) {
+              rtps::GUID_t guid;
+              std::istringstream(w.guid()) >> guid;
+              bounds[guid] = w.last_sequence();
+            }
+            continue;
+          }
+          ready = false;
+          if (!p.seen) {
+            if (now - started_ > std::chrono::duration<double>(settings_.join_timeout))
+              losses.emplace_back(name, "it never came (join_timeout " + text::number(settings_.join_timeout) + " s)");
+          } else if (now - std::max(p.heard, wait_start) > std::chrono::duration<double>(settings_.lease)) {
+            losses.emplace_back(name, "it missed the meeting at t = " + text::number(static_cast<double>(t) * 1e-9) +
+                                          " s for its lease (" + text::number(settings_.lease) + " s)");
+          }
+        }
+        if (ready) {
+          for (detail::ReaderEndHook* r : readers) r->release(bounds);
+          // A peer is done once it said so at a meeting this process passed too: both then
+          // leave after the same instant.
+          for (auto& [name, p] : peers_) {
+            if (const auto it = p.announced.find(t); it != p.announced.end()) p.done = it->second.done;
+            p.announced.erase(p.announced.begin(), p.announced.upper_bound(t));
+          }
+        }
+      });
+      for (const auto& [name, why] : losses) lose(name, why);
+      if (ready) return;
+      if (!losses.empty()) continue;
+      std::unique_lock lock(mutex_);
+      changed_.wait_for(lock, std::chrono::microseconds(100));
+    }
+  }
+
+  void lose(const std::string& name, const std::string& why) {
+    {
+      std::lock_guard lock(mutex_);
+      const auto it = peers_.find(name);
+      if (it == peers_.end() || it->second.lost) return;
+      it->second.lost = true;
+      if (it->second.done) return;  // it left after saying it was done: no loss
+      lost_.push_back(name);
+    }
+    std::cerr << "cobra dds: participant '" << settings_.self << "' lost its peer '" << name << "': " << why << std::endl;
+    changed_.notify_all();
+    link_.emit("e_peer_lost", name);
+  }
+
+  DdsLink& link_;
+  detail::Participant& participant_;
+  Settings settings_;
+  Clock::time_point started_;
+  fdds::TypeSupport type_;
+  fdds::Topic* topic_ = nullptr;
+  fdds::DataWriter* writer_ = nullptr;
+  fdds::DataReader* reader_ = nullptr;
+  std::atomic<bool> done_{false};
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::map<std::string, Peer> peers_;         // by participant name
+  std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
+  std::vector<std::string> lost_;
+};
+
+DdsLink::DdsLink(std::string name)
+    : Component(std::move(name), core::Role::Bridge,
+                "the link of this process to the others of a run over Fast DDS: the dds transport's participant, "
+                "peer liveliness, lockstep clock meetings") {
+  addProperty(domain_.range(0, 232));
+  addProperty(participant_);
+  addProperty(peers_);
+  addProperty(lease_.range(1e-3, 3600.0));
+  addProperty(join_timeout_.range(0.0, 3600.0));
+  addProperty(initial_peers_);
+  addProperty(drop_share_.range(0.0, 1.0));
+  addProperty(poll_.range(1e-6, 1.0));
+  addOperation(
+      "lostPeers",
+      std::function<std::string()>([this] {
+        std::string out;
+        for (const auto& peer : lostPeers()) out += (out.empty() ? "" : ",") + peer;
+        return out;
+      }),
+      "the peers lost so far, comma-separated, in the order they were lost");
+}
+
+DdsLink::~DdsLink() { cleanupHook(); }
+
+bool DdsLink::configureHook() {
+  {
+    std::lock_guard lock(current().mutex);
+    if (current().link != nullptr && current().link != this)
+      return refuse("another DdsLink ('" + current().link->name() + "') is configured in this process; one per process");
+  }
+  if (participant_.get().empty()) return refuse("property 'participant' is empty: name this process, e.g. \"needle\"");
+  const std::vector<std::string> peers = splitList(peers_.get());
+  if (std::find(peers.begin(), peers.end(), participant_.get()) != peers.end())
+    return refuse("property 'peers' lists this process's own participant '" + participant_.get() + "'");
+  DdsTransport::Options options;
+  options.domain = domain_.get();
+  options.participant = participant_.get();
+  options.initial_peers = splitList(initial_peers_.get());
+  options.drop_share = drop_share_.get();
+  options.poll = poll_.get();
+  try {
+    transport_ = std::make_shared<DdsTransport>(options);
+    transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });
+    meeting_ = std::make_unique<Meeting>(*this, *transport_->participant_,
+                                         Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get()});
+  } catch (const std::exception& e) {
+    meeting_.reset();
+    transport_.reset();
+    return refuse(e.what());
+  }
+  transport_->participant_->setLockstep(lockstep());
+  std::lock_guard lock(current().mutex);
+  current().link = this;
+  current().transport = transport_;
+  return true;
+}
+
+bool DdsLink::lockstep() const {
+  return dynamic_cast<const core::LockstepActivity*>(&activity()) != nullptr && !splitList(peers_.get()).empty();
+}
+
+bool DdsLink::startHook() {
+  transport_->participant_->setLockstep(lockstep());
+  meeting_->hello();
+  return true;
+}
+
+void DdsLink::cleanupHook() {
+  {
+    std::lock_guard lock(current().mutex);
+    if (current().link == this) {
+      current().link = nullptr;
+      current().transport.reset();
+    }
+  }
+  meeting_.reset();
+  if (transport_) transport_->participant_->setEventSink(nullptr);
+  transport_.reset();
+}
+
+void DdsLink::reached(std::chrono::nanoseconds t) noexcept {
+  if (!meeting_) return;
+  try {
+    meeting_->reached(t);
+  } catch (const std::exception& e) {
+    std::cerr << "cobra dds: " << name() << ": clock meeting at t = " << text::number(static_cast<double>(t.count()) * 1e-9)
+              << " s failed: " << e.what() << std::endl;
+  }
+}
+
+void DdsLink::setDone(bool done) noexcept {
+  if (meeting_) meeting_->setDone(done);
+}
+
+bool DdsLink::peersDone() const noexcept { return !meeting_ || meeting_->peersDone(); }
+
+std::vector<std::string> DdsLink::lostPeers() const { return meeting_ ? meeting_->lost() : std::vector<std::string>{}; }
+
+std::shared_ptr<DdsTransport> DdsLink::transport() const { return transport_; }
+
+void DdsLink::emit(const std::string& event, const std::string& source) {
+  core::Event e;
+  e.name.assign(event);
+  e.source.assign(source);
+  e.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch());
+  std::lock_guard lock(events_mutex_);
+  events().write(e);
+}
+
+namespace {
+
+/// The "dds" transport of a process with a DdsLink: each connection goes to the configured
+/// link's participant.
+class LinkedTransport final : public core::Transport {
+ public:
+  void check(const core::ConnPolicy& policy) const override {
+    DdsTransport::ddsTopic(policy.topic);
+    if (auto t = configured()) t->check(policy);
+  }
+  void makeWriterEnd(core::OutputPortBase& output, const core::ConnPolicy& policy, core::PortBase* peer) override {
+    required(output)->makeWriterEnd(output, policy, peer);
+  }
+  void makeReaderEnd(core::InputPortBase& input, const core::ConnPolicy& policy, core::PortBase* peer) override {
+    required(input)->makeReaderEnd(input, policy, peer);
+  }
+
+ private:
+  static std::shared_ptr<DdsTransport> configured() {
+    std::lock_guard lock(current().mutex);
+    return current().transport;
+  }
+  static std::shared_ptr<DdsTransport> required(const core::PortBase& port) {
+    if (auto t = configured()) return t;
+    throw core::Error("cannot connect " + port.fullName() +
+                      " over transport \"dds\": no DdsLink is configured in this process; create one (package "
+                      "cobra_dds, type DdsLink) and configure it before making dds connections");
+  }
+};
+
+}  // namespace
+
+void registerLinkedTransport() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    core::TransportRegistry::add("dds", "Fast DDS, through the DdsLink of this process", "cobra_dds",
+                                 std::make_shared<LinkedTransport>());
+  });
+}
+
+}  // namespace cobra::dds

@@ -1,0 +1,238 @@
+// DdsLink: the transport's participant comes from it (a dds connection before it is configured
+// is refused), one per process, its properties checked; peer liveliness across two processes
+// (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
+// (traces identical between runs and equal to a one-step delay, also with 10 % of the data
+// messages dropped). The peer processes are dds_link_peer. DDS domains 128..131, this test's own.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cobra/core/lockstep_clock.hpp"
+#include "cobra/dds/dds_link.hpp"
+#include "cobra/test_support/test_support.hpp"
+#include "dds_test_support.hpp"
+
+namespace cobra::dds {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// A child process running dds_link_peer with `args`; killed and reaped unless waited for.
+class Peer {
+ public:
+  explicit Peer(std::vector<std::string> args) {
+    args.insert(args.begin(), COBRA_DDS_LINK_PEER);
+    pid_ = fork();
+    if (pid_ == 0) {
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(COBRA_DDS_LINK_PEER, argv.data());
+      _exit(127);
+    }
+  }
+  ~Peer() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  Peer(const Peer&) = delete;
+  Peer& operator=(const Peer&) = delete;
+  void killHard() { kill(pid_, SIGKILL); }
+  /// The exit status, or -1 when it did not exit within `timeout`.
+  int wait(std::chrono::milliseconds timeout) {
+    int status = 0;
+    if (!test::pollUntil([&] { return waitpid(pid_, &status, WNOHANG) == pid_; }, timeout)) return -1;
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+void set(core::Component& c, const std::string& property, const std::string& value) {
+  c.property(property).setFromText(value);
+}
+
+TEST(DdsLink, ADdsConnectionBeforeTheLinkIsConfiguredIsRefusedNamingIt) {
+  registerLinkedTransport();
+  core::OutputPort<double> out("out", "", "1");
+  core::InputPort<double> in("in", "", "1");
+  core::ConnPolicy policy = core::ConnPolicy::data();
+  policy.transport = "dds";
+  policy.topic = "link/refused";
+  EXPECT_EQ(test_support::messageOf([&] { core::connectPorts(out, in, policy); }),
+            "cannot connect out (double) to in (double): cannot connect in over transport \"dds\": no DdsLink is "
+            "configured in this process; create one (package cobra_dds, type DdsLink) and configure it before making "
+            "dds connections");
+
+  DdsLink link("Link");
+  set(link, "domain", "128");
+  set(link, "participant", "alone");
+  ASSERT_TRUE(link.configure()) << link.configure().message;
+  ASSERT_NE(link.transport(), nullptr);
+  core::connectPorts(out, in, policy);  // now over the link's participant
+  ASSERT_TRUE(link.transport()->waitForMatch("link/refused", 5s));
+  double got = 0;
+  ASSERT_TRUE(test::pollUntil([&] {
+    out.write(1.5);
+    return in.read(got) == core::FlowStatus::NewData;
+  }));
+  EXPECT_EQ(got, 1.5);
+
+  DdsLink second("Link2");
+  set(second, "domain", "128");
+  set(second, "participant", "other");
+  EXPECT_EQ(second.configure().message,
+            "component 'Link2': another DdsLink ('Link') is configured in this process; one per process");
+  core::disconnectPorts(out, in);
+  ASSERT_TRUE(link.cleanup());
+  EXPECT_EQ(link.transport(), nullptr);
+  EXPECT_NE(test_support::messageOf([&] { core::connectPorts(out, in, policy); }).find("no DdsLink is configured"),
+            std::string::npos);
+}
+
+TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {
+  registerLinkedTransport();
+  DdsLink link("Link");
+  set(link, "domain", "129");
+  set(link, "participant", "needle");
+  set(link, "peers", "probe, needle");
+  EXPECT_EQ(link.configure().message, "component 'Link': property 'peers' lists this process's own participant 'needle'");
+  set(link, "peers", "probe");
+  set(link, "initial_peers", "10.0.0.2, localhost");
+  EXPECT_EQ(link.configure().message,
+            "component 'Link': dds participant 'needle': initial peer 'localhost' is not an IPv4 address (expected e.g. "
+            "10.0.0.2)");
+  EXPECT_NE(test_support::messageOf([&] { set(link, "drop_share", "1.5"); }).find("drop_share"), std::string::npos);
+  set(link, "initial_peers", "127.0.0.1");
+  set(link, "participant", "");
+  EXPECT_EQ(link.configure().message,
+            "component 'Link': property 'participant' is empty: name this process, e.g. \"needle\"");
+}
+
+TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
+  registerLinkedTransport();
+  constexpr double kLease = 0.1;  // s
+  Peer peer({"live", "130", "peer", "survivor", "0.1"});
+  DdsLink link("Link");
+  set(link, "domain", "130");
+  set(link, "participant", "survivor");
+  set(link, "peers", "peer");
+  set(link, "lease", "0.1");
+  core::InputPort<core::Event> events("events", "", "");
+  core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
+  ASSERT_TRUE(link.configure());
+  ASSERT_TRUE(link.start());
+  std::vector<std::string> seen;
+  const auto collect = [&](const std::string& wanted) {
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) seen.push_back(e.name.str() + "@" + e.source.str());
+    return std::find(seen.begin(), seen.end(), wanted) != seen.end();
+  };
+  ASSERT_TRUE(test::pollUntil([&] { return collect("e_peer_joined@peer"); }, 8s));
+
+  const auto killed = std::chrono::steady_clock::now();
+  peer.killHard();
+  ASSERT_TRUE(test::pollUntil([&] { return collect("e_peer_lost@peer"); }, std::chrono::milliseconds(1000)));
+  const double delay = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  std::cout << "e_peer_lost " << delay * 1e3 << " ms after kill -9 (lease " << kLease * 1e3 << " ms)\n";
+  EXPECT_LT(delay, 10 * kLease);
+  EXPECT_EQ(link.lostPeers(), std::vector<std::string>{"peer"});
+  EXPECT_EQ(link.operation("lostPeers").invokeFromText({}), "peer");
+  std::this_thread::sleep_for(3 * std::chrono::duration<double>(kLease));
+  collect("");
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), "e_peer_lost@peer"), 1);
+}
+
+/// What the leader and the follower of dds_link_peer read at each of `instants` steps when a
+/// sample written at step k is read at step k + 1 (the one-step delay of the clock meetings).
+std::pair<std::string, std::string> predictedTraces(long instants) {
+  std::ostringstream leader, follower;
+  for (long k = 0; k < instants; ++k) {
+    leader << k << ':';
+    if (k >= 1 && (k - 1) % 7 == 0) leader << " e_tick_" << k - 1;
+    leader << '\n';
+    follower << k << ':';
+    if (k >= 1) follower << ' ' << k - 1;
+    follower << '\n';
+  }
+  return {leader.str(), follower.str()};
+}
+
+std::string readFile(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream all;
+  all << in.rdbuf();
+  return all.str();
+}
+
+/// Runs the two halves of a lockstep run of `instants` on `domain`; their traces.
+std::pair<std::string, std::string> runSplit(int domain, long instants, const std::string& drop, const std::string& tag) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const auto leader_file = dir / (tag + "_leader.txt"), follower_file = dir / (tag + "_follower.txt");
+  const auto started = std::chrono::steady_clock::now();
+  Peer leader({"lockstep", std::to_string(domain), "leader", std::to_string(instants), drop, leader_file.string()});
+  Peer follower({"lockstep", std::to_string(domain), "follower", std::to_string(instants), drop, follower_file.string()});
+  EXPECT_EQ(leader.wait(60s), 0);
+  EXPECT_EQ(follower.wait(10s), 0);
+  std::cout << tag << ": " << instants << " instants met across two processes in "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() << " s\n";
+  auto traces = std::make_pair(readFile(leader_file), readFile(follower_file));
+  std::filesystem::remove_all(dir);
+  return traces;
+}
+
+/// "" when `a` and `b` are equal, else their first differing line (traces are long).
+std::string firstDifference(const std::string& a, const std::string& b) {
+  std::istringstream in_a(a), in_b(b);
+  std::string line_a, line_b;
+  for (int line = 1;; ++line) {
+    const bool more_a = static_cast<bool>(std::getline(in_a, line_a));
+    const bool more_b = static_cast<bool>(std::getline(in_b, line_b));
+    if (!more_a && !more_b) return "";
+    if (more_a != more_b || line_a != line_b)
+      return "line " + std::to_string(line) + ": '" + (more_a ? line_a : "(end)") + "' vs '" + (more_b ? line_b : "(end)") + "'";
+  }
+}
+
+/// The first `instants` lines of `trace` (the run meets once or twice more to end together).
+std::string head(const std::string& trace, long instants) {
+  std::size_t at = 0;
+  for (long i = 0; i < instants && at != std::string::npos; ++i) {
+    at = trace.find('\n', at);
+    if (at != std::string::npos) ++at;
+  }
+  return trace.substr(0, at);
+}
+
+TEST(DdsLink, TwoProcessesInLockstepGiveIdenticalTracesWithAOneStepDelay) {
+  constexpr long kInstants = 2000;
+  const auto first = runSplit(131, kInstants, "0", "run1");
+  const auto second = runSplit(131, kInstants, "0", "run2");
+  EXPECT_EQ(firstDifference(first.first, second.first), "");
+  EXPECT_EQ(firstDifference(first.second, second.second), "");
+  const auto predicted = predictedTraces(kInstants);
+  EXPECT_EQ(firstDifference(head(first.first, kInstants), predicted.first), "");
+  EXPECT_EQ(firstDifference(head(first.second, kInstants), predicted.second), "");
+}
+
+TEST(DdsLink, TracesStayIdenticalWithATenthOfTheDataMessagesDropped) {
+  constexpr long kInstants = 2000;
+  const auto lossy = runSplit(132, kInstants, "0.1", "lossy");
+  const auto predicted = predictedTraces(kInstants);
+  EXPECT_EQ(firstDifference(head(lossy.first, kInstants), predicted.first), "");
+  EXPECT_EQ(firstDifference(head(lossy.second, kInstants), predicted.second), "");
+}
+
+}  // namespace
+}  // namespace cobra::dds
