@@ -47,8 +47,10 @@ TEST(DdsAllocations, WritingEventsIntoABufferedWritersEndAllocatesNothing) {
   test::RegisteredTransport b("dds_alloc_eb", 122, "cobra_b");
   core::OutputPort<core::Event> out("events", "", "");
   core::InputPort<core::Event> in("events", "", "");
-  core::ConnPolicy policy = core::ConnPolicy::buffer(64);
-  policy.options = {{"reliability", "reliable"}, {"depth", "64"}};
+  // Room for every event: the end's thread polls (every 0.1 ms) and, with other DDS tests
+  // running beside this one on a 2-core machine, was seen starved for 15 ms (150 events).
+  core::ConnPolicy policy = core::ConnPolicy::buffer(512);
+  policy.options = {{"reliability", "reliable"}, {"depth", "512"}};
   core::connectToTransport(out, a.policy("alloc/events", policy));
   core::connectToTransport(in, b.policy("alloc/events", policy));
   ASSERT_TRUE(a.transport->waitForMatch("alloc/events", 5s));
