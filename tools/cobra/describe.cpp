@@ -15,12 +15,23 @@ std::string quoted(const std::string& text) {
 }
 
 std::string policyTable(const core::ConnPolicy& policy) {
+  std::string table;
   switch (policy.kind) {
-    case core::ConnPolicy::Kind::Data: return "{ type = \"data\" }";
-    case core::ConnPolicy::Kind::Buffer: return "{ type = \"buffer\", size = " + std::to_string(policy.size) + " }";
-    case core::ConnPolicy::Kind::Circular: return "{ type = \"circular\", size = " + std::to_string(policy.size) + " }";
+    case core::ConnPolicy::Kind::Data: table = "{ type = \"data\""; break;
+    case core::ConnPolicy::Kind::Buffer: table = "{ type = \"buffer\", size = " + std::to_string(policy.size); break;
+    case core::ConnPolicy::Kind::Circular: table = "{ type = \"circular\", size = " + std::to_string(policy.size); break;
   }
-  return "{}";
+  // A transport's connection: its name, topic and settings (DDS: the qos), values as the text
+  // the transport parsed, which it parses again the same.
+  if (!policy.transport.empty()) table += ", transport = " + quoted(policy.transport);
+  if (!policy.topic.empty()) table += ", topic = " + quoted(policy.topic);
+  if (!policy.options.empty()) {
+    table += ", qos = {";
+    for (const auto& [key, value] : policy.options) table += " " + key + " = " + quoted(value) + ",";
+    table.back() = ' ';
+    table += "}";
+  }
+  return table + " }";
 }
 
 }  // namespace
@@ -59,7 +70,9 @@ std::string describeDeployment(const deploy::Configurator& configurator, const s
     for (const core::PortBase* port : c->ports()) {
       if (port->direction() != core::PortDirection::Output) continue;
       for (const auto& channel : port->connections()) {
-        const core::PortBase& reader = channel->reader();
+        // A transport's connection with both ends here: its reader is the far end's port (the
+        // channel's own reader is the transport end's hidden port).
+        const core::PortBase& reader = channel->peer() != nullptr ? *channel->peer() : channel->reader();
         if (reader.owner() == nullptr || registry.find(reader.owner()->name()) != reader.owner()) {
           ++outside;
           continue;

@@ -13,7 +13,8 @@ configureComponents({ "Link" })
 Source.value = 2.5
 connectPorts({
   { output = "Source.out", input = "Amp.in",
-    conn_policy = { type = "data", transport = "dds", topic = "link/source" } },
+    conn_policy = { type = "data", transport = "dds", topic = "link/source",
+                    qos = { reliability = "reliable", depth = 4 } } },
 })
 setActivities({ { peer_name = "Source", period = 0.001 }, { peer_name = "Amp", period = 0.001 } })
 configureComponents({ "Source", "Amp" })
