@@ -127,6 +127,10 @@ Participant::Participant(const DdsTransport::Options& options)
     // Port 0: Fast DDS tries the well-known discovery ports of the first participants there.
     qos.wire_protocol().builtin.initialPeersList.push_back(locator);
   }
+  if (options.udp_only && options.drop_share == 0.0) {
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
+  }
   if (options.drop_share > 0.0) {
     auto lossy = std::make_shared<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor>();
     const auto percent = static_cast<std::uint8_t>(std::lround(options.drop_share * 100.0));

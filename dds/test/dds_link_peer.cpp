@@ -1,6 +1,7 @@
 // The processes of dds_link_test: each has a DdsLink (the package's component, linked here).
-//   dds_link_peer live DOMAIN NAME PEERS LEASE
-//     configures and starts a DdsLink, then waits to be killed (exits 2 after 20 s).
+//   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS]
+//     configures and starts a DdsLink, prints the events it sends (one "name source" a line),
+//     and waits to be killed (exits 2 after 20 s).
 //   dds_link_peer lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE
 //     one half of a lockstep run of INSTANTS instants of 1 ms, its clock met through its DdsLink:
 //     ROLE "leader" (participant "leader") steps Mover, which writes a KDL.Frame on "link/pose"
@@ -97,15 +98,24 @@ bool configured(core::Component& c) {
   return static_cast<bool>(r);
 }
 
-int live(int domain, const std::string& name, const std::string& peers, const std::string& lease) {
+int live(int domain, const std::string& name, const std::string& peers, const std::string& lease,
+         const std::string& initial_peers) {
   dds::registerLinkedTransport();
   dds::DdsLink link("Link");
+  link.property("initial_peers").setFromText(initial_peers);
   link.property("domain").setFromText(std::to_string(domain));
   link.property("participant").setFromText(name);
   link.property("peers").setFromText(peers);
   link.property("lease").setFromText(lease);
+  core::InputPort<core::Event> events("events", "", "");
+  core::connect(link.events(), events, core::ConnPolicy::buffer(16));
   if (!configured(link) || !link.start()) return 1;
-  std::this_thread::sleep_for(std::chrono::seconds(20));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < until) {  // says what it sees: a test in another namespace reads it
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) std::cout << e.name.str() << ' ' << e.source.str() << std::endl;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   return 2;
 }
 
@@ -149,8 +159,9 @@ int lockstep(int domain, const std::string& role, long instants, const std::stri
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (mode == "live" && argc == 6) return live(std::atoi(argv[2]), argv[3], argv[4], argv[5]);
+  if (mode == "live" && (argc == 6 || argc == 7))
+    return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc == 7 ? argv[6] : "");
   if (mode == "lockstep" && argc == 7) return lockstep(std::atoi(argv[2]), argv[3], std::atol(argv[4]), argv[5], argv[6]);
-  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE | lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE\n";
+  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS] | lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE\n";
   return 1;
 }
