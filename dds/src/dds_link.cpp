@@ -95,7 +95,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     wq.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
     wq.liveliness().lease_duration = duration(settings_.lease);
     wq.liveliness().announcement_period = duration(settings_.lease / 4);
-    wq.reliable_writer_qos().times.heartbeatPeriod = duration(0.005);
+    wq.reliable_writer_qos().times.heartbeatPeriod = duration(0.002);  // a lost announcement stalls a meeting this long
     wq.reliable_writer_qos().times.initialHeartbeatDelay = duration(0.001);
     wq.reliable_writer_qos().times.nackResponseDelay = duration(0.001);
     writer_ = participant_.publisher()->create_datawriter(topic_, wq, nullptr, fdds::StatusMask::none());
@@ -127,8 +127,9 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
 
   void close() noexcept {
     fdds::DomainParticipant* p = participant_.entity();
-    // The peers may still need a retransmission of the last announcement (lost packets).
-    if (writer_ != nullptr) writer_->wait_for_acknowledgments(duration(settings_.lease));
+    // The peers may still need a retransmission of the last announcement (a lost packet is
+    // resent within ms); a lost peer never acknowledges, hence the bound.
+    if (writer_ != nullptr) writer_->wait_for_acknowledgments(duration(std::min(settings_.lease, 0.2)));
     if (reader_ != nullptr) {
       reader_->set_listener(nullptr);
       participant_.subscriber()->delete_datareader(reader_);
@@ -382,6 +383,7 @@ DdsLink::DdsLink(std::string name)
 DdsLink::~DdsLink() { cleanupHook(); }
 
 bool DdsLink::configureHook() {
+  if (transport_) return true;  // configured again: the participant stays (clean up to change it)
   {
     std::lock_guard lock(current().mutex);
     if (current().link != nullptr && current().link != this)

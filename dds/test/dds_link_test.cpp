@@ -3,6 +3,7 @@
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
 // messages dropped). The peer processes are dds_link_peer. DDS domains 128..131, this test's own.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -26,10 +27,16 @@ using namespace std::chrono_literals;
 /// A child process running dds_link_peer with `args`; killed and reaped unless waited for.
 class Peer {
  public:
-  explicit Peer(std::vector<std::string> args) {
+  /// `output`: a file for the child's stdout and stderr ("": the test's own).
+  explicit Peer(std::vector<std::string> args, const std::string& output = "") {
     args.insert(args.begin(), COBRA_DDS_LINK_PEER);
     pid_ = fork();
     if (pid_ == 0) {
+      if (!output.empty()) {
+        const int fd = open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(fd, 1);
+        dup2(fd, 2);
+      }
       std::vector<char*> argv;
       for (auto& a : args) argv.push_back(a.data());
       argv.push_back(nullptr);
@@ -232,6 +239,28 @@ TEST(DdsLink, TracesStayIdenticalWithATenthOfTheDataMessagesDropped) {
   const auto predicted = predictedTraces(kInstants);
   EXPECT_EQ(firstDifference(head(lossy.first, kInstants), predicted.first), "");
   EXPECT_EQ(firstDifference(head(lossy.second, kInstants), predicted.second), "");
+}
+
+}  // namespace
+}  // namespace cobra::dds
+
+namespace cobra::dds {
+namespace {
+
+TEST(DdsLink, APeerKilledInALockstepRunIsLostAndTheOtherRunsOn) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_kill_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string log = (dir / "leader.log").string();
+  Peer leader({"lockstep", "133", "leader", "8000", "0", (dir / "leader.txt").string()}, log);
+  Peer follower({"lockstep", "133", "follower", "8000", "0", (dir / "follower.txt").string()});
+  ASSERT_TRUE(test::pollUntil([&] { return std::filesystem::exists(dir / "follower.txt") &&
+                                           std::filesystem::file_size(dir / "follower.txt") > 2000; }, 10s));
+  follower.killHard();
+  EXPECT_EQ(leader.wait(30s), 3);  // ran its 8,000 instants, the last ones alone, with a lost peer
+  const std::string said = readFile(log);
+  EXPECT_NE(said.find("participant 'leader' lost its peer 'follower': "), std::string::npos) << said;
+  EXPECT_NE(readFile(dir / "leader.txt").find("\n7999:"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@
 /// configureComponents({ "Link" })  -- before any connection with transport = "dds"
 /// @endcode
 ///
-/// Properties (all read at configure):
+/// Properties (all read at the first configure; configuring again keeps the participant, cleaning
+/// up ends it):
 /// - `domain` (int, 0..232): the DDS domain id, as ROS_DOMAIN_ID;
 /// - `participant` (text): this process's name, which its peers list (e.g. "needle");
 /// - `peers` (text): the participants this process runs with, separated by commas ("probe");
