@@ -72,6 +72,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     std::vector<std::string> peers;
     double lease;
     double join_timeout;
+    double meeting_timeout;  ///< s, > 0
   };
 
   Meeting(DdsLink& link, detail::Participant& participant, Settings settings)
@@ -305,9 +306,9 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
           if (!p.seen) {
             if (now - started_ > std::chrono::duration<double>(settings_.join_timeout))
               losses.emplace_back(name, "it never came (join_timeout " + text::number(settings_.join_timeout) + " s)");
-          } else if (now - std::max(p.heard, wait_start) > std::chrono::duration<double>(settings_.lease)) {
+          } else if (now - std::max(p.heard, wait_start) > std::chrono::duration<double>(settings_.meeting_timeout)) {
             losses.emplace_back(name, "it missed the meeting at t = " + text::number(static_cast<double>(t) * 1e-9) +
-                                          " s for its lease (" + text::number(settings_.lease) + " s)");
+                                          " s for " + text::number(settings_.meeting_timeout) + " s");
           }
         }
         if (ready) {
@@ -367,6 +368,7 @@ DdsLink::DdsLink(std::string name)
   addProperty(peers_);
   addProperty(lease_.range(1e-3, 3600.0));
   addProperty(join_timeout_.range(0.0, 3600.0));
+  addProperty(meeting_timeout_.range(0.0, 3600.0));
   addProperty(initial_peers_);
   addProperty(drop_share_.range(0.0, 1.0));
   addProperty(poll_.range(1e-6, 1.0));
@@ -403,7 +405,8 @@ bool DdsLink::configureHook() {
     transport_ = std::make_shared<DdsTransport>(options);
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });
     meeting_ = std::make_unique<Meeting>(*this, *transport_->participant_,
-                                         Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get()});
+                                         Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get(),
+                                                           meeting_timeout_.get() > 0.0 ? meeting_timeout_.get() : lease_.get()});
   } catch (const std::exception& e) {
     meeting_.reset();
     transport_.reset();

@@ -265,3 +265,24 @@ TEST(DdsLink, APeerKilledInALockstepRunIsLostAndTheOtherRunsOn) {
 
 }  // namespace
 }  // namespace cobra::dds
+
+namespace cobra::dds {
+namespace {
+
+TEST(DdsLink, ALivePeerThatMissesAMeetingForItsTimeoutIsLost) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_miss_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string log = (dir / "leader.log").string();
+  // The "follower" is alive (its liveliness holds) but runs no clock: it never meets.
+  Peer follower({"live", "134", "follower", "leader", "2"});
+  Peer leader({"lockstep", "134", "leader", "50", "0", (dir / "leader.txt").string()}, log);
+  EXPECT_EQ(leader.wait(20s), 3);
+  const std::string said = readFile(log);
+  EXPECT_NE(said.find("participant 'leader' lost its peer 'follower': it missed the meeting at t = 0.001 s for 2 s"),
+            std::string::npos)
+      << said;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cobra::dds

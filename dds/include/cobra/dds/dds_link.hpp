@@ -18,7 +18,10 @@
 /// - `participant` (text): this process's name, which its peers list (e.g. "needle");
 /// - `peers` (text): the participants this process runs with, separated by commas ("probe");
 /// - `lease` (s): the liveliness lease: a peer whose liveliness lapses for `lease` (killed, its
-///   host unreachable), or that stays silent for `lease` at a clock meeting, is lost;
+///   host unreachable), or that stays silent for `meeting_timeout` at a clock meeting, is lost;
+/// - `meeting_timeout` (s, 0: the lease): how long a meeting waits for a peer's announcement
+///   while the peer is alive; raise it when an instant of a peer may take longer than the lease
+///   (e.g. a planner stepped in the lockstep run);
 /// - `join_timeout` (s): how long a meeting waits for a peer never heard of yet (its process
 ///   starting) before giving it up;
 /// - `initial_peers` (text): IPv4 addresses for unicast discovery, separated by commas, when
@@ -95,6 +98,8 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> lease_{"lease", 1.0, "s", "liveliness lease: a peer silent this long is lost"};
   core::Property<double> join_timeout_{"join_timeout", 10.0, "s",
                                        "how long a clock meeting waits for a peer never heard of yet"};
+  core::Property<double> meeting_timeout_{"meeting_timeout", 0.0, "s",
+                                          "how long a clock meeting waits for a live peer's announcement; 0: the lease"};
   core::Property<std::string> initial_peers_{"initial_peers", std::string(), "",
                                              "IPv4 addresses for unicast discovery, comma-separated"};
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
