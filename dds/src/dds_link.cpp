@@ -131,6 +131,10 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     // The peers may still need a retransmission of the last announcement (a lost packet is
     // resent within ms); a lost peer never acknowledges, hence the bound.
     if (writer_ != nullptr) writer_->wait_for_acknowledgments(duration(std::min(settings_.lease, 0.2)));
+    {
+      std::lock_guard lock(callback_mutex_);  // waits for a listener call in progress
+      closed_ = true;
+    }
     if (reader_ != nullptr) {
       reader_->set_listener(nullptr);
       participant_.subscriber()->delete_datareader(reader_);
@@ -163,6 +167,8 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
 
   // DataReaderListener: the peers' announcements and liveliness (Fast DDS's threads).
   void on_data_available(fdds::DataReader* reader) override {
+    std::lock_guard closing(callback_mutex_);
+    if (closed_) return;
     cobra_msgs::msg::LinkMeeting sample;
     fdds::SampleInfo info;
     std::vector<std::string> joined;
@@ -186,7 +192,8 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   }
 
   void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
-    if (status.alive_count_change >= 0) return;
+    std::lock_guard closing(callback_mutex_);
+    if (closed_ || status.alive_count_change >= 0) return;
     // Lapsed (killed, unreachable) or its writer gone (the process left): lost, unless it said
     // it was done.
     const std::string guid = text(rtps::iHandle2GUID(status.last_publication_handle));
@@ -352,6 +359,8 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   fdds::DataWriter* writer_ = nullptr;
   fdds::DataReader* reader_ = nullptr;
   std::atomic<bool> done_{false};
+  std::mutex callback_mutex_;  // held by the listener's calls; close() takes it to end them
+  bool closed_ = false;        // under callback_mutex_
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::map<std::string, Peer> peers_;         // by participant name
