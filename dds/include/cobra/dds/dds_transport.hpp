@@ -19,8 +19,10 @@
 /// `circular(n)` (FIFO of n) between the port and the transport, and the flow status of reads.
 ///
 /// The real-time side never waits on DDS: a port's write pushes into the lock-free channel of the
-/// writer's end (preallocated like any connection) and sets a flag; the end's own thread takes
-/// the samples, converts and publishes them. On the reader's side, Fast DDS's listener thread
+/// writer's end (preallocated like any connection) and sets a flag, with no system call; the end's
+/// own thread looks at the flag every `Options::poll`, takes the samples, converts and publishes
+/// them. In a deployment, the transport "dds" is the DdsLink component's (dds_link.hpp), which
+/// also meets the other processes of a lockstep run. On the reader's side, Fast DDS's listener thread
 /// converts each sample and writes it into the channel the input port reads.
 ///
 /// Problems DDS reports or that discovery shows (a topic whose two ends have different types, a
