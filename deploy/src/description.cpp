@@ -148,4 +148,50 @@ DeploymentDescription describe(const Configurator& configurator) {
   return d;
 }
 
+DeploymentDescription canonical(DeploymentDescription d) {
+  std::map<std::string, std::size_t, std::less<>> order;
+  for (const ComponentSpec& c : d.components) order.emplace(c.peer_name, order.size());
+  const auto rank = [&](const std::string& name) {
+    const auto it = order.find(name);
+    return it == order.end() ? order.size() : it->second;
+  };
+  std::sort(d.deployments.begin(), d.deployments.end(),
+            [](const DeploymentSpec& a, const DeploymentSpec& b) { return a.name < b.name; });
+  std::sort(d.configurations.begin(), d.configurations.end(),
+            [](const ConfigurationSpec& a, const ConfigurationSpec& b) { return a.name < b.name; });
+  // Applied deployments: in the order describe finds their scopes.
+  std::vector<std::string> apply;
+  for (const DeploymentSpec& s : d.deployments)
+    if (std::find(d.apply.begin(), d.apply.end(), s.name) != d.apply.end()) apply.push_back(s.name);
+  d.apply = apply;
+  std::set<std::string, std::less<>> deployed;
+  std::set<PortPair> deployed_connections;
+  std::map<std::string, ActivitySpec, std::less<>> deployed_activities;
+  for (const DeploymentSpec& s : d.deployments) {
+    if (std::find(d.apply.begin(), d.apply.end(), s.name) == d.apply.end()) continue;
+    for (const NameEntry& c : s.components) deployed.insert(c.name);
+    for (const ConnectionSpec& c : s.connections) deployed_connections.emplace(c.output, c.input);
+    for (const ActivitySpec& a : s.activities) deployed_activities.insert_or_assign(a.peer_name, a);
+  }
+  std::erase_if(d.connections, [&](const ConnectionSpec& c) { return deployed_connections.count({c.output, c.input}) != 0; });
+  std::erase_if(d.activities, [&](const ActivitySpec& a) {
+    const auto by_deployment = deployed_activities.find(a.peer_name);
+    return by_deployment != deployed_activities.end() ? by_deployment->second.sameActivity(a) : a.sameActivity(ActivitySpec{});
+  });
+  const auto byComponent = [&](const auto& a, const auto& b) { return rank(a.peer_name) < rank(b.peer_name); };
+  std::stable_sort(d.activities.begin(), d.activities.end(), byComponent);
+  std::stable_sort(d.peers.begin(), d.peers.end(), byComponent);
+  std::set<std::string, std::less<>> configured(d.configure.begin(), d.configure.end());
+  configured.insert(d.start.begin(), d.start.end());
+  configured.insert(deployed.begin(), deployed.end());
+  const std::set<std::string, std::less<>> started(d.start.begin(), d.start.end());
+  d.configure.clear();
+  d.start.clear();
+  for (const ComponentSpec& c : d.components) {
+    if (configured.count(c.peer_name) != 0) d.configure.push_back(c.peer_name);
+    if (started.count(c.peer_name) != 0 && deployed.count(c.peer_name) == 0) d.start.push_back(c.peer_name);
+  }
+  return d;
+}
+
 }  // namespace cobra::deploy

@@ -1,4 +1,4 @@
-#include "new_component.hpp"
+#include "cobra/studio/component_generator.hpp"
 
 #include <cctype>
 #include <fstream>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace cobra::tools {
+namespace cobra::studio {
 namespace {
 
 struct TypeSpelling {
@@ -301,4 +301,4 @@ std::vector<std::filesystem::path> generateComponent(const ComponentTemplate& t,
   return written;
 }
 
-}  // namespace cobra::tools
+}  // namespace cobra::studio

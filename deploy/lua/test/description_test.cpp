@@ -236,6 +236,7 @@ TEST(Description, GeneratedProjectsRoundTrip) {
   for (int i = 0; i < kProjects; ++i) {
     const DeploymentDescription d = generate(random);
     const std::string text = toLua(d);
+    ASSERT_EQ(toLua(canonical(d)), text) << "project " << i << " is generated canonical";
     const std::string path = writeFile("generated_" + std::to_string(i) + ".lua", text);
     Loaded loaded(path);
     ASSERT_EQ(toLua(describe(loaded.configurator)), text) << "project " << i << ": " << path;

@@ -62,6 +62,14 @@ struct DeploymentDescription {
 /// running): it reads property values as text through the components' thread-safe accessors.
 DeploymentDescription describe(const Configurator& configurator);
 
+/// `d` in the form describe gives back for the file toLua writes of it (what the editor saves):
+/// activities, peers, configure and start lists in the components' order, default activities and
+/// those the applied deployments set dropped, the applied deployments' components configured
+/// and not started by startComponents, their connections left to them, deployments and
+/// configurations by name, applied deployments in the order of their scopes' first deployment.
+/// Property values equal to a type's default are the caller's to drop (it knows the types).
+DeploymentDescription canonical(DeploymentDescription d);
+
 /// The Lua deployment file of `description`: packages_list, components_list, the property
 /// assignments, activities_list, peers_list, connections_list, defineDeployment and
 /// defineConfiguration calls, then initConfigurator ... applyConfiguration. `cobra deploy` and

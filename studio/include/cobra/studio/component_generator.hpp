@@ -1,5 +1,7 @@
 #pragma once
-// `cobra new component`: writes a compilable component skeleton (header, source, unit test) into
+/// @file
+/// The component generator of `cobra new component` and of the editor's generate route
+/// (studio/PROTOCOL.md): writes a compilable component skeleton (header, source, unit test) into
 // a package folder built against an installed cobra (CMakeLists.txt with find_package(cobra) and
 // cobra_add_package, src/package.cpp registering the components) — the useful half of the
 // thesis' OroEdit (§3.2.1).
@@ -8,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace cobra::tools {
+namespace cobra::studio {
 
 /// One port or property of the skeleton, from "name:Type[:unit]".
 struct InterfaceItem {
@@ -40,4 +42,4 @@ void validate(const ComponentTemplate& t);
 /// line in CMakeLists.txt; an include and a registration at the marked lines of package.cpp).
 std::vector<std::filesystem::path> generateComponent(const ComponentTemplate& t, const std::filesystem::path& folder);
 
-}  // namespace cobra::tools
+}  // namespace cobra::studio
