@@ -282,6 +282,16 @@ struct Editor::Impl {
   }
 };
 
+std::string NoRunSource::model(int& status) {
+  status = 404;
+  return errorJson("no run: cobra edit serves the deployment editor (editor.html) only");
+}
+std::string NoRunSource::recording() { return "{\"frames\":[]}"; }
+bool NoRunSource::latestFrame(std::uint64_t&, std::string&) { return false; }
+void NoRunSource::takeMessages(std::vector<std::string>&) {}
+InputAnswer NoRunSource::input(const std::string&) { return {409, "no run: cobra edit has no inputs"}; }
+std::filesystem::path NoRunSource::mesh(const std::string&) { return {}; }
+
 Editor::Editor(EditorOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
   impl_->palette_future = std::async(std::launch::async, [options = impl_->options] {

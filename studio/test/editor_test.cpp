@@ -281,18 +281,10 @@ TEST(Editor, BadRequestsAreRefusedWithTheirReason) {
 }
 
 TEST(Editor, TheServerServesTheRoutesOnlyWithTheToken) {
-  class NoRun final : public StudioSource {
-   public:
-    std::string model(int& status) override {
-      status = 404;
-      return "{}";
-    }
-    std::string recording() override { return "{}"; }
-    bool latestFrame(std::uint64_t&, std::string&) override { return false; }
-    void takeMessages(std::vector<std::string>&) override {}
-    InputAnswer input(const std::string&) override { return {409, "no"}; }
-    std::filesystem::path mesh(const std::string&) override { return {}; }
-  } source;
+  NoRunSource source;
+  int status = 0;
+  EXPECT_EQ(source.model(status), "{\"error\":\"no run: cobra edit serves the deployment editor (editor.html) only\"}");
+  EXPECT_EQ(status, 404);
   ServerOptions options;
   options.token = "0123456789abcdef0123456789abcdef";
   options.editor = &editor();

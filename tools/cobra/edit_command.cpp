@@ -8,23 +8,6 @@
 #include "cobra/studio/server.hpp"
 
 namespace cobra::tools {
-namespace {
-
-/// What the server serves besides the editor under `cobra edit`: no run.
-class NoRun final : public studio::StudioSource {
- public:
-  std::string model(int& status) override {
-    status = 404;
-    return "{\"error\":\"no run: cobra edit serves the deployment editor (editor.html) only\"}";
-  }
-  std::string recording() override { return "{\"frames\":[]}"; }
-  bool latestFrame(std::uint64_t&, std::string&) override { return false; }
-  void takeMessages(std::vector<std::string>&) override {}
-  studio::InputAnswer input(const std::string&) override { return {409, "no run: cobra edit has no inputs"}; }
-  std::filesystem::path mesh(const std::string&) override { return {}; }
-};
-
-}  // namespace
 
 int editDeployment(const std::string& path, const StudioCommandOptions& options, const std::atomic<bool>& interrupted) {
   studio::Editor editor;
@@ -32,7 +15,7 @@ int editDeployment(const std::string& path, const StudioCommandOptions& options,
     const std::string error = editor.open(path);
     if (!error.empty()) std::fprintf(stderr, "cobra: %s\n", error.c_str());
   }
-  NoRun no_run;
+  studio::NoRunSource no_run;
   studio::ServerOptions server_options;
   server_options.bind = options.bind;
   server_options.port = options.port;

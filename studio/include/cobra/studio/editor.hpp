@@ -17,6 +17,7 @@
 
 #include "cobra/deploy/description.hpp"
 #include "cobra/run/runner.hpp"
+#include "cobra/studio/source.hpp"
 
 namespace cobra::studio {
 
@@ -62,6 +63,18 @@ class RunningDeployment final : public run::RunObserver {
   std::optional<deploy::DeploymentDescription> description_;
   std::vector<std::pair<std::string, std::string>> attach_values_;  // "Comp.prop" -> text at attach
   const core::ComponentRegistry* registry_ = nullptr;            // null after finished
+};
+
+/// What a server serving only the editor (`cobra edit`) has of a run: none. GET /api/model
+/// answers 404 saying so, inputs 409; no frame, event or mesh.
+class NoRunSource final : public StudioSource {
+ public:
+  std::string model(int& status) override;
+  std::string recording() override;
+  bool latestFrame(std::uint64_t& seq, std::string& message) override;
+  void takeMessages(std::vector<std::string>& messages) override;
+  InputAnswer input(const std::string& name) override;
+  std::filesystem::path mesh(const std::string& name) override;
 };
 
 class Editor {
