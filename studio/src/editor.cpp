@@ -189,6 +189,7 @@ struct Editor::Impl {
       if (v == nullptr || !v->isString()) throw Refusal(400, std::string("component.") + key + " must be a string");
       *field = v->string();
     }
+    if (const json::Value* doc = component.find("doc"); doc != nullptr && doc->isString()) t.doc = doc->string();
     t.inputs = interfaceItems(component, "inputs");
     t.event_inputs = interfaceItems(component, "event_inputs");
     t.outputs = interfaceItems(component, "outputs");

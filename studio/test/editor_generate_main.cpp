@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   const std::string body = "{\"folder\":" + cobra::studio::json::quoted(argv[1]) +
                            ",\"component\":{\"name\":\"EditorMade\",\"role\":\"decision\",\"package\":" +
                            cobra::studio::json::quoted(argv[2]) +
-                           ",\"inputs\":[{\"name\":\"force\",\"type\":\"Wrench\",\"unit\":\"N\"}],"
+                           ",\"doc\":\"the \\\"level\\\" of a force (N)\",\"inputs\":[{\"name\":\"force\",\"type\":\"Wrench\",\"unit\":\"N\"}],"
                            "\"event_inputs\":[{\"name\":\"tick\",\"type\":\"Event\"}],"
                            "\"outputs\":[{\"name\":\"level\",\"type\":\"double\",\"unit\":\"N\"}],"
                            "\"properties\":[{\"name\":\"threshold\",\"type\":\"double\",\"unit\":\"N\"}]}}";

@@ -259,7 +259,9 @@ TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
   for (const json::Value& f : v.find("files")->items()) files.push_back(f.string());
   ASSERT_FALSE(files.empty());
   for (const std::string& f : files) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
-  EXPECT_TRUE(std::filesystem::is_regular_file(folder / "include/my_filters/force_filter.hpp"));
+  EXPECT_NE(readText(folder / "include/my_filters/force_filter.hpp").find("/// low-pass filter of a wrench\nclass ForceFilter"),
+            std::string::npos);
+  EXPECT_NE(readText(folder / "src/package.cpp").find("(\"ForceFilter\", \"low-pass filter of a wrench\");"), std::string::npos);
   EXPECT_EQ(errorOf(editor(), "POST", "generate", request, 400),
             (folder / "include/my_filters/force_filter.hpp").string() + " already exists; remove it or choose another name");
   std::string bad = request;

@@ -23,6 +23,9 @@ struct ComponentTemplate {
   std::string name;     ///< C++ class and component type name, e.g. "VariableAdmittance"
   std::string role;     ///< calculation, supervision, decision or bridge
   std::string package;  ///< package (and include folder) name, e.g. "my_control"
+  /// One line saying what it does, with units (the class comment, the component's and the
+  /// package registration's doc); "" leaves a line for the author to fill in.
+  std::string doc;
   std::vector<InterfaceItem> inputs;
   std::vector<InterfaceItem> event_inputs;
   std::vector<InterfaceItem> outputs;
@@ -33,7 +36,7 @@ struct ComponentTemplate {
 /// accepted types.
 InterfaceItem parseInterfaceItem(const std::string& text, const std::string& what);
 
-/// Checks names (C++ identifiers, no duplicates) and role. @throws std::runtime_error.
+/// Checks names (C++ identifiers, no duplicates), role and doc (one line). @throws std::runtime_error.
 void validate(const ComponentTemplate& t);
 
 /// Writes the files into `folder` (created if needed) and returns their paths. An existing
