@@ -65,5 +65,8 @@ cmake --install "$work/example" --prefix "$prefix" >/dev/null
 "$prefix/bin/cobra" deploy "$deployment" --sim --run-for 0.01 | grep -Eq "^  Filter +Calculation +Running" \
   || fail "the package installed in $prefix/lib/cobra/packages was not found"
 
-"$source/tools/cobra/test/new_component_test.sh" "$prefix/bin/cobra" "$prefix"
+# The editor's generate route builds too (studio_editor_generate is built with the tests).
+editor_generate="$build/studio/studio_editor_generate"
+[ -x "$editor_generate" ] || editor_generate=""
+"$source/tools/cobra/test/new_component_test.sh" "$prefix/bin/cobra" "$prefix" "$editor_generate"
 echo "installed cobra builds and runs an out-of-tree package"

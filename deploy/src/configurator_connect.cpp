@@ -1,6 +1,7 @@
 #include <set>
 
 #include "cobra/deploy/configurator.hpp"
+#include "cobra/deploy/description.hpp"
 #include "undo_journal.hpp"
 
 namespace cobra::deploy {
@@ -72,6 +73,14 @@ std::vector<LintViolation> Configurator::connectPorts(const std::vector<Connecti
     });
   }
   return violations;
+}
+
+std::vector<ConnectionSpec> Configurator::madeConnections() const {
+  std::lock_guard lock(mutex_);
+  std::vector<ConnectionSpec> made;
+  for (const Connection& c : connections_)
+    if (!c.from_deployment) made.push_back({c.output, c.input, connPolicySpecOf(c.policy), c.where});
+  return made;
 }
 
 }  // namespace cobra::deploy

@@ -180,7 +180,7 @@ void Session::attachObserver() {
   if (scenario.empty() && lua_type(L, -1) == LUA_TSTRING) scenario = lua_tostring(L, -1);
   lua_pop(L, 1);
   options_.observer->attach({spec_, refs_, entry_, scenario, options_.report_folder, result_.clearance.threshold,
-                             std::move(descriptions), scopes_});
+                             std::move(descriptions), scopes_, &configurator_});
 }
 
 void Session::attachCharts() {

@@ -16,6 +16,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "cobra/studio/editor.hpp"
 #include "cobra/studio/json.hpp"
 
 namespace cobra::studio {
@@ -250,6 +251,12 @@ http::response<http::string_body> Server::Impl::respond(const http::request<http
   const std::string target(request.target());
   const std::string path = target.substr(0, target.find('?'));
   const bool get = request.method() == http::verb::get || request.method() == http::verb::head;
+  if (path.rfind("/api/editor/", 0) == 0) {
+    if (options.editor == nullptr)
+      return reply(404, "{\"error\":\"the deployment editor is not served here (cobra edit, cobra run APP --studio)\"}");
+    const EditorAnswer answer = options.editor->handle(std::string(request.method_string()), path.substr(12), request.body());
+    return reply(answer.status, answer.body);
+  }
   if (path == "/api/model" && get) {
     int status = 200;
     std::string body = source.model(status);
@@ -285,7 +292,7 @@ http::response<http::string_body> Server::Impl::respond(const http::request<http
   if (!std::filesystem::is_regular_file(file) || !in) return reply(404, "{\"error\":" + json::quoted("not found: " + path) + "}");
   std::stringstream body;
   body << in.rdbuf();
-  if (path == "/")
+  if (path == "/" || path == "/editor.html")
     response.set(http::field::set_cookie, "cobra_token=" + options.token + "; HttpOnly; SameSite=Strict; Path=/");
   return reply(200, body.str(), contentType(file));
 }
@@ -356,6 +363,10 @@ unsigned short Server::port() const { return impl_->port; }
 const std::string& Server::token() const { return impl_->options.token; }
 std::string Server::url() const {
   return "http://" + impl_->options.bind + ":" + std::to_string(impl_->port) + "/?token=" + impl_->options.token;
+}
+std::string editorUrl(const Server& server) {
+  std::string url = server.url();
+  return url.replace(url.find("/?token="), 8, "/editor.html?token=");
 }
 ServerStats Server::stats() const {
   const Impl& m = *impl_;

@@ -17,6 +17,7 @@
 #include "cobra/run/runner.hpp"
 #include "cobra/studio/bridge.hpp"
 #include "cobra/studio/server.hpp"
+#include "http_client.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -58,29 +59,6 @@ class FakeSource final : public StudioSource {
   bool events = false;
   std::atomic<int> inputs{0};
 };
-
-struct Reply {
-  int status = 0;
-  std::string body, cookie, type;
-};
-
-Reply request(unsigned short port, http::verb verb, const std::string& target, const std::string& body = {},
-              const std::vector<std::pair<std::string, std::string>>& headers = {}) {
-  asio::io_context io;
-  tcp::socket socket(io);
-  socket.connect({asio::ip::make_address("127.0.0.1"), port});
-  http::request<http::string_body> req{verb, target, 11};
-  req.set(http::field::host, "127.0.0.1");
-  for (const auto& [name, value] : headers) req.set(name, value);
-  req.body() = body;
-  req.prepare_payload();
-  http::write(socket, req);
-  beast::flat_buffer buffer;
-  http::response<http::string_body> res;
-  http::read(socket, buffer, res);
-  return {static_cast<int>(res.result_int()), res.body(), std::string(res[http::field::set_cookie]),
-          std::string(res[http::field::content_type])};
-}
 
 std::filesystem::path webFolder() {
   const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_server_web";

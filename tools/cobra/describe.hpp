@@ -1,6 +1,7 @@
 #pragma once
 // `cobra describe`: the reverse of the thesis' OroEdit feature — explores a deployment and
-// writes every instance, activity, peer and connection as reusable Configurator tables (Lua).
+// writes every instance, property value, activity, peer, connection, named deployment and
+// configuration as reusable Configurator tables (Lua), through deploy/description.hpp's writer.
 
 #include <string>
 
@@ -8,10 +9,9 @@
 
 namespace cobra::tools {
 
-/// Lua source defining packages_list, components_list, activities_list, peers_list and
-/// connections_list for what `configurator` has deployed, followed by the Configurator calls
-/// that rebuild it. Connections to ports outside the deployment are left out (and counted in a
+/// The Lua deployment file of what `configurator` has deployed (deploy::describe, then
+/// deploy::toLua). Connections to ports outside the deployment are left out (and counted in a
 /// comment).
-std::string describeDeployment(const deploy::Configurator& configurator, const std::string& origin);
+std::string describeDeployment(const deploy::Configurator& configurator);
 
 }  // namespace cobra::tools

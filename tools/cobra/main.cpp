@@ -3,6 +3,7 @@
 //   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet]
 //                 [--studio [--studio-port N] [--studio-bind ADDR] [--studio-linger S]] [--pace X] [--interactive]
 //   cobra studio RUN_DIR [--port N] [--bind ADDR]
+//   cobra edit [FILE|APP] [--port N] [--bind ADDR]
 //   cobra lint FILE
 //   cobra graph FILE -o out.svg
 //   cobra describe FILE [-o out.lua]
@@ -24,11 +25,12 @@
 #include "cobra/deploy/graph.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/script/rfsm.hpp"
+#include "cobra/studio/component_generator.hpp"
 #include "console.hpp"
 #include "console_terminal.hpp"
 #include "describe.hpp"
+#include "edit_command.hpp"
 #include "fsm_command.hpp"
-#include "new_component.hpp"
 #include "run_command.hpp"
 
 #include <cstdlib>
@@ -163,7 +165,7 @@ int runDescribe(const std::string& file, const std::string& output) {
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile(file);
-  const std::string text = tools::describeDeployment(configurator, file);
+  const std::string text = tools::describeDeployment(configurator);
   if (output.empty()) {
     std::fputs(text.c_str(), stdout);
   } else {
@@ -242,6 +244,17 @@ int main(int argc, char** argv) {
   studio_cmd->footer("example: cobra run apps/puncturing --report build/demo-report && cobra studio build/demo-report\n"
                      "prints the URL to open; serves until Ctrl-C");
 
+  std::string edit_path;
+  tools::StudioCommandOptions edit_options;
+  edit_options.executable = argv[0];
+  CLI::App* edit_cmd = app.add_subcommand("edit", "edit deployments in the browser: cobra studio's deployment editor");
+  edit_cmd->add_option("FILE", edit_path, "Lua deployment file or application folder to open (default: a new project)");
+  edit_cmd->add_option("--port", edit_options.port, "port (default 0: any free port)");
+  edit_cmd->add_option("--bind", edit_options.bind, "address to listen on (default 127.0.0.1)");
+  edit_cmd->footer("example: cobra edit apps/puncturing\n"
+                   "prints \"editor: http://127.0.0.1:PORT/editor.html?token=TOKEN\" to open; serves until Ctrl-C;\n"
+                   "a file that does not load is still served (the page shows its error line and never saves over it)");
+
   std::string lint_file;
   CLI::App* lint_cmd = app.add_subcommand("lint", "check every connection of a deployment against the role rules");
   lint_cmd->add_option("FILE", lint_file, "Lua deployment file")->required()->check(CLI::ExistingFile);
@@ -284,7 +297,7 @@ int main(int argc, char** argv) {
   fsm_graph->add_option("-o,--output", fsm_output, "output file: .svg, .png, .pdf or .dot")->required();
   fsm_graph->footer("example: cobra fsm graph apps/door/door_task.lua -o door_task.svg");
 
-  tools::ComponentTemplate skeleton;
+  studio::ComponentTemplate skeleton;
   std::string new_folder;
   std::vector<std::string> ins, event_ins, outs, props;
   CLI::App* new_cmd = app.add_subcommand("new", "write a component into a package folder built against an installed cobra");
@@ -320,6 +333,7 @@ int main(int argc, char** argv) {
       return tools::runApplication(run_options, run_quiet, studio_options, g_interrupted);
     }
     if (*studio_cmd) return tools::serveRecording(studio_folder, replay_options, g_interrupted);
+    if (*edit_cmd) return tools::editDeployment(edit_path, edit_options, g_interrupted);
     if (*lint_cmd) return runLint(lint_file);
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);
@@ -328,12 +342,12 @@ int main(int argc, char** argv) {
     if (*fsm_check) return tools::checkFsm(fsm_file);
     if (*fsm_graph) return runFsmGraph(fsm_file, fsm_output);
     if (*new_component_cmd) {
-      for (const auto& text : ins) skeleton.inputs.push_back(tools::parseInterfaceItem(text, "--in"));
-      for (const auto& text : event_ins) skeleton.event_inputs.push_back(tools::parseInterfaceItem(text, "--event-in"));
-      for (const auto& text : outs) skeleton.outputs.push_back(tools::parseInterfaceItem(text, "--out"));
-      for (const auto& text : props) skeleton.properties.push_back(tools::parseInterfaceItem(text, "--prop"));
+      for (const auto& text : ins) skeleton.inputs.push_back(studio::parseInterfaceItem(text, "--in"));
+      for (const auto& text : event_ins) skeleton.event_inputs.push_back(studio::parseInterfaceItem(text, "--event-in"));
+      for (const auto& text : outs) skeleton.outputs.push_back(studio::parseInterfaceItem(text, "--out"));
+      for (const auto& text : props) skeleton.properties.push_back(studio::parseInterfaceItem(text, "--prop"));
       const auto folder = new_folder.empty() ? std::filesystem::path(skeleton.package) : std::filesystem::path(new_folder);
-      for (const auto& path : tools::generateComponent(skeleton, folder)) std::printf("wrote %s\n", path.c_str());
+      for (const auto& path : studio::generateComponent(skeleton, folder)) std::printf("wrote %s\n", path.c_str());
       return 0;
     }
   } catch (const std::exception& e) {

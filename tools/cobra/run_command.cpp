@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "cobra/studio/bridge.hpp"
+#include "cobra/studio/editor.hpp"
 #include "cobra/studio/replay.hpp"
 #include "cobra/studio/server.hpp"
 
@@ -28,8 +29,10 @@ void printResult(const run::RunResult& result) {
 
 // `fallback_web`: the page to serve when no built front end is found (a run folder's copy).
 std::unique_ptr<studio::Server> startServer(studio::StudioSource& source, const StudioCommandOptions& options,
-                                            const std::filesystem::path& fallback_web = {}) {
+                                            const std::filesystem::path& fallback_web = {},
+                                            studio::Editor* editor = nullptr) {
   studio::ServerOptions server;
+  server.editor = editor;
   server.bind = options.bind;
   server.port = options.port;
   server.web_folder = studio::findWebFolder(options.executable);
@@ -41,6 +44,7 @@ std::unique_ptr<studio::Server> startServer(studio::StudioSource& source, const 
   if (server.web_folder.empty())
     std::printf("studio: warning: no web front end found (studio/web/dist, or set COBRA_STUDIO_WEB); /api and /ws work\n");
   std::printf("studio: %s\n", started->url().c_str());
+  if (editor != nullptr) std::printf("editor: %s\n", studio::editorUrl(*started).c_str());
   std::fflush(stdout);
   return started;
 }
@@ -67,9 +71,18 @@ int runApplication(run::RunOptions options, bool quiet, const StudioCommandOptio
   bridge_options.record = studio.live;
   bridge_options.web_folder = studio::findWebFolder(studio.executable);
   studio::VisualizerBridge bridge(bridge_options);
+  // The editor (GET /api/editor/running: this run described) comes with the live studio; its
+  // palette is built on a thread of its own, never the run's.
+  studio::RunningDeployment running(&bridge);
+  std::unique_ptr<studio::Editor> editor;
   std::unique_ptr<studio::Server> server;
-  if (studio.live) server = startServer(bridge, studio);
-  if (studio.live || !options.report_folder.empty()) options.observer = &bridge;
+  if (studio.live) {
+    editor = std::make_unique<studio::Editor>();
+    editor->setRunning(&running);
+    server = startServer(bridge, studio, {}, editor.get());
+  }
+  if (studio.live) options.observer = &running;
+  else if (!options.report_folder.empty()) options.observer = &bridge;
   if (!quiet)
     std::printf("cobra run %s%s on the %s\n", options.app.c_str(),
                 options.scenario.empty() ? "" : (", scenario " + options.scenario.string()).c_str(),

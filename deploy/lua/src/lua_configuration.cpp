@@ -8,7 +8,7 @@
 
 #include "cobra/core/error.hpp"
 #include "cobra/script/lua_state.hpp"
-#include "source_lines.hpp"
+#include "configuration_table.hpp"
 
 namespace cobra::deploy {
 namespace {
@@ -62,6 +62,41 @@ std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& 
 
 }  // namespace
 
+namespace detail {
+
+ConfigurationSpec configurationFromTable(lua_State* L, int table, const std::string& name, const SourceLocation& where,
+                                         const SourceLines& lines) {
+  const std::string& at = where.file;
+  const std::string where_text = where.text();
+  ConfigurationSpec spec{name, where, {}};
+  const int from = std::max(where.line, 1);
+  for (const std::string& component : sortedKeys(L, table, where_text)) {
+    lua_pushstring(L, component.c_str());
+    lua_rawget(L, table);  // raw: no metamethod can raise here
+    const int values = lua_gettop(L);
+    const int component_line = lines.find(from, {component});
+    const SourceLocation component_at{at, component_line > 0 ? component_line : where.line};
+    if (!lua_istable(L, values))
+      throw core::Error(component_at.text() + ": " + component + " must be a table of property values");
+    for (const std::string& property : sortedKeys(L, values, component_at.text())) {
+      lua_pushstring(L, property.c_str());
+      lua_rawget(L, values);
+      const int line = lines.find(std::max(component_at.line, 1), {property, "="});
+      const SourceLocation value_at{at, line > 0 ? line : component_at.line};
+      std::string text;
+      if (!valueText(L, lua_gettop(L), text))
+        throw core::Error(value_at.text() + ": " + component + "." + property + " must be a number, boolean, string or "
+                          "array of numbers, got " + luaL_typename(L, -1));
+      lua_pop(L, 1);
+      spec.values.push_back({component, property, text, value_at});
+    }
+    lua_settop(L, values - 1);
+  }
+  return spec;
+}
+
+}  // namespace detail
+
 ConfigurationSpec loadLuaConfigurationFile(const std::filesystem::path& file) {
   script::LuaState lua(script::LuaMemory{0, "configuration file " + file.string(), ""});
   lua_State* L = lua.get();
@@ -70,30 +105,7 @@ ConfigurationSpec loadLuaConfigurationFile(const std::filesystem::path& file) {
   const std::string at = file.string();
   if (!lua_istable(L, 1)) throw core::Error(at + ": a configuration file must return a table { Component = { property = value } }");
   const detail::SourceLines lines(file.string());
-  ConfigurationSpec spec{file.stem().string(), {at, 1}, {}};
-  for (const std::string& component : sortedKeys(L, 1, at)) {
-    lua_pushstring(L, component.c_str());
-    lua_rawget(L, 1);  // raw: no metamethod can raise here
-    const int values = lua_gettop(L);
-    const int component_line = lines.find(1, {component});
-    const SourceLocation component_at{at, component_line};
-    if (!lua_istable(L, values))
-      throw core::Error(component_at.text() + ": " + component + " must be a table of property values");
-    for (const std::string& property : sortedKeys(L, values, component_at.text())) {
-      lua_pushstring(L, property.c_str());
-      lua_rawget(L, values);
-      const int line = lines.find(std::max(component_line, 1), {property, "="});
-      const SourceLocation where{at, line > 0 ? line : component_line};
-      std::string text;
-      if (!valueText(L, lua_gettop(L), text))
-        throw core::Error(where.text() + ": " + component + "." + property + " must be a number, boolean, string or "
-                          "array of numbers, got " + luaL_typename(L, -1));
-      lua_pop(L, 1);
-      spec.values.push_back({component, property, text, where});
-    }
-    lua_settop(L, values - 1);
-  }
-  return spec;
+  return detail::configurationFromTable(L, 1, file.stem().string(), {at, 1}, lines);
 }
 
 std::vector<ConfigurationSpec> loadLuaConfigurationFolder(const std::filesystem::path& folder) {

@@ -10,6 +10,7 @@
 #include "cobra/deploy/install_layout.hpp"
 #include "cobra/deploy/lua_configuration.hpp"
 #include "cobra/script/bindings.hpp"
+#include "configuration_table.hpp"
 #include "source_lines.hpp"
 
 namespace cobra::deploy {
@@ -63,6 +64,7 @@ class CallSite {
   }
 
   SourceLocation here() const { return {file_, line_}; }
+  const detail::SourceLines& lines() const { return *lines_; }
   /// Starts a new list: the entries of the list passed to this call.
   void beginList() {
     const int start = lines_->listStart(line_);
@@ -374,6 +376,16 @@ int defineDeploymentImpl(lua_State* L) {
   return 0;
 }
 
+int defineConfigurationImpl(lua_State* L) {
+  LuaDeployer::Impl& impl = implOf(L);
+  CallSite site(L, impl);
+  if (lua_type(L, 1) != LUA_TSTRING) fail(site.here(), "defineConfiguration(name, table): name must be a string");
+  requireTable(L, 2, site.here(), "the configuration { Component = { property = value } }");
+  impl.configurator.deploymentSet().addConfiguration(
+      detail::configurationFromTable(L, 2, lua_tostring(L, 1), site.here(), site.lines()));
+  return 0;
+}
+
 int applyDeploymentImpl(lua_State* L) {
   LuaDeployer::Impl& impl = implOf(L);
   if (lua_type(L, 1) != LUA_TSTRING) throw core::Error("applyDeployment(name): name must be a string");
@@ -416,6 +428,7 @@ LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
       {"connectPorts", guarded<connectPortsImpl>},
       {"getReferences", guarded<getReferencesImpl>},
       {"defineDeployment", guarded<defineDeploymentImpl>},
+      {"defineConfiguration", guarded<defineConfigurationImpl>},
       {"applyDeployment", guarded<applyDeploymentImpl>},
       {"applyConfiguration", guarded<applyConfigurationImpl>},
   };

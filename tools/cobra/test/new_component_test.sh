@@ -2,9 +2,11 @@
 # End-to-end check of `cobra new component`: it writes a package folder built against an
 # installed cobra, refuses what it must, and — given an install prefix — the package configures
 # and builds with its own CMake against that prefix and its generated tests pass, untouched.
-# Usage: new_component_test.sh COBRA_TOOL [INSTALL_PREFIX]
+# With EDITOR_GENERATE (studio_editor_generate: the editor's generate route, as the page calls
+# it), a third component is generated through the editor into the same package and built with it.
+# Usage: new_component_test.sh COBRA_TOOL [INSTALL_PREFIX] [EDITOR_GENERATE]
 set -euo pipefail
-cobra="$1" prefix="${2:-}"
+cobra="$1" prefix="${2:-}" editor_generate="${3:-}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -18,6 +20,14 @@ grep -q "wrote .*my_control/src/package.cpp" "$work/out" || fail "first componen
 "$cobra" new component ContactDetector --role decision --package my_control -o "$work/my_control" \
   --in force:double:N --prop threshold:double:N >"$work/out"
 grep -q "CMakeLists.txt\|package.cpp" "$work/out" && fail "second component rewrote the package files: $(cat "$work/out")"
+
+if [ -n "$editor_generate" ]; then
+  "$editor_generate" "$work/my_control" my_control >"$work/out" || fail "the editor's generate route failed: $(cat "$work/out")"
+  grep -q '^200 {"files":\[.*my_control/include/my_control/editor_made.hpp' "$work/out" || fail "$(cat "$work/out")"
+  grep -q "^my_control_component(editor_made)" "$work/my_control/CMakeLists.txt" || fail "no line for editor_made"
+  "$editor_generate" "$work/my_control" my_control >"$work/out" && fail "the editor generated EditorMade twice"
+  grep -q '^400 {"error":".*editor_made.hpp already exists; remove it or choose another name"}' "$work/out" || fail "$(cat "$work/out")"
+fi
 
 cmake_file="$work/my_control/CMakeLists.txt" package="$work/my_control/src/package.cpp"
 grep -q "^find_package(cobra 0.1 REQUIRED)" "$cmake_file" || fail "CMakeLists.txt does not find cobra"
@@ -51,7 +61,10 @@ if [ -n "$prefix" ]; then
   cmake -S "$work/my_control" -B "$work/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
     ${launcher[@]+"${launcher[@]}"} >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; fail "configure failed"; }
   cmake --build "$work/build" >"$work/build.log" 2>&1 || { cat "$work/build.log"; fail "build failed"; }
-  ctest --test-dir "$work/build" --output-on-failure
+  ctest --test-dir "$work/build" --output-on-failure | tee "$work/ctest.log"
+  if [ -n "$editor_generate" ]; then
+    grep -q "editor_made" "$work/ctest.log" || fail "the component generated through the editor has no test that ran"
+  fi
   echo "generated components build against $prefix and pass their tests"
 fi
 echo "cobra new component writes a package and refuses bad input"

@@ -113,6 +113,10 @@ class Configurator {
   /// @return the role violations (made anyway unless `strict_roles`).
   /// @throws core::Error "file:line: cannot connect ...", or the violations when strict.
   std::vector<LintViolation> connectPorts(const std::vector<ConnectionSpec>& connections_list);
+  /// The connections connectPorts made that are still there, in the order made (those a
+  /// deployment made are its own: DeploymentSpec::connections). Connections components make
+  /// themselves (a Reporter to its peers' ports) are not the Configurator's and are not listed.
+  std::vector<ConnectionSpec> madeConnections() const;
 
   /// The components, by name: what the script layer turns into references (`TrajGen.max_vel`).
   core::ComponentRegistry& getReferences() { return components_; }

@@ -20,6 +20,7 @@
 #include "cobra/statechart/description.hpp"
 
 namespace cobra::deploy {
+class Configurator;
 class PackageRegistry;
 }
 namespace cobra::core {
@@ -43,6 +44,9 @@ struct RunContext {
   std::vector<statechart::ChartDescription> charts;
   /// The deployment scopes of `run.charts` ("" is the default scope), in order of first mention.
   std::vector<std::string> scopes;
+  /// The run's Configurator, to describe the deployment at setup (cobra edit's running view);
+  /// use it on the run's thread only (attach, step, finished).
+  const deploy::Configurator* configurator = nullptr;
 };
 
 /// The run between two instants of its clock, for RunObserver::step. States are per chart of

@@ -18,6 +18,8 @@
 
 namespace cobra::studio {
 
+class Editor;
+
 struct ServerOptions {
   std::string bind = "127.0.0.1";  ///< address to listen on
   unsigned short port = 0;         ///< 0: any free port
@@ -28,6 +30,9 @@ struct ServerOptions {
   /// Kernel send buffer of a WebSocket client's socket [bytes] (0: the system's): small, so that
   /// a slow client's frames wait here, where the newest replaces them, not in the kernel.
   int send_buffer = 65536;
+  /// The deployment editor's routes under /api/editor/ (editor.hpp); nullptr: they answer 404.
+  /// Called on the server's thread; must outlive the server.
+  Editor* editor = nullptr;
 };
 
 /// What the server did (tests, bench).
@@ -59,6 +64,9 @@ class Server {
  private:
   std::unique_ptr<Impl> impl_;
 };
+
+/// "http://ADDR:PORT/editor.html?token=TOKEN": the deployment editor's page.
+std::string editorUrl(const Server& server);
 
 /// 32 hexadecimal characters from std::random_device.
 std::string randomToken();

@@ -14,6 +14,8 @@
 /// @endcode
 /// plus `stopComponents`, `cleanupComponents`, `defineDeployment(name, {components=, activities=,
 /// connections=, scope=})` (`scope`: the switch group, e.g. one per robot; see DeploymentSpec),
+/// `defineConfiguration(name, { Component = { property = value } })` (a named configuration in
+/// the file itself, values as in Lua configuration files: lua_configuration.hpp),
 /// `applyDeployment(name)`, `applyConfiguration(name)`, and the RTT shims
 /// `rtt.globals.ORO_SCHED_RT` / `ORO_SCHED_OTHER` and `rtt.Variable("ConnPolicy")` (a data
 /// policy table whose `type` and `size` can be set).

@@ -1,5 +1,7 @@
 #pragma once
-// `cobra new component`: writes a compilable component skeleton (header, source, unit test) into
+/// @file
+/// The component generator of `cobra new component` and of the editor's generate route
+/// (studio/PROTOCOL.md): writes a compilable component skeleton (header, source, unit test) into
 // a package folder built against an installed cobra (CMakeLists.txt with find_package(cobra) and
 // cobra_add_package, src/package.cpp registering the components) — the useful half of the
 // thesis' OroEdit (§3.2.1).
@@ -8,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace cobra::tools {
+namespace cobra::studio {
 
 /// One port or property of the skeleton, from "name:Type[:unit]".
 struct InterfaceItem {
@@ -21,6 +23,9 @@ struct ComponentTemplate {
   std::string name;     ///< C++ class and component type name, e.g. "VariableAdmittance"
   std::string role;     ///< calculation, supervision, decision or bridge
   std::string package;  ///< package (and include folder) name, e.g. "my_control"
+  /// One line saying what it does, with units (the class comment, the component's and the
+  /// package registration's doc); "" leaves a line for the author to fill in.
+  std::string doc;
   std::vector<InterfaceItem> inputs;
   std::vector<InterfaceItem> event_inputs;
   std::vector<InterfaceItem> outputs;
@@ -31,7 +36,7 @@ struct ComponentTemplate {
 /// accepted types.
 InterfaceItem parseInterfaceItem(const std::string& text, const std::string& what);
 
-/// Checks names (C++ identifiers, no duplicates) and role. @throws std::runtime_error.
+/// Checks names (C++ identifiers, no duplicates), role and doc (one line). @throws std::runtime_error.
 void validate(const ComponentTemplate& t);
 
 /// Writes the files into `folder` (created if needed) and returns their paths. An existing
@@ -40,4 +45,4 @@ void validate(const ComponentTemplate& t);
 /// line in CMakeLists.txt; an include and a registration at the marked lines of package.cpp).
 std::vector<std::filesystem::path> generateComponent(const ComponentTemplate& t, const std::filesystem::path& folder);
 
-}  // namespace cobra::tools
+}  // namespace cobra::studio

@@ -1,0 +1,285 @@
+// The editor's Project JSON (studio/PROTOCOL.md "The editor (v1)") to and from
+// deploy::DeploymentDescription, and the layout sidecar.
+
+#include <cmath>
+#include <set>
+
+#include "cobra/studio/json.hpp"
+#include "editor_internal.hpp"
+
+namespace cobra::studio::editor {
+namespace {
+
+std::string stringArray(const std::vector<std::string>& names) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "," : "") + json::quoted(names[i]);
+  return out + "]";
+}
+
+std::string number(double value) {
+  std::string out;
+  json::appendNumber(out, value);
+  return out;
+}
+
+std::string policyJson(const deploy::ConnPolicySpec& p) {
+  std::string out = "{\"type\":" + json::quoted(p.type);
+  if (p.type != "data") out += ",\"size\":" + std::to_string(p.size);
+  if (!p.transport.empty()) out += ",\"transport\":" + json::quoted(p.transport);
+  if (!p.topic.empty()) out += ",\"topic\":" + json::quoted(p.topic);
+  if (!p.qos.empty()) {
+    out += ",\"qos\":{";
+    for (std::size_t i = 0; i < p.qos.size(); ++i)
+      out += (i ? "," : "") + json::quoted(p.qos[i].first) + ":" + json::quoted(p.qos[i].second);
+    out += "}";
+  }
+  return out + "}";
+}
+
+std::string connectionJson(const deploy::ConnectionSpec& c) {
+  return "{\"output\":" + json::quoted(c.output) + ",\"input\":" + json::quoted(c.input) +
+         ",\"conn_policy\":" + policyJson(c.conn_policy) + "}";
+}
+
+std::string activityJson(const deploy::ActivitySpec& a) {
+  return "{\"period\":" + number(a.period) + ",\"priority\":" + std::to_string(a.priority) +
+         ",\"scheduler\":" + json::quoted(a.scheduler) + "}";
+}
+
+// ---- reading ----
+
+const json::Value& member(const json::Value& object, const char* key, const std::string& where) {
+  static const json::Value null;
+  if (!object.isObject()) throw Refusal(422, where + ": expected an object, got " + object.describe());
+  const json::Value* v = object.find(key);
+  return v != nullptr ? *v : null;
+}
+
+std::string text(const json::Value& object, const char* key, const std::string& where, bool required = true) {
+  const json::Value& v = member(object, key, where);
+  if (v.isNull() && !required) return {};
+  if (!v.isString()) throw Refusal(422, where + ": '" + key + "' must be a string, got " + v.describe());
+  return v.string();
+}
+
+double numberOf(const json::Value& object, const char* key, const std::string& where, double fallback) {
+  const json::Value& v = member(object, key, where);
+  if (v.isNull()) return fallback;
+  if (!v.isNumber()) throw Refusal(422, where + ": '" + key + "' must be a number, got " + v.describe());
+  return v.number();
+}
+
+const std::vector<json::Value>& array(const json::Value& object, const char* key, const std::string& where) {
+  static const std::vector<json::Value> none;
+  const json::Value& v = member(object, key, where);
+  if (v.isNull()) return none;
+  if (!v.isArray()) throw Refusal(422, where + ": '" + key + "' must be an array, got " + v.describe());
+  return v.items();
+}
+
+std::vector<std::string> names(const json::Value& object, const char* key, const std::string& where) {
+  std::vector<std::string> out;
+  for (const json::Value& v : array(object, key, where)) {
+    if (!v.isString()) throw Refusal(422, where + ": '" + key + "' must hold names (strings), got " + v.describe());
+    out.push_back(v.string());
+  }
+  return out;
+}
+
+/// A value of the Project as property text: a string as it is; a number or boolean (a page may
+/// send them bare) in the core's text form.
+std::string valueText(const json::Value& v, const std::string& where) {
+  if (v.isString()) return v.string();
+  if (v.isBool()) return v.boolean() ? "true" : "false";
+  if (v.isNumber()) return core::DataTypeTraits<double>::print(v.number());
+  throw Refusal(422, where + ": expected the value as text (e.g. \"2.5\", \"[0, 0, 1]\"), got " + v.describe());
+}
+
+deploy::ActivitySpec activityFrom(const json::Value& a, const std::string& component, const std::string& where) {
+  deploy::ActivitySpec spec;
+  spec.peer_name = component;
+  spec.period = numberOf(a, "period", where, 0.0);
+  const double priority = numberOf(a, "priority", where, 0.0);
+  if (priority != std::floor(priority)) throw Refusal(422, where + ": 'priority' must be an integer, got " + number(priority));
+  spec.priority = static_cast<int>(priority);
+  const std::string scheduler = text(a, "scheduler", where, false);
+  if (!scheduler.empty()) spec.scheduler = scheduler;
+  return spec;
+}
+
+}  // namespace
+
+deploy::ConnectionSpec connectionFrom(const json::Value& c, const std::string& where) {
+  deploy::ConnectionSpec spec;
+  spec.output = text(c, "output", where);
+  spec.input = text(c, "input", where);
+  const std::string at = where + " '" + spec.output + "' -> '" + spec.input + "'";
+  const json::Value& policy = member(c, "conn_policy", at);
+  if (!policy.isNull()) {
+    spec.conn_policy.type = text(policy, "type", at + " conn_policy", false);
+    if (spec.conn_policy.type.empty()) spec.conn_policy.type = "data";
+    const double size = numberOf(policy, "size", at + " conn_policy", 1.0);
+    if (size != std::floor(size)) throw Refusal(422, at + ": conn_policy.size must be an integer, got " + number(size));
+    spec.conn_policy.size = static_cast<int>(size);
+    spec.conn_policy.transport = text(policy, "transport", at + " conn_policy", false);
+    spec.conn_policy.topic = text(policy, "topic", at + " conn_policy", false);
+    const json::Value& qos = member(policy, "qos", at + " conn_policy");
+    if (!qos.isNull()) {
+      if (!qos.isObject()) throw Refusal(422, at + ": conn_policy.qos must be an object, got " + qos.describe());
+      for (const auto& [k, v] : qos.members()) spec.conn_policy.qos.emplace_back(k, valueText(v, at + " conn_policy.qos." + k));
+    }
+  }
+  return spec;
+}
+
+std::string projectJson(const deploy::DeploymentDescription& d, const Layout& layout) {
+  std::string out = "{\"packages\":" + stringArray(d.packages) + ",\"components\":[";
+  for (std::size_t i = 0; i < d.components.size(); ++i) {
+    const deploy::ComponentSpec& c = d.components[i];
+    const auto at = layout.find(c.peer_name);
+    // Without a layout: a grid of 4 columns, 220 x 140 px.
+    const double x = at != layout.end() ? at->second.first : 40.0 + 220.0 * static_cast<double>(i % 4);
+    const double y = at != layout.end() ? at->second.second : 40.0 + 140.0 * static_cast<double>(i / 4);
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(c.peer_name) + ",\"type\":" + json::quoted(c.component_type) +
+           ",\"x\":" + number(x) + ",\"y\":" + number(y) + ",\"properties\":{";
+    bool first = true;
+    for (const deploy::PropertyValueDescription& p : d.properties) {
+      if (p.component != c.peer_name) continue;
+      out += (first ? "" : ",") + json::quoted(p.property) + ":" + json::quoted(p.value);
+      first = false;
+    }
+    out += "},\"activity\":";
+    const deploy::ActivitySpec* activity = nullptr;
+    for (const deploy::ActivitySpec& a : d.activities)
+      if (a.peer_name == c.peer_name) activity = &a;
+    out += activity != nullptr ? activityJson(*activity) : "null";
+    out += "}";
+  }
+  out += "],\"peers\":[";
+  for (std::size_t i = 0; i < d.peers.size(); ++i)
+    out += std::string(i ? "," : "") + "{\"component\":" + json::quoted(d.peers[i].peer_name) +
+           ",\"peers\":" + stringArray(d.peers[i].peers_to_add) + "}";
+  out += "],\"connections\":[";
+  for (std::size_t i = 0; i < d.connections.size(); ++i) out += (i ? "," : "") + connectionJson(d.connections[i]);
+  out += "],\"deployments\":[";
+  for (std::size_t i = 0; i < d.deployments.size(); ++i) {
+    const deploy::DeploymentSpec& s = d.deployments[i];
+    std::vector<std::string> components;
+    for (const deploy::NameEntry& c : s.components) components.push_back(c.name);
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(s.name) + ",\"scope\":" + json::quoted(s.scope) +
+           ",\"components\":" + stringArray(components) + ",\"activities\":[";
+    for (std::size_t k = 0; k < s.activities.size(); ++k) {
+      std::string a = activityJson(s.activities[k]);
+      out += (k ? "," : "") + ("{\"component\":" + json::quoted(s.activities[k].peer_name) + "," + a.substr(1));
+    }
+    out += "],\"connections\":[";
+    for (std::size_t k = 0; k < s.connections.size(); ++k) out += (k ? "," : "") + connectionJson(s.connections[k]);
+    out += "]}";
+  }
+  out += "],\"configurations\":[";
+  for (std::size_t i = 0; i < d.configurations.size(); ++i) {
+    const deploy::ConfigurationSpec& c = d.configurations[i];
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(c.name) + ",\"values\":{";
+    for (std::size_t k = 0; k < c.values.size(); ++k)
+      out += (k ? "," : "") + json::quoted(c.values[k].component + "." + c.values[k].property) + ":" + json::quoted(c.values[k].value);
+    out += "}}";
+  }
+  out += "],\"configure\":" + stringArray(d.configure) + ",\"start\":" + stringArray(d.start) +
+         ",\"apply\":" + stringArray(d.apply) + ",\"configuration\":" + json::quoted(d.configuration) + "}";
+  return out;
+}
+
+deploy::DeploymentDescription fromProjectJson(const json::Value& project, const Palette& palette, Layout& layout) {
+  deploy::DeploymentDescription d;
+  const std::string at = "project";
+  d.packages = names(project, "packages", at);
+  std::set<std::string> seen;
+  for (const json::Value& c : array(project, "components", at)) {
+    const std::string name = text(c, "name", at + ".components[]");
+    const std::string where = "component '" + name + "'";
+    if (!seen.insert(name).second) throw Refusal(422, where + ": two components have this name");
+    const std::string type = text(c, "type", where);
+    d.components.push_back({name, type, {}});
+    layout[name] = {numberOf(c, "x", where, 0.0), numberOf(c, "y", where, 0.0)};
+    const PaletteType* t = palette.find(type);
+    const json::Value& properties = member(c, "properties", where);
+    if (!properties.isNull() && !properties.isObject())
+      throw Refusal(422, where + ": 'properties' must be an object { name: text }, got " + properties.describe());
+    for (const auto& [property, value] : properties.members()) {
+      const std::string value_at = where + " property '" + property + "'";
+      const std::string value_text = valueText(value, value_at);
+      const core::PropertyInfo* info = t != nullptr ? t->property(property) : nullptr;
+      if (info != nullptr && info->value == value_text) continue;  // the default: not written
+      d.properties.push_back({name, property, info != nullptr ? info->type : "string", value_text});
+    }
+    const json::Value& activity = member(c, "activity", where);
+    if (!activity.isNull()) d.activities.push_back(activityFrom(activity, name, where + " activity"));
+  }
+  for (const json::Value& p : array(project, "peers", at)) {
+    const std::string component = text(p, "component", at + ".peers[]");
+    d.peers.push_back({component, names(p, "peers", "peers of '" + component + "'"), {}});
+  }
+  for (const json::Value& c : array(project, "connections", at)) d.connections.push_back(connectionFrom(c, "connection"));
+  for (const json::Value& s : array(project, "deployments", at)) {
+    deploy::DeploymentSpec spec;
+    spec.name = text(s, "name", at + ".deployments[]");
+    const std::string where = "deployment '" + spec.name + "'";
+    spec.scope = text(s, "scope", where, false);
+    for (const std::string& c : names(s, "components", where)) spec.components.push_back({c, {}});
+    for (const json::Value& a : array(s, "activities", where)) {
+      const std::string component = text(a, "component", where + " activities[]");
+      spec.activities.push_back(activityFrom(a, component, where + " activity of '" + component + "'"));
+    }
+    for (const json::Value& c : array(s, "connections", where)) spec.connections.push_back(connectionFrom(c, where + " connection"));
+    d.deployments.push_back(std::move(spec));
+  }
+  for (const json::Value& c : array(project, "configurations", at)) {
+    deploy::ConfigurationSpec spec;
+    spec.name = text(c, "name", at + ".configurations[]");
+    const std::string where = "configuration '" + spec.name + "'";
+    const json::Value& values = member(c, "values", where);
+    if (!values.isNull() && !values.isObject())
+      throw Refusal(422, where + ": 'values' must be an object { \"Component.property\": text }, got " + values.describe());
+    for (const auto& [path, value] : values.members()) {
+      const auto dot = path.find('.');
+      if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
+        throw Refusal(422, where + ": '" + path + "' must be Component.property");
+      spec.values.push_back({path.substr(0, dot), path.substr(dot + 1), valueText(value, where + " value '" + path + "'"), {}});
+    }
+    d.configurations.push_back(std::move(spec));
+  }
+  d.configure = names(project, "configure", at);
+  d.start = names(project, "start", at);
+  d.apply = names(project, "apply", at);
+  d.configuration = text(project, "configuration", at, false);
+  return d;
+}
+
+std::string layoutJson(const Layout& layout) {
+  std::string out = "{\"components\":{";
+  bool first = true;
+  for (const auto& [name, xy] : layout) {
+    out += (first ? "" : ",") + json::quoted(name) + ":{\"x\":" + number(xy.first) + ",\"y\":" + number(xy.second) + "}";
+    first = false;
+  }
+  return out + "}}\n";
+}
+
+Layout parseLayout(const std::string& text) {
+  Layout layout;
+  try {
+    const json::Value v = json::parse(text);
+    const json::Value* components = v.find("components");
+    if (components == nullptr || !components->isObject()) return layout;
+    for (const auto& [name, xy] : components->members()) {
+      const json::Value* x = xy.find("x");
+      const json::Value* y = xy.find("y");
+      if (x != nullptr && y != nullptr && x->isNumber() && y->isNumber()) layout[name] = {x->number(), y->number()};
+    }
+  } catch (const std::exception&) {
+    // A sidecar that does not parse only loses the positions: the blocks go on the grid.
+  }
+  return layout;
+}
+
+}  // namespace cobra::studio::editor

@@ -1,0 +1,331 @@
+// The deployment editor's routes (studio/PROTOCOL.md "The editor (v1)"), called as the server
+// calls them (Editor::handle) and through the server (token, wiring): good and bad input, the
+// error texts, saving with its refusals, the round trip of a saved file through `cobra describe`'s
+// writer, generating a component, and the running deployment of a real run.
+
+#include "cobra/studio/editor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cobra/components/builtin_packages.hpp"
+#include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/studio/json.hpp"
+#include "cobra/studio/json_value.hpp"
+#include "cobra/studio/server.hpp"
+#include "http_client.hpp"
+
+namespace cobra::studio {
+namespace {
+
+const std::string kSource = COBRA_SOURCE_DIR;
+
+/// A Calculation that reads events: the role linter's example of a broken rule.
+class Chatty final : public core::Component {
+ public:
+  explicit Chatty(std::string name) : Component(std::move(name), core::Role::Calculation, "reads events (a role violation)") {
+    addPort(trigger_);
+  }
+
+ private:
+  core::InputPort<core::Event> trigger_{"trigger", "events it should not read", ""};
+};
+
+EditorOptions withChatty() {
+  EditorOptions options;
+  options.packages.emplace_back("test_roles", [](deploy::PackageBuilder& p) { p.component<Chatty>("Chatty", "test"); });
+  return options;
+}
+
+Editor& editor() {
+  static Editor shared(withChatty());  // one palette for the whole test (it makes every type once)
+  return shared;
+}
+
+json::Value call(Editor& e, const char* method, const char* route, const std::string& body, int expected_status) {
+  const EditorAnswer answer = e.handle(method, route, body);
+  EXPECT_EQ(answer.status, expected_status) << route << ": " << answer.body;
+  return json::parse(answer.body);
+}
+
+std::string errorOf(Editor& e, const char* method, const char* route, const std::string& body, int status) {
+  const json::Value v = call(e, method, route, body, status);
+  return v.find("error") != nullptr ? v.find("error")->string() : "(no error member)";
+}
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto folder = std::filesystem::temp_directory_path() / "cobra_editor_test";
+  std::filesystem::create_directories(folder);
+  std::filesystem::remove(folder / name);
+  std::filesystem::remove(folder / (name + ".layout.json"));
+  return folder / name;
+}
+
+std::string readText(const std::filesystem::path& file) {
+  std::stringstream text;
+  text << std::ifstream(file).rdbuf();
+  return text.str();
+}
+
+/// A project of two signal components joined by one connection (Project JSON).
+const char* kProject = R"({
+  "packages": ["cobra_signal", "test_roles"],
+  "components": [
+    { "name": "Sine", "type": "SineGenerator", "x": 10, "y": 20, "properties": { "frequency": "2.5", "amplitude": "1" },
+      "activity": { "period": 0.001, "priority": 0, "scheduler": "other" } },
+    { "name": "G", "type": "Gain", "x": 300, "y": 20, "properties": { "k": "3" }, "activity": null },
+    { "name": "Det", "type": "ThresholdDetector", "x": 300, "y": 200, "properties": {} },
+    { "name": "Chat", "type": "Chatty", "x": 500, "y": 200 }
+  ],
+  "peers": [ { "component": "Det", "peers": ["G"] } ],
+  "connections": [ { "output": "Sine.out", "input": "G.in", "conn_policy": { "type": "buffer", "size": 8 } } ],
+  "deployments": [ { "name": "detect", "scope": "", "components": ["Det"],
+                     "activities": [ { "component": "Det", "period": 0.01, "priority": 0, "scheduler": "other" } ],
+                     "connections": [ { "output": "G.out", "input": "Det.in", "conn_policy": { "type": "data" } } ] } ],
+  "configurations": [ { "name": "loud", "values": { "G.k": "10" } } ],
+  "configure": ["Sine", "G"], "start": ["Sine", "G"], "apply": ["detect"], "configuration": ""
+})";
+
+std::string withConnection(const std::string& output, const std::string& input) {
+  return std::string("{\"project\":") + kProject + ",\"connection\":{\"output\":\"" + output + "\",\"input\":\"" + input +
+         "\",\"conn_policy\":{\"type\":\"data\"}}}";
+}
+
+TEST(Editor, PaletteListsEveryTypeWithItsInterface) {
+  const json::Value palette = call(editor(), "GET", "palette", "", 200);
+  const json::Value* gain = nullptr;
+  for (const json::Value& t : palette.find("types")->items())
+    if (t.find("type")->string() == "Gain") gain = &t;
+  ASSERT_NE(gain, nullptr);
+  EXPECT_EQ(gain->find("package")->string(), "cobra_signal");
+  EXPECT_EQ(gain->find("role")->string(), "Calculation");
+  const auto& ports = gain->find("ports")->items();
+  ASSERT_GE(ports.size(), 2u);
+  bool saw_in = false;
+  for (const json::Value& p : ports)
+    if (p.find("name")->string() == "in") {
+      saw_in = true;
+      EXPECT_EQ(p.find("direction")->string(), "in");
+      EXPECT_EQ(p.find("type")->string(), "double");
+      EXPECT_TRUE(p.find("event")->boolean());  // its data triggers an update
+      EXPECT_EQ(p.find("unit")->string(), "1");
+    }
+  EXPECT_TRUE(saw_in);
+  const json::Value& k = gain->find("properties")->items().at(0);
+  EXPECT_EQ(k.find("name")->string(), "k");
+  EXPECT_EQ(k.find("default")->string(), "1");
+  EXPECT_TRUE(k.find("range")->isNull());
+  EXPECT_FALSE(k.find("read_only")->boolean());
+  // Every package's types: the puncturing task's too.
+  std::set<std::string> types;
+  for (const json::Value& t : palette.find("types")->items()) types.insert(t.find("type")->string());
+  for (const char* type : {"VariableAdmittance", "Supervisor", "MotionPlanner", "Reporter", "Chatty"})
+    EXPECT_EQ(types.count(type), 1u) << type;
+}
+
+TEST(Editor, ChecksAConnectionAsTheConfiguratorWouldAndLintsIt) {
+  json::Value v = call(editor(), "POST", "check", withConnection("G.out", "Det.in"), 200);
+  EXPECT_TRUE(v.find("ok")->boolean());
+  EXPECT_TRUE(v.find("lint")->items().empty());
+  v = call(editor(), "POST", "check", withConnection("Det.events", "G.in"), 200);
+  EXPECT_FALSE(v.find("ok")->boolean());
+  EXPECT_EQ(v.find("reason")->string(), "types differ: 'Det.events' writes Event, 'G.in' reads double");
+  v = call(editor(), "POST", "check", withConnection("G.in", "Det.in"), 200);
+  EXPECT_EQ(v.find("reason")->string(), "'G.in' is an input port; a connection starts at an output port");
+  v = call(editor(), "POST", "check", withConnection("G.outt", "Det.in"), 200);
+  EXPECT_EQ(v.find("reason")->string().rfind("component 'G' (Gain) has no port 'outt'; did you mean 'out'?", 0), 0u)
+      << v.find("reason")->string();
+  v = call(editor(), "POST", "check", withConnection("Gg.out", "Det.in"), 200);
+  EXPECT_EQ(v.find("reason")->string().rfind("no component 'Gg' in the project; did you mean 'G'?", 0), 0u)
+      << v.find("reason")->string();
+  v = call(editor(), "POST", "check", withConnection("Det.events", "Chat.trigger"), 200);
+  EXPECT_TRUE(v.find("ok")->boolean());
+  ASSERT_EQ(v.find("lint")->items().size(), 1u);
+  EXPECT_EQ(v.find("lint")->items()[0].find("rule")->string(), "a Calculation component may read only pure data");
+  EXPECT_NE(v.find("lint")->items()[0].find("message")->string().find("Det.events (Decision) -> Chat.trigger (Calculation)"),
+            std::string::npos);
+}
+
+TEST(Editor, ValidatesPropertiesActivitiesPeersAndConnections) {
+  json::Value v = call(editor(), "POST", "validate", std::string("{\"project\":") + kProject + "}", 200);
+  EXPECT_TRUE(v.find("problems")->items().empty()) << v.find("problems")->items()[0].find("message")->string();
+  std::string bad = kProject;
+  bad.replace(bad.find("\"k\": \"3\""), 8, "\"k\": \"fast\", \"kk\": \"1\"");
+  bad.replace(bad.find("\"scheduler\": \"other\""), 20, "\"scheduler\": \"rt\"");
+  bad.replace(bad.find("\"peers\": [\"G\"]"), 14, "\"peers\": [\"Gx\"]");
+  v = call(editor(), "POST", "validate", "{\"project\":" + bad + "}", 200);
+  std::map<std::string, std::string> problems;
+  for (const json::Value& p : v.find("problems")->items()) problems[p.find("where")->string()] = p.find("message")->string();
+  ASSERT_EQ(problems.count("component 'G' property 'k'"), 1u);
+  EXPECT_NE(problems["component 'G' property 'k'"].find("\"fast\""), std::string::npos) << problems["component 'G' property 'k'"];
+  EXPECT_EQ(problems["component 'G' property 'kk'"].rfind("component 'G' (Gain) has no property 'kk'; did you mean 'k'?", 0), 0u);
+  EXPECT_EQ(problems["activity of 'Sine'"].rfind("unknown scheduler 'rt'", 0), 0u) << problems["activity of 'Sine'"];
+  EXPECT_EQ(problems["peers of 'Det'"].rfind("no component 'Gx' in the project; did you mean 'G'?", 0), 0u);
+  EXPECT_EQ(errorOf(editor(), "POST", "validate", "{\"project\": {\"components\": [ { \"name\": \"A\" } ] } }", 422),
+            "component 'A': 'type' must be a string, got null");
+}
+
+TEST(Editor, SavesWhatDescribeWritesWithItsLayoutAndRefusesToOverwrite) {
+  Editor e(withChatty());
+  const auto file = scratch("saved.lua");
+  json::Value saved = call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
+  const std::string text = saved.find("text")->string();
+  EXPECT_EQ(readText(file), text);
+  EXPECT_NE(text.find("Sine.frequency = 2.5\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("Sine.amplitude"), std::string::npos) << "the default value is not written";
+  EXPECT_NE(text.find("defineDeployment(\"detect\""), std::string::npos);
+  EXPECT_NE(text.find("defineConfiguration(\"loud\", {\n  G = { k = \"10\" },\n})"), std::string::npos) << text;
+  EXPECT_NE(readText(file.string() + ".layout.json").find("\"Sine\":{\"x\":10,\"y\":20}"), std::string::npos);
+  {
+    // Describing the saved file gives the same text (the writer `cobra describe` uses).
+    deploy::Configurator configurator;
+    components::addBuiltinPackages(configurator.packages());
+    configurator.packages().addBuiltin("test_roles", [](deploy::PackageBuilder& p) { p.component<Chatty>("Chatty", "test"); });
+    script::LuaState lua;
+    deploy::LuaDeployer deployer(configurator, lua);
+    deployer.runFile(file.string());
+    EXPECT_EQ(deploy::toLua(deploy::describe(configurator)), text);
+  }
+  // Opened again: the same project, the blocks where they were.
+  json::Value opened = call(e, "POST", "open", "{\"path\":" + json::quoted(file.string()) + "}", 200);
+  const json::Value& sine = opened.find("project")->find("components")->items().at(0);
+  EXPECT_EQ(sine.find("name")->string(), "Sine");
+  EXPECT_EQ(sine.find("x")->number(), 10.0);
+  EXPECT_EQ(opened.find("project")->find("apply")->items().at(0).string(), "detect");
+  // Saved again after the file changed on disk: refused, naming it.
+  call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
+  std::ofstream(file, std::ios::app) << "-- edited by hand\n";
+  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409),
+            file.string() + " changed on disk since it was opened; not overwritten (open it again, or save under another name)");
+  EXPECT_NE(readText(file).find("-- edited by hand"), std::string::npos);
+  // Another existing file is not written over either.
+  const auto other = scratch("other.lua");
+  std::ofstream(other) << "-- mine\n";
+  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(other.string()) + ",\"project\":" + kProject + "}", 409),
+            other.string() + " exists and is not the file opened in the editor; not overwritten (open it first, or save "
+                             "under another name)");
+}
+
+TEST(Editor, AFileThatDoesNotLoadOpensWithItsLineAndIsNeverSavedOver) {
+  Editor e(withChatty());
+  const auto file = scratch("broken.lua");
+  std::ofstream(file) << "packages_list = { \"cobra_signal\" }\n"
+                         "components_list = {\n"
+                         "  { peer_name = \"G\", component_type = \"Gian\" },\n"
+                         "}\n"
+                         "initConfigurator(packages_list, components_list)\n";
+  const std::string before = readText(file);
+  EXPECT_EQ(e.open(file.string()).rfind(file.string() + ":3: unknown component type 'Gian'; did you mean 'Gain'? known types: " +
+                                            "Constant, Gain, Recorder, SineGenerator, ThresholdDetector (loaded packages: cobra_signal",
+                                        0),
+            0u);
+  const json::Value v = call(e, "GET", "project", "", 422);
+  EXPECT_EQ(v.find("line")->number(), 3.0);
+  EXPECT_EQ(v.find("path")->string(), std::filesystem::weakly_canonical(file).string());
+  EXPECT_EQ(v.find("text")->string(), before);
+  EXPECT_EQ(v.find("error")->string().rfind(file.string() + ":3: unknown component type 'Gian'", 0), 0u);
+  const std::string message = errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409);
+  EXPECT_EQ(message.rfind(file.string() + " did not load when it was opened (" + file.string() + ":3: unknown component", 0), 0u)
+      << message;
+  EXPECT_EQ(readText(file), before);
+}
+
+TEST(Editor, OpensAnApplicationFolderWithItsDeployments) {
+  Editor e(withChatty());
+  const json::Value v = call(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/apps/puncturing") + "}", 200);
+  EXPECT_EQ(v.find("path")->string(), std::filesystem::weakly_canonical(kSource + "/apps/puncturing/puncturing.lua").string());
+  std::set<std::string> deployments;
+  for (const json::Value& d : v.find("project")->find("deployments")->items()) deployments.insert(d.find("name")->string());
+  EXPECT_EQ(deployments.count("needle_autonomous_planning"), 1u);
+  EXPECT_EQ(deployments.count("probe_autonomous_planning"), 1u);
+  EXPECT_GT(v.find("project")->find("components")->items().size(), 20u);
+  const std::string no_entry = errorOf(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/run/test/apps") + "}", 422);
+  EXPECT_NE(no_entry.find("run/test/apps: no entry file"), std::string::npos) << no_entry;
+}
+
+TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
+  const auto folder = std::filesystem::temp_directory_path() / "cobra_editor_test" / "generated_pkg";
+  std::filesystem::remove_all(folder);
+  const std::string request = "{\"folder\":" + json::quoted(folder.string()) + R"(,"component":{"name":"ForceFilter",
+    "role":"calculation","package":"my_filters","doc":"low-pass filter of a wrench",
+    "inputs":[{"name":"wrench","type":"Wrench","unit":"N"}],"event_inputs":[],
+    "outputs":[{"name":"filtered","type":"Wrench"}],"properties":[{"name":"cutoff","type":"double","unit":"Hz"}]}})";
+  const json::Value v = call(editor(), "POST", "generate", request, 200);
+  std::vector<std::string> files;
+  for (const json::Value& f : v.find("files")->items()) files.push_back(f.string());
+  ASSERT_FALSE(files.empty());
+  for (const std::string& f : files) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
+  EXPECT_NE(readText(folder / "include/my_filters/force_filter.hpp").find("/// low-pass filter of a wrench\nclass ForceFilter"),
+            std::string::npos);
+  EXPECT_NE(readText(folder / "src/package.cpp").find("(\"ForceFilter\", \"low-pass filter of a wrench\");"), std::string::npos);
+  EXPECT_EQ(errorOf(editor(), "POST", "generate", request, 400),
+            (folder / "include/my_filters/force_filter.hpp").string() + " already exists; remove it or choose another name");
+  std::string bad = request;
+  bad.replace(bad.find("\"double\""), 8, "\"Matrix\"");
+  EXPECT_EQ(errorOf(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
+}
+
+TEST(Editor, BadRequestsAreRefusedWithTheirReason) {
+  EXPECT_EQ(errorOf(editor(), "POST", "check", "{\"project\": [1, 2", 400),
+            "POST /api/editor/check: the body is not JSON: JSON: line 1, column 18: expected ',' or ']' in an array");
+  EXPECT_EQ(errorOf(editor(), "GET", "save", "", 405), "use POST /api/editor/save");
+  EXPECT_EQ(errorOf(editor(), "POST", "open", "{}", 400), "POST /api/editor/open: the body has no 'path'");
+  EXPECT_EQ(errorOf(editor(), "GET", "nothing", "", 404).rfind("no editor route 'nothing'; the routes: GET palette", 0), 0u);
+  EXPECT_EQ(errorOf(editor(), "GET", "running", "", 404),
+            "no run here: GET /api/editor/running is served by `cobra run APP --studio`");
+  const json::Value empty = call(editor(), "GET", "project", "", 200);
+  EXPECT_EQ(empty.find("path")->string(), "");
+  EXPECT_TRUE(empty.find("project")->find("components")->items().empty());
+}
+
+TEST(Editor, TheServerServesTheRoutesOnlyWithTheToken) {
+  NoRunSource source;
+  int status = 0;
+  EXPECT_EQ(source.model(status), "{\"error\":\"no run: cobra edit serves the deployment editor (editor.html) only\"}");
+  EXPECT_EQ(status, 404);
+  ServerOptions options;
+  options.token = "0123456789abcdef0123456789abcdef";
+  options.editor = &editor();
+  Server server(source, options);
+  EXPECT_EQ(editorUrl(server), "http://127.0.0.1:" + std::to_string(server.port()) + "/editor.html?token=" + options.token);
+  EXPECT_EQ(request(server.port(), test_http::http::verb::get, "/api/editor/palette").status, 403);
+  const Reply palette = request(server.port(), test_http::http::verb::get, "/api/editor/palette?token=" + options.token);
+  EXPECT_EQ(palette.status, 200);
+  EXPECT_NE(palette.body.find("\"type\":\"Gain\""), std::string::npos);
+  const Reply check = request(server.port(), test_http::http::verb::post, "/api/editor/check", withConnection("G.out", "Det.in"),
+                              {{"X-Cobra-Token", options.token}});
+  EXPECT_EQ(check.status, 200);
+  EXPECT_EQ(check.body, "{\"ok\":true,\"reason\":\"\",\"lint\":[]}");
+  ServerOptions without = options;
+  without.editor = nullptr;
+  Server plain(source, without);
+  const Reply refused = request(plain.port(), test_http::http::verb::get, "/api/editor/palette?token=" + options.token);
+  EXPECT_EQ(refused.status, 404);
+  EXPECT_EQ(refused.body, "{\"error\":\"the deployment editor is not served here (cobra edit, cobra run APP --studio)\"}");
+}
+
+TEST(Editor, DescribesTheRunningDeploymentWithItsCurrentValues) {
+  RunningDeployment running;
+  run::RunOptions options;
+  options.app = kSource + "/apps/demo";
+  options.observer = &running;
+  bool live = true;
+  EXPECT_FALSE(running.snapshot(live).has_value());
+  (void)run::runApp(options);
+  Editor e(withChatty());
+  e.setRunning(&running);
+  const json::Value v = call(e, "GET", "running", "", 200);
+  EXPECT_FALSE(v.find("live")->boolean());
+  const auto snapshot = running.snapshot(live);
+  ASSERT_TRUE(snapshot.has_value());
+  EXPECT_FALSE(live);
+  EXPECT_EQ(v.find("project")->find("components")->items().size(), snapshot->components.size());
+  EXPECT_GT(snapshot->components.size(), 1u);
+}
+
+}  // namespace
+}  // namespace cobra::studio
