@@ -41,6 +41,7 @@ test('the palette lists the recorded types by package, with ports, properties an
 test("Fig. 3.4 built by clicks: every connection asked of the server, drawn, and saved", async (t) => {
   const { server, page } = await fixture(t);
   await buildFig34(page);
+  if (process.env.COBRA_EDITOR_SHOTS) await page.screenshot({ path: `${process.env.COBRA_EDITOR_SHOTS}/fig34_fixture.png` });
   // Each connection was checked once, with its output first whichever end was clicked first.
   assert.deepEqual(server.checks.map((c) => [c.output, c.input]), [
     ['Traj.desCartPose_1', 'Adm.refPose'], ['Traj.desCartTwist_1', 'Adm.refTwist'], ['Adm.admPose', 'Robot.desCartPose'],

@@ -69,10 +69,11 @@ export const FIG_3_4_CLICKS = [
 
 /** Builds Fig. 3.4 on an empty canvas by clicks: four blocks, six connections, properties, activities. */
 export async function buildFig34(page) {
-  await place(page, 'CartesianTrajectoryGenerator', 'Traj', 150, 120);
-  await place(page, 'VariableAdmittance', 'Adm', 450, 120);
-  await place(page, 'SimulatedUR5Robot', 'Robot', 750, 140);
-  await place(page, 'EquivalentWrench', 'EqW', 450, 420);
+  // Drop points (block centres) that keep the drawing inside the canvas' view at 1280x800.
+  await place(page, 'CartesianTrajectoryGenerator', 'Traj', 115, 60);
+  await place(page, 'VariableAdmittance', 'Adm', 365, 250);
+  await place(page, 'SimulatedUR5Robot', 'Robot', 575, 60);
+  await place(page, 'EquivalentWrench', 'EqW', 115, 440);
   for (const [a, b] of FIG_3_4_CLICKS) await connect(page, a, b);
   // The sensor's wrench is in the tool frame; the measured tool pose turns it into base axes at the tool point.
   await setProperty(page, 'EqW', 'invert_reference', 'true');
