@@ -12,7 +12,7 @@ import { createServer } from 'node:http';
 import { existsSync, readFileSync } from 'node:fs';
 import { extname, join, normalize } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { DIST, FIXTURES, TOKEN } from './fixture_server.mjs';
+import { DIST, FIXTURES, TOKEN, json, tokenOf } from './fixture_server.mjs';
 
 /**
  * The fixture's own type beside the recorded ones: a Supervision component reading a wrench (as
@@ -146,16 +146,6 @@ function luaText(project) {
   const rows = project.components.map((c) => `  { peer_name = "${c.name}", component_type = "${c.type}" },`);
   const connections = project.connections.map((c) => `  { output = "${c.output}", input = "${c.input}" },`);
   return `initConfigurator({ ${project.packages.map((p) => `"${p}"`).join(', ')} }, {\n${rows.join('\n')}\n})\nconnectPorts({\n${connections.join('\n')}\n})\n`;
-}
-
-function json(res, status, body) {
-  res.writeHead(status, { 'Content-Type': 'application/json' });
-  res.end(JSON.stringify(body));
-}
-
-function tokenOf(req, url) {
-  const cookie = /(?:^|;\s*)cobra_token=([0-9a-f]+)/.exec(req.headers.cookie ?? '');
-  return url.searchParams.get('token') ?? req.headers['x-cobra-token'] ?? cookie?.[1] ?? '';
 }
 
 const EMPTY = { packages: [], components: [], peers: [], connections: [], deployments: [], configurations: [], configure: [], start: [], apply: [] };
