@@ -8,11 +8,11 @@ import { api } from './editor_api.js';
 import { createCanvas } from './editor_canvas.js';
 import { setUpTypeDialog, showFile } from './editor_files.js';
 import {
-  BASE_TAB, addComponent, addConfiguration, addConnection, addDeployment, connectionsOf, emptyProject, instanceNameError,
+  BASE_TAB, addComponent, createHistory, addConfiguration, addConnection, addDeployment, connectionsOf, emptyProject, instanceNameError,
   moveComponent, normalizeProject, orderEnds, parseActivity, parsePolicy, removeComponent, removeConnection,
   setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from './editor_model.js';
-import { drawConfiguration, drawInspector, drawPalette, drawProblems, drawTabs } from './editor_panels.js';
+import { drawConfiguration, drawInspector, drawPalette, drawProblems, drawTabs, refreshFieldProblems } from './editor_panels.js';
 
 const $ = (id) => document.getElementById(id);
 const VALIDATE_DELAY_MS = 250;
@@ -34,6 +34,10 @@ const state = {
   busy: 0,
 };
 
+const history = createHistory();
+/** Keeps the project as it is before an edit, for Undo. */
+const remember = () => history.remember(state.project);
+
 function status(text, kind = 'info') {
   const bar = $('status');
   bar.textContent = text;
@@ -52,6 +56,7 @@ const canvas = createCanvas($('canvas'), () => state, {
     redraw();
   },
   move: (name, x, y) => {
+    remember();
     moveComponent(state.project, name, x, y);
     redraw();
   },
@@ -69,6 +74,7 @@ function redraw() {
   drawInspector($('inspector'), state, handlers);
   drawProblems($('problem-list'), state);
   $('save').disabled = !state.savable;
+  $('undo').disabled = history.size === 0;
   $('save').title = state.savable ? 'write the project as Configurator tables (and its layout sidecar)' : 'the opened file did not load: it is never saved over';
 }
 
@@ -95,7 +101,10 @@ async function validate() {
       const known = state.lint.get(key) ?? [];
       if (!known.some((k) => k.message === l.message)) state.lint.set(key, [...known, l]);
     }
-    redraw();
+    // Not redraw(): the inspector's fields would be drawn again under the user's typing.
+    if (state.tabKind === 'deployment') canvas.draw();
+    refreshFieldProblems(document.body, state);
+    drawProblems($('problem-list'), state);
   } catch (err) {
     status(`validate: ${err.message}`, 'error');
   } finally {
@@ -149,6 +158,7 @@ async function placeComponent(typeName, x, y) {
   if (!type || type.generated) return;
   const answer = await askName(`Name of the new ${typeName}`, suggestName(state.project, typeName), (n) => instanceNameError(state.project, n));
   if (!answer) return;
+  remember();
   addComponent(state.project, state.tabKind === 'deployment' ? state.tab : BASE_TAB, type, answer.name, x, y);
   state.selection = { kind: 'component', name: answer.name };
   status(`placed ${typeName} '${answer.name}'`);
@@ -161,6 +171,7 @@ async function addTab(kind) {
   const answer = await askName(`Name of the new ${kind}`, '', (n) => (taken(n) ? `a ${kind} named '${n}' exists already` : (/^[A-Za-z_]\w*$/.test(n) ? null : `'${n}' is not an identifier`)),
     deployment ? 'scope (deployments of one scope replace each other; empty: none)' : null);
   if (!answer) return;
+  remember();
   if (deployment) addDeployment(state.project, answer.name, answer.extra);
   else addConfiguration(state.project, answer.name);
   selectTab(answer.name, kind);
@@ -192,6 +203,7 @@ async function connectPorts(end) {
       status(`refused: ${answer.reason}`, 'error');
       return redraw();
     }
+    remember();
     addConnection(state.project, state.tab, connection);
     state.lint.set(`${ends.output}->${ends.input}`, answer.lint ?? []);
     state.selection = { kind: 'connection', key: `${ends.output}->${ends.input}`, output: ends.output, input: ends.input };
@@ -209,6 +221,7 @@ async function connectPorts(end) {
 
 const handlers = {
   property: (name, property, text) => {
+    remember();
     setProperty(state.project.components.find((c) => c.name === name), property, text);
     edited();
   },
@@ -216,6 +229,7 @@ const handlers = {
     const component = state.project.components.find((c) => c.name === name);
     try {
       const activity = parseActivity(fields);
+      remember();
       if (activity) component.activity = activity;
       else delete component.activity;
       status(`${name}: activity ${activity ? `every ${activity.period} s` : 'removed (triggered)'}`);
@@ -225,19 +239,23 @@ const handlers = {
     }
   },
   lifecycle: (name, list, on) => {
+    remember();
     state.project[list] = state.project[list].filter((c) => c !== name);
     if (on) state.project[list].push(name);
     edited();
   },
   peers: (name, peers) => {
+    remember();
     setPeers(state.project, name, peers);
     edited();
   },
   membership: (name, member) => {
+    remember();
     setInDeployment(state.project, state.tab, name, member);
     edited();
   },
   deleteComponent: (name) => {
+    remember();
     removeComponent(state.project, name);
     for (const key of [...state.lint.keys()]) if (key.split('->').some((end) => end.split('.')[0] === name)) state.lint.delete(key);
     state.selection = null;
@@ -245,7 +263,9 @@ const handlers = {
   },
   policy: (connection, fields) => {
     try {
-      connection.conn_policy = parsePolicy(fields);
+      const policy = parsePolicy(fields);
+      remember();
+      connection.conn_policy = policy;
       status(`${connection.output} -> ${connection.input}: ${connection.conn_policy.type}`);
       edited();
     } catch (err) {
@@ -253,6 +273,7 @@ const handlers = {
     }
   },
   deleteConnection: (connection) => {
+    remember();
     removeConnection(state.project, state.tab, connection.output, connection.input);
     if (!connectionsOf(state.project, BASE_TAB).concat(...state.project.deployments.map((d) => d.connections))
       .some((c) => c.output === connection.output && c.input === connection.input)) state.lint.delete(`${connection.output}->${connection.input}`);
@@ -261,7 +282,9 @@ const handlers = {
   },
   configurationValue: (configuration, key, text) => {
     try {
+      const before = structuredClone(state.project);
       setConfigurationValue(state.palette, state.project, configuration, key, text);
+      history.remember(before);
       edited();
     } catch (err) {
       status(err.message, 'error');
@@ -269,11 +292,26 @@ const handlers = {
   },
 };
 
+/** Puts the project back as it was before the last edit. */
+function undo() {
+  const previous = history.undo();
+  if (!previous) return status('nothing to undo');
+  state.project = previous;
+  state.selection = null;
+  state.pending = null;
+  state.refusal = null;
+  if (state.tabKind === 'deployment' ? state.tab !== BASE_TAB && !state.project.deployments.some((d) => d.name === state.tab)
+    : !state.project.configurations.some((c) => c.name === state.tab)) selectTab(BASE_TAB, 'deployment');
+  status('undone');
+  return edited();
+}
+
 /** Shows an answer of /project, /open or /running: the project, or the file that did not load. */
 function loaded(answer, source) {
   state.project = normalizeProject(answer.project);
   state.path = answer.path ?? '';
   state.savable = true;
+  history.clear();
   state.lint = new Map();
   state.problems = [];
   state.selection = null;
@@ -329,6 +367,16 @@ async function start() {
   $('open').addEventListener('click', () => open($('path').value.trim()));
   $('path').addEventListener('keydown', (e) => { if (e.key === 'Enter') open($('path').value.trim()); });
   $('save').addEventListener('click', save);
+  $('undo').addEventListener('click', undo);
+  document.addEventListener('keydown', (e) => {
+    if (e.target.closest('input, select, textarea')) return;
+    if ((e.ctrlKey || e.metaKey) && e.key === 'z') undo();
+    if (e.key === 'Escape' && state.pending) {
+      state.pending = null;
+      status('connection cancelled');
+      redraw();
+    }
+  });
   $('new-type').addEventListener('click', () => $('type-dialog').showModal());
   $('attach').addEventListener('click', async () => {
     try {

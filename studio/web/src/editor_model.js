@@ -289,3 +289,20 @@ export function problemsByWhere(problems) {
 export function propertyWhere(component, property) {
   return `component '${component}' property '${property}'`;
 }
+
+/**
+ * The undo history: copies of the project taken before each edit, the newest `limit` kept.
+ * `undo(current)` gives the project before the last edit, or null when there is none.
+ */
+export function createHistory(limit = 100) {
+  const before = [];
+  return {
+    remember(project) {
+      before.push(structuredClone(project));
+      if (before.length > limit) before.shift();
+    },
+    undo: () => before.pop() ?? null,
+    clear: () => { before.length = 0; },
+    get size() { return before.length; },
+  };
+}

@@ -67,9 +67,18 @@ export function drawTabs(nav, state, on) {
   ].flat());
 }
 
+/** The problems of one field, kept up to date by refreshFieldProblems (empty: hidden). */
 function fieldProblems(byWhere, where) {
-  const messages = byWhere.get(where) ?? [];
-  return messages.length ? h('div', { class: 'field-problem' }, messages.join('; ')) : null;
+  return h('div', { class: 'field-problem', 'data-where': where }, (byWhere.get(where) ?? []).join('; '));
+}
+
+/**
+ * Writes the validate answer's problems into the drawn fields without drawing them again (a
+ * field being typed in keeps its text and focus).
+ */
+export function refreshFieldProblems(root, state) {
+  const byWhere = problemsByWhere(state.problems);
+  for (const node of root.querySelectorAll('.field-problem[data-where]')) node.textContent = (byWhere.get(node.dataset.where) ?? []).join('; ');
 }
 
 function componentInspector(state, component, on) {
@@ -211,9 +220,10 @@ export function drawConfiguration(box, state, on) {
 
 /** The problems list: the validate answer's problems and lint, and every drawn connection's lint. */
 export function drawProblems(list, state) {
+  const drawn = new Set([...state.project.connections, ...state.project.deployments.flatMap((d) => d.connections)].map((c) => `${c.output}->${c.input}`));
   const items = [
     ...state.problems.map((p) => h('li', { class: 'problem' }, h('b', {}, p.where), `: ${p.message}`)),
-    ...[...state.lint.values()].flat().map((l) => h('li', { class: 'lint' }, h('b', {}, l.rule), `: ${l.message}`)),
+    ...[...state.lint].filter(([key]) => drawn.has(key)).flatMap(([, lint]) => lint).map((l) => h('li', { class: 'lint' }, h('b', {}, l.rule), `: ${l.message}`)),
   ];
   list.replaceChildren(...(items.length ? items : [h('li', { class: 'clean' }, 'no problems')]));
 }

@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  BASE_TAB, addComponent, addConfiguration, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType,
+  BASE_TAB, addComponent, addConfiguration, createHistory, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType,
   inTab, instanceNameError, kindOf, normalizeProject, orderEnds, paletteDataTypes, paletteGroups, parseActivity, parsePolicy, peersOf,
   removeComponent, removeConnection, setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from '../src/editor_model.js';
@@ -143,6 +143,23 @@ test('the palette grouped by package and searched by every word; its data types;
   assert.deepEqual(g.ports.map((q) => [q.name, q.direction, q.event]), [['u', 'in', false], ['trigger', 'in', true], ['y', 'out', false]]);
   assert.equal(kindOf('Event'), 'logic');
   assert.equal(kindOf('KDL.Wrench'), 'pure');
+});
+
+test('the undo history gives back the projects before each edit, newest first, up to its limit', () => {
+  const history = createHistory(2);
+  const p = emptyProject();
+  assert.equal(history.undo(), null);
+  for (const name of ['A', 'B', 'C']) {
+    history.remember(p);
+    addComponent(p, BASE_TAB, type('Gain'), name, 0, 0);
+  }
+  assert.equal(history.size, 2);
+  assert.deepEqual(history.undo().components.map((c) => c.name), ['A', 'B']);
+  assert.deepEqual(history.undo().components.map((c) => c.name), ['A']);
+  assert.equal(history.undo(), null);
+  history.remember(p);
+  p.components[0].properties.k = '2';
+  assert.deepEqual(history.undo().components[0].properties, {}, 'a copy, not the edited project');
 });
 
 /** Park-Miller: the same sequence of edits on every run. */
