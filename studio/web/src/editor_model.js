@@ -152,7 +152,8 @@ export function removeConnection(project, tab, output, input) {
 
 /**
  * A connection policy from the inspector's fields (texts): `type` data|buffer|circular, `size` a
- * positive integer for buffer and circular (samples), and transport/topic/qos kept when given.
+ * positive integer for buffer and circular (samples), transport and topic kept when given, qos a
+ * JSON object of texts.
  * Throws a message naming the field.
  */
 export function parsePolicy(fields) {
@@ -163,7 +164,20 @@ export function parsePolicy(fields) {
     if (!Number.isInteger(size) || size < 1) throw new Error(`policy size '${fields.size ?? ''}': expected a whole number of samples >= 1 for a ${fields.type}`);
     policy.size = size;
   }
-  for (const key of ['transport', 'topic', 'qos']) if (fields[key]) policy[key] = fields[key];
+  for (const key of ['transport', 'topic']) if (fields[key]) policy[key] = fields[key];
+  if (fields.qos) {
+    // QoS settings are a table of texts (issue 21's dds connections): { "reliability": "reliable", ... }.
+    let qos;
+    try {
+      qos = JSON.parse(fields.qos);
+    } catch {
+      qos = null;
+    }
+    if (qos === null || typeof qos !== 'object' || Array.isArray(qos) || Object.values(qos).some((v) => typeof v !== 'string')) {
+      throw new Error(`policy qos '${fields.qos}': expected a JSON object of texts, e.g. { "reliability": "reliable" }`);
+    }
+    policy.qos = qos;
+  }
   return policy;
 }
 

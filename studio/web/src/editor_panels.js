@@ -158,7 +158,9 @@ function connectionInspector(state, connection, on) {
     h('div', { class: 'policy' },
       h('label', {}, 'type ', h('select', { id: 'policy-type' }, POLICY_TYPES.map((t) => h('option', { value: t, selected: policy.type === t }, t)))),
       h('label', {}, 'size ', h('input', { type: 'text', id: 'policy-size', value: policy.size ?? '', size: 4, placeholder: 'samples' })),
-      dds ? ['transport', 'topic', 'qos'].map((k) => h('label', {}, `${k} `, h('input', { type: 'text', id: `policy-${k}`, value: policy[k] ?? '' }))) : null,
+      dds ? ['transport', 'topic', 'qos'].map((k) => h('label', {}, `${k} `, h('input', {
+        type: 'text', id: `policy-${k}`, value: k === 'qos' && policy.qos != null ? JSON.stringify(policy.qos) : policy[k] ?? '',
+      }))) : null,
       h('button', {
         type: 'button', id: 'policy-apply',
         onclick: (e) => {

@@ -253,6 +253,13 @@ test('attach: shown when the server has a running deployment, which it loads', a
   await page.locator('#attach').click();
   await page.locator('#canvas g.block[data-name="Amp"]').waitFor();
   assert.equal(await page.locator('#canvas g.connection').count(), 1);
+  // A dds connection's transport fields are shown and edited with its policy.
+  await page.locator('#canvas g.connection .wire-hit').click({ force: true });
+  assert.equal(await page.locator('#policy-transport').inputValue(), 'dds');
+  assert.equal(await page.locator('#policy-qos').inputValue(), '{"reliability":"reliable"}');
+  await page.locator('#policy-topic').fill('sine2');
+  await page.locator('#policy-apply').click();
+  assert.deepEqual((await project(page)).connections[0].conn_policy, { type: 'data', transport: 'dds', topic: 'sine2', qos: { reliability: 'reliable' } });
   const other = await fixture(t, 'new');
   assert.ok(await other.page.locator('#attach').isHidden());
 });

@@ -44,7 +44,8 @@ export const RUNNING_PROJECT = {
     { name: 'Sine', type: 'SineGenerator', properties: { frequency: '2' }, activity: { period: 0.01, priority: 0, scheduler: 'other' } },
     { name: 'Amp', type: 'Gain', properties: { k: '3' } },
   ],
-  peers: [], connections: [{ output: 'Sine.out', input: 'Amp.in', conn_policy: { type: 'data' } }],
+  peers: [],
+  connections: [{ output: 'Sine.out', input: 'Amp.in', conn_policy: { type: 'data', transport: 'dds', topic: 'sine', qos: { reliability: 'reliable' } } }],
   deployments: [], configurations: [], configure: ['Sine', 'Amp'], start: ['Sine', 'Amp'], apply: [],
 };
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.txt': 'text/plain' };

@@ -94,6 +94,10 @@ test('removing an instance removes every connection, peer, membership, value and
 test('policies, activities, properties, peers and configuration values from text fields', () => {
   assert.deepEqual(parsePolicy({ type: 'data', size: '' }), { type: 'data' });
   assert.deepEqual(parsePolicy({ type: 'circular', size: '8', transport: 'dds', topic: 'arm/pose', qos: '' }), { type: 'circular', size: 8, transport: 'dds', topic: 'arm/pose' });
+  assert.deepEqual(parsePolicy({ type: 'data', transport: 'dds', topic: 't', qos: '{ "reliability": "reliable", "depth": "4" }' }),
+    { type: 'data', transport: 'dds', topic: 't', qos: { reliability: 'reliable', depth: '4' } });
+  assert.throws(() => parsePolicy({ type: 'data', qos: 'reliable' }), /policy qos 'reliable': expected a JSON object of texts/);
+  assert.throws(() => parsePolicy({ type: 'data', qos: '{ "depth": 4 }' }), /expected a JSON object of texts/);
   assert.throws(() => parsePolicy({ type: 'queue' }), /policy type 'queue': expected one of data, buffer, circular/);
   assert.throws(() => parsePolicy({ type: 'buffer', size: '2.5' }), /policy size '2.5': expected a whole number of samples >= 1 for a buffer/);
   assert.deepEqual(parseActivity({ period: '0.001', priority: '', scheduler: '' }), { period: 0.001, priority: 0, scheduler: 'other' });
