@@ -33,6 +33,11 @@ function layout(type) {
   return { inputs, outputs, height: HEADER + Math.max(inputs.length, outputs.length, 1) * ROW + 8 };
 }
 
+/** The height of a component's block in px (its type's ports from the palette). */
+export function blockHeight(palette, component) {
+  return layout(typeOf(palette, component.type)).height;
+}
+
 /** Where a port's handle is, in canvas px, or null when the component or port is unknown. */
 export function portPosition(palette, project, full) {
   const [name, portName] = full.split('.');
@@ -138,6 +143,11 @@ export function createCanvas(svg, view, on) {
   function draw() {
     const state = view();
     svg.replaceChildren();
+    // Room for every block and as much again to grow into.
+    const right = Math.max(0, ...state.project.components.map((c) => c.x + BLOCK_WIDTH));
+    const bottom = Math.max(0, ...state.project.components.map((c) => c.y + blockHeight(state.palette, c)));
+    svg.setAttribute('width', Math.max(2400, right + 600));
+    svg.setAttribute('height', Math.max(1600, bottom + 600));
     const wires = el('g', { class: 'wires' }, svg);
     const blocks = el('g', { class: 'blocks' }, svg);
     const own = connectionsOf(state.project, state.tab);

@@ -16,19 +16,30 @@ export function emptyProject() {
 
 /**
  * The project as the page keeps it: every list present, deployment components as names (an entry
- * given as an object is reduced to its name), every component with a position (a grid for those
- * without one, as a project opened without a layout sidecar has).
+ * given as an object is reduced to its name), every component with a position (rows for those
+ * without one, as a project opened without a layout sidecar has; `heightOf(component)`: its
+ * block's height in px).
  */
-export function normalizeProject(input) {
+export function normalizeProject(input, heightOf = () => 160) {
   const project = { ...emptyProject(), ...structuredClone(input ?? {}) };
   for (const key of Object.keys(emptyProject())) if (!Array.isArray(project[key])) project[key] = [];
-  project.components.forEach((c, i) => {
+  // Those without a position go in rows of four below the placed ones, each row as tall as its tallest block.
+  let top = Math.max(40, ...project.components.filter((c) => Number.isFinite(c.y)).map((c) => c.y + heightOf(c) + 40));
+  let column = 0;
+  let rowHeight = 0;
+  for (const c of project.components) {
     c.properties ??= {};
-    if (!Number.isFinite(c.x) || !Number.isFinite(c.y)) {
-      c.x = 40 + (i % 4) * 260;
-      c.y = 40 + Math.floor(i / 4) * 200;
+    if (Number.isFinite(c.x) && Number.isFinite(c.y)) continue;
+    c.x = 40 + column * 260;
+    c.y = top;
+    rowHeight = Math.max(rowHeight, heightOf(c));
+    column += 1;
+    if (column === 4) {
+      top += rowHeight + 40;
+      column = 0;
+      rowHeight = 0;
     }
-  });
+  }
   for (const d of project.deployments) {
     d.components = (d.components ?? []).map((c) => (typeof c === 'string' ? c : c.name));
     d.connections ??= [];

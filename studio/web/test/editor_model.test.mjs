@@ -128,7 +128,11 @@ test('a project from the server is completed: lists, deployment members as names
   });
   assert.deepEqual(p.deployments[0], { name: 'd', components: ['A', 'B'], connections: [] });
   assert.deepEqual(p.configurations[0].values, {});
-  assert.deepEqual([p.components[0].x, p.components[0].y, p.components[1].x, p.components[1].y], [5, 6, 300, 40]);
+  // B goes below A (placed, 160 px tall by default) with a 40 px gap.
+  assert.deepEqual([p.components[0].x, p.components[0].y, p.components[1].x, p.components[1].y], [5, 6, 40, 206]);
+  const rows = normalizeProject({ components: ['A', 'B', 'C', 'D', 'E'].map((name) => ({ name, type: 'Gain' })) },
+    (c) => (c.name === 'B' ? 300 : 100));
+  assert.deepEqual(rows.components.map((c) => [c.x, c.y]), [[40, 40], [300, 40], [560, 40], [820, 40], [40, 380]]);
   assert.deepEqual(p.peers, []);
   assert.deepEqual(normalizeProject(null), emptyProject());
 });
