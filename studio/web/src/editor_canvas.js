@@ -157,8 +157,18 @@ export function createCanvas(svg, view, on) {
     if (state.refusal) {
       const at = portPosition(state.palette, state.project, state.refusal.at);
       if (at) {
+        // Beside the port, outside its block; moved inside the canvas when it would start left of it.
+        const back = el('rect', { class: 'refusal-back', rx: 3 }, svg);
         const t = text(svg, at.x + (at.side === 'in' ? -10 : 10), at.y - 10, state.refusal.text, 'refusal', at.side === 'in' ? 'end' : 'start');
         t.setAttribute('data-port', state.refusal.at);
+        const box = t.getBBox();
+        if (box.x < 4) {
+          t.setAttribute('text-anchor', 'start');
+          t.setAttribute('x', 4);
+          t.setAttribute('y', at.y - 24);
+        }
+        const fitted = t.getBBox();
+        for (const [k, v] of Object.entries({ x: fitted.x - 3, y: fitted.y - 2, width: fitted.width + 6, height: fitted.height + 4 })) back.setAttribute(k, v);
       }
     }
   }

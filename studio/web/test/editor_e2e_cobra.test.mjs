@@ -48,7 +48,7 @@ test('Fig. 3.4 built by clicks in cobra edit, saved, and the saved file deploys'
   await page.screenshot({ path: join(shots, 'fig34.png') });
 
   const run = await runCobra(['deploy', file, '--sim', '--run-for', '0.5']);
-  assert.equal(run.status, 0, `cobra deploy ${file}:\n${run.stdout}${run.stderr}`);
+  assert.equal(run.status, 0, `cobra deploy ${file}:\n${run.stdout}${run.stderr}\nthe file:\n${text}`);
   // The file is the Configurator tables `cobra describe` writes: describing it gives it back.
   const described = await runCobra(['describe', file]);
   assert.equal(described.status, 0, described.stderr);
