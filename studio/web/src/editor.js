@@ -72,7 +72,7 @@ function redraw() {
   if (configurationTab) drawConfiguration($('configuration-view'), state, handlers);
   else canvas.draw();
   drawInspector($('inspector'), state, handlers);
-  drawProblems($('problem-list'), state);
+  drawProblems($('problem-list'), state, selectFromProblem);
   $('save').disabled = !state.savable;
   $('undo').disabled = history.size === 0;
   $('save').title = state.savable ? 'write the project as Configurator tables (and its layout sidecar)' : 'the opened file did not load: it is never saved over';
@@ -104,7 +104,7 @@ async function validate() {
     // Not redraw(): the inspector's fields would be drawn again under the user's typing.
     if (state.tabKind === 'deployment') canvas.draw();
     refreshFieldProblems(document.body, state);
-    drawProblems($('problem-list'), state);
+    drawProblems($('problem-list'), state, selectFromProblem);
   } catch (err) {
     status(`validate: ${err.message}`, 'error');
   } finally {
@@ -291,6 +291,16 @@ const handlers = {
     }
   },
 };
+
+/** A problem clicked: its component or connection selected (on the base tab when it is not in this one). */
+function selectFromProblem(selection) {
+  if (selection.kind === 'connection' && !connectionsOf(state.project, state.tab).some((c) => c.output === selection.output && c.input === selection.input)) {
+    const owner = state.project.deployments.find((d) => d.connections.some((c) => c.output === selection.output && c.input === selection.input));
+    selectTab(owner ? owner.name : BASE_TAB, 'deployment');
+  }
+  state.selection = selection;
+  redraw();
+}
 
 /** Puts the project back as it was before the last edit. */
 function undo() {

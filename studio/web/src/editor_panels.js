@@ -220,12 +220,27 @@ export function drawConfiguration(box, state, on) {
   ]);
 }
 
-/** The problems list: the validate answer's problems and lint, and every drawn connection's lint. */
-export function drawProblems(list, state) {
+/** What a problem's `where` names: a component or a connection (for `select`), or null. */
+export function selectionOf(where) {
+  let m = /^component '(\w+)'/.exec(where);
+  if (m) return { kind: 'component', name: m[1] };
+  m = /^connection '([\w.]+)' -> '([\w.]+)'/.exec(where);
+  return m ? { kind: 'connection', key: `${m[1]}->${m[2]}`, output: m[1], input: m[2] } : null;
+}
+
+/**
+ * The problems list: the validate answer's problems and every drawn connection's lint; a click
+ * selects what the problem is about (`select(selection)`).
+ */
+export function drawProblems(list, state, select) {
   const drawn = new Set([...state.project.connections, ...state.project.deployments.flatMap((d) => d.connections)].map((c) => `${c.output}->${c.input}`));
+  const item = (cls, head, message, selection) => h('li', { class: cls, onclick: selection ? () => select(selection) : null }, h('b', {}, head), `: ${message}`);
   const items = [
-    ...state.problems.map((p) => h('li', { class: 'problem' }, h('b', {}, p.where), `: ${p.message}`)),
-    ...[...state.lint].filter(([key]) => drawn.has(key)).flatMap(([, lint]) => lint).map((l) => h('li', { class: 'lint' }, h('b', {}, l.rule), `: ${l.message}`)),
+    ...state.problems.map((p) => item('problem', p.where, p.message, selectionOf(p.where))),
+    ...[...state.lint].filter(([key]) => drawn.has(key)).flatMap(([key, lint]) => lint.map((l) => {
+      const [output, input] = key.split('->');
+      return item('lint', l.rule, l.message, { kind: 'connection', key, output, input });
+    })),
   ];
   list.replaceChildren(...(items.length ? items : [h('li', { class: 'clean' }, 'no problems')]));
 }

@@ -94,6 +94,10 @@ test("a role violation is drawn with the linter's message on its badge and in th
   assert.equal(await page.locator('#canvas .lint-badge title').textContent(), message);
   assert.equal(await page.locator('#problem-list li.lint').textContent(), `a Supervision component may read only logic data: ${message}`);
   assert.match(await page.locator('#inspector ul.lint').textContent(), /may read only logic data/);
+  // A problem clicked selects what it is about.
+  await page.locator('#canvas g.block[data-name="Robot"] .block-name').click();
+  await page.locator('#problem-list li.lint').click();
+  assert.equal(await page.locator('#inspector h3').textContent(), 'Robot.measWrench → Watch.wrench');
   await page.locator('#undo').click();
   assert.equal(await page.locator('#canvas g.connection').count(), 0);
   assert.equal(await page.locator('#problem-list li.lint').count(), 0, 'the lint of a connection undone is not listed');
@@ -139,6 +143,10 @@ test('properties are checked by the server and problems show by the field; a pol
   await setProperty(page, 'Traj', 'arms_num', '40');
   const row = page.locator('#inspector tr[data-property="arms_num"]');
   await row.locator('.field-problem', { hasText: 'out of its range' }).waitFor();
+  await page.locator('#canvas').click({ position: { x: 600, y: 700 } });
+  assert.equal(await page.locator('#problem-list li.problem').textContent(), "component 'Traj' property 'arms_num': 40 is out of its range [1, 16]");
+  await page.locator('#problem-list li.problem').click();
+  assert.equal(await page.locator('#inspector h3').textContent(), 'Traj');
   assert.equal(await row.locator('.field-problem').textContent(), '40 is out of its range [1, 16]');
   assert.match(await row.locator('.prop-type').textContent(), /int \[1\] in \[1, 16\]/);
   await setProperty(page, 'Traj', 'arms_num', '2');
