@@ -21,6 +21,13 @@ export function showFile(section, { title, text, errorLine = null, error = null 
 }
 
 const ROLES = ['Calculation', 'Decision', 'Supervision', 'Bridge'];
+/** The types `cobra new component`'s generator knows (studio/PROTOCOL.md "generate"). */
+export const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
+
+/** The generator's name of a palette type: KDL.Wrench -> Wrench, vector<double> -> vector. */
+export function generatorType(name) {
+  return name === 'vector<double>' ? 'vector' : name.replace(/^KDL\./, '');
+}
 const LISTS = [
   ['inputs', 'Inputs'], ['event_inputs', 'Event inputs'], ['outputs', 'Outputs'], ['properties', 'Properties'],
 ];
@@ -46,7 +53,7 @@ export function readTypeForm(form) {
     spec[key] = [...form.querySelectorAll(`[data-list="${key}"] .member`)]
       .map((row) => ({
         name: row.querySelector('.member-name').value.trim(),
-        type: row.querySelector('.member-type').value.trim(),
+        type: generatorType(row.querySelector('.member-type').value.trim()),
         unit: row.querySelector('.member-unit').value.trim(),
       }))
       .filter((m) => m.name !== '' || m.type !== '');
@@ -63,6 +70,7 @@ export function typeFormError(spec, palette) {
     for (const m of spec[key]) {
       if (!isIdentifier(m.name)) return `${label.toLowerCase()}: '${m.name}' is not an identifier`;
       if (!m.type) return `${label.toLowerCase()}: '${m.name}' has no type`;
+      if (!GENERATOR_TYPES.includes(m.type)) return `${label.toLowerCase()}: '${m.name}' is a ${m.type}; the generator knows ${GENERATOR_TYPES.join(', ')}`;
     }
   }
   return null;
@@ -76,7 +84,8 @@ export function setUpTypeDialog(dialog, { palette, generate, added }) {
   const typesList = 'palette-data-types';
   dialog.replaceChildren(h('form', { method: 'dialog', id: 'type-form' },
     h('h2', {}, 'New component type'),
-    h('datalist', { id: typesList }, paletteDataTypes(palette()).map((t) => h('option', { value: t }))),
+    // The palette's types the generator knows, by the palette's names.
+    h('datalist', { id: typesList }, paletteDataTypes(palette()).filter((t) => GENERATOR_TYPES.includes(generatorType(t))).map((t) => h('option', { value: t }))),
     h('label', {}, 'name ', h('input', { type: 'text', id: 'type-name', placeholder: 'ForceWatch' })),
     h('label', {}, 'role ', h('select', { id: 'type-role' }, ROLES.map((r) => h('option', { value: r }, r)))),
     h('label', {}, 'package ', h('input', { type: 'text', id: 'type-package', placeholder: 'my_package' })),

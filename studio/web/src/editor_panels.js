@@ -50,6 +50,9 @@ export function drawPalette(list, state, query) {
     list.append(h('section', { class: 'package', 'data-package': group.package }, h('h3', {}, group.package), types));
   }
   if (!list.firstChild) list.append(h('p', { class: 'empty' }, `no type matches '${query}'`));
+  if (state.palette.errors?.length) {
+    list.append(h('section', { class: 'palette-errors' }, h('h3', {}, 'not loaded'), h('ul', {}, state.palette.errors.map((e) => h('li', {}, e)))));
+  }
 }
 
 /** The tabs: the base deployment, each named deployment, each configuration, and the add buttons. */
@@ -124,7 +127,7 @@ function componentInspector(state, component, on) {
           });
         },
       }, 'Apply'),
-      fieldProblems(byWhere, `component '${component.name}' activity`)),
+      fieldProblems(byWhere, `activity of '${component.name}'`)),
     h('h4', {}, 'Lifecycle'),
     h('div', { class: 'lifecycle' }, ['configure', 'start'].map((list) => h('label', { class: 'check' },
       h('input', { type: 'checkbox', 'data-list': list, checked: inList(list), onchange: (e) => on.lifecycle(component.name, list, e.target.checked) }),
@@ -135,7 +138,7 @@ function componentInspector(state, component, on) {
         type: 'checkbox', 'data-peer': name, checked: peers.includes(name),
         onchange: (e) => on.peers(component.name, e.target.checked ? [...peers, name] : peers.filter((p) => p !== name)),
       }), ` ${name}`))) : h('p', { class: 'empty' }, 'no other component'),
-    fieldProblems(byWhere, `component '${component.name}' peers`),
+    fieldProblems(byWhere, `peers of '${component.name}'`),
     type?.operations.length ? h('h4', {}, 'Operations') : null,
     type?.operations.length ? h('ul', { class: 'operations' }, type.operations.map((o) => h('li', {}, o.signature))) : null,
     h('button', { type: 'button', id: 'delete-selected', class: 'danger', onclick: () => on.deleteComponent(component.name) }, 'Delete component'),
@@ -222,9 +225,9 @@ export function drawConfiguration(box, state, on) {
 
 /** What a problem's `where` names: a component or a connection (for `select`), or null. */
 export function selectionOf(where) {
-  let m = /^component '(\w+)'/.exec(where);
+  let m = /^(?:component|activity of|peers of|deployment '\w+' activity of) '(\w+)'/.exec(where);
   if (m) return { kind: 'component', name: m[1] };
-  m = /^connection '([\w.]+)' -> '([\w.]+)'/.exec(where);
+  m = /^(?:deployment '\w+' )?connection '([\w.]+)' -> '([\w.]+)'/.exec(where);
   return m ? { kind: 'connection', key: `${m[1]}->${m[2]}`, output: m[1], input: m[2] } : null;
 }
 

@@ -75,7 +75,7 @@ test('a type mismatch is refused with the reason next to the port, and nothing i
   await connect(page, 'Robot.measWrench', 'Adm.refPose');
   const refusal = page.locator('#canvas text.refusal');
   assert.equal(await refusal.getAttribute('data-port'), 'Adm.refPose');
-  assert.equal(await refusal.textContent(), 'types differ: Robot.measWrench is KDL.Wrench, Adm.refPose is KDL.Frame');
+  assert.equal(await refusal.textContent(), "types differ: 'Robot.measWrench' writes KDL.Wrench, 'Adm.refPose' reads KDL.Frame");
   assert.match(await page.locator('#status').textContent(), /refused: types differ/);
   assert.equal(await page.locator('#canvas g.connection').count(), 0);
   // Two outputs are refused by the page itself.
@@ -243,8 +243,9 @@ test('a new component type is generated from the form and listed as generated', 
   ]);
   assert.deepEqual(server.generated[0].component, {
     name: 'ForceLimiter', role: 'Calculation', package: 'my_tools', doc: 'clamps a wrench',
-    inputs: [{ name: 'wrench', type: 'KDL.Wrench', unit: 'N, N·m' }], event_inputs: [],
-    outputs: [{ name: 'limited', type: 'KDL.Wrench', unit: 'N, N·m' }], properties: [{ name: 'max_force', type: 'double', unit: 'N' }],
+    // The palette's KDL.Wrench is the generator's Wrench.
+    inputs: [{ name: 'wrench', type: 'Wrench', unit: 'N, N·m' }], event_inputs: [],
+    outputs: [{ name: 'limited', type: 'Wrench', unit: 'N, N·m' }], properties: [{ name: 'max_force', type: 'double', unit: 'N' }],
   });
   await page.locator('#type-close').click();
   assert.match(await page.locator('summary[data-type="ForceLimiter"]').textContent(), /generated \(build the package to use it\)/);
@@ -253,6 +254,15 @@ test('a new component type is generated from the form and listed as generated', 
   await page.locator('#type-name').fill('Gain');
   await page.locator('#type-generate').click();
   assert.equal(await page.locator('#type-error').textContent(), "a component type named 'Gain' exists already (package cobra_signal)");
+  // A type the generator does not know is refused before asking.
+  await page.locator('#type-name').fill('Planner2');
+  await page.locator('#type-package').fill('my_tools');
+  await page.locator('fieldset[data-list="inputs"] .member-add').click();
+  await page.locator('fieldset[data-list="inputs"] .member .member-name').last().fill('path');
+  await page.locator('fieldset[data-list="inputs"] .member .member-type').last().fill('TGL.MultiAxisPath');
+  await page.locator('#type-generate').click();
+  assert.match(await page.locator('#type-error').textContent(), /^inputs: 'path' is a TGL\.MultiAxisPath; the generator knows double, int, bool, string, vector/);
+  assert.deepEqual(await page.locator('#palette-data-types option').evaluateAll((os) => os.map((o) => o.value)).then((v) => v.includes('KDL.Wrench') && !v.includes('TGL.MultiAxisPath')), true);
   assert.equal(server.generated.length, 1);
 });
 

@@ -48,6 +48,8 @@ export const RUNNING_PROJECT = {
   connections: [{ output: 'Sine.out', input: 'Amp.in', conn_policy: { type: 'data', transport: 'dds', topic: 'sine', qos: { reliability: 'reliable' } } }],
   deployments: [], configurations: [], configure: ['Sine', 'Amp'], start: ['Sine', 'Amp'], apply: [],
 };
+/** The types `cobra new component`'s generator knows (studio/PROTOCOL.md). */
+const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.txt': 'text/plain' };
 const LOGIC = new Set(['Event', 'TaskState']);
 
@@ -93,10 +95,10 @@ export function check(palette, project, connection) {
   if (from.error) return { ok: false, reason: from.error, lint: [] };
   const to = port(palette, project, connection.input);
   if (to.error) return { ok: false, reason: to.error, lint: [] };
-  if (from.port.direction !== 'out') return { ok: false, reason: `${connection.output} is an input, not an output`, lint: [] };
-  if (to.port.direction !== 'in') return { ok: false, reason: `${connection.input} is an output, not an input`, lint: [] };
+  if (from.port.direction !== 'out') return { ok: false, reason: `'${connection.output}' is an input port; a connection starts at an output port`, lint: [] };
+  if (to.port.direction !== 'in') return { ok: false, reason: `'${connection.input}' is an output port; a connection ends at an input port`, lint: [] };
   if (from.port.type !== to.port.type) {
-    return { ok: false, reason: `types differ: ${connection.output} is ${from.port.type}, ${connection.input} is ${to.port.type}`, lint: [] };
+    return { ok: false, reason: `types differ: '${connection.output}' writes ${from.port.type}, '${connection.input}' reads ${to.port.type}`, lint: [] };
   }
   return { ok: true, reason: '', lint: lint(from, to) };
 }
@@ -127,11 +129,11 @@ export function validate(palette, project) {
       const message = property ? propertyProblem(property, text) : `${c.type} has no property '${name}'`;
       if (message) problems.push({ where: `component '${c.name}' property '${name}'`, message });
     }
-    if (c.activity && !(c.activity.period >= 0)) problems.push({ where: `component '${c.name}' activity`, message: 'period must be >= 0 s' });
+    if (c.activity && !(c.activity.period >= 0)) problems.push({ where: `activity of '${c.name}'`, message: 'period must be >= 0 s' });
   }
   for (const p of project.peers) {
     for (const q of p.peers) {
-      if (!project.components.some((c) => c.name === q)) problems.push({ where: `component '${p.component}' peers`, message: `no component '${q}'` });
+      if (!project.components.some((c) => c.name === q)) problems.push({ where: `peers of '${p.component}'`, message: `no component '${q}'` });
     }
   }
   for (const c of [...project.connections, ...project.deployments.flatMap((d) => d.connections)]) {
@@ -174,12 +176,17 @@ export async function startEditorFixture(mode = 'new') {
     },
     'POST /api/editor/generate': ({ folder, component }) => {
       if (!folder) return [400, { error: 'generate: no package folder given' }];
+      for (const list of ['inputs', 'event_inputs', 'outputs', 'properties']) {
+        for (const m of component[list]) {
+          if (!GENERATOR_TYPES.includes(m.type)) return [400, { error: `component.${list} '${m.name}:${m.type}': unknown type '${m.type}'; the types are: ${GENERATOR_TYPES.join(' ')}` }];
+        }
+      }
       generated.push({ folder, component });
       const file = component.name.replace(/([a-z])([A-Z])/g, '$1_$2').toLowerCase();
       return [200, { files: [`${folder}/include/${component.package}/${file}.hpp`, `${folder}/src/${file}.cpp`, `${folder}/test/${file}_test.cpp`] }];
     },
-    'GET /api/editor/running': () => (mode === 'running' ? [200, { path: '', text: '', project: RUNNING_PROJECT }]
-      : [404, { error: 'no running deployment: the editor attaches when served by cobra run --studio' }]),
+    'GET /api/editor/running': () => (mode === 'running' ? [200, { live: true, taken: 'at setup', project: RUNNING_PROJECT }]
+      : [404, { error: 'no run here: GET /api/editor/running is served by `cobra run APP --studio`' }]),
   };
   const server = createServer((req, res) => {
     const url = new URL(req.url, 'http://127.0.0.1');
