@@ -25,9 +25,23 @@ function text(parent, x, y, content, cls, anchor = 'start') {
   return t;
 }
 
-/** The rows of a block: inputs and outputs each from the top, in the palette's order. */
-function layout(type) {
-  const ports = type?.ports ?? [];
+/**
+ * The rows of a block: inputs and outputs each from the top, in the palette's order, then the
+ * ports the project's connections name that the palette's fresh instance does not have (made when
+ * the component configures, e.g. a trajectory generator's desCartPose_1), marked `configured`.
+ */
+function layout(palette, project, component) {
+  const ports = [...(typeOf(palette, component.type)?.ports ?? [])];
+  const known = new Set(ports.map((p) => p.name));
+  const all = [...project.connections, ...project.deployments.flatMap((d) => d.connections)];
+  for (const c of all) {
+    for (const [end, direction] of [[c.output, 'out'], [c.input, 'in']]) {
+      const [name, port] = end.split('.');
+      if (name !== component.name || known.has(port)) continue;
+      known.add(port);
+      ports.push({ name: port, direction, type: '?', event: false, unit: '', doc: 'made when the component configures (not in the palette)', configured: true });
+    }
+  }
   const inputs = ports.filter((p) => p.direction === 'in');
   const outputs = ports.filter((p) => p.direction === 'out');
   return { inputs, outputs, height: HEADER + Math.max(inputs.length, outputs.length, 1) * ROW + 8 };
@@ -35,7 +49,7 @@ function layout(type) {
 
 /** The height of a component's block in px (its type's ports from the palette). */
 export function blockHeight(palette, component) {
-  return layout(typeOf(palette, component.type)).height;
+  return layout(palette, { connections: [], deployments: [] }, component).height;
 }
 
 /** Where a port's handle is, in canvas px, or null when the component or port is unknown. */
@@ -43,7 +57,7 @@ export function portPosition(palette, project, full) {
   const [name, portName] = full.split('.');
   const c = project.components.find((k) => k.name === name);
   if (!c) return null;
-  const { inputs, outputs } = layout(typeOf(palette, c.type));
+  const { inputs, outputs } = layout(palette, project, c);
   let i = inputs.findIndex((p) => p.name === portName);
   if (i >= 0) return { x: c.x, y: c.y + HEADER + i * ROW + ROW / 2, side: 'in' };
   i = outputs.findIndex((p) => p.name === portName);
@@ -96,7 +110,7 @@ export function createCanvas(svg, view, on) {
 
   function drawPort(g, state, component, port, x, y) {
     const full = `${component.name}.${port.name}`;
-    const cls = ['port', port.direction, port.event ? 'event' : '', state.pending?.name === full ? 'pending' : ''].filter(Boolean).join(' ');
+    const cls = ['port', port.direction, port.event ? 'event' : '', port.configured ? 'configured' : '', state.pending?.name === full ? 'pending' : ''].filter(Boolean).join(' ');
     const handle = el('g', { class: cls, 'data-port': full, transform: `translate(${x},${y})` }, g);
     if (port.event) el('path', { d: 'M0,-6 L6,0 L0,6 L-6,0 Z', class: 'handle' }, handle);
     else el('circle', { r: 5, class: 'handle' }, handle);
@@ -113,7 +127,7 @@ export function createCanvas(svg, view, on) {
 
   function drawBlock(layer, state, component) {
     const type = typeOf(state.palette, component.type);
-    const { inputs, outputs, height } = layout(type);
+    const { inputs, outputs, height } = layout(state.palette, state.project, component);
     const member = inTab(state.project, state.tab, component.name);
     const selected = state.selection?.kind === 'component' && state.selection.name === component.name;
     const role = type?.role ?? 'unknown';

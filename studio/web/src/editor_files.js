@@ -45,7 +45,7 @@ function memberRow(typesList) {
 export function readTypeForm(form) {
   const spec = {
     name: form.querySelector('#type-name').value.trim(),
-    role: form.querySelector('#type-role').value,
+    role: form.querySelector('#type-role').value.toLowerCase(), // the generator's spelling
     package: form.querySelector('#type-package').value.trim(),
     doc: form.querySelector('#type-doc').value.trim(),
   };

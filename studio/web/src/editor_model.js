@@ -296,7 +296,7 @@ export function paletteDataTypes(palette) {
 export function generatedType(spec) {
   const port = (direction, event) => (p) => ({ name: p.name, direction, type: p.type, event, unit: p.unit ?? '', doc: p.doc ?? '' });
   return {
-    type: spec.name, package: spec.package, role: spec.role, doc: spec.doc ?? '', generated: true,
+    type: spec.name, package: spec.package, role: spec.role.charAt(0).toUpperCase() + spec.role.slice(1), doc: spec.doc ?? '', generated: true,
     ports: [...spec.inputs.map(port('in', false)), ...spec.event_inputs.map(port('in', true)), ...spec.outputs.map(port('out', false))],
     properties: spec.properties.map((p) => ({ name: p.name, type: p.type, unit: p.unit ?? '', doc: p.doc ?? '', range: null, default: '', read_only: false })),
     operations: [],

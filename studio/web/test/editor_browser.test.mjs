@@ -242,7 +242,7 @@ test('a new component type is generated from the form and listed as generated', 
     '/tmp/my_tools/include/my_tools/force_limiter.hpp', '/tmp/my_tools/src/force_limiter.cpp', '/tmp/my_tools/test/force_limiter_test.cpp',
   ]);
   assert.deepEqual(server.generated[0].component, {
-    name: 'ForceLimiter', role: 'Calculation', package: 'my_tools', doc: 'clamps a wrench',
+    name: 'ForceLimiter', role: 'calculation', package: 'my_tools', doc: 'clamps a wrench',
     // The palette's KDL.Wrench is the generator's Wrench.
     inputs: [{ name: 'wrench', type: 'Wrench', unit: 'N, N·m' }], event_inputs: [],
     outputs: [{ name: 'limited', type: 'Wrench', unit: 'N, N·m' }], properties: [{ name: 'max_force', type: 'double', unit: 'N' }],
@@ -278,6 +278,10 @@ test('attach: shown when the server has a running deployment, which it loads', a
   await page.locator('#policy-topic').fill('sine2');
   await page.locator('#policy-apply').click();
   assert.deepEqual((await project(page)).connections[0].conn_policy, { type: 'data', transport: 'dds', topic: 'sine2', qos: { reliability: 'reliable' } });
+  // A connection to a port the palette does not list draws that port, marked as made at configure.
+  await page.locator('#tabs .tab[data-tab="gated"]').click();
+  assert.equal(await page.locator('#canvas g.connection:not(.base)').count(), 1);
+  assert.match(await page.locator('#canvas g.port[data-port="Gate.limit"]').getAttribute('class'), /\bin\b.*\bconfigured\b/);
   const other = await fixture(t, 'new');
   assert.ok(await other.page.locator('#attach').isHidden());
 });

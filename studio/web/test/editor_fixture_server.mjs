@@ -43,10 +43,13 @@ export const RUNNING_PROJECT = {
   components: [
     { name: 'Sine', type: 'SineGenerator', properties: { frequency: '2' }, activity: { period: 0.01, priority: 0, scheduler: 'other' } },
     { name: 'Amp', type: 'Gain', properties: { k: '3' } },
+    { name: 'Gate', type: 'ThresholdDetector', properties: {} },
   ],
   peers: [],
   connections: [{ output: 'Sine.out', input: 'Amp.in', conn_policy: { type: 'data', transport: 'dds', topic: 'sine', qos: { reliability: 'reliable' } } }],
-  deployments: [], configurations: [], configure: ['Sine', 'Amp'], start: ['Sine', 'Amp'], apply: [],
+  // A port the palette's fresh ThresholdDetector lacks (as ports made at configure are missing there).
+  deployments: [{ name: 'gated', scope: '', components: ['Gate'], connections: [{ output: 'Amp.out', input: 'Gate.limit', conn_policy: { type: 'data' } }] }],
+  configurations: [], configure: ['Sine', 'Amp'], start: ['Sine', 'Amp'], apply: [],
 };
 /** The types `cobra new component`'s generator knows (studio/PROTOCOL.md). */
 const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
@@ -176,6 +179,9 @@ export async function startEditorFixture(mode = 'new') {
     },
     'POST /api/editor/generate': ({ folder, component }) => {
       if (!folder) return [400, { error: 'generate: no package folder given' }];
+      if (!['calculation', 'supervision', 'decision', 'bridge'].includes(component.role)) {
+        return [400, { error: `role '${component.role}' must be calculation, supervision, decision or bridge` }];
+      }
       for (const list of ['inputs', 'event_inputs', 'outputs', 'properties']) {
         for (const m of component[list]) {
           if (!GENERATOR_TYPES.includes(m.type)) return [400, { error: `component.${list} '${m.name}:${m.type}': unknown type '${m.type}'; the types are: ${GENERATOR_TYPES.join(' ')}` }];

@@ -145,9 +145,10 @@ test('the palette grouped by package and searched by every word; its data types;
   assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['EquivalentWrench', 'VariableAdmittance']);
   assert.deepEqual(paletteGroups(palette, 'supervision').map((g) => g.package), ['cobra_coordination', 'fixture_types']);
   assert.ok(paletteDataTypes(palette).includes('KDL.Frame') && paletteDataTypes(palette).includes('vector<double>'));
-  const g = generatedType({ name: 'Lim', role: 'Calculation', package: 'mine', inputs: [{ name: 'u', type: 'double', unit: 'N' }],
+  const g = generatedType({ name: 'Lim', role: 'calculation', package: 'mine', inputs: [{ name: 'u', type: 'double', unit: 'N' }],
     event_inputs: [{ name: 'trigger', type: 'Event' }], outputs: [{ name: 'y', type: 'double', unit: 'N' }], properties: [{ name: 'k', type: 'double', unit: '1' }] });
   assert.equal(g.generated, true);
+  assert.equal(g.role, 'Calculation');
   assert.deepEqual(g.ports.map((q) => [q.name, q.direction, q.event]), [['u', 'in', false], ['trigger', 'in', true], ['y', 'out', false]]);
   assert.equal(kindOf('Event'), 'logic');
   assert.equal(kindOf('KDL.Wrench'), 'pure');
