@@ -3,11 +3,18 @@
 // timeline (replay). Exposes window.cobraStudio for tests.
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { loadSession, connectLive, postInput } from './source.js';
+import { loadSession, connectLive, pageToken, postInput } from './source.js';
 import { StudioView } from './scene.js';
 import { Panel } from './panel.js';
 import { Plots } from './plots.js';
 import { Trails } from './trails.js';
+
+// The deployment editor (editor.html) is served beside this page by cobra's server (not from file://).
+if (window.location.protocol.startsWith('http')) {
+  const editorLink = document.getElementById('editor-link');
+  if (pageToken()) editorLink.href = `editor.html?token=${encodeURIComponent(pageToken())}`;
+  editorLink.hidden = false;
+}
 
 /**
  * Shows `message` in the page's error banner (errors stay visible until the page reloads; one

@@ -7,19 +7,20 @@ const started = [];
 
 /**
  * Starts `cobra ARGS`; resolves to { url, child, stdout(), stderr() } once it printed its studio
- * line (stdout(), stderr(): what it wrote on each so far).
+ * line, `studio: URL` (`editor: URL` with label 'editor', as `cobra edit` prints it; stdout(),
+ * stderr(): what it wrote on each so far).
  */
-export function startCobra(args) {
+export function startCobra(args, label = 'studio') {
   const child = spawn(COBRA_BIN, args, { stdio: ['ignore', 'pipe', 'pipe'] });
   started.push(child);
   let output = '';
   let out = '';
   let errors = '';
   return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`cobra ${args.join(' ')}: no studio line in 60 s; output:\n${output}`)), 60000);
+    const timer = setTimeout(() => reject(new Error(`cobra ${args.join(' ')}: no ${label} line in 60 s; output:\n${output}`)), 60000);
     const read = (chunk) => {
       output += chunk;
-      const m = /^studio: (http:\/\/\S+)$/m.exec(output);
+      const m = new RegExp(`^${label}: (http:\\/\\/\\S+)$`, 'm').exec(output);
       if (m) {
         clearTimeout(timer);
         resolve({ url: m[1], child, stdout: () => out, stderr: () => errors });
@@ -33,7 +34,7 @@ export function startCobra(args) {
       errors += chunk;
       read(chunk);
     });
-    child.on('exit', (code) => reject(new Error(`cobra ${args.join(' ')} exited with ${code} before its studio line:\n${output}`)));
+    child.on('exit', (code) => reject(new Error(`cobra ${args.join(' ')} exited with ${code} before its ${label} line:\n${output}`)));
   });
 }
 

@@ -30,12 +30,13 @@ export function loadFixtures() {
   };
 }
 
-function json(res, status, body) {
+export function json(res, status, body) {
   res.writeHead(status, { 'Content-Type': 'application/json' });
   res.end(JSON.stringify(body));
 }
 
-function tokenOf(req, url) {
+/** The token of a request: query `token=`, header X-Cobra-Token or cookie, as cobra's server takes it. */
+export function tokenOf(req, url) {
   const cookie = /(?:^|;\s*)cobra_token=([0-9a-f]+)/.exec(req.headers.cookie ?? '');
   return url.searchParams.get('token') ?? req.headers['x-cobra-token'] ?? cookie?.[1] ?? '';
 }
