@@ -171,7 +171,10 @@ std::string toLua(const DeploymentDescription& d) {
           << value << "\n";
     }
   }
-  lua << "setActivities(activities_list)\naddPeers(peers_list)\nconnectPorts(connections_list)\n";
+  // Configured before they are connected: a component may make ports when it configures (a
+  // trajectory generator's desCartPose_i, one per arm), and the connections may name them.
+  lua << "setActivities(activities_list)\naddPeers(peers_list)\nconfigureComponents(" << nameList(d.configure)
+      << ")\nconnectPorts(connections_list)\n";
 
   for (const DeploymentSpec& deployment : d.deployments) {
     lua << "\ndefineDeployment(" << luaString(deployment.name) << ", {\n";
@@ -201,7 +204,7 @@ std::string toLua(const DeploymentDescription& d) {
     }
     lua << "})\n";
   }
-  lua << "\nconfigureComponents(" << nameList(d.configure) << ")\nstartComponents(" << nameList(d.start) << ")\n";
+  lua << "\nstartComponents(" << nameList(d.start) << ")\n";
   for (const std::string& name : d.apply) lua << "applyDeployment(" << luaString(name) << ")\n";
   if (!d.configuration.empty()) lua << "applyConfiguration(" << luaString(d.configuration) << ")\n";
   return lua.str();

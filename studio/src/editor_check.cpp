@@ -26,8 +26,28 @@ std::vector<std::string> componentNames(const deploy::DeploymentDescription& d) 
   return names;
 }
 
+/// The project's property values of `component` (name, text).
+std::vector<std::pair<std::string, std::string>> valuesOf(const deploy::DeploymentDescription& d, const std::string& component) {
+  std::vector<std::pair<std::string, std::string>> values;
+  for (const deploy::PropertyValueDescription& p : d.properties)
+    if (p.component == component) values.emplace_back(p.property, p.value);
+  return values;
+}
+
+/// Component `name` of `d` as the project makes it: its type with the project's property values,
+/// configured (Palette::makeConfigured), so the ports it makes at configure can be connected.
+/// A value that cannot be set leaves it as made (validate reports the value).
+std::unique_ptr<core::Component> instanceOf(const deploy::DeploymentDescription& d, const std::string& name,
+                                            const std::string& type, const Palette& palette) {
+  try {
+    return palette.makeConfigured(type, name, valuesOf(d, name));
+  } catch (const std::exception&) {
+    return palette.makeConfigured(type, name, {});
+  }
+}
+
 /// The port `path` ("Comp.port") of `d`; throws the reason it is not one.
-const core::PortInfo& resolvePort(const deploy::DeploymentDescription& d, const std::string& path, const Palette& palette) {
+core::PortInfo resolvePort(const deploy::DeploymentDescription& d, const std::string& path, const Palette& palette) {
   const auto dot = path.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
     throw std::runtime_error("'" + path + "' is not Component.port");
@@ -36,21 +56,23 @@ const core::PortInfo& resolvePort(const deploy::DeploymentDescription& d, const 
   if (type == nullptr)
     throw std::runtime_error("no component '" + component + "' in the project" +
                              deploy::suggestionText(component, componentNames(d), "components"));
-  const PaletteType* t = palette.find(*type);
-  if (t == nullptr)
+  if (palette.find(*type) == nullptr)
     throw std::runtime_error("component '" + component + "' has type '" + *type + "', which no loadable package provides");
-  const core::PortInfo* info = t->port(port);
-  if (info == nullptr)
-    throw std::runtime_error("component '" + component + "' (" + *type + ") has no port '" + port + "'" +
-                             deploy::suggestionText(port, t->portNames(), "ports"));
-  return *info;
+  const core::ComponentInfo info = core::describe(*instanceOf(d, component, *type, palette));
+  std::vector<std::string> names;
+  for (const core::PortInfo& p : info.ports) {
+    if (p.name == port) return p;
+    names.push_back(p.name);
+  }
+  throw std::runtime_error("component '" + component + "' (" + *type + ") has no port '" + port + "'" +
+                           deploy::suggestionText(port, names, "ports"));
 }
 
 /// The reason `c` cannot be made, or "".
 std::string refusal(const deploy::DeploymentDescription& d, const deploy::ConnectionSpec& c, const Palette& palette) {
   try {
-    const core::PortInfo& out = resolvePort(d, c.output, palette);
-    const core::PortInfo& in = resolvePort(d, c.input, palette);
+    const core::PortInfo out = resolvePort(d, c.output, palette);
+    const core::PortInfo in = resolvePort(d, c.input, palette);
     if (out.direction != core::PortDirection::Output)
       return "'" + c.output + "' is " + directionName(out.direction) + " port; a connection starts at an output port";
     if (in.direction != core::PortDirection::Input)
@@ -74,11 +96,11 @@ std::vector<LintItem> lintOf(const deploy::DeploymentDescription& d, const deplo
   };
   const auto [out_component, out_port] = split(c.output);
   const auto [in_component, in_port] = split(c.input);
-  const auto writer = palette.make(*typeOf(d, out_component), out_component);
+  const auto writer = instanceOf(d, out_component, *typeOf(d, out_component), palette);
   std::unique_ptr<core::Component> reader_own;
   core::Component* reader = writer.get();
   if (in_component != out_component) {
-    reader_own = palette.make(*typeOf(d, in_component), in_component);
+    reader_own = instanceOf(d, in_component, *typeOf(d, in_component), palette);
     reader = reader_own.get();
   }
   std::vector<LintItem> items;

@@ -40,6 +40,13 @@ class Palette {
   const PaletteType& get(const std::string& component, const std::string& type) const;
   /// A component of `type` named `name`, to check property text and lint connections with.
   std::unique_ptr<core::Component> make(const std::string& type, const std::string& name) const;
+  /// A component of `type` named `name` with the property values `values` (name, text) set and,
+  /// unless it is a bridge, configured: the ports a component makes when it configures (a
+  /// trajectory generator's desCartPose_i, one per arm) exist then. A bridge is not configured
+  /// (it may reach for its device); neither is a component whose configure fails (its ports as
+  /// made). @throws what setting a value throws (its text is checked first by `validate`).
+  std::unique_ptr<core::Component> makeConfigured(const std::string& type, const std::string& name,
+                                                  const std::vector<std::pair<std::string, std::string>>& values) const;
   std::string json() const;
   std::vector<std::string> typeNames() const;
 

@@ -65,7 +65,7 @@ Palette::Palette(std::unique_ptr<deploy::PackageRegistry> packages) : packages_(
   for (const std::string& name : packages_->typeNames()) {
     const deploy::ComponentType& t = packages_->type(name);
     try {
-      const auto instance = packages_->create(name, name);
+      const auto instance = makeConfigured(name, name, {});
       types_.emplace(name, PaletteType{name, t.package, t.doc, core::describe(*instance)});
     } catch (const std::exception& e) {
       errors_.push_back("component type '" + name + "' (package " + t.package + "): cannot be made to introspect it: " + e.what());
@@ -86,6 +86,14 @@ const PaletteType& Palette::get(const std::string& component, const std::string&
 
 std::unique_ptr<core::Component> Palette::make(const std::string& type, const std::string& name) const {
   return packages_->create(type, name);
+}
+
+std::unique_ptr<core::Component> Palette::makeConfigured(
+    const std::string& type, const std::string& name, const std::vector<std::pair<std::string, std::string>>& values) const {
+  auto component = packages_->create(type, name);
+  for (const auto& [property, text] : values) component->property(property).setFromText(text);
+  if (component->role() != core::Role::Bridge) (void)component->configure();  // failing: its ports as made
+  return component;
 }
 
 std::vector<std::string> Palette::typeNames() const {
