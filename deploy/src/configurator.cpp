@@ -146,12 +146,12 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
       applyActivity(created, defaultActivity(spec.peer_name, spec.where));
       // One run split over hosts: the local link keeps this process's lockstep clock in step.
       auto* sync = dynamic_cast<core::ClockSync*>(&created);
-      if (placement_ && clock_ && sync != nullptr && clock_sync_ == nullptr) {
+      if (placement_ && sync != nullptr && clock_sync_ == nullptr) {
         clock_sync_ = sync;
-        clock_->setClockSync(sync);
+        if (clock_) clock_->setClockSync(sync);
         journal.record("the clock sync of " + quoted(spec.peer_name), [this] {
           clock_sync_ = nullptr;
-          clock_->setClockSync(nullptr);
+          if (clock_) clock_->setClockSync(nullptr);
         });
       }
     }

@@ -523,10 +523,9 @@ void Session::writeReport(const std::vector<std::string>& observer_files) {
   if (!csv) throw std::runtime_error("cobra run: cannot write " + signals.string());
 }
 
-core::ClockSync* Session::clockSync() const { return options_.realtime ? nullptr : configurator_.clockSync(); }
-
 bool Session::peersHoldTheRun() {
-  core::ClockSync* sync = clockSync();
+  // On the wall clock nothing meets the peers: each host's run ends with its own charts.
+  core::ClockSync* sync = options_.realtime ? nullptr : configurator_.clockSync();
   if (sync == nullptr) return false;
   if (!told_done_) {
     sync->setDone(true);
@@ -537,7 +536,7 @@ bool Session::peersHoldTheRun() {
 }
 
 void Session::notePeerLoss() {
-  core::ClockSync* sync = clockSync();
+  const core::ClockSync* sync = configurator_.clockSync();
   if (sync == nullptr || peer_lost_at_ >= 0.0) return;
   const std::vector<std::string> lost = sync->lostPeers();
   if (lost.empty()) return;

@@ -90,8 +90,6 @@ class Session {
 
   // Split over hosts (RunOptions::host): drops the run table's entries of other hosts' components.
   void dropOtherHostsEntries();
-  // The lockstep clock's sync when the run is split over hosts, else nullptr.
-  core::ClockSync* clockSync() const;
   // This host's charts ended: tells the peers (once); true while they have not all ended.
   bool peersHoldTheRun();
   // Notes the first loss of a peer (the sync gave up on it).

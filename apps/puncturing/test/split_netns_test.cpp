@@ -67,7 +67,7 @@ TEST(SplitProcedureAcrossNamespaces, EachControllerInItsOwnNamespacePlacesTheNee
   HostSetup needle, probe;
   needle.host = "needle", probe.host = "probe";
   needle.folder = folder / "needle", probe.folder = folder / "probe";
-  needle.domain = probe.domain = 120 + static_cast<int>(::getpid() % 40);
+  needle.domain = probe.domain = 200 + static_cast<int>(::getpid() % 20);  // 200..219
   needle.netns = net.needle, probe.netns = net.probe;
   needle.initial_peers = net.probe_address, probe.initial_peers = net.needle_address;
   HostProcess needle_run(needle), probe_run(probe);

@@ -93,9 +93,10 @@ class Configurator {
   /// order made.
   const std::vector<std::string>& writerTopics() const { return writer_topics_; }
   const std::vector<std::string>& readerTopics() const { return reader_topics_; }
-  /// The clock sync of a distributed lockstep run: the first local component implementing
-  /// core::ClockSync (the DDS link) once a placement is in force, set on the lockstep clock when
-  /// it is created. nullptr otherwise.
+  /// The link of a run split over hosts: the first local component implementing core::ClockSync
+  /// (the DDS link) once a placement is in force, set on the lockstep clock when it is created
+  /// (in ClockMode::RealTime nothing meets it; its lostPeers() still tell of lost peers).
+  /// nullptr otherwise.
   core::ClockSync* clockSync() const { return clock_sync_; }
 
   /// Loads the packages, creates the component instances, and reads every configuration file
