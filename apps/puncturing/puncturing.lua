@@ -27,6 +27,9 @@ placement = {
   },
   everywhere = { "Link" },  -- each process's DDS link: its participant, the lockstep meeting, liveliness
   transport = "dds",
+  -- A reader matched after its writer's first samples (discovery takes a moment at the start)
+  -- still gets them: the writer keeps its last `size` samples for late readers.
+  qos = { durability = "transient_local" },
 }
 if host then
   -- Before any connection between hosts: the link's participant carries them. The domain, the
