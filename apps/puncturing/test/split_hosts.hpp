@@ -35,7 +35,8 @@ constexpr double kSplitToleranceMm = 0.5;
 struct HostSetup {
   std::string host;  ///< "needle", "probe"; "" = the whole application in one process
   std::filesystem::path folder;  ///< result.txt, progress.txt and report/ go here
-  std::filesystem::path scenario = kApp / "scenarios" / "vertical_needle";
+  /// The shortest procedure that punctures: vertical_needle's first needle (82 s simulated).
+  std::filesystem::path scenario = kApp / "test" / "scenarios" / "one_vertical_needle";
   int domain = 0;                 ///< DDS domain id, one per test
   double drop_share = 0.0;        ///< share of outgoing DDS messages dropped (fault injection)
   std::string initial_peers;      ///< the peer's IPv4 address for unicast discovery ("" = multicast)
@@ -197,6 +198,9 @@ class HostProcess {
         if (fd < 0 || ::setns(fd, CLONE_NEWNET) != 0) throw std::runtime_error("cannot enter netns " + setup_.netns);
         ::close(fd);
       }
+#ifdef COBRA_DDS_PACKAGE_DIR  // the package cobra_dds of this build tree (its DdsLink)
+      ::setenv("COBRA_PACKAGE_PATH", COBRA_DDS_PACKAGE_DIR, 1);
+#endif
       RunOptions o = options(setup_.scenario);
       o.host = setup_.host;
       o.time_limit = setup_.time_limit;
@@ -244,6 +248,17 @@ inline std::vector<std::vector<double>> signalRows(const std::filesystem::path& 
     if (!v.empty() && v[0] >= from && index >= 0 && static_cast<int>(v.size()) > index + 2) rows.push_back(std::move(v));
   }
   return rows;
+}
+
+/// The rows of signals.csv before `until` s, as text (for comparing two runs exactly).
+inline std::vector<std::string> signalLinesBefore(const std::filesystem::path& signals, double until) {
+  std::ifstream in(signals);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) {
+    if (!lines.empty() && std::stod(line.substr(0, line.find(','))) >= until) break;
+    lines.push_back(line);
+  }
+  return lines;
 }
 
 /// The smallest value of `column` (e.g. "NeedleAdmittance.tankEnergy") in signals.csv; NaN when
