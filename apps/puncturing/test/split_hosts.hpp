@@ -140,8 +140,9 @@ class HostProcess {
   HostProcess(const HostProcess&) = delete;
   HostProcess& operator=(const HostProcess&) = delete;
 
-  /// Waits for the child to end; kills it when `limit` passes first. Returns its exit status, or
-  /// -1 when it was killed (by us or a signal).
+  /// Waits for the child to end; kills it when `limit` passes first. Returns its exit status (as
+  /// `cobra run`'s: 0 completed, 1 not, 3 a peer lost; 2 the application did not load), or -1 when
+  /// it was killed (by us or a signal).
   int wait(std::chrono::seconds limit) {
     const auto end = std::chrono::steady_clock::now() + limit;
     while (!reaped_) {
@@ -214,6 +215,7 @@ class HostProcess {
       o.progress = [progress](const std::string& line) { *progress << wallNs() << " " << line << std::endl; };
       const RunResult r = runApp(o);
       writeResult(setup_.folder / "result.txt", r);
+      status = exitStatus(r);  // as `cobra run` exits
     } catch (const std::exception& e) {
       std::ofstream(setup_.folder / "error.txt") << e.what();
       status = 2;
