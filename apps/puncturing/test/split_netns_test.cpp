@@ -42,6 +42,17 @@ class NamespacePair {
   NamespacePair(const NamespacePair&) = delete;
   NamespacePair& operator=(const NamespacePair&) = delete;
   bool ok() const { return ok_; }
+  /// Bytes received so far by host needle's end of the pair (what crossed the "network").
+  long long needleReceivedBytes() const {
+    const std::string command = "cat /sys/class/net/vn" + std::to_string(::getpid()) + "/statistics/rx_bytes";
+    FILE* out = ::popen(("ip netns exec " + needle + " " + command).c_str(), "r");
+    long long bytes = -1;
+    if (out != nullptr) {
+      if (std::fscanf(out, "%lld", &bytes) != 1) bytes = -1;
+      ::pclose(out);
+    }
+    return bytes;
+  }
 
   std::string needle, probe, needle_address, probe_address;
 
@@ -79,6 +90,10 @@ TEST(SplitProcedureAcrossNamespaces, EachControllerInItsOwnNamespacePlacesTheNee
   EXPECT_EQ(n.outcome, "completed");
   EXPECT_EQ(p.outcome, "completed");
   ASSERT_EQ(n.placements.size(), reference.placements.size());
+  // The samples went through the veth pair (not a shared-memory shortcut between the processes).
+  const long long received = net.needleReceivedBytes();
+  std::printf("[split netns] host needle's veth end received %.1f MB\n", 1e-6 * static_cast<double>(received));
+  EXPECT_GT(received, 1000000);
   for (std::size_t i = 0; i < n.placements.size(); ++i) {
     std::printf("[split netns] needle %zu: %.4f mm (one process: %.4f mm)\n", i + 1, n.placements[i],
                 reference.placements[i]);
