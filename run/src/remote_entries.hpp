@@ -15,7 +15,7 @@ namespace cobra::run {
 /// The host of a component when it is another host's, "" when it runs in this process.
 using RemoteHostOf = std::function<std::string(const std::string& component)>;
 
-/// The component of a port, member or column path: "ISUR" of "ISUR.measCartPose.z".
+/// The component of a port, member or column path: "Robot" of "Robot.measCartPose.z".
 std::string componentOfPath(const std::string& path);
 
 /// What dropRemoteEntries dropped.
