@@ -16,6 +16,43 @@ phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5
 -- tool's x axis. The robot bridge and the planners are told so.
 needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)
 
+-- Split over two hosts, each robot controller on its own computer (thesis §4.4): `cobra run
+-- apps/puncturing --host needle` and `--host probe` (README.md, "Two hosts"). Host needle runs the
+-- world and the I-SUR's controller, host probe the UR5 and its controller; the connections
+-- between them go over DDS. Without --host this table is ignored: one process runs everything.
+placement = {
+  hosts = {
+    needle = { "ISUR", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo", "Needle*" },
+    probe = { "UR5", "Probe*" },
+  },
+  everywhere = { "Link" },  -- each process's DDS link: its participant, the lockstep meeting, liveliness
+  transport = "dds",
+  -- A reader matched after its writer's first samples (discovery takes a moment at the start)
+  -- still gets them: the writer keeps its last `size` samples for late readers.
+  qos = { durability = "transient_local" },
+}
+if host then
+  -- Before any connection between hosts: the link's participant carries them. The domain, the
+  -- unicast peers (when multicast does not route, e.g. across a veth pair) and the fault
+  -- injection come from the globals or the environment a test sets.
+  initConfigurator({ "cobra_dds" }, { { peer_name = "Link", component_type = "DdsLink" } })
+  getReferences()
+  Link.domain = dds_domain or tonumber(os.getenv("COBRA_DDS_DOMAIN") or "0")
+  Link.participant = host
+  Link.peers = host == "needle" and "probe" or "needle"
+  -- s of wall time: a peer whose liveliness (asserted by Fast DDS's own thread every lease / 4)
+  -- lapses this long is lost, and the charts stop their robots. A lockstep meeting waits longer
+  -- for a live peer (meeting_timeout): one instant may take long on a loaded machine (a plan, the
+  -- OS scheduling others) without the peer being gone.
+  Link.lease = 0.2
+  Link.meeting_timeout = 10
+  Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
+  Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
+  setActivities({ { peer_name = "Link", period = 0.001 } })  -- s: its events reach the charts within a step
+  configureComponents({ "Link" })
+  startComponents({ "Link" })
+end
+
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/needle_robot.lua")
 dofile(here .. "deployment/probe_robot.lua")
@@ -24,6 +61,13 @@ connectPorts({
   { output = "NeedleTaskSup.outputEvents", input = "ProbeTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
   { output = "ProbeTaskSup.outputEvents", input = "NeedleTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
 })
+-- A lost peer host: each chart stops its robot and holds it (its SafeStop, charts/*.lua).
+if host then
+  connectPorts({
+    { output = "Link.events", input = "NeedleTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
+    { output = "Link.events", input = "ProbeTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },
+  })
+end
 applyDeployment("needle_autonomous_planning")
 applyDeployment("probe_autonomous_planning")
 
@@ -31,7 +75,7 @@ applyDeployment("probe_autonomous_planning")
 -- The events the charts react to as failures (charts/*.lua): the last one is a safe stop's reason.
 local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_failed", "e_traj_failed", "e_no_data",
                    "e_comm_timeout", "e_ik_discontinuity", "e_probe_contact_lost", "e_needle_goal_missed",
-                   "e_us_goal_missed", "e_us_needle_not_found" }
+                   "e_us_goal_missed", "e_us_needle_not_found", "e_peer_lost" }
 local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
 run = {
   title = "Puncturing procedure",

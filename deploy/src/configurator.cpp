@@ -65,9 +65,29 @@ core::Component& Configurator::component(const std::string& name, const SourceLo
                     " (components are created from components_list by initConfigurator)");
 }
 
+core::Component& Configurator::anyComponent(const std::string& name, const SourceLocation& where) const {
+  if (core::Component* c = remote_.find(name)) return *c;
+  return component(name, where);
+}
+
+bool Configurator::isRemote(std::string_view name) const { return placement_ && remote_.find(name) != nullptr; }
+
+void Configurator::setPlacement(PlacementSpec spec) {
+  const std::lock_guard lock(mutex_);
+  if (options_.host.empty()) return;
+  if (placement_)
+    throw core::Error(spec.where.text() + ": a placement is in force already (" + placement_->spec().where.text() +
+                      "); declare one placement per application");
+  if (!components_.components().empty())
+    throw core::Error(spec.where.text() + ": the placement comes after components were created ('" +
+                      components_.components().front()->name() +
+                      "'); declare it before the first initConfigurator");
+  placement_.emplace(std::move(spec), options_.host);
+}
+
 core::PortBase& Configurator::port(const std::string& path, const SourceLocation& where) const {
   const PortPath parts = parsePortPath(path, where);
-  core::Component& owner = component(parts.component, where);
+  core::Component& owner = anyComponent(parts.component, where);
   if (core::PortBase* p = owner.findPort(parts.port)) return *p;
   std::vector<std::string> names;
   for (const core::PortBase* p : owner.ports()) names.push_back(p->name());
@@ -89,14 +109,29 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
     if (const auto it = seen.find(spec.peer_name); it != seen.end())
       throw core::Error(spec.where.text() + ": duplicate instance name " + quoted(spec.peer_name) +
                         ": it is already created at " + it->second.text() + "; give each instance its own peer_name");
-    if (components_.find(spec.peer_name) != nullptr)
+    if (components_.find(spec.peer_name) != nullptr || remote_.find(spec.peer_name) != nullptr)
       throw core::Error(spec.where.text() + ": duplicate instance name " + quoted(spec.peer_name) +
                         ": a component of that name already exists; give each instance its own peer_name");
     seen.emplace(spec.peer_name, spec.where);
     (void)packages_.type(spec.component_type, spec.where);  // unknown types fail before anything is created
+    if (!options_.host.empty() && !placement_)
+      throw core::Error(spec.where.text() + ": this process is host '" + options_.host +
+                        "' but no placement says which components live there; declare placement = { hosts = "
+                        "{ ... } } before the first initConfigurator (deploy/README.md, Placement)");
+    if (placement_) (void)placement_->hostOf(spec.peer_name, spec.where);  // unplaced or doubly placed
   }
   try {
     for (const ComponentSpec& spec : components_list) {
+      if (placement_ && placement_->siteOf(spec.peer_name, spec.where) == Placement::Site::Remote) {
+        // A shadow: its ports and properties check what the files say of it; nothing of it runs.
+        remote_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
+        types_[spec.peer_name] = spec.component_type;
+        journal.record("the shadow of remote " + quoted(spec.peer_name), [this, name = spec.peer_name] {
+          types_.erase(name);
+          remote_.remove(name);
+        });
+        continue;
+      }
       core::Component& created = components_.add(packages_.create(spec.component_type, spec.peer_name, spec.where));
       types_[spec.peer_name] = spec.component_type;
       journal.record("the creation of " + quoted(spec.peer_name), [this, name = spec.peer_name, &created] {
@@ -109,6 +144,16 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
       // As in RTT, every component starts with an event-driven activity; setActivities replaces
       // it. Given now, before anything is connected, so no running writer can trigger it.
       applyActivity(created, defaultActivity(spec.peer_name, spec.where));
+      // One run split over hosts: the local link keeps this process's lockstep clock in step.
+      auto* sync = dynamic_cast<core::ClockSync*>(&created);
+      if (placement_ && sync != nullptr && clock_sync_ == nullptr) {
+        clock_sync_ = sync;
+        if (clock_) clock_->setClockSync(sync);
+        journal.record("the clock sync of " + quoted(spec.peer_name), [this] {
+          clock_sync_ = nullptr;
+          if (clock_) clock_->setClockSync(nullptr);
+        });
+      }
     }
     if (!configuration_folder_path.empty()) {
       std::vector<ConfigurationSpec> loaded = loadConfigurationFolder(configuration_folder_path);
@@ -128,9 +173,10 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
 
 void Configurator::configureComponents(const std::vector<NameEntry>& configuration_list) {
   const std::lock_guard lock(mutex_);
-  for (const NameEntry& entry : configuration_list) (void)component(entry.name, entry.where);
+  for (const NameEntry& entry : configuration_list) (void)anyComponent(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : configuration_list) {
+    if (isRemote(entry.name)) continue;  // its host configures it
     core::Component& c = component(entry.name, entry.where);
     const bool was_preoperational = c.state() == core::State::PreOperational;
     if (const core::Result result = c.configure(); !result) {
@@ -146,11 +192,12 @@ void Configurator::configureComponents(const std::vector<NameEntry>& configurati
 
 void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
   const std::lock_guard lock(mutex_);
-  for (const NameEntry& entry : start_list) (void)component(entry.name, entry.where);
+  for (const NameEntry& entry : start_list) (void)anyComponent(entry.name, entry.where);
   detail::UndoJournal journal;
   // Components added to the registry by others (scripts) may have no activity from us yet:
   // give them the default one before any component of the list starts.
   for (const NameEntry& entry : start_list) {
+    if (isRemote(entry.name)) continue;  // its host starts it
     core::Component& c = component(entry.name, entry.where);
     if (c.isRunning() || activities_.count(c.name()) != 0) continue;
     try {
@@ -161,6 +208,7 @@ void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
     journal.record("the default activity of " + quoted(c.name()), [this, &c] { removeActivity(c); });
   }
   for (const NameEntry& entry : start_list) {
+    if (isRemote(entry.name)) continue;
     core::Component& c = component(entry.name, entry.where);
     if (c.isRunning()) continue;  // starting twice is harmless, as in RTT's deployer scripts
     if (const core::Result result = c.start(); !result) {
@@ -177,9 +225,10 @@ void Configurator::startComponents(const std::vector<NameEntry>& start_list) {
 
 void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
   const std::lock_guard lock(mutex_);
-  for (const NameEntry& entry : stop_list) (void)component(entry.name, entry.where);
+  for (const NameEntry& entry : stop_list) (void)anyComponent(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : stop_list) {
+    if (isRemote(entry.name)) continue;  // its host stops it
     core::Component& c = component(entry.name, entry.where);
     if (!c.isRunning()) continue;
     if (const core::Result result = c.stop(); !result)
@@ -195,9 +244,10 @@ void Configurator::stopComponents(const std::vector<NameEntry>& stop_list) {
 
 void Configurator::cleanupComponents(const std::vector<NameEntry>& cleanup_list) {
   const std::lock_guard lock(mutex_);
-  for (const NameEntry& entry : cleanup_list) (void)component(entry.name, entry.where);
+  for (const NameEntry& entry : cleanup_list) (void)anyComponent(entry.name, entry.where);
   detail::UndoJournal journal;
   for (const NameEntry& entry : cleanup_list) {
+    if (isRemote(entry.name)) continue;  // its host cleans it up
     core::Component& c = component(entry.name, entry.where);
     if (c.state() == core::State::PreOperational) continue;
     if (const core::Result result = c.cleanup(); !result)
@@ -213,10 +263,18 @@ void Configurator::addPeers(const std::vector<PeerSpec>& peers_list) {
   const std::lock_guard lock(mutex_);
   auto updated = peers_;  // applied all at once below, so a bad entry changes nothing
   for (const PeerSpec& spec : peers_list) {
-    (void)component(spec.peer_name, spec.where);
+    (void)anyComponent(spec.peer_name, spec.where);
+    if (isRemote(spec.peer_name)) {  // its host adds them (and checks them against its own placement)
+      for (const std::string& peer : spec.peers_to_add) (void)anyComponent(peer, spec.where);
+      continue;
+    }
     auto& peers = updated[spec.peer_name];
     for (const std::string& peer : spec.peers_to_add) {
-      (void)component(peer, spec.where);
+      (void)anyComponent(peer, spec.where);
+      if (isRemote(peer))
+        throw core::Error(spec.where.text() + ": " + quoted(peer) + " (host '" + placement_->hostOf(peer, spec.where) +
+                          "') cannot be a peer of " + quoted(spec.peer_name) + " (host '" + placement_->host() +
+                          "'): operations do not cross hosts; place both on one host, or exchange events through ports");
       if (peer == spec.peer_name)
         throw core::Error(spec.where.text() + ": " + quoted(peer) + " cannot be a peer of itself");
       if (std::find(peers.begin(), peers.end(), peer) == peers.end()) peers.push_back(peer);
@@ -327,14 +385,16 @@ void Configurator::setActivities(const std::vector<ActivitySpec>& activities_lis
       throw core::Error(spec.where.text() + ": " + quoted(spec.peer_name) + " already has an activity in this list (" +
                         it->second.text() + "); give each component one");
     seen.emplace(spec.peer_name, spec.where);
+    if (isRemote(spec.peer_name)) continue;  // its host runs it
     checked.push_back(checkActivity(spec, false));
   }
   detail::UndoJournal journal;
-  for (std::size_t i = 0; i < checked.size(); ++i) {
-    const ActivitySpec& spec = checked[i];
-    if (spec.priority != activities_list[i].priority)
+  for (const ActivitySpec& spec : checked) {
+    const auto asked = std::find_if(activities_list.begin(), activities_list.end(),
+                                    [&](const ActivitySpec& a) { return a.peer_name == spec.peer_name; });
+    if (spec.priority != asked->priority)
       warnings_.push_back(spec.where.text() + ": activity of '" + spec.peer_name + "': priority " +
-                          std::to_string(activities_list[i].priority) + " is not a real-time priority; using " +
+                          std::to_string(asked->priority) + " is not a real-time priority; using " +
                           std::to_string(spec.priority));
     core::Component& c = component(spec.peer_name, spec.where);
     const auto previous = activities_.find(spec.peer_name);

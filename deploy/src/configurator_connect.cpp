@@ -1,5 +1,8 @@
+#include <algorithm>
+#include <iterator>
 #include <set>
 
+#include "cobra/core/transport.hpp"
 #include "cobra/deploy/configurator.hpp"
 #include "cobra/deploy/description.hpp"
 #include "undo_journal.hpp"
@@ -52,13 +55,17 @@ std::vector<LintViolation> Configurator::connectPorts(const std::vector<Connecti
   }
   std::vector<LintViolation> violations;
   try {
-    violations = checkRoles(connections_list);
+    violations = checkRoles(connections_list);  // the local ones: the registry holds no shadow
   } catch (const std::exception& e) {
     throw core::Error(std::string("connectPorts: nothing was connected: ") + e.what());
   }
 
   detail::UndoJournal journal;
   for (const ResolvedConnection& c : resolved) {
+    if (placement_ && (isRemote(c.output->owner()->name()) || isRemote(c.input->owner()->name()))) {
+      connectAcrossHosts(c, journal);
+      continue;
+    }
     try {
       core::connectPorts(*c.output, *c.input, c.policy);
     } catch (const std::exception& e) {
@@ -81,6 +88,37 @@ std::vector<ConnectionSpec> Configurator::madeConnections() const {
   for (const Connection& c : connections_)
     if (!c.from_deployment) made.push_back({c.output, c.input, connPolicySpecOf(c.policy), c.where});
   return made;
+}
+
+void Configurator::connectAcrossHosts(const ResolvedConnection& c, detail::UndoJournal& journal) {
+  const SourceLocation& where = c.spec->where;
+  const auto site = [&](const core::PortBase* p) { return placement_->siteOf(p->owner()->name(), where); };
+  const Placement::Site out = site(c.output), in = site(c.input);
+  // remote -> remote is another host's; an everywhere component's connection to a remote one is
+  // made by that host with its own instance of it.
+  if (out != Placement::Site::Local && in != Placement::Site::Local) return;
+  const bool writer = out == Placement::Site::Local;
+  core::PortBase& local = writer ? *c.output : *c.input;
+  const core::ConnPolicy policy = placement_->crossHostPolicy(c.policy, c.spec->output);
+  std::vector<std::string>& topics = writer ? writer_topics_ : reader_topics_;
+  // One writer end per output port, however many remote inputs read it.
+  if (writer && std::find(topics.begin(), topics.end(), policy.topic) != topics.end()) return;
+  try {
+    core::connectToTransport(local, policy);
+  } catch (const std::exception& e) {
+    journal.fail(where.text() + ": " + c.spec->output + " -> " + c.spec->input + " crosses hosts (" +
+                 placement_->hostOf(c.output->owner()->name(), where) + " -> " +
+                 placement_->hostOf(c.input->owner()->name(), where) + "): " + e.what());
+  }
+  topics.push_back(policy.topic);
+  journal.record("the " + policy.transport + " end of " + local.fullName(), [this, &local, policy, writer] {
+    for (const auto& channel : local.connections())
+      if (channel->policy().transport == policy.transport && channel->policy().topic == policy.topic)
+        core::disconnectPorts(channel->writer(), channel->reader());
+    auto& made = writer ? writer_topics_ : reader_topics_;
+    if (const auto it = std::find(made.rbegin(), made.rend(), policy.topic); it != made.rend())
+      made.erase(std::next(it).base());
+  });
 }
 
 }  // namespace cobra::deploy

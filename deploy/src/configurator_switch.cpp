@@ -33,7 +33,7 @@ void Configurator::checkConfiguration(const ConfigurationSpec& configuration) co
         throw core::Error(value.where.text() + ": " + key + " is already set at " + it->second.text() +
                           "; set each property once per configuration");
       seen.emplace(key, value.where);
-      core::Component& c = component(value.component, value.where);
+      core::Component& c = anyComponent(value.component, value.where);  // a remote one's values are checked too
       core::PropertyBase* property = c.findProperty(value.property);
       if (property == nullptr) {
         std::vector<std::string> names;
@@ -65,6 +65,7 @@ void Configurator::applyConfiguration(const std::string& name) {
   }
   detail::UndoJournal journal;
   for (const PropertyValueSpec& value : configuration.values) {
+    if (isRemote(value.component)) continue;  // its host sets it
     core::PropertyBase& property = component(value.component, value.where).property(value.property);
     const std::string before = property.valueText();
     try {
@@ -132,6 +133,12 @@ Configurator::DeploymentPlan Configurator::planDeployment(const DeploymentSpec& 
   std::vector<const Connection*> kept;
   for (const ConnectionSpec& spec : next.connections) {
     ResolvedConnection c = resolve(spec);
+    for (const core::PortBase* p : {c.output, c.input})
+      if (isRemote(p->owner()->name()))
+        throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input + " names " +
+                          quoted(p->owner()->name()) + " of host '" + placement_->hostOf(p->owner()->name(), spec.where) +
+                          "'; a deployment switches the connections of its own host: make connections between hosts "
+                          "with connectPorts");
     if (std::any_of(plan.additions.begin(), plan.additions.end(),
                     [&](const ResolvedConnection& a) { return a.output == c.output && a.input == c.input; }))
       throw core::Error(spec.where.text() + ": " + spec.output + " -> " + spec.input + " appears twice");
@@ -256,6 +263,7 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
   DeploymentPlan plan;
   std::vector<LintViolation> violations;
   try {
+    if (isOtherHostsDeployment(next)) return violations;
     plan = planDeployment(next);
     violations = checkRoles(next.connections);
   } catch (const std::exception& e) {
@@ -270,6 +278,28 @@ std::vector<LintViolation> Configurator::applyDeployment(const std::string& name
   current_deployments_[next.scope] = name;
   switch_count_.fetch_add(1, std::memory_order_release);
   return violations;
+}
+
+bool Configurator::isOtherHostsDeployment(const DeploymentSpec& next) const {
+  if (!placement_ || next.components.empty()) return false;
+  std::map<std::string, std::vector<std::string>> by_host;  // host -> components ("" everywhere)
+  for (const NameEntry& entry : next.components) {
+    (void)anyComponent(entry.name, entry.where);
+    by_host[placement_->hostOf(entry.name, entry.where)].push_back(entry.name);
+  }
+  by_host.erase("");  // an everywhere component runs on every host, with each host's deployment
+  if (by_host.size() > 1) {
+    std::string hosts;
+    for (const auto& [host, names] : by_host) {
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+      hosts += (hosts.empty() ? "" : "; ") + std::string("host '") + host + "': " + list;
+    }
+    throw core::Error(next.where.text() + ": it runs components of " + std::to_string(by_host.size()) +
+                      " hosts (" + hosts + "); a deployment is switched by one process, so it runs one host's "
+                      "components: split it per host");
+  }
+  return !by_host.empty() && by_host.begin()->first != placement_->host();
 }
 
 const std::string& Configurator::currentDeployment(std::string_view scope) const {

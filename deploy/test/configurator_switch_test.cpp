@@ -73,7 +73,7 @@ std::set<std::string> difference(const std::set<std::string>& a, const std::set<
 /// Three deployments and three configurations of Sine, Gain, Rec, Det, Sup.
 class SwitchTest : public ::testing::Test {
  protected:
-  explicit SwitchTest(bool strict = false) : configurator_({deploy::ClockMode::Simulation, strict, {}}) {
+  explicit SwitchTest(bool strict = false) : configurator_({deploy::ClockMode::Simulation, strict, {}, {}}) {
     components::addBuiltinPackages(configurator_.packages());
     configurator_.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
     configurator_.initConfigurator({{"cobra_signal", at("app.lua", 1)}, {"deploy_test_parts", at("app.lua", 2)}},
@@ -354,7 +354,7 @@ TEST_F(StrictSwitchTest, StrictModeRefusesADeploymentBreakingTheRoles) {
 }
 
 TEST(RealTimeSwitch, DeploymentsAndConfigurationsSwitchWhileThreadsRun) {
-  Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  Configurator configurator({deploy::ClockMode::RealTime, false, {}, {}});
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator({{"cobra_signal", at("rt.lua", 1)}}, {{"Sine", "SineGenerator", at("rt.lua", 3)},
                                                                       {"Gain", "Gain", at("rt.lua", 4)},

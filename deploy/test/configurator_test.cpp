@@ -95,7 +95,7 @@ TEST(Configurator, ThesisSequenceRunsOnTheLockstepClock) {
 
 TEST(Configurator, RealTimeModeRunsThreads) {
   SignalDeployment d;
-  Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  Configurator configurator({deploy::ClockMode::RealTime, false, {}, {}});
   components::addBuiltinPackages(configurator.packages());
   for (auto& a : d.activities_list) a.scheduler = "ORO_SCHED_OTHER";
   configurator.initConfigurator(d.packages_list, d.components_list);
@@ -280,7 +280,7 @@ TEST(Configurator, PeersMustExist) {
 
 TEST(Configurator, DestructionStopsEverythingStillRunning) {
   SignalDeployment d;
-  auto configurator = std::make_unique<Configurator>(deploy::ConfiguratorOptions{deploy::ClockMode::RealTime, false, {}});
+  auto configurator = std::make_unique<Configurator>(deploy::ConfiguratorOptions{deploy::ClockMode::RealTime, false, {}, {}});
   components::addBuiltinPackages(configurator->packages());
   for (auto& a : d.activities_list) a.scheduler = "ORO_SCHED_OTHER";
   configurator->initConfigurator(d.packages_list, d.components_list);
@@ -294,7 +294,7 @@ TEST(Configurator, DestructionStopsEverythingStillRunning) {
 
 TEST(Configurator, ActivityOfAComponentFedByARunningThreadChangesSafely) {
   SignalDeployment d;
-  Configurator configurator({deploy::ClockMode::RealTime, false, {}});
+  Configurator configurator({deploy::ClockMode::RealTime, false, {}, {}});
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   configurator.setActivities({{"Sine", 0.001, 0, "ORO_SCHED_OTHER", at(11)}});

@@ -118,7 +118,7 @@ TEST_F(LintTest, EntriesNamingUnknownPortsAreLeftToTheDeployer) {
 
 TEST(LintConfigurator, WarnsByDefaultAndRefusesWhenStrict) {
   for (const bool strict : {false, true}) {
-    deploy::Configurator configurator({deploy::ClockMode::Simulation, strict, {}});
+    deploy::Configurator configurator({deploy::ClockMode::Simulation, strict, {}, {}});
     components::addBuiltinPackages(configurator.packages());
     configurator.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
     configurator.initConfigurator({{"cobra_signal", at(1)}, {"deploy_test_parts", at(2)}},

@@ -6,6 +6,8 @@
 
 namespace cobra::run {
 
+bool startsWith(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
+
 std::string seconds(double t) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%8.3f s", t);

@@ -104,5 +104,6 @@ std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& r
 
 // "%8.3f s".
 std::string seconds(double t);
+bool startsWith(const std::string& text, const std::string& prefix);
 
 }  // namespace cobra::run

@@ -15,6 +15,7 @@ const char* toString(Outcome outcome) {
     case Outcome::UnhandledFault: return "fault unhandled";
     case Outcome::SafeStop: return "safe stop";
     case Outcome::Interrupted: return "interrupted";
+    case Outcome::PeerLost: return "peer lost";
   }
   return "?";
 }
@@ -25,7 +26,10 @@ const SummaryValue& RunResult::value(const std::string& name) const {
   throw std::out_of_range("no summary value '" + name + "'");
 }
 
-int exitStatus(const RunResult& result) { return result.completed() ? 0 : 1; }
+int exitStatus(const RunResult& result) {
+  if (result.completed()) return 0;
+  return result.outcome == Outcome::PeerLost ? 3 : 1;
+}
 
 std::string endLine(const RunResult& result) {
   if (result.completed()) {

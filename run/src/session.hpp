@@ -16,6 +16,7 @@
 #include "cobra/run/run_spec.hpp"
 #include "cobra/run/runner.hpp"
 #include "observers.hpp"
+#include "remote_entries.hpp"
 
 namespace cobra::components {
 class Supervisor;
@@ -44,6 +45,11 @@ struct Armed {
   double due = -1.0;  // s; < 0: not triggered yet
   int fired = 0;
 };
+
+// The component of "Comp.member" when it has that operation (or property), else nullptr.
+core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string& path, bool operation);
+// "member" of "Comp.member".
+std::string memberOf(const std::string& path);
 
 class Session {
  public:
@@ -81,6 +87,13 @@ class Session {
   // After the run.
   void finishSummary();
   void writeReport(const std::vector<std::string>& observer_files);
+
+  // Split over hosts (RunOptions::host): drops the run table's entries of other hosts' components.
+  void dropOtherHostsEntries();
+  // This host's charts ended: tells the peers (once); true while they have not all ended.
+  bool peersHoldTheRun();
+  // Notes the first loss of a peer (the sync gave up on it).
+  void notePeerLoss();
 
   Chart* chartOf(const std::string& name);
   Chart& chartForSource(const std::string& source);
@@ -132,6 +145,12 @@ class Session {
   long record_every_ = 1;
   double next_progress_ = 0.0;
   double safe_stop_at_ = -1.0;
+  // Split over hosts.
+  RemoteHostOf remote_host_;  // empty without a placement
+  RemoteEntries remote_entries_;
+  bool told_done_ = false;
+  double peer_lost_at_ = -1.0;  // s; < 0: no peer lost
+  std::string lost_peers_;      // "peer 'probe' lost at 12.345 s"
 };
 
 }  // namespace cobra::run

@@ -1,6 +1,6 @@
 // The `cobra` command-line tool: run, check and draw Lua deployment files; write components.
-//   cobra deploy FILE [--sim] [--run-for T] [--strict]
-//   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet]
+//   cobra deploy FILE [--sim] [--run-for T] [--strict] [--host NAME]
+//   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet] [--host NAME]
 //                 [--studio [--studio-port N] [--studio-bind ADDR] [--studio-linger S]] [--pace X] [--interactive]
 //   cobra studio RUN_DIR [--port N] [--bind ADDR]
 //   cobra edit [FILE|APP] [--port N] [--bind ADDR]
@@ -69,15 +69,16 @@ std::vector<deploy::LintViolation> lintAll(const core::ComponentRegistry& regist
   return all;
 }
 
-deploy::ConfiguratorOptions optionsFor(bool sim, bool strict) {
+deploy::ConfiguratorOptions optionsFor(bool sim, bool strict, const std::string& host = {}) {
   deploy::ConfiguratorOptions options;
   options.mode = sim ? deploy::ClockMode::Simulation : deploy::ClockMode::RealTime;
   options.strict_roles = strict;
+  options.host = host;
   return options;
 }
 
-int runDeploy(const std::string& file, bool sim, double run_for, bool strict) {
-  deploy::Configurator configurator(optionsFor(sim, strict));
+int runDeploy(const std::string& file, bool sim, double run_for, bool strict, const std::string& host) {
+  deploy::Configurator configurator(optionsFor(sim, strict, host));
   components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
@@ -202,6 +203,9 @@ int main(int argc, char** argv) {
   deploy_cmd->add_option("--run-for", run_for, "seconds to run (simulated with --sim); 0 = until Ctrl-C (real time)")
       ->check(CLI::NonNegativeNumber);
   deploy_cmd->add_flag("--strict", strict, "refuse connections that break the role rules instead of warning");
+  std::string deploy_host;
+  deploy_cmd->add_option("--host", deploy_host, "this process's host in the file's placement: run only its components "
+                                                 "(deploy/README.md, Placement)");
   deploy_cmd->footer("example: cobra deploy apps/examples/configurator_listing.lua --sim --run-for 1");
 
   run::RunOptions run_options;
@@ -217,6 +221,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--faults", run_faults, "faults file (faults.lua: on an event, a state or a time, call, write or set)");
   run_cmd->add_flag("--realtime", run_options.realtime, "threaded activities on the wall clock instead of the lockstep clock");
   run_cmd->add_flag("--quiet", run_quiet, "print no state, switch or progress line");
+  run_cmd->add_option("--host", run_options.host, "this process's host in the application's placement: run only its "
+                                                  "components, the others' in their own processes (run/README.md)");
   tools::StudioCommandOptions studio_options;
   studio_options.executable = argv[0];
   double pace = -1.0;
@@ -232,7 +238,8 @@ int main(int argc, char** argv) {
                     "the entry file gets `interactive = true`: studio's buttons give the surgeon's inputs");
   run_cmd->footer("example: cobra run apps/puncturing --report build/demo-report\n"
                   "         cobra run apps/puncturing --studio --interactive\n"
-                  "exit status 0 when the task charts reach their done states; else 1 and one line saying why");
+                  "exit status 0 when the task charts reach their done states; 3 when a peer host was lost; else 1 and one "
+                  "line saying why");
 
   std::string studio_folder;
   tools::StudioCommandOptions replay_options;
@@ -323,7 +330,8 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   try {
-    if (*deploy_cmd) return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict);
+    if (*deploy_cmd)
+      return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict, deploy_host);
     if (*run_cmd) {
       run_options.app = run_app;
       run_options.scenario = run_scenario;

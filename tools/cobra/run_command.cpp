@@ -84,8 +84,9 @@ int runApplication(run::RunOptions options, bool quiet, const StudioCommandOptio
   if (studio.live) options.observer = &running;
   else if (!options.report_folder.empty()) options.observer = &bridge;
   if (!quiet)
-    std::printf("cobra run %s%s on the %s\n", options.app.c_str(),
+    std::printf("cobra run %s%s%s on the %s\n", options.app.c_str(),
                 options.scenario.empty() ? "" : (", scenario " + options.scenario.string()).c_str(),
+                options.host.empty() ? "" : (", host " + options.host).c_str(),
                 options.realtime ? "wall clock (real time)" : "lockstep clock (simulated time)");
   run::RunResult result;
   try {

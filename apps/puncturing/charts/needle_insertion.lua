@@ -108,7 +108,7 @@ local chart = {
     emit("e_deploy_" .. D.teleoperated)
     emit("e_configure_" .. (in_tissue and C.insertion or C.free))
   end },
-  -- The same failure again after a reaction (task_steps.lua), or the ultrasound chart stopped:
+  -- The same failure again after a reaction (task_steps.lua), the ultrasound chart stopped, or its host lost:
   -- the motion stops, the admittance holds the needle where it is, and the procedure ends here.
   SafeStop = rfsm.state { entry = function() stop() emit("e_needle_safe_stop") end },
   Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
@@ -130,10 +130,11 @@ for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles'
                             { 'ExtractingNeedle', faults }, { 'WaitUSPositioning', faults } }) do
   for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
 end
--- The ultrasound chart stopped safely: so does this one, from wherever it is.
+-- The ultrasound chart stopped safely, or its host was lost (the run split over two hosts, the
+-- DDS link's e_peer_lost): this one stops too, from wherever it is.
 for _, state in ipairs({ 'WaitIceballConfig', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
-  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop' }, pn = 20 }
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
 end
 
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that

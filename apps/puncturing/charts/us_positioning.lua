@@ -54,7 +54,7 @@ local chart = {
     emit("e_deploy_" .. D.teleoperated)
     emit("e_configure_" .. C.contact)
   end },
-  -- The same failure again after a reaction (task_steps.lua), or the needle chart stopped: the
+  -- The same failure again after a reaction (task_steps.lua), the needle chart stopped or its host lost: the
   -- motion stops, the admittance holds the probe where it is, and the procedure ends here.
   SafeStop = rfsm.state { entry = function() stop() emit("e_us_safe_stop") end },
   Done = rfsm.state { entry = function() emit("e_us_task_done") end },
@@ -82,10 +82,11 @@ for _, reaction in ipairs({ { 'MoveToSkin', faults }, { 'WaitNeedleSkinReached',
                             { 'USPositioned', contact_faults } }) do
   for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
 end
--- The needle chart stopped safely: so does this one, from wherever it is.
+-- The needle chart stopped safely, or its host was lost (the run split over two hosts, the DDS
+-- link's e_peer_lost): this one stops too, from wherever it is.
 for _, state in ipairs({ 'Idle', 'MoveToSkin', 'WaitNeedleSkinReached', 'NextProbePose', 'USPositioned', 'WaitReaction',
                          'USTeleoperation' }) do
-  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_needle_safe_stop' }, pn = 20 }
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_needle_safe_stop', 'e_peer_lost' }, pn = 20 }
 end
 
 local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root.WaitNeedleSkinReached",

@@ -11,6 +11,7 @@
 #include "cobra/deploy/lua_configuration.hpp"
 #include "cobra/script/bindings.hpp"
 #include "configuration_table.hpp"
+#include "lua_placement.hpp"
 #include "source_lines.hpp"
 
 namespace cobra::deploy {
@@ -20,6 +21,7 @@ struct LuaDeployer::Impl {
   Configurator& configurator;
   script::LuaState& lua;
   std::map<std::string, detail::SourceLines> sources;  // by file name as errors show it
+  std::string entry;  // the first file run: the one that declares the placement
 };
 
 namespace {
@@ -291,8 +293,23 @@ int pushWarnings(lua_State* L, const std::vector<LintViolation>& violations) {
   return 1;
 }
 
+/// Puts the global `placement` in force when this process is one host of a split application and
+/// none is yet (the Configurator refuses to create components without one).
+void readPlacementOnce(lua_State* L, LuaDeployer::Impl& impl) {
+  if (impl.configurator.host().empty() || impl.configurator.placement() != nullptr) return;
+  lua_getglobal(L, "placement");
+  const int index = lua_gettop(L);
+  if (!lua_isnil(L, index)) {
+    PlacementSpec spec = detail::readPlacement(L, index, impl.entry);
+    lua_settop(L, index - 1);
+    impl.configurator.setPlacement(std::move(spec));
+  }
+  lua_settop(L, index - 1);
+}
+
 int initConfiguratorImpl(lua_State* L) {
   LuaDeployer::Impl& impl = implOf(L);
+  readPlacementOnce(L, impl);
   CallSite site(L, impl);
   const auto packages = readNames(L, 1, site, "packages_list");
   const auto components = readComponents(L, 2, site);
@@ -346,7 +363,15 @@ int connectPortsImpl(lua_State* L) {
 
 int getReferencesImpl(lua_State* L) {
   LuaDeployer::Impl& impl = implOf(L);
+  // A remote component's shadow takes what the files set on it (and ignores it): the same files
+  // run on every host.
+  for (core::Component* shadow : impl.configurator.remoteComponents().components())
+    script::exposeComponent(impl.lua, *shadow);
   script::getReferences(impl.lua, impl.configurator.getReferences());
+  // script::getReferences defines a Lua getReferences of its own registry; keep this one.
+  lua_pushlightuserdata(L, &impl);
+  lua_pushcclosure(L, guarded<getReferencesImpl>, 1);
+  lua_setglobal(L, "getReferences");
   return 0;
 }
 
@@ -415,7 +440,7 @@ end
 }  // namespace
 
 LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
-    : configurator_(configurator), lua_(lua), impl_(std::make_unique<Impl>(Impl{configurator, lua, {}})) {
+    : configurator_(configurator), lua_(lua), impl_(std::make_unique<Impl>(Impl{configurator, lua, {}, {}})) {
   lua_State* L = lua.get();
   const std::pair<const char*, lua_CFunction> functions[] = {
       {"initConfigurator", guarded<initConfiguratorImpl>},
@@ -438,6 +463,11 @@ LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
     lua_setglobal(L, name);
   }
   lua.run(kRttShims, "=rtt shims");
+  // One host of an application split over hosts: the files see which (placement.hpp).
+  if (!configurator.host().empty()) {
+    lua_pushstring(L, configurator.host().c_str());
+    lua_setglobal(L, "host");
+  }
   if (const auto data = dataDirectory(); !data.empty()) {
     lua_pushstring(L, ((data / "charts").string() + "/").c_str());
     lua_setglobal(L, "COBRA_CHARTS");
@@ -446,7 +476,10 @@ LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
 
 LuaDeployer::~LuaDeployer() = default;
 
-void LuaDeployer::runFile(const std::string& path) { lua_.runFile(path); }
+void LuaDeployer::runFile(const std::string& path) {
+  if (impl_->entry.empty()) impl_->entry = path;
+  lua_.runFile(path);
+}
 
 void LuaDeployer::run(const std::string& code, const std::string& chunk_name) {
   std::vector<std::string> lines;

@@ -28,6 +28,7 @@
 #include "cobra/deploy/deployment_set.hpp"
 #include "cobra/deploy/lint.hpp"
 #include "cobra/deploy/package_registry.hpp"
+#include "cobra/deploy/placement.hpp"
 #include "cobra/deploy/spec.hpp"
 
 namespace cobra::deploy {
@@ -53,6 +54,9 @@ struct ConfiguratorOptions {
   bool strict_roles = false;
   /// Directories searched for shared-library packages, before COBRA_PACKAGE_PATH.
   std::vector<std::filesystem::path> package_path;
+  /// This process's host in the application's placement (placement.hpp); "" = no placement:
+  /// every component runs in this process, and a placement given to setPlacement is ignored.
+  std::string host;
 };
 
 /// Owns the packages, the components, the lockstep clock (in simulation) and the peer table of
@@ -68,6 +72,32 @@ class Configurator {
   ~Configurator();
   Configurator(const Configurator&) = delete;
   Configurator& operator=(const Configurator&) = delete;
+
+  /// Puts `spec` in force when the options name a host (ignored otherwise): from then on each
+  /// component created is local, remote or everywhere (Placement::Site). A remote component is
+  /// created as a shadow that is never configured, started or stepped: its ports and properties
+  /// are known, so names and types are still checked, and what is set on it is ignored. Call it
+  /// before the first initConfigurator.
+  /// @throws core::Error for a bad placement (Placement's constructor), when components exist
+  ///         already, or when a placement is in force already.
+  void setPlacement(PlacementSpec spec);
+  /// The placement in force, or nullptr (no host, or no placement given yet).
+  const Placement* placement() const { return placement_ ? &*placement_ : nullptr; }
+  /// True when `component` is on another host (never without a placement).
+  bool isRemote(std::string_view component) const;
+  /// The shadows of the remote components (empty without a placement).
+  const core::ComponentRegistry& remoteComponents() const { return remote_; }
+  core::ComponentRegistry& remoteComponents() { return remote_; }
+  /// The topics of the connections between hosts this process makes: its writer ends (output
+  /// ports of its components read on other hosts) and reader ends, "Component/port" each, in the
+  /// order made.
+  const std::vector<std::string>& writerTopics() const { return writer_topics_; }
+  const std::vector<std::string>& readerTopics() const { return reader_topics_; }
+  /// The link of a run split over hosts: the first local component implementing core::ClockSync
+  /// (the DDS link) once a placement is in force, set on the lockstep clock when it is created
+  /// (in ClockMode::RealTime nothing meets it; its lostPeers() still tell of lost peers).
+  /// nullptr otherwise.
+  core::ClockSync* clockSync() const { return clock_sync_; }
 
   /// Loads the packages, creates the component instances, and reads every configuration file
   /// (`*.cfg`, see loadConfigurationFile) of `configuration_folder_path` (none when empty),
@@ -92,7 +122,10 @@ class Configurator {
   void cleanupComponents(const std::vector<NameEntry>& cleanup_list);
 
   /// Adds peers: a component knows its peers by name (a supervisor calls their operations).
-  /// @throws core::Error naming the entry when a component or peer does not exist.
+  /// Under a placement, the entries of remote components are left to their host, and a local
+  /// component cannot have a remote peer (operations do not cross hosts).
+  /// @throws core::Error naming the entry when a component or peer does not exist, or when a
+  ///         local component is given a remote peer (naming both and their hosts).
   void addPeers(const std::vector<PeerSpec>& peers_list);
   /// The peers of `component`, in the order added (empty when it has none).
   const std::vector<std::string>& peersOf(const std::string& component) const;
@@ -109,7 +142,12 @@ class Configurator {
 
   /// Connects each `output` port to its `input` port with its policy, after checking all of
   /// them: ports exist, output -> input direction, same type, not already connected, and the
-  /// role rules (lint.hpp).
+  /// role rules (lint.hpp). Under a placement (placement.hpp): local -> local as above; a local
+  /// output read by a remote input gets one writer end on the placement's transport (topic
+  /// "Component/port", however many remote inputs read it); a remote output read by a local
+  /// input gets a reader end on that topic; remote -> remote, and a connection between an
+  /// `everywhere` component and a remote one (its host makes it with its own instance), make
+  /// nothing here. The connection's type and size are kept, the placement's QoS added.
   /// @return the role violations (made anyway unless `strict_roles`).
   /// @throws core::Error "file:line: cannot connect ...", or the violations when strict.
   std::vector<LintViolation> connectPorts(const std::vector<ConnectionSpec>& connections_list);
@@ -133,6 +171,9 @@ class Configurator {
   /// in their listed order. Everything is checked before anything changes; if applying still
   /// fails, the previous deployment is restored. Components and connections that no deployment
   /// made (from startComponents / connectPorts) are left alone unless `name` lists them.
+  /// Under a placement, a deployment whose components are all remote is another host's: applying
+  /// it does nothing here; one that runs components of two hosts, or whose connections name a
+  /// remote component, is refused.
   /// @return the role violations of `name`'s connections (refused instead when strict).
   /// @throws core::Error naming the deployment, the failing entry's file:line and what failed.
   std::vector<LintViolation> applyDeployment(const std::string& name);
@@ -165,6 +206,8 @@ class Configurator {
   /// The simulation clock. @throws core::Error in ClockMode::RealTime.
   core::LockstepClock& clock();
   ClockMode mode() const { return options_.mode; }
+  /// This process's host (ConfiguratorOptions::host; "" = not split).
+  const std::string& host() const { return options_.host; }
   PackageRegistry& packages() { return packages_; }
   const PackageRegistry& packages() const { return packages_; }
   /// Non-fatal findings so far (role violations, adjusted priorities), oldest first.
@@ -189,6 +232,12 @@ class Configurator {
   };
 
   core::Component& component(const std::string& name, const SourceLocation& where) const;
+  /// A local component or a remote one's shadow (for checks).
+  core::Component& anyComponent(const std::string& name, const SourceLocation& where) const;
+  /// Makes the transport ends of the connection `c` between hosts (local output or local input).
+  void connectAcrossHosts(const ResolvedConnection& c, detail::UndoJournal& journal);
+  /// Throws when a deployment mixes hosts; true when it is all remote (another host's).
+  bool isOtherHostsDeployment(const DeploymentSpec& next) const;
   core::PortBase& port(const std::string& path, const SourceLocation& where) const;
   ResolvedConnection resolve(const ConnectionSpec& spec) const;
   /// Throws what a connection of `c` would fail with (direction, type, duplicate, capacity).
@@ -232,6 +281,10 @@ class Configurator {
   std::map<std::string, std::string, std::less<>> current_deployments_;  // scope -> deployment
   std::string current_configuration_;
   std::vector<std::string> warnings_;
+  std::optional<Placement> placement_;
+  core::ComponentRegistry remote_;  // shadows of the remote components
+  std::vector<std::string> writer_topics_, reader_topics_;
+  core::ClockSync* clock_sync_ = nullptr;
 
   mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
   std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;

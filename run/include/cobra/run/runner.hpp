@@ -118,6 +118,11 @@ struct RunOptions {
   RunObserver* observer = nullptr;
   /// When set and true, the run ends after the current step (Ctrl-C): Outcome::Interrupted.
   const std::atomic<bool>* interrupt = nullptr;
+  /// This process's host in the application's `placement` (deploy/placement.hpp): only that
+  /// host's components run here, the connections to the others' go over the placement's
+  /// transport, and the run table's entries naming other hosts' components are left to them.
+  /// "" (default): the placement is ignored, everything runs in this process.
+  std::string host;
 };
 
 enum class Outcome {
@@ -127,6 +132,7 @@ enum class Outcome {
   UnhandledFault,  ///< a fault was injected and the task did not complete before the time limit
   SafeStop,        ///< a task chart entered its safe-stop state
   Interrupted,     ///< RunOptions::interrupt was set (Ctrl-C)
+  PeerLost,        ///< a run split over hosts lost a peer; this host's charts stopped safely (or not: the reason says)
 };
 const char* toString(Outcome outcome);
 
@@ -178,7 +184,8 @@ struct RunResult {
   const SummaryValue& value(const std::string& name) const;
 };
 
-/// `cobra run`'s exit status for a run that ended: 0 completed, 1 otherwise.
+/// `cobra run`'s exit status for a run that ended: 0 completed, 3 a peer lost (a run split over
+/// hosts), 1 otherwise (2 is `cobra run`'s for an application that does not load).
 int exitStatus(const RunResult& result);
 /// The line `cobra run` prints when the run ended: "completed in 163.400 s", else
 /// "cobra run: SafeStop: <reason>" (on stderr).

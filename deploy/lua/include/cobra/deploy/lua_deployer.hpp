@@ -23,6 +23,10 @@
 /// (`DepSup.fsm_path = COBRA_CHARTS .. "deployment_supervisor.lua"`), when cobra's data folder
 /// is found (install_layout.hpp: an installed tool, cobra's own build tree, or COBRA_DATA_DIR).
 ///
+/// One host of an application split over hosts (ConfiguratorOptions::host): the global `host` is
+/// its name (nil otherwise), and the global table `placement` (placement.hpp) is put in force at
+/// the first `initConfigurator`; its entries' lines are found in the first file run.
+///
 /// The configuration folder of `initConfigurator` may hold configurations as Lua tables
 /// (`name.lua`, see lua_configuration.hpp) as well as `name.cfg` files.
 ///
