@@ -58,7 +58,7 @@ void registerParts(deploy::PackageBuilder& package) {
 }
 
 struct ClientFixture {
-  explicit ClientFixture(deploy::ClockMode mode) : configurator({mode, false, {}}) {
+  explicit ClientFixture(deploy::ClockMode mode) : configurator({mode, false, {}, {}}) {
     components::addBuiltinPackages(configurator.packages());
     configurator.packages().addBuiltin("client_test", registerParts);
     configurator.initConfigurator({{"cobra_signal", {"app.lua", 1}}, {"client_test", {"app.lua", 2}}},

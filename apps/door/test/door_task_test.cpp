@@ -23,7 +23,7 @@ using namespace std::chrono_literals;
 const std::string kDoor = std::string(COBRA_SOURCE_DIR) + "/apps/door/";
 
 struct DoorRun {
-  deploy::Configurator configurator{deploy::ConfiguratorOptions{.package_path = {COBRA_PACKAGE_DIR}}};
+  deploy::Configurator configurator{deploy::ConfiguratorOptions{.package_path = {COBRA_PACKAGE_DIR}, .host = {}}};
   script::LuaState lua;
   deploy::LuaDeployer deployer{configurator, lua};
   std::vector<std::string> log;  // "state X", "deployment Y", "configuration Z" as they change
