@@ -85,7 +85,9 @@ TEST(ISURRobotBridge, CommandedJointsReachTheSimulatedControllerAndItsStateComes
   ASSERT_NE(rig.meas_wrench.read(wrench), core::FlowStatus::NoData);
   EXPECT_NEAR(wrench.force.z(), 2.0, 0.1);  // AtiNano17 noise and resolution are far below 0.1 N
   EXPECT_GT(rig.bridge.call<int>("acceptedCount"), 0);
-  EXPECT_EQ(rig.rejected("all"), 0);
+  // Nothing malformed, corrupt or out of order; a state older than max_delay (50 ms) is rightly
+  // dropped, which happens when the machine is loaded (ThreadSanitizer beside other builds).
+  EXPECT_EQ(rig.rejected("all") - rig.rejected("delayed"), 0);
   EXPECT_EQ(controller.counters().rejected(), 0U);
 }
 
