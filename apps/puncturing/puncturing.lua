@@ -41,10 +41,11 @@ if host then
   Link.participant = host
   Link.peers = host == "needle" and "probe" or "needle"
   -- s of wall time: a peer whose liveliness (asserted by Fast DDS's own thread every lease / 4)
-  -- lapses this long is lost, and the charts stop their robots. A lockstep meeting waits longer
-  -- for a live peer (meeting_timeout): one instant may take long on a loaded machine (a plan, the
-  -- OS scheduling others) without the peer being gone.
-  Link.lease = 0.2
+  -- lapses this long is lost, and the charts stop their robots. 3 s, not 0.1 s: the tests run two
+  -- split runs at once on a 2-core machine, where a 0.2 s lease lost a live peer (its process
+  -- starved for seconds); dds_link_test shows 0.1 s on a pair of processes that are not starved.
+  -- A lockstep meeting waits up to meeting_timeout for a live peer (one instant may take long).
+  Link.lease = 3
   Link.meeting_timeout = 10
   Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
   Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
