@@ -82,6 +82,19 @@ test('a type mismatch is refused by cobra with its reason, shown next to the por
   assert.equal(await page.locator('#canvas g.connection').count(), 0);
 });
 
+test("a role violation is drawn with cobra's linter message", { skip, timeout: 120000 }, async (t) => {
+  // Among cobra's own types: the Puma 260's EtherCAT master (a Bridge) reads only pure data but
+  // writes its task state (logic data) — the linter's writer-side rule for bridges.
+  const page = await editor(t, []);
+  await place(page, 'Puma260EtherCATMaster', 'Master', 150, 150);
+  await place(page, 'ScriptedSurgeon', 'Surgeon', 550, 150);
+  await connect(page, 'Master.currentState', 'Surgeon.needleTaskState');
+  assert.equal(await page.locator('#canvas g.connection').count(), 1, 'drawn: the linter warns, it does not refuse');
+  const message = await page.locator('#canvas .lint-badge title').textContent();
+  assert.match(message, /^Master\.currentState \(Bridge\) -> Surgeon\.needleTaskState \(Bridge\): a Bridge component writes the same kind of data it reads, and Master reads only pure/);
+  assert.match(await page.locator('#problem-list li.lint').textContent(), /a Bridge component writes the same kind of data it reads/);
+});
+
 /** Component names and connections (output, input) in a `cobra describe` text. */
 function describedParts(text) {
   const components = [...text.matchAll(/peer_name = "(\w+)", component_type/g)].map((m) => m[1]);
