@@ -312,7 +312,11 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
           ready = false;
           if (!p.seen) {
             if (now - started_ > std::chrono::duration<double>(settings_.join_timeout))
-              losses.emplace_back(name, "it never came (join_timeout " + text::number(settings_.join_timeout) + " s)");
+              losses.emplace_back(name, "it never came to participant '" + settings_.self + "' in DDS domain " +
+                                            std::to_string(participant_.entity()->get_domain_id()) + " (join_timeout " +
+                                            text::number(settings_.join_timeout) +
+                                            " s): is it running, with the same DdsLink.domain, and reachable "
+                                            "(DdsLink.initial_peers when multicast does not route)?");
           } else if (now - std::max(p.heard, wait_start) > std::chrono::duration<double>(settings_.meeting_timeout)) {
             losses.emplace_back(name, "it missed the meeting at t = " + text::number(static_cast<double>(t) * 1e-9) +
                                           " s for " + text::number(settings_.meeting_timeout) + " s");
