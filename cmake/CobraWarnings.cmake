@@ -43,16 +43,17 @@ endif()
 # by the `selected_tests` target and registered with CTest; the others stay out of `all`.
 set(COBRA_TEST_LABELS "" CACHE STRING "Build and register only the tests with one of these labels (empty: all)")
 
-# cobra_add_test(<name> SOURCES ... LIBS ...): one executable per unit, registered with CTest.
+# cobra_add_test(<name> SOURCES ... LIBS ... [LABELS l] [TEST_PROPERTIES k v ...]): one executable
+# per unit, registered with CTest; TEST_PROPERTIES are set on each of its tests (e.g. RUN_SERIAL).
 function(cobra_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;TEST_PROPERTIES" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} cobra::test_support GTest::gtest GTest::gtest_main cobra_build_flags)
   if(COBRA_TEST_LABELS AND NOT "${ARG_LABELS}" IN_LIST COBRA_TEST_LABELS)
     set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL ON)
     return()
   endif()
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}" ${ARG_TEST_PROPERTIES})
   set_property(GLOBAL APPEND PROPERTY COBRA_SELECTED_TESTS ${name})
 endfunction()
 

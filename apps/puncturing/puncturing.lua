@@ -47,6 +47,7 @@ if host then
   -- A lockstep meeting waits up to meeting_timeout for a live peer (one instant may take long).
   Link.lease = 3
   Link.meeting_timeout = 10
+  Link.join_timeout = 120  -- s: the other host may still be loading its half (its planning scenes)
   Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
   Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
   setActivities({ { peer_name = "Link", period = 0.001 } })  -- s: its events reach the charts within a step

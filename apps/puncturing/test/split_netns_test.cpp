@@ -71,7 +71,7 @@ TEST(SplitProcedureAcrossNamespaces, EachControllerInItsOwnNamespacePlacesTheNee
   HostSetup single;
   single.folder = folder / "single";
   HostProcess one(single);
-  ASSERT_EQ(one.wait(std::chrono::seconds(150)), 0) << one.result().error << one.result().reason;
+  ASSERT_EQ(one.wait(std::chrono::seconds(400)), 0) << one.result().error << one.result().reason;
   const HostResult reference = one.result();
 
   HostSetup needle, probe;
@@ -81,8 +81,8 @@ TEST(SplitProcedureAcrossNamespaces, EachControllerInItsOwnNamespacePlacesTheNee
   needle.netns = net.needle, probe.netns = net.probe;
   needle.initial_peers = net.probe_address, probe.initial_peers = net.needle_address;
   HostProcess needle_run(needle), probe_run(probe);
-  const int needle_status = needle_run.wait(std::chrono::seconds(150));
-  const int probe_status = probe_run.wait(std::chrono::seconds(150));
+  const int needle_status = needle_run.wait(std::chrono::seconds(400));
+  const int probe_status = probe_run.wait(std::chrono::seconds(400));
   const HostResult n = needle_run.result(), p = probe_run.result();
   EXPECT_EQ(needle_status, 0) << n.error << n.outcome << ": " << n.reason;
   EXPECT_EQ(probe_status, 0) << p.error << p.outcome << ": " << p.reason;
