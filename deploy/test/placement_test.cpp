@@ -10,6 +10,7 @@
 #include "cobra/core/transport.hpp"
 #include "cobra/deploy/configurator.hpp"
 #include "test_components.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 using namespace cobra;
 using namespace std::chrono_literals;
@@ -24,15 +25,6 @@ using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
 namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 SourceLocation at(int line) { return {"app.lua", line}; }
 
@@ -118,20 +110,20 @@ TEST(PlacementPatterns, SitesAndErrors) {
   EXPECT_EQ(a.siteOf("BGain", at(20)), Placement::Site::Remote);
   EXPECT_EQ(a.siteOf("Link", at(20)), Placement::Site::Everywhere);
   EXPECT_EQ(a.hostOf("BGain", at(20)), "b");
-  EXPECT_EQ(errorOf([&] { (void)a.hostOf("Cryo", at(21)); }),
+  EXPECT_EQ(test_support::messageOf([&] { (void)a.hostOf("Cryo", at(21)); }),
             "app.lua:21: component 'Cryo' is placed on no host of the placement (app.lua:2): add it, or a pattern "
             "matching it, to one host's list or to everywhere");
   PlacementSpec twice = twoHosts();
   twice.hosts[1].patterns.push_back("AGain");
   const Placement b(twice, "b");
-  EXPECT_EQ(errorOf([&] { (void)b.hostOf("AGain", at(22)); }),
+  EXPECT_EQ(test_support::messageOf([&] { (void)b.hostOf("AGain", at(22)); }),
             "app.lua:22: component 'AGain' is placed on 2 sites: host 'a' (app.lua:3) and host 'b' (app.lua:4); "
             "place each component once");
-  EXPECT_THAT(errorOf([] { Placement(twoHosts(), "c"); }),
+  EXPECT_THAT(test_support::messageOf([] { Placement(twoHosts(), "c"); }),
               HasSubstr("app.lua:2: this process's host 'c' is not a host of the placement (a, b)"));
   PlacementSpec star = twoHosts();
   star.hosts[0].patterns.push_back("A*B");
-  EXPECT_THAT(errorOf([&] { Placement(star, "a"); }),
+  EXPECT_THAT(test_support::messageOf([&] { Placement(star, "a"); }),
               HasSubstr("app.lua:3: placement host 'a': pattern 'A*B' must be a component name or a prefix followed by '*'"));
   const core::ConnPolicy policy = a.crossHostPolicy(core::ConnPolicy::buffer(8), "AGain.out");
   EXPECT_EQ(policy.describe(), "buffer(8) over recording topic 'AGain/out'");
@@ -162,7 +154,7 @@ TEST_F(PlacementTest, RemoteComponentsAreShadowsThatNeverRun) {
   c.stopComponents(all);
   c.cleanupComponents(all);
   // Unknown names stay errors, remote or not.
-  EXPECT_THAT(errorOf([&] { c.configureComponents({{"BGian", at(40)}}); }),
+  EXPECT_THAT(test_support::messageOf([&] { c.configureComponents({{"BGian", at(40)}}); }),
               HasSubstr("app.lua:40: no component named 'BGian'"));
 }
 
@@ -187,11 +179,11 @@ TEST_F(PlacementTest, ConnectionsBetweenHostsBecomeTransportEnds) {
   EXPECT_THAT(c.readerTopics(), ElementsAre("BGain/out", "BSup/outputEvents"));
 
   // The remote side's ports are checked: names and types.
-  EXPECT_THAT(errorOf([&] { c.connectPorts({{"Sine.out", "BGain.inn", {}, at(60)}}); }),
+  EXPECT_THAT(test_support::messageOf([&] { c.connectPorts({{"Sine.out", "BGain.inn", {}, at(60)}}); }),
               HasSubstr("app.lua:60: component 'BGain' has no port 'inn'"));
-  EXPECT_THAT(errorOf([&] { c.connectPorts({{"BSup.outputEvents", "AGain.in", {}, at(61)}}); }),
+  EXPECT_THAT(test_support::messageOf([&] { c.connectPorts({{"BSup.outputEvents", "AGain.in", {}, at(61)}}); }),
               HasSubstr("app.lua:61: "));
-  EXPECT_THAT(errorOf([&] { c.connectPorts({{"BSup.outputEvents", "AGain.in", {}, at(61)}}); }), HasSubstr("types differ"));
+  EXPECT_THAT(test_support::messageOf([&] { c.connectPorts({{"BSup.outputEvents", "AGain.in", {}, at(61)}}); }), HasSubstr("types differ"));
 }
 
 TEST_F(PlacementTest, TheOtherHostMakesTheMirrorEnds) {
@@ -211,7 +203,7 @@ TEST_F(PlacementTest, TheOtherHostMakesTheMirrorEnds) {
 
 TEST_F(PlacementTest, PeersDoNotCrossHosts) {
   Host a("a");
-  EXPECT_EQ(errorOf([&] { a.configurator.addPeers({{"ASup", {"AGain", "BGain"}, at(70)}}); }),
+  EXPECT_EQ(test_support::messageOf([&] { a.configurator.addPeers({{"ASup", {"AGain", "BGain"}, at(70)}}); }),
             "app.lua:70: 'BGain' (host 'b') cannot be a peer of 'ASup' (host 'a'): operations do not cross hosts; "
             "place both on one host, or exchange events through ports");
   EXPECT_TRUE(a.configurator.peersOf("ASup").empty()) << "a bad entry adds nothing";
@@ -232,11 +224,11 @@ TEST_F(PlacementTest, DeploymentsBelongToOneHost) {
   EXPECT_TRUE(c.applyDeployment("b_run").empty());
   EXPECT_EQ(c.currentDeployment("b"), "") << "another host's deployment is not this process's";
   EXPECT_EQ(c.remoteComponents().get("BGain").state(), core::State::PreOperational);
-  EXPECT_EQ(errorOf([&] { c.applyDeployment("mixed"); }),
+  EXPECT_EQ(test_support::messageOf([&] { c.applyDeployment("mixed"); }),
             "deployment 'mixed' (app.lua:82) not applied: app.lua:82: it runs components of 2 hosts (host 'a': AGain; "
             "host 'b': BGain); a deployment is switched by one process, so it runs one host's components: split it per "
             "host; nothing was changed");
-  EXPECT_THAT(errorOf([&] { c.applyDeployment("crossing"); }),
+  EXPECT_THAT(test_support::messageOf([&] { c.applyDeployment("crossing"); }),
               HasSubstr("app.lua:88: BGain.out -> AGain.in names 'BGain' of host 'b'; a deployment switches the "
                         "connections of its own host: make connections between hosts with connectPorts"));
 }
@@ -246,25 +238,25 @@ TEST_F(PlacementTest, ABadPlacementOrNoneIsRefused) {
   options.host = "a";
   Configurator without(options);
   components::addBuiltinPackages(without.packages());
-  EXPECT_EQ(errorOf([&] { without.initConfigurator({{"cobra_signal", at(1)}}, {{"Sine", "SineGenerator", at(2)}}); }),
+  EXPECT_EQ(test_support::messageOf([&] { without.initConfigurator({{"cobra_signal", at(1)}}, {{"Sine", "SineGenerator", at(2)}}); }),
             "app.lua:2: this process is host 'a' but no placement says which components live there; declare "
             "placement = { hosts = { ... } } before the first initConfigurator (deploy/README.md, Placement)");
 
   Configurator unplaced(options);
   components::addBuiltinPackages(unplaced.packages());
   unplaced.setPlacement(twoHosts());
-  EXPECT_THAT(errorOf([&] {
+  EXPECT_THAT(test_support::messageOf([&] {
                 unplaced.initConfigurator({{"cobra_signal", at(1)}},
                                           {{"Sine", "SineGenerator", at(2)}, {"Cryo", "Gain", at(3)}});
               }),
               HasSubstr("app.lua:3: component 'Cryo' is placed on no host of the placement (app.lua:2)"));
   EXPECT_TRUE(unplaced.getReferences().components().empty()) << "nothing created";
-  EXPECT_THAT(errorOf([&] { unplaced.setPlacement(twoHosts()); }), HasSubstr("a placement is in force already"));
+  EXPECT_THAT(test_support::messageOf([&] { unplaced.setPlacement(twoHosts()); }), HasSubstr("a placement is in force already"));
 
   Configurator late2(options);
   components::addBuiltinPackages(late2.packages());
   late2.getReferences().add(std::make_unique<deploy::test::Faulty>("Early"));
-  EXPECT_THAT(errorOf([&] { late2.setPlacement(twoHosts()); }),
+  EXPECT_THAT(test_support::messageOf([&] { late2.setPlacement(twoHosts()); }),
               HasSubstr("app.lua:2: the placement comes after components were created ('Early')"));
 
   // The placement's transport and QoS are checked when a connection between hosts is made.
@@ -273,7 +265,7 @@ TEST_F(PlacementTest, ABadPlacementOrNoneIsRefused) {
   PlacementSpec spec = twoHosts("no_such_transport");
   typo.setPlacement(spec);
   typo.initConfigurator({{"cobra_signal", at(1)}}, {{"Sine", "SineGenerator", at(2)}, {"BGain", "Gain", at(3)}});
-  EXPECT_THAT(errorOf([&] { typo.connectPorts({{"Sine.out", "BGain.in", {}, at(4)}}); }),
+  EXPECT_THAT(test_support::messageOf([&] { typo.connectPorts({{"Sine.out", "BGain.in", {}, at(4)}}); }),
               HasSubstr("app.lua:4: Sine.out -> BGain.in crosses hosts (a -> b): cannot connect Sine.out (double) to "
                         "no_such_transport topic 'Sine/out': unknown transport 'no_such_transport'"));
 }
