@@ -324,6 +324,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         }
         if (ready) {
           for (detail::ReaderEndHook* r : readers) r->release(bounds);
+          participant_.noteReleased(bounds);
           // A peer is done once it said so at a meeting this process passed too: both then
           // leave after the same instant.
           for (auto& [name, p] : peers_) {

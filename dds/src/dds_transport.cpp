@@ -75,7 +75,7 @@ class WriterEnd final : public core::TransportEnd, public detail::WriterEndHook 
  public:
   WriterEnd(std::shared_ptr<Participant> participant, std::unique_ptr<core::InputPort<T>> hidden,
             fdds::DataWriter* writer, EndpointInfo info)
-      : participant_(std::move(participant)), hidden_(std::move(hidden)), writer_(writer), info_(std::move(info)) {
+      : participant_(std::move(participant)), hidden_(std::move(hidden)), writer_(writer), info_(participant_->effective(info)) {
     hidden_->setNewDataFlag(&fresh_);
   }
   ~WriterEnd() override { close(); }
@@ -144,12 +144,13 @@ template <class T>
 class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListener, public detail::ReaderEndHook {
  public:
   ReaderEnd(std::shared_ptr<Participant> participant, std::unique_ptr<core::OutputPort<T>> hidden, EndpointInfo info)
-      : participant_(std::move(participant)), hidden_(std::move(hidden)), info_(std::move(info)) {}
+      : participant_(std::move(participant)), hidden_(std::move(hidden)), info_(participant_->effective(info)) {}
   ~ReaderEnd() override { close(); }
 
   core::OutputPort<T>& hidden() { return *hidden_; }
   /// Creates the DDS reader once the channel to the input port exists (samples may arrive at once).
   void start() {
+    floor_ = participant_->released();
     participant_->addReaderEnd(this);
     reader_ = participant_->createReader(info_, typeSupport<T>(), this);
   }
@@ -177,8 +178,12 @@ class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListen
       const auto sequence = info.sample_identity.sequence_number().to64long();
       std::int64_t& highest = received_[writer];  // one node per far writer, on its first sample
       highest = std::max<std::int64_t>(highest, static_cast<std::int64_t>(sequence));
-      if (hold) held_.push_back({writer, static_cast<std::int64_t>(sequence), value_});
-      else hidden_->write(value_);
+      if (!hold) {
+        hidden_->write(value_);
+      } else if (const auto floor = floor_.find(writer);
+                 floor == floor_.end() || static_cast<std::int64_t>(sequence) > floor->second) {
+        held_.push_back({writer, static_cast<std::int64_t>(sequence), value_});
+      }
     }
   }
 
@@ -215,6 +220,8 @@ class ReaderEnd final : public core::TransportEnd, public fdds::DataReaderListen
   T value_{};
   std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> received_;
   std::vector<Held> held_;  // lockstep: in arrival order
+  // Lockstep: per far writer, the samples released before this end existed (never delivered).
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> floor_;
 };
 
 struct Binding {

@@ -192,7 +192,18 @@ void Participant::releaseTopic(const std::string& name) noexcept {
   topics_.erase(it);
 }
 
-fdds::DataWriter* Participant::createWriter(const EndpointInfo& info, const fdds::TypeSupport& type) {
+EndpointInfo Participant::effective(const EndpointInfo& info) const {
+  EndpointInfo out = info;
+  // A clock meeting waits for every sample a peer announced. A volatile reader that matches its
+  // writer after the writer's first heartbeat (its discovery packet lost, or slow) skips the
+  // samples sent before: the meeting would pass without them. Transient-local ends deliver
+  // them from the writer's history (a lockstep writer offers it, a lockstep reader asks for it).
+  if (lockstep()) out.qos.transient_local = true;
+  return out;
+}
+
+fdds::DataWriter* Participant::createWriter(const EndpointInfo& wanted, const fdds::TypeSupport& type) {
+  const EndpointInfo info = effective(wanted);
   fdds::Topic* topic = acquireTopic(info, type);
   fdds::DataWriterQos qos = publisher_->get_default_datawriter_qos();
   applyQos(qos, info.qos);
@@ -210,8 +221,9 @@ fdds::DataWriter* Participant::createWriter(const EndpointInfo& info, const fdds
   return writer;
 }
 
-fdds::DataReader* Participant::createReader(const EndpointInfo& info, const fdds::TypeSupport& type,
+fdds::DataReader* Participant::createReader(const EndpointInfo& wanted, const fdds::TypeSupport& type,
                                             fdds::DataReaderListener* listener) {
+  const EndpointInfo info = effective(wanted);
   fdds::Topic* topic = acquireTopic(info, type);
   fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
   applyQos(qos, info.qos);
@@ -396,6 +408,16 @@ void Participant::addWriterEnd(WriterEndHook* end) {
 void Participant::removeWriterEnd(WriterEndHook* end) noexcept {
   std::lock_guard lock(ends_mutex_);
   std::erase(writer_ends_, end);
+}
+
+void Participant::noteReleased(const std::map<rtps::GUID_t, std::int64_t>& bounds) {
+  std::lock_guard lock(released_mutex_);
+  for (const auto& [writer, bound] : bounds) released_[writer] = std::max(released_[writer], bound);
+}
+
+std::map<rtps::GUID_t, std::int64_t> Participant::released() const {
+  std::lock_guard lock(released_mutex_);
+  return released_;
 }
 
 void Participant::addReaderEnd(ReaderEndHook* end) {

@@ -94,6 +94,12 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   bool lockstep() const { return lockstep_.load(); }
   void addWriterEnd(WriterEndHook* end);
   void removeWriterEnd(WriterEndHook* end) noexcept;
+  /// Lockstep: a meeting released the samples of each far writer up to `bounds` (sequence
+  /// numbers); kept as the highest per writer.
+  void noteReleased(const std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t>& bounds);
+  /// What the meetings released so far: a reader end made mid-run ignores those samples (they
+  /// were written before it existed; a transient-local reader is sent them again).
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> released() const;
   void addReaderEnd(ReaderEndHook* end);
   void removeReaderEnd(ReaderEndHook* end) noexcept;
   /// Runs `visit` with the lists of local ends, holding the lock that keeps them alive.
@@ -112,12 +118,14 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
 
   /// Creates the DDS writer (reader) of a local end; types are registered and topics shared as
   /// needed. @throws core::Error when the topic carries another type in this participant or
-  /// Fast DDS refuses.
+  /// Fast DDS refuses. In lockstep both are transient-local whatever `info` asks (see effective).
   eprosima::fastdds::dds::DataWriter* createWriter(const EndpointInfo& info,
                                                    const eprosima::fastdds::dds::TypeSupport& type);
   eprosima::fastdds::dds::DataReader* createReader(const EndpointInfo& info,
                                                    const eprosima::fastdds::dds::TypeSupport& type,
                                                    eprosima::fastdds::dds::DataReaderListener* listener);
+  /// `info` as this participant makes its end: transient-local in lockstep.
+  EndpointInfo effective(const EndpointInfo& info) const;
   void deleteWriter(eprosima::fastdds::dds::DataWriter* writer) noexcept;
   void deleteReader(eprosima::fastdds::dds::DataReader* reader) noexcept;
 
@@ -175,6 +183,8 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   std::chrono::nanoseconds poll_;
   std::atomic<bool> lockstep_{false};
+  mutable std::mutex released_mutex_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> released_;  // under released_mutex_
   std::mutex ends_mutex_;
   std::vector<WriterEndHook*> writer_ends_;
   std::vector<ReaderEndHook*> reader_ends_;

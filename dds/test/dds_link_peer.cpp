@@ -8,6 +8,8 @@
 //     at every step (x = step * 1 mm) and reads the events of "link/ticks"; ROLE "follower" steps
 //     Follower, which reads "link/pose" and writes the event e_tick_<step> on "link/ticks" every
 //     7th step. Each writes what its component read, one line per step, to TRACE_FILE.
+//     ROLES "late-leader" and "late-follower" make their input's connection (ticks, pose) only
+//     after INSTANTS / 4 instants, as a deployment switch would make it mid-run.
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -122,11 +124,12 @@ int live(int domain, const std::string& name, const std::string& peers, const st
 int lockstep(int domain, const std::string& role, long instants, const std::string& drop, const std::string& file) {
   dds::registerLinkedTransport();
   std::ofstream trace(file);
-  const bool leader = role == "leader";
+  const bool late = role.starts_with("late-");
+  const bool leader = role == "leader" || role == "late-leader";
   core::LockstepClock clock;
   dds::DdsLink link("Link");
   link.property("domain").setFromText(std::to_string(domain));
-  link.property("participant").setFromText(role);
+  link.property("participant").setFromText(leader ? "leader" : "follower");
   link.property("peers").setFromText(leader ? "follower" : "leader");
   link.property("lease").setFromText("2");
   link.property("drop_share").setFromText(drop);
@@ -138,14 +141,20 @@ int lockstep(int domain, const std::string& role, long instants, const std::stri
   clock.add(component, std::chrono::milliseconds(1));
   if (leader) {
     core::connectToTransport(mover.pose_, policy("link/pose", core::ConnPolicy::data()));
-    core::connectToTransport(mover.ticks_, policy("link/ticks", core::ConnPolicy::buffer(64)));
+    if (!late) core::connectToTransport(mover.ticks_, policy("link/ticks", core::ConnPolicy::buffer(64)));
   } else {
-    core::connectToTransport(follower.pose_, policy("link/pose", core::ConnPolicy::data()));
+    if (!late) core::connectToTransport(follower.pose_, policy("link/pose", core::ConnPolicy::data()));
     core::connectToTransport(follower.ticks_, policy("link/ticks", core::ConnPolicy::buffer(64)));
   }
   if (!configured(component) || !link.start() || !component.start()) return 1;
   clock.setClockSync(&link);
-  for (long i = 0; i < instants; ++i) clock.advance(std::chrono::milliseconds(1));
+  for (long i = 0; i < instants; ++i) {
+    if (late && i == instants / 4) {
+      if (leader) core::connectToTransport(mover.ticks_, policy("link/ticks", core::ConnPolicy::buffer(64)));
+      else core::connectToTransport(follower.pose_, policy("link/pose", core::ConnPolicy::data()));
+    }
+    clock.advance(std::chrono::milliseconds(1));
+  }
   // Meet until the peer is done too, so that neither leaves while the other still needs it.
   link.setDone(true);
   while (!link.peersDone()) clock.advance(std::chrono::milliseconds(1));
