@@ -48,6 +48,9 @@ if host then
   Link.lease = 3
   Link.meeting_timeout = 10
   Link.join_timeout = 120  -- s: the other host may still be loading its half (its planning scenes)
+  -- s: the hosts meet every 5th instant, so a port's sample or an event crosses within 5 ms (as
+  -- over a network link) and the run pays a round trip between the processes 5 times less often.
+  Link.meeting_period = 0.005
   Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
   Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
   setActivities({ { peer_name = "Link", period = 0.001 } })  -- s: its events reach the charts within a step

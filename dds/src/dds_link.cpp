@@ -6,6 +6,7 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <iostream>
 #include <map>
@@ -51,6 +52,11 @@ std::string text(const rtps::GUID_t& guid) {
   return out.str();
 }
 
+/// A meeting period for messages: "1 ms", "every instant" for 0.
+std::string periodText(std::int64_t period_ns) {
+  return period_ns == 0 ? std::string("instant") : text::number(static_cast<double>(period_ns) * 1e-6) + " ms";
+}
+
 /// The DdsLink of this process whose participant the "dds" transport uses.
 struct Current {
   std::mutex mutex;
@@ -73,6 +79,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     double lease;
     double join_timeout;
     double meeting_timeout;  ///< s, > 0
+    std::int64_t period_ns;  ///< meets at the instants that are multiples of it; 0: at every one
   };
 
   Meeting(DdsLink& link, detail::Participant& participant, Settings settings)
@@ -146,11 +153,19 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     topic_ = nullptr;
   }
 
-  void setDone(bool done) { done_.store(done); }
+  void setDone(bool done) {
+    done_.store(done);
+    std::lock_guard lock(mutex_);
+    if (!done) told_done_ = false;
+  }
 
   bool peersDone() const {
     std::lock_guard lock(mutex_);
-    return std::all_of(peers_.begin(), peers_.end(), [](const auto& p) { return p.second.lost || p.second.done; });
+    // Leaving before this process's done was told would leave a peer waiting for it to find it
+    // lost; with every peer lost, nobody waits.
+    const bool all_lost = std::all_of(peers_.begin(), peers_.end(), [](const auto& p) { return p.second.lost; });
+    return (told_done_ || all_lost) &&
+           std::all_of(peers_.begin(), peers_.end(), [](const auto& p) { return p.second.lost || p.second.done; });
   }
 
   std::vector<std::string> lost() const {
@@ -159,10 +174,16 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   }
 
   void reached(std::chrono::nanoseconds t) {
+    if (settings_.period_ns > 0 && t.count() % settings_.period_ns != 0) return;  // not a meeting instant
     std::vector<cobra_msgs::msg::LinkWriter> writers;
     flushWriters(writers);
-    announce(t.count(), done_.load(), std::move(writers));
+    const bool done = done_.load();
+    announce(t.count(), done, std::move(writers));
     waitForPeers(t.count());
+    if (done) {
+      std::lock_guard lock(mutex_);
+      told_done_ = true;
+    }
   }
 
   // DataReaderListener: the peers' announcements and liveliness (Fast DDS's threads).
@@ -172,6 +193,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     cobra_msgs::msg::LinkMeeting sample;
     fdds::SampleInfo info;
     std::vector<std::string> joined;
+    std::vector<std::pair<std::string, std::string>> mismatched;  // name, why
     {
       std::lock_guard lock(mutex_);
       while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
@@ -180,6 +202,14 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         const auto peer = peers_.find(sample.participant());
         if (peer == peers_.end()) continue;  // a process of another run on this domain
         Peer& p = peer->second;
+        if (sample.period_ns() != settings_.period_ns && !p.lost) {
+          // Each would wait at instants the other never meets at: refuse the peer at once.
+          mismatched.emplace_back(sample.participant(),
+                                  "it meets every " + periodText(sample.period_ns()) + ", participant '" +
+                                      settings_.self + "' every " + periodText(settings_.period_ns) +
+                                      ": give both DdsLinks the same meeting_period");
+          continue;
+        }
         p.heard = Clock::now();
         if (!p.seen) joined.push_back(sample.participant());
         p.seen = true;
@@ -189,6 +219,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     }
     changed_.notify_all();
     for (const auto& name : joined) link_.emit("e_peer_joined", name);
+    for (const auto& [name, why] : mismatched) lose(name, why);
   }
 
   void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
@@ -225,6 +256,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     sample.participant(settings_.self);
     sample.stamp_ns(stamp);
     sample.done(done);
+    sample.period_ns(settings_.period_ns);
     sample.writers(std::move(writers));
     participant_.withEnds([&](const auto&, const std::vector<detail::ReaderEndHook*>& readers) {
       for (const detail::ReaderEndHook* r : readers) sample.readers().push_back(r->info().topic + "|" + r->info().type_name);
@@ -347,7 +379,11 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
       const auto it = peers_.find(name);
       if (it == peers_.end() || it->second.lost) return;
       it->second.lost = true;
-      if (it->second.done) return;  // it left after saying it was done: no loss
+      // It left after saying it was done: no loss. Its last announcement (done) may not have been
+      // met yet here when its process ends: its liveliness can lapse first.
+      const auto& announced = it->second.announced;
+      if (it->second.done || std::any_of(announced.begin(), announced.end(), [](const auto& a) { return a.second.done; }))
+        return;
       lost_.push_back(name);
     }
     std::cerr << "cobra dds: participant '" << settings_.self << "' lost its peer '" << name << "': " << why << std::endl;
@@ -369,6 +405,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::map<std::string, Peer> peers_;         // by participant name
+  bool told_done_ = false;                    // a meeting passed with this process done (under mutex_)
   std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
   std::vector<std::string> lost_;
 };
@@ -386,6 +423,7 @@ DdsLink::DdsLink(std::string name)
   addProperty(initial_peers_);
   addProperty(drop_share_.range(0.0, 1.0));
   addProperty(poll_.range(1e-6, 1.0));
+  addProperty(meeting_period_.range(0.0, 1.0));
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -420,7 +458,8 @@ bool DdsLink::configureHook() {
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });
     meeting_ = std::make_unique<Meeting>(*this, *transport_->participant_,
                                          Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get(),
-                                                           meeting_timeout_.get() > 0.0 ? meeting_timeout_.get() : lease_.get()});
+                                                           meeting_timeout_.get() > 0.0 ? meeting_timeout_.get() : lease_.get(),
+                                                           std::llround(meeting_period_.get() * 1e9)});
   } catch (const std::exception& e) {
     meeting_.reset();
     transport_.reset();

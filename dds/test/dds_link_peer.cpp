@@ -2,14 +2,15 @@
 //   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS]
 //     configures and starts a DdsLink, prints the events it sends (one "name source" a line),
 //     and waits to be killed (exits 2 after 20 s).
-//   dds_link_peer lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE
+//   dds_link_peer lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE [MEETING_PERIOD]
 //     one half of a lockstep run of INSTANTS instants of 1 ms, its clock met through its DdsLink:
 //     ROLE "leader" (participant "leader") steps Mover, which writes a KDL.Frame on "link/pose"
 //     at every step (x = step * 1 mm) and reads the events of "link/ticks"; ROLE "follower" steps
 //     Follower, which reads "link/pose" and writes the event e_tick_<step> on "link/ticks" every
 //     7th step. Each writes what its component read, one line per step, to TRACE_FILE.
 //     ROLES "late-leader" and "late-follower" make their input's connection (ticks, pose) only
-//     after INSTANTS / 4 instants, as a deployment switch would make it mid-run.
+//     after INSTANTS / 4 instants, as a deployment switch would make it mid-run. MEETING_PERIOD:
+//     the DdsLink's meeting_period (s; default 0, every instant).
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -121,7 +122,8 @@ int live(int domain, const std::string& name, const std::string& peers, const st
   return 2;
 }
 
-int lockstep(int domain, const std::string& role, long instants, const std::string& drop, const std::string& file) {
+int lockstep(int domain, const std::string& role, long instants, const std::string& drop, const std::string& file,
+             const std::string& meeting_period) {
   dds::registerLinkedTransport();
   std::ofstream trace(file);
   const bool late = role.starts_with("late-");
@@ -133,6 +135,7 @@ int lockstep(int domain, const std::string& role, long instants, const std::stri
   link.property("peers").setFromText(leader ? "follower" : "leader");
   link.property("lease").setFromText("2");
   link.property("drop_share").setFromText(drop);
+  link.property("meeting_period").setFromText(meeting_period);
   clock.add(link, std::chrono::nanoseconds(0));  // a LockstepActivity: the transport goes lockstep
   if (!configured(link)) return 1;
   Mover mover(trace);
@@ -170,7 +173,9 @@ int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode == "live" && (argc == 6 || argc == 7))
     return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc == 7 ? argv[6] : "");
-  if (mode == "lockstep" && argc == 7) return lockstep(std::atoi(argv[2]), argv[3], std::atol(argv[4]), argv[5], argv[6]);
-  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS] | lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE\n";
+  if (mode == "lockstep" && (argc == 7 || argc == 8))
+    return lockstep(std::atoi(argv[2]), argv[3], std::atol(argv[4]), argv[5], argv[6], argc == 8 ? argv[7] : "0");
+  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS] | lockstep DOMAIN ROLE INSTANTS "
+               "DROP_SHARE TRACE_FILE [MEETING_PERIOD]\n";
   return 1;
 }

@@ -163,15 +163,19 @@ TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a
 /// sample written at step k is read at step k + 1 (the one-step delay of the clock meetings).
 /// `connected_at`: the instant from which the inputs' connections exist (they read only what
-/// is written from then on).
-std::pair<std::string, std::string> predictedTraces(long instants, long connected_at = 0) {
+/// is written from then on). `period`: the meeting period in steps; a sample written at step j
+/// is read from the first meeting instant after it, ceil((j + 1) / period) * period.
+std::pair<std::string, std::string> predictedTraces(long instants, long connected_at = 0, long period = 1) {
   std::ostringstream leader, follower;
   for (long k = 0; k < instants; ++k) {
     leader << k << ':';
-    if (k >= connected_at + 1 && (k - 1) % 7 == 0) leader << " e_tick_" << k - 1;
+    const bool meeting = k >= period && k % period == 0;  // the samples of steps [k - period, k) arrive
+    if (meeting)
+      for (long j = std::max(k - period, connected_at); j < k; ++j)
+        if (j % 7 == 0) leader << " e_tick_" << j;
     leader << '\n';
     follower << k << ':';
-    if (k >= connected_at + 1) follower << ' ' << k - 1;
+    if (meeting && k - 1 >= connected_at) follower << ' ' << k - 1;
     follower << '\n';
   }
   return {leader.str(), follower.str()};
@@ -187,13 +191,16 @@ std::string readFile(const std::filesystem::path& file) {
 /// Runs the two halves of a lockstep run of `instants` on `domain`; their traces.
 std::pair<std::string, std::string> runSplit(int domain, long instants, const std::string& drop, const std::string& tag,
                                              const std::string& leader_role = "leader",
-                                             const std::string& follower_role = "follower") {
+                                             const std::string& follower_role = "follower",
+                                             const std::string& meeting_period = "0") {
   const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const auto leader_file = dir / (tag + "_leader.txt"), follower_file = dir / (tag + "_follower.txt");
   const auto started = std::chrono::steady_clock::now();
-  Peer leader({"lockstep", std::to_string(domain), leader_role, std::to_string(instants), drop, leader_file.string()});
-  Peer follower({"lockstep", std::to_string(domain), follower_role, std::to_string(instants), drop, follower_file.string()});
+  Peer leader({"lockstep", std::to_string(domain), leader_role, std::to_string(instants), drop, leader_file.string(),
+               meeting_period});
+  Peer follower({"lockstep", std::to_string(domain), follower_role, std::to_string(instants), drop,
+                 follower_file.string(), meeting_period});
   EXPECT_EQ(leader.wait(60s), 0);
   EXPECT_EQ(follower.wait(10s), 0);
   std::cout << tag << ": " << instants << " instants met across two processes in "
@@ -262,11 +269,42 @@ TEST(DdsLink, ConnectionsMadeMidRunReadWhatIsWrittenFromThenOn) {
   EXPECT_EQ(firstDifference(head(late.second, kInstants), predicted.second), "");
 }
 
+// meeting_period 5 ms: the processes meet at every 5th instant; a sample crosses at the first
+// meeting after it was written (up to 5 steps late), still identically run after run.
+TEST(DdsLink, AMeetingPeriodDelaysSamplesToTheNextMeetingInstant) {
+  constexpr long kInstants = 2000;
+  const auto first = runSplit(139, kInstants, "0", "period1", "leader", "follower", "0.005");
+  const auto second = runSplit(139, kInstants, "0", "period2", "leader", "follower", "0.005");
+  const auto predicted = predictedTraces(kInstants, 0, 5);
+  EXPECT_EQ(firstDifference(head(first.first, kInstants), predicted.first), "");
+  EXPECT_EQ(firstDifference(head(first.second, kInstants), predicted.second), "");
+  EXPECT_EQ(firstDifference(first.first, second.first), "");
+  EXPECT_EQ(firstDifference(first.second, second.second), "");
+}
+
 }  // namespace
 }  // namespace cobra::dds
 
 namespace cobra::dds {
 namespace {
+
+// Two processes with different meeting periods would each wait at instants the other never
+// meets at: each loses the other at once, naming both periods.
+TEST(DdsLink, PeersWithDifferentMeetingPeriodsAreLostNamingBoth) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_period_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string log = (dir / "leader.log").string();
+  Peer leader({"lockstep", "140", "leader", "200", "0", (dir / "leader.txt").string(), "0.005"}, log);
+  Peer follower({"lockstep", "140", "follower", "200", "0", (dir / "follower.txt").string(), "0"});
+  EXPECT_EQ(leader.wait(30s), 3);
+  EXPECT_EQ(follower.wait(30s), 3);
+  const std::string said = readFile(log);
+  EXPECT_NE(said.find("participant 'leader' lost its peer 'follower': it meets every instant, participant 'leader' "
+                      "every 5 ms: give both DdsLinks the same meeting_period"),
+            std::string::npos)
+      << said;
+  std::filesystem::remove_all(dir);
+}
 
 TEST(DdsLink, APeerKilledInALockstepRunIsLostAndTheOtherRunsOn) {
   const auto dir = std::filesystem::temp_directory_path() / ("cobra_dds_link_kill_" + std::to_string(getpid()));

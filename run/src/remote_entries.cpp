@@ -134,14 +134,22 @@ RemoteEntries dropRemoteEntries(RunSpec& spec, const RemoteHostOf& remote_host) 
     }
   }
   StudioSpec& studio = spec.studio;
+  std::string scene_host;  // the scene's host when it is another's: the robots it models go with it
   if (!studio.scene.empty())
-    if (const std::string host = remote_host(studio.scene); !host.empty()) {
-      d.by_host[host].push_back("run.studio.scene " + studio.scene);
+    if (scene_host = remote_host(studio.scene); !scene_host.empty()) {
+      d.by_host[scene_host].push_back("run.studio.scene " + studio.scene);
       studio.scene.clear();
     }
   d.filter(
-      studio.robots, [&](const StudioSpec::Robot& r) { return remote_host(componentOfPath(r.joints)); },
-      [&](const StudioSpec::Robot& r) { return quoted("run.studio.robots", r.name); });
+      studio.robots,
+      [&](const StudioSpec::Robot& r) {
+        const std::string host = remote_host(componentOfPath(r.joints));
+        return host.empty() && r.count == 0 ? scene_host : host;
+      },
+      [&](const StudioSpec::Robot& r) {
+        const bool for_scene = remote_host(componentOfPath(r.joints)).empty();
+        return quoted("run.studio.robots", r.name) + (for_scene ? " (its model is the scene's)" : "");
+      });
   d.filter(
       studio.extras,
       [&](const StudioSpec::Extra& e) { return hostOfAny({e.pose, e.radius, e.frame}, remote_host); },

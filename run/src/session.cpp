@@ -531,8 +531,8 @@ bool Session::peersHoldTheRun() {
     sync->setDone(true);
     told_done_ = true;
     say("this host's charts ended; waiting for its peers");
-    // The peers hear it at the next meeting: one more step, or a peer waiting for it would find
-    // this host gone instead (and end with a lost peer).
+    // The peers hear it at the next meeting (peersDone is false until then), or a peer waiting
+    // for it would find this host gone instead (and end with a lost peer).
     return true;
   }
   return !sync->peersDone();

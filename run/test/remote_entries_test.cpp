@@ -57,7 +57,8 @@ RunSpec twoRobots() {
   spec.clearance.port = "APlanner.minDistance";
   spec.clearance.contacts = {{"probe", "BPlanner.contact"}, {"tissue", "APlanner.contact"}};
   spec.studio.scene = "BPlanner";
-  spec.studio.robots = {{"a", "ARobot.joints", 0, {}}, {"b", "BRobot.joints", 0, {}}};
+  // "a" has its joints here but its model from the scene, another host's: it goes with it.
+  spec.studio.robots = {{"a", "ARobot.joints", 0, {}}, {"b", "BRobot.joints", 0, {}}, {"a6", "ARobot.joints", 6, {}}};
   spec.studio.signals = {{"ARobot.force", {}}, {"BRobot.force", {}}};
   ActionSpec call_b;
   call_b.kind = ActionSpec::Kind::Call;
@@ -98,6 +99,7 @@ TEST(RemoteEntries, EntriesOfOtherHostsAreDroppedAndListed) {
   EXPECT_EQ(spec.clearance.contacts[0].first, "tissue");
   EXPECT_EQ(spec.studio.scene, "");
   ASSERT_EQ(spec.studio.robots.size(), 1u);
+  EXPECT_EQ(spec.studio.robots[0].name, "a6") << "its joint count needs no scene";
   ASSERT_EQ(spec.studio.signals.size(), 1u);
   ASSERT_EQ(spec.actions.size(), 1u);
   EXPECT_EQ(spec.actions[0].text, "call ARobot.halt (a)");
@@ -106,7 +108,8 @@ TEST(RemoteEntries, EntriesOfOtherHostsAreDroppedAndListed) {
   EXPECT_EQ(dropped.by_host.at("b"),
             (Names{"run.charts 'b'", "run.tracking 'B tool'", "run.tracking 'A for b'", "run.summary 'when b'",
                           "run.record BRobot.pose", "run.plots 'both' series BRobot.pose.z", "run.plots 'B tracking'",
-                          "run.clearance contact 'probe'", "run.studio.scene BPlanner", "run.studio.robots 'b'",
+                          "run.clearance contact 'probe'", "run.studio.scene BPlanner",
+                          "run.studio.robots 'a' (its model is the scene's)", "run.studio.robots 'b'",
                           "run.studio.signals BRobot.force", "run.actions call BRobot.halt (:0)",
                           "run.actions call ARobot.halt (:0)"}));
   EXPECT_EQ(dropped.charts.at("b"), "b");

@@ -26,7 +26,8 @@ class ClockSync {
   /// This process has nothing left to do (its task charts ended); it keeps meeting its peers
   /// until each has said the same (or was lost). Told to the peers at the next meeting.
   virtual void setDone(bool done) noexcept = 0;
-  /// True when every peer has said it is done or was lost.
+  /// True when this process's done was told at a meeting, and every peer has said it is done
+  /// or was lost: the process may leave (its peers no longer wait for it).
   virtual bool peersDone() const noexcept = 0;
   /// Peers given up so far (their names, in the order they were lost).
   virtual std::vector<std::string> lostPeers() const = 0;

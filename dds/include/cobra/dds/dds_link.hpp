@@ -30,7 +30,12 @@
 ///   drops that share of the outgoing data messages (reliable connections retransmit them);
 /// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
 ///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
-///   the meetings instead.
+///   the meetings instead;
+/// - `meeting_period` (s, 0..1; 0: every instant): a lockstep run meets only at the instants
+///   that are multiples of it, so a sample crosses at the first such instant after it was
+///   written: up to one period of delay between processes (as a network adds), in exchange for
+///   fewer meetings (each costs a round trip between the processes). Every process of a run must
+///   have the same; a peer with another is lost at once, the message naming both periods.
 ///
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
 /// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done),
@@ -105,6 +110,9 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
                                      "fault injection: share of outgoing data messages dropped (0 in production)"};
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  core::Property<double> meeting_period_{
+      "meeting_period", 0.0, "s",
+      "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};
   std::unique_ptr<Meeting> meeting_;
   std::shared_ptr<DdsTransport> transport_;
   std::mutex events_mutex_;  // the events port has one writer at a time
