@@ -45,7 +45,14 @@ EditorOptions withChatty() {
 }
 
 Editor& editor() {
-  static Editor shared(withChatty());  // one palette for the whole test (it makes every type once)
+  // One palette for the whole test (it makes every type once), waited for before any test uses
+  // it: a test that ended the program while the palette's thread still made components would
+  // have the statics that thread made destroyed under it (an occasional crash at exit).
+  static Editor& shared = []() -> Editor& {
+    static Editor e(withChatty());
+    (void)e.handle("GET", "palette", "");
+    return e;
+  }();
   return shared;
 }
 
