@@ -484,6 +484,6 @@ async function start() {
   window.cobraEditor.ready = true;
 }
 
-/** For tests: the page's state (project, palette, lint, problems), `saved` (the last save's answer). */
+/** For tests: the page's state (project, palette, lint, problems), `saved` (the last save's answer), `running` (the last GET /api/editor/running answer). */
 window.cobraEditor = { state, ready: false, saved: null, running: null, idle: () => state.busy === 0 && !validatePending };
 start();
