@@ -2,10 +2,13 @@
 
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <map>
 #include <sstream>
 
+#include "cobra/core/data_type.hpp"
 #include "cobra/core/error.hpp"
+#include "cobra/core/event.hpp"
 #include "cobra/deploy/description.hpp"
 
 namespace cobra::deploy {
@@ -35,10 +38,14 @@ std::string trim(std::string_view text) {
 }
 
 /// A Lua number literal for `text` (a number as the core prints it), or "" when it is none.
+/// Lua has no literal for infinity or NaN: math.huge, and a NaN of the sign the text gives
+/// (0/0 has the sign the machine gives it; math.abs clears it).
 std::string luaNumber(std::string_view text) {
   const std::string t = trim(text);
   if (t == "inf" || t == "+inf") return "math.huge";
   if (t == "-inf") return "-math.huge";
+  if (t == "nan" || t == "+nan") return "math.abs(0/0)";
+  if (t == "-nan") return "-math.abs(0/0)";
   double value = 0.0;
   const char* first = t.data() + (!t.empty() && t[0] == '+' ? 1 : 0);
   const auto [end, ec] = std::from_chars(first, t.data() + t.size(), value);
@@ -46,7 +53,53 @@ std::string luaNumber(std::string_view text) {
   return std::string(first, end);
 }
 
-bool isListType(std::string_view type) { return type == "vector<double>" || type.rfind("KDL.", 0) == 0; }
+/// The types written as a Lua array of numbers (script/convert.hpp reads each from one), with
+/// their number of elements (0: any).
+struct ListForm {
+  std::string_view type;
+  std::size_t count;
+  std::string_view what;
+};
+constexpr ListForm kListForms[] = {
+    {"vector<double>", 0, "[a, b, ...]"},
+    {"KDL.JntArray", 0, "[q1, q2, ...] (joint values)"},
+    {"KDL.Vector", 3, "[x, y, z] (m)"},
+    {"KDL.Rotation", 4, "[qx, qy, qz, qw] (a unit quaternion)"},
+    {"KDL.Frame", 7, "[x, y, z, qx, qy, qz, qw] (m, a unit quaternion)"},
+    {"KDL.Twist", 6, "[vx, vy, vz, wx, wy, wz] (m/s, rad/s)"},
+    {"KDL.Wrench", 6, "[fx, fy, fz, tx, ty, tz] (N, N m)"},
+};
+
+const ListForm* listForm(std::string_view type) {
+  for (const ListForm& form : kListForms)
+    if (form.type == type) return &form;
+  return nullptr;
+}
+
+/// `text` (a list as the core prints it: "[1, 2.5]", brackets optional) as a Lua array.
+std::string luaList(const ListForm& form, std::string_view text) {
+  const std::string type(form.type);
+  std::string t = trim(text);
+  if (!t.empty() && t.front() == '[') {
+    if (t.back() != ']') throw core::Error("expected a list " + std::string(form.what) + " for a " + type + ", got '" + t + "'");
+    t = trim(std::string_view(t).substr(1, t.size() - 2));
+  }
+  std::string out = "{";
+  std::size_t i = 0, count = 0;
+  while (i < t.size()) {
+    std::size_t end = t.find_first_of(", \t", i);
+    if (end == std::string::npos) end = t.size();
+    const std::string literal = luaNumber(std::string_view(t).substr(i, end - i));
+    if (literal.empty()) throw core::Error("expected a list of numbers for a " + type + ", got '" + std::string(text) + "'");
+    out += (count++ ? ", " : " ") + literal;
+    i = t.find_first_not_of(", \t", end);
+    if (i == std::string::npos) break;
+  }
+  if (form.count != 0 && count != form.count)
+    throw core::Error("expected " + std::to_string(form.count) + " numbers " + std::string(form.what) + " for a " + type +
+                      ", got " + std::to_string(count) + ": '" + std::string(text) + "'");
+  return out + (count ? " }" : "}");
+}
 
 std::string nameList(const std::vector<std::string>& names) {
   std::string out = "{";
@@ -87,37 +140,46 @@ std::string luaString(std::string_view text) {
 }
 
 std::string luaValue(std::string_view type, std::string_view text) {
-  if (type == "double" || type == "int") {
+  if (type == "double") {
     const std::string literal = luaNumber(text);
-    if (literal.empty()) throw core::Error("expected a number for a " + std::string(type) + ", got '" + std::string(text) + "'");
+    if (literal.empty()) throw core::Error("expected a number for a double, got '" + std::string(text) + "'");
     return literal;
+  }
+  if (type == "int") {
+    // Lua reads an int from an integral number only (script/convert.hpp): 1.5 would not load.
+    const std::string t = trim(text);
+    int value = 0;
+    const char* first = t.data() + (!t.empty() && t[0] == '+' ? 1 : 0);
+    const auto [end, ec] = std::from_chars(first, t.data() + t.size(), value);
+    if (t.empty() || ec != std::errc() || end != t.data() + t.size())
+      throw core::Error("expected an integer for an int (-2147483648 to 2147483647), got '" + std::string(text) + "'");
+    return std::to_string(value);
   }
   if (type == "bool") {
     const std::string t = trim(text);
     if (t != "true" && t != "false") throw core::Error("expected true or false, got '" + std::string(text) + "'");
     return t;
   }
-  if (isListType(type)) {
-    std::string t = trim(text);
-    if (!t.empty() && t.front() == '[') {
-      if (t.back() != ']') throw core::Error("expected a list [a, b, ...] for a " + std::string(type) + ", got '" + t + "'");
-      t = trim(std::string_view(t).substr(1, t.size() - 2));
-    }
-    std::string out = "{";
-    std::size_t i = 0, count = 0;
-    while (i < t.size()) {
-      std::size_t end = t.find_first_of(", \t", i);
-      if (end == std::string::npos) end = t.size();
-      const std::string literal = luaNumber(std::string_view(t).substr(i, end - i));
-      if (literal.empty())
-        throw core::Error("expected a list of numbers for a " + std::string(type) + ", got '" + std::string(text) + "'");
-      out += (count++ ? ", " : " ") + literal;
-      i = t.find_first_not_of(", \t", end);
-      if (i == std::string::npos) break;
-    }
-    return out + (count ? " }" : "}");
+  if (const ListForm* form = listForm(type)) return luaList(*form, text);
+  if (type == "Event") {
+    // The core prints "e_done from Planner at 1.5 s"; Lua reads a bare string as the name only.
+    core::Event event;
+    if (!core::DataTypeTraits<core::Event>::parse(text, event))
+      throw core::Error("expected an event (" + std::string(core::DataTypeTraits<core::Event>::format) + ") for an Event, got '" +
+                        std::string(text) + "'");
+    const double stamp = std::chrono::duration<double>(event.stamp).count();
+    if (event.source.empty() && stamp == 0.0) return luaString(event.name.view());
+    return "{ name = " + luaString(event.name.view()) +
+           (event.source.empty() ? std::string() : ", source = " + luaString(event.source.view())) +
+           ", stamp = " + core::DataTypeTraits<double>::print(stamp) + " }";
   }
-  return luaString(text);  // string, Event and types Lua sets from their text form
+  // A string is itself; every other registered type (a TaskState, a package's own) Lua sets from
+  // its text form, a string (Property::setFromText parses it). A type this process has not
+  // registered has no form at all.
+  if (type != "string" && core::TypeRegistry::find(type) == nullptr)
+    throw core::Error("type '" + std::string(type) + "' has no Lua form: no type of that name is registered "
+                      "(a type of a package that is not loaded?)");
+  return luaString(text);
 }
 
 std::string luaPolicyTable(const ConnPolicySpec& spec) {
@@ -134,6 +196,7 @@ std::string luaPolicyTable(const ConnPolicySpec& spec) {
   }
   return out + " }";
 }
+
 
 std::string toLua(const DeploymentDescription& d) {
   std::ostringstream lua;

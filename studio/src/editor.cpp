@@ -210,11 +210,13 @@ struct Editor::Impl {
     if (running == nullptr)
       return {404, errorJson("no run here: GET /api/editor/running is served by `cobra run APP --studio`")};
     bool live = false;
-    const auto d = running->snapshot(live);
+    InForce now;
+    const auto d = running->snapshot(live, &now);
     if (!d) return {503, errorJson("the run has not started yet; ask again in a moment")};
     return {200, std::string("{\"live\":") + (live ? "true" : "false") +
-                     ",\"taken\":\"components, connections, deployments and configurations as at the run's setup; "
-                     "property values of now\",\"project\":" + editor::projectJson(*d, {}) + "}"};
+                     ",\"taken\":\"components, connections and named deployments and configurations as at the run's "
+                     "setup; deployments and configuration in force, running components and property values of now\""
+                     ",\"now\":" + editor::inForceJson(now) + ",\"project\":" + editor::projectJson(*d, {}) + "}"};
   }
 
   EditorAnswer route(std::string_view method, std::string_view name, std::string_view body_text) {

@@ -10,6 +10,7 @@
 #include "cobra/core/introspection.hpp"
 #include "cobra/deploy/description.hpp"
 #include "cobra/deploy/package_registry.hpp"
+#include "cobra/studio/editor.hpp"
 #include "cobra/studio/json_value.hpp"
 
 namespace cobra::studio::editor {
@@ -67,6 +68,9 @@ std::string projectJson(const deploy::DeploymentDescription& d, const Layout& la
 /// @throws Refusal 422 naming the member that is missing or of the wrong kind.
 deploy::DeploymentDescription fromProjectJson(const json::Value& project, const Palette& palette, Layout& layout);
 std::string layoutJson(const Layout& layout);
+/// The `now` member of GET /api/editor/running: `{ "t", "switches", "deployments": [ { "scope",
+/// "deployment" } ], "configuration", "running": [names], "connections": [Connection] }`.
+std::string inForceJson(const InForce& now);
 Layout parseLayout(const std::string& text);
 
 /// "A.x", "B.y" and a policy, as a ConnectionSpec (the `connection` member of check).

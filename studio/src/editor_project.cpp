@@ -132,6 +132,17 @@ deploy::ConnectionSpec connectionFrom(const json::Value& c, const std::string& w
   return spec;
 }
 
+std::string inForceJson(const InForce& now) {
+  std::string out = "{\"t\":" + number(now.t) + ",\"switches\":" + std::to_string(now.switches) + ",\"deployments\":[";
+  for (std::size_t i = 0; i < now.deployments.size(); ++i)
+    out += std::string(i ? "," : "") + "{\"scope\":" + json::quoted(now.deployments[i].first) +
+           ",\"deployment\":" + json::quoted(now.deployments[i].second) + "}";
+  out += "],\"configuration\":" + json::quoted(now.configuration) + ",\"running\":" + stringArray(now.running) +
+         ",\"connections\":[";
+  for (std::size_t i = 0; i < now.connections.size(); ++i) out += (i ? "," : "") + connectionJson(now.connections[i]);
+  return out + "]}";
+}
+
 std::string projectJson(const deploy::DeploymentDescription& d, const Layout& layout) {
   std::string out = "{\"packages\":" + stringArray(d.packages) + ",\"components\":[";
   for (std::size_t i = 0; i < d.components.size(); ++i) {

@@ -7,16 +7,19 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/studio/json.hpp"
 #include "cobra/studio/json_value.hpp"
 #include "cobra/studio/server.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "http_client.hpp"
 
 namespace cobra::studio {
@@ -42,7 +45,14 @@ EditorOptions withChatty() {
 }
 
 Editor& editor() {
-  static Editor shared(withChatty());  // one palette for the whole test (it makes every type once)
+  // One palette for the whole test (it makes every type once), waited for before any test uses
+  // it: a test that ended the program while the palette's thread still made components would
+  // have the statics that thread made destroyed under it (an occasional crash at exit).
+  static Editor& shared = []() -> Editor& {
+    static Editor e(withChatty());
+    (void)e.handle("GET", "palette", "");
+    return e;
+  }();
   return shared;
 }
 
@@ -325,6 +335,117 @@ TEST(Editor, DescribesTheRunningDeploymentWithItsCurrentValues) {
   EXPECT_FALSE(live);
   EXPECT_EQ(v.find("project")->find("components")->items().size(), snapshot->components.size());
   EXPECT_GT(snapshot->components.size(), 1u);
+}
+
+/// At each step where the run's deployment differs from the last step's, asks the editor's
+/// running route (on the run's thread, between two instants: what a request would get then).
+class SwitchWatcher final : public run::RunObserver {
+ public:
+  explicit SwitchWatcher(Editor& e) : editor_(e) {}
+  void attach(const run::RunContext&) override {}
+  void step(const run::StepView& now) override {
+    if (now.deployments.empty() || now.deployments[0] == last_) return;
+    last_ = now.deployments[0];
+    answers[last_] = editor_.handle("GET", "running", "");
+  }
+  void event(double, const std::string&, const std::string&) override {}
+  bool nextInput(std::size_t&) override { return false; }
+  std::vector<std::string> finished(const run::RunResult&) override { return {}; }
+  std::map<std::string, EditorAnswer> answers;  // by the deployment that had just come in force
+
+ private:
+  Editor& editor_;
+  std::string last_;
+};
+
+std::vector<std::string> texts(const json::Value& array) {
+  std::vector<std::string> out;
+  for (const json::Value& v : array.items()) out.push_back(v.string());
+  return out;
+}
+
+std::set<std::string> connectionTexts(const json::Value& array) {
+  std::set<std::string> out;
+  for (const json::Value& c : array.items()) out.insert(c.find("output")->string() + " -> " + c.find("input")->string());
+  return out;
+}
+
+/// Counts the allocations of RunningDeployment::step at the steps where nothing switched (the
+/// run's steady state: one atomic load, nothing else).
+class CountingSteps final : public run::RunObserver {
+ public:
+  explicit CountingSteps(RunningDeployment& running) : running_(running) {}
+  void attach(const run::RunContext& run) override {
+    configurator_ = run.configurator;
+    running_.attach(run);
+  }
+  void step(const run::StepView& now) override {
+    const std::uint64_t switches = configurator_->switchCount();
+    const long before = test_support::threadNewCalls();
+    running_.step(now);
+    if (switches == seen_) {
+      allocations += test_support::threadNewCalls() - before;
+      ++steps;
+    }
+    seen_ = switches;
+  }
+  void event(double t, const std::string& source, const std::string& name) override { running_.event(t, source, name); }
+  bool nextInput(std::size_t& index) override { return running_.nextInput(index); }
+  std::vector<std::string> finished(const run::RunResult& result) override { return running_.finished(result); }
+  long allocations = 0, steps = 0;
+
+ private:
+  RunningDeployment& running_;
+  const deploy::Configurator* configurator_ = nullptr;
+  std::uint64_t seen_ = 0;
+};
+
+TEST(Editor, TheRunningDeploymentFollowsTheSwitchesMadeAfterAttach) {
+  SwitchWatcher watcher(editor());
+  RunningDeployment running(&watcher);
+  CountingSteps counting(running);
+  editor().setRunning(&running);
+  run::RunOptions options;
+  options.app = kSource + "/studio/test/apps/editor_switch.lua";
+  options.observer = &counting;
+  const run::RunResult result = run::runApp(options);
+  editor().setRunning(nullptr);
+  ASSERT_TRUE(result.completed()) << result.reason;
+  EXPECT_GT(counting.steps, 30);  // 40 ms at 1 kHz, less the switching steps
+  EXPECT_EQ(counting.allocations, 0);
+  ASSERT_EQ(watcher.answers.size(), 2u);  // "first" then "second", both applied after attach
+  const std::set<std::string> always = {"TaskSup.outputEvents -> DepSup.inputEvents", "DepSup.outputEvents -> TaskSup.inputEvents"};
+  for (const auto& [deployment, other, gain] :
+       {std::tuple{"first", "second", "GainA"}, std::tuple{"second", "first", "GainB"}}) {
+    SCOPED_TRACE(deployment);
+    ASSERT_EQ(watcher.answers.count(deployment), 1u);
+    const EditorAnswer& answer = watcher.answers.at(deployment);
+    ASSERT_EQ(answer.status, 200) << answer.body;
+    const json::Value v = json::parse(answer.body);
+    EXPECT_TRUE(v.find("live")->boolean());
+    const json::Value& now = *v.find("now");
+    EXPECT_GT(now.find("t")->number(), 0.0);
+    ASSERT_EQ(now.find("deployments")->items().size(), 1u);
+    EXPECT_EQ(now.find("deployments")->items()[0].find("scope")->string(), "");
+    EXPECT_EQ(now.find("deployments")->items()[0].find("deployment")->string(), deployment);
+    EXPECT_EQ(texts(*v.find("project")->find("apply")), std::vector<std::string>{deployment});
+    std::set<std::string> expected = always;
+    expected.insert(std::string("Sine.out -> ") + gain + ".in");
+    expected.insert(std::string(gain) + ".out -> Recorder.in");
+    EXPECT_EQ(connectionTexts(*now.find("connections")), expected);
+    const std::vector<std::string> runs = texts(*now.find("running"));
+    EXPECT_NE(std::find(runs.begin(), runs.end(), gain), runs.end());
+    EXPECT_EQ(std::find(runs.begin(), runs.end(), other == std::string("first") ? "GainA" : "GainB"), runs.end());
+    EXPECT_NE(std::find(runs.begin(), runs.end(), "Sine"), runs.end());
+  }
+  // After the run: the last deployment stays in force, the answer is no longer live.
+  bool live = true;
+  InForce now;
+  const auto after = running.snapshot(live, &now);
+  ASSERT_TRUE(after.has_value());
+  EXPECT_FALSE(live);
+  EXPECT_EQ(after->apply, std::vector<std::string>{"second"});
+  EXPECT_EQ(now.switches, 2u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,6 +13,8 @@
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/core/core.hpp"
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/test_support/test_support.hpp"
 
@@ -20,10 +23,71 @@ namespace {
 
 using cobra::test_support::messageOf;
 
+/// A grade of a package's own type: registered with the core, no Lua conversion (Lua sets it
+/// from its text form, "grade 3").
+struct Grade {
+  int level = 0;
+  friend bool operator==(const Grade&, const Grade&) = default;
+};
+
+}  // namespace
+}  // namespace cobra::deploy
+
+template <>
+struct cobra::core::DataTypeTraits<cobra::deploy::Grade> {
+  static constexpr std::string_view name = "test.Grade";
+  static constexpr DataKind kind = DataKind::Pure;
+  static constexpr std::string_view format = "grade N, e.g. grade 3";
+  static std::string print(const cobra::deploy::Grade& g) { return "grade " + std::to_string(g.level); }
+  static bool parse(std::string_view text, cobra::deploy::Grade& out) {
+    if (text.substr(0, 6) != "grade " || text.size() == 6) return false;
+    int level = 0;
+    const auto [end, ec] = std::from_chars(text.data() + 6, text.data() + text.size(), level);
+    if (ec != std::errc() || end != text.data() + text.size()) return false;
+    out.level = level;
+    return true;
+  }
+};
+
+namespace cobra::deploy {
+namespace {
+
+/// A property of every type cobra's components hold (double, int, bool, string, vector<double>,
+/// KDL.Vector, KDL.Frame, KDL.Wrench: grep Property< components/) and of the other registered
+/// types a component may hold (KDL.Rotation, Twist, JntArray, Event, TaskState, a package's own).
+class EveryType final : public core::Component {
+ public:
+  explicit EveryType(std::string name) : Component(std::move(name), core::Role::Calculation, "a property of each type") {
+    for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
+             &real_, &count_, &flag_, &text_, &list_, &vector_, &rotation_, &frame_, &twist_, &wrench_, &joints_,
+             &event_, &state_, &grade_})
+      addProperty(*p);
+  }
+
+ private:
+  core::Property<double> real_{"real", 0.0, "m", "a number"};
+  core::Property<int> count_{"count", 0, "1", "an integer"};
+  core::Property<bool> flag_{"flag", false, "1", "a flag"};
+  core::Property<std::string> text_{"text", "", "", "a text"};
+  core::Property<std::vector<double>> list_{"list", {}, "m", "numbers"};
+  core::Property<KDL::Vector> vector_{"vector", KDL::Vector::Zero(), "m", "a point"};
+  core::Property<KDL::Rotation> rotation_{"rotation", KDL::Rotation::Identity(), "1", "an orientation"};
+  core::Property<KDL::Frame> frame_{"frame", KDL::Frame::Identity(), "m", "a pose"};
+  core::Property<KDL::Twist> twist_{"twist", KDL::Twist::Zero(), "m/s, rad/s", "a velocity"};
+  core::Property<KDL::Wrench> wrench_{"wrench", KDL::Wrench::Zero(), "N, N m", "a wrench"};
+  core::Property<KDL::JntArray> joints_{"joints", KDL::JntArray(), "rad", "joint values"};
+  core::Property<core::Event> event_{"event", core::Event{}, "", "an event"};
+  core::Property<core::TaskState> state_{"state", core::TaskState{}, "", "a state path"};
+  core::Property<Grade> grade_{"grade", Grade{}, "", "a package's own type"};
+};
+
+void registerEveryType(PackageBuilder& package) { package.component<EveryType>("EveryType", "a property of each type"); }
+
 /// A deployment file run in a Configurator on the simulation clock, never advanced.
 struct Loaded {
   explicit Loaded(const std::string& path) {
     components::addBuiltinPackages(configurator.packages());
+    configurator.packages().addBuiltin("test_every_type", registerEveryType);
     deployer.runFile(path);
   }
   Configurator configurator;
@@ -112,6 +176,73 @@ TEST(Description, LuaValuesOfEveryForm) {
   dds.qos = {{"reliability", "reliable"}, {"lease", "0.1"}};
   EXPECT_EQ(luaPolicyTable(dds), "{ type = \"buffer\", size = 16, transport = \"dds\", topic = \"needle/events\", "
                                  "qos = { reliability = \"reliable\", lease = \"0.1\" } }");
+}
+
+TEST(Description, EveryPropertyTypeRoundTrips) {
+  // Values no fresh EveryType has, of every form: negative, exponents, inf, a half-turn
+  // quaternion, a string with quotes and a newline, an event with a source and a stamp.
+  const std::string file = writeFile("every_type.lua", R"(packages_list = { "test_every_type" }
+initConfigurator(packages_list, { { peer_name = "T", component_type = "EveryType" } })
+getReferences()
+T.real = -math.huge
+T.count = -7
+T.flag = true
+T.text = "say \"hi\"\nthen go"
+T.list = { 1.5, -2e-05, 3 }
+T.vector = { 0.1, -0.2, 0.3 }
+T.rotation = { 0, 0, 1, 0 }
+T.frame = { 0.5, 0, -0.25, 1, 0, 0, 0 }
+T.twist = { 0.01, 0, 0, 0, 0, 0.5 }
+T.wrench = { 0, 0, -9.81, 0.1, 0, 0 }
+T.joints = { 0, 0.5, -1.25 }
+T.event = { name = "e_done", source = "Planner", stamp = 1.5 }
+T.state = "root.opening.turn"
+T.grade = "grade 3"
+)");
+  const std::string text = expectStable(file, "every_type_written.lua");
+  for (const char* line : {"T.real = -math.huge\n", "T.count = -7\n", "T.flag = true\n", "T.text = \"say \\\"hi\\\"\\nthen go\"\n",
+                           "T.list = { 1.5, -2e-05, 3 }\n", "T.vector = { 0.1, -0.2, 0.3 }\n", "T.rotation = { 0, 0, 1, 0 }\n",
+                           "T.frame = { 0.5, 0, -0.25, 1, 0, 0, 0 }\n", "T.twist = { 0.01, 0, 0, 0, 0, 0.5 }\n",
+                           "T.wrench = { 0, 0, -9.81, 0.1, 0, 0 }\n", "T.joints = { 0, 0.5, -1.25 }\n",
+                           "T.event = { name = \"e_done\", source = \"Planner\", stamp = 1.5 }\n",
+                           "T.state = \"root.opening.turn\"\n", "T.grade = \"grade 3\"\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line << " in\n" << text;
+  // The values came back, not only the text: the loaded component holds them.
+  Loaded again(scratch("every_type_written.lua").string());
+  const core::Component& t = *again.configurator.getReferences().find("T");
+  EXPECT_EQ(t.getProperty<core::Event>("event").source.view(), "Planner");
+  EXPECT_EQ(t.getProperty<Grade>("grade").level, 3);
+  EXPECT_EQ(t.getProperty<std::string>("text"), "say \"hi\"\nthen go");
+}
+
+TEST(Description, NotANumberRoundTrips) {
+  const std::string file = writeFile("nan.lua", R"(packages_list = { "test_every_type" }
+initConfigurator(packages_list, { { peer_name = "T", component_type = "EveryType" } })
+getReferences()
+T.real = math.abs(0/0)
+T.list = { 1, -math.abs(0/0) }
+)");
+  const std::string text = expectStable(file, "nan_written.lua");
+  EXPECT_NE(text.find("T.real = math.abs(0/0)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("T.list = { 1, -math.abs(0/0) }\n"), std::string::npos) << text;
+}
+
+TEST(Description, APropertyThatCannotBeWrittenIsNamed) {
+  DeploymentDescription d;
+  d.components = {{"G", "Gain", {}}};
+  d.properties = {{"G", "m", "Matrix", "[[1, 0], [0, 1]]"}};
+  EXPECT_EQ(messageOf([&] { (void)toLua(d); }),
+            "component 'G': property 'm': type 'Matrix' has no Lua form: no type of that name is registered "
+            "(a type of a package that is not loaded?)");
+  d.properties = {{"G", "pose", "KDL.Frame", "[0, 0, 1, 0, 0, 0]"}};
+  EXPECT_EQ(messageOf([&] { (void)toLua(d); }),
+            "component 'G': property 'pose': expected 7 numbers [x, y, z, qx, qy, qz, qw] (m, a unit quaternion) for a "
+            "KDL.Frame, got 6: '[0, 0, 1, 0, 0, 0]'");
+  d.properties = {{"G", "n", "int", "1.5"}};
+  EXPECT_EQ(messageOf([&] { (void)toLua(d); }),
+            "component 'G': property 'n': expected an integer for an int (-2147483648 to 2147483647), got '1.5'");
+  d.properties = {{"G", "e", "Event", "e_done from"}};
+  EXPECT_NE(messageOf([&] { (void)toLua(d); }).find("component 'G': property 'e': expected an event ("), std::string::npos);
 }
 
 TEST(Description, DefineConfigurationNamesTheLineOfABadValue) {

@@ -13,6 +13,7 @@ import {
   setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from './editor_model.js';
 import { drawConfiguration, drawInspector, drawPalette, drawProblems, drawTabs, refreshFieldProblems } from './editor_panels.js';
+import { connectLive } from './source.js';
 
 const $ = (id) => document.getElementById(id);
 const VALIDATE_DELAY_MS = 250;
@@ -373,6 +374,73 @@ async function save() {
   }
 }
 
+/**
+ * Attached to a run (`cobra run --studio`): the run's deployments as the last GET
+ * /api/editor/running gave them (its `now`), and the console's WebSocket, whose frames carry each
+ * scope's deployment and configuration in force: when they change, the page reads the running
+ * deployment again (no polling: it asks only when the run switched).
+ */
+const run = { now: null, socket: false, shown: null, reading: false, again: null };
+
+/** "scope: deployment" of each scope in force (`now` of /running, or a frame's map). */
+function inForce(deployments) {
+  const entries = Array.isArray(deployments) ? deployments.map((d) => [d.scope, d.deployment]) : Object.entries(deployments ?? {});
+  return entries.map(([scope, name]) => `${scope || 'default'}: ${name || '(none)'}`).join(', ');
+}
+
+/** Reads the running deployment; `byUser`: the Attach button (else a switch of the run). */
+async function attach(what, byUser = false) {
+  if (run.reading) {
+    run.again = what; // a switch while reading: read once more after
+    return;
+  }
+  run.reading = true;
+  try {
+    const answer = await api.running();
+    // Edits made since the last attach are not thrown away by a switch of the run.
+    if (!byUser && history.size > 0) {
+      status(`the run switched (${inForce(answer.now?.deployments)}); your edits are kept: Attach to the run to see it`);
+    } else {
+      loaded(answer, `${what}${answer.now ? ` (t = ${answer.now.t} s; ${inForce(answer.now.deployments)})` : ''}`);
+      $('save-path').value = '';
+    }
+    run.now = answer.now ?? null;
+    window.cobraEditor.running = answer;
+    follow();
+  } catch (err) {
+    status(`attach: ${err.message}`, 'error');
+  } finally {
+    run.reading = false;
+  }
+  if (run.again) {
+    const next = run.again;
+    run.again = null;
+    await attach(next);
+  }
+}
+
+/** The scopes whose deployment a frame and the last answer both name differ. */
+function differsFromAnswer(frameDeployments) {
+  return (run.now?.deployments ?? []).some((d) => d.scope in (frameDeployments ?? {}) && frameDeployments[d.scope] !== d.deployment);
+}
+
+function follow() {
+  if (run.socket) return;
+  run.socket = true;
+  connectLive({
+    frame: (msg) => {
+      const shown = JSON.stringify([msg.deployments ?? {}, msg.configurations ?? {}]);
+      // The first frame is compared with the answer (a switch between the two is not missed);
+      // later ones with the frame before.
+      const switched = run.shown === null ? differsFromAnswer(msg.deployments) : shown !== run.shown;
+      run.shown = shown;
+      if (switched) attach(`the run switched to ${inForce(msg.deployments)}: re-read the running deployment`);
+    },
+    end: () => attach('the run ended: its deployment as it ended'),
+    closed: (reason) => { if (run.now) status(`${reason}; the running deployment is no longer followed`, 'error'); },
+  });
+}
+
 async function start() {
   $('palette-search').addEventListener('input', (e) => drawPalette($('palette-list'), state, e.target.value));
   $('open').addEventListener('click', () => open($('path').value.trim()));
@@ -389,14 +457,7 @@ async function start() {
     }
   });
   $('new-type').addEventListener('click', () => $('type-dialog').showModal());
-  $('attach').addEventListener('click', async () => {
-    try {
-      loaded(await api.running(), 'attached to the running deployment');
-      $('save-path').value = '';
-    } catch (err) {
-      status(`attach: ${err.message}`, 'error');
-    }
-  });
+  $('attach').addEventListener('click', () => attach('attached to the running deployment', true));
   const token = new URLSearchParams(window.location.search).get('token');
   $('console-link').href = token ? `index.html?token=${encodeURIComponent(token)}` : 'index.html';
   try {
@@ -423,6 +484,6 @@ async function start() {
   window.cobraEditor.ready = true;
 }
 
-/** For tests: the page's state (project, palette, lint, problems), `saved` (the last save's answer). */
-window.cobraEditor = { state, ready: false, saved: null, idle: () => state.busy === 0 && !validatePending };
+/** For tests: the page's state (project, palette, lint, problems), `saved` (the last save's answer), `running` (the last GET /api/editor/running answer). */
+window.cobraEditor = { state, ready: false, saved: null, running: null, idle: () => state.busy === 0 && !validatePending };
 start();

@@ -6,11 +6,20 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch } from './browser.mjs';
 import { BAD_ERROR, BAD_FILE, BAD_LINE, startEditorFixture } from './editor_fixture_server.mjs';
+import { recordedPalette } from './make_editor_fixtures.mjs';
 import { FIG_3_4_CLICKS, buildFig34, connect, openEditor, place, project, setProperty, settled } from './editor_page.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
+
+/** Resolves once `condition()` holds (checked every 20 ms; fails after 10 s naming `what`). */
+async function waitUntil(condition, what) {
+  for (let waited = 0; !condition(); waited += 20) {
+    if (waited > 10000) throw new Error(`waited 10 s: ${what}`);
+    await new Promise((resolve) => { setTimeout(resolve, 20); });
+  }
+}
 
 async function fixture(t, mode = 'new') {
   const server = await startEditorFixture(mode);
@@ -22,8 +31,12 @@ async function fixture(t, mode = 'new') {
 
 test('the palette lists the recorded types by package, with ports, properties and operations, and searches', async (t) => {
   const { page } = await fixture(t);
+  // The whole palette cobra serves (the fixture is its recording: make_editor_fixtures.mjs).
+  const recorded = recordedPalette();
+  assert.ok(recorded.types.length >= 44, `the recorded palette has ${recorded.types.length} types`);
   const packages = await page.locator('#palette-list section.package h3').allTextContents();
-  assert.deepEqual(packages.slice(0, 3), ['cobra_sim', 'cobra_motion', 'cobra_control']);
+  assert.deepEqual(packages.filter((p) => p !== 'fixture_types'), [...new Set(recorded.types.map((t) => t.package))].sort());
+  assert.equal(await page.locator('#palette-list summary[data-type]').count(), recorded.types.length + 1);
   const traj = page.locator('details:has(summary[data-type="CartesianTrajectoryGenerator"])');
   await traj.locator('summary').click();
   const text = await traj.textContent();
@@ -284,4 +297,28 @@ test('attach: shown when the server has a running deployment, which it loads', a
   assert.match(await page.locator('#canvas g.port[data-port="Gate.limit"]').getAttribute('class'), /\bin\b.*\bconfigured\b/);
   const other = await fixture(t, 'new');
   assert.ok(await other.page.locator('#attach').isHidden());
+});
+
+test('attached, the page follows the run: a switch pushed over /ws re-reads the running deployment, once', async (t) => {
+  const { server, page } = await fixture(t, 'running');
+  await page.locator('#attach').click();
+  await page.locator('#canvas g.block[data-name="Amp"]').waitFor();
+  await page.waitForFunction(() => window.cobraEditor.running !== null);
+  await waitUntil(() => server.sockets() === 1, 'the page opens the WebSocket');
+  const reads = server.running.reads; // the page's probe at start and the attach
+  assert.deepEqual((await project(page)).apply, []);
+  // Frames that name the same deployments ask nothing (no polling).
+  await new Promise((resolve) => { setTimeout(resolve, 300); });
+  assert.equal(server.running.reads, reads);
+  server.switchTo('gated', 0.25);
+  await page.waitForFunction(() => window.cobraEditor.running?.now?.deployments?.[0]?.deployment === 'gated');
+  await new Promise((resolve) => { setTimeout(resolve, 300); });
+  assert.equal(server.running.reads, reads + 1, 'three frames naming the new deployment: one read');
+  assert.deepEqual((await project(page)).apply, ['gated']);
+  assert.match(await page.locator('#status').textContent(), /the run switched to default: gated: re-read the running deployment \(t = 0\.25 s; default: gated\)/);
+  // Edits made since are kept when the run switches again.
+  await setProperty(page, 'Amp', 'k', '4');
+  server.switchTo('', 0.5);
+  await page.waitForFunction(() => /your edits are kept/.test(document.getElementById('status').textContent));
+  assert.deepEqual((await project(page)).apply, ['gated']);
 });

@@ -7,11 +7,14 @@
 // posted (saves, generates) for the tests to look at.
 //   mode 'new':       /api/editor/project is an empty project.
 //   mode 'malformed': /api/editor/project answers 422 for BAD_FILE (line BAD_LINE).
-//   mode 'running':   like 'new', and /api/editor/running answers RUNNING_PROJECT.
+//   mode 'running':   like 'new', and /api/editor/running answers RUNNING_PROJECT as of the
+//                     deployment in force; /ws sends frames naming it (the server's switchTo(name)
+//                     switches and sends three frames, as a run's frames repeat it).
 import { createServer } from 'node:http';
 import { existsSync, readFileSync } from 'node:fs';
 import { extname, join, normalize } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { WebSocketServer } from 'ws';
 import { DIST, FIXTURES, TOKEN, json, tokenOf } from './fixture_server.mjs';
 
 /**
@@ -51,6 +54,19 @@ export const RUNNING_PROJECT = {
   deployments: [{ name: 'gated', scope: '', components: ['Gate'], connections: [{ output: 'Amp.out', input: 'Gate.limit', conn_policy: { type: 'data' } }] }],
   configurations: [], configure: ['Sine', 'Amp'], start: ['Sine', 'Amp'], apply: [],
 };
+/** GET /api/editor/running's answer while `deployment` ("" none) is in force since `t` s. */
+function runningAnswer(deployment, t) {
+  const applied = RUNNING_PROJECT.deployments.find((d) => d.name === deployment);
+  return {
+    live: true, taken: 'at setup; deployments of now',
+    now: {
+      t, switches: deployment ? 1 : 0, deployments: [{ scope: '', deployment }], configuration: '',
+      running: [...RUNNING_PROJECT.start, ...(applied?.components ?? [])],
+      connections: [...RUNNING_PROJECT.connections, ...(applied?.connections ?? [])],
+    },
+    project: { ...RUNNING_PROJECT, apply: applied ? [deployment] : [] },
+  };
+}
 /** The types `cobra new component`'s generator knows (studio/PROTOCOL.md). */
 const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.txt': 'text/plain' };
@@ -162,6 +178,7 @@ export async function startEditorFixture(mode = 'new') {
   const saves = [];
   const generated = [];
   const checks = [];
+  const running = { deployment: '', t: 0, reads: 0 };
   const malformed = { error: BAD_ERROR, path: BAD_FILE, line: BAD_LINE, text: BAD_TEXT };
   const routes = {
     'GET /api/editor/palette': () => [200, palette],
@@ -191,8 +208,11 @@ export async function startEditorFixture(mode = 'new') {
       const file = component.name.replace(/([a-z])([A-Z])/g, '$1_$2').toLowerCase();
       return [200, { files: [`${folder}/include/${component.package}/${file}.hpp`, `${folder}/src/${file}.cpp`, `${folder}/test/${file}_test.cpp`] }];
     },
-    'GET /api/editor/running': () => (mode === 'running' ? [200, { live: true, taken: 'at setup', project: RUNNING_PROJECT }]
-      : [404, { error: 'no run here: GET /api/editor/running is served by `cobra run APP --studio`' }]),
+    'GET /api/editor/running': () => {
+      if (mode !== 'running') return [404, { error: 'no run here: GET /api/editor/running is served by `cobra run APP --studio`' }];
+      running.reads += 1;
+      return [200, runningAnswer(running.deployment, running.t)];
+    },
   };
   const server = createServer((req, res) => {
     const url = new URL(req.url, 'http://127.0.0.1');
@@ -215,11 +235,36 @@ export async function startEditorFixture(mode = 'new') {
     res.writeHead(200, headers);
     return res.end(readFileSync(file));
   });
+  // The console's WebSocket: frames carry each scope's deployment in force (PROTOCOL.md).
+  const sockets = new Set();
+  const wss = new WebSocketServer({ noServer: true });
+  const frame = () => JSON.stringify({ type: 'frame', t: running.t, deployments: { '': running.deployment }, configurations: { '': '' } });
+  server.on('upgrade', (req, socket, head) => {
+    const url = new URL(req.url, 'http://127.0.0.1');
+    if (mode !== 'running' || url.pathname !== '/ws' || tokenOf(req, url) !== TOKEN) {
+      socket.end('HTTP/1.1 403 Forbidden\r\n\r\n');
+      return;
+    }
+    wss.handleUpgrade(req, socket, head, (ws) => {
+      sockets.add(ws);
+      ws.on('close', () => sockets.delete(ws));
+      ws.send(frame());
+    });
+  });
   await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
   const url = `http://127.0.0.1:${server.address().port}/`;
   return {
-    url, pageUrl: `${url}editor.html?token=${TOKEN}`, saves, generated, checks,
+    url, pageUrl: `${url}editor.html?token=${TOKEN}`, saves, generated, checks, running,
+    sockets: () => sockets.size,
+    /** The run switches to deployment `name` at `t` s: three frames name it. */
+    switchTo(name, t) {
+      running.deployment = name;
+      running.t = t;
+      for (let i = 0; i < 3; i += 1) for (const ws of sockets) ws.send(frame());
+    },
     close: () => new Promise((resolve) => {
+      for (const ws of sockets) ws.terminate();
+      wss.close();
       server.closeAllConnections();
       server.close(resolve);
     }),

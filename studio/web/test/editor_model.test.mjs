@@ -141,8 +141,8 @@ test('the palette grouped by package and searched by every word; its data types;
   const all = paletteGroups(palette);
   assert.deepEqual(all.map((g) => g.package), [...palette.packages]);
   assert.equal(all.reduce((n, g) => n + g.types.length, 0), palette.types.length);
-  // "wrench" in a name, doc or port name, and the role Calculation.
-  assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['EquivalentWrench', 'VariableAdmittance']);
+  // "wrench" in a name, doc or port name, and the role Calculation (groups in the packages' order).
+  assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['VariableAdmittance', 'EquivalentWrench']);
   assert.deepEqual(paletteGroups(palette, 'supervision').map((g) => g.package), ['cobra_coordination', 'fixture_types']);
   assert.ok(paletteDataTypes(palette).includes('KDL.Frame') && paletteDataTypes(palette).includes('vector<double>'));
   const g = generatedType({ name: 'Lim', role: 'calculation', package: 'mine', inputs: [{ name: 'u', type: 'double', unit: 'N' }],

@@ -83,9 +83,14 @@ std::string luaPolicyTable(const ConnPolicySpec& spec);
 ConnPolicySpec connPolicySpecOf(const core::ConnPolicy& policy);
 
 /// The Lua value that sets a property of type `type` (core type name) to `text` through a
-/// component reference (script/convert.hpp's forms): numbers and booleans as they are, lists
-/// (`[1, 2]`: vector<double>, KDL types) as `{ 1, 2 }`, anything else as a quoted string.
-/// @throws core::Error "expected ..." when `text` is not a value of a number or list type.
+/// component reference, in the form script/convert.hpp reads: double and int as numbers
+/// (math.huge for inf, math.abs(0/0) for nan; an int must be integral), bool as true/false,
+/// vector<double> and KDL.JntArray as arrays of numbers, KDL.Vector, Rotation, Frame, Twist and
+/// Wrench as arrays of 3, 4, 7, 6 and 6 numbers, an Event as its name or `{ name = , source = ,
+/// stamp = }`, a string and every other registered type (TaskState, a package's own) as a string
+/// (its text form, which Lua sets through Property::setFromText).
+/// @throws core::Error "expected ..." when `text` is not a value of `type`, or "type 'T' has no
+///         Lua form ..." for a type this process has not registered.
 std::string luaValue(std::string_view type, std::string_view text);
 /// `text` as a Lua string literal (double quotes, escaped).
 std::string luaString(std::string_view text);

@@ -7,6 +7,7 @@
 /// own on the simulation clock, never advanced; projects are saved with the writer `cobra
 /// describe` uses (deploy/description.hpp).
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -34,13 +35,30 @@ struct EditorOptions {
   std::vector<std::pair<std::string, deploy::PackageRegistrar>> packages;
 };
 
+/// What is in force in a run now: each scope's deployment, the configuration, which components
+/// run and which connections exist (those made outside the named deployments, then those of the
+/// deployments in force).
+struct InForce {
+  double t = 0.0;            ///< s of run time of the last switch seen (0: none since setup)
+  std::uint64_t switches = 0;  ///< switches seen since setup
+  std::vector<std::pair<std::string, std::string>> deployments;  ///< scope ("" default), deployment ("" none)
+  std::string configuration;                                      ///< applied last ("" none)
+  std::vector<std::string> running;                               ///< components in state Running
+  std::vector<deploy::ConnectionSpec> connections;
+};
+
 /// The running deployment for GET /api/editor/running (`cobra run --studio`): a run observer
 /// that wraps the run's own observer (cobra studio's bridge) and passes every call on. At
-/// attach, on the run's thread before the first step, it describes the run's Configurator (the
-/// snapshot: components, connections, deployments, configurations as they were at setup); when
-/// asked, it adds the current property values, read through the components' thread-safe
-/// snapshots (core::describe), so the run's thread is never blocked while it steps. After the run
-/// (finished) the values of its last instant stay.
+/// attach, on the run's thread before the first step, it describes the run's Configurator
+/// (components, connections, the named deployments and configurations). It follows the run's
+/// deployment switches: at each step it reads the Configurator's switch count (an atomic load;
+/// nothing else when nothing switched) and, after a switch, each scope's deployment and the
+/// configuration in force (the run's thread, between two instants), handed over with a lock it
+/// only tries, never waits for (when a request holds it, the next step hands them over). A
+/// deployment not in the attach-time description (defined during the run) makes it describe
+/// the Configurator again there. When asked, it adds the property values and component states of
+/// the moment, read through the components' thread-safe snapshots (core::describe), so the run's
+/// thread is never blocked while it steps. After the run (finished) those of its last instant stay.
 class RunningDeployment final : public run::RunObserver {
  public:
   explicit RunningDeployment(run::RunObserver* inner = nullptr);
@@ -52,17 +70,27 @@ class RunningDeployment final : public run::RunObserver {
   bool nextInput(std::size_t& index) override;
   std::vector<std::string> finished(const run::RunResult& result) override;
 
-  /// The description with the current property values; nullopt before attach. `live`: false
-  /// once the run has finished.
-  std::optional<deploy::DeploymentDescription> snapshot(bool& live) const;
+  /// The description as of now (applied deployments and configuration in force, current property
+  /// values); nullopt before attach. `live`: false once the run has finished. `now`, when given:
+  /// what is in force.
+  std::optional<deploy::DeploymentDescription> snapshot(bool& live, InForce* now = nullptr) const;
 
  private:
-  void refreshValues(deploy::DeploymentDescription& d) const;  // holding mutex_
+  void refreshValues(deploy::DeploymentDescription& d, std::vector<std::string>* running) const;  // holding mutex_
+  void stageSwitch(double t);  // the run's thread
+  void handOver();            // staged_ into in_force_, holding mutex_
   run::RunObserver* inner_;
   mutable std::mutex mutex_;
   std::optional<deploy::DeploymentDescription> description_;
   std::vector<std::pair<std::string, std::string>> attach_values_;  // "Comp.prop" -> text at attach
   const core::ComponentRegistry* registry_ = nullptr;            // null after finished
+  InForce in_force_;                                             // `running` filled after finished
+  // The run's thread only.
+  const deploy::Configurator* configurator_ = nullptr;
+  std::uint64_t switches_seen_ = 0;
+  bool pending_ = false;  // staged_ not handed over yet (the lock was held)
+  InForce staged_;
+  std::optional<deploy::DeploymentDescription> staged_description_;  // described again at a switch
 };
 
 /// What a server serving only the editor (`cobra edit`) has of a run: none. GET /api/model
