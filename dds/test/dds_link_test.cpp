@@ -273,8 +273,8 @@ TEST(DdsLink, ConnectionsMadeMidRunReadWhatIsWrittenFromThenOn) {
 // meeting after it was written (up to 5 steps late), still identically run after run.
 TEST(DdsLink, AMeetingPeriodDelaysSamplesToTheNextMeetingInstant) {
   constexpr long kInstants = 2000;
-  const auto first = runSplit(139, kInstants, "0", "period1", "leader", "follower", "0.005");
-  const auto second = runSplit(139, kInstants, "0", "period2", "leader", "follower", "0.005");
+  const auto first = runSplit(142, kInstants, "0", "period1", "leader", "follower", "0.005");
+  const auto second = runSplit(142, kInstants, "0", "period2", "leader", "follower", "0.005");
   const auto predicted = predictedTraces(kInstants, 0, 5);
   EXPECT_EQ(firstDifference(head(first.first, kInstants), predicted.first), "");
   EXPECT_EQ(firstDifference(head(first.second, kInstants), predicted.second), "");
