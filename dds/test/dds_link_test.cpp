@@ -2,7 +2,8 @@
 // is refused), one per process, its properties checked; peer liveliness across two processes
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
-// messages dropped). The peer processes are dds_link_peer. DDS domains 128..131, this test's own.
+// messages dropped); a peer that leaves normally on the wall clock is done, not lost. The peer
+// processes are dds_link_peer. DDS domains 128..134 and 136..138, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -158,6 +159,41 @@ TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
   std::this_thread::sleep_for(3 * std::chrono::duration<double>(kLease));
   collect("");
   EXPECT_EQ(std::count(seen.begin(), seen.end(), "e_peer_lost@peer"), 1);
+}
+
+// Wall clock: a peer that stops and cleans up its link says farewell (done) before its writer
+// goes, so its leaving is not a loss; kill -9 (the test above) still is.
+TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
+  registerLinkedTransport();
+  constexpr double kLease = 0.1;  // s
+  Peer peer({"live", "136", "peer", "survivor", "0.1", "", "0.3"});
+  DdsLink link("Link");
+  set(link, "domain", "136");
+  set(link, "participant", "survivor");
+  set(link, "peers", "peer");
+  set(link, "lease", "0.1");
+  core::InputPort<core::Event> events("events", "", "");
+  core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
+  ASSERT_TRUE(link.configure());
+  ASSERT_TRUE(link.start());
+  std::vector<std::string> seen;
+  const auto collect = [&] {
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) seen.push_back(e.name.str() + "@" + e.source.str());
+  };
+  ASSERT_TRUE(test::pollUntil([&] {
+    collect();
+    return std::find(seen.begin(), seen.end(), "e_peer_joined@peer") != seen.end();
+  }, 8s));
+  EXPECT_FALSE(link.peersDone()) << "the peer is still there";
+  EXPECT_EQ(peer.wait(5s), 0) << "the peer left normally (stopped and cleaned up its link)";
+  // Its liveliness ended with its writer: a loss would be reported within the lease.
+  std::this_thread::sleep_for(10 * std::chrono::duration<double>(kLease));
+  collect();
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), "e_peer_lost@peer"), 0);
+  EXPECT_EQ(link.lostPeers(), std::vector<std::string>{});
+  EXPECT_EQ(link.operation("lostPeers").invokeFromText({}), "");
+  EXPECT_TRUE(link.peersDone()) << "a peer that said farewell is done";
 }
 
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a
