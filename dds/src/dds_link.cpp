@@ -173,6 +173,11 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     return lost_;
   }
 
+  std::vector<std::string> joined() const {
+    std::lock_guard lock(mutex_);
+    return joined_;
+  }
+
   void reached(std::chrono::nanoseconds t) {
     std::vector<cobra_msgs::msg::LinkWriter> writers;
     flushWriters(writers);
@@ -234,7 +239,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         if (peer == peers_.end()) continue;  // a process of another run on this domain
         Peer& p = peer->second;
         p.heard = Clock::now();
-        if (!p.seen) joined.push_back(sample.participant());
+        if (!p.seen) joined.push_back(sample.participant()), joined_.push_back(sample.participant());
         p.seen = true;
         p.readers = sample.readers();
         if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
@@ -397,6 +402,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   std::map<std::string, Peer> peers_;         // by participant name
   std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
   std::vector<std::string> lost_;
+  std::vector<std::string> joined_;  // the peers heard from, in that order
 };
 
 DdsLink::DdsLink(std::string name)
@@ -420,6 +426,15 @@ DdsLink::DdsLink(std::string name)
         return out;
       }),
       "the peers lost so far, comma-separated, in the order they were lost");
+  addOperation(
+      "joinedPeers",
+      std::function<std::string()>([this] {
+        std::string out;
+        for (const auto& peer : meeting_ ? meeting_->joined() : std::vector<std::string>{})
+          out += (out.empty() ? "" : ",") + peer;
+        return out;
+      }),
+      "the peers heard from so far (their hello or an announcement), comma-separated, in the order they joined");
 }
 
 DdsLink::~DdsLink() { cleanupHook(); }

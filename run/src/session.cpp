@@ -447,6 +447,7 @@ bool Session::ended() {
     return true;
   }
   notePeerLoss();
+  if (steps_ % 100 == 1) notePeerJoins();
   if (std::all_of(charts_.begin(), charts_.end(), [](const Chart& c) { return c.state == c.spec->done; }) &&
       !peersHoldTheRun()) {
     result_.outcome = peer_lost_at_ >= 0.0 ? Outcome::PeerLost : Outcome::Completed;

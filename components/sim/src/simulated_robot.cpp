@@ -1,5 +1,6 @@
 #include "cobra/components/sim/simulated_robot.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -187,8 +188,13 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   for (std::size_t i = 0; i < tools_.size(); ++i)
     solve_targets_[i] =
         kinematics::frameProduct(kinematics::frameProduct(base_inverse, targets_[i]), tools_[i]->tool_frame().Inverse());
+  // The continuity bound is max_velocity x the step, at least one period: the command is a
+  // setpoint the servo reaches over its period. On the wall clock an update may come early after
+  // a late one (thread jitter); measured alone, that short step refused a command moving one
+  // period's worth, and every later one with it (the held command falls behind). On the lockstep
+  // clock every step is one period: nothing changes there.
   kinematics::IkStatus status =
-      kinematics_->solve(solve_targets_, robot_->commanded(), dt > 0.0 ? dt : default_dt_, solution_);
+      kinematics_->solve(solve_targets_, robot_->commanded(), std::max(dt, default_dt_), solution_);
   if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;
   if (status != kinematics::IkStatus::Ok) {
     // One event per reason and refusal episode (until a command is accepted again).

@@ -58,7 +58,9 @@ class TrackingMonitor {
   TrackingMonitor(std::string robot, std::vector<double> max_velocity, double period);
 
   /// One step at time `t` [s]. Only samples with `counts` (an autonomous motion of this robot)
-  /// enter the figures; `joints` (measured, may be nullptr) feed the joint check.
+  /// enter the figures; `joints` (measured, may be nullptr) feed the joint check, their speed
+  /// taken over the time since the last sample when it is longer than the period (a late sample
+  /// on the wall clock), else over the period.
   void step(double t, bool counts, const std::string& state, const KDL::Frame& commanded, const KDL::Frame& measured,
             const KDL::JntArray* joints);
   /// The largest position [mm] and orientation [deg] errors since the last call (counted or not),
@@ -74,6 +76,7 @@ class TrackingMonitor {
   std::vector<double> max_velocity_;
   double period_;
   KDL::JntArray previous_joints_;
+  double previous_joints_t_ = 0.0;  // s, when previous_joints_ was sampled
   KDL::Frame previous_command_;
   bool have_command_ = false;
   bool have_joints_ = false;
