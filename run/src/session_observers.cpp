@@ -55,6 +55,9 @@ void Session::attachTracking() {
       throw std::runtime_error(at + ": " + use + ": unknown chart '" + t.chart + "'");
     tracker.limits = limits.size();
     tracker.monitor = std::make_unique<TrackingMonitor>(t.name, limits, spec_.step);
+    // Wall clock: the joints read at a sample were published by the robot's own thread up to one
+    // of its periods before.
+    if (options_.realtime) tracker.monitor->setSampleSkew(spec_.step);
     tracker.mm_column = recording_.addDerived("tracking." + t.name + ".mm", "mm");
     tracker.deg_column = recording_.addDerived("tracking." + t.name + ".deg", "deg");
     trackers_.push_back(std::move(tracker));

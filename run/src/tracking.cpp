@@ -71,7 +71,7 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
   if (have_joints_ && counts) {
     // On the wall clock samples come late when the runner's thread is starved: a joint's change
     // is over the time between the samples, not one period (on the lockstep clock they are equal).
-    const double interval = t - previous_joints_t_ > 1.01 * period_ ? t - previous_joints_t_ : period_;
+    const double interval = (t - previous_joints_t_ > 1.01 * period_ ? t - previous_joints_t_ : period_) + skew_;
     double fraction = 0.0;
     unsigned fastest = 0;
     for (unsigned i = 0; i < n; ++i) {
