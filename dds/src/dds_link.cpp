@@ -28,6 +28,10 @@ namespace {
 
 constexpr const char* kMeetingTopic = "rt/cobra/link";
 constexpr const char* kMeetingType = "cobra_msgs::msg::dds_::LinkMeeting_";
+/// Announcement stamps that are not instants: the hello when a link starts, and the farewell of
+/// a wall-clock link that leaves normally (done = true: its peers record it done, not lost).
+constexpr std::int64_t kHello = -1;
+constexpr std::int64_t kFarewell = -2;
 
 /// "a, b,c" -> {"a", "b", "c"}.
 std::vector<std::string> splitList(const std::string& text) {
@@ -128,13 +132,24 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   /// The hello: peers learn this process's name and reader ends before its first instant.
   void hello() {
     started_ = Clock::now();
-    announce(-1, false);
+    greeted_ = true;
+    announce(kHello, false);
   }
 
   ~Meeting() override { close(); }
 
   void close() noexcept {
     fdds::DomainParticipant* p = participant_.entity();
+    // Wall clock: no meeting says when a peer is done, so leaving normally says it here, before
+    // the writer goes (its peers would otherwise see its liveliness end and lose it). A lockstep
+    // link's peers learn it at the meetings (setDone), and keep that path alone.
+    if (writer_ != nullptr && greeted_ && !participant_.lockstep()) {
+      try {
+        announce(kFarewell, true);
+      } catch (const std::exception& e) {
+        std::cerr << "cobra dds: participant '" << settings_.self << "' could not say farewell: " << e.what() << std::endl;
+      }
+    }
     // The peers may still need a retransmission of the last announcement (a lost packet is
     // resent within ms); a lost peer never acknowledges, hence the bound.
     if (writer_ != nullptr) writer_->wait_for_acknowledgments(duration(std::min(settings_.lease, 0.2)));
@@ -173,6 +188,11 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     return lost_;
   }
 
+  std::vector<std::string> joined() const {
+    std::lock_guard lock(mutex_);
+    return joined_;
+  }
+
   void reached(std::chrono::nanoseconds t) {
     if (settings_.period_ns > 0 && t.count() % settings_.period_ns != 0) return;  // not a meeting instant
     std::vector<cobra_msgs::msg::LinkWriter> writers;
@@ -190,41 +210,16 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   void on_data_available(fdds::DataReader* reader) override {
     std::lock_guard closing(callback_mutex_);
     if (closed_) return;
-    cobra_msgs::msg::LinkMeeting sample;
-    fdds::SampleInfo info;
-    std::vector<std::string> joined;
-    std::vector<std::pair<std::string, std::string>> mismatched;  // name, why
-    {
-      std::lock_guard lock(mutex_);
-      while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data || sample.participant() == settings_.self) continue;
-        names_[text(info.sample_identity.writer_guid())] = sample.participant();
-        const auto peer = peers_.find(sample.participant());
-        if (peer == peers_.end()) continue;  // a process of another run on this domain
-        Peer& p = peer->second;
-        if (sample.period_ns() != settings_.period_ns && !p.lost) {
-          // Each would wait at instants the other never meets at: refuse the peer at once.
-          mismatched.emplace_back(sample.participant(),
-                                  "it meets every " + periodText(sample.period_ns()) + ", participant '" +
-                                      settings_.self + "' every " + periodText(settings_.period_ns) +
-                                      ": give both DdsLinks the same meeting_period");
-          continue;
-        }
-        p.heard = Clock::now();
-        if (!p.seen) joined.push_back(sample.participant());
-        p.seen = true;
-        p.readers = sample.readers();
-        if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
-      }
-    }
-    changed_.notify_all();
-    for (const auto& name : joined) link_.emit("e_peer_joined", name);
-    for (const auto& [name, why] : mismatched) lose(name, why);
+    takeAnnouncements(reader);
   }
 
   void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
     std::lock_guard closing(callback_mutex_);
     if (closed_ || status.alive_count_change >= 0) return;
+    // A peer that said farewell was acknowledged before its writer went: Fast DDS calls
+    // on_data_available from the thread that received the farewell, before it acknowledges it, so
+    // the peer is done here already. (Samples are not taken here: this callback comes from Fast
+    // DDS's liveliness machinery, whose locks this code does not know.)
     // Lapsed (killed, unreachable) or its writer gone (the process left): lost, unless it said
     // it was done.
     const std::string guid = text(rtps::iHandle2GUID(status.last_publication_handle));
@@ -250,6 +245,41 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     };
     std::map<std::int64_t, Announced> announced;  // by instant (ns)
   };
+
+  /// Takes the announcements `reader` holds; called under callback_mutex_.
+  void takeAnnouncements(fdds::DataReader* reader) {
+    cobra_msgs::msg::LinkMeeting sample;
+    fdds::SampleInfo info;
+    std::vector<std::string> joined;
+    std::vector<std::pair<std::string, std::string>> mismatched;  // name, why
+    {
+      std::lock_guard lock(mutex_);
+      while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data || sample.participant() == settings_.self) continue;
+        names_[text(info.sample_identity.writer_guid())] = sample.participant();
+        const auto peer = peers_.find(sample.participant());
+        if (peer == peers_.end()) continue;  // a process of another run on this domain
+        Peer& p = peer->second;
+        if (sample.period_ns() != settings_.period_ns && !p.lost) {
+          // Each would wait at instants the other never meets at: refuse the peer at once.
+          mismatched.emplace_back(sample.participant(),
+                                  "it meets every " + periodText(sample.period_ns()) + ", participant '" +
+                                      settings_.self + "' every " + periodText(settings_.period_ns) +
+                                      ": give both DdsLinks the same meeting_period");
+          continue;
+        }
+        p.heard = Clock::now();
+        if (!p.seen) joined.push_back(sample.participant()), joined_.push_back(sample.participant());
+        p.seen = true;
+        p.readers = sample.readers();
+        if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
+        if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // it left normally
+      }
+    }
+    changed_.notify_all();
+    for (const auto& name : joined) link_.emit("e_peer_joined", name);
+    for (const auto& [name, why] : mismatched) lose(name, why);
+  }
 
   void announce(std::int64_t stamp, bool done, std::vector<cobra_msgs::msg::LinkWriter> writers = {}) {
     cobra_msgs::msg::LinkMeeting sample;
@@ -402,12 +432,14 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   std::atomic<bool> done_{false};
   std::mutex callback_mutex_;  // held by the listener's calls; close() takes it to end them
   bool closed_ = false;        // under callback_mutex_
+  bool greeted_ = false;       // hello() sent: the peers know this link
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::map<std::string, Peer> peers_;         // by participant name
   bool told_done_ = false;                    // a meeting passed with this process done (under mutex_)
   std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
   std::vector<std::string> lost_;
+  std::vector<std::string> joined_;  // the peers heard from, in that order
 };
 
 DdsLink::DdsLink(std::string name)
@@ -432,6 +464,15 @@ DdsLink::DdsLink(std::string name)
         return out;
       }),
       "the peers lost so far, comma-separated, in the order they were lost");
+  addOperation(
+      "joinedPeers",
+      std::function<std::string()>([this] {
+        std::string out;
+        for (const auto& peer : meeting_ ? meeting_->joined() : std::vector<std::string>{})
+          out += (out.empty() ? "" : ",") + peer;
+        return out;
+      }),
+      "the peers heard from so far (their hello or an announcement), comma-separated, in the order they joined");
 }
 
 DdsLink::~DdsLink() { cleanupHook(); }

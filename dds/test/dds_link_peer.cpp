@@ -1,7 +1,9 @@
 // The processes of dds_link_test: each has a DdsLink (the package's component, linked here).
-//   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS]
+//   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS [LEAVE_AFTER]]
 //     configures and starts a DdsLink, prints the events it sends (one "name source" a line),
-//     and waits to be killed (exits 2 after 20 s).
+//     and waits to be killed (exits 2 after 20 s). With LEAVE_AFTER (s), it leaves normally that
+//     long after its first e_peer_joined instead: stops and cleans up its link (a wall-clock
+//     link says farewell), prints "left", exits 0.
 //   dds_link_peer lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE [MEETING_PERIOD]
 //     one half of a lockstep run of INSTANTS instants of 1 ms, its clock met through its DdsLink:
 //     ROLE "leader" (participant "leader") steps Mover, which writes a KDL.Frame on "link/pose"
@@ -15,6 +17,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -102,7 +105,7 @@ bool configured(core::Component& c) {
 }
 
 int live(int domain, const std::string& name, const std::string& peers, const std::string& lease,
-         const std::string& initial_peers) {
+         const std::string& initial_peers, double leave_after) {
   dds::registerLinkedTransport();
   dds::DdsLink link("Link");
   link.property("initial_peers").setFromText(initial_peers);
@@ -114,9 +117,20 @@ int live(int domain, const std::string& name, const std::string& peers, const st
   core::connect(link.events(), events, core::ConnPolicy::buffer(16));
   if (!configured(link) || !link.start()) return 1;
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  std::optional<std::chrono::steady_clock::time_point> leave_at;
   while (std::chrono::steady_clock::now() < until) {  // says what it sees: a test in another namespace reads it
     core::Event e;
-    while (events.read(e) == core::FlowStatus::NewData) std::cout << e.name.str() << ' ' << e.source.str() << std::endl;
+    while (events.read(e) == core::FlowStatus::NewData) {
+      std::cout << e.name.str() << ' ' << e.source.str() << std::endl;
+      if (leave_after >= 0.0 && !leave_at && e.name.str() == "e_peer_joined")
+        leave_at = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                           std::chrono::duration<double>(leave_after));
+    }
+    if (leave_at && std::chrono::steady_clock::now() >= *leave_at) {
+      if (!link.stop() || !link.cleanup()) return 1;
+      std::cout << "left" << std::endl;
+      return 0;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return 2;
@@ -171,11 +185,11 @@ int lockstep(int domain, const std::string& role, long instants, const std::stri
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (mode == "live" && (argc == 6 || argc == 7))
-    return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc == 7 ? argv[6] : "");
+  if (mode == "live" && argc >= 6 && argc <= 8)
+    return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc >= 7 ? argv[6] : "", argc == 8 ? std::atof(argv[7]) : -1.0);
   if (mode == "lockstep" && (argc == 7 || argc == 8))
     return lockstep(std::atoi(argv[2]), argv[3], std::atol(argv[4]), argv[5], argv[6], argc == 8 ? argv[7] : "0");
-  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS] | lockstep DOMAIN ROLE INSTANTS "
-               "DROP_SHARE TRACE_FILE [MEETING_PERIOD]\n";
+  std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS [LEAVE_AFTER]] | lockstep DOMAIN ROLE "
+               "INSTANTS DROP_SHARE TRACE_FILE [MEETING_PERIOD]\n";
   return 1;
 }

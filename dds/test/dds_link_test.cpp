@@ -2,7 +2,8 @@
 // is refused), one per process, its properties checked; peer liveliness across two processes
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
-// messages dropped). The peer processes are dds_link_peer. DDS domains 128..131, this test's own.
+// messages dropped); a peer that leaves normally on the wall clock is done, not lost. The peer
+// processes are dds_link_peer. DDS domains 128..134 and 136..138, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -126,38 +127,70 @@ TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {
             "component 'Link': property 'participant' is empty: name this process, e.g. \"needle\"");
 }
 
-TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
-  registerLinkedTransport();
-  constexpr double kLease = 0.1;  // s
-  Peer peer({"live", "130", "peer", "survivor", "0.1"});
-  DdsLink link("Link");
-  set(link, "domain", "130");
-  set(link, "participant", "survivor");
-  set(link, "peers", "peer");
-  set(link, "lease", "0.1");
-  core::InputPort<core::Event> events("events", "", "");
-  core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
-  ASSERT_TRUE(link.configure());
-  ASSERT_TRUE(link.start());
-  std::vector<std::string> seen;
-  const auto collect = [&](const std::string& wanted) {
+/// This process's side of a wall-clock pair: DdsLink "survivor" in `domain` with the peer "peer"
+/// and a lease of 0.1 s, and what its events port said ("event@source").
+struct Survivor {
+  static constexpr double kLease = 0.1;  // s
+
+  explicit Survivor(const std::string& domain) {
+    registerLinkedTransport();
+    set(link, "domain", domain);
+    set(link, "participant", "survivor");
+    set(link, "peers", "peer");
+    set(link, "lease", "0.1");
+    core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
+  }
+  bool start() { return link.configure() && link.start(); }
+  /// Reads the events that came; true when `wanted` is among all those seen.
+  bool saw(const std::string& wanted) {
     core::Event e;
     while (events.read(e) == core::FlowStatus::NewData) seen.push_back(e.name.str() + "@" + e.source.str());
     return std::find(seen.begin(), seen.end(), wanted) != seen.end();
-  };
-  ASSERT_TRUE(test::pollUntil([&] { return collect("e_peer_joined@peer"); }, 8s));
+  }
+  long times(const std::string& event) {
+    saw("");
+    return std::count(seen.begin(), seen.end(), event);
+  }
+
+  DdsLink link{"Link"};
+  core::InputPort<core::Event> events{"events", "", ""};
+  std::vector<std::string> seen;
+};
+
+TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
+  Peer peer({"live", "130", "peer", "survivor", "0.1"});
+  Survivor survivor("130");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
 
   const auto killed = std::chrono::steady_clock::now();
   peer.killHard();
-  ASSERT_TRUE(test::pollUntil([&] { return collect("e_peer_lost@peer"); }, std::chrono::milliseconds(1000)));
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_lost@peer"); }, std::chrono::milliseconds(1000)));
   const double delay = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
-  std::cout << "e_peer_lost " << delay * 1e3 << " ms after kill -9 (lease " << kLease * 1e3 << " ms)\n";
-  EXPECT_LT(delay, 10 * kLease);
-  EXPECT_EQ(link.lostPeers(), std::vector<std::string>{"peer"});
-  EXPECT_EQ(link.operation("lostPeers").invokeFromText({}), "peer");
-  std::this_thread::sleep_for(3 * std::chrono::duration<double>(kLease));
-  collect("");
-  EXPECT_EQ(std::count(seen.begin(), seen.end(), "e_peer_lost@peer"), 1);
+  std::cout << "e_peer_lost " << delay * 1e3 << " ms after kill -9 (lease " << Survivor::kLease * 1e3 << " ms)\n";
+  EXPECT_LT(delay, 10 * Survivor::kLease);
+  EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{"peer"});
+  EXPECT_EQ(survivor.link.operation("lostPeers").invokeFromText({}), "peer");
+  std::this_thread::sleep_for(3 * std::chrono::duration<double>(Survivor::kLease));
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
+}
+
+// Wall clock: a peer that stops and cleans up its link says farewell (done) before its writer
+// goes, so its leaving is not a loss; kill -9 (the test above) still is.
+TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
+  Peer peer({"live", "136", "peer", "survivor", "0.1", "", "0.3"});
+  Survivor survivor("136");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
+  EXPECT_EQ(survivor.link.operation("joinedPeers").invokeFromText({}), "peer");
+  EXPECT_FALSE(survivor.link.peersDone()) << "the peer is still there";
+  EXPECT_EQ(peer.wait(5s), 0) << "the peer left normally (stopped and cleaned up its link)";
+  // Its liveliness ended with its writer: a loss would be reported within the lease.
+  std::this_thread::sleep_for(10 * std::chrono::duration<double>(Survivor::kLease));
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 0);
+  EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{});
+  EXPECT_EQ(survivor.link.operation("lostPeers").invokeFromText({}), "");
+  EXPECT_TRUE(survivor.link.peersDone()) << "a peer that said farewell is done";
 }
 
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a

@@ -31,12 +31,40 @@ void Configurator::checkConnection(const ResolvedConnection& c) const {
 }
 
 std::vector<LintViolation> Configurator::checkRoles(const std::vector<ConnectionSpec>& connections) {
-  std::vector<LintViolation> violations = lint(connections, components_);
+  std::vector<LintViolation> violations = placement_ ? lintOnThisHost(connections) : lint(connections, components_);
   if (violations.empty()) return violations;
   if (options_.strict_roles)
     throw core::Error(std::to_string(violations.size()) + " role rule violation" +
                       (violations.size() == 1 ? "" : "s") + " (strict mode refuses them):\n" + toText(violations));
   for (const LintViolation& v : violations) warnings_.push_back("role rule: " + v.message);
+  return violations;
+}
+
+std::vector<LintViolation> Configurator::lintOnThisHost(const std::vector<ConnectionSpec>& connections) const {
+  // A connection to another host is linted with the shadow of its far end, which has that
+  // component's ports and role: the rules do not change with where a component runs. Each host
+  // lints the connections it makes an end of; remote -> remote, and an everywhere component's
+  // connection to a remote one, are the other host's (connectAcrossHosts makes nothing for them).
+  const auto find = [this](std::string_view name) -> const core::Component* {
+    const core::Component* local = components_.find(name);
+    return local != nullptr ? local : remote_.find(name);
+  };
+  const auto componentOf = [](const std::string& port) { return port.substr(0, port.find('.')); };
+  std::vector<LintViolation> violations;
+  for (const ConnectionSpec& spec : connections) {
+    const std::string writer = componentOf(spec.output), reader = componentOf(spec.input);
+    const bool writer_remote = isRemote(writer), reader_remote = isRemote(reader);
+    const auto local = [&](const std::string& name) {
+      return components_.find(name) != nullptr && placement_->siteOf(name, spec.where) == Placement::Site::Local;
+    };
+    if ((writer_remote && !local(reader)) || (reader_remote && !local(writer))) continue;
+    for (LintViolation& v : lint({spec}, find)) {
+      if (writer_remote || reader_remote)
+        v.message += " (the connection crosses hosts: host '" + placement_->hostOf(writer, spec.where) + "' -> host '" +
+                     placement_->hostOf(reader, spec.where) + "')";
+      violations.push_back(std::move(v));
+    }
+  }
   return violations;
 }
 
@@ -55,7 +83,7 @@ std::vector<LintViolation> Configurator::connectPorts(const std::vector<Connecti
   }
   std::vector<LintViolation> violations;
   try {
-    violations = checkRoles(connections_list);  // the local ones: the registry holds no shadow
+    violations = checkRoles(connections_list);
   } catch (const std::exception& e) {
     throw core::Error(std::string("connectPorts: nothing was connected: ") + e.what());
   }

@@ -81,13 +81,17 @@ std::vector<LintViolation> lintConnection(const core::PortBase& output, const co
 
 std::vector<LintViolation> lint(const std::vector<ConnectionSpec>& connections,
                                 const core::ComponentRegistry& components) {
+  return lint(connections, [&components](std::string_view name) -> const core::Component* { return components.find(name); });
+}
+
+std::vector<LintViolation> lint(const std::vector<ConnectionSpec>& connections, const ComponentLookup& find) {
   std::vector<LintViolation> out;
   for (const ConnectionSpec& spec : connections) {
     const auto dot_out = spec.output.find('.');
     const auto dot_in = spec.input.find('.');
     if (dot_out == std::string::npos || dot_in == std::string::npos) continue;
-    const core::Component* writer = components.find(spec.output.substr(0, dot_out));
-    const core::Component* reader = components.find(spec.input.substr(0, dot_in));
+    const core::Component* writer = find(std::string_view(spec.output).substr(0, dot_out));
+    const core::Component* reader = find(std::string_view(spec.input).substr(0, dot_in));
     if (writer == nullptr || reader == nullptr) continue;
     const core::PortBase* output = writer->findPort(spec.output.substr(dot_out + 1));
     const core::PortBase* input = reader->findPort(spec.input.substr(dot_in + 1));

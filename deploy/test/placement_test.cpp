@@ -66,19 +66,21 @@ PlacementSpec twoHosts(const std::string& transport = "recording") {
 std::vector<ComponentSpec> components() {
   return {{"Sine", "SineGenerator", at(10)}, {"AGain", "Gain", at(11)},     {"BGain", "Gain", at(12)},
           {"BRec", "Recorder", at(13)},      {"Link", "Gain", at(14)},      {"BSup", "TaskSupervisor", at(15)},
-          {"ASup", "TaskSupervisor", at(16)}};
+          {"ASup", "TaskSupervisor", at(16)}, {"AWatch", "PoseWatchingSupervisor", at(17)},
+          {"BWatch", "PoseWatchingSupervisor", at(18)}};
 }
 
 struct Host {
-  explicit Host(const std::string& name) : configurator(options(name)) {
+  explicit Host(const std::string& name, bool strict_roles = false) : configurator(options(name, strict_roles)) {
     components::addBuiltinPackages(configurator.packages());
     configurator.packages().addBuiltin("deploy_test_parts", deploy::test::registerTestParts);
     configurator.setPlacement(twoHosts());
     configurator.initConfigurator({{"cobra_signal", at(8)}, {"deploy_test_parts", at(9)}}, components());
   }
-  static deploy::ConfiguratorOptions options(const std::string& host) {
+  static deploy::ConfiguratorOptions options(const std::string& host, bool strict_roles) {
     deploy::ConfiguratorOptions o;
     o.host = host;
+    o.strict_roles = strict_roles;
     return o;
   }
   Configurator configurator;
@@ -199,6 +201,43 @@ TEST_F(PlacementTest, TheOtherHostMakesTheMirrorEnds) {
   EXPECT_TRUE(b.configurator.getReferences().get("Link").findPort("out")->connectedTo(
       *b.configurator.getReferences().get("BRec").findPort("in")))
       << "Link runs on every host: its connections to this host's components are local";
+}
+
+// The role rules do not change with where a component runs: a connection to another host's
+// component is linted with its shadow (its ports and role) and warned of, or refused in strict
+// mode, as a local one is, the message naming both hosts. Each host lints the connections it
+// makes an end of.
+TEST_F(PlacementTest, ConnectionsBetweenHostsAreRoleLinted) {
+  const std::string rule = "(Calculation) -> BWatch.level (Supervision): a Supervision component may read only logic "
+                           "data, but double is pure data";
+  const std::string crossing = "app.lua:80: AGain.out " + rule + " (the connection crosses hosts: host 'a' -> host 'b')";
+  for (const std::string host : {"a", "b"}) {
+    Host h(host);
+    const auto violations = h.configurator.connectPorts({{"AGain.out", "BWatch.level", {"data", 1}, at(80)}});
+    ASSERT_EQ(violations.size(), 1u) << "host " << host;
+    EXPECT_EQ(violations[0].message, crossing) << "host " << host;
+    EXPECT_EQ(h.configurator.warnings().back(), "role rule: " + crossing) << "host " << host;
+  }
+  EXPECT_THAT(transport->ends, ElementsAre("writer AGain.out on AGain/out data over recording topic 'AGain/out' depth=4",
+                                           "reader BWatch.level on AGain/out data over recording topic 'AGain/out' "
+                                           "depth=4"))
+      << "warned of, and made";
+
+  Host b("b");
+  const auto local = b.configurator.connectPorts({{"BGain.out", "BWatch.level", {"data", 1}, at(81)}});
+  ASSERT_EQ(local.size(), 1u);
+  EXPECT_EQ(local[0].message, "app.lua:81: BGain.out " + rule) << "the same rule between two components of one host";
+  Host a("a");
+  EXPECT_TRUE(a.configurator.connectPorts({{"BGain.out", "BWatch.level", {"data", 1}, at(81)}}).empty())
+      << "host b's connection, linted there";
+
+  transport->ends.clear();
+  Host strict("a", true);
+  EXPECT_EQ(test_support::messageOf([&] {
+              strict.configurator.connectPorts({{"AGain.out", "BWatch.level", {"data", 1}, at(80)}});
+            }),
+            "connectPorts: nothing was connected: 1 role rule violation (strict mode refuses them):\n" + crossing);
+  EXPECT_TRUE(transport->ends.empty()) << "refused: no transport end";
 }
 
 TEST_F(PlacementTest, PeersDoNotCrossHosts) {

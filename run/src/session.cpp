@@ -447,6 +447,7 @@ bool Session::ended() {
     return true;
   }
   notePeerLoss();
+  if (steps_ % 100 == 1) notePeerJoins();
   if (std::all_of(charts_.begin(), charts_.end(), [](const Chart& c) { return c.state == c.spec->done; }) &&
       !peersHoldTheRun()) {
     result_.outcome = peer_lost_at_ >= 0.0 ? Outcome::PeerLost : Outcome::Completed;
@@ -484,10 +485,7 @@ bool Session::ended() {
     char limit[64];
     std::snprintf(limit, sizeof limit, "time limit %.3f s reached", options_.time_limit);
     const auto fault = std::find_if(armed_.begin(), armed_.end(), [](const Armed& a) { return a.fault && a.fired > 0; });
-    if (peer_lost_at_ >= 0.0) {  // the loss is what ended the task, not the limit
-      result_.outcome = Outcome::PeerLost;
-      result_.reason = lost_peers_ + "; " + limit + "; charts: " + statesText();
-    } else if (fault != armed_.end()) {
+    if (fault != armed_.end()) {
       result_.outcome = Outcome::UnhandledFault;
       result_.reason = std::string(limit) + " after fault " + fault->spec.where.text() + " (" + fault->spec.text +
                        "): the task did not recover; charts: " + statesText();

@@ -94,6 +94,8 @@ class Session {
   bool peersHoldTheRun();
   // Notes the first loss of a peer (the sync gave up on it).
   void notePeerLoss();
+  // Notes the peers the link has heard from ("peer joined: 'probe'"), every 100 steps.
+  void notePeerJoins();
 
   Chart* chartOf(const std::string& name);
   Chart& chartForSource(const std::string& source);
@@ -151,6 +153,7 @@ class Session {
   bool told_done_ = false;
   double peer_lost_at_ = -1.0;  // s; < 0: no peer lost
   std::string lost_peers_;      // "peer 'probe' lost at 12.345 s"
+  std::vector<std::string> joined_peers_;  // as noted
 };
 
 }  // namespace cobra::run

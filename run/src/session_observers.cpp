@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "cobra/deploy/suggest.hpp"
@@ -54,6 +55,9 @@ void Session::attachTracking() {
       throw std::runtime_error(at + ": " + use + ": unknown chart '" + t.chart + "'");
     tracker.limits = limits.size();
     tracker.monitor = std::make_unique<TrackingMonitor>(t.name, limits, spec_.step);
+    // Wall clock: the joints read at a sample were published by the robot's own thread up to one
+    // of its periods before.
+    if (options_.realtime) tracker.monitor->setSampleSkew(spec_.step);
     tracker.mm_column = recording_.addDerived("tracking." + t.name + ".mm", "mm");
     tracker.deg_column = recording_.addDerived("tracking." + t.name + ".deg", "deg");
     trackers_.push_back(std::move(tracker));
@@ -244,6 +248,21 @@ void Session::finishSummary() {
     if (v.text.empty()) v.text = "-";
     if (core::Component* owner = s.of.empty() ? nullptr : ownerOf(refs_, s.of, true))
       v.text += " (" + std::to_string(v.values.size()) + " of " + std::to_string(owner->call<int>(memberOf(s.of))) + ")";
+  }
+}
+
+void Session::notePeerJoins() {
+  // The link's e_peer_joined may come while this host is still loading, before the event log
+  // listens to it: the run asks the link which peers it has heard from (operation joinedPeers).
+  const auto* link = dynamic_cast<const core::Component*>(configurator_.clockSync());
+  core::OperationBase* joined = link == nullptr ? nullptr : link->findOperation("joinedPeers");
+  if (joined == nullptr) return;
+  std::istringstream names(joined->invokeFromText({}));
+  for (std::string name; std::getline(names, name, ',');) {
+    if (std::find(joined_peers_.begin(), joined_peers_.end(), name) != joined_peers_.end()) continue;
+    joined_peers_.push_back(name);
+    result_.log.push_back("peer joined: '" + name + "'");
+    say("peer '" + name + "' joined");
   }
 }
 

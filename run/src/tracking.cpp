@@ -69,10 +69,13 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
     return;
   }
   if (have_joints_ && counts) {
+    // On the wall clock samples come late when the runner's thread is starved: a joint's change
+    // is over the time between the samples, not one period (on the lockstep clock they are equal).
+    const double interval = (t - previous_joints_t_ > 1.01 * period_ ? t - previous_joints_t_ : period_) + skew_;
     double fraction = 0.0;
     unsigned fastest = 0;
     for (unsigned i = 0; i < n; ++i) {
-      const double f = std::abs(joints->data(i) - previous_joints_.data(i)) / (max_velocity_[i] * period_);
+      const double f = std::abs(joints->data(i) - previous_joints_.data(i)) / (max_velocity_[i] * interval);
       if (f > fraction) fraction = f, fastest = i;
     }
     raise(figures_.joint_speed, fraction, t, state);
@@ -91,6 +94,7 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
     in_episode_ = false;
   }
   previous_joints_.data = joints->data;  // Eigen's copy: no reallocation at the same size
+  previous_joints_t_ = t;
   have_joints_ = true;
 }
 

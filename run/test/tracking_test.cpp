@@ -88,6 +88,50 @@ TEST(TrackingMonitor, AJointAtItsVelocityLimitIsAJumpEpisodeUntilItCalmsDown) {
   EXPECT_CONTAINS(m.figures().joint_jump_log, "joint 1 at 500 %");
 }
 
+// On the wall clock the runner's samples may come several periods apart (its thread starved):
+// a joint at 90 % of its limit is not a jump for having moved three periods' worth in one sample.
+TEST(TrackingMonitor, AJointSpeedIsTakenOverTheTimeBetweenLateSamples) {
+  TrackingMonitor m("robot", {1.0}, 0.001);
+  const KDL::Frame pose;
+  double q = 0.0, t = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double interval = i % 2 == 0 ? 0.001 : 0.003;  // s: on time, then late
+    t += interval;
+    q += 0.9 * interval;
+    const KDL::JntArray joints_now = joints({q});
+    m.step(t, true, "root.Moving", pose, pose, &joints_now);
+  }
+  EXPECT_EQ(m.figures().joint_jumps, 0) << m.figures().joint_jump_log;
+  EXPECT_NEAR(m.figures().joint_speed.value, 0.9, 1e-6);
+  t += 0.003;
+  q += 3 * 0.003;  // 3 rad/s over a late sample: a jump all the same
+  const KDL::JntArray jumped = joints({q});
+  m.step(t, true, "root.Moving", pose, pose, &jumped);
+  EXPECT_EQ(m.figures().joint_jumps, 1);
+}
+
+// On the wall clock a sample's joints may be a robot period old: a stale sample then a fresh one
+// show two periods of motion in one. With that skew declared, a joint at 90 % of its limit is no
+// jump; a jump five times beyond the limit still is.
+TEST(TrackingMonitor, AStaleSampleOnTheWallClockIsNoJump) {
+  TrackingMonitor m("robot", {1.0}, 0.001);
+  m.setSampleSkew(0.001);
+  const KDL::Frame pose;
+  double q = 0.0, t = 0.0;
+  for (int i = 1; i <= 100; ++i) {
+    t += 0.001;
+    q += 0.9 * (i % 2 == 0 ? 0.002 : 0.0);  // every other sample stale: the motion shows in the next
+    const KDL::JntArray joints_now = joints({q});
+    m.step(t, true, "root.Moving", pose, pose, &joints_now);
+  }
+  EXPECT_EQ(m.figures().joint_jumps, 0) << m.figures().joint_jump_log;
+  t += 0.001;
+  q += 5.0 * 0.002;
+  const KDL::JntArray jumped = joints({q});
+  m.step(t, true, "root.Moving", pose, pose, &jumped);
+  EXPECT_EQ(m.figures().joint_jumps, 1);
+}
+
 TEST(TrackingMonitor, KeepsTheLargestJumpOfTheCommandBetweenTwoSamplesCountedOrNot) {
   TrackingMonitor m("tool", {}, 0.001);
   for (int i = 0; i < 10; ++i)

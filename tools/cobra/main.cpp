@@ -85,6 +85,10 @@ int runDeploy(const std::string& file, bool sim, double run_for, bool strict, co
   deployer.runFile(file);
   for (const std::string& warning : configurator.warnings()) std::printf("warning: %s\n", warning.c_str());
   std::printf("deployed %s (%s):\n", file.c_str(), sim ? "lockstep simulation clock" : "real time");
+  if (configurator.placement() != nullptr)
+    std::printf("host '%s' of the placement: %zu component(s) here; %zu of other hosts, which run them\n", host.c_str(),
+                configurator.getReferences().components().size(),
+                configurator.remoteComponents().components().size());
   printStates(configurator.getReferences());
 
   const auto duration = std::chrono::duration<double>(run_for);

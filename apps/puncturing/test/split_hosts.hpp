@@ -41,7 +41,8 @@ struct HostSetup {
   double drop_share = 0.0;        ///< share of outgoing DDS messages dropped (fault injection)
   std::string initial_peers;      ///< the peer's IPv4 address for unicast discovery ("" = multicast)
   std::string netns;              ///< network namespace to run in ("" = this one)
-  double time_limit = 400.0;      ///< s simulated
+  double time_limit = 400.0;      ///< s simulated (of wall time when `realtime`)
+  bool realtime = false;          ///< on the wall clock (threaded activities), as `cobra run --realtime`
 };
 
 /// What a host's run came to, read back from its files.
@@ -205,6 +206,7 @@ class HostProcess {
       RunOptions o = options(setup_.scenario);
       o.host = setup_.host;
       o.time_limit = setup_.time_limit;
+      o.realtime = setup_.realtime;
       o.report_folder = setup_.folder / "report";
       std::ostringstream lua;
       lua.precision(17);
@@ -228,6 +230,30 @@ class HostProcess {
   pid_t pid_ = -1;
   bool reaped_ = false;
 };
+
+/// The folder of the run `name` of this test process (under the temporary directory).
+inline std::filesystem::path folderFor(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("cobra_split_" + std::to_string(::getpid())) / name;
+}
+
+/// Both hosts of one distributed run, started together.
+struct Pair {
+  Pair(const std::string& name, HostSetup base) : needle(with(base, "needle", name)), probe(with(base, "probe", name)) {}
+  static HostSetup with(HostSetup s, const std::string& host, const std::string& name) {
+    s.host = host;
+    s.folder = folderFor(name) / host;
+    return s;
+  }
+  HostProcess needle, probe;
+};
+
+inline bool logged(const HostResult& r, const std::string& line) {
+  return std::find(r.log.begin(), r.log.end(), line) != r.log.end();
+}
+
+inline bool loggedStart(const HostResult& r, const std::string& start) {
+  return std::any_of(r.log.begin(), r.log.end(), [&](const std::string& l) { return l.rfind(start, 0) == 0; });
+}
 
 /// The rows of a run folder's signals.csv from t >= `from` s, and the index of the first column
 /// whose header starts with `column` (-1: none).
@@ -285,6 +311,29 @@ inline double movementSince(const std::filesystem::path& signals, const std::str
   for (const auto& v : rows)
     worst = std::max(worst, std::hypot(v[ix] - rows[0][ix], v[ix + 1] - rows[0][ix + 1], v[ix + 2] - rows[0][ix + 2]));
   return worst;
+}
+
+/// What every split run holds over what it ran, on both hosts: each robot tracked its reference
+/// within the procedure's bounds with no joint jump (host needle the I-SUR, host probe the UR5),
+/// the needle robot kept clear of what it must not touch, and the energy tanks of both variable
+/// admittances never emptied (passivity kept all along).
+inline void expectTrackingClearanceAndTanksHeld(const Pair& pair, const HostResult& needle, const HostResult& probe) {
+  ASSERT_EQ(needle.tracking.size(), 1u);
+  ASSERT_EQ(probe.tracking.size(), 1u);
+  for (const HostResult* host : {&needle, &probe}) {
+    const TrackingFigures& t = host->tracking[0];
+    std::printf("[split] %s: worst tracking %.3f mm, %.3f deg over %.1f s\n", t.robot.c_str(), t.position_mm.value,
+                t.orientation_deg.value, t.seconds_sampled);
+    EXPECT_GT(t.seconds_sampled, 0.0) << t.robot;
+    EXPECT_LE(t.position_mm.value, kMaxTrackingMm) << t.robot;
+    EXPECT_LE(t.orientation_deg.value, kMaxTrackingDeg) << t.robot;
+    EXPECT_EQ(t.joint_jumps, 0) << t.robot;
+  }
+  EXPECT_GT(needle.clearance.worst, needle.clearance.threshold);
+  EXPECT_GT(needle.clearance.threshold, 0.0);
+  EXPECT_EQ(needle.clearance.unreachable, 0);
+  EXPECT_GT(columnMinimum(pair.needle.setup().folder / "report" / "signals.csv", "NeedleAdmittance.tankEnergy"), 0.0);
+  EXPECT_GT(columnMinimum(pair.probe.setup().folder / "report" / "signals.csv", "ProbeAdmittance.tankEnergy"), 0.0);
 }
 
 }  // namespace cobra::run::testing

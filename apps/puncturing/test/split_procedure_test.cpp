@@ -26,22 +26,6 @@ constexpr auto kRunLimit = std::chrono::seconds(400);  // wall time a host's run
 
 int domainFor(int test) { return 160 + static_cast<int>(::getpid() % 10) * 4 + test; }  // 160..199
 
-std::filesystem::path folderFor(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("cobra_split_" + std::to_string(::getpid())) / name;
-}
-
-/// Both hosts of one distributed run, started together.
-struct Pair {
-  Pair(const std::string& name, HostSetup base)
-      : needle(with(base, "needle", name)), probe(with(base, "probe", name)) {}
-  static HostSetup with(HostSetup s, const std::string& host, const std::string& name) {
-    s.host = host;
-    s.folder = folderFor(name) / host;
-    return s;
-  }
-  HostProcess needle, probe;
-};
-
 /// The host's results of a run that completed.
 void expectCompleted(HostProcess& p, const HostResult& r, int status) {
   EXPECT_EQ(r.error, "");
@@ -90,14 +74,6 @@ std::string joined(const std::vector<double>& values) {
   return text;
 }
 
-bool logged(const HostResult& r, const std::string& line) {
-  return std::find(r.log.begin(), r.log.end(), line) != r.log.end();
-}
-
-bool loggedStart(const HostResult& r, const std::string& start) {
-  return std::any_of(r.log.begin(), r.log.end(), [&](const std::string& l) { return l.rfind(start, 0) == 0; });
-}
-
 }  // namespace
 
 TEST(SplitProcedure, TwoHostsCompleteTheProcedureAndPlaceTheNeedleAsOneProcessDoes) {
@@ -125,25 +101,9 @@ TEST(SplitProcedure, TwoHostsCompleteTheProcedureAndPlaceTheNeedleAsOneProcessDo
   EXPECT_TRUE(loggedStart(needle, "observed on host probe: run.charts 'us', run.tracking 'UR5 probe'"));
   EXPECT_TRUE(loggedStart(probe, "observed on host needle: run.charts 'needle', run.tracking 'I-SUR needle'"));
   EXPECT_TRUE(logged(needle, "USMonitor: e_probe_contact")) << "the world runs on host needle";
-  ASSERT_EQ(needle.tracking.size(), 1u);
-  ASSERT_EQ(probe.tracking.size(), 1u);
-  for (const HostResult* host : {&needle, &probe}) {
-    const TrackingFigures& t = host->tracking[0];
-    std::printf("[split] %s: worst tracking %.3f mm, %.3f deg\n", t.robot.c_str(), t.position_mm.value,
-                t.orientation_deg.value);
-    EXPECT_GT(t.seconds_sampled, 0.0) << t.robot;
-    EXPECT_LE(t.position_mm.value, kMaxTrackingMm) << t.robot;
-    EXPECT_LE(t.orientation_deg.value, kMaxTrackingDeg) << t.robot;
-    EXPECT_EQ(t.joint_jumps, 0) << t.robot;
-  }
-  EXPECT_GT(needle.clearance.worst, needle.clearance.threshold);
-  EXPECT_GT(needle.clearance.threshold, 0.0);
-  EXPECT_EQ(needle.clearance.unreachable, 0);
+  expectTrackingClearanceAndTanksHeld(pair, needle, probe);
   ASSERT_EQ(needle.clearance.contacts.size(), 2u) << "both contacts are measured by the needle planner";
   for (const auto& [name, distance] : needle.clearance.contacts) EXPECT_EQ(distance, 0.0) << name;
-  // The energy tanks of both variable admittances never emptied (passivity kept all along).
-  EXPECT_GT(columnMinimum(pair.needle.setup().folder / "report" / "signals.csv", "NeedleAdmittance.tankEnergy"), 0.0);
-  EXPECT_GT(columnMinimum(pair.probe.setup().folder / "report" / "signals.csv", "ProbeAdmittance.tankEnergy"), 0.0);
 }
 
 // Determinism: a second distributed run, to past the needle's insertion, records the same

@@ -1,5 +1,6 @@
 #include "cobra/components/sim/simulated_robot.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -160,6 +161,7 @@ bool SimulatedServoRobotBase::configureHook() {
 
 bool SimulatedServoRobotBase::startHook() {
   last_update_ns_ = -1;
+  last_pose_command_ns_ = -1;
   twist_until_ns_ = -1;
   return true;
 }
@@ -174,6 +176,12 @@ KDL::Frame SimulatedServoRobotBase::toWorld(std::size_t tool, const KDL::Frame& 
   return kinematics::frameProduct(kinematics::frameProduct(base_frame_(), fk), tools_[tool]->tool_frame());
 }
 
+namespace {
+/// How many periods a late desired pose may have taken to come, for its continuity bound: a
+/// writer late by more is a real-time failure, and a pose jumping after a longer pause is refused.
+constexpr double kMaxCommandGap = 4.0;
+}  // namespace
+
 double SimulatedServoRobotBase::stepLength() noexcept {
   const std::int64_t now_ns = now().count();
   const double dt = last_update_ns_ < 0 ? std::chrono::duration<double>(activity().period()).count()
@@ -187,8 +195,7 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   for (std::size_t i = 0; i < tools_.size(); ++i)
     solve_targets_[i] =
         kinematics::frameProduct(kinematics::frameProduct(base_inverse, targets_[i]), tools_[i]->tool_frame().Inverse());
-  kinematics::IkStatus status =
-      kinematics_->solve(solve_targets_, robot_->commanded(), dt > 0.0 ? dt : default_dt_, solution_);
+  kinematics::IkStatus status = kinematics_->solve(solve_targets_, robot_->commanded(), dt, solution_);
   if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;
   if (status != kinematics::IkStatus::Ok) {
     // One event per reason and refusal episode (until a command is accepted again).
@@ -227,7 +234,15 @@ void SimulatedServoRobotBase::updateHook() {
   }
   if (cartesian) {
     twist_until_ns_ = -1;
-    commandCartesian(dt);
+    // The continuity bound is max_velocity x the time the command may take: at least one period
+    // (a setpoint the servo reaches over its period) and, up to kMaxCommandGap periods, the time
+    // since the last desired pose. On the wall clock threads run late: an update early after a
+    // late one, or a pose that comes periods after the last (its writer was late), refused a
+    // command moving at a feasible speed, and every later one with it (the held command falls
+    // behind). On the lockstep clock poses come every period and every step is one: no change.
+    const double since = last_pose_command_ns_ < 0 ? dt : static_cast<double>(now_ns - last_pose_command_ns_) * 1e-9;
+    last_pose_command_ns_ = now_ns;
+    commandCartesian(std::max({dt, default_dt_, std::min(since, kMaxCommandGap * default_dt_)}));
   }
   if (des_joint_position_.read(joint_command_) == core::FlowStatus::NewData && robot_->command(joint_command_)) {
     twist_until_ns_ = -1;
@@ -239,7 +254,7 @@ void SimulatedServoRobotBase::updateHook() {
     if (now_ns <= twist_until_ns_ && dt > 0.0) {
       for (std::size_t i = 0; i < tools_.size(); ++i) targets_[i] = tools_[i]->commanded;
       targets_[0] = KDL::addDelta(tools_[0]->commanded, twist_command_, dt);
-      commandCartesian(dt);
+      commandCartesian(std::max(dt, default_dt_));
     }
   }
   robot_->step(dt);

@@ -38,7 +38,8 @@
 ///   have the same; a peer with another is lost at once, the message naming both periods.
 ///
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
-/// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done),
+/// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done:
+/// at a lockstep meeting, or on the wall clock by its farewell when its link was cleaned up),
 /// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's
 /// threads and the clock's thread, one at a time (a mutex serialises them; the port's readers
 /// never take it). DdsLink has no update hook, so the component's own thread never writes it.

@@ -255,6 +255,9 @@ class Configurator {
   ActivitySpec defaultActivity(const std::string& name, const SourceLocation& where) const;
   /// The role violations of `connections`; throws them in strict mode, else records warnings.
   std::vector<LintViolation> checkRoles(const std::vector<ConnectionSpec>& connections);
+  /// Split over hosts: the role violations of the connections this host makes an end of, those
+  /// crossing hosts linted with the far end's shadow and naming both hosts.
+  std::vector<LintViolation> lintOnThisHost(const std::vector<ConnectionSpec>& connections) const;
   void checkConfiguration(const ConfigurationSpec& configuration) const;
   struct DeploymentPlan;
   /// Checks `next` against the current state and lists what switching to it changes.

@@ -14,7 +14,9 @@
 /// The Bridge rule looks at the input ports the component declares, connected or not, because a
 /// Bridge's kinds are a property of the component, not of one deployment.
 
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cobra/core/introspection.hpp"
@@ -43,6 +45,13 @@ std::vector<LintViolation> lintConnection(const core::PortBase& output, const co
 /// `components` (entries naming unknown ones are the deployer's errors, not the linter's).
 std::vector<LintViolation> lint(const std::vector<ConnectionSpec>& connections,
                                 const core::ComponentRegistry& components);
+
+/// Finds a component by name (nullptr: none), e.g. in a registry and in the shadows of the
+/// components of other hosts.
+using ComponentLookup = std::function<const core::Component*(std::string_view)>;
+
+/// As above, with the components `find` finds.
+std::vector<LintViolation> lint(const std::vector<ConnectionSpec>& connections, const ComponentLookup& find);
 
 /// One line per violation, ready to print or to put in an error.
 std::string toText(const std::vector<LintViolation>& violations);

@@ -57,8 +57,15 @@ class TrackingMonitor {
   /// @param period the step [s] (1 ms).
   TrackingMonitor(std::string robot, std::vector<double> max_velocity, double period);
 
+  /// Wall clock: a sample's joints may be up to `seconds` older than the sample (published by the
+  /// robot's thread before), so a joint's change between two samples may span that much more
+  /// time; the joint check divides by it too. 0 (default, the lockstep clock): exact samples.
+  void setSampleSkew(double seconds) { skew_ = seconds; }
+
   /// One step at time `t` [s]. Only samples with `counts` (an autonomous motion of this robot)
-  /// enter the figures; `joints` (measured, may be nullptr) feed the joint check.
+  /// enter the figures; `joints` (measured, may be nullptr) feed the joint check, their speed
+  /// taken over the time since the last sample when it is longer than the period (a late sample
+  /// on the wall clock), else over the period, plus the sample skew.
   void step(double t, bool counts, const std::string& state, const KDL::Frame& commanded, const KDL::Frame& measured,
             const KDL::JntArray* joints);
   /// The largest position [mm] and orientation [deg] errors since the last call (counted or not),
@@ -74,6 +81,8 @@ class TrackingMonitor {
   std::vector<double> max_velocity_;
   double period_;
   KDL::JntArray previous_joints_;
+  double previous_joints_t_ = 0.0;  // s, when previous_joints_ was sampled
+  double skew_ = 0.0;               // s, see setSampleSkew
   KDL::Frame previous_command_;
   bool have_command_ = false;
   bool have_joints_ = false;

@@ -142,7 +142,7 @@ class SimulatedServoRobotBase : public core::Component {
     KDL::Frame fk_true;  // the true pose of the joints true_fk_ holds
   };
   double stepLength() noexcept;
-  /// Commands targets_ (world frame, one per tool) to be reached within dt (s; <= 0: the
+  /// Commands targets_ (world frame, one per tool) to be reached within dt (s; at least the
   /// activity's period).
   void commandCartesian(double dt) noexcept;
   /// The commanded poses from the robot's joint command (after a joint command).
@@ -208,6 +208,7 @@ class SimulatedServoRobotBase : public core::Component {
   LastForward measured_fk_, true_fk_;
   KDL::Twist twist_command_;
   std::int64_t last_update_ns_ = -1;
+  std::int64_t last_pose_command_ns_ = -1;  // when the last desired pose was read (-1: none since start)
   std::int64_t twist_until_ns_ = -1;
   bool refusing_ = false;             // the last Cartesian command was refused
   bool told_failed_ = false;          // e_ik_failed emitted in this refusal episode
