@@ -15,7 +15,7 @@ import { existsSync, readFileSync } from 'node:fs';
 import { extname, join, normalize } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { WebSocketServer } from 'ws';
-import { DIST, FIXTURES, TOKEN, json, tokenOf } from './fixture_server.mjs';
+import { DIST, FIXTURES, TOKEN, closeServer, json, tokenOf } from './fixture_server.mjs';
 
 /**
  * The fixture's own type beside the recorded ones: a Supervision component reading a wrench (as
@@ -262,12 +262,7 @@ export async function startEditorFixture(mode = 'new') {
       running.t = t;
       for (let i = 0; i < 3; i += 1) for (const ws of sockets) ws.send(frame());
     },
-    close: () => new Promise((resolve) => {
-      for (const ws of sockets) ws.terminate();
-      wss.close();
-      server.closeAllConnections();
-      server.close(resolve);
-    }),
+    close: () => closeServer(server, wss, sockets),
   };
 }
 

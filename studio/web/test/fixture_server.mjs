@@ -128,13 +128,18 @@ export async function startFixtureServer(mode = 'live') {
     modelRequestsLeftLoading: () => loading,
     pageUrl: `${url}?token=${TOKEN}`,
     inputs,
-    close: () => new Promise((resolve) => {
-      for (const ws of sockets) ws.terminate();
-      wss.close();
-      server.closeAllConnections();
-      server.close(resolve);
-    }),
+    close: () => closeServer(server, wss, sockets),
   };
+}
+
+/** Ends a fixture server: its websockets, the websocket server, then the HTTP server. */
+export function closeServer(server, wss, sockets) {
+  return new Promise((resolve) => {
+    for (const ws of sockets) ws.terminate();
+    wss.close();
+    server.closeAllConnections();
+    server.close(resolve);
+  });
 }
 
 if (process.argv[1] === fileURLToPath(import.meta.url)) {
