@@ -283,6 +283,8 @@ test('attach: shown when the server has a running deployment, which it loads', a
   const { page } = await fixture(t, 'running');
   await page.locator('#attach').click();
   await page.locator('#canvas g.block[data-name="Amp"]').waitFor();
+  // The attached project's checks redraw the canvas as they answer: click a wire that stays.
+  await settled(page);
   assert.equal(await page.locator('#canvas g.connection').count(), 1);
   // A dds connection's transport fields are shown and edited with its policy.
   await page.locator('#canvas g.connection .wire-hit').click({ force: true });
