@@ -61,6 +61,10 @@ end
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/needle_robot.lua")
 dofile(here .. "deployment/probe_robot.lua")
+-- On the wall clock (cobra run --realtime) the real-time executor runs this deployment's schedule
+-- every 1 ms on one SCHED_FIFO thread, memory locked; a missed period is an event in the log, and
+-- 50 in a row (50 ms without the controllers keeping time) end the run in a safe stop.
+setExecutor({ period = 0.001, priority = 80, on_deadline_miss = "event", safe_stop_after = 50 })
 -- The two robots' only link: their task charts' events (thesis §4.4: coordinated through events).
 connectPorts({
   { output = "NeedleTaskSup.outputEvents", input = "ProbeTaskSup.inputEvents", conn_policy = { type = "buffer", size = 64 } },

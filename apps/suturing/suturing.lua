@@ -24,6 +24,10 @@ phantom_pose = G.frame(wound.wound_pose[1], wound.wound_pose[2], 0)
 
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/controller.lua")
+-- On the wall clock (cobra run --realtime) the real-time executor runs this deployment's schedule
+-- every 1 ms on one SCHED_FIFO thread, memory locked; a missed period is an event in the log, and
+-- 50 in a row (50 ms without the controllers keeping time) end the run in a safe stop.
+setExecutor({ period = 0.001, priority = 80, on_deadline_miss = "event", safe_stop_after = 50 })
 applyDeployment("suturing_autonomous_planning")
 
 -- What `cobra run` needs from this application (run/README.md).

@@ -14,13 +14,16 @@
 #include "cobra/core/error.hpp"
 
 namespace cobra::core {
-namespace {
-
-std::chrono::nanoseconds monotonicNow() {
+std::chrono::nanoseconds monotonicNow() noexcept {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
 }
+
+namespace {
+
+/// ns since boot at which run time is 0: the process's start until a run sets it.
+std::atomic<std::int64_t> run_epoch_ns{monotonicNow().count()};
 
 timespec toTimespec(std::chrono::nanoseconds t) {
   timespec ts{};
@@ -44,7 +47,15 @@ std::string formatDuration(std::chrono::nanoseconds duration) {
   return std::to_string(ns) + " ns";
 }
 
-std::chrono::nanoseconds Activity::now() const { return monotonicNow(); }
+std::chrono::nanoseconds runEpoch() noexcept {
+  return std::chrono::nanoseconds(run_epoch_ns.load(std::memory_order_relaxed));
+}
+
+void setRunEpoch(std::chrono::nanoseconds monotonic) noexcept {
+  run_epoch_ns.store(monotonic.count(), std::memory_order_relaxed);
+}
+
+std::chrono::nanoseconds Activity::now() const { return monotonicNow() - runEpoch(); }
 
 void Activity::stepComponent() noexcept {
   if (component_ != nullptr) component_->step();

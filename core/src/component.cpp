@@ -130,7 +130,7 @@ Result Component::start() {
 
 Result Component::stop() {
   if (state() != State::Running) return Result::failure(refusal("stop", "only a Running component can stop"));
-  if (activity_->isActivityThread())
+  if (activity_->isActivityThread() && !activity_->stoppableFromOwnThread())
     return Result::failure("component '" + name_ + "': cannot stop from its own activity thread; throw from "
                            "updateHook to enter Exception, or stop it from the deployer");
   activity_->stopStepping();
@@ -158,7 +158,7 @@ Result Component::cleanup() {
 
 Result Component::recover() {
   if (state() != State::Exception) return Result::failure(refusal("recover", "only a component in Exception can recover"));
-  if (activity_->isActivityThread())
+  if (activity_->isActivityThread() && !activity_->stoppableFromOwnThread())
     return Result::failure("component '" + name_ + "': cannot recover from its own activity thread");
   activity_->stopStepping();
   std::lock_guard lock(pending_mutex_);  // see runHook

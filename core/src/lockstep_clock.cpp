@@ -19,8 +19,18 @@ std::string LockstepActivity::describe() const {
 std::chrono::nanoseconds LockstepActivity::now() const { return clock_ ? clock_->now() : last_now_; }
 
 void LockstepActivity::trigger() noexcept {
-  triggered_ = true;
-  if (period_.count() == 0 && clock_ != nullptr) clock_->trigger_pending_ = true;
+  triggered_.store(true, std::memory_order_release);
+  if (period_.count() == 0 && clock_ != nullptr) clock_->trigger_pending_.store(true, std::memory_order_release);
+}
+
+bool LockstepActivity::hasRunningThread() const {
+  if (clock_ == nullptr) return false;
+  const std::thread::id stepping = clock_->steppingThread();
+  return stepping != std::thread::id() && stepping != std::this_thread::get_id();
+}
+
+bool LockstepActivity::isActivityThread() const {
+  return clock_ != nullptr && clock_->steppingThread() == std::this_thread::get_id();
 }
 
 LockstepActivity::~LockstepActivity() {
@@ -29,7 +39,7 @@ LockstepActivity::~LockstepActivity() {
 
 LockstepClock::~LockstepClock() {
   for (const Entry& e : entries_) {
-    e.activity->last_now_ = now_;
+    e.activity->last_now_ = now();
     e.activity->clock_ = nullptr;
   }
 }
@@ -46,7 +56,7 @@ void LockstepClock::add(Component& component, std::chrono::nanoseconds period) {
   auto activity = std::make_unique<LockstepActivity>(*this, period);
   if (period.count() > 0) {
     // First step at the first multiple of the period not before now.
-    activity->next_due_ = ((now_ + period - std::chrono::nanoseconds(1)) / period) * period;
+    activity->next_due_ = ((now() + period - std::chrono::nanoseconds(1)) / period) * period;
   }
   LockstepActivity* raw = activity.get();
   component.setActivity(std::move(activity));
@@ -56,7 +66,7 @@ void LockstepClock::add(Component& component, std::chrono::nanoseconds period) {
 void LockstepClock::remove(Component& component) {
   for (const Entry& e : entries_) {
     if (e.component == &component) {
-      e.activity->last_now_ = now_;
+      e.activity->last_now_ = now();
       e.activity->clock_ = nullptr;
     }
   }
@@ -65,9 +75,9 @@ void LockstepClock::remove(Component& component) {
 
 void LockstepClock::advance(std::chrono::nanoseconds duration) {
   if (duration.count() < 0) throw Error("lockstep clock: cannot advance by a negative duration");
-  const auto end = now_ + duration;
+  const auto end = now() + duration;
   // Components triggered from outside the clock (a write by the caller) react first, at now.
-  settle(now_);
+  settle(now());
   for (;;) {
     auto next = std::chrono::nanoseconds(std::numeric_limits<std::int64_t>::max());
     for (const Entry& e : entries_)
@@ -75,8 +85,15 @@ void LockstepClock::advance(std::chrono::nanoseconds duration) {
     if (next >= end) break;
     runInstant(next);
   }
-  now_ = end;
-  if (sync_ != nullptr) sync_->reached(now_);
+  now_.store(end.count(), std::memory_order_relaxed);
+  if (sync_ != nullptr) sync_->reached(end);
+}
+
+std::vector<std::pair<const Component*, std::chrono::nanoseconds>> LockstepClock::schedule() const {
+  std::vector<std::pair<const Component*, std::chrono::nanoseconds>> out;
+  out.reserve(entries_.size());
+  for (const Entry& e : entries_) out.emplace_back(e.component, e.activity->period_);
+  return out;
 }
 
 namespace {
@@ -102,12 +119,12 @@ void LockstepClock::step(const Entry& e) {
 }
 
 void LockstepClock::runInstant(std::chrono::nanoseconds t) {
-  now_ = t;
+  now_.store(t.count(), std::memory_order_relaxed);
   for (const Entry& e : entries_) {
     LockstepActivity& a = *e.activity;
     if (a.period_.count() > 0 && a.next_due_ == t) {
       a.next_due_ += a.period_;
-      a.triggered_ = false;
+      a.triggered_.store(false, std::memory_order_relaxed);
       step(e);
     }
   }
@@ -126,13 +143,12 @@ void LockstepClock::runTriggered(std::chrono::nanoseconds t) {
   // Event-driven components react in the same instant, in the order they were added, until
   // no more triggers arrive.
   for (int round = 0; round < kMaxTriggerRounds; ++round) {
-    if (!trigger_pending_) return;  // no event-driven component was triggered since the last scan
-    trigger_pending_ = false;
+    // No event-driven component was triggered since the last scan.
+    if (!trigger_pending_.exchange(false, std::memory_order_acq_rel)) return;
     bool any = false;
     for (const Entry& e : entries_) {
       LockstepActivity& a = *e.activity;
-      if (a.period_.count() == 0 && a.triggered_) {
-        a.triggered_ = false;
+      if (a.period_.count() == 0 && a.triggered_.exchange(false, std::memory_order_acq_rel)) {
         step(e);
         any = true;
       }

@@ -23,7 +23,7 @@ std::vector<std::string> namesOf(const core::ComponentRegistry& registry) {
 Configurator::Configurator(ConfiguratorOptions options)
     : options_(std::move(options)),
       packages_(options_.package_path),
-      clock_(options_.mode == ClockMode::Simulation ? std::make_unique<core::LockstepClock>() : nullptr) {
+      clock_(options_.mode != ClockMode::RealTime ? std::make_unique<core::LockstepClock>() : nullptr) {
   if (clock_) {
     clock_->setBetweenInstants([this] {
       // Every request bumps service_wakeups_ after queueing (ConfiguratorClient::requestSwitch):
@@ -54,7 +54,9 @@ void Configurator::stopAll() noexcept {
 }
 
 core::LockstepClock& Configurator::clock() {
-  if (!clock_) throw core::Error("this Configurator runs real-time activities; only ClockMode::Simulation has a clock");
+  if (!clock_)
+    throw core::Error("this Configurator gives each component a thread of its own (ClockMode::RealTime); only "
+                      "ClockMode::Simulation and WallClock have a lockstep clock");
   return *clock_;
 }
 
@@ -148,7 +150,8 @@ void Configurator::initConfigurator(const std::vector<NameEntry>& packages_list,
       auto* sync = dynamic_cast<core::ClockSync*>(&created);
       if (placement_ && sync != nullptr && clock_sync_ == nullptr) {
         clock_sync_ = sync;
-        if (clock_) clock_->setClockSync(sync);
+        // On the wall clock nothing meets: the hosts exchange samples as they come.
+        if (clock_ && options_.mode == ClockMode::Simulation) clock_->setClockSync(sync);
         journal.record("the clock sync of " + quoted(spec.peer_name), [this] {
           clock_sync_ = nullptr;
           if (clock_) clock_->setClockSync(nullptr);
@@ -327,8 +330,8 @@ ActivitySpec Configurator::checkActivity(const ActivitySpec& spec, bool running_
 
 void Configurator::applyActivity(core::Component& c, const ActivitySpec& spec) {
   const auto period = std::chrono::nanoseconds(std::llround(spec.period * 1e9));
-  if (clock_) {
-    clock_->remove(c);
+  if (clock_) clock_->remove(c);
+  if (clock_ && !(spec.own_pace && options_.mode == ClockMode::WallClock)) {
     clock_->add(c, period);
     activities_[c.name()] = spec;
     return;

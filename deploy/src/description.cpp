@@ -95,7 +95,12 @@ DeploymentDescription describe(const Configurator& configurator) {
   Defaults defaults(configurator.packages());
 
   d.packages = configurator.packages().loadedPackages();
+  d.executor = configurator.executorSpec();
+  d.executor.where = {};
+  // The executor's component is setExecutor's, not a package's.
+  const auto made_by_setExecutor = [&](const core::Component* c) { return c == configurator.executorMonitor(); };
   for (const core::Component* c : registry.components()) {
+    if (made_by_setExecutor(c)) continue;
     const std::string type = configurator.componentTypeOf(c->name());
     d.components.push_back({c->name(), type, {}});
     for (const core::PropertyInfo& p : core::describe(*c).properties) {
@@ -140,6 +145,7 @@ DeploymentDescription describe(const Configurator& configurator) {
   for (const core::Component* c : registry.components()) {
     // Configured before the deployments apply: a component may make ports when it configures
     // (from its properties) that a deployment connects.
+    if (made_by_setExecutor(c)) continue;
     if (c->state() == core::State::Stopped || c->state() == core::State::Running) d.configure.push_back(c->name());
     if (c->state() == core::State::Running && applied.components.count(c->name()) == 0) d.start.push_back(c->name());
   }

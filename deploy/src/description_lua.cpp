@@ -109,7 +109,8 @@ std::string nameList(const std::vector<std::string>& names) {
 
 std::string activityEntry(const ActivitySpec& a) {
   return "{ peer_name = " + luaString(a.peer_name) + ", period = " + number(a.period) +
-         ", priority = " + std::to_string(a.priority) + ", scheduler = " + luaString(a.scheduler) + " }";
+         ", priority = " + std::to_string(a.priority) + ", scheduler = " + luaString(a.scheduler) +
+         (a.own_pace ? ", own_pace = true }" : " }");
 }
 
 std::string connectionEntry(const ConnectionSpec& c) {
@@ -238,6 +239,13 @@ std::string toLua(const DeploymentDescription& d) {
   // trajectory generator's desCartPose_i, one per arm), and the connections may name them.
   lua << "setActivities(activities_list)\naddPeers(peers_list)\nconfigureComponents(" << nameList(d.configure)
       << ")\nconnectPorts(connections_list)\n";
+  if (d.executor.declared) {
+    const ExecutorSpec& e = d.executor;
+    lua << "setExecutor({ period = " << number(e.period) << ", priority = " << e.priority
+        << ", scheduler = " << luaString(e.scheduler) << ", cpu = " << e.cpu
+        << ", lock_memory = " << (e.lock_memory ? "true" : "false") << ", on_deadline_miss = " << luaString(e.on_deadline_miss)
+        << ", safe_stop_after = " << e.safe_stop_after << " })\n";
+  }
 
   for (const DeploymentSpec& deployment : d.deployments) {
     lua << "\ndefineDeployment(" << luaString(deployment.name) << ", {\n";

@@ -23,7 +23,8 @@ std::string SourceLocation::text() const {
 }
 
 bool ActivitySpec::sameActivity(const ActivitySpec& other) const {
-  return period == other.period && priority == other.priority && lowercase(scheduler) == lowercase(other.scheduler);
+  return period == other.period && priority == other.priority && lowercase(scheduler) == lowercase(other.scheduler) &&
+         own_pace == other.own_pace;
 }
 
 PortPath parsePortPath(const std::string& text, const SourceLocation& where) {

@@ -308,4 +308,32 @@ std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& r
   return rows;
 }
 
+std::string executorTimingText(const core::DurationFigures& f) {
+  char text[160];
+  std::snprintf(text, sizeof text, "median %.1f us, p99 %.1f us, p99.9 %.1f us, worst %.1f us (%llu samples)",
+                f.median * 1e6, f.p99 * 1e6, f.p999 * 1e6, f.worst * 1e6, static_cast<unsigned long long>(f.count));
+  return text;
+}
+
+std::vector<std::pair<std::string, std::string>> executorRows(const ExecutorFigures& e, std::size_t components) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  if (!e.ran) return rows;
+  char head[200];
+  std::snprintf(head, sizeof head, "%llu ticks of %.3f ms, %s, memory %s; %llu deadline misses (longest run %llu), %.3f s slipped",
+                static_cast<unsigned long long>(e.ticks), e.period * 1e3, e.scheduler.c_str(),
+                e.memory_locked ? "locked" : "not locked", static_cast<unsigned long long>(e.deadline_misses),
+                static_cast<unsigned long long>(e.worst_consecutive_misses), e.slipped);
+  rows.push_back({"executor (wall clock)", head});
+  rows.push_back({"executor wake-up latency", executorTimingText(e.wake_latency)});
+  rows.push_back({"executor compute per tick", executorTimingText(e.tick_compute)});
+  // The components whose steps took longest: where a period's budget goes.
+  std::vector<const core::ComponentTiming*> slowest;
+  for (const core::ComponentTiming& c : e.components) slowest.push_back(&c);
+  std::sort(slowest.begin(), slowest.end(), [](const auto* a, const auto* b) { return a->compute.worst > b->compute.worst; });
+  if (slowest.size() > components) slowest.resize(components);
+  for (const core::ComponentTiming* c : slowest) rows.push_back({"step time, " + c->component, executorTimingText(c->compute)});
+  for (const std::string& w : e.warnings) rows.push_back({"executor warning", w});
+  return rows;
+}
+
 }  // namespace cobra::run

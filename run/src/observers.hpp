@@ -101,6 +101,10 @@ std::vector<plot::Figure> reportFigures(const RunSpec& spec, const Recording& re
 
 // The summary rows of the fidelity figures.
 std::vector<std::pair<std::string, std::string>> fidelityRows(const RunResult& result, const RunSpec& spec);
+// The executor's timing (wall clock): ticks, misses, latency, compute, the `components` slowest.
+std::vector<std::pair<std::string, std::string>> executorRows(const ExecutorFigures& executor, std::size_t components);
+// "median 3.1 us, p99 ..., worst ... (n samples)".
+std::string executorTimingText(const core::DurationFigures& figures);
 
 // "%8.3f s".
 std::string seconds(double t);

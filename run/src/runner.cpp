@@ -40,6 +40,19 @@ std::string endLine(const RunResult& result) {
   return std::string("cobra run: ") + toString(result.outcome) + ": " + result.reason;
 }
 
+std::string executorLine(const ExecutorFigures& e) {
+  if (!e.ran) return "";
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "executor: %llu ticks of %.3f ms, %s; %llu deadline misses (longest run %llu); wake-up latency median "
+                "%.1f us, p99 %.1f us, p99.9 %.1f us, worst %.1f us; compute per tick median %.1f us, worst %.1f us",
+                static_cast<unsigned long long>(e.ticks), e.period * 1e3, e.scheduler.c_str(),
+                static_cast<unsigned long long>(e.deadline_misses), static_cast<unsigned long long>(e.worst_consecutive_misses),
+                e.wake_latency.median * 1e6, e.wake_latency.p99 * 1e6, e.wake_latency.p999 * 1e6, e.wake_latency.worst * 1e6,
+                e.tick_compute.median * 1e6, e.tick_compute.worst * 1e6);
+  return line;
+}
+
 std::filesystem::path entryFile(const std::filesystem::path& app) {
   if (std::filesystem::is_regular_file(app)) return app;
   if (!std::filesystem::is_directory(app)) throw std::runtime_error(app.string() + ": no such file or folder");

@@ -9,6 +9,8 @@
 #include <thread>
 
 #include <lua.hpp>
+#include <pthread.h>
+#include <sched.h>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
@@ -42,10 +44,12 @@ return function(f, where)
 end
 )lua";
 
-deploy::ConfiguratorOptions configuratorOptions(bool realtime, const std::string& host) {
+deploy::ConfiguratorOptions configuratorOptions(const RunOptions& run) {
   deploy::ConfiguratorOptions options;
-  options.mode = realtime ? deploy::ClockMode::RealTime : deploy::ClockMode::Simulation;
-  options.host = host;
+  options.mode = !run.realtime              ? deploy::ClockMode::Simulation
+                 : run.thread_per_component ? deploy::ClockMode::RealTime
+                                            : deploy::ClockMode::WallClock;
+  options.host = run.host;
   return options;
 }
 
@@ -99,7 +103,7 @@ void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const
 Session::Session(const RunOptions& options, std::filesystem::path entry)
     : options_(options),
       entry_(std::move(entry)),
-      configurator_(configuratorOptions(options.realtime, options.host)),
+      configurator_(configuratorOptions(options)),
       deployer_(configurator_, lua_),
       refs_(configurator_.getReferences()) {
   components::addBuiltinPackages(configurator_.packages());
@@ -110,6 +114,8 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
     deployer_.run("scenario = [[" + options_.scenario.string() + "]]", "=scenario");
   }
   if (options_.interactive) deployer_.run("interactive = true", "=interactive");
+  // The files may choose what differs on the wall clock (a DDS link's lease, say): `realtime`.
+  if (options_.realtime) deployer_.run("realtime = true", "=realtime");
   if (!options_.before_lua.empty()) deployer_.run(options_.before_lua, "=before_lua");
   deployer_.runFile(entry_.string());
   if (!options_.extra_lua.empty()) deployer_.run(options_.extra_lua, "=extra_lua");
@@ -136,6 +142,8 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   next_progress_ = options_.progress_every;
   if (!options_.realtime) configurator_.clock().setStepObserver(options_.step_observer);
   if (options_.observer != nullptr) attachObserver();
+  if (configurator_.mode() == deploy::ClockMode::WallClock)
+    executor_ = std::make_unique<core::RealtimeExecutor>(configurator_.clock(), configurator_.executorOptions());
 }
 
 void Session::attachObserver() {
@@ -217,7 +225,8 @@ RunResult Session::run() {
   const auto start = std::chrono::steady_clock::now();
   const auto step = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(spec_.step));
   const double t0 = options_.realtime ? 0.0 : std::chrono::duration<double>(configurator_.clock().now()).count();
-  do {
+  if (executor_) runOnTheWallClock(step);
+  else do {
     if (options_.realtime) {
       std::this_thread::sleep_for(step);
       t_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -232,6 +241,7 @@ RunResult Session::run() {
     advance();
   } while (!ended());
   result_.duration = t_;
+  noteExecutorFigures();
   for (const Chart& c : charts_) {
     result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
     result_.final_states.emplace_back(c.spec->name, c.state);
@@ -400,7 +410,70 @@ void Session::playActions() {
   }
 }
 
+void Session::runOnTheWallClock(std::chrono::nanoseconds step) {
+  // The executor steps the deployment on its real-time thread; this thread observes through the
+  // run's taps (ports) every `step` of wall time and plays actions between two ticks. It is
+  // stopped on every way out, before anything the run owns is torn down.
+  struct Stop {
+    core::RealtimeExecutor& executor;
+    ~Stop() { executor.stop(); }
+  } stop{*executor_};
+  executor_->start();
+  // The run's observation (tracking, clearance, recording, actions) is its measuring instrument:
+  // on a loaded machine a SCHED_OTHER thread was seen to oversleep by 0.4 s. It runs SCHED_FIFO at
+  // the lowest priority, under the executor's, when the executor got SCHED_FIFO (and as it was
+  // otherwise); its old scheduling comes back when the run ends.
+  struct Observing {
+    int policy = SCHED_OTHER;
+    sched_param old{};
+    bool raised = false;
+    explicit Observing(bool raise) {
+      if (!raise || pthread_getschedparam(pthread_self(), &policy, &old) != 0) return;
+      sched_param observer{};
+      observer.sched_priority = 1;
+      raised = pthread_setschedparam(pthread_self(), SCHED_FIFO, &observer) == 0;
+    }
+    ~Observing() {
+      if (raised) pthread_setschedparam(pthread_self(), policy, &old);
+    }
+  } observing(executor_->effectiveScheduler() == core::Scheduler::Fifo);
+  auto next = std::chrono::steady_clock::now();
+  do {
+    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
+    const auto now = std::chrono::steady_clock::now();
+    if (next < now - 50 * step) next = now;  // this thread was starved: observe again from now
+    std::this_thread::sleep_until(next);
+    t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+    advance();
+  } while (!ended());
+}
+
+void Session::noteExecutorFigures() {
+  if (!executor_) return;
+  ExecutorFigures& f = result_.executor;
+  const core::ExecutorOptions& o = executor_->options();
+  f.ran = true;
+  f.period = std::chrono::duration<double>(o.period).count();
+  f.scheduler = o.scheduler == core::Scheduler::Fifo && executor_->effectiveScheduler() == core::Scheduler::Fifo
+                    ? "SCHED_FIFO priority " + std::to_string(o.priority)
+                    : std::string("SCHED_OTHER") + (o.scheduler == core::Scheduler::Fifo ? " (SCHED_FIFO refused)" : "");
+  f.memory_locked = executor_->memoryLocked();
+  f.ticks = executor_->ticks();
+  f.deadline_misses = executor_->deadlineMisses();
+  f.worst_consecutive_misses = executor_->worstConsecutiveMisses();
+  f.slipped = std::chrono::duration<double>(executor_->slipped()).count();
+  f.wake_latency = core::figuresOf(executor_->wakeLatency());
+  f.tick_compute = core::figuresOf(executor_->tickCompute());
+  f.components = executor_->componentTimings();
+  f.warnings = executor_->warnings();
+}
+
 void Session::play(const ActionSpec& action) {
+  if (executor_) executor_->runBetweenTicks([&] { playNow(action); });
+  else playNow(action);
+}
+
+void Session::playNow(const ActionSpec& action) {
   lua_State* L = lua_.get();
   lua_getglobal(L, "cobra_run_play");
   lua_rawgeti(L, LUA_REGISTRYINDEX, action.lua_ref);
@@ -437,6 +510,14 @@ void Session::noteSafeStop(const Chart& c) {
 }
 
 bool Session::ended() {
+  if (executor_ && executor_->safeStopAsked() && result_.outcome != Outcome::SafeStop) {
+    result_.outcome = Outcome::SafeStop;
+    safe_stop_at_ = t_;
+    result_.reason = "executor: " + std::to_string(executor_->options().policy.safe_stop_after) +
+                     " consecutive deadline misses of its " + core::formatDuration(executor_->options().period) +
+                     " period (setExecutor's safe_stop_after)";
+    say("SAFE STOP: " + result_.reason);
+  }
   for (const Chart& c : charts_)
     if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
   for (const core::Component* c : components_) {
@@ -512,6 +593,7 @@ void Session::writeReport(const std::vector<std::string>& observer_files) {
   if (!options_.scenario.empty()) run.summary.insert(run.summary.begin() + 1, {"scenario", options_.scenario.string()});
   for (const SummaryValue& v : result_.summary) run.summary.emplace_back(v.name, v.text);
   for (auto& row : fidelityRows(result_, spec_)) run.summary.push_back(std::move(row));
+  for (auto& row : executorRows(result_.executor, 12)) run.summary.push_back(std::move(row));
   run.events = result_.events;
   run.timeline = timeline_.intervals(result_.duration);
   run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get(), run.timeline);

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "cobra/core/realtime_executor.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/report/run_report.hpp"
@@ -77,8 +78,13 @@ class Session {
   void assignConfiguration(const std::string& name);
   void sampleSummaries();
   void playActions();
-  // Plays an action's (or input's) Lua table. @throws naming its file:line and the time.
+  // Plays an action's (or input's) Lua table, between two ticks of the executor on the wall
+  // clock (as between two instants of the lockstep clock). @throws naming its file:line and the time.
   void play(const ActionSpec& action);
+  void playNow(const ActionSpec& action);
+  // Wall clock: runs the executor and observes from this thread every run step until the end.
+  void runOnTheWallClock(std::chrono::nanoseconds step);
+  void noteExecutorFigures();
   void observeFidelity();
   void record();
   // True when the run ends after this step (sets the outcome and reason).
@@ -154,6 +160,9 @@ class Session {
   double peer_lost_at_ = -1.0;  // s; < 0: no peer lost
   std::string lost_peers_;      // "peer 'probe' lost at 12.345 s"
   std::vector<std::string> joined_peers_;  // as noted
+  // The wall clock's executor (RunOptions::realtime without thread_per_component); made at
+  // setup so that a bad setExecutor is reported before anything moves.
+  std::unique_ptr<core::RealtimeExecutor> executor_;
 };
 
 }  // namespace cobra::run

@@ -1,6 +1,6 @@
 // The `cobra` command-line tool: run, check and draw Lua deployment files; write components.
 //   cobra deploy FILE [--sim] [--run-for T] [--strict] [--host NAME]
-//   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime] [--quiet] [--host NAME]
+//   cobra run APP [--scenario DIR] [--time-limit S] [--report DIR] [--faults FILE] [--realtime [--thread-per-component]] [--quiet] [--host NAME]
 //                 [--studio [--studio-port N] [--studio-bind ADDR] [--studio-linger S]] [--pace X] [--interactive]
 //   cobra studio RUN_DIR [--port N] [--bind ADDR]
 //   cobra edit [FILE|APP] [--port N] [--bind ADDR]
@@ -223,7 +223,11 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--report", run_report, "folder for events.csv, signals.csv and report.html");
   run_cmd->add_option("--faults", run_faults, "faults file (faults.lua: on an event, a state or a time, call, write or set)");
-  run_cmd->add_flag("--realtime", run_options.realtime, "threaded activities on the wall clock instead of the lockstep clock");
+  run_cmd->add_flag("--realtime", run_options.realtime,
+                    "the wall clock instead of the lockstep clock: the deployment's schedule run every period by a "
+                    "real-time executor (SCHED_FIFO, memory locked; setExecutor in the files)");
+  run_cmd->add_flag("--thread-per-component", run_options.thread_per_component,
+                    "with --realtime: every component on a thread of its own instead of the executor");
   run_cmd->add_flag("--quiet", run_quiet, "print no state, switch or progress line");
   run_cmd->add_option("--host", run_options.host, "this process's host in the application's placement: run only its "
                                                   "components, the others' in their own processes (run/README.md)");

@@ -24,6 +24,7 @@ void printResult(const run::RunResult& result) {
     std::printf("worst clearance %.2f mm (threshold %.2f mm) at %.3f s; %.3f s at or under it; %d unmeasurable\n",
                 1000.0 * result.clearance.worst, 1000.0 * result.clearance.threshold, result.clearance.worst_at,
                 result.clearance.seconds_below, result.clearance.unreachable);
+  if (result.executor.ran) std::printf("%s\n", run::executorLine(result.executor).c_str());
   if (!result.report.empty()) std::printf("report: %s\n", result.report.c_str());
 }
 

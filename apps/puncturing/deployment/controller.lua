@@ -61,7 +61,8 @@ return function(c)
                           n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
     activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
   end
-  activities[#activities + 1] = { peer_name = n("Planner"), period = 0 }  -- event-driven: plans outside the 1 kHz loop
+  -- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
+  activities[#activities + 1] = { peer_name = n("Planner"), period = 0, own_pace = true }
   setActivities(activities)
 
   local robot, arm = c.robot, tostring(c.arm)

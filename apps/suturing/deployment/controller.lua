@@ -99,7 +99,8 @@ addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlan
 
 local always = { "Stitches", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup", "DepSup",
                  "ConfSup" }
-local activities = { { peer_name = "SuturePlanner", period = 0 } }  -- event-driven: plans outside the 1 kHz loop
+-- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
+local activities = { { peer_name = "SuturePlanner", period = 0, own_pace = true } }
 for _, c in ipairs(controller) do
   if c.peer_name ~= "SuturePlanner" then activities[#activities + 1] = { peer_name = c.peer_name, period = 0.001 } end
 end

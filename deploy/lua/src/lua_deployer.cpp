@@ -216,6 +216,10 @@ std::vector<ActivitySpec> readActivities(lua_State* L, int index, CallSite& site
     spec.priority = static_cast<int>(priority);
     const std::string scheduler = stringField(L, entry, "scheduler", spec.where, false);
     if (!scheduler.empty()) spec.scheduler = scheduler;
+    rawField(L, entry, "own_pace");
+    if (lua_type(L, -1) == LUA_TBOOLEAN) spec.own_pace = lua_toboolean(L, -1) != 0;
+    else if (!lua_isnil(L, -1)) fail(spec.where, "field 'own_pace' must be true or false");
+    lua_pop(L, 1);
     specs.push_back(std::move(spec));
   });
   return specs;
@@ -355,6 +359,47 @@ int setActivitiesImpl(lua_State* L) {
   return 0;
 }
 
+int setExecutorImpl(lua_State* L) {
+  LuaDeployer::Impl& impl = implOf(L);
+  CallSite site(L, impl);
+  const SourceLocation where = site.here();
+  requireTable(L, 1, where, "setExecutor's table { period = s, priority = 1..99, ... }");
+  static const char* const kKeys[] = {"period", "priority", "scheduler", "cpu", "lock_memory", "on_deadline_miss",
+                                      "safe_stop_after"};
+  lua_pushnil(L);
+  while (lua_next(L, 1) != 0) {
+    lua_pop(L, 1);
+    const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+    if (key == nullptr || std::none_of(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return std::strcmp(k, key) == 0; })) {
+      const std::string name = key ? key : "(not a name)";
+      lua_pop(L, 1);
+      fail(where, "setExecutor: unknown field '" + name +
+                      "'; expected period, priority, scheduler, cpu, lock_memory, on_deadline_miss or safe_stop_after");
+    }
+  }
+  ExecutorSpec spec;
+  spec.where = where;
+  spec.declared = true;
+  spec.period = numberField(L, 1, "period", where, 0.0);
+  const auto integer = [&](const char* key, double fallback) {
+    const double value = numberField(L, 1, key, where, fallback);
+    if (value != static_cast<double>(static_cast<int>(value)))
+      fail(where, std::string("setExecutor: field '") + key + "' must be an integer, got " + std::to_string(value));
+    return static_cast<int>(value);
+  };
+  spec.priority = integer("priority", spec.priority);
+  spec.cpu = integer("cpu", spec.cpu);
+  spec.safe_stop_after = integer("safe_stop_after", spec.safe_stop_after);
+  if (const std::string s = stringField(L, 1, "scheduler", where, false); !s.empty()) spec.scheduler = s;
+  if (const std::string s = stringField(L, 1, "on_deadline_miss", where, false); !s.empty()) spec.on_deadline_miss = s;
+  rawField(L, 1, "lock_memory");
+  if (lua_type(L, -1) == LUA_TBOOLEAN) spec.lock_memory = lua_toboolean(L, -1) != 0;
+  else if (!lua_isnil(L, -1)) fail(where, "setExecutor: field 'lock_memory' must be true or false");
+  lua_pop(L, 1);
+  impl.configurator.setExecutor(std::move(spec));
+  return 0;
+}
+
 int connectPortsImpl(lua_State* L) {
   LuaDeployer::Impl& impl = implOf(L);
   CallSite site(L, impl);
@@ -450,6 +495,7 @@ LuaDeployer::LuaDeployer(Configurator& configurator, script::LuaState& lua)
       {"cleanupComponents", guarded<nameListImpl<&Configurator::cleanupComponents>>},
       {"addPeers", guarded<addPeersImpl>},
       {"setActivities", guarded<setActivitiesImpl>},
+      {"setExecutor", guarded<setExecutorImpl>},
       {"connectPorts", guarded<connectPortsImpl>},
       {"getReferences", guarded<getReferencesImpl>},
       {"defineDeployment", guarded<defineDeploymentImpl>},

@@ -122,6 +122,61 @@ TEST(LuaDeployer, SyntaxErrorsAndBadTablesNameTheFileAndLine) {
                   "only \"ConnPolicy\" is supported");
 }
 
+TEST(LuaDeployer, TheExecutorIsDeclaredOnceAndItsErrorsNameTheFileAndLine) {
+  Fixture f;
+  f.deployer.run("initConfigurator({ 'cobra_signal' }, {\n"
+                 "  { peer_name = 'Sine', component_type = 'SineGenerator' },\n"
+                 "  { peer_name = 'Gain', component_type = 'Gain' },\n"
+                 "})\n"
+                 "setActivities({\n"
+                 "  { peer_name = 'Sine', period = 0.002 },\n"
+                 "  { peer_name = 'Gain', period = 0, own_pace = true },\n"
+                 "})",
+                 "deployment.lua");
+  EXPECT_TRUE(f.configurator.activityOf("Gain")->own_pace);
+  EXPECT_EQ(messageOf([&] { f.deployer.run("\nsetExecutor({ priority = 120 })", "exec.lua"); }),
+            "exec.lua:2: setExecutor: priority 120 is outside 1..99 for SCHED_FIFO");
+  EXPECT_EQ(messageOf([&] { f.deployer.run("setExecutor({ periode = 0.001 })", "exec.lua"); }),
+            "exec.lua:1: setExecutor: unknown field 'periode'; expected period, priority, scheduler, cpu, lock_memory, "
+            "on_deadline_miss or safe_stop_after");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("setExecutor({ cpu = 4096 })", "exec.lua"); }),
+                  "exec.lua:1: setExecutor: cpu 4096 does not exist: this machine has CPUs 0..");
+  EXPECT_EQ(messageOf([&] { f.deployer.run("setExecutor({ on_deadline_miss = 'panic' })", "exec.lua"); }),
+            "exec.lua:1: setExecutor: on_deadline_miss is \"count\" or \"event\", got \"panic\"");
+  EXPECT_EQ(messageOf([&] { f.deployer.run("setExecutor({ own_pace = true })", "exec.lua"); }).substr(0, 49),
+            "exec.lua:1: setExecutor: unknown field 'own_pace'");
+  EXPECT_EQ(f.configurator.executorMonitor(), nullptr) << "nothing of a refused setExecutor stays";
+
+  // The tick defaults to the periods' greatest common divisor; a given one must divide them all.
+  f.deployer.run("\n\nsetExecutor({ period = 0.003, safe_stop_after = 5 })", "exec.lua");
+  EXPECT_EQ(messageOf([&] { (void)f.configurator.executorOptions(); }),
+            "exec.lua:3: setExecutor: period 0.003 s does not divide the period 0.002 s of 'Sine' (its activity at "
+            "deployment.lua:6); give a period that divides every periodic component's, or 0 for their greatest "
+            "common divisor");
+  EXPECT_EQ(messageOf([&] { f.deployer.run("setExecutor({})", "again.lua"); }),
+            "again.lua:1: setExecutor: the executor is set already (exec.lua:3); set it once");
+  ASSERT_NE(f.configurator.executorMonitor(), nullptr);
+  EXPECT_EQ(f.configurator.executorMonitor()->name(), "Executor");
+  EXPECT_EQ(f.configurator.executorMonitor()->state(), core::State::Running);
+}
+
+TEST(LuaDeployer, TheExecutorTickIsTheGreatestCommonDivisorOfThePeriods) {
+  Fixture f;
+  f.deployer.run("initConfigurator({ 'cobra_signal' }, {\n"
+                 "  { peer_name = 'Sine', component_type = 'SineGenerator' },\n"
+                 "  { peer_name = 'Gain', component_type = 'Gain' },\n"
+                 "})\n"
+                 "setActivities({ { peer_name = 'Sine', period = 0.004 }, { peer_name = 'Gain', period = 0.006 } })\n"
+                 "setExecutor({ on_deadline_miss = 'event', safe_stop_after = 7 })",
+                 "deployment.lua");
+  const core::ExecutorOptions o = f.configurator.executorOptions();
+  EXPECT_EQ(o.period, 2ms);
+  EXPECT_EQ(o.priority, 80);
+  EXPECT_TRUE(o.policy.emit_event);
+  EXPECT_EQ(o.policy.safe_stop_after, 7);
+  EXPECT_TRUE(static_cast<bool>(o.on_event)) << "the Executor component's events port carries them";
+}
+
 TEST(LuaDeployer, NamedDeploymentsAndConfigurationsSwitchFromLua) {
   Fixture f;
   const std::string code = R"(

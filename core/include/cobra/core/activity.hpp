@@ -16,6 +16,16 @@ class Component;
 /// "1 ms", "250 us", "3 s": the shortest exact text of a duration.
 std::string formatDuration(std::chrono::nanoseconds duration);
 
+/// CLOCK_MONOTONIC now, in ns since boot.
+std::chrono::nanoseconds monotonicNow() noexcept;
+/// Run time: the time every clock of a run reports (`Activity::now()`, event stamps, logs), in ns.
+/// A threaded activity's now() is CLOCK_MONOTONIC minus the run's epoch; the epoch is the
+/// process's start until a run sets it (setRunEpoch), e.g. the real-time executor, so that its
+/// lockstep clock and the threads beside it report the same time.
+std::chrono::nanoseconds runEpoch() noexcept;
+/// Sets the run's epoch: the CLOCK_MONOTONIC time (ns since boot) at which run time is 0.
+void setRunEpoch(std::chrono::nanoseconds monotonic) noexcept;
+
 /// Base class. An activity belongs to one component (`Component::setActivity`); the component
 /// starts it after startHook and stops it before stopHook.
 class Activity {
@@ -28,7 +38,8 @@ class Activity {
   virtual std::string describe() const = 0;
   /// Period in s of simulated or real time; zero for activities that are not periodic.
   virtual std::chrono::nanoseconds period() const { return std::chrono::nanoseconds(0); }
-  /// The clock components read with `Component::now()`; steady-clock time by default.
+  /// The clock components read with `Component::now()`, in ns: run time (CLOCK_MONOTONIC minus
+  /// runEpoch()) by default; simulated time on the lockstep clock.
   virtual std::chrono::nanoseconds now() const;
   /// Asks for a step soon (event-port data, operation requests). Real-time safe.
   virtual void trigger() noexcept {}
@@ -36,6 +47,10 @@ class Activity {
   virtual bool hasRunningThread() const { return false; }
   /// True when called from this activity's own thread.
   virtual bool isActivityThread() const { return false; }
+  /// True when Component::stop may be called from the activity's own thread: the activity has no
+  /// thread of its own to join (a lockstep clock stepped by an executor stops components between
+  /// its instants, on its thread).
+  virtual bool stoppableFromOwnThread() const { return false; }
 
  protected:
   Activity() = default;

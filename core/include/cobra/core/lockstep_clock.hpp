@@ -3,9 +3,11 @@
 /// Deterministic simulated time: steps a set of components in a fixed order, as fast as the CPU
 /// allows, honouring each one's period in simulated time. Tests use this, not wall-clock sleeps.
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <thread>
 #include <vector>
 
 #include "cobra/core/activity.hpp"
@@ -25,6 +27,13 @@ class LockstepActivity final : public Activity {
   std::chrono::nanoseconds period() const override { return period_; }
   std::chrono::nanoseconds now() const override;
   void trigger() noexcept override;
+  /// True while an executor steps the clock from another thread than the caller's (then a
+  /// property change or an own-thread operation is queued for the component's next step).
+  bool hasRunningThread() const override;
+  /// True on the thread of the executor that steps the clock (in a step or between instants).
+  bool isActivityThread() const override;
+  /// The executor's thread stops components between instants (deployment switches).
+  bool stoppableFromOwnThread() const override { return true; }
 
  private:
   friend class LockstepClock;
@@ -32,7 +41,9 @@ class LockstepActivity final : public Activity {
   std::chrono::nanoseconds last_now_{0};
   std::chrono::nanoseconds period_;
   std::chrono::nanoseconds next_due_{0};
-  bool triggered_ = false;
+  // Set from any thread (event ports, operations, an own-pace component's write), taken by the
+  // clock's stepping thread.
+  std::atomic<bool> triggered_{false};
 };
 
 /// One thread, one simulated clock. A component added with period p > 0 steps at every
@@ -56,8 +67,8 @@ class LockstepClock {
   /// Takes `component` off the clock (it keeps its activity, stepped by nobody).
   void remove(Component& component);
 
-  /// Simulated time, in ns since the clock was made.
-  std::chrono::nanoseconds now() const { return now_; }
+  /// Simulated time, in ns since the clock was made. Readable from any thread.
+  std::chrono::nanoseconds now() const { return std::chrono::nanoseconds(now_.load(std::memory_order_relaxed)); }
   /// Runs every step due in [now, now + duration), then sets now to now + duration.
   void advance(std::chrono::nanoseconds duration);
   /// `hook` runs at the end of every instant, after its steps (and at the start of `advance`),
@@ -79,6 +90,14 @@ class LockstepClock {
   ClockSync* clockSync() const { return sync_; }
   /// Number of component steps run so far.
   std::uint64_t steps() const { return steps_; }
+  /// The thread that steps this clock when an executor runs it on the wall clock
+  /// (realtime_executor.hpp); default-constructed: none (the caller of advance steps it). While
+  /// set, other threads reach the components through runBetweenSteps, as with threaded activities.
+  void setSteppingThread(std::thread::id id) noexcept { stepping_thread_.store(id, std::memory_order_release); }
+  std::thread::id steppingThread() const noexcept { return stepping_thread_.load(std::memory_order_acquire); }
+  /// The components on the clock with their periods (0: when triggered), in stepping order.
+  /// Not thread-safe: call it between instants.
+  std::vector<std::pair<const Component*, std::chrono::nanoseconds>> schedule() const;
   /// Most rounds of triggered steps in one instant before the clock reports a trigger loop.
   static constexpr int kMaxTriggerRounds = 100;
 
@@ -97,14 +116,15 @@ class LockstepClock {
   /// Steps one component (timed when a step observer is set).
   void step(const Entry& e);
   std::vector<Entry> entries_;
-  std::chrono::nanoseconds now_{0};
+  std::atomic<std::int64_t> now_{0};  // ns
   std::uint64_t steps_ = 0;
+  std::atomic<std::thread::id> stepping_thread_{};
   std::function<bool()> between_instants_;
   StepObserver step_observer_;
   ClockSync* sync_ = nullptr;
   /// Set when an event-driven (period 0) component is triggered: runTriggered scans for them
   /// only then (it runs twice per instant; most instants' second call finds nothing).
-  bool trigger_pending_ = false;
+  std::atomic<bool> trigger_pending_{false};
 };
 
 }  // namespace cobra::core

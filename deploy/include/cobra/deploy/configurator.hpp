@@ -27,6 +27,7 @@
 #include "cobra/deploy/configurator_client.hpp"
 #include "cobra/deploy/deployment_set.hpp"
 #include "cobra/deploy/lint.hpp"
+#include "cobra/core/realtime_executor.hpp"
 #include "cobra/deploy/package_registry.hpp"
 #include "cobra/deploy/placement.hpp"
 #include "cobra/deploy/spec.hpp"
@@ -45,6 +46,12 @@ enum class ClockMode {
   Simulation,
   /// Every component gets its own thread: PeriodicActivity for a period > 0, EventActivity for 0.
   RealTime,
+  /// The wall clock as a real robot runs: every component is on the lockstep clock, as in
+  /// Simulation, and a core::RealtimeExecutor (the run's) steps that clock's schedule every
+  /// period on one real-time thread, so a run makes the lockstep run's decisions up to timing.
+  /// Components whose activity says `own_pace` get a thread of their own instead (spec.hpp). No
+  /// ClockSync is met: hosts exchange samples as they come.
+  WallClock,
 };
 
 struct ConfiguratorOptions {
@@ -140,6 +147,22 @@ class Configurator {
   ///         it first), a negative period, an unknown scheduler or a priority above 99.
   void setActivities(const std::vector<ActivitySpec>& activities_list);
 
+  /// How the real-time executor runs this deployment on the wall clock (spec.hpp, ExecutorSpec),
+  /// in every clock mode (the files are the same); makes the component `Executor` whose events
+  /// port carries the executor's events (executorMonitor()).
+  /// @throws core::Error "file:line: setExecutor: ..." for a priority outside 1..99, an unknown
+  ///         scheduler, a CPU this machine does not have, an unknown on_deadline_miss, a negative
+  ///         safe_stop_after or period, or a second setExecutor.
+  void setExecutor(ExecutorSpec spec);
+  const ExecutorSpec& executorSpec() const { return executor_; }
+  /// The executor's options for the activities now in force: the tick is the spec's period or
+  /// else the greatest common divisor of the periodic components' periods (1 ms when none).
+  /// @throws core::Error "file:line: setExecutor: period ... is not a divisor of the period ...
+  ///         of 'X' (its activity at file:line)".
+  core::ExecutorOptions executorOptions() const;
+  /// The component `Executor` (nullptr before setExecutor).
+  core::Component* executorMonitor() const { return executor_monitor_; }
+
   /// Connects each `output` port to its `input` port with its policy, after checking all of
   /// them: ports exist, output -> input direction, same type, not already connected, and the
   /// role rules (lint.hpp). Under a placement (placement.hpp): local -> local as above; a local
@@ -203,7 +226,7 @@ class Configurator {
   /// count again knows currentDeployment() and currentConfiguration() are what they were.
   std::uint64_t switchCount() const { return switch_count_.load(std::memory_order_acquire); }
 
-  /// The simulation clock. @throws core::Error in ClockMode::RealTime.
+  /// The lockstep clock (Simulation and WallClock). @throws core::Error in ClockMode::RealTime.
   core::LockstepClock& clock();
   ClockMode mode() const { return options_.mode; }
   /// This process's host (ConfiguratorOptions::host; "" = not split).
@@ -288,6 +311,8 @@ class Configurator {
   core::ComponentRegistry remote_;  // shadows of the remote components
   std::vector<std::string> writer_topics_, reader_topics_;
   core::ClockSync* clock_sync_ = nullptr;
+  ExecutorSpec executor_;
+  core::Component* executor_monitor_ = nullptr;  // owned by components_
 
   mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
   std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;

@@ -54,6 +54,9 @@ struct DeploymentDescription {
   std::vector<std::string> apply;      ///< applyDeployment, in this order (one per scope)
   std::string configuration;           ///< applyConfiguration last ("" for none)
   int outside_connections = 0;         ///< connections to ports outside the deployment (not listed)
+  /// setExecutor (its `declared` false when the files have none); its component `Executor` is not
+  /// among `components`: setExecutor makes it.
+  ExecutorSpec executor;
 };
 
 /// The description of what `configurator` deployed (see the file comment for what is kept).

@@ -47,15 +47,42 @@ struct PeerSpec {
 /// `activities_list`. A period of 0 means event-driven (steps on event-port data and operation
 /// requests). `scheduler` accepts "ORO_SCHED_RT", "SCHED_FIFO", "fifo" (real-time) and
 /// "ORO_SCHED_OTHER", "SCHED_OTHER", "other" (time-sharing), case-insensitively.
+///
+/// `own_pace = true`: on the wall clock (ClockMode::WallClock) the component runs on a thread of
+/// its own beside the real-time executor instead of in its schedule, for work that cannot finish
+/// within a period (a planner's search, network I/O): it hands over through ports, and what it
+/// is asked (requests, event ports) is taken in its own thread. On the lockstep clock it steps in
+/// the schedule like any other component, so both clocks run the same files.
 struct ActivitySpec {
   std::string peer_name;
   double period = 0.0;  ///< s; 0 = event-driven
   int priority = 0;     ///< 1..99 for a real-time scheduler (0 is raised to 1, as RTT does)
   std::string scheduler = "ORO_SCHED_OTHER";
   SourceLocation where;
+  bool own_pace = false;  ///< see above; after `where`, so `{name, period, priority, scheduler, where}` still reads
 
   /// Same period, priority and scheduler (the location does not matter).
   bool sameActivity(const ActivitySpec& other) const;
+};
+
+/// `setExecutor{ period = 0.001, priority = 80, cpu = 1, lock_memory = true, on_deadline_miss = "event",
+/// safe_stop_after = 5 }`: how the real-time executor (core/realtime_executor.hpp) runs the
+/// deployment on the wall clock. Ignored by the lockstep clock, which runs the same schedule in
+/// simulated time. Setting it also makes the component `Executor`, whose `events` port carries
+/// `e_deadline_missed` and `e_deadline_safe_stop` (connect it to the task supervisors).
+struct ExecutorSpec {
+  /// s: the tick; 0 = the greatest common divisor of the periodic components' periods.
+  double period = 0.0;
+  int priority = 80;  ///< SCHED_FIFO priority 1..99
+  std::string scheduler = "SCHED_FIFO";
+  int cpu = -1;  ///< the CPU the executor's thread is pinned to; -1: any
+  bool lock_memory = true;  ///< mlockall at start
+  /// "count" (misses are counted and reported) or "event" (also emits e_deadline_missed).
+  std::string on_deadline_miss = "count";
+  /// After this many consecutive misses the run ends in a safe stop (e_deadline_safe_stop); 0: never.
+  int safe_stop_after = 0;
+  SourceLocation where;
+  bool declared = false;  ///< false: no setExecutor in the files (the defaults above apply)
 };
 
 /// `conn_policy = { type = "buffer", size = 8 }`. `type` is "data", "buffer" or "circular"

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cobra/core/lockstep_clock.hpp"
+#include "cobra/core/realtime_executor.hpp"
 #include "cobra/report/run_report.hpp"
 #include "cobra/run/tracking.hpp"
 #include "cobra/statechart/description.hpp"
@@ -94,8 +95,12 @@ struct RunOptions {
   std::filesystem::path report_folder;
   /// A faults file (run/README.md: faults.lua); empty: the scenario's faults.lua when present.
   std::filesystem::path faults_file;
-  /// Real time (threaded activities, wall clock) instead of the lockstep simulation clock.
+  /// The wall clock instead of the lockstep simulation clock: the deployment's schedule run by a
+  /// real-time executor (core/realtime_executor.hpp; setExecutor in the files sets it up).
   bool realtime = false;
+  /// With `realtime`: every component on a thread of its own (ClockMode::RealTime) instead of the
+  /// executor, for a deployment that asks for it.
+  bool thread_per_component = false;
   /// Called with one line per task state change, per switch, per fault and every
   /// `progress_every` s of run time (nullptr: quiet).
   std::function<void(const std::string&)> progress;
@@ -159,6 +164,20 @@ struct ClearanceFigures {
   std::vector<std::pair<std::string, double>> contacts;
 };
 
+/// How the real-time executor kept time (a run on the wall clock with the executor).
+struct ExecutorFigures {
+  bool ran = false;
+  double period = 0.0;  ///< s, the tick
+  std::string scheduler;  ///< "SCHED_FIFO priority 80", or what it fell back to
+  bool memory_locked = false;
+  std::uint64_t ticks = 0, deadline_misses = 0, worst_consecutive_misses = 0;
+  double slipped = 0.0;  ///< s given up after stalls
+  core::DurationFigures wake_latency;  ///< s after each deadline
+  core::DurationFigures tick_compute;  ///< s per tick
+  std::vector<core::ComponentTiming> components;  ///< s per step, in the clock's order
+  std::vector<std::string> warnings;
+};
+
 struct RunResult {
   Outcome outcome = Outcome::TimeLimit;
   std::string reason;  ///< one line: why the run ended (empty when completed)
@@ -177,6 +196,7 @@ struct RunResult {
   std::vector<SummaryValue> summary;
   std::vector<TrackingFigures> tracking;  ///< one per run.tracking entry, in order
   ClearanceFigures clearance;             ///< when run.clearance is declared
+  ExecutorFigures executor;               ///< on the wall clock
   std::filesystem::path report;           ///< report.html, when a report folder was given
 
   bool completed() const { return outcome == Outcome::Completed; }
@@ -190,6 +210,10 @@ int exitStatus(const RunResult& result);
 /// The line `cobra run` prints when the run ended: "completed in 163.400 s", else
 /// "cobra run: SafeStop: <reason>" (on stderr).
 std::string endLine(const RunResult& result);
+
+/// "executor: 47039 ticks of 1.000 ms, SCHED_FIFO priority 80; 3 deadline misses ...": how the
+/// executor kept time (cobra run prints it after a wall-clock run); "" when it did not run.
+std::string executorLine(const ExecutorFigures& executor);
 
 /// The entry file of `app`: `app` itself when it is a file, `app/<folder name>.lua` for a folder.
 /// @throws std::runtime_error "apps/x: no entry file apps/x/x.lua (an application folder holds
