@@ -233,6 +233,7 @@ RunResult Session::run() {
     } else {
       configurator_.clock().advance(step);
       t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+      dt_ = spec_.step;
       // Paced: simulated time is held back to `pace` simulated s per wall s (a viewer watches).
       if (options_.pace > 0.0)
         std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -437,13 +438,19 @@ void Session::runOnTheWallClock(std::chrono::nanoseconds step) {
       if (raised) pthread_setschedparam(pthread_self(), policy, &old);
     }
   } observing(executor_->effectiveScheduler() == core::Scheduler::Fifo);
+  // Every step of wall time, never catching up: a late observation samples the state then (the
+  // executor does not wait for it), and a thread at a SCHED_FIFO priority must sleep between two,
+  // or the threads of ordinary priority (own-pace planners, the DDS link's) would starve.
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
   auto next = std::chrono::steady_clock::now();
   do {
-    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
+    next += period;
     const auto now = std::chrono::steady_clock::now();
-    if (next < now - 50 * step) next = now;  // this thread was starved: observe again from now
+    if (next <= now) next = now + period / 4;  // late: a short rest, then observe
     std::this_thread::sleep_until(next);
+    const double before = t_;
     t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+    dt_ = steps_ == 0 ? spec_.step : t_ - before;
     advance();
   } while (!ended());
 }
@@ -464,6 +471,8 @@ void Session::noteExecutorFigures() {
   f.slipped = std::chrono::duration<double>(executor_->slipped()).count();
   f.wake_latency = core::figuresOf(executor_->wakeLatency());
   f.tick_compute = core::figuresOf(executor_->tickCompute());
+  f.between_steps = core::figuresOf(executor_->betweenSteps());
+  f.work_between_ticks = core::figuresOf(executor_->workBetweenTicks());
   f.components = executor_->componentTimings();
   f.warnings = executor_->warnings();
 }
