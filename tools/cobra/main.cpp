@@ -333,6 +333,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  // Lua stuck in a loop notices the signal too (script::LuaState, "Budget and interrupts").
+  script::LuaState::watchInterrupt(&g_interrupted);
   try {
     if (*deploy_cmd)
       return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict, deploy_host);

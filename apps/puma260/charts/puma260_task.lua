@@ -111,4 +111,8 @@ for _, state in ipairs({ 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingS
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Holding', events = { 'e_comm_timeout@FTSens' }, pn = 5 }
 end
 
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the trajectory's stop motion, the admittance holding the tool.
+function exceptionHook() call("TrajGen", "askStopMove") end
+
 return rfsm.state(chart)
