@@ -129,6 +129,12 @@ LuaState::~LuaState() {
 
 std::string LuaState::popError(int status, lua_State* thread) {
   lua_State* L = thread != nullptr ? thread : state_;
+  // The error reached C++: a budget or interrupt error has done its work, the state is usable
+  // again (a console may evaluate in it). The step's CPU time still counts.
+  if (trip_reason_ != nullptr) {
+    trip_reason_ = nullptr;
+    lua_sethook(state_, &countHook, LUA_MASKCOUNT, kHookInstructions);
+  }
   std::string message;
   if (status == LUA_ERRMEM) {
     if (pool_)

@@ -37,9 +37,9 @@ struct LuaMemory {
 /// instructions. With a budget set (`setBudget`), the hook measures the CPU time of the calling
 /// thread since the step began (`startStep`; CPU time, so a loaded machine's preemptions do not
 /// count) and, past the budget, raises a Lua error "file.lua:12: <owner> ran past its budget of
-/// <s> s of CPU time; <hint>" at the running line; from then on until the next `startStep` it
-/// raises at every instruction, so a `pcall` in the script cannot swallow it. When the process
-/// flag given to `watchInterrupt` is set (Ctrl-C, SIGTERM), the hook raises "interrupted" in any
+/// <s> s of CPU time; <hint>" at the running line; from then on it raises at every instruction
+/// until the error reaches C++ (`popError`), so a `pcall` in the script cannot swallow it. When
+/// the flag given to `watchInterrupt` is set (Ctrl-C, SIGTERM), the hook raises "interrupted" in any
 /// step that has run `kInterruptGrace` of CPU time, so a script stuck in a loop cannot keep the
 /// process alive, while steps that end by themselves are left to finish. Cost: an instruction
 /// counter, a function call every `kHookInstructions` instructions and, only in a step that
