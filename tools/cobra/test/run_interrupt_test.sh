@@ -11,6 +11,7 @@ trap 'rm -f "$out"' EXIT
 for mode in lockstep realtime; do
   flag=""
   [ "$mode" = realtime ] && flag="--realtime"
+  : >"$out"  # emptied before the start: the previous mode's line must not be taken for this one's
   "$cobra" run "$app" $flag --time-limit 1000 >"$out" 2>&1 &
   pid=$!
   i=0
