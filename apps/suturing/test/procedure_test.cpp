@@ -341,7 +341,7 @@ TEST(SuturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySuccee
 TEST(SuturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamingTheTimeout) {
   const RunResult r = runApp(withFaults("surgeon_never_reacts.lua"));
   EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
-  EXPECT_CONTAINS(r.reason, "suture chart stopped safely in WaitReaction: TaskSup: e_reaction_timeout at ");
+  EXPECT_CONTAINS(r.reason, "suture chart stopped safely in root.WaitReaction: TaskSup: e_reaction_timeout at ");
   expectInOrder(r, {"SuturePlanner: e_plan_failed", "suture > root.WaitReaction", "TaskSup: e_reaction_timeout",
                     "suture > root.SafeStop"});
   EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
@@ -352,6 +352,7 @@ TEST(SuturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamin
 /// `fault` (Lua). The task Supervisor must go to Exception naming the wrapper's line, and its
 /// chart's exceptionHook stop the motion: the Endo Stitch's commanded pose stops changing.
 void expectTheArmsHoldAfter(const std::string& fault, const std::string& expected) {
+  using namespace std::chrono_literals;
   deploy::Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
   script::LuaState lua;
@@ -373,20 +374,30 @@ void expectTheArmsHoldAfter(const std::string& fault, const std::string& expecte
                    "]] configureComponents({'TaskSup'}) startComponents({'TaskSup'})",
                "=wrap the chart");
   core::Component& sup = configurator.getReferences().get("TaskSup");
-  core::InputPort<KDL::Frame> commanded{"commanded", "", "m"};
+  core::InputPort<KDL::Frame> commanded{"commanded", "", "m"}, measured{"measured", "", "m"};
   core::connectPorts(configurator.getReferences().get("RightAdmittance").port("admPose"), commanded);
+  core::connectPorts(configurator.getReferences().get("ISUR").port("measRightCartPose"), measured);
   double t = 0.0;
   for (; t < 60.0 && sup.state() == core::State::Running; t += 0.01) configurator.clock().advance(10ms);
   ASSERT_EQ(sup.state(), core::State::Exception) << "at " << t << " s";
   EXPECT_EQ(sup.lastError(), "component 'TaskSup': updateHook threw: entry of "
                              "root.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving failed: " +
                                  wrapper + ":7: " + expected);
-  KDL::Frame held, later;
-  configurator.clock().advance(1s);  // the stop motion
-  ASSERT_NE(commanded.read(held), core::FlowStatus::NoData);
+  configurator.clock().advance(600ms);  // past the trajectory generator's stop motion
+  KDL::Frame commanded_then, measured_then, commanded_later, measured_later;
+  const core::FlowStatus commanded_first = commanded.read(commanded_then);
+  ASSERT_NE(measured.read(measured_then), core::FlowStatus::NoData);
   configurator.clock().advance(2s);
-  ASSERT_NE(commanded.read(later), core::FlowStatus::NoData);
-  EXPECT_TRUE(KDL::Equal(held, later, 1e-9));
+  const core::FlowStatus commanded_second = commanded.read(commanded_later);
+  ASSERT_NE(measured.read(measured_later), core::FlowStatus::NoData);
+  // The motion was stopped as it began: the admittance was never commanded to move (no sample),
+  // or holds its last command; the arm stays where it is.
+  EXPECT_EQ(commanded_first == core::FlowStatus::NoData, commanded_second == core::FlowStatus::NoData);
+  if (commanded_first != core::FlowStatus::NoData) {
+    EXPECT_TRUE(KDL::Equal(commanded_then, commanded_later, 1e-9));
+  }
+  EXPECT_TRUE(KDL::Equal(measured_then, measured_later, 1e-6))
+      << "moved by " << (measured_later.p - measured_then.p).Norm() << " m";
 }
 
 TEST(SuturingProcedure, AnEndlessLoopInTheTaskChartIsCutAndTheArmsHold) {
