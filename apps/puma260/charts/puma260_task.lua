@@ -19,6 +19,11 @@
 -- path resumes) or `sensor_hold` s have passed (SafeStop).
 local sensor_hold = 1.0  -- s
 local stop_wait = 0.5    -- s: longer than the trajectory generator's stop_time
+-- s the chart waits for a device's answer in A and B (the drives' encoder initialisation, the
+-- master's ready position, the sensor's tare, Operative) before its safe stop, emitting
+-- e_drives_timeout or e_sensor_timeout (the run's safe stop names it). The simulated devices
+-- answer within 5 s (the move to ready).
+local device_timeout = 30
 
 local function call(peer, operation)
   local p = _G[peer]
@@ -95,6 +100,12 @@ local chart = {
   rfsm.trans { src = 'G_BackToPath.OnPath', tgt = 'H_FinalPose', events = { done } },
   rfsm.trans { src = 'G_BackToPath.Settling', tgt = 'H_FinalPose', events = { 'e_on_path@Contact' } },
   rfsm.trans { src = 'Holding', tgt = 'Resuming', events = { 'e_comm_restored@FTSens' } },
+  rfsm.trans { src = 'A_Nest', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_drives_timeout") end },
+  rfsm.trans { src = 'B_Ready.Taring', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_sensor_timeout") end },
+  rfsm.trans { src = 'B_Ready.AskingOperative', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_drives_timeout") end },
   rfsm.trans { src = 'Holding', tgt = 'SafeStop', events = { 'e_after(' .. sensor_hold .. ')' },
                effect = function() emit("e_sensor_lost") end },
   rfsm.trans { src = 'Resuming', tgt = 'H_FinalPose', events = { done } },
