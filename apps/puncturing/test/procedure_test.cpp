@@ -232,6 +232,20 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   expectClear(r);
 }
 
+// The planner fails from the first motion on and the surgeon never reacts: the needle chart waits
+// in WaitReaction for charts/waits.lua's surgeon timeout (120 s), then stops safely naming it, and
+// the probe's chart stops with it.
+TEST(PuncturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamingTheTimeout) {
+  RunOptions o = withFaults("planner_fails_again.lua");
+  o.before_lua = "surgeon_file = [[" + (kFaults / "silent_surgeon.txt").string() + "]]";
+  const RunResult r = runApp(o);
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << "ended at " << r.duration << " s: " << r.reason;
+  expectInOrder(r, {"NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", "NeedleTaskSup: e_reaction_timeout",
+                    "needle > root.SafeStop", "us > root.SafeStop"});
+  EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.WaitReaction: NeedleTaskSup: e_reaction_timeout at");
+  EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
+}
+
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
   deploy::ConfiguratorOptions strict;
   strict.strict_roles = true;  // the connections made at load are refused if they break a rule
