@@ -162,7 +162,11 @@ for _, target in ipairs(resumable) do
 end
 
 -- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
--- the motion stops and the admittance holds the needle where it is.
-function exceptionHook() stop() end
+-- the motion stops, the admittance holds the needle where it is, and the ultrasound chart is told, as by
+-- this chart's SafeStop, so that it stops too.
+function exceptionHook()
+  stop()
+  emit("e_needle_safe_stop")
+end
 
 return rfsm.state(chart)

@@ -105,7 +105,11 @@ for _, target in ipairs(resumable) do
 end
 
 -- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
--- the motion stops and the admittance holds the probe where it is.
-function exceptionHook() stop() end
+-- the motion stops, the admittance holds the probe where it is, and the needle chart is told, as by
+-- this chart's SafeStop, so that it stops too.
+function exceptionHook()
+  stop()
+  emit("e_us_safe_stop")
+end
 
 return rfsm.state(chart)
