@@ -11,13 +11,13 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <string>
 #include <string_view>
 
 #include <lua.hpp>
 
 #include "cobra/script/rfsm.hpp"
+#include "fuzz_support.hpp"
 
 namespace {
 
@@ -34,10 +34,6 @@ struct Draw {
     return state >> 33;
   }
 };
-
-void check(bool condition) {
-  if (!condition) std::abort();
-}
 
 }  // namespace
 
@@ -61,12 +57,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto stepped = [&] {
       lua.startStep();
       machine.run(100);
-      check(lua_gettop(lua.get()) == top);
+      if (lua_gettop(lua.get()) != top) cobra::fuzz::fail("a step left the Lua stack changed", std::to_string(top));
       const std::string_view leaf = machine.activeLeaf();
       if (!leaf.empty()) {
         bool known = false;
         for (const auto& node : chart->chart().nodes()) known = known || node.fqn == leaf;
-        check(known);
+        if (!known) cobra::fuzz::fail("the active leaf is no state of the chart", leaf);
       }
     };
     stepped();
