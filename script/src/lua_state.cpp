@@ -110,7 +110,8 @@ void LuaState::countHook(lua_State* L, lua_Debug* ar) {
     self->trip_reason_ = why;
   }
   // From now on every instruction raises (the running thread and the main one), so a pcall in
-  // the script that catches this error cannot keep the loop going; startStep undoes it.
+  // the script that catches this error cannot keep the loop going; popError (the error reached
+  // C++) and startStep undo it.
   lua_sethook(L, &countHook, LUA_MASKCOUNT, 1);
   if (L != self->state_) lua_sethook(self->state_, &countHook, LUA_MASKCOUNT, 1);
   lua_getinfo(L, "Sl", ar);

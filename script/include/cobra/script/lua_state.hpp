@@ -35,8 +35,9 @@ struct LuaMemory {
 /// **Budget and interrupts.** Lua code can loop forever; a component's step must not. Every
 /// state (and every coroutine it makes) has a count hook called each `kHookInstructions` Lua
 /// instructions. With a budget set (`setBudget`), the hook measures the CPU time of the calling
-/// thread since the step began (`startStep`; CPU time, so a loaded machine's preemptions do not
-/// count) and, past the budget, raises a Lua error "file.lua:12: <owner> ran past its budget of
+/// thread since the step began (`startStep`; from the hook's first call in the step, so to within
+/// `kHookInstructions` instructions; CPU time, so a loaded machine's preemptions do not count)
+/// and, past the budget, raises a Lua error "file.lua:12: <owner> ran past its budget of
 /// <s> s of CPU time; <hint>" at the running line; from then on it raises at every instruction
 /// until the error reaches C++ (`popError`), so a `pcall` in the script cannot swallow it. When
 /// the flag given to `watchInterrupt` is set (Ctrl-C, SIGTERM), the hook raises "interrupted" in any
