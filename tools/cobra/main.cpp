@@ -187,6 +187,9 @@ int runConsole(const std::string& file, bool sim, bool strict) {
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   tools::Console console(configurator, deployer, std::cout);
+  // In the console Ctrl-C stops a trace and the session goes on: it must not cut the Lua code
+  // that runs after it (the flag stays set).
+  script::LuaState::watchInterrupt(nullptr);
   if (!file.empty()) console.execute("load " + file);
   return tools::runConsoleTerminal(console);
 }
