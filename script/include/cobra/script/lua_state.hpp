@@ -42,10 +42,13 @@ struct LuaMemory {
 /// until the error reaches C++ (`popError`), so a `pcall` in the script cannot swallow it. When
 /// the flag given to `watchInterrupt` is set (Ctrl-C, SIGTERM), the hook raises "interrupted" in any
 /// step that has run `kInterruptGrace` of CPU time, so a script stuck in a loop cannot keep the
-/// process alive, while steps that end by themselves are left to finish. Cost: an instruction
-/// counter, a function call every `kHookInstructions` instructions and, only in a step that
-/// long, a clock read; nothing allocates until the error is raised. C functions called by Lua
-/// are not interrupted (the hook runs between Lua instructions).
+/// process alive, while steps that end by themselves are left to finish. Cost: with a count hook
+/// set, Lua's interpreter checks the count at every instruction (a tight arithmetic loop pays
+/// most, chart callbacks that mostly call C++ little: bench/statechart_bench, LuaNoHook against
+/// LuaHookNoBudget and LuaHookBudget); the hook itself runs every `kHookInstructions`
+/// instructions and reads the clock only in a step that long; nothing allocates until the error
+/// is raised. C functions called by Lua are not interrupted (the hook runs between Lua
+/// instructions).
 class LuaState {
  public:
   /// @throws cobra::core::Error when the state cannot be created (e.g. a pool too small for the
