@@ -2,7 +2,8 @@
 // --faults FILE` plays it, each ending in a defined state with its event: a drive fault and a
 // working-counter mismatch (the master quick-stops the drives, Fault; the chart's SafeStop), the
 // FTSens silent (the chart holds, then stops) or silent for a moment (holds, then resumes to H),
-// the contact force above its limit (SafeStop).
+// the contact force above its limit (SafeStop), the FTSens silent from the start (the tare never
+// answered: SafeStop after the chart's device timeout).
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,17 @@ TEST(Puma260Faults, ASensorBackWithinTheHoldTimeResumesTheNominalPathToH) {
   expectInOrder(r, {"puma > root.F_FollowingSurface", "FTSens: e_comm_timeout", "puma > root.Holding",
                     "FTSens: e_comm_restored", "puma > root.Resuming", "puma > root.H_FinalPose"});
   EXPECT_EQ(count(r, "puma > root.SafeStop"), 0u);
+}
+
+TEST(Puma260Faults, ASensorSilentFromTheStartIsASafeStopAfterTheDeviceTimeoutNamingIt) {
+  const RunResult r = runApp(withFaults("ftsens_silent_from_start"));
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_NE(r.reason.find("puma chart stopped safely in root.B_Ready.Taring: TaskSup: e_sensor_timeout"),
+            std::string::npos)
+      << r.reason;
+  expectInOrder(r, {"puma > root.B_Ready.Taring", "TaskSup: e_sensor_timeout", "puma > root.SafeStop"});
+  // The chart's device_timeout (30 s) after the tare was asked.
+  EXPECT_NEAR(began(r, "root.SafeStop") - began(r, "root.B_Ready.Taring"), 30.0, 0.01);
 }
 
 TEST(Puma260Faults, AContactForceAboveTheLimitStopsTheTask) {

@@ -13,6 +13,9 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+#include <kdl/frames.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -148,6 +151,78 @@ TEST(SuturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySuccee
   expectInOrder(r, {"suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound", "SuturePlanner: e_plan_failed",
                     "suture > root.WaitReaction", "Surgeon: e_recover",
                     "suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound"});
+}
+
+TEST(SuturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamingTheTimeout) {
+  const RunResult r = runApp(withFaults("surgeon_never_reacts.lua"));
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "suture chart stopped safely in root.WaitReaction: TaskSup: e_reaction_timeout at ");
+  expectInOrder(r, {"SuturePlanner: e_plan_failed", "suture > root.WaitReaction", "TaskSup: e_reaction_timeout",
+                    "suture > root.SafeStop"});
+  EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
+}
+
+/// The suturing application loaded as `cobra run` loads it, on the lockstep clock, with its task
+/// chart wrapped: the entry of ApplyRightStitch.MoveOverWound.Moving starts the motion, then runs
+/// `fault` (Lua). The task Supervisor must go to Exception naming the wrapper's line, and its
+/// chart's exceptionHook stop the motion: the Endo Stitch's commanded pose stops changing.
+void expectTheArmsHoldAfter(const std::string& fault, const std::string& expected) {
+  using namespace std::chrono_literals;
+  deploy::Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.run("teleop_device = 'leap'", "=device");
+  deployer.runFile((kApp / "suturing.lua").string());
+  const std::string charts = (kApp / "charts").string();
+  const std::string wrapper = ::testing::TempDir() + "suturing_broken_" + std::to_string(fault.size()) + ".lua";
+  std::ofstream(wrapper) << "package.path = '" << charts << "/?.lua;' .. package.path\n"
+                         << "local chart = dofile('" << charts << "/suturing.lua')\n"
+                         << "local moving = chart.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving\n"
+                         << "local start = moving.entry\n"
+                         << "moving.entry = function(...)\n"
+                         << "  start(...)\n"
+                         << "  " << fault << "\n"
+                         << "end\n"
+                         << "return chart\n";
+  deployer.run("stopComponents({'TaskSup'}) cleanupComponents({'TaskSup'}) TaskSup.fsm_path = [[" + wrapper +
+                   "]] configureComponents({'TaskSup'}) startComponents({'TaskSup'})",
+               "=wrap the chart");
+  core::Component& sup = configurator.getReferences().get("TaskSup");
+  core::InputPort<KDL::Frame> commanded{"commanded", "", "m"}, measured{"measured", "", "m"};
+  core::connectPorts(configurator.getReferences().get("RightAdmittance").port("admPose"), commanded);
+  core::connectPorts(configurator.getReferences().get("ISUR").port("measRightCartPose"), measured);
+  double t = 0.0;
+  for (; t < 60.0 && sup.state() == core::State::Running; t += 0.01) configurator.clock().advance(10ms);
+  ASSERT_EQ(sup.state(), core::State::Exception) << "at " << t << " s";
+  EXPECT_EQ(sup.lastError(), "component 'TaskSup': updateHook threw: entry of "
+                             "root.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving failed: " +
+                                 wrapper + ":7: " + expected);
+  configurator.clock().advance(600ms);  // past the trajectory generator's stop motion
+  KDL::Frame commanded_then, measured_then, commanded_later, measured_later;
+  const core::FlowStatus commanded_first = commanded.read(commanded_then);
+  ASSERT_NE(measured.read(measured_then), core::FlowStatus::NoData);
+  configurator.clock().advance(2s);
+  const core::FlowStatus commanded_second = commanded.read(commanded_later);
+  ASSERT_NE(measured.read(measured_later), core::FlowStatus::NoData);
+  // The motion was stopped as it began: the admittance was never commanded to move (no sample),
+  // or holds its last command; the arm stays where it is.
+  EXPECT_EQ(commanded_first == core::FlowStatus::NoData, commanded_second == core::FlowStatus::NoData);
+  if (commanded_first != core::FlowStatus::NoData) {
+    EXPECT_TRUE(KDL::Equal(commanded_then, commanded_later, 1e-9));
+  }
+  EXPECT_TRUE(KDL::Equal(measured_then, measured_later, 1e-6))
+      << "moved by " << (measured_later.p - measured_then.p).Norm() << " m";
+}
+
+TEST(SuturingProcedure, AnEndlessLoopInTheTaskChartIsCutAndTheArmsHold) {
+  expectTheArmsHoldAfter("while true do end",
+                         "component 'TaskSup' ran past its budget of 0.01 s of CPU time; raise its lua_budget "
+                         "property if the chart needs that long");
+}
+
+TEST(SuturingProcedure, ALuaErrorInTheTaskChartIsAnExceptionAndTheArmsHold) {
+  expectTheArmsHoldAfter("stopp()", "attempt to call a nil value (global 'stopp')");
 }
 
 /// Loaded with the strict role rules (a connection that breaks one is refused at load), with
