@@ -2,9 +2,6 @@
 #include "cobra/deploy/configurator_client.hpp"
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
 #include "cobra/core/error.hpp"
 #include "cobra/deploy/configurator.hpp"
@@ -68,8 +65,6 @@ bool Configurator::serviceRequests() {
     while (client->takeRequest(request)) {
       any = true;
       const std::string name = request.name.str();
-      const auto debug_started = std::chrono::steady_clock::now();
-      struct DebugTime { std::chrono::steady_clock::time_point t; const std::string& n; ~DebugTime() { if (getenv("COBRA_DEBUG_SWITCH")) fprintf(stderr, "DEBUG switch %s took %.3f ms\n", n.c_str(), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count()); } } debug_time{debug_started, name};
       try {
         if (request.kind == SwitchRequest::Kind::Deployment) {
           for (const LintViolation& v : applyDeployment(name)) warnings_.push_back(v.message);

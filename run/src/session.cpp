@@ -527,6 +527,14 @@ bool Session::ended() {
                      " period (setExecutor's safe_stop_after)";
     say("SAFE STOP: " + result_.reason);
   }
+  // Ctrl-C first: a script it cut short is in Exception because of it.
+  if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
+    result_.outcome = Outcome::Interrupted;
+    char at[48];
+    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
+    result_.reason = std::string(at) + "; charts: " + statesText();
+    return true;
+  }
   for (const Chart& c : charts_)
     if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
   for (const core::Component* c : components_) {
@@ -562,13 +570,6 @@ bool Session::ended() {
     result_.outcome = Outcome::PeerLost;
     result_.reason = lost_peers_ + "; this host's charts did not reach a safe stop within " +
                      seconds(spec_.safe_stop_linger) + ": " + statesText();
-    return true;
-  }
-  if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
-    result_.outcome = Outcome::Interrupted;
-    char at[48];
-    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
-    result_.reason = std::string(at) + "; charts: " + statesText();
     return true;
   }
   if (t_ >= options_.time_limit - 1e-9) {

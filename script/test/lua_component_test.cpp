@@ -240,7 +240,7 @@ TEST(LuaComponent, AnEndlessLoopInAHookIsCutAtItsBudgetAndTheOthersKeepTheirPeri
   clock.advance(10ms);
   EXPECT_EQ(c.state(), core::State::Exception);
   EXPECT_EQ(c.lastError(), "component 'Spinner': updateHook threw: " + path +
-                               ":5: component 'Spinner' ran past its budget of 0.01 s of CPU time; raise its "
+                               ":5: component 'Spinner' ran past its budget of 0.005 s of CPU time; raise its "
                                "lua_budget property if the hook needs that long");
   EXPECT_EQ(c.updateCount(), 2u);      // the third update threw
   EXPECT_EQ(ticker.updateCount(), 10u);  // every period of the 10 ms

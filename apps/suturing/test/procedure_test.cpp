@@ -217,7 +217,7 @@ void expectTheArmsHoldAfter(const std::string& fault, const std::string& expecte
 
 TEST(SuturingProcedure, AnEndlessLoopInTheTaskChartIsCutAndTheArmsHold) {
   expectTheArmsHoldAfter("while true do end",
-                         "component 'TaskSup' ran past its budget of 0.01 s of CPU time; raise its lua_budget "
+                         "component 'TaskSup' ran past its budget of 0.005 s of CPU time; raise its lua_budget "
                          "property if the chart needs that long");
 }
 

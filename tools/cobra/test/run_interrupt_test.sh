@@ -29,9 +29,10 @@ await() {
   if [ $status -ge 128 ]; then echo "$mode: ended by a signal (status $status)"; cat "$out"; exit 1; fi
 }
 
-for mode in lockstep realtime; do
+for mode in lockstep realtime thread-per-component; do
   flag=""
   [ "$mode" = realtime ] && flag="--realtime"
+  [ "$mode" = thread-per-component ] && flag="--realtime --thread-per-component"
   : >"$out"  # emptied before the start: the previous run's line must not be taken for this one's
   "$cobra" run "$app" $flag --time-limit 1000 >"$out" 2>&1 &
   pid=$!
@@ -51,7 +52,7 @@ for mode in lockstep realtime; do
   : >"$out"
   "$cobra" run "$budgeted/stuck.lua" $flag --time-limit 1000 >"$out" 2>&1 &
   await $!
-  if ! grep -q "cobra run: component error: component 'TaskSup' is in Exception: .*stuck_task.lua:6: component 'TaskSup' ran past its budget of 0.01 s of CPU time" "$out"; then
+  if ! grep -q "cobra run: component error: component 'TaskSup' is in Exception: .*stuck_task.lua:6: component 'TaskSup' ran past its budget of 0.005 s of CPU time" "$out"; then
     echo "$mode, budget: the run did not end with the Supervisor's Exception at the loop's line"; cat "$out"; exit 1
   fi
   echo "$mode, budget: status $status"

@@ -83,7 +83,7 @@ class LuaComponent : public core::Component {
   core::Property<int> pool_size_{"lua_pool_size", 256 * 1024, "B",
                                  "bytes of the Lua memory pool, reserved when the script loads; 0 = unbounded "
                                  "system allocator (not real-time)"};
-  core::Property<double> budget_{"lua_budget", 0.01, "s",
+  core::Property<double> budget_{"lua_budget", 0.005, "s",
                                  "CPU time one start, update, stop or exception hook may take; past it the hook "
                                  "fails naming the file:line (the component goes to Exception); 0 = none"};
   core::Property<double> load_budget_{"lua_load_budget", 1.0, "s",

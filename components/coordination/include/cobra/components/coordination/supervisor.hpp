@@ -88,7 +88,7 @@ class Supervisor : public core::Component, public deploy::ConfiguratorClient {
                                  "Lua memory of the chart, reserved at configure; 0 = unbounded (not real-time)"};
   core::Property<int> max_steps_{"max_steps", 1000, "1", "most chart steps per update (a busy doo stops there)"};
   core::Property<int> chart_errors_{"chart_errors", 0, "1", "chart callbacks that failed since configure"};
-  core::Property<double> budget_{"lua_budget", 0.01, "s",
+  core::Property<double> budget_{"lua_budget", 0.005, "s",
                                  "CPU time the chart's Lua code may take in one update (start, events, doo, time "
                                  "events); past it the component goes to Exception naming the file:line; 0 = none"};
   core::Property<double> load_budget_{"lua_load_budget", 1.0, "s",
