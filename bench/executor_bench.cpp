@@ -69,9 +69,7 @@ namespace {
 using cobra::bench::LatencyFiguresUs;
 
 constexpr double kDefaultSeconds = 20.0;
-constexpr int kPriority = 80;
-constexpr int kIntervalUs = 1000;  // 1 kHz, the deployment's period (its setExecutor)
-constexpr int kHistogramUs = 10000;
+constexpr std::size_t kHistogramUs = 10000;  // cyclictest's buckets, 1 µs each
 constexpr std::size_t kSlowestShown = 10;
 
 /// s of each measure: COBRA_EXECUTOR_BENCH_SECONDS when it is a number >= 1, else the default.
@@ -95,10 +93,12 @@ struct Latency {
   std::uint64_t misses = 0;
 };
 
-/// One row pair of the summary table.
+/// One case of the summary table.
 struct Case {
   std::string name;
   double load1 = 0.0;
+  int priority = 0;          // SCHED_FIFO, the deployment's setExecutor's, cyclictest's too
+  std::size_t period_us = 0;  // the same
   Latency executor;
   Latency cyclictest, caught_up;  // cyclictest's own figures; counted as the executor counts
   bool cyclictest_ran = false;
@@ -192,9 +192,12 @@ void listSlowest(std::vector<cobra::core::ComponentTiming> timings) {
   }
 }
 
-/// Runs the deployment's schedule on the executor for `seconds`; sets the tick's counters.
-Latency runExecutor(Puncturing& puncturing, double seconds, benchmark::State& state) {
+/// Runs the deployment's schedule on the executor for `seconds`: row's executor figures, priority
+/// and period; the tick's counters.
+void runExecutor(Puncturing& puncturing, double seconds, benchmark::State& state, Case& row) {
   cobra::core::RealtimeExecutor executor(puncturing.configurator.clock(), puncturing.configurator.executorOptions());
+  row.priority = executor.options().priority;
+  row.period_us = static_cast<std::size_t>(std::chrono::duration_cast<std::chrono::microseconds>(executor.options().period).count());
   executor.start();
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   executor.stop();
@@ -202,19 +205,20 @@ Latency runExecutor(Puncturing& puncturing, double seconds, benchmark::State& st
   state.counters["tick_p50_us"] = tick.p50;
   state.counters["tick_worst_us"] = tick.worst;
   state.counters["fifo"] = executor.effectiveScheduler() == cobra::core::Scheduler::Fifo ? 1 : 0;
-  std::printf("  executor: %llu ticks, %llu deadline misses (worst run %llu), %.3f s slipped, memory %s; "
+  std::printf("  executor (SCHED_FIFO %d, every %zu us): %llu ticks, %llu deadline misses (worst run %llu), %.3f s slipped, memory %s; "
               "tick compute p50 %.1f us, worst %.1f us; needle chart at %s, probe chart at %s\n",
-              static_cast<unsigned long long>(executor.ticks()), static_cast<unsigned long long>(executor.deadlineMisses()),
+              row.priority, row.period_us, static_cast<unsigned long long>(executor.ticks()), static_cast<unsigned long long>(executor.deadlineMisses()),
               static_cast<unsigned long long>(executor.worstConsecutiveMisses()),
               std::chrono::duration<double>(executor.slipped()).count(), executor.memoryLocked() ? "locked" : "NOT locked",
               tick.p50, tick.worst, puncturing.state("NeedleTaskSup").c_str(), puncturing.state("ProbeTaskSup").c_str());
   listSlowest(executor.componentTimings());
-  return {microseconds(cobra::core::figuresOf(executor.wakeLatency())), executor.wakeLatency().count(),
-          executor.deadlineMisses()};
+  row.executor = {microseconds(cobra::core::figuresOf(executor.wakeLatency())), executor.wakeLatency().count(),
+                  executor.deadlineMisses()};
 }
 
 /// Wake-up latencies in whole µs, one bucket each, as cyclictest's histogram prints them.
 struct MicrosecondHistogram {
+  std::size_t period_us = 0;  // cyclictest's interval
   std::vector<std::uint64_t> counts = std::vector<std::uint64_t>(kHistogramUs, 0);
   std::uint64_t overflows = 0;  // samples of kHistogramUs or more
   std::uint64_t worst = 0;      // µs
@@ -237,7 +241,7 @@ struct MicrosecondHistogram {
   /// Quantiles, samples and misses (samples a whole period late or more).
   Latency latency() const {
     Latency l{{quantile(0.5), quantile(0.99), quantile(0.999), static_cast<double>(worst)}, total(), overflows};
-    for (std::size_t us = kIntervalUs; us < counts.size(); ++us) l.misses += counts[us];
+    for (std::size_t us = period_us; us < counts.size(); ++us) l.misses += counts[us];
     return l;
   }
 
@@ -248,9 +252,9 @@ struct MicrosecondHistogram {
   MicrosecondHistogram withCatchUp() const {
     MicrosecondHistogram caught = *this;
     const auto catchUp = [&](std::size_t late, std::uint64_t n) {
-      for (std::size_t l = late; l >= kIntervalUs; l -= kIntervalUs) caught.counts[l - kIntervalUs] += n;
+      for (std::size_t l = late; l >= period_us; l -= period_us) caught.counts[l - period_us] += n;
     };
-    for (std::size_t us = kIntervalUs; us < counts.size(); ++us) catchUp(us, counts[us]);
+    for (std::size_t us = period_us; us < counts.size(); ++us) catchUp(us, counts[us]);
     catchUp(kHistogramUs, overflows);
     return caught;
   }
@@ -264,15 +268,16 @@ bool summaryValue(const char* line, const char* name, std::uint64_t& value) {
   return true;
 }
 
-/// cyclictest at the same priority and interval for `seconds`, its histogram read.
+/// cyclictest at SCHED_FIFO `priority`, every `period_us`, for `seconds`, its histogram read.
 /// @throws std::runtime_error when it cannot run or prints no histogram.
-MicrosecondHistogram runCyclictest(double seconds) {
-  const std::string command = "cyclictest -m -q --laptop -p " + std::to_string(kPriority) + " -i " +
-                              std::to_string(kIntervalUs) + " -h " + std::to_string(kHistogramUs) + " -D " +
+MicrosecondHistogram runCyclictest(int priority, std::size_t period_us, double seconds) {
+  const std::string command = "cyclictest -m -q --laptop -p " + std::to_string(priority) + " -i " +
+                              std::to_string(period_us) + " -h " + std::to_string(kHistogramUs) + " -D " +
                               std::to_string(std::lround(seconds)) + " 2>/dev/null";
   FILE* out = popen(command.c_str(), "r");
   if (out == nullptr) throw std::runtime_error("cannot run " + command);
   MicrosecondHistogram histogram;
+  histogram.period_us = period_us;
   char line[256];
   while (std::fgets(line, sizeof line, out) != nullptr) {
     unsigned long us = 0;
@@ -307,9 +312,9 @@ void executorBesideCyclictest(benchmark::State& state, bool loaded) {
       row.load1 = load[0];
       std::printf("%s (load average %.2f), %g s each:\n", row.name.c_str(), row.load1, seconds);
       std::unique_ptr<CpuLoad> stress = loaded ? std::make_unique<CpuLoad>(seconds) : nullptr;
-      row.executor = runExecutor(*puncturing, seconds, state);
+      runExecutor(*puncturing, seconds, state, row);
       puncturing.reset();  // its planner threads gone before cyclictest
-      const MicrosecondHistogram cyclictest = runCyclictest(seconds);
+      const MicrosecondHistogram cyclictest = runCyclictest(row.priority, row.period_us, seconds);
       row.cyclictest = cyclictest.latency();
       row.caught_up = cyclictest.withCatchUp().latency();
       row.cyclictest_ran = true;
@@ -330,8 +335,8 @@ void executorBesideCyclictest(benchmark::State& state, bool loaded) {
 
 void printSummary() {
   if (g_cases.empty()) return;
-  std::printf("\nWake-up latency at %d Hz, SCHED_FIFO %d, %g s per measure (us; executor: the puncturing "
-              "deployment)\n", 1'000'000 / kIntervalUs, kPriority, measureSeconds());
+  std::printf("\nWake-up latency (us), %g s per measure; executor: the puncturing deployment; cyclictest at its "
+              "SCHED_FIFO priority and period\n", measureSeconds());
   std::printf("%-8s %-20s %6s %9s %9s %9s %9s %7s %8s\n", "case", "measure", "load1", "p50", "p99", "p99.9", "worst",
               "misses", "samples");
   const auto print = [](const Case& c, const char* measure, const Latency& l) {
