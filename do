@@ -11,13 +11,16 @@
 #   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
 #                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
 #                    suturing: the two-armed suturing task, thesis ch. 5)
-#   bench            build and run the benchmarks (Google Benchmark; median and max)
+#   bench            build and run the benchmarks (Google Benchmark; median and max; installs
+#                    rt-tests and stress-ng for the executor's bench beside cyclictest)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
+# executor_bench's peer (cyclictest) and its load (stress-ng --cpu).
+BENCH_PACKAGES=(rt-tests stress-ng)
 # Leaks of libraries cobra cannot free, each explained in the file; ASan's leak check stays on.
 LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
@@ -163,6 +166,7 @@ case "${1:-help}" in
       ./build/release/tools/cobra/cobra run apps/puncturing --report "$PWD/build/demo-report"
     fi ;;
   bench)
+    setup "${BENCH_PACKAGES[@]}"
     build release
     for b in build/release/bench/*_bench; do
       say "$b"
@@ -185,6 +189,6 @@ case "${1:-help}" in
       fi
       grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
     done ;;
-  help|-h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "do: unknown command '$1'" >&2; sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+  help|-h|--help) sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
 esac
