@@ -510,7 +510,7 @@ std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result
   json::appendNumber(end, result.duration);
   end += ",\"outcome\":" + json::quoted(run::toString(result.outcome)) + ",\"message\":" + json::quoted(result.reason) +
          ",\"status\":" + std::to_string(run::exitStatus(result)) + ",\"line\":" + json::quoted(run::endLine(result)) +
-         ",\"states\":{";
+         ",\"executor\":" + json::quoted(run::executorLine(result.executor)) + ",\"states\":{";
   for (std::size_t c = 0; c < result.final_states.size(); ++c)
     end += (c ? "," : "") + json::quoted(result.final_states[c].first) + ":" + json::quoted(result.final_states[c].second);
   end += "}}";
