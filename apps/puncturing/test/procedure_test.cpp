@@ -231,6 +231,27 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   expectClear(r);
 }
 
+// The I-SUR refuses a command mid-motion (slowed to 0.2 % of its speed) and holds: the needle's
+// admittance and trajectory generator re-sync to the held pose at once, so the commanded pose
+// never runs away from the robot (the tracking error stays within the acceptance figure while it
+// is held), the chart's reaction and the surgeon's recovery re-plan the approach from there, and
+// the procedure completes.
+TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHeldRobotAndTheTaskRecovers) {
+  const RunResult r = runApp(withFaults("robot_slowed.lua"));
+  ASSERT_TRUE(r.completed()) << r.reason;
+  expectPlaced(r, 2);
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 7),
+                    "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "NeedleTrajGen: e_resynced",
+                    "needle > root.WaitReaction", fault("robot_slowed.lua", 9), "Surgeon: e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend", "NeedleMonitor: e_skin_touched",
+                    "NeedleMonitor: e_target_reached", "needle > root.Done"});
+  EXPECT_EQ(count(r, "ISUR: e_ik_discontinuity"), 1u) << "refused once: the re-synced command is accepted";
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 1u);
+  expectTracked(r);
+  expectNoCommandJump(r);
+}
+
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
   deploy::ConfiguratorOptions strict;
   strict.strict_roles = true;  // the connections made at load are refused if they break a rule

@@ -46,9 +46,10 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
     addProperty(*p);
   for (core::PortBase* p :
        std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_, &meas_position_,
-                                              &meas_velocity_, &meas_torque_, &current_state_})
+                                              &meas_velocity_, &meas_torque_, &held_position_, &current_state_})
     addPort(*p);
-  for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_}) port->setDataSample(KDL::JntArray(6));
+  for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_, &held_position_})
+    port->setDataSample(KDL::JntArray(6));
   addOperation("askReady", std::function<void()>([this] { ask(fieldbus::Request::Ready); }),
                "move to the ready position (from Initialized, NestPosition, ReadyPosition or Operative); "
                "e_ready_reached when there, e_request_refused otherwise");
@@ -158,6 +159,7 @@ void Puma260EtherCATMaster::updateHook() {
   publish(meas_position_, master_->position());
   publish(meas_velocity_, master_->velocity());
   publish(meas_torque_, master_->torque());
+  if (master_->state() == fieldbus::MasterState::Fault) publish(held_position_, master_->position());
   if (master_->state() != published_) {  // also the changes made by the ask operations
     published_ = master_->state();
     current_state_.write(core::TaskState{fieldbus::toString(published_)});

@@ -42,6 +42,8 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
   addPort(cart_pose_);
   addEventPort(des_cart_pose_);
   addPort(des_joint_positions_);
+  addPort(held_cart_pose_);
+  addPort(held_joint_positions_);
   addOperation("forward", &KinematicsSolverComponent::forwardOnDemand, this, "tool pose (world frame, m) for joints q");
   addOperation("inverse", &KinematicsSolverComponent::inverseOnDemand, this,
                "joints reaching pose (world frame, m), starting from / nearest to seed");
@@ -142,6 +144,14 @@ void KinematicsSolverComponent::updateHook() {
     if (kinematics_->forward(q_, pose_) == kinematics::IkStatus::Ok)
       cart_pose_.write(base_frame_() * pose_ * tool_frame_());
   }
+  // Held by something else (a drive's quick stop): the next command is judged from there, and
+  // the producers of the commands are told.
+  if (held_joint_positions_.read(q_) == core::FlowStatus::NewData && q_.rows() == solution_.rows()) {
+    solution_ = q_;
+    measured_ = q_;
+    have_solution_ = have_measured_ = true;
+    publishHeld(solution_);
+  }
   KDL::Frame desired;
   bool commanded = false;
   while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
@@ -163,6 +173,7 @@ void KinematicsSolverComponent::updateHook() {
       refusing_ = told_failed_ = told_discontinuity_ = false;
     } else {
       refusing_ = true;
+      if (have_solution_ || have_measured_) publishHeld(from_solution || !have_measured_ ? solution_ : measured_);
       if (last_status_ == kinematics::IkStatus::Discontinuous) {
         if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
         told_discontinuity_ = true;
@@ -173,6 +184,10 @@ void KinematicsSolverComponent::updateHook() {
     }
   }
   streaming_ = commanded;
+}
+
+void KinematicsSolverComponent::publishHeld(const KDL::JntArray& q) noexcept {
+  if (kinematics_->forward(q, pose_) == kinematics::IkStatus::Ok) held_cart_pose_.write(base_frame_() * pose_ * tool_frame_());
 }
 
 KDL::Frame KinematicsSolverComponent::forwardOnDemand(KDL::JntArray q) {
