@@ -189,7 +189,7 @@ TEST(CartesianTrajectoryGenerator, AHeldArmEndsTheMotionThereAndTheNextPathStart
   EXPECT_EQ(b.status(), "WaitPath");
   EXPECT_TRUE(KDL::Equal(b.lastPose(0), held, 1e-15));
   EXPECT_TRUE(KDL::Equal(b.lastPose(1), arm2, 1e-15));
-  for (std::size_t arm = 0; arm < 2; ++arm) EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), KDL::Twist::Zero(), 0.0));
+  for (std::size_t arm = 0; arm < 2; ++arm) EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), KDL::Twist::Zero(), 1e-15));
   // At rest there: no set-point follows, the old trajectory cannot be started again.
   b.clock.advance(100ms);
   KDL::Frame f;

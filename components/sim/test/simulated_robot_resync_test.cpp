@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <kdl/frames.hpp>
+
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
@@ -48,7 +50,8 @@ struct Chain {
 
   /// The chain for a robot of `type`, at rest at its initial joints; paths 1 and 2 go `first` and
   /// then `second` (Lua tables of dx, dy, dz in m) from where the tool is at configure.
-  Chain(const std::string& type, const std::vector<double>& first, const std::vector<double>& second) {
+  Chain(const std::string& type, const std::string& initial_joints, const std::vector<double>& first,
+        const std::vector<double>& second) {
     addBuiltinPackages(configurator.packages());
     deployer.run("initConfigurator({ 'cobra_sim', 'cobra_control', 'cobra_motion' }, {\n"
                  "  { peer_name = 'Robot', component_type = '" + type + "' },\n"
@@ -60,6 +63,7 @@ struct Chain {
                  "setActivities({ { peer_name = 'Robot', period = 0.001 }, { peer_name = 'Path1', period = 0.001 },\n"
                  "  { peer_name = 'Path2', period = 0.001 }, { peer_name = 'TrajGen', period = 0.001 },\n"
                  "  { peer_name = 'Admittance', period = 0.001 } })\n"
+                 "Robot.initial_joints = " + initial_joints + "\n"
                  "configureComponents({ 'Robot' }) startComponents({ 'Robot' })",
                  "chain.lua");
     core::Component& robot = component("Robot");
@@ -121,9 +125,9 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 }
 
 /// The refusal mid-motion and the re-sync, for the robot of `type` moving `first` then `second`.
-void checkRefusalReSyncsTheChain(const std::string& type, const std::vector<double>& first,
-                                 const std::vector<double>& second) {
-  Chain c(type, first, second);
+void checkRefusalReSyncsTheChain(const std::string& type, const std::string& initial_joints,
+                                 const std::vector<double>& first, const std::vector<double>& second) {
+  Chain c(type, initial_joints, first, second);
   c.move("Path1");
   c.configurator.clock().advance(400ms);
   ASSERT_EQ(c.component("TrajGen").call<std::string>("status"), "Moving");
@@ -177,11 +181,14 @@ void checkRefusalReSyncsTheChain(const std::string& type, const std::vector<doub
 }
 
 TEST(SimulatedRobotReSync, TheISURRefusingACommandMidMotionReSyncsItsCommandChain) {
-  checkRefusalReSyncsTheChain("SimulatedISURRobot", {0.02, 0.0, -0.01}, {0.0, 0.015, 0.0});
+  // The puncturing application's start (m, rad): the elbow on the IK's rule (q6 - q7 = 0.3 rad).
+  checkRefusalReSyncsTheChain("SimulatedISURRobot", "{ 0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0 }",
+                              {0.02, 0.0, -0.01}, {0.0, 0.015, 0.0});
 }
 
 TEST(SimulatedRobotReSync, TheUR5RefusingACommandMidMotionReSyncsItsCommandChain) {
-  checkRefusalReSyncsTheChain("SimulatedUR5Robot", {0.03, 0.0, 0.0}, {0.0, -0.02, 0.01});
+  checkRefusalReSyncsTheChain("SimulatedUR5Robot", "{ 0, -1.57, 1.57, -1.57, -1.57, 0 }", {0.03, 0.0, 0.0},
+                              {0.0, -0.02, 0.01});
 }
 
 }  // namespace

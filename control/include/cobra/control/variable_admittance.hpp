@@ -106,7 +106,7 @@ class VariableAdmittance {
   /// output pose restarts there, at rest and in equilibrium with the measured `wrench` (base
   /// frame, N, N·m, at the tool point). ẋ̃ becomes 0 and x̃ the static displacement Kd x̃ = (F, τ)
   /// (τ in the held pose's axes: the rotation's generalised force to first order in x̃_r; 0 along
-  /// a direction without stiffness), so neither a lag of the old motion nor the contact force
+  /// a direction without stiffness), so neither the old motion's rate nor the contact force
   /// moves the output away from the held pose afterwards. `reference` is set to the reference
   /// whose output pose is `held`: p_ref = p_held - x̃_p, R_ref = R_held Exp(x̃_r)ᵀ; the caller
   /// steps from it until its set-points follow the robot again. Passive: stored energy the new
