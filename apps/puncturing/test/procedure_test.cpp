@@ -238,18 +238,18 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
 // the procedure completes.
 TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHeldRobotAndTheTaskRecovers) {
   const RunResult r = runApp(withFaults("robot_slowed.lua"));
+  expectTracked(r);  // while held too: the commanded pose stayed with the robot
+  expectNoCommandJump(r);
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 7),
-                    "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "NeedleTrajGen: e_resynced",
-                    "needle > root.WaitReaction", fault("robot_slowed.lua", 9), "Surgeon: e_recover",
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 8),
+                    "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "needle > root.WaitReaction",
+                    "ISUR: e_ik_solved", "NeedleTrajGen: e_resynced", fault("robot_slowed.lua", 9), "Surgeon: e_recover",
                     "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
                     "needle > root.InsertingNeedles.MoveToSkin.Descend", "NeedleMonitor: e_skin_touched",
                     "NeedleMonitor: e_target_reached", "needle > root.Done"});
   EXPECT_EQ(count(r, "ISUR: e_ik_discontinuity"), 1u) << "refused once: the re-synced command is accepted";
   EXPECT_EQ(count(r, "needle > root.WaitReaction"), 1u);
-  expectTracked(r);
-  expectNoCommandJump(r);
 }
 
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
