@@ -89,7 +89,7 @@ bool VariableAdmittanceController::startHook() {
   have_reference_ = false;
   stepped_ = false;
   tank_empty_ = false;
-  following_held_ = false;
+  following_held_ = resynced_ = false;
   blind_ = false;
   last_wrench_ = now();
   return true;
@@ -150,6 +150,8 @@ void VariableAdmittanceController::updateHook() {
   if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
   if (!have_reference_) return;
   KDL::Frame held;
+  const bool resynced_before = resynced_;
+  resynced_ = false;
   if (held_pose_.read(held) == core::FlowStatus::NewData && stepped_ && finitePose(held)) {
     // The robot holds at `held`: the output restarts there, at rest, in this very step.
     controller_->resync(held, wrench_ + ext_wrench_value_, reference_);
@@ -160,7 +162,8 @@ void VariableAdmittanceController::updateHook() {
     adm_pose_.write(held);
     adm_twist_.write(KDL::Twist::Zero());
     tank_energy_.write(controller_->tankEnergy());
-    emitEvent("e_resynced");
+    if (!resynced_before) emitEvent("e_resynced");  // once while held step after step
+    resynced_ = true;
     return;
   }
   if (resumed && stepped_) {

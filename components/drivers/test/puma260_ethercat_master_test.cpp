@@ -126,7 +126,11 @@ TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   b.arm.call("injectFault", 4);
   EXPECT_EQ(b.runUntil("e_drive_fault", 10ms), (std::vector<std::string>{"e_drive_fault"}));
   EXPECT_EQ(b.states.back(), "Fault");
-  // Held: in each cycle in Fault the measured joints, for the command chain to re-sync to.
+  // Held: in each cycle in Fault once the joints have been at rest for 0.1 s, the measured joints,
+  // for the command chain to re-sync to.
+  b.clock.advance(50ms);
+  EXPECT_EQ(held.read(q), core::FlowStatus::NoData);
+  b.clock.advance(60ms);
   ASSERT_EQ(held.read(q), core::FlowStatus::NewData);
   EXPECT_EQ(q.data, b.read(b.position).data);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(5ms); }), 0);

@@ -126,6 +126,7 @@ bool CartesianTrajectoryGenerator::startHook() {
   stops_.clear();
   start_pending_ = false;
   published_ = false;
+  resynced_ = false;
   enter(Status::WaitPath);
   return true;
 }
@@ -251,6 +252,8 @@ void CartesianTrajectoryGenerator::resyncToHeldPoses() noexcept {
     poses_[arm] = pose;
     ++held;
   }
+  const bool resynced_before = resynced_;
+  resynced_ = held > 0;
   if (held == 0) return;
   // An arm with no set-point sent since start has none to rest at: only the held arms are written.
   for (std::size_t arm = 0; arm < pose_ports_.size(); ++arm) {
@@ -260,9 +263,10 @@ void CartesianTrajectoryGenerator::resyncToHeldPoses() noexcept {
     twist_ports_[arm]->write(twists_[arm]);
   }
   published_ = published_ || held == pose_ports_.size();
-  emitEvent("e_resynced");
   start_pending_ = false;
   const Status current = status();
+  // Told once while held step after step (a robot held for long), and whenever a motion ends here.
+  if (!resynced_before || current != Status::WaitPath) emitEvent("e_resynced");
   // A stop motion asked for ends here, at rest: its answer is due (a chart may wait for it).
   if (current == Status::GeneratingStop) emitEvent("e_motion_stopped");
   if (current != Status::WaitPath) enter(Status::WaitPath);  // the motion, path and trajectory end here

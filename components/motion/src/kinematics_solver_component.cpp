@@ -146,13 +146,18 @@ void KinematicsSolverComponent::updateHook() {
   }
   // Held by something else (a drive's quick stop): the next command is judged from there, and
   // the producers of the commands are told.
+  KDL::Frame desired;
   if (held_joint_positions_.read(q_) == core::FlowStatus::NewData && q_.rows() == solution_.rows()) {
     solution_ = q_;
     measured_ = q_;
     have_solution_ = have_measured_ = true;
     publishHeld(solution_);
+    // The commands of this update were made before their producers knew: not solved.
+    while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
+    }
+    streaming_ = false;
+    return;
   }
-  KDL::Frame desired;
   bool commanded = false;
   while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
     const KDL::Frame target = base_frame_().Inverse() * desired * tool_frame_().Inverse();

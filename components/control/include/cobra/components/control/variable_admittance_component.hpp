@@ -33,7 +33,7 @@ namespace cobra::components {
 /// with the pose the robot holds, in each step it holds. On such a sample the controller restarts
 /// its output there (control::VariableAdmittance::resync: at rest, in equilibrium with the
 /// measured wrench): admPose is the held pose in that very step, admTwist zero, and e_resynced
-/// is emitted.
+/// is emitted (once while held step after step).
 /// It then steps about the reference that puts its output at the held pose, ignoring refPose's
 /// old sample (and refTwist) until refPose brings a new one: a trajectory generator that
 /// stopped, or a teleoperation reference moving on (a jump to rebase on, as above). So the
@@ -113,6 +113,7 @@ class VariableAdmittanceController : public core::Component {
   bool stepped_ = false;                                     // previous_reference_ is set
   bool tank_empty_ = false;
   bool following_held_ = false;  // re-synced: stepping about the held pose until refPose brings a new sample
+  bool resynced_ = false;        // the last step re-synced (e_resynced is told once while held step after step)
   std::chrono::nanoseconds last_wrench_{0};  // when measWrench last brought a sample
   bool blind_ = false;                       // holding: measWrench silent for wrench_timeout
 };

@@ -56,7 +56,8 @@ namespace cobra::components {
 /// variable admittance between this component and the robot (its heldRefPose: the reference its
 /// re-synced output steps about), in each step the arm is held. On such a sample, in any running
 /// state, the arm's set-point becomes that pose, every arm's twist zero, and the set-points are
-/// written in that step; e_resynced is emitted. A motion (Moving, GeneratingStop, or a start asked
+/// written in that step; e_resynced is emitted (once while held step after step, unless a motion
+/// ends). A motion (Moving, GeneratingStop, or a start asked
 /// for) ends there: every arm is at rest at once, the held arms at their held pose and the others
 /// at their set-point (a stop in one step: no jump in pose, a step in velocity), and the state
 /// goes to WaitPath with e_wait_path (after e_motion_stopped when a stop motion was running: the
@@ -146,6 +147,7 @@ class CartesianTrajectoryGenerator : public core::Component {
   bool published_ = false;          // poses_ hold set-points sent since the last start
   std::vector<KDL::Twist> twists_;  // workspace: one per arm
   std::vector<unsigned char> held_now_;  // workspace: arm i brought a held pose in this step
+  bool resynced_ = false;                // the last step re-synced (e_resynced told once while held)
 };
 
 }  // namespace cobra::components

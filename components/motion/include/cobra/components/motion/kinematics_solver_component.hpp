@@ -44,7 +44,8 @@ namespace cobra::components {
 /// starts where the robot is (ARCHITECTURE §7). `heldJointPositions` (in, rad or m): joints
 /// something else holds the robot at (a drive's quick stop: Puma260EtherCATMaster's
 /// heldJointPosition); each sample becomes the reference of the next command and is passed on
-/// as heldCartPose, so the command chain re-syncs to a stopped robot as it does to a refusal.
+/// as heldCartPose, so the command chain re-syncs to a stopped robot as it does to a refusal
+/// (the desCartPose samples of that update, made before their producers knew, are dropped).
 /// On demand: operations `forward(q)` and `inverse(pose, seed)` (no continuity rule: planning
 /// use), which throw the status' name.
 /// Real time: the closed-form solvers and KDL's NR_JL/LMA as cobra builds them allocate nothing.
