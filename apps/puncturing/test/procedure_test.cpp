@@ -244,7 +244,8 @@ TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHel
   expectPlaced(r, 2);
   expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 8),
                     "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "needle > root.WaitReaction",
-                    "ISUR: e_ik_solved", "NeedleTrajGen: e_resynced", fault("robot_slowed.lua", 9), "Surgeon: e_recover",
+                    "ISUR: e_ik_solved", "NeedleTrajGen: e_resynced", fault("robot_slowed.lua", 9),
+                    "Surgeon: e_recover",
                     "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
                     "needle > root.InsertingNeedles.MoveToSkin.Descend", "NeedleMonitor: e_skin_touched",
                     "NeedleMonitor: e_target_reached", "needle > root.Done"});

@@ -132,7 +132,8 @@ void VariableAdmittanceController::updateHook() {
   KDL::Twist reference_twist;
   const core::FlowStatus reference_status = ref_pose_.read(reference);
   const core::FlowStatus twist_status = ref_twist_.read(reference_twist);
-  if (reference_status == core::FlowStatus::NewData || (reference_status == core::FlowStatus::OldData && !following_held_)) {
+  if (reference_status == core::FlowStatus::NewData ||
+      (reference_status == core::FlowStatus::OldData && !following_held_)) {
     reference_ = reference;
     have_reference_ = true;
     following_held_ = false;

@@ -192,7 +192,8 @@ void KinematicsSolverComponent::updateHook() {
 }
 
 void KinematicsSolverComponent::publishHeld(const KDL::JntArray& q) noexcept {
-  if (kinematics_->forward(q, pose_) == kinematics::IkStatus::Ok) held_cart_pose_.write(base_frame_() * pose_ * tool_frame_());
+  if (kinematics_->forward(q, pose_) == kinematics::IkStatus::Ok)
+    held_cart_pose_.write(base_frame_() * pose_ * tool_frame_());
 }
 
 KDL::Frame KinematicsSolverComponent::forwardOnDemand(KDL::JntArray q) {

@@ -206,7 +206,8 @@ TEST(CartesianTrajectoryGenerator, AHeldArmEndsTheMotionThereAndTheNextPathStart
   EXPECT_TRUE(KDL::Equal(b.lastPose(0), later, 1e-15));
   // A re-plan from the measured pose (1 mm from the held one): its first set-point is the held pose.
   b.planner.write(encodeCartesianPath({{KDL::Frame(later.M, later.p + KDL::Vector(0, 0, 0.001)), arm2},
-                                       {pose(0.3, 0.1, 0.1, 0.1), KDL::Frame(arm2.M, arm2.p + KDL::Vector(0.01, 0, 0))}}));
+                                       {pose(0.3, 0.1, 0.1, 0.1),
+                                        KDL::Frame(arm2.M, arm2.p + KDL::Vector(0.01, 0, 0))}}));
   b.clock.advance(1ms);
   b.call("askGenerateTraj");
   b.clock.advance(1ms);

@@ -105,8 +105,10 @@ class ISURRobotBridge : public core::Component {
   core::OutputPort<KDL::Wrench> meas_left_wrench_{"measLeftWrench", "gripper arm F/T sensor (AtiNano17), sensor frame",
                                                   "N, N·m"};
   core::OutputPort<KDL::Frame> held_cart_pose_{
-      "heldCartPose", "while the controller holds (a refused command) or the state is timed out: the measured needle-tip "
-      "pose, robot base frame", "m"};
+      "heldCartPose",
+      "while the controller holds (a refused command) or the state is timed out: the measured needle-tip pose, robot "
+      "base frame",
+      "m"};
   core::OutputPort<KDL::Frame> held_right_pose_{
       "heldRightCartPose", "while held (as heldCartPose): the measured Endo Stitch tip pose, robot base frame", "m"};
   core::OutputPort<KDL::Frame> held_left_pose_{

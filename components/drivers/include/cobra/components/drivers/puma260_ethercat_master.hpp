@@ -76,7 +76,8 @@ class Puma260EtherCATMaster : public core::Component {
   core::OutputPort<KDL::JntArray> meas_velocity_{"measJointVelocity", "measured joint velocities", "rad/s"};
   core::OutputPort<KDL::JntArray> meas_torque_{"measJointTorque", "measured joint torques", "N·m"};
   core::OutputPort<KDL::JntArray> held_position_{
-      "heldJointPosition", "in each cycle in Fault once every joint is at rest: the measured joints the robot is held at",
+      "heldJointPosition",
+      "in each cycle in Fault once every joint is at rest: the measured joints the robot is held at",
       "rad"};
   core::OutputPort<core::TaskState> current_state_{"currentState", "state of the master (thesis Fig. 6.4)", ""};
 

@@ -84,7 +84,8 @@ class KinematicsSolverComponent : public core::Component {
       "max_joint_velocity x period on every joint",
       "m"};
   core::OutputPort<KDL::Frame> held_cart_pose_{
-      "heldCartPose", "in each update refusing a command (or held by heldJointPositions): the pose the robot holds (world frame)",
+      "heldCartPose",
+      "in each update refusing a command (or held by heldJointPositions): the pose the robot holds (world frame)",
       "m"};
   core::InputPort<KDL::JntArray> held_joint_positions_{
       "heldJointPositions", "joints something else holds the robot at (a drive's quick stop), passed on as heldCartPose",

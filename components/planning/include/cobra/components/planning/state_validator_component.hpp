@@ -51,10 +51,10 @@ class StateValidatorComponent : public PlanningSceneComponent {
   core::InputPort<KDL::Frame> in_2_{"desPoseIn_2", "set-point of tool 2 to check, world", "m"};
   core::OutputPort<KDL::Frame> out_1_{"desPoseOut_1", "last valid set-point of tool 1, world", "m"};
   core::OutputPort<KDL::Frame> out_2_{"desPoseOut_2", "last valid set-point of tool 2, world", "m"};
-  core::OutputPort<KDL::Frame> held_1_{"heldPose_1", "in each step rejecting a pair: the held set-point of tool 1, world",
-                                      "m"};
-  core::OutputPort<KDL::Frame> held_2_{"heldPose_2", "in each step rejecting a pair: the held set-point of tool 2, world",
-                                      "m"};
+  core::OutputPort<KDL::Frame> held_1_{"heldPose_1",
+                                      "in each step rejecting a pair: the held set-point of tool 1, world", "m"};
+  core::OutputPort<KDL::Frame> held_2_{"heldPose_2",
+                                      "in each step rejecting a pair: the held set-point of tool 2, world", "m"};
   core::OutputPort<double> min_distance_{"minDistance", "minimum distance of the incoming set-points", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;
