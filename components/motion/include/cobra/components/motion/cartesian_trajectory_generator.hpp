@@ -57,8 +57,8 @@ namespace cobra::components {
 /// re-synced output steps about), in each step the arm is held. On such a sample, in any running
 /// state, the arm's set-point becomes that pose, every arm's twist zero, and the set-points are
 /// written in that step; e_resynced is emitted (once while held step after step, unless a motion
-/// ends). A motion (Moving, GeneratingStop, or a start asked
-/// for) ends there: every arm is at rest at once, the held arms at their held pose and the others
+/// ends). A motion (Moving, GeneratingStop, or a start asked for) ends there: every arm is at
+/// rest at once, the held arms at their held pose and the others
 /// at their set-point (a stop in one step: no jump in pose, a step in velocity), and the state
 /// goes to WaitPath with e_wait_path (after e_motion_stopped when a stop motion was running: the
 /// answer askStopMove promised); the old path and trajectory are dropped (PathReady and
