@@ -38,6 +38,7 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
   addProperty(tool_frame_);
   addProperty(max_joint_velocity_);
   addProperty(period_);
+  addProperty(speed_scaling_.range(1e-3, 1.0));
   addPort(joint_positions_);
   addPort(cart_pose_);
   addEventPort(des_cart_pose_);
@@ -167,7 +168,9 @@ void KinematicsSolverComponent::updateHook() {
     if (!from_solution && !have_measured_) {
       last_status_ = kinematics_->inverse(target, solution_, candidate_);  // nothing known yet
     } else {
-      last_status_ = continuity_->solve(target, from_solution ? solution_ : measured_, candidate_);
+      // Scaled limits over the period are the full limits over the scaled time.
+      last_status_ = continuity_->solve(target, from_solution ? solution_ : measured_,
+                                        continuity_->period() * speed_scaling_(), candidate_);
     }
     commanded = true;
     if (last_status_ == kinematics::IkStatus::Ok) {

@@ -4,8 +4,8 @@
 // admittance's heldPose and the admittance's heldRefPose to the generator's heldPose_1. Mid-motion
 // the robot is slowed (speed_scaling) so that it refuses the next command and holds: the admittance
 // and the generator re-sync to the held pose in that step, the command stays there while the robot
-// holds (no run-away), and the next motion starts from it without a step. For the I-SUR and the
-// UR5; every step of the re-sync and the hold allocates nothing.
+// holds (no run-away), and the next motion starts from it without a step. For the I-SUR, the UR5
+// and the Puma 260's kinematics solver; every step of the re-sync and the hold allocates nothing.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,12 +14,14 @@
 #include <vector>
 
 #include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "puncturing_world.hpp"  // jointArray
 
 namespace cobra::components::test {
 namespace {
@@ -36,6 +38,17 @@ std::string waypoint(const KDL::Frame& f, double dx, double dy, double dz) {
   return text;
 }
 
+/// The robot end of a chain: its component type and setup (Lua, the component named Robot), and
+/// the names of its commanded, measured and held pose ports.
+struct RobotSpec {
+  std::string type;
+  std::string setup;
+  std::string command = "desCartPose";
+  std::string measured = "measCartPose";
+  std::string held = "heldCartPose";
+  std::vector<double> measured_joints = {};  // written once on Robot.jointPositions (a solver's start), rad
+};
+
 struct Chain {
   deploy::Configurator configurator;
   script::LuaState lua;
@@ -47,14 +60,14 @@ struct Chain {
   core::InputPort<core::Event> admittance_events{"admittanceEvents", "", ""};
   core::InputPort<core::Event> generator_events{"generatorEvents", "", ""};
   KDL::Frame start;  // the tool's pose at configure, where the paths' waypoints are counted from
+  core::OutputPort<KDL::JntArray> start_joints{"startJoints", "", "rad"};
 
   /// The chain for a robot of `type`, at rest at its initial joints; paths 1 and 2 go `first` and
   /// then `second` (Lua tables of dx, dy, dz in m) from where the tool is at configure.
-  Chain(const std::string& type, const std::string& initial_joints, const std::vector<double>& first,
-        const std::vector<double>& second) {
+  Chain(const RobotSpec& spec, const std::vector<double>& first, const std::vector<double>& second) {
     addBuiltinPackages(configurator.packages());
     deployer.run("initConfigurator({ 'cobra_sim', 'cobra_control', 'cobra_motion' }, {\n"
-                 "  { peer_name = 'Robot', component_type = '" + type + "' },\n"
+                 "  { peer_name = 'Robot', component_type = '" + spec.type + "' },\n"
                  "  { peer_name = 'Path1', component_type = 'WaypointPath' },\n"
                  "  { peer_name = 'Path2', component_type = 'WaypointPath' },\n"
                  "  { peer_name = 'TrajGen', component_type = 'CartesianTrajectoryGenerator' },\n"
@@ -62,13 +75,18 @@ struct Chain {
                  "getReferences()\n"
                  "setActivities({ { peer_name = 'Robot', period = 0.001 }, { peer_name = 'Path1', period = 0.001 },\n"
                  "  { peer_name = 'Path2', period = 0.001 }, { peer_name = 'TrajGen', period = 0.001 },\n"
-                 "  { peer_name = 'Admittance', period = 0.001 } })\n"
-                 "Robot.initial_joints = " + initial_joints + "\n"
-                 "configureComponents({ 'Robot' }) startComponents({ 'Robot' })",
+                 "  { peer_name = 'Admittance', period = 0.001 } })\n" +
+                     spec.setup +
+                     "\n"
+                     "configureComponents({ 'Robot' }) startComponents({ 'Robot' })",
                  "chain.lua");
     core::Component& robot = component("Robot");
-    core::connectPorts(robot.port("measCartPose"), measured);
-    core::connectPorts(robot.port("heldCartPose"), held);
+    core::connectPorts(robot.port(spec.measured), measured);
+    core::connectPorts(robot.port(spec.held), held);
+    if (!spec.measured_joints.empty()) {
+      core::connectPorts(start_joints, robot.port("jointPositions"));
+      start_joints.write(jointArray(spec.measured_joints));
+    }
     core::connectPorts(robot.port("events"), robot_events, core::ConnPolicy::buffer(32));
     configurator.clock().advance(1ms);
     EXPECT_EQ(measured.read(start), core::FlowStatus::NewData);
@@ -80,17 +98,21 @@ struct Chain {
                      "local all = { 'Path1', 'Path2', 'TrajGen', 'Admittance' }\n"
                      "configureComponents(all)\n"
                      "connectPorts({\n"
-                     "  { output = 'Robot.measCartPose', input = 'Path1.measPose' },\n"
-                     "  { output = 'Robot.measCartPose', input = 'Path2.measPose' },\n"
+                     "  { output = 'Robot." + spec.measured + "', input = 'Path1.measPose' },\n"
+                     "  { output = 'Robot." + spec.measured + "', input = 'Path2.measPose' },\n"
                      "  { output = 'Path1.path', input = 'TrajGen.plannedPath', conn_policy = { type = 'buffer', size = 4 } },\n"
                      "  { output = 'Path2.path', input = 'TrajGen.plannedPath', conn_policy = { type = 'buffer', size = 4 } },\n"
                      "  { output = 'TrajGen.desCartPose_1', input = 'Admittance.refPose' },\n"
                      "  { output = 'TrajGen.desCartTwist_1', input = 'Admittance.refTwist' },\n"
-                     "  { output = 'Admittance.admPose', input = 'Robot.desCartPose' },\n"
-                     "  { output = 'Robot.heldCartPose', input = 'Admittance.heldPose' },\n"
+                     "  { output = 'Admittance.admPose', input = 'Robot." + spec.command + "' },\n"
+                     "  { output = 'Robot." + spec.held + "', input = 'Admittance.heldPose' },\n"
                      "  { output = 'Admittance.heldRefPose', input = 'TrajGen.heldPose_1' } })\n"
                      "startComponents(all)",
                  "chain.lua");
+    if (!spec.measured_joints.empty()) {  // a solver publishes its pose on new joints only: again for the paths
+      start_joints.write(jointArray(spec.measured_joints));
+      configurator.clock().advance(1ms);
+    }
     core::connectPorts(component("Admittance").port("admPose"), command);
     core::connectPorts(component("Admittance").port("events"), admittance_events, core::ConnPolicy::buffer(32));
     core::connectPorts(component("TrajGen").port("events"), generator_events, core::ConnPolicy::buffer(32));
@@ -125,9 +147,9 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 }
 
 /// The refusal mid-motion and the re-sync, for the robot of `type` moving `first` then `second`.
-void checkRefusalReSyncsTheChain(const std::string& type, const std::string& initial_joints,
-                                 const std::vector<double>& first, const std::vector<double>& second) {
-  Chain c(type, initial_joints, first, second);
+void checkRefusalReSyncsTheChain(const RobotSpec& robot, const std::vector<double>& first,
+                                 const std::vector<double>& second) {
+  Chain c(robot, first, second);
   c.move("Path1");
   c.configurator.clock().advance(400ms);
   ASSERT_EQ(c.component("TrajGen").call<std::string>("status"), "Moving");
@@ -182,13 +204,28 @@ void checkRefusalReSyncsTheChain(const std::string& type, const std::string& ini
 
 TEST(SimulatedRobotReSync, TheISURRefusingACommandMidMotionReSyncsItsCommandChain) {
   // The puncturing application's start (m, rad): the elbow on the IK's rule (q6 - q7 = 0.3 rad).
-  checkRefusalReSyncsTheChain("SimulatedISURRobot", "{ 0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0 }",
+  checkRefusalReSyncsTheChain({"SimulatedISURRobot", "Robot.initial_joints = { 0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0 }"},
                               {0.02, 0.0, -0.01}, {0.0, 0.015, 0.0});
 }
 
 TEST(SimulatedRobotReSync, TheUR5RefusingACommandMidMotionReSyncsItsCommandChain) {
-  checkRefusalReSyncsTheChain("SimulatedUR5Robot", "{ 0, -1.57, 1.57, -1.57, -1.57, 0 }", {0.03, 0.0, 0.0},
-                              {0.0, -0.02, 0.01});
+  checkRefusalReSyncsTheChain({"SimulatedUR5Robot", "Robot.initial_joints = { 0, -1.57, 1.57, -1.57, -1.57, 0 }"},
+                              {0.03, 0.0, 0.0}, {0.0, -0.02, 0.01});
+}
+
+// The Puma 260's chain ends in the KinematicsSolver (apps/puma260: the solver refuses, the EtherCAT
+// master's drives follow its joints); here the solver's joints are the measured ones, as a stiff
+// position-controlled arm gives, starting at the task's ready position (rad).
+TEST(SimulatedRobotReSync, ThePuma260sKinematicsSolverRefusingACommandMidMotionReSyncsItsCommandChain) {
+  const RobotSpec puma{"KinematicsSolver",
+                       "Robot.robot = 'puma260' Robot.max_joint_velocity = { 2, 2, 2, 2, 2, 2 }\n"
+                       "Robot.tool_frame = { 0, 0, 0.118, 0, 0, 0, 1 }\n"
+                       "connectPorts({ { output = 'Robot.desJointPositions', input = 'Robot.jointPositions' } })",
+                       "desCartPose",
+                       "cartPose",
+                       "heldCartPose",
+                       {0.4677, 1.2117, -3.2805, 0.0, -1.0727, -2.6740}};
+  checkRefusalReSyncsTheChain(puma, {0.0, 0.03, 0.0}, {0.02, 0.0, -0.01});
 }
 
 }  // namespace

@@ -23,7 +23,9 @@ namespace cobra::components {
 /// LMA cannot run, e.g. one that loads Debian's OMPL first: kinematics::kdlLmaConflict says why),
 /// `base_frame` and `tool_frame` (m),
 /// `max_joint_velocity` (rad/s, m/s per joint; empty: the UR5's 3.14 rad/s, required for the
-/// others) and `period` (s; 0: the activity's period).
+/// others), `period` (s; 0: the activity's period) and `speed_scaling` (0.001..1, default 1,
+/// changed at run time: a reduced mode; the continuity rule allows that fraction of
+/// max_joint_velocity).
 ///
 /// Data flow: `jointPositions` (in) -> `cartPose` (out), forward kinematics on every update with
 /// new joints; `desCartPose` (in, event port) -> `desJointPositions` (out): inverse kinematics
@@ -75,6 +77,8 @@ class KinematicsSolverComponent : public core::Component {
       "velocity limit per joint for the continuity rule (empty: the UR5's 3.14 rad/s; required for puma260 and dh)"};
   core::Property<double> period_{"period", 0.0, "s",
                                  "time a command has to be reached in (continuity rule); 0: the activity's period"};
+  core::Property<double> speed_scaling_{"speed_scaling", 1.0, "1",
+                                        "fraction of max_joint_velocity a command may use (0.001..1; run time)"};
 
   core::InputPort<KDL::JntArray> joint_positions_{"jointPositions", "measured joint positions", "rad or m"};
   core::OutputPort<KDL::Frame> cart_pose_{"cartPose", "tool pose for jointPositions (world frame)", "m"};
