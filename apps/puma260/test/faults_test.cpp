@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "puma260_run.hpp"
 
 namespace cobra::run::puma260 {
@@ -35,6 +37,11 @@ TEST(Puma260Faults, ADriveFaultMidMotionQuickStopsTheOthersAndTheChartStopsSafel
   EXPECT_NE(r.reason.find("e_drive_fault"), std::string::npos) << r.reason;
   expectInOrder(r, {"puma > root.D_StartPose", "fault " + (kFaults / "drive_fault.lua").string(),
                     "Puma: e_drive_fault", "puma > root.Stopping", "puma > root.SafeStop"});
+  // The quick stop holds the robot: the kinematics solver passes the held joints on as the held
+  // pose, and the trajectory's motion ends there at once instead of running on from the robot.
+  expectInOrder(r, {"Puma: e_drive_fault", "TrajGen: e_resynced", "puma > root.SafeStop"});
+  const auto fault = std::find(r.log.begin(), r.log.end(), "Puma: e_drive_fault");
+  EXPECT_EQ(std::count(fault, r.log.end(), "TrajGen: e_motion_done"), 0) << "the motion did not run on to its end";
   EXPECT_EQ(count(r, "puma > root.H_FinalPose"), 0u);
   expectDrivesStopped(o);
 }

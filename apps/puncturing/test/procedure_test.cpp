@@ -290,6 +290,28 @@ TEST(PuncturingProcedure, ALuaErrorInTheNeedleChartStopsTheNeedleAndTheProbesCha
   EXPECT_TRUE(KDL::Equal(then, later, 1e-6)) << "moved by " << (later.p - then.p).Norm() << " m";
 }
 
+// The I-SUR refuses a command mid-motion (slowed to 0.2 % of its speed) and holds: the needle's
+// admittance and trajectory generator re-sync to the held pose at once, so the commanded pose
+// never runs away from the robot (the tracking error stays within the acceptance figure while it
+// is held), the chart's reaction and the surgeon's recovery re-plan the approach from there, and
+// the procedure completes.
+TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHeldRobotAndTheTaskRecovers) {
+  const RunResult r = runApp(withFaults("robot_slowed.lua"));
+  expectTracked(r);  // while held too: the commanded pose stayed with the robot
+  expectNoCommandJump(r);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  expectPlaced(r, 2);
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 8),
+                    "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "needle > root.WaitReaction",
+                    "ISUR: e_ik_solved", "NeedleTrajGen: e_resynced", fault("robot_slowed.lua", 9),
+                    "Surgeon: e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend", "NeedleMonitor: e_skin_touched",
+                    "NeedleMonitor: e_target_reached", "needle > root.Done"});
+  EXPECT_EQ(count(r, "ISUR: e_ik_discontinuity"), 1u) << "refused once: the re-synced command is accepted";
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 1u);
+}
+
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
   deploy::ConfiguratorOptions strict;
   strict.strict_roles = true;  // the connections made at load are refused if they break a rule

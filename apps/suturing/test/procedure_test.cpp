@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -124,7 +125,10 @@ TEST(SuturingProcedure, ASurgeonTakingOverMidStitchWithTheOmnisStopsTeleoperates
 }
 
 TEST(SuturingProcedure, ATeleoperationSetPointIntoThePhantomIsHeldByTheStateValidator) {
-  const RunResult r = runApp(withFaults("teleop_into_collision.lua", "omni"));
+  RunOptions o = withFaults("teleop_into_collision.lua", "omni");
+  o.report_folder = std::filesystem::temp_directory_path() / ("cobra_suturing_teleop_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(o.report_folder);
+  const RunResult r = runApp(o);
   expectSutured(r, 4);  // the procedure goes on after the teleoperation
   expectInOrder(r, {"suture > root.TeleoperatedMode.TeleoperationActive", "Validator: e_state_invalid",
                     "Validator: e_state_valid", "Surgeon: e_teleop_done", "suture > root.Done"});
@@ -133,6 +137,22 @@ TEST(SuturingProcedure, ATeleoperationSetPointIntoThePhantomIsHeldByTheStateVali
   expectInOrder(r, {"ISUR: e_ik_discontinuity", "Validator: e_state_invalid"});
   // The last valid set-points were kept: the arms never came near the phantom.
   EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s";
+  // The validator holding: the Endo Stitch's admittance re-synced to the held set-point, so its
+  // commanded pose stayed with the robot instead of following the stylus into the phantom.
+  expectInOrder(r, {"Validator: e_state_invalid", "RightAdmittance: e_resynced", "Validator: e_state_valid"});
+  const Signals s(o.report_folder);
+  double worst = 0.0;
+  for (const auto& row : s.rows) {
+    double squared = 0.0;
+    for (const char* axis : {".x", ".y", ".z"}) {
+      const double d = row[s.column(std::string("RightAdmittance.admPose") + axis)] -
+                       row[s.column(std::string("ISUR.measRightCartPose") + axis)];
+      squared += d * d;
+    }
+    worst = std::max(worst, std::sqrt(squared));
+  }
+  std::printf("worst distance between the Endo Stitch's commanded and measured tip: %.2f mm\n", 1000.0 * worst);
+  EXPECT_LT(worst, 0.005) << "m: the commanded pose ran away from the held robot";
   for (const TrackingFigures& arm : r.tracking)
     EXPECT_LT(arm.max_command_step, 1e-3) << arm.robot << " at " << arm.max_command_step_at << " s";
 }

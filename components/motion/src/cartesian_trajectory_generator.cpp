@@ -84,20 +84,29 @@ bool CartesianTrajectoryGenerator::configureHook() {
   if (pose_ports_.size() != arms) {
     for (auto& port : pose_ports_) removePort(*port);
     for (auto& port : twist_ports_) removePort(*port);
+    for (auto& port : held_ports_) removePort(*port);
     pose_ports_.clear();
     twist_ports_.clear();
+    held_ports_.clear();
     for (std::size_t i = 1; i <= arms; ++i) {
       pose_ports_.push_back(std::make_unique<core::OutputPort<KDL::Frame>>(
           "desCartPose_" + std::to_string(i), "pose set-point of arm " + std::to_string(i) + " (base frame)", "m"));
       twist_ports_.push_back(std::make_unique<core::OutputPort<KDL::Twist>>(
           "desCartTwist_" + std::to_string(i), "twist set-point of arm " + std::to_string(i) + " (base frame)",
           "m/s, rad/s"));
+      held_ports_.push_back(std::make_unique<core::InputPort<KDL::Frame>>(
+          "heldPose_" + std::to_string(i),
+          "the pose arm " + std::to_string(i) + " is held at (base frame), written by whatever holds it: a sample "
+          "ends a motion there and becomes the arm's set-point",
+          "m"));
       addPort(*pose_ports_.back());
       addPort(*twist_ports_.back());
+      addPort(*held_ports_.back());
     }
   }
   poses_.assign(arms, KDL::Frame::Identity());
   twists_.assign(arms, KDL::Twist::Zero());
+  held_now_.assign(arms, 0);
   stops_.clear();
   stops_.reserve(arms);
   trajectory_.reset();
@@ -118,6 +127,7 @@ bool CartesianTrajectoryGenerator::startHook() {
   stops_.clear();
   start_pending_ = false;
   published_ = false;
+  resynced_ = false;
   enter(Status::WaitPath);
   return true;
 }
@@ -129,6 +139,7 @@ double CartesianTrajectoryGenerator::elapsed() const {
 }
 
 void CartesianTrajectoryGenerator::updateHook() {
+  resyncToHeldPoses();
   if (status() != Status::Moving && status() != Status::GeneratingStop &&
       planned_path_.readNew(path_) == core::FlowStatus::NewData) {
     trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
@@ -233,6 +244,35 @@ void CartesianTrajectoryGenerator::stopMove() {
   }
   motion_start_ = now();
   enter(Status::GeneratingStop);
+}
+
+void CartesianTrajectoryGenerator::resyncToHeldPoses() noexcept {
+  std::size_t held = 0;
+  KDL::Frame pose;
+  for (std::size_t arm = 0; arm < held_ports_.size(); ++arm) {
+    held_now_[arm] = held_ports_[arm]->read(pose) == core::FlowStatus::NewData;
+    if (!held_now_[arm]) continue;
+    poses_[arm] = pose;
+    ++held;
+  }
+  const bool resynced_before = resynced_;
+  resynced_ = held > 0;
+  if (held == 0) return;
+  // An arm with no set-point sent since start has none to rest at: only the held arms are written.
+  for (std::size_t arm = 0; arm < pose_ports_.size(); ++arm) {
+    if (!held_now_[arm] && !published_) continue;
+    twists_[arm] = KDL::Twist::Zero();
+    pose_ports_[arm]->write(poses_[arm]);
+    twist_ports_[arm]->write(twists_[arm]);
+  }
+  published_ = published_ || held == pose_ports_.size();
+  start_pending_ = false;
+  const Status current = status();
+  // Told once while held step after step (a robot held for long), and whenever a motion ends here.
+  if (!resynced_before || current != Status::WaitPath) emitEvent("e_resynced");
+  // A stop motion asked for ends here, at rest: its answer is due (a chart may wait for it).
+  if (current == Status::GeneratingStop) emitEvent("e_motion_stopped");
+  if (current != Status::WaitPath) enter(Status::WaitPath);  // the motion, path and trajectory end here
 }
 
 void CartesianTrajectoryGenerator::evaluateStop(double t) {

@@ -186,6 +186,94 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_not_moving"});
 }
 
+// The robot of arm 1 refused a command and holds 0.5 mm behind the set-point: the motion ends at
+// once, arm 1 at its held pose and arm 2 at its set-point, both at rest; nothing resumes the old
+// trajectory, and the next path starts from the held pose.
+TEST(CartesianTrajectoryGenerator, AHeldArmEndsTheMotionThereAndTheNextPathStartsFromIt) {
+  Bench b;
+  core::OutputPort<KDL::Frame> robot{"heldCartPose", "", "m"};
+  core::connectPorts(robot, b.generator.port("heldPose_1"));
+  b.startMoving();
+  b.clock.advance(400ms);
+  ASSERT_GT(b.lastTwist(0).vel.Norm(), 0.01);
+  const KDL::Frame arm2 = b.lastPose(1);
+  const KDL::Frame held(b.lastPose(0).M, b.lastPose(0).p - KDL::Vector(0.0005, 0, 0));
+  b.takeEvents();
+  robot.write(held);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(1ms); }), 0);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_wait_path"}));
+  EXPECT_EQ(b.status(), "WaitPath");
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), held, 1e-15));
+  EXPECT_TRUE(KDL::Equal(b.lastPose(1), arm2, 1e-15));
+  for (std::size_t arm = 0; arm < 2; ++arm) EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), KDL::Twist::Zero(), 1e-15));
+  // At rest there: no set-point follows, the old trajectory cannot be started again.
+  b.clock.advance(100ms);
+  KDL::Frame f;
+  EXPECT_EQ(b.poses[0]->read(f), core::FlowStatus::OldData);
+  b.call("askStartMove");
+  b.call("askStopMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_trajectory", "e_not_moving"}));
+  // Held again while waiting (the robot still refusing): the set-point follows, the state stays.
+  const KDL::Frame later(held.M, held.p + KDL::Vector(0, 0.0002, 0));
+  robot.write(later);
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_resynced"});
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), later, 1e-15));
+  // A re-plan from the measured pose (1 mm from the held one): its first set-point is the held pose.
+  b.planner.write(encodeCartesianPath({{KDL::Frame(later.M, later.p + KDL::Vector(0, 0, 0.001)), arm2},
+                                       {pose(0.3, 0.1, 0.1, 0.1),
+                                        KDL::Frame(arm2.M, arm2.p + KDL::Vector(0.01, 0, 0))}}));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  b.call("askStartMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_trajectory_ready",
+                                                      "e_moving"}));
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), later, 1e-12));
+  KDL::Frame previous = later;
+  for (int i = 0; i < 500; ++i) {
+    b.clock.advance(1ms);
+    ASSERT_LT((b.lastPose(0).p - previous.p).Norm(), 1e-3) << "ms " << i;
+    previous = b.lastPose(0);
+  }
+}
+
+// A held pose in every other state: Trajectory ready and a stop motion end in WaitPath as well.
+TEST(CartesianTrajectoryGenerator, AHeldArmDropsAReadyTrajectoryAndEndsAStopMotion) {
+  Bench b;
+  core::OutputPort<KDL::Frame> robot{"heldCartPose", "", "m"};
+  core::connectPorts(robot, b.generator.port("heldPose_2"));
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  b.takeEvents();
+  robot.write(kTwoArmPath[0][1]);
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_wait_path"}));
+  KDL::Frame f;
+  EXPECT_EQ(b.poses[0]->read(f), core::FlowStatus::NoData);  // arm 1 had no set-point to rest at
+  EXPECT_TRUE(KDL::Equal(b.lastPose(1), kTwoArmPath[0][1], 1e-15));
+  b.call("askStartMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_no_trajectory"});
+
+  b.startMoving();
+  b.clock.advance(300ms);
+  b.call("askStopMove");
+  b.clock.advance(50ms);
+  EXPECT_EQ(b.status(), "GeneratingStop");
+  b.takeEvents();
+  robot.write(b.lastPose(1));
+  b.clock.advance(1ms);
+  // The stop asked for ends at the held pose: answered there, not again later.
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_motion_stopped", "e_wait_path"}));
+  b.clock.advance(300ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{});
+}
+
 TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
   Bench b;
   trajectory::MultiAxisPath bad({{0, 0, 0, 0, 0, 0, 1}, {0.1, 0, 0, 0, 0, 0, 1}});  // one arm, two expected
