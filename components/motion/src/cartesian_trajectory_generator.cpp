@@ -1,5 +1,6 @@
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cobra/core/activity.hpp"
@@ -179,13 +180,15 @@ void CartesianTrajectoryGenerator::generate() {
   try {
     const trajectory::CartesianLimits limits{max_vel_(), max_ang_vel_(), time_acc_(), time_acc_()};
     std::vector<std::vector<KDL::Frame>> waypoints = decodeCartesianPath(path_, pose_ports_.size());
-    if (published_) {
-      for (std::size_t arm = 0; arm < waypoints.size() && !waypoints[arm].empty(); ++arm) {
-        const KDL::Frame& first = waypoints[arm].front();
-        const double offset = (first.p - poses_[arm].p).Norm();
+    if (published_ && !waypoints.empty()) {
+      // waypoints is indexed [waypoint][arm]: each arm's first pose is waypoints[0][arm], set against
+      // that arm's own last set-point.
+      std::vector<KDL::Frame>& starts = waypoints.front();
+      for (std::size_t arm = 0; arm < std::min(starts.size(), poses_.size()); ++arm) {
+        const double offset = (starts[arm].p - poses_[arm].p).Norm();
         KDL::Vector axis;
-        const double angle = (poses_[arm].M.Inverse() * first.M).GetRotAngle(axis);
-        if (offset <= continue_tolerance_() && angle <= continue_angle_tolerance_()) waypoints[arm].front() = poses_[arm];
+        const double angle = (poses_[arm].M.Inverse() * starts[arm].M).GetRotAngle(axis);
+        if (offset <= continue_tolerance_() && angle <= continue_angle_tolerance_()) starts[arm] = poses_[arm];
       }
     }
     trajectory_.emplace(waypoints, limits, blend_order_());

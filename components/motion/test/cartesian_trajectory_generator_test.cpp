@@ -47,6 +47,22 @@ struct Bench {
   }
   /// Sends kTwoArmPath, has its trajectory generated (answered in the next step) and starts it.
   void startMoving();
+  /// Sends `path` and has its trajectory generated; a started generator keeps its last set-points.
+  void generate(const std::vector<std::vector<KDL::Frame>>& path) {
+    planner.write(encodeCartesianPath(path));
+    clock.advance(1ms);
+    call("askGenerateTraj");
+    clock.advance(1ms);
+  }
+  /// Moves along `path` to its end (e_motion_done): every arm's last set-point is then its last waypoint.
+  void moveThrough(const std::vector<std::vector<KDL::Frame>>& path) {
+    generate(path);
+    ASSERT_NE(generator.trajectory(), nullptr);
+    call("askStartMove");
+    clock.advance(std::chrono::milliseconds(static_cast<int>(std::ceil(generator.trajectory()->duration() * 1e3)) + 2));
+    ASSERT_EQ(status(), "WaitPath");
+    takeEvents();
+  }
   /// Events emitted since the last call, in order.
   std::vector<std::string> takeEvents() {
     std::vector<std::string> names;
@@ -75,12 +91,12 @@ const std::vector<std::vector<KDL::Frame>> kTwoArmPath = {
 };
 
 void Bench::startMoving() {
-  planner.write(encodeCartesianPath(kTwoArmPath));
-  clock.advance(1ms);
-  call("askGenerateTraj");
-  clock.advance(1ms);
+  generate(kTwoArmPath);
   call("askStartMove");
 }
+
+/// `frame` moved by `dx` m along the base x axis.
+KDL::Frame shifted(const KDL::Frame& frame, double dx) { return {frame.M, frame.p + KDL::Vector(dx, 0.0, 0.0)}; }
 
 TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure) {
   Generator g("TrajGen");
@@ -195,6 +211,54 @@ TEST(CartesianTrajectoryGenerator, AskGenerateTrajWhileMovingAnswersBusyAndKeeps
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_busy"});
   EXPECT_EQ(b.status(), "Moving");
   EXPECT_EQ(b.generator.trajectory(), followed);
+}
+
+TEST(CartesianTrajectoryGenerator, ContinuesEveryArmFromItsLastSetPointWhenThePathHasMoreWaypointsThanArms) {
+  Bench b;  // two arms
+  b.moveThrough(kTwoArmPath);
+  const std::vector<KDL::Frame>& last = kTwoArmPath.back();
+  // Three waypoints for two arms, starting 1 mm from each arm's last set-point (continue_tolerance 2 mm).
+  const std::vector<std::vector<KDL::Frame>> next = {
+      {shifted(last[0], 0.001), shifted(last[1], 0.001)},
+      {pose(0.1, 0.1, 0.15, 0.2), pose(0.4, 0.0, 0.1, -0.1)},
+      {pose(0.12, 0.1, 0.12, 0.1), pose(0.38, 0.02, 0.1, 0.0)},
+  };
+  b.generate(next);
+  ASSERT_EQ(b.status(), "TrajectoryReady") << b.generator.call<std::string>("lastFailure");
+  b.call("askStartMove");
+  b.clock.advance(1ms);  // the first set-point: t = 0 of the motion
+  for (std::size_t arm = 0; arm < 2; ++arm)
+    EXPECT_TRUE(KDL::Equal(b.lastPose(arm), last[arm], 1e-9)) << "arm " << arm << " steps off its last set-point";
+  // The waypoints after the first are followed as given.
+  const trajectory::CartesianTrajectory& followed = *b.generator.trajectory();
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    KDL::Frame at;
+    KDL::Twist twist;
+    followed.evaluate(followed.duration(), arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, next.back()[arm], 1e-9)) << "arm " << arm;
+  }
+}
+
+TEST(CartesianTrajectoryGenerator, ContinuationChangesOnlyEachArmsOwnFirstPose) {
+  Bench b;  // two arms
+  b.moveThrough(kTwoArmPath);
+  const std::vector<KDL::Frame>& last = kTwoArmPath.back();
+  // Arm 0 ends 0.5 mm from arm 1's last set-point: waypoint 1 of arm 0 is no first pose and stays as given.
+  const std::vector<std::vector<KDL::Frame>> next = {
+      {shifted(last[0], 0.001), shifted(last[1], -0.001)},
+      {shifted(last[1], 0.0005), pose(0.6, 0.1, 0.1, 0.0)},
+  };
+  b.generate(next);
+  ASSERT_EQ(b.status(), "TrajectoryReady") << b.generator.call<std::string>("lastFailure");
+  const trajectory::CartesianTrajectory& followed = *b.generator.trajectory();
+  KDL::Frame at;
+  KDL::Twist twist;
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    followed.evaluate(0.0, arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, last[arm], 1e-9)) << "arm " << arm << " does not start from its last set-point";
+    followed.evaluate(followed.duration(), arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, next[1][arm], 1e-9)) << "arm " << arm << " does not end at its waypoint 1";
+  }
 }
 
 TEST(CartesianTrajectoryGenerator, StartRefusesAnActivityThatIsNotSampleTime) {
