@@ -40,9 +40,12 @@
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
 /// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done:
 /// at a lockstep meeting, or on the wall clock by its farewell when its link was cleaned up),
-/// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's
-/// threads and the clock's thread, one at a time (a mutex serialises them; the port's readers
-/// never take it). DdsLink has no update hook, so the component's own thread never writes it.
+/// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. They happen on Fast
+/// DDS's threads and the clock's thread; those push them into a lock-free queue (256 events) and
+/// the link's own step (updateHook) writes them on the port, so the port has one writer, the
+/// link's thread, as every port. Give the link an activity that steps it: a periodic one (e.g.
+/// 1 ms), or the lockstep clock; a link never stepped keeps its events in the queue, and drops
+/// (and counts: droppedEvents()) those that find it full.
 ///
 /// Lockstep runs: a DdsLink with peers stepped by a LockstepClock (its activity is a
 /// LockstepActivity when it is configured or started) puts the transport in lockstep: writer
@@ -60,8 +63,8 @@
 /// order.
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -84,14 +87,19 @@ class DdsLink final : public core::Component, public core::ClockSync {
 
   /// The transport whose participant this link made; nullptr unless configured.
   std::shared_ptr<DdsTransport> transport() const;
+  /// Events that found the queue to the `events` port full (the link not stepped for 256 events).
+  std::uint64_t droppedEvents() const noexcept;
 
  protected:
   bool configureHook() override;
   bool startHook() override;
+  /// Writes the events that foreign threads queued since the last step (allocates nothing).
+  void updateHook() override;
   void cleanupHook() override;
 
  private:
   class Meeting;
+  struct ForeignEvents;
   /// Stepped by a LockstepClock, with peers: samples travel only at the clock meetings.
   bool lockstep() const;
   void emit(const std::string& event, const std::string& source);
@@ -114,9 +122,9 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> meeting_period_{
       "meeting_period", 0.0, "s",
       "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};
+  std::unique_ptr<ForeignEvents> foreign_events_;  // made with the link: events may come until it goes
   std::unique_ptr<Meeting> meeting_;
   std::shared_ptr<DdsTransport> transport_;
-  std::mutex events_mutex_;  // the events port has one writer at a time
 };
 
 /// Registers, once per process, the transport "dds" whose participant is the configured
