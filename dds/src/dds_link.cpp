@@ -29,7 +29,8 @@ namespace {
 constexpr const char* kMeetingTopic = "rt/cobra/link";
 constexpr const char* kMeetingType = "cobra_msgs::msg::dds_::LinkMeeting_";
 /// Announcement stamps that are not instants: the hello when a link starts, and the farewell of
-/// a wall-clock link that leaves normally (done = true: its peers record it done, not lost).
+/// a wall-clock link that leaves (done = true when its run completed: its peers record it done;
+/// false when it left otherwise, on an error or a safe stop: its peers lose it at once).
 constexpr std::int64_t kHello = -1;
 constexpr std::int64_t kFarewell = -2;
 
@@ -140,12 +141,13 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
 
   void close() noexcept {
     fdds::DomainParticipant* p = participant_.entity();
-    // Wall clock: no meeting says when a peer is done, so leaving normally says it here, before
-    // the writer goes (its peers would otherwise see its liveliness end and lose it). A lockstep
-    // link's peers learn it at the meetings (setDone), and keep that path alone.
+    // Wall clock: no meeting says when a peer is done, so the farewell says it, before the
+    // writer goes: done when this process's run completed (setDone(true)), else not (an error, a
+    // safe stop, a time limit), and its peers lose it without waiting for its liveliness to
+    // lapse. A lockstep link's peers learn it at the meetings (setDone), and keep that path alone.
     if (writer_ != nullptr && greeted_ && !participant_.lockstep()) {
       try {
-        announce(kFarewell, true);
+        announce(kFarewell, done_.load());
       } catch (const std::exception& e) {
         std::cerr << "cobra dds: participant '" << settings_.self << "' could not say farewell: " << e.what() << std::endl;
       }
@@ -251,7 +253,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     cobra_msgs::msg::LinkMeeting sample;
     fdds::SampleInfo info;
     std::vector<std::string> joined;
-    std::vector<std::pair<std::string, std::string>> mismatched;  // name, why
+    std::vector<std::pair<std::string, std::string>> losses;  // name, why
     {
       std::lock_guard lock(mutex_);
       while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
@@ -262,7 +264,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         Peer& p = peer->second;
         if (sample.period_ns() != settings_.period_ns && !p.lost) {
           // Each would wait at instants the other never meets at: refuse the peer at once.
-          mismatched.emplace_back(sample.participant(),
+          losses.emplace_back(sample.participant(),
                                   "it meets every " + periodText(sample.period_ns()) + ", participant '" +
                                       settings_.self + "' every " + periodText(settings_.period_ns) +
                                       ": give both DdsLinks the same meeting_period");
@@ -273,12 +275,15 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         p.seen = true;
         p.readers = sample.readers();
         if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
-        if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // it left normally
+        if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // its run completed
+        if (sample.stamp_ns() == kFarewell && !sample.done() && !p.done)
+          losses.emplace_back(sample.participant(), "it left before its run completed (its link's farewell said "
+                                                  "not done: an error, a safe stop or a time limit there)");
       }
     }
     changed_.notify_all();
     for (const auto& name : joined) link_.emit("e_peer_joined", name);
-    for (const auto& [name, why] : mismatched) lose(name, why);
+    for (const auto& [name, why] : losses) lose(name, why);
   }
 
   void announce(std::int64_t stamp, bool done, std::vector<cobra_msgs::msg::LinkWriter> writers = {}) {
@@ -560,7 +565,7 @@ void DdsLink::emit(const std::string& event, const std::string& source) {
   core::Event e;
   e.name.assign(event);
   e.source.assign(source);
-  e.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch());
+  e.stamp = now();  // run time, as every component's events (the activity's clock; any thread)
   std::lock_guard lock(events_mutex_);
   events().write(e);
 }

@@ -2,8 +2,9 @@
 // is refused), one per process, its properties checked; peer liveliness across two processes
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
-// messages dropped); a peer that leaves normally on the wall clock is done, not lost. The peer
-// processes are dds_link_peer. DDS domains 128..134 and 136..138, this test's own.
+// messages dropped); a peer that leaves on the wall clock after its run completed is done, not
+// lost, one that leaves otherwise is lost at once. The peer processes are dds_link_peer. DDS
+// domains 128..134 and 136..139, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -128,16 +129,16 @@ TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {
 }
 
 /// This process's side of a wall-clock pair: DdsLink "survivor" in `domain` with the peer "peer"
-/// and a lease of 0.1 s, and what its events port said ("event@source").
+/// and a lease of 0.1 s (or `lease`), and what its events port said ("event@source").
 struct Survivor {
   static constexpr double kLease = 0.1;  // s
 
-  explicit Survivor(const std::string& domain) {
+  explicit Survivor(const std::string& domain, const std::string& lease = "0.1") {
     registerLinkedTransport();
     set(link, "domain", domain);
     set(link, "participant", "survivor");
     set(link, "peers", "peer");
-    set(link, "lease", "0.1");
+    set(link, "lease", lease);
     core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
   }
   bool start() { return link.configure() && link.start(); }
@@ -175,8 +176,8 @@ TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
   EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
 }
 
-// Wall clock: a peer that stops and cleans up its link says farewell (done) before its writer
-// goes, so its leaving is not a loss; kill -9 (the test above) still is.
+// Wall clock: a peer whose run completed (setDone) says farewell (done) when it cleans up its
+// link, before its writer goes, so its leaving is not a loss; kill -9 (the test above) still is.
 TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
   Peer peer({"live", "136", "peer", "survivor", "0.1", "", "0.3"});
   Survivor survivor("136");
@@ -191,6 +192,26 @@ TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
   EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{});
   EXPECT_EQ(survivor.link.operation("lostPeers").invokeFromText({}), "");
   EXPECT_TRUE(survivor.link.peersDone()) << "a peer that said farewell is done";
+}
+
+// Wall clock: a peer that leaves before its run completed (an error, a safe stop: no setDone)
+// says farewell not done, and is lost at once, naming why: with a lease of 5 s, well before its
+// liveliness could lapse.
+TEST(DdsLink, APeerThatLeavesBeforeItsRunCompletedIsLostAtOnceNamingWhy) {
+  Peer peer({"live", "139", "peer", "survivor", "5", "", "0.3", "failed"});
+  Survivor survivor("139", "5");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(peer.wait(5s), 0) << "the peer left (stopped and cleaned up its link)";
+  EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_lost@peer"); }, 1s)) << "lost within 1 s (lease 5 s)";
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("cobra dds: participant 'survivor' lost its peer 'peer': it left before its run completed (its "
+                      "link's farewell said not done: an error, a safe stop or a time limit there)"),
+            std::string::npos)
+      << said;
+  EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{"peer"});
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
 }
 
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a
