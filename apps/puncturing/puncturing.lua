@@ -47,6 +47,9 @@ if host then
   -- lease lost a live peer (its process starved for seconds).
   -- A lockstep meeting waits up to meeting_timeout for a live peer (one instant may take long).
   Link.lease = realtime and 0.1 or 3
+  -- On the wall clock DDS's threads run SCHED_FIFO 60, under the executor's 80: time-sharing, a
+  -- loaded machine delayed them past the 0.1 s lease and a live peer was lost.
+  Link.priority = realtime and 60 or 0
   Link.meeting_timeout = 10
   Link.join_timeout = 120  -- s: the other host may still be loading its half (its planning scenes)
   -- s: the hosts meet every 5th instant, so a port's sample or an event crosses within 5 ms (as

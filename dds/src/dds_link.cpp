@@ -461,6 +461,7 @@ DdsLink::DdsLink(std::string name)
   addProperty(drop_share_.range(0.0, 1.0));
   addProperty(poll_.range(1e-6, 1.0));
   addProperty(meeting_period_.range(0.0, 1.0));
+  addProperty(priority_.range(0, 99));
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -499,6 +500,7 @@ bool DdsLink::configureHook() {
   options.initial_peers = splitList(initial_peers_.get());
   options.drop_share = drop_share_.get();
   options.poll = poll_.get();
+  options.priority = priority_.get();
   try {
     transport_ = std::make_shared<DdsTransport>(options);
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });

@@ -31,6 +31,10 @@
 /// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
 ///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
 ///   the meetings instead;
+/// - `priority` (0..99): SCHED_FIFO priority of the threads Fast DDS makes for the participant
+///   (receiving, liveliness) and of the writer ends' threads; 0: time-sharing. On the wall clock
+///   a lease of 0.1 s needs it: a loaded machine delays time-sharing threads past the lease, and
+///   the peer is lost while alive. Below the executor's, so that the control loop keeps its time;
 /// - `meeting_period` (s, 0..1; 0: every instant): a lockstep run meets only at the instants
 ///   that are multiples of it, so a sample crosses at the first such instant after it was
 ///   written: up to one period of delay between processes (as a network adds), in exchange for
@@ -38,11 +42,18 @@
 ///   have the same; a peer with another is lost at once, the message naming both periods.
 ///
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
-/// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done:
-/// at a lockstep meeting, or on the wall clock by its farewell when its link was cleaned up),
-/// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's
-/// threads and the clock's thread, one at a time (a mutex serialises them; the port's readers
-/// never take it). DdsLink has no update hook, so the component's own thread never writes it.
+/// topic; stamped in run time): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer
+/// that said it was done: at a lockstep meeting, or on the wall clock by its farewell when its
+/// link was cleaned up after `setDone(true)`, i.e. its run completed; a farewell without it, an
+/// error or a safe stop there, loses the peer at once), and the transport's
+/// `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's threads and the
+/// clock's thread, one at a time (a mutex serialises them; the port's readers never take it).
+/// DdsLink has no update hook, so the component's own thread never writes it.
+///
+/// Wall clock: give the link an activity of its own (`own_pace = true`, deploy/spec.hpp), not a
+/// place on the executor's lockstep schedule: stepped by a LockstepClock it would put the
+/// transport in lockstep, holding samples for meetings that never come. Its work runs on Fast
+/// DDS's threads and its writer ends' anyway.
 ///
 /// Lockstep runs: a DdsLink with peers stepped by a LockstepClock (its activity is a
 /// LockstepActivity when it is configured or started) puts the transport in lockstep: writer
@@ -111,6 +122,8 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
                                      "fault injection: share of outgoing data messages dropped (0 in production)"};
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  core::Property<int> priority_{"priority", 0, "",
+                                "SCHED_FIFO priority 1..99 of the DDS threads (wall clock, short leases); 0: time-sharing"};
   core::Property<double> meeting_period_{
       "meeting_period", 0.0, "s",
       "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};
