@@ -462,6 +462,7 @@ DdsLink::DdsLink(std::string name)
   addProperty(poll_.range(1e-6, 1.0));
   addProperty(meeting_period_.range(0.0, 1.0));
   addProperty(priority_.range(0, 99));
+  addProperty(udp_only_);
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -501,6 +502,7 @@ bool DdsLink::configureHook() {
   options.drop_share = drop_share_.get();
   options.poll = poll_.get();
   options.priority = priority_.get();
+  options.udp_only = udp_only_.get();
   try {
     transport_ = std::make_shared<DdsTransport>(options);
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });

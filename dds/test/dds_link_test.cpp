@@ -3,10 +3,12 @@
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
 // messages dropped); a peer that leaves on the wall clock after its run completed is done, not
-// lost, one that leaves otherwise is lost at once. The peer processes are dds_link_peer. DDS
-// domains 128..134 and 136..139, this test's own.
+// lost, one that leaves otherwise is lost at once; `priority` puts the DDS threads on SCHED_FIFO.
+// The peer processes are dds_link_peer. DDS domains 128..134, 136..139 and 141, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "cobra/core/lockstep_clock.hpp"
@@ -107,6 +110,61 @@ TEST(DdsLink, ADdsConnectionBeforeTheLinkIsConfiguredIsRefusedNamingIt) {
   EXPECT_EQ(link.transport(), nullptr);
   EXPECT_NE(test_support::messageOf([&] { core::connectPorts(out, in, policy); }).find("no DdsLink is configured"),
             std::string::npos);
+}
+
+/// The ids of this process's threads.
+std::set<pid_t> threadIds() {
+  std::set<pid_t> ids;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
+    ids.insert(static_cast<pid_t>(std::stol(task.path().filename().string())));
+  return ids;
+}
+
+// `priority`: the threads Fast DDS makes for the participant run SCHED_FIFO at it (they inherit
+// it from the configuring thread, whose own scheduling comes back), and so does a writer end's.
+TEST(DdsLink, PriorityPutsTheParticipantsThreadsOnSchedFifo) {
+  sched_param fifo{};
+  fifo.sched_priority = 7;
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &fifo) != 0) GTEST_SKIP() << "SCHED_FIFO refused here";
+  sched_param other{};
+  ASSERT_EQ(pthread_setschedparam(pthread_self(), SCHED_OTHER, &other), 0);
+  registerLinkedTransport();
+  const std::set<pid_t> before = threadIds();
+  DdsLink link("Link");
+  set(link, "domain", "141");
+  set(link, "participant", "fifo");
+  set(link, "priority", "7");
+  ASSERT_TRUE(link.configure());
+  core::OutputPort<double> out("out", "", "1");
+  core::ConnPolicy policy = core::ConnPolicy::data();
+  policy.transport = "dds";
+  policy.topic = "link/fifo";
+  ASSERT_NO_THROW(core::connectToTransport(out, policy));  // a writer end, with its thread
+  int scheduler = -1;
+  sched_param mine{};
+  ASSERT_EQ(pthread_getschedparam(pthread_self(), &scheduler, &mine), 0);
+  EXPECT_EQ(scheduler, SCHED_OTHER) << "the configuring thread's scheduling came back";
+  // The threads made since, and those not at SCHED_FIFO 7 (by name); a writer end's thread sets
+  // its priority when it starts.
+  int made = 0;
+  std::string others;
+  ASSERT_TRUE(test::pollUntil([&] {
+    made = 0;
+    others.clear();
+    for (const pid_t id : threadIds()) {
+      if (before.count(id) != 0) continue;
+      ++made;
+      sched_param p{};
+      if (sched_getscheduler(id) == SCHED_FIFO && sched_getparam(id, &p) == 0 && p.sched_priority == 7) continue;
+      std::ifstream comm("/proc/self/task/" + std::to_string(id) + "/comm");
+      std::string name;
+      std::getline(comm, name);
+      others += " " + name;
+    }
+    return others.empty();
+  }, 2s)) << "threads made for the participant not on SCHED_FIFO 7:" << others;
+  EXPECT_GT(made, 2) << "Fast DDS's threads and the writer end's";
+  EXPECT_NE(test_support::messageOf([&] { set(link, "priority", "100"); }).find("priority"), std::string::npos);
 }
 
 TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {

@@ -31,6 +31,10 @@
 /// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
 ///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
 ///   the meetings instead;
+/// - `udp_only` (bool): UDPv4 only, without Fast DDS's shared memory between the processes of one
+///   machine (as between two hosts). With shared memory, a peer killed while samples were being
+///   sent to it can block the sending threads in the ports' health checks for seconds, and its
+///   loss is found that late;
 /// - `priority` (0..99): SCHED_FIFO priority of the threads Fast DDS makes for the participant
 ///   (receiving, liveliness) and of the writer ends' threads; 0: time-sharing. On the wall clock
 ///   a lease of 0.1 s needs it: a loaded machine delays time-sharing threads past the lease, and
@@ -122,6 +126,8 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
                                      "fault injection: share of outgoing data messages dropped (0 in production)"};
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  core::Property<bool> udp_only_{"udp_only", false, "",
+                                 "UDPv4 only, without Fast DDS's shared memory between processes of one machine"};
   core::Property<int> priority_{"priority", 0, "",
                                 "SCHED_FIFO priority 1..99 of the DDS threads (wall clock, short leases); 0: time-sharing"};
   core::Property<double> meeting_period_{
