@@ -4,7 +4,8 @@
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
 // messages dropped); a peer that leaves on the wall clock after its run completed is done, not
 // lost, one that leaves otherwise is lost at once; `priority` puts the DDS threads on SCHED_FIFO.
-// The peer processes are dds_link_peer. DDS domains 128..134, 136..139 and 141, this test's own.
+// The peer processes are dds_link_peer. DDS domains 128..134, 136..138, 140 and 142..144, this
+// test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <pthread.h>
@@ -131,7 +132,7 @@ TEST(DdsLink, PriorityPutsTheParticipantsThreadsOnSchedFifo) {
   registerLinkedTransport();
   const std::set<pid_t> before = threadIds();
   DdsLink link("Link");
-  set(link, "domain", "141");
+  set(link, "domain", "144");
   set(link, "participant", "fifo");
   set(link, "priority", "7");
   ASSERT_TRUE(link.configure());
@@ -256,8 +257,8 @@ TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
 // says farewell not done, and is lost at once, naming why: with a lease of 5 s, well before its
 // liveliness could lapse.
 TEST(DdsLink, APeerThatLeavesBeforeItsRunCompletedIsLostAtOnceNamingWhy) {
-  Peer peer({"live", "139", "peer", "survivor", "5", "", "0.3", "failed"});
-  Survivor survivor("139", "5");
+  Peer peer({"live", "143", "peer", "survivor", "5", "", "0.3", "failed"});
+  Survivor survivor("143", "5");
   ASSERT_TRUE(survivor.start());
   ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
   ::testing::internal::CaptureStderr();
