@@ -47,6 +47,10 @@ if host then
   -- lease lost a live peer (its process starved for seconds).
   -- A lockstep meeting waits up to meeting_timeout for a live peer (one instant may take long).
   Link.lease = realtime and 0.1 or 3
+  -- s: on the wall clock a lapsed peer is lost when its liveliness has not come back within
+  -- 0.08 s more (a killed host is found within 0.2 s): a host stalled past the lease at its
+  -- run's start was otherwise lost while alive (1 run in 10 on the loaded machine).
+  Link.lapse_grace = realtime and 0.08 or 0
   -- On the wall clock DDS's threads run SCHED_FIFO 60, under the executor's 80: time-sharing, a
   -- loaded machine delayed them past the 0.1 s lease and a live peer was lost.
   Link.priority = realtime and 60 or 0

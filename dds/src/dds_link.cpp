@@ -85,6 +85,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     double join_timeout;
     double meeting_timeout;  ///< s, > 0
     std::int64_t period_ns;  ///< meets at the instants that are multiples of it; 0: at every one
+    double lapse_grace;      ///< s a lapsed peer's liveliness may take to come back; 0: lost at once
   };
 
   Meeting(DdsLink& link, detail::Participant& participant, Settings settings)
@@ -128,6 +129,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
       close();
       throw core::Error(std::string("Fast DDS refused the writer or reader of ") + kMeetingTopic);
     }
+    if (settings_.lapse_grace > 0.0) confirmer_ = std::thread([this] { confirmLapses(); });
   }
 
   /// The hello: peers learn this process's name and reader ends before its first instant.
@@ -140,6 +142,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   ~Meeting() override { close(); }
 
   void close() noexcept {
+    stopConfirming();
     fdds::DomainParticipant* p = participant_.entity();
     // Wall clock: no meeting says when a peer is done, so the farewell says it, before the
     // writer goes: done when this process's run completed (setDone(true)), else not (an error, a
@@ -217,7 +220,13 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
 
   void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
     std::lock_guard closing(callback_mutex_);
-    if (closed_ || status.alive_count_change >= 0) return;
+    if (closed_ || status.alive_count_change == 0) return;
+    if (status.alive_count_change > 0) {  // asserted again: a lapse within the grace was a stall
+      std::lock_guard lock(mutex_);
+      if (const auto it = names_.find(text(rtps::iHandle2GUID(status.last_publication_handle))); it != names_.end())
+        lapsed_.erase(it->second);
+      return;
+    }
     // A peer that said farewell was acknowledged before its writer went: Fast DDS calls
     // on_data_available from the thread that received the farewell, before it acknowledges it, so
     // the peer is done here already. (Samples are not taken here: this callback comes from Fast
@@ -231,7 +240,10 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
       if (auto it = names_.find(guid); it != names_.end()) name = it->second;
     }
     if (name.empty()) name = participant_.participantName(rtps::iHandle2GUID(status.last_publication_handle).guidPrefix);
-    if (!name.empty()) lose(name, "its liveliness lapsed");
+    if (name.empty()) return;
+    if (settings_.lapse_grace <= 0.0) return lose(name, "its liveliness lapsed");
+    std::lock_guard lock(mutex_);
+    lapsed_.emplace(name, Clock::now());  // confirmed by confirmLapses unless it comes back
   }
 
  private:
@@ -408,6 +420,37 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     }
   }
 
+  /// The confirming thread (lapse_grace > 0): a peer whose liveliness lapsed and did not come
+  /// back within the grace is lost. A lapse that comes back was a stall of either process (its
+  /// threads held up past the lease, e.g. at a run's start), not a lost peer.
+  void confirmLapses() {
+    participant_.raiseThisThread();
+    const auto grace = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(settings_.lapse_grace));
+    std::unique_lock lock(mutex_);
+    while (!stop_confirming_) {
+      changed_.wait_for(lock, std::chrono::milliseconds(1));
+      std::vector<std::string> confirmed;
+      for (auto it = lapsed_.begin(); it != lapsed_.end();)
+        if (Clock::now() - it->second >= grace) confirmed.push_back(it->first), it = lapsed_.erase(it);
+        else ++it;
+      if (confirmed.empty()) continue;
+      lock.unlock();
+      for (const std::string& name : confirmed)
+        lose(name, "its liveliness lapsed (lease " + text::number(settings_.lease) + " s) and did not come back within " +
+                       text::number(settings_.lapse_grace) + " s");
+      lock.lock();
+    }
+  }
+
+  void stopConfirming() noexcept {
+    {
+      std::lock_guard lock(mutex_);
+      stop_confirming_ = true;
+    }
+    changed_.notify_all();
+    if (confirmer_.joinable()) confirmer_.join();
+  }
+
   void lose(const std::string& name, const std::string& why) {
     {
       std::lock_guard lock(mutex_);
@@ -445,6 +488,9 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
   std::vector<std::string> lost_;
   std::vector<std::string> joined_;  // the peers heard from, in that order
+  std::map<std::string, Clock::time_point> lapsed_;  // liveliness lapsed, not yet lost: since when (under mutex_)
+  bool stop_confirming_ = false;                     // under mutex_
+  std::thread confirmer_;                            // lapse_grace > 0: confirmLapses
 };
 
 DdsLink::DdsLink(std::string name)
@@ -463,6 +509,7 @@ DdsLink::DdsLink(std::string name)
   addProperty(meeting_period_.range(0.0, 1.0));
   addProperty(priority_.range(0, 99));
   addProperty(udp_only_);
+  addProperty(lapse_grace_.range(0.0, 3600.0));
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -509,7 +556,7 @@ bool DdsLink::configureHook() {
     meeting_ = std::make_unique<Meeting>(*this, *transport_->participant_,
                                          Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get(),
                                                            meeting_timeout_.get() > 0.0 ? meeting_timeout_.get() : lease_.get(),
-                                                           std::llround(meeting_period_.get() * 1e9)});
+                                                           std::llround(meeting_period_.get() * 1e9), lapse_grace_.get()});
   } catch (const std::exception& e) {
     meeting_.reset();
     transport_.reset();

@@ -3,9 +3,9 @@
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
 // messages dropped); a peer that leaves on the wall clock after its run completed is done, not
-// lost, one that leaves otherwise is lost at once; `priority` puts the DDS threads on SCHED_FIFO.
-// The peer processes are dds_link_peer. DDS domains 128..134, 136..138, 140 and 142..144, this
-// test's own.
+// lost, one that leaves otherwise is lost at once; a peer stalled past the lease is not lost when
+// it comes back within `lapse_grace`; `priority` puts the DDS threads on SCHED_FIFO. The peer
+// processes are dds_link_peer. DDS domains 128..134, 136..138, 140 and 142..145, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <pthread.h>
@@ -59,6 +59,12 @@ class Peer {
   Peer(const Peer&) = delete;
   Peer& operator=(const Peer&) = delete;
   void killHard() { kill(pid_, SIGKILL); }
+  /// Stalls the process for `pause` (SIGSTOP, then SIGCONT): none of its threads runs meanwhile.
+  void stall(std::chrono::milliseconds pause) {
+    kill(pid_, SIGSTOP);
+    std::this_thread::sleep_for(pause);
+    kill(pid_, SIGCONT);
+  }
   /// The exit status, or -1 when it did not exit within `timeout`.
   int wait(std::chrono::milliseconds timeout) {
     int status = 0;
@@ -271,6 +277,33 @@ TEST(DdsLink, APeerThatLeavesBeforeItsRunCompletedIsLostAtOnceNamingWhy) {
       << said;
   EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{"peer"});
   EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
+}
+
+// `lapse_grace`: a peer stalled past the lease (SIGSTOP, as a process held up at its start)
+// whose liveliness comes back within the grace is not lost; one that stays silent (killed) is,
+// within lease + grace, naming both.
+TEST(DdsLink, APeerStalledPastTheLeaseThatComesBackWithinTheGraceIsNotLost) {
+  Peer peer({"live", "145", "peer", "survivor", "0.1"});
+  Survivor survivor("145");
+  set(survivor.link, "lapse_grace", "0.3");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
+  peer.stall(200ms);  // twice the lease
+  std::this_thread::sleep_for(600ms);
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 0) << "a stall of 0.2 s, back within the grace";
+
+  ::testing::internal::CaptureStderr();
+  const auto killed = std::chrono::steady_clock::now();
+  peer.killHard();
+  EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_lost@peer"); }, 2s));
+  const double delay = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  std::cout << "e_peer_lost " << delay * 1e3 << " ms after kill -9 (lease 100 ms, grace 300 ms)\n";
+  EXPECT_GE(delay, 0.3) << "not before the grace";
+  EXPECT_NE(said.find("cobra dds: participant 'survivor' lost its peer 'peer': its liveliness lapsed (lease 0.1 s) "
+                      "and did not come back within 0.3 s"),
+            std::string::npos)
+      << said;
 }
 
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a

@@ -31,6 +31,9 @@
 /// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
 ///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
 ///   the meetings instead;
+/// - `lapse_grace` (s, 0: none): a peer whose liveliness lapsed is lost only when it has not come
+///   back within this time (a stall of either process past the lease, e.g. at a run's start,
+///   is not a loss); a dead peer is then found within lease + lapse_grace;
 /// - `udp_only` (bool): UDPv4 only, without Fast DDS's shared memory between the processes of one
 ///   machine (as between two hosts). With shared memory, a peer killed while samples were being
 ///   sent to it can block the sending threads in the ports' health checks for seconds, and its
@@ -126,6 +129,8 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
                                      "fault injection: share of outgoing data messages dropped (0 in production)"};
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  core::Property<double> lapse_grace_{"lapse_grace", 0.0, "s",
+                                      "how long a lapsed peer's liveliness may take to come back before it is lost; 0: lost at once"};
   core::Property<bool> udp_only_{"udp_only", false, "",
                                  "UDPv4 only, without Fast DDS's shared memory between processes of one machine"};
   core::Property<int> priority_{"priority", 0, "",
