@@ -277,9 +277,9 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         if (sample.period_ns() != settings_.period_ns && !p.lost) {
           // Each would wait at instants the other never meets at: refuse the peer at once.
           losses.emplace_back(sample.participant(),
-                                  "it meets every " + periodText(sample.period_ns()) + ", participant '" +
-                                      settings_.self + "' every " + periodText(settings_.period_ns) +
-                                      ": give both DdsLinks the same meeting_period");
+                              "it meets every " + periodText(sample.period_ns()) + ", participant '" +
+                                  settings_.self + "' every " + periodText(settings_.period_ns) +
+                                  ": give both DdsLinks the same meeting_period");
           continue;
         }
         p.heard = Clock::now();
@@ -290,7 +290,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // its run completed
         if (sample.stamp_ns() == kFarewell && !sample.done() && !p.done)
           losses.emplace_back(sample.participant(), "it left before its run completed (its link's farewell said "
-                                                  "not done: an error, a safe stop or a time limit there)");
+                                                    "not done: an error, a safe stop or a time limit there)");
       }
     }
     changed_.notify_all();
