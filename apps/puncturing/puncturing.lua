@@ -41,11 +41,23 @@ if host then
   Link.participant = host
   Link.peers = host == "needle" and "probe" or "needle"
   -- s of wall time: a peer whose liveliness (asserted by Fast DDS's own thread every lease / 4)
-  -- lapses this long is lost, and the charts stop their robots. 3 s, not 0.1 s: the tests run two
-  -- split runs at once on a 2-core machine, where a 0.2 s lease lost a live peer (its process
-  -- starved for seconds); dds_link_test shows 0.1 s on a pair of processes that are not starved.
+  -- lapses this long is lost, and the charts stop their robots. On the wall clock 0.1 s: a robot
+  -- whose peer host is gone stops within 0.2 s. In lockstep 3 s: simulated runs are not bound to
+  -- the wall clock, and the tests run two split runs at once on a 2-core machine, where a 0.2 s
+  -- lease lost a live peer (its process starved for seconds).
   -- A lockstep meeting waits up to meeting_timeout for a live peer (one instant may take long).
-  Link.lease = 3
+  Link.lease = realtime and 0.1 or 3
+  -- s: on the wall clock a lapsed peer is lost when its liveliness has not come back within
+  -- 0.08 s more (a killed host is found within 0.2 s): a host stalled past the lease at its
+  -- run's start was otherwise lost while alive (1 run in 10 on the loaded machine).
+  Link.lapse_grace = realtime and 0.08 or 0
+  -- On the wall clock DDS's threads run SCHED_FIFO 60, under the executor's 80: time-sharing, a
+  -- loaded machine delayed them past the 0.1 s lease and a live peer was lost.
+  Link.priority = realtime and 60 or 0
+  -- On the wall clock UDP between the hosts' processes, also on one machine (as between two
+  -- hosts): with Fast DDS's shared memory, a host killed while samples were sent to it could
+  -- block the other's DDS threads for seconds (its ports' health checks), and the loss came late.
+  Link.udp_only = realtime == true
   Link.meeting_timeout = 10
   Link.join_timeout = 120  -- s: the other host may still be loading its half (its planning scenes)
   -- s: the hosts meet every 5th instant, so a port's sample or an event crosses within 5 ms (as
@@ -53,7 +65,11 @@ if host then
   Link.meeting_period = 0.005
   Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
   Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
-  setActivities({ { peer_name = "Link", period = 0.001 } })  -- s: its events reach the charts within a step
+  -- s: its events reach the charts within a step. Its own pace on the wall clock: there the hosts
+  -- do not meet, and on the executor's lockstep schedule the link would put the transport in
+  -- lockstep (samples held for meetings that never come); its work is on Fast DDS's threads and
+  -- its writer ends' anyway (the link has no update hook).
+  setActivities({ { peer_name = "Link", period = 0.001, own_pace = true } })
   configureComponents({ "Link" })
   startComponents({ "Link" })
 end

@@ -31,7 +31,8 @@ namespace {
 constexpr const char* kMeetingTopic = "rt/cobra/link";
 constexpr const char* kMeetingType = "cobra_msgs::msg::dds_::LinkMeeting_";
 /// Announcement stamps that are not instants: the hello when a link starts, and the farewell of
-/// a wall-clock link that leaves normally (done = true: its peers record it done, not lost).
+/// a wall-clock link that leaves (done = true when its run completed: its peers record it done;
+/// false when it left otherwise, on an error or a safe stop: its peers lose it at once).
 constexpr std::int64_t kHello = -1;
 constexpr std::int64_t kFarewell = -2;
 
@@ -86,6 +87,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     double join_timeout;
     double meeting_timeout;  ///< s, > 0
     std::int64_t period_ns;  ///< meets at the instants that are multiples of it; 0: at every one
+    double lapse_grace;      ///< s a lapsed peer's liveliness may take to come back; 0: lost at once
   };
 
   Meeting(DdsLink& link, detail::Participant& participant, Settings settings)
@@ -129,6 +131,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
       close();
       throw core::Error(std::string("Fast DDS refused the writer or reader of ") + kMeetingTopic);
     }
+    if (settings_.lapse_grace > 0.0) confirmer_ = std::thread([this] { confirmLapses(); });
   }
 
   /// The hello: peers learn this process's name and reader ends before its first instant.
@@ -141,13 +144,15 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   ~Meeting() override { close(); }
 
   void close() noexcept {
+    stopConfirming();
     fdds::DomainParticipant* p = participant_.entity();
-    // Wall clock: no meeting says when a peer is done, so leaving normally says it here, before
-    // the writer goes (its peers would otherwise see its liveliness end and lose it). A lockstep
-    // link's peers learn it at the meetings (setDone), and keep that path alone.
+    // Wall clock: no meeting says when a peer is done, so the farewell says it, before the
+    // writer goes: done when this process's run completed (setDone(true)), else not (an error, a
+    // safe stop, a time limit), and its peers lose it without waiting for its liveliness to
+    // lapse. A lockstep link's peers learn it at the meetings (setDone), and keep that path alone.
     if (writer_ != nullptr && greeted_ && !participant_.lockstep()) {
       try {
-        announce(kFarewell, true);
+        announce(kFarewell, done_.load());
       } catch (const std::exception& e) {
         std::cerr << "cobra dds: participant '" << settings_.self << "' could not say farewell: " << e.what() << std::endl;
       }
@@ -217,7 +222,13 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
 
   void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& status) override {
     std::lock_guard closing(callback_mutex_);
-    if (closed_ || status.alive_count_change >= 0) return;
+    if (closed_ || status.alive_count_change == 0) return;
+    if (status.alive_count_change > 0) {  // asserted again: a lapse within the grace was a stall
+      std::lock_guard lock(mutex_);
+      if (const auto it = names_.find(text(rtps::iHandle2GUID(status.last_publication_handle))); it != names_.end())
+        lapsed_.erase(it->second);
+      return;
+    }
     // A peer that said farewell was acknowledged before its writer went: Fast DDS calls
     // on_data_available from the thread that received the farewell, before it acknowledges it, so
     // the peer is done here already. (Samples are not taken here: this callback comes from Fast
@@ -231,7 +242,10 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
       if (auto it = names_.find(guid); it != names_.end()) name = it->second;
     }
     if (name.empty()) name = participant_.participantName(rtps::iHandle2GUID(status.last_publication_handle).guidPrefix);
-    if (!name.empty()) lose(name, "its liveliness lapsed");
+    if (name.empty()) return;
+    if (settings_.lapse_grace <= 0.0) return lose(name, "its liveliness lapsed");
+    std::lock_guard lock(mutex_);
+    lapsed_.emplace(name, Clock::now());  // confirmed by confirmLapses unless it comes back
   }
 
  private:
@@ -253,7 +267,7 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     cobra_msgs::msg::LinkMeeting sample;
     fdds::SampleInfo info;
     std::vector<std::string> joined;
-    std::vector<std::pair<std::string, std::string>> mismatched;  // name, why
+    std::vector<std::pair<std::string, std::string>> losses;  // name, why
     {
       std::lock_guard lock(mutex_);
       while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
@@ -264,10 +278,10 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         Peer& p = peer->second;
         if (sample.period_ns() != settings_.period_ns && !p.lost) {
           // Each would wait at instants the other never meets at: refuse the peer at once.
-          mismatched.emplace_back(sample.participant(),
-                                  "it meets every " + periodText(sample.period_ns()) + ", participant '" +
-                                      settings_.self + "' every " + periodText(settings_.period_ns) +
-                                      ": give both DdsLinks the same meeting_period");
+          losses.emplace_back(sample.participant(),
+                              "it meets every " + periodText(sample.period_ns()) + ", participant '" +
+                                  settings_.self + "' every " + periodText(settings_.period_ns) +
+                                  ": give both DdsLinks the same meeting_period");
           continue;
         }
         p.heard = Clock::now();
@@ -275,12 +289,15 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
         p.seen = true;
         p.readers = sample.readers();
         if (sample.stamp_ns() >= 0) p.announced[sample.stamp_ns()] = {sample.done(), sample.writers()};
-        if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // it left normally
+        if (sample.stamp_ns() == kFarewell && sample.done()) p.done = true;  // its run completed
+        if (sample.stamp_ns() == kFarewell && !sample.done() && !p.done)
+          losses.emplace_back(sample.participant(), "it left before its run completed (its link's farewell said "
+                                                    "not done: an error, a safe stop or a time limit there)");
       }
     }
     changed_.notify_all();
     for (const auto& name : joined) link_.emit("e_peer_joined", name);
-    for (const auto& [name, why] : mismatched) lose(name, why);
+    for (const auto& [name, why] : losses) lose(name, why);
   }
 
   void announce(std::int64_t stamp, bool done, std::vector<cobra_msgs::msg::LinkWriter> writers = {}) {
@@ -405,6 +422,37 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
     }
   }
 
+  /// The confirming thread (lapse_grace > 0): a peer whose liveliness lapsed and did not come
+  /// back within the grace is lost. A lapse that comes back was a stall of either process (its
+  /// threads held up past the lease, e.g. at a run's start), not a lost peer.
+  void confirmLapses() {
+    participant_.raiseThisThread();
+    const auto grace = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(settings_.lapse_grace));
+    std::unique_lock lock(mutex_);
+    while (!stop_confirming_) {
+      changed_.wait_for(lock, std::chrono::milliseconds(1));
+      std::vector<std::string> confirmed;
+      for (auto it = lapsed_.begin(); it != lapsed_.end();)
+        if (Clock::now() - it->second >= grace) confirmed.push_back(it->first), it = lapsed_.erase(it);
+        else ++it;
+      if (confirmed.empty()) continue;
+      lock.unlock();
+      for (const std::string& name : confirmed)
+        lose(name, "its liveliness lapsed (lease " + text::number(settings_.lease) + " s) and did not come back within " +
+                       text::number(settings_.lapse_grace) + " s");
+      lock.lock();
+    }
+  }
+
+  void stopConfirming() noexcept {
+    {
+      std::lock_guard lock(mutex_);
+      stop_confirming_ = true;
+    }
+    changed_.notify_all();
+    if (confirmer_.joinable()) confirmer_.join();
+  }
+
   void lose(const std::string& name, const std::string& why) {
     {
       std::lock_guard lock(mutex_);
@@ -442,6 +490,9 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   std::map<std::string, std::string> names_;  // participant name by meeting writer GUID (text)
   std::vector<std::string> lost_;
   std::vector<std::string> joined_;  // the peers heard from, in that order
+  std::map<std::string, Clock::time_point> lapsed_;  // liveliness lapsed, not yet lost: since when (under mutex_)
+  bool stop_confirming_ = false;                     // under mutex_
+  std::thread confirmer_;                            // lapse_grace > 0: confirmLapses
 };
 
 /// The events of foreign threads on their way to the link's step (event_queue.hpp).
@@ -465,6 +516,9 @@ DdsLink::DdsLink(std::string name)
   addProperty(drop_share_.range(0.0, 1.0));
   addProperty(poll_.range(1e-6, 1.0));
   addProperty(meeting_period_.range(0.0, 1.0));
+  addProperty(priority_.range(0, 99));
+  addProperty(udp_only_);
+  addProperty(lapse_grace_.range(0.0, 3600.0));
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -503,13 +557,15 @@ bool DdsLink::configureHook() {
   options.initial_peers = splitList(initial_peers_.get());
   options.drop_share = drop_share_.get();
   options.poll = poll_.get();
+  options.priority = priority_.get();
+  options.udp_only = udp_only_.get();
   try {
     transport_ = std::make_shared<DdsTransport>(options);
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });
     meeting_ = std::make_unique<Meeting>(*this, *transport_->participant_,
                                          Meeting::Settings{participant_.get(), peers, lease_.get(), join_timeout_.get(),
                                                            meeting_timeout_.get() > 0.0 ? meeting_timeout_.get() : lease_.get(),
-                                                           std::llround(meeting_period_.get() * 1e9)});
+                                                           std::llround(meeting_period_.get() * 1e9), lapse_grace_.get()});
   } catch (const std::exception& e) {
     meeting_.reset();
     transport_.reset();
@@ -569,7 +625,7 @@ void DdsLink::emit(const std::string& event, const std::string& source) {
   core::Event e;
   e.name.assign(event);
   e.source.assign(source);
-  e.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch());
+  e.stamp = now();  // run time, as every component's events (the activity's clock; any thread)
   if (!foreign_events_->queue.push(e))
     std::cerr << "cobra dds: " << name() << ": " << ForeignEvents::kCapacity << " events wait for the link's next step; "
               << event << " (" << source << ") dropped: give the link a periodic activity" << std::endl;

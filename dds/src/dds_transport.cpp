@@ -105,6 +105,7 @@ class WriterEnd final : public core::TransportEnd, public detail::WriterEndHook 
 
  private:
   void run() {
+    participant_->raiseThisThread();
     const auto poll = participant_->poll();
     while (!stop_.load()) {
       std::this_thread::sleep_for(poll);

@@ -12,10 +12,15 @@
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -27,6 +32,41 @@ namespace fdds = eprosima::fastdds::dds;
 namespace rtps = eprosima::fastrtps::rtps;
 
 namespace {
+
+/// While alive, the calling thread runs SCHED_FIFO at `priority` (0: unchanged), so that the
+/// threads it creates inherit it (glibc's default, PTHREAD_INHERIT_SCHED, and std::thread's);
+/// its own scheduling comes back after.
+class FifoWhileCreating {
+ public:
+  FifoWhileCreating(int priority, const std::string& participant) {
+    if (priority == 0 || pthread_getschedparam(pthread_self(), &policy_, &old_) != 0) return;
+    raised_ = setFifo(priority, participant);
+  }
+  ~FifoWhileCreating() {
+    if (raised_) pthread_setschedparam(pthread_self(), policy_, &old_);
+  }
+  FifoWhileCreating(const FifoWhileCreating&) = delete;
+  FifoWhileCreating& operator=(const FifoWhileCreating&) = delete;
+
+  /// The calling thread to SCHED_FIFO `priority`; false (said once on stderr) when refused.
+  static bool setFifo(int priority, const std::string& participant) noexcept {
+    sched_param p{};
+    p.sched_priority = priority;
+    const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+    if (error == 0) return true;
+    static std::once_flag said;
+    std::call_once(said, [&] {
+      std::cerr << "cobra dds: participant '" << participant << "': SCHED_FIFO priority " << priority << " refused ("
+                << std::strerror(error) << "): its threads run time-sharing\n";
+    });
+    return false;
+  }
+
+ private:
+  int policy_ = SCHED_OTHER;
+  sched_param old_{};
+  bool raised_ = false;
+};
 
 std::string text(const rtps::GUID_t& guid) {
   std::ostringstream out;
@@ -108,11 +148,17 @@ std::string EndpointQos::describe(bool with_depth) const {
 }
 
 Participant::Participant(const DdsTransport::Options& options)
-    : poll_(std::chrono::nanoseconds(static_cast<std::int64_t>(options.poll * 1e9))), log_(options.log) {
+    : poll_(std::chrono::nanoseconds(static_cast<std::int64_t>(options.poll * 1e9))),
+      priority_(options.priority),
+      name_(options.participant),
+      log_(options.log) {
   const int domain = options.domain;
   const std::string& name = options.participant;
   if (!(options.poll > 0.0 && options.poll <= 1.0))
     throw core::Error("dds participant '" + name + "': poll = " + text::number(options.poll) + ": expected a period in s in (0, 1]");
+  if (options.priority < 0 || options.priority > 99)
+    throw core::Error("dds participant '" + name + "': priority = " + std::to_string(options.priority) +
+                      ": expected a SCHED_FIFO priority 1..99, or 0 (as the creating thread)");
   if (!(options.drop_share >= 0.0 && options.drop_share <= 1.0))
     throw core::Error("dds participant '" + name + "': drop_share = " + text::number(options.drop_share) +
                       ": expected a share in [0, 1]");
@@ -143,6 +189,7 @@ Participant::Participant(const DdsTransport::Options& options)
   // instead of each reader's on_data_available. Discovery callbacks come whatever the mask.
   const fdds::StatusMask mask =
       fdds::StatusMask::offered_incompatible_qos() << fdds::StatusMask::requested_incompatible_qos();
+  const FifoWhileCreating fifo(priority_, name);  // the threads Fast DDS makes for it inherit the priority
   participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos, this, mask);
   if (participant_ == nullptr)
     throw core::Error("dds: cannot create the domain participant '" + name + "' on domain " + std::to_string(domain) +
@@ -154,6 +201,10 @@ Participant::Participant(const DdsTransport::Options& options)
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     throw core::Error("dds: cannot create the publisher and subscriber of participant '" + name + "'");
   }
+}
+
+void Participant::raiseThisThread() const noexcept {
+  if (priority_ > 0) FifoWhileCreating::setFifo(priority_, name_);
 }
 
 Participant::~Participant() {

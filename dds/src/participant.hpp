@@ -86,6 +86,8 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   /// Period at which a writer end's thread looks for samples to send (wall-clock runs).
   std::chrono::nanoseconds poll() const { return poll_; }
+  /// Puts the calling thread (a writer end's) at the participant's SCHED_FIFO priority, if any.
+  void raiseThisThread() const noexcept;
 
   /// Lockstep: writer ends send only when the clock meeting flushes them, reader ends hold what
   /// arrives until the meeting releases it (so that a sample written in [t - d, t) is read from
@@ -182,6 +184,8 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
 
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   std::chrono::nanoseconds poll_;
+  int priority_;  // SCHED_FIFO 1..99 of its threads; 0: as their creator's
+  std::string name_;
   std::atomic<bool> lockstep_{false};
   mutable std::mutex released_mutex_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> released_;  // under released_mutex_

@@ -1,9 +1,10 @@
 // The processes of dds_link_test: each has a DdsLink (the package's component, linked here).
-//   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS [LEAVE_AFTER]]
+//   dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS [LEAVE_AFTER [HOW]]]
 //     configures and starts a DdsLink, prints the events it sends (one "name source" a line),
-//     and waits to be killed (exits 2 after 20 s). With LEAVE_AFTER (s), it leaves normally that
-//     long after its first e_peer_joined instead: stops and cleans up its link (a wall-clock
-//     link says farewell), prints "left", exits 0.
+//     and waits to be killed (exits 2 after 20 s). With LEAVE_AFTER (s), it leaves that long
+//     after its first e_peer_joined instead: stops and cleans up its link (a wall-clock link says
+//     farewell), prints "left", exits 0. HOW "done" (default): its run completed (setDone(true)
+//     first, as `cobra run` does), "failed": it did not (the farewell says not done).
 //   dds_link_peer lockstep DOMAIN ROLE INSTANTS DROP_SHARE TRACE_FILE [MEETING_PERIOD]
 //     one half of a lockstep run of INSTANTS instants of 1 ms, its clock met through its DdsLink:
 //     ROLE "leader" (participant "leader") steps Mover, which writes a KDL.Frame on "link/pose"
@@ -106,7 +107,7 @@ bool configured(core::Component& c) {
 }
 
 int live(int domain, const std::string& name, const std::string& peers, const std::string& lease,
-         const std::string& initial_peers, double leave_after) {
+         const std::string& initial_peers, double leave_after, bool done) {
   dds::registerLinkedTransport();
   dds::DdsLink link("Link");
   link.property("initial_peers").setFromText(initial_peers);
@@ -129,6 +130,7 @@ int live(int domain, const std::string& name, const std::string& peers, const st
                                                            std::chrono::duration<double>(leave_after));
     }
     if (leave_at && std::chrono::steady_clock::now() >= *leave_at) {
+      link.setDone(done);
       if (!link.stop() || !link.cleanup()) return 1;
       std::cout << "left" << std::endl;
       return 0;
@@ -187,8 +189,9 @@ int lockstep(int domain, const std::string& role, long instants, const std::stri
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (mode == "live" && argc >= 6 && argc <= 8)
-    return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc >= 7 ? argv[6] : "", argc == 8 ? std::atof(argv[7]) : -1.0);
+  if (mode == "live" && argc >= 6 && argc <= 9 && (argc < 9 || std::string(argv[8]) == "done" || std::string(argv[8]) == "failed"))
+    return live(std::atoi(argv[2]), argv[3], argv[4], argv[5], argc >= 7 ? argv[6] : "", argc >= 8 ? std::atof(argv[7]) : -1.0,
+                argc < 9 || std::string(argv[8]) == "done");
   if (mode == "lockstep" && (argc == 7 || argc == 8))
     return lockstep(std::atoi(argv[2]), argv[3], std::atol(argv[4]), argv[5], argv[6], argc == 8 ? argv[7] : "0");
   std::cerr << "usage: dds_link_peer live DOMAIN NAME PEERS LEASE [INITIAL_PEERS [LEAVE_AFTER]] | lockstep DOMAIN ROLE "

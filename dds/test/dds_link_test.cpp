@@ -2,10 +2,14 @@
 // is refused), one per process, its properties checked; peer liveliness across two processes
 // (kill -9 the peer: e_peer_lost from the survivor); the lockstep clock met across two processes
 // (traces identical between runs and equal to a one-step delay, also with 10 % of the data
-// messages dropped); a peer that leaves normally on the wall clock is done, not lost. The peer
-// processes are dds_link_peer. DDS domains 128..134 and 136..138, this test's own.
+// messages dropped); a peer that leaves on the wall clock after its run completed is done, not
+// lost, one that leaves otherwise is lost at once; a peer stalled past the lease is not lost when
+// it comes back within `lapse_grace`; `priority` puts the DDS threads on SCHED_FIFO. The peer
+// processes are dds_link_peer. DDS domains 128..134, 136..138, 140 and 142..145, this test's own.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "cobra/core/activity.hpp"
@@ -55,6 +60,12 @@ class Peer {
   Peer(const Peer&) = delete;
   Peer& operator=(const Peer&) = delete;
   void killHard() { kill(pid_, SIGKILL); }
+  /// Stalls the process for `pause` (SIGSTOP, then SIGCONT): none of its threads runs meanwhile.
+  void stall(std::chrono::milliseconds pause) {
+    kill(pid_, SIGSTOP);
+    std::this_thread::sleep_for(pause);
+    kill(pid_, SIGCONT);
+  }
   /// The exit status, or -1 when it did not exit within `timeout`.
   int wait(std::chrono::milliseconds timeout) {
     int status = 0;
@@ -109,6 +120,61 @@ TEST(DdsLink, ADdsConnectionBeforeTheLinkIsConfiguredIsRefusedNamingIt) {
             std::string::npos);
 }
 
+/// The ids of this process's threads.
+std::set<pid_t> threadIds() {
+  std::set<pid_t> ids;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
+    ids.insert(static_cast<pid_t>(std::stol(task.path().filename().string())));
+  return ids;
+}
+
+// `priority`: the threads Fast DDS makes for the participant run SCHED_FIFO at it (they inherit
+// it from the configuring thread, whose own scheduling comes back), and so does a writer end's.
+TEST(DdsLink, PriorityPutsTheParticipantsThreadsOnSchedFifo) {
+  sched_param fifo{};
+  fifo.sched_priority = 7;
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &fifo) != 0) GTEST_SKIP() << "SCHED_FIFO refused here";
+  sched_param other{};
+  ASSERT_EQ(pthread_setschedparam(pthread_self(), SCHED_OTHER, &other), 0);
+  registerLinkedTransport();
+  const std::set<pid_t> before = threadIds();
+  DdsLink link("Link");
+  set(link, "domain", "144");
+  set(link, "participant", "fifo");
+  set(link, "priority", "7");
+  ASSERT_TRUE(link.configure());
+  core::OutputPort<double> out("out", "", "1");
+  core::ConnPolicy policy = core::ConnPolicy::data();
+  policy.transport = "dds";
+  policy.topic = "link/fifo";
+  ASSERT_NO_THROW(core::connectToTransport(out, policy));  // a writer end, with its thread
+  int scheduler = -1;
+  sched_param mine{};
+  ASSERT_EQ(pthread_getschedparam(pthread_self(), &scheduler, &mine), 0);
+  EXPECT_EQ(scheduler, SCHED_OTHER) << "the configuring thread's scheduling came back";
+  // The threads made since, and those not at SCHED_FIFO 7 (by name); a writer end's thread sets
+  // its priority when it starts.
+  int made = 0;
+  std::string others;
+  ASSERT_TRUE(test::pollUntil([&] {
+    made = 0;
+    others.clear();
+    for (const pid_t id : threadIds()) {
+      if (before.count(id) != 0) continue;
+      ++made;
+      sched_param p{};
+      if (sched_getscheduler(id) == SCHED_FIFO && sched_getparam(id, &p) == 0 && p.sched_priority == 7) continue;
+      std::ifstream comm("/proc/self/task/" + std::to_string(id) + "/comm");
+      std::string name;
+      std::getline(comm, name);
+      others += " " + name;
+    }
+    return others.empty();
+  }, 2s)) << "threads made for the participant not on SCHED_FIFO 7:" << others;
+  EXPECT_GT(made, 2) << "Fast DDS's threads and the writer end's";
+  EXPECT_NE(test_support::messageOf([&] { set(link, "priority", "100"); }).find("priority"), std::string::npos);
+}
+
 TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {
   registerLinkedTransport();
   DdsLink link("Link");
@@ -129,16 +195,16 @@ TEST(DdsLink, BadPropertiesAreRefusedNamingTheProperty) {
 }
 
 /// This process's side of a wall-clock pair: DdsLink "survivor" in `domain` with the peer "peer"
-/// and a lease of 0.1 s, and what its events port said ("event@source").
+/// and a lease of 0.1 s (or `lease`), and what its events port said ("event@source").
 struct Survivor {
   static constexpr double kLease = 0.1;  // s
 
-  explicit Survivor(const std::string& domain) {
+  explicit Survivor(const std::string& domain, const std::string& lease = "0.1") {
     registerLinkedTransport();
     set(link, "domain", domain);
     set(link, "participant", "survivor");
     set(link, "peers", "peer");
-    set(link, "lease", "0.1");
+    set(link, "lease", lease);
     core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
   }
   bool start() { return link.configure() && link.start(); }
@@ -179,8 +245,8 @@ TEST(DdsLink, KillingThePeerGivesOneLostEventWithinTheLease) {
   EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
 }
 
-// Wall clock: a peer that stops and cleans up its link says farewell (done) before its writer
-// goes, so its leaving is not a loss; kill -9 (the test above) still is.
+// Wall clock: a peer whose run completed (setDone) says farewell (done) when it cleans up its
+// link, before its writer goes, so its leaving is not a loss; kill -9 (the test above) still is.
 TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
   Peer peer({"live", "136", "peer", "survivor", "0.1", "", "0.3"});
   Survivor survivor("136");
@@ -209,6 +275,53 @@ TEST(DdsLink, EventsOfFastDdsThreadsReachThePortInTheLinksOwnStep) {
   EXPECT_EQ(survivor.events.read(e), core::FlowStatus::NoData) << "written by a thread that is not the link's";
   EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 1s));  // steps the link
   EXPECT_EQ(survivor.link.droppedEvents(), 0U);
+}
+
+// Wall clock: a peer that leaves before its run completed (an error, a safe stop: no setDone)
+// says farewell not done, and is lost at once, naming why: with a lease of 5 s, well before its
+// liveliness could lapse.
+TEST(DdsLink, APeerThatLeavesBeforeItsRunCompletedIsLostAtOnceNamingWhy) {
+  Peer peer({"live", "143", "peer", "survivor", "5", "", "0.3", "failed"});
+  Survivor survivor("143", "5");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(peer.wait(5s), 0) << "the peer left (stopped and cleaned up its link)";
+  EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_lost@peer"); }, 1s)) << "lost within 1 s (lease 5 s)";
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("cobra dds: participant 'survivor' lost its peer 'peer': it left before its run completed (its "
+                      "link's farewell said not done: an error, a safe stop or a time limit there)"),
+            std::string::npos)
+      << said;
+  EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{"peer"});
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 1);
+}
+
+// `lapse_grace`: a peer stalled past the lease (SIGSTOP, as a process held up at its start)
+// whose liveliness comes back within the grace is not lost; one that stays silent (killed) is,
+// within lease + grace, naming both.
+TEST(DdsLink, APeerStalledPastTheLeaseThatComesBackWithinTheGraceIsNotLost) {
+  Peer peer({"live", "145", "peer", "survivor", "0.1"});
+  Survivor survivor("145");
+  set(survivor.link, "lapse_grace", "0.3");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 8s));
+  peer.stall(200ms);  // twice the lease
+  std::this_thread::sleep_for(600ms);
+  EXPECT_EQ(survivor.times("e_peer_lost@peer"), 0) << "a stall of 0.2 s, back within the grace";
+
+  ::testing::internal::CaptureStderr();
+  const auto killed = std::chrono::steady_clock::now();
+  peer.killHard();
+  EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_lost@peer"); }, 2s));
+  const double delay = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  std::cout << "e_peer_lost " << delay * 1e3 << " ms after kill -9 (lease 100 ms, grace 300 ms)\n";
+  EXPECT_GE(delay, 0.3) << "not before the grace";
+  EXPECT_NE(said.find("cobra dds: participant 'survivor' lost its peer 'peer': its liveliness lapsed (lease 0.1 s) "
+                      "and did not come back within 0.3 s"),
+            std::string::npos)
+      << said;
 }
 
 /// What the leader and the follower of dds_link_peer read at each of `instants` steps when a

@@ -11,6 +11,7 @@
 #include <lua.hpp>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
@@ -106,6 +107,13 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
       configurator_(configuratorOptions(options)),
       deployer_(configurator_, lua_),
       refs_(configurator_.getReferences()) {
+  // On the wall clock the executor locks the process's memory when it starts; locking all that a
+  // loaded deployment has mapped stalls the process's threads for longer than a DDS link's lease
+  // to its peer hosts (0.1 s: the peers then lost each other at the start). Locked before the
+  // files run, memory is locked as it is mapped, and the executor's lock finds it done. Undone
+  // below when the files do not lock memory (setExecutor's lock_memory). Best effort: the
+  // executor reports a refused lock.
+  const bool locked_early = configurator_.mode() == deploy::ClockMode::WallClock && mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
   components::addBuiltinPackages(configurator_.packages());
   if (options_.add_packages) options_.add_packages(configurator_.packages());
   if (!options_.scenario.empty()) {
@@ -119,6 +127,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   if (!options_.before_lua.empty()) deployer_.run(options_.before_lua, "=before_lua");
   deployer_.runFile(entry_.string());
   if (!options_.extra_lua.empty()) deployer_.run(options_.extra_lua, "=extra_lua");
+  if (locked_early && !configurator_.executorOptions().lock_memory) munlockall();
   deployer_.run("getReferences()", "=run");
   spec_ = readRunSpec(lua_.get(), entry_.string());
   dropOtherHostsEntries();
@@ -617,9 +626,14 @@ void Session::writeReport(const std::vector<std::string>& observer_files) {
 }
 
 bool Session::peersHoldTheRun() {
-  // On the wall clock nothing meets the peers: each host's run ends with its own charts.
-  core::ClockSync* sync = options_.realtime ? nullptr : configurator_.clockSync();
+  core::ClockSync* sync = configurator_.clockSync();
   if (sync == nullptr) return false;
+  if (options_.realtime) {
+    // On the wall clock nothing meets the peers: each host's run ends with its own charts, and
+    // its link's farewell tells them it completed (a farewell without it is a lost peer).
+    sync->setDone(true);
+    return false;
+  }
   if (!told_done_) {
     sync->setDone(true);
     told_done_ = true;

@@ -42,7 +42,8 @@ struct HostSetup {
   std::string initial_peers;      ///< the peer's IPv4 address for unicast discovery ("" = multicast)
   std::string netns;              ///< network namespace to run in ("" = this one)
   double time_limit = 400.0;      ///< s simulated (of wall time when `realtime`)
-  bool realtime = false;          ///< on the wall clock (threaded activities), as `cobra run --realtime`
+  bool realtime = false;          ///< on the wall clock (the real-time executor), as `cobra run --realtime`
+  std::filesystem::path faults_file;  ///< played by this host (`cobra run --faults`); "" = none
 };
 
 /// What a host's run came to, read back from its files.
@@ -207,6 +208,7 @@ class HostProcess {
       o.host = setup_.host;
       o.time_limit = setup_.time_limit;
       o.realtime = setup_.realtime;
+      o.faults_file = setup_.faults_file;
       o.report_folder = setup_.folder / "report";
       std::ostringstream lua;
       lua.precision(17);
@@ -238,7 +240,10 @@ inline std::filesystem::path folderFor(const std::string& name) {
 
 /// Both hosts of one distributed run, started together.
 struct Pair {
-  Pair(const std::string& name, HostSetup base) : needle(with(base, "needle", name)), probe(with(base, "probe", name)) {}
+  Pair(const std::string& name, const HostSetup& base) : Pair(name, base, base) {}
+  /// Each host with its own setup (e.g. a fault that one host alone plays).
+  Pair(const std::string& name, HostSetup needle_base, HostSetup probe_base)
+      : needle(with(std::move(needle_base), "needle", name)), probe(with(std::move(probe_base), "probe", name)) {}
   static HostSetup with(HostSetup s, const std::string& host, const std::string& name) {
     s.host = host;
     s.folder = folderFor(name) / host;

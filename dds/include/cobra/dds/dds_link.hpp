@@ -31,6 +31,17 @@
 /// - `poll` (s): period at which a writer end's thread sends what ports wrote, i.e. the most
 ///   latency a wall-clock run adds (a port's write makes no system call); lockstep runs send at
 ///   the meetings instead;
+/// - `lapse_grace` (s, 0: none): a peer whose liveliness lapsed is lost only when it has not come
+///   back within this time (a stall of either process past the lease, e.g. at a run's start,
+///   is not a loss); a dead peer is then found within lease + lapse_grace;
+/// - `udp_only` (bool): UDPv4 only, without Fast DDS's shared memory between the processes of one
+///   machine (as between two hosts). With shared memory, a peer killed while samples were being
+///   sent to it can block the sending threads in the ports' health checks for seconds, and its
+///   loss is found that late;
+/// - `priority` (0..99): SCHED_FIFO priority of the threads Fast DDS makes for the participant
+///   (receiving, liveliness) and of the writer ends' threads; 0: time-sharing. On the wall clock
+///   a lease of 0.1 s needs it: a loaded machine delays time-sharing threads past the lease, and
+///   the peer is lost while alive. Below the executor's, so that the control loop keeps its time;
 /// - `meeting_period` (s, 0..1; 0: every instant): a lockstep run meets only at the instants
 ///   that are multiples of it, so a sample crosses at the first such instant after it was
 ///   written: up to one period of delay between processes (as a network adds), in exchange for
@@ -38,14 +49,20 @@
 ///   have the same; a peer with another is lost at once, the message naming both periods.
 ///
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
-/// topic): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer that said it was done:
-/// at a lockstep meeting, or on the wall clock by its farewell when its link was cleaned up),
-/// and the transport's `e_dds_type_mismatch` / `e_dds_incompatible_qos`. They happen on Fast
-/// DDS's threads and the clock's thread; those push them into a lock-free queue (256 events) and
-/// the link's own step (updateHook) writes them on the port, so the port has one writer, the
-/// link's thread, as every port. Give the link an activity that steps it: a periodic one (e.g.
-/// 1 ms), or the lockstep clock; a link never stepped keeps its events in the queue, and drops
-/// (and counts: droppedEvents()) those that find it full.
+/// topic; stamped in run time): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer
+/// that said it was done: at a lockstep meeting, or on the wall clock by its farewell when its
+/// link was cleaned up after `setDone(true)`, i.e. its run completed; a farewell without it, an
+/// error or a safe stop there, loses the peer at once), and the transport's
+/// `e_dds_type_mismatch` / `e_dds_incompatible_qos`. They happen on Fast DDS's threads and the
+/// clock's thread; those push them into a lock-free queue (256 events) and the link's own step
+/// (updateHook) writes them on the port, so the port has one writer, the link's thread, as every
+/// port. A link never stepped keeps its events in the queue, and drops (and counts:
+/// droppedEvents()) those that find it full.
+///
+/// Wall clock: give the link an activity of its own (`own_pace = true`, deploy/spec.hpp, with a
+/// period, e.g. 1 ms, so that it steps), not a place on the executor's lockstep schedule: stepped
+/// by a LockstepClock it would put the transport in lockstep, holding samples for meetings that
+/// never come. Its work runs on Fast DDS's threads and its writer ends' anyway.
 ///
 /// Lockstep runs: a DdsLink with peers stepped by a LockstepClock (its activity is a
 /// LockstepActivity when it is configured or started) puts the transport in lockstep: writer
@@ -119,6 +136,12 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> drop_share_{"drop_share", 0.0, "1",
                                      "fault injection: share of outgoing data messages dropped (0 in production)"};
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
+  core::Property<double> lapse_grace_{"lapse_grace", 0.0, "s",
+                                      "how long a lapsed peer's liveliness may take to come back before it is lost; 0: lost at once"};
+  core::Property<bool> udp_only_{"udp_only", false, "",
+                                 "UDPv4 only, without Fast DDS's shared memory between processes of one machine"};
+  core::Property<int> priority_{"priority", 0, "",
+                                "SCHED_FIFO priority 1..99 of the DDS threads (wall clock, short leases); 0: time-sharing"};
   core::Property<double> meeting_period_{
       "meeting_period", 0.0, "s",
       "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};

@@ -64,6 +64,12 @@ class DdsTransport final : public core::Transport {
     /// wall-clock run adds to each sample, at most. A port's write only pushes and sets a flag;
     /// it makes no system call.
     double poll = 1e-4;
+    /// SCHED_FIFO priority (1..99) of the threads Fast DDS makes for the participant (receiving,
+    /// liveliness, resending) and of the writer ends' threads; 0: they run as the thread that
+    /// makes them (time-sharing, usually). On the wall clock a short liveliness lease needs it:
+    /// a loaded machine delays time-sharing threads past the lease. When refused (no
+    /// CAP_SYS_NICE), the threads run time-sharing and stderr says so.
+    int priority = 0;
   };
 
   explicit DdsTransport(Options options);
