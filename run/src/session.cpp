@@ -188,8 +188,11 @@ void Session::attachCharts() {
     Chart chart;
     chart.spec = &c;
     const std::string use = "run.charts '" + c.name + "'";
-    chart.state_tap = std::make_unique<Tap<core::TaskState>>(refs_, c.supervisor + ".taskState", c.where.text(), use,
-                                                             "a Supervisor's taskState (TaskState)");
+    // On the wall clock the run observes every step of wall time, and a chart may pass through
+    // a state between two observations: every state it enters waits in a buffer, taken in turn.
+    chart.state_tap = std::make_unique<Tap<core::TaskState>>(
+        refs_, c.supervisor + ".taskState", c.where.text(), use, "a Supervisor's taskState (TaskState)",
+        options_.realtime ? core::ConnPolicy::buffer(256) : core::ConnPolicy::data());
     chart.supervisor = dynamic_cast<const components::Supervisor*>(refs_.find(c.supervisor));
     if (chart.supervisor == nullptr)
       throw std::runtime_error(c.where.text() + ": " + use + ": component '" + c.supervisor + "' is not a Supervisor");
@@ -286,12 +289,15 @@ void Session::advance() {
   }
 }
 
-void Session::observeCharts() {
+bool Session::observeCharts() {
+  bool any = false;
   for (Chart& c : charts_) {
     if (options_.realtime) {
+      // One state change per chart and call (the oldest not seen): advance() and catchUpStates()
+      // take them in turn, so a state held for less than a step is still entered and left.
       core::TaskState task_state;
       c.previous = c.state;
-      if (c.state_tap->readNew(task_state)) c.state.assign(task_state.path.view());
+      if (c.state_tap->readNew(task_state)) c.state.assign(task_state.path.view()), any = true;
       c.changed = steps_ == 1 || c.state != c.previous;
       continue;
     }
@@ -311,6 +317,7 @@ void Session::observeCharts() {
       c.changed = false;
     }
   }
+  return any;
 }
 
 void Session::readEvents() {
@@ -461,7 +468,26 @@ void Session::runOnTheWallClock(std::chrono::nanoseconds step) {
     t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
     dt_ = steps_ == 0 ? spec_.step : t_ - before;
     advance();
+    catchUpStates();
   } while (!ended());
+}
+
+void Session::catchUpStates() {
+  // The states a chart entered since the observation took its first: what depends on a chart's
+  // state (the log and timeline, summaries sampled on leaving a state, actions on entering one)
+  // sees each of them, at this observation's time.
+  // Afterwards `previous` is again the state one observation ago, as ended() expects.
+  catch_up_previous_.resize(charts_.size());
+  for (std::size_t i = 0; i < charts_.size(); ++i) catch_up_previous_[i] = charts_[i].previous;
+  for (int round = 0; round < 256 && observeCharts(); ++round) {
+    readEvents();
+    sampleSummaries();
+    playActions();
+  }
+  for (std::size_t i = 0; i < charts_.size(); ++i) {
+    charts_[i].previous = catch_up_previous_[i];
+    charts_[i].changed = charts_[i].state != charts_[i].previous;
+  }
 }
 
 void Session::noteExecutorFigures() {

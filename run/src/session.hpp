@@ -71,7 +71,10 @@ class Session {
   void attachObserver();
   // One step.
   void advance();
-  void observeCharts();
+  // True when a chart's state was read anew (the wall clock: one change per chart and call).
+  bool observeCharts();
+  // Wall clock: the chart states left waiting after an observation, taken in turn.
+  void catchUpStates();
   void readEvents();
   void observeSwitches();
   // The scopes whose configuration `name` is now (sets a component of their deployment; all when none).
@@ -166,6 +169,7 @@ class Session {
   // The wall clock's executor (RunOptions::realtime without thread_per_component); made at
   // setup so that a bad setExecutor is reported before anything moves.
   std::unique_ptr<core::RealtimeExecutor> executor_;
+  std::vector<std::string> catch_up_previous_;  // catchUpStates: each chart's previous state
 };
 
 }  // namespace cobra::run

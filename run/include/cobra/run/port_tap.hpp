@@ -22,20 +22,21 @@ std::string readerName(const std::string& path);
 core::OutputPortBase& findOutput(const core::ComponentRegistry& registry, const std::string& path,
                                  const std::string& where, const std::string& use);
 
-// A private data connection to one output port, typed.
+// A private connection to one output port, typed: a data connection (the newest value), or with
+// `policy` a buffer whose every sample readNew gives in turn.
 template <class T>
 class Tap {
  public:
   // @throws std::runtime_error naming `where`, the port, its type and the type expected.
   Tap(const core::ComponentRegistry& registry, const std::string& path, const std::string& where, const std::string& use,
-      const char* expected) {
+      const char* expected, core::ConnPolicy policy = core::ConnPolicy::data()) {
     core::OutputPortBase& out = findOutput(registry, path, where, use);
     reader_ = out.makeReader(readerName(path), "cobra run observer");
     typed_ = dynamic_cast<core::InputPort<T>*>(reader_.get());
     if (typed_ == nullptr)
       throw std::runtime_error(where + ": " + use + ": port " + path + " is a " + std::string(out.type().name) +
                                "; expected " + expected);
-    out.connectTo(*reader_, core::ConnPolicy::data());
+    out.connectTo(*reader_, policy);
   }
   // The newest value; false when the port never had data.
   bool read(T& value) { return typed_->read(value) != core::FlowStatus::NoData; }
