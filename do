@@ -5,21 +5,26 @@
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   test --asan-ci   the CI's ASan/UBSan slice: the units with parsers, channels and real-time code
-#   test --tsan      the concurrency tests under ThreadSanitizer
-#   test --wallclock the tests of wall-clock split runs (label wallclock; `./do test` leaves them
-#                    out: they fail 1 run in 5 on a machine without real-time scheduling)
+#   test --tsan      the tests that run threads under ThreadSanitizer (label concurrency)
+#   test --wallclock only the wall-clock tests (label wallclock: each task on the real-time
+#                    executor, minutes of wall time; `./do test` runs them too, one at a time)
 #   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
 #                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
 #                    suturing: the two-armed suturing task, thesis ch. 5)
-#   bench            build and run the benchmarks (Google Benchmark; median and max)
+#   bench            build and run the benchmarks (Google Benchmark; median and max; installs
+#                    rt-tests and stress-ng for the executor's bench beside cyclictest)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
 set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
+# executor_bench's peer (cyclictest) and its load (stress-ng --cpu).
+BENCH_PACKAGES=(rt-tests stress-ng)
 # Leaks of libraries cobra cannot free, each explained in the file; ASan's leak check stays on.
 LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
+# Reports inside Debian's uninstrumented Fast DDS, each explained in the file.
+TSAN_SUPP="suppressions=$PWD/test_support/tsan.supp:print_suppressions=0"
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
   ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz)
 
@@ -100,7 +105,7 @@ run_tests() {
   case "${1:-}" in
     "")
       build release
-      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 -LE '^wallclock$' ;;
+      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 ;;
     --wallclock)
       build release
       ctest --test-dir build/release --output-on-failure --no-tests=error --timeout 300 -L '^wallclock$' ;;
@@ -115,12 +120,13 @@ run_tests() {
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=$LSAN \
         ctest --test-dir build/asan-ci --output-on-failure --no-tests=error -j2 --timeout 600 -L "^($labels)\$" ;;
     --tsan)
-      # Only the tests that run threads (label "concurrency"); the rest is single-threaded and
-      # covered by the other builds.
-      build tsan --target core_port_stress_test core_activity_test core_port_test core_property_test core_request_test \
-        core_operation_test deploy_configurator_test deploy_configurator_switch_test deploy_configurator_client_test \
-        bridges_isur_bridge_test bridges_omni_bridge_test bridges_bridge_alloc_test
-      TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+      # Only the tests that run threads (label "concurrency": core's activities and ports, deploy,
+      # the bridges, the DDS transport and link, the studio server; the tsan preset's
+      # COBRA_TEST_LABELS, built by selected_tests); the rest is single-threaded and covered by the
+      # other builds. Races inside Debian's uninstrumented Fast DDS are suppressed by its frames
+      # only (test_support/tsan.supp says which and why).
+      build tsan --target selected_tests
+      TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:$TSAN_SUPP \
         ctest --test-dir build/tsan --output-on-failure --no-tests=error -L concurrency --timeout 600 ;;
     *) echo "do test: unknown option '$1' (expected --asan, --asan-ci, --tsan or --wallclock)" >&2; exit 2 ;;
   esac
@@ -163,6 +169,7 @@ case "${1:-help}" in
       ./build/release/tools/cobra/cobra run apps/puncturing --report "$PWD/build/demo-report"
     fi ;;
   bench)
+    setup "${BENCH_PACKAGES[@]}"
     build release
     for b in build/release/bench/*_bench; do
       say "$b"
@@ -185,6 +192,6 @@ case "${1:-help}" in
       fi
       grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
     done ;;
-  help|-h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "do: unknown command '$1'" >&2; sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
+  help|-h|--help) sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "do: unknown command '$1'" >&2; sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
 esac

@@ -1,10 +1,11 @@
 #pragma once
-// The latency figures the port benches report side by side (port_bench, dds_bench).
+// The latency figures the benches report side by side (port_bench, dds_bench, executor_bench).
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace cobra::bench {
@@ -20,6 +21,19 @@ inline void setLatencyCounters(benchmark::State& state, std::vector<double>& one
   state.counters["p50_ns"] = at(0.50);
   state.counters["p99_ns"] = at(0.99);
   state.counters["max_ns"] = one_way_ns.back();
+}
+
+/// Latency quantiles in µs (executor_bench: a wake-up latency histogram's figures).
+struct LatencyFiguresUs {
+  double p50 = 0.0, p99 = 0.0, p999 = 0.0, worst = 0.0;
+};
+
+/// Sets the counters <prefix>_p50_us, _p99_us, _p999_us (p99.9) and _worst_us.
+inline void setLatencyCounters(benchmark::State& state, const std::string& prefix, const LatencyFiguresUs& figures) {
+  state.counters[prefix + "_p50_us"] = figures.p50;
+  state.counters[prefix + "_p99_us"] = figures.p99;
+  state.counters[prefix + "_p999_us"] = figures.p999;
+  state.counters[prefix + "_worst_us"] = figures.worst;
 }
 
 }  // namespace cobra::bench

@@ -1,6 +1,6 @@
 // Cost of coordination (issue 4): events through cobra's statechart engine, with C++ guards and
 // with Lua guards (an rFSM file), against Boost.MSM in the same run, and a Supervisor component's
-// step on the lockstep clock.
+// step on the lockstep clock; and the cost of the Lua budget's count hook on a Lua loop.
 //
 // Every benchmark runs 10 repetitions and reports their median and worst case ("max"). The time
 // column is per external event: one raise plus the steps that handle it, i.e. the step that
@@ -28,6 +28,8 @@
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/script/rfsm.hpp"
 #include "cobra/statechart/machine.hpp"
+
+#include <lua.hpp>
 #include "statechart_msm_peer.hpp"
 
 namespace {
@@ -208,6 +210,29 @@ void SupervisorStep(benchmark::State& state) {
   }
 }
 
+// --- the Lua budget's count hook (LuaState, "Budget and interrupts") ---------------------------
+// One call of a Lua function adding 100,000 numbers (about 400,000 instructions, so 40 hook calls)
+// as one step: LuaNoHook without any hook (the peer: what the check costs is the difference),
+// LuaHookNoBudget with the state's hook and no budget (each hook call returns at once),
+// LuaHookBudget with a budget it never reaches (each hook call reads the thread's CPU clock).
+void luaLoop(benchmark::State& state, int mode) {
+  script::LuaState lua({4 << 20, "bench", ""});
+  if (mode == 0) lua_sethook(lua.get(), nullptr, 0, 0);
+  if (mode == 2) lua.setBudget(std::chrono::seconds(10));
+  lua.run("function work() local x = 0 for i = 1, 100000 do x = x + i end return x end", "=bench");
+  lua_State* L = lua.get();
+  for (auto _ : state) {
+    lua.startStep();
+    lua_getglobal(L, "work");
+    lua.call(0, 1);
+    benchmark::DoNotOptimize(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+}
+void LuaNoHook(benchmark::State& state) { luaLoop(state, 0); }
+void LuaHookNoBudget(benchmark::State& state) { luaLoop(state, 1); }
+void LuaHookBudget(benchmark::State& state) { luaLoop(state, 2); }
+
 }  // namespace
 
 BENCHMARK(Cobra3Level)->Apply(configure);
@@ -218,4 +243,7 @@ BENCHMARK(PerEventCobraFlat)->Apply(configure);
 BENCHMARK(PerEventBoostMsm)->Apply(configure);
 BENCHMARK(CobraLuaGuards)->Apply(configure);
 BENCHMARK(SupervisorStep)->Apply(configure);
+BENCHMARK(LuaNoHook)->Apply(configure);
+BENCHMARK(LuaHookNoBudget)->Apply(configure);
+BENCHMARK(LuaHookBudget)->Apply(configure);
 BENCHMARK_MAIN();

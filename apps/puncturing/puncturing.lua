@@ -100,7 +100,10 @@ applyDeployment("probe_autonomous_planning")
 -- The events the charts react to as failures (charts/*.lua): the last one is a safe stop's reason.
 local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_failed", "e_traj_failed", "e_no_data",
                    "e_comm_timeout", "e_ik_discontinuity", "e_probe_contact_lost", "e_needle_goal_missed",
-                   "e_us_goal_missed", "e_us_needle_not_found", "e_peer_lost" }
+                   "e_us_goal_missed", "e_us_needle_not_found", "e_peer_lost",
+                   -- nobody answered in time (charts/waits.lua: the surgeon, the console, the other chart)
+                   "e_reaction_timeout", "e_iceball_config_timeout", "e_needle_change_timeout", "e_cryo_timeout",
+                   "e_peer_chart_timeout" }
 local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
 run = {
   title = "Puncturing procedure",
@@ -114,7 +117,7 @@ run = {
   fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived", "Paused" },
   failures = failures,
   explain = { e_plan_failed = "lastPlanResult" },
-  safe_stop_reason = "the same failure again after the reaction to the first",
+  safe_stop_reason = "the same failure again after the reaction to the first, or no answer in time (charts/waits.lua)",
   record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",
                                       "Patient.needleDepth", "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy",
                                       "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance",

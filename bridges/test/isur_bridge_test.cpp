@@ -28,11 +28,13 @@ struct Rig {
   core::InputPort<KDL::JntArray> meas_joints{"meas_joints", "", "m, rad"};
   core::InputPort<KDL::Frame> meas_pose{"meas_pose", "", "m"};
   core::InputPort<KDL::Wrench> meas_wrench{"meas_wrench", "", "N"};
+  core::InputPort<KDL::Frame> held_pose{"held_pose", "", "m"};
   test::EventLog events{bridge};
 
   /// Configures and starts the bridge with its in-process server commanding `controller_port`.
   explicit Rig(std::uint16_t controller_port) {
     clock.add(bridge, 1ms);
+    core::connectPorts(bridge.port("heldCartPose"), held_pose);
     core::connectPorts(des_joints, bridge.port("desJointPosition"));
     core::connectPorts(des_pose, bridge.port("desCartPose"));
     core::connectPorts(bridge.port("measJointPosition"), meas_joints);
@@ -143,8 +145,15 @@ TEST(ISURRobotBridge, ACommandAcrossTheWristSingularityIsRefusedOnceTheRobotHold
     rig.events.drain();
     return std::count(rig.events.names.begin(), rig.events.names.end(), name);
   };
+  KDL::Frame held;
+  EXPECT_EQ(rig.held_pose.read(held), core::FlowStatus::NoData);  // not held before the refusal
   rig.des_pose.write(refused);
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return emitted("e_ik_discontinuity") == 1; }));
+  // Held: the measured pose, for the producers of the commands to re-sync to.
+  ASSERT_EQ(rig.held_pose.read(held), core::FlowStatus::NewData);
+  KDL::Frame at_q;
+  ASSERT_EQ(solver.forward(q, at_q), kinematics::IkStatus::Ok);
+  EXPECT_TRUE(KDL::Equal(held.p, at_q.p, 1e-5)) << "m: where the robot holds";
   for (int i = 0; i < 500; ++i) {
     rig.clock.advance(1ms);
     ASSERT_TRUE(near(controller.commandedJoints(), q, 0.0)) << "the command changed at " << i;
@@ -246,13 +255,24 @@ TEST(ISURRobotBridge, RaisesCommTimeoutWhenTheControllerFallsSilentAndCommRestor
   rig.des_joints.write(controller.jointPositions());  // the controller learns where to send states
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.joints().rows() == 8; }));
   const KDL::JntArray last = rig.joints();
+  KDL::Frame measured, held_pose;
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.meas_pose.read(measured) != core::FlowStatus::NoData; }));
   controller.setSending(false);
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.events.last() == "e_comm_timeout"; }));
   KDL::JntArray held;
   EXPECT_NE(rig.meas_joints.read(held), core::FlowStatus::NoData);
   EXPECT_EQ(held.rows(), 8U) << "the last valid state is still published";
+  // Timed out: the last measured pose is the held one, in each update, for the commands to re-sync to.
+  ASSERT_EQ(rig.held_pose.read(held_pose), core::FlowStatus::NewData);
+  (void)rig.meas_pose.read(measured);
+  EXPECT_EQ(held_pose, measured);
+  rig.clock.advance(1ms);
+  EXPECT_EQ(rig.held_pose.read(held_pose), core::FlowStatus::NewData);
   controller.setSending(true);
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.events.last() == "e_comm_restored"; }));
+  (void)rig.held_pose.read(held_pose);
+  rig.clock.advance(1ms);
+  EXPECT_NE(rig.held_pose.read(held_pose), core::FlowStatus::NewData) << "restored: no longer held";
 }
 
 // The two-tool bridge (tools = 2, the suturing I-SUR) against the simulated two-tool controller.

@@ -190,6 +190,45 @@ void VariableAdmittance::rebase(const KDL::Frame& old_reference, const KDL::Fram
   audit_.stored = constantEnergy(x_, v_);
 }
 
+void VariableAdmittance::resync(const KDL::Frame& held, const KDL::Wrench& wrench, KDL::Frame& reference) noexcept {
+  reference = held;
+  if (!finite(held.p) || !finite(wrench.force) || !finite(wrench.torque)) return;
+  // At rest in equilibrium with the wrench: Kd x̃ = (F, τ), τ in the held pose's axes.
+  const KDL::Vector torque = held.M.Inverse(wrench.torque);
+  Vector6 force;
+  force << wrench.force.x(), wrench.force.y(), wrench.force.z(), torque.x(), torque.y(), torque.z();
+  Vector6 x = Vector6::Zero();
+  if (diagonal_) {
+    for (int i = 0; i < 6; ++i) {
+      const double k = parameters_.stiffness(i, i);
+      x(i) = k > 0.0 ? force(i) / k : 0.0;
+    }
+  } else {
+    const Eigen::LLT<Matrix6> stiffness(parameters_.stiffness);
+    if (stiffness.info() == Eigen::Success) x = stiffness.solve(force);
+  }
+  const Vector6 rest = Vector6::Zero();
+  double stored = constantEnergy(x, rest);
+  const double needed = stored - audit_.stored;  // J the new state stores more than the old
+  if (needed > 0.0 && parameters_.use_tank) {
+    if (tank_ - needed >= parameters_.tank.min_energy) {
+      tank_ -= needed;
+    } else {
+      x.setZero();
+      stored = 0.0;
+    }
+  }
+  audit_.resync_removed += audit_.stored - stored;
+  audit_.stored = stored;
+  audit_.tank = tank_;
+  x_ = x;
+  v_.setZero();
+  error_jacobian_known_ = false;
+  // Output pose p_ref + x̃_p = p_held and R_ref Exp(x̃_r) = R_held.
+  reference.p = held.p - KDL::Vector(x_(0), x_(1), x_(2));
+  reference.M = held.M * expRotation(x_).Inverse();
+}
+
 AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL::Twist& reference_twist,
                                           const KDL::Wrench& wrench, double dt, KDL::Frame& pose,
                                           KDL::Twist& twist) noexcept {

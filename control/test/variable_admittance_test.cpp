@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -72,6 +73,62 @@ TEST(VariableAdmittance, ARebaseKeepsThePoseWhenTheReferenceJumpsThenConvergesTo
   // Then the dynamics take it to the new reference's equilibrium (F / K away from it).
   for (int i = 0; i < 10000; ++i) a.step(new_ref, KDL::Twist::Zero(), push, kDt, pose, twist);
   EXPECT_NEAR((pose.p - (new_ref.p + KDL::Vector(5.0, -2.0, 1.0) / 500.0)).Norm(), 0.0, 1e-9);
+}
+
+TEST(VariableAdmittance, AResyncRestartsTheOutputAtTheHeldPoseAtRestInEquilibriumWithTheForce) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  // 50 ms into following a reference at 5 cm/s and 0.2 rad/s under a push: the output still
+  // moves towards its equilibrium about the reference.
+  KDL::Frame reference(KDL::Rotation::RPY(0.1, -0.2, 0.3), KDL::Vector(0.1, 0.2, 0.3));
+  const KDL::Twist moving(KDL::Vector(0.05, 0, 0), KDL::Vector(0, 0, 0.2));
+  const KDL::Wrench push(KDL::Vector(5.0, -2.0, 1.0), KDL::Vector(0.1, 0, 0.2));
+  for (int i = 0; i < 50; ++i) {
+    reference = KDL::addDelta(reference, moving, kDt);
+    a.step(reference, moving, push, kDt, pose, twist);
+  }
+  ASSERT_GT(a.errorRate().norm(), 1e-3);
+  const double tank = a.tankEnergy();
+  const double stored = a.audit().stored;
+  // The robot held 4 mm and 0.03 rad behind the output.
+  const KDL::Frame held(pose.M * KDL::Rotation::RotY(-0.03), pose.p - KDL::Vector(0.004, 0, 0));
+  KDL::Frame resynced;
+  a.resync(held, push, resynced);
+  EXPECT_EQ(a.errorRate(), Vector6::Zero());
+  EXPECT_NEAR(a.error()(0), 5.0 / 500.0, 1e-12);  // m: F / K
+  EXPECT_NEAR(a.error()(5), held.M.Inverse(push.torque).z() / 10.0, 1e-12);  // rad: τ / K in the held axes
+  // The energy balance of the state change: what it stores less was removed, more the tank paid.
+  EXPECT_NEAR(a.audit().resync_removed, stored - a.audit().stored, 1e-12);
+  EXPECT_NEAR(a.tankEnergy(), tank - std::max(0.0, a.audit().stored - stored), 1e-12);
+  // From the re-synced reference, at rest, under the same push, the output is the held pose and
+  // stays there.
+  for (int i = 0; i < 3000; ++i) {
+    a.step(resynced, KDL::Twist::Zero(), push, kDt, pose, twist);
+    ASSERT_LT((pose.p - held.p).Norm(), 1e-5) << "step " << i;
+    ASSERT_LT(KDL::diff(held.M, pose.M).Norm(), 1e-3) << "step " << i;  // rad: the torque to first order
+  }
+  // The push just gone (the tool left the contact): the re-sync leaves nothing displaced, the
+  // output at the reference.
+  VariableAdmittance free(baseline());
+  for (int i = 0; i < 50; ++i) free.step(reference, KDL::Twist::Zero(), push, kDt, pose, twist);
+  ASSERT_GT(free.error().head<3>().norm(), 1e-4);  // m: displaced by the push
+  free.resync(pose, KDL::Wrench::Zero(), resynced);
+  EXPECT_EQ(free.error(), Vector6::Zero());
+  EXPECT_TRUE(KDL::Equal(resynced, pose, 1e-12));
+  EXPECT_GT(free.audit().resync_removed, 0.0);  // J: the displacement's spring energy and the rate's
+}
+
+TEST(VariableAdmittance, AResyncTheTankCannotPayForLeavesNothingStored) {
+  AdmittanceParameters p = baseline();
+  p.tank = {1.01, 20.0, 1.0};
+  VariableAdmittance a(p);
+  KDL::Frame reference;
+  const KDL::Wrench hard(KDL::Vector(0, 0, 40.0), KDL::Vector::Zero());  // N: 8 cm at 500 N/m, 0.32 J in Kc
+  a.resync(KDL::Frame(KDL::Vector(0.1, 0, 0)), hard, reference);
+  EXPECT_EQ(a.error(), Vector6::Zero());
+  EXPECT_TRUE(KDL::Equal(reference.p, KDL::Vector(0.1, 0, 0), 1e-12));
+  EXPECT_DOUBLE_EQ(a.tankEnergy(), 1.01);
 }
 
 TEST(VariableAdmittance, TheRotationStaysOnSO3ForLargeErrors) {
@@ -396,6 +453,10 @@ TEST(VariableAdmittance, StepAndParameterChangesAllocateNothing) {
                   a.setParameters(diagonal(2.0 + i * 0.01, 0.1), diagonal(40.0, 1.0), diagonal(800.0, 5.0));
                 const KDL::Wrench wrench(KDL::Vector(1, 2, 3), KDL::Vector(0.1, 0, 0));
                 a.step(KDL::Frame::Identity(), KDL::Twist::Zero(), wrench, kDt, pose, twist);
+                if (i % 250 == 0) {
+                  KDL::Frame reference;
+                  a.resync(pose, wrench, reference);
+                }
               }
             }),
             0);

@@ -109,11 +109,11 @@ void LockstepClock::step(const Entry& e) {
   if (!step_observer_) {
     e.activity->stepComponent();
   } else {
-    const auto cpu_started = threadCpuTime();
+    const auto cpu_started = observe_cpu_time_ ? threadCpuTime() : std::chrono::nanoseconds(0);
     const auto started = std::chrono::steady_clock::now();
     e.activity->stepComponent();
     const auto wall = std::chrono::steady_clock::now() - started;
-    step_observer_(*e.component, wall, threadCpuTime() - cpu_started);
+    step_observer_(*e.component, wall, observe_cpu_time_ ? threadCpuTime() - cpu_started : std::chrono::nanoseconds(0));
   }
   ++steps_;
 }

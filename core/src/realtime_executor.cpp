@@ -1,5 +1,6 @@
 #include "cobra/core/realtime_executor.hpp"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -133,6 +134,10 @@ void RealtimeExecutor::start() {
   slots_used_.store(schedule.size());
   next_slot_ = 0;
   if (options_.lock_memory) {
+    // With every page locked, a heap that shrinks and grows again would map and populate pages at
+    // every turn (system time, and the mm lock every thread's faults take): keep what it has.
+    mallopt(M_TRIM_THRESHOLD, -1);
+    mallopt(M_MMAP_MAX, 0);
     if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) memory_locked_.store(true);
     else
       warn(std::string("mlockall refused (") + std::strerror(errno) +
@@ -141,7 +146,7 @@ void RealtimeExecutor::start() {
   }
   clock_.setStepObserver([this](const Component& c, std::chrono::nanoseconds wall, std::chrono::nanoseconds) {
     onStep(c, wall);
-  });
+  }, false);
   stop_.store(false);
   running_.store(true, std::memory_order_release);
   std::atomic<bool> ready{false};
@@ -207,6 +212,7 @@ void RealtimeExecutor::onStep(const Component& component, std::chrono::nanosecon
       found = used;
     }
   }
+  stepped_ns_ += wall.count();
   if (found == slot_count_) return;  // more new components than spare slots: not timed
   slots_[found].compute.add(wall.count());
   next_slot_ = found + 1;
@@ -215,11 +221,13 @@ void RealtimeExecutor::onStep(const Component& component, std::chrono::nanosecon
 void RealtimeExecutor::takeWork() noexcept {
   Work* work = work_.exchange(nullptr, std::memory_order_acq_rel);
   if (work == nullptr) return;
+  const auto started = monotonicNow();
   try {
     (*work->work)();
   } catch (...) {
     work->error = std::current_exception();
   }
+  work_time_.add((monotonicNow() - started).count());
   work->done.store(true, std::memory_order_release);
   work->done.notify_one();
 }
@@ -249,9 +257,12 @@ void RealtimeExecutor::loop() {
     latency_.add((woke - deadline).count());
     if (stop_.load(std::memory_order_acquire)) break;
     takeWork();
+    const auto advancing = monotonicNow();
+    stepped_ns_ = 0;
     clock_.advance(period);
     const auto done = monotonicNow();
     compute_.add((done - woke).count());
+    between_steps_.add((done - advancing).count() - stepped_ns_);
     ticks_.fetch_add(1, std::memory_order_relaxed);
     deadline += period;
     if (done <= deadline) {

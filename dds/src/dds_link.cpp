@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -17,6 +18,7 @@
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/text/number.hpp"
 #include "cobra_msgs/msg/LinkMeetingPubSubTypes.h"
+#include "event_queue.hpp"
 #include "participant.hpp"
 
 namespace cobra::dds {
@@ -493,10 +495,17 @@ class DdsLink::Meeting final : public fdds::DataReaderListener {
   std::thread confirmer_;                            // lapse_grace > 0: confirmLapses
 };
 
+/// The events of foreign threads on their way to the link's step (event_queue.hpp).
+struct DdsLink::ForeignEvents {
+  static constexpr std::size_t kCapacity = 256;  // events between two steps of the link
+  detail::EventQueue<kCapacity> queue;
+};
+
 DdsLink::DdsLink(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "the link of this process to the others of a run over Fast DDS: the dds transport's participant, "
-                "peer liveliness, lockstep clock meetings") {
+                "peer liveliness, lockstep clock meetings"),
+      foreign_events_(std::make_unique<ForeignEvents>()) {
   addProperty(domain_.range(0, 232));
   addProperty(participant_);
   addProperty(peers_);
@@ -617,9 +626,17 @@ void DdsLink::emit(const std::string& event, const std::string& source) {
   e.name.assign(event);
   e.source.assign(source);
   e.stamp = now();  // run time, as every component's events (the activity's clock; any thread)
-  std::lock_guard lock(events_mutex_);
-  events().write(e);
+  if (!foreign_events_->queue.push(e))
+    std::cerr << "cobra dds: " << name() << ": " << ForeignEvents::kCapacity << " events wait for the link's next step; "
+              << event << " (" << source << ") dropped: give the link a periodic activity" << std::endl;
 }
+
+void DdsLink::updateHook() {
+  core::Event e;
+  while (foreign_events_->queue.pop(e)) events().write(e);
+}
+
+std::uint64_t DdsLink::droppedEvents() const noexcept { return foreign_events_->queue.dropped(); }
 
 namespace {
 

@@ -25,6 +25,7 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/core/component.hpp"
+#include "cobra/core/activity.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/core/transport.hpp"
 #include "cobra/dds/dds_link.hpp"
@@ -120,6 +121,7 @@ int live(int domain, const std::string& name, const std::string& peers, const st
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   std::optional<std::chrono::steady_clock::time_point> leave_at;
   while (std::chrono::steady_clock::now() < until) {  // says what it sees: a test in another namespace reads it
+    static_cast<core::SlaveActivity&>(link.activity()).step();  // the link writes its queued events
     core::Event e;
     while (events.read(e) == core::FlowStatus::NewData) {
       std::cout << e.name.str() << ' ' << e.source.str() << std::endl;

@@ -20,6 +20,7 @@
 #include <set>
 #include <sstream>
 
+#include "cobra/core/activity.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/dds/dds_link.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -207,8 +208,11 @@ struct Survivor {
     core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
   }
   bool start() { return link.configure() && link.start(); }
-  /// Reads the events that came; true when `wanted` is among all those seen.
+  /// Steps the link (its default SlaveActivity: the test's thread is the link's thread), which
+  /// writes the events its foreign threads queued, and reads them; true when `wanted` is among
+  /// all those seen.
   bool saw(const std::string& wanted) {
+    static_cast<core::SlaveActivity&>(link.activity()).step();
     core::Event e;
     while (events.read(e) == core::FlowStatus::NewData) seen.push_back(e.name.str() + "@" + e.source.str());
     return std::find(seen.begin(), seen.end(), wanted) != seen.end();
@@ -257,6 +261,20 @@ TEST(DdsLink, APeerThatLeavesNormallyOnTheWallClockIsDoneNotLost) {
   EXPECT_EQ(survivor.link.lostPeers(), std::vector<std::string>{});
   EXPECT_EQ(survivor.link.operation("lostPeers").invokeFromText({}), "");
   EXPECT_TRUE(survivor.link.peersDone()) << "a peer that said farewell is done";
+}
+
+// The link's events happen on Fast DDS's threads: they wait in a queue until the link's own step
+// writes them on its events port (one writer thread, as every port has).
+TEST(DdsLink, EventsOfFastDdsThreadsReachThePortInTheLinksOwnStep) {
+  Peer peer({"live", "145", "peer", "survivor", "0.1"});
+  Survivor survivor("145");
+  ASSERT_TRUE(survivor.start());
+  ASSERT_TRUE(test::pollUntil([&] { return survivor.link.operation("joinedPeers").invokeFromText({}) == "peer"; }, 8s));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the listener's call that emits it has returned
+  core::Event e;
+  EXPECT_EQ(survivor.events.read(e), core::FlowStatus::NoData) << "written by a thread that is not the link's";
+  EXPECT_TRUE(test::pollUntil([&] { return survivor.saw("e_peer_joined@peer"); }, 1s));  // steps the link
+  EXPECT_EQ(survivor.link.droppedEvents(), 0U);
 }
 
 // Wall clock: a peer that leaves before its run completed (an error, a safe stop: no setDone)

@@ -65,6 +65,8 @@ configureComponents({ "TrajGen" })  -- its desCartPose_1 port exists once config
 local buffered = { type = "buffer", size = 64 }
 local connections = {
   { output = "TrajGen.desCartPose_1", input = "UR5.desCartPose" },
+  -- The robot refusing a command holds: the motion ends at the held pose (ARCHITECTURE §7).
+  { output = "UR5.heldCartPose", input = "TrajGen.heldPose_1" },
   { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
   { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
   { output = "DepSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },

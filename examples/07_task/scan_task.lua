@@ -34,6 +34,10 @@ local failures = { 'e_ik_discontinuity', 'e_ik_failed', 'e_traj_failed', 'e_no_d
 for _, name in ipairs({ 'approach', 'scan', 'retreat' }) do failures[#failures + 1] = 'e_deploy_failed_' .. name end
 for _, name in ipairs({ 'fast', 'slow' }) do failures[#failures + 1] = 'e_configure_failed_' .. name end
 
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the generator stops and the robot holds its last command.
+function exceptionHook() TrajGen:askStopMove() end
+
 return rfsm.state {
   Approach = motion("approach", "fast", "ApproachPath"),  -- above the part's first scan line
   Scan = motion("scan", "slow", "ScanPath"),              -- the raster, at scanning speed

@@ -45,7 +45,16 @@ ob::PlannerPtr makePlanner(const PlannerOptions& options, const ob::SpaceInforma
   if (options.planner == "RRT") return ranged(std::make_shared<og::RRT>(si));
   if (options.planner == "BiTRRT") return ranged(std::make_shared<og::BiTRRT>(si));
   if (options.planner == "LBKPIECE1") return ranged(std::make_shared<og::LBKPIECE1>(si));
-  if (options.planner == "LazyPRM") return ranged(std::make_shared<og::LazyPRM>(si));
+  if (options.planner == "LazyPRM") {
+    // OMPL 1.5's LazyPRM frees its roadmap's states in clear() but not in its destructor (which
+    // is defaulted): every planning query leaked all the states it sampled (LeakSanitizer:
+    // RealVectorStateSpace::allocState). Clearing before deleting frees them; the planner holds
+    // its SpaceInformation, so freeState still has its state space.
+    return ranged(std::shared_ptr<og::LazyPRM>(new og::LazyPRM(si), [](og::LazyPRM* planner) {
+      planner->clear();
+      delete planner;
+    }));
+  }
   if (options.planner == "BITstar") {
     // Asymptotically optimal: without this it refines until the budget is spent.
     auto planner = std::make_shared<og::BITstar>(si);

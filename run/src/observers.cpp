@@ -326,6 +326,9 @@ std::vector<std::pair<std::string, std::string>> executorRows(const ExecutorFigu
   rows.push_back({"executor (wall clock)", head});
   rows.push_back({"executor wake-up latency", executorTimingText(e.wake_latency)});
   rows.push_back({"executor compute per tick", executorTimingText(e.tick_compute)});
+  rows.push_back({"executor time per tick outside the steps (switches between instants)", executorTimingText(e.between_steps)});
+  if (e.work_between_ticks.count > 0)
+    rows.push_back({"executor time per action, fault or input played between ticks", executorTimingText(e.work_between_ticks)});
   // The components whose steps took longest: where a period's budget goes.
   std::vector<const core::ComponentTiming*> slowest;
   for (const core::ComponentTiming& c : e.components) slowest.push_back(&c);

@@ -242,6 +242,7 @@ RunResult Session::run() {
     } else {
       configurator_.clock().advance(step);
       t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+      dt_ = spec_.step;
       // Paced: simulated time is held back to `pace` simulated s per wall s (a viewer watches).
       if (options_.pace > 0.0)
         std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -446,13 +447,19 @@ void Session::runOnTheWallClock(std::chrono::nanoseconds step) {
       if (raised) pthread_setschedparam(pthread_self(), policy, &old);
     }
   } observing(executor_->effectiveScheduler() == core::Scheduler::Fifo);
+  // Every step of wall time, never catching up: a late observation samples the state then (the
+  // executor does not wait for it), and a thread at a SCHED_FIFO priority must sleep between two,
+  // or the threads of ordinary priority (own-pace planners, the DDS link's) would starve.
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
   auto next = std::chrono::steady_clock::now();
   do {
-    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
+    next += period;
     const auto now = std::chrono::steady_clock::now();
-    if (next < now - 50 * step) next = now;  // this thread was starved: observe again from now
+    if (next <= now) next = now + period / 4;  // late: a short rest, then observe
     std::this_thread::sleep_until(next);
+    const double before = t_;
     t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
+    dt_ = steps_ == 0 ? spec_.step : t_ - before;
     advance();
   } while (!ended());
 }
@@ -473,6 +480,8 @@ void Session::noteExecutorFigures() {
   f.slipped = std::chrono::duration<double>(executor_->slipped()).count();
   f.wake_latency = core::figuresOf(executor_->wakeLatency());
   f.tick_compute = core::figuresOf(executor_->tickCompute());
+  f.between_steps = core::figuresOf(executor_->betweenSteps());
+  f.work_between_ticks = core::figuresOf(executor_->workBetweenTicks());
   f.components = executor_->componentTimings();
   f.warnings = executor_->warnings();
 }
@@ -527,6 +536,14 @@ bool Session::ended() {
                      " period (setExecutor's safe_stop_after)";
     say("SAFE STOP: " + result_.reason);
   }
+  // Ctrl-C first: a script it cut short is in Exception because of it.
+  if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
+    result_.outcome = Outcome::Interrupted;
+    char at[48];
+    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
+    result_.reason = std::string(at) + "; charts: " + statesText();
+    return true;
+  }
   for (const Chart& c : charts_)
     if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
   for (const core::Component* c : components_) {
@@ -562,13 +579,6 @@ bool Session::ended() {
     result_.outcome = Outcome::PeerLost;
     result_.reason = lost_peers_ + "; this host's charts did not reach a safe stop within " +
                      seconds(spec_.safe_stop_linger) + ": " + statesText();
-    return true;
-  }
-  if (options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed)) {
-    result_.outcome = Outcome::Interrupted;
-    char at[48];
-    std::snprintf(at, sizeof at, "interrupted at %.3f s", t_);
-    result_.reason = std::string(at) + "; charts: " + statesText();
     return true;
   }
   if (t_ >= options_.time_limit - 1e-9) {

@@ -149,6 +149,9 @@ class Session {
   std::vector<const std::string*> view_states_;
 
   double t_ = 0.0;  // s
+  // s since the previous observation: the step on the lockstep clock; on the wall clock what
+  // passed (an observation may come late), so time-weighted figures stay time-weighted.
+  double dt_ = 0.0;
   long steps_ = 0;
   long record_every_ = 1;
   double next_progress_ = 0.0;

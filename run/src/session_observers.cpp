@@ -200,11 +200,11 @@ void Session::observeFidelity() {
     o.last = NAN;
   } else if (o.clearance->read(d)) {
     o.last = d;
-    figures.seconds_sampled += spec_.step;
+    figures.seconds_sampled += dt_;
     if (std::isnan(d)) {
       ++figures.unreachable;
     } else {
-      if (d <= figures.threshold) figures.seconds_below += spec_.step;
+      if (d <= figures.threshold) figures.seconds_below += dt_;
       if (d < figures.worst) figures.worst = d, figures.worst_at = t_, figures.worst_state = statesText();
     }
   }

@@ -56,11 +56,16 @@ void TrackingMonitor::step(double t, bool counts, const std::string& state, cons
   last_deg_ = deg;
   window_mm_ = maxOrNan(window_mm_, mm);
   window_deg_ = maxOrNan(window_deg_, deg);
+  // s this sample stands for: the period, or on the wall clock the time since the last sample when
+  // it came late (the lockstep clock samples every period exactly).
+  const double weight = have_sample_t_ && t - last_sample_t_ > period_ ? t - last_sample_t_ : period_;
+  have_sample_t_ = true;
+  last_sample_t_ = t;
   if (counts) {
-    figures_.seconds_sampled += period_;
+    figures_.seconds_sampled += weight;
     raise(figures_.position_mm, mm, t, state);
     raise(figures_.orientation_deg, deg, t, state);
-    if (mm > 5.0) figures_.seconds_above_5mm += period_;
+    if (mm > 5.0) figures_.seconds_above_5mm += weight;
   }
   // rows() once: KDL::JntArray::rows is an out-of-line call.
   const unsigned n = joints == nullptr ? 0 : joints->rows();

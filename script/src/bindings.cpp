@@ -178,7 +178,7 @@ void pushCached(lua_State* L, lua_CFunction maker, void* element) {
   lua_pushlightuserdata(L, element);
   lua_pushvalue(L, 1);
   const int status = lua_pcall(L, 4, 1, 0);
-  if (status != LUA_OK) throw core::Error(LuaState::from(L)->popError(status));
+  if (status != LUA_OK) throw core::Error(LuaState::from(L)->popError(status, L));
 }
 
 void pushProperty(lua_State* L, const core::PropertyBase& property) {

@@ -146,6 +146,8 @@ LuaComponent::LuaComponent(std::string name, core::Role role, std::string doc)
     : Component(std::move(name), role, std::move(doc)) {
   addProperty(script_path_);
   addProperty(pool_size_.range(0, 1 << 30));
+  addProperty(budget_.range(0.0, 3600.0));
+  addProperty(load_budget_.range(0.0, 3600.0));
   hooks_.fill(LUA_NOREF);
 }
 
@@ -168,6 +170,9 @@ void LuaComponent::loadScript() {
   auto lua = std::make_unique<LuaState>(LuaMemory{static_cast<std::size_t>(pool_size_.value()),
                                                   "component '" + name() + "'", "raise its lua_pool_size property"});
   std::array<int, kHookCount> hooks{};
+  lua->setBudget(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(load_budget_.value())),
+                 "raise its lua_load_budget property");
+  lua->startStep();
   try {
     detail::exposeWith(*lua, *this, "self", declarations);
     exposeComponent(*lua, *this);
@@ -184,9 +189,17 @@ void LuaComponent::loadScript() {
   lua_ = std::move(lua);
 }
 
+void LuaComponent::useBudget(bool load) {
+  if (!lua_) return;
+  const double limit = load ? load_budget_.value() : budget_.value();
+  lua_->setBudget(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(limit)),
+                  load ? "raise its lua_load_budget property" : "raise its lua_budget property if the hook needs that long");
+}
+
 bool LuaComponent::callHook(Hook hook) {
   if (!lua_ || hooks_[hook] == LUA_NOREF) return true;
   lua_State* L = lua_->get();
+  lua_->startStep();
   lua_rawgeti(L, LUA_REGISTRYINDEX, hooks_[hook]);
   lua_->call(0, 1);
   const bool refused = lua_type(L, -1) == LUA_TBOOLEAN && !lua_toboolean(L, -1);
@@ -196,7 +209,10 @@ bool LuaComponent::callHook(Hook hook) {
 
 bool LuaComponent::configureHook() {
   loadScript();
-  return callHook(kConfigure);
+  useBudget(true);
+  const bool configured = callHook(kConfigure);
+  useBudget(false);  // from here on, steps: start, update, stop, exception
+  return configured;
 }
 
 bool LuaComponent::startHook() { return callHook(kStart); }
@@ -205,6 +221,7 @@ void LuaComponent::stopHook() { callHook(kStop); }
 void LuaComponent::exceptionHook() { callHook(kException); }
 
 void LuaComponent::cleanupHook() {
+  useBudget(true);
   try {
     callHook(kCleanup);
   } catch (...) {

@@ -62,7 +62,7 @@ inline void protectedCall(lua_State* L, lua_CFunction thunk, const void* data, i
   const int status = lua_pcall(L, 1, results, 0);
   if (status == LUA_OK) return;
   LuaState* owner = LuaState::from(L);
-  if (owner != nullptr) throw core::Error(owner->popError(status));
+  if (owner != nullptr) throw core::Error(owner->popError(status, L));
   const std::string message = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "Lua error";
   lua_pop(L, 1);
   throw core::Error(message);

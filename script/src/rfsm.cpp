@@ -7,6 +7,7 @@
 
 #include <lua.hpp>
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "lua_guard.hpp"
@@ -80,7 +81,7 @@ void setMapped(lua_State* L, const char* key, int index) {
   const int status = lua_pcall(L, 3, 0, 0);
   if (status != LUA_OK) {
     LuaState* owner = LuaState::from(L);
-    std::string message = owner != nullptr ? owner->popError(status) : popMessage(L);
+    std::string message = owner != nullptr ? owner->popError(status, L) : popMessage(L);
     lua_pop(L, 1);
     throw core::Error(message);
   }
@@ -164,7 +165,13 @@ struct RfsmAccess {
       lua_pop(L, 1);
       return std::chrono::steady_clock::now().time_since_epoch();
     }
-    if (lua_pcall(L, 0, 1, 0) != LUA_OK) throw std::runtime_error("rfsm_timeevent gettime hook: " + popMessage(L));
+    // The machine reads its clock in a step, which must not throw: a failing hook is reported
+    // and the steady clock stands in for it.
+    if (lua_pcall(L, 0, 1, 0) != LUA_OK) {
+      std::fprintf(stderr, "[cobra] rfsm_timeevent gettime hook failed (the steady clock is used): %s\n",
+                   popMessage(L).c_str());
+      return std::chrono::steady_clock::now().time_since_epoch();
+    }
     const auto ns = static_cast<std::int64_t>(lua_tonumber(L, -1));
     lua_pop(L, 1);
     return std::chrono::nanoseconds(ns);
@@ -307,7 +314,7 @@ void RfsmChart::callLua(int arguments, const char* callback) const {
   const int status = lua_pcall(L, arguments, 1, 0);
   if (status != LUA_OK) {
     LuaState* owner = LuaState::from(L);
-    throw std::runtime_error(owner != nullptr ? owner->popError(status) : popMessage(L));
+    throw std::runtime_error(owner != nullptr ? owner->popError(status, L) : popMessage(L));
   }
   (void)callback;
 }
@@ -395,7 +402,7 @@ statechart::DooStatus RfsmChart::resumeDoo(int node, bool restart) {
     return DooStatus::Done;
   }
   LuaState* owner = LuaState::from(co);
-  std::string message = owner != nullptr ? owner->popError(status) : popMessage(co);
+  std::string message = owner != nullptr ? owner->popError(status, co) : popMessage(co);
   throw std::runtime_error(message);
 }
 

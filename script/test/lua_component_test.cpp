@@ -1,5 +1,6 @@
 // LuaComponent: a script doing real work on the lockstep clock, declarations, hook results,
-// load and runtime errors with file:line, pool exhaustion, recover and reload.
+// load and runtime errors with file:line, pool exhaustion, endless loops cut at their budget,
+// recover and reload.
 
 #include "cobra/script/lua_component.hpp"
 
@@ -213,6 +214,63 @@ function updateHook() kept[#kept + 1] = string.rep("x", 1000) .. #kept end
   c.setProperty("lua_pool_size", 4096);
   EXPECT_EQ(c.configure().message, "component 'Hog': configureHook threw: Lua memory pool of component 'Hog' (4 KiB) "
                                    "is too small to create a Lua state; raise its lua_pool_size property");
+}
+
+const char* const kSpinner = R"(n = 0
+function updateHook()
+  n = n + 1
+  if n == 3 then
+    while true do n = n + 1 end
+  end
+end
+)";
+
+TEST(LuaComponent, AnEndlessLoopInAHookIsCutAtItsBudgetAndTheOthersKeepTheirPeriod) {
+  LuaComponent c("Spinner", core::Role::Calculation);
+  const std::string path = writeScript("spinner", kSpinner);
+  c.setProperty("script_path", path);
+  core::Component ticker("Ticker", core::Role::Calculation, "counts its updates");
+  core::LockstepClock clock;
+  clock.add(c, 1ms);
+  clock.add(ticker, 1ms);
+  ASSERT_TRUE(c.configure());
+  ASSERT_TRUE(c.start());
+  ASSERT_TRUE(ticker.configure());
+  ASSERT_TRUE(ticker.start());
+  clock.advance(10ms);
+  EXPECT_EQ(c.state(), core::State::Exception);
+  EXPECT_EQ(c.lastError(), "component 'Spinner': updateHook threw: " + path +
+                               ":5: component 'Spinner' ran past its budget of 0.005 s of CPU time; raise its "
+                               "lua_budget property if the hook needs that long");
+  EXPECT_EQ(c.updateCount(), 2u);      // the third update threw
+  EXPECT_EQ(ticker.updateCount(), 10u);  // every period of the 10 ms
+}
+
+TEST(LuaComponent, AnEndlessLoopOnItsOwnThreadIsCutAtItsBudget) {
+  LuaComponent c("ThreadSpinner", core::Role::Calculation);
+  const std::string path = writeScript("thread_spinner", kSpinner);
+  c.setProperty("script_path", path);
+  c.setProperty("lua_budget", 0.005);
+  c.setActivity(std::make_unique<core::PeriodicActivity>(1ms, 0, core::Scheduler::Other));
+  ASSERT_TRUE(c.configure());
+  ASSERT_TRUE(c.start());
+  // Waits for the activity thread (the bound only keeps a bug from hanging the test).
+  for (int i = 0; i < 100000 && c.state() != core::State::Exception; ++i) std::this_thread::sleep_for(100us);
+  EXPECT_EQ(c.state(), core::State::Exception);
+  EXPECT_EQ(c.lastError(), "component 'ThreadSpinner': updateHook threw: " + path +
+                               ":5: component 'ThreadSpinner' ran past its budget of 0.005 s of CPU time; raise its "
+                               "lua_budget property if the hook needs that long");
+  EXPECT_TRUE(c.recover());
+}
+
+TEST(LuaComponent, AScriptLoopingAtLoadIsCutAtTheLoadBudget) {
+  LuaComponent c("SlowLoad", core::Role::Calculation);
+  const std::string path = writeScript("slow_load", "local n = 0\nwhile true do n = n + 1 end\n");
+  c.setProperty("script_path", path);
+  c.setProperty("lua_load_budget", 0.05);
+  EXPECT_EQ(c.configure().message, "component 'SlowLoad': configureHook threw: Lua script of component 'SlowLoad' "
+                                   "failed: " + path + ":2: component 'SlowLoad' ran past its budget of 0.05 s of "
+                                   "CPU time; raise its lua_load_budget property");
 }
 
 TEST(LuaComponent, ReloadKeepsDeclaredPortsConnectionsAndValues) {

@@ -1,10 +1,11 @@
 // LuaState: running code, error messages with chunk:line, pools (too small, exhausted, usable
-// again afterwards).
+// again afterwards), the CPU-time budget and the interrupt flag cutting endless loops.
 
 #include "cobra/script/lua_state.hpp"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
 
 #include "cobra/core/error.hpp"
@@ -67,6 +68,65 @@ TEST(LuaState, PoolExhaustionIsAnErrorAndTheStateStaysUsable) {
 TEST(LuaState, ErrorObjectsThatAreNotStringsAreDescribed) {
   LuaState lua;
   EXPECT_EQ(errorOf([&] { lua.run("error({})"); }), "Lua error with a table value as error object");
+}
+
+using namespace std::chrono_literals;
+
+TEST(LuaState, AnEndlessLoopIsCutAtItsBudgetNamingTheLine) {
+  LuaState lua({0, "component 'Looper'", ""});
+  lua.setBudget(20ms, "raise its lua_budget property");
+  lua.startStep();
+  EXPECT_EQ(errorOf([&] { lua.run("local n = 0\nwhile true do\n  n = n + 1\nend", "=loop"); }).substr(0, 7), "loop:3:");
+  lua.startStep();
+  const std::string message = errorOf([&] { lua.run("local n = 0\nwhile true do n = n + 1 end", "=loop"); });
+  EXPECT_EQ(message, "loop:2: component 'Looper' ran past its budget of 0.02 s of CPU time; raise its lua_budget property");
+  // The next step runs normally: a budget is per step.
+  lua.startStep();
+  lua.run("x = 0 for i = 1, 1000 do x = x + i end");
+  EXPECT_EQ(lua.evaluate("x"), "500500");
+}
+
+TEST(LuaState, APcallInTheScriptCannotSwallowTheBudgetError) {
+  LuaState lua({0, "component 'Stubborn'", ""});
+  lua.setBudget(20ms);
+  lua.startStep();
+  const std::string message = errorOf([&] {
+    lua.run("while true do\n  pcall(function() while true do end end)\nend", "=stubborn");
+  });
+  EXPECT_EQ(message, "stubborn:2: component 'Stubborn' ran past its budget of 0.02 s of CPU time");
+  EXPECT_EQ(lua.evaluate("1 + 1"), "2");  // usable again once the error reached C++
+}
+
+TEST(LuaState, ALoopInACoroutineIsCutToo) {
+  LuaState lua({1 << 20, "component 'Co'", ""});
+  lua.setBudget(20ms);
+  lua.startStep();
+  const std::string message = errorOf([&] {
+    lua.run("local co = coroutine.wrap(function()\n  while true do end\nend)\nco()", "=co");
+  });
+  // coroutine.wrap puts its caller's line in front of the coroutine's error.
+  EXPECT_NE(message.find("co:2: component 'Co' ran past its budget of 0.02 s"), std::string::npos) << message;
+}
+
+TEST(LuaState, WithoutABudgetLongCodeRunsToItsEnd) {
+  LuaState lua;
+  lua.startStep();
+  lua.run("x = 0 for i = 1, 3e6 do x = x + 1 end");  // far more than one hook period
+  EXPECT_EQ(lua.evaluate("x"), "3000000");
+}
+
+TEST(LuaState, APendingInterruptEndsAStuckLoopButNotAShortStep) {
+  std::atomic<bool> interrupted{false};
+  LuaState::watchInterrupt(&interrupted);
+  LuaState lua({0, "component 'Stuck'", ""});  // no budget: only the interrupt can end it
+  interrupted = true;
+  lua.startStep();
+  lua.run("x = 0 for i = 1, 1000 do x = x + 1 end");  // a short step finishes: the run ends after it
+  EXPECT_EQ(lua.evaluate("x"), "1000");
+  lua.startStep();
+  const std::string message = errorOf([&] { lua.run("while true do\nend", "=stuck"); });
+  LuaState::watchInterrupt(nullptr);
+  EXPECT_EQ(message, "stuck:1: interrupted (Ctrl-C or SIGTERM) while component 'Stuck' ran");
 }
 
 TEST(LuaState, FormatsByteCounts) {

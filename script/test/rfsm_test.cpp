@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <lua.hpp>
+
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::script {
@@ -81,6 +83,31 @@ TEST(Rfsm, AFailingLuaCallbackIsReportedWithItsFileAndLine) {
   ASSERT_EQ(failures.seen.size(), 1U);
   EXPECT_EQ(failures.seen[0], "entry of root.a: broken.lua:2: no sensor");
   EXPECT_EQ(m.activeLeaf(), "root.a");
+}
+
+TEST(Rfsm, AFailingDooIsReportedAndTheLuaStackStaysWhole) {
+  // The doo's error is on its coroutine's stack; taking it from the main thread's stack popped a
+  // value that was not there, and the next call into Lua hit Lua's panic handler (abort).
+  LuaState lua;
+  const auto chart = RfsmChart::loadString(lua, R"(return rfsm.state {
+  a = rfsm.state { doo = function() undefined_function() end },
+  b = rfsm.state { entry = function() entered_b = true end },
+  rfsm.trans { src = 'initial', tgt = 'a' },
+  rfsm.trans { src = 'a', tgt = 'b', events = { 'e_go' } },
+})", "@doo.lua");
+  Machine m(chart->chart(), {});
+  Failures failures;
+  m.setObserver(&failures);
+  const int top = lua_gettop(lua.get());
+  m.run();
+  ASSERT_GE(failures.seen.size(), 1U);
+  EXPECT_EQ(failures.seen[0], "doo of root.a: doo.lua:2: attempt to call a nil value (global 'undefined_function')");
+  EXPECT_EQ(lua_gettop(lua.get()), top);
+  ASSERT_EQ(m.raise("e_go"), RaiseStatus::Queued);
+  m.run();
+  EXPECT_EQ(m.activeLeaf(), "root.b");
+  EXPECT_EQ(lua.evaluate("entered_b"), "true");
+  EXPECT_EQ(lua_gettop(lua.get()), top);
 }
 
 TEST(Rfsm, ModelErrorsNameFileLineAndPath) {

@@ -513,7 +513,10 @@ std::vector<std::string> VisualizerBridge::finished(const run::RunResult& result
          ",\"states\":{";
   for (std::size_t c = 0; c < result.final_states.size(); ++c)
     end += (c ? "," : "") + json::quoted(result.final_states[c].first) + ":" + json::quoted(result.final_states[c].second);
-  end += "}}";
+  end += "}";
+  // On the wall clock: how the executor kept time (the console's outcome section shows it).
+  if (result.executor.ran) end += ",\"executor\":" + json::quoted(run::executorLine(result.executor));
+  end += "}";
   {
     const std::lock_guard<std::mutex> lock(m.shared_mutex);
     std::move(m.pending.begin(), m.pending.end(), std::back_inserter(m.recorded));

@@ -15,12 +15,14 @@ constexpr const char* kPrintToStderr = R"(print = function(...)
   io.stderr:write(table.concat(parts, '\t'), '\n')
 end)";
 
-class StderrObserver : public statechart::Observer {
+/// Keeps the first failing callback: the run stops there, as a Supervisor goes to Exception.
+class FailureObserver : public statechart::Observer {
  public:
   void callbackFailed(std::string_view callback, std::string_view element, std::string_view what) override {
-    std::fprintf(stderr, "%.*s of %.*s failed: %.*s\n", static_cast<int>(callback.size()), callback.data(),
-                 static_cast<int>(element.size()), element.data(), static_cast<int>(what.size()), what.data());
+    if (!failure.empty()) return;
+    failure = std::string(callback) + " of " + std::string(element) + " failed: " + std::string(what);
   }
+  std::string failure;
 };
 
 std::string quoted(const std::string& text) {
@@ -31,26 +33,42 @@ std::string quoted(const std::string& text) {
 
 std::string nodeId(int index) { return "n" + std::to_string(index); }
 
+// CPU time a chart may take to load, and for the steps after each event, before it is cut.
+constexpr std::chrono::seconds kFsmLoadBudget{10};
+constexpr std::chrono::seconds kFsmStepBudget{1};
+
 }  // namespace
 
 int runFsm(const std::string& file, const std::string& events) {
   script::LuaState lua;
+  lua.setBudget(kFsmLoadBudget, "cobra fsm run allows that much to load a chart");
+  lua.startStep();
   lua.run(kPrintToStderr, "=cobra fsm");
   const auto chart = script::RfsmChart::loadFile(lua, file);
+  lua.setBudget(kFsmStepBudget, "cobra fsm run allows that much per event");
   statechart::Machine machine(chart->chart(), [] { return std::chrono::steady_clock::now().time_since_epoch(); });
-  StderrObserver observer;
+  FailureObserver observer;
   machine.setObserver(&observer);
   chart->bind(&machine);
+  // Steps until idle; false (with the failure on stderr) when a callback failed.
   auto report = [&] {
-    machine.run();
+    lua.startStep();
+    for (int i = 0; i < 10000 && observer.failure.empty(); ++i) {
+      const statechart::StepResult r = machine.step();
+      if (r == statechart::StepResult::Idle || r == statechart::StepResult::CannotEnter) break;
+    }
     std::printf("%s\n", std::string(machine.activeLeaf()).c_str());
+    if (observer.failure.empty()) return true;
+    std::fflush(stdout);
+    std::fprintf(stderr, "cobra fsm: %s\n", observer.failure.c_str());
+    return false;
   };
-  report();
+  if (!report()) return 1;
   std::istringstream tokens(events);
   for (std::string token; tokens >> token;) {
     if (token != "-" && machine.raise(token) != statechart::RaiseStatus::Queued)
       std::fprintf(stderr, "event '%s' not sent (queue full or name too long)\n", token.c_str());
-    report();
+    if (!report()) return 1;
   }
   return 0;
 }

@@ -187,6 +187,9 @@ int runConsole(const std::string& file, bool sim, bool strict) {
   script::LuaState lua;
   deploy::LuaDeployer deployer(configurator, lua);
   tools::Console console(configurator, deployer, std::cout);
+  // In the console Ctrl-C stops a trace and the session goes on: it must not cut the Lua code
+  // that runs after it (the flag stays set).
+  script::LuaState::watchInterrupt(nullptr);
   if (!file.empty()) console.execute("load " + file);
   return tools::runConsoleTerminal(console);
 }
@@ -337,6 +340,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  // Lua stuck in a loop notices the signal too (script::LuaState, "Budget and interrupts").
+  script::LuaState::watchInterrupt(&g_interrupted);
   try {
     if (*deploy_cmd)
       return runDeploy(deploy_file, sim, deploy_cmd->count("--run-for") ? run_for : (sim ? 1.0 : 0.0), strict, deploy_host);

@@ -19,6 +19,11 @@
 -- path resumes) or `sensor_hold` s have passed (SafeStop).
 local sensor_hold = 1.0  -- s
 local stop_wait = 0.5    -- s: longer than the trajectory generator's stop_time
+-- s the chart waits for a device's answer in A and B (the drives' encoder initialisation, the
+-- master's ready position, the sensor's tare, Operative) before its safe stop, emitting
+-- e_drives_timeout or e_sensor_timeout (the run's safe stop names it). The simulated devices
+-- answer within 5 s (the move to ready).
+local device_timeout = 30
 
 local function call(peer, operation)
   local p = _G[peer]
@@ -95,6 +100,12 @@ local chart = {
   rfsm.trans { src = 'G_BackToPath.OnPath', tgt = 'H_FinalPose', events = { done } },
   rfsm.trans { src = 'G_BackToPath.Settling', tgt = 'H_FinalPose', events = { 'e_on_path@Contact' } },
   rfsm.trans { src = 'Holding', tgt = 'Resuming', events = { 'e_comm_restored@FTSens' } },
+  rfsm.trans { src = 'A_Nest', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_drives_timeout") end },
+  rfsm.trans { src = 'B_Ready.Taring', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_sensor_timeout") end },
+  rfsm.trans { src = 'B_Ready.AskingOperative', tgt = 'SafeStop', events = { 'e_after(' .. device_timeout .. ')' },
+               effect = function() emit("e_drives_timeout") end },
   rfsm.trans { src = 'Holding', tgt = 'SafeStop', events = { 'e_after(' .. sensor_hold .. ')' },
                effect = function() emit("e_sensor_lost") end },
   rfsm.trans { src = 'Resuming', tgt = 'H_FinalPose', events = { done } },
@@ -110,5 +121,9 @@ end
 for _, state in ipairs({ 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath', 'Resuming' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'Holding', events = { 'e_comm_timeout@FTSens' }, pn = 5 }
 end
+
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the trajectory's stop motion, the admittance holding the tool.
+function exceptionHook() call("TrajGen", "askStopMove") end
 
 return rfsm.state(chart)

@@ -78,6 +78,9 @@ configureComponents({ "TrajGen" })  -- its desCartPose_1 and desCartTwist_1 exis
 local connections = {
   { output = "Puma.measJointPosition", input = "Kin.jointPositions" },
   { output = "Kin.desJointPositions", input = "Puma.desJointPosition" },
+  -- The drives quick-stopped (Fault): the kinematics solver takes the held joints as its reference
+  -- and passes them on as heldCartPose, as for a refused command (ARCHITECTURE §7).
+  { output = "Puma.heldJointPosition", input = "Kin.heldJointPositions" },
   { output = "FTSens.measWrench", input = "SensorToTip.inWrench" },
   { output = "SensorToTip.outWrench", input = "TipToBase.inWrench" },
   { output = "Kin.cartPose", input = "TipToBase.referenceFrame" },
@@ -98,7 +101,11 @@ connectPorts(connections)
 local paths = { "ToTaskPose", "ToStartPose", "NominalPath", "TrajGen" }
 defineDeployment("position_control", {
   components = paths,
-  connections = { { output = "TrajGen.desCartPose_1", input = "Kin.desCartPose" } },
+  connections = {
+    { output = "TrajGen.desCartPose_1", input = "Kin.desCartPose" },
+    -- Held (a refused command, a quick stop): the trajectory generator's motion ends at the held pose.
+    { output = "Kin.heldCartPose", input = "TrajGen.heldPose_1" },
+  },
 })
 defineDeployment("compliant_control", {
   components = { "ToTaskPose", "ToStartPose", "NominalPath", "TrajGen", "Admittance", "Contact" },
@@ -107,6 +114,9 @@ defineDeployment("compliant_control", {
     { output = "TrajGen.desCartTwist_1", input = "Admittance.refTwist" },
     { output = "TipToBase.outWrench", input = "Admittance.measWrench" },
     { output = "Admittance.admPose", input = "Kin.desCartPose" },
+    -- Held: the admittance re-syncs to the held pose, the trajectory generator to its reference.
+    { output = "Kin.heldCartPose", input = "Admittance.heldPose" },
+    { output = "Admittance.heldRefPose", input = "TrajGen.heldPose_1" },
     { output = "TipToBase.outWrench", input = "Contact.measWrench" },
     { output = "Kin.cartPose", input = "Contact.measPose" },
     { output = "TrajGen.desCartPose_1", input = "Contact.nominalPose" },

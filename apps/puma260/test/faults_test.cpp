@@ -2,9 +2,12 @@
 // --faults FILE` plays it, each ending in a defined state with its event: a drive fault and a
 // working-counter mismatch (the master quick-stops the drives, Fault; the chart's SafeStop), the
 // FTSens silent (the chart holds, then stops) or silent for a moment (holds, then resumes to H),
-// the contact force above its limit (SafeStop).
+// the contact force above its limit (SafeStop), the FTSens silent from the start (the tare never
+// answered: SafeStop after the chart's device timeout).
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "puma260_run.hpp"
 
@@ -34,6 +37,11 @@ TEST(Puma260Faults, ADriveFaultMidMotionQuickStopsTheOthersAndTheChartStopsSafel
   EXPECT_NE(r.reason.find("e_drive_fault"), std::string::npos) << r.reason;
   expectInOrder(r, {"puma > root.D_StartPose", "fault " + (kFaults / "drive_fault.lua").string(),
                     "Puma: e_drive_fault", "puma > root.Stopping", "puma > root.SafeStop"});
+  // The quick stop holds the robot: the kinematics solver passes the held joints on as the held
+  // pose, and the trajectory's motion ends there at once instead of running on from the robot.
+  expectInOrder(r, {"Puma: e_drive_fault", "TrajGen: e_resynced", "puma > root.SafeStop"});
+  const auto fault = std::find(r.log.begin(), r.log.end(), "Puma: e_drive_fault");
+  EXPECT_EQ(std::count(fault, r.log.end(), "TrajGen: e_motion_done"), 0) << "the motion did not run on to its end";
   EXPECT_EQ(count(r, "puma > root.H_FinalPose"), 0u);
   expectDrivesStopped(o);
 }
@@ -64,6 +72,17 @@ TEST(Puma260Faults, ASensorBackWithinTheHoldTimeResumesTheNominalPathToH) {
   expectInOrder(r, {"puma > root.F_FollowingSurface", "FTSens: e_comm_timeout", "puma > root.Holding",
                     "FTSens: e_comm_restored", "puma > root.Resuming", "puma > root.H_FinalPose"});
   EXPECT_EQ(count(r, "puma > root.SafeStop"), 0u);
+}
+
+TEST(Puma260Faults, ASensorSilentFromTheStartIsASafeStopAfterTheDeviceTimeoutNamingIt) {
+  const RunResult r = runApp(withFaults("ftsens_silent_from_start"));
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_NE(r.reason.find("puma chart stopped safely in root.B_Ready.Taring: TaskSup: e_sensor_timeout"),
+            std::string::npos)
+      << r.reason;
+  expectInOrder(r, {"puma > root.B_Ready.Taring", "TaskSup: e_sensor_timeout", "puma > root.SafeStop"});
+  // The chart's device_timeout (30 s) after the tare was asked.
+  EXPECT_NEAR(began(r, "root.SafeStop") - began(r, "root.B_Ready.Taring"), 30.0, 0.01);
 }
 
 TEST(Puma260Faults, AContactForceAboveTheLimitStopsTheTask) {

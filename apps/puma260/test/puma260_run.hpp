@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -56,7 +57,7 @@ class Signals {
     while (std::getline(in, line)) {
       std::vector<double> row;
       std::stringstream cells(line);
-      for (std::string value; std::getline(cells, value, ',');) row.push_back(value.empty() ? NAN : std::stod(value));
+      for (std::string value; std::getline(cells, value, ',');) row.push_back(value.empty() ? NAN : std::strtod(value.c_str(), nullptr));
       row.resize(names_.size(), NAN);
       rows_.push_back(std::move(row));
     }

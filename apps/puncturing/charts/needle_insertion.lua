@@ -26,6 +26,7 @@ local C = { free = "needle_free_motion", penetration = "needle_penetration", ins
 local defrost_check = 10  -- s in WaitDefreezing before pulling again
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 
+local waits = require("waits")  -- s before a wait on the surgeon, the console or the probe's chart gives up
 local steps = require("task_steps") { chart = "needle_insertion", peers = peers, goal_missed = "e_needle_goal_missed" }
 local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
 
@@ -125,6 +126,13 @@ local chart = {
   rfsm.trans { src = 'WaitUSPositioning', tgt = 'Done', events = { 'e_all_needles_done' }, pn = 10 },
   rfsm.trans { src = 'WaitCryoCycle', tgt = 'ExtractingNeedle', events = { 'e_cryo_done' } },
   rfsm.trans { src = 'WaitReaction', tgt = 'NeedleTeleoperation', events = { 'e_take_over' } },
+  -- Nobody answers (waits.lua): the safe stop, naming what was waited for.
+  steps.timeout('WaitReaction', waits.surgeon, 'e_reaction_timeout'),
+  steps.timeout('WaitIceballConfig', waits.surgeon, 'e_iceball_config_timeout'),
+  steps.timeout('InsertingNeedles.WaitNeedleRemoved', waits.surgeon, 'e_needle_change_timeout'),
+  steps.timeout('InsertingNeedles.WaitNeedleMounted', waits.surgeon, 'e_needle_change_timeout'),
+  steps.timeout('WaitCryoCycle', waits.cryo_console, 'e_cryo_timeout'),
+  steps.timeout('WaitUSPositioning', waits.peer_chart, 'e_peer_chart_timeout'),
 }
 for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles', insertion_faults },
                             { 'ExtractingNeedle', faults }, { 'WaitUSPositioning', faults } }) do
@@ -151,6 +159,14 @@ for _, target in ipairs(resumable) do
     chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
                                      guard = function() return steps.resume == target end }
   end
+end
+
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the motion stops, the admittance holds the needle where it is, and the ultrasound chart is told, as by
+-- this chart's SafeStop, so that it stops too.
+function exceptionHook()
+  stop()
+  emit("e_needle_safe_stop")
 end
 
 return rfsm.state(chart)

@@ -53,6 +53,15 @@ return function(c)
 
   function steps.stop() steps.call("trajectory", "askStopMove") end
 
+  -- The transition that ends a wait on an outside party (the surgeon, the cryoablation console,
+  -- the other robot's chart) after `seconds` in `src` without its answer: root.SafeStop (the
+  -- motion stopped, the admittance holding the robot), emitting `event`, which names what was
+  -- waited for (e_reaction_timeout: the surgeon's reaction), so the run's safe stop says why.
+  function steps.timeout(src, seconds, event)
+    return rfsm.trans { src = src, tgt = 'root.SafeStop', events = { 'e_after(' .. seconds .. ')' }, pn = 1,
+                        effect = function() emit(event) end }
+  end
+
   -- A state that asks for its deployment and configuration on entry; `also` runs after.
   function steps.waiting(fqn, deployment, configuration, also)
     return rfsm.state { entry = function()

@@ -17,6 +17,7 @@ local C = { free = "probe_free_motion", contact = "probe_contact" }
 local search_timeout = 60  -- s in SearchingNeedle before the surgeon is asked to react
 local arrival_grace = 1    -- s after the descent ends for the contact that should have ended it
 
+local waits = require("waits")  -- s before a wait on the surgeon or the needle's chart gives up
 local steps = require("task_steps") { chart = "us_positioning", peers = peers, goal_missed = "e_us_goal_missed" }
 local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
 
@@ -77,6 +78,11 @@ local chart = {
   rfsm.trans { src = 'WaitNeedleSkinReached', tgt = 'USPositioned', events = { 'e_needle_skin_reached' } },
   rfsm.trans { src = 'USPositioned', tgt = 'WaitNeedleSkinReached', events = { 'e_needle_extracted' } },
   rfsm.trans { src = 'WaitReaction', tgt = 'USTeleoperation', events = { 'e_take_over' } },
+  -- Nobody answers (waits.lua): the safe stop, naming what was waited for.
+  steps.timeout('WaitReaction', waits.surgeon, 'e_reaction_timeout'),
+  steps.timeout('Idle', waits.peer_chart, 'e_peer_chart_timeout'),
+  steps.timeout('WaitNeedleSkinReached', waits.peer_chart, 'e_peer_chart_timeout'),
+  steps.timeout('USPositioned', waits.peer_chart, 'e_peer_chart_timeout'),
 }
 for _, reaction in ipairs({ { 'MoveToSkin', faults }, { 'WaitNeedleSkinReached', contact_faults },
                             { 'USPositioned', contact_faults } }) do
@@ -96,6 +102,14 @@ for _, target in ipairs(resumable) do
     chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
                                      guard = function() return steps.resume == target end }
   end
+end
+
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the motion stops, the admittance holds the probe where it is, and the needle chart is told, as by
+-- this chart's SafeStop, so that it stops too.
+function exceptionHook()
+  stop()
+  emit("e_us_safe_stop")
 end
 
 return rfsm.state(chart)

@@ -78,6 +78,9 @@ return function(c)
     { output = robot .. ".measCartPose", input = n("Wrench") .. ".referenceFrame" },
     { output = n("Wrench") .. ".outWrench", input = n("Admittance") .. ".measWrench" },
     { output = n("Admittance") .. ".admPose", input = robot .. ".desCartPose" },
+    -- A refused command (the robot holds): the admittance re-syncs to where the robot is, in
+    -- every deployment (ARCHITECTURE §7, "Continuity in the control path").
+    { output = robot .. ".heldCartPose", input = n("Admittance") .. ".heldPose" },
     { output = n("TaskSup") .. ".outputEvents", input = n("DepSup") .. ".inputEvents", conn_policy = buffered },
     { output = n("TaskSup") .. ".outputEvents", input = n("ConfSup") .. ".inputEvents", conn_policy = buffered },
   }
@@ -98,6 +101,9 @@ return function(c)
   local follow = {
     { output = n("TrajGen") .. ".desCartPose_" .. arm, input = n("Admittance") .. ".refPose" },
     { output = n("TrajGen") .. ".desCartTwist_" .. arm, input = n("Admittance") .. ".refTwist" },
+    -- ... and the trajectory generator to the admittance's re-synced reference: the motion ends
+    -- there, and the chart's recovery re-plans from it.
+    { output = n("Admittance") .. ".heldRefPose", input = n("TrajGen") .. ".heldPose_" .. arm },
   }
   local function with(list, more)
     local all = {}

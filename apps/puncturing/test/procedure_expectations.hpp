@@ -66,11 +66,15 @@ inline void expectTracked(const RunResult& r) {
 /// The measured state's clearance (the needle planner's minDistance, the declared contacts left
 /// out: the probe on the skin, the needle in the tissue) stayed above the planner's threshold the
 /// whole run long, the needle's insertion included (no pause), every sample measurable.
-inline void expectClear(const RunResult& r) {
+/// `unsampled` (s): how long the run may go before the first sample. On the lockstep clock the
+/// planner measures from the first step; on the wall clock it measures on its own thread (an
+/// own-pace activity), whose first answer comes after its first wake-up, up to a second late on a
+/// loaded machine.
+inline void expectClear(const RunResult& r, double unsampled = 0.02) {
   const ClearanceFigures& c = r.clearance;
   EXPECT_GT(c.threshold, 0.0);
   // One sample per 1 ms step from the first measured pose (within the first 10 ms) to the end.
-  EXPECT_GE(c.seconds_sampled, r.duration - 0.02) << "s of clearance samples in a run of " << r.duration << " s";
+  EXPECT_GE(c.seconds_sampled, r.duration - unsampled) << "s of clearance samples in a run of " << r.duration << " s";
   EXPECT_GT(c.worst, c.threshold) << "clearance " << 1000.0 * c.worst << " mm (threshold " << 1000.0 * c.threshold
                                   << " mm) at " << c.worst_at << " s, " << c.worst_state << "; " << c.seconds_below
                                   << " s at or under the threshold";
@@ -85,7 +89,7 @@ inline void expectNoCommandJump(const RunResult& r) {
 
 /// Issue 15's acceptance: tracking, no IK discontinuity, the measured state's clearance above the
 /// planner's threshold outside the allowed contacts.
-inline void expectFaithful(const RunResult& r) {
+inline void expectFaithful(const RunResult& r, double unsampled = 0.02) {
   for (const TrackingFigures& robot : r.tracking)
     EXPECT_GT(robot.seconds_sampled, 0.0) << robot.robot << ": no autonomous sample";
   expectTracked(r);
@@ -95,7 +99,7 @@ inline void expectFaithful(const RunResult& r) {
       events += "\n  " + std::to_string(e.time) + " s " + e.source + " (" + e.state + ")";
   EXPECT_TRUE(events.empty()) << "e_ik_discontinuity events:" << events;
   EXPECT_GT(r.clearance.seconds_sampled, 10.0);
-  expectClear(r);
+  expectClear(r, unsampled);
   // The declared contacts were made (each reported apart, 0: touching or inside).
   ASSERT_EQ(r.clearance.contacts.size(), 2u);
   for (const auto& [name, distance] : r.clearance.contacts) EXPECT_EQ(distance, 0.0) << name;

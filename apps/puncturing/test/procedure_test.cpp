@@ -219,7 +219,8 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 2u);
   EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.MakeRoomForProbe: "
                             "NeedlePlanner: e_plan_failed at");
-  EXPECT_CONTAINS(r.reason, "the same failure again after the reaction to the first; NeedlePlanner.lastPlanResult(): ");
+  EXPECT_CONTAINS(r.reason, "the same failure again after the reaction to the first, or no answer in time (charts/waits.lua); "
+                            "NeedlePlanner.lastPlanResult(): ");
   // Each needle change pose is named with why it cannot be taken.
   EXPECT_CONTAINS(r.reason, "none of the 3 goal alternatives can be taken from first (");
   EXPECT_CONTAINS(r.reason, ": goal 1 of 3 first (-0.0500, 0.0500, 0.2600 m;");
@@ -229,6 +230,86 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   EXPECT_EQ(count(r, "us > root.MoveToSkin.Approach"), 0u);
   expectTracked(r);
   expectClear(r);
+}
+
+// The planner fails from the first motion on and the surgeon never reacts: the needle chart waits
+// in WaitReaction for charts/waits.lua's surgeon timeout (120 s), then stops safely naming it, and
+// the probe's chart stops with it.
+TEST(PuncturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamingTheTimeout) {
+  RunOptions o = withFaults("planner_fails_again.lua");
+  o.before_lua = "surgeon_file = [[" + (kFaults / "silent_surgeon.txt").string() + "]]";
+  const RunResult r = runApp(o);
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << "ended at " << r.duration << " s: " << r.reason;
+  expectInOrder(r, {"NeedlePlanner: e_plan_failed", "needle > root.WaitReaction", "NeedleTaskSup: e_reaction_timeout",
+                    "needle > root.SafeStop", "us > root.SafeStop"});
+  EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.WaitReaction: NeedleTaskSup: e_reaction_timeout at");
+  EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
+}
+
+// The needle's task chart wrapped so that the entry of MakeRoomForProbe.Moving (the first motion)
+// starts the motion, then calls a function that does not exist: loaded as `cobra run` loads it,
+// on the lockstep clock. NeedleTaskSup goes to Exception naming the wrapper's line; its chart's
+// exceptionHook stops the needle and tells the probe's chart, which stops safely too.
+TEST(PuncturingProcedure, ALuaErrorInTheNeedleChartStopsTheNeedleAndTheProbesChartFollows) {
+  using namespace std::chrono_literals;
+  deploy::Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.runFile((kApp / "puncturing.lua").string());
+  const std::string charts = (kApp / "charts").string();
+  const std::string wrapper = ::testing::TempDir() + "needle_insertion_broken.lua";
+  std::ofstream(wrapper) << "package.path = '" << charts << "/?.lua;' .. package.path\n"
+                         << "local chart = dofile('" << charts << "/needle_insertion.lua')\n"
+                         << "local moving = chart.MakeRoomForProbe.Moving\n"
+                         << "local start = moving.entry\n"
+                         << "moving.entry = function(...) start(...) stopp() end\n"
+                         << "return chart\n";
+  deployer.run("stopComponents({'NeedleTaskSup'}) cleanupComponents({'NeedleTaskSup'}) NeedleTaskSup.fsm_path = [[" +
+                   wrapper + "]] configureComponents({'NeedleTaskSup'}) startComponents({'NeedleTaskSup'})",
+               "=wrap the chart");
+  const core::ComponentRegistry& refs = configurator.getReferences();
+  core::Component& needle = refs.get("NeedleTaskSup");
+  core::InputPort<KDL::Frame> measured{"measured", "", "m"};
+  core::connectPorts(refs.get("ISUR").port("measCartPose"), measured);
+  core::InputPort<core::TaskState> probe_state{"probe_state", "", ""};
+  core::connectPorts(refs.get("ProbeTaskSup").port("taskState"), probe_state);
+  double t = 0.0;
+  for (; t < 60.0 && needle.state() == core::State::Running; t += 0.01) configurator.clock().advance(10ms);
+  ASSERT_EQ(needle.state(), core::State::Exception) << "at " << t << " s";
+  EXPECT_EQ(needle.lastError(), "component 'NeedleTaskSup': updateHook threw: entry of root.MakeRoomForProbe.Moving "
+                                "failed: " + wrapper + ":5: attempt to call a nil value (global 'stopp')");
+  configurator.clock().advance(600ms);  // past the trajectory generator's stop motion
+  core::TaskState probe;
+  ASSERT_EQ(probe_state.read(probe), core::FlowStatus::NewData);
+  EXPECT_EQ(probe.path.str(), "root.SafeStop");
+  KDL::Frame then, later;
+  ASSERT_NE(measured.read(then), core::FlowStatus::NoData);
+  configurator.clock().advance(2s);
+  ASSERT_NE(measured.read(later), core::FlowStatus::NoData);
+  EXPECT_TRUE(KDL::Equal(then, later, 1e-6)) << "moved by " << (later.p - then.p).Norm() << " m";
+}
+
+// The I-SUR refuses a command mid-motion (slowed to 0.2 % of its speed) and holds: the needle's
+// admittance and trajectory generator re-sync to the held pose at once, so the commanded pose
+// never runs away from the robot (the tracking error stays within the acceptance figure while it
+// is held), the chart's reaction and the surgeon's recovery re-plan the approach from there, and
+// the procedure completes.
+TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHeldRobotAndTheTaskRecovers) {
+  const RunResult r = runApp(withFaults("robot_slowed.lua"));
+  expectTracked(r);  // while held too: the commanded pose stayed with the robot
+  expectNoCommandJump(r);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  expectPlaced(r, 2);
+  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToSkin.Approach", fault("robot_slowed.lua", 8),
+                    "ISUR: e_ik_discontinuity", "NeedleAdmittance: e_resynced", "needle > root.WaitReaction",
+                    "ISUR: e_ik_solved", "NeedleTrajGen: e_resynced", fault("robot_slowed.lua", 9),
+                    "Surgeon: e_recover",
+                    "needle > root.InsertingNeedles.MoveToSkin.Approach", "NeedlePlanner: e_plan_done",
+                    "needle > root.InsertingNeedles.MoveToSkin.Descend", "NeedleMonitor: e_skin_touched",
+                    "NeedleMonitor: e_target_reached", "needle > root.Done"});
+  EXPECT_EQ(count(r, "ISUR: e_ik_discontinuity"), 1u) << "refused once: the re-synced command is accepted";
+  EXPECT_EQ(count(r, "needle > root.WaitReaction"), 1u);
 }
 
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {

@@ -29,6 +29,9 @@ local D = { planning = "suturing_autonomous_planning", primitives = "suturing_au
 local C = { free = "suturing_free_motion", contact = "suturing_contact" }
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 local plan_retry = 0.1    -- s between asks while the sensing module has no edges yet
+-- s the chart waits in WaitReaction for the surgeon's decision (e_recover or e_take_over); then it
+-- stops safely, emitting e_reaction_timeout (the run's safe stop names it).
+local reaction_timeout = 120
 
 local steps = require("task_steps") { chart = "suturing", peers = peers, goal_missed = "e_suture_goal_missed" }
 local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
@@ -125,6 +128,7 @@ local chart = {
   rfsm.trans { src = 'AutonomousMode', tgt = 'SafeStop', events = { 'e_thread_broken' }, pn = 10 },
   rfsm.trans { src = 'TeleoperatedMode', tgt = 'SafeStop', events = { 'e_thread_broken' }, pn = 10 },
   rfsm.trans { src = 'WaitReaction', tgt = 'SafeStop', events = { 'e_thread_broken' }, pn = 10 },
+  steps.timeout('WaitReaction', reaction_timeout, 'e_reaction_timeout'),
 }
 for _, t in ipairs({ steps.reactions('AutonomousMode', faults) }) do chart[#chart + 1] = t end
 
@@ -143,5 +147,9 @@ for _, target in ipairs(resumable) do
                                      guard = function() return steps.resume == target end }
   end
 end
+
+-- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
+-- the motion stops and the admittances hold both arms where they are.
+function exceptionHook() stop() end
 
 return rfsm.state(chart)

@@ -124,6 +124,10 @@ local connections = {
   { output = "ISUR.measLeftCartPose", input = "LeftWrench.referenceFrame" },
   { output = "RightWrench.outWrench", input = "RightAdmittance.measWrench" },
   { output = "LeftWrench.outWrench", input = "LeftAdmittance.measWrench" },
+  -- A refused command (the robot holds both tools): each admittance re-syncs to where its tool is,
+  -- in every deployment (ARCHITECTURE §7, "Continuity in the control path").
+  { output = "ISUR.heldRightCartPose", input = "RightAdmittance.heldPose" },
+  { output = "ISUR.heldLeftCartPose", input = "LeftAdmittance.heldPose" },
   { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
   { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
   { output = "TaskSup.outputEvents", input = "ISUR.inputEvents", conn_policy = buffered },     -- the Endo Stitch
@@ -145,6 +149,10 @@ local follow = {
   { output = "SutureTrajGen.desCartTwist_2", input = "LeftAdmittance.refTwist" },
   { output = "RightAdmittance.admPose", input = "ISUR.desRightCartPose" },
   { output = "LeftAdmittance.admPose", input = "ISUR.desLeftCartPose" },
+  -- The trajectory generator re-syncs to the admittances' re-synced references: the motion ends
+  -- there, and the chart's recovery re-plans from it.
+  { output = "RightAdmittance.heldRefPose", input = "SutureTrajGen.heldPose_1" },
+  { output = "LeftAdmittance.heldRefPose", input = "SutureTrajGen.heldPose_2" },
 }
 local function with(list, more)
   local all = {}
@@ -188,6 +196,10 @@ defineDeployment("suturing_teleoperated", {
     { output = "LeftAdmittance.admPose", input = "Validator.desPoseIn_2" },
     { output = "Validator.desPoseOut_1", input = "ISUR.desRightCartPose" },
     { output = "Validator.desPoseOut_2", input = "ISUR.desLeftCartPose" },
+    -- The validator holding the last valid pair: the admittances re-sync to it instead of running
+    -- on with the surgeon's hands into the refused region.
+    { output = "Validator.heldPose_1", input = "RightAdmittance.heldPose" },
+    { output = "Validator.heldPose_2", input = "LeftAdmittance.heldPose" },
   },
 })
 configureComponents(always)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -83,7 +84,10 @@ struct Signals {
     while (std::getline(in, line)) {
       std::stringstream row(line);
       std::vector<double>& values = rows.emplace_back();
-      for (std::string number; std::getline(row, number, ',');) values.push_back(std::stod(number));
+      // An empty cell: the port had no data yet (on the wall clock a recording may begin before a
+      // port's first sample); strtod, not stod: a subnormal value is a number, not an error.
+      for (std::string number; std::getline(row, number, ',');)
+        values.push_back(number.empty() ? std::numeric_limits<double>::quiet_NaN() : std::strtod(number.c_str(), nullptr));
     }
   }
   std::size_t column(const std::string& name) const {

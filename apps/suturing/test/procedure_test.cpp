@@ -13,9 +13,13 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
+#include "cobra/test_support/test_support.hpp"
+
+#include <kdl/frames.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -121,7 +125,10 @@ TEST(SuturingProcedure, ASurgeonTakingOverMidStitchWithTheOmnisStopsTeleoperates
 }
 
 TEST(SuturingProcedure, ATeleoperationSetPointIntoThePhantomIsHeldByTheStateValidator) {
-  const RunResult r = runApp(withFaults("teleop_into_collision.lua", "omni"));
+  RunOptions o = withFaults("teleop_into_collision.lua", "omni");
+  o.report_folder = std::filesystem::temp_directory_path() / ("cobra_suturing_teleop_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(o.report_folder);
+  const RunResult r = runApp(o);
   expectSutured(r, 4);  // the procedure goes on after the teleoperation
   expectInOrder(r, {"suture > root.TeleoperatedMode.TeleoperationActive", "Validator: e_state_invalid",
                     "Validator: e_state_valid", "Surgeon: e_teleop_done", "suture > root.Done"});
@@ -130,6 +137,22 @@ TEST(SuturingProcedure, ATeleoperationSetPointIntoThePhantomIsHeldByTheStateVali
   expectInOrder(r, {"ISUR: e_ik_discontinuity", "Validator: e_state_invalid"});
   // The last valid set-points were kept: the arms never came near the phantom.
   EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s";
+  // The validator holding: the Endo Stitch's admittance re-synced to the held set-point, so its
+  // commanded pose stayed with the robot instead of following the stylus into the phantom.
+  expectInOrder(r, {"Validator: e_state_invalid", "RightAdmittance: e_resynced", "Validator: e_state_valid"});
+  const Signals s(o.report_folder);
+  double worst = 0.0;
+  for (const auto& row : s.rows) {
+    double squared = 0.0;
+    for (const char* axis : {".x", ".y", ".z"}) {
+      const double d = row[s.column(std::string("RightAdmittance.admPose") + axis)] -
+                       row[s.column(std::string("ISUR.measRightCartPose") + axis)];
+      squared += d * d;
+    }
+    worst = std::max(worst, std::sqrt(squared));
+  }
+  std::printf("worst distance between the Endo Stitch's commanded and measured tip: %.2f mm\n", 1000.0 * worst);
+  EXPECT_LT(worst, 0.005) << "m: the commanded pose ran away from the held robot";
   for (const TrackingFigures& arm : r.tracking)
     EXPECT_LT(arm.max_command_step, 1e-3) << arm.robot << " at " << arm.max_command_step_at << " s";
 }
@@ -148,6 +171,78 @@ TEST(SuturingProcedure, APlannerFailureIsAReactionAndTheRetryAfterRecoverySuccee
   expectInOrder(r, {"suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound", "SuturePlanner: e_plan_failed",
                     "suture > root.WaitReaction", "Surgeon: e_recover",
                     "suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound"});
+}
+
+TEST(SuturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamingTheTimeout) {
+  const RunResult r = runApp(withFaults("surgeon_never_reacts.lua"));
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "suture chart stopped safely in root.WaitReaction: TaskSup: e_reaction_timeout at ");
+  expectInOrder(r, {"SuturePlanner: e_plan_failed", "suture > root.WaitReaction", "TaskSup: e_reaction_timeout",
+                    "suture > root.SafeStop"});
+  EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
+}
+
+/// The suturing application loaded as `cobra run` loads it, on the lockstep clock, with its task
+/// chart wrapped: the entry of ApplyRightStitch.MoveOverWound.Moving starts the motion, then runs
+/// `fault` (Lua). The task Supervisor must go to Exception naming the wrapper's line, and its
+/// chart's exceptionHook stop the motion: the Endo Stitch's commanded pose stops changing.
+void expectTheArmsHoldAfter(const std::string& fault, const std::string& expected) {
+  using namespace std::chrono_literals;
+  deploy::Configurator configurator;
+  components::addBuiltinPackages(configurator.packages());
+  script::LuaState lua;
+  deploy::LuaDeployer deployer(configurator, lua);
+  deployer.run("teleop_device = 'leap'", "=device");
+  deployer.runFile((kApp / "suturing.lua").string());
+  const std::string charts = (kApp / "charts").string();
+  const std::string wrapper = ::testing::TempDir() + "suturing_broken_" + std::to_string(fault.size()) + ".lua";
+  std::ofstream(wrapper) << "package.path = '" << charts << "/?.lua;' .. package.path\n"
+                         << "local chart = dofile('" << charts << "/suturing.lua')\n"
+                         << "local moving = chart.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving\n"
+                         << "local start = moving.entry\n"
+                         << "moving.entry = function(...)\n"
+                         << "  start(...)\n"
+                         << "  " << fault << "\n"
+                         << "end\n"
+                         << "return chart\n";
+  deployer.run("stopComponents({'TaskSup'}) cleanupComponents({'TaskSup'}) TaskSup.fsm_path = [[" + wrapper +
+                   "]] configureComponents({'TaskSup'}) startComponents({'TaskSup'})",
+               "=wrap the chart");
+  core::Component& sup = configurator.getReferences().get("TaskSup");
+  core::InputPort<KDL::Frame> commanded{"commanded", "", "m"}, measured{"measured", "", "m"};
+  core::connectPorts(configurator.getReferences().get("RightAdmittance").port("admPose"), commanded);
+  core::connectPorts(configurator.getReferences().get("ISUR").port("measRightCartPose"), measured);
+  double t = 0.0;
+  for (; t < 60.0 && sup.state() == core::State::Running; t += 0.01) configurator.clock().advance(10ms);
+  ASSERT_EQ(sup.state(), core::State::Exception) << "at " << t << " s";
+  EXPECT_EQ(sup.lastError(), "component 'TaskSup': updateHook threw: entry of "
+                             "root.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving failed: " +
+                                 wrapper + ":7: " + expected);
+  configurator.clock().advance(600ms);  // past the trajectory generator's stop motion
+  KDL::Frame commanded_then, measured_then, commanded_later, measured_later;
+  const core::FlowStatus commanded_first = commanded.read(commanded_then);
+  ASSERT_NE(measured.read(measured_then), core::FlowStatus::NoData);
+  configurator.clock().advance(2s);
+  const core::FlowStatus commanded_second = commanded.read(commanded_later);
+  ASSERT_NE(measured.read(measured_later), core::FlowStatus::NoData);
+  // The motion was stopped as it began: the admittance was never commanded to move (no sample),
+  // or holds its last command; the arm stays where it is.
+  EXPECT_EQ(commanded_first == core::FlowStatus::NoData, commanded_second == core::FlowStatus::NoData);
+  if (commanded_first != core::FlowStatus::NoData) {
+    EXPECT_TRUE(KDL::Equal(commanded_then, commanded_later, 1e-9));
+  }
+  EXPECT_TRUE(KDL::Equal(measured_then, measured_later, 1e-6))
+      << "moved by " << (measured_later.p - measured_then.p).Norm() << " m";
+}
+
+TEST(SuturingProcedure, AnEndlessLoopInTheTaskChartIsCutAndTheArmsHold) {
+  expectTheArmsHoldAfter("while true do end",
+                         "component 'TaskSup' ran past its budget of 0.005 s of CPU time; raise its lua_budget "
+                         "property if the chart needs that long");
+}
+
+TEST(SuturingProcedure, ALuaErrorInTheTaskChartIsAnExceptionAndTheArmsHold) {
+  expectTheArmsHoldAfter("stopp()", "attempt to call a nil value (global 'stopp')");
 }
 
 /// Loaded with the strict role rules (a connection that breaks one is refused at load), with

@@ -3,8 +3,9 @@
 // real components do: the deployment and configuration supervisors, the StitchPlanner (a plan of
 // N stitches), the Frame Generator, the planner, the trajectory generator, the robot's Endo Stitch
 // (e_actuate_endo_stitch answered after its 0.3 s actuation). Faults are played into it: the
-// surgeon taking over mid-stitch, a planner failure (once: recovered; twice: safe stop), the
-// thread breaking, a sensing module without edges at first.
+// surgeon taking over mid-stitch, a planner failure (once: recovered; twice: safe stop; never
+// answered: safe stop after the reaction timeout), the thread breaking, a sensing module without
+// edges at first.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -293,6 +294,21 @@ TEST(SuturingChart, APlannerFailureIsAReactionOnceAndASafeStopTwice) {
   EXPECT_EQ(p.leaf(), "root.SafeStop");
   EXPECT_EQ(p.count(": emit:e_suture_safe_stop"), 1u);
   EXPECT_EQ(p.count(": emit:e_actuate_endo_stitch"), 0u);
+}
+
+TEST(SuturingChart, ASurgeonWhoNeverReactsIsASafeStopAfterTheReactionTimeoutNamingIt) {
+  Procedure p(1);
+  p.failPlans(1);  // a reaction, and nobody answers it
+  p.run();
+  EXPECT_EQ(p.leaf(), "root.SafeStop");
+  const std::size_t reaction = p.find("> root.WaitReaction");
+  ASSERT_NE(reaction, std::string::npos);
+  const std::size_t timeout = p.find(": emit:e_reaction_timeout", reaction);
+  ASSERT_NE(timeout, std::string::npos);
+  EXPECT_NE(p.find(": emit:e_suture_safe_stop", timeout), std::string::npos);
+  // The chart's reaction_timeout (120 s, simulated) after the failure of the first plan (0.5 s in).
+  EXPECT_GT(p.now(), 120.0);
+  EXPECT_LT(p.now(), 125.0);
 }
 
 TEST(SuturingChart, TheThreadBreakingStopsTheProcedureSafely) {

@@ -32,6 +32,7 @@ ISURRobotBridge::ISURRobotBridge(std::string name)
   addPort(meas_cart_pose_);
   addPort(meas_joints_);
   addPort(meas_wrench_);
+  addPort(held_cart_pose_);
   addProperty(shm_name_);
   addProperty(joints_.range(1, isur::kMaxJoints));
   addProperty(tools_.range(1, isur::kMaxTools));
@@ -55,16 +56,17 @@ ISURRobotBridge::ISURRobotBridge(std::string name)
   des_poses_ = {&des_cart_pose_, nullptr};
   meas_poses_ = {&meas_cart_pose_, nullptr};
   meas_wrenches_ = {&meas_wrench_, nullptr};
+  held_poses_ = {&held_cart_pose_, nullptr};
 }
 
 ISURRobotBridge::~ISURRobotBridge() = default;
 
 void ISURRobotBridge::registerToolPorts(unsigned tools) {
   if (tools == tools_registered_) return;
-  const std::array<core::PortBase*, 3> one_tool{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_};
-  const std::array<core::PortBase*, 7> two_tools{&des_right_pose_,    &des_left_pose_,    &meas_right_pose_,
+  const std::array<core::PortBase*, 4> one_tool{&des_cart_pose_, &meas_cart_pose_, &meas_wrench_, &held_cart_pose_};
+  const std::array<core::PortBase*, 9> two_tools{&des_right_pose_,    &des_left_pose_,     &meas_right_pose_,
                                                  &meas_left_pose_,    &meas_right_wrench_, &meas_left_wrench_,
-                                                 &actuations_out_};
+                                                 &held_right_pose_,   &held_left_pose_,    &actuations_out_};
   if (tools == 2) {
     for (core::PortBase* p : one_tool) removePort(*p);
     for (core::PortBase* p : two_tools) addPort(*p);
@@ -72,6 +74,7 @@ void ISURRobotBridge::registerToolPorts(unsigned tools) {
     des_poses_ = {&des_right_pose_, &des_left_pose_};
     meas_poses_ = {&meas_right_pose_, &meas_left_pose_};
     meas_wrenches_ = {&meas_right_wrench_, &meas_left_wrench_};
+    held_poses_ = {&held_right_pose_, &held_left_pose_};
   } else {
     for (core::PortBase* p : two_tools) removePort(*p);
     removePort(input_events_);
@@ -79,6 +82,7 @@ void ISURRobotBridge::registerToolPorts(unsigned tools) {
     des_poses_ = {&des_cart_pose_, nullptr};
     meas_poses_ = {&meas_cart_pose_, nullptr};
     meas_wrenches_ = {&meas_wrench_, nullptr};
+    held_poses_ = {&held_cart_pose_, nullptr};
   }
   tools_registered_ = tools;
 }
@@ -123,7 +127,7 @@ bool ISURRobotBridge::startHook() {
   watchdog_.arm(now().count());
   last_version_ = (*block_)->state.version();  // a state left from an earlier run is not fresh
   have_state_ = false;
-  refusing_ = told_failed_ = told_discontinuity_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = timed_out_ = false;
   request_open_ = have_count_ = false;
   command_.tool_mask = 0;
   core::Event stale;
@@ -217,11 +221,21 @@ void ISURRobotBridge::updateHook() {
     if (tools_registered_ == 2) reportActuations();
   }
   switch (watchdog_.update(fresh, now().count(), toNs(timeout_()))) {
-    case CommWatchdog::Change::TimedOut: emitEvent("e_comm_timeout"); break;
-    case CommWatchdog::Change::Restored: emitEvent("e_comm_restored"); break;
+    case CommWatchdog::Change::TimedOut:
+      emitEvent("e_comm_timeout");
+      timed_out_ = true;
+      break;
+    case CommWatchdog::Change::Restored:
+      emitEvent("e_comm_restored");
+      timed_out_ = false;
+      break;
     case CommWatchdog::Change::None: break;
   }
-  if (have_state_) publish();
+  if (!have_state_) return;
+  publish();
+  // Held (a refused command in this state, or no state for `timeout`): where the robot is.
+  if ((fresh && refusing_) || timed_out_)
+    for (std::size_t t = 0; t < tools_registered_; ++t) held_poses_[t]->write(pose_out_[t]);
 }
 
 void ISURRobotBridge::reportCartesianStatus(std::uint16_t flags) {

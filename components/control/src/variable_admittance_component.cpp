@@ -23,6 +23,16 @@ bool matrixFromProperty(const std::vector<double>& values, control::Matrix6& out
   return false;
 }
 
+namespace {
+
+bool finitePose(const KDL::Frame& f) noexcept {
+  for (double v : f.M.data)
+    if (!std::isfinite(v)) return false;
+  return std::isfinite(f.p.x()) && std::isfinite(f.p.y()) && std::isfinite(f.p.z());
+}
+
+}  // namespace
+
 VariableAdmittanceController::VariableAdmittanceController(std::string name)
     : Component(std::move(name), core::Role::Calculation,
                 "Variable admittance with energy tank (thesis §4.5.3): passive whatever its parameters' schedule") {
@@ -34,6 +44,8 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
   addPort(ref_twist_);
   addPort(meas_wrench_);
   addPort(ext_wrench_);
+  addPort(held_pose_);
+  addPort(held_ref_pose_);
   addPort(adm_pose_);
   addPort(adm_twist_);
   addPort(tank_energy_);
@@ -77,6 +89,7 @@ bool VariableAdmittanceController::startHook() {
   have_reference_ = false;
   stepped_ = false;
   tank_empty_ = false;
+  following_held_ = resynced_ = false;
   blind_ = false;
   last_wrench_ = now();
   return true;
@@ -113,8 +126,19 @@ void VariableAdmittanceController::updateHook() {
       applied_stiffness_ = stiffness_();
     }
   }
-  if (ref_pose_.read(reference_) != core::FlowStatus::NoData) have_reference_ = true;
-  (void)ref_twist_.read(reference_twist_);
+  // After a re-sync only a new reference sample replaces the held one (the old sample is the
+  // set-point the robot refused, or one it was never sent).
+  KDL::Frame reference;
+  KDL::Twist reference_twist;
+  const core::FlowStatus reference_status = ref_pose_.read(reference);
+  const core::FlowStatus twist_status = ref_twist_.read(reference_twist);
+  if (reference_status == core::FlowStatus::NewData ||
+      (reference_status == core::FlowStatus::OldData && !following_held_)) {
+    reference_ = reference;
+    have_reference_ = true;
+    following_held_ = false;
+  }
+  if (twist_status != core::FlowStatus::NoData && !following_held_) reference_twist_ = reference_twist;
   bool resumed = false;
   if (meas_wrench_.read(wrench_) == core::FlowStatus::NewData) {
     last_wrench_ = now();
@@ -126,6 +150,23 @@ void VariableAdmittanceController::updateHook() {
   }
   if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
   if (!have_reference_) return;
+  KDL::Frame held;
+  const bool resynced_before = resynced_;
+  resynced_ = false;
+  if (held_pose_.read(held) == core::FlowStatus::NewData && stepped_ && finitePose(held)) {
+    // The robot holds at `held`: the output restarts there, at rest, in this very step.
+    controller_->resync(held, wrench_ + ext_wrench_value_, reference_);
+    reference_twist_ = KDL::Twist::Zero();
+    previous_reference_ = reference_;
+    following_held_ = true;
+    held_ref_pose_.write(reference_);
+    adm_pose_.write(held);
+    adm_twist_.write(KDL::Twist::Zero());
+    tank_energy_.write(controller_->tankEnergy());
+    if (!resynced_before) emitEvent("e_resynced");  // once while held step after step
+    resynced_ = true;
+    return;
+  }
   if (resumed && stepped_) {
     // The reference moved on while the admittance held (e.g. a stop motion): rebase as for a
     // reference jump, so admPose resumes from where it was held.

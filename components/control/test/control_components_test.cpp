@@ -152,6 +152,74 @@ TEST(ControlComponents, ABlindAdmittanceHoldsItsPoseUntilTheWrenchReturns) {
             "component 'Admittance': property wrench_timeout is -1.000000 s; expected >= 0 s (0: never hold)");
 }
 
+// The robot refused the admittance's commands and holds 3 mm behind its output: the output
+// restarts at the held pose in that step, stays there while the reference's old sample is all
+// there is (the trajectory generator stopped), and moves on continuously with the next one.
+TEST(ControlComponents, AHeldPoseReSyncsTheOutputWhichStaysThereUntilANewReference) {
+  Deployed d("puncturing");
+  core::Component& a = d.configurator.getReferences().get("Admittance");
+  core::OutputPort<KDL::Frame> held_port{"held", "", "m"};
+  core::connectPorts(held_port, a.port("heldPose"));
+  core::InputPort<KDL::Frame> held_reference{"heldReference", "", "m"};
+  core::connectPorts(a.port("heldRefPose"), held_reference);
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::connectPorts(a.port("events"), events, core::ConnPolicy::buffer(16));
+  d.deployer.run("applyConfiguration('penetration')", "task.lua");
+  const KDL::Wrench skin(KDL::Vector(0, 0, 6.0), KDL::Vector::Zero());  // N: the skin pushes back
+  d.run(3000ms, skin);
+  // Along x at 0.04 m/s: a motion.
+  KDL::Frame ref = KDL::Frame::Identity();
+  KDL::Frame p;
+  for (int i = 0; i < 500; ++i) {
+    ref.p.x(ref.p.x() + 4e-5);
+    p = d.run(1ms, skin, ref);
+  }
+  const KDL::Frame held(p.M, p.p - KDL::Vector(0.003, 0, 0));
+  held_port.write(held);
+  d.wrench.write(skin);
+  d.configurator.clock().advance(1ms);
+  ASSERT_EQ(d.pose.read(p), core::FlowStatus::NewData);
+  EXPECT_TRUE(KDL::Equal(p, held, 1e-12));  // the command is the held pose in the re-sync's step
+  core::Event e;
+  ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+  EXPECT_EQ(e.name.str(), "e_resynced");
+  // The reference it steps about: the held pose less the skin's compression (6 N at 4000 N/m).
+  KDL::Frame reference;
+  ASSERT_EQ(held_reference.read(reference), core::FlowStatus::NewData);
+  EXPECT_NEAR(reference.p.z(), held.p.z() - 6.0 / 4000.0, 1e-9);
+  EXPECT_NEAR(reference.p.x(), held.p.x(), 1e-9);
+  // The reference's last sample (0 ms old, 3 mm ahead) is not followed: the output stays, in
+  // equilibrium with the skin's force, and every step allocates nothing.
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 1000; ++i) {
+                d.wrench.write(skin);
+                d.configurator.clock().advance(1ms);
+                (void)d.pose.read(p);
+                if ((p.p - held.p).Norm() > 1e-5) break;
+              }
+            }),
+            0);
+  EXPECT_LT((p.p - held.p).Norm(), 1e-5) << "m: the output left the held pose";
+  // Re-synced again while held (a robot refusing step after step): allocation-free as well.
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              held_port.write(held);
+              d.wrench.write(skin);
+              d.configurator.clock().advance(1ms);
+            }),
+            0);
+  // A new reference sample (the trajectory generator, re-synced to heldRefPose, starts a motion
+  // from there): followed continuously.
+  KDL::Frame next = reference;
+  KDL::Frame before = p;
+  for (int i = 0; i < 200; ++i) {
+    next.p.y(next.p.y() + 4e-5);
+    p = d.run(1ms, skin, next);
+    ASSERT_LT((p.p - before.p).Norm(), 1e-4) << "step " << i;
+    before = p;
+  }
+  EXPECT_GT(p.p.y() - held.p.y(), 0.005);  // m: it moved on with the reference
+}
+
 TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {
   Deployed d("suturing");
   EXPECT_EQ(d.configurator.deploymentSet().configurationNames(), (std::vector<std::string>{"contact", "free_motion"}));

@@ -12,7 +12,8 @@
 namespace cobra::components {
 namespace {
 
-/// Prints and counts the chart's failing callbacks.
+/// Prints and counts the chart's failing callbacks, and keeps the first of each update (its
+/// text in a fixed buffer: nothing allocated here beyond what printing does).
 class ChartErrors : public statechart::Observer {
  public:
   ChartErrors(std::string owner, core::Property<int>& count) : owner_(std::move(owner)), count_(&count) {}
@@ -21,12 +22,26 @@ class ChartErrors : public statechart::Observer {
                  static_cast<int>(callback.size()), callback.data(), static_cast<int>(element.size()), element.data(),
                  static_cast<int>(what.size()), what.data());
     count_->setFromOwner((*count_)() + 1);
+    if (failed_) return;
+    failed_ = true;
+    std::snprintf(first_, sizeof first_, "%.*s of %.*s failed: %.*s", static_cast<int>(callback.size()),
+                  callback.data(), static_cast<int>(element.size()), element.data(), static_cast<int>(what.size()),
+                  what.data());
   }
+  bool failed() const noexcept { return failed_; }
+  const char* first() const noexcept { return first_; }
+  void clear() noexcept { failed_ = false; }
 
  private:
   std::string owner_;
   core::Property<int>* count_;
+  bool failed_ = false;
+  char first_[2048] = {};
 };
+
+std::chrono::nanoseconds seconds(double s) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
+}
 
 }  // namespace
 
@@ -81,6 +96,8 @@ Supervisor::Supervisor(std::string name)
   addProperty(pool_size_.range(0, 1 << 30));
   addProperty(max_steps_.range(1, 1000000));
   addProperty(chart_errors_.readOnly());
+  addProperty(budget_.range(0.0, 3600.0));
+  addProperty(load_budget_.range(0.0, 3600.0));
   addEventPort(input_events_);
   addPort(output_events_);
   addPort(task_state_);
@@ -104,6 +121,8 @@ bool Supervisor::configureHook() {
     memory.owner = "component '" + name() + "'";
     memory.hint = "raise its lua_pool_size property";
     lua_ = std::make_unique<script::LuaState>(std::move(memory));
+    lua_->setBudget(seconds(load_budget_()), "raise its lua_load_budget property");
+    lua_->startStep();
     lua_State* L = lua_->get();
     lua_pushcfunction(L, SupervisorLua::install);
     lua_pushlightuserdata(L, this);
@@ -124,6 +143,7 @@ bool Supervisor::configureHook() {
     cleanupHook();
     return refuse(std::string("chart ") + fsm_path_() + ": " + e.what());
   }
+  lua_->setBudget(seconds(budget_()), "raise its lua_budget property if the chart needs that long");
   machine_ = std::make_unique<statechart::Machine>(chart_->chart(), [this] { return now(); }, 64);
   observer_ = std::make_unique<ChartErrors>(name(), chart_errors_);
   machine_->setObserver(observer_.get());
@@ -135,9 +155,35 @@ bool Supervisor::configureHook() {
 bool Supervisor::startHook() {
   machine_->reset();
   published_ = nullptr;
-  machine_->run(static_cast<std::size_t>(max_steps_()));  // enters the chart: its entry functions run now
+  runChart();  // enters the chart: its entry functions run now
   publishState();
   return true;
+}
+
+void Supervisor::runChart() {
+  auto& errors = static_cast<ChartErrors&>(*observer_);
+  errors.clear();
+  lua_->startStep();
+  for (int i = 0; i < max_steps_(); ++i) {
+    const statechart::StepResult r = machine_->step();
+    if (errors.failed()) {
+      publishState();
+      // Real-time code returns status; here the failure must reach core, which turns a throwing
+      // hook into Exception (and e_exception): this is the boundary where it is converted.
+      throw core::Error(errors.first());
+    }
+    if (r == statechart::StepResult::Idle || r == statechart::StepResult::CannotEnter) return;
+  }
+}
+
+void Supervisor::exceptionHook() {
+  if (!lua_ || !machine_) return;
+  lua_->startStep();
+  try {
+    lua_->run("if type(exceptionHook) == 'function' then exceptionHook() end", "=" + name() + " exceptionHook");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "[cobra] supervisor '%s': %s\n", name().c_str(), e.what());
+  }
 }
 
 void Supervisor::cleanupHook() {
@@ -169,7 +215,7 @@ void Supervisor::updateHook() {
     raiseJoined(event.name, {});
     if (!event.source.empty() && event.name.view().find('@') == std::string_view::npos) raiseJoined(event.name, event.source);
   }
-  machine_->run(static_cast<std::size_t>(max_steps_()));
+  runChart();
   publishState();
 }
 

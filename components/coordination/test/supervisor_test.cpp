@@ -1,11 +1,15 @@
 // The Supervisor component on the lockstep clock: charts driven by events, peers' operations,
-// time events, and the three-supervisor pattern (thesis Fig. 2.6) switching real deployments.
+// time events, and the three-supervisor pattern (thesis Fig. 2.6) switching real deployments;
+// failing and endless chart callbacks on both clocks (Exception naming the file:line).
 #include "cobra/components/coordination/supervisor.hpp"
 
 #include <gtest/gtest.h>
 
+#include "cobra/core/realtime_executor.hpp"
+
 #include <algorithm>
 #include <fstream>
+#include <thread>
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/package.hpp"
@@ -36,7 +40,9 @@ struct Cell {
   core::InputPort<core::Event> events_out{"out", "", ""};
   core::InputPort<core::TaskState> state{"state", "", ""};
 
-  explicit Cell(std::initializer_list<deploy::ComponentSpec> components) {
+  explicit Cell(std::initializer_list<deploy::ComponentSpec> components,
+                deploy::ClockMode mode = deploy::ClockMode::Simulation)
+      : configurator(deploy::ConfiguratorOptions{mode, false, {}, {}}) {
     addBuiltinPackages(configurator.packages());
     configurator.initConfigurator({{"cobra_signal", {}}, {"cobra_coordination", {}}}, components);
   }
@@ -204,6 +210,117 @@ TEST(Supervisor, RefusesToConfigureWithoutAWorkingChart) {
   EXPECT_FALSE(r);
   EXPECT_CONTAINS(r.message, "broken.lua:2: transition from 'initial' in root has no tgt");
   EXPECT_EQ(sup.state(), core::State::PreOperational);
+}
+
+/// A chart whose callback `where` fails with `body`; its exceptionHook emits e_held.
+struct Failing {
+  const char* where;     // entry, exit, doo, guard, effect
+  const char* body;      // Lua statements
+  const char* expected;  // lastError after "updateHook threw: " with PATH for the chart's path
+};
+
+std::string failingChart(const Failing& f) {
+  const std::string w = f.where;
+  const std::string fn = std::string("function(...) ") + f.body + " end";
+  return "function exceptionHook() emit('e_held') end\n"
+         "return rfsm.state {\n"
+         "  a = rfsm.state { " + (w == "exit" ? "exit = " + fn : std::string()) + " },\n"
+         "  b = rfsm.state { " + (w == "entry" || w == "doo" ? w + " = " + fn : std::string()) + " },\n"
+         "  rfsm.trans { src = 'initial', tgt = 'a' },\n"
+         "  rfsm.trans { src = 'a', tgt = 'b', events = { 'e_go' }" +
+         (w == "guard" || w == "effect" ? ", " + w + " = " + fn : std::string()) + " },\n"
+         "}\n";
+}
+
+std::string replacePath(std::string text, const std::string& path) {
+  const auto at = text.find("PATH");
+  return at == std::string::npos ? text : text.replace(at, 4, path);
+}
+
+const Failing kFailures[] = {
+    {"entry", "nope()", "entry of root.b failed: PATH:4: attempt to call a nil value (global 'nope')"},
+    {"exit", "nope()", "exit of root.a failed: PATH:3: attempt to call a nil value (global 'nope')"},
+    {"doo", "nope()", "doo of root.b failed: PATH:4: attempt to call a nil value (global 'nope')"},
+    // Guards are asked at every step with events (the start's too): this one fails on e_go only.
+    {"guard", "local _, events = ... if events[1] == 'e_go' then nope() end",
+     "guard of root.a -> root.b failed: PATH:6: attempt to call a nil value (global 'nope')"},
+    {"effect", "nope()", "effect of root.a -> root.b failed: PATH:6: attempt to call a nil value (global 'nope')"},
+    {"entry", "while true do end",
+     "entry of root.b failed: PATH:4: component 'Sup' ran past its budget of 0.005 s of CPU time; raise its lua_budget "
+     "property if the chart needs that long"},
+};
+
+class SupervisorFailure : public ::testing::TestWithParam<std::tuple<int, deploy::ClockMode>> {};
+
+TEST_P(SupervisorFailure, GoesToExceptionNamingTheFileAndLineAndRunsTheChartsExceptionHook) {
+  const auto [index, mode] = GetParam();
+  const Failing& f = kFailures[index];
+  Cell cell({{"Sup", "Supervisor", {}}, {"Rec", "Recorder", {}}}, mode);
+  const std::string path = writeChart("failing_" + std::to_string(index) + ".lua", failingChart(f));
+  core::Component& sup = cell.get("Sup");
+  sup.setProperty("fsm_path", path);
+  cell.watch("Sup");
+  core::InputPort<core::Event> exceptions{"exceptions", "", ""};
+  core::connectPorts(sup.port("events"), exceptions, core::ConnPolicy::buffer(8));
+  // The recorder steps beside it: it keeps its period whatever the chart does.
+  cell.configurator.setActivities({{"Sup", 0.001, 0, "ORO_SCHED_OTHER", {}}, {"Rec", 0.001, 0, "ORO_SCHED_OTHER", {}}});
+  cell.configurator.configureComponents({{"Sup", {}}, {"Rec", {}}});
+  cell.configurator.startComponents({{"Sup", {}}, {"Rec", {}}});
+  ASSERT_EQ(sup.state(), core::State::Running);
+  // The wall clock: the real-time executor steps the clock (and the chart) on its own thread.
+  std::unique_ptr<core::RealtimeExecutor> executor;
+  if (mode == deploy::ClockMode::WallClock) {
+    core::ExecutorOptions options = cell.configurator.executorOptions();
+    options.lock_memory = false;
+    executor = std::make_unique<core::RealtimeExecutor>(cell.configurator.clock(), options);
+    executor->start();
+  }
+  cell.send("e_go");
+  std::vector<std::string> emitted;
+  if (mode == deploy::ClockMode::Simulation) {
+    cell.step(10ms);
+    EXPECT_EQ(cell.get("Rec").updateCount(), 10u);
+    emitted = cell.emitted();
+  } else {
+    // Until the exceptionHook has run (it follows the state change); the bound only keeps a bug
+    // from hanging the test.
+    for (int i = 0; i < 100000 && emitted.empty(); ++i) {
+      std::this_thread::sleep_for(100us);
+      emitted = cell.emitted();
+    }
+  }
+  EXPECT_EQ(sup.state(), core::State::Exception);
+  EXPECT_EQ(sup.lastError(), "component 'Sup': updateHook threw: " + replacePath(f.expected, path));
+  core::Event event;
+  ASSERT_EQ(exceptions.read(event), core::FlowStatus::NewData);
+  EXPECT_EQ(event.name.str(), "e_exception@Sup");
+  EXPECT_EQ(emitted, std::vector<std::string>{"e_held"});  // the chart's exceptionHook ran
+  EXPECT_EQ(sup.getProperty<int>("chart_errors"), 1);
+  EXPECT_EQ(cell.get("Rec").state(), core::State::Running);
+  if (executor) {
+    // The recorder kept its period while the chart failed: nothing stalled the executor.
+    const std::uint64_t before = cell.get("Rec").updateCount();
+    std::this_thread::sleep_for(20ms);
+    EXPECT_GT(cell.get("Rec").updateCount(), before);
+    executor->stop();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EachCallbackOnEachClock, SupervisorFailure,
+                         ::testing::Combine(::testing::Range(0, static_cast<int>(std::size(kFailures))),
+                                            ::testing::Values(deploy::ClockMode::Simulation,
+                                                              deploy::ClockMode::RealTime,
+                                                              deploy::ClockMode::WallClock)));
+
+TEST(Supervisor, AChartLoopingAtLoadIsRefusedAtTheLoadBudget) {
+  Cell cell({{"Sup", "Supervisor", {}}});
+  core::Component& sup = cell.get("Sup");
+  const std::string path = writeChart("slow_load.lua", "local n = 0\nwhile true do n = n + 1 end\n");
+  sup.setProperty("fsm_path", path);
+  sup.setProperty("lua_load_budget", 0.05);
+  EXPECT_EQ(sup.configure().message, "component 'Sup': chart " + path + ": " + path +
+                                         ":2: component 'Sup' ran past its budget of 0.05 s of CPU time; raise its "
+                                         "lua_load_budget property");
 }
 
 TEST(Supervisor, SteppingOnEventsAllocatesNothing) {

@@ -1,6 +1,7 @@
 #include "cobra/components/drivers/puma260_ethercat_master.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
@@ -46,9 +47,10 @@ Puma260EtherCATMaster::Puma260EtherCATMaster(std::string name)
     addProperty(*p);
   for (core::PortBase* p :
        std::initializer_list<core::PortBase*>{&des_position_, &des_velocity_, &des_torque_, &meas_position_,
-                                              &meas_velocity_, &meas_torque_, &current_state_})
+                                              &meas_velocity_, &meas_torque_, &held_position_, &current_state_})
     addPort(*p);
-  for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_}) port->setDataSample(KDL::JntArray(6));
+  for (auto* port : {&meas_position_, &meas_velocity_, &meas_torque_, &held_position_})
+    port->setDataSample(KDL::JntArray(6));
   addOperation("askReady", std::function<void()>([this] { ask(fieldbus::Request::Ready); }),
                "move to the ready position (from Initialized, NestPosition, ReadyPosition or Operative); "
                "e_ready_reached when there, e_request_refused otherwise");
@@ -124,6 +126,13 @@ std::string Puma260EtherCATMaster::slaveStatus(int slave) const {
   return line + ", master sees " + fieldbus::cia402::toString(master_->sequencer(slave).state());
 }
 
+namespace {
+/// A joint that moved less than kStillBand (rad) for kStillTime (s) is at rest: the quick stop has
+/// ended (a few encoder counts; 0.1 s of 1 ms cycles).
+constexpr double kStillBand = 1e-4;
+constexpr double kStillTime = 0.1;
+}  // namespace
+
 void Puma260EtherCATMaster::updateHook() {
   // A sample with another size than 6 is ignored (restoring the buffer's size is the only allocation,
   // and only on such bad input).
@@ -158,6 +167,23 @@ void Puma260EtherCATMaster::updateHook() {
   publish(meas_position_, master_->position());
   publish(meas_velocity_, master_->velocity());
   publish(meas_torque_, master_->torque());
+  // Held once the quick stop has brought every joint to rest (none moved more than kStillBand for
+  // kStillTime; the encoders' velocity reads 0 between counts, so one sample cannot tell): where
+  // the robot stays.
+  if (master_->state() == fieldbus::MasterState::Fault) {
+    const fieldbus::JointVector& q = master_->position();
+    bool still = true;
+    for (unsigned i = 0; i < 6; ++i) still = still && std::abs(q[i] - rest_position_[i]) <= kStillBand;
+    if (still) {
+      still_time_ += dt;
+    } else {
+      rest_position_ = q;
+      still_time_ = 0.0;
+    }
+    if (still_time_ >= kStillTime) publish(held_position_, q);
+  } else {
+    still_time_ = 0.0;
+  }
   if (master_->state() != published_) {  // also the changes made by the ask operations
     published_ = master_->state();
     current_state_.write(core::TaskState{fieldbus::toString(published_)});

@@ -118,11 +118,24 @@ TEST(Puma260EtherCATMaster, RequestsTheStateDoesNotAllowAreRefusedWithAnEvent) {
 
 TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   Bench b;
+  core::InputPort<KDL::JntArray> held{"held", "", "rad"};
+  core::connectPorts(b.master.port("heldJointPosition"), held);
   b.operative();
+  KDL::JntArray q;
+  EXPECT_EQ(held.read(q), core::FlowStatus::NoData);  // not held while operative
   b.arm.call("injectFault", 4);
   EXPECT_EQ(b.runUntil("e_drive_fault", 10ms), (std::vector<std::string>{"e_drive_fault"}));
   EXPECT_EQ(b.states.back(), "Fault");
-  b.clock.advance(5ms);
+  // Held: in each cycle in Fault once the joints have been at rest for 0.1 s, the measured joints,
+  // for the command chain to re-sync to.
+  b.clock.advance(50ms);
+  EXPECT_EQ(held.read(q), core::FlowStatus::NoData);
+  b.clock.advance(60ms);
+  ASSERT_EQ(held.read(q), core::FlowStatus::NewData);
+  EXPECT_EQ(q.data, b.read(b.position).data);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(5ms); }), 0);
+  ASSERT_EQ(held.read(q), core::FlowStatus::NewData);
+  EXPECT_EQ(q.data, b.read(b.position).data);
   EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4),
                   "slave 4: simulated Elmo Gold Solo Whistle (CiA 402), fault");
   EXPECT_CONTAINS(b.master.call<std::string>("slaveStatus", 4), "master sees fault");
@@ -132,8 +145,10 @@ TEST(Puma260EtherCATMaster, ADriveFaultStopsTheRobotUntilReset) {
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_request_refused", "e_request_refused"}));
   b.master.call("askFaultReset");
   EXPECT_EQ(b.runUntil("e_initialized", 50ms), (std::vector<std::string>{"e_fault_reset", "e_initialized"}));
+  (void)held.read(q);
   b.master.call("askReady");
   EXPECT_EQ(b.runUntil("e_ready_reached", 5000ms), (std::vector<std::string>{"e_ready_reached"}));
+  EXPECT_EQ(held.read(q), core::FlowStatus::OldData);  // out of Fault: not held
 }
 
 TEST(Puma260EtherCATMaster, AWrongWorkingCounterIsABusFaultWithTheCountersInBusFault) {

@@ -1,5 +1,6 @@
 #include "cobra/components/motion/cartesian_trajectory_generator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cobra/core/activity.hpp"
@@ -83,20 +84,29 @@ bool CartesianTrajectoryGenerator::configureHook() {
   if (pose_ports_.size() != arms) {
     for (auto& port : pose_ports_) removePort(*port);
     for (auto& port : twist_ports_) removePort(*port);
+    for (auto& port : held_ports_) removePort(*port);
     pose_ports_.clear();
     twist_ports_.clear();
+    held_ports_.clear();
     for (std::size_t i = 1; i <= arms; ++i) {
       pose_ports_.push_back(std::make_unique<core::OutputPort<KDL::Frame>>(
           "desCartPose_" + std::to_string(i), "pose set-point of arm " + std::to_string(i) + " (base frame)", "m"));
       twist_ports_.push_back(std::make_unique<core::OutputPort<KDL::Twist>>(
           "desCartTwist_" + std::to_string(i), "twist set-point of arm " + std::to_string(i) + " (base frame)",
           "m/s, rad/s"));
+      held_ports_.push_back(std::make_unique<core::InputPort<KDL::Frame>>(
+          "heldPose_" + std::to_string(i),
+          "the pose arm " + std::to_string(i) + " is held at (base frame), written by whatever holds it: a sample "
+          "ends a motion there and becomes the arm's set-point",
+          "m"));
       addPort(*pose_ports_.back());
       addPort(*twist_ports_.back());
+      addPort(*held_ports_.back());
     }
   }
   poses_.assign(arms, KDL::Frame::Identity());
   twists_.assign(arms, KDL::Twist::Zero());
+  held_now_.assign(arms, 0);
   stops_.clear();
   stops_.reserve(arms);
   trajectory_.reset();
@@ -117,6 +127,7 @@ bool CartesianTrajectoryGenerator::startHook() {
   stops_.clear();
   start_pending_ = false;
   published_ = false;
+  resynced_ = false;
   enter(Status::WaitPath);
   return true;
 }
@@ -128,6 +139,7 @@ double CartesianTrajectoryGenerator::elapsed() const {
 }
 
 void CartesianTrajectoryGenerator::updateHook() {
+  resyncToHeldPoses();
   if (status() != Status::Moving && status() != Status::GeneratingStop &&
       planned_path_.readNew(path_) == core::FlowStatus::NewData) {
     trajectory_.reset();  // a new path replaces the old trajectory (Fig. 4.12: back to Path ready)
@@ -179,13 +191,15 @@ void CartesianTrajectoryGenerator::generate() {
   try {
     const trajectory::CartesianLimits limits{max_vel_(), max_ang_vel_(), time_acc_(), time_acc_()};
     std::vector<std::vector<KDL::Frame>> waypoints = decodeCartesianPath(path_, pose_ports_.size());
-    if (published_) {
-      for (std::size_t arm = 0; arm < waypoints.size() && !waypoints[arm].empty(); ++arm) {
-        const KDL::Frame& first = waypoints[arm].front();
-        const double offset = (first.p - poses_[arm].p).Norm();
+    if (published_ && !waypoints.empty()) {
+      // waypoints is indexed [waypoint][arm]: each arm's first pose is waypoints[0][arm], set against
+      // that arm's own last set-point.
+      std::vector<KDL::Frame>& starts = waypoints.front();
+      for (std::size_t arm = 0; arm < std::min(starts.size(), poses_.size()); ++arm) {
+        const double offset = (starts[arm].p - poses_[arm].p).Norm();
         KDL::Vector axis;
-        const double angle = (poses_[arm].M.Inverse() * first.M).GetRotAngle(axis);
-        if (offset <= continue_tolerance_() && angle <= continue_angle_tolerance_()) waypoints[arm].front() = poses_[arm];
+        const double angle = (poses_[arm].M.Inverse() * starts[arm].M).GetRotAngle(axis);
+        if (offset <= continue_tolerance_() && angle <= continue_angle_tolerance_()) starts[arm] = poses_[arm];
       }
     }
     trajectory_.emplace(waypoints, limits, blend_order_());
@@ -230,6 +244,35 @@ void CartesianTrajectoryGenerator::stopMove() {
   }
   motion_start_ = now();
   enter(Status::GeneratingStop);
+}
+
+void CartesianTrajectoryGenerator::resyncToHeldPoses() noexcept {
+  std::size_t held = 0;
+  KDL::Frame pose;
+  for (std::size_t arm = 0; arm < held_ports_.size(); ++arm) {
+    held_now_[arm] = held_ports_[arm]->read(pose) == core::FlowStatus::NewData;
+    if (!held_now_[arm]) continue;
+    poses_[arm] = pose;
+    ++held;
+  }
+  const bool resynced_before = resynced_;
+  resynced_ = held > 0;
+  if (held == 0) return;
+  // An arm with no set-point sent since start has none to rest at: only the held arms are written.
+  for (std::size_t arm = 0; arm < pose_ports_.size(); ++arm) {
+    if (!held_now_[arm] && !published_) continue;
+    twists_[arm] = KDL::Twist::Zero();
+    pose_ports_[arm]->write(poses_[arm]);
+    twist_ports_[arm]->write(twists_[arm]);
+  }
+  published_ = published_ || held == pose_ports_.size();
+  start_pending_ = false;
+  const Status current = status();
+  // Told once while held step after step (a robot held for long), and whenever a motion ends here.
+  if (!resynced_before || current != Status::WaitPath) emitEvent("e_resynced");
+  // A stop motion asked for ends here, at rest: its answer is due (a chart may wait for it).
+  if (current == Status::GeneratingStop) emitEvent("e_motion_stopped");
+  if (current != Status::WaitPath) enter(Status::WaitPath);  // the motion, path and trajectory end here
 }
 
 void CartesianTrajectoryGenerator::evaluateStop(double t) {

@@ -38,10 +38,13 @@ KinematicsSolverComponent::KinematicsSolverComponent(std::string name)
   addProperty(tool_frame_);
   addProperty(max_joint_velocity_);
   addProperty(period_);
+  addProperty(speed_scaling_.range(1e-3, 1.0));
   addPort(joint_positions_);
   addPort(cart_pose_);
   addEventPort(des_cart_pose_);
   addPort(des_joint_positions_);
+  addPort(held_cart_pose_);
+  addPort(held_joint_positions_);
   addOperation("forward", &KinematicsSolverComponent::forwardOnDemand, this, "tool pose (world frame, m) for joints q");
   addOperation("inverse", &KinematicsSolverComponent::inverseOnDemand, this,
                "joints reaching pose (world frame, m), starting from / nearest to seed");
@@ -142,7 +145,20 @@ void KinematicsSolverComponent::updateHook() {
     if (kinematics_->forward(q_, pose_) == kinematics::IkStatus::Ok)
       cart_pose_.write(base_frame_() * pose_ * tool_frame_());
   }
+  // Held by something else (a drive's quick stop): the next command is judged from there, and
+  // the producers of the commands are told.
   KDL::Frame desired;
+  if (held_joint_positions_.read(q_) == core::FlowStatus::NewData && q_.rows() == solution_.rows()) {
+    solution_ = q_;
+    measured_ = q_;
+    have_solution_ = have_measured_ = true;
+    publishHeld(solution_);
+    // The commands of this update were made before their producers knew: not solved.
+    while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
+    }
+    streaming_ = false;
+    return;
+  }
   bool commanded = false;
   while (des_cart_pose_.read(desired) == core::FlowStatus::NewData) {
     const KDL::Frame target = base_frame_().Inverse() * desired * tool_frame_().Inverse();
@@ -152,7 +168,9 @@ void KinematicsSolverComponent::updateHook() {
     if (!from_solution && !have_measured_) {
       last_status_ = kinematics_->inverse(target, solution_, candidate_);  // nothing known yet
     } else {
-      last_status_ = continuity_->solve(target, from_solution ? solution_ : measured_, candidate_);
+      // Scaled limits over the period are the full limits over the scaled time.
+      last_status_ = continuity_->solve(target, from_solution ? solution_ : measured_,
+                                        continuity_->period() * speed_scaling_(), candidate_);
     }
     commanded = true;
     if (last_status_ == kinematics::IkStatus::Ok) {
@@ -163,6 +181,7 @@ void KinematicsSolverComponent::updateHook() {
       refusing_ = told_failed_ = told_discontinuity_ = false;
     } else {
       refusing_ = true;
+      if (have_solution_ || have_measured_) publishHeld(from_solution || !have_measured_ ? solution_ : measured_);
       if (last_status_ == kinematics::IkStatus::Discontinuous) {
         if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
         told_discontinuity_ = true;
@@ -173,6 +192,11 @@ void KinematicsSolverComponent::updateHook() {
     }
   }
   streaming_ = commanded;
+}
+
+void KinematicsSolverComponent::publishHeld(const KDL::JntArray& q) noexcept {
+  if (kinematics_->forward(q, pose_) == kinematics::IkStatus::Ok)
+    held_cart_pose_.write(base_frame_() * pose_ * tool_frame_());
 }
 
 KDL::Frame KinematicsSolverComponent::forwardOnDemand(KDL::JntArray q) {

@@ -47,6 +47,22 @@ struct Bench {
   }
   /// Sends kTwoArmPath, has its trajectory generated (answered in the next step) and starts it.
   void startMoving();
+  /// Sends `path` and has its trajectory generated; a started generator keeps its last set-points.
+  void generate(const std::vector<std::vector<KDL::Frame>>& path) {
+    planner.write(encodeCartesianPath(path));
+    clock.advance(1ms);
+    call("askGenerateTraj");
+    clock.advance(1ms);
+  }
+  /// Moves along `path` to its end (e_motion_done): every arm's last set-point is then its last waypoint.
+  void moveThrough(const std::vector<std::vector<KDL::Frame>>& path) {
+    generate(path);
+    ASSERT_NE(generator.trajectory(), nullptr);
+    call("askStartMove");
+    clock.advance(std::chrono::milliseconds(static_cast<int>(std::ceil(generator.trajectory()->duration() * 1e3)) + 2));
+    ASSERT_EQ(status(), "WaitPath");
+    takeEvents();
+  }
   /// Events emitted since the last call, in order.
   std::vector<std::string> takeEvents() {
     std::vector<std::string> names;
@@ -75,12 +91,12 @@ const std::vector<std::vector<KDL::Frame>> kTwoArmPath = {
 };
 
 void Bench::startMoving() {
-  planner.write(encodeCartesianPath(kTwoArmPath));
-  clock.advance(1ms);
-  call("askGenerateTraj");
-  clock.advance(1ms);
+  generate(kTwoArmPath);
   call("askStartMove");
 }
+
+/// `frame` moved by `dx` m along the base x axis.
+KDL::Frame shifted(const KDL::Frame& frame, double dx) { return {frame.M, frame.p + KDL::Vector(dx, 0.0, 0.0)}; }
 
 TEST(CartesianTrajectoryGenerator, MakesOnePoseAndOneTwistPortPerArmAtConfigure) {
   Generator g("TrajGen");
@@ -170,6 +186,94 @@ TEST(CartesianTrajectoryGenerator, StopsFromAnyStateToRestWithinStopTime) {
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_not_moving"});
 }
 
+// The robot of arm 1 refused a command and holds 0.5 mm behind the set-point: the motion ends at
+// once, arm 1 at its held pose and arm 2 at its set-point, both at rest; nothing resumes the old
+// trajectory, and the next path starts from the held pose.
+TEST(CartesianTrajectoryGenerator, AHeldArmEndsTheMotionThereAndTheNextPathStartsFromIt) {
+  Bench b;
+  core::OutputPort<KDL::Frame> robot{"heldCartPose", "", "m"};
+  core::connectPorts(robot, b.generator.port("heldPose_1"));
+  b.startMoving();
+  b.clock.advance(400ms);
+  ASSERT_GT(b.lastTwist(0).vel.Norm(), 0.01);
+  const KDL::Frame arm2 = b.lastPose(1);
+  const KDL::Frame held(b.lastPose(0).M, b.lastPose(0).p - KDL::Vector(0.0005, 0, 0));
+  b.takeEvents();
+  robot.write(held);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { b.clock.advance(1ms); }), 0);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_wait_path"}));
+  EXPECT_EQ(b.status(), "WaitPath");
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), held, 1e-15));
+  EXPECT_TRUE(KDL::Equal(b.lastPose(1), arm2, 1e-15));
+  for (std::size_t arm = 0; arm < 2; ++arm) EXPECT_TRUE(KDL::Equal(b.lastTwist(arm), KDL::Twist::Zero(), 1e-15));
+  // At rest there: no set-point follows, the old trajectory cannot be started again.
+  b.clock.advance(100ms);
+  KDL::Frame f;
+  EXPECT_EQ(b.poses[0]->read(f), core::FlowStatus::OldData);
+  b.call("askStartMove");
+  b.call("askStopMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_no_trajectory", "e_not_moving"}));
+  // Held again while waiting (the robot still refusing): the set-point follows, the state stays.
+  const KDL::Frame later(held.M, held.p + KDL::Vector(0, 0.0002, 0));
+  robot.write(later);
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_resynced"});
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), later, 1e-15));
+  // A re-plan from the measured pose (1 mm from the held one): its first set-point is the held pose.
+  b.planner.write(encodeCartesianPath({{KDL::Frame(later.M, later.p + KDL::Vector(0, 0, 0.001)), arm2},
+                                       {pose(0.3, 0.1, 0.1, 0.1),
+                                        KDL::Frame(arm2.M, arm2.p + KDL::Vector(0.01, 0, 0))}}));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  b.call("askStartMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_ready", "e_generating_trajectory", "e_trajectory_ready",
+                                                      "e_moving"}));
+  EXPECT_TRUE(KDL::Equal(b.lastPose(0), later, 1e-12));
+  KDL::Frame previous = later;
+  for (int i = 0; i < 500; ++i) {
+    b.clock.advance(1ms);
+    ASSERT_LT((b.lastPose(0).p - previous.p).Norm(), 1e-3) << "ms " << i;
+    previous = b.lastPose(0);
+  }
+}
+
+// A held pose in every other state: Trajectory ready and a stop motion end in WaitPath as well.
+TEST(CartesianTrajectoryGenerator, AHeldArmDropsAReadyTrajectoryAndEndsAStopMotion) {
+  Bench b;
+  core::OutputPort<KDL::Frame> robot{"heldCartPose", "", "m"};
+  core::connectPorts(robot, b.generator.port("heldPose_2"));
+  b.planner.write(encodeCartesianPath(kTwoArmPath));
+  b.clock.advance(1ms);
+  b.call("askGenerateTraj");
+  b.clock.advance(1ms);
+  b.takeEvents();
+  robot.write(kTwoArmPath[0][1]);
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_wait_path"}));
+  KDL::Frame f;
+  EXPECT_EQ(b.poses[0]->read(f), core::FlowStatus::NoData);  // arm 1 had no set-point to rest at
+  EXPECT_TRUE(KDL::Equal(b.lastPose(1), kTwoArmPath[0][1], 1e-15));
+  b.call("askStartMove");
+  b.clock.advance(1ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_no_trajectory"});
+
+  b.startMoving();
+  b.clock.advance(300ms);
+  b.call("askStopMove");
+  b.clock.advance(50ms);
+  EXPECT_EQ(b.status(), "GeneratingStop");
+  b.takeEvents();
+  robot.write(b.lastPose(1));
+  b.clock.advance(1ms);
+  // The stop asked for ends at the held pose: answered there, not again later.
+  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_resynced", "e_motion_stopped", "e_wait_path"}));
+  b.clock.advance(300ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{});
+}
+
 TEST(CartesianTrajectoryGenerator, AMalformedPathFailsWithAReason) {
   Bench b;
   trajectory::MultiAxisPath bad({{0, 0, 0, 0, 0, 0, 1}, {0.1, 0, 0, 0, 0, 0, 1}});  // one arm, two expected
@@ -195,6 +299,54 @@ TEST(CartesianTrajectoryGenerator, AskGenerateTrajWhileMovingAnswersBusyAndKeeps
   EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_busy"});
   EXPECT_EQ(b.status(), "Moving");
   EXPECT_EQ(b.generator.trajectory(), followed);
+}
+
+TEST(CartesianTrajectoryGenerator, ContinuesEveryArmFromItsLastSetPointWhenThePathHasMoreWaypointsThanArms) {
+  Bench b;  // two arms
+  b.moveThrough(kTwoArmPath);
+  const std::vector<KDL::Frame>& last = kTwoArmPath.back();
+  // Three waypoints for two arms, starting 1 mm from each arm's last set-point (continue_tolerance 2 mm).
+  const std::vector<std::vector<KDL::Frame>> next = {
+      {shifted(last[0], 0.001), shifted(last[1], 0.001)},
+      {pose(0.1, 0.1, 0.15, 0.2), pose(0.4, 0.0, 0.1, -0.1)},
+      {pose(0.12, 0.1, 0.12, 0.1), pose(0.38, 0.02, 0.1, 0.0)},
+  };
+  b.generate(next);
+  ASSERT_EQ(b.status(), "TrajectoryReady") << b.generator.call<std::string>("lastFailure");
+  b.call("askStartMove");
+  b.clock.advance(1ms);  // the first set-point: t = 0 of the motion
+  for (std::size_t arm = 0; arm < 2; ++arm)
+    EXPECT_TRUE(KDL::Equal(b.lastPose(arm), last[arm], 1e-9)) << "arm " << arm << " steps off its last set-point";
+  // The waypoints after the first are followed as given.
+  const trajectory::CartesianTrajectory& followed = *b.generator.trajectory();
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    KDL::Frame at;
+    KDL::Twist twist;
+    followed.evaluate(followed.duration(), arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, next.back()[arm], 1e-9)) << "arm " << arm;
+  }
+}
+
+TEST(CartesianTrajectoryGenerator, ContinuationChangesOnlyEachArmsOwnFirstPose) {
+  Bench b;  // two arms
+  b.moveThrough(kTwoArmPath);
+  const std::vector<KDL::Frame>& last = kTwoArmPath.back();
+  // Arm 0 ends 0.5 mm from arm 1's last set-point: waypoint 1 of arm 0 is no first pose and stays as given.
+  const std::vector<std::vector<KDL::Frame>> next = {
+      {shifted(last[0], 0.001), shifted(last[1], -0.001)},
+      {shifted(last[1], 0.0005), pose(0.6, 0.1, 0.1, 0.0)},
+  };
+  b.generate(next);
+  ASSERT_EQ(b.status(), "TrajectoryReady") << b.generator.call<std::string>("lastFailure");
+  const trajectory::CartesianTrajectory& followed = *b.generator.trajectory();
+  KDL::Frame at;
+  KDL::Twist twist;
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    followed.evaluate(0.0, arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, last[arm], 1e-9)) << "arm " << arm << " does not start from its last set-point";
+    followed.evaluate(followed.duration(), arm, at, twist);
+    EXPECT_TRUE(KDL::Equal(at, next[1][arm], 1e-9)) << "arm " << arm << " does not end at its waypoint 1";
+  }
 }
 
 TEST(CartesianTrajectoryGenerator, StartRefusesAnActivityThatIsNotSampleTime) {

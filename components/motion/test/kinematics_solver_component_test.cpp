@@ -175,6 +175,62 @@ TEST(KinematicsSolverComponent, StreamedCommandsAreJudgedFromTheLastOneAndAfterA
   EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
 }
 
+// A refused command: heldCartPose is the pose of the last accepted solution (the robot's set-point),
+// in each update that refuses, for the producers of the commands to re-sync to; a command from
+// there is accepted. Joints held by something else (a drive's quick stop) become the reference of
+// the next command and are passed on the same way. Neither allocates.
+TEST(KinematicsSolverComponent, ARefusalOrAQuickStopPublishesTheHeldPose) {
+  Rig rig("closed_form", KDL::Frame(KDL::Vector(0.1, 0, 0.2)));
+  core::InputPort<KDL::Frame> held{"held", "", "m"};
+  core::OutputPort<KDL::JntArray> stopped{"stopped", "", "rad"};
+  core::connectPorts(rig.solver.port("heldCartPose"), held);
+  core::connectPorts(stopped, rig.solver.port("heldJointPositions"));
+  const KDL::JntArray q0 = joints({0.1, -1.0, 1.2, -0.4, 1.1, 0.2});
+  KDL::JntArray q1 = q0;
+  q1(0) += 0.002;
+  rig.measured.write(q0);
+  rig.desired.write(rig.solver.call<KDL::Frame>("forward", q0));
+  rig.clock.advance(1ms);
+  rig.desired.write(rig.solver.call<KDL::Frame>("forward", q1));
+  rig.clock.advance(1ms);
+  KDL::Frame f;
+  EXPECT_EQ(held.read(f), core::FlowStatus::NoData);  // nothing refused yet
+  KDL::JntArray jump = q1;
+  jump(0) += 0.5;
+  const KDL::Frame far = rig.solver.call<KDL::Frame>("forward", jump);
+  rig.takeEvents();
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              rig.desired.write(far);
+              rig.clock.advance(1ms);
+            }),
+            0);
+  ASSERT_EQ(held.read(f), core::FlowStatus::NewData);
+  EXPECT_TRUE(KDL::Equal(f, rig.solver.call<KDL::Frame>("forward", q1), 1e-12)) << "the last accepted solution";
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
+  rig.desired.write(f);  // the producers re-synced: their next command is the held pose
+  rig.clock.advance(1ms);
+  KDL::JntArray q;
+  ASSERT_EQ(rig.command.read(q), core::FlowStatus::NewData);
+  for (unsigned j = 0; j < 6; ++j) EXPECT_NEAR(q(j), q1(j), 1e-9);
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_solved"});
+  EXPECT_NE(held.read(f), core::FlowStatus::NewData);
+  // The drives quick-stopped 20 mrad further on joint 2: the held pose is passed on, and a command
+  // from the old set-point is now judged from the stopped joints.
+  KDL::JntArray stop = q1;
+  stop(1) += 0.02;
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              stopped.write(stop);
+              rig.clock.advance(1ms);
+            }),
+            0);
+  ASSERT_EQ(held.read(f), core::FlowStatus::NewData);
+  EXPECT_TRUE(KDL::Equal(f, rig.solver.call<KDL::Frame>("forward", stop), 1e-12));
+  rig.desired.write(rig.solver.call<KDL::Frame>("forward", q1));
+  rig.clock.advance(1ms);
+  EXPECT_NE(rig.command.read(q), core::FlowStatus::NewData);  // 20 mrad from where the robot is held
+  EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
+}
+
 TEST(KinematicsSolverComponent, TheDataFlowAllocatesNothingWithTheClosedForm) {
   Rig rig("closed_form");
   const KDL::JntArray q0 = joints({0.1, -1.0, 1.2, -0.4, 1.1, 0.2});

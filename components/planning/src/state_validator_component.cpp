@@ -14,6 +14,8 @@ StateValidatorComponent::StateValidatorComponent(std::string name)
   addEventPort(in_2_);
   addPort(out_1_);
   addPort(out_2_);
+  addPort(held_1_);
+  addPort(held_2_);
   addPort(min_distance_);
   addOperation("lastReason", std::function<std::string()>([this] {
                  return last_rejected_.valid() ? std::string() : planning::describe(last_rejected_);
@@ -67,6 +69,10 @@ void StateValidatorComponent::updateHook() {
     last_rejected_ = result;
     if (was_valid_) emitEvent("e_state_invalid");
     was_valid_ = false;
+    if (have_valid_) {  // the robot stays at the last valid pair: the set-points' producers re-sync to it
+      held_1_.write(last_valid_.first);
+      held_2_.write(last_valid_.second);
+    }
   }
   min_distance_.write(minimum);
   if (have_valid_) {

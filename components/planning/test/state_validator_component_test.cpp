@@ -33,6 +33,8 @@ struct Bench {
   core::InputPort<KDL::Frame> out_1{"out1", "", "m"};
   core::InputPort<KDL::Frame> out_2{"out2", "", "m"};
   core::InputPort<double> min_distance{"minDistance", "", "m"};
+  core::InputPort<KDL::Frame> held_1{"held1", "", "m"};
+  core::InputPort<KDL::Frame> held_2{"held2", "", "m"};
   core::InputPort<core::Event> events{"events", "", ""};
 
   explicit Bench(const std::string& scene = "puncturing.scene") {
@@ -44,6 +46,8 @@ struct Bench {
     core::connectPorts(validator.port("desPoseOut_1"), out_1);
     core::connectPorts(validator.port("desPoseOut_2"), out_2);
     core::connectPorts(validator.port("minDistance"), min_distance);
+    core::connectPorts(validator.port("heldPose_1"), held_1);
+    core::connectPorts(validator.port("heldPose_2"), held_2);
     core::connectPorts(validator.port("events"), events, core::ConnPolicy::buffer(64));
     EXPECT_TRUE(validator.configure());
     EXPECT_TRUE(validator.start());
@@ -77,15 +81,23 @@ TEST(StateValidatorComponent, PassesValidPairsHoldsTheLastValidOneOtherwise) {
   ASSERT_EQ(b.min_distance.read(distance), core::FlowStatus::NewData);
   EXPECT_GT(distance, 0.005);
   EXPECT_TRUE(b.takeEvents().empty());
+  KDL::Frame held;
+  EXPECT_EQ(b.held_1.read(held), core::FlowStatus::NoData);  // nothing held while the pairs are valid
 
-  // The needle pushed into the phantom: the last valid pair goes on, once e_state_invalid.
+  // The needle pushed into the phantom: the last valid pair goes on, once e_state_invalid, and
+  // is the held pair (for the set-points' producers to re-sync to) in each step that rejects.
   out = b.send(needleDown(0.05, 0.0, 0.05), probe);
   EXPECT_EQ(out.first, needle);
   EXPECT_EQ(out.second, probe);
+  ASSERT_EQ(b.held_1.read(held), core::FlowStatus::NewData);
+  EXPECT_EQ(held, needle);
+  ASSERT_EQ(b.held_2.read(held), core::FlowStatus::NewData);
+  EXPECT_EQ(held, probe);
   ASSERT_EQ(b.min_distance.read(distance), core::FlowStatus::NewData);
   EXPECT_LE(distance, 0.005);
   out = b.send(needleDown(0.05, 0.0, 0.06), probe);
   EXPECT_EQ(out.first, needle);
+  EXPECT_EQ(b.held_1.read(held), core::FlowStatus::NewData);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_state_invalid"}));
   EXPECT_CONTAINS(b.validator.call<std::string>("lastReason"), "too close: micro/environment");
 
@@ -98,9 +110,11 @@ TEST(StateValidatorComponent, PassesValidPairsHoldsTheLastValidOneOtherwise) {
 
   // Valid again: passed on, once e_state_valid.
   const KDL::Frame needle_2 = needleDown(0.02, 0.0, 0.18);
+  (void)b.held_1.read(held);
   out = b.send(needle_2, probe);
   EXPECT_EQ(out.first, needle_2);
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_state_valid"}));
+  EXPECT_EQ(b.held_1.read(held), core::FlowStatus::OldData);  // valid: nothing held
 }
 
 TEST(StateValidatorComponent, UpdateAllocatesNothing) {
@@ -123,6 +137,7 @@ TEST(StateValidatorComponent, NothingIsWrittenBeforeTheFirstValidPair) {
   b.clock.advance(1ms);
   KDL::Frame f;
   EXPECT_EQ(b.out_1.read(f), core::FlowStatus::NoData);
+  EXPECT_EQ(b.held_1.read(f), core::FlowStatus::NoData);  // no valid pair to hold at
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_state_invalid"}));
 }
 

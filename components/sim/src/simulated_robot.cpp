@@ -52,6 +52,10 @@ SimulatedServoRobotBase::Tool::Tool(const SimulatedToolDefaults& d)
       meas_wrench("meas" + d.port_infix + "Wrench",
                   toolDoc(d, "force/torque sensor reading, tool frame, at the tool point"), "N, N·m"),
       true_cart_pose("true" + d.port_infix + "CartPose", toolDoc(d, "simulation only: true tool pose, world frame"),
+                     "m"),
+      held_cart_pose("held" + d.port_infix + "CartPose",
+                     toolDoc(d, "in each step refusing a Cartesian command: the pose the tool holds (its last accepted "
+                                "command), world frame; the producers of the commands re-sync to it"),
                      "m") {}
 
 SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string doc, SimulatedRobotDefaults defaults)
@@ -70,6 +74,7 @@ SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string d
   }
   addProperty(sensor_cutoff_);
   addProperty(seed_);
+  addProperty(speed_scaling_.range(1e-3, 1.0));
   addPort(des_joint_position_);
   addPort(meas_joint_position_);
   for (auto& tool : tools_) {
@@ -78,6 +83,7 @@ SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string d
     addPort(tool->meas_cart_pose);
     addPort(tool->meas_wrench);
     addPort(tool->true_cart_pose);
+    addPort(tool->held_cart_pose);
   }
   if (defaults_.twist_ports) {
     addProperty(twist_timeout_);
@@ -195,7 +201,8 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   for (std::size_t i = 0; i < tools_.size(); ++i)
     solve_targets_[i] =
         kinematics::frameProduct(kinematics::frameProduct(base_inverse, targets_[i]), tools_[i]->tool_frame().Inverse());
-  kinematics::IkStatus status = kinematics_->solve(solve_targets_, robot_->commanded(), dt, solution_);
+  // Scaled limits over dt are the full limits over the scaled time.
+  kinematics::IkStatus status = kinematics_->solve(solve_targets_, robot_->commanded(), dt * speed_scaling_(), solution_);
   if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;
   if (status != kinematics::IkStatus::Ok) {
     // One event per reason and refusal episode (until a command is accepted again).
@@ -207,6 +214,8 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
       told_failed_ = true;
     }
     refusing_ = true;
+    // Where the robot holds, for the producers of its commands to re-sync to.
+    for (auto& tool : tools_) tool->held_cart_pose.write(tool->commanded);
     return;
   }
   if (refusing_) emitEvent("e_ik_solved");

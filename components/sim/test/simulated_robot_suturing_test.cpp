@@ -169,19 +169,31 @@ TEST(SimulatedISURSuturingRobot, EachToolFollowsItsCommandWhileTheOtherHolds) {
 
 /// Refusal as the single-tool robots: `refused` commanded on `tool` (0 right, 1 left) every 1 ms
 /// step for 300 steps from `initial` gives one e_ik_discontinuity, every joint holds within an
-/// encoder count; then a pose 0.1 mm from the start is followed, with e_ik_solved.
+/// encoder count, and each step's heldRightCartPose and heldLeftCartPose are the poses both tools
+/// hold (for the producers of their commands to re-sync to); then a pose 0.1 mm from the start is
+/// followed, with e_ik_solved, and nothing is held any more.
 void checkRefusedThenFollowed(const std::vector<double>& initial, int tool, const KDL::Frame& refused) {
   SuturingRig rig;
+  core::InputPort<KDL::Frame> held_right{"heldRight", "", "m"}, held_left{"heldLeft", "", "m"};
+  core::connectPorts(rig.robot.port("heldRightCartPose"), held_right);
+  core::connectPorts(rig.robot.port("heldLeftCartPose"), held_left);
   rig.robot.setProperty("initial_joints", initial);
   rig.start();
   const KDL::JntArray held = rig.latest(rig.joints);
   core::OutputPort<KDL::Frame>& command = tool == 0 ? rig.right_command : rig.left_command;
   core::InputPort<KDL::Frame>& pose = tool == 0 ? rig.right_pose : rig.left_pose;
   const KDL::Frame start = rig.latest(pose);
+  const KDL::Frame right0 = rig.latest(rig.right_pose), left0 = rig.latest(rig.left_pose);
+  KDL::Frame f;
+  EXPECT_EQ(held_right.read(f), core::FlowStatus::NoData);
   for (int ms = 0; ms < 300; ++ms) {
     command.write(refused);
     rig.step();
     ASSERT_LE(countsApart(rig.latest(rig.joints), held), 1.0) << ms;
+    ASSERT_EQ(held_right.read(f), core::FlowStatus::NewData) << ms;
+    ASSERT_TRUE(KDL::Equal(f.p, right0.p, 1e-5)) << ms;  // m: the encoders' pose of the held joints
+    ASSERT_EQ(held_left.read(f), core::FlowStatus::NewData) << ms;
+    ASSERT_TRUE(KDL::Equal(f.p, left0.p, 1e-5)) << ms;
   }
   EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_discontinuity"});
   KDL::Frame nearby = start;
@@ -191,6 +203,7 @@ void checkRefusedThenFollowed(const std::vector<double>& initial, int tool, cons
   EXPECT_EQ(rig.takeEvents(), std::vector<std::string>{"e_ik_solved"});
   rig.step(200);
   EXPECT_LT((rig.latest(pose).p - nearby.p).Norm(), 2e-5);
+  EXPECT_EQ(held_right.read(f), core::FlowStatus::OldData);
 }
 
 TEST(SimulatedISURSuturingRobot, TheEndoStitchAcrossItsWristSingularityIsRefusedOnce) {

@@ -173,6 +173,8 @@ export class Panel {
     if (msg.line) rows.push(['cobra run', msg.line]);
     else if (msg.message) rows.push(['reason', msg.message]);
     for (const [chart, state] of Object.entries(msg.states ?? {})) rows.push([`final ${chart}`, state]);
+    // On the wall clock: how the executor kept time (deadline misses, wake-up latency, compute).
+    if (msg.executor) rows.push(['executor (wall clock)', msg.executor.replace(/^executor: /, '')]);
     fillTable(this.doc.getElementById('end'), rows);
   }
 

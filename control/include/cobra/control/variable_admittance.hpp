@@ -71,6 +71,7 @@ struct EnergyAudit {
   double injected_by_w = 0.0;     ///< Σ wᵀΔx̃: energy the variable parts took from the system
   double stored = 0.0;            ///< H_c now: ½ ẋ̃ᵀΛc ẋ̃ + ½ x̃ᵀKc x̃
   double tank = 0.0;              ///< T now
+  double resync_removed = 0.0;    ///< Σ stored energy the re-syncs removed (negative: the tank paid it in)
 };
 
 /// Model/Data in one object: parameters set at configure (and changed at run time by
@@ -99,6 +100,21 @@ class VariableAdmittance {
   /// the pose toward the new reference through the model's dynamics. ẋ̃ and the tank are kept
   /// (the jump is the task's input, not an interaction). Real-time safe.
   void rebase(const KDL::Frame& old_reference, const KDL::Frame& new_reference) noexcept;
+
+  /// The robot holds at `held` (it refused this controller's commands, or something stopped it:
+  /// an IK discontinuity, a state validator, a drive's quick stop, a communication timeout): the
+  /// output pose restarts there, at rest and in equilibrium with the measured `wrench` (base
+  /// frame, N, N·m, at the tool point). ẋ̃ becomes 0 and x̃ the static displacement Kd x̃ = (F, τ)
+  /// (τ in the held pose's axes: the rotation's generalised force to first order in x̃_r; 0 along
+  /// a direction without stiffness), so neither the old motion's rate nor the contact force
+  /// moves the output away from the held pose afterwards. `reference` is set to the reference
+  /// whose output pose is `held`: p_ref = p_held - x̃_p, R_ref = R_held Exp(x̃_r)ᵀ; the caller
+  /// steps from it until its set-points follow the robot again. Passive: stored energy the new
+  /// state lacks is dissipated; energy it needs more is paid by the tank, and when the tank cannot
+  /// (it would go below ε) x̃ = 0 instead (output at the reference, nothing stored). Both are
+  /// counted in EnergyAudit::resync_removed. Real-time safe; a non-finite input changes nothing
+  /// but the reference (= held).
+  void resync(const KDL::Frame& held, const KDL::Wrench& wrench, KDL::Frame& reference) noexcept;
 
   /// Back to x̃ = 0, ẋ̃ = 0 and the initial tank energy.
   void reset() noexcept;

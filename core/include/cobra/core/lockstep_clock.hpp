@@ -82,8 +82,13 @@ class LockstepClock {
   /// supervisors' step times of a whole procedure. It runs in the stepping thread and must not
   /// allocate to keep the run real-time clean; the clock adds four clock reads per step only
   /// while one is set.
+  /// With `cpu_time` false the CPU time is not read (it is passed as 0): two clock reads per step
+  /// instead of four, for an observer that needs the wall-clock duration only (the executor).
   using StepObserver = std::function<void(const Component&, std::chrono::nanoseconds wall, std::chrono::nanoseconds cpu)>;
-  void setStepObserver(StepObserver observer) { step_observer_ = std::move(observer); }
+  void setStepObserver(StepObserver observer, bool cpu_time = true) {
+    step_observer_ = std::move(observer);
+    observe_cpu_time_ = cpu_time;
+  }
   /// `sync` (not owned; nullptr: none) is met at the end of every `advance`: one simulated run
   /// split over processes (core/clock_sync.hpp). It must outlive its use by this clock.
   void setClockSync(ClockSync* sync) { sync_ = sync; }
@@ -121,6 +126,7 @@ class LockstepClock {
   std::atomic<std::thread::id> stepping_thread_{};
   std::function<bool()> between_instants_;
   StepObserver step_observer_;
+  bool observe_cpu_time_ = true;
   ClockSync* sync_ = nullptr;
   /// Set when an event-driven (period 0) component is triggered: runTriggered scans for them
   /// only then (it runs twice per instant; most instants' second call finds nothing).

@@ -140,6 +140,11 @@ class RealtimeExecutor {
   const DurationHistogram& wakeLatency() const { return latency_; }
   /// Compute time of each tick (the clock's steps and switches, plus work between ticks).
   const DurationHistogram& tickCompute() const { return compute_; }
+  /// The part of each tick outside the components' steps: the clock's own work and what it runs
+  /// between instants (deployment and configuration switches).
+  const DurationHistogram& betweenSteps() const { return between_steps_; }
+  /// Each piece of work run between ticks (runBetweenTicks: actions, faults, inputs).
+  const DurationHistogram& workBetweenTicks() const { return work_time_; }
   /// Per component, in the clock's order (allocates: not for the real-time thread).
   std::vector<ComponentTiming> componentTimings() const;
   const ExecutorOptions& options() const { return options_; }
@@ -175,7 +180,8 @@ class RealtimeExecutor {
   std::atomic<std::uint64_t> ticks_{0}, misses_{0}, worst_consecutive_{0};
   std::atomic<std::int64_t> slipped_ns_{0};
   std::atomic<bool> safe_stop_{false};
-  DurationHistogram latency_, compute_;
+  DurationHistogram latency_, compute_, between_steps_, work_time_;
+  std::int64_t stepped_ns_ = 0;  // this tick's component steps so far (the executor thread's)
   // Per component: slots made at start for the clock's components (and spare ones for
   // components a deployment switch adds), so the step observer never allocates.
   static constexpr std::size_t kSpareSlots = 32;

@@ -53,14 +53,16 @@
 /// that said it was done: at a lockstep meeting, or on the wall clock by its farewell when its
 /// link was cleaned up after `setDone(true)`, i.e. its run completed; a farewell without it, an
 /// error or a safe stop there, loses the peer at once), and the transport's
-/// `e_dds_type_mismatch` / `e_dds_incompatible_qos`. Written from Fast DDS's threads and the
-/// clock's thread, one at a time (a mutex serialises them; the port's readers never take it).
-/// DdsLink has no update hook, so the component's own thread never writes it.
+/// `e_dds_type_mismatch` / `e_dds_incompatible_qos`. They happen on Fast DDS's threads and the
+/// clock's thread; those push them into a lock-free queue (256 events) and the link's own step
+/// (updateHook) writes them on the port, so the port has one writer, the link's thread, as every
+/// port. A link never stepped keeps its events in the queue, and drops (and counts:
+/// droppedEvents()) those that find it full.
 ///
-/// Wall clock: give the link an activity of its own (`own_pace = true`, deploy/spec.hpp), not a
-/// place on the executor's lockstep schedule: stepped by a LockstepClock it would put the
-/// transport in lockstep, holding samples for meetings that never come. Its work runs on Fast
-/// DDS's threads and its writer ends' anyway.
+/// Wall clock: give the link an activity of its own (`own_pace = true`, deploy/spec.hpp, with a
+/// period, e.g. 1 ms, so that it steps), not a place on the executor's lockstep schedule: stepped
+/// by a LockstepClock it would put the transport in lockstep, holding samples for meetings that
+/// never come. Its work runs on Fast DDS's threads and its writer ends' anyway.
 ///
 /// Lockstep runs: a DdsLink with peers stepped by a LockstepClock (its activity is a
 /// LockstepActivity when it is configured or started) puts the transport in lockstep: writer
@@ -78,8 +80,8 @@
 /// order.
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -102,14 +104,19 @@ class DdsLink final : public core::Component, public core::ClockSync {
 
   /// The transport whose participant this link made; nullptr unless configured.
   std::shared_ptr<DdsTransport> transport() const;
+  /// Events that found the queue to the `events` port full (the link not stepped for 256 events).
+  std::uint64_t droppedEvents() const noexcept;
 
  protected:
   bool configureHook() override;
   bool startHook() override;
+  /// Writes the events that foreign threads queued since the last step (allocates nothing).
+  void updateHook() override;
   void cleanupHook() override;
 
  private:
   class Meeting;
+  struct ForeignEvents;
   /// Stepped by a LockstepClock, with peers: samples travel only at the clock meetings.
   bool lockstep() const;
   void emit(const std::string& event, const std::string& source);
@@ -138,9 +145,9 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> meeting_period_{
       "meeting_period", 0.0, "s",
       "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};
+  std::unique_ptr<ForeignEvents> foreign_events_;  // made with the link: events may come until it goes
   std::unique_ptr<Meeting> meeting_;
   std::shared_ptr<DdsTransport> transport_;
-  std::mutex events_mutex_;  // the events port has one writer at a time
 };
 
 /// Registers, once per process, the transport "dds" whose participant is the configured

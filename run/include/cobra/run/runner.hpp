@@ -174,6 +174,8 @@ struct ExecutorFigures {
   double slipped = 0.0;  ///< s given up after stalls
   core::DurationFigures wake_latency;  ///< s after each deadline
   core::DurationFigures tick_compute;  ///< s per tick
+  core::DurationFigures between_steps;  ///< s per tick outside the components' steps (switches)
+  core::DurationFigures work_between_ticks;  ///< s per action, fault or input played between ticks
   std::vector<core::ComponentTiming> components;  ///< s per step, in the clock's order
   std::vector<std::string> warnings;
 };

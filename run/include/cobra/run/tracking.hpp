@@ -82,6 +82,8 @@ class TrackingMonitor {
   double period_;
   KDL::JntArray previous_joints_;
   double previous_joints_t_ = 0.0;  // s, when previous_joints_ was sampled
+  double last_sample_t_ = 0.0;      // s, the last step's t
+  bool have_sample_t_ = false;
   double skew_ = 0.0;               // s, see setSampleSkew
   KDL::Frame previous_command_;
   bool have_command_ = false;

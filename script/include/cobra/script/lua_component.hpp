@@ -42,6 +42,13 @@ namespace cobra::script {
 /// Errors: a script that fails to load or run, or a hook raising a Lua error, makes the hook
 /// throw cobra::core::Error with Lua's message ("path/file.lua:12: ..."), so the component goes
 /// to Exception with it as its last error.
+///
+/// Budget (LuaState, "Budget and interrupts"): each call of startHook, updateHook, stopHook or
+/// exceptionHook may take `lua_budget` s of CPU time; loading the script and configureHook and
+/// cleanupHook may take `lua_load_budget` s. Past it the hook is interrupted at the running line
+/// and fails like a Lua error ("file.lua:12: component 'X' ran past its budget of 0.01 s of CPU
+/// time; raise its lua_budget property"): an endless loop sends the component to Exception
+/// instead of stalling its activity (and on the lockstep clock, every component).
 class LuaComponent : public core::Component {
  public:
   LuaComponent(std::string name, core::Role role, std::string doc = "component whose hooks are Lua functions");
@@ -76,6 +83,13 @@ class LuaComponent : public core::Component {
   core::Property<int> pool_size_{"lua_pool_size", 256 * 1024, "B",
                                  "bytes of the Lua memory pool, reserved when the script loads; 0 = unbounded "
                                  "system allocator (not real-time)"};
+  core::Property<double> budget_{"lua_budget", 0.005, "s",
+                                 "CPU time one start, update, stop or exception hook may take; past it the hook "
+                                 "fails naming the file:line (the component goes to Exception); 0 = none"};
+  core::Property<double> load_budget_{"lua_load_budget", 1.0, "s",
+                                      "CPU time loading the script, configureHook and cleanupHook may take; 0 = none"};
+  /// Gives the Lua state the step budget (`load` false) or the load budget.
+  void useBudget(bool load);
   std::unique_ptr<LuaState> lua_;
   std::array<int, kHookCount> hooks_{};
   std::vector<std::unique_ptr<core::PortBase>> own_ports_;

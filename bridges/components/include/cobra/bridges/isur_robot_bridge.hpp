@@ -44,6 +44,16 @@ namespace cobra::bridges {
 /// per refusal episode), then `e_ik_solved` at the first state after that in which the command is
 /// no longer held.
 ///
+/// Held poses (out, robot base frame, m; `heldCartPose`, or `heldRightCartPose` and
+/// `heldLeftCartPose` with two tools): in each update with a state that reports a refused command,
+/// and in each update while the state is timed out (e_comm_timeout until e_comm_restored), the
+/// latest measured pose of every tool: where the robot is held. Wired to the held-pose inputs of
+/// the producers of the commands (VariableAdmittance's heldPose, CartesianTrajectoryGenerator's
+/// heldPose_i), they re-sync to it and the next command starts where the robot is (ARCHITECTURE
+/// §7). The controller holds its last accepted command, which the measured pose settles on within
+/// its servo's lag; the state carries no commanded pose, so the measured one is sent, again in each
+/// held state until a command is accepted.
+///
 /// Endo Stitch (tools = 2): the event `actuate_event` on inputEvents sends a ToolActuation request
 /// for tool 0 through the server; when a state's completed count increments, endoStitchActuations
 /// (completed actuations since start) is written and `e_endo_stitch_actuated` emitted. A request
@@ -94,6 +104,15 @@ class ISURRobotBridge : public core::Component {
       "measRightWrench", "Endo Stitch arm F/T sensor (AtiNano43), sensor frame", "N, N·m"};
   core::OutputPort<KDL::Wrench> meas_left_wrench_{"measLeftWrench", "gripper arm F/T sensor (AtiNano17), sensor frame",
                                                   "N, N·m"};
+  core::OutputPort<KDL::Frame> held_cart_pose_{
+      "heldCartPose",
+      "while the controller holds (a refused command) or the state is timed out: the measured needle-tip pose, robot "
+      "base frame",
+      "m"};
+  core::OutputPort<KDL::Frame> held_right_pose_{
+      "heldRightCartPose", "while held (as heldCartPose): the measured Endo Stitch tip pose, robot base frame", "m"};
+  core::OutputPort<KDL::Frame> held_left_pose_{
+      "heldLeftCartPose", "while held (as heldCartPose): the measured stick tip pose, robot base frame", "m"};
   core::InputPort<core::Event> input_events_{"inputEvents", "requests: actuate_event actuates the Endo Stitch", ""};
   core::OutputPort<int> actuations_out_{"endoStitchActuations", "completed Endo Stitch actuations since start", "1"};
   core::InputPort<KDL::JntArray> des_joints_{"desJointPosition",
@@ -126,6 +145,8 @@ class ISURRobotBridge : public core::Component {
   std::array<core::InputPort<KDL::Frame>*, isur::kMaxTools> des_poses_{};
   std::array<core::OutputPort<KDL::Frame>*, isur::kMaxTools> meas_poses_{};
   std::array<core::OutputPort<KDL::Wrench>*, isur::kMaxTools> meas_wrenches_{};
+  std::array<core::OutputPort<KDL::Frame>*, isur::kMaxTools> held_poses_{};
+  bool timed_out_ = false;  // no fresh state for `timeout` (e_comm_timeout told, e_comm_restored not yet)
   core::BoundedString<63> actuate_name_;
   std::uint64_t last_version_ = 0;
   bool have_state_ = false;

@@ -27,6 +27,22 @@ namespace cobra::components {
 /// elsewhere (at the measured pose, after a teleoperation, ...). The controller then rebases
 /// (control::VariableAdmittance::rebase): admPose stays continuous and converges to the new
 /// reference through the admittance's dynamics.
+/// Re-sync (ARCHITECTURE §7, "Continuity in the control path"): `heldPose` (in, base frame, m)
+/// is written by whatever holds the robot this controller commands — the robot bridge refusing a
+/// command (e_ik_discontinuity), a kinematics solver, a state validator, a drive's quick stop —
+/// with the pose the robot holds, in each step it holds. On such a sample the controller restarts
+/// its output there (control::VariableAdmittance::resync: at rest, in equilibrium with the
+/// measured wrench): admPose is the held pose in that very step, admTwist zero, and e_resynced
+/// is emitted (once while held step after step).
+/// It then steps about the reference that puts its output at the held pose, ignoring refPose's
+/// old sample (and refTwist) until refPose brings a new one: a trajectory generator that
+/// stopped, or a teleoperation reference moving on (a jump to rebase on, as above). So the
+/// command never runs away from a held robot, and the next command starts where the robot is.
+/// `heldRefPose` (out, base frame, m) carries that reference in each re-sync step: connected to
+/// the held-pose input of whatever produces refPose (CartesianTrajectoryGenerator's heldPose_i),
+/// the producer re-syncs to it, and its next set-point is exactly the reference the controller
+/// steps about (in contact, the held pose less the compliance displacement): no jump, no drift.
+/// A held pose before this controller has commanded anything is ignored.
 /// Blind: with `wrench_timeout` > 0 (s), when measWrench has brought no new sample for longer than
 /// that (a silent force sensor), the admittance HOLDS: admPose stays where it was, admTwist is
 /// zero, the controller is not stepped (it would push on with a stale force), and e_wrench_lost is
@@ -73,6 +89,15 @@ class VariableAdmittanceController : public core::Component {
                                            "added to measWrench while connected, e.g. a teleoperation coupling force "
                                            "(base frame, at the tool point)",
                                            "N, N·m"};
+  core::InputPort<KDL::Frame> held_pose_{"heldPose",
+                                         "the pose the commanded robot holds (base frame), from whatever holds it: a "
+                                         "sample re-syncs the output to it",
+                                         "m"};
+  core::OutputPort<KDL::Frame> held_ref_pose_{
+      "heldRefPose",
+      "written at each re-sync: the reference whose output is the held pose (base frame); the held pose for whatever "
+      "produces refPose",
+      "m"};
   core::OutputPort<KDL::Frame> adm_pose_{"admPose", "the admittance's pose", "m"};
   core::OutputPort<KDL::Twist> adm_twist_{"admTwist", "the admittance's twist", "m/s, rad/s"};
   core::OutputPort<double> tank_energy_{"tankEnergy", "energy in the tank", "J"};
@@ -87,6 +112,8 @@ class VariableAdmittanceController : public core::Component {
   KDL::Frame previous_reference_ = KDL::Frame::Identity();  // the reference of the last step
   bool stepped_ = false;                                     // previous_reference_ is set
   bool tank_empty_ = false;
+  bool following_held_ = false;  // re-synced: stepping about the held pose until refPose brings a new sample
+  bool resynced_ = false;        // the last step re-synced (e_resynced is told once while held step after step)
   std::chrono::nanoseconds last_wrench_{0};  // when measWrench last brought a sample
   bool blind_ = false;                       // holding: measWrench silent for wrench_timeout
 };

@@ -37,8 +37,19 @@ namespace cobra::components {
 /// an event port) and at every period of a periodic activity (for doo and time events, which use
 /// this component's clock: simulated on the lockstep clock). Real time: stepping, emit, raise and
 /// the switch requests allocate nothing from the system once configured (Lua's own allocations
-/// come from the pool). A chart callback that fails is printed with its file:line and counted in
-/// `chart_errors`; the chart goes on, as rFSM does.
+/// come from the pool).
+///
+/// Failures: a chart callback (entry, doo, exit, guard, effect) that raises a Lua error, or the
+/// chart's Lua code running past `lua_budget` s of CPU time in one update (an endless loop), ends
+/// the update at once: the component goes to Exception (core emits `e_exception@<name>`) with
+/// the callback, the element and the user's file:line in its lastError, e.g. "component
+/// 'TaskSup': updateHook threw: entry of root.Moving failed: task.lua:12: attempt to call a nil
+/// value (global 'stopp')"; the failure is also printed and counted in `chart_errors`. Loading
+/// the chart (its top-level code) has `lua_load_budget` s. When the component enters Exception,
+/// the chart's global function `exceptionHook`, if the chart file defines one, runs once (with
+/// the step budget) so the task can leave its robots safe (stop the motion: the admittances hold
+/// them); its own failure is printed. A pending interrupt (script::LuaState::watchInterrupt:
+/// Ctrl-C, SIGTERM) also ends a chart step stuck in a loop, the same way.
 class Supervisor : public core::Component, public deploy::ConfiguratorClient {
  public:
   explicit Supervisor(std::string name);
@@ -59,11 +70,15 @@ class Supervisor : public core::Component, public deploy::ConfiguratorClient {
   bool startHook() override;
   void updateHook() override;
   void cleanupHook() override;
+  void exceptionHook() override;
   void onRequestDone(const deploy::SwitchRequest& request, bool ok, std::string_view message) override;
 
  private:
   friend struct SupervisorLua;
   void publishState() noexcept;
+  /// Steps the chart until idle, `max_steps` or a failing callback; throws the first failure
+  /// (core::Error naming the callback, element and file:line), once the step is over.
+  void runChart();
   void emitChartEvent(std::string_view name) noexcept;
   /// Raises `a` followed by `b` (b may be empty) as one event name, without allocating.
   void raiseJoined(std::string_view a, std::string_view b) noexcept;
@@ -73,6 +88,12 @@ class Supervisor : public core::Component, public deploy::ConfiguratorClient {
                                  "Lua memory of the chart, reserved at configure; 0 = unbounded (not real-time)"};
   core::Property<int> max_steps_{"max_steps", 1000, "1", "most chart steps per update (a busy doo stops there)"};
   core::Property<int> chart_errors_{"chart_errors", 0, "1", "chart callbacks that failed since configure"};
+  core::Property<double> budget_{"lua_budget", 0.005, "s",
+                                 "CPU time the chart's Lua code may take in one update (start, events, doo, time "
+                                 "events); past it the component goes to Exception naming the file:line; 0 = none"};
+  core::Property<double> load_budget_{"lua_load_budget", 1.0, "s",
+                                      "CPU time the chart file's top-level code may take when it is loaded at "
+                                      "configure; 0 = none"};
 
   core::InputPort<core::Event> input_events_{"inputEvents", "events for the chart (from components and supervisors)", ""};
   core::OutputPort<core::Event> output_events_{"outputEvents", "events the chart emits", ""};

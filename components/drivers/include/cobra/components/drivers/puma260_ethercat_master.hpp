@@ -33,7 +33,10 @@ namespace cobra::components {
 /// Ports: in `desJointPosition` (rad), `desJointVelocity` (rad/s), `desJointTorque` (N·m), used in
 /// Operative according to `control_mode`; out `measJointPosition`, `measJointVelocity`,
 /// `measJointTorque`, `currentState` (NotInitialized, Initialized, MovingToNest, NestPosition,
-/// MovingToReady, ReadyPosition, Operative, Fault).
+/// MovingToReady, ReadyPosition, Operative, Fault), and `heldJointPosition` (rad): in each cycle
+/// in Fault once the quick stop has brought every joint to rest (none moved 1e-4 rad in 0.1 s), the measured
+/// joints the robot is held at, for the command chain to re-sync to (KinematicsSolver's
+/// heldJointPositions; ARCHITECTURE §7).
 ///
 /// Events: e_initialized, e_ready_reached, e_nest_reached, e_operative, e_drive_fault,
 /// e_bus_error (link down), e_bus_fault (a cycle came back with a wrong working counter: every
@@ -72,6 +75,10 @@ class Puma260EtherCATMaster : public core::Component {
   core::OutputPort<KDL::JntArray> meas_position_{"measJointPosition", "measured joint positions", "rad"};
   core::OutputPort<KDL::JntArray> meas_velocity_{"measJointVelocity", "measured joint velocities", "rad/s"};
   core::OutputPort<KDL::JntArray> meas_torque_{"measJointTorque", "measured joint torques", "N·m"};
+  core::OutputPort<KDL::JntArray> held_position_{
+      "heldJointPosition",
+      "in each cycle in Fault once every joint is at rest: the measured joints the robot is held at",
+      "rad"};
   core::OutputPort<core::TaskState> current_state_{"currentState", "state of the master (thesis Fig. 6.4)", ""};
 
   std::shared_ptr<fieldbus::Cia402Bus> bus_device_;
@@ -79,6 +86,8 @@ class Puma260EtherCATMaster : public core::Component {
   fieldbus::JointCommands commands_;
   fieldbus::MasterState published_ = fieldbus::MasterState::NotInitialized;  // last on currentState
   KDL::JntArray scratch_{6}, out_{6};
+  fieldbus::JointVector rest_position_{};  // rad: in Fault, where the joints have stayed for still_time_
+  double still_time_ = 0.0;                // s
 };
 
 }  // namespace cobra::components

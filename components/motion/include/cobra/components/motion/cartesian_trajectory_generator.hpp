@@ -26,7 +26,8 @@ namespace cobra::components {
 /// - operations `askGenerateTraj()`, `askStartMove()`, `askStopMove()` (void requests, answered by
 ///   events), `status()` (the state of Fig. 4.12, e.g. "WaitPath") and `lastFailure()`;
 /// - ports `plannedPath` (in, TGL.MultiAxisPath, encoded as path_type.hpp says),
-///   `desCartPose_i` / `desCartTwist_i` (out, i = 1..arms_num, made at configure) and `events`.
+///   `desCartPose_i` / `desCartTwist_i` (out, i = 1..arms_num, made at configure), `heldPose_i`
+///   (in, made at configure: see Re-sync) and `events`.
 ///
 /// States, exactly those of Fig. 4.12, each entered with an event on `events`:
 /// NotInitialized (e_not_initialized: created, or cleaned up) -> configure -> Initialized
@@ -48,6 +49,22 @@ namespace cobra::components {
 /// waypoint lies within `continue_tolerance` (m) and `continue_angle_tolerance` (rad) of the
 /// arm's last set-point since start, the trajectory starts from that set-point instead; farther
 /// away (another component moved the arm meanwhile) the waypoint is kept.
+///
+/// Re-sync (ARCHITECTURE §7, "Continuity in the control path"): `heldPose_i` (in, i = 1..arms_num,
+/// KDL.Frame, base frame, m) is written by whatever holds arm i's robot (the robot bridge or
+/// kinematics solver refusing a command, a state validator, a drive's quick stop), or by the
+/// variable admittance between this component and the robot (its heldRefPose: the reference its
+/// re-synced output steps about), in each step the arm is held. On such a sample, in any running
+/// state, the arm's set-point becomes that pose, every arm's twist zero, and the set-points are
+/// written in that step; e_resynced is emitted (once while held step after step, unless a motion
+/// ends). A motion (Moving, GeneratingStop, or a start asked for) ends there: every arm is at
+/// rest at once, the held arms at their held pose and the others
+/// at their set-point (a stop in one step: no jump in pose, a step in velocity), and the state
+/// goes to WaitPath with e_wait_path (after e_motion_stopped when a stop motion was running: the
+/// answer askStopMove promised); the old path and trajectory are dropped (PathReady and
+/// TrajectoryReady also go to WaitPath), since they began where the arm no longer is. No motion
+/// resumes by itself: a new path (a re-plan: the chart's recovery) is needed, and it starts from the
+/// held pose by the continuity rule above. askStopMove after it answers e_not_moving.
 ///
 /// Real time: while Moving or GeneratingStop, updateHook evaluates and writes without allocating. A new
 /// path is copied when it is read, and a trajectory generated when asked (once per path, while not
@@ -94,6 +111,8 @@ class CartesianTrajectoryGenerator : public core::Component {
   void publish();
   /// Fills poses_/twists_ with the stop motion at `t` s after it began.
   void evaluateStop(double t);
+  /// Reads every arm's held pose; on a new one re-syncs (see the class comment). Real-time safe.
+  void resyncToHeldPoses() noexcept;
 
   core::Property<int> arms_num_{"arms_num", 1, "1", "number of arms (pose and twist output pairs)"};
   core::Property<double> max_vel_{"max_vel", 0.05, "m/s", "maximum velocity of each Cartesian position axis"};
@@ -112,6 +131,7 @@ class CartesianTrajectoryGenerator : public core::Component {
   core::InputPort<trajectory::MultiAxisPath> planned_path_{"plannedPath", "path to follow, 7 values per arm per waypoint (x y z m, qx qy qz qw)", "m"};
   std::vector<std::unique_ptr<core::OutputPort<KDL::Frame>>> pose_ports_;
   std::vector<std::unique_ptr<core::OutputPort<KDL::Twist>>> twist_ports_;
+  std::vector<std::unique_ptr<core::InputPort<KDL::Frame>>> held_ports_;
 
   std::atomic<Status> status_{Status::NotInitialized};
   std::string last_failure_;
@@ -126,6 +146,8 @@ class CartesianTrajectoryGenerator : public core::Component {
   std::vector<KDL::Frame> poses_;   // workspace: one per arm; the last set-points once published
   bool published_ = false;          // poses_ hold set-points sent since the last start
   std::vector<KDL::Twist> twists_;  // workspace: one per arm
+  std::vector<unsigned char> held_now_;  // workspace: arm i brought a held pose in this step
+  bool resynced_ = false;                // the last step re-synced (e_resynced told once while held)
 };
 
 }  // namespace cobra::components

@@ -23,7 +23,9 @@ namespace cobra::components {
 /// LMA cannot run, e.g. one that loads Debian's OMPL first: kinematics::kdlLmaConflict says why),
 /// `base_frame` and `tool_frame` (m),
 /// `max_joint_velocity` (rad/s, m/s per joint; empty: the UR5's 3.14 rad/s, required for the
-/// others) and `period` (s; 0: the activity's period).
+/// others), `period` (s; 0: the activity's period) and `speed_scaling` (0.001..1, default 1,
+/// changed at run time: a reduced mode; the continuity rule allows that fraction of
+/// max_joint_velocity).
 ///
 /// Data flow: `jointPositions` (in) -> `cartPose` (out), forward kinematics on every update with
 /// new joints; `desCartPose` (in, event port) -> `desJointPositions` (out): inverse kinematics
@@ -35,7 +37,17 @@ namespace cobra::components {
 /// IK branch differs from it by more than max_joint_velocity · period on some joint, or only
 /// another branch reaches it: `e_ik_discontinuity` (once per refusal episode); a command the
 /// solver cannot solve: `e_ik_failed` (once per episode); the reason is in `lastIkStatus()`. The
-/// first accepted command after refusals emits `e_ik_solved`.
+/// first accepted command after refusals emits `e_ik_solved`. In each update that refuses a
+/// command, `heldCartPose` (out, world frame, m) carries the pose the robot holds: the forward
+/// kinematics of the last accepted solution (its set-point), or of the measured joints when
+/// commands had paused (the reference the refused command was judged from). Wired to the
+/// held-pose inputs of whatever produces desCartPose (VariableAdmittance's heldPose,
+/// CartesianTrajectoryGenerator's heldPose_i), the producers re-sync to it and the next command
+/// starts where the robot is (ARCHITECTURE §7). `heldJointPositions` (in, rad or m): joints
+/// something else holds the robot at (a drive's quick stop: Puma260EtherCATMaster's
+/// heldJointPosition); each sample becomes the reference of the next command and is passed on
+/// as heldCartPose, so the command chain re-syncs to a stopped robot as it does to a refusal
+/// (the desCartPose samples of that update, made before their producers knew, are dropped).
 /// On demand: operations `forward(q)` and `inverse(pose, seed)` (no continuity rule: planning
 /// use), which throw the status' name.
 /// Real time: the closed-form solvers and KDL's NR_JL/LMA as cobra builds them allocate nothing.
@@ -65,6 +77,8 @@ class KinematicsSolverComponent : public core::Component {
       "velocity limit per joint for the continuity rule (empty: the UR5's 3.14 rad/s; required for puma260 and dh)"};
   core::Property<double> period_{"period", 0.0, "s",
                                  "time a command has to be reached in (continuity rule); 0: the activity's period"};
+  core::Property<double> speed_scaling_{"speed_scaling", 1.0, "1",
+                                        "fraction of max_joint_velocity a command may use (0.001..1; run time)"};
 
   core::InputPort<KDL::JntArray> joint_positions_{"jointPositions", "measured joint positions", "rad or m"};
   core::OutputPort<KDL::Frame> cart_pose_{"cartPose", "tool pose for jointPositions (world frame)", "m"};
@@ -73,6 +87,13 @@ class KinematicsSolverComponent : public core::Component {
       "desired tool pose (world frame); refused (e_ik_discontinuity) unless reachable on the current IK branch within "
       "max_joint_velocity x period on every joint",
       "m"};
+  core::OutputPort<KDL::Frame> held_cart_pose_{
+      "heldCartPose",
+      "in each update refusing a command (or held by heldJointPositions): the pose the robot holds (world frame)",
+      "m"};
+  core::InputPort<KDL::JntArray> held_joint_positions_{
+      "heldJointPositions", "joints something else holds the robot at (a drive's quick stop), passed on as heldCartPose",
+      "rad or m"};
   core::OutputPort<KDL::JntArray> des_joint_positions_{
       "desJointPositions", "joint positions reaching desCartPose, continuous from the current joints (none when refused)",
       "rad or m"};
@@ -88,6 +109,8 @@ class KinematicsSolverComponent : public core::Component {
   bool told_failed_ = false;        // e_ik_failed emitted in this refusal episode
   bool told_discontinuity_ = false; // e_ik_discontinuity emitted in this refusal episode
   kinematics::IkStatus last_status_ = kinematics::IkStatus::Ok;
+  /// Writes heldCartPose: the pose of joints `q` (nothing when their forward kinematics fails).
+  void publishHeld(const KDL::JntArray& q) noexcept;
 };
 
 /// The thesis' two interchangeable components (§6.2.4) as two type names: the same interface, the

@@ -16,7 +16,10 @@ namespace cobra::components {
 /// Interface (scene properties: PlanningSceneComponent):
 /// - ports in: `desPoseIn_1`, `desPoseIn_2` (KDL.Frame, world, m: the set-points of tool 1 and
 ///   tool 2 of the scene, e.g. the Endo Stitch and the gripper; both event ports);
-///   out: `desPoseOut_1`, `desPoseOut_2` (KDL.Frame, m: the last valid pair), `minDistance`
+///   out: `desPoseOut_1`, `desPoseOut_2` (KDL.Frame, m: the last valid pair), `heldPose_1`,
+///   `heldPose_2` (KDL.Frame, m: in each step that rejects a pair after a valid one, the valid pair
+///   the robot is held at, for the producers of the set-points to re-sync to, e.g. the variable
+///   admittances' heldPose: ARCHITECTURE §7), `minDistance`
 ///   (double, m: minimum distance of the checked pair of the incoming set-points; NaN when
 ///   unreachable or not a pose);
 /// - operations `lastReason()` (why the last rejected pair was rejected);
@@ -48,6 +51,10 @@ class StateValidatorComponent : public PlanningSceneComponent {
   core::InputPort<KDL::Frame> in_2_{"desPoseIn_2", "set-point of tool 2 to check, world", "m"};
   core::OutputPort<KDL::Frame> out_1_{"desPoseOut_1", "last valid set-point of tool 1, world", "m"};
   core::OutputPort<KDL::Frame> out_2_{"desPoseOut_2", "last valid set-point of tool 2, world", "m"};
+  core::OutputPort<KDL::Frame> held_1_{"heldPose_1",
+                                      "in each step rejecting a pair: the held set-point of tool 1, world", "m"};
+  core::OutputPort<KDL::Frame> held_2_{"heldPose_2",
+                                      "in each step rejecting a pair: the held set-point of tool 2, world", "m"};
   core::OutputPort<double> min_distance_{"minDistance", "minimum distance of the incoming set-points", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;

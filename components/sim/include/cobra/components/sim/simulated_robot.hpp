@@ -89,7 +89,15 @@ class SimulatedRobotKinematics {
 /// every joint (dt: the step length). A command the IK cannot reach (`e_ik_failed`) or that fails
 /// the rule (`e_ik_discontinuity`: e.g. a pose across a wrist singularity, a branch flip, a jump)
 /// is refused: the last valid command is held and nothing swings. Each event is emitted once per
-/// refusal episode; `e_ik_solved` when a Cartesian command is accepted again. `contactWrench`
+/// refusal episode; `e_ik_solved` when a Cartesian command is accepted again. In each step that
+/// refuses a command, `heldCartPose` of every tool (KDL::Frame, m, world frame; per tool with its
+/// infix) carries the pose the tool holds (its last accepted command, which the measured pose
+/// settles on within the servo's lag). Wired to the held-pose inputs of whatever produces the
+/// commands (VariableAdmittance's heldPose, CartesianTrajectoryGenerator's heldPose_i), the
+/// producers re-sync to it and the next command starts where the robot is (ARCHITECTURE §7).
+/// `speed_scaling` (0.001 <= s <= 1, default 1, changed at run time: a UR's speed slider or reduced
+/// mode) scales the velocity limits of the continuity rule: a command the scaled limits cannot
+/// reach in one step is refused as above. `contactWrench`
 /// of each tool (KDL::Wrench, N, N·m; simulation only): the true wrench the environment applies to
 /// the tool, world orientation, reference point at the tool point (PatientSimulator's needleWrench
 /// / probeWrench). With `twist_ports`: `desTwist` (KDL::Twist, m/s, rad/s, world orientation,
@@ -137,6 +145,7 @@ class SimulatedServoRobotBase : public core::Component {
     core::OutputPort<KDL::Frame> meas_cart_pose;
     core::OutputPort<KDL::Wrench> meas_wrench;
     core::OutputPort<KDL::Frame> true_cart_pose;
+    core::OutputPort<KDL::Frame> held_cart_pose;
     std::optional<sim::ForceTorqueSensor> sensor_model;
     KDL::Frame commanded, measured, previous, true_pose;  // previous: true, last step
     KDL::Frame fk_true;  // the true pose of the joints true_fk_ holds
@@ -170,6 +179,8 @@ class SimulatedServoRobotBase : public core::Component {
   core::Property<int> seed_{"seed", 1, "1",
                             "seed of the sensor noise (tool i: seed + i): identical seeds give identical traces"};
   core::Property<double> twist_timeout_{"twist_timeout", 0.1, "s", "a desTwist is applied for this long, > 0"};
+  core::Property<double> speed_scaling_{"speed_scaling", 1.0, "1",
+                                        "fraction of max_velocity a Cartesian command may use (0.001..1; run time)"};
 
   core::InputPort<KDL::JntArray> des_joint_position_{"desJointPosition", "desired joint positions", "rad, m"};
   core::OutputPort<KDL::JntArray> meas_joint_position_{"measJointPosition", "measured joint positions (encoders)",
