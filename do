@@ -4,7 +4,7 @@
 #   build [P [T...]] configure and build preset P (release (default), asan, tsan), or its targets T
 #   test             build and run every test (unit tests, examples)
 #   test --asan      the same under AddressSanitizer + UndefinedBehaviorSanitizer
-#   test --asan-ci   the CI's ASan/UBSan slice: parsers, channels, real-time code, components, apps
+#   test --asan-ci   the CI's ASan/UBSan slice: parsers, channels, real-time code, components, puncturing
 #   test --tsan      the tests that run threads under ThreadSanitizer (label concurrency)
 #   test --wallclock only the wall-clock tests (label wallclock: each task on the real-time
 #                    executor, minutes of wall time; `./do test` runs them too, one at a time)
