@@ -7,7 +7,8 @@
 #   test --asan-ci   the CI's ASan/UBSan slice: parsers, channels, real-time code, components, puncturing
 #   test --tsan      the tests that run threads under ThreadSanitizer (label concurrency)
 #   test --wallclock only the wall-clock tests (label wallclock: each task on the real-time
-#                    executor, minutes of wall time; `./do test` runs them too, one at a time)
+#                    executor, minutes of wall time, which `./do test` runs too, one at a time;
+#                    and wallclock_split: the split over two hosts, not reliable yet)
 #   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
 #                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
 #                    suturing: the two-armed suturing task, thesis ch. 5)
@@ -105,10 +106,11 @@ run_tests() {
   case "${1:-}" in
     "")
       build release
-      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 ;;
+      # The wall-clock split (label wallclock_split) is not reliable yet: `./do test --wallclock`.
+      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 -LE '^wallclock_split$' ;;
     --wallclock)
       build release
-      ctest --test-dir build/release --output-on-failure --no-tests=error --timeout 300 -L '^wallclock$' ;;
+      ctest --test-dir build/release --output-on-failure --no-tests=error --timeout 300 -L '^wallclock' ;;
     --asan)
       build asan
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=$LSAN \
