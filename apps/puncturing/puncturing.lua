@@ -139,7 +139,7 @@ run = {
     { name = "surgeon reactions", count = { "e_recover", "e_take_over" } },
     { name = "IK discontinuity events", count = { "e_ik_discontinuity" } },
   },
-  -- Issue 15: the robots do what they are told during their autonomous motions (the trajectory
+  -- Fidelity: the robots do what they are told during their autonomous motions (the trajectory
   -- generator commands them); commanded = the variable admittance's output, measured = the robot's.
   tracking = {
     { name = "I-SUR needle", commanded = "NeedleAdmittance.admPose", measured = "ISUR.measCartPose",

@@ -87,13 +87,13 @@ TEST(LuaState, AnEndlessLoopIsCutAtItsBudgetNamingTheLine) {
 }
 
 TEST(LuaState, APcallInTheScriptCannotSwallowTheBudgetError) {
-  LuaState lua({0, "component 'Stubborn'", ""});
+  LuaState lua({0, "component 'Relentless'", ""});
   lua.setBudget(20ms);
   lua.startStep();
   const std::string message = errorOf([&] {
-    lua.run("while true do\n  pcall(function() while true do end end)\nend", "=stubborn");
+    lua.run("while true do\n  pcall(function() while true do end end)\nend", "=relentless");
   });
-  EXPECT_EQ(message, "stubborn:2: component 'Stubborn' ran past its budget of 0.02 s of CPU time");
+  EXPECT_EQ(message, "relentless:2: component 'Relentless' ran past its budget of 0.02 s of CPU time");
   EXPECT_EQ(lua.evaluate("1 + 1"), "2");  // usable again once the error reached C++
 }
 
