@@ -6,6 +6,8 @@
 #include <time.h>
 
 #include <algorithm>
+#include <array>
+#include <mutex>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -34,6 +36,8 @@ timespec toTimespec(std::chrono::nanoseconds t) {
 
 std::atomic<bool> fifo_warning_printed{false};
 
+thread_local bool realtime_thread = false;
+
 /// Longest a stop request waits for a sleeping periodic activity.
 constexpr std::chrono::nanoseconds kStopCheck = std::chrono::milliseconds(20);
 
@@ -54,6 +58,62 @@ std::chrono::nanoseconds runEpoch() noexcept {
 void setRunEpoch(std::chrono::nanoseconds monotonic) noexcept {
   run_epoch_ns.store(monotonic.count(), std::memory_order_relaxed);
 }
+
+/// One thread that creates activity threads for real-time threads. Requests go through a fixed
+/// array of slots (no allocation, no lock on the requester's side); the launcher waits on a
+/// counter. Lives until the process ends.
+class ActivityLauncher {
+ public:
+  static ActivityLauncher* running() noexcept { return instance_.load(std::memory_order_acquire); }
+  static void start() {
+    static std::mutex starting;
+    const std::lock_guard lock(starting);
+    if (running() != nullptr) return;
+    static ActivityLauncher launcher;  // joined at exit, after every activity is gone
+    instance_.store(&launcher, std::memory_order_release);
+  }
+  /// False when every slot is taken (then the caller creates the thread itself).
+  bool post(ThreadActivity* activity) noexcept {
+    for (auto& slot : slots_) {
+      ThreadActivity* expected = nullptr;
+      if (slot.compare_exchange_strong(expected, activity, std::memory_order_acq_rel)) {
+        requests_.fetch_add(1, std::memory_order_release);
+        requests_.notify_one();
+        return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  ActivityLauncher() : thread_([this] { serve(); }) {}
+  ~ActivityLauncher() {
+    stopping_.store(true, std::memory_order_release);
+    requests_.fetch_add(1, std::memory_order_release);
+    requests_.notify_one();
+    thread_.join();
+  }
+  void serve() {
+    std::uint32_t seen = 0;
+    for (;;) {
+      requests_.wait(seen, std::memory_order_acquire);
+      seen = requests_.load(std::memory_order_acquire);
+      for (auto& slot : slots_)
+        if (ThreadActivity* activity = slot.exchange(nullptr, std::memory_order_acq_rel)) activity->createThread();
+      if (stopping_.load(std::memory_order_acquire)) return;
+    }
+  }
+
+  static inline std::atomic<ActivityLauncher*> instance_{nullptr};
+  std::array<std::atomic<ThreadActivity*>, 64> slots_{};
+  std::atomic<std::uint32_t> requests_{0};
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;  // last: starts once the members above exist
+};
+
+void startActivityLauncher() { ActivityLauncher::start(); }
+
+void markRealtimeThread(bool realtime) noexcept { realtime_thread = realtime; }
 
 std::chrono::nanoseconds Activity::now() const { return monotonicNow() - runEpoch(); }
 
@@ -109,23 +169,62 @@ void ThreadActivity::applyScheduling() {
 
 void ThreadActivity::startStepping() {
   if (running_.load()) return;
-  if (thread_.joinable()) thread_.join();
   stop_.store(false, std::memory_order_release);
   running_.store(true, std::memory_order_release);
-  thread_ = std::thread([this] {
-    thread_id_.store(std::this_thread::get_id(), std::memory_order_release);
-    applyScheduling();
+  starts_.fetch_add(1, std::memory_order_acq_rel);
+  if (thread_requested_) {
+    starts_.notify_one();  // the parked thread steps again
+    return;
+  }
+  thread_requested_ = true;
+  if (ActivityLauncher* launcher = ActivityLauncher::running(); realtime_thread && launcher != nullptr &&
+                                                                launcher->post(this))
+    return;
+  createThread();
+}
+
+void ThreadActivity::createThread() {
+  thread_ = std::thread([this] { serve(); });
+  created_.store(true, std::memory_order_release);
+  created_.notify_all();
+}
+
+void ThreadActivity::serve() {
+  thread_id_.store(std::this_thread::get_id(), std::memory_order_release);
+  applyScheduling();
+  std::uint32_t run = 0;
+  for (;;) {
+    starts_.wait(run, std::memory_order_acquire);  // parked until the next start (or the end)
+    run = starts_.load(std::memory_order_acquire);
+    if (exit_.load(std::memory_order_acquire)) break;
     loop();
-    thread_id_.store(std::thread::id(), std::memory_order_release);  // before the id can be reused
-  });
+    parked_.store(run, std::memory_order_release);
+    parked_.notify_all();
+  }
+  thread_id_.store(std::thread::id(), std::memory_order_release);  // before the id can be reused
 }
 
 void ThreadActivity::stopStepping() {
-  if (!thread_.joinable()) return;
+  if (!running_.load(std::memory_order_acquire)) return;
+  const std::uint32_t run = starts_.load(std::memory_order_acquire);
   stop_.store(true, std::memory_order_release);
   wake();
-  thread_.join();
+  // Until the loop of this start returned: from then on no step runs. (A thread still being
+  // created by the launcher begins with the stop request set, and parks at once.)
+  for (std::uint32_t parked = parked_.load(std::memory_order_acquire); parked != run;
+       parked = parked_.load(std::memory_order_acquire))
+    parked_.wait(parked, std::memory_order_acquire);
   running_.store(false, std::memory_order_release);
+}
+
+void ThreadActivity::endThread() {
+  stopStepping();
+  if (!thread_requested_) return;
+  created_.wait(false, std::memory_order_acquire);  // a launcher's creation still under way
+  exit_.store(true, std::memory_order_release);
+  starts_.fetch_add(1, std::memory_order_acq_rel);
+  starts_.notify_one();
+  thread_.join();
 }
 
 PeriodicActivity::PeriodicActivity(std::chrono::nanoseconds period, int priority, Scheduler scheduler)
@@ -133,7 +232,7 @@ PeriodicActivity::PeriodicActivity(std::chrono::nanoseconds period, int priority
   if (period.count() <= 0) throw Error("a periodic activity needs a period > 0 s, got " + std::to_string(period.count()) + " ns");
 }
 
-PeriodicActivity::~PeriodicActivity() { stopStepping(); }
+PeriodicActivity::~PeriodicActivity() { endThread(); }
 
 std::string PeriodicActivity::describe() const { return "periodic " + formatDuration(period_) + ", " + schedulerText(); }
 
@@ -167,7 +266,7 @@ void PeriodicActivity::loop() {
 
 EventActivity::EventActivity(int priority, Scheduler scheduler) : ThreadActivity(priority, scheduler) {}
 
-EventActivity::~EventActivity() { stopStepping(); }
+EventActivity::~EventActivity() { endThread(); }
 
 std::string EventActivity::describe() const { return "event-driven, " + schedulerText(); }
 

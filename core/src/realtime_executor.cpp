@@ -147,11 +147,15 @@ void RealtimeExecutor::start() {
   clock_.setStepObserver([this](const Component& c, std::chrono::nanoseconds wall, std::chrono::nanoseconds) {
     onStep(c, wall);
   }, false);
+  // Own-pace components started by a deployment switch between two ticks get their threads from
+  // the launcher, not from this thread (activity.hpp, markRealtimeThread).
+  startActivityLauncher();
   stop_.store(false);
   running_.store(true, std::memory_order_release);
   std::atomic<bool> ready{false};
   thread_ = std::thread([this, &ready] {
     clock_.setSteppingThread(std::this_thread::get_id());
+    markRealtimeThread(true);
     applyScheduling();
     prefaultStack();
     ready.store(true, std::memory_order_release);

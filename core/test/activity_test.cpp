@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 #include <atomic>
@@ -35,9 +36,11 @@ class Probe : public Component {
   std::atomic<int> not_activity_thread{0};
   std::atomic<bool> update_during_stop_hook{false};
   std::atomic<bool> throw_next{false};
+  std::atomic<std::thread::id> last_thread{};
 
  protected:
   void updateHook() override {
+    last_thread = std::this_thread::get_id();
     inside_update = true;
     if (!activity().isActivityThread()) ++not_activity_thread;
     double v = 0.0;
@@ -234,6 +237,87 @@ TEST(EventActivity, ActivityCanBeSwappedWhileStopped) {
   const auto before = p.updateCount();
   ASSERT_TRUE(waitUntil([&] { return p.updateCount() > before; }));
   ASSERT_TRUE(p.stop());
+}
+
+// --- The thread's life ------------------------------------------------------------------------
+
+TEST(ThreadActivity, AStopParksTheThreadAndTheNextStartStepsOnTheSameOne) {
+  // A deployment switch stops and starts components: no thread is joined or created again.
+  Probe p;
+  p.setActivity(std::make_unique<EventActivity>(0, Scheduler::Other));
+  ASSERT_TRUE(p.configure());
+  std::thread::id first{};
+  for (int round = 0; round < 20; ++round) {
+    const auto before = p.updateCount();
+    ASSERT_TRUE(p.start());
+    p.activity().trigger();
+    ASSERT_TRUE(waitUntil([&] { return p.updateCount() > before; })) << "round " << round;
+    ASSERT_TRUE(p.stop());
+    const auto stopped_at = p.updateCount();
+    p.activity().trigger();  // parked: nothing steps
+    std::this_thread::sleep_for(2ms);
+    EXPECT_EQ(p.updateCount(), stopped_at) << "round " << round;
+    if (round == 0) first = p.last_thread.load();
+    EXPECT_EQ(p.last_thread.load(), first) << "round " << round;
+  }
+  EXPECT_NE(first, std::this_thread::get_id());
+  EXPECT_EQ(p.not_activity_thread.load(), 0);
+}
+
+TEST(ThreadActivity, StartedFromARealTimeThreadItsThreadComesFromTheLauncherWithoutAllocatingThere) {
+  startActivityLauncher();
+  Probe periodic("Periodic");
+  Probe event("Event");
+  OutputPort<double> out{"out", "", "1"};
+  connect(out, event.in);
+  periodic.setActivity(std::make_unique<PeriodicActivity>(1ms, 0, Scheduler::Other));
+  event.setActivity(std::make_unique<EventActivity>(0, Scheduler::Other));
+  ASSERT_TRUE(periodic.configure());
+  ASSERT_TRUE(event.configure());
+  long allocations = -1;
+  std::thread realtime([&] {
+    markRealtimeThread(true);
+    allocations = test_support::allocationsOnThisThreadDuring([&] {
+      (void)periodic.start();
+      (void)event.start();
+      (void)out.write(1.0);
+    });
+  });
+  realtime.join();
+  EXPECT_EQ(allocations, 0) << "operator new calls on the real-time thread while it started two threaded activities";
+  ASSERT_TRUE(periodic.isRunning());
+  ASSERT_TRUE(event.isRunning());
+  EXPECT_TRUE(waitUntil([&] { return periodic.updateCount() > 2 && event.updateCount() >= 1; }));
+  // Stopped at once from the real-time thread as well, and started again from an ordinary one.
+  std::thread stopper([&] {
+    markRealtimeThread(true);
+    EXPECT_TRUE(periodic.stop());
+    EXPECT_TRUE(event.stop());
+  });
+  stopper.join();
+  ASSERT_TRUE(periodic.start());
+  const auto before = periodic.updateCount();
+  EXPECT_TRUE(waitUntil([&] { return periodic.updateCount() > before; }));
+  EXPECT_EQ(periodic.not_activity_thread.load() + event.not_activity_thread.load(), 0);
+}
+
+TEST(ThreadActivity, AnActivityStoppedAndDestroyedBeforeTheLauncherRanIsSafe) {
+  // Start, stop and destroy in a burst from a real-time thread: every stop returns once no step
+  // can run, every destruction ends its thread, whatever the launcher's progress.
+  startActivityLauncher();
+  std::thread realtime([] {
+    markRealtimeThread(true);
+    for (int round = 0; round < 50; ++round) {
+      Probe p;
+      p.setActivity(std::make_unique<EventActivity>(0, Scheduler::Other));
+      ASSERT_TRUE(p.configure());
+      ASSERT_TRUE(p.start());
+      if (round % 2 == 0) {
+        ASSERT_TRUE(p.stop());
+      }
+    }
+  });
+  realtime.join();
 }
 
 }  // namespace

@@ -201,6 +201,17 @@ Participant::Participant(const DdsTransport::Options& options)
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     throw core::Error("dds: cannot create the publisher and subscriber of participant '" + name + "'");
   }
+  if (options.udp_only) {
+    // Over UDP only means no shared memory at all: Fast DDS's data sharing (on by default between
+    // the processes of one machine, whatever the transports) goes too. Its interprocess mutex was
+    // seen to time out and abort a loaded wall-clock split run (boost::interprocess, in Fast DDS).
+    fdds::DataWriterQos writer_qos = publisher_->get_default_datawriter_qos();
+    writer_qos.data_sharing().off();
+    publisher_->set_default_datawriter_qos(writer_qos);
+    fdds::DataReaderQos reader_qos = subscriber_->get_default_datareader_qos();
+    reader_qos.data_sharing().off();
+    subscriber_->set_default_datareader_qos(reader_qos);
+  }
 }
 
 void Participant::raiseThisThread() const noexcept {

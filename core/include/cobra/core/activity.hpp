@@ -26,6 +26,18 @@ std::chrono::nanoseconds runEpoch() noexcept;
 /// Sets the run's epoch: the CLOCK_MONOTONIC time (ns since boot) at which run time is 0.
 void setRunEpoch(std::chrono::nanoseconds monotonic) noexcept;
 
+/// Starts the activity launcher (once per process; later calls do nothing): the thread that
+/// creates the threads of activities started from a real-time thread (markRealtimeThread).
+/// Call it from an ordinary thread before the real-time one needs it (RealtimeExecutor::start).
+void startActivityLauncher();
+/// Marks the calling thread as real-time (true) or not (false, the default). A ThreadActivity
+/// started from a real-time thread (a deployment switch between two ticks of the executor) does
+/// not create its thread there: creating a thread maps its stack, which under mlockall is faulted
+/// in whole (8 MiB by default: about 15 ms, measured). The launcher creates it and stepping
+/// begins when it runs; the start itself allocates nothing and does not block. Without a
+/// launcher running, the thread is created in place as from any other thread.
+void markRealtimeThread(bool realtime) noexcept;
+
 /// Base class. An activity belongs to one component (`Component::setActivity`); the component
 /// starts it after startHook and stops it before stopHook.
 class Activity {
@@ -97,6 +109,10 @@ struct ActivityStats {
 /// Common part of the threaded activities: thread creation with the requested scheduler.
 /// SCHED_FIFO needs CAP_SYS_NICE or an rtprio limit; when refused, one warning is printed for
 /// the whole process and the thread runs SCHED_OTHER.
+///
+/// The thread is created at the first start and kept until the activity is destroyed: a stop
+/// parks it (no step runs once stopStepping returned), a start wakes it, as RTT's activities do.
+/// A deployment switch that stops and starts a component then creates and joins no thread.
 class ThreadActivity : public Activity {
  public:
   ~ThreadActivity() override;
@@ -114,8 +130,11 @@ class ThreadActivity : public Activity {
   ThreadActivity(int priority, Scheduler scheduler);
   void startStepping() override;
   void stopStepping() override;
-  /// The thread body; returns when `stopRequested()`.
+  /// Stepping: runs until `stopRequested()`, then returns (the thread parks until the next start).
   virtual void loop() = 0;
+  /// Stops stepping and ends the thread. Subclasses call it in their destructor, before their
+  /// loop() is gone.
+  void endThread();
   bool stopRequested() const { return stop_.load(std::memory_order_acquire); }
   /// Wakes the loop so it notices a stop request.
   virtual void wake() noexcept {}
@@ -126,16 +145,28 @@ class ThreadActivity : public Activity {
   std::atomic<std::int64_t> max_lateness_ns_{0};
 
  private:
+  friend class ActivityLauncher;
   void applyScheduling();
+  /// Creates the thread (on the starter's thread or the launcher's).
+  void createThread();
+  /// The thread's body: loop() once per start, parked in between, until endThread.
+  void serve();
   int priority_;
   Scheduler scheduler_;
   std::atomic<Scheduler> effective_{Scheduler::Other};
-  std::thread thread_;  // touched only by the thread that starts and stops the activity
-  // The activity thread's id, stored by that thread itself (other threads must not read
-  // `thread_`, which its starter is still assigning when the thread begins); empty when stopped.
+  // Assigned by the thread that creates it (the starter's or the launcher's), read by endThread
+  // once `created_` is set.
+  std::thread thread_;
+  std::atomic<bool> created_{false};
+  bool thread_requested_ = false;  // touched only by the thread that starts and stops the activity
+  // The activity thread's id, stored by that thread itself for its whole life (other threads
+  // must not read `thread_`, which its creator may still be assigning when the thread begins).
   std::atomic<std::thread::id> thread_id_{};
-  std::atomic<bool> running_{false};
+  std::atomic<bool> running_{false};  // between a start and the end of the stop that follows
   std::atomic<bool> stop_{false};
+  std::atomic<bool> exit_{false};
+  std::atomic<std::uint32_t> starts_{0};  // bumped by each start (and by endThread); the thread waits on it
+  std::atomic<std::uint32_t> parked_{0};  // the start whose loop() last returned; stopStepping waits on it
 };
 
 /// Steps the component every `period` on its own thread, sleeping until absolute deadlines
