@@ -1,4 +1,4 @@
-// Cost of one 6-D admittance step (issue 6: target <= 2 us, so 10 kHz is possible): cobra's
+// Cost of one 6-D admittance step (target <= 2 us, so 10 kHz is possible): cobra's
 // tank-based variable admittance (full 6x6 matrices, backward Euler with an LLT solve, SO(3)
 // output, energy audit) against the obvious peer, a fixed diagonal admittance integrated with
 // semi-implicit Euler and no tank, in the same run. 10 repetitions; median and max.

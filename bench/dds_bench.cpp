@@ -1,4 +1,5 @@
-// A dds connection (issue 21) against a local one, side by side in one run:
+// A dds connection (the transport between processes and hosts) against a local one, side by
+// side in one run:
 //  - PingPong: one-way latency of a KDL::Frame, p50/p99/max counters (ns): a local `data`
 //    connection between two threads; a dds connection between two participants of this process
 //    (Fast DDS delivers intraprocess); a dds connection to a second process on this host (the

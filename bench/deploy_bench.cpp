@@ -1,4 +1,4 @@
-// Deployment cost (issue 3; the thesis warns that many ports cost memory): creating 1,000
+// Deployment cost (the thesis warns that many ports cost memory): creating 1,000
 // components with 10 ports each through the Configurator, and connecting them in a chain
 // (4,995 buffer(4) connections), plus the size of one unconnected port. The peer for the
 // timing is the same work done by hand on core objects, without the Configurator's checks,

@@ -156,7 +156,7 @@ void BM_SupervisorsDuringAProcedure(benchmark::State& state) {
 }
 BENCHMARK(BM_SupervisorsDuringAProcedure)->Iterations(kRuns)->Unit(benchmark::kSecond);
 
-/// The whole procedure of each scenario (issue 15: realtime_factor >= 100); see app_speed.hpp.
+/// The whole procedure of each scenario (target: realtime_factor >= 100); see app_speed.hpp.
 const bool kProcedureSpeedRegistered = [] {
   for (const char* scenario : {"two_needles", "three_needles", "vertical_needle"})
     cobra::bench::registerAppSpeed(std::string("ProcedureSpeed/") + scenario,

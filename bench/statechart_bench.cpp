@@ -1,4 +1,4 @@
-// Cost of coordination (issue 4): events through cobra's statechart engine, with C++ guards and
+// Cost of coordination: events through cobra's statechart engine, with C++ guards and
 // with Lua guards (an rFSM file), against Boost.MSM in the same run, and a Supervisor component's
 // step on the lockstep clock; and the cost of the Lua budget's count hook on a Lua loop.
 //
@@ -14,7 +14,7 @@
 //  - CobraToggle: two states, one event each way, no guard: the engine's floor.
 // PerEvent* time each single event (steady_clock around raise + 2 steps, resp. process_event) and
 // report p50/p99/max_ns of one run as counters: the worst case a supervisor's update sees.
-// Targets (issue 4): >= 1,000,000 transitions/s with C++ guards, >= 100,000/s with Lua guards,
+// Targets: >= 1,000,000 transitions/s with C++ guards, >= 100,000/s with Lua guards,
 // supervisor step < 10 us median.
 
 #include <benchmark/benchmark.h>

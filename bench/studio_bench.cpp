@@ -1,4 +1,4 @@
-// What cobra studio costs a run (issue 19: streaming at >= 30 Hz slows a lockstep run by < 10 %):
+// What cobra studio costs a run (target: streaming at >= 30 Hz slows a lockstep run by < 10 %):
 // the whole two-needle puncturing procedure on the lockstep clock as fast as the CPU goes, side
 // by side in the same process, interleaved repetitions:
 //  - WithoutStudio: as `cobra run apps/puncturing` runs it;

@@ -1,4 +1,4 @@
-// libFuzzer target: rFSM chart files (issue 4). Any Lua text given to the chart loader must end
+// libFuzzer target: rFSM chart files. Any Lua text given to the chart loader must end
 // in a chart or in a clear error, never a crash; a loaded chart is then stepped with events drawn
 // from its own event names (and unknown ones) while its clock advances, so entry, exit, doo,
 // guard, effect and time events all run, failing Lua callbacks included. The Lua state is

@@ -1,7 +1,8 @@
-// ROS 2 interoperability (issue 21's acceptance point): a plain Fast DDS subscriber, built only
-// from the type support fastddsgen generates from geometry_msgs/msg/Pose.idl, receives the pose
-// a cobra port publishes, on the topic and type names a ROS 2 node uses ("rt/needle/pose",
-// "geometry_msgs::msg::dds_::Pose_"); and a plain Fast DDS publisher feeds a cobra input port.
+// ROS 2 interoperability (what the dds transport's topic and type names are for): a plain Fast DDS
+// subscriber, built only from the type support fastddsgen generates from
+// geometry_msgs/msg/Pose.idl, receives the pose a cobra port publishes, on the topic and type names
+// a ROS 2 node uses ("rt/needle/pose", "geometry_msgs::msg::dds_::Pose_"); and a plain Fast DDS
+// publisher feeds a cobra input port.
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>

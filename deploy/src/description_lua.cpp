@@ -184,7 +184,8 @@ std::string luaValue(std::string_view type, std::string_view text) {
 }
 
 std::string luaPolicyTable(const ConnPolicySpec& spec) {
-  // The seam of issue 21's transports: a policy naming one writes it, its topic and QoS.
+  // The seam of the transports (DDS between hosts): a policy naming one writes it, its topic and
+  // QoS.
   std::string out = "{ type = " + luaString(spec.type);
   if (spec.type != "data") out += ", size = " + std::to_string(spec.size);
   if (!spec.transport.empty()) out += ", transport = " + luaString(spec.transport);

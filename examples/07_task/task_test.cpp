@@ -70,7 +70,8 @@ TEST(TaskTutorial, TheProbeScanReachesDoneFollowingItsCommandsOverTheWholeRaster
   for (const std::string& s : states) trace += " " + s;
   ASSERT_EQ(task.activeState(), "root.Done") << "states:" << trace;
   EXPECT_TRUE(refused.empty()) << refused.front();
-  // The probe followed its commands: 2 mm and 1 deg (issue 15's acceptance for autonomous motions).
+  // The probe followed its commands: 2 mm and 1 deg (the acceptance for autonomous motions,
+  // run/tracking.hpp).
   EXPECT_LT(worst_mm, 2.0);
   EXPECT_LT(worst_deg, 1.0);
   // It went over every corner of the raster, and never below the scan height over the part.

@@ -1,5 +1,6 @@
-// The runner knows no application (issue 16): no component name that an application under apps/
-// gives (`peer_name = "X"` in its Lua files) appears quoted in the C++ of run/ or tools/cobra.
+// The runner knows no application (ARCHITECTURE §3): no component name that an application
+// under apps/ gives (`peer_name = "X"` in its Lua files) appears quoted in the C++ of run/ or
+// tools/cobra.
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 
 namespace cobra::tools {
 
-// The policy tables (with issue 21's transport, topic and qos) are written by
-// deploy::luaPolicyTable (deploy/src/description_lua.cpp), the seam for every connection entry.
+// The policy tables (with the transport, topic and qos of connections between hosts) are written
+// by deploy::luaPolicyTable (deploy/src/description_lua.cpp), the seam for every connection entry.
 std::string describeDeployment(const deploy::Configurator& configurator) {
   return deploy::toLua(deploy::describe(configurator));
 }

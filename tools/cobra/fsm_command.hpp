@@ -1,5 +1,5 @@
 #pragma once
-// `cobra fsm run|check|graph FILE`: rFSM charts from the command line (issue 4's CLI).
+// `cobra fsm run|check|graph FILE`: rFSM charts from the command line.
 
 #include <string>
 #include <vector>

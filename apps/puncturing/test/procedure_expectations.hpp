@@ -1,7 +1,8 @@
 #pragma once
 // What the procedure tests (procedure_test.cpp, procedure_slow_test.cpp) expect of a run of
 // apps/puncturing through the runner's API (cobra/run/runner.hpp): the scenario's options, the
-// needles placed, the log's order, and the fidelity of issue 15 as the app's `run` table declares it.
+// needles placed, the log's order, and the fidelity (the robot did what it was told) as the app's
+// `run` table declares it.
 
 #include <gtest/gtest.h>
 
@@ -19,7 +20,7 @@ namespace cobra::run::testing {
 inline const std::filesystem::path kApp = std::filesystem::path(COBRA_SOURCE_DIR) / "apps" / "puncturing";
 inline const std::filesystem::path kFaults = kApp / "test" / "faults";
 
-/// The acceptance figures of issue 15, during autonomous motions.
+/// The procedure acceptance's tracking figures, during autonomous motions.
 constexpr double kMaxTrackingMm = 2.0;
 constexpr double kMaxTrackingDeg = 1.0;
 
@@ -87,7 +88,7 @@ inline void expectNoCommandJump(const RunResult& r) {
   EXPECT_LT(r.tracking[kNeedle].max_command_step, 1e-3) << "at " << r.tracking[kNeedle].max_command_step_at << " s";
 }
 
-/// Issue 15's acceptance: tracking, no IK discontinuity, the measured state's clearance above the
+/// The procedure acceptance: tracking, no IK discontinuity, the measured state's clearance above the
 /// planner's threshold outside the allowed contacts.
 inline void expectFaithful(const RunResult& r, double unsampled = 0.02) {
   for (const TrackingFigures& robot : r.tracking)

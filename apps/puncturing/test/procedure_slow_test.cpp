@@ -1,8 +1,8 @@
-// Setups vary (issue 15): a phantom is never registered exactly where the scenario says. Each
+// Setups vary: a phantom is never registered exactly where the scenario says. Each
 // test runs the two-needle procedure with the abdomen registered off its nominal pose by a seeded
 // random shift and turn (seeds 1-8, and 54, below): the procedure completes with the fidelity
-// of issue 15 (both needles placed within 2 mm, tracking within 2 mm and 1 deg, no IK
-// discontinuity, the measured clearance above the planner's threshold the whole run long, the
+// of the procedure acceptance (both needles placed within 2 mm, tracking within 2 mm and 1 deg,
+// no IK discontinuity, the measured clearance above the planner's threshold the whole run long, the
 // needle's insertion included). What makes the registrations feasible (apps/puncturing/README.md,
 // "Setups vary"): the needle robot waits at the first needle change pose that leaves room for
 // the probe's next approach (state_table.txt: MakeRoomForProbe, MoveToNeedleChange), each

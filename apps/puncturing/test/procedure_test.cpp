@@ -3,7 +3,7 @@
 // controllers with their three supervisors, three deployments and three configurations each —
 // run on the lockstep clock with the scripted surgeon, nominal and with the faults files of
 // test/faults/. Each test is one procedure (about 100 s simulated). Every scenario's nominal run
-// also meets issue 15's fidelity (procedure_expectations.hpp).
+// also meets the procedure acceptance's fidelity (procedure_expectations.hpp).
 
 #include "cobra/run/runner.hpp"
 
@@ -129,7 +129,7 @@ TEST(PuncturingProcedure, TheThreeNeedleScenarioCompletesWithEveryNeedlePlaced) 
   expectFaithful(r);
 }
 
-// The needle vertical: the I-SUR's yaw-pitch-roll wrist at its singular pose (issue 15). The
+// The needle vertical: the I-SUR's yaw-pitch-roll wrist at its singular pose. The
 // scenario comes with the joint-aware planning; until it is there this test says so and skips.
 TEST(PuncturingProcedure, TheVerticalNeedleScenarioCompletesFaithfully) {
   const std::filesystem::path scenario = kApp / "scenarios" / "vertical_needle";

@@ -1,5 +1,5 @@
 #pragma once
-// The puncturing task split over two hosts (puncturing.lua's placement, issue 21) for the split
+// The puncturing task split over two hosts (puncturing.lua's placement, thesis §4.4) for the split
 // tests: each host's run is a child process (fork, then run::runApp with RunOptions::host, as
 // `cobra run apps/puncturing --host NAME` does), optionally inside a network namespace; what it
 // did comes back as a small text file, its report folder and its progress lines with wall times.

@@ -1,5 +1,5 @@
 // The puncturing task split over two hosts that are two network namespaces joined by a veth pair
-// (issue 21's acceptance: "one controller in each"), as root; skipped with a message otherwise.
+// (one robot controller in each, as on two computers), as root; skipped with a message otherwise.
 // Discovery is unicast (each DdsLink's initial_peers: the other side's address), as between two
 // machines whose network does not route multicast. The namespaces are removed even on failure.
 

@@ -1,4 +1,4 @@
-// The puncturing task split over two hosts (issue 21, thesis §4.4): host needle runs the world
+// The puncturing task split over two hosts (thesis §4.4): host needle runs the world
 // and the I-SUR's controller, host probe the UR5 and its controller (puncturing.lua's placement),
 // each its own process as `cobra run apps/puncturing --host NAME` runs it, joined by DDS (each
 // process's DdsLink: the lockstep meeting, liveliness). Scenario vertical_needle, the shortest

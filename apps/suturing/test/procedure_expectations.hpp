@@ -22,7 +22,7 @@ namespace cobra::run::suturing_testing {
 
 inline const std::filesystem::path kApp = std::filesystem::path(COBRA_SOURCE_DIR) / "apps" / "suturing";
 inline const std::filesystem::path kFaults = kApp / "test" / "faults";
-constexpr double kMaxTrackingMm = 2.0;  // issue 15's acceptance, during the autonomous motions
+constexpr double kMaxTrackingMm = 2.0;  // the procedure acceptance, during the autonomous motions
 constexpr double kMaxTrackingDeg = 1.0;
 constexpr double kClosedGapMm = 0.5;    // the scenarios' closed_gap
 constexpr double kTankInitialJ = 5.0;   // its tank_initial default

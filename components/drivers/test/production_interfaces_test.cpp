@@ -1,8 +1,8 @@
-// Simulation stays out of production interfaces (ARCHITECTURE §3, issue 16 item 5): the production code
+// Simulation stays out of production interfaces (ARCHITECTURE §3): the production code
 // of fieldbus/, components/drivers/ and bridges/ includes no cobra/sim/ header (the bridges'
 // simulated far ends live in bridges/sim/, library cobra_bridges_sim, which is not scanned), and
 // no port, property or operation of a driver or bridge component exists only for simulation (none
-// is named sim...); and the deployer includes no component package (issue 16 item 6).
+// is named sim...); and the deployer includes no component package.
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The deployment editor page (issue 20; thesis §3.2.1, OroEdit) of cobra studio: a palette of the
+// The deployment editor page (thesis §3.2.1, OroEdit) of cobra studio: a palette of the
 // loaded component types, a canvas where blocks are placed and connected (each connection asked of
 // the server first: made only when its types match, with the role linter's verdict), an inspector,
 // tabs for named deployments and configurations, and files opened and saved as the Configurator's

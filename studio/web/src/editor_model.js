@@ -177,7 +177,8 @@ export function parsePolicy(fields) {
   }
   for (const key of ['transport', 'topic']) if (fields[key]) policy[key] = fields[key];
   if (fields.qos) {
-    // QoS settings are a table of texts (issue 21's dds connections): { "reliability": "reliable", ... }.
+    // QoS settings are a table of texts (the dds transport's connections):
+    // { "reliability": "reliable", ... }.
     let qos;
     try {
       qos = JSON.parse(fields.qos);

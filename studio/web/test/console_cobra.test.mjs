@@ -1,4 +1,4 @@
-// The surgeon's console against cobra itself (issue 19): after a fault the charts' reactions are
+// The surgeon's console against cobra itself: after a fault the charts' reactions are
 // offered as choices and pressing one moves the chart; a studio table naming a port the
 // application lacks is the same one line in the page and on stderr; a live page and a replay end
 // with how the run ended. Needs COBRA_BIN and COBRA_SOURCE_DIR (CTest sets both).

@@ -1,4 +1,4 @@
-// End to end against cobra itself (issue 19's acceptance): the page served by
+// End to end against cobra itself (the studio's acceptance): the page served by
 // `cobra run apps/puncturing --studio --interactive` and by `cobra studio RUN_DIR`.
 // Needs COBRA_BIN (the cobra tool) and COBRA_SOURCE_DIR (the repo); CTest passes both, and
 // registers this file only in a tree that has the studio server (studio/CMakeLists.txt). The

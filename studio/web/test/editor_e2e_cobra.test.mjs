@@ -1,4 +1,4 @@
-// The deployment editor against cobra itself (issue 20's acceptance): the page served by
+// The deployment editor against cobra itself (the editor's acceptance): the page served by
 // `cobra edit`. Needs COBRA_BIN (the cobra tool) and COBRA_SOURCE_DIR (the repo); CTest passes
 // both where the tree has the studio server. The Fig. 3.4 test saves the page as fig34.png in
 // COBRA_EDITOR_SHOTS (CTest: build/<preset>/editor-shots), else in its temporary folder.

@@ -1,4 +1,4 @@
--- The curved scenario (issue 17, §5.1: "a curved or slanted cut"): a 36 mm cut along an arc of
+-- The curved scenario (§5.1: "a curved or slanted cut"): a 36 mm cut along an arc of
 -- 80 mm radius bulging towards the stick's side (+y), its direction turning from +12.9 degrees to
 -- -12.9 degrees; 5 mm open at its middle: 3 stitches at the 8 mm spacing and margins, each at its
 -- own direction. The arc as 9 points of the centreline (the wound model's polyline, each segment

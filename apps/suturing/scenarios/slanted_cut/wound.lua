@@ -1,4 +1,4 @@
--- The second scenario (issue 17): a 36 mm cut slanted -15 degrees from the world's x axis, 5 mm open
+-- The second scenario: a 36 mm cut slanted -15 degrees from the world's x axis, 5 mm open
 -- at its middle: 3 stitches at the 8 mm spacing and margins. Same fields as straight_cut/wound.lua.
 -- Its mirror at +15 degrees: slanted_cut_positive.
 local a = math.rad(-15)

@@ -1,4 +1,4 @@
--- The default scenario (issue 17): a straight 40 mm cut on the phantom's skin along the world's x
+-- The default scenario: a straight 40 mm cut on the phantom's skin along the world's x
 -- axis, 6 mm open at its middle; the StitchPlanner's 8 mm spacing and margins give 4 stitches.
 -- cut: x, y pairs (m) in the wound frame; wound_pose: the wound frame in the world ({x, y, z, qx, qy,
 -- qz, qw}, m: skin z = 0, +z out of the skin); closed_gap (m): the gap every stitch must end below.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// DdsLink: the one component per process that links it to the other processes of a run over
-/// Fast DDS (issue 21, thesis §4.4): it owns the DDS participant of the "dds" transport, watches
+/// Fast DDS (thesis §4.4): it owns the DDS participant of the "dds" transport, watches
 /// the liveliness of the peer processes, and meets them at every instant of a lockstep run
 /// (core::ClockSync).
 ///

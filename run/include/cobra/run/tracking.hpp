@@ -1,10 +1,10 @@
 #pragma once
 /// @file
-/// "The robot did what it was told" (issue 15), per tracked tool: the error between the commanded
-/// tool pose (what is written to the robot's desired-pose input, e.g. the variable admittance's
-/// output, so the intended compliance in contact is not an error) and the measured one, and an
-/// independent check of joint jumps. The runner feeds one TrackingMonitor per entry of the
-/// application's `run.tracking` (run/README.md) every step; nothing here knows an application.
+/// "The robot did what it was told" (the procedure's fidelity), per tracked tool: the error between
+/// the commanded tool pose (what is written to the robot's desired-pose input, e.g. the variable
+/// admittance's output, so the intended compliance in contact is not an error) and the measured
+/// one, and an independent check of joint jumps. The runner feeds one TrackingMonitor per entry of
+/// the application's `run.tracking` (run/README.md) every step; nothing here knows an application.
 
 #include <limits>
 #include <string>
@@ -16,7 +16,7 @@
 
 namespace cobra::run {
 
-/// Issue 15's acceptance: the worst tracking error of a robot during autonomous motions [mm, deg].
+/// The procedure acceptance: the worst tracking error of a robot in autonomous motions [mm, deg].
 constexpr double kAcceptedTrackingMm = 2.0;
 constexpr double kAcceptedTrackingDeg = 1.0;
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The deployment editor's server side (thesis §3.2.1, OroEdit; issue 20): the routes under
+/// The deployment editor's server side (thesis §3.2.1, OroEdit): the routes under
 /// /api/editor/ of studio/PROTOCOL.md "The editor (v1)". The palette (every component type of
 /// every package cobra can load, each made once and introspected) is built on a thread of its own
 /// when the Editor is made, never on a run's thread; files are opened in a Configurator of their

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Situation awareness for the needle insertion (thesis §4.2, issue 8): turns the measured wrench
+/// Situation awareness for the needle insertion (thesis §4.2): turns the measured wrench
 /// and tip pose into the events the puncturing task chart waits for.
 
 #include <cstdint>
