@@ -201,10 +201,14 @@ Participant::Participant(const DdsTransport::Options& options)
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     throw core::Error("dds: cannot create the publisher and subscriber of participant '" + name + "'");
   }
-  if (options.udp_only) {
-    // Over UDP only means no shared memory at all: Fast DDS's data sharing (on by default between
-    // the processes of one machine, whatever the transports) goes too. Its interprocess mutex was
-    // seen to time out and abort a loaded wall-clock split run (boost::interprocess, in Fast DDS).
+  {
+    // No data sharing (Fast DDS's zero-copy path between the processes of one machine, on by
+    // default whatever the transports): a peer killed while it held a data-sharing segment's
+    // interprocess mutex made the surviving process abort ("Interprocess mutex timeout when
+    // locking. Possible deadlock: owner died without unlocking?", boost::interprocess, in
+    // SplitProcedure.KillingTheProbeHostMidInsertionStopsTheNeedleSafely and a wall-clock split
+    // run on a loaded machine). A lost peer must never take the other host down; samples go
+    // through the transports (shared memory or UDP), which survive a killed peer.
     fdds::DataWriterQos writer_qos = publisher_->get_default_datawriter_qos();
     writer_qos.data_sharing().off();
     publisher_->set_default_datawriter_qos(writer_qos);

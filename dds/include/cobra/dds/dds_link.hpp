@@ -35,8 +35,7 @@
 ///   back within this time (a stall of either process past the lease, e.g. at a run's start,
 ///   is not a loss); a dead peer is then found within lease + lapse_grace;
 /// - `udp_only` (bool): UDPv4 only, without Fast DDS's shared memory between the processes of one
-///   machine (as between two hosts): neither its shared-memory transport nor its data sharing
-///   (whose interprocess mutex timed out and aborted a loaded run once). With shared memory, a peer killed while samples were being
+///   machine (as between two hosts). With shared memory, a peer killed while samples were being
 ///   sent to it can block the sending threads in the ports' health checks for seconds, and its
 ///   loss is found that late;
 /// - `priority` (0..99): SCHED_FIFO priority of the threads Fast DDS makes for the participant

@@ -57,9 +57,9 @@ class DdsTransport final : public core::Transport {
     /// Fault injection: the share (0..1) of outgoing data messages that Fast DDS's test UDPv4
     /// transport drops (then the participant uses UDPv4 only). 0: Fast DDS's own transports.
     double drop_share = 0.0;
-    /// UDPv4 only, without Fast DDS's shared memory between processes of one host (neither its
-    /// shared-memory transport nor its data sharing): the network path, e.g. between network
-    /// namespaces of one host as between two hosts.
+    /// UDPv4 only, without Fast DDS's shared-memory transport between processes of one host: the
+    /// network path, e.g. between network namespaces of one host as between two hosts. (Fast
+    /// DDS's data sharing is off for every participant: participant.cpp says why.)
     bool udp_only = false;
     /// Period (s) at which a writer end's thread looks for samples to send: the latency a
     /// wall-clock run adds to each sample, at most. A port's write only pushes and sets a flag;
