@@ -284,9 +284,13 @@ void Session::advance() {
       result_.log.push_back("input " + spec_.studio.inputs[input].name);
       play(inputs_[input]);
     }
-    options_.observer->step({t_, view_states_, shown_deployment_, scope_configuration_, shown_configuration_,
-                             clearance_ ? clearance_->last : std::numeric_limits<double>::quiet_NaN()});
+    showToObserver();
   }
+}
+
+void Session::showToObserver() {
+  options_.observer->step({t_, view_states_, shown_deployment_, scope_configuration_, shown_configuration_,
+                           clearance_ ? clearance_->last : std::numeric_limits<double>::quiet_NaN()});
 }
 
 bool Session::observeCharts() {
@@ -468,18 +472,22 @@ void Session::runOnTheWallClock(std::chrono::nanoseconds step) {
     t_ = std::chrono::duration<double>(configurator_.clock().now()).count();
     dt_ = steps_ == 0 ? spec_.step : t_ - before;
     advance();
-    catchUpStates();
+    // States entered since this observation's first are shown too (the last ones of a run would
+    // otherwise never reach the studio: the run ends with them).
+    if (catchUpStates() && options_.observer != nullptr) showToObserver();
   } while (!ended());
 }
 
-void Session::catchUpStates() {
+bool Session::catchUpStates() {
   // The states a chart entered since the observation took its first: what depends on a chart's
   // state (the log and timeline, summaries sampled on leaving a state, actions on entering one)
   // sees each of them, at this observation's time.
   // Afterwards `previous` is again the state one observation ago, as ended() expects.
   catch_up_previous_.resize(charts_.size());
   for (std::size_t i = 0; i < charts_.size(); ++i) catch_up_previous_[i] = charts_[i].previous;
+  bool any = false;
   for (int round = 0; round < 256 && observeCharts(); ++round) {
+    any = true;
     readEvents();
     sampleSummaries();
     playActions();
@@ -488,6 +496,7 @@ void Session::catchUpStates() {
     charts_[i].previous = catch_up_previous_[i];
     charts_[i].changed = charts_[i].state != charts_[i].previous;
   }
+  return any;
 }
 
 void Session::noteExecutorFigures() {

@@ -73,8 +73,11 @@ class Session {
   void advance();
   // True when a chart's state was read anew (the wall clock: one change per chart and call).
   bool observeCharts();
-  // Wall clock: the chart states left waiting after an observation, taken in turn.
-  void catchUpStates();
+  // Wall clock: the chart states left waiting after an observation, taken in turn; true when it
+  // took one (which the observer has not seen yet).
+  bool catchUpStates();
+  // The observer's step: the run's time, chart states, deployments, configurations, clearance.
+  void showToObserver();
   void readEvents();
   void observeSwitches();
   // The scopes whose configuration `name` is now (sets a component of their deployment; all when none).

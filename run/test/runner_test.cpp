@@ -127,6 +127,35 @@ TEST(Runner, InRealTimeTheTestApplicationCompletesOnTheWallClock) {
   EXPECT_EQ(r.value("threshold crossings").values.size(), 1u);
 }
 
+/// Keeps the chart states of the last step it was shown.
+class LastStates : public RunObserver {
+ public:
+  std::vector<std::string> last;
+  void attach(const RunContext&) override {}
+  void step(const StepView& now) override {
+    last.clear();
+    for (const std::string* state : now.states) last.push_back(*state);
+  }
+  void event(double, const std::string&, const std::string&) override {}
+  bool nextInput(std::size_t&) override { return false; }
+  std::vector<std::string> finished(const RunResult&) override { return {}; }
+};
+
+// On the wall clock one observation may find a chart several states on (it takes them in turn);
+// the observer (cobra studio's panel) is shown the last of them too, so the run's final states
+// reach it: a door run's panel once showed `release` beside "final door: root.done".
+TEST(Runner, OnTheWallClockTheObserverIsShownEachChartsFinalState) {
+  LastStates observer;
+  RunOptions o = options();
+  o.realtime = true;
+  o.observer = &observer;
+  const RunResult r = runApp(o);
+  ASSERT_TRUE(r.completed()) << r.reason;
+  ASSERT_EQ(observer.last.size(), r.final_states.size());
+  for (std::size_t i = 0; i < observer.last.size(); ++i)
+    EXPECT_EQ(observer.last[i], r.final_states[i].second) << r.final_states[i].first;
+}
+
 TEST(Runner, AComponentInExceptionEndsTheRunWithItsNameAndError) {
   RunOptions o = options(kApp / "faulty.lua");
   o.add_packages = [](deploy::PackageRegistry& packages) {
