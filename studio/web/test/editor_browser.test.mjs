@@ -177,7 +177,14 @@ test('properties are checked by the server and problems show by the field; a pol
   assert.equal(await page.locator('#canvas g.connection').count(), 0);
   // A block is moved by dragging its body.
   const block = page.locator('#canvas g.block[data-name="Adm"] .body');
-  const box = await block.boundingBox();
+  // The canvas is drawn anew after the deletion: the block's element may be replaced between
+  // two reads (a null box was seen on a loaded machine), so read until it is there.
+  let box = null;
+  for (let tries = 0; tries < 100 && box === null; ++tries) {
+    await block.waitFor({ state: 'visible' });
+    box = await block.boundingBox();
+  }
+  assert.ok(box, 'the Adm block is drawn after the deletion');
   await page.mouse.move(box.x + 100, box.y + 60);
   await page.mouse.down();
   await page.mouse.move(box.x + 40, box.y + 260, { steps: 5 });
