@@ -7,13 +7,16 @@
 // and no happens-before through them. This definition (the executable's, which the dynamic linker
 // binds before libc's) takes the lock through pthread_mutex_timedlock, which TSan intercepts, with
 // the monotonic deadline turned into a real-time one. Nothing is suppressed: TSan sees the lock.
+// Weak: every static library of the build carries a copy, and an executable that takes whole
+// archives (the `cobra` tool) would otherwise see it defined many times; the dynamic linker binds
+// a weak definition of the executable before libc's all the same.
 #include <pthread.h>
 #include <time.h>
 
 #include <cerrno>
 #include <cstdint>
 
-extern "C" int pthread_mutex_clocklock(pthread_mutex_t* __restrict mutex, clockid_t clock,
+extern "C" __attribute__((weak)) int pthread_mutex_clocklock(pthread_mutex_t* __restrict mutex, clockid_t clock,
                                        const struct timespec* __restrict deadline) noexcept {
   if (clock == CLOCK_REALTIME) return pthread_mutex_timedlock(mutex, deadline);
   if (clock != CLOCK_MONOTONIC) return EINVAL;
