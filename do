@@ -7,8 +7,8 @@
 #   test --asan-ci   the CI's ASan/UBSan slice: parsers, channels, real-time code, components, puncturing
 #   test --tsan      the tests that run threads under ThreadSanitizer (label concurrency)
 #   test --wallclock only the wall-clock tests (label wallclock: each task on the real-time
-#                    executor, minutes of wall time, which `./do test` runs too, one at a time;
-#                    and wallclock_split: the split over two hosts, not reliable yet)
+#                    executor, and wallclock_split: the puncturing task split over two hosts;
+#                    minutes of wall time, which `./do test` runs too, one at a time)
 #   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
 #                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
 #                    suturing: the two-armed suturing task, thesis ch. 5)
@@ -106,8 +106,7 @@ run_tests() {
   case "${1:-}" in
     "")
       build release
-      # The wall-clock split (label wallclock_split) is not reliable yet: `./do test --wallclock`.
-      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 -LE '^wallclock_split$' ;;
+      ctest --test-dir build/release --output-on-failure --no-tests=error -j2 --timeout 300 ;;
     --wallclock)
       build release
       ctest --test-dir build/release --output-on-failure --no-tests=error --timeout 300 -L '^wallclock' ;;
