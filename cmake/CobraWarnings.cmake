@@ -80,6 +80,10 @@ function(cobra_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;TEST_PROPERTIES" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} cobra::test_support GTest::gtest GTest::gtest_main cobra_build_flags)
+  # A test's own sources at -O1 in the optimised builds (the code under test, in the libraries,
+  # keeps the build's -O2): measured on port_test.cpp, 5.3 s of CPU instead of 7.2 at -O2, and
+  # test sources are most of a build's compile time (the CI's budget, .ci/run).
+  target_compile_options(${name} PRIVATE $<$<CONFIG:RelWithDebInfo,Release>:-O1>)
   set(selected OFF)
   foreach(label IN LISTS ARG_LABELS)
     if(label IN_LIST COBRA_TEST_LABELS)
