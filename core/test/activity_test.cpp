@@ -298,6 +298,7 @@ TEST(ThreadActivity, StartedFromARealTimeThreadItsThreadComesFromTheLauncherWith
   ASSERT_TRUE(periodic.start());
   const auto before = periodic.updateCount();
   EXPECT_TRUE(waitUntil([&] { return periodic.updateCount() > before; }));
+  EXPECT_TRUE(periodic.stop());  // before the Probes are destroyed: a step must not meet a destructor
   EXPECT_EQ(periodic.not_activity_thread.load() + event.not_activity_thread.load(), 0);
 }
 
