@@ -69,7 +69,8 @@ if host then
   -- do not meet, and on the executor's lockstep schedule the link would put the transport in
   -- lockstep (samples held for meetings that never come); its work is on Fast DDS's threads and
   -- its writer ends' anyway (the link has no update hook).
-  setActivities({ { peer_name = "Link", period = 0.001, own_pace = true } })
+  -- max_age (s): its thread steps every 1 ms; a stall as long as the lease is worth an event.
+  setActivities({ { peer_name = "Link", period = 0.001, own_pace = true, max_age = 0.1 } })
   configureComponents({ "Link" })
   startComponents({ "Link" })
 end

@@ -169,6 +169,10 @@ void ThreadActivity::applyScheduling() {
 
 void ThreadActivity::startStepping() {
   if (running_.load()) return;
+  // A periodic thread's hand-over ages from its start (its first step is due within a period);
+  // an event-driven one's from its first trigger after the start (EventActivity::startStepping).
+  serving_since_ns_.store(0, std::memory_order_relaxed);
+  if (period().count() > 0) waiting_since_ns_.store(monotonicNow().count(), std::memory_order_relaxed);
   stop_.store(false, std::memory_order_release);
   running_.store(true, std::memory_order_release);
   starts_.fetch_add(1, std::memory_order_acq_rel);
@@ -217,6 +221,14 @@ void ThreadActivity::stopStepping() {
   running_.store(false, std::memory_order_release);
 }
 
+std::chrono::nanoseconds ThreadActivity::handoverAge(std::chrono::nanoseconds now) const noexcept {
+  if (!running_.load(std::memory_order_acquire)) return std::chrono::nanoseconds(0);
+  const std::int64_t waiting = waiting_since_ns_.load(std::memory_order_acquire);
+  const std::int64_t serving = serving_since_ns_.load(std::memory_order_acquire);
+  const std::int64_t since = serving != 0 && (waiting == 0 || serving < waiting) ? serving : waiting;
+  return std::chrono::nanoseconds(since == 0 ? 0 : std::max<std::int64_t>(0, now.count() - since));
+}
+
 void ThreadActivity::endThread() {
   stopStepping();
   if (!thread_requested_) return;
@@ -238,6 +250,8 @@ std::string PeriodicActivity::describe() const { return "periodic " + formatDura
 
 void PeriodicActivity::loop() {
   auto deadline = monotonicNow();
+  // What it hands over is as old as its last step's end: from its start until the first.
+  waiting_since_ns_.store(deadline.count(), std::memory_order_release);
   while (!stopRequested()) {
     const auto woke = monotonicNow();
     const auto late = (woke - deadline).count();
@@ -246,6 +260,7 @@ void PeriodicActivity::loop() {
     steps_.fetch_add(1, std::memory_order_relaxed);
     deadline += period_;
     const auto after = monotonicNow();
+    waiting_since_ns_.store(after.count(), std::memory_order_release);
     if (after > deadline) {
       // Skip the periods we missed instead of running a burst of late steps.
       const auto missed = (after - deadline) / period_ + 1;
@@ -271,6 +286,9 @@ EventActivity::~EventActivity() { endThread(); }
 std::string EventActivity::describe() const { return "event-driven, " + schedulerText(); }
 
 void EventActivity::trigger() noexcept {
+  // The first trigger nothing has taken yet starts the wait (a later one does not reset it).
+  std::int64_t none = 0;
+  waiting_since_ns_.compare_exchange_strong(none, monotonicNow().count(), std::memory_order_acq_rel);
   triggers_.fetch_add(1, std::memory_order_release);
   triggers_.notify_one();
 }
@@ -279,6 +297,7 @@ void EventActivity::startStepping() {
   // Taken before the thread exists: a trigger that arrives while the thread is starting (e.g. a
   // change queued by runBetweenSteps right after start) must still wake it.
   if (hasRunningThread()) return;
+  waiting_since_ns_.store(0, std::memory_order_release);  // before the count: a trigger after it ages
   seen_at_start_ = triggers_.load(std::memory_order_acquire);
   ThreadActivity::startStepping();
 }
@@ -289,8 +308,11 @@ void EventActivity::loop() {
     triggers_.wait(seen, std::memory_order_acquire);
     seen = triggers_.load(std::memory_order_acquire);
     if (stopRequested()) break;
+    // The triggers this step takes are answered when it ends: until then their wait goes on.
+    serving_since_ns_.store(waiting_since_ns_.exchange(0, std::memory_order_acq_rel), std::memory_order_release);
     stepComponent();
     steps_.fetch_add(1, std::memory_order_relaxed);
+    serving_since_ns_.store(0, std::memory_order_release);
   }
 }
 

@@ -99,7 +99,7 @@ void prefaultStack() noexcept {
 }  // namespace
 
 RealtimeExecutor::RealtimeExecutor(LockstepClock& clock, ExecutorOptions options)
-    : clock_(clock), options_(std::move(options)) {
+    : clock_(clock), options_(std::move(options)), watches_(new Watch[kMaxWatches]) {
   if (options_.period.count() <= 0)
     throw Error("real-time executor: the period must be > 0 s, got " + formatDuration(options_.period));
   if (options_.scheduler == Scheduler::Fifo && (options_.priority < 1 || options_.priority > 99))
@@ -265,6 +265,7 @@ void RealtimeExecutor::loop() {
     stepped_ns_ = 0;
     clock_.advance(period);
     const auto done = monotonicNow();
+    checkHandovers(done);
     compute_.add((done - woke).count());
     between_steps_.add((done - advancing).count() - stepped_ns_);
     ticks_.fetch_add(1, std::memory_order_relaxed);
@@ -293,6 +294,56 @@ void RealtimeExecutor::loop() {
       setRunEpoch(runEpoch() + slip);
     }
   }
+}
+
+void RealtimeExecutor::watchHandover(const Component& component, std::chrono::nanoseconds max_age) {
+  const std::string head = "real-time executor: watching the hand-over of '" + component.name() + "': ";
+  if (running() && clock_.steppingThread() != std::this_thread::get_id())
+    throw Error(head + "called from another thread while the executor runs; watch before start or between ticks");
+  if (max_age.count() <= 0) throw Error(head + "max_age must be > 0 s, got " + formatDuration(max_age));
+  const std::size_t used = watch_count_.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < used; ++i)
+    if (watches_[i].component.load(std::memory_order_relaxed) == &component) {
+      watches_[i].max_age_ns.store(max_age.count(), std::memory_order_relaxed);
+      return;
+    }
+  if (used == kMaxWatches)
+    throw Error(head + "the executor watches " + std::to_string(kMaxWatches) + " own-pace components already");
+  Watch& watch = watches_[used];
+  std::snprintf(watch.event, sizeof watch.event, "e_handover_stale_%s", component.name().c_str());
+  watch.max_age_ns.store(max_age.count(), std::memory_order_relaxed);
+  watch.component.store(&component, std::memory_order_relaxed);
+  watch_count_.store(used + 1, std::memory_order_release);
+}
+
+void RealtimeExecutor::checkHandovers(std::chrono::nanoseconds now) noexcept {
+  const std::size_t used = watch_count_.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < used; ++i) {
+    Watch& watch = watches_[i];
+    // A switch may give the component another activity, between ticks on this thread: asked here.
+    const Component& component = *watch.component.load(std::memory_order_relaxed);
+    const std::int64_t age = component.activity().handoverAge(now).count();
+    if (age > watch.worst_ns.load(std::memory_order_relaxed)) watch.worst_ns.store(age, std::memory_order_relaxed);
+    const bool stale = age > watch.max_age_ns.load(std::memory_order_relaxed);
+    if (stale && !watch.is_stale) {
+      watch.stale.fetch_add(1, std::memory_order_relaxed);
+      if (options_.on_event) options_.on_event(watch.event);
+    }
+    watch.is_stale = stale;
+  }
+}
+
+std::vector<HandoverFigures> RealtimeExecutor::handoverFigures() const {
+  std::vector<HandoverFigures> out;
+  const std::size_t used = watch_count_.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < used; ++i) {
+    const Watch& watch = watches_[i];
+    out.push_back({watch.component.load(std::memory_order_relaxed)->name(),
+                   static_cast<double>(watch.max_age_ns.load(std::memory_order_relaxed)) * 1e-9,
+                   static_cast<double>(watch.worst_ns.load(std::memory_order_relaxed)) * 1e-9,
+                   watch.stale.load(std::memory_order_relaxed)});
+  }
+  return out;
 }
 
 std::vector<ComponentTiming> RealtimeExecutor::componentTimings() const {

@@ -37,11 +37,13 @@ class Probe : public Component {
   std::atomic<bool> update_during_stop_hook{false};
   std::atomic<bool> throw_next{false};
   std::atomic<std::thread::id> last_thread{};
+  std::atomic<bool> hold{false};  ///< while set, a step waits inside updateHook (a long search)
 
  protected:
   void updateHook() override {
     last_thread = std::this_thread::get_id();
     inside_update = true;
+    while (hold.load()) std::this_thread::sleep_for(100us);
     if (!activity().isActivityThread()) ++not_activity_thread;
     double v = 0.0;
     (void)in.read(v);
@@ -173,6 +175,49 @@ TEST(EventActivity, StepsOnlyWhenTriggered) {
   EXPECT_EQ(p.updateCount(), 6U);
   EXPECT_EQ(activity.stats().steps, 6U);
   EXPECT_EQ(p.not_activity_thread.load(), 0);
+}
+
+TEST(EventActivity, ItsHandOverAgesFromATriggerUntilTheStepTakingItEnds) {
+  Probe p;
+  p.setActivity(std::make_unique<EventActivity>(0, Scheduler::Other));
+  Activity& activity = p.activity();
+  const auto age = [&](std::chrono::nanoseconds at) { return activity.handoverAge(at); };
+  activity.trigger();  // before the start: not the started activity's
+  EXPECT_EQ(age(monotonicNow() + 1s), 0ns) << "not running: no age";
+  ASSERT_TRUE(p.configure());
+  ASSERT_TRUE(p.start());
+  EXPECT_EQ(age(monotonicNow() + 1s), 0ns) << "nothing waits";
+  p.hold = true;
+  const auto before = monotonicNow();
+  activity.trigger();
+  const auto after = monotonicNow();
+  ASSERT_TRUE(waitUntil([&] { return p.inside_update.load(); }));
+  // Taken by the step under way, not answered until it ends: the age counts from the trigger.
+  EXPECT_GE(age(after + 1s), 1s);
+  EXPECT_LE(age(after + 1s), 1s + (after - before));
+  activity.trigger();  // a second trigger while the first is served does not reset the age
+  EXPECT_GE(age(after + 1s), 1s);
+  p.hold = false;
+  ASSERT_TRUE(waitUntil([&] { return p.updateCount() >= 2 && age(monotonicNow()) == 0ns; }))
+      << "both answered: nothing waits";
+  ASSERT_TRUE(p.stop());
+  EXPECT_EQ(age(monotonicNow() + 1s), 0ns);
+}
+
+TEST(PeriodicActivity, ItsHandOverAgesFromItsLastStepsEnd) {
+  Probe p;
+  p.setActivity(std::make_unique<PeriodicActivity>(1ms, 0, Scheduler::Other));
+  Activity& activity = p.activity();
+  ASSERT_TRUE(p.configure());
+  ASSERT_TRUE(p.start());
+  ASSERT_TRUE(waitUntil([&] { return p.updateCount() >= 3; }));
+  p.hold = true;  // a step that does not end
+  ASSERT_TRUE(waitUntil([&] { return p.inside_update.load(); }));
+  const auto held = monotonicNow();
+  EXPECT_GE(activity.handoverAge(held + 1s), 1s) << "its last step ended before this one began";
+  p.hold = false;
+  ASSERT_TRUE(p.stop());
+  EXPECT_EQ(activity.handoverAge(monotonicNow() + 1s), 0ns) << "stopped: no age";
 }
 
 TEST(EventActivity, TriggersRightAfterStartAreNotLost) {

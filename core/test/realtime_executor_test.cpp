@@ -223,9 +223,72 @@ TEST(RealtimeExecutor, DeadlineMissesAreCountedEmittedAndEndInASafeStop) {
   EXPECT_LT(timings[0].compute.worst, timings[1].compute.worst);
 }
 
+TEST(RealtimeExecutor, AnOwnPaceHandOverOlderThanItsBoundIsEmittedOncePerEpisode) {
+  Rig rig;
+  // A searcher on a thread of its own beside the executor, answering the producer's pulses (every
+  // 5 ms); while each answer takes 40 ms, the pulses wait longer than its 15 ms bound.
+  Recorder searcher{"Searcher", true};
+  connect(rig.producer.pulse, searcher.in, ConnPolicy::buffer(4));
+  searcher.setActivity(std::make_unique<EventActivity>(1, Scheduler::Other));
+  ASSERT_TRUE(searcher.configure());
+  ASSERT_TRUE(searcher.start());
+  ExecutorOptions o = quickOptions();
+  std::vector<std::string> events;
+  events.reserve(64);
+  std::atomic<int> emitted{0};
+  o.on_event = [&](const char* e) {
+    if (events.size() < events.capacity()) events.emplace_back(e);
+    emitted.fetch_add(1);
+  };
+  RealtimeExecutor executor(rig.clock, o);
+  executor.watchHandover(searcher, 15ms);
+  executor.start();
+  ASSERT_TRUE(eventually([&] { return searcher.steps.load() >= 20; }));
+  EXPECT_EQ(emitted.load(), 0) << "answered within a few ms: never stale";
+  searcher.stall_ns.store(std::chrono::nanoseconds(40ms).count());
+  ASSERT_TRUE(eventually([&] { return emitted.load() >= 1; }));
+  searcher.stall_ns.store(0);
+  const long steps = searcher.steps.load();
+  ASSERT_TRUE(eventually([&] { return searcher.steps.load() >= steps + 20; }));  // answering promptly again
+  const int episodes = emitted.load();
+  const long later = searcher.steps.load();
+  ASSERT_TRUE(eventually([&] { return searcher.steps.load() >= later + 20; }));
+  executor.stop();
+  (void)searcher.stop();
+  EXPECT_EQ(emitted.load(), episodes) << "no episode while it answered within its bound";
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front(), "e_handover_stale_Searcher");
+  const auto figures = executor.handoverFigures();
+  ASSERT_EQ(figures.size(), 1u);
+  EXPECT_EQ(figures[0].component, "Searcher");
+  EXPECT_DOUBLE_EQ(figures[0].max_age, 0.015);
+  EXPECT_GE(figures[0].worst_age, 0.015);
+  EXPECT_EQ(figures[0].stale, static_cast<std::uint64_t>(episodes));
+  // Once stopped its hand-over has no age: a component stopped by a switch is not stale.
+  EXPECT_EQ(searcher.activity().handoverAge(std::chrono::nanoseconds(std::chrono::steady_clock::now().time_since_epoch())), 0ns);
+}
+
+TEST(RealtimeExecutor, AWatchNeedsAPositiveBoundAndTheExecutorsThreadWhileItRuns) {
+  Rig rig;
+  RealtimeExecutor executor(rig.clock, quickOptions());
+  EXPECT_EQ(test_support::messageOf([&] { executor.watchHandover(rig.reactor, 0ns); }),
+            "real-time executor: watching the hand-over of 'Reactor': max_age must be > 0 s, got 0 ns");
+  executor.watchHandover(rig.reactor, 1s);
+  executor.watchHandover(rig.reactor, 2s);  // watched again: its new bound
+  ASSERT_EQ(executor.handoverFigures().size(), 1u);
+  EXPECT_DOUBLE_EQ(executor.handoverFigures()[0].max_age, 2.0);
+  executor.start();
+  EXPECT_CONTAINS(test_support::messageOf([&] { executor.watchHandover(rig.slow, 1s); }),
+                  "called from another thread while the executor runs; watch before start or between ticks");
+  executor.runBetweenTicks([&] { executor.watchHandover(rig.slow, 1s); });  // a switch, between ticks
+  executor.stop();
+  EXPECT_EQ(executor.handoverFigures().size(), 2u);
+}
+
 TEST(RealtimeExecutor, TicksAllocateNothingOnTheExecutorThread) {
   Rig rig;
   RealtimeExecutor executor(rig.clock, quickOptions());
+  executor.watchHandover(rig.reactor, 1s);  // the hand-over check runs every tick too
   executor.start();
   ASSERT_TRUE(eventually([&] { return rig.slow.steps.load() >= 20; }));  // warmed up
   const long before = rig.slow.thread_allocations.load();

@@ -319,6 +319,12 @@ ActivitySpec Configurator::checkActivity(const ActivitySpec& spec, bool running_
   if (spec.period > 0.0 && spec.period < 1e-9)
     throw core::Error(head + "period " + std::to_string(spec.period) + " s is below 1 ns");
   if (spec.period > 1e9) throw core::Error(head + "period " + std::to_string(spec.period) + " s is too long");
+  if (!std::isfinite(spec.max_age) || spec.max_age < 0.0)
+    throw core::Error(head + "max_age must be a number of seconds > 0 (the oldest its hand-over may get), got " +
+                      std::to_string(spec.max_age));
+  if (spec.max_age > 0.0 && !spec.own_pace)
+    throw core::Error(head + "max_age bounds the hand-over of a component at its own pace; add own_pace = true "
+                      "or leave max_age out (this one steps in the executor's schedule)");
   ActivitySpec checked = spec;
   if (toScheduler(spec.scheduler, spec.where) == core::Scheduler::Fifo) {
     if (spec.priority > 99 || spec.priority < 0)
@@ -342,6 +348,8 @@ void Configurator::applyActivity(core::Component& c, const ActivitySpec& spec) {
   else activity = std::make_unique<core::EventActivity>(spec.priority, scheduler);
   replaceActivity(c, std::move(activity));
   activities_[c.name()] = spec;
+  if (handover_watcher_ != nullptr && spec.own_pace && options_.mode == ClockMode::WallClock)
+    handover_watcher_->watchHandover(c, std::chrono::nanoseconds(std::llround(spec.handoverBound() * 1e9)));
 }
 
 void Configurator::removeActivity(core::Component& c) {

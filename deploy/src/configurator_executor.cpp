@@ -19,7 +19,9 @@ class ExecutorMonitor final : public core::Component {
       : core::Component("Executor", core::Role::Bridge,
                         "The real-time executor of the wall clock: its events port carries e_deadline_missed (the "
                         "first of a run of missed periods, when setExecutor's on_deadline_miss is \"event\") and "
-                        "e_deadline_safe_stop (safe_stop_after consecutive misses). Silent on the lockstep clock.") {}
+                        "e_deadline_safe_stop (safe_stop_after consecutive misses), and e_handover_stale_<component> "
+                        "when what a component at its own pace hands over is older than its activity's max_age. "
+                        "Silent on the lockstep clock.") {}
 };
 
 std::string seconds(double s) {
@@ -58,6 +60,16 @@ void Configurator::setExecutor(ExecutorSpec spec) {
   started_.push_back("Executor");
   executor_monitor_ = &monitor;
   executor_ = std::move(spec);
+}
+
+void Configurator::watchHandovers(core::RealtimeExecutor* executor) {
+  const std::lock_guard lock(mutex_);
+  handover_watcher_ = executor;
+  if (executor == nullptr || options_.mode != ClockMode::WallClock) return;
+  for (const auto& [name, activity] : activities_)
+    if (activity.own_pace)
+      executor->watchHandover(component(name, activity.where),
+                             std::chrono::nanoseconds(std::llround(activity.handoverBound() * 1e9)));
 }
 
 core::ExecutorOptions Configurator::executorOptions() const {

@@ -110,7 +110,7 @@ std::string nameList(const std::vector<std::string>& names) {
 std::string activityEntry(const ActivitySpec& a) {
   return "{ peer_name = " + luaString(a.peer_name) + ", period = " + number(a.period) +
          ", priority = " + std::to_string(a.priority) + ", scheduler = " + luaString(a.scheduler) +
-         (a.own_pace ? ", own_pace = true }" : " }");
+         (a.own_pace ? ", own_pace = true" : "") + (a.max_age > 0.0 ? ", max_age = " + number(a.max_age) : std::string()) + " }";
 }
 
 std::string connectionEntry(const ConnectionSpec& c) {

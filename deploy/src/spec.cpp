@@ -24,7 +24,7 @@ std::string SourceLocation::text() const {
 
 bool ActivitySpec::sameActivity(const ActivitySpec& other) const {
   return period == other.period && priority == other.priority && lowercase(scheduler) == lowercase(other.scheduler) &&
-         own_pace == other.own_pace;
+         own_pace == other.own_pace && max_age == other.max_age;
 }
 
 PortPath parsePortPath(const std::string& text, const SourceLocation& where) {

@@ -335,6 +335,12 @@ std::vector<std::pair<std::string, std::string>> executorRows(const ExecutorFigu
   std::sort(slowest.begin(), slowest.end(), [](const auto* a, const auto* b) { return a->compute.worst > b->compute.worst; });
   if (slowest.size() > components) slowest.resize(components);
   for (const core::ComponentTiming* c : slowest) rows.push_back({"step time, " + c->component, executorTimingText(c->compute)});
+  for (const core::HandoverFigures& h : e.handovers) {
+    char text[160];
+    std::snprintf(text, sizeof text, "oldest %.1f ms (max_age %.1f ms), %llu stale episodes", h.worst_age * 1e3,
+                  h.max_age * 1e3, static_cast<unsigned long long>(h.stale));
+    rows.push_back({"hand-over age, " + h.component + " (own pace)", text});
+  }
   for (const std::string& w : e.warnings) rows.push_back({"executor warning", w});
   return rows;
 }

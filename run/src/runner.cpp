@@ -50,7 +50,14 @@ std::string executorLine(const ExecutorFigures& e) {
                 static_cast<unsigned long long>(e.deadline_misses), static_cast<unsigned long long>(e.worst_consecutive_misses),
                 e.wake_latency.median * 1e6, e.wake_latency.p99 * 1e6, e.wake_latency.p999 * 1e6, e.wake_latency.worst * 1e6,
                 e.tick_compute.median * 1e6, e.tick_compute.worst * 1e6);
-  return line;
+  std::string text = line;
+  for (const core::HandoverFigures& h : e.handovers) {
+    char own[160];
+    std::snprintf(own, sizeof own, "; %s (own pace) hand-over at most %.1f ms old (max_age %.0f ms, %llu stale)",
+                  h.component.c_str(), h.worst_age * 1e3, h.max_age * 1e3, static_cast<unsigned long long>(h.stale));
+    text += own;
+  }
+  return text;
 }
 
 std::filesystem::path entryFile(const std::filesystem::path& app) {

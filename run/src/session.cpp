@@ -151,8 +151,10 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   next_progress_ = options_.progress_every;
   if (!options_.realtime) configurator_.clock().setStepObserver(options_.step_observer);
   if (options_.observer != nullptr) attachObserver();
-  if (configurator_.mode() == deploy::ClockMode::WallClock)
+  if (configurator_.mode() == deploy::ClockMode::WallClock) {
     executor_ = std::make_unique<core::RealtimeExecutor>(configurator_.clock(), configurator_.executorOptions());
+    configurator_.watchHandovers(executor_.get());
+  }
 }
 
 void Session::attachObserver() {
@@ -518,6 +520,7 @@ void Session::noteExecutorFigures() {
   f.between_steps = core::figuresOf(executor_->betweenSteps());
   f.work_between_ticks = core::figuresOf(executor_->workBetweenTicks());
   f.components = executor_->componentTimings();
+  f.handovers = executor_->handoverFigures();
   f.warnings = executor_->warnings();
 }
 

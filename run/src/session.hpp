@@ -56,6 +56,9 @@ class Session {
  public:
   // Loads the application and attaches everything. @throws as runApp.
   Session(const RunOptions& options, std::filesystem::path entry);
+  /// The executor goes before the configurator (members in reverse order): the configurator
+  /// stops asking it to watch hand-overs first.
+  ~Session() { configurator_.watchHandovers(nullptr); }
   // Steps until the run ends, then fills the result and writes the run folder.
   RunResult run();
 

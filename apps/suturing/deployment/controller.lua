@@ -100,7 +100,9 @@ addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlan
 local always = { "Stitches", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup", "DepSup",
                  "ConfSup" }
 -- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
-local activities = { { peer_name = "SuturePlanner", period = 0, own_pace = true } }
+-- max_age (s): a search ends at the planner's time_limit (1 s) or its validity-check budget; an
+-- answer twice that late means the planner is stuck: e_handover_stale_SuturePlanner from the executor.
+local activities = { { peer_name = "SuturePlanner", period = 0, own_pace = true, max_age = 2.0 } }
 for _, c in ipairs(controller) do
   if c.peer_name ~= "SuturePlanner" then activities[#activities + 1] = { peer_name = c.peer_name, period = 0.001 } end
 end

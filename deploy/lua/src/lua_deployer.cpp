@@ -216,10 +216,23 @@ std::vector<ActivitySpec> readActivities(lua_State* L, int index, CallSite& site
     spec.priority = static_cast<int>(priority);
     const std::string scheduler = stringField(L, entry, "scheduler", spec.where, false);
     if (!scheduler.empty()) spec.scheduler = scheduler;
+    static const char* const kKeys[] = {"peer_name", "period", "priority", "scheduler", "own_pace", "max_age"};
+    lua_pushnil(L);
+    while (lua_next(L, entry) != 0) {
+      lua_pop(L, 1);
+      const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+      if (key == nullptr || std::none_of(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return std::strcmp(k, key) == 0; })) {
+        const std::string name = key ? key : "(not a name)";
+        lua_pop(L, 1);
+        fail(spec.where, "activity of '" + spec.peer_name + "': unknown field '" + name +
+                             "'; expected peer_name, period, priority, scheduler, own_pace or max_age");
+      }
+    }
     rawField(L, entry, "own_pace");
     if (lua_type(L, -1) == LUA_TBOOLEAN) spec.own_pace = lua_toboolean(L, -1) != 0;
     else if (!lua_isnil(L, -1)) fail(spec.where, "field 'own_pace' must be true or false");
     lua_pop(L, 1);
+    spec.max_age = numberField(L, entry, "max_age", spec.where, 0.0);
     specs.push_back(std::move(spec));
   });
   return specs;

@@ -122,6 +122,28 @@ TEST(LuaDeployer, SyntaxErrorsAndBadTablesNameTheFileAndLine) {
                   "only \"ConnPolicy\" is supported");
 }
 
+TEST(LuaDeployer, AnOwnPaceActivityBoundsItsHandOverAgeAndActivityFieldsAreChecked) {
+  Fixture f;
+  f.deployer.run("initConfigurator({ 'cobra_signal' }, {\n"
+                 "  { peer_name = 'Sine', component_type = 'SineGenerator' },\n"
+                 "  { peer_name = 'Gain', component_type = 'Gain' },\n"
+                 "})\n"
+                 "setActivities({ { peer_name = 'Gain', period = 0, own_pace = true, max_age = 0.25 },\n"
+                 "                { peer_name = 'Sine', period = 0, own_pace = true } })",
+                 "deployment.lua");
+  EXPECT_EQ(f.configurator.activityOf("Gain")->max_age, 0.25);
+  EXPECT_EQ(f.configurator.activityOf("Gain")->handoverBound(), 0.25);
+  EXPECT_EQ(f.configurator.activityOf("Sine")->handoverBound(), ActivitySpec::kDefaultMaxAge) << "the default bound";
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("setActivities({ { peer_name = 'Sine', period = 0.001, max_agee = 1 } })", "act.lua"); }),
+                  "act.lua:1: activity of 'Sine': unknown field 'max_agee'; expected peer_name, period, priority, "
+                  "scheduler, own_pace or max_age");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("setActivities({ { peer_name = 'Sine', period = 0.001, max_age = 1 } })", "act.lua"); }),
+                  "act.lua:1: activity of 'Sine': max_age bounds the hand-over of a component at its own pace; add "
+                  "own_pace = true or leave max_age out");
+  EXPECT_CONTAINS(messageOf([&] { f.deployer.run("setActivities({ { peer_name = 'Sine', own_pace = true, max_age = -1 } })", "act.lua"); }),
+                  "act.lua:1: activity of 'Sine': max_age must be a number of seconds > 0");
+}
+
 TEST(LuaDeployer, TheExecutorIsDeclaredOnceAndItsErrorsNameTheFileAndLine) {
   Fixture f;
   f.deployer.run("initConfigurator({ 'cobra_signal' }, {\n"

@@ -63,6 +63,16 @@ class Activity {
   /// thread of its own to join (a lockstep clock stepped by an executor stops components between
   /// its instants, on its thread).
   virtual bool stoppableFromOwnThread() const { return false; }
+  /// How old, at `now` (CLOCK_MONOTONIC, see monotonicNow), what the component hands over through
+  /// this activity may be: for a periodic thread, the time since its last step ended (since its
+  /// start before the first); for an event-driven thread, the time the oldest trigger not yet
+  /// answered by a finished step has waited (0 when none waits). 0 when the activity has no
+  /// thread of its own or is not running. The real-time executor watches it for the components
+  /// that run at their own pace (deploy/spec.hpp: `max_age`). Real-time safe, any thread.
+  virtual std::chrono::nanoseconds handoverAge(std::chrono::nanoseconds now) const noexcept {
+    (void)now;
+    return std::chrono::nanoseconds(0);
+  }
 
  protected:
   Activity() = default;
@@ -125,6 +135,7 @@ class ThreadActivity : public Activity {
   /// The scheduler the thread actually got (Other when Fifo was refused).
   Scheduler effectiveScheduler() const { return effective_.load(std::memory_order_relaxed); }
   ActivityStats stats() const;
+  std::chrono::nanoseconds handoverAge(std::chrono::nanoseconds now) const noexcept override;
 
  protected:
   ThreadActivity(int priority, Scheduler scheduler);
@@ -143,6 +154,11 @@ class ThreadActivity : public Activity {
   std::atomic<std::uint64_t> steps_{0};
   std::atomic<std::uint64_t> overruns_{0};
   std::atomic<std::int64_t> max_lateness_ns_{0};
+  /// ns (CLOCK_MONOTONIC) from which handoverAge counts; 0: nothing waits (see handoverAge).
+  /// Periodic: the end of the last step. Event-driven: the oldest trigger not yet taken by a step
+  /// (`waiting_since_ns_`) and the oldest one taken by the step under way (`serving_since_ns_`).
+  std::atomic<std::int64_t> waiting_since_ns_{0};
+  std::atomic<std::int64_t> serving_since_ns_{0};
 
  private:
   friend class ActivityLauncher;

@@ -84,12 +84,22 @@ struct ExecutorOptions {
   bool lock_memory = true;
   DeadlinePolicy policy;
   /// Called on the executor's thread with "e_deadline_missed" or "e_deadline_safe_stop" (see
-  /// DeadlinePolicy); must be real-time safe (e.g. Component::emitEvent). May be empty.
+  /// DeadlinePolicy) and "e_handover_stale_<component>" (watchHandover); must be real-time safe
+  /// (e.g. Component::emitEvent). May be empty.
   std::function<void(const char* event)> on_event;
   /// After a stall longer than this many ticks (the machine stopped the process), the executor
   /// slips: it stops catching up tick after tick, moves its deadlines and the run's epoch by the
   /// time lost, and counts it (slipped()). Shorter delays are caught up at once.
   int max_catch_up_ticks = 50;
+};
+
+/// A component that runs at its own pace (a thread of its own beside the executor) and how old
+/// what it hands over got: see Activity::handoverAge and RealtimeExecutor::watchHandover.
+struct HandoverFigures {
+  std::string component;
+  double max_age = 0.0;     ///< s: the bound the deployment declared
+  double worst_age = 0.0;   ///< s: the oldest its hand-over was at a tick
+  std::uint64_t stale = 0;  ///< episodes past max_age (each emitted its event once)
 };
 
 /// Compute time of one component's steps on the executor's thread.
@@ -147,6 +157,19 @@ class RealtimeExecutor {
   const DurationHistogram& workBetweenTicks() const { return work_time_; }
   /// Per component, in the clock's order (allocates: not for the real-time thread).
   std::vector<ComponentTiming> componentTimings() const;
+
+  /// Watches, every tick, the hand-over age of `component`, which runs at its own pace: when it
+  /// passes `max_age` the executor emits `e_handover_stale_<component>` through `on_event` (once
+  /// until the age is back within the bound) and counts the episode. Watching a component again
+  /// sets its new bound. Call before start() or between ticks on the executor's thread (a
+  /// deployment switch that gives a component its own pace); room for kMaxWatches components,
+  /// fixed at construction. The component must outlive the executor.
+  /// @throws Error for a max_age <= 0, more than kMaxWatches components, or a call from another
+  /// thread while the executor runs.
+  void watchHandover(const Component& component, std::chrono::nanoseconds max_age);
+  static constexpr std::size_t kMaxWatches = 32;
+  /// The watched components' figures (allocates: not for the real-time thread).
+  std::vector<HandoverFigures> handoverFigures() const;
   const ExecutorOptions& options() const { return options_; }
 
  private:
@@ -154,6 +177,7 @@ class RealtimeExecutor {
   void applyScheduling();
   void onStep(const Component& component, std::chrono::nanoseconds cpu) noexcept;
   void takeWork() noexcept;
+  void checkHandovers(std::chrono::nanoseconds now) noexcept;
   void warn(std::string text);
 
   LockstepClock& clock_;
@@ -193,6 +217,18 @@ class RealtimeExecutor {
   std::size_t slot_count_ = 0;
   std::atomic<std::size_t> slots_used_{0};
   std::size_t next_slot_ = 0;  // the executor thread's guess: components step in order
+  // The own-pace components watched (watchHandover): slots fixed at construction, filled in
+  // order; a slot is read by other threads once `watch_count_` covers it.
+  struct Watch {
+    std::atomic<const Component*> component{nullptr};
+    std::atomic<std::int64_t> max_age_ns{0};
+    char event[96] = {};  // "e_handover_stale_<name>", made by watchHandover: emitting it allocates nothing
+    std::atomic<std::int64_t> worst_ns{0};
+    std::atomic<std::uint64_t> stale{0};
+    bool is_stale = false;  // the executor thread's
+  };
+  std::unique_ptr<Watch[]> watches_;
+  std::atomic<std::size_t> watch_count_{0};
 };
 
 }  // namespace cobra::core

@@ -162,6 +162,10 @@ class Configurator {
   core::ExecutorOptions executorOptions() const;
   /// The component `Executor` (nullptr before setExecutor).
   core::Component* executorMonitor() const { return executor_monitor_; }
+  /// Has `executor` watch the hand-over age of every component at its own pace on the wall clock
+  /// (spec.hpp: max_age), now and as later switches give components their own pace. Call before
+  /// the executor starts; nullptr (before the executor is destroyed) ends it.
+  void watchHandovers(core::RealtimeExecutor* executor);
 
   /// Connects each `output` port to its `input` port with its policy, after checking all of
   /// them: ports exist, output -> input direction, same type, not already connected, and the
@@ -313,6 +317,7 @@ class Configurator {
   core::ClockSync* clock_sync_ = nullptr;
   ExecutorSpec executor_;
   core::Component* executor_monitor_ = nullptr;  // owned by components_
+  core::RealtimeExecutor* handover_watcher_ = nullptr;  // watchHandovers
 
   mutable std::recursive_mutex mutex_;  // serialises the public operations (see the class comment)
   std::vector<std::pair<core::Component*, ConfiguratorClient*>> clients_;

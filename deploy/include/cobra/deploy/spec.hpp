@@ -53,6 +53,13 @@ struct PeerSpec {
 /// within a period (a planner's search, network I/O): it hands over through ports, and what it
 /// is asked (requests, event ports) is taken in its own thread. On the lockstep clock it steps in
 /// the schedule like any other component, so both clocks run the same files.
+///
+/// `max_age = s` (own_pace only; default kDefaultMaxAge): how old what the component hands over
+/// may get on the wall clock. A periodic own-pace component must end a step at least every
+/// max_age; an event-driven one must answer each trigger (a request, new data on an event port)
+/// within max_age of its arrival. The real-time executor checks it every tick and, past it, emits
+/// `e_handover_stale_<component>` on the `Executor` component's events port (once per episode),
+/// which a task chart can take; the run's report counts the episodes and the worst age.
 struct ActivitySpec {
   std::string peer_name;
   double period = 0.0;  ///< s; 0 = event-driven
@@ -60,6 +67,10 @@ struct ActivitySpec {
   std::string scheduler = "ORO_SCHED_OTHER";
   SourceLocation where;
   bool own_pace = false;  ///< see above; after `where`, so `{name, period, priority, scheduler, where}` still reads
+  double max_age = 0.0;   ///< s; own_pace only; 0: kDefaultMaxAge
+  static constexpr double kDefaultMaxAge = 1.0;  ///< s: a search or an exchange answering within a second
+  /// s: the bound the executor checks (max_age, or kDefaultMaxAge when not given).
+  double handoverBound() const { return max_age > 0.0 ? max_age : kDefaultMaxAge; }
 
   /// Same period, priority and scheduler (the location does not matter).
   bool sameActivity(const ActivitySpec& other) const;

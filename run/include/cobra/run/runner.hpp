@@ -177,6 +177,8 @@ struct ExecutorFigures {
   core::DurationFigures between_steps;  ///< s per tick outside the components' steps (switches)
   core::DurationFigures work_between_ticks;  ///< s per action, fault or input played between ticks
   std::vector<core::ComponentTiming> components;  ///< s per step, in the clock's order
+  /// The components at their own pace: the oldest their hand-over got (s) against their max_age.
+  std::vector<core::HandoverFigures> handovers;
   std::vector<std::string> warnings;
 };
 
