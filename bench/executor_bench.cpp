@@ -22,8 +22,10 @@
 // (how late the thread woke after its absolute deadline); *_misses (the executor: ticks whose work
 // ended after the next deadline; cyclictest: wake-ups a whole period late); p999_ratio (executor /
 // cyc_catchup; the goal to compare against is <= 2) and p999_ratio_raw (executor / cyc); the tick's
-// compute time (tick_p50_us, tick_worst_us); load1 (the load average before the case) and fifo (1
-// when the executor got SCHED_FIFO). The executor's quantiles are the upper edge of a 3 % bucket,
+// compute time (tick_p50_us, tick_worst_us); load1 (the load average before the case); fifo (1
+// when the executor got SCHED_FIFO); exec_steal_ms and cyc_steal_ms (CPU time the hypervisor took
+// from this VM during each measure, /proc/stat's steal: a VM's stall shows there, in no figure of
+// the process). The executor's quantiles are the upper edge of a 3 % bucket,
 // cyclictest's its own whole (truncated) µs: the executor's read up to 3 % + 1 µs high against
 // them. The benchmark time is the case's wall time, loading the deployment included. One summary
 // table follows the benchmarks; each case also lists the puncturing components with the slowest
@@ -91,7 +93,30 @@ struct Latency {
   LatencyFiguresUs us;
   std::uint64_t samples = 0;
   std::uint64_t misses = 0;
+  double steal_ms = -1.0;  // ms of CPU time the hypervisor took from this machine's CPUs meanwhile; -1: unknown
 };
+
+/// ms of CPU time stolen by the hypervisor so far, all CPUs together (/proc/stat's `steal`); -1
+/// where the kernel does not say. A VM's stall shows here and in no process's own figures.
+double stolenMs() {
+  std::FILE* stat = std::fopen("/proc/stat", "r");
+  if (stat == nullptr) return -1.0;
+  unsigned long long other[7] = {}, steal = 0;  // user, nice, system, idle, iowait, irq, softirq; steal
+  const int read = std::fscanf(stat, "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &other[0], &other[1], &other[2],
+                               &other[3], &other[4], &other[5], &other[6], &steal);
+  std::fclose(stat);
+  if (read != 8) return -1.0;
+  return static_cast<double>(steal) * 1000.0 / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+/// Runs `measure` and gives the hypervisor's steal over it (ms, -1 when unknown).
+template <class F>
+double stealDuring(F&& measure) {
+  const double before = stolenMs();
+  measure();
+  const double after = stolenMs();
+  return before < 0.0 || after < 0.0 ? -1.0 : after - before;
+}
 
 /// One case of the summary table.
 struct Case {
@@ -312,17 +337,22 @@ void executorBesideCyclictest(benchmark::State& state, bool loaded) {
       row.load1 = load[0];
       std::printf("%s (load average %.2f), %g s each:\n", row.name.c_str(), row.load1, seconds);
       std::unique_ptr<CpuLoad> stress = loaded ? std::make_unique<CpuLoad>(seconds) : nullptr;
-      runExecutor(*puncturing, seconds, state, row);
+      const double executor_steal = stealDuring([&] { runExecutor(*puncturing, seconds, state, row); });
+      row.executor.steal_ms = executor_steal;
       puncturing.reset();  // its planner threads gone before cyclictest
-      const MicrosecondHistogram cyclictest = runCyclictest(row.priority, row.period_us, seconds);
+      MicrosecondHistogram cyclictest;
+      const double cyclictest_steal = stealDuring([&] { cyclictest = runCyclictest(row.priority, row.period_us, seconds); });
       row.cyclictest = cyclictest.latency();
       row.caught_up = cyclictest.withCatchUp().latency();
+      row.cyclictest.steal_ms = row.caught_up.steal_ms = cyclictest_steal;
       row.cyclictest_ran = true;
     } catch (const std::exception& e) {
       state.SkipWithError(e.what());
     }
   }
   state.counters["load1"] = row.load1;
+  state.counters["exec_steal_ms"] = row.executor.steal_ms;
+  if (row.cyclictest_ran) state.counters["cyc_steal_ms"] = row.cyclictest.steal_ms;
   setCounters(state, "exec", row.executor);
   if (row.cyclictest_ran) {
     setCounters(state, "cyc", row.cyclictest);
@@ -337,12 +367,12 @@ void printSummary() {
   if (g_cases.empty()) return;
   std::printf("\nWake-up latency (us), %g s per measure; executor: the puncturing deployment; cyclictest at its "
               "SCHED_FIFO priority and period\n", measureSeconds());
-  std::printf("%-8s %-20s %6s %9s %9s %9s %9s %7s %8s\n", "case", "measure", "load1", "p50", "p99", "p99.9", "worst",
-              "misses", "samples");
+  std::printf("%-8s %-20s %6s %9s %9s %9s %9s %7s %8s %9s\n", "case", "measure", "load1", "p50", "p99", "p99.9", "worst",
+              "misses", "samples", "steal ms");
   const auto print = [](const Case& c, const char* measure, const Latency& l) {
-    std::printf("%-8s %-20s %6.2f %9.1f %9.1f %9.1f %9.1f %7llu %8llu\n", c.name.c_str(), measure, c.load1, l.us.p50,
+    std::printf("%-8s %-20s %6.2f %9.1f %9.1f %9.1f %9.1f %7llu %8llu %9.0f\n", c.name.c_str(), measure, c.load1, l.us.p50,
                 l.us.p99, l.us.p999, l.us.worst, static_cast<unsigned long long>(l.misses),
-                static_cast<unsigned long long>(l.samples));
+                static_cast<unsigned long long>(l.samples), l.steal_ms);
   };
   for (const Case& c : g_cases) {
     print(c, "executor", c.executor);
@@ -351,7 +381,8 @@ void printSummary() {
     print(c, "cyclictest, catch-up", c.caught_up);
   }
   std::printf("(catch-up: cyclictest's wake-ups with the periods a late one passed counted as the executor "
-              "counts them)\n");
+              "counts them; steal: CPU time the hypervisor took from this VM during the measure, all CPUs, "
+              "/proc/stat; -1: not known)\n");
   for (const Case& c : g_cases)
     if (c.cyclictest_ran && c.caught_up.us.p999 > 0.0 && c.cyclictest.us.p999 > 0.0)
       std::printf("%s: executor p99.9 = %.2f x cyclictest's counted with catch-up, %.2f x its own (goal to compare "
