@@ -197,8 +197,12 @@ void MotionPlannerComponent::updateHook() {
   // and only while a port of it is connected (FCL distances of every checked pair: the most
   // expensive thing this component does per step).
   const std::int64_t now_ns = now().count();
-  const bool clearance_due =
-      last_clearance_ns_ < 0 || now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
+  // Earlier than the last measurement: run time began again. On the wall clock it begins at the
+  // executor's first tick, and this own-pace planner may have measured while the deployment was
+  // loading, on the time of an earlier run; waiting for that time again left the clearance
+  // unmeasured for as long as the earlier run had lasted.
+  const bool clearance_due = last_clearance_ns_ < 0 || now_ns < last_clearance_ns_ ||
+                             now_ns - last_clearance_ns_ >= static_cast<std::int64_t>(clearance_period_() * 1e9);
   // Whether a port of it is connected is asked (a lock per port) once per clearance_period too:
   // a planner nobody reads the clearance of (the probe's) would otherwise ask every step.
   const bool clearance_wanted =

@@ -535,6 +535,37 @@ TEST(MotionPlannerComponent, TheClearanceIsMeasuredOnlyWhileItsPortsAreRead) {
   EXPECT_LE(first, 10);
 }
 
+// On the wall clock run time begins at the executor's first tick; an own-pace planner may have
+// measured before it, while the deployment loaded, on an earlier run's time. Its next step, at a
+// run time earlier than that measurement, measures at once (it waited for the old time again).
+TEST(MotionPlannerComponent, WhenRunTimeBeginsAgainTheClearanceIsMeasuredAtOnce) {
+  MotionPlannerComponent planner("Planner");  // its own activity's time: run time (core::runEpoch)
+  configureScene(planner);
+  core::OutputPort<KDL::Frame> isur{"isur", "", "m"}, ur5{"ur5", "", "m"};
+  core::InputPort<double> min_distance{"minDistance", "", "m"};
+  core::connectPorts(isur, planner.port("isurMeasPose"));
+  core::connectPorts(ur5, planner.port("UR5MeasPose"));
+  core::connectPorts(planner.port("minDistance"), min_distance);
+  ASSERT_TRUE(planner.configure());
+  ASSERT_TRUE(planner.start());
+  auto& activity = dynamic_cast<core::SlaveActivity&>(planner.activity());
+  const auto step = [&] {
+    isur.write(needleDown(0.0, 0.0, 0.2));
+    ur5.write(probeDown(-0.1, 0.0, 0.12));
+    activity.step();
+  };
+  double clearance = 0.0;
+  step();
+  ASSERT_EQ(min_distance.read(clearance), core::FlowStatus::NewData);
+  const std::chrono::nanoseconds epoch = core::runEpoch();
+  core::setRunEpoch(epoch + 10s);  // run time begins again: 10 s earlier than the measurement
+  step();
+  const core::FlowStatus after = min_distance.read(clearance);
+  core::setRunEpoch(epoch);
+  EXPECT_EQ(after, core::FlowStatus::NewData) << "the first step of the new run time measures";
+  EXPECT_GT(clearance, 0.005);
+}
+
 TEST(MotionPlannerComponent, StartRefusesAPeriodicActivity) {
   MotionPlannerComponent planner("Planner");
   configureScene(planner);
