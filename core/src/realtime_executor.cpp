@@ -297,10 +297,11 @@ void RealtimeExecutor::loop() {
 }
 
 void RealtimeExecutor::watchHandover(const Component& component, std::chrono::nanoseconds max_age) {
-  const std::string head = "real-time executor: watching the hand-over of '" + component.name() + "': ";
+  // The message is made only for an error: between ticks this runs on the executor's thread.
+  const auto head = [&] { return "real-time executor: watching the hand-over of '" + component.name() + "': "; };
   if (running() && clock_.steppingThread() != std::this_thread::get_id())
-    throw Error(head + "called from another thread while the executor runs; watch before start or between ticks");
-  if (max_age.count() <= 0) throw Error(head + "max_age must be > 0 s, got " + formatDuration(max_age));
+    throw Error(head() + "called from another thread while the executor runs; watch before start or between ticks");
+  if (max_age.count() <= 0) throw Error(head() + "max_age must be > 0 s, got " + formatDuration(max_age));
   const std::size_t used = watch_count_.load(std::memory_order_acquire);
   for (std::size_t i = 0; i < used; ++i)
     if (watches_[i].component.load(std::memory_order_relaxed) == &component) {
@@ -308,7 +309,7 @@ void RealtimeExecutor::watchHandover(const Component& component, std::chrono::na
       return;
     }
   if (used == kMaxWatches)
-    throw Error(head + "the executor watches " + std::to_string(kMaxWatches) + " own-pace components already");
+    throw Error(head() + "the executor watches " + std::to_string(kMaxWatches) + " own-pace components already");
   Watch& watch = watches_[used];
   std::snprintf(watch.event, sizeof watch.event, "e_handover_stale_%s", component.name().c_str());
   watch.max_age_ns.store(max_age.count(), std::memory_order_relaxed);

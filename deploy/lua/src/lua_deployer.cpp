@@ -96,6 +96,23 @@ class CallSite {
   throw core::Error(where.text() + ": " + what);
 }
 
+/// Fails naming `head` and the first key of the table at `index` that is not in `keys` (its
+/// `expected` list of them, for the message).
+template <std::size_t N>
+void requireKnownFields(lua_State* L, int index, const char* const (&keys)[N], const SourceLocation& where,
+                        const std::string& head, const char* expected) {
+  lua_pushnil(L);
+  while (lua_next(L, index) != 0) {
+    lua_pop(L, 1);
+    const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+    if (key == nullptr || std::none_of(std::begin(keys), std::end(keys), [&](const char* k) { return std::strcmp(k, key) == 0; })) {
+      const std::string name = key ? key : "(not a name)";
+      lua_pop(L, 1);
+      fail(where, head + "unknown field '" + name + "'; expected " + expected);
+    }
+  }
+}
+
 void requireTable(lua_State* L, int index, const SourceLocation& where, const char* what) {
   if (!lua_istable(L, index)) fail(where, std::string(what) + " must be a table, got " + luaL_typename(L, index));
 }
@@ -217,17 +234,8 @@ std::vector<ActivitySpec> readActivities(lua_State* L, int index, CallSite& site
     const std::string scheduler = stringField(L, entry, "scheduler", spec.where, false);
     if (!scheduler.empty()) spec.scheduler = scheduler;
     static const char* const kKeys[] = {"peer_name", "period", "priority", "scheduler", "own_pace", "max_age"};
-    lua_pushnil(L);
-    while (lua_next(L, entry) != 0) {
-      lua_pop(L, 1);
-      const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
-      if (key == nullptr || std::none_of(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return std::strcmp(k, key) == 0; })) {
-        const std::string name = key ? key : "(not a name)";
-        lua_pop(L, 1);
-        fail(spec.where, "activity of '" + spec.peer_name + "': unknown field '" + name +
-                             "'; expected peer_name, period, priority, scheduler, own_pace or max_age");
-      }
-    }
+    requireKnownFields(L, entry, kKeys, spec.where, "activity of '" + spec.peer_name + "': ",
+                       "peer_name, period, priority, scheduler, own_pace or max_age");
     rawField(L, entry, "own_pace");
     if (lua_type(L, -1) == LUA_TBOOLEAN) spec.own_pace = lua_toboolean(L, -1) != 0;
     else if (!lua_isnil(L, -1)) fail(spec.where, "field 'own_pace' must be true or false");
@@ -379,17 +387,8 @@ int setExecutorImpl(lua_State* L) {
   requireTable(L, 1, where, "setExecutor's table { period = s, priority = 1..99, ... }");
   static const char* const kKeys[] = {"period", "priority", "scheduler", "cpu", "lock_memory", "on_deadline_miss",
                                       "safe_stop_after"};
-  lua_pushnil(L);
-  while (lua_next(L, 1) != 0) {
-    lua_pop(L, 1);
-    const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
-    if (key == nullptr || std::none_of(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return std::strcmp(k, key) == 0; })) {
-      const std::string name = key ? key : "(not a name)";
-      lua_pop(L, 1);
-      fail(where, "setExecutor: unknown field '" + name +
-                      "'; expected period, priority, scheduler, cpu, lock_memory, on_deadline_miss or safe_stop_after");
-    }
-  }
+  requireKnownFields(L, 1, kKeys, where, "setExecutor: ",
+                     "period, priority, scheduler, cpu, lock_memory, on_deadline_miss or safe_stop_after");
   ExecutorSpec spec;
   spec.where = where;
   spec.declared = true;
