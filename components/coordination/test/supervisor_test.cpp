@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include "cobra/core/realtime_executor.hpp"
 
 #include <algorithm>
@@ -256,7 +258,11 @@ TEST_P(SupervisorFailure, GoesToExceptionNamingTheFileAndLineAndRunsTheChartsExc
   const auto [index, mode] = GetParam();
   const Failing& f = kFailures[index];
   Cell cell({{"Sup", "Supervisor", {}}, {"Rec", "Recorder", {}}}, mode);
-  const std::string path = writeChart("failing_" + std::to_string(index) + ".lua", failingChart(f));
+  // One file per case and process: ctest runs the cases of both clocks side by side, and one
+  // case read the other's file half written.
+  const std::string path = writeChart("failing_" + std::to_string(index) + "_" + std::to_string(static_cast<int>(mode)) +
+                                          "_" + std::to_string(::getpid()) + ".lua",
+                                      failingChart(f));
   core::Component& sup = cell.get("Sup");
   sup.setProperty("fsm_path", path);
   cell.watch("Sup");
