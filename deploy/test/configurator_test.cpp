@@ -11,6 +11,7 @@
 
 #include "cobra/components/signal/recorder.hpp"
 #include "test_components.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 using namespace cobra;
 using namespace std::chrono_literals;
@@ -140,7 +141,7 @@ TEST(Configurator, UnknownPackageAndTypeAreReportedWithTheirLine) {
 }
 
 TEST(Configurator, BadConfigurationFileCreatesNothing) {
-  const auto folder = std::filesystem::path(::testing::TempDir()) / "cobra_deploy_bad_configuration";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_deploy_bad_configuration");
   std::filesystem::create_directories(folder);
   std::ofstream(folder / "slow.cfg") << "# slow\nGain.k = 0.5\nSine.frequency = fast\n";
   Configurator configurator;

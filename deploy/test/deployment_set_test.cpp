@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cobra/core/error.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 using namespace cobra;
 using deploy::DeploymentSet;
@@ -24,7 +25,7 @@ std::string errorOf(const std::function<void()>& action) {
 }
 
 std::filesystem::path freshFolder(const std::string& name) {
-  const auto folder = std::filesystem::path(::testing::TempDir()) / name;
+  const auto folder = ::cobra::test_support::scratchPath(name);
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   return folder;

@@ -55,8 +55,8 @@ TEST(Graph, RolesHaveDistinctColours) {
 TEST(Graph, GraphvizAcceptsTheOutput) {
   if (std::system("command -v dot > /dev/null 2>&1") != 0) GTEST_SKIP() << "Graphviz (dot) is not installed";
   Pipeline p;
-  const std::string dot_path = ::testing::TempDir() + "cobra_graph_test.dot";
-  const std::string svg_path = ::testing::TempDir() + "cobra_graph_test.svg";
+  const std::string dot_path = ::cobra::test_support::scratchPath("cobra_graph_test.dot").string();
+  const std::string svg_path = ::cobra::test_support::scratchPath("cobra_graph_test.svg").string();
   std::ofstream(dot_path) << graphvizDot(p.registry);
   ASSERT_EQ(std::system(("dot -Tsvg " + dot_path + " -o " + svg_path).c_str()), 0);
   std::stringstream svg;

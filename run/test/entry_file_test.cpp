@@ -29,7 +29,7 @@ TEST(EntryFile, AFolderHoldsTheFileNamedAfterIt) {
 }
 
 TEST(EntryFile, AFolderWithoutItsEntryFileIsOneLineSayingWhatAFolderHolds) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "cobra_run_entry" / "x";
+  const std::filesystem::path folder = ::cobra::test_support::scratchPath("cobra_run_entry") / "x";
   std::filesystem::create_directories(folder);
   std::ofstream(folder / "other.lua") << "-- not the entry\n";
   const std::string message = messageOf([&] { entryFile(folder); });

@@ -104,7 +104,7 @@ TEST(Faults, AnUnknownOperationIsOneLineWithTheOperationsOfTheComponent) {
 }
 
 TEST(Faults, AMalformedEntryNamesItsLineAndTheFormsThereAre) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cobra_run_bad_faults.lua";
+  const std::filesystem::path file = ::cobra::test_support::scratchPath("cobra_run_bad_faults.lua");
   std::ofstream(file) << "return {\n  { on = { time = 1 }, after = 0.5 },\n}\n";
   RunOptions o = options("gain_zero.lua");
   o.faults_file = file;
@@ -114,7 +114,7 @@ TEST(Faults, AMalformedEntryNamesItsLineAndTheFormsThereAre) {
 }
 
 TEST(Faults, AStateTriggerOfAnUnknownChartIsRefused) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cobra_run_bad_chart.lua";
+  const std::filesystem::path file = ::cobra::test_support::scratchPath("cobra_run_bad_chart.lua");
   std::ofstream(file) << "return {\n  { on = { state = \"tsak:root.high\" }, call = \"Sine.start\" },\n}\n";
   RunOptions o = options("gain_zero.lua");
   o.faults_file = file;

@@ -50,7 +50,7 @@ RunOptions options(const std::filesystem::path& app = kApp) {
 
 TEST(Runner, TheTestApplicationCompletesWhenItsChartIsDoneAndWritesTheRunFolder) {
   RunOptions o = options();
-  o.report_folder = std::filesystem::temp_directory_path() / "cobra_run_threshold";
+  o.report_folder = ::cobra::test_support::scratchPath("cobra_run_threshold");
   std::filesystem::remove_all(o.report_folder);
   std::vector<std::string> lines;
   o.progress = [&](const std::string& line) { lines.push_back(line); };

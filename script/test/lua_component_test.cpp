@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::script {
 namespace {
@@ -18,7 +19,7 @@ using namespace std::chrono_literals;
 
 /// Writes `code` to a fresh file and returns its path.
 std::string writeScript(const std::string& name, const std::string& code) {
-  const std::string path = testing::TempDir() + "lua_component_test_" + name + ".lua";
+  const std::string path = ::cobra::test_support::scratchPath("lua_component_test_" + name + ".lua").string();
   std::ofstream(path) << code;
   return path;
 }

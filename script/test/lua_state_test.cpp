@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "cobra/core/error.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::script {
 namespace {
@@ -38,7 +39,7 @@ TEST(LuaState, ErrorsCarryChunkNameAndLine) {
 }
 
 TEST(LuaState, RunFileNamesTheFile) {
-  const std::string path = testing::TempDir() + "lua_state_test_bad.lua";
+  const std::string path = ::cobra::test_support::scratchPath("lua_state_test_bad.lua").string();
   std::ofstream(path) << "local ok = true\nif ok then\n  error('in the file')\nend\n";
   LuaState lua;
   EXPECT_EQ(errorOf([&] { lua.runFile(path); }), path + ":3: in the file");

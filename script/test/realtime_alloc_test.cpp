@@ -17,6 +17,7 @@
 #include "cobra/script/bindings.hpp"
 #include "cobra/script/lua_component.hpp"
 #include "cobra/test_support/counting_new.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 // Sanitizers own malloc; under them only operator new is counted.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -131,7 +132,7 @@ TEST(ScriptRealtimeAlloc, LuaFunctionCalledManyTimesInAPoolNeverCallsTheSystem) 
 }
 
 TEST(ScriptRealtimeAlloc, RunningLuaComponentOnTheLockstepClockNeverCallsTheSystem) {
-  const std::string path = testing::TempDir() + "realtime_alloc_test_worker.lua";
+  const std::string path = ::cobra::test_support::scratchPath("realtime_alloc_test_worker.lua").string();
   std::ofstream(path) << R"(
 self:addInputPort("u", "double", "input", "1")
 self:addInputPort("pose", "KDL.Frame", "input pose", "m")

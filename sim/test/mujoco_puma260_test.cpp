@@ -319,7 +319,7 @@ std::string variant(const std::string& name, const std::string& from, const std:
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
-  const std::string path = testing::TempDir() + name;
+  const std::string path = ::cobra::test_support::scratchPath(name).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -329,12 +329,12 @@ std::string loadError(const std::string& path) {
 }
 
 TEST(MujocoPuma260World, AMissingOrMalformedFileIsMujocosErrorWithTheFile) {
-  const std::string missing = testing::TempDir() + "no_such_world.xml";
+  const std::string missing = ::cobra::test_support::scratchPath("no_such_world.xml").string();
   const std::string message = loadError(missing);
   EXPECT_CONTAINS(message, missing + ": cannot load the MuJoCo model: XML parse error");
   EXPECT_CONTAINS(message, "FILE_NOT_FOUND");
   EXPECT_EQ(message.find('\n'), std::string::npos);
-  const std::string malformed = testing::TempDir() + "malformed_world.xml";
+  const std::string malformed = ::cobra::test_support::scratchPath("malformed_world.xml").string();
   std::ofstream(malformed) << "<mujoco>\n  <worldbody>\n    <body>\n</mujoco>\n";
   EXPECT_CONTAINS(loadError(malformed), malformed + ": cannot load the MuJoCo model: XML parse error");
   EXPECT_CONTAINS(loadError(malformed), "MISMATCHED_ELEMENT");

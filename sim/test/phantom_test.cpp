@@ -72,7 +72,7 @@ TEST(Phantom, ErrorsNameTheFileAndLine) {
 }
 
 TEST(Phantom, LoadsAFile) {
-  const std::string path = ::testing::TempDir() + "cobra_sim_phantom_test.phantom";
+  const std::string path = ::cobra::test_support::scratchPath("cobra_sim_phantom_test.phantom").string();
   std::ofstream(path) << kScenario;
   EXPECT_EQ(cobra::sim::loadScenario(path).layers.size(), 2U);
   std::remove(path.c_str());

@@ -76,7 +76,7 @@ class CountingObserver final : public run::RunObserver {
 };
 
 TEST(VisualizerBridge, RecordsThirtyFramesPerSimulatedSecondAndTheEventsIntoTheRunFolder) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_bridge_recording";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_studio_bridge_recording");
   std::filesystem::remove_all(folder);
   VisualizerBridge bridge;
   run::RunOptions options;
@@ -122,7 +122,7 @@ TEST(VisualizerBridge, RecordsThirtyFramesPerSimulatedSecondAndTheEventsIntoTheR
 }
 
 TEST(VisualizerBridge, ARunThatStopsSafelyRecordsItsOutcomeStatusTheLineCobraRunPrintsAndTheFinalStates) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_bridge_safe_stop";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_studio_bridge_safe_stop");
   std::filesystem::remove_all(folder);
   VisualizerBridge bridge;
   run::RunOptions options;

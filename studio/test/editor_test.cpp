@@ -21,6 +21,7 @@
 #include "cobra/studio/server.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "http_client.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -68,7 +69,7 @@ std::string errorOf(Editor& e, const char* method, const char* route, const std:
 }
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_editor_test";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_editor_test");
   std::filesystem::create_directories(folder);
   std::filesystem::remove(folder / name);
   std::filesystem::remove(folder / (name + ".layout.json"));
@@ -258,7 +259,7 @@ TEST(Editor, OpensAnApplicationFolderWithItsDeployments) {
 }
 
 TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_editor_test" / "generated_pkg";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_editor_test") / "generated_pkg";
   std::filesystem::remove_all(folder);
   const std::string request = "{\"folder\":" + json::quoted(folder.string()) + R"(,"component":{"name":"ForceFilter",
     "role":"calculation","package":"my_filters","doc":"low-pass filter of a wrench",

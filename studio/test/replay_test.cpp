@@ -17,7 +17,7 @@ std::string errorOf(const std::filesystem::path& folder) {
 }
 
 TEST(Replay, AFolderThatIsNotARunFolderIsOneLineNamingItAndWhatIsMissing) {
-  const auto none = std::filesystem::temp_directory_path() / "cobra_studio_no_such_run";
+  const auto none = ::cobra::test_support::scratchPath("cobra_studio_no_such_run");
   std::filesystem::remove_all(none);
   EXPECT_EQ(errorOf(none), none.string() + ": no such folder (give a run folder of cobra run APP --report DIR)");
   std::filesystem::create_directories(none);
@@ -30,10 +30,10 @@ TEST(Replay, AFolderThatIsNotARunFolderIsOneLineNamingItAndWhatIsMissing) {
 }
 
 TEST(Replay, ServesTheRecordedModelAndFramesAndRefusesInputs) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_replay";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_studio_replay");
   std::filesystem::remove_all(folder);
   const std::string recording = R"({"model":{"protocol":1,"mode":"replay","duration":2},"frames":[{"type":"frame","t":0}],"events":[]})";
-  const auto mesh = std::filesystem::temp_directory_path() / "cobra_studio_replay_phantom.stl";
+  const auto mesh = ::cobra::test_support::scratchPath("cobra_studio_replay_phantom.stl");
   std::ofstream(mesh) << "solid phantom\nendsolid phantom\n";
   EXPECT_EQ(writeReplayFolder(folder / "studio", recording, {}, {{"phantom", mesh}}), "studio/recording.json");
   Replay replay(folder);
@@ -49,7 +49,7 @@ TEST(Replay, ServesTheRecordedModelAndFramesAndRefusesInputs) {
 }
 
 TEST(Replay, ServesHowTheRunEndedWithTheFrames) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_replay_end";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_studio_replay_end");
   std::filesystem::remove_all(folder);
   const std::string end = R"({"type":"end","t":2,"outcome":"safe stop","message":"why","status":1,"line":"cobra run: safe stop: why","states":{"task":"root.SafeStop"}})";
   writeReplayFolder(folder / "studio", R"({"model":{"protocol":1},"frames":[{"type":"frame","t":0}],"events":[],"end":)" + end + "}", {});

@@ -18,6 +18,7 @@
 #include "cobra/studio/bridge.hpp"
 #include "cobra/studio/server.hpp"
 #include "http_client.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -47,7 +48,7 @@ class FakeSource final : public StudioSource {
     if (events) messages.push_back("{\"type\":\"event\",\"t\":0,\"source\":\"fake\",\"name\":\"e_tick\"}");
   }
   std::filesystem::path mesh(const std::string& name) override {
-    return name == "phantom" ? std::filesystem::temp_directory_path() / "cobra_studio_server_web" / "index.html"
+    return name == "phantom" ? ::cobra::test_support::scratchPath("cobra_studio_server_web") / "index.html"
                              : std::filesystem::path();
   }
   InputAnswer input(const std::string& name) override {
@@ -61,7 +62,7 @@ class FakeSource final : public StudioSource {
 };
 
 std::filesystem::path webFolder() {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_studio_server_web";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_studio_server_web");
   std::filesystem::create_directories(folder / "assets");
   std::ofstream(folder / "index.html") << "<html>studio</html>";
   std::ofstream(folder / "assets" / "app.js") << "console.log(1);";

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cobra/run/runner.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::run::puma260 {
 
@@ -29,7 +30,7 @@ inline RunOptions options(const std::string& scenario, const std::string& name) 
   o.app = kApp;
   o.scenario = kApp / "scenarios" / scenario;
   o.time_limit = 120.0;  // s simulated; the task takes about 20 s
-  o.report_folder = std::filesystem::temp_directory_path() / ("cobra_puma260_" + name);
+  o.report_folder = ::cobra::test_support::scratchPath("cobra_puma260_" + name);
   std::filesystem::remove_all(o.report_folder);
   return o;
 }

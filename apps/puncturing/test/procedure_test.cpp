@@ -258,7 +258,7 @@ TEST(PuncturingProcedure, ALuaErrorInTheNeedleChartStopsTheNeedleAndTheProbesCha
   deploy::LuaDeployer deployer(configurator, lua);
   deployer.runFile((kApp / "puncturing.lua").string());
   const std::string charts = (kApp / "charts").string();
-  const std::string wrapper = ::testing::TempDir() + "needle_insertion_broken.lua";
+  const std::string wrapper = ::cobra::test_support::scratchPath("needle_insertion_broken.lua").string();
   std::ofstream(wrapper) << "package.path = '" << charts << "/?.lua;' .. package.path\n"
                          << "local chart = dofile('" << charts << "/needle_insertion.lua')\n"
                          << "local moving = chart.MakeRoomForProbe.Moving\n"

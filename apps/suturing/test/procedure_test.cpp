@@ -195,7 +195,7 @@ void expectTheArmsHoldAfter(const std::string& fault, const std::string& expecte
   deployer.run("teleop_device = 'leap'", "=device");
   deployer.runFile((kApp / "suturing.lua").string());
   const std::string charts = (kApp / "charts").string();
-  const std::string wrapper = ::testing::TempDir() + "suturing_broken_" + std::to_string(fault.size()) + ".lua";
+  const std::string wrapper = ::cobra::test_support::scratchPath("suturing_broken_" + std::to_string(fault.size()) + ".lua").string();
   std::ofstream(wrapper) << "package.path = '" << charts << "/?.lua;' .. package.path\n"
                          << "local chart = dofile('" << charts << "/suturing.lua')\n"
                          << "local moving = chart.AutonomousMode.ApplyRightStitch.MoveOverWound.Moving\n"

@@ -30,7 +30,7 @@ using deploy::SourceLocation;
 const std::string kSource = COBRA_SOURCE_DIR;
 
 std::string writeChart(const std::string& name, const std::string& code) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = ::cobra::test_support::scratchPath(name).string();
   std::ofstream(path) << code;
   return path;
 }

@@ -16,7 +16,7 @@ namespace {
 constexpr double kSpeed = 0.005;  // m/s, insertion speed
 
 std::string writeFile(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = ::cobra::test_support::scratchPath(name).string();
   std::ofstream(path) << text;
   return path;
 }

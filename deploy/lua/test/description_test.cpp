@@ -96,7 +96,7 @@ struct Loaded {
 };
 
 std::filesystem::path scratch(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_description_test";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_description_test");
   std::filesystem::create_directories(folder);
   return folder / name;
 }

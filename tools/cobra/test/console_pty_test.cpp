@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include "cobra/test_support/test_support.hpp"
 
 namespace {
 
@@ -98,7 +99,7 @@ class Terminal {
 };
 
 TEST(ConsoleOnATerminal, ListSetCallTraceWithCompletionAndHistory) {
-  const std::string history = ::testing::TempDir() + "cobra_console_history";
+  const std::string history = ::cobra::test_support::scratchPath("cobra_console_history").string();
   std::filesystem::remove(history);
   const std::string listing = std::string(COBRA_SOURCE_DIR) + "/apps/examples/signal_listing.lua";
   Terminal terminal({COBRA_CLI, "console", listing, "--sim"}, history);
@@ -141,7 +142,7 @@ TEST(ConsoleOnATerminal, ListSetCallTraceWithCompletionAndHistory) {
 }
 
 TEST(ConsoleOnATerminal, CtrlDLeavesAndErrorsDoNotEndTheSession) {
-  const std::string history = ::testing::TempDir() + "cobra_console_history_2";
+  const std::string history = ::cobra::test_support::scratchPath("cobra_console_history_2").string();
   Terminal terminal({COBRA_CLI, "console", "--sim"}, history);
   ASSERT_TRUE(terminal.started());
   terminal.waitFor("cobra> ");

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cobra/report/run_report.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 using namespace cobra::report;
 using ::testing::HasSubstr;
@@ -68,7 +69,7 @@ TEST(TimelineSvg, DrawsOneLanePerChartAndLabelsBoxesThatFit) {
 }
 
 TEST(RunFolder, HoldsTheEventLogAndASelfContainedPage) {
-  const auto folder = std::filesystem::temp_directory_path() / "cobra_run_report_test";
+  const auto folder = ::cobra::test_support::scratchPath("cobra_run_report_test");
   std::filesystem::remove_all(folder);
   RunReport report;
   report.title = "Puncturing <demo>";

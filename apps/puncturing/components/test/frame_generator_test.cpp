@@ -314,7 +314,7 @@ TEST(PuncturingFrameGenerator, NextNeedleMovesToTheSecondNeedleThenSaysAllNeedle
 
 /// Writes `text` to a fresh file in the test's temporary folder and returns its path.
 std::string writeFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "cobra_frame_generator_test";
+  const auto dir = ::cobra::test_support::scratchPath("cobra_frame_generator_test");
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::ofstream(path) << text;

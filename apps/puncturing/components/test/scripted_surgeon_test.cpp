@@ -17,7 +17,7 @@ using namespace std::chrono_literals;
 
 /// Writes `text` to a file in the test's temporary folder and returns its path.
 std::string writeFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "cobra_scripted_surgeon_test";
+  const auto dir = ::cobra::test_support::scratchPath("cobra_scripted_surgeon_test");
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::ofstream(path) << text;

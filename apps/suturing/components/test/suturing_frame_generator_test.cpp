@@ -131,7 +131,7 @@ TEST(SuturingFrameGenerator, AnOffsetPropertyMovesItsDatum) {
 }
 
 TEST(SuturingFrameGenerator, ARowWithACheckPublishesTheMotionAfterItsGoal) {
-  const std::string path = (std::filesystem::temp_directory_path() / "suturing_then_table.txt").string();
+  const std::string path = (::cobra::test_support::scratchPath("suturing_then_table.txt")).string();
   std::ofstream(path) << "state MoveOverWound right=centre-0.03 left=aside then_right=centre\n";
   Bench b(path);
   b.start();
@@ -177,7 +177,7 @@ TEST(SuturingFrameGenerator, MissingDataAnswersNoDataNamingTheStateTheLineAndThe
 }
 
 TEST(SuturingFrameGenerator, ABadTableIsRefusedWithItsFileAndLine) {
-  const std::string path = (std::filesystem::temp_directory_path() / "suturing_bad_table.txt").string();
+  const std::string path = (::cobra::test_support::scratchPath("suturing_bad_table.txt")).string();
   std::ofstream(path) << "state PullThread right=pull left=hold\nstate HookThread right=hold left=hook_it\n";
   Bench b(path);
   EXPECT_EQ(b.generator.configure().message,

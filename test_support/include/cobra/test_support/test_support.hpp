@@ -5,9 +5,12 @@
 
 #include <chrono>
 #include <exception>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <thread>
+
+#include <unistd.h>
 
 /// Checks that `text` contains `part`, printing `text` when it does not.
 #define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
@@ -22,6 +25,13 @@ inline std::string messageOf(const std::function<void()>& f) {
     return e.what();
   }
   return "(no error)";
+}
+
+/// A path in the temporary folder that belongs to this test process alone:
+/// temp/cobra_test_<pid>_<name>. ctest runs the tests of one file side by side in separate
+/// processes, and two fixed names would have one test read the other's file half written.
+inline std::filesystem::path scratchPath(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("cobra_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
 /// Polls `done` every millisecond for at most 5 s (threaded activities); returns its last value.
