@@ -186,11 +186,11 @@ TEST(PuncturingPlan, AStateRowMayListGoalAlternativesAndTheRoomTheyMustLeave) {
       "t.txt");
   const StateRow* row = table.find("root.InsertingNeedles.MoveToNeedleChange.Planning");
   ASSERT_NE(row, nullptr);
-  ASSERT_EQ(row->needle.size(), 3u);  // in the table's order: the preferred first
-  EXPECT_EQ(row->needle[0].name, "change");
-  EXPECT_EQ(row->needle[1].name, "change_left");
-  EXPECT_EQ(row->needle[2].name, "hold");
-  ASSERT_EQ(row->probe.size(), 1u);
+  ASSERT_EQ(row->goal(0).size(), 3u);  // in the table's order: the preferred first
+  EXPECT_EQ(row->goal(0)[0].name, "change");
+  EXPECT_EQ(row->goal(0)[1].name, "change_left");
+  EXPECT_EQ(row->goal(0)[2].name, "hold");
+  ASSERT_EQ(row->goal(1).size(), 1u);
   EXPECT_EQ(row->roomFor(1).from.name, "next_probe");
   EXPECT_DOUBLE_EQ(row->roomFor(1).from.offset, -0.03);
   EXPECT_EQ(row->roomFor(1).to.name, "next_probe");
