@@ -20,7 +20,7 @@ const TableVocabulary kWords{{"left", "right"}, {"cup", "next_cup"}};
 StateTable table(const std::string& text) { return parseStateTable(text, "t.txt", kWords); }
 
 /// A task whose datum `cup` is at x = 1 and `next_cup` at x = 2, unless there is no next cup.
-struct Cups : DatumSource {
+struct Cups final : DatumSource {
   bool next_coming = true;
   Outcome resolve(const Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override {
     if (datum.name == "hold") {

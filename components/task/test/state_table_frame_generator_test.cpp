@@ -101,7 +101,7 @@ TEST(StateTableFrameGenerator, AnsweringARowWithoutChecksAllocatesNothing) {
   ASSERT_TRUE(b.generator.start());
   b.meas1.write(KDL::Frame::Identity());
   b.meas2.write(KDL::Frame::Identity());
-  ASSERT_EQ(b.ask("root.Reach"), "e_goal_ready");  // sizes the connections
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(b.ask("root.Reach"), "e_goal_ready");  // sizes the connections
   const long allocations = test_support::allocationsDuring([&] {
     b.state.write(core::TaskState{"root.Reach"});
     b.generator.askCurrentGoal();
