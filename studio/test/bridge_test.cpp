@@ -255,7 +255,7 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
   ASSERT_TRUE(bridge.latestFrame(seq, frame));
   EXPECT_FALSE(bridge.latestFrame(seq, frame)) << "no newer frame than the one taken";
   // Cross-check: the scene file's own robots and models, placed at the scene's bases.
-  const planning::SceneDescription scene = planning::loadScene(kSource + "/planning/scenes/puncturing.scene");
+  const planning::SceneDescription scene = planning::loadScene(kSource + "/apps/puncturing/deployment/puncturing.scene");
   planning::RobotModels models = planning::makeRobotModels(scene);
   for (const char* name : {"isur", "ur5"}) {
     const auto at = frame.find(std::string("\"") + name + "\":{\"q\":");

@@ -1,9 +1,9 @@
 #pragma once
 /// @file
 /// The state table's evaluator (thesis §4.5.5): a row's goal pair and its goal alternatives with
-/// their checks, from datums a Frame Generator resolves from its task's data. The puncturing
-/// and the suturing Frame Generators both answer with it; each only says what its datums are
-/// (DatumSource). Core-free: KDL geometry only.
+/// their checks, from datums a Frame Generator resolves from its task's data. Every task's Frame
+/// Generator answers with it (components/task: StateTableFrameGenerator); each only says what its
+/// datums are (DatumSource). Core-free: KDL geometry only.
 
 #include <array>
 #include <cstddef>
@@ -13,9 +13,9 @@
 
 #include <kdl/frames.hpp>
 
-#include "cobra/puncturing/plan.hpp"
+#include "cobra/task/state_table.hpp"
 
-namespace cobra::puncturing {
+namespace cobra::task {
 
 /// Values per arm in a goal waypoint: x y z qx qy qz qw (m, unit quaternion), the encoding of the
 /// motion components' multi-arm paths (cobra/components/motion/path_type.hpp).
@@ -78,4 +78,4 @@ bool firstGoal(const StateRow& row, const std::array<std::string, 2>& arms, Datu
 bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, DatumSource& source,
                   std::vector<std::vector<double>>& waypoints, GoalFailure& failure);
 
-}  // namespace cobra::puncturing
+}  // namespace cobra::task

@@ -1,9 +1,9 @@
-#include "cobra/puncturing/plan_goals.hpp"
+#include "cobra/task/goals.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-namespace cobra::puncturing {
+namespace cobra::task {
 namespace {
 
 constexpr std::size_t kArms = 2;
@@ -128,4 +128,4 @@ bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, D
   return true;
 }
 
-}  // namespace cobra::puncturing
+}  // namespace cobra::task
