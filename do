@@ -173,6 +173,8 @@ case "${1:-help}" in
   bench)
     setup "${BENCH_PACKAGES[@]}"
     build release
+    # The applications' packages and cobra's charts, where the build puts them (bench/CMakeLists.txt).
+    . build/release/bench/bench_environment.sh
     for b in build/release/bench/*_bench; do
       say "$b"
       "$b" --benchmark_counters_tabular=true
