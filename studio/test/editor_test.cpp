@@ -63,7 +63,7 @@ json::Value call(Editor& e, const char* method, const char* route, const std::st
   return json::parse(answer.body);
 }
 
-std::string errorOf(Editor& e, const char* method, const char* route, const std::string& body, int status) {
+std::string errorMember(Editor& e, const char* method, const char* route, const std::string& body, int status) {
   const json::Value v = call(e, method, route, body, status);
   return v.find("error") != nullptr ? v.find("error")->string() : "(no error member)";
 }
@@ -176,7 +176,7 @@ TEST(Editor, ValidatesPropertiesActivitiesPeersAndConnections) {
   EXPECT_EQ(problems["component 'G' property 'kk'"].rfind("component 'G' (Gain) has no property 'kk'; did you mean 'k'?", 0), 0u);
   EXPECT_EQ(problems["activity of 'Sine'"].rfind("unknown scheduler 'rt'", 0), 0u) << problems["activity of 'Sine'"];
   EXPECT_EQ(problems["peers of 'Det'"].rfind("no component 'Gx' in the project; did you mean 'G'?", 0), 0u);
-  EXPECT_EQ(errorOf(editor(), "POST", "validate", "{\"project\": {\"components\": [ { \"name\": \"A\" } ] } }", 422),
+  EXPECT_EQ(errorMember(editor(), "POST", "validate", "{\"project\": {\"components\": [ { \"name\": \"A\" } ] } }", 422),
             "component 'A': 'type' must be a string, got null");
 }
 
@@ -210,13 +210,13 @@ TEST(Editor, SavesWhatDescribeWritesWithItsLayoutAndRefusesToOverwrite) {
   // Saved again after the file changed on disk: refused, naming it.
   call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
   std::ofstream(file, std::ios::app) << "-- edited by hand\n";
-  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409),
+  EXPECT_EQ(errorMember(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409),
             file.string() + " changed on disk since it was opened; not overwritten (open it again, or save under another name)");
   EXPECT_NE(readText(file).find("-- edited by hand"), std::string::npos);
   // Another existing file is not written over either.
   const auto other = scratch("other.lua");
   std::ofstream(other) << "-- mine\n";
-  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(other.string()) + ",\"project\":" + kProject + "}", 409),
+  EXPECT_EQ(errorMember(e, "POST", "save", "{\"path\":" + json::quoted(other.string()) + ",\"project\":" + kProject + "}", 409),
             other.string() + " exists and is not the file opened in the editor; not overwritten (open it first, or save "
                              "under another name)");
 }
@@ -239,7 +239,7 @@ TEST(Editor, AFileThatDoesNotLoadOpensWithItsLineAndIsNeverSavedOver) {
   EXPECT_EQ(v.find("path")->string(), std::filesystem::weakly_canonical(file).string());
   EXPECT_EQ(v.find("text")->string(), before);
   EXPECT_EQ(v.find("error")->string().rfind(file.string() + ":3: unknown component type 'Gian'", 0), 0u);
-  const std::string message = errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409);
+  const std::string message = errorMember(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409);
   EXPECT_EQ(message.rfind(file.string() + " did not load when it was opened (" + file.string() + ":3: unknown component", 0), 0u)
       << message;
   EXPECT_EQ(readText(file), before);
@@ -254,7 +254,7 @@ TEST(Editor, OpensAnApplicationFolderWithItsDeployments) {
   EXPECT_EQ(deployments.count("needle_autonomous_planning"), 1u);
   EXPECT_EQ(deployments.count("probe_autonomous_planning"), 1u);
   EXPECT_GT(v.find("project")->find("components")->items().size(), 20u);
-  const std::string no_entry = errorOf(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/run/test/apps") + "}", 422);
+  const std::string no_entry = errorMember(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/run/test/apps") + "}", 422);
   EXPECT_NE(no_entry.find("run/test/apps: no entry file"), std::string::npos) << no_entry;
 }
 
@@ -273,20 +273,20 @@ TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
   EXPECT_NE(readText(folder / "include/my_filters/force_filter.hpp").find("/// low-pass filter of a wrench\nclass ForceFilter"),
             std::string::npos);
   EXPECT_NE(readText(folder / "src/package.cpp").find("(\"ForceFilter\", \"low-pass filter of a wrench\");"), std::string::npos);
-  EXPECT_EQ(errorOf(editor(), "POST", "generate", request, 400),
+  EXPECT_EQ(errorMember(editor(), "POST", "generate", request, 400),
             (folder / "include/my_filters/force_filter.hpp").string() + " already exists; remove it or choose another name");
   std::string bad = request;
   bad.replace(bad.find("\"double\""), 8, "\"Matrix\"");
-  EXPECT_EQ(errorOf(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
+  EXPECT_EQ(errorMember(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
 }
 
 TEST(Editor, BadRequestsAreRefusedWithTheirReason) {
-  EXPECT_EQ(errorOf(editor(), "POST", "check", "{\"project\": [1, 2", 400),
+  EXPECT_EQ(errorMember(editor(), "POST", "check", "{\"project\": [1, 2", 400),
             "POST /api/editor/check: the body is not JSON: JSON: line 1, column 18: expected ',' or ']' in an array");
-  EXPECT_EQ(errorOf(editor(), "GET", "save", "", 405), "use POST /api/editor/save");
-  EXPECT_EQ(errorOf(editor(), "POST", "open", "{}", 400), "POST /api/editor/open: the body has no 'path'");
-  EXPECT_EQ(errorOf(editor(), "GET", "nothing", "", 404).rfind("no editor route 'nothing'; the routes: GET palette", 0), 0u);
-  EXPECT_EQ(errorOf(editor(), "GET", "running", "", 404),
+  EXPECT_EQ(errorMember(editor(), "GET", "save", "", 405), "use POST /api/editor/save");
+  EXPECT_EQ(errorMember(editor(), "POST", "open", "{}", 400), "POST /api/editor/open: the body has no 'path'");
+  EXPECT_EQ(errorMember(editor(), "GET", "nothing", "", 404).rfind("no editor route 'nothing'; the routes: GET palette", 0), 0u);
+  EXPECT_EQ(errorMember(editor(), "GET", "running", "", 404),
             "no run here: GET /api/editor/running is served by `cobra run APP --studio`");
   const json::Value empty = call(editor(), "GET", "project", "", 200);
   EXPECT_EQ(empty.find("path")->string(), "");
