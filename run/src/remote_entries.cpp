@@ -127,6 +127,8 @@ RemoteEntries dropRemoteEntries(RunSpec& spec, const RemoteHostOf& remote_host) 
     if (!host.empty()) {
       d.by_host[host].push_back("run.clearance");
       c = ClearanceSpec{};
+      // The section goes with its host: its observer is not attached here.
+      std::erase_if(spec.observers, [](const ObserverSection& s) { return s.name == "clearance"; });
     } else {
       d.filter(
           c.contacts, [&](const auto& contact) { return remote_host(componentOfPath(contact.second)); },
