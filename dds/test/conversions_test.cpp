@@ -2,6 +2,7 @@
 // 500 values per type), units unchanged (SI on both sides), the ROS 2 type names, and the
 // quaternion rules (normalised on reading, identity for a zero quaternion).
 #include "cobra/dds/conversions.hpp"
+#include "cobra/dds/codec.hpp"
 
 #include <gtest/gtest.h>
 
