@@ -22,9 +22,9 @@
 /// the exact size of its own fields (`getSerializedSizeProvider`).
 ///
 /// Allocations (the transport's threads, never a component's): serialising writes into Fast DDS's
-/// payload and allocates only for a field whose message has a sequence or a string (KDL.JntArray,
-/// Event, TaskState: converted to their message first); reading a string or sequence allocates
-/// what the received one needs beyond the value's capacity.
+/// payload and allocates only for a field whose message has a sequence or a string longer than a
+/// std::string keeps in place (KDL.JntArray, Event, TaskState: converted to their message first);
+/// reading a string or sequence allocates what the received one needs beyond the value's capacity.
 
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
@@ -131,9 +131,23 @@ void serializeField(cdr::Cdr& out, const M& value) {
   }
 }
 
+/// Reads a CDR string into `value`, as fastcdr does (a trailing '\0' dropped), without its
+/// temporary: no allocation when `value` has the capacity.
+inline void readString(cdr::Cdr& in, std::string& value) {
+  std::uint32_t length = 0;
+  in >> length;
+  const char* text = in.getCurrentPosition();
+  if (!in.jump(length))
+    throw cdr::exception::NotEnoughMemoryException(cdr::exception::NotEnoughMemoryException::NOT_ENOUGH_MEMORY_MESSAGE_DEFAULT);
+  if (length > 0 && text[length - 1] == '\0') --length;
+  value.assign(text, length);
+}
+
 template <class M>
 void deserializeField(cdr::Cdr& in, M& value) {
-  if constexpr (std::is_same_v<M, int>) {
+  if constexpr (std::is_same_v<M, std::string>) {
+    readString(in, value);
+  } else if constexpr (std::is_same_v<M, int>) {
     std::int32_t v = 0;
     in >> v;
     value = v;
@@ -242,7 +256,8 @@ bool recordBounded() {
   bool bounded = true;
   core::forEachField<T>([&](const auto& f) {
     using M = typename std::decay_t<decltype(f)>::member_type;
-    bounded = bounded && fieldBounded<M>();
+    const bool field_bounded = fieldBounded<M>();  // each asked: the first call makes its static facts
+    bounded = bounded && field_bounded;
   });
   return bounded;
 }
