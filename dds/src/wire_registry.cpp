@@ -1,7 +1,9 @@
 // The registry of the types the dds transport carries (register_type.hpp).
+#include <algorithm>
 #include <map>
 #include <mutex>
 
+#include "cobra/core/error.hpp"
 #include "cobra/dds/register_type.hpp"
 
 namespace cobra::dds {
@@ -47,6 +49,30 @@ std::vector<std::string> ddsTypes() {
   detail::Registry& r = detail::registry();
   std::lock_guard lock(r.mutex);
   return r.names;
+}
+
+std::string registeredIdl(std::string_view cobra_name) {
+  std::string (*idl)() = nullptr;
+  std::string dds_type;
+  {
+    detail::Registry& r = detail::registry();
+    std::lock_guard lock(r.mutex);
+    const auto it = std::find_if(r.bindings.begin(), r.bindings.end(),
+                                 [&](const auto& entry) { return entry.second.cobra_type == cobra_name; });
+    if (it == r.bindings.end())
+      throw core::Error("no type '" + std::string(cobra_name) + "' is registered for DDS; registered: " +
+                        [&] {
+                          std::string text;
+                          for (const auto& name : r.names) text += (text.empty() ? "" : ", ") + name;
+                          return text;
+                        }());
+    idl = it->second.idl;
+    dds_type = it->second.dds_type;
+  }
+  if (idl == nullptr)
+    throw core::Error("'" + std::string(cobra_name) + "' travels as the message " + dds_type +
+                      ", not as a record: its IDL is that message's (cobra's are in dds/idl)");
+  return idl();
 }
 
 // The one list of cobra's built-in types on DDS. To move to types/ (its registerBuiltins calls

@@ -95,6 +95,17 @@ TEST(DdsRegisterType, RegisteringAgainKeepsOneEntry) {
   EXPECT_EQ(std::count(types.begin(), types.end(), "KDL.Frame"), 1);
 }
 
+TEST(DdsRegisterType, TheIdlOfARegisteredRecordIsFoundByItsName) {
+  registerBuiltinWires();
+  registerDdsType<ProbeReading>();
+  EXPECT_EQ(registeredIdl("probe_msgs.ProbeReading"), idlOf<ProbeReading>());
+  EXPECT_EQ(test_support::messageOf([] { registeredIdl("KDL.Frame"); }),
+            "'KDL.Frame' travels as the message geometry_msgs::msg::dds_::Pose_, not as a record: its IDL is that "
+            "message's (cobra's are in dds/idl)");
+  const std::string unknown = test_support::messageOf([] { registeredIdl("probe_msgs.Nothing"); });
+  EXPECT_EQ(unknown.substr(0, unknown.find(';')), "no type 'probe_msgs.Nothing' is registered for DDS") << unknown;
+}
+
 /// A type support that claims the record's DDS type name and sends the bytes it is given (a
 /// std::vector<unsigned char>) as they are: what a broken or hostile peer could publish.
 class RawBytesType final : public fdds::TopicDataType {

@@ -21,6 +21,7 @@
 /// is made.
 
 #include <string>
+#include <string_view>
 #include <typeindex>
 #include <vector>
 
@@ -52,6 +53,11 @@ void registerDdsType() {
 
 /// The cobra names of the types the dds transport carries, in registration order.
 std::vector<std::string> ddsTypes();
+
+/// The IDL of the registered record called `cobra_name` (idlOf), e.g. for `cobra_name`
+/// "us.ProbeReading". @throws core::Error when no such type is registered, or when it is carried
+/// by a message (its IDL is the message's, e.g. dds/idl/geometry_msgs/msg/Pose.idl for KDL.Frame).
+std::string registeredIdl(std::string_view cobra_name);
 
 /// Registers cobra's own built-in types (double, int, bool, string, vector<double>, the KDL
 /// types, Event, TaskState): the one list of them, until the types/ module registers them

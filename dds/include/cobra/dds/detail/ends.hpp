@@ -19,6 +19,7 @@
 #include "cobra/core/transport.hpp"
 #include "cobra/dds/codec.hpp"
 #include "cobra/dds/detail/participant.hpp"
+#include "cobra/dds/idl.hpp"
 
 namespace cobra::dds::detail {
 
@@ -211,6 +212,7 @@ struct Binding {
                       core::PortBase*, const EndpointInfo&) = nullptr;
   void (*make_reader)(const std::shared_ptr<Participant>&, core::InputPortBase&, const core::ConnPolicy&,
                       core::PortBase*, const EndpointInfo&) = nullptr;
+  std::string (*idl)() = nullptr;  ///< a record's IDL (idl.hpp); nullptr for a type carried by a message
 };
 
 template <class T>
@@ -221,6 +223,7 @@ Binding binding(std::string cobra_type) {
     typename DdsCodec<T>::PubSub support;
     b.dds_type = support.getName();
   }
+  if constexpr (core::RecordDataType<T> && std::is_same_v<typename DdsCodec<T>::Msg, T>) b.idl = &idlOf<T>;
   b.make_writer = [](const std::shared_ptr<Participant>& participant, core::OutputPortBase& output,
                      const core::ConnPolicy& policy, core::PortBase* peer, const EndpointInfo& info) {
     std::unique_ptr<core::InputPort<T>> hidden(
