@@ -85,6 +85,26 @@ TEST(DdsRecordWire, EveryKindOfFieldRoundTripsAndEachSampleIsSizedExactly) {
   EXPECT_TRUE(test::same(got, empty));
 }
 
+TEST(DdsRecordWire, AStringEndsAtItsFirstNulOnTheWire) {
+  // Fast CDR writes a string as a C string; the reader keeps what a sender can mean, also when a
+  // peer sends bytes after a '\0' (the fuzzer's round trip found the two sides disagreeing).
+  RecordPubSubType<ProbeReading> type;
+  ProbeReading sent = test::probeReading(1);
+  sent.label = std::string("ab\0cd", 5);
+  auto bytes = serialised(type, sent);
+  ProbeReading got;
+  ASSERT_TRUE(deserialised(type, bytes, got));
+  EXPECT_EQ(got.label, "ab");
+  // The label's length, 3 ("ab\0"), made 11: eight more bytes after the '\0' (eight, so that the
+  // fields after it keep their alignment).
+  bytes[20] = 11;
+  bytes.insert(bytes.begin() + 27, {'x', 'y', 'z', 'w', 'v', 'u', 't', 's'});
+  ProbeReading odd;
+  ASSERT_TRUE(deserialised(type, bytes, odd));
+  EXPECT_EQ(odd.label, "ab");
+  EXPECT_TRUE(test::same(odd, got));
+}
+
 TEST(DdsRecordWire, ARecordIsBoundedWhenEveryFieldIs) {
   EXPECT_TRUE(RecordPubSubType<Vec3>().is_bounded());
   EXPECT_TRUE(RecordPubSubType<Gains>().is_bounded());

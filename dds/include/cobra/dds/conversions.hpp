@@ -62,8 +62,8 @@ void toMsg(const KDL::Vector& value, geometry_msgs::msg::Vector3& msg);
 void fromMsg(const geometry_msgs::msg::Vector3& msg, KDL::Vector& value);
 /// The rotation's unit quaternion (KDL's choice of sign: w >= 0).
 void toMsg(const KDL::Rotation& value, geometry_msgs::msg::Quaternion& msg);
-/// Normalises the quaternion first; a zero (or not finite) quaternion, as a message whose
-/// orientation was never set has, gives the identity.
+/// Normalises the quaternion first (also one of tiny or huge components); a zero (or not
+/// finite) quaternion, as a message whose orientation was never set has, gives the identity.
 void fromMsg(const geometry_msgs::msg::Quaternion& msg, KDL::Rotation& value);
 /// Position in m, orientation as a unit quaternion.
 void toMsg(const KDL::Frame& value, geometry_msgs::msg::Pose& msg);

@@ -131,16 +131,18 @@ void serializeField(cdr::Cdr& out, const M& value) {
   }
 }
 
-/// Reads a CDR string into `value`, as fastcdr does (a trailing '\0' dropped), without its
-/// temporary: no allocation when `value` has the capacity.
+/// Reads a CDR string into `value` up to its first '\0' (Fast CDR writes a string as a C
+/// string, so that is all a sender can mean), without Fast CDR's temporary: no allocation when
+/// `value` has the capacity.
 inline void readString(cdr::Cdr& in, std::string& value) {
   std::uint32_t length = 0;
   in >> length;
   const char* text = in.getCurrentPosition();
   if (!in.jump(length))
     throw cdr::exception::NotEnoughMemoryException(cdr::exception::NotEnoughMemoryException::NOT_ENOUGH_MEMORY_MESSAGE_DEFAULT);
-  if (length > 0 && text[length - 1] == '\0') --length;
-  value.assign(text, length);
+  std::uint32_t size = 0;
+  while (size < length && text[size] != '\0') ++size;
+  value.assign(text, size);
 }
 
 template <class M>
