@@ -1,19 +1,14 @@
 #include "cobra/dds/dds_transport.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cmath>
-#include <functional>
-#include <map>
-#include <mutex>
 #include <thread>
-#include <typeindex>
 
 #include "cobra/core/data_type.hpp"
 #include "cobra/core/error.hpp"
-#include "cobra/dds/register_type.hpp"
 #include "cobra/dds/detail/participant.hpp"
+#include "cobra/dds/register_type.hpp"
 
 namespace cobra::dds {
 namespace fdds = eprosima::fastdds::dds;
