@@ -27,7 +27,7 @@ LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
 # Reports inside Debian's uninstrumented Fast DDS, each explained in the file.
 TSAN_SUPP="suppressions=$PWD/test_support/tsan.supp:print_suppressions=0"
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
-  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz studio_json_fuzz)
+  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz studio_json_fuzz dds_record_fuzz)
 
 # The repo's real files a fuzzer starts from (copied into one folder, as libFuzzer takes folders).
 fuzz_seeds() {

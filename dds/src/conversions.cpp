@@ -1,8 +1,15 @@
 #include "cobra/dds/conversions.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 
 namespace cobra::dds {
+namespace {
+/// A received string up to its first '\0': what the sender could have meant, since Fast CDR
+/// writes a string as a C string (a peer may still send bytes after a '\0').
+std::string_view cString(const std::string& text) { return {text.c_str()}; }
+}  // namespace
 
 void toMsg(double value, std_msgs::msg::Float64& msg) { msg.data(value); }
 void fromMsg(const std_msgs::msg::Float64& msg, double& value) { value = msg.data(); }
@@ -11,7 +18,7 @@ void fromMsg(const std_msgs::msg::Int32& msg, int& value) { value = msg.data(); 
 void toMsg(bool value, std_msgs::msg::Bool& msg) { msg.data(value); }
 void fromMsg(const std_msgs::msg::Bool& msg, bool& value) { value = msg.data(); }
 void toMsg(const std::string& value, std_msgs::msg::String& msg) { msg.data() = value; }
-void fromMsg(const std_msgs::msg::String& msg, std::string& value) { value = msg.data(); }
+void fromMsg(const std_msgs::msg::String& msg, std::string& value) { value.assign(cString(msg.data())); }
 
 void toMsg(const std::vector<double>& value, std_msgs::msg::Float64MultiArray& msg) {
   msg.layout().dim().clear();
@@ -36,12 +43,17 @@ void toMsg(const KDL::Rotation& value, geometry_msgs::msg::Quaternion& msg) {
   msg.w(w);
 }
 void fromMsg(const geometry_msgs::msg::Quaternion& msg, KDL::Rotation& value) {
-  const double norm = std::sqrt(msg.x() * msg.x() + msg.y() * msg.y() + msg.z() * msg.z() + msg.w() * msg.w());
-  if (!(norm > 0.0) || !std::isfinite(norm)) {
+  // Scaled by its largest component first: squaring components of 1e-160 (or 1e160) underflows
+  // (overflows), and the "unit" quaternion would not be one (the record fuzzer found it).
+  const double largest = std::max({std::abs(msg.x()), std::abs(msg.y()), std::abs(msg.z()), std::abs(msg.w())});
+  const bool finite = std::isfinite(msg.x()) && std::isfinite(msg.y()) && std::isfinite(msg.z()) && std::isfinite(msg.w());
+  if (!finite || !(largest > 0.0)) {
     value = KDL::Rotation::Identity();
     return;
   }
-  value = KDL::Rotation::Quaternion(msg.x() / norm, msg.y() / norm, msg.z() / norm, msg.w() / norm);
+  const double x = msg.x() / largest, y = msg.y() / largest, z = msg.z() / largest, w = msg.w() / largest;
+  const double norm = std::sqrt(x * x + y * y + z * z + w * w);  // in [1, 2]
+  value = KDL::Rotation::Quaternion(x / norm, y / norm, z / norm, w / norm);
 }
 
 void toMsg(const KDL::Frame& value, geometry_msgs::msg::Pose& msg) {
@@ -87,12 +99,12 @@ void toMsg(const core::Event& value, cobra_msgs::msg::Event& msg) {
   msg.stamp_ns(value.stamp.count());
 }
 void fromMsg(const cobra_msgs::msg::Event& msg, core::Event& value) {
-  value.name.assign(msg.name());
-  value.source.assign(msg.source());
+  value.name.assign(cString(msg.name()));
+  value.source.assign(cString(msg.source()));
   value.stamp = std::chrono::nanoseconds(msg.stamp_ns());
 }
 
 void toMsg(const core::TaskState& value, cobra_msgs::msg::TaskState& msg) { msg.path().assign(value.path.view()); }
-void fromMsg(const cobra_msgs::msg::TaskState& msg, core::TaskState& value) { value.path.assign(msg.path()); }
+void fromMsg(const cobra_msgs::msg::TaskState& msg, core::TaskState& value) { value.path.assign(cString(msg.path())); }
 
 }  // namespace cobra::dds

@@ -19,7 +19,7 @@
 #include "cobra/text/number.hpp"
 #include "cobra_msgs/msg/LinkMeetingPubSubTypes.h"
 #include "event_queue.hpp"
-#include "participant.hpp"
+#include "cobra/dds/detail/participant.hpp"
 
 namespace cobra::dds {
 namespace fdds = eprosima::fastdds::dds;

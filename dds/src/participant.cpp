@@ -1,4 +1,4 @@
-#include "participant.hpp"
+#include "cobra/dds/detail/participant.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>

@@ -2,6 +2,7 @@
 // 500 values per type), units unchanged (SI on both sides), the ROS 2 type names, and the
 // quaternion rules (normalised on reading, identity for a zero quaternion).
 #include "cobra/dds/conversions.hpp"
+#include "cobra/dds/codec.hpp"
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,48 @@ TEST(DdsConversions, EventKeepsNameSourceAndStampAndTruncatesLikeThePort) {
   core::TaskState state_back;
   fromMsg(state_msg, state_back);
   EXPECT_EQ(state_back, state);
+}
+
+TEST(DdsConversions, QuaternionsOfTinyOrHugeComponentsAreNormalisedExactly) {
+  // Their squares under- or overflow: found by the record fuzzer (a rotation that changed when
+  // sent again).
+  for (const double scale : {3.4e-161, 1e-300, 1e150, 1e300}) {
+    geometry_msgs::msg::Quaternion q;
+    q.x(-scale);
+    q.y(-scale);
+    q.z(-scale);
+    q.w(-scale);
+    KDL::Rotation r;
+    fromMsg(q, r);
+    EXPECT_TRUE(KDL::Equal(r, KDL::Rotation::Quaternion(0.5, 0.5, 0.5, 0.5), 1e-15)) << scale;
+    geometry_msgs::msg::Quaternion again;
+    toMsg(r, again);
+    KDL::Rotation back;
+    fromMsg(again, back);
+    EXPECT_TRUE(KDL::Equal(back, r, 1e-15)) << scale;
+  }  geometry_msgs::msg::Quaternion nan;  // one component not a number: the identity, as a zero one
+  nan.x(5e-310);
+  nan.y(std::nan(""));
+  nan.z(7e-307);
+  KDL::Rotation r = KDL::Rotation::RotX(1.0);
+  fromMsg(nan, r);
+  EXPECT_TRUE(KDL::Equal(r, KDL::Rotation::Identity(), 1e-15));
+}
+
+TEST(DdsConversions, ReceivedTextEndsAtItsFirstNul) {
+  // Fast CDR writes strings as C strings: bytes a peer sends after a '\0' are not text.
+  std_msgs::msg::String s;
+  s.data(std::string("ab\0cd", 5));
+  std::string text = "old";
+  fromMsg(s, text);
+  EXPECT_EQ(text, "ab");
+  cobra_msgs::msg::Event e;
+  e.name(std::string("e_go\0x", 6));
+  e.source(std::string("\0src", 4));
+  core::Event event;
+  fromMsg(e, event);
+  EXPECT_EQ(event.name, "e_go");
+  EXPECT_EQ(event.source, "");
 }
 
 TEST(DdsConversions, ScalarsAndTextRoundTrip) {

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// cobra's port types as ROS 2 messages: which message carries each type on DDS (`Wire<T>`) and
-/// the conversions both ways. Units are SI on both sides (m, rad, m/s, rad/s, N, N·m, ns).
+/// cobra's built-in port types as ROS 2 messages: which message carries each type on DDS and
+/// the conversions both ways (the built-in codecs of codec.hpp use them). Units are SI on both
+/// sides (m, rad, m/s, rad/s, N, N·m, ns). Records (core/record.hpp) need none: record_wire.hpp.
 ///
 /// | cobra type       | DDS type (ROS 2 name)                       |
 /// | ---------------- | ------------------------------------------- |
@@ -61,8 +62,8 @@ void toMsg(const KDL::Vector& value, geometry_msgs::msg::Vector3& msg);
 void fromMsg(const geometry_msgs::msg::Vector3& msg, KDL::Vector& value);
 /// The rotation's unit quaternion (KDL's choice of sign: w >= 0).
 void toMsg(const KDL::Rotation& value, geometry_msgs::msg::Quaternion& msg);
-/// Normalises the quaternion first; a zero (or not finite) quaternion, as a message whose
-/// orientation was never set has, gives the identity.
+/// Normalises the quaternion first (also one of tiny or huge components); a zero (or not
+/// finite) quaternion, as a message whose orientation was never set has, gives the identity.
 void fromMsg(const geometry_msgs::msg::Quaternion& msg, KDL::Rotation& value);
 /// Position in m, orientation as a unit quaternion.
 void toMsg(const KDL::Frame& value, geometry_msgs::msg::Pose& msg);
@@ -82,40 +83,5 @@ void fromMsg(const cobra_msgs::msg::Event& msg, core::Event& value);
 /// Reading keeps the first 127 characters of the path.
 void toMsg(const core::TaskState& value, cobra_msgs::msg::TaskState& msg);
 void fromMsg(const cobra_msgs::msg::TaskState& msg, core::TaskState& value);
-
-/// The message that carries cobra type T on DDS and its generated type support. Specialised for
-/// each type of the table above; a port of another type cannot use the dds transport.
-template <class T>
-struct Wire;
-
-#define COBRA_DDS_WIRE_(Type, Message)        \
-  template <>                                 \
-  struct Wire<Type> {                         \
-    using Msg = Message;                      \
-    using PubSub = Message##PubSubType;       \
-  }
-
-COBRA_DDS_WIRE_(double, std_msgs::msg::Float64);
-COBRA_DDS_WIRE_(int, std_msgs::msg::Int32);
-COBRA_DDS_WIRE_(bool, std_msgs::msg::Bool);
-COBRA_DDS_WIRE_(std::string, std_msgs::msg::String);
-COBRA_DDS_WIRE_(std::vector<double>, std_msgs::msg::Float64MultiArray);
-COBRA_DDS_WIRE_(KDL::Vector, geometry_msgs::msg::Vector3);
-COBRA_DDS_WIRE_(KDL::Rotation, geometry_msgs::msg::Quaternion);
-COBRA_DDS_WIRE_(KDL::Frame, geometry_msgs::msg::Pose);
-COBRA_DDS_WIRE_(KDL::Twist, geometry_msgs::msg::Twist);
-COBRA_DDS_WIRE_(KDL::Wrench, geometry_msgs::msg::Wrench);
-COBRA_DDS_WIRE_(KDL::JntArray, cobra_msgs::msg::JntArray);
-COBRA_DDS_WIRE_(core::Event, cobra_msgs::msg::Event);
-COBRA_DDS_WIRE_(core::TaskState, cobra_msgs::msg::TaskState);
-
-#undef COBRA_DDS_WIRE_
-
-/// The DDS type name of cobra type T, e.g. "geometry_msgs::msg::dds_::Pose_" for KDL::Frame.
-template <class T>
-std::string wireTypeName() {
-  typename Wire<T>::PubSub support;
-  return support.getName();
-}
 
 }  // namespace cobra::dds

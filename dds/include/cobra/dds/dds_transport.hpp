@@ -10,7 +10,8 @@
 ///                 qos = { reliability = "reliable", depth = 16, lease = 0.1 } }
 /// @endcode
 /// - `topic`: a ROS 2 name ("needle/pose", a leading '/' allowed); the DDS topic is "rt/" + it, as
-///   ROS 2 names it. The type is the ROS 2 message of the port's type (conversions.hpp).
+///   ROS 2 names it. The DDS type is the port type's wire (codec.hpp: a ROS 2 message for
+///   cobra's built-in types, a record's own); the type must be registered (register_type.hpp).
 /// - `qos.reliability`: "reliable" (default) or "best_effort"; `qos.depth`: samples DDS keeps
 ///   per topic for a late or slow reader (default: the connection's size); `qos.lease`: the
 ///   liveliness lease in s (default: infinite); `qos.durability`: "volatile" (default) or

@@ -1,7 +1,8 @@
 #pragma once
 // The DDS entities of one DdsTransport: a domain participant with one publisher and one
 // subscriber, the topics and types of its connections, and the problem reports (type and QoS
-// mismatches between the ends of a topic). Private to cobra_dds.
+// mismatches between the ends of a topic). Not part of the API: in a header only because the
+// ends of a connection (detail/ends.hpp) are templates that registerDdsType<T>() instantiates.
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
