@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cobra/components/reporting/csv_codec.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/core/introspection.hpp"
 
@@ -73,7 +74,7 @@ class FileWriter;
 class Reporter : public core::Component {
  public:
   /// Longest text cell, in characters, before it is cut (keeps rows of bounded size).
-  static constexpr std::size_t kMaxTextChars = 127;
+  static constexpr std::size_t kMaxTextChars = RowWriter::kMaxTextChars;
 
   explicit Reporter(std::string name);
   /// Stops the Reporter first when it is Running, so the writer thread is joined and the file
