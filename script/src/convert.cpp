@@ -411,18 +411,22 @@ Registry& rawRegistry() {
 }
 
 /// The registry, with cobra's own types (core::BuiltinDataTypes) added at its first use.
+void add(std::type_index id, const Conversion& conversion);
+
+/// The registry, with cobra's own types (core::BuiltinDataTypes) added first, at its first use.
 Registry& registry() {
   static const bool seeded = [] {
-    core::forEachType(core::BuiltinDataTypes{}, [](auto type) { registerLuaType<typename decltype(type)::type>(); });
+    core::forEachType(core::BuiltinDataTypes{}, [](auto type) {
+      using T = typename decltype(type)::type;
+      add(std::type_index(typeid(T)), conversionOf<T>());
+    });
     return true;
   }();
   (void)seeded;
   return rawRegistry();
 }
 
-}  // namespace
-
-void addConversion(std::type_index id, const Conversion& conversion) {
+void add(std::type_index id, const Conversion& conversion) {
   Registry& r = rawRegistry();
   std::lock_guard lock(r.write_mutex);
   const std::size_t n = r.count.load(std::memory_order_relaxed);
@@ -438,6 +442,13 @@ void addConversion(std::type_index id, const Conversion& conversion) {
   r.ids[n] = id;
   r.entries[n] = conversion;
   r.count.store(n + 1, std::memory_order_release);
+}
+
+}  // namespace
+
+void addConversion(std::type_index id, const Conversion& conversion) {
+  (void)registry();  // cobra's own types first
+  add(id, conversion);
 }
 
 const Conversion* findConversion(const core::TypeInfo& type) {
@@ -459,11 +470,8 @@ const Conversion* findConversion(std::string_view type_name) {
 std::string conversionNames() {
   Registry& r = registry();
   const std::size_t n = r.count.load(std::memory_order_acquire);
-  std::vector<std::string_view> names;
-  for (std::size_t i = 0; i < n; ++i) names.push_back(r.entries[i].type_name);
-  std::sort(names.begin(), names.end());
   std::string text;
-  for (std::string_view name : names) text += (text.empty() ? "" : ", ") + std::string(name);
+  for (std::size_t i = 0; i < n; ++i) text += (text.empty() ? "" : ", ") + std::string(r.entries[i].type_name);
   return text;
 }
 

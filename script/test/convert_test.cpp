@@ -229,7 +229,8 @@ TEST_F(ConvertRecord, IsATableOfItsFieldsEachInItsOwnForm) {
   EXPECT_EQ(written.depth, 1.0);
   EXPECT_EQ(written.pose.p, KDL::Vector(1, 2, 3));
   EXPECT_EQ(written.gains.samples, 2);
-  EXPECT_EQ(conversionNames().find("script_test.Gains, script_test.Probe, string"), conversionNames().rfind("script_test.Gains"));
+  EXPECT_NE(conversionNames().find("KDL.JntArray, Event, TaskState, script_test.Gains, script_test.Probe"), std::string::npos)
+      << conversionNames();
 }
 
 TEST_F(ConvertRecord, RefusalsNameTheField) {

@@ -9,6 +9,7 @@
 #include <kdl/jntarray.hpp>
 #include <lua.hpp>
 
+#include "cobra/components/motion/path_type.hpp"
 #include "cobra/core/record.hpp"
 #include "cobra/script/lua_state.hpp"
 
@@ -63,6 +64,35 @@ TEST(RegisterType, EveryBuiltinTypeHasEveryCapability) {
     ++count;
   });
   EXPECT_EQ(count, 13u);
+}
+
+TEST(RegisterType, TheBuiltinsIncludeTheMotionPlannersPathWithALuaForm) {
+  registerBuiltins();
+  const core::TypeInfo* path = core::TypeRegistry::find("TGL.MultiAxisPath");
+  ASSERT_NE(path, nullptr);
+  EXPECT_TRUE(hasEveryCapability(*path));
+  const script::Conversion* conversion = script::findConversion(*path);
+  script::LuaState lua;
+  lua.run("value = {{0, 0.1}, {0.2, 0.3, 0.4}}");
+  lua_getglobal(lua.get(), "value");
+  std::any read;
+  conversion->read(lua.get(), -1, read);
+  const auto& got = std::any_cast<const trajectory::MultiAxisPath&>(read);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got.waypoint(1), (std::vector<double>{0.2, 0.3, 0.4}));
+  conversion->push(lua.get(), read);
+  lua_setglobal(lua.get(), "pushed");
+  EXPECT_EQ(lua.evaluate("#pushed .. ' ' .. pushed[2][3]"), "2 0.4");
+  lua.run("value = {{0, 'x'}}");
+  lua_getglobal(lua.get(), "value");
+  try {
+    conversion->read(lua.get(), -1, read);
+    ADD_FAILURE() << "a string in a path was accepted";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(waypoint 1, value 2 is not a number)"), std::string::npos) << e.what();
+  }
+  lua_settop(lua.get(), 0);
+  ASSERT_EQ(components::findCsvType(*path)->columns("m", 0).size(), 1u);  // its text form
 }
 
 TEST(RegisterType, ARegisteredRecordIsALuaValueOnAPort) {

@@ -20,6 +20,10 @@ namespace cobra::components {
 // ---- RowWriter --------------------------------------------------------------------------------
 
 void RowWriter::time(std::chrono::nanoseconds t) noexcept {
+  if (values_ != nullptr) {
+    putValue(std::chrono::duration<double>(t).count());
+    return;
+  }
   std::int64_t ns = t.count();
   if (ns < 0) {
     put('-');
@@ -44,6 +48,10 @@ void RowWriter::time(std::chrono::nanoseconds t) noexcept {
 }
 
 void RowWriter::number(double value) noexcept {
+  if (values_ != nullptr) {
+    putValue(value);
+    return;
+  }
   std::array<char, 32> text{};
   const auto [end, ec] = std::to_chars(text.data(), text.data() + text.size(), value);
   put(',');
@@ -63,6 +71,10 @@ std::string_view cut(std::string_view text, std::size_t max_chars) {
 }  // namespace
 
 void RowWriter::text(std::string_view text, std::size_t max_chars) noexcept {
+  if (values_ != nullptr) {
+    putValue(kNaN);
+    return;
+  }
   text = cut(text, max_chars);
   put(',');
   if (!needsQuotes(text)) {
@@ -271,13 +283,35 @@ Registry& rawRegistry() {
 }
 
 /// The registry, with cobra's own types (core::BuiltinDataTypes) added at its first use.
+void add(std::type_index id, const CsvType& entry);
+
 Registry& registry() {
   static const bool seeded = [] {
-    core::forEachType(core::BuiltinDataTypes{}, [](auto type) { registerCsvType<typename decltype(type)::type>(); });
+    core::forEachType(core::BuiltinDataTypes{}, [](auto type) {
+      using T = typename decltype(type)::type;
+      add(std::type_index(typeid(T)), csvTypeOf<T>());
+    });
     return true;
   }();
   (void)seeded;
   return rawRegistry();
+}
+
+void add(std::type_index id, const CsvType& entry) {
+  auto& r = rawRegistry();
+  std::lock_guard lock(r.write_mutex);
+  const std::size_t n = r.count.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (*r.ids[i] == id) return;
+    if (r.entries[i].type_name == entry.type_name)
+      throw core::Error("cobra: two types are registered for CSV as '" + std::string(entry.type_name) +
+                        "'; give one of them another DataTypeTraits<T>::name");
+  }
+  if (n == Registry::kCapacity)
+    throw core::Error("cobra: the CSV type registry is full; cannot add " + std::string(entry.type_name));
+  r.ids[n] = id;
+  r.entries[n] = entry;
+  r.count.store(n + 1, std::memory_order_release);
 }
 
 }  // namespace
@@ -306,20 +340,8 @@ std::unique_ptr<Source> makeSource(core::OutputPortBase& output, std::string rea
 }  // namespace reporting_detail
 
 void addCsvType(std::type_index id, const CsvType& entry) {
-  auto& r = reporting_detail::rawRegistry();
-  std::lock_guard lock(r.write_mutex);
-  const std::size_t n = r.count.load(std::memory_order_relaxed);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (*r.ids[i] == id) return;
-    if (r.entries[i].type_name == entry.type_name)
-      throw core::Error("cobra: two types are registered for CSV as '" + std::string(entry.type_name) +
-                        "'; give one of them another DataTypeTraits<T>::name");
-  }
-  if (n == reporting_detail::Registry::kCapacity)
-    throw core::Error("cobra: the CSV type registry is full; cannot add " + std::string(entry.type_name));
-  r.ids[n] = id;
-  r.entries[n] = entry;
-  r.count.store(n + 1, std::memory_order_release);
+  (void)reporting_detail::registry();  // cobra's own types first
+  reporting_detail::add(id, entry);
 }
 
 const CsvType* findCsvType(const core::TypeInfo& type) {

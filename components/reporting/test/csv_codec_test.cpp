@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <kdl/frames.hpp>
 
 #include "cobra/components/reporting/csv_codec.hpp"
@@ -132,6 +134,29 @@ TEST(CsvCodec, RecordingARecordAllocatesNothing) {
       << "allocations in 1000 steps of a record's writer and the reporter";
   ASSERT_TRUE(reporter.stop());
   EXPECT_EQ(readLines(dir.file("alloc.csv")).size(), 1u + 1010u);
+}
+
+TEST(CsvCodec, TheNumericViewGivesOneNumberPerColumnForAPlot) {
+  registerCsvType<Reading>();
+  core::OutputPort<Reading> out("reading", "", "m");
+  const CsvType* entry = findCsvType(core::typeInfo<Reading>());
+  auto source = entry->make_source(out, out.makeReader("plot", ""), 0);
+  core::connectPorts(out, source->reader());
+  Reading r;
+  r.depth = 0.25;
+  r.gains = {3.0, 4};
+  r.label = "text";
+  out.write(r);
+  ASSERT_EQ(source->sample(), core::FlowStatus::NewData);
+  std::vector<double> values(source->headers().size());
+  RowWriter row(values.data(), values.size());
+  EXPECT_EQ(test_support::allocationsDuring([&] { source->format(row); }), 0);
+  ASSERT_EQ(row.size(), 12u);
+  EXPECT_EQ(values[0], 0.25);
+  EXPECT_EQ(values[8], 1.0);  // pose.qw
+  EXPECT_EQ(values[9], 3.0);
+  EXPECT_EQ(values[10], 4.0);
+  EXPECT_TRUE(std::isnan(values[11]));  // the label: text
 }
 
 TEST(CsvCodec, EveryBuiltinTypeHasACsvEntry) {

@@ -53,7 +53,8 @@ struct Conversion {
 const Conversion* findConversion(const core::TypeInfo& type);
 /// By type name ("double", "KDL.Frame"), or nullptr.
 const Conversion* findConversion(std::string_view type_name);
-/// Names of every type with a conversion, comma-separated, sorted (for error messages).
+/// Names of every type with a conversion, comma-separated, in registration order (cobra's own
+/// first; for error messages).
 std::string conversionNames();
 
 /// Adds the conversion of the type `id`; adding the same type again does nothing.

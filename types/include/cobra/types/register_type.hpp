@@ -49,10 +49,10 @@ void registerType() {
 #endif
 }
 
-/// Registers cobra's own data types (core::BuiltinDataTypes) with every capability. The
-/// capability registries also add them at their first use, so calling this is optional; the
-/// entry points (the `cobra` tool, the runner, the studio) call it at start-up so that no
-/// registration happens later on a real-time thread.
+/// Registers cobra's own data types with every capability: core::BuiltinDataTypes (which the
+/// capability registries also add at their first use) and the types defined above core
+/// (TGL.MultiAxisPath), which only this call registers. The entry points (the `cobra` tool, the
+/// runner, the studio) call it at start-up, before a deployment is loaded.
 void registerBuiltins();
 
 /// True when `type` is registered for Lua, for CSV (and for DDS when present).

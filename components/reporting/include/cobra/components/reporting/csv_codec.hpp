@@ -39,19 +39,30 @@ namespace cobra::components {
 
 /// Appends CSV text to a fixed buffer. Never allocates; text that does not fit is cut (callers
 /// size the buffer with the columns' `maxBytes`, so that only happens on a sizing bug).
+///
+/// Made on an array of doubles instead, it keeps one number per cell (NaN for an empty or text
+/// cell), in column order: the numeric view of the same codecs, for a plot of a port's series.
 class RowWriter {
  public:
   RowWriter(char* buffer, std::size_t capacity) : buffer_(buffer), capacity_(capacity) {}
+  /// The numeric view: cell i goes to values[i] (cells past `count` are dropped).
+  RowWriter(double* values, std::size_t count) : values_(values), capacity_(count) {}
 
   /// Seconds with up to 9 decimals, exact: 1500000 ns -> "0.0015".
   void time(std::chrono::nanoseconds t) noexcept;
   /// ",value" in the shortest form that reads back to the same double.
   void number(double value) noexcept;
   /// "," followed by nothing: a cell without a value.
-  void empty() noexcept { put(','); }
+  void empty() noexcept {
+    if (values_ != nullptr) putValue(kNaN);
+    else put(',');
+  }
   /// ",text", CSV-quoted when it holds a comma, quote or line break, cut after `max_chars`.
   void text(std::string_view text, std::size_t max_chars = kMaxTextChars) noexcept;
-  void endLine() noexcept { put('\n'); }
+  void endLine() noexcept {
+    if (values_ == nullptr) put('\n');
+  }
+  /// Bytes written, or cells in the numeric view.
   std::size_t size() const { return size_; }
 
   /// Longest text cell, in characters, before it is cut (keeps rows of bounded size).
@@ -64,13 +75,19 @@ class RowWriter {
 
  private:
   void put(char c) noexcept {
-    if (size_ < capacity_) buffer_[size_++] = c;
+    if (buffer_ != nullptr && size_ < capacity_) buffer_[size_++] = c;
   }
   void put(std::string_view text) noexcept {
     for (char c : text) put(c);
   }
 
-  char* buffer_;
+  void putValue(double v) noexcept {
+    if (size_ < capacity_) values_[size_++] = v;
+  }
+  static constexpr double kNaN = __builtin_nan("");
+
+  char* buffer_ = nullptr;
+  double* values_ = nullptr;
   std::size_t capacity_;
   std::size_t size_ = 0;
 };
