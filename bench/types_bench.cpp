@@ -135,7 +135,7 @@ void LuaProperty_Codec(benchmark::State& state) {
 template <class T>
 void LuaProperty_Text(benchmark::State& state) {
   script::LuaState lua;
-  lua.run("value = [[" + core::printValue(sample<T>()) + "]]");
+  lua.run("value = [=[" + core::printValue(sample<T>()) + "]=]");
   lua_getglobal(lua.get(), "value");
   core::Property<T> property("p", sample<T>(), "", "");
   for (auto _ : state) property.setFromText(lua_tostring(lua.get(), -1));
