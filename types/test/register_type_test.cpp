@@ -12,6 +12,7 @@
 #include "cobra/components/motion/path_type.hpp"
 #include "cobra/core/record.hpp"
 #include "cobra/script/lua_state.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
 namespace {
 struct Needle {
@@ -113,6 +114,13 @@ TEST(RegisterType, ARegisteredRecordIsALuaValueOnAPort) {
   EXPECT_EQ(got.force, 1.5);
   EXPECT_EQ(got.tip.z(), -0.02);
   EXPECT_TRUE(got.inserted);
+  // Real-time: writing a record from Lua reads it into the access's buffer, allocating nothing.
+  lua_getglobal(lua.get(), "value");
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int i = 0; i < 100; ++i) access->write(lua.get(), -1);
+            }),
+            0);
+  lua_pop(lua.get(), 1);
   lua.run("value = {depth = 0.02, force = 'strong', tip = {0, 0, 0}, inserted = true}");
   lua_getglobal(lua.get(), "value");
   try {
