@@ -18,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen)
+PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen nlohmann-json3-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 # executor_bench's peer (cyclictest) and its load (stress-ng --cpu).
 BENCH_PACKAGES=(rt-tests stress-ng)
@@ -27,7 +27,7 @@ LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
 # Reports inside Debian's uninstrumented Fast DDS, each explained in the file.
 TSAN_SUPP="suppressions=$PWD/test_support/tsan.supp:print_suppressions=0"
 FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
-  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz)
+  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz studio_json_fuzz)
 
 # The repo's real files a fuzzer starts from (copied into one folder, as libFuzzer takes folders).
 fuzz_seeds() {
@@ -36,6 +36,7 @@ fuzz_seeds() {
     phantom_scenario_fuzz) echo apps/puncturing/scenarios/*/phantom.txt ;;
     planning_scene_fuzz) echo planning/scenes/*.scene planning/test/data/*.scene ;;
     puncturing_plan_fuzz) echo apps/puncturing/scenarios/*/*.txt apps/puncturing/state_table.txt ;;
+    studio_json_fuzz) echo studio/test/fuzz_seeds/*.json ;;
   esac
 }
 
@@ -173,6 +174,8 @@ case "${1:-help}" in
   bench)
     setup "${BENCH_PACKAGES[@]}"
     build release
+    # The applications' packages and cobra's charts, where the build puts them (bench/CMakeLists.txt).
+    . build/release/bench/bench_environment.sh
     for b in build/release/bench/*_bench; do
       say "$b"
       "$b" --benchmark_counters_tabular=true

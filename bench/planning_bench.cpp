@@ -1,5 +1,5 @@
 // Cost of the motion planner (thesis §4.5.1, ARCHITECTURE §8) on the shipped puncturing scene
-// (planning/scenes/puncturing.scene) with the REAL robot models (planning::makeRobotModels: the
+// (planning/test/scenes/puncturing.scene) with the REAL robot models (planning::makeRobotModels: the
 // I-SUR puncturing kinematics and the UR5 closed form), and, as a peer, the same FCL work with the
 // stand-in robots of the library tests (two_robots.scene + a wall: IK costs nothing there).
 //
@@ -83,7 +83,7 @@ SceneDescription standInScene() {
 /// The puncturing scene as the deployment configures it: the needle frames have z along the
 /// needle (apps/puncturing/puncturing.lua), the phantom at `phantom` (identity: as in the file).
 SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
-  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/scenes/puncturing.scene");
+  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/test/scenes/puncturing.scene");
   for (RobotPlacement& robot : scene.robots)
     if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
   for (ObjectDescription& object : scene.objects)

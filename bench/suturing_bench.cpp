@@ -11,7 +11,7 @@
 //    from its initial pose to 3 cm above the first stitch's centre, then on to above each next
 //    stitch (each query from the joints where the previous path ended), the stick holding;
 //    reconstructed from the app's files (the straight cut's four stitches, the robot's initial
-//    joints, the app's tool frame and phantom placement) on planning/scenes/suturing.scene with the
+//    joints, the app's tool frame and phantom placement) on planning/test/scenes/suturing.scene with the
 //    real two-armed I-SUR model, the sequence planned with 5 seeds and the deployment's settings
 //    (work limit 20,000 checks); counters median_ms, p95_ms, max_ms, success_rate. RRTConnect (the
 //    deployment's) beside BiTRRT on the same queries.
@@ -66,7 +66,7 @@ std::vector<cobra::planning::DualPose> suturingGoals() {
 
 void BM_SuturingQueries(benchmark::State& state, const std::string& planner_name) {
   cobra::components::PlanningSceneSettings settings;
-  settings.scene_file = kSource + "/planning/scenes/suturing.scene";
+  settings.scene_file = kSource + "/planning/test/scenes/suturing.scene";
   settings.first_tool_frame = kRightToolFrame;
   settings.second_tool_frame = kLeftToolFrame;
   settings.phantom_pose = KDL::Frame(KDL::Vector(0.178, 0.0, 0.0));

@@ -21,11 +21,25 @@ file(RELATIVE_PATH cobra_packages_from_bin ${CMAKE_INSTALL_FULL_BINDIR} ${CMAKE_
 set_source_files_properties(${PROJECT_SOURCE_DIR}/deploy/src/install_layout.cpp DIRECTORY ${PROJECT_SOURCE_DIR}/deploy
   PROPERTIES COMPILE_DEFINITIONS
   "COBRA_DATA_DIR_FROM_BIN=\"${cobra_data_from_bin}\";COBRA_PACKAGE_DIR_FROM_BIN=\"${cobra_packages_from_bin}\"")
-# The build tree mirrors the installed data beside the tool, so the tool built here finds it too.
+# cobra's charts, installed together in <prefix>/share/cobra/charts (COBRA_CHARTS in deployment
+# files; on every Supervisor chart's package.path): the deployment and configuration supervisors
+# (components/coordination/charts) and the steps of a task chart (components/task/charts).
+set(COBRA_CHART_FOLDERS ${PROJECT_SOURCE_DIR}/components/coordination/charts ${PROJECT_SOURCE_DIR}/components/task/charts)
+# The build tree mirrors the installed data beside the tool, so the tool built here finds it too:
+# a charts folder of links to the charts' sources.
 get_target_property(cobra_tool_dir cobra BINARY_DIR)
 get_filename_component(cobra_build_data_dir ${cobra_tool_dir}/${cobra_data_from_bin} ABSOLUTE)
-file(MAKE_DIRECTORY ${cobra_build_data_dir})
-file(CREATE_LINK ${PROJECT_SOURCE_DIR}/components/coordination/charts ${cobra_build_data_dir}/charts SYMBOLIC)
+if(IS_SYMLINK ${cobra_build_data_dir}/charts)  # a build tree of before: one link to one folder
+  file(REMOVE ${cobra_build_data_dir}/charts)
+endif()
+file(MAKE_DIRECTORY ${cobra_build_data_dir}/charts)
+foreach(folder IN LISTS COBRA_CHART_FOLDERS)
+  file(GLOB cobra_charts CONFIGURE_DEPENDS ${folder}/*.lua)
+  foreach(chart IN LISTS cobra_charts)
+    get_filename_component(chart_name ${chart} NAME)
+    file(CREATE_LINK ${chart} ${cobra_build_data_dir}/charts/${chart_name} SYMBOLIC)
+  endforeach()
+endforeach()
 
 # Every library target of the framework: those defined outside the applications, examples, tests,
 # benchmarks and the tool's own sources. A library added later is installed too.
@@ -163,7 +177,9 @@ install(TARGETS cobra RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 # Data the tool and deployment files use at run time, found relative to the tool
 # (cobra::deploy::dataDirectory): <prefix>/share/cobra/charts.
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/components/coordination/charts DESTINATION ${COBRA_INSTALL_DATADIR})
+foreach(folder IN LISTS COBRA_CHART_FOLDERS)
+  install(DIRECTORY ${folder}/ DESTINATION ${COBRA_INSTALL_DATADIR}/charts)
+endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/cmake/CobraPackage.cmake DESTINATION ${COBRA_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/cobraConfig.cmake.in

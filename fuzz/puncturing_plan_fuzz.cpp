@@ -110,10 +110,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (const auto table = parsed(parse_puncturing_table, text)) {
     int previous = 0;
     for (const p::StateRow& row : table->rows) {
-      if (row.state.empty() || row.line <= previous || !known(*table, row.needle) || !known(*table, row.probe) ||
-          !noneOrKnown(*table, row.then_needle) || !noneOrKnown(*table, row.then_probe) ||
-          !noneOrKnown(*table, row.room_for_needle.from) || !noneOrKnown(*table, row.room_for_needle.to) ||
-          !noneOrKnown(*table, row.room_for_probe.from) || !noneOrKnown(*table, row.room_for_probe.to))
+      if (row.state.empty() || row.line <= previous || !known(*table, row.goal(0)) || !known(*table, row.goal(1)) ||
+          !noneOrKnown(*table, row.then(0)) || !noneOrKnown(*table, row.then(1)) ||
+          !noneOrKnown(*table, row.roomFor(0).from) || !noneOrKnown(*table, row.roomFor(0).to) ||
+          !noneOrKnown(*table, row.roomFor(1).from) || !noneOrKnown(*table, row.roomFor(1).to))
         std::abort();
       if (table->find(row.state) == nullptr) std::abort();  // a row's own state finds a row
       previous = row.line;

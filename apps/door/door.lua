@@ -5,7 +5,8 @@
 -- or deploy it only: cobra deploy apps/door/door.lua --sim --run-for 12
 
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local charts = here .. "../../components/coordination/charts/"
+local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
+  .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 
 -- cobra_door: the task's own component, the simulated door (apps/door/components).
 packages_list = { "cobra_signal", "cobra_coordination", "cobra_door" }

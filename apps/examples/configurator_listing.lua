@@ -67,7 +67,7 @@ initConfigurator(packages_list, components_list, "")
 getReferences()
 -- Properties the printed listing leaves to configuration files (§2.2.3): the planning scene of the
 -- puncturing task, the trajectory generator's two arms (needle, probe) and speeds, the chart.
-MotPlan.scene_file = here .. "../../planning/scenes/puncturing.scene"
+MotPlan.scene_file = here .. "../puncturing/deployment/puncturing.scene"
 TrajGen.arms_num = 2
 TrajGen.max_vel = 0.05     -- m/s per Cartesian axis
 TrajGen.max_ang_vel = 0.5  -- rad/s

@@ -9,7 +9,7 @@ scenario = scenario or (here .. "scenarios/two_needles")
 local G = dofile(here .. "deployment/geometry.lua")
 local abdomen = G.preoperative(scenario .. "/preoperative.txt").abdomen
 -- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one.
--- The probe pressed on the skin is an allowed contact of the scene (planning/scenes/puncturing.scene).
+-- The probe pressed on the skin is an allowed contact of the scene (apps/puncturing/deployment/puncturing.scene).
 -- The needle's motions near the skin are motion primitives, not planned.
 phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
 -- The needle frame of this application has z along the needle; the I-SUR kinematics' needle is its
@@ -152,7 +152,7 @@ run = {
   },
   -- The measured state's clearance as the needle planner measures it, the whole run long, against
   -- its threshold; the contacts the task makes on purpose are left out of it and reported apart
-  -- (planning/scenes/puncturing.scene: `allow`, `primitive_contact`).
+  -- (apps/puncturing/deployment/puncturing.scene: `allow`, `primitive_contact`).
   clearance = {
     port = "NeedlePlanner.minDistance", threshold = "NeedlePlanner.clearanceThreshold",
     contacts = { { name = "probe on skin", port = "NeedlePlanner.allowedContactDistance" },

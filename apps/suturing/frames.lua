@@ -6,16 +6,23 @@
 -- second_tool_frame, the frames of the suturing scene's I-SUR tools 0 and 1), so the Frame
 -- Generator's goals and the WoundSimulator's tips are the robot's tool poses themselves.
 -- Returns { right_tool = frame, left_tool = frame }, frames as cobra's Lua frames {x, y, z, qx, qy, qz, qw}.
-local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local G = dofile(here .. "../puncturing/deployment/geometry.lua")  -- G.frame(x, y, z, roll, pitch, yaw)
+
+-- A frame at x, y, z turned by roll, pitch, yaw (KDL's RPY: R = Rz(yaw) Ry(pitch) Rx(roll)).
+local function frame(x, y, z, roll, pitch, yaw)
+  local cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+  local cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+  local cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+  return { x, y, z, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
+           cr * cp * cy + sr * sp * sy }
+end
 
 local frames = {}
 -- The Endo Stitch: its tip frame has the instrument along its x axis; pointing straight down it
 -- would sit where its wrist's two representations meet, so its datum frame holds it 21 deg from
 -- the vertical (its initial pitch).
-frames.right_tool = G.frame(0, 0, 0, math.pi, -1.2, 0)
+frames.right_tool = frame(0, 0, 0, math.pi, -1.2, 0)
 -- The stick the gripper holds: its tip 0.15 m along the gripper's axis (z of the gripper frame;
--- the object `stick` of planning/scenes/suturing.scene ends there), the gripper leaning LEAN rad
+-- the object `stick` of apps/suturing/deployment/suturing.scene ends there), the gripper leaning LEAN rad
 -- from the datum's z, turned TURN rad about its axis (a pose from which the left arm reaches every
 -- stick position around a stitch with its stick clear of the Endo Stitch, searched with the split
 -- IK and the scene): the datum's rotation in the gripper frame is RotY(-LEAN) * RotZ(TURN).

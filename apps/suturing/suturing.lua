@@ -7,7 +7,6 @@
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/straight_cut")
 wound = dofile(scenario .. "/wound.lua")
-local G = dofile(here .. "../puncturing/deployment/geometry.lua")  -- G.frame(x, y, z, roll, pitch, yaw)
 
 -- The haptic device of the teleoperated deployment: "leap" (Leap Motion, both hands) or "omni" (two
 -- Phantom Omnis). Switching is this one line.
@@ -20,7 +19,7 @@ local frames = dofile(here .. "frames.lua")
 right_tool_frame = frames.right_tool
 left_tool_frame = frames.left_tool
 -- The suturing scene's phantom (0.25 x 0.2 x 0.06 m) centred under the wound.
-phantom_pose = G.frame(wound.wound_pose[1], wound.wound_pose[2], 0)
+phantom_pose = { wound.wound_pose[1], wound.wound_pose[2], 0, 0, 0, 0, 1 }
 
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/controller.lua")
@@ -90,7 +89,7 @@ run = {
       joints = "ISUR.measJointPosition", max_velocity = "ISUR.max_velocity", chart = "suture",
       counts_while = { scope = "suture", deployments = { "suturing_autonomous_planning", "suturing_autonomous_primitives" } } },
   },
-  -- The measured state's clearance as the planner measures it (planning/scenes/suturing.scene),
+  -- The measured state's clearance as the planner measures it (apps/suturing/deployment/suturing.scene),
   -- the whole run long; the Endo Stitch in the wound (a contact only the motion primitives make,
   -- `primitive_contact`) is left out of it and reported apart.
   clearance = {

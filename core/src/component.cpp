@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <thread>
 #include <utility>
 
 #include "cobra/core/activity.hpp"
@@ -103,7 +104,7 @@ Result Component::configure() {
                  (refusal_.empty() ? std::string("configureHook refused the configuration") : std::exchange(refusal_, {})));
     return Result::failure(lastError());
   }
-  state_.store(State::Stopped, std::memory_order_release);
+  setState(State::Stopped);
   return Result::success();
 }
 
@@ -123,7 +124,7 @@ Result Component::start() {
                  (refusal_.empty() ? std::string("startHook refused to start") : std::exchange(refusal_, {})));
     return Result::failure(lastError());
   }
-  state_.store(State::Running, std::memory_order_release);
+  setState(State::Running);
   activity_->startStepping();
   return Result::success();
 }
@@ -136,7 +137,7 @@ Result Component::stop() {
   activity_->stopStepping();
   // The activity thread may have moved the component to Exception while we joined it.
   if (state() != State::Running) return Result::failure(lastError());
-  state_.store(State::Stopped, std::memory_order_release);
+  setState(State::Stopped);
   runHook("stopHook", [this] {
     stopHook();
     return true;
@@ -152,7 +153,7 @@ Result Component::cleanup() {
     return true;
   });
   if (state() != State::Stopped) return Result::failure(lastError());
-  state_.store(State::PreOperational, std::memory_order_release);
+  setState(State::PreOperational);
   return Result::success();
 }
 
@@ -166,16 +167,16 @@ Result Component::recover() {
     cleanupHook();
   } catch (const std::exception& e) {
     setLastError("component '" + name_ + "': cleanupHook threw during recover: " + e.what());
-    state_.store(State::FatalError, std::memory_order_release);
+    setState(State::FatalError);
     emitEvent("e_fatal_error@" + name_);
     return Result::failure(lastError());
   } catch (...) {
     setLastError("component '" + name_ + "': cleanupHook threw during recover");
-    state_.store(State::FatalError, std::memory_order_release);
+    setState(State::FatalError);
     emitEvent("e_fatal_error@" + name_);
     return Result::failure(lastError());
   }
-  state_.store(State::PreOperational, std::memory_order_release);
+  setState(State::PreOperational);
   return Result::success();
 }
 
@@ -184,7 +185,7 @@ void Component::enterException(std::string_view hook, const std::string& what) n
     const bool was_running = state() == State::Running;
     setLastError("component '" + name_ + "': " + std::string(hook) + " threw: " + what);
     std::fprintf(stderr, "[cobra] %s; component is now in Exception\n", lastError().c_str());
-    state_.store(State::Exception, std::memory_order_release);
+    setState(State::Exception);
     emitEvent("e_exception@" + name_);
     std::string_view handler = "stopHook";
     try {
@@ -194,18 +195,49 @@ void Component::enterException(std::string_view hook, const std::string& what) n
     } catch (const std::exception& e) {
       setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
                    lastError() + "): " + e.what());
-      state_.store(State::FatalError, std::memory_order_release);
+      setState(State::FatalError);
       emitEvent("e_fatal_error@" + name_);
     } catch (...) {
       setLastError("component '" + name_ + "': " + std::string(handler) + " threw while handling an exception (" +
                    lastError() + "): unknown exception");
-      state_.store(State::FatalError, std::memory_order_release);
+      setState(State::FatalError);
       emitEvent("e_fatal_error@" + name_);
     }
   } catch (...) {
     // Out of memory while building a message: the state must still change.
-    state_.store(State::FatalError, std::memory_order_release);
+    setState(State::FatalError);
   }
+}
+
+void Component::setState(State to) noexcept {
+  const State from = state_.exchange(to, std::memory_order_acq_rel);
+  if (from == to) return;
+  // Counted before the slots are read: removeStateListener clears a slot, then waits while a
+  // count is held, so a listener it returned from is never called again (both sequentially
+  // consistent: either this sees the cleared slot, or the remover sees the count).
+  announcing_.fetch_add(1);
+  for (std::atomic<StateListener*>& slot : state_listeners_)
+    if (StateListener* listener = slot.load()) listener->stateChanged(*this, from, to);
+  announcing_.fetch_sub(1);
+}
+
+void Component::addStateListener(StateListener& listener) {
+  for (const std::atomic<StateListener*>& slot : state_listeners_)
+    if (slot.load() == &listener) return;
+  for (std::atomic<StateListener*>& slot : state_listeners_) {
+    StateListener* empty = nullptr;
+    if (slot.compare_exchange_strong(empty, &listener)) return;
+  }
+  throw Error("component '" + name_ + "': already " + std::to_string(kMaxStateListeners) +
+              " state listeners (Component::kMaxStateListeners); remove one first");
+}
+
+void Component::removeStateListener(StateListener& listener) noexcept {
+  for (std::atomic<StateListener*>& slot : state_listeners_) {
+    StateListener* mine = &listener;
+    slot.compare_exchange_strong(mine, nullptr);
+  }
+  while (announcing_.load() != 0) std::this_thread::yield();
 }
 
 bool Component::refuse(std::string why) {

@@ -12,6 +12,7 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/signal/recorder.hpp"
 #include "cobra/deploy/deploy.hpp"
+#include "cobra/test_support/test_support.hpp"
 #include "test_components.hpp"
 
 using namespace cobra;
@@ -19,17 +20,9 @@ using namespace std::chrono_literals;
 using deploy::Configurator;
 using deploy::SourceLocation;
 using ::testing::HasSubstr;
+using test_support::messageOf;
 
 namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 SourceLocation at(const char* file, int line) { return {file, line}; }
 
@@ -212,7 +205,7 @@ TEST_F(SwitchTest, WrongValuesInAConfigurationApplyNothing) {
                                                    {"Gain", "kk", "1", at("broken.cfg", 5)},
                                                    {"Rec", "dropped", "3", at("broken.cfg", 6)}}});
   const Snapshot before = snapshot(configurator_);
-  const std::string message = errorOf([&] { configurator_.applyConfiguration("broken"); });
+  const std::string message = messageOf([&] { configurator_.applyConfiguration("broken"); });
   EXPECT_THAT(message, HasSubstr("configuration 'broken' (broken.cfg:1) has wrong values:"));
   EXPECT_THAT(message, HasSubstr("broken.cfg:3: component 'Sine': property 'frequency' is a double: cannot set it "
                                  "from \"fast\"; expected a number"));
@@ -222,7 +215,7 @@ TEST_F(SwitchTest, WrongValuesInAConfigurationApplyNothing) {
   EXPECT_THAT(message, HasSubstr("nothing was applied"));
   EXPECT_EQ(snapshot(configurator_), before) << "Gain.k = 3 (valid) must not have been applied";
   EXPECT_EQ(configurator_.currentConfiguration(), "unit");
-  EXPECT_THAT(errorOf([&] { configurator_.applyConfiguration("dobule"); }),
+  EXPECT_THAT(messageOf([&] { configurator_.applyConfiguration("dobule"); }),
               HasSubstr("no configuration named 'dobule'; did you mean 'double'?"));
 }
 
@@ -257,7 +250,7 @@ TEST_F(SwitchTest, DeploymentsOfTwoScopesSwitchIndependently) {
   EXPECT_EQ(configurator_.currentDeployment("b"), "b_record");
   EXPECT_EQ(configurator_.currentDeployment(), "") << "nothing applied in the default scope";
 
-  const std::string message = errorOf([&] { (void)configurator_.applyDeployment("a_greedy"); });
+  const std::string message = messageOf([&] { (void)configurator_.applyDeployment("a_greedy"); });
   EXPECT_THAT(message, HasSubstr("a.lua:12: 'Rec' is run by deployment 'b_record' of scope 'b'; a component belongs to "
                                  "the deployments of one scope"));
   EXPECT_EQ(snapshot(configurator_), after) << "a refused switch changes nothing";
@@ -273,12 +266,12 @@ TEST_F(SwitchTest, InvalidDeploymentChangesNothing) {
                                                {},
                                                {{"Sine.out", "Det.inn", {"data", 1}, at("typo.lua", 5)}}});
   const Snapshot before = snapshot(configurator_);
-  EXPECT_THAT(errorOf([&] { (void)configurator_.applyDeployment("typo"); }),
+  EXPECT_THAT(messageOf([&] { (void)configurator_.applyDeployment("typo"); }),
               HasSubstr("deployment 'typo' (typo.lua:1) not applied: typo.lua:5: component 'Det' has no port 'inn'; "
                         "did you mean 'in'?"));
   EXPECT_EQ(snapshot(configurator_), before);
   EXPECT_EQ(configurator_.currentDeployment(), "record");
-  EXPECT_THAT(errorOf([&] { (void)configurator_.applyDeployment("recrod"); }),
+  EXPECT_THAT(messageOf([&] { (void)configurator_.applyDeployment("recrod"); }),
               HasSubstr("no deployment named 'recrod'; did you mean 'record'?"));
 }
 
@@ -297,7 +290,7 @@ TEST_F(SwitchTest, DeploymentFailingWhileApplyingRestoresThePreviousOne) {
                                                 {"Gain.out", "Det.in", {"data", 1}, at("faulty.lua", 10)},
                                                 {"Gain.out", "F.in", {"data", 1}, at("faulty.lua", 11)}}});
   const Snapshot before = snapshot(configurator_);
-  const std::string message = errorOf([&] { (void)configurator_.applyDeployment("with_faulty"); });
+  const std::string message = messageOf([&] { (void)configurator_.applyDeployment("with_faulty"); });
   EXPECT_THAT(message, HasSubstr("deployment 'with_faulty' (faulty.lua:1) not applied: faulty.lua:5: cannot start 'F': "
                                  "component 'F': startHook refused to start; the "));
   EXPECT_THAT(message, HasSubstr("changes made before it were undone"));
@@ -346,7 +339,7 @@ TEST_F(StrictSwitchTest, StrictModeRefusesADeploymentBreakingTheRoles) {
   (void)configurator_.applyDeployment("record");
   configurator_.deploymentSet().addDeployment(watchingDeployment());
   const Snapshot before = snapshot(configurator_);
-  const std::string message = errorOf([&] { (void)configurator_.applyDeployment("watching"); });
+  const std::string message = messageOf([&] { (void)configurator_.applyDeployment("watching"); });
   EXPECT_THAT(message, HasSubstr("deployment 'watching' (bad.lua:1) not applied: 1 role rule violation (strict mode "
                                  "refuses them):\n" + std::string(kWatchViolation)));
   EXPECT_EQ(snapshot(configurator_), before);

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cobra/components/signal/recorder.hpp"
+#include "cobra/test_support/test_support.hpp"
 #include "test_components.hpp"
 #include "cobra/test_support/test_support.hpp"
 
@@ -22,17 +23,9 @@ using deploy::Configurator;
 using deploy::NameEntry;
 using deploy::SourceLocation;
 using ::testing::HasSubstr;
+using test_support::messageOf;
 
 namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 SourceLocation at(int line) { return {"deploy.lua", line}; }
 
@@ -120,7 +113,7 @@ TEST(Configurator, RealTimeModeRunsThreads) {
 TEST(Configurator, DuplicateInstanceNameCreatesNothing) {
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
-  const std::string message = errorOf([&] {
+  const std::string message = messageOf([&] {
     configurator.initConfigurator({{"cobra_signal", at(2)}},
                                   {{"Sine", "SineGenerator", at(5)}, {"Gain", "Gain", at(6)}, {"Sine", "Gain", at(7)}});
   });
@@ -131,9 +124,9 @@ TEST(Configurator, DuplicateInstanceNameCreatesNothing) {
 TEST(Configurator, UnknownPackageAndTypeAreReportedWithTheirLine) {
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
-  EXPECT_THAT(errorOf([&] { configurator.initConfigurator({{"cobra_sgnal", at(2)}}, {}); }),
+  EXPECT_THAT(messageOf([&] { configurator.initConfigurator({{"cobra_sgnal", at(2)}}, {}); }),
               HasSubstr("deploy.lua:2: unknown package 'cobra_sgnal'; did you mean 'cobra_signal'?"));
-  const std::string message = errorOf([&] {
+  const std::string message = messageOf([&] {
     configurator.initConfigurator({{"cobra_signal", at(2)}}, {{"Sine", "SineGenerator", at(5)}, {"G", "Gian", at(12)}});
   });
   EXPECT_THAT(message, HasSubstr("deploy.lua:12: unknown component type 'Gian'; did you mean 'Gain'? known types: "));
@@ -146,7 +139,7 @@ TEST(Configurator, BadConfigurationFileCreatesNothing) {
   std::ofstream(folder / "slow.cfg") << "# slow\nGain.k = 0.5\nSine.frequency = fast\n";
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
-  const std::string message = errorOf([&] {
+  const std::string message = messageOf([&] {
     configurator.initConfigurator({{"cobra_signal", at(2)}}, {{"Sine", "SineGenerator", at(5)}, {"Gain", "Gain", at(6)}},
                                   folder);
   });
@@ -162,12 +155,12 @@ TEST(Configurator, UnknownComponentAndPortAreReportedWithTheClosestName) {
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
-  EXPECT_THAT(errorOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gian.in", {}, at(20)}}); }),
+  EXPECT_THAT(messageOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gian.in", {}, at(20)}}); }),
               HasSubstr("deploy.lua:20: no component named 'Gian'; did you mean 'Gain'?"));
-  EXPECT_THAT(errorOf([&] { (void)configurator.connectPorts({{"Gain.ouf", "Rec.in", {}, at(21)}}); }),
+  EXPECT_THAT(messageOf([&] { (void)configurator.connectPorts({{"Gain.ouf", "Rec.in", {}, at(21)}}); }),
               HasSubstr("deploy.lua:21: component 'Gain' has no port 'ouf'; did you mean 'out'? known ports of "
                         "Gain: events, in, out"));
-  EXPECT_THAT(errorOf([&] { (void)configurator.connectPorts({{"Gain", "Rec.in", {}, at(22)}}); }),
+  EXPECT_THAT(messageOf([&] { (void)configurator.connectPorts({{"Gain", "Rec.in", {}, at(22)}}); }),
               HasSubstr("deploy.lua:22: 'Gain' is not a port path; write it as \"Component.port\""));
 }
 
@@ -177,22 +170,22 @@ TEST(Configurator, TypeMismatchAndOutputToOutputAreRefusedAndNothingIsConnected)
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
   const auto& sine_out = configurator.getReferences().get("Sine").port("out");
-  std::string message = errorOf([&] {
+  std::string message = messageOf([&] {
     (void)configurator.connectPorts({{"Sine.out", "Gain.in", {}, at(17)}, {"Det.events", "Rec.in", {}, at(18)}});
   });
   EXPECT_THAT(message, HasSubstr("deploy.lua:18: cannot connect Det.events (Event) to Rec.in (double): the types "
                                  "differ (Event vs double); connect ports of the same type"));
   EXPECT_FALSE(sine_out.connected()) << "entry 17 was valid but the list is all-or-nothing";
 
-  message = errorOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gain.out", {}, at(19)}}); });
+  message = messageOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gain.out", {}, at(19)}}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:19: cannot connect Sine.out (double) to Gain.out (double): Gain.out is "
                                  "an output port; the second port must be an input"));
-  message = errorOf([&] { (void)configurator.connectPorts({{"Gain.in", "Rec.in", {}, at(23)}}); });
+  message = messageOf([&] { (void)configurator.connectPorts({{"Gain.in", "Rec.in", {}, at(23)}}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:23: cannot connect Gain.in (double) to Rec.in (double): Gain.in is an "
                                  "input port; the first port must be an output"));
-  message = errorOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gain.in", {"buffr", 4}, at(24)}}); });
+  message = messageOf([&] { (void)configurator.connectPorts({{"Sine.out", "Gain.in", {"buffr", 4}, at(24)}}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:24: unknown connection policy type 'buffr'"));
-  message = errorOf([&] {
+  message = messageOf([&] {
     (void)configurator.connectPorts({{"Sine.out", "Gain.in", {}, at(25)}, {"Sine.out", "Gain.in", {}, at(26)}});
   });
   EXPECT_THAT(message, HasSubstr("deploy.lua:26: Sine.out -> Gain.in appears twice in this list"));
@@ -207,7 +200,7 @@ TEST(Configurator, FailingConfigureHookCleansUpTheComponentsConfiguredBefore) {
                                 {{"A", "Gain", at(4)}, {"B", "Faulty", at(5)}, {"F", "Faulty", at(6)}, {"C", "Gain", at(7)}});
   auto& registry = configurator.getReferences();
   registry.get("F").setProperty("refuse_configure", true);
-  std::string message = errorOf([&] { configurator.configureComponents(names({"A", "B", "F", "C"}, 30)); });
+  std::string message = messageOf([&] { configurator.configureComponents(names({"A", "B", "F", "C"}, 30)); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:32: cannot configure 'F': component 'F': configureHook refused the "
                                  "configuration; the 2 changes made before it were undone"));
   for (const char* name : {"A", "B", "F", "C"}) EXPECT_EQ(registry.get(name).state(), core::State::PreOperational) << name;
@@ -216,12 +209,12 @@ TEST(Configurator, FailingConfigureHookCleansUpTheComponentsConfiguredBefore) {
   // A hook that throws leaves its component in Exception; the rollback recovers it.
   registry.get("F").setProperty("refuse_configure", false);
   registry.get("F").setProperty("throw_configure", true);
-  message = errorOf([&] { configurator.configureComponents(names({"A", "B", "F", "C"}, 30)); });
+  message = messageOf([&] { configurator.configureComponents(names({"A", "B", "F", "C"}, 30)); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:32: cannot configure 'F': component 'F': configureHook threw: "
                                  "calibration file missing (F was recovered to PreOperational)"));
   for (const char* name : {"A", "B", "F", "C"}) EXPECT_EQ(registry.get(name).state(), core::State::PreOperational) << name;
 
-  EXPECT_THAT(errorOf([&] { configurator.configureComponents({{"A", at(40)}, {"Z", at(41)}}); }),
+  EXPECT_THAT(messageOf([&] { configurator.configureComponents({{"A", at(40)}, {"Z", at(41)}}); }),
               HasSubstr("deploy.lua:41: no component named 'Z'"));
   EXPECT_EQ(registry.get("A").state(), core::State::PreOperational) << "unknown names are found before configuring";
 }
@@ -235,7 +228,7 @@ TEST(Configurator, FailingStartStopsTheComponentsStartedBefore) {
   auto& registry = configurator.getReferences();
   configurator.configureComponents(names({"A", "F", "C"}, 10));
   registry.get("F").setProperty("refuse_start", true);
-  const std::string message = errorOf([&] { configurator.startComponents(names({"A", "F", "C"}, 20)); });
+  const std::string message = messageOf([&] { configurator.startComponents(names({"A", "F", "C"}, 20)); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:21: cannot start 'F': component 'F': startHook refused to start"));
   for (const char* name : {"A", "F", "C"}) EXPECT_EQ(registry.get(name).state(), core::State::Stopped) << name;
 }
@@ -245,15 +238,15 @@ TEST(Configurator, ActivitiesAreCheckedBeforeAnyIsSet) {
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
-  EXPECT_THAT(errorOf([&] {
+  EXPECT_THAT(messageOf([&] {
                 configurator.setActivities({{"Sine", 0.001, 50, "ORO_SCHED_RT", at(11)}, {"Gain", 0.0, 0, "RT", at(12)}});
               }),
               HasSubstr("deploy.lua:12: unknown scheduler 'RT'; use \"ORO_SCHED_RT\""));
   EXPECT_EQ(configurator.getReferences().get("Sine").activity().describe(), "lockstep, when triggered")
       << "entry 11 was valid, but the list is all-or-nothing: Sine keeps its default activity";
-  EXPECT_THAT(errorOf([&] { configurator.setActivities({{"Sine", -1.0, 50, "ORO_SCHED_RT", at(13)}}); }),
+  EXPECT_THAT(messageOf([&] { configurator.setActivities({{"Sine", -1.0, 50, "ORO_SCHED_RT", at(13)}}); }),
               HasSubstr("deploy.lua:13: activity of 'Sine': period must be a number of seconds >= 0"));
-  EXPECT_THAT(errorOf([&] { configurator.setActivities({{"Sine", 0.01, 120, "ORO_SCHED_RT", at(14)}}); }),
+  EXPECT_THAT(messageOf([&] { configurator.setActivities({{"Sine", 0.01, 120, "ORO_SCHED_RT", at(14)}}); }),
               HasSubstr("deploy.lua:14: activity of 'Sine': priority 120 is outside 1..99"));
 
   // Priority 0 with a real-time scheduler (as in the thesis' example) is raised to 1.
@@ -263,7 +256,7 @@ TEST(Configurator, ActivitiesAreCheckedBeforeAnyIsSet) {
                                                     "priority; using 1"));
   configurator.configureComponents({{"Sine", at(20)}});
   configurator.startComponents({{"Sine", at(21)}});
-  EXPECT_THAT(errorOf([&] { configurator.setActivities({{"Sine", 0.002, 10, "ORO_SCHED_RT", at(16)}}); }),
+  EXPECT_THAT(messageOf([&] { configurator.setActivities({{"Sine", 0.002, 10, "ORO_SCHED_RT", at(16)}}); }),
               HasSubstr("deploy.lua:16: activity of 'Sine': it is Running; stop it before changing its activity"));
 }
 
@@ -272,7 +265,7 @@ TEST(Configurator, PeersMustExist) {
   Configurator configurator;
   components::addBuiltinPackages(configurator.packages());
   configurator.initConfigurator(d.packages_list, d.components_list);
-  EXPECT_THAT(errorOf([&] { configurator.addPeers({{"Det", {"Gain"}, at(30)}, {"Rec", {"Sine", "Gainn"}, at(31)}}); }),
+  EXPECT_THAT(messageOf([&] { configurator.addPeers({{"Det", {"Gain"}, at(30)}, {"Rec", {"Sine", "Gainn"}, at(31)}}); }),
               HasSubstr("deploy.lua:31: no component named 'Gainn'; did you mean 'Gain'?"));
   EXPECT_TRUE(configurator.peersOf("Det").empty()) << "the whole peers_list is refused";
   configurator.addPeers({{"Det", {"Gain", "Gain"}, at(30)}});

@@ -12,17 +12,9 @@ using namespace cobra;
 using deploy::DeploymentSet;
 using deploy::SourceLocation;
 using ::testing::HasSubstr;
+using test_support::messageOf;
 
 namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 std::filesystem::path freshFolder(const std::string& name) {
   const auto folder = ::cobra::test_support::scratchPath(name);
@@ -38,13 +30,13 @@ TEST(DeploymentSet, NamesAreUniqueAndLookupsSuggestTheClosest) {
   set.addDeployment({"approach", {"a.lua", 1}, {}, {}, {}});
   set.addDeployment({"puncture", {"p.lua", 1}, {}, {}, {}});
   set.addConfiguration({"stiff", {"stiff.cfg", 1}, {}});
-  EXPECT_THAT(errorOf([&] { set.addDeployment({"approach", {"b.lua", 7}, {}, {}, {}}); }),
+  EXPECT_THAT(messageOf([&] { set.addDeployment({"approach", {"b.lua", 7}, {}, {}, {}}); }),
               HasSubstr("b.lua:7: a deployment named 'approach' already exists (a.lua:1)"));
-  EXPECT_THAT(errorOf([&] { set.addConfiguration({"stiff", {"other.cfg", 1}, {}}); }),
+  EXPECT_THAT(messageOf([&] { set.addConfiguration({"stiff", {"other.cfg", 1}, {}}); }),
               HasSubstr("other.cfg:1: a configuration named 'stiff' already exists (stiff.cfg:1)"));
-  EXPECT_THAT(errorOf([&] { (void)set.deployment("punctur"); }),
+  EXPECT_THAT(messageOf([&] { (void)set.deployment("punctur"); }),
               HasSubstr("no deployment named 'punctur'; did you mean 'puncture'? known deployments: approach, puncture"));
-  EXPECT_THAT(errorOf([&] { (void)set.configuration("soft"); }),
+  EXPECT_THAT(messageOf([&] { (void)set.configuration("soft"); }),
               HasSubstr("no configuration named 'soft'; known configurations: stiff"));
   EXPECT_EQ(set.deploymentNames(), (std::vector<std::string>{"approach", "puncture"}));
   EXPECT_EQ(set.findConfiguration("stiff")->where.file, "stiff.cfg");
@@ -74,10 +66,10 @@ TEST(DeploymentSet, ConfigurationFilesGiveEveryValueItsLine) {
 TEST(DeploymentSet, MalformedConfigurationLinesAreReportedWithTheirLine) {
   const auto folder = freshFolder("cobra_deploy_bad_lines");
   std::ofstream(folder / "bad.cfg") << "Adm.stiffness = 1\nstiffness = 2\n";
-  EXPECT_THAT(errorOf([&] { (void)deploy::loadConfigurationFolder(folder); }),
+  EXPECT_THAT(messageOf([&] { (void)deploy::loadConfigurationFolder(folder); }),
               HasSubstr((folder / "bad.cfg").string() + ":2: expected \"Component.property = value\", got "
                                                         "\"stiffness = 2\""));
-  EXPECT_THAT(errorOf([&] { (void)deploy::loadConfigurationFolder(folder / "missing"); }),
+  EXPECT_THAT(messageOf([&] { (void)deploy::loadConfigurationFolder(folder / "missing"); }),
               HasSubstr("does not exist or is not a folder"));
 }
 
@@ -88,16 +80,16 @@ TEST(Spec, LocationsPortPathsPoliciesAndSchedulers) {
   const auto path = deploy::parsePortPath("MotPlan.path", {});
   EXPECT_EQ(path.component, "MotPlan");
   EXPECT_EQ(path.port, "path");
-  EXPECT_THAT(errorOf([] { (void)deploy::parsePortPath("MotPlan.", {"d.lua", 3}); }),
+  EXPECT_THAT(messageOf([] { (void)deploy::parsePortPath("MotPlan.", {"d.lua", 3}); }),
               HasSubstr("d.lua:3: 'MotPlan.' is not a port path"));
   EXPECT_EQ(deploy::toConnPolicy({"data", 7}, {}), core::ConnPolicy::data());
   EXPECT_EQ(deploy::toConnPolicy({"BUFFER", 8}, {}), core::ConnPolicy::buffer(8));
   EXPECT_EQ(deploy::toConnPolicy({"circular_buffer", 2}, {}), core::ConnPolicy::circular(2));
-  EXPECT_THAT(errorOf([] { (void)deploy::toConnPolicy({"buffer", 0}, {"d.lua", 4}); }),
+  EXPECT_THAT(messageOf([] { (void)deploy::toConnPolicy({"buffer", 0}, {"d.lua", 4}); }),
               HasSubstr("d.lua:4: a buffer connection needs size >= 1, got 0"));
   EXPECT_EQ(deploy::toScheduler("ORO_SCHED_RT", {}), core::Scheduler::Fifo);
   EXPECT_EQ(deploy::toScheduler("sched_other", {}), core::Scheduler::Other);
-  EXPECT_THAT(errorOf([] { (void)deploy::toScheduler("realtime", {"d.lua", 5}); }),
+  EXPECT_THAT(messageOf([] { (void)deploy::toScheduler("realtime", {"d.lua", 5}); }),
               HasSubstr("d.lua:5: unknown scheduler 'realtime'"));
   EXPECT_TRUE((deploy::ActivitySpec{"A", 0.001, 80, "ORO_SCHED_RT", {"a.lua", 1}}.sameActivity(
       deploy::ActivitySpec{"A", 0.001, 80, "oro_sched_rt", {"b.lua", 9}})));

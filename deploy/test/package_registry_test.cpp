@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/test_support.hpp"
 #include "test_components.hpp"
 
 using namespace cobra;
@@ -14,19 +15,7 @@ using namespace std::chrono_literals;
 using deploy::PackageRegistry;
 using deploy::SourceLocation;
 using ::testing::HasSubstr;
-
-namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-}  // namespace
+using test_support::messageOf;
 
 TEST(PackageRegistry, ABuiltInPackageRegistersItsTypesWhenLoaded) {
   PackageRegistry registry;
@@ -47,7 +36,7 @@ TEST(PackageRegistry, ABuiltInPackageRegistersItsTypesWhenLoaded) {
 TEST(PackageRegistry, UnknownPackageNamesTheClosestOnesAndTheSearchPath) {
   PackageRegistry registry({COBRA_TEST_PACKAGE_DIR});
   registry.addBuiltin("cobra_signal", components::registerSignalPackage);
-  const std::string message = errorOf([&] { registry.load("cobra_signl", {"deploy.lua", 3}); });
+  const std::string message = messageOf([&] { registry.load("cobra_signl", {"deploy.lua", 3}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:3: unknown package 'cobra_signl'; did you mean 'cobra_signal'?"));
   EXPECT_THAT(message, HasSubstr("known packages: cobra_signal, cobra_test_filters, cobra_test_old_abi"));
   EXPECT_THAT(message, HasSubstr("libcobra_signl.so"));
@@ -59,7 +48,7 @@ TEST(PackageRegistry, UnknownComponentTypeSuggestsTheClosestName) {
   PackageRegistry registry;
   registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
-  const std::string message = errorOf([&] { (void)registry.create("Gian", "G", {"deploy.lua", 12}); });
+  const std::string message = messageOf([&] { (void)registry.create("Gian", "G", {"deploy.lua", 12}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:12: unknown component type 'Gian'; did you mean 'Gain'? known types: "
                                  "Constant, Gain, Recorder, SineGenerator, ThresholdDetector"));
   EXPECT_THAT(message, HasSubstr("loaded packages: cobra_signal"));
@@ -110,7 +99,7 @@ TEST(PackageRegistry, SearchPathComesFromTheEnvironmentToo) {
 TEST(PackageRegistry, PackageBuiltForAnotherAbiIsRefused) {
   PackageRegistry registry({COBRA_TEST_PACKAGE_DIR});
   registry.addBuiltin("cobra_signal", components::registerSignalPackage);
-  const std::string message = errorOf([&] { registry.load("cobra_test_old_abi", {"deploy.lua", 4}); });
+  const std::string message = messageOf([&] { registry.load("cobra_test_old_abi", {"deploy.lua", 4}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:4: package 'cobra_test_old_abi'"));
   EXPECT_THAT(message, HasSubstr("was built for package ABI " + std::to_string(deploy::kPackageAbiVersion + 1) +
                                  ", this cobra has ABI " + std::to_string(deploy::kPackageAbiVersion)));
@@ -125,7 +114,7 @@ TEST(PackageRegistry, PackageRegisteringAnExistingTypeRegistersNothing) {
   registry.addBuiltin("clash", [](deploy::PackageBuilder& p) {
     p.component<deploy::test::Faulty>("Faulty", "first").component<deploy::test::Faulty>("Gain", "clashes");
   });
-  const std::string message = errorOf([&] { registry.load("clash", {"deploy.lua", 5}); });
+  const std::string message = messageOf([&] { registry.load("clash", {"deploy.lua", 5}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:5: package 'clash' failed to register its components: package 'clash' "
                                  "registers component type 'Gain', which package 'cobra_signal' already registered"));
   EXPECT_EQ(registry.findType("Faulty"), nullptr) << "a failed load must register nothing";
@@ -136,7 +125,7 @@ TEST(PackageRegistry, ConstructorErrorsNameTheInstanceAndType) {
   PackageRegistry registry;
   registry.addBuiltin("cobra_signal", components::registerSignalPackage);
   registry.load("cobra_signal");
-  const std::string message = errorOf([&] { (void)registry.create("Gain", "bad name", {"deploy.lua", 9}); });
+  const std::string message = messageOf([&] { (void)registry.create("Gain", "bad name", {"deploy.lua", 9}); });
   EXPECT_THAT(message, HasSubstr("deploy.lua:9: cannot create 'bad name' of type 'Gain': component name 'bad name' "
                                  "may not contain '.' or spaces"));
 }

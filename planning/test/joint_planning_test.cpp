@@ -29,7 +29,7 @@ const JointState kStart{0.00202, 0.00249, 0.204398, 0, 0, 0.85, 0.55, 0, 0.798, 
 
 /// The puncturing scene with the application's needle frames (z along the needle).
 StateValidator puncturingValidator() {
-  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/puncturing.scene");
+  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes/puncturing.scene");
   for (RobotPlacement& robot : scene.robots)
     if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
   RobotModels models = makeRobotModels(scene);

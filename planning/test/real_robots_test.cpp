@@ -32,7 +32,7 @@ constexpr double kSanitizerSlowdown = 10.0;
 constexpr double kSanitizerSlowdown = 1.0;
 #endif
 
-std::filesystem::path scenes() { return std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes"; }
+std::filesystem::path scenes() { return std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes"; }
 
 /// Needle pointing straight down (its tip frame's x axis = world -z).
 KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }

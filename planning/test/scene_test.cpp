@@ -187,7 +187,7 @@ TEST(Scene, MutatedFilesParseOrThrowInvalidArgument) {
 }
 
 TEST(Scene, ShippedSetupsParseAndFollowTheThesisChecks) {
-  const std::filesystem::path scenes = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes";
+  const std::filesystem::path scenes = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes";
   const SceneDescription puncturing = loadScene(scenes / "puncturing.scene");
   EXPECT_EQ(puncturing.groups, (std::vector<std::string>{"macro", "micro", "ur5", "environment"}));
   EXPECT_EQ(puncturing.checks.size(), 5u);  // Algorithm 4.2, lines 8-12

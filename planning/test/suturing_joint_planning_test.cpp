@@ -31,7 +31,7 @@ namespace {
 const JointState kStart{0.1, 0.1, 0.1, 0.0, 0.0, 0.75, 0.45, 0.0, 0.0, 0.5, -0.5, 0.0, 0.5, 0.0};
 
 StateValidator suturingValidator() {
-  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/suturing.scene");
+  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes/suturing.scene");
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
 }

@@ -31,7 +31,7 @@ constexpr double kWall = 0.05;
 
 /// The puncturing scene plus `extra` statements, with the application's needle frames.
 StateValidator puncturingValidator(const std::string& extra = "") {
-  const std::filesystem::path file = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/puncturing.scene";
+  const std::filesystem::path file = std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes/puncturing.scene";
   SceneDescription scene = parseScene(test::readText(file) + extra, file.string(), file.parent_path());
   for (RobotPlacement& robot : scene.robots)
     if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));

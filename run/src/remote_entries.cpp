@@ -1,6 +1,6 @@
 #include "remote_entries.hpp"
 
-#include "observers.hpp"
+#include "builtin_observers.hpp"
 
 #include <utility>
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <thread>
@@ -134,11 +133,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   attachCharts();
   armActions();
   attachEventLog();
-  for (const auto& [port, where] : spec_.record.ports) recording_.addPort(refs_, port, where.text(), "run.record");
-  attachTracking();
-  attachClearance();
-  attachPlots();
-  attachSummaries();
+  attachObservers();
   for (const ChartSpec& c : spec_.charts)
     if (std::find(scopes_.begin(), scopes_.end(), c.scope) == scopes_.end()) scopes_.push_back(c.scope);
   shown_deployment_.resize(scopes_.size());
@@ -147,6 +142,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
     for (const core::Component* c : refs_.components())
       if (const auto* supervisor = dynamic_cast<const components::Supervisor*>(c)) switchers_.emplace_back(supervisor, "");
   components_ = refs_.components();
+  listenToComponents();
   record_every_ = std::max(1L, std::lround(spec_.record.period / spec_.step));
   next_progress_ = options_.progress_every;
   if (!options_.realtime) configurator_.clock().setStepObserver(options_.step_observer);
@@ -261,8 +257,7 @@ RunResult Session::run() {
     result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
     result_.final_states.emplace_back(c.spec->name, c.state);
   }
-  for (const Tracker& tr : trackers_) result_.tracking.push_back(tr.monitor->figures());
-  finishSummary();
+  for (Observer* o : observers_) o->finish(result_);
   say(std::string("run ended: ") + toString(result_.outcome) + (result_.reason.empty() ? "" : ": " + result_.reason));
   std::vector<std::string> files;
   if (options_.observer != nullptr) files = options_.observer->finished(result_);
@@ -275,10 +270,10 @@ void Session::advance() {
   observeCharts();
   readEvents();
   observeSwitches();
-  sampleSummaries();
   playActions();
-  observeFidelity();
-  if (steps_ % record_every_ == 0) record();
+  const bool records = steps_ % record_every_ == 0;
+  stepObservers(true, records);
+  if (records) recording_.sample(t_);
   if (options_.observer != nullptr) {
     std::size_t input = 0;
     while (options_.observer->nextInput(input) && input < inputs_.size()) {
@@ -292,7 +287,7 @@ void Session::advance() {
 
 void Session::showToObserver() {
   options_.observer->step({t_, view_states_, shown_deployment_, scope_configuration_, shown_configuration_,
-                           clearance_ ? clearance_->last : std::numeric_limits<double>::quiet_NaN()});
+                           result_.clearance.last});
 }
 
 bool Session::observeCharts() {
@@ -395,7 +390,10 @@ void Session::observeSwitches() {
     result_.log.push_back("configuration > " + shown_configuration_);
     say("  configuration -> " + shown_configuration_);
   }
-  if (switched) components_ = refs_.components();  // a deployment may bring its own components
+  if (switched) {  // a deployment may bring its own components
+    components_ = refs_.components();
+    listenToComponents();
+  }
 }
 
 void Session::assignConfiguration(const std::string& name) {
@@ -491,37 +489,14 @@ bool Session::catchUpStates() {
   for (int round = 0; round < 256 && observeCharts(); ++round) {
     any = true;
     readEvents();
-    sampleSummaries();
     playActions();
+    stepObservers(false, false);
   }
   for (std::size_t i = 0; i < charts_.size(); ++i) {
     charts_[i].previous = catch_up_previous_[i];
     charts_[i].changed = charts_[i].state != charts_[i].previous;
   }
   return any;
-}
-
-void Session::noteExecutorFigures() {
-  if (!executor_) return;
-  ExecutorFigures& f = result_.executor;
-  const core::ExecutorOptions& o = executor_->options();
-  f.ran = true;
-  f.period = std::chrono::duration<double>(o.period).count();
-  f.scheduler = o.scheduler == core::Scheduler::Fifo && executor_->effectiveScheduler() == core::Scheduler::Fifo
-                    ? "SCHED_FIFO priority " + std::to_string(o.priority)
-                    : std::string("SCHED_OTHER") + (o.scheduler == core::Scheduler::Fifo ? " (SCHED_FIFO refused)" : "");
-  f.memory_locked = executor_->memoryLocked();
-  f.ticks = executor_->ticks();
-  f.deadline_misses = executor_->deadlineMisses();
-  f.worst_consecutive_misses = executor_->worstConsecutiveMisses();
-  f.slipped = std::chrono::duration<double>(executor_->slipped()).count();
-  f.wake_latency = core::figuresOf(executor_->wakeLatency());
-  f.tick_compute = core::figuresOf(executor_->tickCompute());
-  f.between_steps = core::figuresOf(executor_->betweenSteps());
-  f.work_between_ticks = core::figuresOf(executor_->workBetweenTicks());
-  f.components = executor_->componentTimings();
-  f.handovers = executor_->handoverFigures();
-  f.warnings = executor_->warnings();
 }
 
 void Session::play(const ActionSpec& action) {
@@ -584,12 +559,18 @@ bool Session::ended() {
   }
   for (const Chart& c : charts_)
     if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
-  for (const core::Component* c : components_) {
-    const core::State s = c->state();
-    if (s != core::State::Exception && s != core::State::FatalError) continue;
-    result_.outcome = Outcome::ComponentError;
-    result_.reason = "component '" + c->name() + "' is in " + std::string(core::toString(s)) + ": " + c->lastError();
-    return true;
+  // The components' states are looked at only after one was announced to enter Exception or
+  // FatalError (and once at the start): no polling of every component every step.
+  if (const std::uint64_t errors = component_errors_.count(); errors != component_errors_seen_) {
+    component_errors_seen_ = errors;
+    for (const core::Component* c : components_) {
+      const core::State s = c->state();
+      if (s != core::State::Exception && s != core::State::FatalError) continue;
+      component_errors_seen_ = UINT64_MAX;  // look again next time: it is still there
+      result_.outcome = Outcome::ComponentError;
+      result_.reason = "component '" + c->name() + "' is in " + std::string(core::toString(s)) + ": " + c->lastError();
+      return true;
+    }
   }
   notePeerLoss();
   if (steps_ % 100 == 1) notePeerJoins();
@@ -638,29 +619,6 @@ bool Session::ended() {
     say("running; " + statesText());
   }
   return false;
-}
-
-void Session::writeReport(const std::vector<std::string>& observer_files) {
-  report::RunReport run;
-  run.title = spec_.title + (options_.scenario.empty() ? "" : ": " + options_.scenario.filename().string());
-  run.summary = {{"application", entry_.string()},
-                 {"result", std::string(toString(result_.outcome)) + (result_.reason.empty() ? "" : ": " + result_.reason)},
-                 {"duration", seconds(result_.duration)},
-                 {"deployment/configuration switches", std::to_string(result_.switches.size())}};
-  if (!options_.scenario.empty()) run.summary.insert(run.summary.begin() + 1, {"scenario", options_.scenario.string()});
-  for (const SummaryValue& v : result_.summary) run.summary.emplace_back(v.name, v.text);
-  for (auto& row : fidelityRows(result_, spec_)) run.summary.push_back(std::move(row));
-  for (auto& row : executorRows(result_.executor, 12)) run.summary.push_back(std::move(row));
-  run.events = result_.events;
-  run.timeline = timeline_.intervals(result_.duration);
-  run.figures = reportFigures(spec_, recording_, trackers_, clearance_.get(), run.timeline);
-  run.files = {"signals.csv"};
-  run.files.insert(run.files.end(), observer_files.begin(), observer_files.end());
-  result_.report = report::writeRunFolder(options_.report_folder, run);
-  const std::filesystem::path signals = options_.report_folder / "signals.csv";
-  std::ofstream csv(signals);
-  csv << recording_.csv();
-  if (!csv) throw std::runtime_error("cobra run: cannot write " + signals.string());
 }
 
 bool Session::peersHoldTheRun() {

@@ -1,7 +1,7 @@
 #pragma once
-// One run of an application (runner.hpp: runApp): the deployment loaded from its entry file, the
-// observers attached by the names of its `run` table, the actions and faults armed, then one
-// observation per step until the run ends. Private to cobra::run.
+// One run of an application (runner.hpp: runApp): the deployment loaded from its entry file, its
+// charts, actions and faults armed, the observers of its `run` table's sections attached
+// (observer.hpp), then one observation per step until the run ends. Private to cobra::run.
 
 #include <atomic>
 #include <cstdint>
@@ -13,10 +13,12 @@
 #include "cobra/core/realtime_executor.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
-#include "cobra/report/run_report.hpp"
+#include "cobra/run/observer.hpp"
+#include "cobra/run/port_tap.hpp"
+#include "cobra/run/report.hpp"
 #include "cobra/run/run_spec.hpp"
 #include "cobra/run/runner.hpp"
-#include "observers.hpp"
+#include "builtin_observers.hpp"
 #include "remote_entries.hpp"
 
 namespace cobra::components {
@@ -28,13 +30,12 @@ namespace cobra::run {
 // A chart of `run.charts`: on the lockstep clock its supervisor's active state, read between two
 // instants; in real time its taskState port (the supervisor's thread writes it; the state before
 // the runner connected shows once the chart changes state).
-struct Chart {
-  const ChartSpec* spec = nullptr;
+// (ChartState: its spec, its full path now and one step before, changed: they differ, or the first step.)
+struct Chart : ChartState {
   const components::Supervisor* supervisor = nullptr;
   std::unique_ptr<Tap<core::TaskState>> state_tap;
-  std::string state, previous, shown;  // full path now and one step before; folded, as last logged
+  std::string shown;                   // folded, as last logged
   std::string lane;                    // its timeline lane: "NAME chart"
-  bool changed = true;                 // state differs from previous (or the first step)
   const char* leaf = nullptr;          // lockstep: the supervisor's active leaf string `state` copies
   std::string last_failure;            // "Source: event at t s"
 };
@@ -47,10 +48,25 @@ struct Armed {
   int fired = 0;
 };
 
-// The component of "Comp.member" when it has that operation (or property), else nullptr.
-core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string& path, bool operation);
-// "member" of "Comp.member".
-std::string memberOf(const std::string& path);
+// Hears every component's lifecycle state changes (core::StateListener): a change to Exception
+// or FatalError counts, on whatever thread made it, and the run looks at the components' states
+// only after one (instead of polling each component every step).
+class ComponentErrors final : public core::StateListener {
+ public:
+  void stateChanged(const core::Component&, core::State, core::State to) noexcept override {
+    if (to == core::State::Exception || to == core::State::FatalError) count_.fetch_add(1, std::memory_order_release);
+  }
+  std::uint64_t count() const { return count_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<std::uint64_t> count_{0};
+};
+
+// The runner's own rows of the report: the executor's timing (wall clock): ticks, misses,
+// latency, compute, the `components` slowest, the hand-overs.
+std::vector<std::pair<std::string, std::string>> executorRows(const ExecutorFigures& executor, std::size_t components);
+// "median 3.1 us, p99 ..., worst ... (n samples)".
+std::string executorTimingText(const core::DurationFigures& figures);
 
 class Session {
  public:
@@ -58,7 +74,7 @@ class Session {
   Session(const RunOptions& options, std::filesystem::path entry);
   /// The executor goes before the configurator (members in reverse order): the configurator
   /// stops asking it to watch hand-overs first.
-  ~Session() { configurator_.watchHandovers(nullptr); }
+  ~Session();
   // Steps until the run ends, then fills the result and writes the run folder.
   RunResult run();
 
@@ -67,10 +83,10 @@ class Session {
   void attachCharts();
   void armActions();
   void attachEventLog();
-  void attachTracking();
-  void attachClearance();
-  void attachPlots();
-  void attachSummaries();
+  // The observers of the run table's sections (spec_.observers), in the registry's order.
+  void attachObservers();
+  // Listens to every component's state (again after a switch: a deployment may bring its own).
+  void listenToComponents();
   void attachObserver();
   // One step.
   void advance();
@@ -85,7 +101,8 @@ class Session {
   void observeSwitches();
   // The scopes whose configuration `name` is now (sets a component of their deployment; all when none).
   void assignConfiguration(const std::string& name);
-  void sampleSummaries();
+  // Every observer's step (`full`: a whole observation; false: a catch-up round of chart states).
+  void stepObservers(bool full, bool records);
   void playActions();
   // Plays an action's (or input's) Lua table, between two ticks of the executor on the wall
   // clock (as between two instants of the lockstep clock). @throws naming its file:line and the time.
@@ -94,13 +111,10 @@ class Session {
   // Wall clock: runs the executor and observes from this thread every run step until the end.
   void runOnTheWallClock(std::chrono::nanoseconds step);
   void noteExecutorFigures();
-  void observeFidelity();
-  void record();
   // True when the run ends after this step (sets the outcome and reason).
   bool ended();
   void noteSafeStop(const Chart& chart);
   // After the run.
-  void finishSummary();
   void writeReport(const std::vector<std::string>& observer_files);
 
   // Split over hosts (RunOptions::host): drops the run table's entries of other hosts' components.
@@ -137,21 +151,23 @@ class Session {
   // taps are read only then, not polled at every step. Taps of another type are polled.
   std::atomic<bool> new_events_{true};
   Recording recording_;
-  std::vector<Tracker> trackers_;
-  std::unique_ptr<ClearanceObserver> clearance_;
-  std::vector<SummaryObserver> summaries_;
+  std::vector<const ChartState*> chart_states_;  // charts_ as the observers see them
+  std::unique_ptr<ObserverContext> context_;
+  std::vector<Observer*> observers_;  // spec_.observers', in order
+  ComponentErrors component_errors_;
+  std::vector<core::Component*> listened_;       // the components component_errors_ listens to
+  std::uint64_t component_errors_seen_ = UINT64_MAX;  // component_errors_.count() when last looked (max: look)
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;
   std::vector<std::string> scope_configuration_;  // per scope: the configuration in force (StepView)
   // Lockstep clock: every Supervisor with the configuration it last had applied, as last seen
   // (two applied in one step are both seen; Configurator::currentConfiguration keeps the last only).
   std::vector<std::pair<const components::Supervisor*, std::string>> switchers_;
-  /// Configurator::switchCount() when observeSwitches and the trackers last looked (max: never):
-  /// the same count, the same deployments and configuration (looked up in maps otherwise).
+  /// Configurator::switchCount() when observeSwitches last looked (max: never): the same count,
+  /// the same deployments and configuration (looked up in maps otherwise).
   std::uint64_t switches_seen_ = UINT64_MAX;
-  std::uint64_t tracker_switches_seen_ = UINT64_MAX;
   std::vector<core::Component*> components_;
-  report::TimelineRecorder timeline_;
+  TimelineRecorder timeline_;
   RunResult result_;
   // The observer's view (options_.observer): pointers into charts_.
   std::vector<ActionSpec> inputs_;  // run.studio.inputs as calls

@@ -1,8 +1,12 @@
-// The runner's recording (src/observers.hpp: Recording, cobra/run/port_tap.hpp: NumericTap) on a
+// The runner's recording (cobra/run/recording.hpp: Recording, cobra/run/port_tap.hpp: NumericTap) on a
 // component with output ports of every accepted type: the columns and their units, the fields a
 // plot may name, signals.csv, and the one-line refusals of a port of another type or an input.
 
-#include "../src/observers.hpp"
+#include "../src/builtin_observers.hpp"
+#include "cobra/run/recording.hpp"
+
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
 
 #include <gtest/gtest.h>
 
@@ -136,17 +140,17 @@ TEST(ReportFigures, APathIsDrawnWithItsMarksWhereTheChartEnteredTheirStates) {
                 {"D", "arm", "root.D"}};
   plot.paths = {path};
   spec.plots = {plot};
-  const std::vector<report::StateInterval> timeline = {
+  const std::vector<StateInterval> timeline = {
       {"arm chart", "root.A.Waiting", 0.0, 0.25}, {"arm chart", "root.B.Moving", 0.25, 0.61},
       {"arm chart", "root.A.Waiting", 0.61, 1.0}, {"arm chart", "root.D", 1.04, 1.04}, {"other chart", "root.C", 0.0, 1.04}};
-  const std::vector<plot::Figure> figures = reportFigures(spec, recording, {}, nullptr, timeline);
+  const std::vector<Figure> figures = plotFigures(spec.plots, recording, timeline);
   ASSERT_EQ(figures.size(), 1u);
   ASSERT_EQ(figures[0].panels.size(), 1u);
-  const plot::Panel& panel = figures[0].panels[0];
+  const Panel& panel = figures[0].panels[0];
   EXPECT_EQ(panel.x_label, "Out.pose.y [m]");
   EXPECT_EQ(panel.y_label, "Out.pose.z [m]");
   ASSERT_EQ(panel.series.size(), 1u);
-  const plot::Series& s = panel.series[0];
+  const Series& s = panel.series[0];
   EXPECT_EQ(s.x.size(), 10u);
   EXPECT_NEAR(s.y[3], 0.109, 1e-12);
   EXPECT_EQ(s.marker_labels, (std::vector<std::string>{"A", "B", "C", "D"}));
@@ -158,7 +162,7 @@ TEST(ReportFigures, APathIsDrawnWithItsMarksWhereTheChartEnteredTheirStates) {
   // From when the arm chart entered root.B (0.25 s): the samples from 0.3 s on, B's and D's marks.
   spec.plots[0].from_chart = "arm";
   spec.plots[0].from_state = "root.B";
-  const plot::Series zoomed = reportFigures(spec, recording, {}, nullptr, timeline)[0].panels[0].series[0];
+  const Series zoomed = plotFigures(spec.plots, recording, timeline)[0].panels[0].series[0];
   EXPECT_EQ(zoomed.x.size(), 8u);
   EXPECT_DOUBLE_EQ(zoomed.x.front(), 0.02);
   EXPECT_EQ(zoomed.marker_labels, (std::vector<std::string>{"B", "D"}));

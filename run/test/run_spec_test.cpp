@@ -317,5 +317,36 @@ TEST(RunSpec, ABadStudioExtraOfTheNewKindsIsOneLineWithFileLine) {
                      "cylinders = \"Comp.property\", slabs = \"Comp.property\" (depth pairs, with pose and size)");
 }
 
+// Every section other than the runner's own names a registered observer (observer.hpp); the
+// sections cobra registers itself are known without any package loaded.
+TEST(RunSpec, ASectionNoObserverIsRegisteredForIsOneLineWithFileLineAndTheKnownSections) {
+  const std::string path = file();
+  EXPECT_EQ(messageOf([&] {
+              read("run = {\n  charts = { { name = \"a\", supervisor = \"S\", done = \"root.D\" } },\n"
+                   "  trackin = { },\n}\n");
+            }),
+            path + ":3: run.trackin: unknown section 'trackin' (no observer of this name is registered: a package "
+                   "adds one with ObserverRegistry::add); did you mean 'tracking'? known sections: title, charts, fold, "
+                   "failures, explain, safe_stop_reason, safe_stop_linger, step, actions, record, plots, summary, "
+                   "tracking, clearance, studio");
+}
+
+TEST(RunSpec, EachSectionIsMadeIntoItsObserverInTheRegistrysOrder) {
+  const RunSpec spec = read(R"(
+run = {
+  charts = { { name = "a", supervisor = "S", done = "root.D" } },
+  clearance = { port = "E.d", threshold = 0.005 },
+  summary = { { name = "N", count = { "e_x" } } },
+  record = { ports = { "C.out" } },
+}
+)");
+  ASSERT_EQ(spec.observers.size(), 3u);
+  EXPECT_EQ(spec.observers[0].name, "record");
+  EXPECT_EQ(spec.observers[1].name, "summary");
+  EXPECT_EQ(spec.observers[2].name, "clearance");
+  EXPECT_EQ(spec.observers[2].where.line, 4);
+  EXPECT_NE(spec.observers[2].observer, nullptr);
+}
+
 }  // namespace
 }  // namespace cobra::run

@@ -15,14 +15,14 @@
 
 #include "cobra/components/planning/planning_scene_component.hpp"
 #include "cobra/core/bounded_string.hpp"
+#include "cobra/core/spsc_ring.hpp"
+#include "cobra/core/triple_buffer.hpp"
 #include "cobra/planning/robot_adapters.hpp"
 #include "cobra/run/port_tap.hpp"
 #include "cobra/run/run_spec.hpp"
 #include "cobra/statechart/description.hpp"
 #include "cobra/studio/json.hpp"
-#include "cobra/studio/triple_buffer.hpp"
 #include "extras.hpp"
-#include "spsc_ring.hpp"
 
 namespace cobra::studio {
 namespace {
@@ -119,7 +119,7 @@ struct VisualizerBridge::Impl {
   Extras extras;  // what is drawn beside the robots (extras.hpp)
   std::vector<SignalView> signals;
   std::size_t width = 0;
-  std::unique_ptr<TripleBuffer<Snapshot>> snapshots;
+  std::unique_ptr<core::TripleBuffer<Snapshot>> snapshots;
   std::uint64_t seq = 0;
   double next_frame = 0.0;
   std::chrono::steady_clock::time_point next_wall{};
@@ -135,8 +135,8 @@ struct VisualizerBridge::Impl {
   std::string end_message;
   bool ended = false;
 
-  SpscRing<EventItem, 1024> event_queue;
-  SpscRing<std::size_t, 64> input_queue;
+  core::SpscRing<EventItem> event_queue{1024};
+  core::SpscRing<std::size_t> input_queue{64};
   std::atomic<long> published{0}, recorded_count{0}, events_dropped{0};
 
   std::unique_ptr<planning::SceneDescription> attachScene(const run::RunContext& run);
@@ -187,7 +187,7 @@ void VisualizerBridge::attach(const run::RunContext& run) {
   initial.states.resize(m.charts.size());
   initial.deployments.resize(m.scopes.size());
   initial.configurations.resize(m.scopes.size());
-  m.snapshots = std::make_unique<TripleBuffer<Snapshot>>(initial);
+  m.snapshots = std::make_unique<core::TripleBuffer<Snapshot>>(initial);
   m.next_wall = std::chrono::steady_clock::now();
   m.attached.store(true, std::memory_order_release);
 }

@@ -25,7 +25,7 @@ void addPackages(deploy::PackageRegistry& packages, const EditorOptions& options
   for (const auto& [name, registrar] : options.packages) packages.addBuiltin(name, registrar);
 }
 
-std::string errorJson(const std::string& message) { return "{\"error\":" + json::quoted(message) + "}"; }
+std::string errorJson(const std::string& message) { return json::errorBody(message); }
 
 std::string readText(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -44,33 +44,33 @@ int lineIn(const std::string& message, const std::string& file) {
   return i < message.size() && message[i] == ':' ? line : 0;
 }
 
-const json::Value& required(const json::Value& body, const char* key, const char* route) {
-  const json::Value* v = body.isObject() ? body.find(key) : nullptr;
+const json::Json& required(const json::Json& body, const char* key, const char* route) {
+  const json::Json* v = body.is_object() ? json::find(body, key) : nullptr;
   if (v == nullptr) throw Refusal(400, std::string("POST /api/editor/") + route + ": the body has no '" + key + "'");
   return *v;
 }
 
-std::string requiredText(const json::Value& body, const char* key, const char* route) {
-  const json::Value& v = required(body, key, route);
-  if (!v.isString() || v.string().empty())
-    throw Refusal(400, std::string("POST /api/editor/") + route + ": '" + key + "' must be a non-empty string, got " + v.describe());
-  return v.string();
+std::string requiredText(const json::Json& body, const char* key, const char* route) {
+  const json::Json& v = required(body, key, route);
+  if (!v.is_string() || v.get<std::string>().empty())
+    throw Refusal(400, std::string("POST /api/editor/") + route + ": '" + key + "' must be a non-empty string, got " + json::describe(v));
+  return v.get<std::string>();
 }
 
-std::vector<InterfaceItem> interfaceItems(const json::Value& component, const char* key) {
+std::vector<InterfaceItem> interfaceItems(const json::Json& component, const char* key) {
   std::vector<InterfaceItem> items;
-  const json::Value* list = component.find(key);
-  if (list == nullptr || list->isNull()) return items;
-  if (!list->isArray()) throw Refusal(400, std::string("component.") + key + " must be an array, got " + list->describe());
-  for (const json::Value& item : list->items()) {
-    const json::Value* name = item.find("name");
-    const json::Value* type = item.find("type");
-    const json::Value* unit = item.find("unit");
-    if (name == nullptr || type == nullptr || !name->isString() || !type->isString())
+  const json::Json* list = json::find(component, key);
+  if (list == nullptr || list->is_null()) return items;
+  if (!list->is_array()) throw Refusal(400, std::string("component.") + key + " must be an array, got " + json::describe(*list));
+  for (const json::Json& item : *list) {
+    const json::Json* name = json::find(item, "name");
+    const json::Json* type = json::find(item, "type");
+    const json::Json* unit = json::find(item, "unit");
+    if (name == nullptr || type == nullptr || !name->is_string() || !type->is_string())
       throw Refusal(400, std::string("component.") + key + ": each item needs a \"name\" and a \"type\" (strings)");
-    const std::string unit_text = unit != nullptr && unit->isString() ? unit->string() : "";
+    const std::string unit_text = unit != nullptr && unit->is_string() ? unit->get<std::string>() : "";
     try {
-      items.push_back(parseInterfaceItem(name->string() + ":" + type->string() + (unit_text.empty() ? "" : ":" + unit_text),
+      items.push_back(parseInterfaceItem(name->get<std::string>() + ":" + type->get<std::string>() + (unit_text.empty() ? "" : ":" + unit_text),
                                          std::string("component.") + key));
     } catch (const std::runtime_error& e) {
       throw Refusal(400, e.what());
@@ -144,7 +144,7 @@ struct Editor::Impl {
     return opened.error;
   }
 
-  EditorAnswer save(const json::Value& body) {
+  EditorAnswer save(const json::Json& body) {
     const std::filesystem::path target = std::filesystem::absolute(requiredText(body, "path", "save"));
     editor::Layout layout;
     const deploy::DeploymentDescription d =
@@ -179,17 +179,17 @@ struct Editor::Impl {
     return {200, "{\"path\":" + json::quoted(target.string()) + ",\"text\":" + json::quoted(text) + "}"};
   }
 
-  EditorAnswer generate(const json::Value& body) {
+  EditorAnswer generate(const json::Json& body) {
     const std::string folder = requiredText(body, "folder", "generate");
-    const json::Value& component = required(body, "component", "generate");
-    if (!component.isObject()) throw Refusal(400, "POST /api/editor/generate: 'component' must be an object");
+    const json::Json& component = required(body, "component", "generate");
+    if (!component.is_object()) throw Refusal(400, "POST /api/editor/generate: 'component' must be an object");
     ComponentTemplate t;
     for (auto [key, field] : {std::pair{"name", &t.name}, std::pair{"role", &t.role}, std::pair{"package", &t.package}}) {
-      const json::Value* v = component.find(key);
-      if (v == nullptr || !v->isString()) throw Refusal(400, std::string("component.") + key + " must be a string");
-      *field = v->string();
+      const json::Json* v = json::find(component, key);
+      if (v == nullptr || !v->is_string()) throw Refusal(400, std::string("component.") + key + " must be a string");
+      *field = v->get<std::string>();
     }
-    if (const json::Value* doc = component.find("doc"); doc != nullptr && doc->isString()) t.doc = doc->string();
+    if (const json::Json* doc = json::find(component, "doc"); doc != nullptr && doc->is_string()) t.doc = doc->get<std::string>();
     t.inputs = interfaceItems(component, "inputs");
     t.event_inputs = interfaceItems(component, "event_inputs");
     t.outputs = interfaceItems(component, "outputs");
@@ -246,7 +246,7 @@ struct Editor::Impl {
     }
     if (name == "check") {
       expect("POST");
-      const json::Value request = body();
+      const json::Json request = body();
       editor::Layout layout;
       const auto d = editor::fromProjectJson(required(request, "project", "check"), palette(), layout);
       const auto verdict = editor::checkConnection(d, editor::connectionFrom(required(request, "connection", "check"), "connection"),
@@ -256,7 +256,7 @@ struct Editor::Impl {
     }
     if (name == "validate") {
       expect("POST");
-      const json::Value request = body();
+      const json::Json request = body();
       editor::Layout layout;
       const auto d = editor::fromProjectJson(required(request, "project", "validate"), palette(), layout);
       std::vector<editor::LintItem> lint;

@@ -11,7 +11,7 @@
 #include "cobra/deploy/description.hpp"
 #include "cobra/deploy/package_registry.hpp"
 #include "cobra/studio/editor.hpp"
-#include "cobra/studio/json_value.hpp"
+#include "cobra/studio/json.hpp"
 
 namespace cobra::studio::editor {
 
@@ -66,7 +66,7 @@ std::string projectJson(const deploy::DeploymentDescription& d, const Layout& la
 /// The description a Project holds; property values equal to the type's default are left out
 /// (the file `cobra describe` would write). Its layout goes to `layout`.
 /// @throws Refusal 422 naming the member that is missing or of the wrong kind.
-deploy::DeploymentDescription fromProjectJson(const json::Value& project, const Palette& palette, Layout& layout);
+deploy::DeploymentDescription fromProjectJson(const json::Json& project, const Palette& palette, Layout& layout);
 std::string layoutJson(const Layout& layout);
 /// The `now` member of GET /api/editor/running: `{ "t", "switches", "deployments": [ { "scope",
 /// "deployment" } ], "configuration", "running": [names], "connections": [Connection] }`.
@@ -74,7 +74,7 @@ std::string inForceJson(const InForce& now);
 Layout parseLayout(const std::string& text);
 
 /// "A.x", "B.y" and a policy, as a ConnectionSpec (the `connection` member of check).
-deploy::ConnectionSpec connectionFrom(const json::Value& connection, const std::string& where);
+deploy::ConnectionSpec connectionFrom(const json::Json& connection, const std::string& where);
 
 struct LintItem {
   std::string rule, message;

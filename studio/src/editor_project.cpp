@@ -48,54 +48,54 @@ std::string activityJson(const deploy::ActivitySpec& a) {
 
 // ---- reading ----
 
-const json::Value& member(const json::Value& object, const char* key, const std::string& where) {
-  static const json::Value null;
-  if (!object.isObject()) throw Refusal(422, where + ": expected an object, got " + object.describe());
-  const json::Value* v = object.find(key);
+const json::Json& member(const json::Json& object, const char* key, const std::string& where) {
+  static const json::Json null;
+  if (!object.is_object()) throw Refusal(422, where + ": expected an object, got " + json::describe(object));
+  const json::Json* v = json::find(object, key);
   return v != nullptr ? *v : null;
 }
 
-std::string text(const json::Value& object, const char* key, const std::string& where, bool required = true) {
-  const json::Value& v = member(object, key, where);
-  if (v.isNull() && !required) return {};
-  if (!v.isString()) throw Refusal(422, where + ": '" + key + "' must be a string, got " + v.describe());
-  return v.string();
+std::string text(const json::Json& object, const char* key, const std::string& where, bool required = true) {
+  const json::Json& v = member(object, key, where);
+  if (v.is_null() && !required) return {};
+  if (!v.is_string()) throw Refusal(422, where + ": '" + key + "' must be a string, got " + json::describe(v));
+  return v.get<std::string>();
 }
 
-double numberOf(const json::Value& object, const char* key, const std::string& where, double fallback) {
-  const json::Value& v = member(object, key, where);
-  if (v.isNull()) return fallback;
-  if (!v.isNumber()) throw Refusal(422, where + ": '" + key + "' must be a number, got " + v.describe());
-  return v.number();
+double numberOf(const json::Json& object, const char* key, const std::string& where, double fallback) {
+  const json::Json& v = member(object, key, where);
+  if (v.is_null()) return fallback;
+  if (!v.is_number()) throw Refusal(422, where + ": '" + key + "' must be a number, got " + json::describe(v));
+  return v.get<double>();
 }
 
-const std::vector<json::Value>& array(const json::Value& object, const char* key, const std::string& where) {
-  static const std::vector<json::Value> none;
-  const json::Value& v = member(object, key, where);
-  if (v.isNull()) return none;
-  if (!v.isArray()) throw Refusal(422, where + ": '" + key + "' must be an array, got " + v.describe());
-  return v.items();
+const json::Json& array(const json::Json& object, const char* key, const std::string& where) {
+  static const json::Json none = json::Json::array();
+  const json::Json& v = member(object, key, where);
+  if (v.is_null()) return none;
+  if (!v.is_array()) throw Refusal(422, where + ": '" + key + "' must be an array, got " + json::describe(v));
+  return v;
 }
 
-std::vector<std::string> names(const json::Value& object, const char* key, const std::string& where) {
+std::vector<std::string> names(const json::Json& object, const char* key, const std::string& where) {
   std::vector<std::string> out;
-  for (const json::Value& v : array(object, key, where)) {
-    if (!v.isString()) throw Refusal(422, where + ": '" + key + "' must hold names (strings), got " + v.describe());
-    out.push_back(v.string());
+  for (const json::Json& v : array(object, key, where)) {
+    if (!v.is_string()) throw Refusal(422, where + ": '" + key + "' must hold names (strings), got " + json::describe(v));
+    out.push_back(v.get<std::string>());
   }
   return out;
 }
 
 /// A value of the Project as property text: a string as it is; a number or boolean (a page may
 /// send them bare) in the core's text form.
-std::string valueText(const json::Value& v, const std::string& where) {
-  if (v.isString()) return v.string();
-  if (v.isBool()) return v.boolean() ? "true" : "false";
-  if (v.isNumber()) return core::DataTypeTraits<double>::print(v.number());
-  throw Refusal(422, where + ": expected the value as text (e.g. \"2.5\", \"[0, 0, 1]\"), got " + v.describe());
+std::string valueText(const json::Json& v, const std::string& where) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number()) return core::DataTypeTraits<double>::print(v.get<double>());
+  throw Refusal(422, where + ": expected the value as text (e.g. \"2.5\", \"[0, 0, 1]\"), got " + json::describe(v));
 }
 
-deploy::ActivitySpec activityFrom(const json::Value& a, const std::string& component, const std::string& where) {
+deploy::ActivitySpec activityFrom(const json::Json& a, const std::string& component, const std::string& where) {
   deploy::ActivitySpec spec;
   spec.peer_name = component;
   spec.period = numberOf(a, "period", where, 0.0);
@@ -109,13 +109,13 @@ deploy::ActivitySpec activityFrom(const json::Value& a, const std::string& compo
 
 }  // namespace
 
-deploy::ConnectionSpec connectionFrom(const json::Value& c, const std::string& where) {
+deploy::ConnectionSpec connectionFrom(const json::Json& c, const std::string& where) {
   deploy::ConnectionSpec spec;
   spec.output = text(c, "output", where);
   spec.input = text(c, "input", where);
   const std::string at = where + " '" + spec.output + "' -> '" + spec.input + "'";
-  const json::Value& policy = member(c, "conn_policy", at);
-  if (!policy.isNull()) {
+  const json::Json& policy = member(c, "conn_policy", at);
+  if (!policy.is_null()) {
     spec.conn_policy.type = text(policy, "type", at + " conn_policy", false);
     if (spec.conn_policy.type.empty()) spec.conn_policy.type = "data";
     const double size = numberOf(policy, "size", at + " conn_policy", 1.0);
@@ -123,10 +123,10 @@ deploy::ConnectionSpec connectionFrom(const json::Value& c, const std::string& w
     spec.conn_policy.size = static_cast<int>(size);
     spec.conn_policy.transport = text(policy, "transport", at + " conn_policy", false);
     spec.conn_policy.topic = text(policy, "topic", at + " conn_policy", false);
-    const json::Value& qos = member(policy, "qos", at + " conn_policy");
-    if (!qos.isNull()) {
-      if (!qos.isObject()) throw Refusal(422, at + ": conn_policy.qos must be an object, got " + qos.describe());
-      for (const auto& [k, v] : qos.members()) spec.conn_policy.qos.emplace_back(k, valueText(v, at + " conn_policy.qos." + k));
+    const json::Json& qos = member(policy, "qos", at + " conn_policy");
+    if (!qos.is_null()) {
+      if (!qos.is_object()) throw Refusal(422, at + ": conn_policy.qos must be an object, got " + json::describe(qos));
+      for (const auto& [k, v] : qos.items()) spec.conn_policy.qos.emplace_back(k, valueText(v, at + " conn_policy.qos." + k));
     }
   }
   return spec;
@@ -200,12 +200,12 @@ std::string projectJson(const deploy::DeploymentDescription& d, const Layout& la
   return out;
 }
 
-deploy::DeploymentDescription fromProjectJson(const json::Value& project, const Palette& palette, Layout& layout) {
+deploy::DeploymentDescription fromProjectJson(const json::Json& project, const Palette& palette, Layout& layout) {
   deploy::DeploymentDescription d;
   const std::string at = "project";
   d.packages = names(project, "packages", at);
   std::set<std::string> seen;
-  for (const json::Value& c : array(project, "components", at)) {
+  for (const json::Json& c : array(project, "components", at)) {
     const std::string name = text(c, "name", at + ".components[]");
     const std::string where = "component '" + name + "'";
     if (!seen.insert(name).second) throw Refusal(422, where + ": two components have this name");
@@ -213,45 +213,45 @@ deploy::DeploymentDescription fromProjectJson(const json::Value& project, const 
     d.components.push_back({name, type, {}});
     layout[name] = {numberOf(c, "x", where, 0.0), numberOf(c, "y", where, 0.0)};
     const PaletteType* t = palette.find(type);
-    const json::Value& properties = member(c, "properties", where);
-    if (!properties.isNull() && !properties.isObject())
-      throw Refusal(422, where + ": 'properties' must be an object { name: text }, got " + properties.describe());
-    for (const auto& [property, value] : properties.members()) {
+    const json::Json& properties = member(c, "properties", where);
+    if (!properties.is_null() && !properties.is_object())
+      throw Refusal(422, where + ": 'properties' must be an object { name: text }, got " + json::describe(properties));
+    for (const auto& [property, value] : properties.items()) {
       const std::string value_at = where + " property '" + property + "'";
       const std::string value_text = valueText(value, value_at);
       const core::PropertyInfo* info = t != nullptr ? t->property(property) : nullptr;
       if (info != nullptr && info->value == value_text) continue;  // the default: not written
       d.properties.push_back({name, property, info != nullptr ? info->type : "string", value_text});
     }
-    const json::Value& activity = member(c, "activity", where);
-    if (!activity.isNull()) d.activities.push_back(activityFrom(activity, name, where + " activity"));
+    const json::Json& activity = member(c, "activity", where);
+    if (!activity.is_null()) d.activities.push_back(activityFrom(activity, name, where + " activity"));
   }
-  for (const json::Value& p : array(project, "peers", at)) {
+  for (const json::Json& p : array(project, "peers", at)) {
     const std::string component = text(p, "component", at + ".peers[]");
     d.peers.push_back({component, names(p, "peers", "peers of '" + component + "'"), {}});
   }
-  for (const json::Value& c : array(project, "connections", at)) d.connections.push_back(connectionFrom(c, "connection"));
-  for (const json::Value& s : array(project, "deployments", at)) {
+  for (const json::Json& c : array(project, "connections", at)) d.connections.push_back(connectionFrom(c, "connection"));
+  for (const json::Json& s : array(project, "deployments", at)) {
     deploy::DeploymentSpec spec;
     spec.name = text(s, "name", at + ".deployments[]");
     const std::string where = "deployment '" + spec.name + "'";
     spec.scope = text(s, "scope", where, false);
     for (const std::string& c : names(s, "components", where)) spec.components.push_back({c, {}});
-    for (const json::Value& a : array(s, "activities", where)) {
+    for (const json::Json& a : array(s, "activities", where)) {
       const std::string component = text(a, "component", where + " activities[]");
       spec.activities.push_back(activityFrom(a, component, where + " activity of '" + component + "'"));
     }
-    for (const json::Value& c : array(s, "connections", where)) spec.connections.push_back(connectionFrom(c, where + " connection"));
+    for (const json::Json& c : array(s, "connections", where)) spec.connections.push_back(connectionFrom(c, where + " connection"));
     d.deployments.push_back(std::move(spec));
   }
-  for (const json::Value& c : array(project, "configurations", at)) {
+  for (const json::Json& c : array(project, "configurations", at)) {
     deploy::ConfigurationSpec spec;
     spec.name = text(c, "name", at + ".configurations[]");
     const std::string where = "configuration '" + spec.name + "'";
-    const json::Value& values = member(c, "values", where);
-    if (!values.isNull() && !values.isObject())
-      throw Refusal(422, where + ": 'values' must be an object { \"Component.property\": text }, got " + values.describe());
-    for (const auto& [path, value] : values.members()) {
+    const json::Json& values = member(c, "values", where);
+    if (!values.is_null() && !values.is_object())
+      throw Refusal(422, where + ": 'values' must be an object { \"Component.property\": text }, got " + json::describe(values));
+    for (const auto& [path, value] : values.items()) {
       const auto dot = path.find('.');
       if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
         throw Refusal(422, where + ": '" + path + "' must be Component.property");
@@ -279,13 +279,13 @@ std::string layoutJson(const Layout& layout) {
 Layout parseLayout(const std::string& text) {
   Layout layout;
   try {
-    const json::Value v = json::parse(text);
-    const json::Value* components = v.find("components");
-    if (components == nullptr || !components->isObject()) return layout;
-    for (const auto& [name, xy] : components->members()) {
-      const json::Value* x = xy.find("x");
-      const json::Value* y = xy.find("y");
-      if (x != nullptr && y != nullptr && x->isNumber() && y->isNumber()) layout[name] = {x->number(), y->number()};
+    const json::Json v = json::parse(text);
+    const json::Json* components = json::find(v, "components");
+    if (components == nullptr || !components->is_object()) return layout;
+    for (const auto& [name, xy] : components->items()) {
+      const json::Json* x = json::find(xy, "x");
+      const json::Json* y = json::find(xy, "y");
+      if (x != nullptr && y != nullptr && x->is_number() && y->is_number()) layout[name] = {x->get<double>(), y->get<double>()};
     }
   } catch (const std::exception&) {
     // A sidecar that does not parse only loses the positions: the blocks go on the grid.

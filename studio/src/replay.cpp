@@ -52,14 +52,24 @@ Replay::Replay(const std::filesystem::path& run_folder) : folder_(run_folder / "
   std::stringstream text;
   text << in.rdbuf();
   const std::string all = text.str();
-  model_ = std::string(json::member(all, "model"));
-  const std::string_view frames = json::member(all, "frames");
-  if (model_.empty() || frames.size() < 2 || frames.front() != '[')
-    throw std::runtime_error(file.string() + ": not a studio recording: expected {\"model\": {...}, \"frames\": [...], \"events\": [...]}");
-  const std::string_view events = json::member(all, "events");
-  const std::string_view end = json::member(all, "end");  // how the run ended (older recordings: none)
-  frames_ = "{\"frames\":" + std::string(frames) + ",\"events\":" + (events.empty() ? std::string("[]") : std::string(events)) +
-            (end.empty() ? std::string() : ",\"end\":" + std::string(end)) + "}";
+  const auto malformed = [&](const std::string& why) {
+    return std::runtime_error(file.string() + ": not a studio recording: expected {\"model\": {...}, \"frames\": [...], \"events\": [...]}" + why);
+  };
+  json::Json recording;
+  try {
+    recording = json::parse(all);
+  } catch (const std::runtime_error& e) {
+    throw malformed(std::string(" (") + e.what() + ")");
+  }
+  const json::Json* model = json::find(recording, "model");
+  const json::Json* frames = json::find(recording, "frames");
+  if (model == nullptr || frames == nullptr || !frames->is_array()) throw malformed("");
+  model_ = model->dump();
+  json::Json served = {{"frames", std::move(recording["frames"])}};
+  const json::Json* events = json::find(recording, "events");
+  served["events"] = events != nullptr ? *events : json::Json::array();
+  if (const json::Json* end = json::find(recording, "end")) served["end"] = *end;  // how the run ended (older recordings: none)
+  frames_ = served.dump();
 }
 
 std::string Replay::model(int& status) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <deque>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -96,6 +97,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   void start(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(json::kMaxMessageBytes);  // a client's messages are a few bytes; HTTP bodies: Beast's 1 MiB
     if (server_->options.send_buffer > 0) {
       beast::error_code ignored;
       beast::get_lowest_layer(ws_).socket().set_option(asio::socket_base::send_buffer_size(server_->options.send_buffer), ignored);
@@ -133,9 +135,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       if (error) return self->close();
       const std::string text = beast::buffers_to_string(self->in_.data());
       self->in_.consume(self->in_.size());
-      std::string type, name;
-      if (json::stringMember(text, "type", type) && type == "input" && json::stringMember(text, "name", name)) {
-        const InputAnswer answer = self->server_->source.input(name);
+      if (const std::optional<std::string> name = json::inputRequest(text, true)) {
+        const InputAnswer answer = self->server_->source.input(*name);
         if (answer.status != 200)
           self->offerMessage(std::make_shared<const std::string>("{\"type\":\"error\",\"error\":" + json::quoted(answer.error) + "}"));
       }
@@ -265,22 +266,22 @@ http::response<http::string_body> Server::Impl::respond(const http::request<http
   if (path == "/api/recording" && get) return reply(200, source.recording());
   if (path == "/api/input") {
     if (request.method() != http::verb::post) return reply(405, "{\"error\":\"POST /api/input {\\\"name\\\": \\\"INPUT\\\"}\"}");
-    std::string name;
-    if (!json::stringMember(request.body(), "name", name)) return reply(400, "{\"error\":\"expected a body {\\\"name\\\": \\\"INPUT\\\"}\"}");
-    const InputAnswer answer = source.input(name);
+    const std::optional<std::string> name = json::inputRequest(request.body(), false);
+    if (!name) return reply(400, "{\"error\":\"expected a body {\\\"name\\\": \\\"INPUT\\\"}\"}");
+    const InputAnswer answer = source.input(*name);
     if (answer.status == 200) return reply(200, "{\"ok\":true}");
-    return reply(answer.status, "{\"error\":" + json::quoted(answer.error) + "}");
+    return reply(answer.status, json::errorBody(answer.error));
   }
   if (!get) return reply(405, "{\"error\":\"method not allowed\"}");
   if (path.rfind("/api/mesh/", 0) == 0) {
     const std::filesystem::path file = source.mesh(path.substr(10));
     std::ifstream in(file, std::ios::binary);
-    if (file.empty() || !in) return reply(404, "{\"error\":" + json::quoted("no mesh for object '" + path.substr(10) + "'") + "}");
+    if (file.empty() || !in) return reply(404, json::errorBody("no mesh for object '" + path.substr(10) + "'"));
     std::stringstream body;
     body << in.rdbuf();
     return reply(200, body.str(), file.extension() == ".obj" || file.extension() == ".OBJ" ? "model/obj" : "model/stl");
   }
-  if (path.rfind("/api/", 0) == 0) return reply(404, "{\"error\":" + json::quoted("no such resource: " + path) + "}");
+  if (path.rfind("/api/", 0) == 0) return reply(404, json::errorBody("no such resource: " + path));
   // The web front end's files.
   const std::string relative = path == "/" ? "index.html" : path.substr(1);
   if (relative.find("..") != std::string::npos || relative.find('\\') != std::string::npos)
@@ -289,7 +290,7 @@ http::response<http::string_body> Server::Impl::respond(const http::request<http
     return reply(404, "{\"error\":\"the studio web front end is not built (studio/web/dist, or set COBRA_STUDIO_WEB)\"}");
   const std::filesystem::path file = options.web_folder / relative;
   std::ifstream in(file, std::ios::binary);
-  if (!std::filesystem::is_regular_file(file) || !in) return reply(404, "{\"error\":" + json::quoted("not found: " + path) + "}");
+  if (!std::filesystem::is_regular_file(file) || !in) return reply(404, json::errorBody("not found: " + path));
   std::stringstream body;
   body << in.rdbuf();
   if (path == "/" || path == "/editor.html")

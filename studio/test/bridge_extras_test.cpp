@@ -102,7 +102,7 @@ TEST(VisualizerBridgeExtras, PuncturingTumourForbiddenRegionsAndLayersAreTheComp
   const std::vector<double> boxes = numbersAfter(layers, "shapes");
   const std::vector<double>& depths = probe.properties["Patient.layer_depths"];
   // phantom.txt: skin 2 mm, fat 15 mm, muscle 15 mm, kidney 60 mm below the skin at z = 0.1 m,
-  // each across the scene's phantom box (planning/scenes/puncturing.scene: 0.3 x 0.22 m).
+  // each across the scene's phantom box (apps/puncturing/deployment/puncturing.scene: 0.3 x 0.22 m).
   expectNear(depths, {0.0, 0.002, 0.002, 0.017, 0.017, 0.032, 0.032, 0.092}, 1e-12, "Patient.layer_depths");
   ASSERT_EQ(boxes.size(), 4u * 10u);
   for (std::size_t i = 0; i < 4; ++i) {

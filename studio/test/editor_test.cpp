@@ -17,7 +17,6 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/studio/json.hpp"
-#include "cobra/studio/json_value.hpp"
 #include "cobra/studio/server.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "http_client.hpp"
@@ -57,15 +56,15 @@ Editor& editor() {
   return shared;
 }
 
-json::Value call(Editor& e, const char* method, const char* route, const std::string& body, int expected_status) {
+json::Json call(Editor& e, const char* method, const char* route, const std::string& body, int expected_status) {
   const EditorAnswer answer = e.handle(method, route, body);
   EXPECT_EQ(answer.status, expected_status) << route << ": " << answer.body;
   return json::parse(answer.body);
 }
 
-std::string errorOf(Editor& e, const char* method, const char* route, const std::string& body, int status) {
-  const json::Value v = call(e, method, route, body, status);
-  return v.find("error") != nullptr ? v.find("error")->string() : "(no error member)";
+std::string errorMember(Editor& e, const char* method, const char* route, const std::string& body, int status) {
+  const json::Json v = call(e, method, route, body, status);
+  return json::stringMember(v, "error").value_or("(no error member)");
 }
 
 std::filesystem::path scratch(const std::string& name) {
@@ -107,84 +106,84 @@ std::string withConnection(const std::string& output, const std::string& input) 
 }
 
 TEST(Editor, PaletteListsEveryTypeWithItsInterface) {
-  const json::Value palette = call(editor(), "GET", "palette", "", 200);
-  const json::Value* gain = nullptr;
-  for (const json::Value& t : palette.find("types")->items())
-    if (t.find("type")->string() == "Gain") gain = &t;
+  const json::Json palette = call(editor(), "GET", "palette", "", 200);
+  const json::Json* gain = nullptr;
+  for (const json::Json& t : palette.at("types"))
+    if (t.at("type").get<std::string>() == "Gain") gain = &t;
   ASSERT_NE(gain, nullptr);
-  EXPECT_EQ(gain->find("package")->string(), "cobra_signal");
-  EXPECT_EQ(gain->find("role")->string(), "Calculation");
-  const auto& ports = gain->find("ports")->items();
+  EXPECT_EQ(gain->at("package").get<std::string>(), "cobra_signal");
+  EXPECT_EQ(gain->at("role").get<std::string>(), "Calculation");
+  const json::Json& ports = gain->at("ports");
   ASSERT_GE(ports.size(), 2u);
   bool saw_in = false;
-  for (const json::Value& p : ports)
-    if (p.find("name")->string() == "in") {
+  for (const json::Json& p : ports)
+    if (p.at("name").get<std::string>() == "in") {
       saw_in = true;
-      EXPECT_EQ(p.find("direction")->string(), "in");
-      EXPECT_EQ(p.find("type")->string(), "double");
-      EXPECT_TRUE(p.find("event")->boolean());  // its data triggers an update
-      EXPECT_EQ(p.find("unit")->string(), "1");
+      EXPECT_EQ(p.at("direction").get<std::string>(), "in");
+      EXPECT_EQ(p.at("type").get<std::string>(), "double");
+      EXPECT_TRUE(p.at("event").get<bool>());  // its data triggers an update
+      EXPECT_EQ(p.at("unit").get<std::string>(), "1");
     }
   EXPECT_TRUE(saw_in);
-  const json::Value& k = gain->find("properties")->items().at(0);
-  EXPECT_EQ(k.find("name")->string(), "k");
-  EXPECT_EQ(k.find("default")->string(), "1");
-  EXPECT_TRUE(k.find("range")->isNull());
-  EXPECT_FALSE(k.find("read_only")->boolean());
+  const json::Json& k = gain->at("properties").at(0);
+  EXPECT_EQ(k.at("name").get<std::string>(), "k");
+  EXPECT_EQ(k.at("default").get<std::string>(), "1");
+  EXPECT_TRUE(k.at("range").is_null());
+  EXPECT_FALSE(k.at("read_only").get<bool>());
   // Every package's types: the puncturing task's too.
   std::set<std::string> types;
-  for (const json::Value& t : palette.find("types")->items()) types.insert(t.find("type")->string());
+  for (const json::Json& t : palette.at("types")) types.insert(t.at("type").get<std::string>());
   for (const char* type : {"VariableAdmittance", "Supervisor", "MotionPlanner", "Reporter", "Chatty"})
     EXPECT_EQ(types.count(type), 1u) << type;
 }
 
 TEST(Editor, ChecksAConnectionAsTheConfiguratorWouldAndLintsIt) {
-  json::Value v = call(editor(), "POST", "check", withConnection("G.out", "Det.in"), 200);
-  EXPECT_TRUE(v.find("ok")->boolean());
-  EXPECT_TRUE(v.find("lint")->items().empty());
+  json::Json v = call(editor(), "POST", "check", withConnection("G.out", "Det.in"), 200);
+  EXPECT_TRUE(v.at("ok").get<bool>());
+  EXPECT_TRUE(v.at("lint").empty());
   v = call(editor(), "POST", "check", withConnection("Det.events", "G.in"), 200);
-  EXPECT_FALSE(v.find("ok")->boolean());
-  EXPECT_EQ(v.find("reason")->string(), "types differ: 'Det.events' writes Event, 'G.in' reads double");
+  EXPECT_FALSE(v.at("ok").get<bool>());
+  EXPECT_EQ(v.at("reason").get<std::string>(), "types differ: 'Det.events' writes Event, 'G.in' reads double");
   v = call(editor(), "POST", "check", withConnection("G.in", "Det.in"), 200);
-  EXPECT_EQ(v.find("reason")->string(), "'G.in' is an input port; a connection starts at an output port");
+  EXPECT_EQ(v.at("reason").get<std::string>(), "'G.in' is an input port; a connection starts at an output port");
   v = call(editor(), "POST", "check", withConnection("G.outt", "Det.in"), 200);
-  EXPECT_EQ(v.find("reason")->string().rfind("component 'G' (Gain) has no port 'outt'; did you mean 'out'?", 0), 0u)
-      << v.find("reason")->string();
+  EXPECT_EQ(v.at("reason").get<std::string>().rfind("component 'G' (Gain) has no port 'outt'; did you mean 'out'?", 0), 0u)
+      << v.at("reason").get<std::string>();
   v = call(editor(), "POST", "check", withConnection("Gg.out", "Det.in"), 200);
-  EXPECT_EQ(v.find("reason")->string().rfind("no component 'Gg' in the project; did you mean 'G'?", 0), 0u)
-      << v.find("reason")->string();
+  EXPECT_EQ(v.at("reason").get<std::string>().rfind("no component 'Gg' in the project; did you mean 'G'?", 0), 0u)
+      << v.at("reason").get<std::string>();
   v = call(editor(), "POST", "check", withConnection("Det.events", "Chat.trigger"), 200);
-  EXPECT_TRUE(v.find("ok")->boolean());
-  ASSERT_EQ(v.find("lint")->items().size(), 1u);
-  EXPECT_EQ(v.find("lint")->items()[0].find("rule")->string(), "a Calculation component may read only pure data");
-  EXPECT_NE(v.find("lint")->items()[0].find("message")->string().find("Det.events (Decision) -> Chat.trigger (Calculation)"),
+  EXPECT_TRUE(v.at("ok").get<bool>());
+  ASSERT_EQ(v.at("lint").size(), 1u);
+  EXPECT_EQ(v.at("lint")[0].at("rule").get<std::string>(), "a Calculation component may read only pure data");
+  EXPECT_NE(v.at("lint")[0].at("message").get<std::string>().find("Det.events (Decision) -> Chat.trigger (Calculation)"),
             std::string::npos);
 }
 
 TEST(Editor, ValidatesPropertiesActivitiesPeersAndConnections) {
-  json::Value v = call(editor(), "POST", "validate", std::string("{\"project\":") + kProject + "}", 200);
-  EXPECT_TRUE(v.find("problems")->items().empty()) << v.find("problems")->items()[0].find("message")->string();
+  json::Json v = call(editor(), "POST", "validate", std::string("{\"project\":") + kProject + "}", 200);
+  EXPECT_TRUE(v.at("problems").empty()) << v.at("problems")[0].at("message").get<std::string>();
   std::string bad = kProject;
   bad.replace(bad.find("\"k\": \"3\""), 8, "\"k\": \"fast\", \"kk\": \"1\"");
   bad.replace(bad.find("\"scheduler\": \"other\""), 20, "\"scheduler\": \"rt\"");
   bad.replace(bad.find("\"peers\": [\"G\"]"), 14, "\"peers\": [\"Gx\"]");
   v = call(editor(), "POST", "validate", "{\"project\":" + bad + "}", 200);
   std::map<std::string, std::string> problems;
-  for (const json::Value& p : v.find("problems")->items()) problems[p.find("where")->string()] = p.find("message")->string();
+  for (const json::Json& p : v.at("problems")) problems[p.at("where").get<std::string>()] = p.at("message").get<std::string>();
   ASSERT_EQ(problems.count("component 'G' property 'k'"), 1u);
   EXPECT_NE(problems["component 'G' property 'k'"].find("\"fast\""), std::string::npos) << problems["component 'G' property 'k'"];
   EXPECT_EQ(problems["component 'G' property 'kk'"].rfind("component 'G' (Gain) has no property 'kk'; did you mean 'k'?", 0), 0u);
   EXPECT_EQ(problems["activity of 'Sine'"].rfind("unknown scheduler 'rt'", 0), 0u) << problems["activity of 'Sine'"];
   EXPECT_EQ(problems["peers of 'Det'"].rfind("no component 'Gx' in the project; did you mean 'G'?", 0), 0u);
-  EXPECT_EQ(errorOf(editor(), "POST", "validate", "{\"project\": {\"components\": [ { \"name\": \"A\" } ] } }", 422),
+  EXPECT_EQ(errorMember(editor(), "POST", "validate", "{\"project\": {\"components\": [ { \"name\": \"A\" } ] } }", 422),
             "component 'A': 'type' must be a string, got null");
 }
 
 TEST(Editor, SavesWhatDescribeWritesWithItsLayoutAndRefusesToOverwrite) {
   Editor e(withChatty());
   const auto file = scratch("saved.lua");
-  json::Value saved = call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
-  const std::string text = saved.find("text")->string();
+  json::Json saved = call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
+  const std::string text = saved.at("text").get<std::string>();
   EXPECT_EQ(readText(file), text);
   EXPECT_NE(text.find("Sine.frequency = 2.5\n"), std::string::npos) << text;
   EXPECT_EQ(text.find("Sine.amplitude"), std::string::npos) << "the default value is not written";
@@ -202,21 +201,21 @@ TEST(Editor, SavesWhatDescribeWritesWithItsLayoutAndRefusesToOverwrite) {
     EXPECT_EQ(deploy::toLua(deploy::describe(configurator)), text);
   }
   // Opened again: the same project, the blocks where they were.
-  json::Value opened = call(e, "POST", "open", "{\"path\":" + json::quoted(file.string()) + "}", 200);
-  const json::Value& sine = opened.find("project")->find("components")->items().at(0);
-  EXPECT_EQ(sine.find("name")->string(), "Sine");
-  EXPECT_EQ(sine.find("x")->number(), 10.0);
-  EXPECT_EQ(opened.find("project")->find("apply")->items().at(0).string(), "detect");
+  json::Json opened = call(e, "POST", "open", "{\"path\":" + json::quoted(file.string()) + "}", 200);
+  const json::Json& sine = opened.at("project").at("components").at(0);
+  EXPECT_EQ(sine.at("name").get<std::string>(), "Sine");
+  EXPECT_EQ(sine.at("x").get<double>(), 10.0);
+  EXPECT_EQ(opened.at("project").at("apply").at(0).get<std::string>(), "detect");
   // Saved again after the file changed on disk: refused, naming it.
   call(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 200);
   std::ofstream(file, std::ios::app) << "-- edited by hand\n";
-  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409),
+  EXPECT_EQ(errorMember(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409),
             file.string() + " changed on disk since it was opened; not overwritten (open it again, or save under another name)");
   EXPECT_NE(readText(file).find("-- edited by hand"), std::string::npos);
   // Another existing file is not written over either.
   const auto other = scratch("other.lua");
   std::ofstream(other) << "-- mine\n";
-  EXPECT_EQ(errorOf(e, "POST", "save", "{\"path\":" + json::quoted(other.string()) + ",\"project\":" + kProject + "}", 409),
+  EXPECT_EQ(errorMember(e, "POST", "save", "{\"path\":" + json::quoted(other.string()) + ",\"project\":" + kProject + "}", 409),
             other.string() + " exists and is not the file opened in the editor; not overwritten (open it first, or save "
                              "under another name)");
 }
@@ -234,12 +233,12 @@ TEST(Editor, AFileThatDoesNotLoadOpensWithItsLineAndIsNeverSavedOver) {
                                             "Constant, Gain, Recorder, SineGenerator, ThresholdDetector (loaded packages: cobra_signal",
                                         0),
             0u);
-  const json::Value v = call(e, "GET", "project", "", 422);
-  EXPECT_EQ(v.find("line")->number(), 3.0);
-  EXPECT_EQ(v.find("path")->string(), std::filesystem::weakly_canonical(file).string());
-  EXPECT_EQ(v.find("text")->string(), before);
-  EXPECT_EQ(v.find("error")->string().rfind(file.string() + ":3: unknown component type 'Gian'", 0), 0u);
-  const std::string message = errorOf(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409);
+  const json::Json v = call(e, "GET", "project", "", 422);
+  EXPECT_EQ(v.at("line").get<double>(), 3.0);
+  EXPECT_EQ(v.at("path").get<std::string>(), std::filesystem::weakly_canonical(file).string());
+  EXPECT_EQ(v.at("text").get<std::string>(), before);
+  EXPECT_EQ(v.at("error").get<std::string>().rfind(file.string() + ":3: unknown component type 'Gian'", 0), 0u);
+  const std::string message = errorMember(e, "POST", "save", "{\"path\":" + json::quoted(file.string()) + ",\"project\":" + kProject + "}", 409);
   EXPECT_EQ(message.rfind(file.string() + " did not load when it was opened (" + file.string() + ":3: unknown component", 0), 0u)
       << message;
   EXPECT_EQ(readText(file), before);
@@ -247,14 +246,14 @@ TEST(Editor, AFileThatDoesNotLoadOpensWithItsLineAndIsNeverSavedOver) {
 
 TEST(Editor, OpensAnApplicationFolderWithItsDeployments) {
   Editor e(withChatty());
-  const json::Value v = call(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/apps/puncturing") + "}", 200);
-  EXPECT_EQ(v.find("path")->string(), std::filesystem::weakly_canonical(kSource + "/apps/puncturing/puncturing.lua").string());
+  const json::Json v = call(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/apps/puncturing") + "}", 200);
+  EXPECT_EQ(v.at("path").get<std::string>(), std::filesystem::weakly_canonical(kSource + "/apps/puncturing/puncturing.lua").string());
   std::set<std::string> deployments;
-  for (const json::Value& d : v.find("project")->find("deployments")->items()) deployments.insert(d.find("name")->string());
+  for (const json::Json& d : v.at("project").at("deployments")) deployments.insert(d.at("name").get<std::string>());
   EXPECT_EQ(deployments.count("needle_autonomous_planning"), 1u);
   EXPECT_EQ(deployments.count("probe_autonomous_planning"), 1u);
-  EXPECT_GT(v.find("project")->find("components")->items().size(), 20u);
-  const std::string no_entry = errorOf(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/run/test/apps") + "}", 422);
+  EXPECT_GT(v.at("project").at("components").size(), 20u);
+  const std::string no_entry = errorMember(e, "POST", "open", "{\"path\":" + json::quoted(kSource + "/run/test/apps") + "}", 422);
   EXPECT_NE(no_entry.find("run/test/apps: no entry file"), std::string::npos) << no_entry;
 }
 
@@ -265,32 +264,32 @@ TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
     "role":"calculation","package":"my_filters","doc":"low-pass filter of a wrench",
     "inputs":[{"name":"wrench","type":"Wrench","unit":"N"}],"event_inputs":[],
     "outputs":[{"name":"filtered","type":"Wrench"}],"properties":[{"name":"cutoff","type":"double","unit":"Hz"}]}})";
-  const json::Value v = call(editor(), "POST", "generate", request, 200);
+  const json::Json v = call(editor(), "POST", "generate", request, 200);
   std::vector<std::string> files;
-  for (const json::Value& f : v.find("files")->items()) files.push_back(f.string());
+  for (const json::Json& f : v.at("files")) files.push_back(f.get<std::string>());
   ASSERT_FALSE(files.empty());
   for (const std::string& f : files) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
   EXPECT_NE(readText(folder / "include/my_filters/force_filter.hpp").find("/// low-pass filter of a wrench\nclass ForceFilter"),
             std::string::npos);
   EXPECT_NE(readText(folder / "src/package.cpp").find("(\"ForceFilter\", \"low-pass filter of a wrench\");"), std::string::npos);
-  EXPECT_EQ(errorOf(editor(), "POST", "generate", request, 400),
+  EXPECT_EQ(errorMember(editor(), "POST", "generate", request, 400),
             (folder / "include/my_filters/force_filter.hpp").string() + " already exists; remove it or choose another name");
   std::string bad = request;
   bad.replace(bad.find("\"double\""), 8, "\"Matrix\"");
-  EXPECT_EQ(errorOf(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
+  EXPECT_EQ(errorMember(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
 }
 
 TEST(Editor, BadRequestsAreRefusedWithTheirReason) {
-  EXPECT_EQ(errorOf(editor(), "POST", "check", "{\"project\": [1, 2", 400),
+  EXPECT_EQ(errorMember(editor(), "POST", "check", "{\"project\": [1, 2", 400),
             "POST /api/editor/check: the body is not JSON: JSON: line 1, column 18: expected ',' or ']' in an array");
-  EXPECT_EQ(errorOf(editor(), "GET", "save", "", 405), "use POST /api/editor/save");
-  EXPECT_EQ(errorOf(editor(), "POST", "open", "{}", 400), "POST /api/editor/open: the body has no 'path'");
-  EXPECT_EQ(errorOf(editor(), "GET", "nothing", "", 404).rfind("no editor route 'nothing'; the routes: GET palette", 0), 0u);
-  EXPECT_EQ(errorOf(editor(), "GET", "running", "", 404),
+  EXPECT_EQ(errorMember(editor(), "GET", "save", "", 405), "use POST /api/editor/save");
+  EXPECT_EQ(errorMember(editor(), "POST", "open", "{}", 400), "POST /api/editor/open: the body has no 'path'");
+  EXPECT_EQ(errorMember(editor(), "GET", "nothing", "", 404).rfind("no editor route 'nothing'; the routes: GET palette", 0), 0u);
+  EXPECT_EQ(errorMember(editor(), "GET", "running", "", 404),
             "no run here: GET /api/editor/running is served by `cobra run APP --studio`");
-  const json::Value empty = call(editor(), "GET", "project", "", 200);
-  EXPECT_EQ(empty.find("path")->string(), "");
-  EXPECT_TRUE(empty.find("project")->find("components")->items().empty());
+  const json::Json empty = call(editor(), "GET", "project", "", 200);
+  EXPECT_EQ(empty.at("path").get<std::string>(), "");
+  EXPECT_TRUE(empty.at("project").at("components").empty());
 }
 
 TEST(Editor, TheServerServesTheRoutesOnlyWithTheToken) {
@@ -329,12 +328,12 @@ TEST(Editor, DescribesTheRunningDeploymentWithItsCurrentValues) {
   (void)run::runApp(options);
   Editor e(withChatty());
   e.setRunning(&running);
-  const json::Value v = call(e, "GET", "running", "", 200);
-  EXPECT_FALSE(v.find("live")->boolean());
+  const json::Json v = call(e, "GET", "running", "", 200);
+  EXPECT_FALSE(v.at("live").get<bool>());
   const auto snapshot = running.snapshot(live);
   ASSERT_TRUE(snapshot.has_value());
   EXPECT_FALSE(live);
-  EXPECT_EQ(v.find("project")->find("components")->items().size(), snapshot->components.size());
+  EXPECT_EQ(v.at("project").at("components").size(), snapshot->components.size());
   EXPECT_GT(snapshot->components.size(), 1u);
 }
 
@@ -359,15 +358,15 @@ class SwitchWatcher final : public run::RunObserver {
   std::string last_;
 };
 
-std::vector<std::string> texts(const json::Value& array) {
+std::vector<std::string> texts(const json::Json& array) {
   std::vector<std::string> out;
-  for (const json::Value& v : array.items()) out.push_back(v.string());
+  for (const json::Json& v : array) out.push_back(v.get<std::string>());
   return out;
 }
 
-std::set<std::string> connectionTexts(const json::Value& array) {
+std::set<std::string> connectionTexts(const json::Json& array) {
   std::set<std::string> out;
-  for (const json::Value& c : array.items()) out.insert(c.find("output")->string() + " -> " + c.find("input")->string());
+  for (const json::Json& c : array) out.insert(c.at("output").get<std::string>() + " -> " + c.at("input").get<std::string>());
   return out;
 }
 
@@ -422,19 +421,19 @@ TEST(Editor, TheRunningDeploymentFollowsTheSwitchesMadeAfterAttach) {
     ASSERT_EQ(watcher.answers.count(deployment), 1u);
     const EditorAnswer& answer = watcher.answers.at(deployment);
     ASSERT_EQ(answer.status, 200) << answer.body;
-    const json::Value v = json::parse(answer.body);
-    EXPECT_TRUE(v.find("live")->boolean());
-    const json::Value& now = *v.find("now");
-    EXPECT_GT(now.find("t")->number(), 0.0);
-    ASSERT_EQ(now.find("deployments")->items().size(), 1u);
-    EXPECT_EQ(now.find("deployments")->items()[0].find("scope")->string(), "");
-    EXPECT_EQ(now.find("deployments")->items()[0].find("deployment")->string(), deployment);
-    EXPECT_EQ(texts(*v.find("project")->find("apply")), std::vector<std::string>{deployment});
+    const json::Json v = json::parse(answer.body);
+    EXPECT_TRUE(v.at("live").get<bool>());
+    const json::Json& now = v.at("now");
+    EXPECT_GT(now.at("t").get<double>(), 0.0);
+    ASSERT_EQ(now.at("deployments").size(), 1u);
+    EXPECT_EQ(now.at("deployments")[0].at("scope").get<std::string>(), "");
+    EXPECT_EQ(now.at("deployments")[0].at("deployment").get<std::string>(), deployment);
+    EXPECT_EQ(texts(v.at("project").at("apply")), std::vector<std::string>{deployment});
     std::set<std::string> expected = always;
     expected.insert(std::string("Sine.out -> ") + gain + ".in");
     expected.insert(std::string(gain) + ".out -> Recorder.in");
-    EXPECT_EQ(connectionTexts(*now.find("connections")), expected);
-    const std::vector<std::string> runs = texts(*now.find("running"));
+    EXPECT_EQ(connectionTexts(now.at("connections")), expected);
+    const std::vector<std::string> runs = texts(now.at("running"));
     EXPECT_NE(std::find(runs.begin(), runs.end(), gain), runs.end());
     EXPECT_EQ(std::find(runs.begin(), runs.end(), other == std::string("first") ? "GainA" : "GainB"), runs.end());
     EXPECT_NE(std::find(runs.begin(), runs.end(), "Sine"), runs.end());

@@ -12,20 +12,20 @@
 namespace cobra::studio {
 namespace {
 
-std::string errorOf(const std::filesystem::path& folder) {
+std::string openingError(const std::filesystem::path& folder) {
   return test_support::messageOf([&] { Replay replay(folder); });
 }
 
 TEST(Replay, AFolderThatIsNotARunFolderIsOneLineNamingItAndWhatIsMissing) {
   const auto none = ::cobra::test_support::scratchPath("cobra_studio_no_such_run");
   std::filesystem::remove_all(none);
-  EXPECT_EQ(errorOf(none), none.string() + ": no such folder (give a run folder of cobra run APP --report DIR)");
+  EXPECT_EQ(openingError(none), none.string() + ": no such folder (give a run folder of cobra run APP --report DIR)");
   std::filesystem::create_directories(none);
-  EXPECT_EQ(errorOf(none), none.string() + ": not a run folder with a recording: no studio/recording.json (cobra run APP "
+  EXPECT_EQ(openingError(none), none.string() + ": not a run folder with a recording: no studio/recording.json (cobra run APP "
                                            "--report " + none.string() + " writes it for an application with a run.studio table)");
   std::filesystem::create_directories(none / "studio");
   std::ofstream(none / "studio" / "recording.json") << "{\"frames\": 3}";
-  EXPECT_EQ(errorOf(none), (none / "studio" / "recording.json").string() +
+  EXPECT_EQ(openingError(none), (none / "studio" / "recording.json").string() +
                                ": not a studio recording: expected {\"model\": {...}, \"frames\": [...], \"events\": [...]}");
 }
 

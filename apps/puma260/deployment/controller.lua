@@ -8,7 +8,8 @@
 -- Needs the globals `world` (deployment/world.lua) and `kinematics_solver` (the kinematics solver's
 -- `solver`: the scenario's kinematics.lua).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local charts = here .. "../../../components/coordination/charts/"
+local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
+  .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local T = dofile(here .. "task_geometry.lua")
 local buffered = { type = "buffer", size = 64 }
 

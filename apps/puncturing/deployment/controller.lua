@@ -6,7 +6,8 @@
 --   local controller = dofile(here .. "controller.lua")
 --   controller{ prefix = "Needle", scope = "needle", robot = "ISUR", arm = 1, chart = ..., ... }
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local charts = here .. "../../../components/coordination/charts/"
+local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
+  .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local buffered = { type = "buffer", size = 64 }
 
 return function(c)
@@ -33,7 +34,7 @@ return function(c)
   frames.cryo_plan_file = scenario .. "/cryo_plan.txt"
   frames.US_pose_plan_file = scenario .. "/us_plan.txt"
   frames.state_table_file = here .. "../state_table.txt"
-  planner.scene_file = here .. "../../../planning/scenes/puncturing.scene"
+  planner.scene_file = here .. "puncturing.scene"
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated

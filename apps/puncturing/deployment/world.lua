@@ -3,7 +3,7 @@
 -- interaction, iceball, ultrasound image), the situation awareness (two Decision components), the
 -- cryoablation console and the scripted surgeon. Swapping a simulated bridge for a real one changes its component_type
 -- here (the sim-only ports trueCartPose, contactWrench, handTarget stay unconnected then).
--- Geometry as planning/scenes/puncturing.scene: world z up, table top z = 0, phantom top z = 0.1.
+-- Geometry as apps/puncturing/deployment/puncturing.scene: world z up, table top z = 0, phantom top z = 0.1.
 -- Needs the global `scenario` (a folder of apps/puncturing/scenarios).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local G = dofile(here .. "geometry.lua")

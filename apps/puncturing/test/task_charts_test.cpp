@@ -43,7 +43,8 @@ struct ChartRun {
 
   ChartRun(const std::string& chart_name, const std::string& file, const double* now) : name(chart_name) {
     lua.run(kFakes, "=fakes");
-    lua.run("package.path = '" + kApp + "charts/?.lua;' .. package.path", "=charts path");  // task_steps.lua
+    // As the Supervisor does: the chart's folder, then cobra's charts (task_steps.lua).
+    lua.run("package.path = '" + kApp + "charts/?.lua;" COBRA_CHARTS_DIR "/?.lua;' .. package.path", "=charts path");
     chart = script::RfsmChart::loadFile(lua, kApp + "charts/" + file);
     machine = std::make_unique<statechart::Machine>(chart->chart(), [now] {
       return std::chrono::nanoseconds(static_cast<long long>(*now * 1e9));
@@ -510,7 +511,8 @@ TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTes
   for (const auto& [name, file] : {std::pair{"needle", "needle_insertion.lua"}, std::pair{"us", "us_positioning.lua"}}) {
     script::LuaState lua;
     lua.run(kFakes, "=fakes");
-    lua.run("package.path = '" + kApp + "charts/?.lua;' .. package.path", "=charts path");  // task_steps.lua
+    // As the Supervisor does: the chart's folder, then cobra's charts (task_steps.lua).
+    lua.run("package.path = '" + kApp + "charts/?.lua;" COBRA_CHARTS_DIR "/?.lua;' .. package.path", "=charts path");
     const auto chart = script::RfsmChart::loadFile(lua, kApp + "charts/" + file);
     std::vector<std::string> missing;
     for (const auto& node : chart->chart().nodes()) {

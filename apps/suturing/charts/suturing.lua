@@ -3,7 +3,7 @@
 -- deployment and configuration supervisors for what it needs by name (e_deploy_<name>,
 -- e_configure_<name>) and its peers for services through void request operations; it advances on
 -- their events. It never touches pure data. Its motions, waiting states and reactions are the
--- puncturing charts' (task_steps.lua, required from there).
+-- puncturing charts' (cobra's task_steps.lua, components/task/charts: on every chart's package.path).
 --
 -- Per stitch (§5.6 phases A-H): GetStitchTargetPose (the StitchPlanner plans it from the wound's
 -- current edges), ApplyRightStitch (B over the wound, planned; C inside it; D to the right edge,
@@ -15,10 +15,6 @@
 -- (StoppingMotion), switches to the teleoperated deployment with the haptic device
 -- (InitHapticDevice) and runs it (TeleoperationActive) until e_teleop_done, which resumes the
 -- interrupted state.
-
--- task_steps.lua lives with the puncturing charts; this chart's own folder heads package.path.
-local here = package.path:match("^([^;]*)%?%.lua;") or "./"
-package.path = here .. "../../puncturing/charts/?.lua;" .. package.path
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §5.5.1-5.5.2) its deployment and configuration supervisors know.

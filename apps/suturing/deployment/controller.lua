@@ -7,7 +7,8 @@
 -- Needs the globals `right_tool_frame`, `left_tool_frame`, `phantom_pose`, `teleop_device`
 -- ("leap" or "omni": which haptic device the teleoperated deployment reads).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local charts = here .. "../../../components/coordination/charts/"
+local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
+  .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local buffered = { type = "buffer", size = 64 }
 
 local devices = {
@@ -45,7 +46,7 @@ getReferences()
 
 SutureFrames.state_table_file = here .. "../state_table.txt"
 -- m, stitch frames (x along the cut, z out of the skin): where each tool works, against the Endo
--- Stitch's 10 mm envelope and the stick (planning/scenes/suturing.scene; measured, README "Where the
+-- Stitch's 10 mm envelope and the stick (apps/suturing/deployment/suturing.scene; measured, README "Where the
 -- stick works"). The Endo Stitch pulls the thread 8 mm ahead along the cut, 37 mm above the
 -- stitch's centre (12 mm and 10 mm ahead, the +15 degree cut's first pull ended in
 -- e_ik_discontinuity: the robot refused a pose off its IK branch). The stick hooks it 12 mm above
@@ -60,7 +61,7 @@ SutureFrames.hook_offset = { 0.0035, 0.0012, 0.012 }
 SutureFrames.push_offset = { -0.010, 0.0005, 0.012 }
 SutureFrames.aside_offset = { -0.016, 0.018, 0.015 }
 for _, p in ipairs({ SuturePlanner, Validator }) do
-  p.scene_file = here .. "../../../planning/scenes/suturing.scene"
+  p.scene_file = here .. "suturing.scene"
   p.phantom_pose = phantom_pose
   p.first_tool_frame = right_tool_frame    -- the scene's I-SUR tool 0: the Endo Stitch's tip (frames.lua)
   p.second_tool_frame = left_tool_frame    -- its tool 1: the stick's tip (frames.lua)

@@ -2,7 +2,7 @@
 -- Endo Stitch, left arm: a gripper holding a stick) and the patient, a planar wound in a two-layer
 -- phantom with the thread (WoundSimulator). Swapping a simulated bridge for a real one changes its
 -- component_type here (the sim-only ports true*CartPose stay unconnected then).
--- Geometry as planning/scenes/suturing.scene: world z up, table top z = 0, the I-SUR's base 1 m
+-- Geometry as apps/suturing/deployment/suturing.scene: world z up, table top z = 0, the I-SUR's base 1 m
 -- above it; the phantom (0.06 m high) placed under the wound (suturing.lua: phantom_pose).
 -- Needs the globals `wound` (the scenario's wound.lua), `right_tool_frame`, `left_tool_frame`
 -- (suturing.lua, from frames.lua).
@@ -23,7 +23,7 @@ ISUR.left_tool_frame = left_tool_frame               -- the stick's tip (frames.
 -- m, rad: the Endo Stitch 11.5 cm above the phantom over the cut's middle, tilted 21 deg from the
 -- vertical (its pitch share q6 + q7 = 1.2 rad: away from the vertical, where its wrist's two
 -- representations meet); the stick's tip 9 cm above the skin, 3 cm behind and 5 cm left of the
--- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch (planning/scenes/suturing.scene's
+-- Endo Stitch's (frames.lua's tool frames): clear of the Endo Stitch (apps/suturing/deployment/suturing.scene's
 -- stick; a start over the cut put the stick 3.6 mm from it); the first motion, planned, takes the
 -- stick aside (state_table.txt, MoveOverWound).
 ISUR.initial_joints = { 0.0997079, 0.0995231, 0.0998925, 0, 0, 0.75, 0.45, 0,

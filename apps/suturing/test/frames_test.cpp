@@ -38,7 +38,7 @@ class SuturingFrames : public ::testing::Test {
 };
 
 TEST_F(SuturingFrames, TheLeftToolIsTheTipOfTheScenesStick) {
-  const cobra::planning::SceneDescription scene = cobra::planning::loadScene(kSource + "/planning/scenes/suturing.scene");
+  const cobra::planning::SceneDescription scene = cobra::planning::loadScene(kSource + "/apps/suturing/deployment/suturing.scene");
   const std::size_t index = scene.objectIndex("stick");
   ASSERT_NE(index, cobra::planning::SceneDescription::npos) << "the suturing scene has no object 'stick'";
   const cobra::planning::ObjectDescription& stick = scene.objects[index];

@@ -33,8 +33,8 @@ class Procedure {
  public:
   explicit Procedure(int stitches) : stitches_(stitches) {
     lua_.run(kFakes, "=fakes");
-    // As the Supervisor does: the chart's folder heads package.path.
-    lua_.run("package.path = '" + kApp + "charts/?.lua;' .. package.path", "=charts path");
+    // As the Supervisor does: the chart's folder heads package.path, then cobra's charts (task_steps.lua).
+    lua_.run("package.path = '" + kApp + "charts/?.lua;" COBRA_CHARTS_DIR "/?.lua;' .. package.path", "=charts path");
     chart_ = script::RfsmChart::loadFile(lua_, kApp + "charts/suturing.lua");
     machine_ = std::make_unique<statechart::Machine>(
         chart_->chart(), [this] { return std::chrono::nanoseconds(static_cast<long long>(now_ * 1e9)); });

@@ -1,5 +1,6 @@
 // The control package's components on the lockstep clock, deployed and configured by the Lua
-// deployer with the named configurations of configurations/ (thesis §4.7).
+// deployer with named configurations (test/configurations/: copies of the puncturing and suturing
+// applications' admittance configurations as they were when the applications took them over).
 #include <gtest/gtest.h>
 
 #include "cobra/components/builtin_packages.hpp"
@@ -28,7 +29,7 @@ struct Deployed {
   explicit Deployed(const std::string& task) {
     addBuiltinPackages(configurator.packages());
     deployer.run("initConfigurator({ 'cobra_control' }, { { peer_name = 'Admittance', component_type = 'VariableAdmittance' } }, '" +
-                     std::string(COBRA_SOURCE_DIR) + "/components/control/configurations/" + task + "')\n"
+                     std::string(COBRA_SOURCE_DIR) + "/components/control/test/configurations/" + task + "')\n"
                      "setActivities({ { peer_name = 'Admittance', period = 0.001 } })",
                  "deploy.lua");
     core::Component& a = configurator.getReferences().get("Admittance");

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "cobra/deploy/configurator.hpp"
+#include "cobra/deploy/install_layout.hpp"
 #include "cobra/script/bindings.hpp"
 
 namespace cobra::components {
@@ -127,12 +128,18 @@ bool Supervisor::configureHook() {
     lua_pushcfunction(L, SupervisorLua::install);
     lua_pushlightuserdata(L, this);
     lua_->call(1, 0, "component '" + name() + "'");
-    // Helpers next to the chart can be required (the switch supervisors' charts do).
+    // Helpers next to the chart can be required (the switch supervisors' charts do), then cobra's
+    // own chart parts (its data folder's charts/: task_steps.lua, the steps of a task chart).
     std::string folder = std::filesystem::path(fsm_path_()).parent_path().string();
     if (folder.empty()) folder = ".";
-    std::string quoted;  // as a Lua string literal
-    for (char c : folder) quoted += (c == '\\' || c == '\'') ? std::string("\\") + c : std::string(1, c);
-    lua_->run("package.path = '" + quoted + "/?.lua;' .. package.path", "=supervisor setup");
+    const auto quoted = [](const std::string& text) {  // as a Lua string literal's contents
+      std::string out;
+      for (char c : text) out += (c == '\\' || c == '\'') ? std::string("\\") + c : std::string(1, c);
+      return out;
+    };
+    std::string path = quoted(folder) + "/?.lua;";
+    if (const auto data = deploy::dataDirectory(); !data.empty()) path += quoted((data / "charts").string()) + "/?.lua;";
+    lua_->run("package.path = '" + path + "' .. package.path", "=supervisor setup");
     script::exposeComponent(*lua_, *this, "self");
     if (deploy::Configurator* configurator = this->configurator()) {
       for (const std::string& peer : configurator->peersOf(name()))

@@ -98,7 +98,7 @@ void replaceRobotMeshes(SceneDescription& scene, const PlanningSceneSettings& s,
 SceneDescription buildPlanningScene(const PlanningSceneSettings& s) {
   if (s.scene_file.empty())
     throw std::invalid_argument(
-        "property scene_file is empty: give a scene file (e.g. planning/scenes/puncturing.scene)");
+        "property scene_file is empty: give a scene file (format: cobra/planning/scene.hpp)");
   SceneDescription scene;
   try {
     scene = planning::loadScene(resolve(s.models_folder, s.scene_file));

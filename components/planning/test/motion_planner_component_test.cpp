@@ -24,7 +24,7 @@ namespace {
 using namespace std::chrono_literals;
 constexpr double kPi = std::numbers::pi;
 
-std::string scenes() { return (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes").string(); }
+std::string scenes() { return (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes").string(); }
 KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
 KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
 

@@ -364,7 +364,7 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
   return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
 }
 
-// The planner (planning::MotionPlanner on planning/scenes/suturing.scene, joint space from the
+// The planner (planning::MotionPlanner on planning/test/scenes/suturing.scene, joint space from the
 // robot's joints) and the robot agree: the planned Cartesian waypoints, commanded every 1 ms at
 // the planner's generator speeds (each segment at least as long as the planner assumed), are
 // followed with no refusal (no e_ik_* event: no branch change, no joint beyond its speed), the
@@ -372,7 +372,7 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
 // on the planned goal joints.
 TEST(SimulatedISURSuturingRobot, APlannedPathThroughTheEndoStitchsVerticalIsFollowedWithoutARefusal) {
   planning::SceneDescription scene =
-      planning::loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/scenes/suturing.scene");
+      planning::loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes/suturing.scene");
   const KDL::Frame base = scene.robots[0].base_in_world;
   planning::RobotModels models = planning::makeRobotModels(scene);
   planning::StateValidator validator(std::move(scene), std::move(models));

@@ -1,5 +1,7 @@
 #include "cobra/report/run_report.hpp"
 
+#include "cobra/run/observer.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -27,13 +29,6 @@ std::string escape(const std::string& text) {
   return out;
 }
 
-std::string csvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 std::string number(double v, const char* format = "%.6g") {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, format, v);
@@ -53,44 +48,6 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
 }
 
 }  // namespace
-
-void TimelineRecorder::observe(double time, const std::string& chart, const std::string& state) {
-  const auto it = std::find_if(open_.begin(), open_.end(), [&](const StateInterval& s) { return s.chart == chart; });
-  if (it == open_.end()) {
-    open_.push_back({chart, state, time, time});
-    return;
-  }
-  if (time < it->begin)
-    throw std::invalid_argument("timeline of chart '" + chart + "': time " + number(time) + " s is before " +
-                                number(it->begin) + " s; observe in time order");
-  if (it->state == state) return;
-  closed_.push_back({chart, it->state, it->begin, time});
-  *it = {chart, state, time, time};
-}
-
-std::vector<StateInterval> TimelineRecorder::intervals(double end_time) const {
-  std::vector<StateInterval> all = closed_;
-  for (const StateInterval& s : open_) all.push_back({s.chart, s.state, s.begin, std::max(s.begin, end_time)});
-  std::stable_sort(all.begin(), all.end(), [](const StateInterval& a, const StateInterval& b) { return a.begin < b.begin; });
-  return all;
-}
-
-std::vector<std::string> TimelineRecorder::statesEntered(const std::string& chart) const {
-  std::vector<std::string> states;
-  auto add = [&](const StateInterval& s) {
-    if (s.chart == chart && std::find(states.begin(), states.end(), s.state) == states.end()) states.push_back(s.state);
-  };
-  for (const StateInterval& s : closed_) add(s);
-  for (const StateInterval& s : open_) add(s);
-  return states;
-}
-
-std::string eventLogCsv(const std::vector<EventRecord>& events) {
-  std::string out = "time [s],source,event,state\n";
-  for (const EventRecord& e : events)
-    out += number(e.time, "%.9g") + "," + csvField(e.source) + "," + csvField(e.event) + "," + csvField(e.state) + "\n";
-  return out;
-}
 
 std::string timelineSvg(const std::vector<StateInterval>& timeline, int width) {
   std::vector<std::string> charts;
@@ -159,7 +116,8 @@ std::string toHtml(const RunReport& report) {
     html << "</p>\n";
   }
   html << "<h2>Task states</h2>\n" << timelineSvg(report.timeline);
-  for (const plot::Figure& figure : report.figures) html << "<h2>" << escape(figure.title) << "</h2>\n" << plot::toSvg(figure);
+  for (const run::Figure& figure : report.figures)
+    html << "<h2>" << escape(figure.title) << "</h2>\n" << plot::toSvg(toPlot(figure));
   html << "<h2>Events</h2>\n<div class=\"events\"><table>\n<tr><th>t [s]</th><th>source</th><th>event</th><th>state "
           "after</th></tr>\n";
   for (const EventRecord& e : report.events)
@@ -174,9 +132,26 @@ std::filesystem::path writeRunFolder(const std::filesystem::path& folder, const 
   std::filesystem::create_directories(folder, error);
   if (error) throw std::runtime_error("run report: cannot create folder " + folder.string() + ": " + error.message());
   writeFile(folder / "events.csv", eventLogCsv(report.events));
+  return writeHtml(folder, report);
+}
+
+std::filesystem::path writeHtml(const std::filesystem::path& folder, const RunReport& report) {
   const std::filesystem::path page = folder / "report.html";
   writeFile(page, toHtml(report));
   return page;
 }
+
+plot::Figure toPlot(const run::Figure& figure) {
+  plot::Figure out{figure.title, {}, figure.width, figure.panel_height};
+  for (const run::Panel& panel : figure.panels) {
+    plot::Panel p{panel.title, panel.x_label, panel.y_label, {}};
+    for (const run::Series& s : panel.series)
+      p.series.push_back({s.label, s.x, s.y, s.dashed, s.marker_x, s.marker_y, s.marker_labels});
+    out.panels.push_back(std::move(p));
+  }
+  return out;
+}
+
+void registerHtmlReport() { run::ObserverRegistry::addReportWriter("html", &writeHtml); }
 
 }  // namespace cobra::report

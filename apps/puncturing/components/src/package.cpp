@@ -1,11 +1,15 @@
-#include "cobra/components/puncturing/package.hpp"
+// The "cobra_puncturing" package: loaded by name (packages_list = { ..., "cobra_puncturing" }) from
+// libcobra_puncturing.so, beside the tool's packages.
+#include <cstdint>
 
 #include "cobra/components/puncturing/frame_generator.hpp"
 #include "cobra/components/puncturing/scripted_surgeon.hpp"
+#include "cobra/deploy/package_registry.hpp"
 
-namespace cobra::components {
+extern "C" std::uint32_t cobra_package_abi() { return cobra::deploy::kPackageAbiVersion; }
 
-void registerPuncturingPackage(deploy::PackageBuilder& package) {
+extern "C" void cobra_register_package(cobra::deploy::PackageBuilder& package) {
+  using namespace cobra::components;
   package
       .component<PuncturingFrameGenerator>(
           "PuncturingFrameGenerator",
@@ -14,5 +18,3 @@ void registerPuncturingPackage(deploy::PackageBuilder& package) {
                                   "the surgeon's console in simulation: a surgeon script played against the task "
                                   "charts, and say(event)");
 }
-
-}  // namespace cobra::components

@@ -1,4 +1,4 @@
-// Geometry of the puncturing plan: needle and probe poses, feasibility checks, the state table.
+// Geometry of the puncturing plan: needle and probe poses, feasibility checks.
 #include <algorithm>
 #include <cstdio>
 #include <numbers>
@@ -26,26 +26,6 @@ std::string deg(double radians) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.1f deg", radians * 180.0 / std::numbers::pi);
   return buffer;
-}
-
-/// Number of dot-separated components of `path` up to (excluding) character `end`.
-std::size_t componentsBefore(std::string_view path, std::size_t end) {
-  return static_cast<std::size_t>(std::count(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(end), '.')) + 1;
-}
-
-/// Calls `match(end)` for every place where the components of `want` appear contiguously in
-/// `path`, `end` being the character just after the match. Allocates nothing (the Frame
-/// Generator and the scripted surgeon call it from their real-time paths).
-template <class F>
-void forEachMatch(std::string_view path, std::string_view want, F&& match) {
-  for (std::size_t start = 0; start <= path.size();) {
-    const std::size_t end = start + want.size();
-    if (end <= path.size() && path.compare(start, want.size(), want) == 0 && (end == path.size() || path[end] == '.'))
-      match(end);
-    const std::size_t dot = path.find('.', start);
-    if (dot == std::string_view::npos) break;
-    start = dot + 1;
-  }
 }
 
 /// Closest distance between segments p1-q1 and p2-q2 (Ericson, Real-Time Collision Detection 5.1.9).
@@ -78,36 +58,6 @@ double segmentDistance(const KDL::Vector& p1, const KDL::Vector& q1, const KDL::
 
 }  // namespace
 
-const StateRow* StateTable::find(std::string_view path) const {
-  const StateRow* best = nullptr;
-  std::size_t best_end = 0, best_length = 0;
-  for (const StateRow& row : rows) {
-    const std::size_t length = componentsBefore(row.state, row.state.size());
-    forEachMatch(path, row.state, [&](std::size_t end_char) {
-      const std::size_t end = componentsBefore(path, end_char);
-      if (!best || end > best_end || (end == best_end && length > best_length)) {
-        best = &row;
-        best_end = end;
-        best_length = length;
-      }
-    });
-  }
-  return best;
-}
-
-const KDL::Frame* StateTable::pose(std::string_view name) const {
-  for (const auto& [n, f] : poses) {
-    if (n == name) return &f;
-  }
-  return nullptr;
-}
-
-bool pathContains(std::string_view path, std::string_view state) {
-  bool found = false;
-  forEachMatch(path, state, [&](std::size_t) { found = true; });
-  return found;
-}
-
 KDL::Frame needleTargetPose(const PlannedNeedle& needle) {
   KDL::Vector z = needle.target - needle.entry;
   z.Normalize();
@@ -131,10 +81,6 @@ bool planDatum(std::string_view name, bool& next) {
   next = name.starts_with("next_");
   if (next) name.remove_prefix(5);
   return name == "entry" || name == "target" || name == "probe";
-}
-
-KDL::Frame alongZ(const KDL::Frame& pose, double offset) {
-  return KDL::Frame(pose.M, pose.p + pose.M.UnitZ() * offset);
 }
 
 double distanceToRegion(const KDL::Vector& p, const KDL::Vector& q, const ForbiddenRegion& region) {

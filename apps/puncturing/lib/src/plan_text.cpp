@@ -1,10 +1,7 @@
 // The text formats of the puncturing data (apps/puncturing/README.md): one statement per line,
 // `#` starts a comment, words separated by blanks, parameters as key=value, vectors as X,Y,Z.
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,147 +10,12 @@
 namespace cobra::puncturing {
 namespace {
 
-/// One statement: its words and key=value parameters, with where it came from.
-struct Statement {
-  std::string where;  // "source:line"
-  int line = 0;
-  std::vector<std::string> words;
-  std::map<std::string, std::string> params;
-  std::map<std::string, bool> used;
+using task::Statement;
+using task::statements;
 
-  [[noreturn]] void fail(const std::string& message) const { throw std::invalid_argument(where + ": " + message); }
-
-  bool has(const std::string& key) const { return params.count(key) != 0; }
-  const std::string& raw(const std::string& key) {
-    const auto it = params.find(key);
-    if (it == params.end()) fail("'" + words[0] + "' needs " + key + "=");
-    used[key] = true;
-    return it->second;
-  }
-  double number(const std::string& key, const char* unit) { return parseNumber(key, raw(key), unit); }
-  double number(const std::string& key, double fallback, const char* unit) {
-    return has(key) ? number(key, unit) : fallback;
-  }
-  double parseNumber(const std::string& key, std::string_view text, const char* unit) const {
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
-      fail("value of '" + key + "' is '" + std::string(text) + "', expected a number (" + unit + ")");
-    }
-    return value;
-  }
-  KDL::Vector vector(const std::string& key, const char* unit) {
-    std::string_view text = raw(key);
-    double xyz[3];
-    for (int i = 0; i < 3; ++i) {
-      const std::size_t comma = text.find(',');
-      if ((i < 2) != (comma != std::string_view::npos)) fail("value of '" + key + "' must be X,Y,Z (" + unit + ")");
-      xyz[i] = parseNumber(key, text.substr(0, comma), unit);
-      text = comma == std::string_view::npos ? std::string_view() : text.substr(comma + 1);
-    }
-    return {xyz[0], xyz[1], xyz[2]};
-  }
-  KDL::Frame frame() {
-    const KDL::Vector rpy = has("rpy") ? vector("rpy", "rad") : KDL::Vector::Zero();
-    return KDL::Frame(KDL::Rotation::RPY(rpy.x(), rpy.y(), rpy.z()), vector("xyz", "m"));
-  }
-  double positive(const std::string& key, const char* unit) {
-    const double value = number(key, unit);
-    if (value <= 0.0) fail(key + " = " + raw(key) + ", expected > 0 " + unit);
-    return value;
-  }
-  /// Every parameter was used and there are `count` words (statement included).
-  void finish(std::size_t count, const char* usage) const {
-    if (words.size() != count) fail("expected '" + std::string(usage) + "'");
-    for (const auto& [key, value] : params) {
-      if (!used.count(key)) fail("unknown key '" + key + "' in '" + words[0] + "' (expected '" + usage + "')");
-    }
-  }
-};
-
-std::vector<Statement> statements(std::string_view text, std::string_view source) {
-  std::vector<Statement> out;
-  int line_number = 0;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_number;
-    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    Statement s;
-    s.line = line_number;
-    s.where = std::string(source) + ":" + std::to_string(line_number);
-    std::size_t i = 0;
-    while (i < line.size()) {
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-      std::size_t j = i;
-      while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-      if (j == i) break;
-      const std::string_view word = line.substr(i, j - i);
-      const std::size_t eq = word.find('=');
-      if (eq == std::string_view::npos) {
-        if (!s.params.empty()) s.fail("word '" + std::string(word) + "' after the key=value parameters");
-        s.words.emplace_back(word);
-      } else {
-        const std::string key(word.substr(0, eq));
-        if (key.empty() || s.words.empty()) s.fail("'" + std::string(word) + "' is not a statement");
-        if (!s.params.emplace(key, std::string(word.substr(eq + 1))).second) s.fail("key '" + key + "' given twice");
-      }
-      i = j;
-    }
-    if (!s.words.empty()) out.push_back(std::move(s));
-    if (end == text.size()) break;
-  }
-  return out;
-}
-
-// The shortest decimal that parses back to exactly `value`: a printed plan parses to the same
-// numbers, so a value a parser's check accepts (the tumour below the skin, ...) stays accepted.
-std::string number(double value) {
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
-}
-std::string vec(const KDL::Vector& v) { return number(v.x()) + "," + number(v.y()) + "," + number(v.z()); }
-std::string frame(const KDL::Frame& f) {
-  double r = 0, p = 0, y = 0;
-  f.M.GetRPY(r, p, y);
-  return "xyz=" + vec(f.p) + " rpy=" + number(r) + "," + number(p) + "," + number(y);
-}
-
-Datum parseDatum(Statement& s, const std::string& key, const std::string& text) {
-  Datum d;
-  const std::size_t sign = text.find_first_of("+-");
-  d.name = text.substr(0, sign);
-  if (d.name.empty()) s.fail("value of '" + key + "' is '" + text + "', expected NAME or NAME+M or NAME-M");
-  if (sign != std::string::npos) {
-    d.offset = s.parseNumber(key, std::string_view(text).substr(sign + (text[sign] == '+' ? 1 : 0)), "m");
-  }
-  return d;
-}
-Datum parseDatum(Statement& s, const std::string& key) { return parseDatum(s, key, s.raw(key)); }
-
-/// `A|B|C`: the alternatives of one arm's goal.
-std::vector<Datum> parseAlternatives(Statement& s, const std::string& key) {
-  std::vector<Datum> out;
-  const std::string& text = s.raw(key);
-  for (std::size_t start = 0;;) {
-    const std::size_t bar = text.find('|', start);
-    out.push_back(parseDatum(s, key, text.substr(start, bar - start)));
-    if (bar == std::string::npos) return out;
-    start = bar + 1;
-  }
-}
-
-/// `A..B`: a straight motion from datum A to datum B.
-DatumMotion parseMotion(Statement& s, const std::string& key) {
-  const std::string& text = s.raw(key);
-  const std::size_t dots = text.find("..");
-  if (dots == std::string::npos)
-    s.fail("value of '" + key + "' is '" + text + "', expected FROM..TO (two datums: where the motion starts and ends)");
-  return {parseDatum(s, key, text.substr(0, dots)), parseDatum(s, key, text.substr(dots + 2))};
-}
+std::string number(double value) { return task::printNumber(value); }
+std::string vec(const KDL::Vector& v) { return task::printVector(v); }
+std::string frame(const KDL::Frame& f) { return task::printFrame(f); }
 
 }  // namespace
 
@@ -257,62 +119,6 @@ StateTable parseStateTable(std::string_view text, std::string_view source) {
   return parseStateTable(text, source, puncturingVocabulary());
 }
 
-StateTable parseStateTable(std::string_view text, std::string_view source, const TableVocabulary& vocabulary) {
-  std::string reserved;  // "entry, target, ..., hold"
-  for (const std::string& d : vocabulary.datums) reserved += d + ", ";
-  reserved += "hold";
-  const auto datum = [&](const std::string& name) {
-    return name == "hold" || std::find(vocabulary.datums.begin(), vocabulary.datums.end(), name) != vocabulary.datums.end();
-  };
-  const std::string& a0 = vocabulary.arms[0];
-  const std::string& a1 = vocabulary.arms[1];
-  const std::string usage = "state PATH " + a0 + "=DATUM[|DATUM...] " + a1 + "=DATUM[|DATUM...] [then_" + a0 +
-                            "=DATUM] [then_" + a1 + "=DATUM] [room_for_" + a0 + "=DATUM..DATUM] [room_for_" + a1 +
-                            "=DATUM..DATUM]";
-  StateTable table;
-  for (Statement& s : statements(text, source)) {
-    if (s.words[0] == "pose") {
-      if (s.words.size() != 2) s.fail("expected 'pose NAME xyz=X,Y,Z rpy=R,P,Y'");
-      const std::string& name = s.words[1];
-      if (datum(name)) s.fail("pose name '" + name + "' is reserved (" + reserved + ")");
-      if (name.find_first_of("+-|") != std::string::npos)
-        s.fail("pose name '" + name + "' holds + - or |, which a datum reads as an offset or an alternative");
-      if (table.pose(name)) s.fail("pose '" + name + "' is defined twice");
-      table.poses.emplace_back(name, s.frame());
-      s.finish(2, "pose NAME xyz=X,Y,Z rpy=R,P,Y");
-    } else if (s.words[0] == "state") {
-      StateRow row;
-      if (s.words.size() > 1) row.state = s.words[1];
-      for (std::size_t arm = 0; arm < 2; ++arm) row.goal(arm) = parseAlternatives(s, vocabulary.arms[arm]);
-      for (std::size_t arm = 0; arm < 2; ++arm)
-        if (s.has("then_" + vocabulary.arms[arm])) row.then(arm) = parseDatum(s, "then_" + vocabulary.arms[arm]);
-      for (std::size_t arm = 0; arm < 2; ++arm)
-        if (s.has("room_for_" + vocabulary.arms[arm])) row.roomFor(arm) = parseMotion(s, "room_for_" + vocabulary.arms[arm]);
-      row.line = s.line;
-      s.finish(2, usage.c_str());
-      if (row.needle.size() > 1 && row.probe.size() > 1)
-        s.fail("both arms list alternatives (A|B); list them for one arm, the other's goal is the same for each");
-      std::vector<const Datum*> datums;
-      for (const std::vector<Datum>* arm : {&row.needle, &row.probe})
-        for (const Datum& d : *arm) datums.push_back(&d);
-      for (const Datum* d : {&row.then_needle, &row.then_probe, &row.room_for_needle.from, &row.room_for_needle.to,
-                             &row.room_for_probe.from, &row.room_for_probe.to})
-        if (!d->name.empty()) datums.push_back(d);
-      for (const Datum* d : datums) {
-        if (!datum(d->name) && table.pose(d->name) == nullptr)
-          s.fail("unknown datum '" + d->name + "' (expected " + reserved + " or a pose defined above)");
-      }
-      for (const StateRow& other : table.rows) {
-        if (other.state == row.state) s.fail("state '" + row.state + "' is already at line " + std::to_string(other.line));
-      }
-      table.rows.push_back(std::move(row));
-    } else {
-      s.fail("unknown statement '" + s.words[0] + "' (expected pose or state)");
-    }
-  }
-  return table;
-}
-
 SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source) {
   SurgeonScript script;
   const auto& known = surgeonEvents();
@@ -385,14 +191,6 @@ std::string printProbePlan(const std::vector<PlannedProbe>& probes) {
   std::string out;
   for (const PlannedProbe& p : probes) out += "probe " + p.needle + " " + frame(p.pose) + "\n";
   return out;
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace cobra::puncturing

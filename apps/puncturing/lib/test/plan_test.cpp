@@ -172,10 +172,10 @@ TEST(PuncturingPlan, AStateRowMayNameTheMotionAfterItsGoal) {
                       "state Descend needle=entry+0.004 probe=hold\n", "t.txt");
   const StateRow* approach = table.find("root.Approach.AskingGoal");
   ASSERT_NE(approach, nullptr);
-  EXPECT_EQ(approach->then_probe.name, "probe");
-  EXPECT_DOUBLE_EQ(approach->then_probe.offset, 0.004);
-  EXPECT_TRUE(approach->then_needle.name.empty());  // the needle stays at its goal
-  EXPECT_TRUE(table.find("root.Descend")->then_probe.name.empty());
+  EXPECT_EQ(approach->then(1).name, "probe");
+  EXPECT_DOUBLE_EQ(approach->then(1).offset, 0.004);
+  EXPECT_TRUE(approach->then(0).name.empty());  // the needle stays at its goal
+  EXPECT_TRUE(table.find("root.Descend")->then(1).name.empty());
 }
 
 TEST(PuncturingPlan, AStateRowMayListGoalAlternativesAndTheRoomTheyMustLeave) {
@@ -186,16 +186,16 @@ TEST(PuncturingPlan, AStateRowMayListGoalAlternativesAndTheRoomTheyMustLeave) {
       "t.txt");
   const StateRow* row = table.find("root.InsertingNeedles.MoveToNeedleChange.Planning");
   ASSERT_NE(row, nullptr);
-  ASSERT_EQ(row->needle.size(), 3u);  // in the table's order: the preferred first
-  EXPECT_EQ(row->needle[0].name, "change");
-  EXPECT_EQ(row->needle[1].name, "change_left");
-  EXPECT_EQ(row->needle[2].name, "hold");
-  ASSERT_EQ(row->probe.size(), 1u);
-  EXPECT_EQ(row->room_for_probe.from.name, "next_probe");
-  EXPECT_DOUBLE_EQ(row->room_for_probe.from.offset, -0.03);
-  EXPECT_EQ(row->room_for_probe.to.name, "next_probe");
-  EXPECT_DOUBLE_EQ(row->room_for_probe.to.offset, 0.004);
-  EXPECT_TRUE(row->room_for_needle.from.name.empty());
+  ASSERT_EQ(row->goal(0).size(), 3u);  // in the table's order: the preferred first
+  EXPECT_EQ(row->goal(0)[0].name, "change");
+  EXPECT_EQ(row->goal(0)[1].name, "change_left");
+  EXPECT_EQ(row->goal(0)[2].name, "hold");
+  ASSERT_EQ(row->goal(1).size(), 1u);
+  EXPECT_EQ(row->roomFor(1).from.name, "next_probe");
+  EXPECT_DOUBLE_EQ(row->roomFor(1).from.offset, -0.03);
+  EXPECT_EQ(row->roomFor(1).to.name, "next_probe");
+  EXPECT_DOUBLE_EQ(row->roomFor(1).to.offset, 0.004);
+  EXPECT_TRUE(row->roomFor(0).from.name.empty());
   bool next = false;
   EXPECT_TRUE(planDatum("next_target", next));
   EXPECT_TRUE(next);
@@ -247,9 +247,9 @@ TEST(PuncturingPlan, StateTableFindsTheDeepestMatchingRow) {
   EXPECT_EQ(table.find("root.InsertingNeedles.WaitNeedleMounted")->line, 4);
   EXPECT_EQ(table.find("root.WaitCryoCycle"), nullptr);
   EXPECT_EQ(table.find("root.InsertingNeedles.MoveToSkinny"), table.find("root.InsertingNeedles"));
-  EXPECT_DOUBLE_EQ(table.rows[1].needle.at(0).offset, 0.005);
-  EXPECT_DOUBLE_EQ(table.rows[0].needle.at(0).offset, -0.02);
-  EXPECT_EQ(table.rows[2].needle.at(0).name, "change");
+  EXPECT_DOUBLE_EQ(table.rows[1].goal(0).at(0).offset, 0.005);
+  EXPECT_DOUBLE_EQ(table.rows[0].goal(0).at(0).offset, -0.02);
+  EXPECT_EQ(table.rows[2].goal(0).at(0).name, "change");
   ASSERT_NE(table.pose("change"), nullptr);
   EXPECT_DOUBLE_EQ(table.pose("change")->p.z(), 0.4);
 }

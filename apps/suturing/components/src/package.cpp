@@ -1,12 +1,16 @@
-#include "cobra/components/suturing/package.hpp"
+// The "cobra_suturing" package: loaded by name (packages_list = { ..., "cobra_suturing" }) from
+// libcobra_suturing.so, beside the tool's packages.
+#include <cstdint>
 
 #include "cobra/components/suturing/stitch_planner.hpp"
 #include "cobra/components/suturing/suturing_frame_generator.hpp"
 #include "cobra/components/suturing/teleoperation_clutch.hpp"
+#include "cobra/deploy/package_registry.hpp"
 
-namespace cobra::components {
+extern "C" std::uint32_t cobra_package_abi() { return cobra::deploy::kPackageAbiVersion; }
 
-void registerSuturingPackage(deploy::PackageBuilder& package) {
+extern "C" void cobra_register_package(cobra::deploy::PackageBuilder& package) {
+  using namespace cobra::components;
   package.component<StitchPlannerComponent>(
       "StitchPlanner", "the next stitch's right and left targets from the wound's current edges (thesis §5.2.1)");
   package.component<SuturingFrameGenerator>(
@@ -14,5 +18,3 @@ void registerSuturingPackage(deploy::PackageBuilder& package) {
   package.component<TeleoperationClutch>(
       "TeleoperationClutch", "the tool follows the haptic device's motion from the teleoperation's start (§5.5)");
 }
-
-}  // namespace cobra::components

@@ -4,6 +4,7 @@
 /// stepped by an activity (ARCHITECTURE §4).
 
 #include <any>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -33,6 +34,22 @@ enum class State { PreOperational, Stopped, Running, Exception, FatalError };
 
 std::string_view toString(Role role);
 std::string_view toString(State state);
+
+class Component;
+
+/// Hears a component's lifecycle state changes (Component::addStateListener), so that a watcher
+/// (the runner: a component in Exception ends the run) is told instead of polling every state.
+/// stateChanged runs on the thread that changed the state: the deployer's for a lifecycle call,
+/// the activity's (the real-time path) when a hook throws. It must not block, allocate or throw:
+/// note the change (an atomic flag or counter) and let the watcher's own thread act on it.
+class StateListener {
+ public:
+  /// `component` moved from state `from` to `to` (from != to).
+  virtual void stateChanged(const Component& component, State from, State to) noexcept = 0;
+
+ protected:
+  ~StateListener() = default;
+};
 
 /// Outcome of a lifecycle call: ok, or the reason it was refused or failed.
 struct [[nodiscard]] Result {
@@ -126,6 +143,16 @@ class Component {
   /// Number of updateHook calls since construction (cheap introspection).
   std::uint64_t updateCount() const { return update_count_.load(std::memory_order_relaxed); }
 
+  /// At most this many StateListeners per component (fixed slots: announcing allocates nothing).
+  static constexpr std::size_t kMaxStateListeners = 4;
+  /// Tells `listener` of every later state change of this component (adding it twice does
+  /// nothing). Any thread, also while Running; not real-time safe.
+  /// @throws Error naming the component when its kMaxStateListeners slots are taken.
+  void addStateListener(StateListener& listener);
+  /// Stops telling `listener`; returns once no call to it is under way on another thread, so the
+  /// listener may be destroyed then. Not real-time safe (it may wait for a call to end).
+  void removeStateListener(StateListener& listener) noexcept;
+
   /// Runs `change` between two steps of this component: at once when no thread of its
   /// activity is stepping it (or when called from that thread), otherwise the activity thread
   /// runs it before its next update and this call waits for it. Exceptions thrown by `change`
@@ -190,6 +217,9 @@ class Component {
   /// Moves to Exception after `hook` threw; runs stopHook (if it was running) and exceptionHook.
   void enterException(std::string_view hook, const std::string& what) noexcept;
   void setLastError(std::string message);
+  /// Stores the state and tells the listeners when it changed. Real-time safe: no allocation,
+  /// no lock (a few atomic operations per listener slot).
+  void setState(State to) noexcept;
   /// Calls a hook returning bool; on throw enters Exception. Returns the hook's result.
   bool runHook(std::string_view hook, const std::function<bool()>& body);
   void registerOperation(std::unique_ptr<OperationBase> operation);
@@ -200,6 +230,8 @@ class Component {
   Role role_;
   std::string doc_;
   std::atomic<State> state_{State::PreOperational};
+  std::array<std::atomic<StateListener*>, kMaxStateListeners> state_listeners_{};
+  std::atomic<int> announcing_{0};  // setState calls telling listeners now (removeStateListener waits)
   std::unique_ptr<Activity> activity_;
   OutputPort<Event> events_{"events", "what happened to this component (exceptions, completions)", ""};
   std::vector<PortBase*> ports_;

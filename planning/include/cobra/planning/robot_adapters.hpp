@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// RobotModel adapters around the cobra::kinematics solvers of the thesis' robots, in the link
-/// order the scene files document (planning/scenes/*.scene):
+/// order the scene files document (scene.hpp; e.g. planning/test/scenes/puncturing.scene):
 ///  - `Ur5Model`: the UR5 holding the ultrasound probe (puncturing, tool 1 of q), closed-form IK;
 ///  - `IsurPuncturingModel`: the 8-DOF I-SUR with the needle (puncturing, tool 0 of q);
 ///  - `IsurSuturingModel`: the two-armed 14-DOF I-SUR, ONE solver for both tools (Algorithm 5.1,

@@ -6,6 +6,7 @@
 /// components, ports and states are checked by the runner against the deployment, not here.
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -192,6 +193,16 @@ struct StudioSpec {
   std::vector<Input> inputs;
 };
 
+class Observer;
+
+/// A section of the `run` table made into its observer by the observer registered under the
+/// section's name (cobra/run/observer.hpp).
+struct ObserverSection {
+  std::string name;  ///< the section's key, the observer's registered name
+  Where where;
+  std::shared_ptr<Observer> observer;
+};
+
 /// The whole `run` table.
 struct RunSpec {
   std::string title;
@@ -209,10 +220,17 @@ struct RunSpec {
   std::vector<TrackingSpec> tracking;
   ClearanceSpec clearance;
   StudioSpec studio;
+  /// Every section other than the runner's own (title, charts, fold, failures, explain,
+  /// safe_stop_reason, safe_stop_linger, step, actions) as its observer, in the registry's order.
+  /// cobra's own observers keep their typed part above (record ... studio) as well.
+  std::vector<ObserverSection> observers;
 };
 
-/// Reads the global `run` of `L` (written in `file`, whose text gives the entries' lines).
-/// @throws std::runtime_error "file:line: run.<path>: what was expected".
+/// Reads the global `run` of `L` (written in `file`, whose text gives the entries' lines): the
+/// runner's own fields, then every other section through its registered observer.
+/// @throws std::runtime_error "file:line: run.<path>: what was expected", or for a section no
+///         observer is registered for "file:line: run.NAME: unknown section 'NAME'; did you mean
+///         'M'? known sections: ...".
 RunSpec readRunSpec(lua_State* L, const std::string& file);
 
 /// Runs the faults file `file` in `L` (it returns a list of entries, ActionSpec's format) and

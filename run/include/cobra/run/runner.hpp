@@ -16,7 +16,7 @@
 
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/core/realtime_executor.hpp"
-#include "cobra/report/run_report.hpp"
+#include "cobra/run/report.hpp"
 #include "cobra/run/tracking.hpp"
 #include "cobra/statechart/description.hpp"
 
@@ -162,6 +162,7 @@ struct ClearanceFigures {
   int unreachable = 0;  ///< NaN samples (the port's component could not measure the state)
   /// Per declared contact: its name and smallest distance [m] (0: touching or inside).
   std::vector<std::pair<std::string, double>> contacts;
+  double last = std::numeric_limits<double>::quiet_NaN();  ///< m, the last sample (NaN: none, or paused)
 };
 
 /// How the real-time executor kept time (a run on the wall clock with the executor).
@@ -186,7 +187,7 @@ struct RunResult {
   Outcome outcome = Outcome::TimeLimit;
   std::string reason;  ///< one line: why the run ended (empty when completed)
   double duration = 0.0;  ///< s
-  std::vector<report::EventRecord> events;
+  std::vector<EventRecord> events;
   /// What happened, in order, one line each: task states ("needle > root.WaitCryoCycle", a
   /// chart's folded leaves left out), switches ("needle deployment > NAME", "configuration > NAME"),
   /// every component's events ("NeedleMonitor: e_skin_touched"), safe stops ("needle safe stop")
@@ -197,6 +198,8 @@ struct RunResult {
   /// Each chart's active state (full path) when the run ended, in the order of run.charts.
   std::vector<std::pair<std::string, std::string>> final_states;
   std::vector<std::string> switches;  ///< "  12.345 s needle deployment NAME"
+  /// Every observer's summary values (run.summary's first, in order; then those of other
+  /// observers, e.g. a package's); the report shows each as a row.
   std::vector<SummaryValue> summary;
   std::vector<TrackingFigures> tracking;  ///< one per run.tracking entry, in order
   ClearanceFigures clearance;             ///< when run.clearance is declared

@@ -1,4 +1,4 @@
 -- The needle robot's free motion behaviour (thesis §4.7): the admittance of
--- components/control/configurations/puncturing/free_motion.lua, on NeedleAdmittance.
+-- deployment/admittance/free_motion.lua, on NeedleAdmittance.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)")
-return { NeedleAdmittance = dofile(here .. "../../../../../components/control/configurations/puncturing/free_motion.lua").Admittance }
+return { NeedleAdmittance = dofile(here .. "../../admittance/free_motion.lua").Admittance }

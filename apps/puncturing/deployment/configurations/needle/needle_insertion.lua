@@ -1,4 +1,4 @@
 -- The needle robot's needle insertion behaviour (thesis §4.7): the admittance of
--- components/control/configurations/puncturing/needle_insertion.lua, on NeedleAdmittance.
+-- deployment/admittance/needle_insertion.lua, on NeedleAdmittance.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)")
-return { NeedleAdmittance = dofile(here .. "../../../../../components/control/configurations/puncturing/needle_insertion.lua").Admittance }
+return { NeedleAdmittance = dofile(here .. "../../admittance/needle_insertion.lua").Admittance }

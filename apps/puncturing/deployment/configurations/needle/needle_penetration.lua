@@ -1,4 +1,4 @@
 -- The needle robot's penetration behaviour (thesis §4.7): the admittance of
--- components/control/configurations/puncturing/penetration.lua, on NeedleAdmittance.
+-- deployment/admittance/penetration.lua, on NeedleAdmittance.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)")
-return { NeedleAdmittance = dofile(here .. "../../../../../components/control/configurations/puncturing/penetration.lua").Admittance }
+return { NeedleAdmittance = dofile(here .. "../../admittance/penetration.lua").Admittance }

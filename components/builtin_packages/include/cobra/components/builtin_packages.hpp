@@ -8,9 +8,10 @@
 
 namespace cobra::components {
 
-/// Makes cobra_signal, cobra_motion, cobra_coordination, cobra_control, cobra_planning,
-/// cobra_bridges, cobra_drivers, cobra_sim, cobra_monitoring and the puncturing task's
-/// cobra_puncturing (apps/puncturing/components) loadable by `packages`.
+/// Makes the framework's own component packages loadable by `packages`: cobra_signal,
+/// cobra_motion, cobra_task, cobra_coordination, cobra_control, cobra_planning, cobra_bridges,
+/// cobra_drivers, cobra_sim, cobra_monitoring and cobra_reporting. An application's package
+/// (apps/*/components) is never built in: it is a shared library found by name on the search path.
 /// @throws core::Error when one of these names is already known to `packages`.
 void addBuiltinPackages(deploy::PackageRegistry& packages);
 

@@ -1,64 +1,21 @@
 #pragma once
 /// @file
-/// The report of one run of an application (the puncturing demo, the door example): a folder with
-/// a machine-readable event log, the recorded ports (written by the Reporter component) and an
-/// HTML page with a timeline of every chart's states, plots and a summary. No dependency beyond
-/// cobra::plot; the page is self-contained (inline SVG, no script, no download).
+/// The report of one run of an application as an HTML page: a timeline of every chart's states,
+/// plots and a summary, self-contained (inline SVG, no script, no download). It renders the
+/// runner's report data (cobra/run/report.hpp: RunReport, EventRecord, StateInterval, Figure),
+/// and registers itself with the runner (registerHtmlReport; the `cobra` tool and the
+/// `cobra::run` CMake target do it): cobra::run sits below tools/ and knows no renderer.
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "cobra/plot/svg_plot.hpp"
+#include "cobra/run/report.hpp"
 
 namespace cobra::report {
 
-/// One event seen during the run: when [s, simulated or wall time], who raised it, its name, and
-/// the state of the chart that received it right after it was handled ("" when none did).
-struct EventRecord {
-  double time = 0.0;
-  std::string source;
-  std::string event;
-  std::string state;
-};
-
-/// A chart stayed in `state` from `begin` to `end` [s].
-struct StateInterval {
-  std::string chart;
-  std::string state;
-  double begin = 0.0;
-  double end = 0.0;
-};
-
-/// Turns state changes observed over time into intervals, one lane per chart.
-class TimelineRecorder {
- public:
-  /// Records that `chart` is in `state` at `time` [s]; only changes start a new interval.
-  /// @throws std::invalid_argument when time goes backwards for that chart.
-  void observe(double time, const std::string& chart, const std::string& state);
-  /// The intervals so far, the open one of each chart closed at `end_time` [s].
-  std::vector<StateInterval> intervals(double end_time) const;
-  /// Every state each chart entered, in order of first entry.
-  std::vector<std::string> statesEntered(const std::string& chart) const;
-
- private:
-  std::vector<StateInterval> closed_;
-  std::vector<StateInterval> open_;  // one per chart, end unused
-};
-
-/// Everything the HTML page shows.
-struct RunReport {
-  std::string title;
-  std::vector<std::pair<std::string, std::string>> summary;  ///< key, value (with its unit)
-  std::vector<EventRecord> events;
-  std::vector<StateInterval> timeline;
-  std::vector<plot::Figure> figures;
-  std::vector<std::string> files;  ///< other files of the run folder to link (e.g. "signals.csv")
-};
-
-/// The event log as CSV: `time [s],source,event,state`, one row per event, fields quoted when
-/// they hold a comma or a quote.
-std::string eventLogCsv(const std::vector<EventRecord>& events);
+using run::eventLogCsv;
 
 /// A Gantt-like SVG: one lane per chart, one box per interval, labelled with the state's leaf
 /// name when it fits (the full name is the box's tooltip).
@@ -66,6 +23,17 @@ std::string timelineSvg(const std::vector<StateInterval>& timeline, int width = 
 
 /// The self-contained HTML page of `report`.
 std::string toHtml(const RunReport& report);
+
+/// The figure as cobra::plot draws it.
+plot::Figure toPlot(const run::Figure& figure);
+
+/// Writes `report.html` into `folder` (which exists). @return its path.
+/// @throws std::runtime_error naming the file it cannot write.
+std::filesystem::path writeHtml(const std::filesystem::path& folder, const RunReport& report);
+
+/// Makes the runner write report.html into every run folder (run::ObserverRegistry's report
+/// writer "html"). Registering again does nothing.
+void registerHtmlReport();
 
 /// Writes `events.csv` and `report.html` into `folder` (created if needed).
 /// @return the path of report.html. @throws std::runtime_error naming the file it cannot write.

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
 /// The data of the puncturing task (thesis §4.2, §4.5.5): preoperative information, the
-/// cryoablation plan, the ultrasound probe plan, the state→data table of the Puncturing Frame
-/// Generator and the scripted surgeon, each read from a small text format (apps/puncturing/
+/// cryoablation plan, the ultrasound probe plan, the vocabulary of the Puncturing Frame
+/// Generator's state table and the scripted surgeon, each read from a small text format (apps/puncturing/
 /// README.md). Core-free: KDL geometry only.
 ///
 /// Frame A (abdomen) is the simulated phantom's frame P (sim/README.md): the undeformed skin is
@@ -20,6 +20,9 @@
 #include <vector>
 
 #include <kdl/frames.hpp>
+
+#include "cobra/task/state_table.hpp"
+#include "cobra/task/statements.hpp"
 
 namespace cobra::puncturing {
 
@@ -56,71 +59,21 @@ struct PlannedProbe {
   int line = 0;
 };
 
-/// What a row of the state table asks for one arm: a named datum moved `offset` m along the
-/// tool's z axis (needle axis or beam; > 0 deeper, < 0 retracted).
-struct Datum {
-  std::string name;  ///< entry, target, probe, next_entry, next_target, next_probe, hold, or a `pose`
-  double offset = 0.0;
-};
+/// The state table (thesis §4.5.5) is the framework's (cobra/task/state_table.hpp): the
+/// puncturing table is one with the vocabulary below.
+using task::Datum;
+using task::DatumMotion;
+using task::StateRow;
+using task::StateTable;
+using task::TableVocabulary;
+using task::alongZ;
+using task::parseStateTable;
+using task::pathContains;
+using task::readText;
 
-/// A straight motion of one arm from one datum to another (`room_for_*=FROM..TO`).
-struct DatumMotion {
-  Datum from, to;  ///< empty names: none
-};
-
-/// A row: when the task state's path contains `state` (dot-separated components, e.g.
-/// "MoveToSkin.Approach"), the goal pair is needle = `needle`, probe = `probe`.
-///
-/// The table serves any two-arm task (TableVocabulary): arm 0 is the vocabulary's first arm (the
-/// needle here; the Endo Stitch in the suturing task), arm 1 its second (the probe; the stick).
-/// goal(arm), then(arm) and roomFor(arm) name the fields by arm.
-struct StateRow {
-  std::string state;
-  /// The goal datum of each arm (at least one). Several on one arm (`needle=a|b|c`) are
-  /// alternatives, the preferred first: the motion planner takes the first that passes its checks
-  /// (the goal, then_*, room_for_*) and to which it finds a path. At most one arm lists several.
-  std::vector<Datum> needle, probe;
-  /// `then_needle=` / `then_probe=`: where the straight motion that follows this goal (a motion
-  /// primitive of the next task state) takes that arm; the goal is then published with it, and the
-  /// motion planner verifies it with the path. Empty name: none.
-  Datum then_needle, then_probe;
-  /// `room_for_needle=A..B` / `room_for_probe=A..B`: a straight motion that arm makes later, from
-  /// A to B, while the other arm stays at this goal (e.g. the probe's next approach and descent
-  /// beside the needle's waiting pose): the planner verifies every goal alternative with it.
-  DatumMotion room_for_needle, room_for_probe;
-  int line = 0;
-
-  std::vector<Datum>& goal(std::size_t arm) noexcept { return arm == 0 ? needle : probe; }
-  const std::vector<Datum>& goal(std::size_t arm) const noexcept { return arm == 0 ? needle : probe; }
-  Datum& then(std::size_t arm) noexcept { return arm == 0 ? then_needle : then_probe; }
-  const Datum& then(std::size_t arm) const noexcept { return arm == 0 ? then_needle : then_probe; }
-  DatumMotion& roomFor(std::size_t arm) noexcept { return arm == 0 ? room_for_needle : room_for_probe; }
-  const DatumMotion& roomFor(std::size_t arm) const noexcept { return arm == 0 ? room_for_needle : room_for_probe; }
-};
-
-/// The words of one task's state table: its two arms' keys (`needle=`, `then_needle=`,
-/// `room_for_needle=` ...) and the datums its Frame Generator resolves from the task's data
-/// (besides `hold` and the table's own poses, which every table has).
-struct TableVocabulary {
-  std::array<std::string, 2> arms;
-  std::vector<std::string> datums;
-};
-
-/// The puncturing table's: arms needle and probe; datums entry, target, probe, next_entry,
+/// The puncturing table's words: arms needle and probe; datums entry, target, probe, next_entry,
 /// next_target, next_probe.
 const TableVocabulary& puncturingVocabulary();
-
-/// The Frame Generator's configurable table (thesis §4.5.5) and its fixed task-frame poses.
-struct StateTable {
-  std::vector<StateRow> rows;
-  std::vector<std::pair<std::string, KDL::Frame>> poses;  ///< name → pose in T (m, rad)
-
-  /// The row for task state `path` ("root.InsertingNeedles.MoveToSkin.Approach.AskingGoal"):
-  /// among rows whose components appear contiguously in the path, the one ending deepest, then
-  /// the longest. nullptr when none matches.
-  const StateRow* find(std::string_view path) const;
-  const KDL::Frame* pose(std::string_view name) const;
-};
 
 /// A surgeon's scripted action: emit `event` `at` s after the start, or `after` s after chart
 /// `chart` ("needle" or "us") entered a state whose path contains `state`, at most `times` times.
@@ -156,7 +109,6 @@ PreoperativeInfo parsePreoperative(std::string_view text, std::string_view sourc
 std::vector<PlannedNeedle> parseCryoPlan(std::string_view text, std::string_view source);
 std::vector<PlannedProbe> parseProbePlan(std::string_view text, std::string_view source);
 StateTable parseStateTable(std::string_view text, std::string_view source);  ///< puncturingVocabulary()
-StateTable parseStateTable(std::string_view text, std::string_view source, const TableVocabulary& vocabulary);
 SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source);
 
 /// The text forms: parse(print(x)) == x, numbers exactly (printed as their shortest exact decimal),
@@ -164,9 +116,6 @@ SurgeonScript parseSurgeonScript(std::string_view text, std::string_view source)
 std::string print(const PreoperativeInfo& info);
 std::string printCryoPlan(const std::vector<PlannedNeedle>& needles);
 std::string printProbePlan(const std::vector<PlannedProbe>& probes);
-
-/// Reads a file. @throws std::invalid_argument naming the path when it cannot be read.
-std::string readText(const std::string& path);
 
 /// Parses the three files and checks them against each other (validate()).
 /// @throws std::invalid_argument "FILE:LINE: message".
@@ -190,15 +139,8 @@ KDL::Frame needleEntryPose(const PlannedNeedle& needle);
 /// Shortest distance (m) from segment p-q to the surface of `region` (< 0: inside).
 double distanceToRegion(const KDL::Vector& p, const KDL::Vector& q, const ForbiddenRegion& region);
 
-/// True when the dot-separated components of `state` appear contiguously in `path`
-/// ("MoveToSkin.Descend" in "root.InsertingNeedles.MoveToSkin.Descend.Moving").
-bool pathContains(std::string_view path, std::string_view state);
-
 /// Whether `name` is a datum of the current needle's plan (entry, target, probe) or of the next
 /// one's (next_entry, next_target, next_probe); `next` says which.
 bool planDatum(std::string_view name, bool& next);
-
-/// `pose` moved `offset` m along its own z axis.
-KDL::Frame alongZ(const KDL::Frame& pose, double offset);
 
 }  // namespace cobra::puncturing

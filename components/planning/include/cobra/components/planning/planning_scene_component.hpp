@@ -45,7 +45,7 @@ planning::SceneDescription buildPlanningScene(const PlanningSceneSettings& setti
 
 /// Base of the planning components. Properties (thesis names):
 /// - `models_folder` (path): folder of the scene file and meshes when given relative; "" = cwd.
-/// - `scene_file` (path): cobra's scene file (planning/scenes/puncturing.scene: robots, groups,
+/// - `scene_file` (path): cobra's scene file (cobra/planning/scene.hpp; e.g. an application's deployment/*.scene: robots, groups,
 ///   objects, checked pairs). Required.
 /// - `isur_mesh_names`, `UR5_mesh_names` (blank- or comma-separated file names, `-` = keep): mesh
 ///   i replaces the scene's shapes on link i of that robot (mesh in the link frame, in

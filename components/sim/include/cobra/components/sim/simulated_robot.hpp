@@ -274,7 +274,7 @@ class SimulatedUR5Robot : public SimulatedServoRobotBase {
 /// Defaults (ASSUMPTIONS, the thesis gives none): start [0.1, 0.1, 0.1 m, 0, 0, 0.75, 0.45, 0,
 /// 0, 0.5, -0.5, 0, 0.5, 0 rad]: the Endo Stitch pitched 1.2 rad down (0.37 rad from its vertical,
 /// the elbow q6 - q7 on the solver's 0.3 rad rule), the 6-DOF arm's elbow bent 1 rad and its wrist
-/// 0.5 rad from alignment (both away from their singularities); with planning/scenes/suturing.scene's
+/// 0.5 rad from alignment (both away from their singularities); with the suturing application's scene's
 /// base (1 m above the table, z up) the Endo Stitch tip is at (0.18, 0, 0.17) m and the gripper at
 /// (0.07, 0.12, 0.31) m. Velocities, encoders as SimulatedISURRobot's for q1..q8 and 1.5 rad/s,
 /// 2^18 counts/rev for q9..q14.

@@ -2,21 +2,15 @@
 /// @file
 /// The suturing task's Frame Generator (thesis §5.5, after the puncturing one of §4.5.5): the goal
 /// poses of both arms for the current task state, from a state table whose datums are the current
-/// stitch (the StitchPlanner's targets, input ports) and the arms' measured poses. The table's
-/// parser and evaluator are the puncturing Frame Generator's (cobra/puncturing/plan_goals.hpp):
-/// only the datums differ.
+/// stitch (the StitchPlanner's targets, input ports) and the arms' measured poses: the framework's
+/// StateTableFrameGenerator (components/task) with the suturing task's datums.
 
 #include <array>
 #include <string>
 
 #include <kdl/frames.hpp>
 
-#include "cobra/core/component.hpp"
-#include "cobra/core/event.hpp"
-#include "cobra/core/request.hpp"
-#include "cobra/puncturing/plan.hpp"
-#include "cobra/puncturing/plan_goals.hpp"
-#include "cobra/components/motion/path_type.hpp"
+#include "cobra/components/task/state_table_frame_generator.hpp"
 
 namespace cobra::components {
 
@@ -43,40 +37,27 @@ namespace cobra::components {
 /// application gives it once, apps/suturing/frames.lua): a goal is the datum pose itself, `hold`
 /// the measured pose.
 ///
-/// Interface:
-/// - properties `state_table_file` (read at configure: a bad file refuses configure with
-///   "component 'X': FILE:LINE: message"), the four offsets above;
-/// - inputs `currentTaskState` (TaskState), `rightStitchPose`, `leftStitchPose` (KDL.Frame, m, world:
-///   x along the cut, z out of the skin), `rightMeasPose`, `leftMeasPose` (KDL.Frame, m, world);
-/// - outputs `desiredPoses` (TGL.MultiAxisPath, [measured pair, goal pair], 7 values per arm, right
-///   then left: the CartesianTrajectoryGenerator's plannedPath), `goalPoses` (the MotionPlanner's:
-///   the goal pair, or with checks (alternatives, then_*, room_for_*) one waypoint per alternative as
-///   the puncturing Frame Generator writes it);
-/// - operations `askCurrentGoal()` (answered in this component's next step with e_goal_ready or
-///   e_no_data), `lastFailure()` (why the last e_no_data: the state, the table line, the datum).
-/// Real time: answering a row of one goal without checks allocates nothing once the ports are
-/// connected (paths preallocated at configure); e_no_data builds its message.
-class SuturingFrameGenerator : public core::Component, private puncturing::DatumSource {
+/// Interface (besides StateTableFrameGenerator's: `state_table_file`, `currentTaskState`,
+/// `desiredPoses`, `goalPoses` (right then left), `askCurrentGoal()`, `lastFailure()`; measured on
+/// `rightMeasPose` and `leftMeasPose`):
+/// - properties: the four offsets above, `right_half_state`, `left_half_state`;
+/// - inputs `rightStitchPose`, `leftStitchPose` (KDL.Frame, m, world: x along the cut, z out of
+///   the skin).
+/// Real time: as StateTableFrameGenerator's.
+class SuturingFrameGenerator : public StateTableFrameGenerator {
  public:
   explicit SuturingFrameGenerator(std::string name);
 
   /// The table's words: arms right and left, the datums above.
-  static const puncturing::TableVocabulary& vocabulary();
-  const puncturing::StateTable& table() const { return table_; }
-  /// The request askCurrentGoal (from any thread): answered in the next step.
-  void askCurrentGoal() { goal_request_.ask(activity()); }
+  static const task::TableVocabulary& suturingVocabulary();
 
  protected:
-  bool configureHook() override;
   bool startHook() override;
-  void updateHook() override;
+  void readTaskInputs() override;
+  void taskStateRead(std::string_view path) override;
+  Outcome resolveTaskDatum(const task::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
 
  private:
-  Outcome resolve(const puncturing::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
-  void answer();
-  void noData(const std::string& reason);
-
-  core::Property<std::string> state_table_file_{"state_table_file", "", "", "state -> goal datum of each arm"};
   core::Property<KDL::Vector> pull_offset_{"pull_offset", KDL::Vector(0.0, 0.0, 0.037), "m",
                                            "the Endo Stitch pulling the thread, from the stitch's centre (stitch frame)"};
   // The default: the suturing application's (apps/suturing/deployment/controller.lua, where it is
@@ -95,26 +76,12 @@ class SuturingFrameGenerator : public core::Component, private puncturing::Datum
   core::Property<std::string> left_half_state_{"left_half_state", "ApplyLeftStitch", "",
                                                "task state path component of the left half-stitch"};
 
-  core::InputPort<core::TaskState> task_state_{"currentTaskState", "the task chart's active state", ""};
   core::InputPort<KDL::Frame> right_stitch_{"rightStitchPose", "the current stitch's right target, world", "m"};
   core::InputPort<KDL::Frame> left_stitch_{"leftStitchPose", "the current stitch's left target, world", "m"};
-  core::InputPort<KDL::Frame> right_meas_{"rightMeasPose", "measured Endo Stitch tip pose, world", "m"};
-  core::InputPort<KDL::Frame> left_meas_{"leftMeasPose", "measured stick tip pose, world", "m"};
-  core::OutputPort<trajectory::MultiAxisPath> desired_poses_{
-      "desiredPoses", "[measured pair, goal pair]: right then left, x y z qx qy qz qw each, world", "m"};
-  core::OutputPort<trajectory::MultiAxisPath> goal_poses_{
-      "goalPoses", "goal alternatives, one waypoint each: the goal pair (right then left, x y z qx qy qz qw each, "
-      "world), with the checks of its row after it", "m"};
 
-  puncturing::StateTable table_;
-  core::TaskState state_;
-  std::array<KDL::Frame, 2> stitch_, measured_, goal_pair_;  // stitch_: right, left target
-  std::array<bool, 2> have_stitch_{false, false}, have_measured_{false, false};
+  std::array<KDL::Frame, 2> stitch_;  // right, left target
+  std::array<bool, 2> have_stitch_{false, false};
   std::size_t last_half_ = 0;  // 0: right, 1: left
-  trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
-  puncturing::GoalFailure failure_;
-  std::string last_failure_;
-  core::PendingRequest goal_request_;
 };
 
 }  // namespace cobra::components
