@@ -93,19 +93,7 @@ Registry& registry() {
 
 void registerBuiltins() {
   static const bool done = [] {
-    typeInfo<double>();
-    typeInfo<int>();
-    typeInfo<bool>();
-    typeInfo<std::string>();
-    typeInfo<std::vector<double>>();
-    typeInfo<KDL::Vector>();
-    typeInfo<KDL::Rotation>();
-    typeInfo<KDL::Frame>();
-    typeInfo<KDL::Twist>();
-    typeInfo<KDL::Wrench>();
-    typeInfo<KDL::JntArray>();
-    typeInfo<Event>();
-    typeInfo<TaskState>();
+    forEachType(BuiltinDataTypes{}, [](auto type) { typeInfo<typename decltype(type)::type>(); });
     return true;
   }();
   (void)done;

@@ -10,6 +10,7 @@
 
 #include "cobra/core/port.hpp"
 #include "cobra/core/record.hpp"
+#include "cobra/test_support/counting_new.hpp"
 
 namespace {
 struct Gains {
@@ -71,6 +72,25 @@ TEST(Record, IsRegisteredWithItsNameKindAndFields) {
   });
   EXPECT_EQ(names, (std::vector<std::string>{"depth", "label", "pose", "gains"}));
   EXPECT_EQ(units, (std::vector<std::string>{"m", "", "", ""}));
+}
+
+TEST(Record, ItsFieldsAreListedAtRunTimeWithTheirTypes) {
+  (void)typeInfo<ProbeReading>();  // registered at its first use (a port, registerType)
+  const TypeInfo* info = TypeRegistry::find("test.ProbeReading");
+  ASSERT_NE(info, nullptr);
+  ASSERT_EQ(info->fields.size(), 4u);
+  EXPECT_EQ(info->fields[0].name, "depth");
+  EXPECT_EQ(info->fields[0].unit, "m");
+  EXPECT_EQ(info->fields[0].doc, "image depth");
+  EXPECT_EQ(info->fields[0].type->name, "double");
+  EXPECT_EQ(info->fields[2].type->name, "KDL.Frame");
+  ASSERT_EQ(info->fields[3].type->fields.size(), 2u);  // a nested record lists its own fields
+  EXPECT_EQ(info->fields[3].type->fields[0].unit, "N/m");
+  // Its field types are registered with it.
+  EXPECT_NE(TypeRegistry::find("test.Gains"), nullptr);
+  EXPECT_TRUE(TypeRegistry::find("double")->fields.empty());
+  EXPECT_EQ(TypeRegistry::find("KDL.Frame")->cpp, "KDL::Frame");
+  EXPECT_EQ(TypeRegistry::find("KDL.Frame")->header, "<kdl/frames.hpp>");
 }
 
 TEST(Record, PrintsEveryFieldByNameAndReadsItBack) {
@@ -137,6 +157,30 @@ TEST(Record, TravelsOnAPortLikeAnyType) {
   ProbeReading got;
   ASSERT_EQ(in.read(got), FlowStatus::NewData);
   EXPECT_TRUE(same(got, sample()));
+}
+
+// Real-time: a record of fixed size (no string longer than its capacity) is written and read
+// without allocating, like any port type.
+TEST(Record, WritingAndReadingItOnAPortAllocatesNothing) {
+  OutputPort<ProbeReading> out("reading", "", "m");
+  InputPort<ProbeReading> in("reading", "", "m");
+  ProbeReading value = sample();
+  value.label.reserve(64);
+  out.setDataSample(value);
+  out.connectTo(in, ConnPolicy::buffer(4));
+  ProbeReading got = value;
+  out.write(value);
+  ASSERT_EQ(in.read(got), FlowStatus::NewData);  // warm-up: the reader's copy has the capacity
+  const long allocations = test_support::allocationsDuring([&] {
+    for (int i = 0; i < 1000; ++i) {
+      value.depth = i;
+      value.gains.samples = i;
+      out.write(value);
+      (void)in.read(got);
+    }
+  });
+  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(got.gains.samples, 999);
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include "bindings_internal.hpp"
 #include "cobra/script/convert.hpp"
 #include "lua_guard.hpp"
-#include "port_access.hpp"
+#include "cobra/script/port_access.hpp"
 
 namespace cobra::script {
 

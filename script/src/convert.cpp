@@ -1,18 +1,25 @@
-// Every Lua <-> C++ value conversion of cobra, in one table keyed by type name.
+// The Lua codecs of cobra's own types, the Lua primitives the header codecs use, and the registry of
+// conversions (filled by registerLuaType<T>; cobra's own types from core::BuiltinDataTypes).
 
 #include "cobra/script/convert.hpp"
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <optional>
+#include <vector>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
 #include "cobra/core/activity.hpp"
 #include "cobra/core/component.hpp"
+#include "cobra/core/event.hpp"
 #include "lua_guard.hpp"
-#include "port_access.hpp"
+#include "cobra/script/port_access.hpp"
 
 namespace cobra::script {
 
@@ -33,25 +40,64 @@ std::string describeLuaValue(lua_State* L, int index) {
   }
 }
 
-namespace {
+namespace lua_codec {
 
-/// Restores the stack top on scope exit (lua_settop raises nothing).
-class StackGuard {
- public:
-  explicit StackGuard(lua_State* L) : L_(L), top_(lua_gettop(L)) {}
-  ~StackGuard() { lua_settop(L_, top_); }
-  StackGuard(const StackGuard&) = delete;
-  StackGuard& operator=(const StackGuard&) = delete;
-
- private:
-  lua_State* L_;
-  int top_;
-};
-
-[[noreturn]] void refuse(lua_State* L, int index, std::string_view form, std::string_view detail = {}) {
+void refuse(lua_State* L, int index, std::string_view form, std::string_view detail) {
   throw core::Error("expected " + std::string(form) + ", got " + describeLuaValue(L, index) +
                     (detail.empty() ? "" : " (" + std::string(detail) + ")"));
 }
+bool isTable(lua_State* L, int index) { return lua_type(L, index) == LUA_TTABLE; }
+int absIndex(lua_State* L, int index) { return lua_absindex(L, index); }
+int top(lua_State* L) { return lua_gettop(L); }
+void setTop(lua_State* L, int top) { lua_settop(L, top); }
+void pushRawField(lua_State* L, int index, std::string_view key) { detail::rawField(L, index, key); }
+void pushNil(lua_State* L) { lua_pushnil(L); }
+
+std::string unknownKey(lua_State* L, int index, std::span<const std::string_view> names) {
+  index = lua_absindex(L, index);
+  StackGuard guard(L);
+  lua_pushnil(L);
+  while (lua_next(L, index) != 0) {
+    if (lua_type(L, -2) != LUA_TSTRING) return describeLuaValue(L, -2);
+    std::size_t n = 0;
+    const char* k = lua_tolstring(L, -2, &n);
+    if (std::find(names.begin(), names.end(), std::string_view(k, n)) == names.end())
+      return "'" + std::string(k, n) + "'";
+    lua_pop(L, 1);
+  }
+  return {};
+}
+
+void newTable(lua_State* L, int fields) { lua_createtable(L, 0, fields); }
+void setField(lua_State* L, std::string_view name) {
+  lua_pushlstring(L, name.data(), name.size());
+  lua_insert(L, -2);
+  lua_rawset(L, -3);
+}
+
+namespace {
+struct PushJob {
+  void (*push)(lua_State*, const void*);
+  const void* value;
+};
+int pushThunk(lua_State* L) {
+  const auto* job = static_cast<const PushJob*>(lua_touserdata(L, 1));
+  job->push(L, job->value);
+  return 1;
+}
+}  // namespace
+
+void pushProtected(lua_State* L, void (*push)(lua_State*, const void*), const void* value) {
+  const PushJob job{push, value};
+  detail::protectedCall(L, &pushThunk, &job, 1);
+}
+
+}  // namespace lua_codec
+
+namespace {
+
+using lua_codec::refuse;
+using lua_codec::StackGuard;
 
 /// Reads the array {a, b, ...} of exactly `count` numbers at `index`.
 void readArray(lua_State* L, int index, double* out, std::size_t count, std::string_view form) {
@@ -143,103 +189,6 @@ void readMember(lua_State* L, int index, std::string_view name, V& out, std::str
   read(L, -1, out, form);
 }
 
-template <class T>
-struct Converter;
-
-template <>
-struct Converter<double> {
-  static void read(lua_State* L, int i, double& out) {
-    if (lua_type(L, i) != LUA_TNUMBER) refuse(L, i, "a number");
-    out = static_cast<double>(lua_tonumber(L, i));
-  }
-  static void push(lua_State* L, const double& v) { lua_pushnumber(L, v); }
-};
-
-template <>
-struct Converter<int> {
-  static void read(lua_State* L, int i, int& out) {
-    constexpr std::string_view form = "an integer";
-    if (lua_type(L, i) != LUA_TNUMBER) refuse(L, i, form);
-    const double d = static_cast<double>(lua_tonumber(L, i));
-    if (!lua_isinteger(L, i) && std::floor(d) != d) refuse(L, i, form, "not an integer");
-    if (!(d >= std::numeric_limits<int>::min() && d <= std::numeric_limits<int>::max()))
-      refuse(L, i, form, "outside the int range [-2147483648, 2147483647]");
-    out = static_cast<int>(d);
-  }
-  static void push(lua_State* L, const int& v) { lua_pushinteger(L, v); }
-};
-
-template <>
-struct Converter<bool> {
-  static void read(lua_State* L, int i, bool& out) {
-    if (lua_type(L, i) != LUA_TBOOLEAN) refuse(L, i, "true or false");
-    out = lua_toboolean(L, i) != 0;
-  }
-  static void push(lua_State* L, const bool& v) { lua_pushboolean(L, v ? 1 : 0); }
-};
-
-template <>
-struct Converter<std::string> {
-  static void read(lua_State* L, int i, std::string& out) {
-    if (lua_type(L, i) != LUA_TSTRING) refuse(L, i, "a string");
-    std::size_t n = 0;
-    const char* s = lua_tolstring(L, i, &n);
-    out.assign(s, n);
-  }
-  static void push(lua_State* L, const std::string& v) { lua_pushlstring(L, v.data(), v.size()); }
-};
-
-template <>
-struct Converter<std::vector<double>> {
-  static void read(lua_State* L, int i, std::vector<double>& out) {
-    constexpr std::string_view form = "an array of numbers {1, 2.5, 3}";
-    if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, form);
-    out.resize(static_cast<std::size_t>(lua_rawlen(L, i)));  // keeps capacity: no allocation in steady state
-    readArray(L, i, out.data(), out.size(), form);
-  }
-  static void push(lua_State* L, const std::vector<double>& v) { pushArray(L, v.data(), v.size()); }
-};
-
-template <>
-struct Converter<KDL::Vector> {
-  static void read(lua_State* L, int i, KDL::Vector& out) { readVector(L, i, out); }
-  static void push(lua_State* L, const KDL::Vector& v) { pushFields(L, v.data, {"x", "y", "z"}); }
-};
-
-template <>
-struct Converter<KDL::Rotation> {
-  static void read(lua_State* L, int i, KDL::Rotation& out) { readRotation(L, i, out); }
-  static void push(lua_State* L, const KDL::Rotation& r) {
-    double q[4];
-    r.GetQuaternion(q[0], q[1], q[2], q[3]);
-    pushFields(L, q, {"x", "y", "z", "w"});
-  }
-};
-
-template <>
-struct Converter<KDL::Frame> {
-  static void read(lua_State* L, int i, KDL::Frame& out) {
-    if (isArrayOf(L, i, 7, kFrameForm)) {
-      double v[7];
-      readArray(L, i, v, 7, kFrameForm);
-      const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-      if (!(std::abs(norm - 1.0) <= 1e-6))
-        refuse(L, i, kFrameForm, "its quaternion's norm is " + core::printValue(norm) + ", not 1");
-      out = KDL::Frame(KDL::Rotation::Quaternion(v[3], v[4], v[5], v[6]), KDL::Vector(v[0], v[1], v[2]));
-      return;
-    }
-    readMember(L, i, "p", out.p, kFrameForm, [](lua_State* S, int j, KDL::Vector& p, std::string_view f) { readVector(S, j, p, f); });
-    readMember(L, i, "M", out.M, kFrameForm, [](lua_State* S, int j, KDL::Rotation& m, std::string_view f) { readRotation(S, j, m, f); });
-  }
-  static void push(lua_State* L, const KDL::Frame& f) {
-    lua_createtable(L, 0, 2);
-    Converter<KDL::Vector>::push(L, f.p);
-    lua_setfield(L, -2, "p");
-    Converter<KDL::Rotation>::push(L, f.M);
-    lua_setfield(L, -2, "M");
-  }
-};
-
 /// Twist and Wrench: a record of two named vectors, or an array of 6 numbers.
 void readPair(lua_State* L, int i, KDL::Vector& first, KDL::Vector& second, std::string_view first_name,
               std::string_view second_name, std::string_view form) {
@@ -258,241 +207,272 @@ void readPair(lua_State* L, int i, KDL::Vector& first, KDL::Vector& second, std:
 void pushPair(lua_State* L, const KDL::Vector& first, const KDL::Vector& second, const char* first_name,
               const char* second_name) {
   lua_createtable(L, 0, 2);
-  Converter<KDL::Vector>::push(L, first);
+  LuaCodec<KDL::Vector>::push(L, first);
   lua_setfield(L, -2, first_name);
-  Converter<KDL::Vector>::push(L, second);
+  LuaCodec<KDL::Vector>::push(L, second);
   lua_setfield(L, -2, second_name);
 }
 
-template <>
-struct Converter<KDL::Twist> {
-  static void read(lua_State* L, int i, KDL::Twist& out) { readPair(L, i, out.vel, out.rot, "vel", "rot", kTwistForm); }
-  static void push(lua_State* L, const KDL::Twist& t) { pushPair(L, t.vel, t.rot, "vel", "rot"); }
-};
+constexpr std::string_view kVectorOfDoubleForm = "an array of numbers {1, 2.5, 3}";
+constexpr std::string_view kJntArrayForm = "an array of joint values {q1, q2, ...}";
+constexpr std::string_view kTaskStateForm = "a state path \"root.on.moving\"";
 
-template <>
-struct Converter<KDL::Wrench> {
-  static void read(lua_State* L, int i, KDL::Wrench& out) {
-    readPair(L, i, out.force, out.torque, "force", "torque", kWrenchForm);
+}  // namespace
+
+// ---- cobra's own types (the forms are listed in lua_codec.hpp) -------------------------------
+
+std::string_view LuaCodec<double>::form() { return "a number"; }
+void LuaCodec<double>::read(lua_State* L, int i, double& out) {
+  if (lua_type(L, i) != LUA_TNUMBER) refuse(L, i, "a number");
+  out = static_cast<double>(lua_tonumber(L, i));
+}
+void LuaCodec<double>::push(lua_State* L, const double& v) { lua_pushnumber(L, v); }
+
+std::string_view LuaCodec<int>::form() { return "an integer"; }
+void LuaCodec<int>::read(lua_State* L, int i, int& out) {
+  constexpr std::string_view form = "an integer";
+  if (lua_type(L, i) != LUA_TNUMBER) refuse(L, i, form);
+  const double d = static_cast<double>(lua_tonumber(L, i));
+  if (!lua_isinteger(L, i) && std::floor(d) != d) refuse(L, i, form, "not an integer");
+  if (!(d >= std::numeric_limits<int>::min() && d <= std::numeric_limits<int>::max()))
+    refuse(L, i, form, "outside the int range [-2147483648, 2147483647]");
+  out = static_cast<int>(d);
+}
+void LuaCodec<int>::push(lua_State* L, const int& v) { lua_pushinteger(L, v); }
+
+std::string_view LuaCodec<bool>::form() { return "true or false"; }
+void LuaCodec<bool>::read(lua_State* L, int i, bool& out) {
+  if (lua_type(L, i) != LUA_TBOOLEAN) refuse(L, i, "true or false");
+  out = lua_toboolean(L, i) != 0;
+}
+void LuaCodec<bool>::push(lua_State* L, const bool& v) { lua_pushboolean(L, v ? 1 : 0); }
+
+std::string_view LuaCodec<std::string>::form() { return "a string"; }
+void LuaCodec<std::string>::read(lua_State* L, int i, std::string& out) {
+  if (lua_type(L, i) != LUA_TSTRING) refuse(L, i, "a string");
+  std::size_t n = 0;
+  const char* s = lua_tolstring(L, i, &n);
+  out.assign(s, n);
+}
+void LuaCodec<std::string>::push(lua_State* L, const std::string& v) { lua_pushlstring(L, v.data(), v.size()); }
+
+std::string_view LuaCodec<std::vector<double>>::form() { return kVectorOfDoubleForm; }
+void LuaCodec<std::vector<double>>::read(lua_State* L, int i, std::vector<double>& out) {
+  if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, kVectorOfDoubleForm);
+  out.resize(static_cast<std::size_t>(lua_rawlen(L, i)));  // keeps capacity: no allocation in steady state
+  readArray(L, i, out.data(), out.size(), kVectorOfDoubleForm);
+}
+void LuaCodec<std::vector<double>>::push(lua_State* L, const std::vector<double>& v) {
+  pushArray(L, v.data(), v.size());
+}
+
+std::string_view LuaCodec<KDL::Vector>::form() { return kVectorForm; }
+void LuaCodec<KDL::Vector>::read(lua_State* L, int i, KDL::Vector& out) { readVector(L, i, out); }
+void LuaCodec<KDL::Vector>::push(lua_State* L, const KDL::Vector& v) { pushFields(L, v.data, {"x", "y", "z"}); }
+
+std::string_view LuaCodec<KDL::Rotation>::form() { return kRotationForm; }
+void LuaCodec<KDL::Rotation>::read(lua_State* L, int i, KDL::Rotation& out) { readRotation(L, i, out); }
+void LuaCodec<KDL::Rotation>::push(lua_State* L, const KDL::Rotation& r) {
+  double q[4];
+  r.GetQuaternion(q[0], q[1], q[2], q[3]);
+  pushFields(L, q, {"x", "y", "z", "w"});
+}
+
+std::string_view LuaCodec<KDL::Frame>::form() { return kFrameForm; }
+void LuaCodec<KDL::Frame>::read(lua_State* L, int i, KDL::Frame& out) {
+  if (isArrayOf(L, i, 7, kFrameForm)) {
+    double v[7];
+    readArray(L, i, v, 7, kFrameForm);
+    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+    if (!(std::abs(norm - 1.0) <= 1e-6))
+      refuse(L, i, kFrameForm, "its quaternion's norm is " + core::printValue(norm) + ", not 1");
+    out = KDL::Frame(KDL::Rotation::Quaternion(v[3], v[4], v[5], v[6]), KDL::Vector(v[0], v[1], v[2]));
+    return;
   }
-  static void push(lua_State* L, const KDL::Wrench& w) { pushPair(L, w.force, w.torque, "force", "torque"); }
-};
-
-template <>
-struct Converter<KDL::JntArray> {
-  static void read(lua_State* L, int i, KDL::JntArray& out) {
-    constexpr std::string_view form = "an array of joint values {q1, q2, ...}";
-    if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, form);
-    const auto n = static_cast<unsigned>(lua_rawlen(L, i));
-    if (out.rows() != n) out.resize(n);  // allocates only when the joint count changes
-    readArray(L, i, out.data.data(), n, form);
-  }
-  static void push(lua_State* L, const KDL::JntArray& q) { pushArray(L, q.data.data(), q.rows()); }
-};
-
-template <>
-struct Converter<core::Event> {
-  static void read(lua_State* L, int i, core::Event& out) {
-    i = lua_absindex(L, i);
-    constexpr std::size_t capacity = decltype(out.name)::capacity();
-    auto text = [&](int j, std::string_view what) -> std::string_view {
-      std::size_t n = 0;
-      const char* s = lua_tolstring(L, j, &n);
-      if (n > capacity) refuse(L, i, kEventForm, std::string(what) + " is longer than " + std::to_string(capacity) + " characters");
-      return {s, n};
-    };
-    if (lua_type(L, i) == LUA_TSTRING) {
-      out = core::Event{text(i, "the name"), {}, std::chrono::nanoseconds(0)};
-      return;
-    }
-    if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, kEventForm);
-    StackGuard guard(L);
-    core::Event event;
-    detail::rawField(L, i, "name");
-    if (lua_type(L, -1) != LUA_TSTRING) refuse(L, i, kEventForm, "field 'name' is " + describeLuaValue(L, -1));
-    event.name = text(-1, "the name");
-    detail::rawField(L, i, "source");
-    if (lua_type(L, -1) == LUA_TSTRING) event.source = text(-1, "the source");
-    else if (!lua_isnil(L, -1)) refuse(L, i, kEventForm, "field 'source' is " + describeLuaValue(L, -1));
-    detail::rawField(L, i, "stamp");
-    if (lua_type(L, -1) == LUA_TNUMBER) {
-      const double seconds = static_cast<double>(lua_tonumber(L, -1));
-      if (!(std::abs(seconds) < 9e9)) refuse(L, i, kEventForm, "field 'stamp' is outside +-9e9 s");
-      event.stamp = std::chrono::nanoseconds(std::llround(seconds * 1e9));
-    } else if (!lua_isnil(L, -1)) {
-      refuse(L, i, kEventForm, "field 'stamp' is " + describeLuaValue(L, -1));
-    }
-    out = event;
-  }
-  static void push(lua_State* L, const core::Event& e) {
-    lua_createtable(L, 0, 3);
-    lua_pushlstring(L, e.name.view().data(), e.name.size());
-    lua_setfield(L, -2, "name");
-    lua_pushlstring(L, e.source.view().data(), e.source.size());
-    lua_setfield(L, -2, "source");
-    lua_pushnumber(L, std::chrono::duration<double>(e.stamp).count());
-    lua_setfield(L, -2, "stamp");
-  }
-};
-
-// ---- Generic parts, instantiated once per type -------------------------------------------
-
-template <class T>
-int pushThunk(lua_State* L) {
-  Converter<T>::push(L, *static_cast<const T*>(lua_touserdata(L, 1)));
-  return 1;
+  readMember(L, i, "p", out.p, kFrameForm, [](lua_State* S, int j, KDL::Vector& p, std::string_view f) { readVector(S, j, p, f); });
+  readMember(L, i, "M", out.M, kFrameForm, [](lua_State* S, int j, KDL::Rotation& m, std::string_view f) { readRotation(S, j, m, f); });
+}
+void LuaCodec<KDL::Frame>::push(lua_State* L, const KDL::Frame& f) {
+  lua_createtable(L, 0, 2);
+  LuaCodec<KDL::Vector>::push(L, f.p);
+  lua_setfield(L, -2, "p");
+  LuaCodec<KDL::Rotation>::push(L, f.M);
+  lua_setfield(L, -2, "M");
 }
 
-/// Pushes `value`; numbers and booleans directly (no allocation), the rest in protected mode.
-template <class T>
-void pushValue(lua_State* L, const T& value) {
-  if constexpr (std::is_arithmetic_v<T>) Converter<T>::push(L, value);
-  else detail::protectedCall(L, &pushThunk<T>, &value, 1);
+std::string_view LuaCodec<KDL::Twist>::form() { return kTwistForm; }
+void LuaCodec<KDL::Twist>::read(lua_State* L, int i, KDL::Twist& out) {
+  readPair(L, i, out.vel, out.rot, "vel", "rot", kTwistForm);
+}
+void LuaCodec<KDL::Twist>::push(lua_State* L, const KDL::Twist& t) { pushPair(L, t.vel, t.rot, "vel", "rot"); }
+
+std::string_view LuaCodec<KDL::Wrench>::form() { return kWrenchForm; }
+void LuaCodec<KDL::Wrench>::read(lua_State* L, int i, KDL::Wrench& out) {
+  readPair(L, i, out.force, out.torque, "force", "torque", kWrenchForm);
+}
+void LuaCodec<KDL::Wrench>::push(lua_State* L, const KDL::Wrench& w) {
+  pushPair(L, w.force, w.torque, "force", "torque");
 }
 
-template <class T>
-void readAny(lua_State* L, int index, std::any& out) {
-  index = lua_absindex(L, index);  // the converters push while reading
-  T value{};
-  Converter<T>::read(L, index, value);
-  out = std::move(value);
+std::string_view LuaCodec<KDL::JntArray>::form() { return kJntArrayForm; }
+void LuaCodec<KDL::JntArray>::read(lua_State* L, int i, KDL::JntArray& out) {
+  if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, kJntArrayForm);
+  const auto n = static_cast<unsigned>(lua_rawlen(L, i));
+  if (out.rows() != n) out.resize(n);  // allocates only when the joint count changes
+  readArray(L, i, out.data.data(), n, kJntArrayForm);
 }
+void LuaCodec<KDL::JntArray>::push(lua_State* L, const KDL::JntArray& q) { pushArray(L, q.data.data(), q.rows()); }
 
-template <class T>
-void pushAny(lua_State* L, const std::any& value) {
-  pushValue(L, std::any_cast<const T&>(value));
-}
-
-template <class T>
-core::Property<T>& typed(core::PropertyBase& property) {
-  auto* p = dynamic_cast<core::Property<T>*>(&property);
-  if (p == nullptr) throw core::Error(property.where() + " is not a " + std::string(core::DataTypeTraits<T>::name));
-  return *p;
-}
-
-template <class T>
-std::any getProperty(const core::PropertyBase& property) {
-  const core::Property<T>& p = typed<T>(const_cast<core::PropertyBase&>(property));
-  // On the owner's activity thread (a hook reading its own property) changes are applied on
-  // this very thread between steps: read without the lock, which could block real-time code.
-  const core::Component* owner = property.owner();
-  if (owner != nullptr && owner->activity().isActivityThread()) return p.get();
-  return p.value();
-}
-
-template <class T>
-void setProperty(core::PropertyBase& property, const std::any& value) {
-  typed<T>(property).set(std::any_cast<const T&>(value));
-}
-
-/// Port access with preallocated buffers: read/write copy into them, never allocate once they
-/// have the data's size.
-template <class T>
-class TypedPortAccess final : public PortAccess {
- public:
-  explicit TypedPortAccess(core::PortBase& port)
-      : PortAccess(port),
-        input_(dynamic_cast<core::InputPort<T>*>(&port)),
-        output_(dynamic_cast<core::OutputPort<T>*>(&port)) {}
-
-  int read(lua_State* L) override {
-    core::InputPort<T>* input = input_;
-    if (input == nullptr) {
-      // An output port (read from a console): through a private data connection made at the
-      // first read, so that read sees only what is written after it.
-      if (!reader_) {
-        auto reader = std::make_unique<core::InputPort<T>>("lua_reader_" + port().name(),
-                                                           "Lua reader of " + port().fullName(), port().unit());
-        output_->connectTo(*reader, core::ConnPolicy::data());
-        reader_ = std::move(reader);
-      }
-      input = reader_.get();
-    }
-    const core::FlowStatus status = input->read(read_buffer_);
-    pushStatus(L, status);
-    if (status == core::FlowStatus::NoData) lua_pushnil(L);
-    else pushValue(L, read_buffer_);
-    return 2;
-  }
-
-  int write(lua_State* L, int index) override {
-    if (output_ == nullptr) throwNotOutput();
-    try {
-      Converter<T>::read(L, index, write_buffer_);
-    } catch (const core::Error& e) {
-      throw core::Error("port " + port().fullName() + " is a " + std::string(port().type().name) +
-                        ": cannot write it: " + e.what());
-    }
-    output_->write(write_buffer_);
-    return 0;
-  }
-
- private:
-  core::InputPort<T>* input_;
-  core::OutputPort<T>* output_;
-  std::unique_ptr<core::InputPort<T>> reader_;  // reads an output port; declared after output_
-  T read_buffer_{};
-  T write_buffer_{};
-};
-
-template <class T>
-std::unique_ptr<PortAccess> makeAccess(core::PortBase& port) {
-  return std::make_unique<TypedPortAccess<T>>(port);
-}
-
-template <class T>
-std::unique_ptr<core::PortBase> makePort(core::PortDirection direction, std::string name, std::string doc,
-                                         std::string unit) {
-  if (direction == core::PortDirection::Input)
-    return std::make_unique<core::InputPort<T>>(std::move(name), std::move(doc), std::move(unit));
-  return std::make_unique<core::OutputPort<T>>(std::move(name), std::move(doc), std::move(unit));
-}
-
-template <class T>
-std::unique_ptr<core::PropertyBase> makeProperty(std::string name, const std::any& initial, std::string unit,
-                                                 std::string doc) {
-  return std::make_unique<core::Property<T>>(std::move(name), std::any_cast<const T&>(initial), std::move(unit),
-                                             std::move(doc));
-}
-
-template <class T>
-Conversion entry(std::string_view form) {
-  return {core::DataTypeTraits<T>::name, form, &readAny<T>, &pushAny<T>, &getProperty<T>, &setProperty<T>,
-          &makeAccess<T>, &makePort<T>, &makeProperty<T>};
-}
-
-const std::array<Conversion, 12>& table() {
-  static const std::array<Conversion, 12> conversions{
-      entry<double>("a number"),
-      entry<int>("an integer"),
-      entry<bool>("true or false"),
-      entry<std::string>("a string"),
-      entry<std::vector<double>>("an array of numbers {1, 2.5, 3}"),
-      entry<KDL::Vector>(kVectorForm),
-      entry<KDL::Rotation>(kRotationForm),
-      entry<KDL::Frame>(kFrameForm),
-      entry<KDL::Twist>(kTwistForm),
-      entry<KDL::Wrench>(kWrenchForm),
-      entry<KDL::JntArray>("an array of joint values {q1, q2, ...}"),
-      entry<core::Event>(kEventForm),
+std::string_view LuaCodec<core::Event>::form() { return kEventForm; }
+void LuaCodec<core::Event>::read(lua_State* L, int i, core::Event& out) {
+  i = lua_absindex(L, i);
+  constexpr std::size_t capacity = decltype(out.name)::capacity();
+  auto text = [&](int j, std::string_view what) -> std::string_view {
+    std::size_t n = 0;
+    const char* s = lua_tolstring(L, j, &n);
+    if (n > capacity) refuse(L, i, kEventForm, std::string(what) + " is longer than " + std::to_string(capacity) + " characters");
+    return {s, n};
   };
-  return conversions;
+  if (lua_type(L, i) == LUA_TSTRING) {
+    out = core::Event{text(i, "the name"), {}, std::chrono::nanoseconds(0)};
+    return;
+  }
+  if (lua_type(L, i) != LUA_TTABLE) refuse(L, i, kEventForm);
+  StackGuard guard(L);
+  core::Event event;
+  detail::rawField(L, i, "name");
+  if (lua_type(L, -1) != LUA_TSTRING) refuse(L, i, kEventForm, "field 'name' is " + describeLuaValue(L, -1));
+  event.name = text(-1, "the name");
+  detail::rawField(L, i, "source");
+  if (lua_type(L, -1) == LUA_TSTRING) event.source = text(-1, "the source");
+  else if (!lua_isnil(L, -1)) refuse(L, i, kEventForm, "field 'source' is " + describeLuaValue(L, -1));
+  detail::rawField(L, i, "stamp");
+  if (lua_type(L, -1) == LUA_TNUMBER) {
+    const double seconds = static_cast<double>(lua_tonumber(L, -1));
+    if (!(std::abs(seconds) < 9e9)) refuse(L, i, kEventForm, "field 'stamp' is outside +-9e9 s");
+    event.stamp = std::chrono::nanoseconds(std::llround(seconds * 1e9));
+  } else if (!lua_isnil(L, -1)) {
+    refuse(L, i, kEventForm, "field 'stamp' is " + describeLuaValue(L, -1));
+  }
+  out = event;
+}
+void LuaCodec<core::Event>::push(lua_State* L, const core::Event& e) {
+  lua_createtable(L, 0, 3);
+  lua_pushlstring(L, e.name.view().data(), e.name.size());
+  lua_setfield(L, -2, "name");
+  lua_pushlstring(L, e.source.view().data(), e.source.size());
+  lua_setfield(L, -2, "source");
+  lua_pushnumber(L, std::chrono::duration<double>(e.stamp).count());
+  lua_setfield(L, -2, "stamp");
+}
+
+std::string_view LuaCodec<core::TaskState>::form() { return kTaskStateForm; }
+void LuaCodec<core::TaskState>::read(lua_State* L, int i, core::TaskState& out) {
+  if (lua_type(L, i) != LUA_TSTRING) refuse(L, i, kTaskStateForm);
+  std::size_t n = 0;
+  const char* s = lua_tolstring(L, i, &n);
+  const std::string_view path(s, n);
+  constexpr std::size_t capacity = decltype(out.path)::capacity();
+  if (path.empty() || n > capacity || path.find_first_of(" \t") != std::string_view::npos)
+    refuse(L, i, kTaskStateForm, "a path is 1 to " + std::to_string(capacity) + " characters without blanks");
+  out.path = path;
+}
+void LuaCodec<core::TaskState>::push(lua_State* L, const core::TaskState& s) {
+  lua_pushlstring(L, s.path.view().data(), s.path.size());
+}
+
+// ---- The registry ----------------------------------------------------------------------------
+
+namespace convert_detail {
+bool onOwnersThread(const core::PropertyBase& property) {
+  const core::Component* owner = property.owner();
+  return owner != nullptr && owner->activity().isActivityThread();
+}
+void refuseWrite(const core::PortBase& port, const core::Error& e) {
+  throw core::Error("port " + port.fullName() + " is a " + std::string(port.type().name) + ": cannot write it: " + e.what());
+}
+}  // namespace convert_detail
+
+namespace {
+
+/// Append-only, fixed capacity: entries never move, so a reader scans the first `count` entries
+/// without a lock (the count is published after the entry is written).
+struct Registry {
+  static constexpr std::size_t kCapacity = 256;
+  std::mutex write_mutex;
+  std::array<std::optional<std::type_index>, kCapacity> ids{};
+  std::array<Conversion, kCapacity> entries{};
+  std::atomic<std::size_t> count{0};
+};
+
+Registry& rawRegistry() {
+  static Registry r;
+  return r;
+}
+
+/// The registry, with cobra's own types (core::BuiltinDataTypes) added at its first use.
+void add(std::type_index id, const Conversion& conversion);
+
+/// The registry, with cobra's own types (core::BuiltinDataTypes) added first, at its first use.
+Registry& registry() {
+  static const bool seeded = [] {
+    core::forEachType(core::BuiltinDataTypes{}, [](auto type) {
+      using T = typename decltype(type)::type;
+      add(std::type_index(typeid(T)), conversionOf<T>());
+    });
+    return true;
+  }();
+  (void)seeded;
+  return rawRegistry();
+}
+
+void add(std::type_index id, const Conversion& conversion) {
+  Registry& r = rawRegistry();
+  std::lock_guard lock(r.write_mutex);
+  const std::size_t n = r.count.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (*r.ids[i] == id) return;
+    if (r.entries[i].type_name == conversion.type_name)
+      throw core::Error("cobra: two types are registered for Lua as '" + std::string(conversion.type_name) +
+                        "'; give one of them another DataTypeTraits<T>::name");
+  }
+  if (n == Registry::kCapacity)
+    throw core::Error("cobra: the Lua conversion registry is full (" + std::to_string(Registry::kCapacity) +
+                      " types); cannot add " + std::string(conversion.type_name));
+  r.ids[n] = id;
+  r.entries[n] = conversion;
+  r.count.store(n + 1, std::memory_order_release);
 }
 
 }  // namespace
 
-const Conversion* findConversion(std::string_view type_name) {
-  for (const Conversion& c : table())
-    if (c.type_name == type_name) return &c;
+void addConversion(std::type_index id, const Conversion& conversion) {
+  (void)registry();  // cobra's own types first
+  add(id, conversion);
+}
+
+const Conversion* findConversion(const core::TypeInfo& type) {
+  Registry& r = registry();
+  const std::size_t n = r.count.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < n; ++i)
+    if (*r.ids[i] == type.id) return &r.entries[i];
   return nullptr;
 }
 
-const Conversion* findConversion(const core::TypeInfo& type) { return findConversion(type.name); }
+const Conversion* findConversion(std::string_view type_name) {
+  Registry& r = registry();
+  const std::size_t n = r.count.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < n; ++i)
+    if (r.entries[i].type_name == type_name) return &r.entries[i];
+  return nullptr;
+}
 
 std::string conversionNames() {
-  std::string names;
-  for (const Conversion& c : table()) names += (names.empty() ? "" : ", ") + std::string(c.type_name);
-  return names;
+  Registry& r = registry();
+  const std::size_t n = r.count.load(std::memory_order_acquire);
+  std::string text;
+  for (std::size_t i = 0; i < n; ++i) text += (text.empty() ? "" : ", ") + std::string(r.entries[i].type_name);
+  return text;
 }
 
 }  // namespace cobra::script

@@ -1,4 +1,4 @@
-#include "port_access.hpp"
+#include "cobra/script/port_access.hpp"
 
 #include <string>
 

@@ -10,7 +10,33 @@
 #include <lua.hpp>
 
 #include "cobra/core/error.hpp"
+#include "cobra/core/record.hpp"
 #include "cobra/script/lua_state.hpp"
+
+namespace {
+struct Gains {
+  double stiffness = 0.0;
+  int samples = 0;
+};
+struct Probe {
+  double depth = 0.0;
+  std::string label;
+  KDL::Frame pose;
+  Gains gains;
+};
+}  // namespace
+
+template <>
+struct cobra::core::DataTypeTraits<Gains> : cobra::core::RecordTraits<Gains> {
+  static constexpr std::string_view name = "script_test.Gains";
+  static constexpr auto fields = std::tuple{field("stiffness", &Gains::stiffness, "N/m"), field("samples", &Gains::samples)};
+};
+template <>
+struct cobra::core::DataTypeTraits<Probe> : cobra::core::RecordTraits<Probe> {
+  static constexpr std::string_view name = "script_test.Probe";
+  static constexpr auto fields = std::tuple{field("depth", &Probe::depth, "m"), field("label", &Probe::label),
+                                            field("pose", &Probe::pose), field("gains", &Probe::gains)};
+};
 
 namespace cobra::script {
 namespace {
@@ -65,7 +91,7 @@ class Convert : public testing::Test {
 
 TEST_F(Convert, EveryBuiltinTypeHasAConversion) {
   for (const char* name : {"double", "int", "bool", "string", "vector<double>", "KDL.Vector", "KDL.Rotation",
-                           "KDL.Frame", "KDL.Twist", "KDL.Wrench", "KDL.JntArray", "Event"})
+                           "KDL.Frame", "KDL.Twist", "KDL.Wrench", "KDL.JntArray", "Event", "TaskState"})
     EXPECT_NE(findConversion(std::string_view(name)), nullptr) << name;
   EXPECT_EQ(findConversion(std::string_view("no.Such")), nullptr);
 }
@@ -160,6 +186,82 @@ TEST_F(Convert, EventIsARecordOrAName) {
   EXPECT_NE(refusal<core::Event>("string.rep('e', 64)").find("the name is longer than 63 characters"), std::string::npos);
   EXPECT_EQ(refusal<core::Event>("{source = 'X'}"),
             "expected an event name \"e_done\" or {name=, source=, stamp=} (stamp in s), got a table (field 'name' is nil)");
+}
+
+TEST_F(Convert, TaskStateIsItsPath) {
+  core::TaskState s;
+  s.path = "root.on.moving";
+  EXPECT_EQ(roundTrip(s), s);
+  EXPECT_EQ(lua.evaluate("pushed"), "root.on.moving");
+  EXPECT_EQ(refusal<core::TaskState>("'a b'"),
+            "expected a state path \"root.on.moving\", got the string \"a b\" (a path is 1 to 127 characters without blanks)");
+}
+
+class ConvertRecord : public Convert {
+ protected:
+  ConvertRecord() {
+    registerLuaType<Gains>();
+    registerLuaType<Probe>();
+  }
+  static Probe sample() {
+    Probe p;
+    p.depth = 0.05;
+    p.label = "liver";
+    p.pose = KDL::Frame(KDL::Rotation::RotZ(0.5), KDL::Vector(0.1, 0.2, 0.3));
+    p.gains = {250.0, 7};
+    return p;
+  }
+};
+
+TEST_F(ConvertRecord, IsATableOfItsFieldsEachInItsOwnForm) {
+  ASSERT_NE(findConversion(std::string_view("script_test.Probe")), nullptr);
+  EXPECT_EQ(findConversion(core::typeInfo<Probe>())->lua_form, "a table {depth=, label=, pose=, gains=} (script_test.Probe)");
+  const Probe back = roundTrip(sample());
+  EXPECT_EQ(back.depth, 0.05);
+  EXPECT_EQ(back.label, "liver");
+  EXPECT_TRUE(KDL::Equal(back.pose, sample().pose, 1e-12));
+  EXPECT_EQ(back.gains.stiffness, 250.0);
+  EXPECT_EQ(back.gains.samples, 7);
+  EXPECT_EQ(lua.evaluate("pushed.label .. ' ' .. pushed.pose.p.z .. ' ' .. math.type(pushed.gains.samples)"),
+            "liver 0.3 integer");
+  const Probe written = fromLua<Probe>(
+      "{depth = 1, label = 'x', pose = {1, 2, 3, 0, 0, 0, 1}, gains = {samples = 2, stiffness = 0.5}}");
+  EXPECT_EQ(written.depth, 1.0);
+  EXPECT_EQ(written.pose.p, KDL::Vector(1, 2, 3));
+  EXPECT_EQ(written.gains.samples, 2);
+  EXPECT_NE(conversionNames().find("KDL.JntArray, Event, TaskState, script_test.Gains, script_test.Probe"), std::string::npos)
+      << conversionNames();
+}
+
+TEST_F(ConvertRecord, RefusalsNameTheField) {
+  EXPECT_EQ(refusal<Gains>("3"), "expected a table {stiffness=, samples=} (script_test.Gains), got the integer 3");
+  EXPECT_EQ(refusal<Gains>("{stiffness = 'x', samples = 1}"),
+            "field 'stiffness': expected a number, got the string \"x\"");
+  EXPECT_EQ(refusal<Gains>("{stiffness = 1}"), "field 'samples': expected an integer, got nil");
+  EXPECT_EQ(refusal<Gains>("{stiffness = 1, samples = 1, stifness = 2}"),
+            "expected a table {stiffness=, samples=} (script_test.Gains), got a table (script_test.Gains has no field "
+            "'stifness')");
+  EXPECT_EQ(refusal<Gains>("{stiffness = 1, samples = 1, 5}"),
+            "expected a table {stiffness=, samples=} (script_test.Gains), got a table (script_test.Gains has no field "
+            "the integer 1)");
+  EXPECT_EQ(refusal<Probe>("{depth = 1, label = 'x', pose = {1, 2, 3, 0, 0, 0, 1}, gains = {stiffness = 1, samples = 1.5}}"),
+            "field 'gains.samples': expected an integer, got the number 1.5 (not an integer)");
+  EXPECT_EQ(refusal<Probe>("{depth = 1, label = 'x', pose = {p = {1, 2, 3}}, gains = {stiffness = 1, samples = 1}}"),
+            "field 'pose': expected {p = {x=, y=, z=}, M = {x=, y=, z=, w=}} or {x, y, z, qx, qy, qz, qw}, got a table "
+            "(field 'M' is nil)");
+}
+
+TEST_F(ConvertRecord, RegisteringTwiceKeepsOneEntryAndANameClashIsRefused) {
+  const Conversion* first = findConversion(core::typeInfo<Probe>());
+  registerLuaType<Probe>();
+  EXPECT_EQ(findConversion(core::typeInfo<Probe>()), first);
+  Conversion clash = *first;
+  try {
+    addConversion(std::type_index(typeid(long)), clash);
+    ADD_FAILURE() << "a second type named script_test.Probe was accepted";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("two types are registered for Lua as 'script_test.Probe'"), std::string::npos);
+  }
 }
 
 TEST_F(Convert, PushingInAnExhaustedPoolIsAnErrorNotACrash) {

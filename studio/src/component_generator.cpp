@@ -6,31 +6,41 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
+
+#include "cobra/core/data_type.hpp"
 
 namespace cobra::studio {
 namespace {
 
 struct TypeSpelling {
-  const char* cpp;
-  const char* include;  // extra header, or ""
-  const char* unit;     // default unit
+  std::string cpp;
+  std::string include;  // extra header, or ""
+  std::string unit;     // default unit
 };
 
-const std::map<std::string, TypeSpelling>& types() {
-  static const std::map<std::string, TypeSpelling> table = {
-      {"double", {"double", "", "1"}},
-      {"int", {"int", "", "1"}},
-      {"bool", {"bool", "", ""}},
-      {"string", {"std::string", "<string>", ""}},
-      {"vector", {"std::vector<double>", "<vector>", "1"}},
-      {"Vector", {"KDL::Vector", "<kdl/frames.hpp>", "m"}},
-      {"Rotation", {"KDL::Rotation", "<kdl/frames.hpp>", "1"}},
-      {"Frame", {"KDL::Frame", "<kdl/frames.hpp>", "m"}},
-      {"Twist", {"KDL::Twist", "<kdl/frames.hpp>", "m/s, rad/s"}},
-      {"Wrench", {"KDL::Wrench", "<kdl/frames.hpp>", "N, N·m"}},
-      {"JntArray", {"KDL::JntArray", "<kdl/jntarray.hpp>", "rad"}},
-      {"Event", {"cobra::core::Event", "", ""}},
-  };
+/// The short name the generator also accepts: KDL.Frame -> Frame, vector<double> -> vector.
+std::string shortName(std::string_view name) {
+  if (name == "vector<double>") return "vector";
+  const auto dot = name.rfind('.');
+  return std::string(dot == std::string_view::npos ? name : name.substr(dot + 1));
+}
+
+/// Every registered data type with a C++ spelling (DataTypeTraits::cpp), cobra's own and those of
+/// the packages loaded so far, by its name and by its short name when that is unambiguous.
+std::map<std::string, TypeSpelling> types() {
+  std::map<std::string, TypeSpelling> table;
+  std::map<std::string, int> shorts;
+  const std::vector<const core::TypeInfo*> all = core::TypeRegistry::all();
+  for (const core::TypeInfo* t : all)
+    if (!t->cpp.empty()) ++shorts[shortName(t->name)];
+  for (const core::TypeInfo* t : all) {
+    if (t->cpp.empty()) continue;
+    const TypeSpelling spelling{std::string(t->cpp), std::string(t->header), std::string(t->unit)};
+    table.emplace(std::string(t->name), spelling);
+    const std::string alias = shortName(t->name);
+    if (shorts[alias] == 1) table.emplace(alias, spelling);
+  }
   return table;
 }
 
@@ -69,7 +79,12 @@ std::string roleEnum(const std::string& role) {
   return "Bridge";
 }
 
-std::string cppType(const InterfaceItem& item) { return types().at(item.type).cpp; }
+std::string cppType(const InterfaceItem& item) {
+  const auto all = types();
+  const auto it = all.find(item.type);
+  if (it == all.end()) throw std::runtime_error("unknown type '" + item.type + "'; the types are: " + typeNames());
+  return it->second.cpp;
+}
 
 void writeNew(const std::filesystem::path& path, const std::string& text, std::vector<std::filesystem::path>& written) {
   if (std::filesystem::exists(path))
@@ -83,9 +98,12 @@ void writeNew(const std::filesystem::path& path, const std::string& text, std::v
 /// The headers the types of the component's ports and properties need.
 std::set<std::string> typeHeaders(const ComponentTemplate& t) {
   std::set<std::string> includes;
+  const auto all = types();
   for (const auto* list : {&t.inputs, &t.event_inputs, &t.outputs, &t.properties})
-    for (const auto& item : *list)
-      if (*types().at(item.type).include) includes.insert(types().at(item.type).include);
+    for (const auto& item : *list) {
+      const auto it = all.find(item.type);
+      if (it != all.end() && !it->second.include.empty()) includes.insert(it->second.include);
+    }
   return includes;
 }
 
@@ -199,6 +217,9 @@ std::string packageSource(const ComponentTemplate& t) {
     << "#include <cstdint>\n\n#include \"cobra/deploy/package_registry.hpp\"\n" << kIncludesMarker << "\n\n"
     << "extern \"C\" std::uint32_t cobra_package_abi() { return cobra::deploy::kPackageAbiVersion; }\n\n"
     << "extern \"C\" void cobra_register_package(cobra::deploy::PackageBuilder& package) {\n"
+    << "  // The package's data types, each with every capability (Lua, CSV, DDS, the editor):\n"
+    << "  // cobra::types::registerType<my::Type>();  (cobra/types/register_type.hpp; in CMakeLists.txt\n"
+    << "  // cobra_add_package(... USES cobra::types cobra::script cobra::components::reporting))\n"
     << kRegistrationsMarker << "\n}\n";
   return s.str();
 }
@@ -253,9 +274,11 @@ InterfaceItem parseInterfaceItem(const std::string& text, const std::string& wha
   item.name = text.substr(0, first);
   const auto second = text.find(':', first + 1);
   item.type = text.substr(first + 1, second == std::string::npos ? std::string::npos : second - first - 1);
-  if (types().count(item.type) == 0)
+  const auto all = types();
+  const auto it = all.find(item.type);
+  if (it == all.end())
     throw std::runtime_error(what + " '" + text + "': unknown type '" + item.type + "'; the types are: " + typeNames());
-  item.unit = second == std::string::npos ? types().at(item.type).unit : text.substr(second + 1);
+  item.unit = second == std::string::npos ? it->second.unit : text.substr(second + 1);
   return item;
 }
 

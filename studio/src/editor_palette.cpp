@@ -3,6 +3,7 @@
 
 #include <charconv>
 
+#include "cobra/core/data_type.hpp"
 #include "cobra/deploy/suggest.hpp"
 #include "cobra/studio/json.hpp"
 #include "editor_internal.hpp"
@@ -135,6 +136,25 @@ std::string Palette::json() const {
       const core::OperationInfo& o = t.info.operations[i];
       out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(o.name) + ",\"signature\":" + json::quoted(o.signature) +
              ",\"doc\":" + json::quoted(o.doc) + "}";
+    }
+    out += "]}";
+  }
+  // The registered data types, cobra's own and the loaded packages' (a record with its fields):
+  // what the new-component dialog offers (those with a C++ spelling) and the inspector shows.
+  out += "],\"data_types\":[";
+  bool first_data_type = true;
+  for (const core::TypeInfo* d : core::TypeRegistry::all()) {
+    out += first_data_type ? "" : ",";
+    first_data_type = false;
+    out += "{\"name\":" + json::quoted(std::string(d->name)) + ",\"kind\":" +
+           (d->kind == core::DataKind::Logic ? "\"logic\"" : "\"pure\"") + ",\"cpp\":" + json::quoted(std::string(d->cpp)) +
+           ",\"unit\":" + json::quoted(std::string(d->unit)) + ",\"format\":" + json::quoted(std::string(d->format)) +
+           ",\"fields\":[";
+    for (std::size_t i = 0; i < d->fields.size(); ++i) {
+      const core::FieldInfo& f = d->fields[i];
+      out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(std::string(f.name)) + ",\"type\":" +
+             json::quoted(std::string(f.type->name)) + ",\"unit\":" + json::quoted(std::string(f.unit)) +
+             ",\"doc\":" + json::quoted(std::string(f.doc)) + "}";
     }
     out += "]}";
   }

@@ -1,7 +1,11 @@
 #include "source.hpp"
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <charconv>
+#include <mutex>
+#include <optional>
 #include <typeindex>
 #include <utility>
 
@@ -11,11 +15,15 @@
 #include "cobra/components/reporting/reporter.hpp"
 #include "cobra/core/error.hpp"
 
-namespace cobra::components::reporting_detail {
+namespace cobra::components {
 
 // ---- RowWriter --------------------------------------------------------------------------------
 
 void RowWriter::time(std::chrono::nanoseconds t) noexcept {
+  if (values_ != nullptr) {
+    putValue(std::chrono::duration<double>(t).count());
+    return;
+  }
   std::int64_t ns = t.count();
   if (ns < 0) {
     put('-');
@@ -40,6 +48,10 @@ void RowWriter::time(std::chrono::nanoseconds t) noexcept {
 }
 
 void RowWriter::number(double value) noexcept {
+  if (values_ != nullptr) {
+    putValue(value);
+    return;
+  }
   std::array<char, 32> text{};
   const auto [end, ec] = std::to_chars(text.data(), text.data() + text.size(), value);
   put(',');
@@ -59,6 +71,10 @@ std::string_view cut(std::string_view text, std::size_t max_chars) {
 }  // namespace
 
 void RowWriter::text(std::string_view text, std::size_t max_chars) noexcept {
+  if (values_ != nullptr) {
+    putValue(kNaN);
+    return;
+  }
   text = cut(text, max_chars);
   put(',');
   if (!needsQuotes(text)) {
@@ -73,6 +89,7 @@ void RowWriter::text(std::string_view text, std::size_t max_chars) noexcept {
   put('"');
 }
 
+namespace reporting_detail {
 std::string csvCell(std::string_view text) {
   if (!needsQuotes(text)) return std::string(text);
   std::string quoted = "\"";
@@ -82,108 +99,159 @@ std::string csvCell(std::string_view text) {
   }
   return quoted + "\"";
 }
+}  // namespace reporting_detail
 
-// ---- Sources ----------------------------------------------------------------------------------
-
-Source::Source(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader,
-               std::vector<std::string> headers)
-    : path_(output.fullName()), output_(&output), reader_(std::move(reader)), headers_(std::move(headers)) {}
+// ---- Leaf codecs of cobra's own types --------------------------------------------------------
 
 namespace {
+void numbered(std::size_t elements, std::string_view unit, std::vector<CsvColumn>& out) {
+  for (std::size_t i = 0; i < elements; ++i) out.push_back({"[" + std::to_string(i) + "]", std::string(unit)});
+}
+void named(std::initializer_list<const char*> suffixes, std::string_view unit, std::vector<CsvColumn>& out) {
+  for (const char* s : suffixes) out.push_back({s, std::string(unit)});
+}
+/// `count` cells from `values` (of `size`): shorter values leave the rest empty, longer are cut.
+void cells(RowWriter& row, const double* values, std::size_t size, std::size_t count) noexcept {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i < size) row.number(values[i]);
+    else row.empty();
+  }
+}
+void quaternion(RowWriter& row, const KDL::Rotation& r) noexcept {
+  double q[4] = {0.0, 0.0, 0.0, 1.0};
+  r.GetQuaternion(q[0], q[1], q[2], q[3]);
+  cells(row, q, 4, 4);
+}
+}  // namespace
 
-/// A column: suffix after "Comp.port" (".x", "[2]" or "") and its unit.
-struct Column {
-  std::string suffix;
-  std::string unit;
-};
+void CsvCodec<double>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) { out.push_back({"", std::string(unit)}); }
+void CsvCodec<double>::write(RowWriter& row, const double& v, std::size_t) noexcept { row.number(v); }
+double CsvCodec<double>::initial(std::size_t) { return 0.0; }
 
-std::vector<std::string> headersOf(const core::OutputPortBase& output, const std::vector<Column>& columns) {
+void CsvCodec<int>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) { out.push_back({"", std::string(unit)}); }
+void CsvCodec<int>::write(RowWriter& row, const int& v, std::size_t) noexcept { row.number(static_cast<double>(v)); }
+int CsvCodec<int>::initial(std::size_t) { return 0; }
+
+void CsvCodec<bool>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) { out.push_back({"", std::string(unit)}); }
+void CsvCodec<bool>::write(RowWriter& row, const bool& v, std::size_t) noexcept { row.number(v ? 1.0 : 0.0); }
+bool CsvCodec<bool>::initial(std::size_t) { return false; }
+
+void CsvCodec<std::string>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) {
+  out.push_back({"", std::string(unit), false});
+}
+void CsvCodec<std::string>::write(RowWriter& row, const std::string& v, std::size_t) noexcept { row.text(v); }
+std::string CsvCodec<std::string>::initial(std::size_t) {
+  std::string initial;
+  initial.reserve(256);  // copying a shorter string into it then allocates nothing
+  return initial;
+}
+
+void CsvCodec<std::vector<double>>::columns(std::string_view unit, std::size_t elements, std::vector<CsvColumn>& out) {
+  numbered(elements, unit, out);
+}
+void CsvCodec<std::vector<double>>::write(RowWriter& row, const std::vector<double>& v, std::size_t elements) noexcept {
+  cells(row, v.data(), v.size(), elements);
+}
+std::vector<double> CsvCodec<std::vector<double>>::initial(std::size_t elements) { return std::vector<double>(elements); }
+
+void CsvCodec<KDL::JntArray>::columns(std::string_view unit, std::size_t elements, std::vector<CsvColumn>& out) {
+  numbered(elements, unit, out);
+}
+void CsvCodec<KDL::JntArray>::write(RowWriter& row, const KDL::JntArray& q, std::size_t elements) noexcept {
+  cells(row, q.data.data(), q.rows(), elements);
+}
+KDL::JntArray CsvCodec<KDL::JntArray>::initial(std::size_t elements) { return KDL::JntArray(static_cast<unsigned>(elements)); }
+
+void CsvCodec<KDL::Vector>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) {
+  named({".x", ".y", ".z"}, unit, out);
+}
+void CsvCodec<KDL::Vector>::write(RowWriter& row, const KDL::Vector& v, std::size_t) noexcept { cells(row, v.data, 3, 3); }
+KDL::Vector CsvCodec<KDL::Vector>::initial(std::size_t) { return KDL::Vector::Zero(); }
+
+void CsvCodec<KDL::Rotation>::columns(std::string_view, std::size_t, std::vector<CsvColumn>& out) {
+  named({".qx", ".qy", ".qz", ".qw"}, "1", out);
+}
+void CsvCodec<KDL::Rotation>::write(RowWriter& row, const KDL::Rotation& r, std::size_t) noexcept { quaternion(row, r); }
+KDL::Rotation CsvCodec<KDL::Rotation>::initial(std::size_t) { return KDL::Rotation::Identity(); }
+
+void CsvCodec<KDL::Frame>::columns(std::string_view, std::size_t, std::vector<CsvColumn>& out) {
+  named({".x", ".y", ".z"}, "m", out);
+  named({".qx", ".qy", ".qz", ".qw"}, "1", out);
+}
+void CsvCodec<KDL::Frame>::write(RowWriter& row, const KDL::Frame& f, std::size_t) noexcept {
+  cells(row, f.p.data, 3, 3);
+  quaternion(row, f.M);
+}
+KDL::Frame CsvCodec<KDL::Frame>::initial(std::size_t) { return KDL::Frame::Identity(); }
+
+void CsvCodec<KDL::Twist>::columns(std::string_view, std::size_t, std::vector<CsvColumn>& out) {
+  named({".vx", ".vy", ".vz"}, "m/s", out);
+  named({".wx", ".wy", ".wz"}, "rad/s", out);
+}
+void CsvCodec<KDL::Twist>::write(RowWriter& row, const KDL::Twist& t, std::size_t) noexcept {
+  cells(row, t.vel.data, 3, 3);
+  cells(row, t.rot.data, 3, 3);
+}
+KDL::Twist CsvCodec<KDL::Twist>::initial(std::size_t) { return KDL::Twist::Zero(); }
+
+void CsvCodec<KDL::Wrench>::columns(std::string_view, std::size_t, std::vector<CsvColumn>& out) {
+  named({".fx", ".fy", ".fz"}, "N", out);
+  named({".tx", ".ty", ".tz"}, "N·m", out);
+}
+void CsvCodec<KDL::Wrench>::write(RowWriter& row, const KDL::Wrench& w, std::size_t) noexcept {
+  cells(row, w.force.data, 3, 3);
+  cells(row, w.torque.data, 3, 3);
+}
+KDL::Wrench CsvCodec<KDL::Wrench>::initial(std::size_t) { return KDL::Wrench::Zero(); }
+
+void CsvCodec<core::Event>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) {
+  out.push_back({"", std::string(unit), false});
+}
+void CsvCodec<core::Event>::write(RowWriter& row, const core::Event& e, std::size_t) noexcept { row.text(e.name.view()); }
+core::Event CsvCodec<core::Event>::initial(std::size_t) { return core::Event{}; }
+
+void CsvCodec<core::TaskState>::columns(std::string_view unit, std::size_t, std::vector<CsvColumn>& out) {
+  out.push_back({"", std::string(unit), false});
+}
+void CsvCodec<core::TaskState>::write(RowWriter& row, const core::TaskState& s, std::size_t) noexcept {
+  row.text(s.path.view());
+}
+core::TaskState CsvCodec<core::TaskState>::initial(std::size_t) { return core::TaskState{}; }
+
+// ---- Sources and the registry ----------------------------------------------------------------
+
+namespace reporting_detail {
+
+namespace {
+std::vector<std::string> headersOf(const core::OutputPortBase& output, const std::vector<CsvColumn>& columns) {
   std::vector<std::string> headers;
-  for (const Column& c : columns)
+  for (const CsvColumn& c : columns)
     headers.push_back(csvCell(output.fullName() + c.suffix + (c.unit.empty() ? "" : " [" + c.unit + "]")));
   return headers;
 }
-
-template <class T>
-core::InputPort<T>& typed(core::InputPortBase& reader) {
-  // makeReader of an OutputPort<T> always makes an InputPort<T>.
-  return dynamic_cast<core::InputPort<T>&>(reader);
+std::size_t maxBytesOf(const std::vector<CsvColumn>& columns) {
+  std::size_t bytes = 0;
+  for (const CsvColumn& c : columns) bytes += c.numeric ? RowWriter::kMaxNumberBytes : RowWriter::maxTextBytes();
+  return bytes;
 }
+}  // namespace
 
-/// Numeric values: the value is flattened into doubles when it is read, formatted per row.
-template <class T>
-class FlatSource final : public Source {
- public:
-  /// Writes at most `n` elements of the value to `out`; returns how many the value has.
-  using Flatten = std::size_t (*)(const T& value, double* out, std::size_t n);
+Source::Source(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader,
+               const std::vector<CsvColumn>& columns)
+    : path_(output.fullName()),
+      output_(&output),
+      reader_(std::move(reader)),
+      headers_(headersOf(output, columns)),
+      max_bytes_(maxBytesOf(columns)) {}
 
-  FlatSource(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader,
-             const std::vector<Column>& columns, T initial, Flatten flatten)
-      : Source(output, std::move(reader), headersOf(output, columns)),
-        port_(typed<T>(this->reader())),
-        value_(std::move(initial)),
-        cells_(columns.size(), 0.0),
-        flatten_(flatten) {}
+namespace {
 
-  core::FlowStatus sample() override {
-    const core::FlowStatus status = port_.read(value_);
-    if (status == core::FlowStatus::NewData) {
-      count_ = std::min(flatten_(value_, cells_.data(), cells_.size()), cells_.size());
-      has_value_ = true;
-    }
-    return status;
-  }
-  void format(RowWriter& row) const noexcept override {
-    for (std::size_t i = 0; i < cells_.size(); ++i) {
-      if (has_value_ && i < count_) row.number(cells_[i]);
-      else row.empty();
-    }
-  }
-  std::size_t maxBytes() const override { return cells_.size() * RowWriter::kMaxNumberBytes; }
-
- private:
-  core::InputPort<T>& port_;
-  T value_;
-  std::vector<double> cells_;
-  std::size_t count_ = 0;
-  Flatten flatten_;
-};
-
-/// Text values: one column. `Text` gives the cell text of a value without allocating.
-template <class T>
+/// A type without a CSV codec: its text form, through the type-erased `readText` (allocates).
 class TextSource final : public Source {
  public:
-  using Text = std::string_view (*)(const T& value);
-
-  TextSource(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader, T initial, Text text)
-      : Source(output, std::move(reader), headersOf(output, {{"", output.unit()}})),
-        port_(typed<T>(this->reader())),
-        value_(std::move(initial)),
-        text_(text) {}
-
-  core::FlowStatus sample() override {
-    const core::FlowStatus status = port_.read(value_);
-    if (status == core::FlowStatus::NewData) has_value_ = true;
-    return status;
-  }
-  void format(RowWriter& row) const noexcept override {
-    if (has_value_) row.text(text_(value_), Reporter::kMaxTextChars);
-    else row.empty();
-  }
-  std::size_t maxBytes() const override { return RowWriter::maxTextBytes(Reporter::kMaxTextChars); }
-
- private:
-  core::InputPort<T>& port_;
-  T value_;
-  Text text_;
-};
-
-/// Any other registered type: its text form, through the type-erased `readText` (allocates).
-class GenericSource final : public Source {
- public:
-  GenericSource(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader)
-      : Source(output, std::move(reader), headersOf(output, {{"", output.unit()}})) {
-    text_.reserve(Reporter::kMaxTextChars + 1);
+  TextSource(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader)
+      : Source(output, std::move(reader), {{"", output.unit(), false}}) {
+    text_.reserve(RowWriter::kMaxTextChars + 1);
   }
   core::FlowStatus sample() override {
     const core::FlowStatus status = reader().readText(text_);
@@ -191,129 +259,97 @@ class GenericSource final : public Source {
     return status;
   }
   void format(RowWriter& row) const noexcept override {
-    if (has_value_) row.text(text_, Reporter::kMaxTextChars);
+    if (has_value_) row.text(text_);
     else row.empty();
   }
-  std::size_t maxBytes() const override { return RowWriter::maxTextBytes(Reporter::kMaxTextChars); }
 
  private:
   std::string text_;
 };
 
-std::size_t put(double* out, std::size_t n, std::initializer_list<double> values) {
-  std::size_t i = 0;
-  for (double v : values)
-    if (i < n) out[i++] = v;
-  return values.size();
+/// Append-only, fixed capacity: entries never move; a reader scans the first `count` entries
+/// without a lock (the count is published after the entry is written).
+struct Registry {
+  static constexpr std::size_t kCapacity = 256;
+  std::mutex write_mutex;
+  std::array<std::optional<std::type_index>, kCapacity> ids{};
+  std::array<CsvType, kCapacity> entries{};
+  std::atomic<std::size_t> count{0};
+};
+
+Registry& rawRegistry() {
+  static Registry r;
+  return r;
 }
 
-std::size_t flattenRotation(const KDL::Rotation& r, double* out, std::size_t n) {
-  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
-  r.GetQuaternion(qx, qy, qz, qw);
-  return put(out, n, {qx, qy, qz, qw});
+/// The registry, with cobra's own types (core::BuiltinDataTypes) added at its first use.
+void add(std::type_index id, const CsvType& entry);
+
+Registry& registry() {
+  static const bool seeded = [] {
+    core::forEachType(core::BuiltinDataTypes{}, [](auto type) {
+      using T = typename decltype(type)::type;
+      add(std::type_index(typeid(T)), csvTypeOf<T>());
+    });
+    return true;
+  }();
+  (void)seeded;
+  return rawRegistry();
 }
 
-std::vector<Column> indexed(std::size_t elements, const std::string& unit) {
-  std::vector<Column> columns;
-  for (std::size_t i = 0; i < elements; ++i) columns.push_back({"[" + std::to_string(i) + "]", unit});
-  return columns;
+void add(std::type_index id, const CsvType& entry) {
+  auto& r = rawRegistry();
+  std::lock_guard lock(r.write_mutex);
+  const std::size_t n = r.count.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (*r.ids[i] == id) return;
+    if (r.entries[i].type_name == entry.type_name)
+      throw core::Error("cobra: two types are registered for CSV as '" + std::string(entry.type_name) +
+                        "'; give one of them another DataTypeTraits<T>::name");
+  }
+  if (n == Registry::kCapacity)
+    throw core::Error("cobra: the CSV type registry is full; cannot add " + std::string(entry.type_name));
+  r.ids[n] = id;
+  r.entries[n] = entry;
+  r.count.store(n + 1, std::memory_order_release);
 }
-
-template <class T>
-bool isType(const core::TypeInfo& type) {
-  return type.id == std::type_index(typeid(T));
-}
-
-const std::vector<Column> kQuaternion = {{".qx", "1"}, {".qy", "1"}, {".qz", "1"}, {".qw", "1"}};
 
 }  // namespace
 
 bool needsLength(const core::TypeInfo& type) {
-  return isType<std::vector<double>>(type) || isType<KDL::JntArray>(type);
+  const CsvType* entry = findCsvType(type);
+  return entry != nullptr && entry->needs_length;
 }
 
 std::unique_ptr<Source> makeSource(core::OutputPortBase& output, std::string reader_name, std::size_t elements) {
   const core::TypeInfo& type = output.type();
   const std::string type_name(type.name);
-  if (needsLength(type) && elements == 0)
+  const CsvType* entry = findCsvType(type);
+  const bool needs = entry != nullptr && entry->needs_length;
+  if (needs && elements == 0)
     throw core::Error("it is a " + type_name +
                       ", whose length is not part of its type; give its number of elements, e.g. reportPort(port, 6)");
-  if (!needsLength(type) && elements != 0)
+  if (!needs && elements != 0)
     throw core::Error("it is a " + type_name + ", whose columns are fixed by its type; give no number of elements (" +
                       std::to_string(elements) + " was given; only vector<double> and KDL.JntArray take one)");
-
   auto reader = output.makeReader(std::move(reader_name), "reads " + output.fullName() + " for the report");
-  const std::string& unit = output.unit();
-  using Out = std::unique_ptr<Source>;
-
-  if (isType<double>(type))
-    return Out(new FlatSource<double>(output, std::move(reader), {{"", unit}}, 0.0,
-                                      [](const double& v, double* out, std::size_t n) { return put(out, n, {v}); }));
-  if (isType<int>(type))
-    return Out(new FlatSource<int>(output, std::move(reader), {{"", unit}}, 0, [](const int& v, double* out, std::size_t n) {
-      return put(out, n, {static_cast<double>(v)});
-    }));
-  if (isType<bool>(type))
-    return Out(new FlatSource<bool>(output, std::move(reader), {{"", unit}}, false,
-                                    [](const bool& v, double* out, std::size_t n) { return put(out, n, {v ? 1.0 : 0.0}); }));
-  if (isType<std::vector<double>>(type))
-    return Out(new FlatSource<std::vector<double>>(
-        output, std::move(reader), indexed(elements, unit), std::vector<double>(elements),
-        [](const std::vector<double>& v, double* out, std::size_t n) {
-          for (std::size_t i = 0; i < v.size() && i < n; ++i) out[i] = v[i];
-          return v.size();
-        }));
-  if (isType<KDL::JntArray>(type))
-    return Out(new FlatSource<KDL::JntArray>(output, std::move(reader), indexed(elements, unit),
-                                             KDL::JntArray(static_cast<unsigned>(elements)),
-                                             [](const KDL::JntArray& v, double* out, std::size_t n) {
-                                               const std::size_t rows = v.rows();
-                                               for (std::size_t i = 0; i < rows && i < n; ++i)
-                                                 out[i] = v(static_cast<unsigned>(i));
-                                               return rows;
-                                             }));
-  if (isType<KDL::Vector>(type))
-    return Out(new FlatSource<KDL::Vector>(output, std::move(reader), {{".x", unit}, {".y", unit}, {".z", unit}},
-                                           KDL::Vector::Zero(), [](const KDL::Vector& v, double* out, std::size_t n) {
-                                             return put(out, n, {v.x(), v.y(), v.z()});
-                                           }));
-  if (isType<KDL::Rotation>(type))
-    return Out(new FlatSource<KDL::Rotation>(output, std::move(reader), kQuaternion, KDL::Rotation::Identity(),
-                                             flattenRotation));
-  if (isType<KDL::Frame>(type)) {
-    std::vector<Column> columns = {{".x", "m"}, {".y", "m"}, {".z", "m"}};
-    columns.insert(columns.end(), kQuaternion.begin(), kQuaternion.end());
-    return Out(new FlatSource<KDL::Frame>(output, std::move(reader), columns, KDL::Frame::Identity(),
-                                          [](const KDL::Frame& f, double* out, std::size_t n) {
-                                            // n is 7, the number of columns above
-                                            put(out, n, {f.p.x(), f.p.y(), f.p.z()});
-                                            return 3 + flattenRotation(f.M, out + 3, n - 3);
-                                          }));
-  }
-  if (isType<KDL::Twist>(type))
-    return Out(new FlatSource<KDL::Twist>(
-        output, std::move(reader),
-        {{".vx", "m/s"}, {".vy", "m/s"}, {".vz", "m/s"}, {".wx", "rad/s"}, {".wy", "rad/s"}, {".wz", "rad/s"}},
-        KDL::Twist::Zero(), [](const KDL::Twist& t, double* out, std::size_t n) {
-          return put(out, n, {t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z()});
-        }));
-  if (isType<KDL::Wrench>(type))
-    return Out(new FlatSource<KDL::Wrench>(
-        output, std::move(reader),
-        {{".fx", "N"}, {".fy", "N"}, {".fz", "N"}, {".tx", "N·m"}, {".ty", "N·m"}, {".tz", "N·m"}},
-        KDL::Wrench::Zero(), [](const KDL::Wrench& w, double* out, std::size_t n) {
-          return put(out, n, {w.force.x(), w.force.y(), w.force.z(), w.torque.x(), w.torque.y(), w.torque.z()});
-        }));
-  if (isType<std::string>(type)) {
-    std::string initial;
-    initial.reserve(256);  // copying a shorter string into it then allocates nothing
-    return Out(new TextSource<std::string>(output, std::move(reader), std::move(initial),
-                                           [](const std::string& s) { return std::string_view(s); }));
-  }
-  if (isType<core::Event>(type))
-    return Out(new TextSource<core::Event>(output, std::move(reader), core::Event{},
-                                           [](const core::Event& e) { return e.name.view(); }));
-  return Out(new GenericSource(output, std::move(reader)));
+  if (entry == nullptr) return std::make_unique<TextSource>(output, std::move(reader));
+  return entry->make_source(output, std::move(reader), elements);
 }
 
-}  // namespace cobra::components::reporting_detail
+}  // namespace reporting_detail
+
+void addCsvType(std::type_index id, const CsvType& entry) {
+  (void)reporting_detail::registry();  // cobra's own types first
+  reporting_detail::add(id, entry);
+}
+
+const CsvType* findCsvType(const core::TypeInfo& type) {
+  auto& r = reporting_detail::registry();
+  const std::size_t n = r.count.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < n; ++i)
+    if (*r.ids[i] == type.id) return &r.entries[i];
+  return nullptr;
+}
+
+}  // namespace cobra::components

@@ -15,7 +15,9 @@ namespace cobra::studio {
 /// One port or property of the skeleton, from "name:Type[:unit]".
 struct InterfaceItem {
   std::string name;
-  std::string type;  ///< short type name: double, int, bool, string, vector, Frame, ...
+  /// a registered data type with a C++ spelling (core::TypeInfo::cpp), by name ("KDL.Frame",
+  /// "double", a loaded package's "my.Reading") or short name ("Frame", "vector")
+  std::string type;
   std::string unit;
 };
 

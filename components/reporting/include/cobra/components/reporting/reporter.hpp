@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cobra/components/reporting/csv_codec.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/core/introspection.hpp"
 
@@ -44,9 +45,13 @@ class FileWriter;
 /// - `KDL.Frame`: `.x .y .z` [m], then `.qx .qy .qz .qw` [1];
 /// - `KDL.Twist`: `.vx .vy .vz` [m/s], `.wx .wy .wz` [rad/s];
 /// - `KDL.Wrench`: `.fx .fy .fz` [N], `.tx .ty .tz` [N·m];
-/// - `bool` is written 1 or 0; `string` as text; `Event` as the event's name; any other
-///   registered type as its text form (text cells are CSV-quoted when needed and cut after
-///   `kMaxTextChars` characters).
+/// - a record (core/record.hpp): the columns of each field, `Comp.port.<field>[<sub>]` with the
+///   field's unit (`P.reading.depth [m]`, `P.reading.pose.x [m]`, ...);
+/// - `bool` is written 1 or 0; `string` as text; `Event` as the event's name; `TaskState` as its
+///   path; any other registered type as its text form (text cells are CSV-quoted when needed and
+///   cut after `kMaxTextChars` characters).
+/// The columns of a type are its `CsvCodec<T>` (csv_codec.hpp); a package's type gets them with
+/// `cobra::types::registerType<T>()`.
 /// `[unit]` is left out when the unit is empty (logic data). Numbers are written in the shortest
 /// form that reads back to the same double; time is the Reporter's `now()` in s, exact to the ns
 /// (simulated time on the lockstep clock, so runs are reproducible).
@@ -57,8 +62,8 @@ class FileWriter;
 /// **Non-blocking file I/O.** The update formats the row into a preallocated bounded queue of
 /// `queue_rows` rows; a writer thread (SCHED_OTHER, nice 10; started by start, joined by stop)
 /// copies rows to the file. When the queue is full the row is dropped and counted in
-/// `rows_dropped`: the update never waits for the disk. For the built-in types, with vectors of
-/// the declared length, the update allocates nothing, takes no lock and does no I/O; at most it
+/// `rows_dropped`: the update never waits for the disk. For the types with a CSV codec (the
+/// built-in types, records), with vectors of the declared length, the update allocates nothing, takes no lock and does no I/O; at most it
 /// wakes the writer thread (one futex syscall) when the queue is half full. On the lockstep clock
 /// a simulation can outrun the disk: give `queue_rows` room for the rows of a burst.
 ///
@@ -73,7 +78,7 @@ class FileWriter;
 class Reporter : public core::Component {
  public:
   /// Longest text cell, in characters, before it is cut (keeps rows of bounded size).
-  static constexpr std::size_t kMaxTextChars = 127;
+  static constexpr std::size_t kMaxTextChars = RowWriter::kMaxTextChars;
 
   explicit Reporter(std::string name);
   /// Stops the Reporter first when it is Running, so the writer thread is joined and the file

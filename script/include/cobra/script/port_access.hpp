@@ -1,9 +1,12 @@
 #pragma once
-// Reading and writing typed ports from Lua (internal to cobra::script).
+/// @file
+/// Reading and writing typed ports from Lua: the type-erased access a Lua port object holds.
 
-#include <lua.hpp>
+#include <memory>
 
 #include "cobra/core/port.hpp"
+
+struct lua_State;
 
 namespace cobra::script {
 
