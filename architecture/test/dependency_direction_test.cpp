@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const Rule kRule{{"core", "statechart", "trajectory", "kinematics", "control", "planning", "sim", "fieldbus", "script",
-                  "deploy", "run", "components", "task", "bridges", "dds", "text"},
+                  "deploy", "run", "components", "task", "bridges", "dds", "text", "types"},
                  {"apps", "tools", "studio"},
                  {"test", "tests"}};
 

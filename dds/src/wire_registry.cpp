@@ -81,24 +81,13 @@ std::string registeredIdl(std::string_view cobra_name) {
   return idl();
 }
 
-// The one list of cobra's built-in types on DDS. To move to types/ (its registerBuiltins calls
-// registerDdsType<T>() for each) once that module exists; nothing else in dds names a type.
+// cobra's own types on DDS, from core's list of them (core::BuiltinDataTypes), as script and
+// reporting seed their registries: nothing in dds names a type.
 void registerBuiltinWires() {
   static std::once_flag once;
   std::call_once(once, [] {
-    registerDdsType<double>();
-    registerDdsType<int>();
-    registerDdsType<bool>();
-    registerDdsType<std::string>();
-    registerDdsType<std::vector<double>>();
-    registerDdsType<KDL::Vector>();
-    registerDdsType<KDL::Rotation>();
-    registerDdsType<KDL::Frame>();
-    registerDdsType<KDL::Twist>();
-    registerDdsType<KDL::Wrench>();
-    registerDdsType<KDL::JntArray>();
-    registerDdsType<core::Event>();
-    registerDdsType<core::TaskState>();
+    // cobra's own types: core's one list of them (each has a built-in ROS 2 wire in codec.hpp).
+    core::forEachType(core::BuiltinDataTypes{}, [](auto type) { registerDdsType<typename decltype(type)::type>(); });
   });
 }
 

@@ -32,6 +32,7 @@
 #include "edit_command.hpp"
 #include "fsm_command.hpp"
 #include "run_command.hpp"
+#include "cobra/types/register_type.hpp"
 
 #include <cstdlib>
 #include <iostream>
@@ -197,6 +198,8 @@ int runConsole(const std::string& file, bool sim, bool strict) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // cobra's own data types with every capability (those above core, TGL.MultiAxisPath, only here).
+  cobra::types::registerBuiltins();
   CLI::App app{"cobra: run and check component deployments (Lua deployment files, thesis §3.2.2)"};
   app.require_subcommand(1);
 

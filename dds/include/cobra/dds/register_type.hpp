@@ -74,10 +74,9 @@ std::vector<std::string> ddsTypes();
 /// by a message (its IDL is the message's, e.g. dds/idl/geometry_msgs/msg/Pose.idl for KDL.Frame).
 std::string registeredIdl(std::string_view cobra_name);
 
-/// Registers cobra's own built-in types (double, int, bool, string, vector<double>, the KDL
-/// types, Event, TaskState): the one list of them, until the types/ module registers them
-/// through registerDdsType<T>() (then this function moves there). Every DdsTransport calls it
-/// when it is made; calling it again does nothing.
+/// Registers cobra's own types (core::BuiltinDataTypes, core's one list of them) with their
+/// built-in ROS 2 wires. Every DdsTransport calls it when it is made; calling it again does
+/// nothing.
 void registerBuiltinWires();
 
 }  // namespace cobra::dds

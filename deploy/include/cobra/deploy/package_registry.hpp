@@ -36,7 +36,7 @@ namespace cobra::deploy {
 
 /// Version of the interface between cobra and shared-library packages (PackageBuilder and the
 /// core classes components derive from). Raised whenever that interface changes incompatibly.
-inline constexpr std::uint32_t kPackageAbiVersion = 1;
+inline constexpr std::uint32_t kPackageAbiVersion = 2;
 
 /// Makes a component of one type, named `name`.
 using ComponentFactory = std::function<std::unique_ptr<core::Component>(const std::string& name)>;
