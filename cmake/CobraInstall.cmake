@@ -157,10 +157,11 @@ endforeach()
 # cobra_components_signal -> cobra::components::signal, cobra_build_flags -> cobra::build_flags.
 set(COBRA_EXPORTED_NAMES)
 set(COBRA_HOST_TARGETS)
-# Not in the host (the `cobra` tool): the DDS side (Fast DDS stays out of the tool; the transport
-# is the package cobra_dds, and a package that registers a type for DDS links the dds archives
-# itself, cobra_add_package(... USES cobra::dds)) and cobra::types, whose code registers cobra's
-# types for DDS (a package uses only its headers).
+# Not linked whole into the hosts (COBRA_HOST_LIBRARIES, cobra_link_package_host): the DDS side
+# (the transport is the package cobra_dds, and a package that registers a type for DDS links the
+# dds archives itself, cobra_add_package(... USES cobra::dds); the two meet in core::TypeFacets)
+# and cobra::types, whose code registers cobra's types for DDS (a package uses only its headers).
+# (The `cobra` tool links cobra::types as an ordinary library for registerBuiltins().)
 set(COBRA_NOT_HOST_TARGETS cobra_dds dds_generated_types cobra_types)
 foreach(target IN LISTS COBRA_LIBRARIES)
   string(REGEX REPLACE "^cobra_" "" name ${target})
