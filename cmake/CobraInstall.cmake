@@ -70,6 +70,27 @@ if(TARGET cobra_test_support)
   list(APPEND COBRA_LIBRARIES cobra_test_support)
 endif()
 
+# The DDS type support fastddsgen generates (dds/CMakeLists.txt), installed as cobra::dds_types with
+# its headers, so that a package can register its own types for DDS (cobra::types::registerType<T>,
+# cobra_add_package(... USES cobra::dds): cobra/dds headers include the generated messages').
+if(TARGET dds_generated_types)
+  list(APPEND COBRA_LIBRARIES dds_generated_types)
+  get_directory_property(cobra_dds_generated_dir DIRECTORY ${PROJECT_SOURCE_DIR}/dds DEFINITION COBRA_DDS_GENERATED_DIR)
+  set(cobra_dds_generated_installed ${CMAKE_INSTALL_INCLUDEDIR}/cobra_dds_generated)
+  install(DIRECTORY ${cobra_dds_generated_dir}/ DESTINATION ${cobra_dds_generated_installed}
+    COMPONENT cobra_development FILES_MATCHING PATTERN "*.h" PATTERN "*.hpp")
+  # The generated files include each other by bare name ("Point.h"): each message package's folder
+  # is on the include path, as in the build tree.
+  get_target_property(cobra_dds_generated_includes dds_generated_types INTERFACE_INCLUDE_DIRECTORIES)
+  string(REGEX MATCHALL "\\$<BUILD_INTERFACE:[^>]+>" cobra_dds_generated_includes "${cobra_dds_generated_includes}")
+  foreach(item IN LISTS cobra_dds_generated_includes)
+    string(REGEX REPLACE "^\\$<BUILD_INTERFACE:(.+)>$" "\\1" dir "${item}")
+    file(RELATIVE_PATH relative ${cobra_dds_generated_dir} ${dir})
+    target_include_directories(dds_generated_types INTERFACE
+      "$<INSTALL_INTERFACE:${cobra_dds_generated_installed}/${relative}>")
+  endforeach()
+endif()
+
 # A library that links one of the left-out targets (an application's, the tool's) is left out too,
 # until none is left: an installed library may depend only on installed ones.
 set(cobra_dropping ON)
@@ -136,13 +157,22 @@ endforeach()
 # cobra_components_signal -> cobra::components::signal, cobra_build_flags -> cobra::build_flags.
 set(COBRA_EXPORTED_NAMES)
 set(COBRA_HOST_TARGETS)
+# Not linked whole into the hosts (COBRA_HOST_LIBRARIES, cobra_link_package_host): the DDS side
+# (the transport is the package cobra_dds, and a package that registers a type for DDS links the
+# dds archives itself, cobra_add_package(... USES cobra::dds); the two meet in core::TypeFacets)
+# and cobra::types, whose code registers cobra's types for DDS (a package uses only its headers).
+# (The `cobra` tool links cobra::types as an ordinary library for registerBuiltins().)
+set(COBRA_NOT_HOST_TARGETS cobra_dds dds_generated_types cobra_types)
 foreach(target IN LISTS COBRA_LIBRARIES)
   string(REGEX REPLACE "^cobra_" "" name ${target})
   string(REGEX REPLACE "^components_" "components::" name ${name})
+  if(target STREQUAL "dds_generated_types")
+    set(name dds_types)
+  endif()
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
   list(APPEND COBRA_EXPORTED_NAMES cobra::${name})
   get_target_property(type ${target} TYPE)
-  if(NOT type STREQUAL "INTERFACE_LIBRARY")
+  if(NOT type STREQUAL "INTERFACE_LIBRARY" AND NOT target IN_LIST COBRA_NOT_HOST_TARGETS)
     list(APPEND COBRA_HOST_TARGETS cobra::${name})
   endif()
   # Public headers: the include folder of the target's build interface, as is.
@@ -151,7 +181,8 @@ foreach(target IN LISTS COBRA_LIBRARIES)
     string(REGEX MATCHALL "\\$<BUILD_INTERFACE:[^>]+>" build_includes "${includes}")
     foreach(item IN LISTS build_includes)
       string(REGEX REPLACE "^\\$<BUILD_INTERFACE:(.+)>$" "\\1" include_dir "${item}")
-      if(include_dir MATCHES "^${PROJECT_SOURCE_DIR}/")
+      # (Not the build tree's generated headers, dds_types' above, though it may lie in the source tree.)
+      if(include_dir MATCHES "^${PROJECT_SOURCE_DIR}/" AND NOT include_dir MATCHES "^${PROJECT_BINARY_DIR}/")
         install(DIRECTORY ${include_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT cobra_development)
       endif()
     endforeach()

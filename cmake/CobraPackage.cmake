@@ -11,6 +11,10 @@
 #   Builds the loadable package lib<name>.so from SOURCES.
 #   USES: the cobra libraries whose headers the package includes beyond cobra::core and
 #         cobra::deploy (e.g. cobra::kinematics); their code comes from the loading process.
+#         Except cobra::dds: the DDS transport is a package of its own (cobra_dds), not in the
+#         loading process, so a package that registers its types for DDS
+#         (cobra::types::registerType<T>() with cobra::dds in USES) links the dds archives and
+#         Fast DDS itself; the transport finds the types through core::TypeFacets.
 #   LIBS: other libraries the package links itself (e.g. a device's vendor library).
 #   OUTPUT_DIRECTORY: where lib<name>.so is written (default: CMake's usual place).
 #   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages (COBRA_INSTALL_PACKAGEDIR),
@@ -31,6 +35,14 @@ function(cobra_add_package name)
     target_include_directories(${name} SYSTEM PRIVATE $<TARGET_PROPERTY:${used},INTERFACE_INCLUDE_DIRECTORIES>)
     target_compile_definitions(${name} PRIVATE $<TARGET_PROPERTY:${used},INTERFACE_COMPILE_DEFINITIONS>)
   endforeach()
+  if(cobra::dds IN_LIST ARG_USES)
+    # The archives' files, not the targets: the targets would bring cobra::core's archive too (a
+    # second core in the package). Fast DDS is a shared library: one in the process.
+    foreach(used IN ITEMS cobra::dds_types)
+      target_include_directories(${name} SYSTEM PRIVATE $<TARGET_PROPERTY:${used},INTERFACE_INCLUDE_DIRECTORIES>)
+    endforeach()
+    target_link_libraries(${name} PRIVATE $<TARGET_FILE:cobra::dds> $<TARGET_FILE:cobra::dds_types> fastrtps fastcdr)
+  endif()
   target_link_libraries(${name} PRIVATE ${ARG_LIBS})
   target_compile_features(${name} PRIVATE cxx_std_20)
   # `packages_list = { "<name>" }` looks for lib<name>.so whatever the platform's module prefix.

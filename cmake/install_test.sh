@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # cobra used from outside its tree (label "install"): installs the build into a temporary prefix,
 # builds examples/06_package with its own CMake against it, runs its deployment with the installed
-# tool (which dlopens the package) and checks the filtered force; then `cobra new component`
+# tool (which dlopens the package) and checks the filtered force and the package's own type
+# (example.ForceSample: CSV columns with units, a property set from Lua, two processes over DDS);
+# then `cobra new component`
 # writes a package that builds against the prefix and whose generated tests pass.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -59,6 +61,45 @@ startComponents({ "DepSup" })
 LUA
 "$prefix/bin/cobra" deploy "$work/supervisor.lua" --sim --run-for 0.1 | grep -Eq "^  DepSup +Supervision +Running" \
   || fail "a Supervisor did not run the installed deployment_supervisor.lua"
+
+# The package's own type, example.ForceSample, registered with cobra::types::registerType<T>():
+# recorded to CSV, one column per field with its unit ...
+samples="$source/examples/06_package/force_sample.lua"
+FORCE_SAMPLE_CSV="$work/force_sample.csv" COBRA_PACKAGE_PATH="$work/example" \
+  "$prefix/bin/cobra" deploy "$samples" --sim --run-for 1 >"$work/samples.out" || { cat "$work/samples.out"; fail "force_sample.lua did not run"; }
+header="time [s],Filter.force_out [N],Filter.sample_out.force [N],Filter.sample_out.filtered [N],Filter.sample_out.count"
+[ "$(head -1 "$work/force_sample.csv")" = "$header" ] ||
+  fail "the CSV header is '$(head -1 "$work/force_sample.csv")', expected '$header'"
+# The row at 0.9 s: 10 N read, 10·(1 - e^(-0.9π)) N written (within a step), the 901st update.
+awk -F, '$1 == "0.9" { e = 10 * (1 - exp(-0.9 * 3.141592653589793)); d = $4 - e; found = 1
+                      ok = $3 == 10 && $4 == $2 && d < 0.005 && d > -0.005 && $5 == 901 }
+         END { exit !(found && ok) }' "$work/force_sample.csv" ||
+  { cat "$work/force_sample.csv"; fail "the CSV's row at 0.9 s is not the filter's sample (above)"; }
+# ... a property of that type set from Lua (the deployment file, then the console's Lua), read back.
+printf 'get Hold.sample\nlua Hold.sample = {force = 7, filtered = 8.5, count = 9}\nlua print(Hold.sample.filtered + Hold.sample.count)\nget Hold.sample\n' |
+  FORCE_SAMPLE_CSV="$work/force_sample_console.csv" COBRA_PACKAGE_PATH="$work/example" \
+  "$prefix/bin/cobra" console "$samples" --sim | tee "$work/samples_console.out"
+grep -qx "Hold.sample = {force = 1.5, filtered = 2.25, count = 3}" "$work/samples_console.out" ||
+  fail "Hold.sample is not the example.ForceSample force_sample.lua sets"
+grep -qx "17.5" "$work/samples_console.out" || fail "Lua did not read Hold.sample's fields back"
+grep -qx "Hold.sample = {force = 7, filtered = 8.5, count = 9}" "$work/samples_console.out" ||
+  fail "Hold.sample set from the console's Lua is not read back"
+# ... and between two processes over DDS (the transport is the package cobra_dds; the type is
+# found through core::TypeFacets): one writes the filter's samples, the other records them.
+# Domain 212, this test's own; the reader starts first and outlives the writer.
+dds_samples="$source/examples/06_package/force_sample_dds.lua"
+COBRA_DDS_DOMAIN=212 FORCE_SAMPLE_ROLE=reader FORCE_SAMPLE_CSV="$work/force_sample_dds.csv" COBRA_PACKAGE_PATH="$work/example" \
+  timeout 120 "$prefix/bin/cobra" deploy "$dds_samples" --run-for 5 >"$work/dds_reader.out" 2>&1 &
+reader=$!
+COBRA_DDS_DOMAIN=212 FORCE_SAMPLE_ROLE=writer COBRA_PACKAGE_PATH="$work/example" \
+  timeout 120 "$prefix/bin/cobra" deploy "$dds_samples" --run-for 3 >"$work/dds_writer.out" 2>&1 ||
+  { cat "$work/dds_writer.out"; fail "the DDS writer did not run"; }
+wait "$reader" || { cat "$work/dds_reader.out"; fail "the DDS reader did not run"; }
+header="time [s],Hold.sample_out.force [N],Hold.sample_out.filtered [N],Hold.sample_out.count"
+[ "$(head -1 "$work/force_sample_dds.csv")" = "$header" ] || { cat "$work/dds_reader.out"; fail "the DDS reader's CSV header is '$(head -1 "$work/force_sample_dds.csv")'"; }
+# Received: the writer's samples of 10 N, after more than 1 s of its updates (its filter > 9 N).
+tail -1 "$work/force_sample_dds.csv" | awk -F, '{ exit !($2 == 10 && $3 > 9 && $3 < 10 && $4 > 1000) }' ||
+  { tail -3 "$work/force_sample_dds.csv"; cat "$work/dds_reader.out"; fail "the reader did not receive the writer's example.ForceSample over DDS"; }
 
 # An installed package is found without COBRA_PACKAGE_PATH.
 cmake --install "$work/example" --prefix "$prefix" >/dev/null

@@ -4,6 +4,7 @@
 #include <mutex>
 
 #include "cobra/core/error.hpp"
+#include "cobra/core/type_facets.hpp"
 #include "cobra/dds/register_type.hpp"
 
 namespace cobra::dds {
@@ -31,10 +32,15 @@ void addBinding(std::type_index type, Binding binding) {
 }
 
 const Binding* findBinding(std::type_index type) {
-  Registry& r = registry();
-  std::lock_guard lock(r.mutex);
-  const auto it = r.bindings.find(type);
-  return it == r.bindings.end() ? nullptr : &it->second;
+  {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    const auto it = r.bindings.find(type);
+    if (it != r.bindings.end()) return &it->second;
+  }
+  // Registered by another module of this process (a package, when this transport is the
+  // cobra_dds package): its binding, published process-wide (register_type.hpp).
+  return static_cast<const Binding*>(core::TypeFacets::get(type, facet));
 }
 
 std::string registeredDdsTypes() {

@@ -24,7 +24,19 @@ namespace {
 struct Unsent {
   double depth = 0.0;
 };
+// Registered only through core::TypeFacets, as a package's type reaches the transport of the
+// `cobra` tool (whose dds registry is its package's own).
+struct FacetOnly {
+  double force = 0.0;
+  int count = 0;
+};
 }  // namespace
+
+template <>
+struct cobra::core::DataTypeTraits<FacetOnly> : cobra::core::RecordTraits<FacetOnly> {
+  static constexpr std::string_view name = "probe_msgs.FacetOnly";
+  static constexpr auto fields = std::tuple{field("force", &FacetOnly::force, "N"), field("count", &FacetOnly::count)};
+};
 
 template <>
 struct cobra::core::DataTypeTraits<Unsent> : cobra::core::RecordTraits<Unsent> {
@@ -83,6 +95,40 @@ TEST(DdsRegisterType, APortOfAnUnregisteredTypeIsRefusedNamingItAndHowToRegister
   registerDdsType<Unsent>();  // once registered, the same port connects
   core::connectToTransport(out, dds.policy("probe/unsent"));
   EXPECT_TRUE(out.connected());
+}
+
+TEST(DdsRegisterType, ABindingPublishedOnlyAsATypeFacetIsFoundByTheTransport) {
+  // What registerDdsType<T>() in another module (a package) leaves in this process: its
+  // binding in core::TypeFacets, nothing in this module's registry.
+  static const detail::Binding binding = detail::binding<FacetOnly>("probe_msgs.FacetOnly");
+  ASSERT_TRUE(core::TypeFacets::set(typeid(FacetOnly), detail::facet, &binding));
+  const auto own = ddsTypes();
+  EXPECT_EQ(std::count(own.begin(), own.end(), "probe_msgs.FacetOnly"), 0);
+  EXPECT_EQ(detail::findBinding(typeid(FacetOnly)), &binding);
+
+  RegisteredTransport a("dds_facet_a", 211, "cobra_a");
+  RegisteredTransport b("dds_facet_b", 211, "cobra_b");
+  core::OutputPort<FacetOnly> out("sample", "", "");
+  core::InputPort<FacetOnly> in("sample", "", "");
+  core::ConnPolicy policy = core::ConnPolicy::buffer(8);
+  policy.options = {{"reliability", "reliable"}, {"depth", "8"}};
+  core::connectToTransport(out, a.policy("probe/facet", policy));
+  core::connectToTransport(in, b.policy("probe/facet", policy));
+  ASSERT_TRUE(a.transport->waitForMatch("probe/facet", 5s));
+  ASSERT_TRUE(b.transport->waitForMatch("probe/facet", 5s));
+  ASSERT_EQ(out.write(FacetOnly{12.5, 7}), core::WriteStatus::Written);
+  FacetOnly got;
+  ASSERT_TRUE(test::pollUntil([&] { return in.read(got) == core::FlowStatus::NewData; }));
+  EXPECT_EQ(got.force, 12.5);
+  EXPECT_EQ(got.count, 7);
+}
+
+TEST(DdsRegisterType, RegisterDdsTypePublishesItsBindingAsATypeFacet) {
+  registerDdsType<ProbeReading>();
+  const auto* published = static_cast<const detail::Binding*>(core::TypeFacets::get(typeid(ProbeReading), detail::facet));
+  ASSERT_NE(published, nullptr);
+  EXPECT_EQ(published->cobra_type, "probe_msgs.ProbeReading");
+  EXPECT_NE(published->make_writer, nullptr);
 }
 
 TEST(DdsRegisterType, RegisteringAgainKeepsOneEntry) {

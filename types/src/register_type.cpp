@@ -10,7 +10,11 @@ namespace cobra::types {
 void registerBuiltins() {
   core::forEachType(core::BuiltinDataTypes{}, [](auto type) { registerType<typename decltype(type)::type>(); });
   // cobra's types defined above core, with their codecs in this module (motion_types.hpp).
-  registerType<trajectory::MultiAxisPath>();
+  // TGL.MultiAxisPath has no DDS wire (no DdsCodec): core, Lua and CSV only, or registerType<T>()
+  // would not compile where dds is present.
+  (void)core::typeInfo<trajectory::MultiAxisPath>();
+  script::registerLuaType<trajectory::MultiAxisPath>();
+  components::registerCsvType<trajectory::MultiAxisPath>();
 }
 
 bool hasEveryCapability(const core::TypeInfo& type) {

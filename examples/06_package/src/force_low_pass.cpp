@@ -9,6 +9,7 @@ ForceLowPass::ForceLowPass(std::string name)
     : Component(std::move(name), cobra::core::Role::Calculation, "First-order low-pass filter of a force") {
   addPort(force_in_);
   addPort(force_out_);
+  addPort(sample_out_);
   addProperty(cutoff_frequency_);
   addProperty(initial_force_);
 }
@@ -20,6 +21,7 @@ bool ForceLowPass::configureHook() {
 
 bool ForceLowPass::startHook() {
   filtered_ = input_ = initial_force_();
+  count_ = 0;
   last_update_ = now();
   return true;
 }
@@ -30,6 +32,7 @@ void ForceLowPass::updateHook() {
   last_update_ = now();
   filtered_ += (1.0 - std::exp(-2.0 * std::numbers::pi * cutoff_frequency_() * dt)) * (input_ - filtered_);
   force_out_.write(filtered_);
+  sample_out_.write(ForceSample{input_, filtered_, ++count_});
 }
 
 }  // namespace example

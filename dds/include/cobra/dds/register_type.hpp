@@ -19,6 +19,14 @@
 /// Registering is configure-time work (it allocates); it is thread-safe, and registering a type
 /// again keeps the first registration. The transport looks a port's type up when a connection
 /// is made.
+///
+/// A type registered by a package reaches the transport of the `cobra` tool although that
+/// transport is a package of its own (libcobra_dds.so, loaded RTLD_LOCAL, with its own copy of
+/// this registry): registerDdsType<T>() also publishes T's binding (a static of the registering
+/// module) in the process-wide core::TypeFacets under the capability "dds", and the transport
+/// looks there when its own registry has no entry for a port's type. The binding is a struct of
+/// function pointers instantiated where T is registered, so both sides must be built from the
+/// same cobra headers (the installed ones).
 
 #include <string>
 #include <string_view>
@@ -26,6 +34,7 @@
 #include <vector>
 
 #include "cobra/core/data_type.hpp"
+#include "cobra/core/type_facets.hpp"
 #include "cobra/dds/codec.hpp"
 #include "cobra/dds/detail/ends.hpp"
 
@@ -34,7 +43,11 @@ namespace cobra::dds {
 namespace detail {
 /// Adds `binding` for `type` unless it is there already.
 void addBinding(std::type_index type, Binding binding);
-/// The binding of `type`, or nullptr. The pointer stays valid: bindings are never removed.
+/// The capability under which registerDdsType<T>() publishes T's binding in core::TypeFacets.
+inline constexpr std::string_view facet = "dds";
+/// The binding of `type`: this module's registry's, else the one a module published in
+/// core::TypeFacets under `facet` (a package's type, when the transport is a package itself), or
+/// nullptr. The pointer stays valid: bindings are never removed.
 const Binding* findBinding(std::type_index type);
 /// The cobra names of the registered types, comma-separated in registration order.
 std::string registeredDdsTypes();
@@ -48,7 +61,9 @@ void registerDdsType() {
   static_assert(core::RegisteredDataType<T>,
                 "cobra: registerDdsType<T>() needs a registered cobra type: specialise cobra::core::DataTypeTraits<T> "
                 "(a record: inherit cobra::core::RecordTraits<T> and list its fields)");
-  detail::addBinding(std::type_index(typeid(T)), detail::binding<T>(std::string(core::typeInfo<T>().name)));
+  static const detail::Binding binding = detail::binding<T>(std::string(core::typeInfo<T>().name));
+  detail::addBinding(std::type_index(typeid(T)), binding);
+  core::TypeFacets::set(std::type_index(typeid(T)), detail::facet, &binding);  // for other modules' transports
 }
 
 /// The cobra names of the types the dds transport carries, in registration order.

@@ -21,7 +21,9 @@
 ///   package.component<us::ProbeMonitor>("ProbeMonitor", "...");
 /// }
 /// @endcode
-/// (cobra_add_package(... USES cobra::types cobra::script cobra::components::reporting)).
+/// (cobra_add_package(... USES cobra::types cobra::script cobra::components::reporting cobra::dds);
+/// with cobra::dds the package carries the dds side itself, and the `cobra` tool's transport, a
+/// package of its own, finds the type through core::TypeFacets: dds/README.md).
 
 #include <typeindex>
 
