@@ -69,7 +69,7 @@ EndpointInfo endpointInfo(const detail::Binding& binding, const core::PortBase& 
 }  // namespace
 
 DdsTransport::DdsTransport(Options options) : participant_(std::make_shared<Participant>(options)) {
-  registerBuiltinWires();  // until types/ registers cobra's built-in types (register_type.hpp)
+  registerBuiltinWires();  // cobra's own types (core::BuiltinDataTypes), once per process
 }
 
 DdsTransport::~DdsTransport() = default;
