@@ -8,6 +8,7 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/core/core.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 // A type registered by "another module", with no Lua conversion: it travels as text.
 struct Gripper {
@@ -73,13 +74,9 @@ class Bindings : public testing::Test {
  protected:
   Bindings() { exposeComponent(lua, planner); }
 
-  std::string errorOf(const std::string& code) {
-    try {
-      lua.run(code, "=test");
-    } catch (const core::Error& e) {
-      return e.what();
-    }
-    return "(no error)";
+  /// The error running `code` (chunk name "test") throws, or "(no error)".
+  std::string luaError(const std::string& code) {
+    return test_support::messageOf([&] { lua.run(code, "=test"); });
   }
 
   Planner planner{"P"};
@@ -101,29 +98,29 @@ TEST_F(Bindings, SetsProperties) {
 }
 
 TEST_F(Bindings, RefusedPropertySetsCarryTheCoreMessageAndChangeNothing) {
-  EXPECT_EQ(errorOf("P.max_vel = 2"), "test:1: component 'P': property 'max_vel' = 2 is out of range [0, 1] (m/s)");
-  EXPECT_EQ(errorOf("P.max_vel = 'fast'"),
+  EXPECT_EQ(luaError("P.max_vel = 2"), "test:1: component 'P': property 'max_vel' = 2 is out of range [0, 1] (m/s)");
+  EXPECT_EQ(luaError("P.max_vel = 'fast'"),
             "test:1: component 'P': property 'max_vel' is a double: cannot set it from Lua: expected a number, got "
             "the string \"fast\"");
-  EXPECT_EQ(errorOf("P.count = 1.5"),
+  EXPECT_EQ(luaError("P.count = 1.5"),
             "test:1: component 'P': property 'count' is a int: cannot set it from Lua: expected an integer, got the "
             "number 1.5 (not an integer)");
-  EXPECT_EQ(errorOf("P.status = 'busy'"), "test:1: component 'P': property 'status' is read-only; it reports a value "
+  EXPECT_EQ(luaError("P.status = 'busy'"), "test:1: component 'P': property 'status' is read-only; it reports a value "
                                           "and cannot be set");
-  EXPECT_EQ(errorOf("P.nope = 1"),
+  EXPECT_EQ(luaError("P.nope = 1"),
             "test:1: component 'P' has no property 'nope'; its properties are: max_vel, count, target, status, gripper");
-  EXPECT_EQ(errorOf("P.u = 1"), "test:1: component 'P': 'u' is a port; only properties can be assigned");
+  EXPECT_EQ(luaError("P.u = 1"), "test:1: component 'P': 'u' is a port; only properties can be assigned");
   EXPECT_EQ(planner.getProperty<double>("max_vel"), 0.5);
   EXPECT_EQ(planner.getProperty<int>("count"), 3);
 }
 
 TEST_F(Bindings, UnknownNamesListWhatExists) {
-  EXPECT_EQ(errorOf("local x = P.nope"),
+  EXPECT_EQ(luaError("local x = P.nope"),
             "test:1: component 'P' has no port, property or operation 'nope'; its ports are: events, u, y, goal, gripper_out; its "
             "properties are: max_vel, count, target, status, gripper; its operations are: add, askStartMove, fail, "
             "widen; its methods are: configure, start, stop, cleanup, recover, getState, getName, getRole, "
             "getLastError, now, emitEvent");
-  EXPECT_EQ(errorOf("local x = P[1]"), "test:1: component 'P': index it with a name (a string), not the integer 1");
+  EXPECT_EQ(luaError("local x = P[1]"), "test:1: component 'P': index it with a name (a string), not the integer 1");
 }
 
 TEST_F(Bindings, CallsOperations) {
@@ -135,24 +132,24 @@ TEST_F(Bindings, CallsOperations) {
 }
 
 TEST_F(Bindings, OperationErrorsNameTheSignatureAndArgument) {
-  EXPECT_EQ(errorOf("P:add(1)"), "test:1: component 'P': operation 'double add(double a [1], double b [1])' expects "
+  EXPECT_EQ(luaError("P:add(1)"), "test:1: component 'P': operation 'double add(double a [1], double b [1])' expects "
                                  "2 argument(s), got 1");
-  EXPECT_EQ(errorOf("P:add(1, 'x')"),
+  EXPECT_EQ(luaError("P:add(1, 'x')"),
             "test:1: component 'P': operation 'double add(double a [1], double b [1])': argument 2 ('b') must be a "
             "double: expected a number, got the string \"x\"");
-  EXPECT_EQ(errorOf("P:fail()"), "test:1: component 'P': operation 'void fail()' failed: planner broke");
+  EXPECT_EQ(luaError("P:fail()"), "test:1: component 'P': operation 'void fail()' failed: planner broke");
 }
 
 TEST_F(Bindings, LifecycleFromLua) {
   lua.run("assert(P:getState() == 'PreOperational') assert(P:configure()) assert(P:start())");
   EXPECT_EQ(planner.state(), core::State::Running);
-  EXPECT_EQ(errorOf("P:start()"), "test:1: component 'P': cannot start: it is Running; it is already running");
+  EXPECT_EQ(luaError("P:start()"), "test:1: component 'P': cannot start: it is Running; it is already running");
   lua.run("assert(P:stop()) assert(P:cleanup())");
   EXPECT_EQ(lua.evaluate("P:getState()"), "PreOperational");
   EXPECT_EQ(lua.evaluate("P:getName() .. ' ' .. P:getRole()"), "P Calculation");
-  EXPECT_EQ(errorOf("P:recover()"),
+  EXPECT_EQ(luaError("P:recover()"),
             "test:1: component 'P': cannot recover: it is PreOperational; only a component in Exception can recover");
-  EXPECT_EQ(errorOf("P.start()"), "test:1: call component methods with ':' (Comp:start()), not '.' (Comp.start())");
+  EXPECT_EQ(luaError("P.start()"), "test:1: call component methods with ':' (Comp:start()), not '.' (Comp.start())");
 }
 
 TEST_F(Bindings, TimeAndEvents) {
@@ -167,7 +164,7 @@ TEST_F(Bindings, TimeAndEvents) {
   ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
   EXPECT_EQ(e.name, "e_plan_done");
   EXPECT_EQ(e.source, "P");
-  EXPECT_EQ(errorOf("P:emitEvent(3)"), "test:1: component 'P': emitEvent takes an event name (a string), got the integer 3");
+  EXPECT_EQ(luaError("P:emitEvent(3)"), "test:1: component 'P': emitEvent takes an event name (a string), got the integer 3");
 }
 
 TEST_F(Bindings, DescribesTheComponent) {
@@ -196,11 +193,11 @@ TEST_F(Bindings, PortsReadAndWrite) {
 }
 
 TEST_F(Bindings, PortMisuseIsAnError) {
-  EXPECT_EQ(errorOf("P.u:write(1)"), "test:1: port P.u is an input port: only output ports can be written");
-  EXPECT_EQ(errorOf("P.goal:write({1, 2})"),
+  EXPECT_EQ(luaError("P.u:write(1)"), "test:1: port P.u is an input port: only output ports can be written");
+  EXPECT_EQ(luaError("P.goal:write({1, 2})"),
             "test:1: port P.goal is a KDL.Frame: cannot write it: expected {p = {x=, y=, z=}, M = {x=, y=, z=, w=}} or "
             "{x, y, z, qx, qy, qz, qw}, got a table (an array of 2 elements)");
-  EXPECT_EQ(errorOf("P.y.write(1)"), "test:1: call port methods with ':' (port:read()), not '.'");
+  EXPECT_EQ(luaError("P.y.write(1)"), "test:1: call port methods with ':' (port:read()), not '.'");
 }
 
 TEST_F(Bindings, ReadsOutputPortsThroughAPrivateConnection) {
@@ -227,7 +224,7 @@ TEST_F(Bindings, TypesWithoutConversionTravelAsText) {
   EXPECT_EQ(lua.evaluate("P.gripper"), "open 0.01");
   lua.run("P.gripper = 'open 0.02'");
   EXPECT_EQ(planner.property("gripper").valueText(), "open 0.02");
-  EXPECT_EQ(errorOf("P.gripper = 0.02"), "test:1: component 'P': property 'gripper' is a test.Gripper, which Lua sets "
+  EXPECT_EQ(luaError("P.gripper = 0.02"), "test:1: component 'P': property 'gripper' is a test.Gripper, which Lua sets "
                                          "from text: expected a string ('open <m>'), got the number 0.02");
   EXPECT_EQ(lua.evaluate("P:widen('open 0.02', 0.01)"), "open 0.03");
 }

@@ -15,6 +15,7 @@
 #include "cobra/components/signal/sine_generator.hpp"
 #include "cobra/core/core.hpp"
 #include "test_files.hpp"
+#include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
 namespace {
@@ -201,42 +202,31 @@ TEST(Reporter, ReportsEveryOutputOfAComponentAndByNameThroughARegistry) {
   EXPECT_EQ(reporter.columns(), (std::vector<std::string>{"time [s]", "Sine.out [1]", "Gain.out [1]", "Gain.events"}));
 }
 
-/// The message of the core::Error `body` throws.
-template <class F>
-std::string errorOf(F&& body) {
-  try {
-    body();
-  } catch (const core::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 TEST(Reporter, RefusesWhatItCannotReportWithMessagesThatSayWhatIsNeeded) {
   core::ComponentRegistry registry;
   auto& sine = registry.make<SineGenerator>("Sine");
   auto& gain = registry.make<Gain>("Gain");
   Source src("Src");
   Reporter reporter("Rep");
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(gain.port("in")); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(gain.port("in")); }),
             "component 'Rep': cannot report Gain.in: it is an input port; report the output port that writes it");
   reporter.reportPort(sine.port("out"));
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(registry, "Sine.out"); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(registry, "Sine.out"); }),
             "component 'Rep': cannot report Sine.out: it is already reported; report each port once");
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(src.q); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(src.q); }),
             "component 'Rep': cannot report Src.q: it is a vector<double>, whose length is not part of its type; "
             "give its number of elements, e.g. reportPort(port, 6)");
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(src.d, 3); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(src.d, 3); }),
             "component 'Rep': cannot report Src.d: it is a double, whose columns are fixed by its type; give no "
             "number of elements (3 was given; only vector<double> and KDL.JntArray take one)");
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(registry, "Sine"); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(registry, "Sine"); }),
             "component 'Rep': cannot report \"Sine\": name the port as Component.port, e.g. Sine.out");
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(registry, "Sine.nope"); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(registry, "Sine.nope"); }),
             "component 'Sine' has no port 'nope'; its ports are: events, out");
-  EXPECT_EQ(errorOf([&] { reporter.reportComponent(src); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportComponent(src); }),
             "component 'Rep': cannot report component 'Src': the length of q (vector<double>), j (KDL.JntArray) is "
             "not part of its type; report it first with reportPort(port, number of elements)");
-  EXPECT_EQ(errorOf([&] { reporter.reportComponent(sine); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportComponent(sine); }),
             "component 'Rep': cannot report component 'Sine': it has no output port left to report (its events "
             "port is reported only with include_events = true)");
   EXPECT_EQ(reporter.reportedPorts(), (std::vector<std::string>{"Sine.out"}));  // nothing half-done
@@ -247,10 +237,10 @@ TEST(Reporter, RefusesWhatItCannotReportWithMessagesThatSayWhatIsNeeded) {
   clock.add(reporter, 1ms);
   ASSERT_TRUE(reporter.configure());
   ASSERT_TRUE(reporter.start());
-  EXPECT_EQ(errorOf([&] { reporter.reportPort(gain.port("out")); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(gain.port("out")); }),
             "component 'Rep': cannot report Gain.out: the reporter is Running; report ports before configure (stop "
             "and clean it up first)");
-  EXPECT_EQ(errorOf([&] { reporter.setProperty("rows_dropped", 3); }),
+  EXPECT_EQ(test_support::messageOf([&] { reporter.setProperty("rows_dropped", 3); }),
             "component 'Rep': property 'rows_dropped' is read-only; it reports a value and cannot be set");
   ASSERT_TRUE(reporter.stop());
 }

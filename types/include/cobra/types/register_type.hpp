@@ -53,8 +53,9 @@ void registerType() {
 
 /// Registers cobra's own data types with every capability: core::BuiltinDataTypes (which the
 /// capability registries also add at their first use) and the types defined above core
-/// (TGL.MultiAxisPath), which only this call registers. The entry points (the `cobra` tool, the
-/// runner, the studio) call it at start-up, before a deployment is loaded.
+/// (TGL.MultiAxisPath), which only this call registers. The `cobra` tool calls it at start-up,
+/// before a deployment is loaded (its run, studio and editor included); a program of one's own
+/// that loads deployments calls it too.
 void registerBuiltins();
 
 /// True when `type` is registered for Lua, for CSV (and for DDS when present).
