@@ -117,7 +117,7 @@ std::string toHtml(const RunReport& report) {
   }
   html << "<h2>Task states</h2>\n" << timelineSvg(report.timeline);
   for (const run::Figure& figure : report.figures)
-    html << "<h2>" << escape(figure.title) << "</h2>\n" << plot::toSvg(toPlot(figure));
+    html << "<h2>" << escape(figure.title) << "</h2>\n" << plot::toSvg(figure);
   html << "<h2>Events</h2>\n<div class=\"events\"><table>\n<tr><th>t [s]</th><th>source</th><th>event</th><th>state "
           "after</th></tr>\n";
   for (const EventRecord& e : report.events)
@@ -139,17 +139,6 @@ std::filesystem::path writeHtml(const std::filesystem::path& folder, const RunRe
   const std::filesystem::path page = folder / "report.html";
   writeFile(page, toHtml(report));
   return page;
-}
-
-plot::Figure toPlot(const run::Figure& figure) {
-  plot::Figure out{figure.title, {}, figure.width, figure.panel_height};
-  for (const run::Panel& panel : figure.panels) {
-    plot::Panel p{panel.title, panel.x_label, panel.y_label, {}};
-    for (const run::Series& s : panel.series)
-      p.series.push_back({s.label, s.x, s.y, s.dashed, s.marker_x, s.marker_y, s.marker_labels});
-    out.panels.push_back(std::move(p));
-  }
-  return out;
 }
 
 void registerHtmlReport() { run::ObserverRegistry::addReportWriter("html", &writeHtml); }

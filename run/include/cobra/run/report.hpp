@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "cobra/plot/svg_plot.hpp"
+
 namespace cobra::run {
 
 /// One event seen during the run: when [s, simulated or wall time], who raised it, its name, and
@@ -46,33 +48,11 @@ class TimelineRecorder {
   std::vector<StateInterval> open_;  // one per chart, end unused
 };
 
-/// One line of a figure: points (x[i], y[i]) in the panel's units; `label` for the legend;
-/// optional markers at points, `marker_labels[i]` written beside marker i.
-struct Series {
-  std::string label;
-  std::vector<double> x;
-  std::vector<double> y;
-  bool dashed = false;
-  std::vector<double> marker_x{};
-  std::vector<double> marker_y{};
-  std::vector<std::string> marker_labels{};
-};
-
-/// One panel of a figure: title, axis labels with units, its series.
-struct Panel {
-  std::string title;
-  std::string x_label;
-  std::string y_label;
-  std::vector<Series> series;
-};
-
-/// Panels stacked vertically (as cobra::plot draws them).
-struct Figure {
-  std::string title;
-  std::vector<Panel> panels;
-  int width = 900;         ///< px
-  int panel_height = 260;  ///< px
-};
+/// A figure of the report: panels of series, as cobra::plot draws them (plot/svg_plot.hpp: the
+/// dependency-free plotting library below run; the report's HTML writer draws them with it).
+using Series = plot::Series;
+using Panel = plot::Panel;
+using Figure = plot::Figure;
 
 /// Everything the run's report shows.
 struct RunReport {

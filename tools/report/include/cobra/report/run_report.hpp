@@ -24,9 +24,6 @@ std::string timelineSvg(const std::vector<StateInterval>& timeline, int width = 
 /// The self-contained HTML page of `report`.
 std::string toHtml(const RunReport& report);
 
-/// The figure as cobra::plot draws it.
-plot::Figure toPlot(const run::Figure& figure);
-
 /// Writes `report.html` into `folder` (which exists). @return its path.
 /// @throws std::runtime_error naming the file it cannot write.
 std::filesystem::path writeHtml(const std::filesystem::path& folder, const RunReport& report);
