@@ -9,22 +9,26 @@
 #include <stdexcept>
 
 namespace cobra::plot {
+
+std::string escapeXml(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
+}
+
 namespace {
 
 // A colour-blind-safe palette (Okabe–Ito), cycled over the series of a panel.
 constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"};
 constexpr int kLeft = 80, kRight = 170, kTop = 34, kBottom = 46;  // px of a panel's margins (legend at the right)
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
+std::string escape(const std::string& text) { return escapeXml(text); }
 
 std::string number(double v) {
   char buffer[32];

@@ -17,17 +17,7 @@ constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", 
 constexpr int kLaneHeight = 34, kLabelWidth = 150, kAxisHeight = 30;  // px
 constexpr double kCharWidth = 6.5;                                     // px of a 11 px sans-serif character
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
+std::string escape(const std::string& text) { return plot::escapeXml(text); }
 
 std::string number(double v, const char* format = "%.6g") {
   char buffer[32];

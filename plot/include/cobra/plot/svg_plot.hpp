@@ -43,6 +43,9 @@ struct Figure {
 /// labels than markers.
 std::string toSvg(const Figure& figure);
 
+/// `text` with <, >, & and " written as entities: safe in SVG or HTML text and attribute values.
+std::string escapeXml(const std::string& text);
+
 /// Writes toSvg(figure) to `path`. @throws std::runtime_error naming the file when it cannot.
 void writeSvg(const Figure& figure, const std::filesystem::path& path);
 
