@@ -96,14 +96,19 @@ test('Play runs through the recording and Pause stops it where it is', async (t)
   const server = await startFixtureServer('replay');
   try {
     const { page } = await openStudio(browser, server.pageUrl, t);
+    // The replay plays on a clock the test moves: on the wall clock a loaded machine could let the
+    // 4 s recording run to its end (and stop by itself) between two of the test's steps.
+    await page.clock.install();
     const play = page.locator('#play');
     await play.click();
     assert.equal(await play.innerText(), 'Pause');
-    await page.waitForFunction(() => window.cobraStudio.frameTime() >= 0.5, null, { timeout: 10000 });
+    await page.clock.runFor(700);
+    const played = await page.evaluate(() => window.cobraStudio.frameTime());
+    assert.ok(played >= 0.5 && played < 1, `after 0.7 s of play the replay is at ${played} s`);
     await play.click();
     assert.equal(await play.innerText(), 'Play');
     const paused = await page.evaluate(() => window.cobraStudio.frameTime());
-    await page.waitForTimeout(300);
+    await page.clock.runFor(300);
     assert.equal(await page.evaluate(() => window.cobraStudio.frameTime()), paused);
     assert.equal(await page.locator('#scrub').inputValue(), String(recording.frames.findIndex((f) => f.t === paused)));
   } finally {
