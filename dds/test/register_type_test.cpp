@@ -163,7 +163,7 @@ class RawBytesType final : public fdds::TopicDataType {
   bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override {
     const auto& bytes = *static_cast<const std::vector<unsigned char>*>(data);
     if (bytes.size() > payload->max_size) return false;
-    std::memcpy(payload->data, bytes.data(), bytes.size());
+    if (!bytes.empty()) std::memcpy(payload->data, bytes.data(), bytes.size());  // an empty sample has no data pointer
     payload->length = static_cast<std::uint32_t>(bytes.size());
     payload->encapsulation = CDR_LE;
     return true;
