@@ -14,7 +14,8 @@
 #                    suturing: the two-armed suturing task, thesis ch. 5)
 #   bench            build and run the benchmarks (Google Benchmark; median and max; installs
 #                    rt-tests and stress-ng for the executor's bench beside cyclictest)
-#   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds
+#   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds, two at a time
+#   fuzz-seeds       check that every fuzzer's seed files (the repo's real inputs) exist
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -34,10 +35,36 @@ fuzz_seeds() {
   case "$1" in
     chart_loader_fuzz) echo script/test/charts/* ;;
     phantom_scenario_fuzz) echo apps/puncturing/scenarios/*/phantom.txt ;;
-    planning_scene_fuzz) echo planning/scenes/*.scene planning/test/data/*.scene ;;
+    planning_scene_fuzz) echo apps/*/deployment/*.scene planning/test/scenes/*.scene planning/test/data/*.scene ;;
     puncturing_plan_fuzz) echo apps/puncturing/scenarios/*/*.txt apps/puncturing/state_table.txt ;;
     studio_json_fuzz) echo studio/test/fuzz_seeds/*.json ;;
   esac
+}
+
+# Fails, naming the fuzzer and the pattern, when a seed pattern above matches no file (a moved
+# folder would otherwise end the fuzz slice with cp's bare "cannot stat"). `./do fuzz-seeds` runs
+# only this check; `./do test` runs it too (test do_fuzz_seeds_exist).
+check_fuzz_seeds() {
+  local f seed bad=0
+  for f in "${FUZZERS[@]}"; do
+    for seed in $(fuzz_seeds "$f"); do
+      if [ ! -f "$seed" ]; then
+        echo "do fuzz: the seed pattern '$seed' of $f matches no file; fix fuzz_seeds in ./do" >&2
+        bad=1
+      fi
+    done
+  done
+  return $bad
+}
+
+# Runs fuzzer $1 for $2 seconds from the repo's seeds and its corpus; its output to build/fuzz/$1.log.
+run_fuzzer() {
+  local f=$1 seconds=$2 seed
+  mkdir -p "build/fuzz/corpus/$f"
+  rm -rf "build/fuzz/seeds/$f"; mkdir -p "build/fuzz/seeds/$f"  # read-only starting inputs
+  for seed in $(fuzz_seeds "$f"); do cp "$seed" "build/fuzz/seeds/$f/${seed//\//_}"; done
+  "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="build/fuzz/$f-" \
+    "build/fuzz/corpus/$f" "build/fuzz/seeds/$f" >"build/fuzz/$f.log" 2>&1
 }
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
@@ -180,22 +207,25 @@ case "${1:-help}" in
       say "$b"
       "$b" --benchmark_counters_tabular=true
     done ;;
+  fuzz-seeds) check_fuzz_seeds ;;
   fuzz)
     seconds="${2:-60}"
+    check_fuzz_seeds
     build fuzz --target "${FUZZERS[@]}"
-    mkdir -p build/fuzz/corpus
-    for f in "${FUZZERS[@]}"; do
-      say "$f for ${seconds} s"
-      mkdir -p "build/fuzz/corpus/$f"
-      rm -rf "build/fuzz/seeds/$f"; mkdir -p "build/fuzz/seeds/$f"  # read-only starting inputs
-      for seed in $(fuzz_seeds "$f"); do cp "$seed" "build/fuzz/seeds/$f/${seed//\//_}"; done
-      if ! "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix=build/fuzz/ \
-          "build/fuzz/corpus/$f" "build/fuzz/seeds/$f" >build/fuzz/$f.log 2>&1; then
-        tail -n 40 "build/fuzz/$f.log"
-        echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ (see above)" >&2
-        exit 1
-      fi
-      grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" || true
+    # Two fuzzers at a time (each is single-threaded; the machine has two cores).
+    for ((i = 0; i < ${#FUZZERS[@]}; i += 2)); do
+      pair=("${FUZZERS[@]:i:2}") pids=()
+      say "${pair[*]} for ${seconds} s"
+      for f in "${pair[@]}"; do run_fuzzer "$f" "$seconds" & pids+=($!); done
+      for j in "${!pair[@]}"; do
+        f=${pair[j]}
+        if ! wait "${pids[j]}"; then
+          tail -n 40 "build/fuzz/$f.log"
+          echo "do fuzz: $f found a failure; the input is saved under build/fuzz/ as $f-crash-* (see above)" >&2
+          exit 1
+        fi
+        grep -E '^(Done|stat::number_of_executed_units)' "build/fuzz/$f.log" | sed "s/^/$f: /" || true
+      done
     done ;;
   help|-h|--help) sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' ;;
   *) echo "do: unknown command '$1'" >&2; sed -n '2,/^set -euo/{/^#/p}' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;
