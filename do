@@ -8,7 +8,8 @@
 #   test --tsan      the tests that run threads under ThreadSanitizer (label concurrency)
 #   test --wallclock only the wall-clock tests (label wallclock: each task on the real-time
 #                    executor, and wallclock_split: the puncturing task split over two hosts;
-#                    minutes of wall time, which `./do test` runs too, one at a time)
+#                    minutes of wall time; `./do test` runs them too, one wall-clock test at
+#                    a time beside the other tests)
 #   demo [basics|puma260|suturing]  build and run the puncturing procedure in simulation (basics:
 #                    the small demos; puma260: the retrofitted Puma 260 task, thesis ch. 6;
 #                    suturing: the two-armed suturing task, thesis ch. 5)
@@ -27,8 +28,8 @@ BENCH_PACKAGES=(rt-tests stress-ng)
 LSAN="suppressions=$PWD/test_support/lsan.supp:print_suppressions=0"
 # Reports inside Debian's uninstrumented Fast DDS, each explained in the file.
 TSAN_SUPP="suppressions=$PWD/test_support/tsan.supp:print_suppressions=0"
-FUZZERS=(value_text_fuzz channel_fuzz configuration_text_fuzz chart_loader_fuzz isur_protocol_fuzz omni_protocol_fuzz
-  ftsens_frame_fuzz phantom_scenario_fuzz planning_scene_fuzz puncturing_plan_fuzz studio_json_fuzz dds_record_fuzz)
+# Every fuzzer is a fuzz/<name>_fuzz.cpp (fuzz/CMakeLists.txt builds each, and the target fuzzers all).
+FUZZERS=($(cd fuzz && ls -- *_fuzz.cpp | sed 's/\.cpp$//'))
 
 # The repo's real files a fuzzer starts from (copied into one folder, as libFuzzer takes folders).
 fuzz_seeds() {
@@ -140,7 +141,7 @@ run_tests() {
       ctest --test-dir build/release --output-on-failure --no-tests=error --timeout 300 -L '^wallclock' ;;
     --asan)
       build asan
-      # Every test, the whole tasks on the wall clock too (run one at a time, as in `./do test`).
+      # Every test, the whole tasks on the wall clock too (one at a time, as in `./do test`).
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=$LSAN \
         ctest --test-dir build/asan --output-on-failure --no-tests=error -j2 --timeout 900 ;;
     --asan-ci)
@@ -211,7 +212,7 @@ case "${1:-help}" in
   fuzz)
     seconds="${2:-60}"
     check_fuzz_seeds
-    build fuzz --target "${FUZZERS[@]}"
+    build fuzz --target fuzzers
     # Two fuzzers at a time (each is single-threaded; the machine has two cores).
     for ((i = 0; i < ${#FUZZERS[@]}; i += 2)); do
       pair=("${FUZZERS[@]:i:2}") pids=()
