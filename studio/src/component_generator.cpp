@@ -26,16 +26,16 @@ std::string shortName(std::string_view name) {
   return std::string(dot == std::string_view::npos ? name : name.substr(dot + 1));
 }
 
-/// Every registered data type with a C++ spelling (DataTypeTraits::cpp), cobra's own and those of
-/// the packages loaded so far, by its name and by its short name when that is unambiguous.
+/// Every registered data type the generator knows (generatorKnows), cobra's own and those of the
+/// packages loaded so far, by its name and by its short name when that is unambiguous.
 std::map<std::string, TypeSpelling> types() {
   std::map<std::string, TypeSpelling> table;
   std::map<std::string, int> shorts;
   const std::vector<const core::TypeInfo*> all = core::TypeRegistry::all();
   for (const core::TypeInfo* t : all)
-    if (!t->cpp.empty()) ++shorts[shortName(t->name)];
+    if (generatorKnows(*t)) ++shorts[shortName(t->name)];
   for (const core::TypeInfo* t : all) {
-    if (t->cpp.empty()) continue;
+    if (!generatorKnows(*t)) continue;
     const TypeSpelling spelling{std::string(t->cpp), std::string(t->header), std::string(t->unit)};
     table.emplace(std::string(t->name), spelling);
     const std::string alias = shortName(t->name);
@@ -265,6 +265,8 @@ std::string readFile(const std::filesystem::path& path) {
 }
 
 }  // namespace
+
+bool generatorKnows(const core::TypeInfo& type) { return !type.cpp.empty(); }
 
 InterfaceItem parseInterfaceItem(const std::string& text, const std::string& what) {
   InterfaceItem item;

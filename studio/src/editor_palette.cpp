@@ -5,6 +5,7 @@
 
 #include "cobra/core/data_type.hpp"
 #include "cobra/deploy/suggest.hpp"
+#include "cobra/studio/component_generator.hpp"
 #include "cobra/studio/json.hpp"
 #include "editor_internal.hpp"
 
@@ -140,7 +141,8 @@ std::string Palette::json() const {
     out += "]}";
   }
   // The registered data types, cobra's own and the loaded packages' (a record with its fields):
-  // what the new-component dialog offers (those with a C++ spelling) and the inspector shows.
+  // what the new-component dialog offers ("generate": the generator can write a port or property
+  // of it) and the inspector shows.
   out += "],\"data_types\":[";
   bool first_data_type = true;
   for (const core::TypeInfo* d : core::TypeRegistry::all()) {
@@ -149,7 +151,7 @@ std::string Palette::json() const {
     out += "{\"name\":" + json::quoted(std::string(d->name)) + ",\"kind\":" +
            (d->kind == core::DataKind::Logic ? "\"logic\"" : "\"pure\"") + ",\"cpp\":" + json::quoted(std::string(d->cpp)) +
            ",\"unit\":" + json::quoted(std::string(d->unit)) + ",\"format\":" + json::quoted(std::string(d->format)) +
-           ",\"fields\":[";
+           ",\"generate\":" + (generatorKnows(*d) ? "true" : "false") + ",\"fields\":[";
     for (std::size_t i = 0; i < d->fields.size(); ++i) {
       const core::FieldInfo& f = d->fields[i];
       out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(std::string(f.name)) + ",\"type\":" +

@@ -12,15 +12,33 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "cobra/components/builtin_packages.hpp"
+#include "cobra/core/record.hpp"
+// A package's own type, with a C++ spelling: examples/06_package's example.ForceSample.
+#include "../../examples/06_package/src/force_sample.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/studio/json.hpp"
 #include "cobra/studio/server.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "http_client.hpp"
 #include "cobra/test_support/test_support.hpp"
+
+/// A type without a C++ spelling (as TGL.MultiAxisPath): the generator cannot write its ports.
+namespace test_pkg {
+struct Opaque {
+  double value = 0.0;
+};
+}  // namespace test_pkg
+
+template <>
+struct cobra::core::DataTypeTraits<test_pkg::Opaque> : cobra::core::RecordTraits<test_pkg::Opaque> {
+  static constexpr std::string_view name = "test.Opaque";
+  static constexpr auto fields = std::tuple{field("value", &test_pkg::Opaque::value, "1", "a value")};
+};
 
 namespace cobra::studio {
 namespace {
@@ -41,6 +59,12 @@ class Chatty final : public core::Component {
 EditorOptions withChatty() {
   EditorOptions options;
   options.packages.emplace_back("test_roles", [](deploy::PackageBuilder& p) { p.component<Chatty>("Chatty", "test"); });
+  // A package that registers data types, as a package's entry point does (in the core registry,
+  // which the palette and the generator read; registerType<T> adds Lua, CSV and DDS).
+  options.packages.emplace_back("test_types", [](deploy::PackageBuilder&) {
+    (void)core::typeInfo<example::ForceSample>();
+    (void)core::typeInfo<test_pkg::Opaque>();
+  });
   return options;
 }
 
@@ -277,6 +301,45 @@ TEST(Editor, GeneratesAComponentAndRefusesWhatCobraNewRefuses) {
   std::string bad = request;
   bad.replace(bad.find("\"double\""), 8, "\"Matrix\"");
   EXPECT_EQ(errorMember(editor(), "POST", "generate", bad, 400).rfind("component.properties 'cutoff:Matrix:Hz': unknown type 'Matrix'", 0), 0u);
+}
+
+/// A generate request for component `name` of package my_types with one input per type.
+std::string generateRequest(const std::filesystem::path& folder, const std::string& name, const std::vector<std::string>& types) {
+  std::string inputs;
+  for (std::size_t i = 0; i < types.size(); ++i)
+    inputs += std::string(i ? "," : "") + "{\"name\":\"in" + std::to_string(i) + "\",\"type\":" + json::quoted(types[i]) + "}";
+  return "{\"folder\":" + json::quoted(folder.string()) + ",\"component\":{\"name\":" + json::quoted(name) +
+         ",\"role\":\"calculation\",\"package\":\"my_types\",\"inputs\":[" + inputs + "]}}";
+}
+
+TEST(Editor, ThePaletteFlagsTheDataTypesTheGeneratorWritesAPackagesToo) {
+  const json::Json palette = call(editor(), "GET", "palette", "", 200);
+  std::map<std::string, bool> generate;
+  for (const json::Json& d : palette.at("data_types")) generate[d.at("name").get<std::string>()] = d.at("generate").get<bool>();
+  // cobra's own, and those a loaded package registered: with a C++ spelling or without one.
+  for (const char* known : {"double", "int", "bool", "string", "vector<double>", "KDL.Wrench", "KDL.Frame", "Event", "example.ForceSample"})
+    EXPECT_TRUE(generate.count(known) == 1 && generate[known]) << known;
+  ASSERT_EQ(generate.count("test.Opaque"), 1u);
+  EXPECT_FALSE(generate["test.Opaque"]);
+
+  // The flag is the generator's word: a component with an input of every flagged type is
+  // generated, and each unflagged type is refused.
+  const auto folder = ::cobra::test_support::scratchPath("cobra_editor_test") / "generated_types";
+  std::filesystem::remove_all(folder);
+  std::vector<std::string> flagged;
+  std::vector<std::string> unflagged;
+  for (const auto& [name, can] : generate) (can ? flagged : unflagged).push_back(name);
+  call(editor(), "POST", "generate", generateRequest(folder, "EveryType", flagged), 200);
+  const std::string header = readText(folder / "include/my_types/every_type.hpp");
+  EXPECT_NE(header.find("#include \"force_sample.hpp\"\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("cobra::core::InputPort<example::ForceSample> in"), std::string::npos) << header;
+  ASSERT_FALSE(unflagged.empty());
+  for (const std::string& type : unflagged) {
+    const std::string error = errorMember(editor(), "POST", "generate", generateRequest(folder, "Refused", {type}), 400);
+    EXPECT_EQ(error.rfind("component.inputs 'in0:" + type + "': unknown type '" + type + "'; the types are: ", 0), 0u) << error;
+    EXPECT_NE(error.find("example.ForceSample"), std::string::npos) << error;
+  }
+  EXPECT_FALSE(std::filesystem::exists(folder / "include/my_types/refused.hpp"));
 }
 
 TEST(Editor, BadRequestsAreRefusedWithTheirReason) {

@@ -2,7 +2,7 @@
 // load shows its text with the failing line marked, and the page never saves over it) and the
 // new-component form (POST /api/editor/generate: `cobra new component`'s generator).
 import { h } from './editor_panels.js';
-import { generatedType, isIdentifier, paletteDataTypes } from './editor_model.js';
+import { generatedType, generatorTypes, isIdentifier } from './editor_model.js';
 
 /** Shows `text` in the file view, `title` above it, line `errorLine` (1-based) marked, or hides it. */
 export function showFile(section, { title, text, errorLine = null, error = null }) {
@@ -21,13 +21,6 @@ export function showFile(section, { title, text, errorLine = null, error = null 
 }
 
 const ROLES = ['Calculation', 'Decision', 'Supervision', 'Bridge'];
-/** The types `cobra new component`'s generator knows (studio/PROTOCOL.md "generate"). */
-export const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
-
-/** The generator's name of a palette type: KDL.Wrench -> Wrench, vector<double> -> vector. */
-export function generatorType(name) {
-  return name === 'vector<double>' ? 'vector' : name.replace(/^KDL\./, '');
-}
 const LISTS = [
   ['inputs', 'Inputs'], ['event_inputs', 'Event inputs'], ['outputs', 'Outputs'], ['properties', 'Properties'],
 ];
@@ -53,7 +46,7 @@ export function readTypeForm(form) {
     spec[key] = [...form.querySelectorAll(`[data-list="${key}"] .member`)]
       .map((row) => ({
         name: row.querySelector('.member-name').value.trim(),
-        type: generatorType(row.querySelector('.member-type').value.trim()),
+        type: row.querySelector('.member-type').value.trim(),
         unit: row.querySelector('.member-unit').value.trim(),
       }))
       .filter((m) => m.name !== '' || m.type !== '');
@@ -66,11 +59,12 @@ export function typeFormError(spec, palette) {
   if (!isIdentifier(spec.name)) return `component type '${spec.name}': a name is an identifier`;
   if (palette.types.some((t) => t.type === spec.name)) return `a component type named '${spec.name}' exists already (package ${palette.types.find((t) => t.type === spec.name).package})`;
   if (!spec.package) return 'the package of the new type is missing';
+  const known = generatorTypes(palette);
   for (const [key, label] of LISTS) {
     for (const m of spec[key]) {
       if (!isIdentifier(m.name)) return `${label.toLowerCase()}: '${m.name}' is not an identifier`;
       if (!m.type) return `${label.toLowerCase()}: '${m.name}' has no type`;
-      if (!GENERATOR_TYPES.includes(m.type)) return `${label.toLowerCase()}: '${m.name}' is a ${m.type}; the generator knows ${GENERATOR_TYPES.join(', ')}`;
+      if (!known.includes(m.type)) return `${label.toLowerCase()}: '${m.name}' has type '${m.type}', which the generator does not know; it knows ${known.join(', ')}`;
     }
   }
   return null;
@@ -82,10 +76,11 @@ export function typeFormError(spec, palette) {
  */
 export function setUpTypeDialog(dialog, { palette, generate, added }) {
   const typesList = 'palette-data-types';
+  // The palette's data types the generator knows (its data_types flagged generate), by name.
+  const known = generatorTypes(palette());
   dialog.replaceChildren(h('form', { method: 'dialog', id: 'type-form' },
     h('h2', {}, 'New component type'),
-    // The palette's types the generator knows, by the palette's names.
-    h('datalist', { id: typesList }, paletteDataTypes(palette()).filter((t) => GENERATOR_TYPES.includes(generatorType(t))).map((t) => h('option', { value: t }))),
+    h('datalist', { id: typesList }, known.map((t) => h('option', { value: t }))),
     h('label', {}, 'name ', h('input', { type: 'text', id: 'type-name', placeholder: 'ForceWatch' })),
     h('label', {}, 'role ', h('select', { id: 'type-role' }, ROLES.map((r) => h('option', { value: r }, r)))),
     h('label', {}, 'package ', h('input', { type: 'text', id: 'type-package', placeholder: 'my_package' })),
@@ -93,6 +88,7 @@ export function setUpTypeDialog(dialog, { palette, generate, added }) {
     h('label', { class: 'wide' }, 'doc ', h('input', { type: 'text', id: 'type-doc', size: 50 })),
     LISTS.map(([key, label]) => h('fieldset', { 'data-list': key }, h('legend', {}, label),
       h('button', { type: 'button', class: 'member-add', onclick: (e) => e.target.before(memberRow(typesList)) }, `+ ${label.toLowerCase().replace(/s$/, '')}`))),
+    h('p', { id: 'type-known', class: 'type-known' }, `port and property types: ${known.join(', ')}`),
     h('p', { id: 'type-error', class: 'field-problem', role: 'alert' }),
     h('ul', { id: 'type-files' }),
     h('div', { class: 'buttons' },

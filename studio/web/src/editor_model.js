@@ -280,14 +280,13 @@ export function paletteGroups(palette, query = '') {
     .filter((g) => g.types.length > 0);
 }
 
-/** Every port and property type the palette names, sorted (the new-component form offers them). */
-export function paletteDataTypes(palette) {
-  const types = new Set();
-  for (const t of palette.types) {
-    for (const p of t.ports) types.add(p.type);
-    for (const p of t.properties) types.add(p.type);
-  }
-  return [...types].sort();
+/**
+ * The data types the component generator writes ports and properties of, by their palette names,
+ * in the palette's order: its `data_types` flagged `generate` (registered with a C++ spelling),
+ * cobra's own and those of the loaded packages (a package's record, e.g. example.ForceSample).
+ */
+export function generatorTypes(palette) {
+  return (palette.data_types ?? []).filter((d) => d.generate).map((d) => d.name);
 }
 
 /**

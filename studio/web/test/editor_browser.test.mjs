@@ -5,7 +5,7 @@
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch } from './browser.mjs';
-import { BAD_ERROR, BAD_FILE, BAD_LINE, startEditorFixture } from './editor_fixture_server.mjs';
+import { BAD_ERROR, BAD_FILE, BAD_LINE, FORCE_SAMPLE, loadPalette, startEditorFixture } from './editor_fixture_server.mjs';
 import { recordedPalette } from './make_editor_fixtures.mjs';
 import { FIG_3_4_CLICKS, buildFig34, connect, openEditor, place, project, setProperty, settled } from './editor_page.mjs';
 
@@ -19,6 +19,24 @@ async function waitUntil(condition, what) {
     if (waited > 10000) throw new Error(`waited 10 s: ${what}`);
     await new Promise((resolve) => { setTimeout(resolve, 20); });
   }
+}
+
+/** Fills the new-component form's name, role, package, folder and doc. */
+async function fillTypeForm(page, { name, role, package: pkg, folder, doc }) {
+  await page.locator('#type-name').fill(name);
+  await page.locator('#type-role').selectOption(role);
+  await page.locator('#type-package').fill(pkg);
+  await page.locator('#type-folder').fill(folder);
+  await page.locator('#type-doc').fill(doc);
+}
+
+/** Adds a row to the new-component form's list `list` (inputs, event_inputs, outputs, properties). */
+async function addMember(page, list, name, type, unit) {
+  await page.locator(`fieldset[data-list="${list}"] .member-add`).click();
+  const row = page.locator(`fieldset[data-list="${list}"] .member`).last();
+  await row.locator('.member-name').fill(name);
+  await row.locator('.member-type').fill(type);
+  await row.locator('.member-unit').fill(unit);
 }
 
 async function fixture(t, mode = 'new') {
@@ -241,21 +259,10 @@ test('deployment and configuration tabs: a deployment runs its components and ow
 test('a new component type is generated from the form and listed as generated', async (t) => {
   const { server, page } = await fixture(t);
   await page.locator('#new-type').click();
-  await page.locator('#type-name').fill('ForceLimiter');
-  await page.locator('#type-role').selectOption('Calculation');
-  await page.locator('#type-package').fill('my_tools');
-  await page.locator('#type-folder').fill('/tmp/my_tools');
-  await page.locator('#type-doc').fill('clamps a wrench');
-  const add = async (list, name, type, unit) => {
-    await page.locator(`fieldset[data-list="${list}"] .member-add`).click();
-    const row = page.locator(`fieldset[data-list="${list}"] .member`).last();
-    await row.locator('.member-name').fill(name);
-    await row.locator('.member-type').fill(type);
-    await row.locator('.member-unit').fill(unit);
-  };
-  await add('inputs', 'wrench', 'KDL.Wrench', 'N, N·m');
-  await add('outputs', 'limited', 'KDL.Wrench', 'N, N·m');
-  await add('properties', 'max_force', 'double', 'N');
+  await fillTypeForm(page, { name: 'ForceLimiter', role: 'Calculation', package: 'my_tools', folder: '/tmp/my_tools', doc: 'clamps a wrench' });
+  await addMember(page, 'inputs', 'wrench', 'KDL.Wrench', 'N, N·m');
+  await addMember(page, 'outputs', 'limited', 'KDL.Wrench', 'N, N·m');
+  await addMember(page, 'properties', 'max_force', 'double', 'N');
   await page.locator('#type-generate').click();
   await page.locator('#type-files li').first().waitFor();
   assert.deepEqual(await page.locator('#type-files li').allTextContents(), [
@@ -263,9 +270,9 @@ test('a new component type is generated from the form and listed as generated', 
   ]);
   assert.deepEqual(server.generated[0].component, {
     name: 'ForceLimiter', role: 'calculation', package: 'my_tools', doc: 'clamps a wrench',
-    // The palette's KDL.Wrench is the generator's Wrench.
-    inputs: [{ name: 'wrench', type: 'Wrench', unit: 'N, N·m' }], event_inputs: [],
-    outputs: [{ name: 'limited', type: 'Wrench', unit: 'N, N·m' }], properties: [{ name: 'max_force', type: 'double', unit: 'N' }],
+    // Sent by the palette's names, which the generator takes.
+    inputs: [{ name: 'wrench', type: 'KDL.Wrench', unit: 'N, N·m' }], event_inputs: [],
+    outputs: [{ name: 'limited', type: 'KDL.Wrench', unit: 'N, N·m' }], properties: [{ name: 'max_force', type: 'double', unit: 'N' }],
   });
   await page.locator('#type-close').click();
   assert.match(await page.locator('summary[data-type="ForceLimiter"]').textContent(), /generated \(build the package to use it\)/);
@@ -281,9 +288,47 @@ test('a new component type is generated from the form and listed as generated', 
   await page.locator('fieldset[data-list="inputs"] .member .member-name').last().fill('path');
   await page.locator('fieldset[data-list="inputs"] .member .member-type').last().fill('TGL.MultiAxisPath');
   await page.locator('#type-generate').click();
-  assert.match(await page.locator('#type-error').textContent(), /^inputs: 'path' is a TGL\.MultiAxisPath; the generator knows double, int, bool, string, vector/);
+  assert.match(await page.locator('#type-error').textContent(), /^inputs: 'path' has type 'TGL\.MultiAxisPath', which the generator does not know; it knows Event, KDL\.Frame, /);
   assert.deepEqual(await page.locator('#palette-data-types option').evaluateAll((os) => os.map((o) => o.value)).then((v) => v.includes('KDL.Wrench') && !v.includes('TGL.MultiAxisPath')), true);
   assert.equal(server.generated.length, 1);
+});
+
+test("a package's data type is offered by the generator form and a component reading it is generated", async (t) => {
+  const { server, page } = await fixture(t);
+  await page.locator('#new-type').click();
+  // Offered: the palette's data types the generator writes, cobra's and the package's, by name.
+  const known = loadPalette().data_types.filter((d) => d.generate).map((d) => d.name);
+  assert.ok(known.includes(FORCE_SAMPLE.name) && known.includes('KDL.Frame') && !known.includes('TGL.MultiAxisPath'), known.join(', '));
+  assert.deepEqual(await page.locator('#palette-data-types option').evaluateAll((os) => os.map((o) => o.value)), known);
+  assert.equal(await page.locator('#type-known').textContent(), `port and property types: ${known.join(', ')}`);
+  await fillTypeForm(page, { name: 'ForceSampleWatch', role: 'Calculation', package: 'my_filters', folder: '/tmp/my_filters', doc: '' });
+  await addMember(page, 'event_inputs', 'sample', 'example.ForceSample', 'N');
+  await addMember(page, 'outputs', 'force', 'double', 'N');
+  // A misspelt type is refused before asking, naming the types the generator knows.
+  await addMember(page, 'properties', 'hold', 'example.ForceSampel', 'N');
+  await page.locator('#type-generate').click();
+  assert.equal(await page.locator('#type-error').textContent(),
+    `properties: 'hold' has type 'example.ForceSampel', which the generator does not know; it knows ${known.join(', ')}`);
+  assert.equal(server.generated.length, 0);
+  await page.locator('fieldset[data-list="properties"] .member .member-type').fill('example.ForceSample');
+  await page.locator('#type-generate').click();
+  await page.locator('#type-files li').first().waitFor();
+  assert.equal(await page.locator('#type-error').textContent(), '');
+  assert.deepEqual(await page.locator('#type-files li').allTextContents(), [
+    '/tmp/my_filters/include/my_filters/force_sample_watch.hpp', '/tmp/my_filters/src/force_sample_watch.cpp', '/tmp/my_filters/test/force_sample_watch_test.cpp',
+  ]);
+  assert.deepEqual(server.generated.map((g) => g.component), [{
+    name: 'ForceSampleWatch', role: 'calculation', package: 'my_filters', doc: '', inputs: [],
+    event_inputs: [{ name: 'sample', type: 'example.ForceSample', unit: 'N' }], outputs: [{ name: 'force', type: 'double', unit: 'N' }],
+    properties: [{ name: 'hold', type: 'example.ForceSample', unit: 'N' }],
+  }]);
+  if (process.env.COBRA_EDITOR_SHOTS) await page.locator('#type-dialog').screenshot({ path: `${process.env.COBRA_EDITOR_SHOTS}/editor_package_type.png` });
+  await page.locator('#type-close').click();
+  // The generated type joins the palette with its port of the package's type.
+  const entry = page.locator('details:has(summary[data-type="ForceSampleWatch"])');
+  assert.match(await entry.locator('summary').textContent(), /generated \(build the package to use it\)/);
+  await entry.locator('summary').click();
+  assert.match(await entry.textContent(), /in \(event\) sample : example\.ForceSample/);
 });
 
 test('attach: shown when the server has a running deployment, which it loads', async (t) => {

@@ -38,6 +38,8 @@ test("the browser tests' palette fixture is the palette cobra edit serves", { sk
     assert.deepEqual(recorded.types.find((t) => t.type === type.type), type, `${type.type} changed; ${again}`);
   }
   assert.deepEqual(recorded.packages, served.packages, `the packages differ; ${again}`);
+  // The data types: what the generator form offers (those flagged generate) and the fixture serves.
+  assert.deepEqual(recorded.data_types, served.data_types, `the data types differ; ${again}`);
 });
 
 test('Fig. 3.4 built by clicks in cobra edit, saved, and the saved file deploys', { skip, timeout: 240000 }, async (t) => {

@@ -3,8 +3,9 @@
 // (fixtures/editor/palette.json, test/make_editor_fixtures.mjs) and the rules the server applies:
 // a connection goes from an existing output to an existing input of the same type; the role
 // linter's rules of deploy/lint.hpp (kinds: Event and TaskState are logic data, the rest pure);
-// property texts of double, int and bool parsed and held to their range. It keeps what the page
-// posted (saves, generates) for the tests to look at.
+// property texts of double, int and bool parsed and held to their range; a generated component's
+// port and property types among the palette's data types flagged generate (the fixture adds a
+// package's, FORCE_SAMPLE). It keeps what the page posted (saves, generates) for the tests to look at.
 //   mode 'new':       /api/editor/project is an empty project.
 //   mode 'malformed': /api/editor/project answers 422 for BAD_FILE (line BAD_LINE).
 //   mode 'running':   like 'new', and /api/editor/running answers RUNNING_PROJECT as of the
@@ -29,6 +30,21 @@ export const FORCE_WATCH = {
     { name: 'wrench', direction: 'in', type: 'KDL.Wrench', event: false, unit: 'N, N·m', doc: 'a measured wrench' },
   ],
   properties: [], operations: [],
+};
+/**
+ * The fixture's package data type beside the recorded ones: example.ForceSample, registered by
+ * examples/06_package's package example_filters (src/force_sample.hpp), as `cobra edit` lists it in
+ * its palette's data_types when that package is on COBRA_PACKAGE_PATH (cobra's build does not
+ * build the example, so the recording has only cobra's types).
+ */
+export const FORCE_SAMPLE = {
+  name: 'example.ForceSample', kind: 'pure', cpp: 'example::ForceSample', unit: '',
+  format: 'a record {field = value, ...} with every field of the type once', generate: true,
+  fields: [
+    { name: 'force', type: 'double', unit: 'N', doc: 'force read' },
+    { name: 'filtered', type: 'double', unit: 'N', doc: 'filtered force written' },
+    { name: 'count', type: 'int', unit: '', doc: 'updates since start' },
+  ],
 };
 export const BAD_FILE = '/fixture/apps/broken/broken.lua';
 export const BAD_LINE = 4;
@@ -67,14 +83,13 @@ function runningAnswer(deployment, t) {
     project: { ...RUNNING_PROJECT, apply: applied ? [deployment] : [] },
   };
 }
-/** The types `cobra new component`'s generator knows (studio/PROTOCOL.md). */
-const GENERATOR_TYPES = ['double', 'int', 'bool', 'string', 'vector', 'Vector', 'Rotation', 'Frame', 'Twist', 'Wrench', 'JntArray', 'Event'];
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.txt': 'text/plain' };
 const LOGIC = new Set(['Event', 'TaskState']);
 
 export function loadPalette() {
   const palette = JSON.parse(readFileSync(join(FIXTURES, 'editor/palette.json'), 'utf8'));
-  return { packages: [...palette.packages, FORCE_WATCH.package], types: [...palette.types, FORCE_WATCH] };
+  const dataTypes = [...palette.data_types, FORCE_SAMPLE].sort((a, b) => (a.name < b.name ? -1 : 1)); // by name, as cobra's
+  return { packages: [...palette.packages, FORCE_WATCH.package], types: [...palette.types, FORCE_WATCH], data_types: dataTypes };
 }
 
 const kind = (type) => (LOGIC.has(type) ? 'logic' : 'pure');
@@ -199,9 +214,13 @@ export async function startEditorFixture(mode = 'new') {
       if (!['calculation', 'supervision', 'decision', 'bridge'].includes(component.role)) {
         return [400, { error: `role '${component.role}' must be calculation, supervision, decision or bridge` }];
       }
+      // The generator's types: the palette's data types flagged generate (by name; cobra's also
+      // takes short names, KDL.Frame as Frame, which the page does not send).
+      const known = palette.data_types.filter((d) => d.generate).map((d) => d.name);
       for (const list of ['inputs', 'event_inputs', 'outputs', 'properties']) {
         for (const m of component[list]) {
-          if (!GENERATOR_TYPES.includes(m.type)) return [400, { error: `component.${list} '${m.name}:${m.type}': unknown type '${m.type}'; the types are: ${GENERATOR_TYPES.join(' ')}` }];
+          const item = `${m.name}:${m.type}${m.unit ? `:${m.unit}` : ''}`;
+          if (!known.includes(m.type)) return [400, { error: `component.${list} '${item}': unknown type '${m.type}'; the types are: ${known.join(', ')}` }];
         }
       }
       generated.push({ folder, component });

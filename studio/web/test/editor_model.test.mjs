@@ -3,8 +3,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  BASE_TAB, addComponent, addConfiguration, createHistory, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType,
-  inTab, instanceNameError, kindOf, normalizeProject, orderEnds, paletteDataTypes, paletteGroups, parseActivity, parsePolicy, peersOf,
+  BASE_TAB, addComponent, addConfiguration, createHistory, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType, generatorTypes,
+  inTab, instanceNameError, kindOf, normalizeProject, orderEnds, paletteGroups, parseActivity, parsePolicy, peersOf,
   removeComponent, removeConnection, setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from '../src/editor_model.js';
 import { loadPalette } from './editor_fixture_server.mjs';
@@ -144,7 +144,12 @@ test('the palette grouped by package and searched by every word; its data types;
   // "wrench" in a name, doc or port name, and the role Calculation (groups in the packages' order).
   assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['VariableAdmittance', 'EquivalentWrench']);
   assert.deepEqual(paletteGroups(palette, 'supervision').map((g) => g.package), ['cobra_coordination', 'fixture_types']);
-  assert.ok(paletteDataTypes(palette).includes('KDL.Frame') && paletteDataTypes(palette).includes('vector<double>'));
+  // The generator's types: the data types flagged generate, a package's too, in the palette's order.
+  const known = generatorTypes(palette);
+  assert.ok(['KDL.Frame', 'vector<double>', 'example.ForceSample'].every((t) => known.includes(t)), known.join(', '));
+  assert.ok(!known.includes('TGL.MultiAxisPath'));
+  assert.deepEqual(known, [...known].sort());
+  assert.deepEqual(generatorTypes({ packages: [], types: [] }), []);
   const g = generatedType({ name: 'Lim', role: 'calculation', package: 'mine', inputs: [{ name: 'u', type: 'double', unit: 'N' }],
     event_inputs: [{ name: 'trigger', type: 'Event' }], outputs: [{ name: 'y', type: 'double', unit: 'N' }], properties: [{ name: 'k', type: 'double', unit: '1' }] });
   assert.equal(g.generated, true);

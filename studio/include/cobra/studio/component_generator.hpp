@@ -10,7 +10,16 @@
 #include <string>
 #include <vector>
 
+namespace cobra::core {
+struct TypeInfo;
+}
+
 namespace cobra::studio {
+
+/// True when the generator can write a port or property of `type`: the type has a C++ spelling
+/// (core::TypeInfo::cpp). Every registered type, cobra's own and the loaded packages', is asked;
+/// the editor's palette flags these (studio/PROTOCOL.md, data_types' "generate").
+bool generatorKnows(const core::TypeInfo& type);
 
 /// One port or property of the skeleton, from "name:Type[:unit]".
 struct InterfaceItem {
