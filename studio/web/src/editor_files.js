@@ -22,13 +22,14 @@ export function showFile(section, { title, text, errorLine = null, error = null 
 
 const ROLES = ['Calculation', 'Decision', 'Supervision', 'Bridge'];
 const LISTS = [
-  ['inputs', 'Inputs'], ['event_inputs', 'Event inputs'], ['outputs', 'Outputs'], ['properties', 'Properties'],
+  ['inputs', 'Inputs', 'input'], ['event_inputs', 'Event inputs', 'event input'], ['outputs', 'Outputs', 'output'],
+  ['properties', 'Properties', 'property'],
 ];
 
 function memberRow(typesList) {
   const row = h('div', { class: 'member' },
     h('input', { type: 'text', class: 'member-name', placeholder: 'name', size: 12 }),
-    h('input', { type: 'text', class: 'member-type', placeholder: 'type', list: typesList, size: 14 }),
+    h('input', { type: 'text', class: 'member-type', placeholder: 'type', list: typesList, size: 20 }),
     h('input', { type: 'text', class: 'member-unit', placeholder: 'unit (SI)', size: 8 }),
     h('button', { type: 'button', class: 'member-remove', title: 'remove', onclick: () => row.remove() }, '×'));
   return row;
@@ -86,8 +87,8 @@ export function setUpTypeDialog(dialog, { palette, generate, added }) {
     h('label', {}, 'package ', h('input', { type: 'text', id: 'type-package', placeholder: 'my_package' })),
     h('label', {}, 'folder ', h('input', { type: 'text', id: 'type-folder', placeholder: 'the package folder' })),
     h('label', { class: 'wide' }, 'doc ', h('input', { type: 'text', id: 'type-doc', size: 50 })),
-    LISTS.map(([key, label]) => h('fieldset', { 'data-list': key }, h('legend', {}, label),
-      h('button', { type: 'button', class: 'member-add', onclick: (e) => e.target.before(memberRow(typesList)) }, `+ ${label.toLowerCase().replace(/s$/, '')}`))),
+    LISTS.map(([key, label, one]) => h('fieldset', { 'data-list': key }, h('legend', {}, label),
+      h('button', { type: 'button', class: 'member-add', onclick: (e) => e.target.before(memberRow(typesList)) }, `+ ${one}`))),
     h('p', { id: 'type-known', class: 'type-known' }, `port and property types: ${known.join(', ')}`),
     h('p', { id: 'type-error', class: 'field-problem', role: 'alert' }),
     h('ul', { id: 'type-files' }),

@@ -301,6 +301,7 @@ test("a package's data type is offered by the generator form and a component rea
   assert.ok(known.includes(FORCE_SAMPLE.name) && known.includes('KDL.Frame') && !known.includes('TGL.MultiAxisPath'), known.join(', '));
   assert.deepEqual(await page.locator('#palette-data-types option').evaluateAll((os) => os.map((o) => o.value)), known);
   assert.equal(await page.locator('#type-known').textContent(), `port and property types: ${known.join(', ')}`);
+  assert.deepEqual(await page.locator('.member-add').allTextContents(), ['+ input', '+ event input', '+ output', '+ property']);
   await fillTypeForm(page, { name: 'ForceSampleWatch', role: 'Calculation', package: 'my_filters', folder: '/tmp/my_filters', doc: '' });
   await addMember(page, 'event_inputs', 'sample', 'example.ForceSample', 'N');
   await addMember(page, 'outputs', 'force', 'double', 'N');
