@@ -321,6 +321,14 @@ TEST(Editor, ThePaletteFlagsTheDataTypesTheGeneratorWritesAPackagesToo) {
     EXPECT_TRUE(generate.count(known) == 1 && generate[known]) << known;
   ASSERT_EQ(generate.count("test.Opaque"), 1u);
   EXPECT_FALSE(generate["test.Opaque"]);
+  // As the editor's browser tests' fixture has it (studio/web/test/editor_fixture_server.mjs).
+  const json::Json fixture =
+      json::parse(readText(kSource + "/studio/web/test/fixtures/editor/package_data_type.json"));
+  const json::Json* served = nullptr;
+  for (const json::Json& d : palette.at("data_types"))
+    if (d.at("name") == "example.ForceSample") served = &d;
+  ASSERT_NE(served, nullptr);
+  EXPECT_EQ(*served, fixture) << served->dump() << "\n" << fixture.dump();
 
   // The flag is the generator's word: a component with an input of every flagged type is
   // generated, and each unflagged type is refused.

@@ -32,20 +32,13 @@ export const FORCE_WATCH = {
   properties: [], operations: [],
 };
 /**
- * The fixture's package data type beside the recorded ones: example.ForceSample, registered by
- * examples/06_package's package example_filters (src/force_sample.hpp), as `cobra edit` lists it in
- * its palette's data_types when that package is on COBRA_PACKAGE_PATH (cobra's build does not
- * build the example, so the recording has only cobra's types).
+ * The fixture's package data type beside the recorded ones (fixtures/editor/package_data_type.json):
+ * example.ForceSample, registered by examples/06_package's package example_filters, as `cobra edit`
+ * lists it in its palette's data_types when that package is loaded (cobra's build does not build
+ * the example, so the recording has only cobra's types; studio/test/editor_test.cpp checks that
+ * the server lists the example's type as this file says).
  */
-export const FORCE_SAMPLE = {
-  name: 'example.ForceSample', kind: 'pure', cpp: 'example::ForceSample', unit: '',
-  format: 'a record {field = value, ...} with every field of the type once', generate: true,
-  fields: [
-    { name: 'force', type: 'double', unit: 'N', doc: 'force read' },
-    { name: 'filtered', type: 'double', unit: 'N', doc: 'filtered force written' },
-    { name: 'count', type: 'int', unit: '', doc: 'updates since start' },
-  ],
-};
+export const FORCE_SAMPLE = JSON.parse(readFileSync(join(FIXTURES, 'editor/package_data_type.json'), 'utf8'));
 export const BAD_FILE = '/fixture/apps/broken/broken.lua';
 export const BAD_LINE = 4;
 export const BAD_TEXT = [
