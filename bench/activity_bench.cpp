@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "cobra/core/core.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -41,7 +42,7 @@ std::int64_t monotonicNs() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 /// One 2 s run per repetition; median and max over the repetitions, aggregates only.
 void configure(benchmark::internal::Benchmark* b) {

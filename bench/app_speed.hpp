@@ -21,6 +21,7 @@
 
 #include "cobra/core/core.hpp"
 #include "cobra/run/runner.hpp"
+#include "median_and_worst.hpp"
 
 namespace cobra::bench {
 
@@ -32,7 +33,6 @@ inline double processCpuSeconds() {
 }
 
 inline double minOf(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-inline double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
 /// The value at fraction `q` of the sorted `values` (NaN when empty).
 inline double quantile(std::vector<double> values, double q) {

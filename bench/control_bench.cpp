@@ -16,12 +16,13 @@
 #include <vector>
 
 #include "cobra/control/variable_admittance.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
 using namespace cobra::control;
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 void configure(benchmark::internal::Benchmark* b) {
   b->Repetitions(10)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(0.05);
 }

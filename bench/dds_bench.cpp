@@ -41,6 +41,7 @@
 #include "cobra/core/core.hpp"
 #include "latency_counters.hpp"
 #include "cobra/dds/dds_transport.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -58,7 +59,7 @@ constexpr const char* kAddressHere = "10.201.0.1";
 constexpr const char* kAddressFar = "10.201.0.2";
 constexpr int kThroughputBatch = 1000;
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 double minOf(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
 

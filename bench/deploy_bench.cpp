@@ -14,6 +14,7 @@
 
 #include "cobra/core/core.hpp"
 #include "cobra/deploy/configurator.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -22,7 +23,7 @@ using namespace cobra;
 constexpr int kComponents = 1000;
 constexpr int kPairs = 5;  // 5 inputs + 5 outputs = 10 ports per component
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 class TenPorts : public core::Component {
  public:

@@ -43,6 +43,7 @@
 #include "cobra/kinematics/puma260.hpp"
 #include "cobra/kinematics/serial_chain.hpp"
 #include "cobra/kinematics/ur5.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -52,7 +53,7 @@ constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;  // s; keeps the whole file well under a minute
 constexpr std::size_t kTargets = 10000;
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 /// Median and max over repetitions, aggregates only.
 void configure(benchmark::internal::Benchmark* b) {

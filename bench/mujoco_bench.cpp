@@ -25,6 +25,7 @@
 #include "cobra/kinematics/puma260.hpp"
 #include "cobra/sim/mujoco_puma260.hpp"
 #include "cobra/sim/puma260_arm.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -34,7 +35,7 @@ constexpr double kDt = 1e-3;                    // s, 1 kHz
 constexpr int kStepsPerIteration = 1000;
 const std::string kModel = std::string(COBRA_SOURCE_DIR) + "/apps/puma260/world/puma260.xml";
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 void configure(benchmark::internal::Benchmark* b) {
   b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTimePerRepetition);

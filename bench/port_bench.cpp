@@ -33,6 +33,7 @@
 
 #include "cobra/core/core.hpp"
 #include "latency_counters.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -44,7 +45,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;  // s; keeps the whole file well under a minute
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 /// Median and max over repetitions, aggregates only.
 void configure(benchmark::internal::Benchmark* b) {

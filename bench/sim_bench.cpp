@@ -40,6 +40,7 @@
 #include "cobra/sim/needle_tissue.hpp"
 #include "cobra/sim/servo.hpp"
 #include "cobra/sim/ultrasound.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -47,7 +48,7 @@ constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;  // s
 constexpr double kDt = 1e-3;                    // s, 1 kHz
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 void configure(benchmark::internal::Benchmark* b) {
   b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTimePerRepetition);

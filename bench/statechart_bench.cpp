@@ -31,6 +31,7 @@
 
 #include <lua.hpp>
 #include "statechart_msm_peer.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -39,7 +40,7 @@ using namespace cobra;
 constexpr int kRepetitions = 10;
 constexpr double kMinTime = 0.05;  // s per repetition
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 void configure(benchmark::internal::Benchmark* b) {
   b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTime);
 }

@@ -32,6 +32,7 @@
 #include <kdl/velocityprofile_trap.hpp>
 
 #include "cobra/trajectory/tgl.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 
@@ -43,7 +44,7 @@ constexpr std::size_t kTimes = 1024;
 constexpr int kWaypoints = 10;
 constexpr int kAxes = 12;
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 
 /// Median and max over repetitions, aggregates only.
 void configure(benchmark::internal::Benchmark* b) {

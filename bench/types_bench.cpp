@@ -26,6 +26,7 @@
 #include "cobra/script/convert.hpp"
 #include "cobra/script/lua_state.hpp"
 #include "cobra/types/register_type.hpp"
+#include "median_and_worst.hpp"
 
 namespace {
 struct BenchReading {
@@ -51,7 +52,7 @@ using namespace cobra;
 constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition = 0.05;
 
-double maxOf(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+using cobra::bench::maxOf;
 void configure(benchmark::internal::Benchmark* b) {
   b->Repetitions(kRepetitions)->ReportAggregatesOnly(true)->ComputeStatistics("max", maxOf)->MinTime(kMinTimePerRepetition);
 }

@@ -44,12 +44,6 @@ std::map<std::string, TypeSpelling> types() {
   return table;
 }
 
-std::string typeNames() {
-  std::string names;
-  for (const auto& [name, spelling] : types()) names += (names.empty() ? "" : ", ") + name;
-  return names;
-}
-
 bool isIdentifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
   for (char c : s)
@@ -82,7 +76,7 @@ std::string roleEnum(const std::string& role) {
 std::string cppType(const InterfaceItem& item) {
   const auto all = types();
   const auto it = all.find(item.type);
-  if (it == all.end()) throw std::runtime_error("unknown type '" + item.type + "'; the types are: " + typeNames());
+  if (it == all.end()) throw std::runtime_error("unknown type '" + item.type + "'; the types are: " + generatorTypeNames());
   return it->second.cpp;
 }
 
@@ -266,6 +260,12 @@ std::string readFile(const std::filesystem::path& path) {
 
 }  // namespace
 
+std::string generatorTypeNames() {
+  std::string names;
+  for (const auto& [name, spelling] : types()) names += (names.empty() ? "" : ", ") + name;
+  return names;
+}
+
 bool generatorKnows(const core::TypeInfo& type) { return !type.cpp.empty(); }
 
 InterfaceItem parseInterfaceItem(const std::string& text, const std::string& what) {
@@ -279,7 +279,7 @@ InterfaceItem parseInterfaceItem(const std::string& text, const std::string& wha
   const auto all = types();
   const auto it = all.find(item.type);
   if (it == all.end())
-    throw std::runtime_error(what + " '" + text + "': unknown type '" + item.type + "'; the types are: " + typeNames());
+    throw std::runtime_error(what + " '" + text + "': unknown type '" + item.type + "'; the types are: " + generatorTypeNames());
   item.unit = second == std::string::npos ? it->second.unit : text.substr(second + 1);
   return item;
 }

@@ -333,7 +333,7 @@ int main(int argc, char** argv) {
   new_component_cmd->add_option("--out", outs, "output port name:Type[:unit]");
   new_component_cmd->add_option("--prop", props, "property name:Type[:unit]");
   new_component_cmd->footer(
-      "types: double int bool string vector Vector Rotation Frame Twist Wrench JntArray Event\n"
+      "types: " + studio::generatorTypeNames() + "\n" +
       "example: cobra new component VariableAdmittance --role calculation --package my_control \\\n"
       "           --in des_pose:Frame --in meas_wrench:Wrench --out adm_pose:Frame --prop stiffness:double:N/m\n"
       "writes include/P/name.hpp, src/name.cpp, test/name_test.cpp (name: NAME in snake_case); creates or\n"

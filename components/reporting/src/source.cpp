@@ -331,7 +331,9 @@ std::unique_ptr<Source> makeSource(core::OutputPortBase& output, std::string rea
                       ", whose length is not part of its type; give its number of elements, e.g. reportPort(port, 6)");
   if (!needs && elements != 0)
     throw core::Error("it is a " + type_name + ", whose columns are fixed by its type; give no number of elements (" +
-                      std::to_string(elements) + " was given; only vector<double> and KDL.JntArray take one)");
+                      std::to_string(elements) +
+                      " was given; a number is for a type whose length is not part of it, such as vector<double> "
+                      "or KDL.JntArray)");
   auto reader = output.makeReader(std::move(reader_name), "reads " + output.fullName() + " for the report");
   if (entry == nullptr) return std::make_unique<TextSource>(output, std::move(reader));
   return entry->make_source(output, std::move(reader), elements);

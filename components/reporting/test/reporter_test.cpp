@@ -218,7 +218,8 @@ TEST(Reporter, RefusesWhatItCannotReportWithMessagesThatSayWhatIsNeeded) {
             "give its number of elements, e.g. reportPort(port, 6)");
   EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(src.d, 3); }),
             "component 'Rep': cannot report Src.d: it is a double, whose columns are fixed by its type; give no "
-            "number of elements (3 was given; only vector<double> and KDL.JntArray take one)");
+            "number of elements (3 was given; a number is for a type whose length is not part of it, such as "
+            "vector<double> or KDL.JntArray)");
   EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(registry, "Sine"); }),
             "component 'Rep': cannot report \"Sine\": name the port as Component.port, e.g. Sine.out");
   EXPECT_EQ(test_support::messageOf([&] { reporter.reportPort(registry, "Sine.nope"); }),

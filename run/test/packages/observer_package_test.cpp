@@ -32,22 +32,27 @@ std::string readFile(const std::filesystem::path& path) {
   return text.str();
 }
 
-// The app with its run table's `time_in_state = { chart = "task" },` line replaced by `line`.
-std::filesystem::path appWith(const std::string& line) {
-  std::string text = readFile(kHere / "time_in_state_app.lua");
-  const std::string original = "  time_in_state = { chart = \"task\" },";
-  text.replace(text.find(original), original.size(), line);
-  text.replace(text.find("here .. \"../apps"), 16, "\"" + (kHere / "../apps").string());
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("cobra_time_in_state_" + std::to_string(::getpid()) + "_" +
-                     ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".lua");
-  std::ofstream(path) << text;
-  return path;
-}
-
 class ObserverPackage : public ::testing::Test {
  protected:
   void SetUp() override { ::setenv("COBRA_PACKAGE_PATH", COBRA_PACKAGE_DIR, 1); }
+  void TearDown() override { std::filesystem::remove_all(scratch_); }
+
+  /// The app with its run table's `time_in_state = { chart = "task" },` line replaced by `line`,
+  /// written into this test's scratch folder.
+  std::filesystem::path appWith(const std::string& line) {
+    std::string text = readFile(kHere / "time_in_state_app.lua");
+    const std::string original = "  time_in_state = { chart = \"task\" },";
+    text.replace(text.find(original), original.size(), line);
+    text.replace(text.find("here .. \"../apps"), 16, "\"" + (kHere / "../apps").string());
+    std::filesystem::create_directories(scratch_);
+    const auto path = scratch_ / "time_in_state_app.lua";
+    std::ofstream(path) << text;
+    return path;
+  }
+  /// This test's own folder (removed after it): its app variant and its report.
+  const std::filesystem::path scratch_ =
+      test_support::scratchPath(std::string("time_in_state_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+
   static RunOptions options(const std::filesystem::path& app) {
     RunOptions o;
     o.app = app;
@@ -58,8 +63,7 @@ class ObserverPackage : public ::testing::Test {
 
 TEST_F(ObserverPackage, APackagesTimeInStateObserverPutsEachStatesTimeIntoTheSummaryAndTheReport) {
   RunOptions o = options(kHere / "time_in_state_app.lua");
-  o.report_folder = std::filesystem::temp_directory_path() / ("cobra_time_in_state_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(o.report_folder);
+  o.report_folder = scratch_ / "report";
   const RunResult r = runApp(o);
   ASSERT_TRUE(r.completed()) << r.reason;
   const ObserverRegistry::Kind* kind = ObserverRegistry::find("time_in_state");
@@ -78,7 +82,6 @@ TEST_F(ObserverPackage, APackagesTimeInStateObserverPutsEachStatesTimeIntoTheSum
   EXPECT_EQ(r.value("threshold crossings").text, "1");  // cobra's own summary beside it
   const std::string html = readFile(o.report_folder / "report.html");
   EXPECT_NE(html.find("<th>time in state, task</th><td>root.waiting "), std::string::npos);
-  std::filesystem::remove_all(o.report_folder);
 }
 
 TEST_F(ObserverPackage, AnUnknownFieldOfItsSectionNamesTheFileLineAndTheKnownFields) {

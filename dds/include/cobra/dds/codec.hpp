@@ -97,10 +97,6 @@ template <>
 struct DdsCodec<core::TaskState>
     : MessageCodec<core::TaskState, cobra_msgs::msg::TaskState, cobra_msgs::msg::TaskStatePubSubType> {};
 
-/// The former name of DdsCodec.
-template <class T>
-using Wire = DdsCodec<T>;
-
 /// The DDS type name of cobra type `T`, e.g. "geometry_msgs::msg::dds_::Pose_" for KDL::Frame,
 /// "us::msg::dds_::ProbeReading_" for the record "us.ProbeReading".
 template <class T>

@@ -33,7 +33,7 @@
 /// and doc as a comment; nested records are defined before use, each once; a field carried by a
 /// message is that message, included by its ROS 2 path (dds/idl has cobra's). fastddsgen with
 /// `-typeros2 -I <dds/idl>` compiles it into a type that serialises byte-identically
-/// (dds_record_idl_test checks it with the code fastddsgen generates from this text).
+/// (dds_idl_test checks it with the code fastddsgen generates from this text).
 
 #include <string>
 #include <string_view>

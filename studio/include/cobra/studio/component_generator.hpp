@@ -20,6 +20,9 @@ namespace cobra::studio {
 /// (core::TypeInfo::cpp). Every registered type, cobra's own and the loaded packages', is asked;
 /// the editor's palette flags these (studio/PROTOCOL.md, data_types' "generate").
 bool generatorKnows(const core::TypeInfo& type);
+/// The names the generator accepts now (every type generatorKnows, by name, and by short name
+/// when unambiguous), sorted, comma-separated: for help texts and error messages.
+std::string generatorTypeNames();
 
 /// One port or property of the skeleton, from "name:Type[:unit]".
 struct InterfaceItem {
