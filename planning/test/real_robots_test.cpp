@@ -19,6 +19,7 @@
 #include "cobra/test_support/test_support.hpp"
 #include "joint_path_checks.hpp"
 #include "planning_fixture.hpp"
+#include "puncturing_tools.hpp"
 
 namespace cobra::planning {
 namespace {
@@ -33,12 +34,9 @@ constexpr double kSanitizerSlowdown = 10.0;
 constexpr double kSanitizerSlowdown = 1.0;
 #endif
 
-std::filesystem::path scenes() { return std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes"; }
-
-/// Needle pointing straight down (its tip frame's x axis = world -z).
-KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
-/// Probe pointing straight down (its tip frame's z axis = world -z).
-KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
+using test::needleDown;
+using test::probeDown;
+using test::scenes;
 
 /// Distance from point p to the segment a-b [m].
 double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) {
