@@ -78,7 +78,7 @@ std::vector<Violation> linkViolations(const std::vector<Target>& targets, const 
   std::vector<Violation> out;
   for (const Target& start : targets) {
     const std::string module = folderOf(start.folder, rule.checked);
-    if (module.empty() || !isLibrary(start)) continue;
+    if (module.empty() || !(rule.executables || isLibrary(start))) continue;
     // Breadth first from `start`, through targets neither checked nor forbidden.
     std::map<std::string, std::string> parent{{start.name, ""}};
     std::queue<const Target*> next;

@@ -22,6 +22,7 @@ struct Rule {
   std::vector<std::string> checked;    ///< folders whose libraries and sources are checked ("core", "components")
   std::vector<std::string> forbidden;  ///< folders they must not depend on ("apps", "tools", "studio")
   std::vector<std::string> skipped;    ///< folder names not scanned for includes ("test": a module's tests are no library)
+  bool executables = false;            ///< also check the executables (tests, tools) of checked folders, not only libraries
 };
 
 struct Violation {
@@ -32,8 +33,9 @@ struct Violation {
 /// Reads the lines "name<TAB>type<TAB>folder<TAB>link link ...".
 std::vector<Target> readTargets(const std::filesystem::path& file);
 
-/// Every library in a checked folder that links a target of a forbidden folder, directly or
-/// through targets of neither kind (a checked target on the way is reported for itself).
+/// Every library (every target, with `rule.executables`) in a checked folder that links a target
+/// of a forbidden folder, directly or through targets of neither kind (a checked target on the
+/// way is reported for itself).
 std::vector<Violation> linkViolations(const std::vector<Target>& targets, const Rule& rule);
 
 /// Every #include in a source under `root`'s checked folders that names a header of a forbidden

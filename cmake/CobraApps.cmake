@@ -4,7 +4,8 @@
 # (CobraPackage.cmake: a MODULE that links no cobra library) and written where the `cobra` tool
 # built here finds packages: the build tree mirrors the install layout beside the tool
 # (<bin>/../lib/cobra/packages; its data, cobra's charts, in <bin>/../share/cobra). No cobra
-# library links an application's target (apps_depend_on_no_library_test checks it).
+# library, tool or test outside apps/ links an application's target or includes its headers
+# (architecture_dependency_direction_test checks it).
 include(GNUInstallDirs)
 file(RELATIVE_PATH cobra_apps_packages_from_bin ${CMAKE_INSTALL_FULL_BINDIR} ${CMAKE_INSTALL_FULL_LIBDIR}/cobra/packages)
 file(RELATIVE_PATH cobra_apps_data_from_bin ${CMAKE_INSTALL_FULL_BINDIR} ${CMAKE_INSTALL_FULL_DATADIR}/cobra)
@@ -53,65 +54,4 @@ function(cobra_app_test_environment target)
     "    \"COBRA_PACKAGE_PATH=set:${COBRA_BUILD_PACKAGE_DIR};COBRA_DATA_DIR=set:${COBRA_BUILD_DATA_DIR}\")\n"
     "endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${script})
-endfunction()
-
-# cobra_check_libraries_know_no_app(): called once every target exists. The test
-# libraries_know_no_app fails when a target of cobra's libraries, tools or their tests links a
-# target defined under apps/, or when a source file of theirs includes a header of an application
-# (an include folder under apps/). What it found at configure is in libraries_linking_apps.txt.
-function(cobra_check_libraries_know_no_app)
-  set(library_folders core statechart trajectory kinematics control planning sim fieldbus script deploy run
-      components task text dds bridges studio tools test_support)
-  # Every folder of the build, below the top one.
-  function(cobra_folders_below dir out)
-    get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
-    set(found ${subdirs})
-    foreach(subdir IN LISTS subdirs)
-      cobra_folders_below(${subdir} below)
-      list(APPEND found ${below})
-    endforeach()
-    set(${out} ${found} PARENT_SCOPE)
-  endfunction()
-  cobra_folders_below(${PROJECT_SOURCE_DIR} folders)
-  # Every target under apps/, by name.
-  set(app_targets "")
-  foreach(part IN LISTS folders)
-    file(RELATIVE_PATH where ${PROJECT_SOURCE_DIR} ${part})
-    if(where MATCHES "^apps(/|$)")
-      get_property(targets DIRECTORY ${part} PROPERTY BUILDSYSTEM_TARGETS)
-      list(APPEND app_targets ${targets})
-    endif()
-  endforeach()
-  set(violations "")
-  foreach(part IN LISTS folders)
-    file(RELATIVE_PATH where ${PROJECT_SOURCE_DIR} ${part})
-    string(REGEX REPLACE "/.*" "" top "${where}")
-    if(NOT top IN_LIST library_folders)
-      continue()
-    endif()
-    get_property(targets DIRECTORY ${part} PROPERTY BUILDSYSTEM_TARGETS)
-    foreach(target IN LISTS targets)
-      get_target_property(links ${target} LINK_LIBRARIES)
-      get_target_property(interface_links ${target} INTERFACE_LINK_LIBRARIES)
-      foreach(link IN LISTS links interface_links)
-        if(TARGET "${link}")
-          get_target_property(aliased ${link} ALIASED_TARGET)
-          if(aliased)
-            set(link ${aliased})
-          endif()
-          if(link IN_LIST app_targets)
-            string(APPEND violations "${target} (${where}) links ${link}, an application's target\n")
-          endif()
-        endif()
-      endforeach()
-    endforeach()
-  endforeach()
-  file(WRITE ${PROJECT_BINARY_DIR}/libraries_linking_apps.txt "${violations}")
-  if(COBRA_BUILD_TESTS)
-    add_test(NAME libraries_know_no_app
-      COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR} -DLINKS=${PROJECT_BINARY_DIR}/libraries_linking_apps.txt
-              "-DFOLDERS=${library_folders}" -P ${PROJECT_SOURCE_DIR}/cmake/check_libraries_know_no_app.cmake)
-    set_tests_properties(libraries_know_no_app PROPERTIES LABELS apps
-      PASS_REGULAR_EXPRESSION "no library knows an application")
-  endif()
 endfunction()

@@ -9,15 +9,12 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/text/trim.hpp"
+
 namespace cobra::core {
 namespace {
 
-std::string_view trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
+using text::trim;
 
 /// Removes one leading '+' (from_chars does not take it); false when a sign follows it ("+-1").
 bool dropPlus(std::string_view& text) {

@@ -1,14 +1,11 @@
 #include "cobra/core/record.hpp"
 
+#include "cobra/text/trim.hpp"
+
 namespace cobra::core::record_detail {
 namespace {
 
-std::string_view trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
+using text::trim;
 
 bool isIdentifier(std::string_view name) {
   if (name.empty() || (name.front() >= '0' && name.front() <= '9')) return false;

@@ -12,6 +12,7 @@
 
 #include "cobra/dds/codec.hpp"
 #include "cobra/test_support/counting_new.hpp"
+#include "test_payload.hpp"
 #include "test_records.hpp"
 
 namespace cobra::dds {
@@ -19,25 +20,10 @@ namespace {
 
 using eprosima::fastrtps::rtps::SerializedPayload_t;
 using test::Gains;
+using test::deserialised;
 using test::ProbeReading;
+using test::serialised;
 using test::Vec3;
-
-/// The bytes of `value` serialised by `type`, in a payload of the size the type asks for it.
-template <class Type, class Value>
-std::vector<unsigned char> serialised(Type& type, Value& value) {
-  SerializedPayload_t payload(type.getSerializedSizeProvider(&value)());
-  EXPECT_TRUE(type.serialize(&value, &payload));
-  return {payload.data, payload.data + payload.length};
-}
-
-/// Whether `type` reads `bytes` (a payload of exactly that length) into `value`.
-template <class Type, class Value>
-bool deserialised(Type& type, const std::vector<unsigned char>& bytes, Value& value) {
-  SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
-  std::memcpy(payload.data, bytes.data(), bytes.size());
-  payload.length = static_cast<std::uint32_t>(bytes.size());
-  return type.deserialize(&payload, &value);
-}
 
 TEST(DdsRecordWire, ARecordOfThreeDoublesSerialisesAsGeometryMsgsVector3ByteForByte) {
   static_assert(std::is_same_v<DdsCodec<Vec3>::PubSub, RecordPubSubType<Vec3>>);

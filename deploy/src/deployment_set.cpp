@@ -5,6 +5,7 @@
 
 #include "cobra/core/error.hpp"
 #include "cobra/deploy/suggest.hpp"
+#include "cobra/text/trim.hpp"
 
 namespace cobra::deploy {
 namespace {
@@ -16,12 +17,7 @@ std::vector<std::string> keysOf(const Map& map) {
   return out;
 }
 
-std::string trim(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r");
-  return text.substr(begin, end - begin + 1);
-}
+std::string trim(std::string_view line) { return std::string(cobra::text::trim(line)); }
 
 }  // namespace
 

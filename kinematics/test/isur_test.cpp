@@ -29,6 +29,21 @@ using cobra::test_support::allocationsDuring;
 using cobra::test_support::messageOf;
 constexpr double kPi = std::numbers::pi;
 
+/// Joints of a needle pointing straight down: pitch q6 + q7 exactly +90° with `isur`'s default
+/// elbow q6 - q7, yaw q4 + q5 = -0.1 rad, roll q8 = 0.7 rad (sliders 0.1, 0.12, 0.08 m).
+KDL::JntArray atTheGimbalLock(const IsurPuncturingSolver& isur) {
+  KDL::JntArray q(8);
+  q(0) = 0.1;
+  q(1) = 0.12;
+  q(2) = 0.08;
+  q(3) = 0.2;
+  q(4) = -0.3;
+  q(5) = 0.5 * (kPi / 2 + isur.geometry().pitch_difference);
+  q(6) = kPi / 2 - q(5);
+  q(7) = 0.7;
+  return q;
+}
+
 KDL::JntArray randomJoints(const JointLimits& limits, std::mt19937& rng, double margin_fraction = 0.1) {
   KDL::JntArray q(static_cast<unsigned>(limits.size()));
   for (unsigned i = 0; i < q.rows(); ++i) {
@@ -142,16 +157,7 @@ TEST(IsurPuncturing, RedundancySharesChooseTheMovingJoint) {
 
 TEST(IsurPuncturing, AtTheGimbalLockTheSeedsYawIsKeptAndTheRollTurns) {
   IsurPuncturingSolver isur;
-  KDL::JntArray q(8);
-  q(0) = 0.1;
-  q(1) = 0.12;
-  q(2) = 0.08;
-  q(3) = 0.2;
-  q(4) = -0.3;
-  // Pitch q6 + q7 exactly +90° with the default elbow q6 - q7.
-  q(5) = 0.5 * (kPi / 2 + isur.geometry().pitch_difference);
-  q(6) = kPi / 2 - q(5);
-  q(7) = 0.7;
+  const KDL::JntArray q = atTheGimbalLock(isur);
   KDL::Frame target;
   ASSERT_EQ(isur.forward(q, target), IkStatus::Ok);
   // The seed's yaw q4 + q5 is 0.2 rad off the target's: the yaw stays the seed's, the roll makes
@@ -174,15 +180,7 @@ TEST(IsurPuncturing, NearTheGimbalLockATiltAcrossTheYawPlaneDoesNotTurnTheYaw) {
   // tilt's direction (up to π); inside it stays the seed's, the orientation error is the dropped
   // tilt only (<= 1e-3 rad), and the position is exact. Seeded, 200 directions.
   IsurPuncturingSolver isur;
-  KDL::JntArray seed(8);
-  seed(0) = 0.1;
-  seed(1) = 0.12;
-  seed(2) = 0.08;
-  seed(3) = 0.2;
-  seed(4) = -0.3;
-  seed(5) = 0.5 * (kPi / 2 + isur.geometry().pitch_difference);
-  seed(6) = kPi / 2 - seed(5);
-  seed(7) = 0.7;
+  const KDL::JntArray seed = atTheGimbalLock(isur);
   KDL::Frame vertical;
   ASSERT_EQ(isur.forward(seed, vertical), IkStatus::Ok);
   std::mt19937 rng(15);

@@ -64,6 +64,20 @@ ob::PlannerPtr makePlanner(const PlannerOptions& options, const ob::SpaceInforma
   return std::make_shared<og::PRM>(si);
 }
 
+std::optional<og::PathGeometric> solve(og::SimpleSetup& setup, const PlannerOptions& options,
+                                       const ob::PlannerTerminationCondition& stop) {
+  setup.setPlanner(makePlanner(options, setup.getSpaceInformation()));
+  if (setup.solve(stop) != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
+  og::PathGeometric path = setup.getSolutionPath();
+  if (options.simplify) {
+    og::PathSimplifier simplifier(setup.getSpaceInformation());
+    simplifier.reduceVertices(path);
+    simplifier.shortcutPath(path);
+    simplifier.collapseCloseVertices(path);
+  }
+  return path;
+}
+
 }  // namespace detail
 
 namespace {
@@ -339,19 +353,10 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
   layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
   setup.setStartAndGoalStates(start_state, goal_state);
-  setup.setPlanner(detail::makePlanner(options_, setup.getSpaceInformation()));
-  const ob::PlannerStatus status = setup.solve(ob::PlannerTerminationCondition([&] { return spent(started); }));
-  if (status != ob::PlannerStatus::EXACT_SOLUTION)
-    return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
-
-  og::PathGeometric path = setup.getSolutionPath();
-  if (options_.simplify) {
-    // Step-bounded (not time-bounded) simplification keeps the result reproducible.
-    og::PathSimplifier simplifier(setup.getSpaceInformation());
-    simplifier.reduceVertices(path);
-    simplifier.shortcutPath(path);
-    simplifier.collapseCloseVertices(path);
-  }
+  const std::optional<og::PathGeometric> found =
+      detail::solve(setup, options_, ob::PlannerTerminationCondition([&] { return spent(started); }));
+  if (!found) return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
+  const og::PathGeometric& path = *found;
   std::vector<JointState> planned;
   for (unsigned i = 0; i < path.getStateCount(); ++i) {
     layout.joints(validator_, path.getState(i)->as<ob::RealVectorStateSpace::StateType>()->values, start, sample);

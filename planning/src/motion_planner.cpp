@@ -3,7 +3,6 @@
 #include "planner_support.hpp"
 
 #include <ompl/base/spaces/SE3StateSpace.h>
-#include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/prm/PRM.h>
 #include <ompl/geometric/planners/rrt/RRT.h>
@@ -244,19 +243,10 @@ PlanResult MotionPlanner::search(const DualPose& start, const DualPose& goal,
   toOmpl(start, *start_state.get());
   toOmpl(goal, *goal_state.get());
   setup.setStartAndGoalStates(start_state, goal_state);
-  setup.setPlanner(detail::makePlanner(options_, setup.getSpaceInformation()));
-  const ob::PlannerStatus status = setup.solve(ob::PlannerTerminationCondition([&] { return spent(started); }));
-  if (status != ob::PlannerStatus::EXACT_SOLUTION)
-    return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
-
-  og::PathGeometric path = setup.getSolutionPath();
-  if (options_.simplify) {
-    // Step-bounded (not time-bounded) simplification keeps the result reproducible.
-    og::PathSimplifier simplifier(setup.getSpaceInformation());
-    simplifier.reduceVertices(path);
-    simplifier.shortcutPath(path);
-    simplifier.collapseCloseVertices(path);
-  }
+  const std::optional<og::PathGeometric> found =
+      detail::solve(setup, options_, ob::PlannerTerminationCondition([&] { return spent(started); }));
+  if (!found) return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
+  const og::PathGeometric& path = *found;
   for (unsigned i = 0; i < path.getStateCount(); ++i) result.waypoints.push_back(toDualPose(*path.getState(i)));
 
   // Verify every segment densely: edges were checked at edge_resolution, the contract is stronger.

@@ -3,10 +3,14 @@
 // search (joint_path.cpp).
 
 #include <ompl/base/Planner.h>
+#include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/SpaceInformation.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/SimpleSetup.h>
 #include <ompl/util/Console.h>
 
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include "cobra/planning/motion_planner.hpp"
@@ -29,6 +33,12 @@ class OmplLogLevel {
 
 /// The planner `options.planner` names (one of plannerNames()) on `si`.
 ompl::base::PlannerPtr makePlanner(const PlannerOptions& options, const ompl::base::SpaceInformationPtr& si);
+
+/// Runs the planner `options.planner` names on `setup` (its space, validity checker, start and
+/// goal set) until `stop`; the path found, simplified when `options.simplify` (step-bounded, not
+/// time-bounded, so the result stays reproducible), or nullopt when no exact solution was found.
+std::optional<ompl::geometric::PathGeometric> solve(ompl::geometric::SimpleSetup& setup, const PlannerOptions& options,
+                                                   const ompl::base::PlannerTerminationCondition& stop);
 
 /// `result` with its status, message and the time since `started`.
 inline PlanResult finished(PlanResult result, PlanStatus status, std::string message,

@@ -1,6 +1,7 @@
 #pragma once
-// Shared by the joint-space planning tests: an independent re-walk of a solved path with the
-// continuity-keeping IK (what the control path does when it follows the path).
+// Shared by the planning tests: independent re-walks of a solved path, densely through the
+// validator, and with the continuity-keeping IK (what the control path does when it follows the
+// path).
 
 #include <gtest/gtest.h>
 
@@ -14,10 +15,28 @@
 
 namespace cobra::planning {
 
+/// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
 inline KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
   KDL::Vector axis;
   const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
   return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
+}
+
+/// Every segment of a solved path valid at 100 points (KDL interpolation, independent of OMPL's),
+/// checked in order from the first waypoint (the IK warm-starts from the previous point).
+inline void expectDenselyValid(StateValidator& validator, const PlanResult& result) {
+  ASSERT_GE(result.waypoints.size(), 2u);
+  constexpr int kPointsPerSegment = 100;
+  for (std::size_t i = 0; i + 1 < result.waypoints.size(); ++i) {
+    for (int k = 0; k <= kPointsPerSegment; ++k) {
+      const double t = k / double(kPointsPerSegment);
+      const DualPose& a = result.waypoints[i];
+      const DualPose& b = result.waypoints[i + 1];
+      const DualPose q{interpolate(a.first, b.first, t), interpolate(a.second, b.second, t)};
+      const ValidityResult check = validator.check(q, true);
+      ASSERT_TRUE(check.valid()) << "segment " << i << " t=" << t << ": " << describe(check);
+    }
+  }
 }
 
 /// An independent re-walk of a solved path at 3x the planner's verification density: every

@@ -9,6 +9,7 @@
 
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "joint_path_checks.hpp"
 #include "planning_fixture.hpp"
 
 namespace cobra::planning {
@@ -57,28 +58,6 @@ bool sameFrame(const KDL::Frame& a, const KDL::Frame& b) {
   for (int i = 0; i < 9; ++i)
     if (a.M.data[i] != b.M.data[i]) return false;
   return true;
-}
-
-/// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
-KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double t) {
-  KDL::Vector axis;
-  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
-  return KDL::Frame(a.M * KDL::Rotation::Rot2(axis, t * angle), a.p + t * (b.p - a.p));
-}
-
-void expectDenselyValid(StateValidator& validator, const PlanResult& result) {
-  ASSERT_GE(result.waypoints.size(), 2u);
-  constexpr int kPointsPerSegment = 100;
-  for (std::size_t i = 0; i + 1 < result.waypoints.size(); ++i) {
-    for (int k = 0; k <= kPointsPerSegment; ++k) {
-      const double t = k / double(kPointsPerSegment);
-      const DualPose& a = result.waypoints[i];
-      const DualPose& b = result.waypoints[i + 1];
-      const DualPose q{interpolate(a.first, b.first, t), interpolate(a.second, b.second, t)};
-      const ValidityResult check = validator.check(q, true);
-      ASSERT_TRUE(check.valid()) << "segment " << i << " t=" << t << ": " << describe(check);
-    }
-  }
 }
 
 class MotionPlannerTest : public ::testing::Test {

@@ -17,7 +17,9 @@
 #include "cobra/planning/robot_adapters.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "joint_path_checks.hpp"
 #include "planning_fixture.hpp"
+#include "puncturing_tools.hpp"
 
 namespace cobra::planning {
 namespace {
@@ -32,12 +34,9 @@ constexpr double kSanitizerSlowdown = 10.0;
 constexpr double kSanitizerSlowdown = 1.0;
 #endif
 
-std::filesystem::path scenes() { return std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes"; }
-
-/// Needle pointing straight down (its tip frame's x axis = world -z).
-KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
-/// Probe pointing straight down (its tip frame's z axis = world -z).
-KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
+using test::needleDown;
+using test::probeDown;
+using test::scenes;
 
 /// Distance from point p to the segment a-b [m].
 double segmentDistance(const KDL::Vector& p, const KDL::Vector& a, const KDL::Vector& b) {
@@ -267,13 +266,6 @@ TEST_F(PuncturingScene, DistancesOfARobotHoldingStillAreThoseOfItsJoints) {
   EXPECT_GT(measured, 200) << "the walk must stay mostly inside the joint limits";
 }
 
-/// Linear position, rotation about the fixed axis of R0^-1 R1 (the geodesic OMPL's slerp follows).
-KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double t) {
-  KDL::Vector axis;
-  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
-  return KDL::Frame(a.M * KDL::Rotation::Rot2(axis, t * angle), a.p + t * (b.p - a.p));
-}
-
 /// The probe moves from one side of the phantom to the other (x -0.2 to 0.25 m), low (tip 0.04 m
 /// under the phantom's top): straight across is blocked by the phantom.
 const DualPose kStart{needleDown(0.0, 0.0, 0.2), probeDown(-0.2, 0.0, 0.06)};
@@ -305,17 +297,7 @@ TEST_F(PuncturingScene, PlannedPathAroundThePhantomIsValidAtEveryDensePoint) {
   // Independent dense check (KDL interpolation, 100 points per segment), walking from the start as
   // the robots would (the IK warm-starts from the previous point).
   validator.resetWarmStart();
-  constexpr int kPointsPerSegment = 100;
-  for (std::size_t i = 0; i + 1 < result.waypoints.size(); ++i) {
-    for (int k = 0; k <= kPointsPerSegment; ++k) {
-      const double t = k / double(kPointsPerSegment);
-      const DualPose& a = result.waypoints[i];
-      const DualPose& b = result.waypoints[i + 1];
-      const DualPose q{interpolate(a.first, b.first, t), interpolate(a.second, b.second, t)};
-      const ValidityResult check = validator.check(q, true);
-      ASSERT_TRUE(check.valid()) << "segment " << i << " t=" << t << ": " << describe(check);
-    }
-  }
+  expectDenselyValid(validator, result);
 }
 
 TEST_F(PuncturingScene, SameSeedGivesTheSamePath) {

@@ -247,6 +247,20 @@ void installRfsm(LuaState& lua) {
 
 namespace {
 
+/// Pushes the field `field` of the chart's description (the registry's `description`).
+void pushDescriptionField(lua_State* S, int description, int field) {
+  lua_rawgeti(S, LUA_REGISTRYINDEX, description);
+  lua_rawgeti(S, -1, field);
+  lua_remove(S, -2);
+}
+
+/// Pushes the interned word `word` ("entry", "effect", ...: rFSM passes it to a callback).
+void pushWord(lua_State* S, int description, int word) {
+  pushDescriptionField(S, description, kWords);
+  lua_rawgeti(S, -1, word);
+  lua_remove(S, -2);
+}
+
 /// Runs the chunk on top of the stack and builds the chart it returns; `name` for messages.
 std::unique_ptr<RfsmChart> runChunk(LuaState& lua, const std::string& name) {
   lua_State* L = lua.get();
@@ -420,15 +434,9 @@ void RfsmChart::build() {
     return [this, node, slot, word] {
       lua_State* S = lua_->get();
       pushSlot(kNodes, node, slot);
-      lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-      lua_rawgeti(S, -1, kRoot);
-      lua_remove(S, -2);
+      pushDescriptionField(S, description_ref_, kRoot);
       pushSlot(kNodes, node, kNodeTable);
-      lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-      lua_rawgeti(S, -1, kWords);
-      lua_rawgeti(S, -1, word);
-      lua_replace(S, -3);
-      lua_pop(S, 1);
+      pushWord(S, description_ref_, word);
       callLua(3, "");
       lua_pop(S, 1);
     };
@@ -498,9 +506,7 @@ void RfsmChart::build() {
         refreshEvents(events);
         pushSlot(kTransitions, j, kGuard);
         pushSlot(kTransitions, j, kTransitionTable);
-        lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-        lua_rawgeti(S, -1, kEvents);
-        lua_remove(S, -2);
+        pushDescriptionField(S, description_ref_, kEvents);
         callLua(2, "guard");
         const bool refused = lua_isboolean(S, -1) && !lua_toboolean(S, -1);  // rFSM: only false refuses
         lua_pop(S, 1);
@@ -511,18 +517,10 @@ void RfsmChart::build() {
         lua_State* S = lua_->get();
         refreshEvents(events);
         pushSlot(kTransitions, j, kEffect);
-        lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-        lua_rawgeti(S, -1, kRoot);
-        lua_remove(S, -2);
+        pushDescriptionField(S, description_ref_, kRoot);
         pushSlot(kTransitions, j, kTransitionTable);
-        lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-        lua_rawgeti(S, -1, kWords);
-        lua_rawgeti(S, -1, kEffectWord);
-        lua_replace(S, -3);
-        lua_pop(S, 1);
-        lua_rawgeti(S, LUA_REGISTRYINDEX, description_ref_);
-        lua_rawgeti(S, -1, kEvents);
-        lua_remove(S, -2);
+        pushWord(S, description_ref_, kEffectWord);
+        pushDescriptionField(S, description_ref_, kEvents);
         callLua(4, "effect");
         lua_pop(S, 1);
       };

@@ -154,12 +154,7 @@ local resumable = {
   "root.InsertingNeedles.MoveToTumor", "root.ExtractingNeedle.VerifyingNeedleTrapped",
   "root.ExtractingNeedle.WaitDefreezing", "root.ExtractingNeedle.MoveToExtractionPoint",
 }
-for _, target in ipairs(resumable) do
-  for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'NeedleTeleoperation', 'e_teleop_done' } }) do
-    chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
-                                     guard = function() return steps.resume == target end }
-  end
-end
+steps.resumptions(chart, resumable, 'NeedleTeleoperation')
 
 -- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
 -- the motion stops, the admittance holds the needle where it is, and the ultrasound chart is told, as by

@@ -97,12 +97,7 @@ end
 
 local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root.WaitNeedleSkinReached",
                     "root.USPositioned.SearchingNeedle", "root.USPositioned.NeedleTracked" }
-for _, target in ipairs(resumable) do
-  for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'USTeleoperation', 'e_teleop_done' } }) do
-    chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
-                                     guard = function() return steps.resume == target end }
-  end
-end
+steps.resumptions(chart, resumable, 'USTeleoperation')
 
 -- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
 -- the motion stops, the admittance holds the probe where it is, and the needle chart is told, as by

@@ -137,12 +137,7 @@ for _, side in ipairs({ "Right", "Left" }) do
     resumable[#resumable + 1] = "root.AutonomousMode.Apply" .. side .. "Stitch." .. step
   end
 end
-for _, target in ipairs(resumable) do
-  for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { 'TeleoperatedMode.TeleoperationActive', 'e_teleop_done' } }) do
-    chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
-                                     guard = function() return steps.resume == target end }
-  end
-end
+steps.resumptions(chart, resumable, 'TeleoperatedMode.TeleoperationActive')
 
 -- The Supervisor runs this when it goes to Exception (a callback failed or ran past its budget):
 -- the motion stops and the admittances hold both arms where they are.

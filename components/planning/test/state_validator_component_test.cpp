@@ -14,6 +14,7 @@
 #include "cobra/planning/robot_adapters.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+#include "../../../planning/test/puncturing_tools.hpp"
 
 namespace cobra::components {
 namespace {
@@ -21,9 +22,9 @@ namespace {
 using namespace std::chrono_literals;
 constexpr double kPi = std::numbers::pi;
 
-std::string scenes() { return (std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes").string(); }
-KDL::Frame needleDown(double x, double y, double z) { return {KDL::Rotation::RotY(kPi / 2), KDL::Vector(x, y, z)}; }
-KDL::Frame probeDown(double x, double y, double z) { return {KDL::Rotation::RotX(kPi), KDL::Vector(x, y, z)}; }
+using planning::test::needleDown;
+using planning::test::probeDown;
+std::string scenes() { return planning::test::scenes().string(); }
 
 struct Bench {
   StateValidatorComponent validator{"Validator"};

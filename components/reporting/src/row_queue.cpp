@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <ctime>
+#include <stdexcept>
+#include <string>
 
 namespace cobra::components::reporting_detail {
 namespace {
@@ -27,48 +29,53 @@ void futexWait(std::atomic<std::uint32_t>& word, std::uint32_t expected, std::ch
   syscall(SYS_futex, futexWord(word), FUTEX_WAIT_PRIVATE, expected, &relative, nullptr, 0);
 }
 
+std::size_t checkedRows(std::size_t rows) {
+  if (rows >= UINT32_MAX) throw std::length_error("Reporter row queue: " + std::to_string(rows) + " rows; expected fewer than 2^32 - 1");
+  return rows == 0 ? 1 : rows;
+}
+
 }  // namespace
 
 RowQueue::RowQueue(std::size_t rows, std::size_t row_bytes)
-    : rows_(rows == 0 ? 1 : rows), row_bytes_(row_bytes), storage_(rows_ * row_bytes_), lengths_(rows_, 0) {}
-
-std::size_t RowQueue::size() const noexcept {
-  return static_cast<std::size_t>(tail_.load(std::memory_order_seq_cst) - head_.load(std::memory_order_acquire));
+    : rows_(checkedRows(rows)), row_bytes_(row_bytes), storage_(rows_ * row_bytes_), filled_(rows_), free_(rows_) {
+  // Every slot starts free. Each ring holds all rows_ slots, so neither push below ever fails.
+  for (std::uint32_t i = 0; i < rows_; ++i) (void)free_.push(i);
 }
 
 char* RowQueue::beginRow() noexcept {
-  const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
-  if (tail - head_.load(std::memory_order_acquire) >= rows_) return nullptr;
-  return storage_.data() + (tail % rows_) * row_bytes_;
+  if (producing_ == kNone && !free_.pop(producing_)) return nullptr;  // pop left producing_ as it was
+  return slot(producing_);
 }
 
 void RowQueue::commitRow(std::size_t length) noexcept {
-  const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
-  lengths_[tail % rows_] = length;
-  // seq_cst store, then seq_cst load of sleeping_: with the consumer's store of sleeping_ then
-  // load of tail_ (waitForRows), one of the two sides sees the other, so no wake-up is lost.
-  tail_.store(tail + 1, std::memory_order_seq_cst);
-  if (2 * (tail + 1 - head_.load(std::memory_order_acquire)) >= rows_ &&
-      sleeping_.load(std::memory_order_seq_cst)) {
-    wake();
-  }
+  (void)filled_.push(Row{producing_, length});
+  producing_ = kNone;
+  // The fence, between the ring's store of its tail and the load of sleeping_, pairs with the one
+  // in waitForRows (store of sleeping_, then load of the tail): one side sees the other, so no
+  // wake-up is lost.
+  std::atomic_thread_fence(std::memory_order_seq_cst);
+  if (2 * filled_.size() >= rows_ && sleeping_.load(std::memory_order_relaxed)) wake();
 }
 
-bool RowQueue::front(std::string_view& row) const noexcept {
-  const std::uint64_t head = head_.load(std::memory_order_relaxed);
-  if (tail_.load(std::memory_order_acquire) == head) return false;
-  row = std::string_view(storage_.data() + (head % rows_) * row_bytes_, lengths_[head % rows_]);
+bool RowQueue::front(std::string_view& row) noexcept {
+  if (consuming_.slot == kNone && !filled_.pop(consuming_)) return false;
+  row = std::string_view(slot(consuming_.slot), consuming_.length);
   return true;
 }
 
-void RowQueue::pop() noexcept { head_.store(head_.load(std::memory_order_relaxed) + 1, std::memory_order_release); }
+void RowQueue::pop() noexcept {
+  if (consuming_.slot == kNone) return;
+  (void)free_.push(consuming_.slot);
+  consuming_.slot = kNone;
+}
 
 void RowQueue::waitForRows(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) noexcept {
-  sleeping_.store(true, std::memory_order_seq_cst);
+  sleeping_.store(true, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_seq_cst);  // pairs with commitRow's
   // Read the futex word before looking at the queue: a wake() after this read changes the word,
   // so futexWait returns at once instead of sleeping through it.
-  const std::uint32_t seen = wake_count_.load(std::memory_order_seq_cst);
-  if (2 * size() < rows_ && !stop.load(std::memory_order_seq_cst)) futexWait(wake_count_, seen, timeout);
+  const std::uint32_t seen = wake_count_.load(std::memory_order_acquire);
+  if (2 * filled_.size() < rows_ && !stop.load(std::memory_order_seq_cst)) futexWait(wake_count_, seen, timeout);
   sleeping_.store(false, std::memory_order_relaxed);
 }
 

@@ -1,10 +1,9 @@
--- The steps both task charts are made of (needle_insertion.lua, us_positioning.lua): calling a
--- peer's void request, waiting in a deployment and configuration, and a motion. Each chart makes
--- its own set, bound to its peers:
+-- The steps a task chart is made of: calling a peer's void request, waiting in a deployment and
+-- configuration, and a motion. Each chart makes its own set, bound to its peers:
 --   local steps = require("task_steps") { chart = "us_positioning", peers = { frames = ..., ... },
 --                                         goal_missed = "e_us_goal_missed" }
 -- `steps.resume` is the fully qualified state a reaction returns to (the last waiting state or
--- motion entered), for the chart's recovery transitions.
+-- motion entered), which guards the chart's recovery transitions (steps.resumptions).
 --
 -- Reactions: a failure that ends a state (a fault event, a goal missed) is a reaction the first
 -- time (root.WaitReaction: the robot stops, the surgeon recovers or takes over in teleoperation).
@@ -41,6 +40,18 @@ return function(c)
                         effect = function(_, _, _, events)
                           for _, e in ipairs(events) do if set[e] then steps.remember(e) end end
                         end }
+  end
+
+  -- The recovery transitions, appended to `chart`: from WaitReaction (e_recover) and from the
+  -- teleoperation state `teleop` (e_teleop_done) back to each fully qualified state of `targets`,
+  -- each taken only for the state a reaction resumes (steps.resume).
+  function steps.resumptions(chart, targets, teleop)
+    for _, target in ipairs(targets) do
+      for _, from in ipairs({ { 'WaitReaction', 'e_recover' }, { teleop, 'e_teleop_done' } }) do
+        chart[#chart + 1] = rfsm.trans { src = from[1], tgt = target, events = { from[2] },
+                                         guard = function() return steps.resume == target end }
+      end
+    end
   end
 
   -- Calls the void request operation `operation` of the peer playing `role`.

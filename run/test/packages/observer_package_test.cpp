@@ -87,18 +87,18 @@ TEST_F(ObserverPackage, APackagesTimeInStateObserverPutsEachStatesTimeIntoTheSum
 TEST_F(ObserverPackage, AnUnknownFieldOfItsSectionNamesTheFileLineAndTheKnownFields) {
   const auto app = appWith("  time_in_state = { chrat = \"task\" },");
   EXPECT_EQ(messageOf([&] { (void)runApp(options(app)); }),
-            app.string() + ":41: run.time_in_state: unknown field 'chrat'; did you mean 'chart'? known fields: chart");
+            app.string() + ":12: run.time_in_state: unknown field 'chrat'; did you mean 'chart'? known fields: chart");
 }
 
 TEST_F(ObserverPackage, AnUnknownChartIsRefusedAtAttach) {
   const auto app = appWith("  time_in_state = { chart = \"tsak\" },");
-  EXPECT_EQ(messageOf([&] { (void)runApp(options(app)); }), app.string() + ":41: run.time_in_state: unknown chart 'tsak'");
+  EXPECT_EQ(messageOf([&] { (void)runApp(options(app)); }), app.string() + ":12: run.time_in_state: unknown chart 'tsak'");
 }
 
 TEST_F(ObserverPackage, ASectionNoObserverIsRegisteredForIsRefusedWithTheKnownNames) {
   const auto app = appWith("  time_in_stat = { chart = \"task\" },");
   const std::string message = messageOf([&] { (void)runApp(options(app)); });
-  EXPECT_EQ(message.rfind(app.string() + ":41: run.time_in_stat: unknown section 'time_in_stat'", 0), 0u) << message;
+  EXPECT_EQ(message.rfind(app.string() + ":12: run.time_in_stat: unknown section 'time_in_stat'", 0), 0u) << message;
   EXPECT_NE(message.find("did you mean 'time_in_state'?"), std::string::npos) << message;
   EXPECT_NE(message.find("known sections: "), std::string::npos) << message;
 }

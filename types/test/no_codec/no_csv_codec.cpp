@@ -1,22 +1,7 @@
 // Must NOT compile (types_no_csv_codec_fails_to_compile): a registered type that is not a record
 // and has no CsvCodec specialisation cannot be registered, and the compiler says what to do.
 
-#include "cobra/types/register_type.hpp"
-
-namespace {
-struct Opaque {
-  double value = 0.0;
-};
-}  // namespace
-
-template <>
-struct cobra::core::DataTypeTraits<Opaque> {
-  static constexpr std::string_view name = "test.Opaque";
-  static constexpr DataKind kind = DataKind::Pure;
-  static constexpr std::string_view format = "a number";
-  static std::string print(const Opaque& v) { return std::to_string(v.value); }
-  static bool parse(std::string_view, Opaque&) { return false; }
-};
+#include "opaque.hpp"
 
 // A Lua codec exists, so the CSV one is the only thing missing.
 template <>

@@ -1,8 +1,9 @@
 #pragma once
 /// @file
 /// cobra's one bounded lock-free single-producer single-consumer ring. The `buffer(n)` and
-/// `circular(n)` connections (`core/channel.hpp`) pass their slots through two of them; the
-/// studio queues a run's events and its inputs through them.
+/// `circular(n)` connections (`core/channel.hpp`) pass their slots through two of them, as the
+/// Reporter passes its CSV rows to its file writer thread; the studio queues a run's events and
+/// its inputs through them.
 
 #include <atomic>
 #include <cstddef>

@@ -164,10 +164,11 @@ void deserializeField(cdr::Cdr& in, M& value) {
   }
 }
 
-/// The bytes `value` takes from `alignment` on (alignment padding included), as fastddsgen's
-/// getCdrSerializedSize counts them.
+/// The bytes a primitive field (kPrimitiveField) takes from `alignment` on (alignment padding
+/// included), as fastddsgen's code counts them; `length` is a string's characters or a sequence's
+/// elements (unused for the others).
 template <class M>
-std::size_t fieldSize(const M& value, std::size_t alignment) {
+std::size_t primitiveSize(std::size_t length, std::size_t alignment) {
   using cdr::Cdr;
   if constexpr (std::is_same_v<M, double>) {
     return 8 + Cdr::alignment(alignment, 8);
@@ -176,11 +177,23 @@ std::size_t fieldSize(const M& value, std::size_t alignment) {
   } else if constexpr (std::is_same_v<M, bool>) {
     return 1;
   } else if constexpr (std::is_same_v<M, std::string>) {
-    return 4 + Cdr::alignment(alignment, 4) + value.size() + 1;
-  } else if constexpr (std::is_same_v<M, std::vector<double>>) {
+    return 4 + Cdr::alignment(alignment, 4) + length + 1;
+  } else {
+    static_assert(std::is_same_v<M, std::vector<double>>, "primitiveSize: not a primitive field");
     std::size_t size = 4 + Cdr::alignment(alignment, 4);
-    if (!value.empty()) size += value.size() * 8 + Cdr::alignment(alignment + size, 8);
+    if (length > 0) size += length * 8 + Cdr::alignment(alignment + size, 8);
     return size;
+  }
+}
+
+/// The bytes `value` takes from `alignment` on (alignment padding included), as fastddsgen's
+/// getCdrSerializedSize counts them.
+template <class M>
+std::size_t fieldSize(const M& value, std::size_t alignment) {
+  if constexpr (std::is_same_v<M, std::string> || std::is_same_v<M, std::vector<double>>) {
+    return primitiveSize<M>(value.size(), alignment);
+  } else if constexpr (kPrimitiveField<M>) {
+    return primitiveSize<M>(0, alignment);
   } else if constexpr (core::RecordDataType<M>) {
     return recordSize(value, alignment);
   } else {
@@ -195,18 +208,8 @@ std::size_t fieldSize(const M& value, std::size_t alignment) {
 /// characters, a sequence of 100 elements).
 template <class M>
 std::size_t fieldMaxSize(std::size_t alignment) {
-  using cdr::Cdr;
-  if constexpr (std::is_same_v<M, double>) {
-    return 8 + Cdr::alignment(alignment, 8);
-  } else if constexpr (std::is_same_v<M, int>) {
-    return 4 + Cdr::alignment(alignment, 4);
-  } else if constexpr (std::is_same_v<M, bool>) {
-    return 1;
-  } else if constexpr (std::is_same_v<M, std::string>) {
-    return 4 + Cdr::alignment(alignment, 4) + 255 + 1;
-  } else if constexpr (std::is_same_v<M, std::vector<double>>) {
-    const std::size_t size = 4 + Cdr::alignment(alignment, 4);
-    return size + 100 * 8 + Cdr::alignment(alignment + size, 8);
+  if constexpr (kPrimitiveField<M>) {
+    return primitiveSize<M>(std::is_same_v<M, std::string> ? 255 : 100, alignment);
   } else if constexpr (core::RecordDataType<M>) {
     return recordMaxSize<M>(alignment);
   } else {

@@ -2,7 +2,8 @@
 -- gain into a threshold detector whose events drive a one-chart task. With k = 1 the sine passes
 -- 0.9 at 0.18 s and falls back under 0.85 (threshold - hysteresis) at about 0.33 s: the task is done.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-packages_list = { "cobra_signal", "cobra_coordination" }
+-- An application that runs this file (dofile) may name its packages first (more observers).
+packages_list = packages_list or { "cobra_signal", "cobra_coordination" }
 initConfigurator(packages_list, {
   { peer_name = "Sine", component_type = "SineGenerator" },
   { peer_name = "Gain", component_type = "Gain" },
