@@ -2,7 +2,8 @@
 # cobra used from outside its tree (label "install"): installs the build into a temporary prefix,
 # builds examples/06_package with its own CMake against it, runs its deployment with the installed
 # tool (which dlopens the package) and checks the filtered force and the package's own type
-# (example.ForceSample: CSV columns with units, a property set from Lua, two processes over DDS);
+# (example.ForceSample: CSV columns with units, a property set from Lua, two processes over DDS,
+# recorded, plotted and offered to the studio by `cobra run`);
 # then `cobra new component`
 # writes a package that builds against the prefix and whose generated tests pass.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR
@@ -100,6 +101,28 @@ header="time [s],Hold.sample_out.force [N],Hold.sample_out.filtered [N],Hold.sam
 # Received: the writer's samples of 10 N, after more than 1 s of its updates (its filter > 9 N).
 tail -1 "$work/force_sample_dds.csv" | awk -F, '{ exit !($2 == 10 && $3 > 9 && $3 < 10 && $4 > 1000) }' ||
   { tail -3 "$work/force_sample_dds.csv"; cat "$work/dds_reader.out"; fail "the reader did not receive the writer's example.ForceSample over DDS"; }
+
+# ... and in a run of the installed `cobra run` (force_sample_run.lua): its fields are the run's
+# signals.csv columns with their units, its report plots them, and cobra studio's recording of the
+# run offers the filtered force as a signal in N, with its values.
+COBRA_PACKAGE_PATH="$work/example" "$prefix/bin/cobra" run "$source/examples/06_package/force_sample_run.lua" \
+  --report "$work/run" --quiet >"$work/run.out" 2>&1 || { cat "$work/run.out"; fail "force_sample_run.lua did not run to its done state"; }
+header="time [s],Filter.sample_out.force [N],Filter.sample_out.filtered [N],Filter.sample_out.count"
+[ "$(head -1 "$work/run/signals.csv")" = "$header" ] ||
+  fail "the run's signals.csv header is '$(head -1 "$work/run/signals.csv")', expected '$header'"
+# The row at 0.9 s: the sample of the 900th update (those at 0 ... 0.899 s; the run's row is read
+# between two instants of the clock), 10·(1 - e^(-0.9π)) N within a step.
+awk -F, '$1 == "0.900" { e = 10 * (1 - exp(-0.9 * 3.141592653589793)); d = $3 - e; found = 1
+                         ok = $2 == 10 && d < 0.005 && d > -0.005 && $4 == 900 }
+         END { exit !(found && ok) }' "$work/run/signals.csv" ||
+  { cat "$work/run/signals.csv"; fail "the run's signals.csv row at 0.9 s is not the filter's sample (above)"; }
+grep -q "Filter.sample_out.filtered" "$work/run/report.html" || fail "the run's report does not plot Filter.sample_out.filtered"
+recording="$work/run/studio/recording.json"
+grep -q '"signals":\[{"name":"Filter.sample_out.filtered","unit":"N"}\]' "$recording" ||
+  fail "the studio's recording does not offer the signal Filter.sample_out.filtered [N]"
+filtered=$(grep -o '"Filter.sample_out.filtered":[0-9.e+-]*' "$recording" | tail -1 | cut -d: -f2)
+awk -v y="$filtered" 'BEGIN { exit !(y > 9.5 && y < 10) }' ||
+  fail "the studio's last value of Filter.sample_out.filtered is '$filtered'; expected 10·(1 - e^-π) ≈ 9.57 N"
 
 # An installed package is found without COBRA_PACKAGE_PATH.
 cmake --install "$work/example" --prefix "$prefix" >/dev/null

@@ -3,30 +3,10 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include <kdl/frames.hpp>
-#include <kdl/jntarray.hpp>
-
+#include "cobra/components/reporting/csv_codec.hpp"
 #include "cobra/deploy/suggest.hpp"
 
 namespace cobra::run {
-namespace {
-
-void toRow(const double& v, std::vector<double>& row) { row.assign(1, v); }
-void toRow(const std::vector<double>& v, std::vector<double>& row) { row = v; }
-void toRow(const KDL::JntArray& v, std::vector<double>& row) { row.assign(v.data.data(), v.data.data() + v.rows()); }
-void toRow(const KDL::Frame& f, std::vector<double>& row) {
-  double x = 0, y = 0, z = 0, w = 0;
-  f.M.GetQuaternion(x, y, z, w);
-  row = {f.p.x(), f.p.y(), f.p.z(), x, y, z, w};
-}
-void toRow(const KDL::Twist& t, std::vector<double>& row) {
-  row = {t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z()};
-}
-void toRow(const KDL::Wrench& w, std::vector<double>& row) {
-  row = {w.force.x(), w.force.y(), w.force.z(), w.torque.x(), w.torque.y(), w.torque.z()};
-}
-
-}  // namespace
 
 std::string readerName(const std::string& path) {
   std::string name = path;
@@ -64,78 +44,98 @@ core::OutputPortBase& findOutput(const core::ComponentRegistry& registry, const 
   return *out;
 }
 
+// The port's codec source (connected to the port at setup) and a row of every cell it writes.
 struct NumericTap::Source {
-  virtual ~Source() = default;
-  virtual void read(std::vector<double>& row) = 0;
-  virtual bool pose() const { return false; }
-  virtual const char* kind() const = 0;
+  const components::CsvType* type = nullptr;
+  std::string unit;                                      // the port's
+  std::unique_ptr<components::reporting_detail::Source> codec;
+  std::vector<std::size_t> numeric;                      // the numeric cells of a fixed-column type
+  std::vector<double> cells;                             // every cell of the last value
+  bool has_data = false;
 };
 
 namespace {
 
-template <class T>
-struct TypedSource final : NumericTap::Source {
-  explicit TypedSource(std::unique_ptr<core::InputPortBase> reader) : reader_(std::move(reader)) {
-    typed_ = dynamic_cast<core::InputPort<T>*>(reader_.get());
-  }
-  void read(std::vector<double>& row) override {
-    if (typed_->read(value_) == core::FlowStatus::NoData) {
-      row.clear();
-      return;
-    }
-    toRow(value_, row);
-  }
-  const char* kind() const override {
-    if constexpr (std::is_same_v<T, KDL::Frame>) return "frame";
-    if constexpr (std::is_same_v<T, KDL::Twist>) return "twist";
-    if constexpr (std::is_same_v<T, KDL::Wrench>) return "wrench";
-    if constexpr (std::is_same_v<T, double>) return "double";
-    return "array";
-  }
-  std::unique_ptr<core::InputPortBase> reader_;
-  core::InputPort<T>* typed_ = nullptr;
-  T value_{};
-};
+std::string fieldOf(const std::string& suffix) { return !suffix.empty() && suffix[0] == '.' ? suffix.substr(1) : suffix; }
 
-template <class T>
-std::unique_ptr<NumericTap::Source> tryType(core::OutputPortBase& out, const std::string& path) {
-  auto reader = out.makeReader(readerName(path), "cobra run recorder");
-  if (dynamic_cast<core::InputPort<T>*>(reader.get()) == nullptr) return nullptr;
-  out.connectTo(*reader, core::ConnPolicy::data());
-  return std::make_unique<TypedSource<T>>(std::move(reader));
+// The columns of `type` that are numbers (for a variable-length type: those of one element).
+std::vector<components::CsvColumn> numericColumns(const components::CsvType& type, const std::string& unit) {
+  std::vector<components::CsvColumn> numeric;
+  for (components::CsvColumn& c : type.columns(unit, type.needs_length ? 1 : 0))
+    if (c.numeric) numeric.push_back(std::move(c));
+  return numeric;
+}
+
+// "double, int, ..., example.ForceSample": the registered types a NumericTap takes.
+std::string tappableTypes() {
+  std::string list;
+  for (const components::CsvType* type : components::csvTypes())
+    if (!numericColumns(*type, "").empty()) list += (list.empty() ? "" : ", ") + std::string(type->type_name);
+  return list;
 }
 
 }  // namespace
 
 NumericTap::NumericTap(const core::ComponentRegistry& registry, const std::string& path, const std::string& where,
                        const std::string& use)
-    : path_(path) {
+    : path_(path), source_(std::make_unique<Source>()) {
   core::OutputPortBase& out = findOutput(registry, path, where, use);
-  unit_ = out.unit();
-  source_ = tryType<double>(out, path);
-  if (!source_) source_ = tryType<std::vector<double>>(out, path);
-  if (!source_) source_ = tryType<KDL::Frame>(out, path);
-  if (!source_) source_ = tryType<KDL::Twist>(out, path);
-  if (!source_) source_ = tryType<KDL::Wrench>(out, path);
-  if (!source_) source_ = tryType<KDL::JntArray>(out, path);
-  if (!source_)
-    throw std::runtime_error(where + ": " + use + ": port " + path + " is a " + std::string(out.type().name) +
-                             "; accepted: " + kAccepted);
+  const std::string type_name(out.type().name);
+  Source& s = *source_;
+  s.type = components::findCsvType(out.type());
+  if (s.type == nullptr)
+    throw std::runtime_error(where + ": " + use + ": port " + path + " is a " + type_name +
+                             ", which has no CSV codec (register it with cobra::types::registerType<T>()); "
+                             "types with numeric columns: " + tappableTypes());
+  s.unit = out.unit();
+  if (numericColumns(*s.type, s.unit).empty())
+    throw std::runtime_error(where + ": " + use + ": port " + path + " is a " + type_name +
+                             ", whose CSV columns are text, not numbers; types with numeric columns: " +
+                             tappableTypes());
+  if (!s.type->needs_length) {
+    const std::vector<components::CsvColumn> all = s.type->columns(s.unit, 0);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (all[i].numeric) s.numeric.push_back(i);
+    s.cells.resize(all.size());
+  }
+  // Elements 0: a variable-length value is written in as many cells as it has (its length).
+  s.codec = s.type->make_source(out, out.makeReader(readerName(path), "cobra run recorder"), 0);
+  out.connectTo(s.codec->reader(), core::ConnPolicy::data());
 }
 
 NumericTap::~NumericTap() = default;
 
-std::vector<std::string> NumericTap::fields(std::size_t n) const {
-  const std::string kind = source_->kind();
-  if (kind == "double") return {""};
-  if (kind == "frame") return {"x", "y", "z", "qx", "qy", "qz", "qw"};
-  if (kind == "twist") return {"vx", "vy", "vz", "wx", "wy", "wz"};
-  if (kind == "wrench") return {"fx", "fy", "fz", "tx", "ty", "tz"};
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < n; ++i) out.push_back("[" + std::to_string(i) + "]");
+std::vector<NumericTap::Column> NumericTap::columns(std::size_t n) const {
+  const Source& s = *source_;
+  std::vector<Column> out;
+  for (const components::CsvColumn& c : s.type->columns(s.unit, s.type->needs_length ? n : 0))
+    if (c.numeric) out.push_back({fieldOf(c.suffix), path_ + c.suffix, c.unit});
   return out;
 }
 
-void NumericTap::read(std::vector<double>& row) { source_->read(row); }
+std::vector<std::string> NumericTap::fields(std::size_t n) const {
+  std::vector<std::string> out;
+  for (Column& c : columns(n)) out.push_back(std::move(c.field));
+  return out;
+}
+
+void NumericTap::read(std::vector<double>& row) {
+  Source& s = *source_;
+  if (s.codec->sample() == core::FlowStatus::NewData) s.has_data = true;
+  if (!s.has_data) {
+    row.clear();
+    return;
+  }
+  if (s.type->needs_length) {
+    row.resize(s.codec->length());  // every cell is a number
+    components::RowWriter writer(row.data(), row.size());
+    s.codec->format(writer);
+    return;
+  }
+  components::RowWriter writer(s.cells.data(), s.cells.size());
+  s.codec->format(writer);
+  row.resize(s.numeric.size());
+  for (std::size_t i = 0; i < s.numeric.size(); ++i) row[i] = s.cells[s.numeric[i]];
+}
 
 }  // namespace cobra::run

@@ -45,8 +45,7 @@ void Recording::sample(double t) {
 std::vector<std::string> Recording::columnNames() const {
   std::vector<std::string> names;
   for (const Port& p : ports_)
-    for (const std::string& field : p.tap->fields(p.width))
-      names.push_back(field.empty() ? p.tap->path() : p.tap->path() + (field[0] == '[' ? "" : ".") + field);
+    for (NumericTap::Column& c : p.tap->columns(p.width)) names.push_back(std::move(c.name));
   for (const auto& [name, unit] : derived_) names.push_back(name);
   return names;
 }
@@ -75,10 +74,8 @@ std::string Recording::unitOf(const std::string& name) const {
   for (const auto& [derived, unit] : derived_)
     if (derived == name) return unit;
   for (const Port& p : ports_)
-    if (name.rfind(p.tap->path(), 0) == 0) {
-      const std::string rest = name.substr(p.tap->path().size());
-      return rest.size() > 1 && rest[1] == 'q' ? "1" : p.tap->unit();  // quaternions are dimensionless
-    }
+    for (const NumericTap::Column& c : p.tap->columns(p.width))
+      if (c.name == name) return c.unit;
   return "";
 }
 
@@ -92,11 +89,9 @@ bool Recording::column(const std::string& name, std::vector<double>& x, std::vec
     return true;
   }
   for (const Port& p : ports_) {
-    const std::vector<std::string> fields = p.tap->fields(p.width);
-    for (std::size_t f = 0; f < fields.size(); ++f) {
-      const std::string full =
-          fields[f].empty() ? p.tap->path() : p.tap->path() + (fields[f][0] == '[' ? "" : ".") + fields[f];
-      if (full != name) continue;
+    const std::vector<NumericTap::Column> columns = p.tap->columns(p.width);
+    for (std::size_t f = 0; f < columns.size(); ++f) {
+      if (columns[f].name != name) continue;
       for (std::size_t i = 0; i < times_.size(); ++i)
         if (f < p.rows[i].size() && std::isfinite(p.rows[i][f])) x.push_back(times_[i]), y.push_back(p.rows[i][f]);
       return true;

@@ -1,6 +1,7 @@
 // The runner's recording (cobra/run/recording.hpp: Recording, cobra/run/port_tap.hpp: NumericTap) on a
-// component with output ports of every accepted type: the columns and their units, the fields a
-// plot may name, signals.csv, and the one-line refusals of a port of another type or an input.
+// component with output ports of cobra's own numeric types: the columns and their units, the fields
+// a plot may name, signals.csv, and the one-line refusals of a port of a text type or an input
+// (port_tap_test: a package's record).
 
 #include "../src/builtin_observers.hpp"
 #include "cobra/run/recording.hpp"
@@ -29,6 +30,7 @@ class Outputs : public core::Component {
     addPort(pose);
     addPort(joints);
     addPort(wrench);
+    addPort(mixed);
     addPort(events_out);
     addPort(in);
   }
@@ -36,6 +38,7 @@ class Outputs : public core::Component {
   core::OutputPort<KDL::Frame> pose{"pose", "a pose", "m"};
   core::OutputPort<KDL::JntArray> joints{"joints", "joint positions", "rad"};
   core::OutputPort<KDL::Wrench> wrench{"wrench", "a wrench", "N, N·m"};
+  core::OutputPort<std::vector<double>> mixed{"mixed", "positions and angles", "m, rad"};
   core::OutputPort<core::Event> events_out{"happened", "events", ""};
   core::InputPort<double> in{"in", "an input", "1"};
 
@@ -72,18 +75,21 @@ TEST(Recording, ColumnsPerFieldWithUnitsAndEmptyCellsBeforeData) {
   EXPECT_FALSE(recording.column("Out.pose.w", x, y));
 }
 
-// A unit with a comma (a wrench's "N, N·m") is inside its header cell: the cell is quoted.
-TEST(Recording, AHeaderCellWithACommaIsQuoted) {
+// Each column has the unit its type's CSV codec gives it (a wrench: N, then N·m); a unit with a
+// comma (a port's "m, rad", which a vector<double> takes) is inside its header cell: quoted.
+TEST(Recording, EachColumnHasItsCodecsUnitAndAHeaderCellWithACommaIsQuoted) {
   core::ComponentRegistry registry;
   auto& c = registry.make<Outputs>("Out");
   Recording recording;
   recording.addPort(registry, "Out.wrench", "f.lua:1", "run.record");
+  recording.addPort(registry, "Out.mixed", "f.lua:1", "run.record");
   c.wrench.write(KDL::Wrench(KDL::Vector(1, 2, 3), KDL::Vector(4, 5, 6)));
+  c.mixed.write(std::vector<double>{0.5, 1.5});
   recording.sample(0.01);
   EXPECT_EQ(recording.csv(),
-            "time [s],\"Out.wrench.fx [N, N·m]\",\"Out.wrench.fy [N, N·m]\",\"Out.wrench.fz [N, N·m]\","
-            "\"Out.wrench.tx [N, N·m]\",\"Out.wrench.ty [N, N·m]\",\"Out.wrench.tz [N, N·m]\"\n"
-            "0.010,1,2,3,4,5,6\n");
+            "time [s],Out.wrench.fx [N],Out.wrench.fy [N],Out.wrench.fz [N],"
+            "Out.wrench.tx [N·m],Out.wrench.ty [N·m],Out.wrench.tz [N·m],\"Out.mixed[0] [m, rad]\",\"Out.mixed[1] [m, rad]\"\n"
+            "0.010,1,2,3,4,5,6,0.5,1.5\n");
 }
 
 TEST(Recording, APortWithFieldsIsNamedByOneOfThem) {
@@ -105,11 +111,12 @@ TEST(Recording, APortOfAnotherTypeAnInputOrAnUnknownPortIsRefusedInOneLine) {
   registry.make<Outputs>("Out");
   Recording recording;
   EXPECT_EQ(messageOf([&] { recording.addPort(registry, "Out.happened", "f.lua:3", "run.record"); }),
-            "f.lua:3: run.record: port Out.happened is a Event; accepted: double, vector<double>, KDL.Frame, "
-            "KDL.Twist, KDL.Wrench or KDL.JntArray");
+            "f.lua:3: run.record: port Out.happened is a Event, whose CSV columns are text, not numbers; types with "
+            "numeric columns: double, int, bool, vector<double>, KDL.Vector, KDL.Rotation, KDL.Frame, KDL.Twist, "
+            "KDL.Wrench, KDL.JntArray");
   EXPECT_EQ(messageOf([&] { recording.addPort(registry, "Out.in", "f.lua:3", "run.record"); }),
             "f.lua:3: run.record: port Out.in is an input port; observe an output port: events, force, pose, "
-            "joints, wrench, happened");
+            "joints, wrench, mixed, happened");
   EXPECT_CONTAINS(messageOf([&] { recording.addPort(registry, "Oot.force", "f.lua:3", "run.record"); }),
                   "f.lua:3: run.record: unknown component 'Oot'; did you mean 'Out'?");
   EXPECT_EQ(messageOf([&] { recording.addPort(registry, "force", "f.lua:3", "run.record"); }),

@@ -265,21 +265,22 @@ void VisualizerBridge::Impl::attachSignals(const run::RunContext& run) {
     SignalView view;
     view.name = name;
     view.tap = std::make_unique<run::NumericTap>(run.registry, name.substr(0, end), where.text(), use);
-    view.unit = view.tap->unit();
     const std::string field = end == std::string::npos ? std::string() : name.substr(end + (name[end] == '.' ? 1 : 0));
-    const std::vector<std::string> fields = view.tap->fields(0);
-    if (field.size() > 2 && field.front() == '[' && field.back() == ']' && fields.empty()) {
+    const std::vector<run::NumericTap::Column> columns = view.tap->columns(0);
+    if (field.size() > 2 && field.front() == '[' && field.back() == ']' && columns.empty()) {
       view.field = static_cast<std::size_t>(std::stoul(field.substr(1, field.size() - 2)));
+      view.unit = view.tap->columns(view.field + 1).back().unit;
     } else {
-      const auto found = std::find(fields.begin(), fields.end(), field);
-      if (found == fields.end()) {
+      const auto found = std::find_if(columns.begin(), columns.end(), [&](const auto& c) { return c.field == field; });
+      if (found == columns.end()) {
         std::string known;
-        for (const std::string& f : fields) known += (known.empty() ? "" : ", ") + name.substr(0, end) + (f.empty() ? "" : "." + f);
+        for (const run::NumericTap::Column& c : columns) known += (known.empty() ? "" : ", ") + c.name;
         throw std::runtime_error(where.text() + ": " + use + ": " +
                                  (field.empty() ? name + " has several values; name one: " : "no field '" + field + "' in " + name.substr(0, end) + "; fields: ") +
                                  (known.empty() ? "[0], [1], ..." : known));
       }
-      view.field = static_cast<std::size_t>(found - fields.begin());
+      view.field = static_cast<std::size_t>(found - columns.begin());
+      view.unit = found->unit;
     }
     view.row.reserve(64);
     view.offset = width++;

@@ -258,6 +258,7 @@ class TextSource final : public Source {
     if (status == core::FlowStatus::NewData) has_value_ = true;
     return status;
   }
+  std::size_t length() const noexcept override { return 0; }
   void format(RowWriter& row) const noexcept override {
     if (has_value_) row.text(text_);
     else row.empty();
@@ -344,6 +345,14 @@ std::unique_ptr<Source> makeSource(core::OutputPortBase& output, std::string rea
 void addCsvType(std::type_index id, const CsvType& entry) {
   (void)reporting_detail::registry();  // cobra's own types first
   reporting_detail::add(id, entry);
+}
+
+std::vector<const CsvType*> csvTypes() {
+  auto& r = reporting_detail::registry();
+  const std::size_t n = r.count.load(std::memory_order_acquire);
+  std::vector<const CsvType*> entries;
+  for (std::size_t i = 0; i < n; ++i) entries.push_back(&r.entries[i]);
+  return entries;
 }
 
 const CsvType* findCsvType(const core::TypeInfo& type) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <kdl/frames.hpp>
@@ -157,6 +158,40 @@ TEST(CsvCodec, TheNumericViewGivesOneNumberPerColumnForAPlot) {
   EXPECT_EQ(values[9], 3.0);
   EXPECT_EQ(values[10], 4.0);
   EXPECT_TRUE(std::isnan(values[11]));  // the label: text
+}
+
+// Made with 0 elements, a vector<double> source writes each value in as many cells as it has:
+// for a reader that names the columns from the first value (run::NumericTap).
+TEST(CsvCodec, AVariableLengthSourceOfZeroElementsWritesTheValuesLength) {
+  core::OutputPort<std::vector<double>> out("values", "", "m");
+  const CsvType* entry = findCsvType(core::typeInfo<std::vector<double>>());
+  auto source = entry->make_source(out, out.makeReader("plot", ""), 0);
+  core::connectPorts(out, source->reader());
+  EXPECT_TRUE(source->headers().empty());
+  EXPECT_EQ(source->length(), 0u) << "no value read yet";
+  out.write(std::vector<double>{1.0, 2.0, 3.0});
+  ASSERT_EQ(source->sample(), core::FlowStatus::NewData);
+  EXPECT_EQ(source->length(), 3u);
+  std::vector<double> values(4, -1.0);
+  RowWriter row(values.data(), values.size());
+  source->format(row);
+  EXPECT_EQ(values, (std::vector<double>{1.0, 2.0, 3.0, -1.0}));
+  out.write(std::vector<double>{4.0, 5.0, 6.0});
+  ASSERT_EQ(source->sample(), core::FlowStatus::NewData);
+  RowWriter again(values.data(), values.size());
+  EXPECT_EQ(test_support::allocationsDuring([&] { source->format(again); }), 0);
+  EXPECT_EQ(values[2], 6.0);
+}
+
+TEST(CsvCodec, TheRegistryListsCobrasOwnTypesFirstThenTheRegisteredOnes) {
+  registerCsvType<Reading>();
+  std::vector<std::string_view> names;
+  for (const CsvType* entry : csvTypes()) names.push_back(entry->type_name);
+  ASSERT_GE(names.size(), 14u);
+  EXPECT_EQ(names[0], "double");
+  EXPECT_EQ(names[12], "TaskState");
+  EXPECT_NE(std::find(names.begin() + 13, names.end(), "csv_test.Reading"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "csv_test.Unregistered"), names.end());
 }
 
 TEST(CsvCodec, EveryBuiltinTypeHasACsvEntry) {

@@ -48,32 +48,41 @@ class Tap {
   core::InputPort<T>* typed_ = nullptr;
 };
 
-// One output port of a numeric type read as a row of numbers: double (1), vector<double> and
-// KDL.JntArray (n: [0], [1], ...), KDL.Frame (x y z qx qy qz qw), KDL.Twist (vx vy vz wx wy wz),
-// KDL.Wrench (fx fy fz tx ty tz).
+// One output port read as a row of numbers, in the columns of its type's CSV codec
+// (components/reporting/csv_codec.hpp): every type registered for CSV (cobra's own, a package's
+// record through cobra::types::registerType<T>()) whose codec gives numeric columns. A double is
+// one column named by the port; a KDL.Frame x y z qx qy qz qw; a record its fields (`force`,
+// `tip.x`, ...); vector<double> and KDL.JntArray [0], [1], ..., as many as the value read has.
+// A type's text columns (a string, an event, a record's variable-length field) are left out.
 class NumericTap {
  public:
-  // What `record` and `plots` accept, for messages.
-  static constexpr const char* kAccepted = "double, vector<double>, KDL.Frame, KDL.Twist, KDL.Wrench or KDL.JntArray";
+  /// One column: its field ("" for a port that is one number, "x", "[2]", "pose.qx"), its full
+  /// name ("Comp.port.x", "Comp.port[2]") and its unit, as the CSV codec gives them (a codec that
+  /// has no unit of its own for a column gives the port's).
+  struct Column {
+    std::string field, name, unit;
+  };
 
-  // @throws std::runtime_error "WHERE: USE: port Comp.port is a T; accepted: ..." for another
-  //         type, or as findOutput.
+  // @throws std::runtime_error "WHERE: USE: port Comp.port is a T, which has no CSV codec ...;
+  //         types with numeric columns: ..." (or "... whose CSV columns are text"), or as findOutput.
   NumericTap(const core::ComponentRegistry& registry, const std::string& path, const std::string& where,
              const std::string& use);
   ~NumericTap();
 
   const std::string& path() const { return path_; }
-  const std::string& unit() const { return unit_; }
-  // The field names of a row of `n` values ("" for a double: the column is the port itself).
+  // The columns of a row of `n` values (`n` is used only by a type whose length is not part of
+  // it, which has no columns for n = 0).
+  std::vector<Column> columns(std::size_t n) const;
+  // The fields of columns(n), in order.
   std::vector<std::string> fields(std::size_t n) const;
-  // The newest value as numbers (empty before any data).
+  // The newest value as numbers (empty before any data). No allocation after the first value
+  // (of a variable-length type: after the first of each longer length).
   void read(std::vector<double>& row);
 
   struct Source;
 
  private:
   std::string path_;
-  std::string unit_;
   std::unique_ptr<Source> source_;
 };
 

@@ -165,6 +165,18 @@ template <class M>
 using FieldCodec = std::conditional_t<CsvCodec<M>::kNeedsLength, TextCsvCodec<M>, CsvCodec<M>>;
 }  // namespace csv_detail
 
+namespace csv_detail {
+/// The number of elements of a value of a type whose length is not part of it (kNeedsLength):
+/// the codec's `length(value)` when it has one, else `value.size()` or `value.rows()`; 0 otherwise.
+template <class T>
+std::size_t lengthOf(const T& value) noexcept {
+  if constexpr (requires { CsvCodec<T>::length(value); }) return CsvCodec<T>::length(value);
+  else if constexpr (requires { value.size(); }) return static_cast<std::size_t>(value.size());
+  else if constexpr (requires { value.rows(); }) return static_cast<std::size_t>(value.rows());
+  else return 0;
+}
+}  // namespace csv_detail
+
 /// Every record: the columns of each field in order, named `.<field><its suffix>`, with the
 /// field's unit (or, when the field gives none, the unit its type's columns carry). A field of
 /// variable length (vector<double>, KDL.JntArray) is one text column of its text form.
@@ -226,6 +238,9 @@ class Source {
   virtual void format(RowWriter& row) const noexcept = 0;
   /// Most bytes `format` appends.
   std::size_t maxBytes() const { return max_bytes_; }
+  /// The number of elements of the value last read, for a type whose length is not part of it
+  /// (vector<double>, KDL.JntArray); 0 for the others and before any data.
+  virtual std::size_t length() const noexcept = 0;
 
  protected:
   Source(core::OutputPortBase& output, std::unique_ptr<core::InputPortBase> reader,
@@ -242,6 +257,10 @@ class Source {
 };
 
 /// A port of a type with a codec: the value is kept as read and written by the codec per row.
+/// Made with 0 elements for a type whose length is not part of it (no columns of its own), each
+/// value is written in as many cells as it has elements: for a reader that names the columns from
+/// the first value (run::NumericTap); the first read sizes the value, later ones of the same
+/// length allocate nothing.
 template <class T>
 class CodecSource final : public Source {
  public:
@@ -260,10 +279,14 @@ class CodecSource final : public Source {
   }
   void format(RowWriter& row) const noexcept override {
     if (has_value_) {
-      CsvCodec<T>::write(row, value_, elements_);
+      CsvCodec<T>::write(row, value_, CsvCodec<T>::kNeedsLength && elements_ == 0 ? length() : elements_);
     } else {
       for (std::size_t i = 0; i < cells_; ++i) row.empty();
     }
+  }
+  std::size_t length() const noexcept override {
+    if constexpr (CsvCodec<T>::kNeedsLength) return has_value_ ? csv_detail::lengthOf(value_) : 0;
+    else return 0;
   }
 
  private:
@@ -303,6 +326,8 @@ struct CsvType {
 
 /// The CSV entry of `type`, or nullptr (the Reporter writes such a port as its text form).
 const CsvType* findCsvType(const core::TypeInfo& type);
+/// Every registered entry, cobra's own types first, then in the order of registration.
+std::vector<const CsvType*> csvTypes();
 /// Adds the entry of type `id`; adding the same type again does nothing.
 /// @throws core::Error when another type of the same name is registered.
 void addCsvType(std::type_index id, const CsvType& entry);
