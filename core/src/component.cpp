@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <mutex>
 #include <thread>
 #include <utility>
 
@@ -209,35 +210,84 @@ void Component::enterException(std::string_view hook, const std::string& what) n
   }
 }
 
+namespace {
+
+// One addStateListener or removeStateListener at a time, of any component: two threads adding one
+// listener cannot both find it absent and take two slots. Rare calls, never on a real-time path.
+std::mutex g_listeners_mutex;
+
+// Component::announcing_: the announcements under way in its low bits, above them those of them
+// held by threads waiting in removeStateListener from inside a listener.
+constexpr int kAnnouncement = 1, kWaitingInside = 1 << 16;
+int underWay(int announcing) noexcept { return announcing & (kWaitingInside - 1); }
+int waitingInside(int announcing) noexcept { return announcing / kWaitingInside; }
+
+// The components whose state change the calling thread is announcing now, outermost first (a
+// listener may change another component's state): removeStateListener, called from inside a
+// listener, does not wait for its own thread's announcements. Constant-initialised, so it needs
+// no TLS guard and no allocation. Levels beyond kKept are counted, not kept (see announcedHere).
+struct Announcing {
+  static constexpr int kKept = 8;
+  std::array<const Component*, kKept> components{};
+  int depth = 0;
+};
+thread_local Announcing t_announcing;
+
+// How many of `component`'s announcements the calling thread is inside. A level beyond the kKept
+// outermost (its component unknown) counts as `component`'s: a removal from there may return
+// before another thread's call ends, but never waits for its own thread forever.
+int announcedHere(const Component* component) noexcept {
+  int mine = std::max(0, t_announcing.depth - Announcing::kKept);
+  for (int i = 0; i < std::min(t_announcing.depth, Announcing::kKept); ++i)
+    if (t_announcing.components[static_cast<std::size_t>(i)] == component) ++mine;
+  return mine;
+}
+
+}  // namespace
+
 void Component::setState(State to) noexcept {
   const State from = state_.exchange(to, std::memory_order_acq_rel);
   if (from == to) return;
   // Counted before the slots are read: removeStateListener clears a slot, then waits while a
-  // count is held, so a listener it returned from is never called again (both sequentially
-  // consistent: either this sees the cleared slot, or the remover sees the count).
-  announcing_.fetch_add(1);
+  // count is held (by another thread), so a listener it returned from is never called again
+  // (both sequentially consistent: either this sees the cleared slot, or the remover sees the count).
+  announcing_.fetch_add(kAnnouncement);
+  if (t_announcing.depth < Announcing::kKept) t_announcing.components[static_cast<std::size_t>(t_announcing.depth)] = this;
+  ++t_announcing.depth;
   for (std::atomic<StateListener*>& slot : state_listeners_)
     if (StateListener* listener = slot.load()) listener->stateChanged(*this, from, to);
-  announcing_.fetch_sub(1);
+  --t_announcing.depth;
+  announcing_.fetch_sub(kAnnouncement);
 }
 
 void Component::addStateListener(StateListener& listener) {
+  std::lock_guard lock(g_listeners_mutex);
   for (const std::atomic<StateListener*>& slot : state_listeners_)
     if (slot.load() == &listener) return;
   for (std::atomic<StateListener*>& slot : state_listeners_) {
-    StateListener* empty = nullptr;
-    if (slot.compare_exchange_strong(empty, &listener)) return;
+    if (slot.load() != nullptr) continue;
+    slot.store(&listener);
+    return;
   }
   throw Error("component '" + name_ + "': already " + std::to_string(kMaxStateListeners) +
               " state listeners (Component::kMaxStateListeners); remove one first");
 }
 
 void Component::removeStateListener(StateListener& listener) noexcept {
-  for (std::atomic<StateListener*>& slot : state_listeners_) {
-    StateListener* mine = &listener;
-    slot.compare_exchange_strong(mine, nullptr);
+  {
+    std::lock_guard lock(g_listeners_mutex);
+    for (std::atomic<StateListener*>& slot : state_listeners_)
+      if (slot.load() == &listener) slot.store(nullptr);
   }
-  while (announcing_.load() != 0) std::this_thread::yield();
+  // The calling thread's own announcements of this component (a listener removing itself or
+  // another) end after this returns: waiting for them would never end. Nor are those of another
+  // thread waiting here from inside a listener waited for: two such threads would wait for each
+  // other forever (then one may return while the other's listener call is still under way).
+  const int mine = announcedHere(this);
+  announcing_.fetch_add(mine * kWaitingInside);
+  for (int now = announcing_.load(); underWay(now) > waitingInside(now); now = announcing_.load())
+    std::this_thread::yield();
+  announcing_.fetch_sub(mine * kWaitingInside);
 }
 
 bool Component::refuse(std::string why) {

@@ -4,11 +4,15 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <mutex>
+
+#include <cxxabi.h>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/core/error.hpp"
 #include "cobra/text/trim.hpp"
 
 namespace cobra::core {
@@ -100,10 +104,29 @@ void registerBuiltins() {
 
 std::string_view toString(DataKind kind) { return kind == DataKind::Pure ? "pure data" : "logic data"; }
 
+namespace {
+
+// "cobra::Colour": the C++ type of `info` as written (demangled), for messages.
+std::string cppName(const TypeInfo& info) {
+  int status = 0;
+  const std::unique_ptr<char, void (*)(void*)> demangled(abi::__cxa_demangle(info.id.name(), nullptr, nullptr, &status),
+                                                         std::free);
+  return status == 0 && demangled ? std::string(demangled.get()) : std::string(info.id.name());
+}
+
+}  // namespace
+
 void TypeRegistry::add(const TypeInfo& info) {
   auto& r = registry();
   std::lock_guard lock(r.mutex);
-  r.by_name.emplace(info.name, info);
+  const auto [it, added] = r.by_name.emplace(info.name, info);
+  // The same type again is no conflict: each shared library (a package) instantiating typeInfo<T>
+  // registers T once more. Another type under the name would make every port of the name ambiguous
+  // (a deployment file, the studio and a recording name types by it), so it is refused, as the
+  // Lua and CSV registries refuse one (types/).
+  if (!added && it->second.id != info.id)
+    throw Error("data type '" + std::string(info.name) + "' is registered twice, by C++ types " + cppName(it->second) +
+                " and " + cppName(info) + "; give one of them another DataTypeTraits<T>::name");
 }
 
 const TypeInfo* TypeRegistry::find(std::string_view name) {

@@ -18,12 +18,33 @@
 #include <kdl/jntarray.hpp>
 
 #include "cobra/core/data_type.hpp"
+#include "cobra/core/error.hpp"
 
 namespace {
 struct TestColour {
   int r = 0;
 };
+// Two types that claim one name (a copy-pasted DataTypeTraits).
+struct TwinA {
+  int v = 0;
+};
+struct TwinB {
+  int v = 0;
+};
+template <class T>
+struct TwinTraits {
+  static constexpr std::string_view name = "test.Twin";
+  static constexpr cobra::core::DataKind kind = cobra::core::DataKind::Pure;
+  static constexpr std::string_view format = "an integer";
+  static std::string print(const T& t) { return std::to_string(t.v); }
+  static bool parse(std::string_view text, T& out) { return cobra::core::DataTypeTraits<int>::parse(text, out.v); }
+};
 }  // namespace
+
+template <>
+struct cobra::core::DataTypeTraits<TwinA> : TwinTraits<TwinA> {};
+template <>
+struct cobra::core::DataTypeTraits<TwinB> : TwinTraits<TwinB> {};
 
 // A user type registered the documented way, to check that registration reaches the registry.
 template <>
@@ -161,6 +182,20 @@ TEST(TypeRegistry, AUserTypeAppearsAfterItsFirstUse) {
   const auto all = TypeRegistry::all();
   EXPECT_TRUE(std::any_of(all.begin(), all.end(), [](const TypeInfo* i) { return i->name == "test.Colour"; }));
   EXPECT_EQ(printValue(TestColour{7}), "7");
+}
+
+TEST(TypeRegistry, ASecondTypeUnderARegisteredNameIsRefusedNamingTheNameAndBothTypes) {
+  EXPECT_EQ(typeInfo<TwinA>().name, "test.Twin");
+  std::string message;
+  try {
+    (void)typeInfo<TwinB>();
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_EQ(message, "data type 'test.Twin' is registered twice, by C++ types (anonymous namespace)::TwinA and "
+                     "(anonymous namespace)::TwinB; give one of them another DataTypeTraits<T>::name");
+  EXPECT_EQ(TypeRegistry::find("test.Twin")->id, std::type_index(typeid(TwinA)));  // the first stays
+  TypeRegistry::add(typeInfo<TwinA>());  // the same type again (another shared library's): no conflict
 }
 
 // --- round trips ------------------------------------------------------------------------------

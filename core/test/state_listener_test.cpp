@@ -1,8 +1,9 @@
 // Unit tests of the state announcement of a component (component.hpp: StateListener,
 // addStateListener, removeStateListener): every lifecycle change is told once with its from and
 // to states, a hook that throws on the activity's thread is told from there, the slots are fixed
-// (a fifth listener is refused, adding twice counts once), removal stops the calls, and telling
-// allocates nothing.
+// (a fifth listener is refused, adding twice counts once, also from two threads at once), removal
+// stops the calls, also from inside a listener, waits for another thread's announcement under
+// way, and telling allocates nothing.
 
 #include <gtest/gtest.h>
 
@@ -10,9 +11,11 @@
 #include "cobra/test_support/test_support.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -132,6 +135,133 @@ TEST(StateListener, ARemovedListenerIsNotToldAgain) {
   p.removeStateListener(r);
   ASSERT_TRUE(p.start());
   EXPECT_EQ(r.count.load(), 1);
+}
+
+// A listener that removes itself when told: removal from inside stateChanged returns (it does not
+// wait for its own thread's announcement), and it is not told again.
+TEST(StateListener, AListenerRemovingItselfFromInsideStateChangedIsNotToldAgain) {
+  struct Once final : StateListener {
+    Component* from = nullptr;
+    int told = 0;
+    void stateChanged(const Component&, State, State) noexcept override {
+      ++told;
+      from->removeStateListener(*this);
+    }
+  };
+  Probe p;
+  Once once;
+  Recorder after;
+  once.from = &p;
+  p.addStateListener(once);
+  p.addStateListener(after);
+  ASSERT_TRUE(p.configure());
+  ASSERT_TRUE(p.start());
+  EXPECT_EQ(once.told, 1);
+  EXPECT_EQ(after.count.load(), 2);  // the listeners after it are still told
+}
+
+// Thread A's change (configure) is being told to `slow`; thread B's change (start) is told to
+// `remover`, which removes `slow` from inside its stateChanged: the removal skips B's own
+// announcement but waits for A's call to `slow` to end, so `slow` may be destroyed after it.
+TEST(StateListener, RemovalFromInsideAListenerWaitsForAnotherThreadsCallUnderWay) {
+  std::atomic<bool> a_inside{false}, b_removing{false}, a_call_ended{false}, ended_before_removal_returned{false};
+  struct Slow final : StateListener {
+    std::atomic<bool> *inside, *removing, *ended;
+    void stateChanged(const Component&, State, State to) noexcept override {
+      if (to != State::Stopped) return;  // only A's configure is slow
+      inside->store(true);
+      while (!removing->load()) std::this_thread::yield();
+      // Lets a removal that does not wait return before this call ends (it must not).
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      ended->store(true);
+    }
+  } slow;
+  slow.inside = &a_inside;
+  slow.removing = &b_removing;
+  slow.ended = &a_call_ended;
+  struct Remover final : StateListener {
+    Component* from = nullptr;
+    StateListener* target = nullptr;
+    std::atomic<bool> *removing, *ended, *ended_first;
+    void stateChanged(const Component&, State, State to) noexcept override {
+      if (to != State::Running) return;
+      removing->store(true);
+      from->removeStateListener(*target);
+      ended_first->store(ended->load());
+    }
+  } remover;
+  Probe p;
+  remover.from = &p;
+  remover.target = &slow;
+  remover.removing = &b_removing;
+  remover.ended = &a_call_ended;
+  remover.ended_first = &ended_before_removal_returned;
+  p.addStateListener(slow);
+  p.addStateListener(remover);
+  std::thread a([&] { ASSERT_TRUE(p.configure()); });
+  while (!a_inside.load()) std::this_thread::yield();
+  std::thread b([&] { ASSERT_TRUE(p.start()); });  // Stopped already: A's change is made, its telling under way
+  b.join();
+  a.join();
+  EXPECT_TRUE(ended_before_removal_returned.load());
+  EXPECT_EQ(p.state(), State::Running);
+}
+
+// Two threads each remove a listener from inside their own announcement of one component at the
+// same time: neither waits for the other's (they would wait for each other forever); both return.
+TEST(StateListener, TwoThreadsRemovingFromInsideTheirAnnouncementsDoNotWaitForEachOther) {
+  struct Both final : StateListener {
+    Component* from = nullptr;
+    std::array<Recorder, 2> targets;
+    std::atomic<int> inside{0};
+    void stateChanged(const Component&, State, State) noexcept override {
+      inside.fetch_add(1);
+      while (inside.load() < 2) std::this_thread::yield();
+      for (Recorder& target : targets) from->removeStateListener(target);
+    }
+  } both;
+  Probe p;
+  both.from = &p;
+  p.addStateListener(both);
+  p.addStateListener(both.targets[0]);
+  p.addStateListener(both.targets[1]);
+  std::thread a([&] { ASSERT_TRUE(p.configure()); });
+  while (both.inside.load() < 1) std::this_thread::yield();
+  std::thread b([&] { ASSERT_TRUE(p.start()); });
+  a.join();
+  b.join();
+  ASSERT_TRUE(p.stop());
+  EXPECT_EQ(both.targets[0].count.load(), 0);  // removed before either thread told them
+  EXPECT_EQ(both.targets[1].count.load(), 0);
+}
+
+// Two threads add one listener at once, round after round: it takes one slot (told once).
+TEST(StateListener, TwoThreadsAddingOneListenerAtOnceTakeOneSlot) {
+  constexpr int kRounds = 1000;
+  const std::vector<std::unique_ptr<Probe>> probes = [] {
+    std::vector<std::unique_ptr<Probe>> out;
+    for (int r = 0; r < kRounds; ++r) out.push_back(std::make_unique<Probe>());
+    return out;
+  }();
+  std::vector<Recorder> listeners(kRounds);
+  std::atomic<int> arrived{0};  // 2 per round: both threads reach round r before either adds
+  const auto add = [&] {
+    for (int r = 0; r < kRounds; ++r) {
+      arrived.fetch_add(1);
+      while (arrived.load() < 2 * (r + 1)) {
+      }
+      probes[static_cast<std::size_t>(r)]->addStateListener(listeners[static_cast<std::size_t>(r)]);
+    }
+  };
+  std::thread first(add), second(add);
+  first.join();
+  second.join();
+  int twice = 0;
+  for (int r = 0; r < kRounds; ++r) {
+    ASSERT_TRUE(probes[static_cast<std::size_t>(r)]->configure());
+    if (listeners[static_cast<std::size_t>(r)].count.load() != 1) ++twice;
+  }
+  EXPECT_EQ(twice, 0) << "rounds of " << kRounds << " where one listener took two slots";
 }
 
 // The lifecycle calls between configure and cleanup allocate nothing of their own here (hooks that

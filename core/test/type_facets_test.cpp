@@ -52,8 +52,8 @@ TEST(TypeFacets, RefusesNullFacetAndBadCapabilityNames) {
   EXPECT_EQ(cobra::core::TypeFacets::get(typeid(B), long_name), nullptr);
 }
 
-// Readers run while a writer publishes: every facet a reader sees is complete (tsan-checked
-// under the concurrency label of the other core tests; here a plain consistency check).
+// Readers run while a writer publishes: every facet a reader sees is complete (tsan-checked:
+// this file starts threads, so it is labelled concurrency; here a plain consistency check).
 template <int... I>
 void publishAll(std::integer_sequence<int, I...>, std::vector<int>& values) {
   (cobra::core::TypeFacets::set(typeid(Many<I>), "many", &values[I]), ...);

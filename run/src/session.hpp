@@ -3,6 +3,7 @@
 // charts, actions and faults armed, the observers of its `run` table's sections attached
 // (observer.hpp), then one observation per step until the run ends. Private to cobra::run.
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -50,15 +51,38 @@ struct Armed {
 
 // Hears every component's lifecycle state changes (core::StateListener): a change to Exception
 // or FatalError counts, on whatever thread made it, and the run looks at the components' states
-// only after one (instead of polling each component every step).
+// only after one (instead of polling each component every step). It owns its registrations: its
+// destructor leaves the components it listens to that still exist, so a Session member declared
+// after the configurator (whose destructor stops the components) leaves them before they die,
+// also when the Session's constructor throws after listenTo (no ~Session then).
 class ComponentErrors final : public core::StateListener {
  public:
+  explicit ComponentErrors(core::ComponentRegistry& refs) : refs_(refs) {}
+  ComponentErrors(const ComponentErrors&) = delete;
+  ComponentErrors& operator=(const ComponentErrors&) = delete;
+  ~ComponentErrors() { leave(); }
+
+  // Listens to the registry's components now: those a switch removed are gone (their listener
+  // slots with them); a listener is added once per component.
+  void listenToAll() {
+    listened_ = refs_.components();
+    for (core::Component* c : listened_) c->addStateListener(*this);
+  }
   void stateChanged(const core::Component&, core::State, core::State to) noexcept override {
     if (to == core::State::Exception || to == core::State::FatalError) count_.fetch_add(1, std::memory_order_release);
   }
   std::uint64_t count() const { return count_.load(std::memory_order_acquire); }
 
  private:
+  // Leaves every listened component still in the registry (one a switch removed is destroyed).
+  void leave() noexcept {
+    for (core::Component* c : refs_.components())
+      if (std::find(listened_.begin(), listened_.end(), c) != listened_.end()) c->removeStateListener(*this);
+    listened_.clear();
+  }
+
+  core::ComponentRegistry& refs_;
+  std::vector<core::Component*> listened_;  // the components it listens to
   std::atomic<std::uint64_t> count_{0};
 };
 
@@ -154,8 +178,8 @@ class Session {
   std::vector<const ChartState*> chart_states_;  // charts_ as the observers see them
   std::unique_ptr<ObserverContext> context_;
   std::vector<Observer*> observers_;  // spec_.observers', in order
-  ComponentErrors component_errors_;
-  std::vector<core::Component*> listened_;       // the components component_errors_ listens to
+  // After configurator_: destroyed before it, it leaves the components before they are stopped.
+  ComponentErrors component_errors_{refs_};
   std::uint64_t component_errors_seen_ = UINT64_MAX;  // component_errors_.count() when last looked (max: look)
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;

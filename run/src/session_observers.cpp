@@ -23,11 +23,7 @@ core::Component* ownerOf(const core::ComponentRegistry& refs, const std::string&
 
 std::string memberOf(const std::string& path) { return path.substr(path.find('.') + 1); }
 
-Session::~Session() {
-  for (core::Component* c : refs_.components())
-    if (std::find(listened_.begin(), listened_.end(), c) != listened_.end()) c->removeStateListener(component_errors_);
-  configurator_.watchHandovers(nullptr);
-}
+Session::~Session() { configurator_.watchHandovers(nullptr); }
 
 void Session::attachObservers() {
   for (const Chart& c : charts_) chart_states_.push_back(&c);
@@ -40,10 +36,7 @@ void Session::attachObservers() {
 }
 
 void Session::listenToComponents() {
-  // Components a switch removed are gone (their listener slots with them); a listener is added
-  // once per component.
-  listened_ = refs_.components();
-  for (core::Component* c : listened_) c->addStateListener(component_errors_);
+  component_errors_.listenToAll();
   component_errors_seen_ = UINT64_MAX;  // look at every state once: one may have failed before
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 
 #include <lua.hpp>
 
@@ -22,6 +23,23 @@ std::string portName(const Reader& entry, const std::string& what) {
   std::string port = lua_tostring(entry.state(), -1);
   split(entry, port, "port");
   return port;
+}
+
+// Bounds of the counts of run.studio: points of a vector port an extra shows (the studio keeps
+// and sends them every frame), the lines a polyline deals them to, a robot's joints.
+constexpr int kMaxPoints = 100000, kMaxStrands = 1000, kMaxJoints = 64;
+
+// The whole number `key` of `entry` (`fallback` when absent), from 1 to `most`: Lua gives a
+// double, and one beyond int's range must not be converted (1e20 is finite and positive).
+int wholeCount(const Reader& entry, const char* key, double fallback, int most, const char* what) {
+  const double value = entry.number(key, fallback, true);
+  if (value != std::floor(value) || value > most) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%.17g", value);
+    entry.fail("`" + std::string(key) + "` must be a whole number of " + what + " from 1 to " + std::to_string(most) +
+               ", got " + got);
+  }
+  return static_cast<int>(value);
 }
 
 // One entry of run.studio.extras (StudioSpec::Extra; format: studio/README.md).
@@ -48,15 +66,9 @@ StudioSpec::Extra readExtra(const std::string& name, const Reader& entry) {
     split(entry, extra.radius, "port");
   }
   if (extra.kind == "points" || extra.kind == "polyline" || extra.kind == "segments") {
-    const double max = entry.number("max", extra.max, true);
-    if (max != std::floor(max)) entry.fail("`max` must be a whole number of points");
-    extra.max = static_cast<int>(max);
+    extra.max = wholeCount(entry, "max", extra.max, kMaxPoints, "points");
   }
-  if (extra.kind == "polyline") {
-    const double strands = entry.number("strands", 1.0, true);
-    if (strands != std::floor(strands)) entry.fail("`strands` must be a whole number of lines");
-    extra.strands = static_cast<int>(strands);
-  }
+  if (extra.kind == "polyline") extra.strands = wholeCount(entry, "strands", 1.0, kMaxStrands, "lines");
   if (extra.kind == "slabs") {
     extra.frame = entry.string("pose", true);
     split(entry, extra.frame, "property");
@@ -93,9 +105,7 @@ void readStudio(const Reader& s, StudioSpec& studio) {
       lua_rawgeti(L, -1, 1);
       const std::string port = portName(entry, what);
       lua_pop(L, 1);
-      const double joints = entry.number("joints", 0.0, true);
-      if (joints != std::floor(joints)) entry.fail("`joints` must be a whole number");
-      studio.robots.push_back({name, port, static_cast<int>(joints), entry.where()});
+      studio.robots.push_back({name, port, wholeCount(entry, "joints", 0.0, kMaxJoints, "joints"), entry.where()});
     });
     s.entries("extras", [&](const std::string& name, const Reader& entry) { studio.extras.push_back(readExtra(name, entry)); });
     for (const std::string& signal : s.strings("signals")) studio.signals.emplace_back(signal, Where{s.where().file, s.lineOf(signal)});

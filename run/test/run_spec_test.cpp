@@ -310,11 +310,24 @@ TEST(RunSpec, ABadStudioExtraOfTheNewKindsIsOneLineWithFileLine) {
   EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n r = { capsules = 'M.regions', spheres = 'M.s' } } } }"); }),
             file() + ":3: run.studio.extras.r: give one kind, not both spheres and capsules");
   EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n edges = { polyline = 'P.edges', strands = 1.5 } } } }"); }),
-            file() + ":3: run.studio.extras.edges: `strands` must be a whole number of lines");
+            file() + ":3: run.studio.extras.edges: `strands` must be a whole number of lines from 1 to 1000, got 1.5");
   EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n t = { tumour = 'P.tumour' } } } }"); }),
             file() + ":3: run.studio.extras.t: needs one of sphere = \"Comp.framePort\" (the centre, with radius = \"Comp.port\"), "
                      "plane = \"Comp.framePort\", points, polyline or segments = \"Comp.port\" (x y z triples), spheres, capsules or "
                      "cylinders = \"Comp.property\", slabs = \"Comp.property\" (depth pairs, with pose and size)");
+}
+
+// A count beyond its range (finite and positive, but no int: 1e20) is refused, not converted.
+TEST(RunSpec, AStudioCountBeyondItsRangeIsOneLineWithFileLineTheEntryAndTheRange) {
+  const std::string head = "run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n";
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n cloud = { points = 'P.cloud', max = 1e20 } } } }"); }),
+            file() + ":3: run.studio.extras.cloud: `max` must be a whole number of points from 1 to 100000, got 1e+20");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { extras = {\n edges = { polyline = 'P.edges', strands = 4294967297 } } } }"); }),
+            file() + ":3: run.studio.extras.edges: `strands` must be a whole number of lines from 1 to 1000, got 4294967297");
+  EXPECT_EQ(messageOf([&] { read(head + "studio = { robots = {\n arm = { 'A.q', joints = 1e10 } } } }"); }),
+            file() + ":3: run.studio.robots.arm: `joints` must be a whole number of joints from 1 to 64, got 10000000000");
+  const RunSpec spec = read(head + "studio = { extras = { cloud = { points = 'P.cloud', max = 100000 } } } }");
+  EXPECT_EQ(spec.studio.extras.at(0).max, 100000);
 }
 
 // Every section other than the runner's own names a registered observer (observer.hpp); the

@@ -156,6 +156,24 @@ TEST(Runner, OnTheWallClockTheObserverIsShownEachChartsFinalState) {
     EXPECT_EQ(observer.last[i], r.final_states[i].second) << r.final_states[i].first;
 }
 
+// The run's constructor listens to every component's state changes, then attaches the observer,
+// which refuses a bad studio input: the constructor throws with its message, and the components
+// (running: the deployment started them), stopped as the deployment is destroyed after that, no
+// longer tell the destroyed listener (ComponentErrors leaves them in its destructor). A
+// use-after-destroy before; AddressSanitizer's build (./do test --asan) is where it would show.
+TEST(Runner, ABadStudioInputRefusesTheRunWithItsMessageAfterItListensToTheRunningComponents) {
+  LastStates observer;
+  RunOptions o = options(kApp / "bad_studio_input.lua");
+  o.observer = &observer;
+  const std::string message = messageOf([&] { runApp(o); });
+  EXPECT_EQ(message, (kApp / "bad_studio_input.lua").string() +
+                         ":6: unknown component 'Nobody' in call Nobody.say (run.studio.inputs.go); known components: "
+                         "Sine, Gain, Detector, Recorder, TaskSup");
+  // The same deployment again in this process: nothing of the refused run is left behind.
+  o.observer = nullptr;
+  EXPECT_TRUE(runApp(o).completed());
+}
+
 TEST(Runner, AComponentInExceptionEndsTheRunWithItsNameAndError) {
   RunOptions o = options(kApp / "faulty.lua");
   o.add_packages = [](deploy::PackageRegistry& packages) {

@@ -1,6 +1,7 @@
 #include "cobra/task/goals.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cstdio>
 
 namespace cobra::task {
@@ -17,8 +18,9 @@ DatumSource::Outcome resolveMoved(DatumSource& source, const Datum& datum, std::
   return outcome;
 }
 
-bool fail(GoalFailure& failure, std::string key, const Datum& datum, const char* why) {
-  failure.key = std::move(key);
+bool fail(GoalFailure& failure, const char* key_prefix, std::string_view arm, const Datum& datum, const char* why) {
+  failure.key_prefix = key_prefix;
+  failure.arm = arm;
   failure.datum = &datum;
   failure.why = why;
   return false;
@@ -42,25 +44,53 @@ void encodePose(const KDL::Frame& pose, std::size_t slot, std::vector<double>& v
 }
 
 std::string describe(const Datum& datum) {
-  if (datum.offset == 0.0) return datum.name;
+  FailureText text;
+  text << datum;
+  return std::string(text.view());
+}
+
+FailureText& FailureText::operator<<(std::string_view text) noexcept {
+  const std::size_t n = std::min(text.size(), kCapacity - size_);
+  std::copy_n(text.data(), n, chars_.data() + size_);
+  size_ += n;
+  return *this;
+}
+
+FailureText& FailureText::operator<<(int value) noexcept {
+  char buffer[16];
+  const int n = std::snprintf(buffer, sizeof buffer, "%d", value);
+  return *this << std::string_view(buffer, static_cast<std::size_t>(std::max(n, 0)));
+}
+
+FailureText& FailureText::operator<<(const Datum& datum) noexcept {
+  *this << std::string_view(datum.name);
+  if (datum.offset == 0.0) return *this;
   char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%+g", datum.offset);
-  return datum.name + buffer;
+  const int n = std::snprintf(buffer, sizeof buffer, "%+g", datum.offset);
+  return *this << std::string_view(buffer, static_cast<std::size_t>(std::max(n, 0)));
+}
+
+void GoalFailure::write(FailureText& out) const noexcept {
+  out << key_prefix << arm << "=";
+  if (datum != nullptr) out << *datum;
+  out << ": " << why;
 }
 
 std::string GoalFailure::message() const {
-  return key + "=" + (datum ? describe(*datum) : std::string()) + ": " + why;
+  FailureText text;
+  write(text);
+  return std::string(text.view());
 }
 
 const StateRow* rowFor(const StateTable& table, std::string_view state, std::string_view table_file,
-                       std::string& failure) {
+                       FailureText& failure) noexcept {
   const StateRow* row = table.find(state);
-  if (row == nullptr) failure = "task state '" + std::string(state) + "' matches no row of " + std::string(table_file);
+  if (row == nullptr) failure << "task state '" << state << "' matches no row of " << table_file;
   return row;
 }
 
-std::string rowWhere(std::string_view state, std::string_view table_file, const StateRow& row) {
-  return "task state '" + std::string(state) + "' (" + std::string(table_file) + ":" + std::to_string(row.line) + "): ";
+void rowWhere(std::string_view state, std::string_view table_file, const StateRow& row, FailureText& out) noexcept {
+  out << "task state '" << state << "' (" << table_file << ":" << row.line << "): ";
 }
 
 bool hasChecks(const StateRow& row) noexcept {
@@ -76,29 +106,39 @@ bool firstGoal(const StateRow& row, const std::array<std::string, 2>& arms, Datu
       const Datum& datum = alternative(row, a, k);
       const char* why = "";
       if (resolveMoved(source, datum, a, pose, why) != DatumSource::Outcome::Resolved)
-        return fail(failure, arms[a], datum, why);
+        return fail(failure, "", arms[a], datum, why);
       if (k == 0) first[a] = pose;
     }
   }
   return true;
 }
 
+std::size_t goalAlternatives(const StateRow& row) noexcept { return alternatives(row); }
+
+std::size_t checkedGoalValues(const StateRow& row) noexcept {
+  std::size_t values = 2 * kArms * kPoseValues;  // the goal pair, then where the motion after it goes
+  for (std::size_t a = 0; a < kArms; ++a)
+    if (!row.roomFor(a).from.name.empty()) values += 2 * kArms * kPoseValues;  // its start and end pairs
+  return values;
+}
+
 bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, DatumSource& source,
-                  std::vector<std::vector<double>>& waypoints, GoalFailure& failure) {
-  waypoints.clear();
-  for (std::size_t k = 0; k < alternatives(row); ++k) {
+                  std::span<std::vector<double>> waypoints, GoalFailure& failure) {
+  assert(waypoints.size() == alternatives(row));
+  for (std::size_t k = 0; k < waypoints.size(); ++k) {
     std::array<KDL::Frame, kArms> goals;
-    std::vector<double> values(2 * kArms * kPoseValues);
+    std::vector<double>& values = waypoints[k];
+    values.resize(2 * kArms * kPoseValues);  // within the reserved capacity: no allocation
     for (std::size_t a = 0; a < kArms; ++a) {
       const char* why = "";
       const Datum& datum = alternative(row, a, k);
       if (resolveMoved(source, datum, a, goals[a], why) != DatumSource::Outcome::Resolved)
-        return fail(failure, arms[a], datum, why);
+        return fail(failure, "", arms[a], datum, why);
       encodePose(goals[a], a, values);
       KDL::Frame next = goals[a];
       if (!row.then(a).name.empty() &&
           resolveMoved(source, row.then(a), a, next, why) != DatumSource::Outcome::Resolved)
-        return fail(failure, "then_" + arms[a], row.then(a), why);
+        return fail(failure, "then_", arms[a], row.then(a), why);
       encodePose(next, kArms + a, values);
     }
     for (std::size_t a = 0; a < kArms; ++a) {
@@ -115,7 +155,7 @@ bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, D
         if (outcome == DatumSource::Outcome::NotComing) {
           coming = false;  // the motion will not come: nothing to make room for
         } else if (outcome == DatumSource::Outcome::Missing) {
-          return fail(failure, "room_for_" + arms[a], datum, why);
+          return fail(failure, "room_for_", arms[a], datum, why);
         } else {
           encodePose(pose, at / kPoseValues + end * kArms + a, values);
           encodePose(goals[other], at / kPoseValues + end * kArms + other, values);
@@ -123,7 +163,6 @@ bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, D
       }
       if (!coming) values.resize(at);
     }
-    waypoints.push_back(std::move(values));
   }
   return true;
 }

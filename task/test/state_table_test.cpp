@@ -83,7 +83,7 @@ TEST(StateTableGoals, TheFirstGoalAndTheChecksComeFromTheTasksDatums) {
   EXPECT_DOUBLE_EQ(first[0].p.z(), -0.1);  // moved along the datum's own z
   EXPECT_DOUBLE_EQ(first[1].p.y(), 1.0);
   EXPECT_TRUE(hasChecks(row));
-  std::vector<std::vector<double>> waypoints;
+  std::vector<std::vector<double>> waypoints(goalAlternatives(row));
   ASSERT_TRUE(checkedGoals(row, kWords.arms, cups, waypoints, failure)) << failure.message();
   ASSERT_EQ(waypoints.size(), 2u);  // one per alternative
   EXPECT_EQ(waypoints[0].size(), 4 * 2 * kPoseValues);  // goal pair, then pair, room's start and end pairs
@@ -100,9 +100,9 @@ TEST(StateTableGoals, AMissingDatumNamesItsKeyAndWhy) {
   GoalFailure failure;
   EXPECT_FALSE(firstGoal(t.rows.at(0), kWords.arms, cups, first, failure));
   EXPECT_EQ(failure.message(), "left=next_cup: no cup after this one");
-  std::string no_row;
+  FailureText no_row;
   EXPECT_EQ(rowFor(t, "root.Wait", "t.txt", no_row), nullptr);
-  EXPECT_EQ(no_row, "task state 'root.Wait' matches no row of t.txt");
+  EXPECT_EQ(no_row.view(), "task state 'root.Wait' matches no row of t.txt");
 }
 
 }  // namespace

@@ -1,6 +1,5 @@
 #include "cobra/components/task/state_table_frame_generator.hpp"
 
-#include <cstdio>
 #include <functional>
 #include <stdexcept>
 
@@ -52,7 +51,7 @@ StateTableFrameGenerator::StateTableFrameGenerator(std::string name, std::string
                "currentTaskState, in this component's next step; answers e_goal_ready or e_no_data (reason: "
                "lastFailure)",
                core::ExecutionThread::Client);
-  addOperation("lastFailure", std::function<std::string()>([this] { return last_failure_; }),
+  addOperation("lastFailure", std::function<std::string()>([this] { return std::string(failure_text_.view()); }),
                "why the last askCurrentGoal answered e_no_data (empty when it did not)");
 }
 
@@ -67,6 +66,14 @@ bool StateTableFrameGenerator::configureHook() {
   resetAnswers();
   desired_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(2, std::vector<double>(kArms * kValuesPerArm)));
   goal_ = trajectory::MultiAxisPath(std::vector<std::vector<double>>(1, std::vector<double>(kArms * kValuesPerArm)));
+  checked_goals_.assign(table_.rows.size(), trajectory::MultiAxisPath());
+  for (std::size_t i = 0; i < table_.rows.size(); ++i) {
+    const task::StateRow& row = table_.rows[i];
+    if (!task::hasChecks(row)) continue;
+    std::vector<std::vector<double>> waypoints(task::goalAlternatives(row));
+    for (std::vector<double>& values : waypoints) values.reserve(task::checkedGoalValues(row));
+    checked_goals_[i] = trajectory::MultiAxisPath(std::move(waypoints));
+  }
   desired_poses_.setDataSample(desired_);
   goal_poses_.setDataSample(goal_);
   return true;
@@ -75,7 +82,7 @@ bool StateTableFrameGenerator::configureHook() {
 void StateTableFrameGenerator::resetAnswers() {
   have_measured_ = {false, false};
   state_ = {};
-  last_failure_.clear();
+  failure_text_.clear();
   goal_request_.clear();
 }
 
@@ -107,11 +114,17 @@ task::DatumSource::Outcome StateTableFrameGenerator::resolve(const task::Datum& 
   return resolveTaskDatum(datum, arm, pose, why);
 }
 
-void StateTableFrameGenerator::noData(const std::string& reason) {
-  last_failure_ = reason;
-  std::fprintf(stderr, "[cobra] %s '%s'%s: e_no_data: %s\n", kind_.c_str(), name().c_str(), noDataContext().c_str(),
-               reason.c_str());
-  emitEvent("e_no_data");
+void StateTableFrameGenerator::noData(std::string_view reason) noexcept {
+  failure_text_.clear();
+  failure_text_ << reason;
+  noData();
+}
+
+void StateTableFrameGenerator::noData() noexcept { emitEvent("e_no_data"); }
+
+void StateTableFrameGenerator::startRowFailure(const task::StateRow& row) noexcept {
+  failure_text_.clear();
+  task::rowWhere(state_.path.view(), state_table_file_(), row, failure_text_);
 }
 
 void StateTableFrameGenerator::answer() {
@@ -123,20 +136,23 @@ void StateTableFrameGenerator::answer() {
     return;
   }
   taskStateRead(state_.path.view());
-  std::string no_row;
-  const task::StateRow* row = task::rowFor(table_, state_.path.view(), state_table_file_(), no_row);
+  failure_text_.clear();
+  const task::StateRow* row = task::rowFor(table_, state_.path.view(), state_table_file_(), failure_text_);
   if (row == nullptr) {
-    noData(no_row);
+    noData();
     return;
   }
-  const auto where = [&] { return task::rowWhere(state_.path.view(), state_table_file_(), *row); };
   if (!task::firstGoal(*row, vocabulary_.arms, *this, goal_pair_, failure_)) {
-    noData(where() + failure_.message());
+    startRowFailure(*row);
+    failure_.write(failure_text_);
+    noData();
     return;
   }
   for (std::size_t a = 0; a < kArms; ++a) {
     if (!have_measured_[a]) {
-      noData(where() + "desiredPoses starts at the measured poses: no pose on " + measured_names_[a].name + " yet");
+      startRowFailure(*row);
+      failure_text_ << "desiredPoses starts at the measured poses: no pose on " << measured_names_[a].name << " yet";
+      noData();
       return;
     }
   }
@@ -145,17 +161,18 @@ void StateTableFrameGenerator::answer() {
     task::encodePose(goal_pair_[a], a, desired_.waypoint(1));
   }
   if (task::hasChecks(*row)) {
-    std::vector<std::vector<double>> waypoints;
-    if (!task::checkedGoals(*row, vocabulary_.arms, *this, waypoints, failure_)) {
-      noData(where() + failure_.message());
+    trajectory::MultiAxisPath& checked = checked_goals_[static_cast<std::size_t>(row - table_.rows.data())];
+    // MultiAxisPath's waypoints are one std::vector: refilled in place through the first's address.
+    if (!task::checkedGoals(*row, vocabulary_.arms, *this, std::span(&checked.waypoint(0), checked.size()), failure_)) {
+      startRowFailure(*row);
+      failure_.write(failure_text_);
+      noData();
       return;
     }
-    last_failure_.clear();
     desired_poses_.write(desired_);
-    goal_poses_.write(trajectory::MultiAxisPath(std::move(waypoints)));
+    goal_poses_.write(checked);
   } else {
     for (std::size_t a = 0; a < kArms; ++a) task::encodePose(goal_pair_[a], a, goal_.waypoint(0));
-    last_failure_.clear();
     desired_poses_.write(desired_);
     goal_poses_.write(goal_);
   }

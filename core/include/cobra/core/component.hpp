@@ -146,11 +146,15 @@ class Component {
   /// At most this many StateListeners per component (fixed slots: announcing allocates nothing).
   static constexpr std::size_t kMaxStateListeners = 4;
   /// Tells `listener` of every later state change of this component (adding it twice does
-  /// nothing). Any thread, also while Running; not real-time safe.
+  /// nothing, also from two threads at once). Any thread, also while Running; not real-time safe.
   /// @throws Error naming the component when its kMaxStateListeners slots are taken.
   void addStateListener(StateListener& listener);
-  /// Stops telling `listener`; returns once no call to it is under way on another thread, so the
-  /// listener may be destroyed then. Not real-time safe (it may wait for a call to end).
+  /// Stops telling `listener`; returns once no call to a listener of this component is under way
+  /// on another thread, so the listener may be destroyed then. Also from inside a listener's
+  /// stateChanged: it does not wait for the announcement its own thread is making (that call
+  /// returns after it; a listener removing itself stays alive until its stateChanged returns),
+  /// nor for another thread's made by a thread that waits in removeStateListener from inside a
+  /// listener too (they would wait for each other). Not real-time safe (it may wait for a call to end).
   void removeStateListener(StateListener& listener) noexcept;
 
   /// Runs `change` between two steps of this component: at once when no thread of its
@@ -231,7 +235,9 @@ class Component {
   std::string doc_;
   std::atomic<State> state_{State::PreOperational};
   std::array<std::atomic<StateListener*>, kMaxStateListeners> state_listeners_{};
-  std::atomic<int> announcing_{0};  // setState calls telling listeners now (removeStateListener waits)
+  // Low 16 bits: setState calls telling listeners now (removeStateListener waits for them); above:
+  // how many of those are held by threads waiting in removeStateListener from inside a listener.
+  std::atomic<int> announcing_{0};
   std::unique_ptr<Activity> activity_;
   OutputPort<Event> events_{"events", "what happened to this component (exceptions, completions)", ""};
   std::vector<PortBase*> ports_;

@@ -95,7 +95,8 @@ class TypeRegistry {
   static const TypeInfo* find(std::string_view name);
   /// Every type registered so far, sorted by name.
   static std::vector<const TypeInfo*> all();
-  /// Adds `info`; called once per type by `typeInfo<T>()`.
+  /// Adds `info`; called once per type by `typeInfo<T>()` (once per shared library using it).
+  /// @throws Error naming the name and both C++ types when another type has `info.name`.
   static void add(const TypeInfo& info);
 };
 

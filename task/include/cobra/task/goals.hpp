@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,6 +28,24 @@ void encodePose(const KDL::Frame& pose, std::size_t slot, std::vector<double>& v
 /// "entry", "entry-0.02": the datum as the table writes it.
 std::string describe(const Datum& datum);
 
+/// Text of at most kCapacity characters held inline: a Frame Generator writes why it has no goal
+/// in its real-time step, where nothing may allocate. Appending beyond the capacity keeps the
+/// first kCapacity characters. Allocates nothing, throws nothing.
+class FailureText {
+ public:
+  static constexpr std::size_t kCapacity = 511;
+  void clear() noexcept { size_ = 0; }
+  FailureText& operator<<(std::string_view text) noexcept;
+  FailureText& operator<<(int value) noexcept;
+  /// The datum as the table writes it (describe()).
+  FailureText& operator<<(const Datum& datum) noexcept;
+  std::string_view view() const noexcept { return {chars_.data(), size_}; }
+
+ private:
+  std::array<char, kCapacity> chars_{};
+  std::size_t size_ = 0;
+};
+
 /// Where a row's datums come from: the Frame Generator reading the table.
 class DatumSource {
  public:
@@ -44,21 +63,25 @@ class DatumSource {
   ~DatumSource() = default;
 };
 
-/// A datum of the row its source could not give.
+/// A datum of the row its source could not give. Filling it allocates nothing.
 struct GoalFailure {
-  std::string key;              ///< the row's key: "needle", "then_probe", "room_for_needle" ...
+  const char* key_prefix = "";  ///< with `arm`, the row's key: "" + "needle", "then_" + "probe" ...
+  std::string_view arm;         ///< the arm's name (a view of the vocabulary's)
   const Datum* datum = nullptr;
   const char* why = "";
-  /// "needle=entry-0.02: no more needles".
+  /// Appends "needle=entry-0.02: no more needles" to `out`. Allocates nothing.
+  void write(FailureText& out) const noexcept;
+  /// The same text as a string (allocates: for tests and tools).
   std::string message() const;
 };
 
-/// The row of task state `state` in `table` (read from `table_file`); nullptr, with `failure` =
-/// "task state 'STATE' matches no row of FILE", when none matches. Allocates nothing when one does.
+/// The row of task state `state` in `table` (read from `table_file`); nullptr, with `failure`
+/// set to "task state 'STATE' matches no row of FILE", when none matches. Allocates nothing.
 const StateRow* rowFor(const StateTable& table, std::string_view state, std::string_view table_file,
-                       std::string& failure);
-/// "task state 'STATE' (FILE:LINE): ": what a Frame Generator's failures for a row start with.
-std::string rowWhere(std::string_view state, std::string_view table_file, const StateRow& row);
+                       FailureText& failure) noexcept;
+/// Appends "task state 'STATE' (FILE:LINE): " to `out`: what a Frame Generator's failures for a
+/// row start with. Allocates nothing.
+void rowWhere(std::string_view state, std::string_view table_file, const StateRow& row, FailureText& out) noexcept;
 
 /// Whether the row's goalPoses carries checks (several alternatives, then_*, room_for_*): without
 /// them it is one waypoint, the goal pair (2 × kPoseValues values).
@@ -70,12 +93,19 @@ bool hasChecks(const StateRow& row) noexcept;
 bool firstGoal(const StateRow& row, const std::array<std::string, 2>& arms, DatumSource& source,
                std::array<KDL::Frame, 2>& first, GoalFailure& failure);
 
+/// The goal alternatives of a row: the waypoints of its goalPoses.
+std::size_t goalAlternatives(const StateRow& row) noexcept;
+/// The most values one waypoint of the row's goalPoses holds (every room_for_* coming).
+std::size_t checkedGoalValues(const StateRow& row) noexcept;
+
 /// goalPoses with checks (the MotionPlanner's): one waypoint per alternative, the preferred first:
 /// [goal pair, where the straight motion after it goes (then_*; the goal again for an arm without
 /// one), then per room_for_* that arm's later motion as its start pair and end pair with the
-/// other arm at its goal; left out when the motion is NotComing]. false with `failure` filled
-/// when a datum does not resolve.
+/// other arm at its goal; left out when the motion is NotComing]. `waypoints` holds exactly
+/// goalAlternatives(row) entries; each is resized to its values. Allocates nothing when each has
+/// the capacity of checkedGoalValues(row) (a Frame Generator reserves it at configure) and the
+/// source resolves without allocating. false with `failure` filled when a datum does not resolve.
 bool checkedGoals(const StateRow& row, const std::array<std::string, 2>& arms, DatumSource& source,
-                  std::vector<std::vector<double>>& waypoints, GoalFailure& failure);
+                  std::span<std::vector<double>> waypoints, GoalFailure& failure);
 
 }  // namespace cobra::task

@@ -15,6 +15,7 @@
 #include <array>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <kdl/frames.hpp>
 
@@ -46,18 +47,24 @@ namespace cobra::components {
 ///   will not come);
 /// - operations `askCurrentGoal()` (a void request answered in this component's next step with
 ///   e_goal_ready or e_no_data), `lastFailure()` (why the last e_no_data: the state, the table's
-///   line, the datum; also printed on stderr).
+///   line, the datum; at most task::FailureText::kCapacity characters; run in this component's
+///   activity between two steps, so it reads the text the step wrote without a race).
 ///
-/// Real time: answering a row of one goal without checks allocates nothing once the ports are
-/// connected (the paths are preallocated at configure and refilled in place), as long as the
-/// task's datums resolve without allocating. A row with alternatives or checks (a planned
-/// motion's goal) builds its goalPoses, and e_no_data builds its message (both allocate).
+/// Real time: updateHook allocates nothing, blocks on nothing, throws nothing and writes nothing
+/// to stderr, as long as the task's datums resolve without allocating: desiredPoses, the goal of a
+/// row without checks and the goalPoses of every row with checks (one path per such row, its
+/// waypoints reserved for every room_for_* coming) are preallocated at configure and refilled in
+/// place; e_no_data's reason is written into a fixed buffer (task::FailureText). What a
+/// connection does with a path is the channel's: it copy-assigns it into its slots, which
+/// allocates when a path has more waypoints than the slot held before.
 class StateTableFrameGenerator : public core::Component, protected task::DatumSource {
  public:
   /// The generic generator: arms `arm1` and `arm2`, datums `hold` and the table's poses.
   explicit StateTableFrameGenerator(std::string name);
 
   const task::StateTable& table() const { return table_; }
+  /// Its type's name ("StateTableFrameGenerator", "PuncturingFrameGenerator").
+  const std::string& kind() const { return kind_; }
   const task::TableVocabulary& vocabulary() const { return vocabulary_; }
   /// The request askCurrentGoal (from any thread): answered in the next step.
   void askCurrentGoal() { goal_request_.ask(activity()); }
@@ -68,7 +75,7 @@ class StateTableFrameGenerator : public core::Component, protected task::DatumSo
     std::string name, doc;
   };
 
-  /// A task's Frame Generator: `kind` names it in messages ("PuncturingFrameGenerator"), `doc`
+  /// A task's Frame Generator: `kind` is its type's name ("PuncturingFrameGenerator"), `doc`
   /// describes it, `vocabulary` gives its table's words, `measured` its arms' input ports.
   StateTableFrameGenerator(std::string name, std::string kind, std::string doc, task::TableVocabulary vocabulary,
                            std::array<MeasuredPort, 2> measured);
@@ -86,13 +93,10 @@ class StateTableFrameGenerator : public core::Component, protected task::DatumSo
   /// The pose (m, rad, world) of a datum of the vocabulary's own (not hold, not a table pose) for
   /// `arm`, before its offset. Must allocate nothing when it resolves.
   virtual Outcome resolveTaskDatum(const task::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why);
-  /// Said after the component's name in e_no_data's line on stderr (" (needle arm)").
-  virtual std::string noDataContext() const { return {}; }
-
   /// Forgets what the answers saw (measured poses, task state, last failure) and a pending request.
   void resetAnswers();
-  /// Answers e_no_data with `reason` (kept for lastFailure(), printed on stderr).
-  void noData(const std::string& reason);
+  /// Answers e_no_data with `reason` (kept for lastFailure(), truncated to its buffer). Real-time safe.
+  void noData(std::string_view reason) noexcept;
   const std::string& tableFile() const { return state_table_file_(); }
   /// The last task state read (in the step of an answer).
   const core::TaskState& taskState() const { return state_; }
@@ -103,6 +107,10 @@ class StateTableFrameGenerator : public core::Component, protected task::DatumSo
  private:
   Outcome resolve(const task::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) final;
   void answer();
+  /// Answers e_no_data with what failure_text_ holds.
+  void noData() noexcept;
+  /// failure_text_ = "task state 'S' (FILE:LINE): ", the start of a failure of `row`.
+  void startRowFailure(const task::StateRow& row) noexcept;
 
   std::string kind_;
   task::TableVocabulary vocabulary_;
@@ -120,8 +128,11 @@ class StateTableFrameGenerator : public core::Component, protected task::DatumSo
   std::array<KDL::Frame, 2> measured_, goal_pair_;  // goal_pair_: the row's first alternative
   std::array<bool, 2> have_measured_{false, false};
   trajectory::MultiAxisPath desired_, goal_;  // preallocated: 2 x 14 and 1 x 14 values
+  // The goalPoses of row i of table_ when it has checks (empty otherwise): goalAlternatives
+  // waypoints, each reserved for checkedGoalValues values at configure.
+  std::vector<trajectory::MultiAxisPath> checked_goals_;
   task::GoalFailure failure_;
-  std::string last_failure_;
+  task::FailureText failure_text_;  // why the last e_no_data ("" after an answer)
   core::PendingRequest goal_request_;
 };
 

@@ -53,7 +53,6 @@ class PuncturingFrameGenerator : public StateTableFrameGenerator {
   void readTaskInputs() override;
   void stepTask() override;
   Outcome resolveTaskDatum(const task::Datum& datum, std::size_t arm, KDL::Frame& pose, const char*& why) override;
-  std::string noDataContext() const override { return " (" + arm_() + " arm)"; }
 
  private:
   /// The request nextNeedle: on to the next planned needle (e_all_needles_done after the last).
