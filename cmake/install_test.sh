@@ -25,6 +25,11 @@ prefix="$work/prefix"
 if grep -rl -e "$build" -e "$source" "$prefix/lib/cmake" "$prefix/share" "$prefix/include"; then
   fail "installed files name the build or source tree (above)"
 fi
+# The installed tool runs without Fast DDS: DDS is the package cobra_dds, loaded when a
+# deployment asks for it (architecture's tool_links_no_dds_test checks the build tree's tool).
+if readelf -d "$prefix/bin/cobra" | grep -q 'libfastrtps'; then
+  fail "the installed cobra tool links Fast DDS (it must load it with the package cobra_dds only)"
+fi
 # Nor this machine's paths of third-party libraries: the consumer's find_package finds them.
 if grep -n '"/[^"]' "$prefix"/lib/cmake/cobra/cobraTargets*.cmake; then
   fail "the installed targets name absolute paths (above)"

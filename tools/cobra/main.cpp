@@ -198,7 +198,8 @@ int runConsole(const std::string& file, bool sim, bool strict) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // cobra's own data types with every capability (those above core, TGL.MultiAxisPath, only here).
+  // cobra's own data types with their core, Lua and CSV capabilities (those above core,
+  // TGL.MultiAxisPath, only here); their DDS wires come with the package cobra_dds when loaded.
   cobra::types::registerBuiltins();
   CLI::App app{"cobra: run and check component deployments (Lua deployment files, thesis §3.2.2)"};
   app.require_subcommand(1);
