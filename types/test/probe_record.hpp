@@ -11,8 +11,10 @@ struct Probe {
   double depth = 0.0;  // m
   double force = 0.0;  // N
 };
-/// Registers Probe with registerType<T>() compiled without the dds headers (register_without_dds.cpp).
-void registerProbeWithoutDds();
+/// registerType<Probe> as compiled without the dds headers (register_without_dds.cpp): its address,
+/// so that the caller runs that translation unit's definition, not one inlined into its own.
+using Registration = void (*)();
+Registration probeRegistrationWithoutDds();
 }  // namespace types_test
 
 template <>

@@ -9,5 +9,5 @@
 #endif
 
 namespace types_test {
-void registerProbeWithoutDds() { cobra::types::registerType<Probe>(); }
+Registration probeRegistrationWithoutDds() { return &cobra::types::registerType<Probe>; }
 }  // namespace types_test
