@@ -71,8 +71,8 @@ if(TARGET cobra_test_support)
 endif()
 
 # The DDS type support fastddsgen generates (dds/CMakeLists.txt), installed as cobra::dds_types with
-# its headers, so that a package can register its own types for DDS (cobra::types::registerType<T>,
-# cobra_add_package(... USES cobra::dds): cobra/dds headers include the generated messages').
+# its headers, so that a package can register its own types for DDS (cobra::types::registerType<T>
+# with cobra_add_package(... USES cobra::dds): cobra/dds headers include the generated messages').
 if(TARGET dds_generated_types)
   list(APPEND COBRA_LIBRARIES dds_generated_types)
   get_directory_property(cobra_dds_generated_dir DIRECTORY ${PROJECT_SOURCE_DIR}/dds DEFINITION COBRA_DDS_GENERATED_DIR)
@@ -157,12 +157,13 @@ endforeach()
 # cobra_components_signal -> cobra::components::signal, cobra_build_flags -> cobra::build_flags.
 set(COBRA_EXPORTED_NAMES)
 set(COBRA_HOST_TARGETS)
-# Not linked whole into the hosts (COBRA_HOST_LIBRARIES, cobra_link_package_host): the DDS side
-# (the transport is the package cobra_dds, and a package that registers a type for DDS links the
-# dds archives itself, cobra_add_package(... USES cobra::dds); the two meet in core::TypeFacets)
-# and cobra::types, whose code registers cobra's types for DDS (a package uses only its headers).
-# (The `cobra` tool links cobra::types as an ordinary library for registerBuiltins().)
-set(COBRA_NOT_HOST_TARGETS cobra_dds dds_generated_types cobra_types)
+# Not linked into the hosts (COBRA_HOST_LIBRARIES, cobra_link_package_host), so neither the `cobra`
+# tool nor a host program links cobra::dds or Fast DDS: the transport is the package cobra_dds
+# (libcobra_dds.so, loaded RTLD_LOCAL, the one part of an install that needs the Fast DDS runtime),
+# and a package that registers a type for DDS links the dds archives itself (cobra_add_package(...
+# USES cobra::dds)); the two meet in core::TypeFacets. cobra::types is built without DDS and is an
+# ordinary host library (architecture_tool_links_no_dds_test checks the tool).
+set(COBRA_NOT_HOST_TARGETS cobra_dds dds_generated_types)
 foreach(target IN LISTS COBRA_LIBRARIES)
   string(REGEX REPLACE "^cobra_" "" name ${target})
   string(REGEX REPLACE "^components_" "components::" name ${name})

@@ -11,10 +11,12 @@
 #   Builds the loadable package lib<name>.so from SOURCES.
 #   USES: the cobra libraries whose headers the package includes beyond cobra::core and
 #         cobra::deploy (e.g. cobra::kinematics); their code comes from the loading process.
-#         Except cobra::dds: the DDS transport is a package of its own (cobra_dds), not in the
-#         loading process, so a package that registers its types for DDS
-#         (cobra::types::registerType<T>() with cobra::dds in USES) links the dds archives and
-#         Fast DDS itself; the transport finds the types through core::TypeFacets.
+#         Except cobra::dds: the loading process (the `cobra` tool, a host program) links no DDS;
+#         the transport is a package of its own (cobra_dds). So a package that registers its
+#         types for DDS (cobra::types::registerType<T>() with cobra::dds in USES: the dds headers
+#         on its include path compile the DDS side of registerType<T>() in) links the dds
+#         archives and Fast DDS itself; the transport finds the types through core::TypeFacets.
+#         Without cobra::dds, registerType<T>() registers core, Lua and CSV only.
 #   LIBS: other libraries the package links itself (e.g. a device's vendor library).
 #   OUTPUT_DIRECTORY: where lib<name>.so is written (default: CMake's usual place).
 #   INSTALL: `cmake --install` puts it in <prefix>/lib/cobra/packages (COBRA_INSTALL_PACKAGEDIR),

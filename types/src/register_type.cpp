@@ -5,16 +5,20 @@
 
 #include "motion_types.hpp"
 
+// cobra::types is built without the dds headers: the `cobra` tool links it, and must link neither
+// cobra::dds nor Fast DDS (the transport is the package cobra_dds; types/README.md).
+#ifdef COBRA_TYPES_HAVE_DDS
+#error "cobra::types must be built without cobra::dds: registerBuiltins() registers core, Lua and CSV only"
+#endif
+
 namespace cobra::types {
 
 void registerBuiltins() {
   core::forEachType(core::BuiltinDataTypes{}, [](auto type) { registerType<typename decltype(type)::type>(); });
   // cobra's types defined above core, with their codecs in this module (motion_types.hpp).
-  // TGL.MultiAxisPath has no DDS wire (no DdsCodec): core, Lua and CSV only, or registerType<T>()
-  // would not compile where dds is present.
-  (void)core::typeInfo<trajectory::MultiAxisPath>();
-  script::registerLuaType<trajectory::MultiAxisPath>();
-  components::registerCsvType<trajectory::MultiAxisPath>();
+  // (TGL.MultiAxisPath has no DDS wire, no DdsCodec: a package that registers it with DDS present
+  // would not compile; here there is no DDS side.)
+  registerType<trajectory::MultiAxisPath>();
 }
 
 bool hasEveryCapability(const core::TypeInfo& type) {
