@@ -14,6 +14,8 @@
 ///   // Optional: the value a port's reader starts with (sized for `elements`, so reading into
 ///   // it allocates nothing); T{} otherwise.
 ///   static MyType initial(std::size_t elements);
+///   // Optional, for kNeedsLength: a value's number of elements; value.size() or .rows() otherwise.
+///   static std::size_t length(const MyType& value) noexcept;
 /// };
 /// @endcode
 /// cobra's own types have leaf codecs below (columns as Reporter's documentation lists them);
@@ -163,9 +165,6 @@ T initial(std::size_t elements) {
 /// The codec of a record's field: its own, or its text form when its column count is not fixed.
 template <class M>
 using FieldCodec = std::conditional_t<CsvCodec<M>::kNeedsLength, TextCsvCodec<M>, CsvCodec<M>>;
-}  // namespace csv_detail
-
-namespace csv_detail {
 /// The number of elements of a value of a type whose length is not part of it (kNeedsLength):
 /// the codec's `length(value)` when it has one, else `value.size()` or `value.rows()`; 0 otherwise.
 template <class T>
