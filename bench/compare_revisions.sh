@@ -10,7 +10,8 @@
 #   BENCH     the bench's name (default type_paths_bench; bench/<BENCH>.cpp)
 #   ROUNDS    how many times each executable runs, alternating (default 3; the table keeps, per
 #             benchmark, the median of the rounds' medians and the largest of their maxima)
-# Builds into build/before/src/build/release (a detached worktree of REVISION) and build/release.
+# Builds into build/before/src/build/release (a detached worktree of REVISION, kept for the next
+# run; `git worktree remove build/before/src` removes it) and build/release.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 revision=${1:?usage: bench/compare_revisions.sh REVISION [BENCH] [ROUNDS]}
@@ -21,9 +22,13 @@ git rev-parse --verify --quiet "$revision^{commit}" >/dev/null ||
   { echo "compare_revisions: '$revision' is not a revision of this repository" >&2; exit 2; }
 
 before=build/before
-if [ -d "$before/src" ]; then git worktree remove --force "$before/src"; fi
+# The older revision's worktree and build are kept for the next comparison of the same revision.
+if [ -d "$before/src" ] && [ "$(git -C "$before/src" rev-parse HEAD)" != "$(git rev-parse "$revision^{commit}")" ]; then
+  git worktree remove --force "$before/src"
+fi
 mkdir -p "$before"
-git worktree add --detach --quiet "$before/src" "$revision"
+[ -d "$before/src" ] || git worktree add --detach --quiet "$before/src" "$revision"
+git -C "$before/src" checkout --quiet -- bench/CMakeLists.txt  # the stanza below is appended afresh
 cp "bench/$bench.cpp" bench/median_and_worst.hpp "$before/src/bench/"
 # The bench's own CMake stanza (its libraries), appended to the older bench/CMakeLists.txt.
 sed -n "/^# The type paths bench/,\$p" bench/CMakeLists.txt >>"$before/src/bench/CMakeLists.txt"
@@ -60,4 +65,3 @@ for name in before:
     (bm, bx), (am, ax) = before[name], after[name]
     print(f"{name:40s} {bm:14.1f} {am:13.1f} {am / bm:12.2f} {bx:11.1f} {ax:10.1f}")
 EOF
-git worktree remove --force "$before/src"

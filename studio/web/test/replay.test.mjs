@@ -97,8 +97,11 @@ test('Play runs through the recording and Pause stops it where it is', async (t)
   try {
     const { page } = await openStudio(browser, server.pageUrl, t);
     // The replay plays on a clock the test moves: on the wall clock a loaded machine could let the
-    // 4 s recording run to its end (and stop by itself) between two of the test's steps.
+    // 4 s recording run to its end (and stop by itself) between two of the test's steps. An
+    // installed clock still flows with the wall clock until it is paused: pause it (a minute
+    // ahead, surely later than the clock's time however slow the machine) before Play.
     await page.clock.install();
+    await page.clock.pauseAt(Date.now() + 60_000);
     const play = page.locator('#play');
     await play.click();
     assert.equal(await play.innerText(), 'Pause');
