@@ -50,15 +50,19 @@ char* RowQueue::beginRow() noexcept {
 void RowQueue::commitRow(std::size_t length) noexcept {
   (void)filled_.push(Row{producing_, length});
   producing_ = kNone;
-  // The fence, between the ring's store of its tail and the load of sleeping_, pairs with the one
-  // in waitForRows (store of sleeping_, then load of the tail): one side sees the other, so no
-  // wake-up is lost.
-  std::atomic_thread_fence(std::memory_order_seq_cst);
-  if (2 * filled_.size() >= rows_ && sleeping_.load(std::memory_order_relaxed)) wake();
+  // Dekker's pattern on two seq_cst variables: the count of committed rows (this read-modify-write,
+  // then the load of sleeping_) against waitForRows (the store of sleeping_, then the load of the
+  // count). In the single order of seq_cst operations one side sees the other, so no wake-up is
+  // lost. (A fence would do on the ring's own tail, but ThreadSanitizer does not model fences.)
+  committed_.fetch_add(1, std::memory_order_seq_cst);
+  if (2 * filled_.size() >= rows_ && sleeping_.load(std::memory_order_seq_cst)) wake();
 }
 
 bool RowQueue::front(std::string_view& row) noexcept {
-  if (consuming_.slot == kNone && !filled_.pop(consuming_)) return false;
+  if (consuming_.slot == kNone) {
+    if (!filled_.pop(consuming_)) return false;
+    ++taken_;
+  }
   row = std::string_view(slot(consuming_.slot), consuming_.length);
   return true;
 }
@@ -70,12 +74,12 @@ void RowQueue::pop() noexcept {
 }
 
 void RowQueue::waitForRows(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) noexcept {
-  sleeping_.store(true, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_seq_cst);  // pairs with commitRow's
+  sleeping_.store(true, std::memory_order_seq_cst);  // pairs with commitRow's (see there)
   // Read the futex word before looking at the queue: a wake() after this read changes the word,
   // so futexWait returns at once instead of sleeping through it.
   const std::uint32_t seen = wake_count_.load(std::memory_order_acquire);
-  if (2 * filled_.size() < rows_ && !stop.load(std::memory_order_seq_cst)) futexWait(wake_count_, seen, timeout);
+  const std::uint64_t waiting_rows = committed_.load(std::memory_order_seq_cst) - taken_;
+  if (2 * waiting_rows < rows_ && !stop.load(std::memory_order_seq_cst)) futexWait(wake_count_, seen, timeout);
   sleeping_.store(false, std::memory_order_relaxed);
 }
 

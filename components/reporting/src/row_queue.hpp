@@ -69,6 +69,11 @@ class RowQueue {
   core::SpscRing<std::uint32_t> free_;     // consumer -> producer: slots written
   std::uint32_t producing_ = kNone;        // producer's: the slot begun and not committed
   Row consuming_{kNone, 0};                // consumer's: the row `front` gave and not popped
+  // Rows committed (the producer's count, a seq_cst read-modify-write) and taken (the consumer's):
+  // the pair the no-lost-wake-up argument is made on (commitRow, waitForRows), since the rings'
+  // own orders are acquire/release only and fences are not modelled by ThreadSanitizer.
+  alignas(64) std::atomic<std::uint64_t> committed_{0};
+  std::uint64_t taken_ = 0;
   // Futex word: changed (then woken) to interrupt the consumer's sleep.
   alignas(64) std::atomic<std::uint32_t> wake_count_{0};
   std::atomic<bool> sleeping_{false};
