@@ -54,10 +54,6 @@ if host then
   -- On the wall clock DDS's threads run SCHED_FIFO 60, under the executor's 80: time-sharing, a
   -- loaded machine delayed them past the 0.1 s lease and a live peer was lost.
   Link.priority = realtime and 60 or 0
-  -- On the wall clock UDP between the hosts' processes, also on one machine (as between two
-  -- hosts): with Fast DDS's shared memory, a host killed while samples were sent to it could
-  -- block the other's DDS threads for seconds (its ports' health checks), and the loss came late.
-  Link.udp_only = realtime == true
   Link.meeting_timeout = 10
   Link.join_timeout = 120  -- s: the other host may still be loading its half (its planning scenes)
   -- s: the hosts meet every 5th instant, so a port's sample or an event crosses within 5 ms (as

@@ -34,10 +34,11 @@
 /// - `lapse_grace` (s, 0: none): a peer whose liveliness lapsed is lost only when it has not come
 ///   back within this time (a stall of either process past the lease, e.g. at a run's start,
 ///   is not a loss); a dead peer is then found within lease + lapse_grace;
-/// - `udp_only` (bool): UDPv4 only, without Fast DDS's shared memory between the processes of one
-///   machine (as between two hosts). With shared memory, a peer killed while samples were being
-///   sent to it can block the sending threads in the ports' health checks for seconds, and its
-///   loss is found that late;
+/// - `udp_only` (bool, default true): UDPv4 only, without Fast DDS's shared memory between the
+///   processes of one machine (as between two hosts). false opts into shared memory, at a risk:
+///   a peer killed while samples were being sent to it can block the sending threads in the
+///   ports' health checks for seconds (its loss found that late), or for good when it died
+///   holding a port's interprocess mutex (dds_link_test's killed peer, 1 run in 15 under TSan);
 /// - `priority` (0..99): SCHED_FIFO priority of the threads Fast DDS makes for the participant
 ///   (receiving, liveliness) and of the writer ends' threads; 0: time-sharing. On the wall clock
 ///   a lease of 0.1 s needs it: a loaded machine delays time-sharing threads past the lease, and
@@ -138,8 +139,9 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> poll_{"poll", 1e-4, "s", "period at which writer ends send in wall-clock runs"};
   core::Property<double> lapse_grace_{"lapse_grace", 0.0, "s",
                                       "how long a lapsed peer's liveliness may take to come back before it is lost; 0: lost at once"};
-  core::Property<bool> udp_only_{"udp_only", false, "",
-                                 "UDPv4 only, without Fast DDS's shared memory between processes of one machine"};
+  core::Property<bool> udp_only_{"udp_only", true, "",
+                                 "UDPv4 only, without Fast DDS's shared memory between processes of one machine "
+                                 "(false: shared memory, which a killed peer can block)"};
   core::Property<int> priority_{"priority", 0, "",
                                 "SCHED_FIFO priority 1..99 of the DDS threads (wall clock, short leases); 0: time-sharing"};
   core::Property<double> meeting_period_{
