@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <thread>
@@ -98,6 +99,28 @@ void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const
                              ")" + deploy::suggestionText(a.member, known, many));
 }
 
+/// The report folder is written at the run's end: a folder that cannot be written is refused
+/// before anything is loaded, not after a whole procedure. Made if missing, then written to
+/// (a probe file, removed): what the end will do.
+void checkReportFolder(const std::filesystem::path& folder) {
+  if (folder.empty()) return;
+  const auto refuse = [&](const std::string& why) {
+    throw std::runtime_error("--report " + folder.string() + ": " + why +
+                             "; give a folder that can be written (it is made if missing)");
+  };
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) refuse("cannot create the folder (" + error.message() + ")");
+  if (!std::filesystem::is_directory(folder)) refuse("not a folder");
+  const std::filesystem::path probe = folder / ".cobra_write_check";
+  {
+    std::ofstream out(probe, std::ios::binary);
+    out << "x";
+    if (!out) refuse("cannot write a file there");
+  }
+  std::filesystem::remove(probe, error);
+}
+
 }  // namespace
 
 Session::Session(const RunOptions& options, std::filesystem::path entry)
@@ -112,6 +135,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
   // files run, memory is locked as it is mapped, and the executor's lock finds it done. Undone
   // below when the files do not lock memory (setExecutor's lock_memory). Best effort: the
   // executor reports a refused lock.
+  checkReportFolder(options_.report_folder);
   const bool locked_early = configurator_.mode() == deploy::ClockMode::WallClock && mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
   components::addBuiltinPackages(configurator_.packages());
   if (options_.add_packages) options_.add_packages(configurator_.packages());

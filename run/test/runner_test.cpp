@@ -5,6 +5,7 @@
 
 #include "cobra/run/runner.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,6 +85,20 @@ TEST(Runner, TheTestApplicationCompletesWhenItsChartIsDoneAndWritesTheRunFolder)
   EXPECT_CONTAINS(html, "The signal and its gain");
   EXPECT_CONTAINS(html, "threshold crossings");
   EXPECT_CONTAINS(html, "signals.csv");
+}
+
+// The folder is written at the end: one that cannot be written is refused before the run
+// (here a path through a regular file, which no user, root included, can make a folder of).
+TEST(Runner, AReportFolderThatCannotBeWrittenIsRefusedBeforeTheRun) {
+  const std::filesystem::path file = ::cobra::test_support::scratchPath("cobra_run_report_is_a_file");
+  std::filesystem::remove_all(file);
+  std::ofstream(file) << "not a folder";
+  RunOptions o = options();
+  o.report_folder = file / "report";
+  const std::string message = messageOf([&] { runApp(o); });
+  EXPECT_THAT(message, ::testing::StartsWith("--report " + o.report_folder.string() + ": cannot create the folder ("));
+  EXPECT_THAT(message, ::testing::EndsWith("; give a folder that can be written (it is made if missing)"));
+  std::filesystem::remove_all(file);
 }
 
 TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
