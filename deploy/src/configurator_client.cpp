@@ -55,6 +55,13 @@ void Configurator::serviceLoop() {
   }
 }
 
+std::string Configurator::lastWarningWith(std::string_view text) const {
+  const std::lock_guard lock(mutex_);
+  for (auto it = warnings_.rbegin(); it != warnings_.rend(); ++it)
+    if (it->find(text) != std::string::npos) return *it;
+  return {};
+}
+
 bool Configurator::serviceRequests() {
   const std::lock_guard lock(mutex_);
   bool any = false;

@@ -6,7 +6,11 @@
 -- World frame = the UR5's base: z up, the table top at z = 0; the part is a 0.2 x 0.3 x 0.1 m box
 -- whose top is at z = 0.1 m. Units: m, rad, s.
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
-local charts = here .. "../../components/coordination/charts/"
+-- cobra's own charts (the deployment and configuration supervisors), wherever cobra is: the tool
+-- sets COBRA_CHARTS (its build tree's or its installation's share/cobra/charts/), so this folder
+-- can be copied anywhere and still run.
+local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
+  .. "COBRA_DATA_DIR to its share/cobra folder")
 
 -- 1. Components: which packages to load, and the instances by type name.
 initConfigurator({ "cobra_sim", "cobra_motion", "cobra_coordination" }, {

@@ -99,6 +99,11 @@ void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const
                              ")" + deploy::suggestionText(a.member, known, many));
 }
 
+/// The switch supervisors' answers to a refused switch (components/coordination/charts/
+/// switch_supervisor.lua): always a failure, whatever the run table's `failures` lists.
+constexpr std::pair<const char*, const char*> kSwitchFailures[] = {{"e_configure_failed_", "configuration"},
+                                                                    {"e_deploy_failed_", "deployment"}};
+
 /// The report folder is written at the run's end: a folder that cannot be written is refused
 /// before anything is loaded, not after a whole procedure. Made if missing, then written to
 /// (a probe file, removed): what the end will do.
@@ -365,8 +370,7 @@ void Session::readEvents() {
       const std::string event = text.substr(0, text.find(' '));
       result_.log.push_back(source + ": " + event);
       if (options_.observer != nullptr) options_.observer->event(t_, source, event);
-      if (std::find(spec_.failures.begin(), spec_.failures.end(), event) != spec_.failures.end())
-        chart.last_failure = source + ": " + event + " at" + seconds(t_);
+      if (isFailure(event)) chart.last_failure = source + ": " + event + " at" + seconds(t_);
       for (Armed& a : armed_)
         if (a.due < 0.0 && (a.spec.repeat || a.fired == 0) && a.spec.on.kind == Trigger::Kind::Event &&
             a.spec.on.event == event && (a.spec.on.source.empty() || a.spec.on.source == source))
@@ -561,7 +565,23 @@ void Session::noteSafeStop(const Chart& c) {
     core::Component* owner = why == spec_.explain.end() ? nullptr : ownerOf(refs_, source + "." + why->second, true);
     if (owner != nullptr) result_.reason += "; " + source + "." + why->second + "(): " + owner->call<std::string>(why->second);
   }
+  // A refused switch: the configurator's line says why (file:line, property, what was expected).
+  if (colon != std::string::npos) {
+    const std::string event = c.last_failure.substr(colon + 2, c.last_failure.find(" at") - colon - 2);
+    for (const auto& [prefix, kind] : kSwitchFailures)
+      if (startsWith(event, prefix)) {
+        const std::string why = configurator_.lastWarningWith(" asked for " + std::string(kind) + " '" +
+                                                              event.substr(std::string_view(prefix).size()) + "': ");
+        if (!why.empty()) result_.reason += "; " + why;
+      }
+  }
   say("SAFE STOP: " + result_.reason);
+}
+
+bool Session::isFailure(const std::string& event) const {
+  for (const auto& [prefix, kind] : kSwitchFailures)
+    if (startsWith(event, prefix)) return true;
+  return std::find(spec_.failures.begin(), spec_.failures.end(), event) != spec_.failures.end();
 }
 
 bool Session::ended() {

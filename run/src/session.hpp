@@ -138,6 +138,9 @@ class Session {
   // True when the run ends after this step (sets the outcome and reason).
   bool ended();
   void noteSafeStop(const Chart& chart);
+  // An event that may be a safe stop's reason: the run table's `failures`, and every refused
+  // switch (e_configure_failed_*, e_deploy_failed_*).
+  bool isFailure(const std::string& event) const;
   // After the run.
   void writeReport(const std::vector<std::string>& observer_files);
 

@@ -101,6 +101,33 @@ TEST(Runner, AReportFolderThatCannotBeWrittenIsRefusedBeforeTheRun) {
   std::filesystem::remove_all(file);
 }
 
+// A configuration that cannot be applied (a text where a speed is expected) is refused when the
+// chart asks for it: the safe stop says so with the configurator's own line (the file:line, the
+// property and what it expects), not only the event's name. The tutorial, copied out of the tree
+// (it finds cobra's charts through COBRA_CHARTS), with its slow configuration broken.
+TEST(Runner, ARefusedConfigurationEndsTheRunWithTheConfiguratorsLineSayingWhy) {
+  const std::filesystem::path app = ::cobra::test_support::scratchPath("cobra_run_bad_configuration");
+  std::filesystem::remove_all(app);
+  std::filesystem::copy(std::filesystem::path(COBRA_SOURCE_DIR) / "examples" / "07_task", app,
+                        std::filesystem::copy_options::recursive);
+  const std::filesystem::path slow = app / "configurations" / "slow.lua";
+  std::string text = readFile(slow);
+  const auto at = text.find("max_vel = 0.05");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, std::string("max_vel = 0.05").size(), "max_vel = \"slow\"");
+  std::ofstream(slow) << text;
+  RunOptions o = options(app / "07_task.lua");
+  o.time_limit = 120.0;
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "ConfSup: e_configure_failed_slow at ");
+  EXPECT_CONTAINS(r.reason, "; ConfSup asked for configuration 'slow': ");
+  EXPECT_CONTAINS(r.reason, slow.string() + ":5: component 'TrajGen': property 'max_vel' is a double: cannot set it "
+                            "from \"slow\"; expected a number");
+  std::printf("%s\n", r.reason.c_str());
+  std::filesystem::remove_all(app);
+}
+
 TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
   RunOptions o = options();
   o.time_limit = 0.1;

@@ -237,8 +237,13 @@ class Configurator {
   const std::string& host() const { return options_.host; }
   PackageRegistry& packages() { return packages_; }
   const PackageRegistry& packages() const { return packages_; }
-  /// Non-fatal findings so far (role violations, adjusted priorities), oldest first.
+  /// Non-fatal findings so far (role violations, adjusted priorities, refused switches: "SUP
+  /// asked for configuration 'NAME': why"), oldest first. Not for another thread while switches
+  /// are served: see lastWarningWith.
   const std::vector<std::string>& warnings() const { return warnings_; }
+  /// The newest warning that contains `text` ("" if none), under the configurator's lock: a run's
+  /// observer thread may ask while the executor's thread serves switches.
+  std::string lastWarningWith(std::string_view text) const;
 
  private:
   /// A connection this configurator made, by port path (components may be replaced by name).
