@@ -86,7 +86,7 @@ void placeAction(Reader& entry) {
 
 // The runner's own fields of the `run` table; every other key is a section of an observer.
 constexpr const char* kRunnerFields[] = {"title", "charts", "fold", "failures", "explain", "safe_stop_reason",
-                                         "safe_stop_linger", "step", "actions"};
+                                         "safe_stop_linger", "stall_notice", "step", "actions"};
 
 // Every section of `run` other than the runner's own, made into its observer in the registry's
 // order; a key no observer is registered for is refused, naming the known sections.
@@ -155,6 +155,7 @@ RunSpec readRunSpec(lua_State* L, const std::string& file) {
   spec.failures = run.strings("failures");
   spec.safe_stop_reason = run.string("safe_stop_reason", false);
   spec.safe_stop_linger = run.number("safe_stop_linger", spec.safe_stop_linger);
+  spec.stall_notice = run.number("stall_notice", spec.stall_notice);
   run.table("explain", [&](const Reader& explain) {
     lua_pushnil(L);
     while (lua_next(L, -2) != 0) {

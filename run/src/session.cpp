@@ -15,6 +15,7 @@
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
+#include "action_check.hpp"
 #include "cobra/deploy/suggest.hpp"
 #include "cobra/statechart/description.hpp"
 
@@ -61,43 +62,6 @@ std::string foldState(const std::string& state, const std::vector<std::string>& 
   return std::find(fold.begin(), fold.end(), leaf) != fold.end() ? state.substr(0, dot) : state;
 }
 
-// Checks what an action names against the deployment: "file:line: unknown component ...".
-void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const std::vector<Chart>& charts) {
-  const std::string at = a.where.text() + ": ";
-  if (a.on.kind == Trigger::Kind::State &&
-      std::none_of(charts.begin(), charts.end(), [&](const Chart& c) { return c.spec->name == a.on.chart; })) {
-    std::vector<std::string> names;
-    for (const Chart& c : charts) names.push_back(c.spec->name);
-    throw std::runtime_error(at + "unknown chart '" + a.on.chart + "' in state '" + a.on.chart + ":" + a.on.state +
-                             "'" + deploy::suggestionText(a.on.chart, names, "charts (run.charts)"));
-  }
-  if (a.kind == ActionSpec::Kind::Lua) return;
-  core::Component* c = refs.find(a.component);
-  if (c == nullptr) {
-    std::vector<std::string> names;
-    for (const core::Component* each : refs.components()) names.push_back(each->name());
-    throw std::runtime_error(at + "unknown component '" + a.component + "' in " + a.text +
-                             deploy::suggestionText(a.component, names, "components"));
-  }
-  std::vector<std::string> known;
-  bool found = false;
-  std::string one = "operation", many = "operations";
-  if (a.kind == ActionSpec::Kind::Call) {
-    found = c->findOperation(a.member) != nullptr;
-    for (const core::OperationBase* op : c->operations()) known.push_back(op->name());
-  } else if (a.kind == ActionSpec::Kind::Write) {
-    one = "port", many = "ports";
-    found = c->findPort(a.member) != nullptr;
-    for (const core::PortBase* p : c->ports()) known.push_back(p->name());
-  } else {
-    one = "property", many = "properties";
-    found = c->findProperty(a.member) != nullptr;
-    for (const core::PropertyBase* p : c->properties()) known.push_back(p->name());
-  }
-  if (!found)
-    throw std::runtime_error(at + "component '" + a.component + "' has no " + one + " '" + a.member + "' (" + a.text +
-                             ")" + deploy::suggestionText(a.member, known, many));
-}
 
 /// The switch supervisors' answers to a refused switch (components/coordination/charts/
 /// switch_supervisor.lua): always a failure, whatever the run table's `failures` lists.
@@ -191,7 +155,7 @@ void Session::attachObserver() {
     call.text = "call " + input.call + " (run.studio.inputs." + input.name + ")";
     call.lua_ref = input.lua_ref;
     call.where = input.where;
-    checkAction(call, refs_, charts_);
+    checkAction(call, refs_, charts_, lua_.get());
     inputs_.push_back(std::move(call));
   }
   std::vector<statechart::ChartDescription> descriptions;
@@ -243,7 +207,7 @@ void Session::armActions() {
       else result_.log.push_back("fault " + a.where.text() + " played on host " + host);
     }
   }
-  for (const Armed& a : armed_) checkAction(a.spec, refs_, charts_);
+  for (const Armed& a : armed_) checkAction(a.spec, refs_, charts_, lua_.get());
   lua_.run(std::string("cobra_run_play = (function() ") + kPlayer + " end)()", "=cobra run");
 }
 
@@ -371,6 +335,7 @@ void Session::readEvents() {
       result_.log.push_back(source + ": " + event);
       if (options_.observer != nullptr) options_.observer->event(t_, source, event);
       if (isFailure(event)) chart.last_failure = source + ": " + event + " at" + seconds(t_);
+      chart.stall.heard(event, source, t_);
       for (Armed& a : armed_)
         if (a.due < 0.0 && (a.spec.repeat || a.fired == 0) && a.spec.on.kind == Trigger::Kind::Event &&
             a.spec.on.event == event && (a.spec.on.source.empty() || a.spec.on.source == source))
@@ -379,6 +344,7 @@ void Session::readEvents() {
   }
   for (Chart& c : charts_) {
     if (!c.changed) continue;  // the timeline keeps an unchanged state's interval open
+    c.stall.entered(t_);
     const std::string folded = foldState(c.state, spec_.fold);
     timeline_.observe(t_, c.lane, folded.empty() ? "(none)" : folded);
     if (folded == c.shown) continue;
@@ -644,6 +610,12 @@ bool Session::ended() {
                      seconds(spec_.safe_stop_linger) + ": " + statesText();
     return true;
   }
+  for (Chart& c : charts_)
+    if (c.stall.due(t_, spec_.stall_notice)) {
+      const std::string text = c.stall.text(c.spec->name, c.state, c.supervisor->chart());
+      result_.log.push_back(text);
+      say(text);
+    }
   if (t_ >= options_.time_limit - 1e-9) {
     char limit[64];
     std::snprintf(limit, sizeof limit, "time limit %.3f s reached", options_.time_limit);
@@ -655,6 +627,8 @@ bool Session::ended() {
     } else {
       result_.outcome = Outcome::TimeLimit;
       result_.reason = std::string(limit) + "; charts: " + statesText();
+      for (const Chart& c : charts_)
+        if (c.state != c.spec->done) result_.reason += "; " + c.stall.text(c.spec->name, c.state, c.supervisor->chart());
     }
     return true;
   }

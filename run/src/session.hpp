@@ -21,6 +21,7 @@
 #include "cobra/run/runner.hpp"
 #include "builtin_observers.hpp"
 #include "remote_entries.hpp"
+#include "stall_watch.hpp"
 
 namespace cobra::components {
 class Supervisor;
@@ -39,6 +40,7 @@ struct Chart : ChartState {
   std::string lane;                    // its timeline lane: "NAME chart"
   const char* leaf = nullptr;          // lockstep: the supervisor's active leaf string `state` copies
   std::string last_failure;            // "Source: event at t s"
+  StallWatch stall;                    // what it waits for in its state, and heard there
 };
 
 // An action or fault armed by its trigger.

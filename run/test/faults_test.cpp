@@ -103,6 +103,35 @@ TEST(Faults, AnUnknownOperationIsOneLineWithTheOperationsOfTheComponent) {
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
+// Every name and value of a faults file is checked before the run starts: a state path the chart
+// does not have would never fire, a value a property or port cannot take would fail only when the
+// fault fires, mid-procedure.
+TEST(Faults, AMisspelledStatePathIsOneLineWithTheChartsStatesBeforeTheRun) {
+  const std::string message = messageOf([] { runApp(options("misspelled_state.lua")); });
+  EXPECT_EQ(message.rfind((kFaults / "misspelled_state.lua").string() +
+                              ":3: chart 'task' has no state 'root.hihg' (state = \"task:root.hihg\": the fault would "
+                              "never fire); did you mean 'root.high'? known states: root, root.done, root.high, root.waiting",
+                          0),
+            0u)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(Faults, AValueThePropertyCannotTakeIsOneLineNamingThePropertyAndWhatItExpects) {
+  const std::string message = messageOf([] { runApp(options("bad_set_value.lua")); });
+  const std::string at = (kFaults / "bad_set_value.lua").string() + ":3: set Gain.k: ";
+  EXPECT_EQ(message.rfind(at, 0), 0u) << message;
+  EXPECT_CONTAINS(message, "'k' is a double: cannot set it from \"twice\"; expected a number");
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(Faults, AValueThePortCannotCarryIsOneLineNamingThePortAndItsLuaForm) {
+  const std::string message = messageOf([] { runApp(options("bad_write_value.lua")); });
+  EXPECT_EQ(message.rfind((kFaults / "bad_write_value.lua").string() + ":3: write Sine.out: port 'out' carries double: ", 0), 0u)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
 TEST(Faults, AMalformedEntryNamesItsLineAndTheFormsThereAre) {
   const std::filesystem::path file = ::cobra::test_support::scratchPath("cobra_run_bad_faults.lua");
   std::ofstream(file) << "return {\n  { on = { time = 1 }, after = 0.5 },\n}\n";

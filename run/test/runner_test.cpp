@@ -135,7 +135,40 @@ TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
   EXPECT_FALSE(r.completed());
   EXPECT_EQ(r.outcome, Outcome::TimeLimit);
   EXPECT_NEAR(r.duration, 0.1, 1e-9);
-  EXPECT_EQ(r.reason, "time limit 0.100 s reached; charts: task root.waiting");
+  EXPECT_EQ(r.reason, "time limit 0.100 s reached; charts: task root.waiting; task chart in root.waiting since "
+                      "0.001 s; it waits for e_above_threshold; no event arrived there");
+}
+
+// A transition waiting for a misspelled event (e_below_treshold) never fires: the run says, once
+// the chart has stayed `stall_notice` s in its state, what the state waits for and which events
+// arrived there that no transition took, and the time limit's reason says it again.
+TEST(Runner, AChartThatStaysInAStateSaysWhatItWaitsForAndWhatArrivedUntaken) {
+  const std::filesystem::path app = ::cobra::test_support::scratchPath("cobra_run_misspelled_event");
+  std::filesystem::remove_all(app);
+  std::filesystem::copy(kApp, app, std::filesystem::copy_options::recursive);
+  std::string chart = readFile(app / "threshold_task.lua");
+  const auto at = chart.find("events = { 'e_below_threshold' }");
+  ASSERT_NE(at, std::string::npos) << chart;
+  chart.replace(at, std::string("events = { 'e_below_threshold' }").size(), "events = { 'e_below_treshold' }");
+  std::ofstream(app / "threshold_task.lua") << chart;
+  RunOptions o = options(app / "threshold.lua");
+  o.time_limit = 2.0;
+  o.extra_lua = "run.stall_notice = 1";
+  std::vector<std::string> said;
+  o.progress = [&](const std::string& line) { said.push_back(line); };
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::TimeLimit);
+  const std::string stall = "task chart in root.high since 0.";
+  const std::string why = "; it waits for e_below_treshold; heard there and not taken: e_below_threshold (Detector at 0.";
+  EXPECT_CONTAINS(r.reason, "time limit 2.000 s reached; charts: task root.high; " + stall);
+  EXPECT_CONTAINS(r.reason, why);
+  // Said once, when the chart had been 1 s in root.high (besides the end's reason).
+  const auto notices = std::count_if(said.begin(), said.end(), [&](const std::string& line) {
+    return line.find(stall) != std::string::npos && line.find(why) != std::string::npos &&
+           line.find("time limit") == std::string::npos;
+  });
+  EXPECT_EQ(notices, 1) << r.reason;
+  std::filesystem::remove_all(app);
 }
 
 TEST(Runner, AnInterruptEndsTheRunAfterTheStepWithTheChartsStates) {

@@ -11,11 +11,8 @@
 #include "configuration_table.hpp"
 
 namespace cobra::deploy {
-namespace {
 
-/// Text form of the value on top of the stack; false when it has none. Calls only Lua
-/// functions that cannot raise (the state is unbounded, so pushes do not fail in practice).
-bool valueText(lua_State* L, int index, std::string& out) {
+bool luaValueText(lua_State* L, int index, std::string& out) {
   switch (lua_type(L, index)) {
     case LUA_TBOOLEAN: out = lua_toboolean(L, index) ? "true" : "false"; return true;
     case LUA_TSTRING: out = lua_tostring(L, index); return true;
@@ -32,7 +29,7 @@ bool valueText(lua_State* L, int index, std::string& out) {
       for (lua_Integer i = 1; i <= n; ++i) {
         lua_rawgeti(L, index, i);
         std::string element;
-        const bool ok = lua_type(L, -1) == LUA_TNUMBER && valueText(L, lua_gettop(L), element);
+        const bool ok = lua_type(L, -1) == LUA_TNUMBER && luaValueText(L, lua_gettop(L), element);
         lua_pop(L, 1);
         if (!ok) return false;
         out += (i > 1 ? ", " : "") + element;
@@ -43,6 +40,8 @@ bool valueText(lua_State* L, int index, std::string& out) {
     default: return false;
   }
 }
+
+namespace {
 
 /// The string keys of the table at `index`, sorted (Lua's own order is not reproducible).
 std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& where) {
@@ -84,7 +83,7 @@ ConfigurationSpec configurationFromTable(lua_State* L, int table, const std::str
       const int line = lines.find(std::max(component_at.line, 1), {property, "="});
       const SourceLocation value_at{at, line > 0 ? line : component_at.line};
       std::string text;
-      if (!valueText(L, lua_gettop(L), text))
+      if (!luaValueText(L, lua_gettop(L), text))
         throw core::Error(value_at.text() + ": " + component + "." + property + " must be a number, boolean, string or "
                           "array of numbers, got " + luaL_typename(L, -1));
       lua_pop(L, 1);

@@ -212,6 +212,9 @@ struct RunSpec {
   std::map<std::string, std::string> explain;  ///< failure event -> operation of its source giving why
   std::string safe_stop_reason;  ///< text added to a safe stop's reason
   double safe_stop_linger = 2.0;  ///< s the run goes on after a safe stop (the other charts stop too)
+  /// s a chart may stay in one state before the run says what it waits for and what it heard
+  /// there (stall_watch.hpp); 0: never. Said once per state; the time limit's reason says it too.
+  double stall_notice = 30.0;
   double step = 0.001;  ///< s: the runner's observation period
   std::vector<ActionSpec> actions;
   RecordSpec record;
@@ -221,7 +224,7 @@ struct RunSpec {
   ClearanceSpec clearance;
   StudioSpec studio;
   /// Every section other than the runner's own (title, charts, fold, failures, explain,
-  /// safe_stop_reason, safe_stop_linger, step, actions) as its observer, in the registry's order.
+  /// safe_stop_reason, safe_stop_linger, stall_notice, step, actions) as its observer, in the registry's order.
   /// cobra's own observers keep their typed part above (record ... studio) as well.
   std::vector<ObserverSection> observers;
 };

@@ -17,7 +17,15 @@
 
 #include "cobra/deploy/deployment_set.hpp"
 
+struct lua_State;
+
 namespace cobra::deploy {
+
+/// The property text form of the Lua value at `index` (a number, true/false, a string, an array
+/// of numbers as "[a, b]"): what a configuration file's value becomes, for
+/// PropertyBase::checkText. False when the value has none. Calls only Lua functions that cannot
+/// raise.
+bool luaValueText(lua_State* L, int index, std::string& out);
 
 /// Reads one Lua configuration file; each value's location is the line of its `name =`.
 /// @throws core::Error "file:line: ..." when the file does not run, does not return a table of
