@@ -38,9 +38,9 @@ std::uint64_t mix(std::uint64_t z) noexcept {
 
 /// A uniform value in [0, 1) for lattice point (i, j, k) of a seed's speckle field.
 double latticeValue(std::uint64_t seed, std::int64_t i, std::int64_t j, std::int64_t k) noexcept {
-  const std::uint64_t h = mix(seed ^ mix(static_cast<std::uint64_t>(i) * 0x9e3779b97f4a7c15ULL ^
-                                         static_cast<std::uint64_t>(j) * 0xc2b2ae3d27d4eb4fULL ^
-                                         static_cast<std::uint64_t>(k) * 0x165667b19e3779f9ULL));
+  const std::uint64_t h = mix(seed + static_cast<std::uint64_t>(i) * 0x9e3779b97f4a7c15ULL +
+                              static_cast<std::uint64_t>(j) * 0xc2b2ae3d27d4eb4fULL +
+                              static_cast<std::uint64_t>(k) * 0x165667b19e3779f9ULL);
   return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
@@ -48,7 +48,8 @@ double latticeValue(std::uint64_t seed, std::int64_t i, std::int64_t j, std::int
 double segmentDistance2d(double x, double z, double px, double pz, double qx, double qz) noexcept {
   const double dx = qx - px, dz = qz - pz, length2 = dx * dx + dz * dz;
   const double t = length2 > 0.0 ? std::clamp(((x - px) * dx + (z - pz) * dz) / length2, 0.0, 1.0) : 0.0;
-  return std::hypot(x - (px + t * dx), z - (pz + t * dz));
+  const double ex = x - (px + t * dx), ez = z - (pz + t * dz);
+  return std::sqrt(ex * ex + ez * ez);
 }
 
 }  // namespace
@@ -216,7 +217,8 @@ void UltrasoundImager::render(const KDL::Frame& probe, const KDL::Frame* needle_
       if (specular) echo = m.interface_echo;
       // The tumour: hypoechoic disc, bright rim.
       if (tumour_cut) {
-        const double radial = std::hypot(x - tumour_x, z - tumour_z) - rho;
+        const double dx = x - tumour_x, dz = z - tumour_z;
+        const double radial = std::sqrt(dx * dx + dz * dz) - rho;
         if (std::abs(radial) <= rim_half) {
           echo = m.rim_echo;
           specular = true;
@@ -230,7 +232,10 @@ void UltrasoundImager::render(const KDL::Frame& probe, const KDL::Frame* needle_
         const Region& region = regions_[i];
         const KDL::Vector aq = q - region.a;
         const double t = region.ab2 > 0.0 ? std::clamp(KDL::dot(aq, region.ab) / region.ab2, 0.0, 1.0) : 0.0;
-        const double distance = (aq - region.ab * t).Norm() - region.radius;
+        const KDL::Vector off_axis = aq - region.ab * t;
+        const double reach = region.radius + rim_half, distance2 = KDL::dot(off_axis, off_axis);
+        if (distance2 > reach * reach) continue;  // clear of the region and its wall
+        const double distance = std::sqrt(distance2) - region.radius;
         if (region.bone) {
           if (distance <= 0.0 && bone_depth < 0.0) bone_depth = z;
         } else if (std::abs(distance) <= rim_half) {
