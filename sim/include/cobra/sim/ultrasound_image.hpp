@@ -47,7 +47,7 @@ struct UltrasoundImage {
 struct UltrasoundImageModel {
   int width = 128;                    ///< pixels, 1..256 (width · height <= 65536)
   int height = 128;                   ///< pixels, 1..256
-  double spacing_x = 0.0006;          ///< m per pixel, > 0 (128 px: 77 mm wide)
+  double spacing_x = 0.0008;          ///< m per pixel, > 0 (128 px: 102 mm wide)
   double spacing_y = 0.0008;          ///< m per pixel, > 0 (128 px: 102 mm deep, a tumour 60 mm down seen from 45 mm aside)
   double array_half_width = 0.02;     ///< m, > 0: half the array at the probe face (the field of view's top)
   double half_sector = 0.35;          ///< rad, [0, 1.4]: the field of view widens by tan(half_sector) per m of depth (0: linear probe)
