@@ -171,7 +171,8 @@ TEST(UltrasoundImage, LayerInterfacesLieAtThePhantomsDepths) {
   }
   for (int layer = 0; layer < 4; ++layer) {
     const double middle = 0.5 * (bottoms[layer] + bottoms[layer + 1]);
-    EXPECT_EQ(image->at(column, rowAt(middle)), grey(layerEcho(m, phantom.layers[layer].tissue.name))) << phantom.layers[layer].tissue.name;
+    const std::string& name = phantom.layers[layer].tissue.name;
+    EXPECT_EQ(image->at(column, rowAt(middle)), grey(layerEcho(m, name))) << name;
   }
   EXPECT_EQ(image->at(column, rowAt(0.097)), grey(m.deep_echo)) << "below the last layer";
   // One bright run down the column per boundary, none between them (the skin's top is above the face).
@@ -185,7 +186,8 @@ TEST(UltrasoundImage, LayerInterfacesLieAtThePhantomsDepths) {
   UltrasoundImageModel speckle_free;
   speckle_free.speckle = 0.0;
   UltrasoundImager(speckle_free, phantom, 3).render(probe, nullptr, *image);
-  EXPECT_EQ(image->at(column, rowAt(0.034)), std::lround(255.0 * layerEcho(m, "kidney") * std::exp(-speckle_free.attenuation * (rowAt(0.034) + 0.5) * m.spacing_y)));
+  const double kidney_top_gain = std::exp(-speckle_free.attenuation * (rowAt(0.034) + 0.5) * m.spacing_y);
+  EXPECT_EQ(image->at(column, rowAt(0.034)), std::lround(255.0 * layerEcho(m, "kidney") * kidney_top_gain));
   EXPECT_LT(image->at(column, rowAt(0.09)), image->at(column, rowAt(0.034)));
 }
 
@@ -301,7 +303,8 @@ TEST(UltrasoundImage, RibsShadowWhatLiesBelowVesselsAreDark) {
   EXPECT_EQ(image->at(c, r), grey(m.bone_echo));
   const int deep = pixelOf(*image, {0.0, 0.03, -0.05}).second;  // the kidney, 50 mm down
   EXPECT_EQ(image->at(c, deep), grey(layerEcho(m, "kidney") * m.shadow)) << "the kidney in the rib's shadow";
-  EXPECT_EQ(image->at(c + static_cast<int>(0.012 / image->spacing_x), deep), grey(layerEcho(m, "kidney"))) << "the kidney beside the shadow";
+  EXPECT_EQ(image->at(c + static_cast<int>(0.012 / image->spacing_x), deep), grey(layerEcho(m, "kidney")))
+      << "the kidney beside the shadow";
   EXPECT_EQ(image->at(c, r - static_cast<int>(0.002 / image->spacing_y)), grey(layerEcho(m, "fat"))) << "the fat above the rib";
 
   // Through the vessel's centre (sphere at 0.02, -0.02, -0.07, radius 4 mm).
@@ -311,7 +314,8 @@ TEST(UltrasoundImage, RibsShadowWhatLiesBelowVesselsAreDark) {
   EXPECT_EQ(image->at(vc, vr), grey(m.vessel_echo));
   const int wall = pixelOf(*image, {0.02, -0.02, -0.066}).second;
   EXPECT_TRUE(anyNear(*image, vc, wall, 0, 1, grey(m.rim_echo))) << "its wall";
-  EXPECT_EQ(image->at(vc, pixelOf(*image, {0.02, -0.02, -0.078}).second), grey(layerEcho(m, "kidney"))) << "no shadow below a vessel";
+  EXPECT_EQ(image->at(vc, pixelOf(*image, {0.02, -0.02, -0.078}).second), grey(layerEcho(m, "kidney")))
+      << "no shadow below a vessel";
 }
 
 TEST(UltrasoundImage, TheSameSeedGivesTheSameImageAnotherSeedOtherSpeckle) {

@@ -49,7 +49,9 @@ TEST(ProbePlan, TheImagingPlaneContainsTheNeedleAndTheBeamHitsItsTarget) {
   const PlannedNeedle needle{"n", KDL::Vector(0.01, -0.02, 0.0), KDL::Vector(-0.004, 0.003, -0.055), 0.4, 7};
   const KDL::Frame probe = probePose(needle);
   EXPECT_NEAR(probe.p.z(), 0.0, 1e-15) << "the face on the skin";
-  for (const KDL::Vector& point : {needle.entry, needle.target}) EXPECT_NEAR(KDL::dot(probe.M.UnitY(), point - probe.p), 0.0, 1e-12);
+  for (const KDL::Vector& point : {needle.entry, needle.target}) {
+    EXPECT_NEAR(KDL::dot(probe.M.UnitY(), point - probe.p), 0.0, 1e-12);
+  }
   const KDL::Vector to_target = probe.M.Inverse(needle.target - probe.p);
   EXPECT_NEAR(to_target.x(), 0.0, 1e-12);
   EXPECT_GT(to_target.z(), 0.0) << "the beam points at the target";
@@ -65,7 +67,8 @@ TEST(ProbePlan, TheImagingPlaneContainsTheNeedleAndTheBeamHitsItsTarget) {
 
 TEST(ProbePlan, RefusesWithTheCryoPlansFileAndLine) {
   PreoperativeInfo info;
-  info.tumour_center = KDL::Vector(0.0, 0.0, -0.02);  // a shallow tumour: the probe 45 mm aside looks at it 66 deg from the vertical
+  // A shallow tumour: the probe 45 mm aside looks at it 66 deg from the vertical.
+  info.tumour_center = KDL::Vector(0.0, 0.0, -0.02);
   info.tumour_radius = 0.005;
   info.entry_radius = 0.05;
   const std::vector<PlannedNeedle> shallow{{"n1", KDL::Vector(-0.01, 0.0, 0.0), KDL::Vector(0.0, 0.0, -0.02), 0.0, 4}};

@@ -50,14 +50,18 @@ struct UltrasoundImageModel {
   double spacing_x = 0.0008;          ///< m per pixel, > 0 (128 px: 102 mm wide)
   double spacing_y = 0.0008;          ///< m per pixel, > 0 (128 px: 102 mm deep, a tumour 60 mm down seen from 45 mm aside)
   double array_half_width = 0.02;     ///< m, > 0: half the array at the probe face (the field of view's top)
-  double half_sector = 0.35;          ///< rad, [0, 1.4]: the field of view widens by tan(half_sector) per m of depth (0: linear probe)
-  double beam_width = 0.002;          ///< m, > 0: elevational thickness of the beam; the needle shows within ±beam_width/2 of the plane
+  /// rad, [0, 1.4]: the field of view widens by tan(half_sector) per m of depth (0: a linear probe)
+  double half_sector = 0.35;
+  /// m, > 0: the beam's elevational thickness; the needle shows within ±beam_width/2 of the plane
+  double beam_width = 0.002;
   double attenuation = 6.0;           ///< 1/m, >= 0: grey level × exp(-attenuation · depth along the beam)
   double speckle = 0.55;              ///< [0, 1]: share of the grey level that is speckle (fully developed: Rayleigh amplitude)
   double speckle_grain = 0.0005;      ///< m, > 0: size of a speckle grain, fixed to the tissue (frame P)
-  double interface_thickness = 0.0008;  ///< m, > 0: a layer boundary's bright line (drawn at least a pixel's half diagonal either side: no gaps)
+  /// m, > 0: a layer boundary's bright line (drawn at least a pixel's half diagonal either side: no gaps)
+  double interface_thickness = 0.0008;
   double rim_thickness = 0.0008;      ///< m, > 0: the tumour's and a vessel's bright rim
-  double needle_width = 0.0008;       ///< m, > 0: the needle's bright line (drawn at least a pixel's half diagonal either side)
+  /// m, > 0: the needle's bright line (drawn at least a pixel's half diagonal either side)
+  double needle_width = 0.0008;
   double needle_length = 0.2;         ///< m, > 0: shaft behind the tip that can show (only below the skin does)
   std::vector<std::pair<std::string, double>> layer_echo = {
       {"skin", 0.7}, {"fat", 0.25}, {"muscle", 0.5}, {"kidney", 0.42}};  ///< by layer name, [0, 1]
