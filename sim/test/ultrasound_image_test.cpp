@@ -12,6 +12,7 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <random>
 
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -105,6 +106,33 @@ struct Needle {
   }
 };
 
+/// Half the width a line of `width` m is drawn with (at least a pixel's half diagonal).
+double drawnHalf(const UltrasoundImageModel& m, double width) {
+  return std::max(0.5 * width, 0.5 * std::hypot(m.spacing_x, m.spacing_y));
+}
+
+/// Expects the tumour's dark disc (exact grey levels: flatModel) centred on `section` (P) within a
+/// pixel, its radius (from its area) the section's radius `rho` less the rim's drawn half width.
+void expectTumourSection(const UltrasoundImage& image, const UltrasoundImageModel& m, const KDL::Vector& section,
+                         double rho, const std::string& what) {
+  KDL::Vector sum;
+  int count = 0;
+  for (int r = 0; r < image.height; ++r) {
+    for (int c = 0; c < image.width; ++c) {
+      if (image.at(c, r) != grey(m.tumour_echo)) continue;
+      sum += centreOf(image, c, r);
+      ++count;
+    }
+  }
+  ASSERT_GT(count, 0) << what << ": no tumour in the image";
+  const KDL::Vector centre = imageXY(image, section);
+  EXPECT_NEAR(centre.z(), 0.0, 1e-12) << what << ": the section's centre lies in the image plane";
+  EXPECT_NEAR(sum.x() / count, centre.x(), image.spacing_x) << what;
+  EXPECT_NEAR(sum.y() / count, centre.y(), image.spacing_y) << what;
+  const double inner = std::sqrt(count * image.spacing_x * image.spacing_y / std::numbers::pi);
+  EXPECT_NEAR(inner, rho - drawnHalf(m, m.rim_thickness), 0.5 * image.spacing_x) << what;
+}
+
 TEST(UltrasoundImage, TheTumourIsAHypoechoicDiscWhereThePlaneCutsItsSphere) {
   const auto phantom = cobra::sim::loadScenario(kPhantom);
   const double off = 0.006;  // m: the vertical plane y = off cuts the 12 mm tumour at (0, 0, -0.06)
@@ -114,24 +142,8 @@ TEST(UltrasoundImage, TheTumourIsAHypoechoicDiscWhereThePlaneCutsItsSphere) {
   const UltrasoundImageModel m = flatModel();
   UltrasoundImager(m, phantom, 1).render(probe, nullptr, *image);
 
-  KDL::Vector sum;
-  int count = 0;
-  for (int r = 0; r < image->height; ++r) {
-    for (int c = 0; c < image->width; ++c) {
-      if (image->at(c, r) != grey(m.tumour_echo)) continue;
-      sum += centreOf(*image, c, r);
-      ++count;
-    }
-  }
-  ASSERT_GT(count, 0) << "no tumour in the image";
-  const KDL::Vector centre = imageXY(*image, section);
-  EXPECT_NEAR(centre.z(), 0.0, 1e-12) << "the section's centre lies in the image plane";
-  EXPECT_NEAR(sum.x() / count, centre.x(), image->spacing_x);
-  EXPECT_NEAR(sum.y() / count, centre.y(), image->spacing_y);
-  // The dark disc ends where the rim begins: rho - rim/2, rho = sqrt(R² - off²) (10.4 mm).
-  const double rho = std::sqrt(phantom.tumour_radius * phantom.tumour_radius - off * off);
-  const double inner = std::sqrt(count * image->spacing_x * image->spacing_y / std::numbers::pi);
-  EXPECT_NEAR(inner, rho - 0.5 * m.rim_thickness, 0.5 * image->spacing_x);
+  const double rho = std::sqrt(phantom.tumour_radius * phantom.tumour_radius - off * off);  // 10.4 mm
+  expectTumourSection(*image, m, section, rho, "plane y = 6 mm");
   // The rim is bright: rho from the centre, deeper along the beam and to either side.
   for (const KDL::Vector& direction : {probe.M.UnitZ(), probe.M.UnitX(), -probe.M.UnitX()}) {
     const auto [c, r] = pixelOf(*image, section + direction * rho);
@@ -153,6 +165,32 @@ TEST(UltrasoundImage, TheTumourIsAHypoechoicDiscWhereThePlaneCutsItsSphere) {
   UltrasoundImager(m, phantom, 1).render(probeLookingAt({0.035, 0.013, -0.001}, {0.0, 0.013, -0.06}, {-1, 0, 0}),
                                          nullptr, *image);
   for (std::size_t i = 0; i < std::size_t{image->width} * image->height; ++i) ASSERT_NE(image->pixels[i], grey(m.tumour_echo));
+}
+
+TEST(UltrasoundImage, TheTumourSectionIsRightForSeededRandomPlanes) {
+  auto phantom = cobra::sim::loadScenario(kPhantom);
+  phantom.forbidden.clear();  // no rib shadow over the tumour
+  const UltrasoundImageModel m = flatModel();
+  const UltrasoundImager imager(m, phantom, 4);
+  auto image = std::make_unique<UltrasoundImage>();
+  std::mt19937_64 random(2026);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double radius = phantom.tumour_radius;
+  for (int sample = 0; sample < 12; ++sample) {
+    // Array along a random horizontal direction, beam tilted up to 30 deg from the vertical within
+    // the plane, the plane at a random distance h (|h| < 0.7 R) from the tumour's centre.
+    const double yaw = 2.0 * std::numbers::pi * unit(random), tilt = (unit(random) - 0.5) * std::numbers::pi / 3.0;
+    const double h = (2.0 * unit(random) - 1.0) * 0.7 * radius;
+    const KDL::Vector along(std::cos(yaw), std::sin(yaw), 0.0);
+    const KDL::Vector beam = along * std::sin(tilt) + KDL::Vector(0, 0, -1) * std::cos(tilt);
+    const KDL::Vector array = along * std::cos(tilt) + KDL::Vector(0, 0, 1) * std::sin(tilt);
+    const KDL::Vector normal = beam * array;
+    const KDL::Vector section = phantom.tumour_center - normal * h;
+    const KDL::Frame probe(KDL::Rotation(array, normal, beam), section - beam * ((section.z() + 0.001) / beam.z()));
+    ASSERT_NEAR(probe.p.z(), -0.001, 1e-12);
+    imager.render(probe, nullptr, *image);
+    expectTumourSection(*image, m, section, std::sqrt(radius * radius - h * h), "sample " + std::to_string(sample));
+  }
 }
 
 TEST(UltrasoundImage, LayerInterfacesLieAtThePhantomsDepths) {
@@ -287,6 +325,27 @@ TEST(UltrasoundImage, NothingAboveTheSkinNorOutsideTheFieldOfView) {
   EXPECT_GT(in_air, 50) << "the rocked face's image reaches above the skin at one edge";
   EXPECT_GT(outside_view, 500) << "the top corners are outside the sector";
   EXPECT_GT(lit, image->width * image->height / 2);
+  // Seeded random poses: pressed 0-3 mm in, anywhere within 3 cm, tilted up to 40 deg any way.
+  std::mt19937_64 random(77);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int sample = 0; sample < 12; ++sample) {
+    const KDL::Frame pose(KDL::Rotation::RotZ(std::numbers::pi * unit(random)) *
+                              KDL::Rotation::RotX(std::numbers::pi + 0.7 * unit(random)) *
+                              KDL::Rotation::RotZ(std::numbers::pi * unit(random)),
+                          KDL::Vector(0.03 * unit(random), 0.03 * unit(random), -0.0015 * (1.0 + unit(random))));
+    imager.render(pose, nullptr, *image);
+    int shown = 0;
+    for (int c = 0; c < image->width; ++c) {
+      for (int r = 0; r < image->height; ++r) {
+        const KDL::Vector p = pointOf(*image, c, r), u = pose.Inverse(p);
+        if (p.z() > 0.0 || std::abs(u.x()) > m.array_half_width + u.z() * std::tan(m.half_sector)) {
+          ASSERT_EQ(image->at(c, r), 0) << "sample " << sample << " pixel " << c << "," << r;
+        }
+        shown += image->at(c, r) > 0;
+      }
+    }
+    EXPECT_GT(shown, image->width * image->height / 4) << "sample " << sample;
+  }
   // Held 5 mm above the skin, the probe sees nothing.
   imager.render(KDL::Frame(KDL::Rotation::RotX(std::numbers::pi), KDL::Vector(0.0, -0.04, 0.005)), nullptr, *image);
   for (std::size_t i = 0; i < std::size_t{image->width} * image->height; ++i) ASSERT_EQ(image->pixels[i], 0);
