@@ -13,6 +13,9 @@
 //    SimulatedUR5Robot holding the probe (IK every step), PatientSimulator, NeedleInsertionMonitor,
 //    UltrasoundMonitor and SimulatedOmniPhantom, wired by ports and stepped by the LockstepClock at
 //    1 kHz. Same counters; the PuncturingWorld group above is its library-level peer.
+//  - UltrasoundImage: one B-mode-like image of the default abdomen (UltrasoundImager::render) with
+//    the probe 45 mm beyond a needle's tip, beam on the tumour, the needle in plane; 128 x 128 and
+//    256 x 256 pixels. The time column is per image (target for 128 x 128: a few ms).
 //  - Sensor: one ForceTorqueSensor step (noise, saturation, quantisation, filter) against a
 //    naive version of the same model that builds vectors and a distribution on every call, as
 //    straightforward code does; the time column is per step.
@@ -21,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -40,6 +44,7 @@
 #include "cobra/sim/needle_tissue.hpp"
 #include "cobra/sim/servo.hpp"
 #include "cobra/sim/ultrasound.hpp"
+#include "cobra/sim/ultrasound_image.hpp"
 #include "median_and_worst.hpp"
 
 namespace {
@@ -232,6 +237,31 @@ BENCHMARK(BM_ComponentWorld)->Name("ComponentWorld/1s_at_1kHz/isur_ur5_patient_t
     ->Apply(configure)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
+
+void BM_UltrasoundImage(benchmark::State& state) {
+  cobra::sim::UltrasoundImageModel model;
+  model.width = model.height = static_cast<int>(state.range(0));
+  model.spacing_x = model.spacing_y = 0.1 / static_cast<double>(state.range(0));  // m: 100 mm x 100 mm
+  const cobra::sim::UltrasoundImager imager(model, cobra::sim::defaultAbdomen(), 7);
+  // A needle from (-0.02, 0, 0) to the tumour's centre, the probe 45 mm beyond its tip looking at it.
+  const cobra::sim::PhantomScenario phantom = cobra::sim::defaultAbdomen();
+  const KDL::Vector entry(-0.02, 0.0, 0.0), target = phantom.tumour_center;
+  KDL::Vector along = target - entry;
+  along.Normalize();
+  const KDL::Vector side = KDL::Vector(0, 0, 1) * along;
+  const KDL::Frame tip(KDL::Rotation(side * along, side, along), target);
+  const KDL::Vector face(target.x() + 0.045, 0.0, 0.0);
+  KDL::Vector beam = target - face;
+  beam.Normalize();
+  const KDL::Vector array = (KDL::Vector(-1, 0, 0) - beam * -beam.x()) / (KDL::Vector(-1, 0, 0) - beam * -beam.x()).Norm();
+  const KDL::Frame probe(KDL::Rotation(array, beam * array, beam), face);
+  auto image = std::make_unique<cobra::sim::UltrasoundImage>();
+  for (auto _ : state) {
+    imager.render(probe, &tip, *image);
+    benchmark::DoNotOptimize(image->pixels[image->width * image->height / 2]);
+  }
+}
+BENCHMARK(BM_UltrasoundImage)->Name("UltrasoundImage/render")->Arg(128)->Arg(256)->Apply(configure)->Unit(benchmark::kMillisecond);
 
 void BM_SensorCobra(benchmark::State& state) {
   cobra::sim::ForceTorqueSensorModel model = cobra::sim::atiNano17();
