@@ -14,6 +14,15 @@ namespace cobra::tools {
 /// error, or past 1 s of CPU time after one event: an endless loop) ends the run there, its
 /// file:line on stderr: exit status 1. Returns the exit status.
 int runFsm(const std::string& file, const std::string& events);
+/// Runs task chart `file` as its Supervisor would, on a simulated clock from 0 to `until` s in
+/// steps of `step` s (so e_after(...) transitions fire): `emit`, `raise`, `applyDeployment` and
+/// `applyConfiguration` are defined, every peer (a global named like a component) is a stub that
+/// says each call, and the chart's own helpers and cobra's charts (task_steps.lua) are found as a
+/// Supervisor finds them. `events`: "NAME" (sent at 0 s) or "NAME@SECONDS". Prints one line per
+/// state entered, event sent, event emitted and peer called, each with its time. Returns the exit
+/// status (1: a callback failed, named on stderr).
+/// @throws std::runtime_error on a bad --until, --step or --events.
+int runFsmUntil(const std::string& file, double until, double step, const std::string& events);
 /// Validates `file` and lists its states and transitions. Returns the exit status.
 int checkFsm(const std::string& file);
 /// Graphviz DOT of `chart`: composite states as nested clusters, connectors as points, edges

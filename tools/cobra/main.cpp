@@ -304,13 +304,20 @@ int main(int argc, char** argv) {
                       "         then: ls, cd TrajGen, set k 2, step 0.1, trace out 5, Reporter.count(), help");
 
   std::string fsm_file, fsm_events, fsm_output;
+  double fsm_until = 0.0, fsm_step = 0.01;
   CLI::App* fsm_cmd = app.add_subcommand("fsm", "rFSM charts: run, check or draw one");
   fsm_cmd->require_subcommand(1);
   CLI::App* fsm_run = fsm_cmd->add_subcommand("run", "run a chart until idle, then once per event, printing the active state");
   fsm_run->add_option("FILE", fsm_file, "rFSM chart (return rfsm.state{ ... })")->required()->check(CLI::ExistingFile);
-  fsm_run->add_option("--events", fsm_events, "events, whitespace-separated; - sends none");
+  fsm_run->add_option("--events", fsm_events,
+                      "events, whitespace-separated; - sends none; with --until, NAME@SECONDS sends at that time");
+  fsm_run->add_option("--until", fsm_until, "s: run a task chart on a simulated clock until then (e_after fires), "
+                                            "with stub peers and emit, printing states, events and calls");
+  fsm_run->add_option("--step", fsm_step, "s: the simulated clock's step with --until (default 0.01)");
   fsm_run->footer("example: cobra fsm run script/test/charts/fig32.lua --events \"e_start e_error - e_error_fixed\"\n"
-                  "prints one line with the active state's full path, then one per token");
+                  "prints one line with the active state's full path, then one per token\n"
+                  "example: cobra fsm run apps/puncturing/charts/needle_insertion.lua --until 30 "
+                  "--events \"e_deployed_needle_autonomous_planning@0.1 e_iceball_configured@1\"");
   CLI::App* fsm_check = fsm_cmd->add_subcommand("check", "validate a chart and list its states and transitions");
   fsm_check->add_option("FILE", fsm_file, "rFSM chart")->required()->check(CLI::ExistingFile);
   fsm_check->footer("example: cobra fsm check apps/door/door_task.lua   (exit status 2 on errors)");
@@ -363,7 +370,9 @@ int main(int argc, char** argv) {
     if (*graph_cmd) return runGraph(graph_file, graph_output);
     if (*describe_cmd) return runDescribe(describe_file, describe_output);
     if (*console_cmd) return runConsole(console_file, console_sim, console_strict);
-    if (*fsm_run) return tools::runFsm(fsm_file, fsm_events);
+    if (*fsm_run)
+      return fsm_until > 0.0 ? tools::runFsmUntil(fsm_file, fsm_until, fsm_step, fsm_events)
+                             : tools::runFsm(fsm_file, fsm_events);
     if (*fsm_check) return tools::checkFsm(fsm_file);
     if (*fsm_graph) return runFsmGraph(fsm_file, fsm_output);
     if (*new_component_cmd) {
