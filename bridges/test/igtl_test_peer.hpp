@@ -109,11 +109,12 @@ inline std::vector<std::uint8_t> receiveMessage(::igtl::Socket* socket, std::str
   ::igtl::MessageHeader::Pointer header = ::igtl::MessageHeader::New();
   header->InitPack();
   if (socket->Receive(header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return {};
+  // The wire bytes, before Unpack turns the header's fields to host byte order in place.
+  std::vector<std::uint8_t> bytes(static_cast<const std::uint8_t*>(header->GetPackPointer()),
+                                  static_cast<const std::uint8_t*>(header->GetPackPointer()) + header->GetPackSize());
   header->Unpack();
   type = header->GetDeviceType();
   device = header->GetDeviceName();
-  std::vector<std::uint8_t> bytes(static_cast<const std::uint8_t*>(header->GetPackPointer()),
-                                  static_cast<const std::uint8_t*>(header->GetPackPointer()) + header->GetPackSize());
   const std::size_t body = static_cast<std::size_t>(header->GetBodySizeToRead());
   bytes.resize(bytes.size() + body);
   if (body > 0 && socket->Receive(bytes.data() + header->GetPackSize(), static_cast<int>(body)) != static_cast<int>(body))
