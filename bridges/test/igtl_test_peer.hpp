@@ -12,6 +12,7 @@
 #include <igtlStringMessage.h>
 #include <igtlTransformMessage.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
