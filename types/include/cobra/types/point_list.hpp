@@ -11,6 +11,9 @@
 /// value, the "position" a KDL.Vector's Lua form). CSV: one text column (the text form; a list has
 /// no fixed number of numeric columns). Register it with `registerPointList()` (core registry, Lua,
 /// CSV) at start-up, as a package's entry point does: the cobra_bridges package does it.
+/// DDS (where the dds headers are, in a target that uses cobra::dds): the record
+/// `PointListWire` below, ROS 2 type `Geometry/msg/PointList`; a package that sends plans over DDS
+/// calls `cobra::dds::registerDdsType<cobra::types::PointList>()` beside registerPointList().
 
 #include <array>
 #include <cstddef>
@@ -87,3 +90,69 @@ struct cobra::core::DataTypeTraits<cobra::types::PointList> {
   static std::string print(const cobra::types::PointList& value);
   static bool parse(std::string_view text, cobra::types::PointList& out);
 };
+
+#if __has_include("cobra/dds/codec.hpp")
+#include <vector>
+
+#include "cobra/core/record.hpp"
+#include "cobra/dds/codec.hpp"
+
+namespace cobra::types {
+
+/// Geometry.PointList on DDS: `positions` x, y, z per point (m), then `labels`, one line per point,
+/// its name and group separated by a tab (a tab or newline inside one is sent as a space). A ROS 2
+/// node reads it with the IDL of `cobra::dds::idlOf<PointListWire>()` as Geometry/msg/PointList.idl.
+/// (The sequence comes first and the one string last: dds's record reader misaligns a 4-byte
+/// field that follows a string, see the report of this change.)
+struct PointListWire {
+  std::vector<double> positions;
+  std::string labels;
+};
+
+}  // namespace cobra::types
+
+template <>
+struct cobra::core::DataTypeTraits<cobra::types::PointListWire> : cobra::core::RecordTraits<cobra::types::PointListWire> {
+  static constexpr std::string_view name = "Geometry.PointList";  // the DDS type name: Geometry::msg::dds_::PointList_
+  static constexpr auto fields = std::tuple{
+      cobra::core::field("positions", &cobra::types::PointListWire::positions, "m", "x, y, z of each point, world"),
+      cobra::core::field("labels", &cobra::types::PointListWire::labels, "", "one line per point: name, a tab, group")};
+};
+
+/// The transport's threads convert (and allocate); never a component's update.
+template <>
+struct cobra::dds::DdsCodec<cobra::types::PointList> {
+  using Msg = cobra::types::PointListWire;
+  using PubSub = RecordPubSubType<Msg>;
+  static void toMsg(const cobra::types::PointList& value, Msg& msg) {
+    msg.positions.clear();
+    msg.labels.clear();
+    const auto put = [&](std::string_view text) {
+      for (const char c : text) msg.labels += c == '\n' || c == '\t' ? ' ' : c;
+    };
+    for (std::size_t k = 0; k < value.count; ++k) {
+      const auto& p = value.points[k];
+      msg.positions.insert(msg.positions.end(), {p.position.x(), p.position.y(), p.position.z()});
+      put(p.name.view());
+      msg.labels += '\t';
+      put(p.group.view());
+      msg.labels += '\n';
+    }
+  }
+  /// Points beyond the capacity, or beyond the labels or positions given, are left out.
+  static void fromMsg(const Msg& msg, cobra::types::PointList& value) {
+    value = cobra::types::PointList{};
+    std::string_view labels = msg.labels;
+    for (std::size_t k = 0; 3 * k + 2 < msg.positions.size() && !labels.empty(); ++k) {
+      const std::size_t end = labels.find('\n');
+      const std::string_view line = labels.substr(0, end);
+      labels = end == std::string_view::npos ? std::string_view{} : labels.substr(end + 1);
+      const std::size_t tab = line.find('\t');
+      const double* v = msg.positions.data() + 3 * k;
+      if (!value.add(line.substr(0, tab), tab == std::string_view::npos ? std::string_view{} : line.substr(tab + 1),
+                     KDL::Vector(v[0], v[1], v[2])))
+        break;
+    }
+  }
+};
+#endif
