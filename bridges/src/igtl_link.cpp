@@ -62,7 +62,12 @@ DropReason toDropReason(igtl::IgtlError error) noexcept {
   return DropReason::BadBody;
 }
 
-IgtlLink::IgtlLink(IgtlLinkOptions options) : options_(checked(options)), body_(options_.max_body) {
+IgtlLink::IgtlLink(IgtlLinkOptions options)
+    : options_(checked(options)),
+      image_bytes_(options_.image_devices.empty()
+                       ? 0
+                       : igtl::imageMessageSize(types::GrayImage::kMaxWidth, types::GrayImage::kMaxHeight)),
+      body_(options_.max_body) {
   if (options_.server) {
     listener_ = std::make_unique<TcpListener>(options_.host, options_.port);
     local_port_ = listener_->local().port();
@@ -70,8 +75,9 @@ IgtlLink::IgtlLink(IgtlLinkOptions options) : options_(checked(options)), body_(
     peer_ = resolve(options_.host, options_.port);
     local_port_ = options_.port;
   }
-  for (std::size_t i = 0; i < options_.image_streams; ++i)
-    images_.push_back(std::make_unique<core::TripleBuffer<IgtlEncodedImage>>(IgtlEncodedImage{}));
+  const auto blank = std::make_unique<IgtlImage>();  // 64 KiB: not on the stack
+  for (std::size_t i = 0; i < options_.image_devices.size(); ++i)
+    images_.push_back(std::make_unique<core::TripleBuffer<IgtlImage>>(*blank));
 }
 
 IgtlLink::~IgtlLink() { stop(); }
@@ -164,10 +170,20 @@ bool IgtlLink::send(int fd) noexcept {
       return false;
     sent_.fetch_add(1);
   }
-  for (auto& image : images_) {
-    if (!image->update() || image->front().size == 0) continue;
-    const IgtlEncodedImage& e = image->front();
-    if (sendAll(fd, std::span<const std::uint8_t>(e.bytes.data(), e.size), kSendTimeoutMs) != IoResult::Done)
+  for (std::size_t i = 0; i < images_.size(); ++i) {
+    if (!images_[i]->update()) continue;
+    const IgtlImage& taken = images_[i]->front();
+    const types::GrayImage& g = taken.image;
+    igtl::ImageView view;
+    view.width = g.width;
+    view.height = g.height;
+    view.spacing_x = g.spacing_x;
+    view.spacing_y = g.spacing_y;
+    view.corner = toIgtlTransform(g.pose);
+    view.pixels = g.pixels.data();
+    const std::size_t size = g.valid() ? igtl::encodeImage(options_.image_devices[i], view, taken.timestamp, image_bytes_) : 0;
+    if (size == 0) continue;  // an empty or invalid image: nothing to send
+    if (sendAll(fd, std::span<const std::uint8_t>(image_bytes_.data(), size), kSendTimeoutMs) != IoResult::Done)
       return false;
     sent_.fetch_add(1);
   }

@@ -62,19 +62,11 @@ std::vector<Entry> splitMapping(std::string_view property, std::string_view text
   return entries;
 }
 
-// A message's 3x4 matrix as a KDL frame, and back.
+// A message's 3x4 matrix as a KDL frame (toIgtlTransform is the way back).
 KDL::Frame toFrame(const igtl::Transform& t) {
   const auto& m = t.matrix;
   return KDL::Frame(KDL::Rotation(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]),
                     KDL::Vector(m[0][3], m[1][3], m[2][3]));
-}
-igtl::Transform toTransform(const KDL::Frame& f) {
-  igtl::Transform t;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) t.matrix[r][c] = f.M(r, c);
-    t.matrix[r][3] = f.p(r);
-  }
-  return t;
 }
 
 constexpr const char* kMappingForm = "DEVICE=port (a device name of 1 to 20 printable characters, a port name of "
@@ -88,7 +80,6 @@ IgtlBridge::IgtlBridge(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "OpenIGTLink bridge to a navigation program (3D Slicer, PLUS): transforms, plans, requests, "
                 "images, task state"),
-      image_(std::make_unique<types::GrayImage>()),
       scratch_(std::make_unique<igtl::Message>()) {
   addPort(plan_);
   addPort(task_state_);
@@ -181,7 +172,7 @@ bool IgtlBridge::configureHook() {
     options.port = static_cast<std::uint16_t>(port_());
     options.max_body = static_cast<std::size_t>(max_message_bytes_()) - igtl::kHeaderSize;
     options.peer_timeout = peer_timeout_();
-    options.image_streams = image_ports_.size();
+    for (const Image& image : image_ports_) options.image_devices.push_back(image.device);
     link_ = std::make_unique<IgtlLink>(options);
   } catch (const std::exception& e) {
     removeMappedPorts();
@@ -261,22 +252,15 @@ void IgtlBridge::sendPeriodic(std::uint64_t stamp) noexcept {
   for (auto& s : send_) {
     KDL::Frame pose;
     if (s.port->read(pose) == core::FlowStatus::NoData) continue;
-    out.size = static_cast<std::uint32_t>(igtl::encodeTransform(s.device, toTransform(pose), stamp, out.bytes));
+    out.size = static_cast<std::uint32_t>(igtl::encodeTransform(s.device, toIgtlTransform(pose), stamp, out.bytes));
     queue(out);
   }
   for (std::size_t i = 0; i < image_ports_.size(); ++i) {
-    Image& image = image_ports_[i];
-    // Only an image not sent yet (64 KiB copied once per send period at most).
-    if (image.port->readNew(*image_) != core::FlowStatus::NewData || !image_->valid()) continue;
-    igtl::ImageView view;
-    view.width = image_->width;
-    view.height = image_->height;
-    view.spacing_x = image_->spacing_x;
-    view.spacing_y = image_->spacing_y;
-    view.corner = toTransform(image_->pose);
-    view.pixels = image_->pixels.data();
-    IgtlEncodedImage& encoded = link_->image(i).back();
-    encoded.size = igtl::encodeImage(image.device, view, stamp, encoded.bytes);
+    // Only an image not sent yet, read straight into the link's buffer (64 KiB copied once per
+    // send period at most); the link thread encodes it.
+    IgtlImage& slot = link_->image(i).back();
+    if (image_ports_[i].port->readNew(slot.image) != core::FlowStatus::NewData) continue;
+    slot.timestamp = stamp;
     link_->image(i).publish();
   }
 }

@@ -4,8 +4,9 @@
 /// a server (3D Slicer's OpenIGTLinkIF connector or PLUS connects to it) or as a client. All socket
 /// I/O happens on its thread; the owner exchanges with it without locks: decoded messages come
 /// out of `received` (a core::SpscRing), encoded small messages go in through `outgoing` (another
-/// ring), and each image stream through a core::TripleBuffer of one encoded IMAGE message (only
-/// the newest image matters). It is built into the components library (it uses core's ring).
+/// ring), and each image stream through a core::TripleBuffer of one image (only the newest image
+/// matters), which this thread encodes: the IMAGE's CRC over up to 64 KiB is not the update's
+/// cost. It is built into the components library (it uses core's ring and types::GrayImage).
 ///
 /// Framing: a header (58 bytes) whose version or names are not valid loses the message
 /// boundaries, so the connection is closed (counted as bad_header) and the next one is served; a
@@ -23,10 +24,13 @@
 #include <thread>
 #include <vector>
 
+#include <kdl/frames.hpp>
+
 #include "cobra/bridges/igtl_codec.hpp"
 #include "cobra/bridges/socket.hpp"
 #include "cobra/core/spsc_ring.hpp"
 #include "cobra/core/triple_buffer.hpp"
+#include "cobra/types/gray_image.hpp"
 
 namespace cobra::bridges {
 
@@ -37,7 +41,7 @@ struct IgtlLinkOptions {
   std::size_t max_body = 1 << 20; ///< bytes: bodies above are skipped and counted as oversized
   double peer_timeout = 0.0;      ///< s: a peer silent this long is dropped; 0: never
   double reconnect_period = 0.1;  ///< s, client: wait between connection attempts
-  std::size_t image_streams = 0;  ///< number of image triple buffers (one per image device)
+  std::vector<std::string> image_devices;  ///< one image stream (triple buffer) per device name
 };
 
 /// Why the link (or its owner) dropped a message: the codec's reasons, then the link's and the
@@ -65,10 +69,20 @@ struct IgtlOutMessage {
   std::array<std::uint8_t, igtl::kHeaderSize + 40 + igtl::kMaxText> bytes{};
 };
 
-/// One encoded IMAGE message of at most 256 x 256 pixels (types::GrayImage's limit).
-struct IgtlEncodedImage {
-  std::size_t size = 0;  ///< bytes; 0: nothing to send
-  std::array<std::uint8_t, igtl::imageMessageSize(256, 256)> bytes{};
+/// A KDL frame (m) as the codec's 3x4 matrix (m).
+inline igtl::Transform toIgtlTransform(const KDL::Frame& f) noexcept {
+  igtl::Transform t;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) t.matrix[r][c] = f.M(r, c);
+    t.matrix[r][3] = f.p(r);
+  }
+  return t;
+}
+
+/// One image on its way to the link, with the wire timestamp of the update that took it.
+struct IgtlImage {
+  types::GrayImage image;
+  std::uint64_t timestamp = 0;
 };
 
 class IgtlLink {
@@ -89,8 +103,8 @@ class IgtlLink {
 
   core::SpscRing<igtl::Message> received{kQueue};  ///< link thread -> owner
   core::SpscRing<IgtlOutMessage> outgoing{kQueue}; ///< owner -> link thread
-  /// Owner fills back(), then publish(); the link sends each published image once.
-  core::TripleBuffer<IgtlEncodedImage>& image(std::size_t stream) { return *images_[stream]; }
+  /// Owner fills back(), then publish(); the link encodes and sends each published image once.
+  core::TripleBuffer<IgtlImage>& image(std::size_t stream) { return *images_[stream]; }
 
   std::uint64_t receivedCount() const noexcept { return received_.load(); }  ///< decoded messages
   std::uint64_t sentCount() const noexcept { return sent_.load(); }          ///< messages written to a peer
@@ -114,7 +128,8 @@ class IgtlLink {
   std::unique_ptr<TcpListener> listener_;
   Endpoint peer_;
   std::uint16_t local_port_ = 0;
-  std::vector<std::unique_ptr<core::TripleBuffer<IgtlEncodedImage>>> images_;
+  std::vector<std::unique_ptr<core::TripleBuffer<IgtlImage>>> images_;
+  std::vector<std::uint8_t> image_bytes_;  // one encoded IMAGE of the largest size, allocated once
   // receive state (link thread only)
   Stage stage_ = Stage::Header;
   std::array<std::uint8_t, igtl::kHeaderSize> header_bytes_{};

@@ -100,7 +100,6 @@ class IgtlBridge : public core::Component {
   std::vector<Request> requests_map_;
   std::vector<Image> image_ports_;
   std::unique_ptr<IgtlLink> link_;
-  std::unique_ptr<types::GrayImage> image_;  // the image being encoded (64 KiB: not on the stack)
   std::unique_ptr<igtl::Message> scratch_;   // the received message being dispatched
   std::int64_t next_send_ns_ = 0;
   std::uint64_t seen_connections_ = 0, seen_losses_ = 0, seen_link_drops_ = 0;
