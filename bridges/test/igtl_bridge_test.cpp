@@ -283,6 +283,20 @@ TEST(IgtlBridge, SendsTheTaskStateAsStatusOnChangeAndEventsAsStrings) {
   EXPECT_STREQ(event->GetString(), "e_skin_punctured");
 }
 
+TEST(IgtlBridge, ANewPeerGetsTheCurrentTaskStateAtOnce) {
+  Rig rig;
+  rig.up();
+  rig.task.write(core::TaskState{"root.navigating"});  // no peer yet: sent to no one
+  rig.clock.advance(1ms);
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  std::string device;
+  auto status = test::unpack<::igtl::StatusMessage>(peer.next("STATUS", &device));
+  ASSERT_TRUE(status);
+  EXPECT_EQ(device, "TaskState");
+  EXPECT_STREQ(status->GetStatusString(), "root.navigating");
+}
+
 TEST(IgtlBridge, SendsAnImageWithItsSizeSpacingAndMatrix) {
   Rig rig;
   rig.up();

@@ -265,9 +265,10 @@ void IgtlBridge::sendPeriodic(std::uint64_t stamp) noexcept {
   }
 }
 
-void IgtlBridge::reportLink() noexcept {
+bool IgtlBridge::reportLink() noexcept {
   // Connection k comes before loss k: emit them in that order.
   const std::uint64_t connections = link_->connections(), losses = link_->losses();
+  bool connected = false;
   while (seen_connections_ < connections || seen_losses_ < losses) {
     if (seen_losses_ < seen_connections_ && seen_losses_ < losses) {
       ++seen_losses_;
@@ -275,10 +276,15 @@ void IgtlBridge::reportLink() noexcept {
     } else if (seen_connections_ < connections) {
       ++seen_connections_;
       emitEvent("e_igtl_connected");
+      connected = true;
     } else {
       break;
     }
   }
+  return connected && seen_losses_ == seen_connections_ - 1;  // and that peer is still there
+}
+
+void IgtlBridge::updateCounters() noexcept {
   const std::uint64_t link_drops = link_->droppedCount();
   if (link_drops != seen_link_drops_) {
     seen_link_drops_ = link_drops;
@@ -293,13 +299,19 @@ void IgtlBridge::updateHook() {
   igtl::Message& message = *scratch_;
   for (std::size_t n = 0; n < IgtlLink::kQueue && link_->received.pop(message); ++n) dispatch(message);
 
+  // A new peer gets the task state at once (what was queued before it connected was discarded).
+  const bool new_peer = reportLink();
   const std::uint64_t stamp = igtl::wireTimestamp(static_cast<std::uint64_t>(now().count()));
   IgtlOutMessage out;
   core::TaskState state;
-  if (task_state_.readNew(state) == core::FlowStatus::NewData && (!have_state_ || !(state == last_state_))) {
+  const bool changed =
+      task_state_.readNew(state) == core::FlowStatus::NewData && (!have_state_ || !(state == last_state_));
+  if (changed) {
     last_state_ = state;
     have_state_ = true;
-    out.size = static_cast<std::uint32_t>(igtl::encodeStatus("TaskState", 1, 0, "", state.path.view(), stamp, out.bytes));
+  }
+  if (changed || (new_peer && have_state_)) {
+    out.size = static_cast<std::uint32_t>(igtl::encodeStatus("TaskState", 1, 0, "", last_state_.path.view(), stamp, out.bytes));
     queue(out);
   }
   core::Event event;
@@ -314,7 +326,7 @@ void IgtlBridge::updateHook() {
     next_send_ns_ += period;
     if (next_send_ns_ <= t) next_send_ns_ = t + period;  // no burst after a stall
   }
-  reportLink();
+  updateCounters();
 }
 
 }  // namespace cobra::bridges

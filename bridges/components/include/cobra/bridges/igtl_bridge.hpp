@@ -12,8 +12,8 @@
 ///                      is a key -> that event
 ///   images             "USImage=usImage"                        Imaging.GrayImage in-ports -> IMAGE, each
 ///                      new image at most once per send_period
-/// and always: in-port `taskState` (a change -> STATUS of device "TaskState", the path as status
-/// string), event in-port `inputEvents` (each event -> STRING of device "Event", its name; not
+/// and always: in-port `taskState` (a change, and each new peer -> STATUS of device "TaskState",
+/// the path as status string), event in-port `inputEvents` (each event -> STRING of device "Event", its name; not
 /// `events`, which is every component's own out-port).
 ///
 /// Anything else received (an unmapped device, a request text that is no key, a bad CRC, garbage, an
@@ -73,7 +73,8 @@ class IgtlBridge : public core::Component {
   void queue(const IgtlOutMessage& message) noexcept;
   void drop(DropReason reason) noexcept;
   void sendPeriodic(std::uint64_t stamp) noexcept;
-  void reportLink() noexcept;
+  bool reportLink() noexcept;  // emits the link's events; true when a peer connected (and is still there)
+  void updateCounters() noexcept;
 
   core::OutputPort<types::PointList> plan_{"plan", "the plan's points (POINT messages of plan_device), world", "m"};
   core::InputPort<core::TaskState> task_state_{"taskState", "the task chart's state, sent as STATUS on change", ""};
