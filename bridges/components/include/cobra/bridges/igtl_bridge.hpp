@@ -77,7 +77,7 @@ class IgtlBridge : public core::Component {
   void updateCounters() noexcept;
 
   core::OutputPort<types::PointList> plan_{"plan", "the plan's points (POINT messages of plan_device), world", "m"};
-  core::InputPort<core::TaskState> task_state_{"taskState", "the task chart's state, sent as STATUS on change", ""};
+  core::InputPort<core::TaskState> task_state_{"taskState", "the task chart's state, sent as STATUS on change and to each new peer", ""};
   core::InputPort<core::Event> input_events_{"inputEvents", "events sent as STRING messages of device \"Event\"", ""};
 
   core::Property<std::string> role_{"role", "server", "", "\"server\" (the navigation program connects) or \"client\""};
