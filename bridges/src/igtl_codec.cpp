@@ -169,7 +169,7 @@ IgtlError decodeHeader(std::span<const std::uint8_t> bytes, Header& out) noexcep
   const std::uint8_t* p = bytes.data();
   out.version = static_cast<std::uint16_t>(readBig(p, 2));
   std::string_view type, device;
-  if (out.version != kHeaderVersion || !readName(p + 2, kTypeSize, type) || type.empty() ||
+  if ((out.version != kHeaderVersion && out.version != kHeaderVersion2) || !readName(p + 2, kTypeSize, type) || type.empty() ||
       !readName(p + 14, kDeviceSize, device))
     return IgtlError::BadHeader;
   out.type.assign(type);
@@ -183,6 +183,15 @@ IgtlError decodeHeader(std::span<const std::uint8_t> bytes, Header& out) noexcep
 IgtlError decodeBody(const Header& header, std::span<const std::uint8_t> body, Message& out) noexcept {
   if (body.size() != header.body_size) return IgtlError::Truncated;
   if (crc64(body) != header.crc) return IgtlError::BadCrc;
+  if (header.version == kHeaderVersion2) {
+    // Extended header: u16 its size (>= 12), u16 metadata header size, u32 metadata size, u32
+    // message id; then the content; then the metadata header and the metadata, skipped.
+    if (body.size() < kExtendedHeaderSize) return IgtlError::BadBody;
+    const std::uint64_t extended = readBig(body.data(), 2);
+    const std::uint64_t metadata = readBig(body.data() + 2, 2) + readBig(body.data() + 4, 4);
+    if (extended < kExtendedHeaderSize || extended + metadata > body.size()) return IgtlError::BadBody;
+    body = body.subspan(static_cast<std::size_t>(extended), static_cast<std::size_t>(body.size() - extended - metadata));
+  }
   out.device = header.device;
   out.timestamp = header.timestamp;
   const std::string_view type = header.type.view();

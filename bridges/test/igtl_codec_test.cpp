@@ -180,6 +180,44 @@ TEST(IgtlCodec, EncodersRefuseTooSmallBuffersAndBadArguments) {
   EXPECT_EQ(encodeImage("X", empty, 0, bytes), 0U);
 }
 
+// A version 2 message (OpenIGTLink protocol 3) made of a version 1 one: the extended header
+// before its content, `metadata` bytes after it, the sizes and the CRC made right.
+std::vector<std::uint8_t> version2(std::vector<std::uint8_t> v1, std::uint16_t extended, std::uint16_t metadata_header,
+                                   std::uint32_t metadata) {
+  std::vector<std::uint8_t> out(v1.begin(), v1.begin() + kHeaderSize);
+  out[1] = 2;
+  const std::uint8_t ext[12] = {static_cast<std::uint8_t>(extended >> 8), static_cast<std::uint8_t>(extended),
+                                static_cast<std::uint8_t>(metadata_header >> 8), static_cast<std::uint8_t>(metadata_header),
+                                static_cast<std::uint8_t>(metadata >> 24), static_cast<std::uint8_t>(metadata >> 16),
+                                static_cast<std::uint8_t>(metadata >> 8), static_cast<std::uint8_t>(metadata),
+                                0, 0, 0, 42};
+  out.insert(out.end(), ext, ext + 12);
+  out.insert(out.end(), v1.begin() + kHeaderSize, v1.end());
+  out.resize(out.size() + metadata_header + metadata, 0x5A);  // the metadata, skipped
+  const std::uint64_t body = out.size() - kHeaderSize;
+  const std::uint64_t crc = crc64(std::span<const std::uint8_t>(out).subspan(kHeaderSize));
+  for (int i = 0; i < 8; ++i) {
+    out[42 + i] = static_cast<std::uint8_t>(body >> (56 - 8 * i));
+    out[50 + i] = static_cast<std::uint8_t>(crc >> (56 - 8 * i));
+  }
+  return out;
+}
+
+TEST(IgtlCodec, ReadsVersion2MessagesSkippingTheExtendedHeaderAndMetadata) {
+  Message m;
+  ASSERT_EQ(decodeAll(version2(test::stringBytes("Request", "START"), 12, 10, 24), m), IgtlError::Ok);
+  EXPECT_EQ(m.text.view(), "START");
+  ASSERT_EQ(decodeAll(version2(test::transformBytes("Registration", 0.0F, 1, 2, 3), 12, 0, 0), m), IgtlError::Ok);
+  EXPECT_NEAR(m.transform.matrix[2][3], 0.003, 1e-12);
+  // Sizes that do not fit the body.
+  EXPECT_EQ(decodeAll(version2(test::stringBytes("Request", "START"), 8, 0, 0), m), IgtlError::BadBody);
+  auto bytes = version2(test::stringBytes("Request", "START"), 12, 0, 0);
+  bytes[kHeaderSize + 7] = 200;  // metadata of 200 bytes in a body of 21
+  const std::uint64_t crc = crc64(std::span<const std::uint8_t>(bytes).subspan(kHeaderSize));
+  for (int i = 0; i < 8; ++i) bytes[50 + i] = static_cast<std::uint8_t>(crc >> (56 - 8 * i));
+  EXPECT_EQ(decodeAll(bytes, m), IgtlError::BadBody);
+}
+
 TEST(IgtlCodec, ABadCrcIsRejected) {
   auto bytes = test::transformBytes("Registration", 0.0F, 1, 2, 3);
   bytes[kHeaderSize + 5] ^= 0x40;
@@ -208,7 +246,7 @@ TEST(IgtlCodec, AnUnknownTypeIsRejected) {
 
 TEST(IgtlCodec, ABadHeaderIsRejected) {
   auto bytes = test::stringBytes("Request", "START");
-  bytes[1] = 9;  // version 9
+  bytes[1] = 3;  // version 3
   Message m;
   EXPECT_EQ(decodeAll(bytes, m), IgtlError::BadHeader);
   bytes = test::stringBytes("Request", "START");

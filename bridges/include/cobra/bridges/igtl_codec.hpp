@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// OpenIGTLink (protocol version 1 headers, as libOpenIGTLink 1.x and 3D Slicer / PLUS send them)
-/// as fixed-size records: decode TRANSFORM, POINT, STRING and STATUS messages; encode TRANSFORM,
+/// OpenIGTLink as fixed-size records (header version 1, as libOpenIGTLink 1.x sends and every
+/// receiver reads; version 2, of protocol 3, is read too: its extended header and metadata are
+/// skipped): decode TRANSFORM, POINT, STRING and STATUS messages; encode TRANSFORM,
 /// STATUS, STRING and IMAGE. No cobra::core, no I/O, no heap, no exception: the decoder takes any
 /// bytes (it is fuzzed, fuzz/igtl_message_fuzz.cpp) and says what is wrong by an `IgtlError`.
 ///
@@ -22,7 +23,9 @@ namespace cobra::bridges::igtl {
 inline constexpr std::size_t kHeaderSize = 58;       ///< bytes of a message header
 inline constexpr std::size_t kTypeSize = 12;         ///< bytes of the type name field
 inline constexpr std::size_t kDeviceSize = 20;       ///< bytes of the device name field
-inline constexpr std::uint16_t kHeaderVersion = 1;   ///< the only header version accepted
+inline constexpr std::uint16_t kHeaderVersion = 1;   ///< the header version sent
+inline constexpr std::uint16_t kHeaderVersion2 = 2;  ///< read too: the body starts with an extended header
+inline constexpr std::size_t kExtendedHeaderSize = 12;  ///< bytes of a version 2 extended header, at least
 inline constexpr std::size_t kMaxPoints = 32;        ///< POINT elements kept (types::PointList's capacity)
 inline constexpr std::size_t kMaxText = 255;         ///< characters of a STRING / STATUS text kept
 inline constexpr std::size_t kPointElementSize = 136;  ///< bytes of one POINT element
@@ -32,11 +35,12 @@ inline constexpr std::size_t kImageHeaderSize = 72;    ///< bytes of the IMAGE b
 enum class IgtlError : std::uint8_t {
   Ok,
   Truncated,    ///< fewer bytes than the header or its body_size says
-  BadHeader,    ///< version not 1, or a type / device name that is not NUL-padded printable ASCII
+  BadHeader,    ///< version not 1 or 2, or a type / device name that is not NUL-padded printable ASCII
   Oversized,    ///< body_size above the receiver's limit
   BadCrc,       ///< the body's CRC-64 differs from the header's
   UnknownType,  ///< a type this codec does not decode (IMAGE, POSITION, ...)
-  BadBody,      ///< a body whose size or contents do not fit its type (a NaN, a partial element)
+  BadBody,      ///< a body whose size or contents do not fit its type (a NaN, a partial element), or
+                ///< a version 2 extended header whose sizes do not fit the body
 };
 std::string_view reasonName(IgtlError error) noexcept;
 
