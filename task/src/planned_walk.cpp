@@ -1,0 +1,92 @@
+#include "cobra/task/planned_walk.hpp"
+
+#include <stdexcept>
+
+namespace cobra::task {
+namespace {
+
+planning::DualPose dual(const PosePair& pair) { return {pair[0], pair[1]}; }
+
+std::string reason(const planning::PlanResult& result) {
+  return std::string(planning::toString(result.status)) + ": " + result.message;
+}
+
+}  // namespace
+
+PlannerStepVerifier::PlannerStepVerifier(std::array<planning::MotionPlanner*, 2> planners,
+                                         planning::StateValidator& validator, planning::JointState start)
+    : planners_(planners), validator_(validator), joints_(std::move(start)) {
+  if (planners_[0] == nullptr || planners_[1] == nullptr)
+    throw std::invalid_argument("PlannerStepVerifier: a planner per arm is needed");
+  if (joints_.size() != validator_.jointCount())
+    throw std::invalid_argument("PlannerStepVerifier: the start has " + std::to_string(joints_.size()) +
+                                " joints; the scene's robots have " + std::to_string(validator_.jointCount()));
+}
+
+StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<const GoalCandidate> candidates) {
+  planning::MotionPlanner& planner = *planners_[step.arm];
+  StepOutcome outcome;
+  std::string refused;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const GoalCandidate& c = candidates[k];
+    const planning::DualPose goal = dual(c.goal);
+    planning::PlanResult result;
+    result.status = planning::PlanStatus::Solved;
+    // As the MotionPlanner component: the goal and room checks first when there is a choice or a
+    // room to leave, then the search, then the motion primitive that follows.
+    if (candidates.size() > 1 || !c.rooms.empty()) {
+      result = planner.checkGoal(joints_, goal);
+      for (std::size_t r = 0; r < c.rooms.size() && result.solved(); ++r)
+        result = planner.checkMotion(joints_, dual(c.rooms[r].first), dual(c.rooms[r].second));
+    }
+    if (result.solved()) {
+      result = planner.planPath(joints_, goal);
+      checks_ += result.validity_checks;
+      if (!result.solved()) {
+        // The component explores with the next seed after a failed search: so does the walk.
+        const std::uint32_t seed = planner.options().seed;
+        planner.setSeed(seed == UINT32_MAX ? 1 : seed + 1);
+      } else if (c.has_then) {
+        const planning::PlanResult next =
+            planner.checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), dual(c.then));
+        if (!next.solved()) result = next;
+      }
+    }
+    if (result.solved()) {
+      outcome.ok = true;
+      outcome.chosen = k;
+      outcome.reached = c.goal;
+      joints_ = result.joint_waypoints.back();
+      return outcome;
+    }
+    if (candidates.size() == 1) {
+      outcome.why = reason(result);
+      return outcome;
+    }
+    refused += std::string(refused.empty() ? "" : "; ") + c.datum + ": " + reason(result);
+  }
+  outcome.why = "none of the " + std::to_string(candidates.size()) + " goal alternatives can be taken: " + refused;
+  return outcome;
+}
+
+StepOutcome PlannerStepVerifier::straight(const ProcedureStep& step, const PosePair& from, const PosePair& to) {
+  planning::MotionPlanner& planner = *planners_[step.arm];
+  StepOutcome outcome;
+  const planning::PlanResult result = planner.checkFollowOn(joints_, dual(from), dual(to));
+  if (!result.solved()) {
+    outcome.why = reason(result);
+    return outcome;
+  }
+  planning::JointState next(joints_.size());
+  std::size_t robot = 0;
+  if (validator_.inverseNear(dual(to), joints_, next, robot) != planning::Reachability::Reachable) {
+    outcome.why = "robot '" + validator_.scene().robots[robot].name + "' cannot reach the motion's end";
+    return outcome;
+  }
+  joints_ = std::move(next);
+  outcome.ok = true;
+  outcome.reached = to;
+  return outcome;
+}
+
+}  // namespace cobra::task
