@@ -11,6 +11,10 @@ dofile(here .. "controller.lua") {
   max_vel = 0.04,  -- m/s per axis: the needle moves slowly near the patient
   max_ang_vel = 0.15,  -- rad/s: turning the needle about its tip moves the delta's platform, ~0.37 m
                       -- up the arm, at 0.37 m/rad; its sliders run at 0.1 m/s
+  -- Its planner verifies the whole procedure before the first motion (chart: VerifyingProcedure);
+  -- the probe's steps at the probe's trajectory generator's speeds (probe_robot.lua's max_vel).
+  planner_type = "PuncturingMotionPlanner",
+  verifies_procedure = { probe_max_vel = 0.08 },  -- m/s per axis
   event_sources = { "NeedleMonitor", "Cryo" },  -- Cryo: the console's e_cryo_done
   chart_peers = { "NeedleMonitor" },  -- the chart re-arms its skin detection for each new needle
   connections = {

@@ -165,6 +165,17 @@ bool MotionPlannerComponent::measuredJoints() {
   return true;
 }
 
+bool MotionPlannerComponent::latestJoints(planning::JointState& q, std::string& why) {
+  have_isur_joints_ = have_isur_joints_ || isur_joints_.read(isur_q_) != core::FlowStatus::NoData;
+  have_ur5_joints_ = have_ur5_joints_ || ur5_joints_.read(ur5_q_) != core::FlowStatus::NoData;
+  if (!validator_ || !measuredJoints()) {
+    why = validator_ ? "ports isurMeasJoints/UR5MeasJoints: " + expectedJoints() : "not configured";
+    return false;
+  }
+  q = joints_;
+  return true;
+}
+
 std::string MotionPlannerComponent::expectedJoints() const {
   const planning::SceneDescription& scene = validator_->scene();
   std::string expected, got;
