@@ -7,6 +7,14 @@ namespace {
 
 planning::DualPose dual(const PosePair& pair) { return {pair[0], pair[1]}; }
 
+/// The pose at fraction s of a straight motion as the trajectory generator makes it: the origin on
+/// the line, the rotation on the geodesic.
+KDL::Frame along(const KDL::Frame& a, const KDL::Frame& b, double s) {
+  KDL::Vector axis;
+  const double angle = (a.M.Inverse() * b.M).GetRotAngle(axis);
+  return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
+}
+
 std::string reason(const planning::PlanResult& result) {
   return std::string(planning::toString(result.status)) + ": " + result.message;
 }
@@ -56,6 +64,7 @@ StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<co
       outcome.ok = true;
       outcome.chosen = k;
       outcome.reached = c.goal;
+      paths_.push_back({step, joints_, goal, result});
       joints_ = result.joint_waypoints.back();
       return outcome;
     }
@@ -77,13 +86,21 @@ StepOutcome PlannerStepVerifier::straight(const ProcedureStep& step, const PoseP
     outcome.why = reason(result);
     return outcome;
   }
-  planning::JointState next(joints_.size());
-  std::size_t robot = 0;
-  if (validator_.inverseNear(dual(to), joints_, next, robot) != planning::Reachability::Reachable) {
-    outcome.why = "robot '" + validator_.scene().robots[robot].name + "' cannot reach the motion's end";
-    return outcome;
+  // Where the joints end: the continuity-keeping IK followed along the motion, as the robots
+  // follow it (one jump to the end could resolve a redundant robot's redundancy otherwise).
+  const std::size_t steps = planner.options().verify_points_per_segment;
+  planning::JointState q = joints_, next(joints_.size());
+  for (std::size_t k = 1; k <= steps; ++k) {
+    const double s = static_cast<double>(k) / static_cast<double>(steps);
+    std::size_t robot = 0;
+    if (validator_.inverseNear({along(from[0], to[0], s), along(from[1], to[1], s)}, q, next, robot) !=
+        planning::Reachability::Reachable) {
+      outcome.why = "robot '" + validator_.scene().robots[robot].name + "' loses its IK along the motion";
+      return outcome;
+    }
+    q.swap(next);
   }
-  joints_ = std::move(next);
+  joints_ = std::move(q);
   outcome.ok = true;
   outcome.reached = to;
   return outcome;

@@ -1,5 +1,6 @@
 #include "cobra/components/puncturing/procedure_planner.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
@@ -53,6 +54,46 @@ void PuncturingMotionPlanner::updateHook() {
   if (verify_request_.take()) verify();
 }
 
+bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
+                                        const planning::DualPose& goal, planning::PlanResult& result) {
+  if (paths_.empty()) return false;
+  // The needle robot's joints decide (the UR5 holds its probe where the skin pushed it, a few mm
+  // from where the walk put it): the verified path is taken with the UR5 where it really is.
+  planning::StateValidator& scene = *validator();
+  std::size_t isur = scene.scene().robots.size();
+  for (std::size_t r = 0; r < scene.scene().robots.size(); ++r)
+    if (scene.scene().robots[r].name == "isur") isur = r;
+  const task::CheckedPath& next = paths_.front();
+  if (isur == scene.scene().robots.size() || next.start.size() != start.size()) return false;
+  const std::size_t from = scene.jointOffset(isur), to = from + scene.model(isur).jointCount();
+  for (std::size_t j = from; j < to; ++j)
+    if (std::abs(start[j] - next.start[j]) > kReuseTolerance) return false;  // elsewhere: not the walk's query
+  if (!KDL::Equal(next.goal.first, goal.first, kReuseTolerance)) {
+    // Another goal alternative than the walk took from here: the run takes the walk's, whose way
+    // was verified (a search may find a way to this one that was not).
+    result = planning::PlanResult{};
+    result.status = planning::PlanStatus::NoSolution;
+    result.message = "not the goal alternative the procedure's verification took from here";
+    return true;
+  }
+  // The verified path of the needle, from where it is, the UR5 held where it is: each waypoint
+  // checked again in that state.
+  planning::PlanResult reused = next.result;
+  reused.waypoints.front() = start_poses;
+  reused.waypoints.back().first = goal.first;
+  for (std::size_t k = 0; k < reused.waypoints.size(); ++k) {
+    reused.waypoints[k].second = start_poses.second;
+    planning::JointState& q = reused.joint_waypoints[k];
+    for (std::size_t j = 0; j < q.size(); ++j)
+      if (j < from || j >= to || k == 0) q[j] = start[j];
+    if (!scene.checkJoints(q).valid()) return false;
+  }
+  reused.message = "the path verified with the procedure (" + reused.message + ")";
+  result = std::move(reused);
+  paths_.erase(paths_.begin());
+  return true;
+}
+
 void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
   last_refusal_ = line;
   last_verification_ = "refused: " + line;
@@ -83,6 +124,9 @@ void PuncturingMotionPlanner::verify() {
                           {tools.first, tools.second}, datums, verifier);
   if (!verdict.ok) return refuseProcedure(verdict.refusal.line_text(table_file_()));
   last_refusal_.clear();
+  paths_.clear();
+  for (const task::CheckedPath& path : verifier.paths())
+    if (path.step.arm == 0) paths_.push_back(path);  // this planner's (the probe's plans are its own)
   last_verification_ = "verified: " + std::to_string(steps.size()) + " motions of " +
                        std::to_string(plan_->needles.size()) + " needles, " +
                        std::to_string(verifier.validityChecks()) + " validity checks";

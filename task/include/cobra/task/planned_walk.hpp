@@ -18,6 +18,14 @@
 
 namespace cobra::task {
 
+/// A planned step's path as the walk found it: from the joints `start` to the goal it took.
+struct CheckedPath {
+  ProcedureStep step;
+  planning::JointState start;
+  planning::DualPose goal;
+  planning::PlanResult result;  ///< solved: waypoints and joint_waypoints from start to goal
+};
+
 class PlannerStepVerifier final : public StepVerifier {
  public:
   /// `planners[a]`: the planner arm a's chart plans with (the run's options and seed), both over
@@ -33,12 +41,17 @@ class PlannerStepVerifier final : public StepVerifier {
   const planning::JointState& joints() const { return joints_; }
   /// The validity checks the searches of the walk took (the planners' unit of work).
   std::size_t validityChecks() const { return checks_; }
+  /// The path of every planned step that passed, in the walk's order: what the run can follow
+  /// instead of searching again from nearly the same joints (a search from other joints may take
+  /// another way, which was not verified).
+  const std::vector<CheckedPath>& paths() const { return paths_; }
 
  private:
   std::array<planning::MotionPlanner*, 2> planners_;
   planning::StateValidator& validator_;
   planning::JointState joints_;
   std::size_t checks_ = 0;
+  std::vector<CheckedPath> paths_;
 };
 
 }  // namespace cobra::task

@@ -14,6 +14,7 @@
 #include "cobra/components/planning/motion_planner_component.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
+#include "cobra/task/planned_walk.hpp"
 
 namespace cobra::components {
 
@@ -33,14 +34,25 @@ namespace cobra::components {
 ///   the last one found: steps, validity checks);
 /// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr).
 ///
+/// After a verified procedure, a plan asked from (nearly) the joints where the walk started a
+/// needle step, to (nearly) the goal it took (kReuseTolerance), follows the path the walk verified
+/// (from the measured poses) instead of searching again: "verified" then means "this path".
+///
 /// Runs in updateHook, like planning: a non-real-time activity (MotionPlannerComponent's).
 class PuncturingMotionPlanner : public MotionPlannerComponent {
  public:
+  /// How near a query's start joints (m, rad, each) and goal poses (m; rotation matrix elements)
+  /// must be to a verified path's for the run to follow that path: a robot at rest where the
+  /// previous motion ended is within it.
+  static constexpr double kReuseTolerance = 1e-3;
+
   explicit PuncturingMotionPlanner(std::string name);
 
  protected:
   bool configureHook() override;
   void updateHook() override;
+  bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
+                 const planning::DualPose& goal, planning::PlanResult& result) override;
 
  private:
   /// The walk of the whole procedure from the measured joints; emits its verdict.
@@ -63,6 +75,7 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   core::PendingRequest verify_request_;
   std::string last_refusal_, last_verification_;
+  std::vector<task::CheckedPath> paths_;  // the verified walk's needle paths, not yet followed
 };
 
 }  // namespace cobra::components
