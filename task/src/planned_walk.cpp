@@ -1,9 +1,14 @@
 #include "cobra/task/planned_walk.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace cobra::task {
 namespace {
+
+constexpr double kTrackStep = 1e-4;   // m
+constexpr double kTrackAngle = 1e-3;  // rad
 
 planning::DualPose dual(const PosePair& pair) { return {pair[0], pair[1]}; }
 
@@ -88,7 +93,17 @@ StepOutcome PlannerStepVerifier::straight(const ProcedureStep& step, const PoseP
   }
   // Where the joints end: the continuity-keeping IK followed along the motion, as the robots
   // follow it (one jump to the end could resolve a redundant robot's redundancy otherwise).
-  const std::size_t steps = planner.options().verify_points_per_segment;
+  // Steps of at most kTrackStep m and kTrackAngle rad per tool: near the I-SUR's wrist lock
+  // (a vertical needle) coarser steps resolve its redundancy unlike the robot, which tracks its
+  // command every 1 ms (tens of micrometres).
+  double span = 0.0;
+  for (std::size_t a = 0; a < 2; ++a) {
+    KDL::Vector axis;
+    span = std::max({span, (to[a].p - from[a].p).Norm() / kTrackStep,
+                     (from[a].M.Inverse() * to[a].M).GetRotAngle(axis) / kTrackAngle});
+  }
+  const auto steps = std::max<std::size_t>(planner.options().verify_points_per_segment,
+                                           static_cast<std::size_t>(std::ceil(span)));
   planning::JointState q = joints_, next(joints_.size());
   for (std::size_t k = 1; k <= steps; ++k) {
     const double s = static_cast<double>(k) / static_cast<double>(steps);
