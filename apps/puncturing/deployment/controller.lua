@@ -37,13 +37,14 @@ return function(c)
   planner.scene_file = here .. "puncturing.scene"
   if c.verifies_procedure then
     -- The whole procedure verified before the first motion (README.md, "Verified whole"): the
-    -- Frame Generators' files, and the probe's speeds for the probe's steps.
+    -- Frame Generators' files, and the other robot's speeds for its steps.
     planner.preoperative_info_file = frames.preoperative_info_file
     planner.cryo_plan_file = frames.cryo_plan_file
     planner.US_pose_plan_file = frames.US_pose_plan_file
     planner.state_table_file = frames.state_table_file
-    planner.probe_max_vel = c.verifies_procedure.probe_max_vel           -- m/s
-    planner.probe_max_ang_vel = c.verifies_procedure.probe_max_ang_vel or 0.5  -- rad/s
+    planner.arm = frames.arm
+    planner.other_max_vel = c.verifies_procedure.other_max_vel                -- m/s
+    planner.other_max_ang_vel = c.verifies_procedure.other_max_ang_vel or 0.5  -- rad/s
   end
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)

@@ -13,8 +13,9 @@ namespace cobra::components {
 PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlannerComponent(std::move(name)) {
   for (core::Property<std::string>* file : {&preoperative_file_, &cryo_plan_file_, &probe_plan_file_, &table_file_})
     addProperty(*file);
-  addProperty(probe_max_vel_.range(1e-6, 10.0));
-  addProperty(probe_max_ang_vel_.range(1e-6, 100.0));
+  addProperty(arm_);
+  addProperty(other_max_vel_.range(1e-6, 10.0));
+  addProperty(other_max_ang_vel_.range(1e-6, 100.0));
   addPort(abdomen_frame_);
   addOperation("verifyProcedure", std::function<void()>([this] { verify_request_.ask(activity()); }),
                "verifies every motion of the procedure for the plan and the registration in this component's next "
@@ -29,6 +30,8 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
 
 bool PuncturingMotionPlanner::configureHook() {
   if (!MotionPlannerComponent::configureHook()) return false;
+  if (arm_() != "needle" && arm_() != "probe") return refuse("property arm is '" + arm_() + "'; expected needle or probe");
+  arm_index_ = arm_() == "needle" ? 0 : 1;
   const std::pair<const core::Property<std::string>*, const char*> files[] = {
       {&preoperative_file_, "preoperative_info_file"}, {&cryo_plan_file_, "cryo_plan_file"},
       {&probe_plan_file_, "US_pose_plan_file"}, {&table_file_, "state_table_file"}};
@@ -51,24 +54,34 @@ bool PuncturingMotionPlanner::configureHook() {
 
 void PuncturingMotionPlanner::updateHook() {
   MotionPlannerComponent::updateHook();
-  if (verify_request_.take()) verify();
+  verify_pending_ = verify_request_.take() || verify_pending_;
+  if (verify_pending_) verify();
 }
+
+namespace {
+/// The pose of arm `arm` (0: needle, 1: probe) in a pair.
+KDL::Frame& tool(planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
+const KDL::Frame& tool(const planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
+}  // namespace
 
 bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
                                         const planning::DualPose& goal, planning::PlanResult& result) {
   if (paths_.empty()) return false;
-  // The needle robot's joints decide (the UR5 holds its probe where the skin pushed it, a few mm
-  // from where the walk put it): the verified path is taken with the UR5 where it really is.
+  // The moving robot's joints decide (the other holds its tool where it is, e.g. the UR5 its
+  // probe where the skin pushed it, a few mm from where the walk put it): the verified path is
+  // taken with the other robot where it really is.
   planning::StateValidator& scene = *validator();
-  std::size_t isur = scene.scene().robots.size();
+  const char* moving = arm_index_ == 0 ? "isur" : "ur5";  // the robots of puncturing.scene
+  std::size_t robot = scene.scene().robots.size();
   for (std::size_t r = 0; r < scene.scene().robots.size(); ++r)
-    if (scene.scene().robots[r].name == "isur") isur = r;
+    if (scene.scene().robots[r].name == moving) robot = r;
   const task::CheckedPath& next = paths_.front();
-  if (isur == scene.scene().robots.size() || next.start.size() != start.size()) return false;
-  const std::size_t from = scene.jointOffset(isur), to = from + scene.model(isur).jointCount();
+  if (robot == scene.scene().robots.size() || next.start.size() != start.size()) return false;
+  const std::size_t from = scene.jointOffset(robot), to = from + scene.model(robot).jointCount();
   for (std::size_t j = from; j < to; ++j)
     if (std::abs(start[j] - next.start[j]) > kReuseTolerance) return false;  // elsewhere: not the walk's query
-  if (!KDL::Equal(next.goal.first, goal.first, kReuseTolerance)) {
+  const std::size_t own = arm_index_, other = 1 - arm_index_;
+  if (!KDL::Equal(tool(next.goal, own), tool(goal, own), kReuseTolerance)) {
     // Another goal alternative than the walk took from here: the run takes the walk's, whose way
     // was verified (a search may find a way to this one that was not).
     result = planning::PlanResult{};
@@ -76,18 +89,22 @@ bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const
     result.message = "not the goal alternative the procedure's verification took from here";
     return true;
   }
-  // The verified path of the needle, from where it is, the UR5 held where it is: each waypoint
-  // checked again in that state.
+  // The verified path of this robot, from where it is to the goal asked, the other held where it
+  // is: each waypoint checked again in that state.
   planning::PlanResult reused = next.result;
   reused.waypoints.front() = start_poses;
-  reused.waypoints.back().first = goal.first;
+  tool(reused.waypoints.back(), own) = tool(goal, own);
   for (std::size_t k = 0; k < reused.waypoints.size(); ++k) {
-    reused.waypoints[k].second = start_poses.second;
+    tool(reused.waypoints[k], other) = tool(start_poses, other);
     planning::JointState& q = reused.joint_waypoints[k];
     for (std::size_t j = 0; j < q.size(); ++j)
       if (j < from || j >= to || k == 0) q[j] = start[j];
     if (!scene.checkJoints(q).valid()) return false;
   }
+  // Where the robot is may differ from where the walk put it (a probe pressed on the skin): the
+  // straight way from there onto the verified path is checked as a motion primitive is.
+  if (reused.waypoints.size() > 1 && !joiner_->checkMotion(start, start_poses, reused.waypoints[1]).solved())
+    return false;
   reused.message = "the path verified with the procedure (" + reused.message + ")";
   result = std::move(reused);
   paths_.erase(paths_.begin());
@@ -106,17 +123,22 @@ void PuncturingMotionPlanner::verify() {
   if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
   planning::JointState joints;
   std::string why;
-  if (!latestJoints(joints, why)) return refuseProcedure("the robots' start is unknown: " + why);
+  // Asked before the robots' first joints arrived (the probe's chart asks at its start): the
+  // walk waits for them (a new measured pose triggers this component).
+  if (!latestJoints(joints, why)) return;
+  verify_pending_ = false;
   planning::StateValidator& scene = *validator();
   planning::DualPose tools;
   if (!scene.toolPoses(joints, tools)) return refuseProcedure("the measured joints have no tool poses");
-  // The needle's chart plans with this planner, the probe's with one of the same options at the
-  // probe's speeds; each from the seed its first query will use.
-  planning::PlannerOptions probe_options = planner()->options();
-  probe_options.max_linear_velocity = probe_max_vel_();
-  probe_options.max_angular_velocity = probe_max_ang_vel_();
-  planning::MotionPlanner needle(scene, planner()->options()), probe(scene, probe_options);
-  task::PlannerStepVerifier verifier({&needle, &probe}, scene, joints);
+  // This arm's chart plans with this planner, the other's with one of the same options at the
+  // other robot's speeds; each from the seed its first query will use.
+  planning::PlannerOptions other_options = planner()->options();
+  other_options.max_linear_velocity = other_max_vel_();
+  other_options.max_angular_velocity = other_max_ang_vel_();
+  planning::MotionPlanner own(scene, planner()->options()), other(scene, other_options);
+  joiner_ = std::make_unique<planning::MotionPlanner>(scene, planner()->options());
+  task::PlannerStepVerifier verifier(arm_index_ == 0 ? std::array{&own, &other} : std::array{&other, &own}, scene,
+                                     joints);
   puncturing::PlanDatums datums(*plan_, abdomen_);
   const std::vector<task::ProcedureStep> steps = puncturing::procedureSteps(plan_->needles.size());
   const task::ProcedureVerdict verdict =
@@ -126,7 +148,7 @@ void PuncturingMotionPlanner::verify() {
   last_refusal_.clear();
   paths_.clear();
   for (const task::CheckedPath& path : verifier.paths())
-    if (path.step.arm == 0) paths_.push_back(path);  // this planner's (the probe's plans are its own)
+    if (path.step.arm == arm_index_) paths_.push_back(path);  // this planner's; the other's are its own
   last_verification_ = "verified: " + std::to_string(steps.size()) + " motions of " +
                        std::to_string(plan_->needles.size()) + " needles, " +
                        std::to_string(verifier.validityChecks()) + " validity checks";
