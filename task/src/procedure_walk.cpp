@@ -56,7 +56,7 @@ ProcedureVerdict& refuse(ProcedureVerdict& verdict, const GoalFailure& failure) 
 
 }  // namespace
 
-std::string Refusal::line_text(std::string_view table_file) const {
+std::string Refusal::text(std::string_view table_file) const {
   std::string text = item + ", task state '" + state + "'";
   if (line > 0) text += " (" + std::string(table_file) + ":" + std::to_string(line) + ")";
   if (!datum.empty()) text += ", " + datum;

@@ -95,7 +95,7 @@ TEST(ProcedureWalk, EachStepStartsWhereThePreviousLeftTheArms) {
   Recorder verifier;
   const std::vector<ProcedureStep> steps = twoCups();
   const ProcedureVerdict verdict = walkProcedure(table, "t.txt", kWords.arms, steps, kStart, cups, verifier);
-  ASSERT_TRUE(verdict.ok) << verdict.refusal.line_text("t.txt");
+  ASSERT_TRUE(verdict.ok) << verdict.refusal.text("t.txt");
   EXPECT_EQ(verdict.chosen, std::vector<std::size_t>(8, 0));
   ASSERT_EQ(verifier.asked.size(), 8u);
   // Look: the left arm holds where it started, the right goes to the cup.
@@ -130,7 +130,7 @@ TEST(ProcedureWalk, TheFirstRefusedStepNamesItsItemStateDatumAndWhy) {
   const ProcedureVerdict verdict = walkProcedure(table, "t.txt", kWords.arms, steps, kStart, cups, verifier);
   ASSERT_FALSE(verdict.ok);
   EXPECT_EQ(verdict.refusal.step, 2u);
-  EXPECT_EQ(verdict.refusal.line_text("t.txt"),
+  EXPECT_EQ(verdict.refusal.text("t.txt"),
             "cup 1, task state 'root.Touch' (t.txt:4), left=cup: collision between 'arm' and 'table'");
   EXPECT_EQ(verifier.asked.size(), 3u);  // nothing after the refused step is asked
 }
@@ -142,13 +142,13 @@ TEST(ProcedureWalk, APlannedStepNamesEveryAlternativeAndTheOneTaken) {
   verifier.blocked = {0.0};  // park and aside (x = 0) are blocked: hold (x = 1, 2) is taken
   const std::vector<ProcedureStep> steps = twoCups();
   const ProcedureVerdict verdict = walkProcedure(table, "t.txt", kWords.arms, steps, kStart, cups, verifier);
-  ASSERT_TRUE(verdict.ok) << verdict.refusal.line_text("t.txt");
+  ASSERT_TRUE(verdict.ok) << verdict.refusal.text("t.txt");
   EXPECT_EQ(verdict.chosen[3], 1u);
   verifier = Recorder{};
   verifier.blocked = {0.0, 1.0};
   const ProcedureVerdict refused = walkProcedure(table, "t.txt", kWords.arms, steps, kStart, cups, verifier);
   ASSERT_FALSE(refused.ok);
-  EXPECT_EQ(refused.refusal.line_text("t.txt"),
+  EXPECT_EQ(refused.refusal.text("t.txt"),
             "cup 1, task state 'root.Park' (t.txt:5), left=park|hold|aside: every alternative blocked");
 }
 
@@ -160,12 +160,12 @@ TEST(ProcedureWalk, AMissingDatumOrRowIsARefusal) {
   const std::vector<ProcedureStep> steps = twoCups();
   const ProcedureVerdict verdict = walkProcedure(table, "t.txt", kWords.arms, steps, kStart, cups, verifier);
   ASSERT_FALSE(verdict.ok);
-  EXPECT_EQ(verdict.refusal.line_text("t.txt"),
+  EXPECT_EQ(verdict.refusal.text("t.txt"),
             "cup 2, task state 'root.Look' (t.txt:6), right=cup: no cup after this one");
   const std::vector<ProcedureStep> unknown{{"root.Dance", 0, false, 0}};
   const ProcedureVerdict none = walkProcedure(table, "t.txt", kWords.arms, unknown, kStart, cups, verifier);
   ASSERT_FALSE(none.ok);
-  EXPECT_EQ(none.refusal.line_text("t.txt"), "cup 1, task state 'root.Dance': the task state matches no row of t.txt");
+  EXPECT_EQ(none.refusal.text("t.txt"), "cup 1, task state 'root.Dance': the task state matches no row of t.txt");
 }
 
 }  // namespace

@@ -144,7 +144,7 @@ void PuncturingMotionPlanner::verify() {
   const task::ProcedureVerdict verdict =
       task::walkProcedure(*table_, table_file_(), puncturing::puncturingVocabulary().arms, steps,
                           {tools.first, tools.second}, datums, verifier);
-  if (!verdict.ok) return refuseProcedure(verdict.refusal.line_text(table_file_()));
+  if (!verdict.ok) return refuseProcedure(verdict.refusal.text(table_file_()));
   last_refusal_.clear();
   paths_.clear();
   for (const task::CheckedPath& path : verifier.paths())

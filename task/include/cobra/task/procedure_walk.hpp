@@ -88,7 +88,7 @@ struct Refusal {
   std::string datum;     ///< "needle=entry-0.02": the moving arm's goal datum(s)
   std::string why;
   /// "needle n2, task state 'root...Approach' (FILE:LINE), needle=entry-0.02: WHY"
-  std::string line_text(std::string_view table_file) const;
+  std::string text(std::string_view table_file) const;
 };
 
 /// The outcome of a walk.
