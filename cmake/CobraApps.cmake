@@ -15,7 +15,7 @@ get_filename_component(COBRA_BUILD_DATA_DIR ${PROJECT_BINARY_DIR}/tools/cobra/${
 # The cobra libraries whose code the applications' packages call (beyond the headers they
 # include): a program that loads those packages links them whole and exports them.
 set(COBRA_APP_PACKAGE_HOST_LIBRARIES cobra_core cobra_deploy cobra_trajectory cobra_task cobra_components_motion
-    cobra_components_task)
+    cobra_components_task cobra_planning cobra_task_planning cobra_components_planning)
 
 # cobra_app_package(<name> SOURCES <file>... [USES <cobra target>...] [LIBS <library>...])
 #   The application package lib<name>.so, written beside the tool's packages (the tool depends on

@@ -8,10 +8,13 @@ local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/two_needles")
 local G = dofile(here .. "deployment/geometry.lua")
 local abdomen = G.preoperative(scenario .. "/preoperative.txt").abdomen
--- The planning scene's phantom sits at the nominal abdomen pose (0, 0, 0.1); move it to this one.
+-- The planning scene's phantom frame is 0.1 m under the skin's frame A (its box's top face at
+-- z = 0.1 is the skin): place it 0.1 m below A along A's own z, so that a tilted registration
+-- tilts the planner's skin with the patient's (not only about a point 0.1 m under it).
 -- The probe pressed on the skin is an allowed contact of the scene (apps/puncturing/deployment/puncturing.scene).
 -- The needle's motions near the skin are motion primitives, not planned.
-phantom_pose = { abdomen[1], abdomen[2], abdomen[3] - 0.1, abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
+local phantom_origin = G.apply(abdomen, { 0, 0, -0.1 })
+phantom_pose = { phantom_origin[1], phantom_origin[2], phantom_origin[3], abdomen[4], abdomen[5], abdomen[6], abdomen[7] }
 -- The needle frame of this application has z along the needle; the I-SUR kinematics' needle is its
 -- tool's x axis. The robot bridge and the planners are told so.
 needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)
@@ -100,7 +103,9 @@ local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_faile
                    "e_us_goal_missed", "e_us_needle_not_found", "e_peer_lost",
                    -- nobody answered in time (charts/waits.lua: the surgeon, the console, the other chart)
                    "e_reaction_timeout", "e_iceball_config_timeout", "e_needle_change_timeout", "e_cryo_timeout",
-                   "e_peer_chart_timeout" }
+                   "e_peer_chart_timeout",
+                   -- the whole procedure refused before any motion (NeedlePlanner.verifyProcedure)
+                   "e_procedure_refused" }
 local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
 run = {
   title = "Puncturing procedure",
@@ -113,8 +118,9 @@ run = {
   -- A motion's internal steps are folded into the motion in the log and the timeline.
   fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived", "Paused" },
   failures = failures,
-  explain = { e_plan_failed = "lastPlanResult" },
-  safe_stop_reason = "the same failure again after the reaction to the first, or no answer in time (charts/waits.lua)",
+  explain = { e_plan_failed = "lastPlanResult", e_procedure_refused = "lastRefusal" },
+  safe_stop_reason = "the same failure again after the reaction to the first, no answer in time (charts/waits.lua), "
+    .. "or the procedure refused before any motion (VerifyingProcedure)",
   record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",
                                       "Patient.needleDepth", "NeedleAdmittance.tankEnergy", "ProbeAdmittance.tankEnergy",
                                       "NeedlePlanner.minDistance", "NeedlePlanner.allowedContactDistance",

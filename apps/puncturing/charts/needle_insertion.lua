@@ -45,6 +45,14 @@ local insertion_faults = { 'e_force_over_threshold', table.unpack(faults) }
 
 local chart = {
   WaitIceballConfig = waiting("root.WaitIceballConfig", D.planning, C.free),
+  -- The whole procedure verified before anything moves (the planner's verifyProcedure: every
+  -- motion state of both charts for the plan and the registration, in their order, README.md
+  -- "Verified whole"): e_procedure_verified, or e_procedure_refused naming the needle, the state,
+  -- the datum and why (the planner's lastRefusal()).
+  VerifyingProcedure = rfsm.state { entry = function() call("planner", "verifyProcedure") end },
+  -- Refused before the first motion: the robots never moved; the procedure ends (the safe stop
+  -- holds them where they are, the ultrasound chart follows).
+  Refused = rfsm.state { entry = function() emit("e_needle_procedure_refused") end },
   MakeRoomForProbe = motion("root.MakeRoomForProbe", D.planning, C.free, { planned = true }),
   WaitUSPositioning = waiting("root.WaitUSPositioning", D.planning, C.free, function() emit("e_needle_wait_us") end),
   InsertingNeedles = rfsm.state {
@@ -115,7 +123,10 @@ local chart = {
   Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
-  rfsm.trans { src = 'WaitIceballConfig', tgt = 'MakeRoomForProbe', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'WaitIceballConfig', tgt = 'VerifyingProcedure', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'MakeRoomForProbe', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'Refused', events = { 'e_procedure_refused' } },
+  rfsm.trans { src = 'Refused', tgt = 'SafeStop' },
   -- At a needle change pose: the probe may move (WaitUSPositioning says so), the needle is mounted there.
   rfsm.trans { src = 'MakeRoomForProbe', tgt = 'WaitUSPositioning', events = { 'e_motion_done' },
                effect = function() at_change = true end },
@@ -140,7 +151,7 @@ for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles'
 end
 -- The ultrasound chart stopped safely, or its host was lost (the run split over two hosts, the
 -- DDS link's e_peer_lost): this one stops too, from wherever it is.
-for _, state in ipairs({ 'WaitIceballConfig', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+for _, state in ipairs({ 'WaitIceballConfig', 'VerifyingProcedure', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
 end

@@ -27,7 +27,9 @@ for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
 local contact_faults = { 'e_probe_contact_lost', table.unpack(faults) }
 
 local chart = {
-  Idle = waiting("root.Idle", D.planning, C.free),
+  -- Its planner walks the whole procedure as the needle's does (the same inputs: the same
+  -- verdict, which the needle chart acts on) and keeps the probe's verified paths to follow.
+  Idle = waiting("root.Idle", D.planning, C.free, function() call("planner", "verifyProcedure") end),
   -- Above the planned pose, then down along the beam until the probe touches the skin.
   MoveToSkin = rfsm.state {
     Approach = motion("root.MoveToSkin.Approach", D.planning, C.free, { planned = true }),

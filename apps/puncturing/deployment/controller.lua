@@ -16,7 +16,7 @@ return function(c)
   initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim",
                      "cobra_puncturing" }, {
     { peer_name = n("Frames"), component_type = "PuncturingFrameGenerator" },
-    { peer_name = n("Planner"), component_type = "MotionPlanner" },
+    { peer_name = n("Planner"), component_type = c.planner_type or "MotionPlanner" },
     { peer_name = n("TrajGen"), component_type = "CartesianTrajectoryGenerator" },
     { peer_name = n("Wrench"), component_type = "EquivalentWrench" },
     { peer_name = n("Admittance"), component_type = "VariableAdmittance" },
@@ -35,6 +35,17 @@ return function(c)
   frames.US_pose_plan_file = scenario .. "/us_plan.txt"
   frames.state_table_file = here .. "../state_table.txt"
   planner.scene_file = here .. "puncturing.scene"
+  if c.verifies_procedure then
+    -- The whole procedure verified before the first motion (README.md, "Verified whole"): the
+    -- Frame Generators' files, and the other robot's speeds for its steps.
+    planner.preoperative_info_file = frames.preoperative_info_file
+    planner.cryo_plan_file = frames.cryo_plan_file
+    planner.US_pose_plan_file = frames.US_pose_plan_file
+    planner.state_table_file = frames.state_table_file
+    planner.arm = frames.arm
+    planner.other_max_vel = c.verifies_procedure.other_max_vel                -- m/s
+    planner.other_max_ang_vel = c.verifies_procedure.other_max_ang_vel or 0.5  -- rad/s
+  end
   planner.phantom_pose = c.phantom_pose
   planner.first_tool_frame = needle_tool_frame  -- the needle frames of this application (puncturing.lua)
   -- A work limit, not a time limit, so that the procedure plans the same on any machine (simulated

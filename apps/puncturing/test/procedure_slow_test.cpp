@@ -14,17 +14,13 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "cobra/run/runner.hpp"
 #include "procedure_expectations.hpp"
+#include "registration.hpp"
 
 namespace cobra::run {
 namespace {
@@ -47,36 +43,11 @@ Registration draw(unsigned seed) {
   return {seed, dx, dy, turn(random)};
 }
 
-/// A copy of scenario `name` whose preoperative `abdomen` line is moved by `r`; every file that
-/// places the phantom (the Patient, the planner's phantom, the Frame Generators, the monitor's
-/// forbidden regions) reads that line, so the whole setup moves with it.
+/// The scenario with its abdomen moved by (dx, dy) m and turned by dyaw rad about the vertical.
 std::filesystem::path registered(const std::string& name, const Registration& r) {
-  const std::filesystem::path from = kApp / "scenarios" / name;
-  // Per process: other checkouts may run the same test at the same time.
-  const std::filesystem::path to = std::filesystem::temp_directory_path() /
-                                   ("cobra_registration_" + name + "_" + std::to_string(r.seed) + "_" +
-                                    std::to_string(::getpid()));
-  std::filesystem::remove_all(to);
-  std::filesystem::create_directories(to);
-  for (const auto& file : std::filesystem::directory_iterator(from))
-    std::filesystem::copy(file.path(), to / file.path().filename());
-  std::ifstream in(from / "preoperative.txt");
-  std::ostringstream out;
-  bool moved = false;
-  for (std::string line; std::getline(in, line);) {
-    double x = 0, y = 0, z = 0, roll = 0, pitch = 0, yaw = 0;
-    if (std::sscanf(line.c_str(), "abdomen xyz=%lf,%lf,%lf rpy=%lf,%lf,%lf", &x, &y, &z, &roll, &pitch, &yaw) == 6) {
-      char text[200];
-      std::snprintf(text, sizeof text, "abdomen xyz=%.6f,%.6f,%.6f rpy=%.6f,%.6f,%.6f  # seed %u", x + r.dx, y + r.dy, z,
-                    roll, pitch, yaw + r.dyaw, r.seed);
-      line = text;
-      moved = true;
-    }
-    out << line << "\n";
-  }
-  EXPECT_TRUE(moved) << from / "preoperative.txt" << " has no `abdomen xyz=X,Y,Z rpy=R,P,Y` line";
-  std::ofstream(to / "preoperative.txt") << out.str();
-  return to;
+  return testing::registered(name, "seed_" + std::to_string(r.seed), [&](const KDL::Frame& a) {
+    return KDL::Frame(KDL::Rotation::RotZ(r.dyaw) * a.M, a.p + KDL::Vector(r.dx, r.dy, 0.0));
+  });
 }
 
 /// The figures of a run, for the log (placement, worst tracking, clearance, contacts).

@@ -219,7 +219,8 @@ TEST(PuncturingProcedure, APlannerFailingAgainOnTheRetryEndsTheProcedureInTheSaf
   EXPECT_EQ(count(r, "NeedlePlanner: e_plan_failed"), 2u);
   EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.MakeRoomForProbe: "
                             "NeedlePlanner: e_plan_failed at");
-  EXPECT_CONTAINS(r.reason, "the same failure again after the reaction to the first, or no answer in time (charts/waits.lua); "
+  EXPECT_CONTAINS(r.reason, "the same failure again after the reaction to the first, no answer in time (charts/waits.lua), "
+                            "or the procedure refused before any motion (VerifyingProcedure); "
                             "NeedlePlanner.lastPlanResult(): ");
   // Each needle change pose is named with why it cannot be taken.
   EXPECT_CONTAINS(r.reason, "none of the 3 goal alternatives can be taken from first (");

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cobra/puncturing/plan.hpp"
+#include "cobra/puncturing/procedure.hpp"
 #include "cobra/script/rfsm.hpp"
 #include "cobra/statechart/machine.hpp"
 #include "cobra/test_support/chart_fakes.hpp"
@@ -84,6 +85,8 @@ class Procedure {
   void onEntry(ChartRun& when, const std::string& state, ChartRun& to, const std::string& event, double delay) {
     triggers_.push_back({&when, state, &to, event, delay, false});
   }
+  /// The planner refuses the whole procedure when asked to verify it.
+  void refuseProcedure() { refuse_procedure_ = true; }
   /// The next `times` plans chart `chart` asks for fail.
   void failPlan(ChartRun& chart, int times = 1) {
     fail_plan_ = &chart;
@@ -205,6 +208,8 @@ class Procedure {
       }
       reply("e_goal_ready");
       if (c.deployment.ends_with("_autonomous_primitives")) reply("e_path_ready", 0.03);  // desiredPoses is the path
+    } else if (line.ends_with("Planner:verifyProcedure")) {
+      reply(refuse_procedure_ ? "e_procedure_refused" : "e_procedure_verified", 1.0);
     } else if (line.ends_with("Planner:askPlan")) {
       if (fail_plan_ == &c && fail_plans_ > 0) {
         --fail_plans_;
@@ -263,6 +268,7 @@ class Procedure {
   std::map<ChartRun*, std::string> pending_deployment_;
   ChartRun* fail_plan_ = nullptr;
   int fail_plans_ = 0;
+  bool refuse_procedure_ = false;
 };
 
 /// The scenarios of the tests below: a scenario folder, its needle count and the faults injected.
@@ -294,6 +300,9 @@ const Scenario kPlanFailureAgain{"two_needles", 2, [](Procedure& p) { p.failPlan
 // No needle change pose leaves room for the probe (the planner refuses every alternative): the
 // needle robot's first motion fails, and again after the reaction; the probe never moves.
 const Scenario kNoRoomForProbe{"two_needles", 2, [](Procedure& p) { p.failPlan(p.needle(), 2); }};
+// The whole procedure cannot be made (the planner's verifyProcedure refuses it): nothing moves.
+const Scenario kRefused{"two_needles", 2, [](Procedure& p) { p.refuseProcedure(); }};
+const Scenario kThreeNeedles{"three_needles", 3};
 const Scenario kMissedGoals{"three_needles", 3, [](Procedure& p) {
                               p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // no puncture
                               p.fault("root.MoveToSkin.Descend", "e_motion_done");  // no skin where it should be
@@ -499,11 +508,63 @@ TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetri
                     "needle <- e_target_reached"});
 }
 
+TEST(PuncturingCharts, ARefusedProcedureStopsBeforeAnyMotion) {
+  const auto run_ = run(kRefused);
+  Procedure& p = *run_;
+  ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+  ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+  // (A state's entry actions come before the line saying it was entered.)
+  expectInOrder(p, {"needle <- e_iceball_configured", "needle: NeedlePlanner:verifyProcedure",
+                    "needle > root.VerifyingProcedure", "needle <- e_procedure_refused",
+                    "needle: emit:e_needle_procedure_refused", "needle > root.Refused", "needle > root.SafeStop",
+                    "us <- e_needle_safe_stop", "us > root.SafeStop"});
+  for (const char* request : {"needle: NeedlePlanner:askPlan", "us: ProbePlanner:askPlan",
+                              "needle: NeedleTrajGen:askStartMove", "us: ProbeTrajGen:askStartMove"})
+    EXPECT_EQ(p.count(request), 0u) << request;
+}
+
+/// Each chart's motion states in the order it ran them, with the needle it was at: what
+/// procedureSteps declares for the verification walk.
+std::map<std::size_t, std::vector<std::string>> motionsRun(const Procedure& p) {
+  std::map<std::size_t, std::vector<std::string>> motions;
+  std::map<std::string, std::size_t> needle{{"needle", 0}, {"us", 0}};
+  const std::string asking = ".AskingGoal", planning = ".Planning";
+  for (const std::string& line : p.timeline()) {
+    std::string chart = line.substr(0, line.find(' '));  // "needle > STATE", "needle: REQUEST"
+    if (chart.ends_with(':')) chart.pop_back();
+    const std::size_t arm = chart == "needle" ? 0 : 1;
+    if (line.ends_with("Frames:nextNeedle")) ++needle[chart];
+    const std::size_t enter = line.find(" > ");
+    if (enter == std::string::npos) continue;
+    const std::string state = line.substr(enter + 3);
+    if (state.ends_with(asking)) {
+      motions[arm].push_back(state.substr(0, state.size() - asking.size()) + " primitive needle " +
+                             std::to_string(needle[chart]));
+    } else if (state.ends_with(planning) && !motions[arm].empty()) {
+      std::string& last = motions[arm].back();
+      last.replace(last.find(" primitive "), 11, " planned ");
+    }
+  }
+  return motions;
+}
+
+TEST(PuncturingCharts, TheChartsRunTheMotionStatesTheVerificationWalks) {
+  for (const Scenario* scenario : {&kNominal, &kThreeNeedles}) {
+    const auto p = run(*scenario);
+    ASSERT_TRUE(Procedure::done(p->needle()) && Procedure::done(p->us())) << scenario->folder;
+    std::map<std::size_t, std::vector<std::string>> declared;
+    for (const task::ProcedureStep& step : procedureSteps(static_cast<std::size_t>(scenario->needles)))
+      declared[step.arm].push_back(step.state + (step.planned ? " planned" : " primitive") + " needle " +
+                                   std::to_string(step.item));
+    EXPECT_EQ(motionsRun(*p), declared) << scenario->folder;
+  }
+}
+
 TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTests) {
   std::map<std::string, std::set<std::string>> entered;
   for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
                                    &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain,
-                                   &kNoRoomForProbe}) {
+                                   &kNoRoomForProbe, &kRefused}) {
     const auto p = run(*scenario);
     for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
   }

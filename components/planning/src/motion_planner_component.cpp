@@ -165,6 +165,22 @@ bool MotionPlannerComponent::measuredJoints() {
   return true;
 }
 
+bool MotionPlannerComponent::reusePath(const planning::JointState&, const planning::DualPose&,
+                                       const planning::DualPose&, planning::PlanResult&) {
+  return false;
+}
+
+bool MotionPlannerComponent::latestJoints(planning::JointState& q, std::string& why) {
+  have_isur_joints_ = have_isur_joints_ || isur_joints_.read(isur_q_) != core::FlowStatus::NoData;
+  have_ur5_joints_ = have_ur5_joints_ || ur5_joints_.read(ur5_q_) != core::FlowStatus::NoData;
+  if (!validator_ || !measuredJoints()) {
+    why = validator_ ? "ports isurMeasJoints/UR5MeasJoints: " + expectedJoints() : "not configured";
+    return false;
+  }
+  q = joints_;
+  return true;
+}
+
 std::string MotionPlannerComponent::expectedJoints() const {
   const planning::SceneDescription& scene = validator_->scene();
   std::string expected, got;
@@ -290,9 +306,11 @@ planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternati
       checked = planner_impl_->checkMotion(joints_, a.room[k].first, a.room[k].second);
     if (!checked.solved()) return checked;
   }
-  planning::PlanResult result =
-      from_joints ? planner_impl_->planPath(joints_, a.goal) : planner_impl_->planPath(measured_, a.goal);
-  if (from_joints) logQuery(a.goal, result);
+  planning::PlanResult result;
+  if (!(from_joints && reusePath(joints_, measured_, a.goal, result))) {
+    result = from_joints ? planner_impl_->planPath(joints_, a.goal) : planner_impl_->planPath(measured_, a.goal);
+    if (from_joints) logQuery(a.goal, result);
+  }
   if (!result.solved()) {
     // The same query with the same seed would fail the same way: the next request explores anew.
     const std::uint32_t seed = planner_impl_->options().seed;

@@ -3,6 +3,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "cobra/puncturing/procedure.hpp"
+
 namespace cobra::components {
 
 PuncturingFrameGenerator::PuncturingFrameGenerator(std::string name)
@@ -73,22 +75,11 @@ void PuncturingFrameGenerator::stepTask() {
 
 task::DatumSource::Outcome PuncturingFrameGenerator::resolveTaskDatum(const task::Datum& datum, std::size_t,
                                                                       KDL::Frame& out, const char*& why) {
-  bool next = false;
-  puncturing::planDatum(datum.name, next);
-  const auto i = static_cast<std::size_t>(needle_) + (next ? 1 : 0);
-  if (!plan_ || i >= plan_->needles.size()) {
-    why = next ? "no needle after the current one" : "no more needles (all planned needles are done)";
-    return next ? Outcome::NotComing : Outcome::Missing;
+  if (!plan_) {
+    why = "no plan loaded";
+    return Outcome::Missing;
   }
-  const std::string_view name = std::string_view(datum.name).substr(next ? 5 : 0);
-  if (name == "entry") {
-    out = abdomen_ * puncturing::needleEntryPose(plan_->needles[i]);
-  } else if (name == "target") {
-    out = abdomen_ * puncturing::needleTargetPose(plan_->needles[i]);
-  } else {
-    out = abdomen_ * plan_->probes[i].pose;
-  }
-  return Outcome::Resolved;
+  return puncturing::resolvePlanDatum(*plan_, abdomen_, static_cast<std::size_t>(needle_), datum, out, why);
 }
 
 void PuncturingFrameGenerator::advanceNeedle() {

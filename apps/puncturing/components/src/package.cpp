@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "cobra/components/puncturing/frame_generator.hpp"
+#include "cobra/components/puncturing/procedure_planner.hpp"
 #include "cobra/components/puncturing/scripted_surgeon.hpp"
 #include "cobra/deploy/package_registry.hpp"
 
@@ -14,6 +15,9 @@ extern "C" void cobra_register_package(cobra::deploy::PackageBuilder& package) {
       .component<PuncturingFrameGenerator>(
           "PuncturingFrameGenerator",
           "the goal poses of needle and probe for the current puncturing task state (thesis §4.5.5)")
+      .component<PuncturingMotionPlanner>(
+          "PuncturingMotionPlanner",
+          "the MotionPlanner with verifyProcedure(): every motion of the procedure verified before the first")
       .component<ScriptedSurgeon>("ScriptedSurgeon",
                                   "the surgeon's console in simulation: a surgeon script played against the task "
                                   "charts, and say(event)");

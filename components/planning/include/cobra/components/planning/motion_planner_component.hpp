@@ -87,6 +87,20 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   void updateHook() override;
   void cleanupHook() override;
 
+  /// For a component that asks more of the same planner (e.g. a whole procedure verified before
+  /// it starts, apps/puncturing): the planner as configured (its options are the properties; the
+  /// seed of its next query) and its scene's validator; nullptr before configure.
+  const planning::MotionPlanner* planner() const { return planner_impl_.get(); }
+  planning::StateValidator* validator() { return validator_.get(); }
+  /// Reads the joint ports now: every robot's latest measured joints into `q` (the scene's
+  /// order); false, with `why` saying what the ports gave, when a robot's are missing.
+  bool latestJoints(planning::JointState& q, std::string& why);
+  /// A path found before for this query (e.g. when the whole procedure was verified): true with
+  /// `result` (a solved path from `start`, whose tool poses are `start_poses`, to `goal`) to take
+  /// it instead of a search; the follow-on check still runs. The base finds none.
+  virtual bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
+                         const planning::DualPose& goal, planning::PlanResult& result);
+
  private:
   void askPlan();
   double checkDistancePoses(KDL::Frame first, KDL::Frame second);

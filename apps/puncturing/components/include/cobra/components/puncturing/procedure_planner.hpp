@@ -1,0 +1,91 @@
+#pragma once
+/// @file
+/// A robot's Motion Planner with the whole procedure verified before its first motion:
+/// the framework's MotionPlannerComponent (components/planning), plus verifyProcedure(), which
+/// walks every motion state both charts will run for the plan and the registration
+/// (cobra::puncturing::procedureSteps, the state table's goals) with the same planner's options
+/// and seed (task/planned_walk.hpp), from the robots' measured joints.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "cobra/components/planning/motion_planner_component.hpp"
+#include "cobra/core/request.hpp"
+#include "cobra/puncturing/plan.hpp"
+#include "cobra/task/planned_walk.hpp"
+
+namespace cobra::components {
+
+/// Interface (besides MotionPlannerComponent's):
+/// - properties `preoperative_info_file`, `cryo_plan_file`, `US_pose_plan_file`,
+///   `state_table_file` (the Frame Generators' files: read and cross-checked at configure, a bad
+///   file refuses with "FILE:LINE: message"), `arm` ("needle" or "probe": the robot whose chart
+///   asks this planner, whose planned steps it follows after the walk), `other_max_vel` (m/s per
+///   Cartesian axis) and `other_max_ang_vel` (rad/s): the other robot's trajectory generator's
+///   limits, with which its steps are checked (this planner's own max_vel is its robot's);
+/// - input port `abdomenFrame` (KDL.Frame, m: the registered abdomen frame A in the world; until a
+///   sample arrives, the preoperative nominal pose);
+/// - operations `verifyProcedure()` (void, answered in this component's next step:
+///   `e_procedure_verified` or `e_procedure_refused`), `lastRefusal()` (one line: the needle, the
+///   task state with its table line, the datum and why, e.g. "needle n2 (2 of 2), task state
+///   'root.InsertingNeedles.MoveToSkin.Approach' (state_table.txt:38), needle=entry-0.02: invalid
+///   goal: ..."; "" when the last verification passed or none ran), `lastVerification()` (what
+///   the last one found: steps, validity checks);
+/// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr).
+///
+/// After a verified procedure, a plan asked from (nearly) the joints where the walk started this
+/// arm's next planned step (kReuseTolerance) follows the path the walk verified (from the
+/// measured poses, the straight way onto it and each waypoint with the other robot where it is
+/// checked again; failing that, it searches) instead of searching again, and refuses another goal
+/// alternative from there:
+/// "verified" then means "this path".
+///
+/// Runs in updateHook, like planning: a non-real-time activity (MotionPlannerComponent's).
+class PuncturingMotionPlanner : public MotionPlannerComponent {
+ public:
+  /// How near a query's start joints (m, rad, each) must be to where the walk started the step for
+  /// the run to follow the walk's path (the way from there onto it checked again), and its goal
+  /// (m; rotation matrix elements) to the walk's for the same alternative: a robot at rest where
+  /// the previous motion ended, or a probe the skin pushed back a few mm, is within it.
+  static constexpr double kReuseTolerance = 0.02;
+
+  explicit PuncturingMotionPlanner(std::string name);
+
+ protected:
+  bool configureHook() override;
+  void updateHook() override;
+  bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
+                 const planning::DualPose& goal, planning::PlanResult& result) override;
+
+ private:
+  /// The walk of the whole procedure from the measured joints; emits its verdict.
+  void verify();
+  void refuseProcedure(const std::string& line);
+
+  core::Property<std::string> preoperative_file_{"preoperative_info_file", "", "",
+                                                 "preoperative information (abdomen, tumour, forbidden regions)"};
+  core::Property<std::string> cryo_plan_file_{"cryo_plan_file", "", "", "cryoablation plan: the needles, frame A"};
+  core::Property<std::string> probe_plan_file_{"US_pose_plan_file", "", "", "probe pose of each needle, frame A"};
+  core::Property<std::string> table_file_{"state_table_file", "", "", "the Frame Generators' state table"};
+  core::Property<std::string> arm_{"arm", "needle", "", "the robot whose chart asks this planner: needle or probe"};
+  core::Property<double> other_max_vel_{"other_max_vel", 0.05, "m/s",
+                                        "max velocity per Cartesian axis of the other robot's trajectory generator"};
+  core::Property<double> other_max_ang_vel_{"other_max_ang_vel", 0.5, "rad/s",
+                                            "max angular velocity of the other robot's trajectory generator"};
+  core::InputPort<KDL::Frame> abdomen_frame_{"abdomenFrame", "abdomen frame A in the world frame", "m"};
+
+  std::optional<puncturing::PuncturingPlan> plan_;
+  std::optional<task::StateTable> table_;
+  KDL::Frame abdomen_ = KDL::Frame::Identity();
+  core::PendingRequest verify_request_;
+  bool verify_pending_ = false;  // asked, waiting for the robots' measured joints
+  std::string last_refusal_, last_verification_;
+  std::vector<task::CheckedPath> paths_;  // the verified walk's paths of this arm, not yet followed
+  std::size_t arm_index_ = 0;             // 0 needle, 1 probe
+  std::unique_ptr<planning::MotionPlanner> joiner_;  // checks the way onto a verified path
+};
+
+}  // namespace cobra::components
