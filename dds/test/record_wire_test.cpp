@@ -15,6 +15,24 @@
 #include "test_payload.hpp"
 #include "test_records.hpp"
 
+namespace cobra::dds::test {
+/// Strings one after the other, then 4- and 8-byte fields: each field after a string must be
+/// read at its CDR alignment whatever the string's length.
+struct TwoLabels {
+  std::string first, second;
+  int count = 0;
+  double depth = 0.0;  // m
+};
+}  // namespace cobra::dds::test
+
+template <>
+struct cobra::core::DataTypeTraits<cobra::dds::test::TwoLabels> : cobra::core::RecordTraits<cobra::dds::test::TwoLabels> {
+  using T = cobra::dds::test::TwoLabels;
+  static constexpr std::string_view name = "probe_msgs.TwoLabels";
+  static constexpr auto fields = std::tuple{field("first", &T::first), field("second", &T::second),
+                                            field("count", &T::count, "1"), field("depth", &T::depth, "m")};
+};
+
 namespace cobra::dds {
 namespace {
 
@@ -89,6 +107,28 @@ TEST(DdsRecordWire, AStringEndsAtItsFirstNulOnTheWire) {
   ASSERT_TRUE(deserialised(type, bytes, odd));
   EXPECT_EQ(odd.label, "ab");
   EXPECT_TRUE(test::same(odd, got));
+}
+
+// A string read leaves Fast CDR knowing a character came last, so that the field after it is
+// read at its alignment: two one-letter strings then an int was read 2 bytes off.
+TEST(DdsRecordWire, FieldsAfterAStringOfAnyLengthAreReadAtTheirAlignment) {
+  RecordPubSubType<test::TwoLabels> type;
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> length(0, 9);
+  for (int i = 0; i < 200; ++i) {
+    test::TwoLabels sent;
+    sent.first = std::string(static_cast<std::size_t>(length(random)), 'a');
+    sent.second = std::string(static_cast<std::size_t>(length(random)), 'b');
+    sent.count = i;
+    sent.depth = 0.001 * i;
+    test::TwoLabels got;
+    ASSERT_TRUE(deserialised(type, serialised(type, sent), got)) << "case " << i << ": '" << sent.first << "', '"
+                                                                 << sent.second << "'";
+    EXPECT_EQ(got.first, sent.first);
+    EXPECT_EQ(got.second, sent.second);
+    EXPECT_EQ(got.count, sent.count);
+    EXPECT_EQ(got.depth, sent.depth);
+  }
 }
 
 TEST(DdsRecordWire, ARecordIsBoundedWhenEveryFieldIs) {

@@ -133,13 +133,20 @@ void serializeField(cdr::Cdr& out, const M& value) {
 
 /// Reads a CDR string into `value` up to its first '\0' (Fast CDR writes a string as a C
 /// string, so that is all a sender can mean), without Fast CDR's temporary: no allocation when
-/// `value` has the capacity.
+/// `value` has the capacity. Its last character is read through Fast CDR, not jumped over:
+/// Fast CDR aligns a field only when it is wider than the last one read, and after a jump the
+/// last one would still be the 4-byte length (the next int, length or double was then read
+/// unaligned: two one-letter strings then an int).
 inline void readString(cdr::Cdr& in, std::string& value) {
   std::uint32_t length = 0;
   in >> length;
   const char* text = in.getCurrentPosition();
-  if (!in.jump(length))
-    throw cdr::exception::NotEnoughMemoryException(cdr::exception::NotEnoughMemoryException::NOT_ENOUGH_MEMORY_MESSAGE_DEFAULT);
+  if (length > 0) {
+    if (!in.jump(length - 1))
+      throw cdr::exception::NotEnoughMemoryException(cdr::exception::NotEnoughMemoryException::NOT_ENOUGH_MEMORY_MESSAGE_DEFAULT);
+    char last = '\0';
+    in >> last;
+  }
   std::uint32_t size = 0;
   while (size < length && text[size] != '\0') ++size;
   value.assign(text, size);
