@@ -527,9 +527,18 @@ void Session::noteSafeStop(const Chart& c) {
   if (colon != std::string::npos) {
     const std::string source = c.last_failure.substr(0, colon);
     const std::string event = c.last_failure.substr(colon + 2, c.last_failure.find(" at") - colon - 2);
+    // The run table's `explain` operation for the event, else the source's own `lastFailure()`
+    // (the simulated robots': the refused pose and why), when it has one.
     const auto why = spec_.explain.find(event);
-    core::Component* owner = why == spec_.explain.end() ? nullptr : ownerOf(refs_, source + "." + why->second, true);
-    if (owner != nullptr) result_.reason += "; " + source + "." + why->second + "(): " + owner->call<std::string>(why->second);
+    const std::string operation = why == spec_.explain.end() ? "lastFailure" : why->second;
+    core::Component* owner = ownerOf(refs_, source + "." + operation, true);
+    if (owner != nullptr) {
+      try {
+        result_.reason += "; " + source + "." + operation + "(): " + owner->call<std::string>(operation);
+      } catch (const std::exception& e) {  // not a std::string() operation: the reason stays as it is
+        result_.log.push_back("cannot quote " + source + "." + operation + "(): " + e.what());
+      }
+    }
   }
   // A refused switch: the configurator's line says why (file:line, property, what was expected).
   if (colon != std::string::npos) {

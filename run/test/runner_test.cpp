@@ -128,6 +128,23 @@ TEST(Runner, ARefusedConfigurationEndsTheRunWithTheConfiguratorsLineSayingWhy) {
   std::filesystem::remove_all(app);
 }
 
+// A waypoint out of the robot's reach: the safe stop quotes the robot's own lastFailure(), with
+// the refused pose, why and where the robot holds, not only the event's name. (The straight
+// motion toward it is refused near the arm's outstretched singularity, before the pose leaves
+// the workspace: the reason is the IK discontinuity there.)
+TEST(Runner, AnUnreachableWaypointEndsTheRunWithTheRefusedPoseAndWhy) {
+  RunOptions o = options(std::filesystem::path(COBRA_SOURCE_DIR) / "examples" / "07_task" / "07_task.lua");
+  o.time_limit = 120.0;
+  o.extra_lua = "ScanPath.waypoints = { 2.0, 0.0, 0.15, 0.70710678, 0.70710678, 0, 0 }";  // 2 m: the UR5 reaches 0.85 m
+  const RunResult r = runApp(o);
+  EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "scan chart stopped safely in root.Scan");
+  EXPECT_CONTAINS(r.reason, "UR5.lastFailure(): at ");
+  EXPECT_CONTAINS(r.reason, " UR5 refused tool 0's pose (");
+  EXPECT_CONTAINS(r.reason, "deg: reachable only on another IK branch, or beyond max_velocity in one step (an IK "
+                            "discontinuity); it holds (");
+}
+
 TEST(Runner, PastItsTimeLimitTheRunEndsUnfinishedWithTheChartsStates) {
   RunOptions o = options();
   o.time_limit = 0.1;

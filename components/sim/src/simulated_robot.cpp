@@ -75,6 +75,9 @@ SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string d
   addProperty(sensor_cutoff_);
   addProperty(seed_);
   addProperty(speed_scaling_.range(1e-3, 1.0));
+  addOperation("lastFailure", std::function<std::string()>([this] { return lastFailure(); }),
+               "why the last refused Cartesian command was refused: when, which tool, the pose (m, deg), "
+               "out of reach or on another IK branch, and where the robot holds");
   addPort(des_joint_position_);
   addPort(meas_joint_position_);
   for (auto& tool : tools_) {
@@ -205,6 +208,16 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   kinematics::IkStatus status = kinematics_->solve(solve_targets_, robot_->commanded(), dt * speed_scaling_(), solution_);
   if (status == kinematics::IkStatus::Ok && !robot_->command(solution_)) status = kinematics::IkStatus::BadInput;
   if (status != kinematics::IkStatus::Ok) {
+    if (!refusing_) {
+      std::size_t moved = 0;
+      for (std::size_t i = 0; i < tools_.size(); ++i)
+        if (!KDL::Equal(targets_[i], tools_[i]->commanded, 1e-12)) {
+          moved = i;
+          break;
+        }
+      refusal_ = {true, std::chrono::duration<double>(now()).count(), status, moved, targets_[moved],
+                  tools_[moved]->commanded};
+    }
     // One event per reason and refusal episode (until a command is accepted again).
     if (status == kinematics::IkStatus::Discontinuous) {
       if (!told_discontinuity_) emitEvent("e_ik_discontinuity");
@@ -221,6 +234,35 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
   if (refusing_) emitEvent("e_ik_solved");
   refusing_ = told_failed_ = told_discontinuity_ = false;
   for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->commanded = targets_[i];
+}
+
+namespace {
+std::string poseText(const KDL::Frame& f) {
+  double r = 0, p = 0, y = 0;
+  f.M.GetRPY(r, p, y);
+  char text[160];
+  std::snprintf(text, sizeof text, "(%.4f, %.4f, %.4f) m, rpy (%.1f, %.1f, %.1f) deg", f.p.x(), f.p.y(), f.p.z(),
+                r * 180.0 / M_PI, p * 180.0 / M_PI, y * 180.0 / M_PI);
+  return text;
+}
+}  // namespace
+
+std::string SimulatedServoRobotBase::lastFailure() const {
+  if (!refusal_.any) return "no Cartesian command refused";
+  std::string why;
+  switch (refusal_.status) {
+    case kinematics::IkStatus::Discontinuous:
+      why = "reachable only on another IK branch, or beyond max_velocity in one step (an IK discontinuity)";
+      break;
+    case kinematics::IkStatus::Unreachable: why = "out of reach (no IK solution)"; break;
+    case kinematics::IkStatus::JointLimits: why = "out of reach within the joint limits"; break;
+    case kinematics::IkStatus::Singular: why = "at a singular configuration"; break;
+    default: why = std::string("refused (") + kinematics::toString(refusal_.status) + ")"; break;
+  }
+  char at[48];
+  std::snprintf(at, sizeof at, "at %.3f s ", refusal_.t);
+  return at + name() + " refused tool " + std::to_string(refusal_.tool) + "'s pose " + poseText(refusal_.pose) +
+         ": " + why + "; it holds " + poseText(refusal_.held);
 }
 
 void SimulatedServoRobotBase::commandedFromJoints() noexcept {

@@ -224,6 +224,19 @@ class SimulatedServoRobotBase : public core::Component {
   bool refusing_ = false;             // the last Cartesian command was refused
   bool told_failed_ = false;          // e_ik_failed emitted in this refusal episode
   bool told_discontinuity_ = false;   // e_ik_discontinuity emitted in this refusal episode
+  /// The first refused command of the last refusal episode, kept by the update (no allocation)
+  /// for lastFailure(), which words it.
+  struct Refusal {
+    bool any = false;
+    double t = 0.0;                   // s, the component's time
+    kinematics::IkStatus status = kinematics::IkStatus::Ok;
+    std::size_t tool = 0;             // the first tool whose pose moved (0 when none did)
+    KDL::Frame pose, held;            // world, m: the refused pose, and the pose the robot holds
+  };
+  Refusal refusal_;
+  /// "at T s UR5 refused tool 0's pose (x, y, z) m, rpy (r, p, y) deg: out of reach (no IK
+  /// solution); it holds (x, y, z) m" — the operation `lastFailure` (for `cobra run`'s safe stop).
+  std::string lastFailure() const;
 };
 
 /// The I-SUR puncturing robot (thesis §4.3.1, 8 DOF: linear delta q1..q3 (m), base rotation q4,
