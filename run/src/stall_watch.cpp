@@ -56,7 +56,7 @@ std::string StallWatch::text(const std::string& name, const std::string& state, 
     for (std::size_t i = 0; i < events.size(); ++i) out += (i > 0 ? ", " : "") + events[i];
   }
   if (heard_.empty()) return out + "; no event arrived there";
-  out += "; heard there and not taken: ";
+  out += "; heard there with no change of state: ";
   for (std::size_t i = 0; i < heard_.size(); ++i)
     out += (i > 0 ? ", " : "") + heard_[i].event + " (" + heard_[i].source + " at " + at(heard_[i].t) + ")";
   return out;

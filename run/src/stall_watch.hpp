@@ -25,7 +25,7 @@ class StallWatch {
   /// True once per state, the first time the chart has been in it for `after` s at `t`.
   bool due(double t, double after);
   /// "NAME chart in STATE since T s; it waits for e_a, e_b (its transitions there); heard there
-  /// and not taken: e_x (Src at T s), ..." (`chart`: the loaded chart, for the transitions; may
+  /// with no change of state: e_x (Src at T s), ..." (`chart`: the loaded chart, for the transitions; may
   /// be null, e.g. a chart of another host).
   std::string text(const std::string& name, const std::string& state, const statechart::Chart* chart) const;
 

@@ -340,7 +340,7 @@ TEST(RunSpec, ASectionNoObserverIsRegisteredForIsOneLineWithFileLineAndTheKnownS
             }),
             path + ":3: run.trackin: unknown section 'trackin' (no observer of this name is registered: a package "
                    "adds one with ObserverRegistry::add); did you mean 'tracking'? known sections: title, charts, fold, "
-                   "failures, explain, safe_stop_reason, safe_stop_linger, step, actions, record, plots, summary, "
+                   "failures, explain, safe_stop_reason, safe_stop_linger, stall_notice, step, actions, record, plots, summary, "
                    "tracking, clearance, studio");
 }
 

@@ -176,7 +176,7 @@ TEST(Runner, AChartThatStaysInAStateSaysWhatItWaitsForAndWhatArrivedUntaken) {
   const RunResult r = runApp(o);
   EXPECT_EQ(r.outcome, Outcome::TimeLimit);
   const std::string stall = "task chart in root.high since 0.";
-  const std::string why = "; it waits for e_below_treshold; heard there and not taken: e_below_threshold (Detector at 0.";
+  const std::string why = "; it waits for e_below_treshold; heard there with no change of state: e_below_threshold (Detector at 0.";
   EXPECT_CONTAINS(r.reason, "time limit 2.000 s reached; charts: task root.high; " + stall);
   EXPECT_CONTAINS(r.reason, why);
   // Said once, when the chart had been 1 s in root.high (besides the end's reason).

@@ -311,9 +311,13 @@ int main(int argc, char** argv) {
   fsm_run->add_option("FILE", fsm_file, "rFSM chart (return rfsm.state{ ... })")->required()->check(CLI::ExistingFile);
   fsm_run->add_option("--events", fsm_events,
                       "events, whitespace-separated; - sends none; with --until, NAME@SECONDS sends at that time");
-  fsm_run->add_option("--until", fsm_until, "s: run a task chart on a simulated clock until then (e_after fires), "
-                                            "with stub peers and emit, printing states, events and calls");
-  fsm_run->add_option("--step", fsm_step, "s: the simulated clock's step with --until (default 0.01)");
+  CLI::Option* until_option =
+      fsm_run->add_option("--until", fsm_until, "s: run a task chart on a simulated clock until then (e_after fires), "
+                                                "with stub peers and emit, printing states, events and calls")
+          ->check(CLI::PositiveNumber);
+  fsm_run->add_option("--step", fsm_step, "s: the simulated clock's step with --until (default 0.01)")
+      ->check(CLI::PositiveNumber)
+      ->needs(until_option);
   fsm_run->footer("example: cobra fsm run script/test/charts/fig32.lua --events \"e_start e_error - e_error_fixed\"\n"
                   "prints one line with the active state's full path, then one per token\n"
                   "example: cobra fsm run apps/puncturing/charts/needle_insertion.lua --until 30 "

@@ -77,7 +77,8 @@ SimulatedServoRobotBase::SimulatedServoRobotBase(std::string name, std::string d
   addProperty(speed_scaling_.range(1e-3, 1.0));
   addOperation("lastFailure", std::function<std::string()>([this] { return lastFailure(); }),
                "why the last refused Cartesian command was refused: when, which tool, the pose (m, deg), "
-               "out of reach or on another IK branch, and where the robot holds");
+               "out of reach or on another IK branch, and where the robot holds",
+               core::ExecutionThread::Client);
   addPort(des_joint_position_);
   addPort(meas_joint_position_);
   for (auto& tool : tools_) {
@@ -215,8 +216,8 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
           moved = i;
           break;
         }
-      refusal_ = {true, std::chrono::duration<double>(now()).count(), status, moved, targets_[moved],
-                  tools_[moved]->commanded};
+      refusal_.write({true, std::chrono::duration<double>(now()).count(), status, moved, targets_[moved],
+                      tools_[moved]->commanded});
     }
     // One event per reason and refusal episode (until a command is accepted again).
     if (status == kinematics::IkStatus::Discontinuous) {
@@ -247,22 +248,28 @@ std::string poseText(const KDL::Frame& f) {
 }
 }  // namespace
 
-std::string SimulatedServoRobotBase::lastFailure() const {
-  if (!refusal_.any) return "no Cartesian command refused";
+std::string SimulatedServoRobotBase::lastFailure() {
+  Refusal refusal;
+  {
+    const std::lock_guard lock(refusal_reader_);
+    refusal_.update();
+    refusal = refusal_.front();
+  }
+  if (!refusal.any) return "no Cartesian command refused";
   std::string why;
-  switch (refusal_.status) {
+  switch (refusal.status) {
     case kinematics::IkStatus::Discontinuous:
       why = "reachable only on another IK branch, or beyond max_velocity in one step (an IK discontinuity)";
       break;
     case kinematics::IkStatus::Unreachable: why = "out of reach (no IK solution)"; break;
     case kinematics::IkStatus::JointLimits: why = "out of reach within the joint limits"; break;
     case kinematics::IkStatus::Singular: why = "at a singular configuration"; break;
-    default: why = std::string("refused (") + kinematics::toString(refusal_.status) + ")"; break;
+    default: why = std::string("refused (") + kinematics::toString(refusal.status) + ")"; break;
   }
   char at[48];
-  std::snprintf(at, sizeof at, "at %.3f s ", refusal_.t);
-  return at + name() + " refused tool " + std::to_string(refusal_.tool) + "'s pose " + poseText(refusal_.pose) +
-         ": " + why + "; it holds " + poseText(refusal_.held);
+  std::snprintf(at, sizeof at, "at %.3f s ", refusal.t);
+  return at + name() + " refused tool " + std::to_string(refusal.tool) + "'s pose " + poseText(refusal.pose) +
+         ": " + why + "; it holds " + poseText(refusal.held);
 }
 
 void SimulatedServoRobotBase::commandedFromJoints() noexcept {

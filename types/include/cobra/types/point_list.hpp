@@ -102,8 +102,6 @@ namespace cobra::types {
 /// Geometry.PointList on DDS: `positions` x, y, z per point (m), then `labels`, one line per point,
 /// its name and group separated by a tab (a tab or newline inside one is sent as a space). A ROS 2
 /// node reads it with the IDL of `cobra::dds::idlOf<PointListWire>()` as Geometry/msg/PointList.idl.
-/// (The sequence comes first and the one string last: dds's record reader misaligns a 4-byte
-/// field that follows a string, see the report of this change.)
 struct PointListWire {
   std::vector<double> positions;
   std::string labels;

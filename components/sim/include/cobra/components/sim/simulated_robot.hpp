@@ -12,6 +12,7 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -20,6 +21,7 @@
 #include "cobra/core/bounded_string.hpp"
 #include "cobra/core/component.hpp"
 #include "cobra/core/event.hpp"
+#include "cobra/core/triple_buffer.hpp"
 #include "cobra/kinematics/kinematics_solver.hpp"
 #include "cobra/sim/ft_sensor.hpp"
 #include "cobra/sim/servo.hpp"
@@ -224,8 +226,9 @@ class SimulatedServoRobotBase : public core::Component {
   bool refusing_ = false;             // the last Cartesian command was refused
   bool told_failed_ = false;          // e_ik_failed emitted in this refusal episode
   bool told_discontinuity_ = false;   // e_ik_discontinuity emitted in this refusal episode
-  /// The first refused command of the last refusal episode, kept by the update (no allocation)
-  /// for lastFailure(), which words it.
+  /// The first refused command of the last refusal episode, published by the update (a copy
+  /// into a triple buffer: no allocation, no lock) for lastFailure(), which words it on the
+  /// caller's thread.
   struct Refusal {
     bool any = false;
     double t = 0.0;                   // s, the component's time
@@ -233,10 +236,12 @@ class SimulatedServoRobotBase : public core::Component {
     std::size_t tool = 0;             // the first tool whose pose moved (0 when none did)
     KDL::Frame pose, held;            // world, m: the refused pose, and the pose the robot holds
   };
-  Refusal refusal_;
+  core::TripleBuffer<Refusal> refusal_{Refusal{}};
+  mutable std::mutex refusal_reader_;  // lastFailure's callers take turns: the buffer has one reader
   /// "at T s UR5 refused tool 0's pose (x, y, z) m, rpy (r, p, y) deg: out of reach (no IK
-  /// solution); it holds (x, y, z) m" — the operation `lastFailure` (for `cobra run`'s safe stop).
-  std::string lastFailure() const;
+  /// solution); it holds (x, y, z) m" — the operation `lastFailure` (for `cobra run`'s safe stop),
+  /// run on the caller's thread.
+  std::string lastFailure();
 };
 
 /// The I-SUR puncturing robot (thesis §4.3.1, 8 DOF: linear delta q1..q3 (m), base rotation q4,
