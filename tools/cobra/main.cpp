@@ -311,12 +311,19 @@ int main(int argc, char** argv) {
   fsm_run->add_option("FILE", fsm_file, "rFSM chart (return rfsm.state{ ... })")->required()->check(CLI::ExistingFile);
   fsm_run->add_option("--events", fsm_events,
                       "events, whitespace-separated; - sends none; with --until, NAME@SECONDS sends at that time");
+  const CLI::Validator positive_seconds(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        return end != text.c_str() && *end == '\0' && value > 0.0 ? "" : "expected a time > 0 s, got '" + text + "'";
+      },
+      "SECONDS > 0");
   CLI::Option* until_option =
       fsm_run->add_option("--until", fsm_until, "s: run a task chart on a simulated clock until then (e_after fires), "
                                                 "with stub peers and emit, printing states, events and calls")
-          ->check(CLI::PositiveNumber);
+          ->check(positive_seconds);
   fsm_run->add_option("--step", fsm_step, "s: the simulated clock's step with --until (default 0.01)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_seconds)
       ->needs(until_option);
   fsm_run->footer("example: cobra fsm run script/test/charts/fig32.lua --events \"e_start e_error - e_error_fixed\"\n"
                   "prints one line with the active state's full path, then one per token\n"
