@@ -63,7 +63,7 @@ namespace {
 using namespace cobra::planning;
 
 constexpr int kRepetitions = 10;
-constexpr int kRandomQueries = 1000;
+const int kRandomQueries = std::getenv("NQ") ? std::atoi(std::getenv("NQ")) : 1000;
 constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
@@ -138,6 +138,12 @@ JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const
         }
         q[offset + j] = lo + unit(rng) * (hi - lo);
       }
+      // Where the robot can be under Cartesian control: its redundancy resolved as its IK
+      // resolves it (the I-SUR's base and elbow rule; the identity for the UR5).
+      std::vector<double> coordinates(model.coordinateCount()), projected(n);
+      model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
+      model.jointsOf(coordinates, std::span<const double>(q).subspan(offset, n), projected);
+      std::copy(projected.begin(), projected.end(), q.begin() + static_cast<std::ptrdiff_t>(offset));
     }
     if (validator.checkJoints(q).valid() && validator.toolPoses(q, tools) && o.first_bounds.contains(tools.first.p) &&
         o.second_bounds.contains(tools.second.p))
@@ -286,6 +292,7 @@ void BM_Random(benchmark::State& state, const std::string& planner) {
       MotionPlanner motion_planner(validator, o);
       const double cpu_before = processCpuSeconds();
       const PlanResult result = motion_planner.planPath(query.start, query.goal);
+      if (std::getenv("COBRA_PLAN_DEBUG")) std::fprintf(stderr, "DBG RESULT %s: %s\n", toString(result.status), result.message.c_str());
       cpu_ms.push_back(1e3 * (processCpuSeconds() - cpu_before));
       times_ms.push_back(1e3 * result.planning_time);
       ++outcomes[result.status];
