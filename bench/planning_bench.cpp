@@ -37,6 +37,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -63,7 +64,7 @@ namespace {
 using namespace cobra::planning;
 
 constexpr int kRepetitions = 10;
-const int kRandomQueries = std::getenv("NQ") ? std::atoi(std::getenv("NQ")) : 1000;
+constexpr int kRandomQueries = 1000;
 constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
@@ -120,7 +121,7 @@ KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
 /// A valid joint state inside the planner's tool bounds, sampled uniformly in the joint limits
 /// (the UR5 within ±π of `near`'s joints when given, so that it stays on one IK branch family).
 JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const PlannerOptions& o,
-                             const JointState* near = nullptr) {
+                             const JointState* near = nullptr, bool on_rule = true) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   JointState q(validator.jointCount());
   DualPose tools;
@@ -140,6 +141,7 @@ JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const
       }
       // Where the robot can be under Cartesian control: its redundancy resolved as its IK
       // resolves it (the I-SUR's base and elbow rule; the identity for the UR5).
+      if (!on_rule) continue;
       std::vector<double> coordinates(model.coordinateCount()), projected(n);
       model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
       model.jointsOf(coordinates, std::span<const double>(q).subspan(offset, n), projected);
@@ -188,7 +190,7 @@ ValidStates validStates(StateValidator& validator) {
   std::mt19937 rng(11);
   ValidStates states;
   while (states.joints.size() < 4096) {
-    states.joints.push_back(randomValidJoints(rng, validator, o));
+    states.joints.push_back(randomValidJoints(rng, validator, o, nullptr, false));
     states.poses.emplace_back();
     validator.toolPoses(states.joints.back(), states.poses.back());
   }
@@ -244,58 +246,154 @@ struct Query {
   double max_angular_velocity = 0.5;   // rad/s
 };
 
-/// kRandomQueries seeded feasible queries (the same for every planner).
-std::vector<Query> randomQueries(StateValidator& validator) {
-  const PlannerOptions o = deploymentOptions("RRTConnect");
+/// A scene the random queries are drawn on, configured as its deployment configures its planner.
+struct RandomScene {
+  std::function<SceneDescription()> scene;
+  PlannerOptions options;  // bounds, tool names, work limit (the planner name is the benchmark's)
+  /// The trajectory generator's speeds [m/s, rad/s] for a query moving tool 0 (needle, Endo
+  /// Stitch) or only tool 1 (probe, stick).
+  double first_linear = 0.05, first_angular = 0.5, second_linear = 0.05, second_angular = 0.5;
+};
+
+/// The puncturing scene as puncturingScene() and deploymentOptions() give it, work limit 10,000;
+/// the needle robot's generator (needle_robot.lua) when the needle moves, the probe robot's
+/// (probe_robot.lua) otherwise.
+RandomScene puncturingRandom(const std::string& planner) {
+  RandomScene r{[] { return puncturingScene(); }, deploymentOptions(planner), 0.04, 0.15, 0.08, 0.5};
+  r.options.max_validity_checks = 10000;
+  return r;
+}
+
+/// The suturing application's scene (apps/suturing/deployment/suturing.scene, phantom as in the
+/// file) and its planner as apps/suturing/deployment/controller.lua configures it: the tool frames
+/// of apps/suturing/frames.lua, the tips' bounds over the phantom, work limit 20,000 checks, the
+/// generator's 0.02 m/s and 0.3 rad/s.
+RandomScene suturingRandom(const std::string& planner) {
+  RandomScene r;
+  r.scene = [] {
+    SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/apps/suturing/deployment/suturing.scene");
+    constexpr double kLean = 0.6, kTurn = -0.6;  // frames.lua: the stick's datum in the gripper frame
+    for (RobotPlacement& robot : scene.robots) {
+      robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(kPi, -1.2, 0.0)));
+      robot.setToolFrame(1, KDL::Frame(KDL::Rotation::RotY(-kLean) * KDL::Rotation::RotZ(kTurn), KDL::Vector(0, 0, 0.15)));
+    }
+    return scene;
+  };
+  r.options.planner = planner;
+  r.options.first_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
+  r.options.second_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
+  r.options.tool_names = {"Endo Stitch", "stick"};
+  r.options.max_validity_checks = 20000;
+  r.first_linear = r.second_linear = 0.02;
+  r.first_angular = r.second_angular = 0.3;
+  return r;
+}
+
+/// kRandomQueries seeded feasible queries (the same for every planner): start and goal joint
+/// states sampled valid in the planner's bounds, on each robot's redundancy rule; a third moves
+/// tool 0 only, a third tool 1 only, a third both (the other tool's goal is its start pose);
+/// kept when the planner accepts the query (MotionPlanner::checkGoal) and no joint must turn the
+/// long way round (below). `refused` counts the sampled queries dropped, by cause.
+std::vector<Query> randomQueries(StateValidator& validator, const RandomScene& setup,
+                                 std::map<std::string, int>& refused) {
+  const PlannerOptions& o = setup.options;
   MotionPlanner acceptance(validator, o);
   std::mt19937 rng(2026);
   std::vector<Query> queries;
   while (queries.size() < static_cast<std::size_t>(kRandomQueries)) {
     Query query;
     query.start = randomValidJoints(rng, validator, o);
-    JointState goal = randomValidJoints(rng, validator, o, &query.start);
-    // Which robots move: the needle, the probe, or both (one in three each).
-    const int moving = static_cast<int>(queries.size() % 3);
-    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
-      const bool isur = validator.scene().robots[r].name == "isur";
-      if ((moving == 0 && !isur) || (moving == 1 && isur))
-        std::copy_n(query.start.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)),
-                    validator.model(r).jointCount(), goal.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)));
-    }
+    const JointState goal = randomValidJoints(rng, validator, o, &query.start);
+    DualPose start_poses;
+    validator.toolPoses(query.start, start_poses);
     validator.toolPoses(goal, query.goal);
+    // Which tools move: the first, the second, or both (one in three each).
+    const int moving = static_cast<int>(queries.size() % 3);
+    if (moving == 1) query.goal.first = start_poses.first;
+    if (moving == 0) query.goal.second = start_poses.second;
     // Feasible: the planner accepts the query (its own goal check: the goal IK from the start on
     // the start's branch and redundancy rule, a valid goal state), so a failure is the search's.
-    if (!acceptance.checkGoal(query.start, query.goal).solved()) continue;
-    const bool needle_moves = moving != 1;
-    query.max_linear_velocity = needle_moves ? 0.04 : 0.08;
-    query.max_angular_velocity = needle_moves ? 0.15 : 0.5;
+    const PlanResult accepted = acceptance.checkGoal(query.start, query.goal);
+    if (!accepted.solved()) {
+      ++refused[std::string("checkGoal: ") + toString(accepted.status)];
+      continue;
+    }
+    // And no joint of the goal IK is more than half a turn from the start in a joint that spans
+    // two turns (the UR5's ±2π): its nearest representative lies past the joint's limit, so
+    // the joint would have to turn the long way round, outside the planner's search bounds
+    // (start ± π: Ur5Model::coordinateBounds) and for the shoulder lift through the table.
+    JointState goal_joints(goal.size()), lower(goal.size()), upper(goal.size()), velocity(goal.size());
+    std::size_t robot = 0;
+    validator.inverseGoal(query.goal, query.start, goal_joints, robot);
+    bool long_way = false;
+    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+      const std::size_t offset = validator.jointOffset(r), n = validator.model(r).jointCount();
+      validator.model(r).jointLimits(std::span(lower).subspan(offset, n), std::span(upper).subspan(offset, n),
+                                     std::span(velocity).subspan(offset, n));
+    }
+    for (std::size_t j = 0; j < goal.size(); ++j)
+      long_way = long_way || (upper[j] - lower[j] > 3.0 * kPi && std::abs(goal_joints[j] - query.start[j]) > kPi);
+    if (long_way) {
+      ++refused["a joint would turn the long way round"];
+      continue;
+    }
+    const bool first_moves = moving != 1;
+    query.max_linear_velocity = first_moves ? setup.first_linear : setup.second_linear;
+    query.max_angular_velocity = first_moves ? setup.first_angular : setup.second_angular;
     queries.push_back(query);
   }
   return queries;
 }
 
-void BM_Random(benchmark::State& state, const std::string& planner) {
-  StateValidator validator = makeValidator(puncturingScene());
-  const std::vector<Query> queries = randomQueries(validator);
+/// `message` with every number replaced by '#': failures of one kind count together.
+std::string reasonOf(const std::string& message) {
+  std::string reason;
+  for (std::size_t i = 0; i < message.size(); ++i) {
+    const bool digit = std::isdigit(static_cast<unsigned char>(message[i])) != 0;
+    if (!digit && !(message[i] == '.' && i > 0 && std::isdigit(static_cast<unsigned char>(message[i - 1])) != 0) &&
+        !(message[i] == '-' && i + 1 < message.size() && std::isdigit(static_cast<unsigned char>(message[i + 1])) != 0)) {
+      reason += message[i];
+    } else if (reason.empty() || reason.back() != '#') {
+      reason += '#';
+    }
+  }
+  return reason;
+}
+
+void BM_Random(benchmark::State& state, const std::string& scene_name, const RandomScene& setup) {
+  StateValidator validator = makeValidator(setup.scene());
+  std::map<std::string, int> refused;
+  const std::vector<Query> queries = randomQueries(validator, setup, refused);
   std::vector<double> times_ms, cpu_ms;
   std::map<PlanStatus, int> outcomes;
+  std::map<std::string, int> reasons;
+  std::size_t searches = 0, researched = 0;
   for (auto _ : state) {
     std::uint32_t seed = 1;
     for (const Query& query : queries) {
-      PlannerOptions o = deploymentOptions(planner);
-      o.max_validity_checks = 10000;
+      PlannerOptions o = setup.options;
       o.seed = seed++;
-      // The trajectory generator's speeds of the planner that would ask (needle_robot.lua and
-      // probe_robot.lua): the needle's when the needle moves.
+      // The trajectory generator's speeds of the planner that would ask.
       o.max_linear_velocity = query.max_linear_velocity;
       o.max_angular_velocity = query.max_angular_velocity;
       MotionPlanner motion_planner(validator, o);
       const double cpu_before = processCpuSeconds();
       const PlanResult result = motion_planner.planPath(query.start, query.goal);
-      if (std::getenv("COBRA_PLAN_DEBUG")) std::fprintf(stderr, "DBG RESULT %s: %s\n", toString(result.status), result.message.c_str());
       cpu_ms.push_back(1e3 * (processCpuSeconds() - cpu_before));
       times_ms.push_back(1e3 * result.planning_time);
       ++outcomes[result.status];
+      searches += result.searches;
+      researched += result.searches > 1 ? 1 : 0;
+      if (!result.solved()) ++reasons[reasonOf(result.message)];
+      if (!result.solved() && std::getenv("DUMP")) {
+        std::fprintf(stderr, "FAIL q%zu moving %zu:", static_cast<std::size_t>(&query - queries.data()), static_cast<std::size_t>(&query - queries.data()) % 3);
+        for (double v : query.start) std::fprintf(stderr, " %.3f", v);
+        JointState g(query.start.size()); std::size_t rr = 0;
+        validator.inverseGoal(query.goal, query.start, g, rr);
+        std::fprintf(stderr, "\n   goal:");
+        for (double v : g) std::fprintf(stderr, " %.3f", v);
+        std::fprintf(stderr, "\n   %s\n", result.message.c_str());
+      }
     }
   }
   state.counters["median_ms"] = quantile(times_ms, 0.5);
@@ -309,17 +407,36 @@ void BM_Random(benchmark::State& state, const std::string& planner) {
   state.counters["path_invalid"] = outcomes[PlanStatus::PathInvalid];
   state.counters["refused"] = static_cast<double>(queries.size()) - outcomes[PlanStatus::Solved] -
                               outcomes[PlanStatus::NoSolution] - outcomes[PlanStatus::PathInvalid];
+  // How much of the work went into re-runs after a path failed the verification.
+  state.counters["searches_per_query"] = static_cast<double>(searches) / static_cast<double>(queries.size());
+  state.counters["re_searched"] = static_cast<double>(researched);
+  // Sampled queries the planner's own goal check refused (not counted in the rate), by cause.
+  int sampled_refused = 0;
+  std::string refusals;
+  for (const auto& [why, count] : refused) {
+    sampled_refused += count;
+    refusals += std::string(refusals.empty() ? "" : ", ") + std::to_string(count) + " " + why;
+  }
+  state.counters["sampled_refused"] = sampled_refused;
+  // The failures' causes (numbers as '#'), most frequent first, to stderr.
+  std::vector<std::pair<int, std::string>> causes;
+  for (const auto& [reason, count] : reasons) causes.emplace_back(count, reason);
+  std::sort(causes.rbegin(), causes.rend());
+  std::fprintf(stderr, "RandomQueries %s/%s: %zu queries (%d sampled ones dropped: %s)\n",
+               scene_name.c_str(), setup.options.planner.c_str(), queries.size(), sampled_refused, refusals.c_str());
+  for (const auto& [count, reason] : causes) std::fprintf(stderr, "  %4d x %s\n", count, reason.c_str());
 }
-BENCHMARK_CAPTURE(BM_Random, RRTConnect, std::string("RRTConnect"))->Name("RandomQueries/RRTConnect")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, BiTRRT, std::string("BiTRRT"))->Name("RandomQueries/BiTRRT")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, LazyPRM, std::string("LazyPRM"))->Name("RandomQueries/LazyPRM")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, LBKPIECE1, std::string("LBKPIECE1"))->Name("RandomQueries/LBKPIECE1")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, BITstar, std::string("BITstar"))->Name("RandomQueries/BITstar")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
+
+#define COBRA_RANDOM_QUERIES(PLANNER)                                                                        \
+  BENCHMARK_CAPTURE(BM_Random, PLANNER, std::string("puncturing"), puncturingRandom(#PLANNER))               \
+      ->Name("RandomQueries/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond);                       \
+  BENCHMARK_CAPTURE(BM_Random, suturing_##PLANNER, std::string("suturing"), suturingRandom(#PLANNER))        \
+      ->Name("RandomQueriesSuturing/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond)
+COBRA_RANDOM_QUERIES(RRTConnect);
+COBRA_RANDOM_QUERIES(BiTRRT);
+COBRA_RANDOM_QUERIES(LazyPRM);
+COBRA_RANDOM_QUERIES(LBKPIECE1);
+COBRA_RANDOM_QUERIES(BITstar);
 
 }  // namespace
 

@@ -318,8 +318,9 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
   std::uint32_t seed = options_.seed;
-  for (;;) {
-    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed);
+  for (std::size_t searches = 1;; ++searches) {
+    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, searches);
+    attempt.searches = searches;
     if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
     ++seed;
   }
@@ -327,7 +328,8 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
 
 PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                                        const DualPose& goal_poses, const std::vector<bool>& moving,
-                                       std::chrono::steady_clock::time_point started, std::uint32_t seed) {
+                                       std::chrono::steady_clock::time_point started, std::uint32_t seed,
+                                       std::size_t search) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return detail::finished(std::move(result), status, std::move(message), started);
@@ -376,7 +378,11 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     checks_.fetch_add(1, std::memory_order_relaxed);  // a state refused: one check of the work limit
     return false;
   });
-  setup.getSpaceInformation()->setStateValidityCheckingResolution(options_.edge_resolution);
+  // A path that failed the verification may have passed OMPL's edge checks between two of their
+  // points (a thin obstacle) and be found again by the next seed (e.g. the straight segment):
+  // each re-run checks edges twice as finely, down to an eighth of edge_resolution.
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(
+      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(search - 1, 3)));
   ob::ScopedState<> start_state(space), goal_state(space);
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
   layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
