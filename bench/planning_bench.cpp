@@ -52,6 +52,7 @@
 
 #include <time.h>
 
+#include "../planning/test/random_queries.hpp"
 #include "../planning/test/stand_in_robots.hpp"
 #include "../test_support/include/cobra/test_support/counting_new.hpp"
 #include "cobra/core/core.hpp"
@@ -62,9 +63,10 @@
 namespace {
 
 using namespace cobra::planning;
+using namespace cobra::planning::test;
 
 constexpr int kRepetitions = 10;
-constexpr int kRandomQueries = 1000;
+constexpr std::size_t kRandomQueries = 1000;
 constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
@@ -81,30 +83,9 @@ SceneDescription standInScene() {
   return parseScene(text.str(), "two_robots.scene + wall", dir);
 }
 
-/// The puncturing scene as the deployment configures it: the needle frames have z along the
-/// needle (apps/puncturing/puncturing.lua), the phantom at `phantom` (identity: as in the file).
-SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
-  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/test/scenes/puncturing.scene");
-  for (RobotPlacement& robot : scene.robots)
-    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
-  for (ObjectDescription& object : scene.objects)
-    if (object.name == "phantom") object.offset = phantom * object.offset;
-  return scene;
-}
-
 StateValidator makeValidator(SceneDescription scene) {
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
-}
-
-/// The MotionPlanner component's default bounds (components/planning), as the deployment uses them.
-PlannerOptions deploymentOptions(const std::string& planner) {
-  PlannerOptions o;
-  o.planner = planner;
-  o.first_bounds = {{-0.3, -0.3, 0.0}, {0.3, 0.3, 0.5}};
-  o.second_bounds = {{-0.4, -0.5, 0.0}, {0.4, 0.4, 0.6}};
-  o.tool_names = {"needle", "probe"};
-  return o;
 }
 
 KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
@@ -116,41 +97,6 @@ KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   double x = normal(rng), y = normal(rng), z = normal(rng), w = normal(rng);
   const double n = std::sqrt(x * x + y * y + z * z + w * w);
   return KDL::Frame(KDL::Rotation::Quaternion(x / n, y / n, z / n, w / n), p);
-}
-
-/// A valid joint state inside the planner's tool bounds, sampled uniformly in the joint limits
-/// (the UR5 within ±π of `near`'s joints when given, so that it stays on one IK branch family).
-JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const PlannerOptions& o,
-                             const JointState* near = nullptr, bool on_rule = true) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  JointState q(validator.jointCount());
-  DualPose tools;
-  for (;;) {
-    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
-      RobotModel& model = validator.model(r);
-      const std::size_t n = model.jointCount(), offset = validator.jointOffset(r);
-      std::vector<double> lower(n), upper(n), velocity(n);
-      model.jointLimits(lower, upper, velocity);
-      for (std::size_t j = 0; j < n; ++j) {
-        double lo = lower[j], hi = upper[j];
-        if (near != nullptr && validator.scene().robots[r].name == "ur5") {
-          lo = std::max(lo, (*near)[offset + j] - kPi);
-          hi = std::min(hi, (*near)[offset + j] + kPi);
-        }
-        q[offset + j] = lo + unit(rng) * (hi - lo);
-      }
-      // Where the robot can be under Cartesian control: its redundancy resolved as its IK
-      // resolves it (the I-SUR's base and elbow rule; the identity for the UR5).
-      if (!on_rule) continue;
-      std::vector<double> coordinates(model.coordinateCount()), projected(n);
-      model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
-      model.jointsOf(coordinates, std::span<const double>(q).subspan(offset, n), projected);
-      std::copy(projected.begin(), projected.end(), q.begin() + static_cast<std::ptrdiff_t>(offset));
-    }
-    if (validator.checkJoints(q).valid() && validator.toolPoses(q, tools) && o.first_bounds.contains(tools.first.p) &&
-        o.second_bounds.contains(tools.second.p))
-      return q;
-  }
 }
 
 void runChecks(benchmark::State& state, const std::function<bool(std::size_t)>& check, std::size_t count) {
@@ -238,113 +184,6 @@ BENCHMARK_CAPTURE(BM_AppPlanningRequests, vertical_needle,
                   cobra::bench::AppTask{"apps/puncturing", "apps/puncturing/scenarios/vertical_needle"}, kScenarioRuns)
     ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
 
-/// One planning query: start joints, goal tool poses.
-struct Query {
-  JointState start;
-  DualPose goal;
-  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
-  double max_angular_velocity = 0.5;   // rad/s
-};
-
-/// A scene the random queries are drawn on, configured as its deployment configures its planner.
-struct RandomScene {
-  std::function<SceneDescription()> scene;
-  PlannerOptions options;  // bounds, tool names, work limit (the planner name is the benchmark's)
-  /// The trajectory generator's speeds [m/s, rad/s] for a query moving tool 0 (needle, Endo
-  /// Stitch) or only tool 1 (probe, stick).
-  double first_linear = 0.05, first_angular = 0.5, second_linear = 0.05, second_angular = 0.5;
-};
-
-/// The puncturing scene as puncturingScene() and deploymentOptions() give it, work limit 10,000;
-/// the needle robot's generator (needle_robot.lua) when the needle moves, the probe robot's
-/// (probe_robot.lua) otherwise.
-RandomScene puncturingRandom(const std::string& planner) {
-  RandomScene r{[] { return puncturingScene(); }, deploymentOptions(planner), 0.04, 0.15, 0.08, 0.5};
-  r.options.max_validity_checks = 10000;
-  return r;
-}
-
-/// The suturing application's scene (apps/suturing/deployment/suturing.scene, phantom as in the
-/// file) and its planner as apps/suturing/deployment/controller.lua configures it: the tool frames
-/// of apps/suturing/frames.lua, the tips' bounds over the phantom, work limit 20,000 checks, the
-/// generator's 0.02 m/s and 0.3 rad/s.
-RandomScene suturingRandom(const std::string& planner) {
-  RandomScene r;
-  r.scene = [] {
-    SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/apps/suturing/deployment/suturing.scene");
-    constexpr double kLean = 0.6, kTurn = -0.6;  // frames.lua: the stick's datum in the gripper frame
-    for (RobotPlacement& robot : scene.robots) {
-      robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(kPi, -1.2, 0.0)));
-      robot.setToolFrame(1, KDL::Frame(KDL::Rotation::RotY(-kLean) * KDL::Rotation::RotZ(kTurn), KDL::Vector(0, 0, 0.15)));
-    }
-    return scene;
-  };
-  r.options.planner = planner;
-  r.options.first_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
-  r.options.second_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
-  r.options.tool_names = {"Endo Stitch", "stick"};
-  r.options.max_validity_checks = 20000;
-  r.first_linear = r.second_linear = 0.02;
-  r.first_angular = r.second_angular = 0.3;
-  return r;
-}
-
-/// kRandomQueries seeded feasible queries (the same for every planner): start and goal joint
-/// states sampled valid in the planner's bounds, on each robot's redundancy rule; a third moves
-/// tool 0 only, a third tool 1 only, a third both (the other tool's goal is its start pose);
-/// kept when the planner accepts the query (MotionPlanner::checkGoal) and no joint must turn the
-/// long way round (below). `refused` counts the sampled queries dropped, by cause.
-std::vector<Query> randomQueries(StateValidator& validator, const RandomScene& setup,
-                                 std::map<std::string, int>& refused) {
-  const PlannerOptions& o = setup.options;
-  MotionPlanner acceptance(validator, o);
-  std::mt19937 rng(2026);
-  std::vector<Query> queries;
-  while (queries.size() < static_cast<std::size_t>(kRandomQueries)) {
-    Query query;
-    query.start = randomValidJoints(rng, validator, o);
-    const JointState goal = randomValidJoints(rng, validator, o, &query.start);
-    DualPose start_poses;
-    validator.toolPoses(query.start, start_poses);
-    validator.toolPoses(goal, query.goal);
-    // Which tools move: the first, the second, or both (one in three each).
-    const int moving = static_cast<int>(queries.size() % 3);
-    if (moving == 1) query.goal.first = start_poses.first;
-    if (moving == 0) query.goal.second = start_poses.second;
-    // Feasible: the planner accepts the query (its own goal check: the goal IK from the start on
-    // the start's branch and redundancy rule, a valid goal state), so a failure is the search's.
-    const PlanResult accepted = acceptance.checkGoal(query.start, query.goal);
-    if (!accepted.solved()) {
-      ++refused[std::string("checkGoal: ") + toString(accepted.status)];
-      continue;
-    }
-    // And no joint of the goal IK is more than half a turn from the start in a joint that spans
-    // two turns (the UR5's ±2π): its nearest representative lies past the joint's limit, so
-    // the joint would have to turn the long way round, outside the planner's search bounds
-    // (start ± π: Ur5Model::coordinateBounds) and for the shoulder lift through the table.
-    JointState goal_joints(goal.size()), lower(goal.size()), upper(goal.size()), velocity(goal.size());
-    std::size_t robot = 0;
-    validator.inverseGoal(query.goal, query.start, goal_joints, robot);
-    bool long_way = false;
-    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
-      const std::size_t offset = validator.jointOffset(r), n = validator.model(r).jointCount();
-      validator.model(r).jointLimits(std::span(lower).subspan(offset, n), std::span(upper).subspan(offset, n),
-                                     std::span(velocity).subspan(offset, n));
-    }
-    for (std::size_t j = 0; j < goal.size(); ++j)
-      long_way = long_way || (upper[j] - lower[j] > 3.0 * kPi && std::abs(goal_joints[j] - query.start[j]) > kPi);
-    if (long_way) {
-      ++refused["a joint would turn the long way round"];
-      continue;
-    }
-    const bool first_moves = moving != 1;
-    query.max_linear_velocity = first_moves ? setup.first_linear : setup.second_linear;
-    query.max_angular_velocity = first_moves ? setup.first_angular : setup.second_angular;
-    queries.push_back(query);
-  }
-  return queries;
-}
-
 /// `message` with every number replaced by '#': failures of one kind count together.
 std::string reasonOf(const std::string& message) {
   std::string reason;
@@ -363,7 +202,7 @@ std::string reasonOf(const std::string& message) {
 void BM_Random(benchmark::State& state, const std::string& scene_name, const RandomScene& setup) {
   StateValidator validator = makeValidator(setup.scene());
   std::map<std::string, int> refused;
-  const std::vector<Query> queries = randomQueries(validator, setup, refused);
+  const std::vector<Query> queries = randomQueries(validator, setup, kRandomQueries, refused);
   std::vector<double> times_ms, cpu_ms;
   std::map<PlanStatus, int> outcomes;
   std::map<std::string, int> reasons;
@@ -385,15 +224,6 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, const Ran
       searches += result.searches;
       researched += result.searches > 1 ? 1 : 0;
       if (!result.solved()) ++reasons[reasonOf(result.message)];
-      if (!result.solved() && std::getenv("DUMP")) {
-        std::fprintf(stderr, "FAIL q%zu moving %zu:", static_cast<std::size_t>(&query - queries.data()), static_cast<std::size_t>(&query - queries.data()) % 3);
-        for (double v : query.start) std::fprintf(stderr, " %.3f", v);
-        JointState g(query.start.size()); std::size_t rr = 0;
-        validator.inverseGoal(query.goal, query.start, g, rr);
-        std::fprintf(stderr, "\n   goal:");
-        for (double v : g) std::fprintf(stderr, " %.3f", v);
-        std::fprintf(stderr, "\n   %s\n", result.message.c_str());
-      }
     }
   }
   state.counters["median_ms"] = quantile(times_ms, 0.5);
