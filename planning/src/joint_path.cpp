@@ -99,14 +99,17 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
 /// The first joint (0-based, in the robot) at which robot `r`'s joints in `q` differ from the
 /// configuration its planning coordinates stand for (RobotModel::jointsOf of coordinatesOf(q), the
 /// redundancy resolved by the rule of the control path's IK from `start`), or -1 when none does.
-std::ptrdiff_t offRule(StateValidator& validator, std::size_t r, const JointState& q, const JointState& start) {
+/// `step` > 0: a joint may differ by `step` × its velocity limit [s] instead of 1e-6 (m, rad).
+std::ptrdiff_t offRule(StateValidator& validator, std::size_t r, const JointState& q, const JointState& start,
+                       double step = 0.0) {
   RobotModel& model = validator.model(r);
   const std::size_t offset = validator.jointOffset(r), n = model.jointCount();
-  std::vector<double> coordinates(model.coordinateCount()), check(n);
+  std::vector<double> coordinates(model.coordinateCount()), check(n), lower(n), upper(n), velocity(n);
   model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
   model.jointsOf(coordinates, std::span<const double>(start).subspan(offset, n), check);
+  model.jointLimits(lower, upper, velocity);
   for (std::size_t j = 0; j < n; ++j)
-    if (std::abs(check[j] - q[offset + j]) > 1e-6) return static_cast<std::ptrdiff_t>(j);
+    if (std::abs(check[j] - q[offset + j]) > (step > 0.0 ? step * velocity[j] : 1e-6)) return static_cast<std::ptrdiff_t>(j);
   return -1;
 }
 
@@ -295,8 +298,13 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
     any = any || moving[r];
     // A robot that moves must start where the control path's IK would put it for its tool poses
     // (the I-SUR's redundancy rule): from anywhere else, the first Cartesian command of any path
-    // jumps its joints to the rule, which the continuity rule refuses.
-    const std::ptrdiff_t joint = moving[r] ? offRule(validator_, r, start, start) : -1;
+    // jumps its joints to the rule, which the continuity rule refuses. Measured joints (encoder
+    // counts) are off it by far less than the verification's first step allows a joint (its
+    // velocity limit with the margin over a blend_time segment's first point), which it walks
+    // from the measured start.
+    const double first_step = options_.joint_velocity_margin * options_.blend_time /
+                              static_cast<double>(std::max<std::size_t>(options_.verify_points_per_segment, 1));
+    const std::ptrdiff_t joint = moving[r] ? offRule(validator_, r, start, start, first_step) : -1;
     if (joint >= 0)
       return detail::finished(std::move(result), PlanStatus::InvalidStart,
                               "start joints of robot '" + validator_.scene().robots[r].name + "' (joint " +
