@@ -24,14 +24,19 @@
 //    a loaded machine gives to other processes), `success_rate` (e_plan_done over requests); the
 //    slowest request's planner and simulated time go to stderr. The count of requests is checked
 //    against the events in the run's log.
-//  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
-//    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
-//    poses; a third moves the needle, a third the probe, a third both; kept only when the planner
-//    accepts the query: MotionPlanner::checkGoal), work limit 10,000 checks or iterations;
-//    `success_rate`, `no_path`, `path_invalid`, `refused` (queries), `median_ms`, `p95_ms`,
-//    `max_ms` and `cpu_median_ms` (process CPU time:
-//    wall-clock times include waiting for a shared core). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1
-//    and BIT* side by side on the same queries.
+//  - RandomQueries/<planner>, RandomQueriesSuturing/<planner>: 1,000 seeded random feasible
+//    queries on the puncturing scene and on the suturing application's scene
+//    (planning/test/random_queries.hpp: start and goal joint states sampled valid inside the
+//    planner's bounds and on each robot's redundancy rule, the goal given as its tool poses; a
+//    third moves tool 0, a third tool 1, a third both; kept when the planner accepts the query,
+//    MotionPlanner::checkGoal, and no UR5 joint must turn the long way round), each scene's
+//    planner as its deployment configures it (puncturing: work limit 10,000 checks or
+//    iterations; suturing: 20,000); `success_rate`, `no_path`, `path_invalid`, `refused`
+//    (queries), `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock
+//    times include waiting for a shared core), `searches_per_query`, `re_searched` (queries
+//    re-searched after a failed verification), `sampled_refused` (samples dropped, by cause on
+//    stderr, with each failure's message by count). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1 and
+//    BIT* side by side on the same queries.
 // Validity checks run 10 repetitions (median and max reported); planning runs once.
 
 #include <benchmark/benchmark.h>
