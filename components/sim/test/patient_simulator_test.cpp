@@ -289,19 +289,19 @@ TEST(PatientSimulator, TheUltrasoundImageComesAtItsRateOfThePosesItsBandsStarted
     sent.push_back(world.probeInP(1e-5 * ms));  // sliding 10 mm/s along x
     if (!world.step(sent.back(), world.tipInP())) continue;
     published.push_back(ms);
-    // 2048 px per update of a 128-row image: 16 columns, 8 updates; the image is of the probe at
+    // 1024 px per update of a 128-row image: 8 columns, 16 updates; the image is of the probe at
     // the first of them, carried into W.
-    const KDL::Frame first = world.asThePatientSeesIt(sent[static_cast<std::size_t>(ms - 7)]);
+    const KDL::Frame first = world.asThePatientSeesIt(sent[static_cast<std::size_t>(ms - 15)]);
     EXPECT_LT((world.got->pose.p - world.phantom * (first.p - first.M.UnitX() * (64 * 0.0008))).Norm(), 1e-12)
         << "image at step " << ms;
   }
-  EXPECT_EQ(published, (std::vector<int>{7, 107, 207, 307, 407, 507, 607, 707, 807, 907}));
+  EXPECT_EQ(published, (std::vector<int>{15, 115, 215, 315, 415, 515, 615, 715, 815, 915}));
 
   // The whole image in one update (0), another rate, none at 0 Hz.
   for (const auto& [rate, pixels, expected] :
        std::vector<std::tuple<double, int, std::vector<int>>>{{25.0, 0, {0, 40, 80, 120, 160}},
                                                               {25.0, 8192, {1, 41, 81, 121, 161}},
-                                                              {0.0, 2048, {}}}) {
+                                                              {0.0, 1024, {}}}) {
     ImagingPatient other;
     other.patient.setProperty("image_rate", rate);
     other.patient.setProperty("image_pixels_per_step", pixels);
@@ -324,7 +324,7 @@ TEST(PatientSimulator, TheUltrasoundImagesSizeIsItsPropertiesAndARateItsBandsCan
   std::vector<int> at;
   for (int ms = 0; ms < 120; ++ms)
     if (world.step(world.probeInP(), world.tipInP())) at.push_back(ms);
-  EXPECT_EQ(at, (std::vector<int>{6, 106}));  // 2048 / 200 = 10 columns per update: 7 updates
+  EXPECT_EQ(at, (std::vector<int>{12, 112}));  // 1024 / 200 = 5 columns per update: 13 updates
   EXPECT_EQ(world.got->width, 64u);
   EXPECT_EQ(world.got->height, 200u);
   EXPECT_EQ(world.got->spacing_x, 0.0005);
@@ -334,13 +334,13 @@ TEST(PatientSimulator, TheUltrasoundImagesSizeIsItsPropertiesAndARateItsBandsCan
   EXPECT_EQ(test_support::messageOf([&] { world.patient.setProperty("image_rate", -1.0); }),
             "component 'patient': property 'image_rate' = -1 is out of range [0, 1000] (Hz)");
   ImagingPatient fast;
-  fast.patient.setProperty("image_rate", 200.0);  // 5 ms apart; 128 x 128 in bands of 2048 px takes 8 ms
+  fast.patient.setProperty("image_rate", 100.0);  // 10 ms apart; 128 x 128 in bands of 1024 px takes 16 ms
   core::Result r = fast.patient.configure();
   EXPECT_FALSE(r);
   EXPECT_EQ(r.message,
-            "component 'patient': property image_rate is 200 Hz, but an image of 128 x 128 px takes 8 updates of 0.001 "
-            "s (image_pixels_per_step = 2048 px); expected image_rate <= 125 Hz, or more image_pixels_per_step");
-  fast.patient.setProperty("image_pixels_per_step", 4096);
+            "component 'patient': property image_rate is 100 Hz, but an image of 128 x 128 px takes 16 updates of 0.001 "
+            "s (image_pixels_per_step = 1024 px); expected image_rate <= 62.5 Hz, or more image_pixels_per_step");
+  fast.patient.setProperty("image_pixels_per_step", 2048);
   EXPECT_TRUE(fast.patient.configure());
 }
 

@@ -53,8 +53,9 @@ namespace cobra::components {
 /// The image's cost: a 128 x 128 image costs about 1.4 ms of CPU (sim/README.md), more than a
 /// 1 ms tick of the real-time executor holds (every component of a deployment steps in one tick).
 /// So each update renders one band of whole columns (scan lines) of at most
-/// `image_pixels_per_step` pixels (default 2048: about 0.2 ms, bench/sim_bench.cpp), and the image
-/// is published with its last band: 8 updates for 128 x 128. A band of columns renders exactly
+/// `image_pixels_per_step` pixels (default 1024: 0.09 ms, at worst about 0.2 ms for the central
+/// columns, which hold the most tissue; bench/sim_bench.cpp), and the image is published with its
+/// last band: 16 updates for 128 x 128. A band of columns renders exactly
 /// what the whole image would (sim::UltrasoundImager::renderColumns). Configure refuses a rate the
 /// bands cannot keep at the activity's period. No probe pose yet: no image.
 /// Read-only properties, set at configure from the phantom scenario (what cobra studio draws):
@@ -111,7 +112,7 @@ class PatientSimulator : public core::Component {
   core::Property<double> image_spacing_{"image_spacing", 0.0008, "m/px",
                                         "usImage pixel size along the array and the beam, 1e-6..0.01"};
   core::Property<int> image_pixels_per_step_{
-      "image_pixels_per_step", 2048, "px",
+      "image_pixels_per_step", 1024, "px",
       "most pixels rendered in one update (whole columns, at least one), 0..65536; 0: the whole image at once"};
 
   core::Property<std::vector<double>> tumour_{"tumour", {}, "m",
