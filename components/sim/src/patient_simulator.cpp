@@ -101,8 +101,6 @@ bool PatientSimulator::configureHook() {
 
 bool PatientSimulator::configureImage() {
   imager_.reset();
-  image_interval_ns_ = 0;
-  if (image_rate_() == 0.0) return true;
   sim::UltrasoundImageModel model;
   model.width = image_width_();
   model.height = image_height_();
@@ -114,13 +112,12 @@ bool PatientSimulator::configureImage() {
   }
   const int pixels = image_pixels_per_step_();
   image_columns_per_step_ = pixels == 0 ? model.width : std::max(1, pixels / model.height);
-  image_interval_ns_ = std::llround(1e9 / image_rate_());
   // Each update renders one band: an image takes `steps` updates, which must fit in its interval
-  // (a periodic activity; an event-driven one renders when it is triggered, and a due image that
-  // could not start is skipped).
+  // (a periodic activity; an event-driven one renders when it is triggered). A rate set later,
+  // while running, is not checked: a due image that cannot start is skipped (stepImage).
   const int steps = (model.width + image_columns_per_step_ - 1) / image_columns_per_step_;
   const std::int64_t period_ns = activity().period().count();
-  if (period_ns > 0 && steps * period_ns > image_interval_ns_) {
+  if (image_rate_() > 0.0 && period_ns > 0 && static_cast<double>(steps * period_ns) > 1e9 / image_rate_()) {
     const double period = static_cast<double>(period_ns) * 1e-9;
     return refuse("property image_rate is " + core::printValue(image_rate_()) + " Hz, but an image of " +
                   std::to_string(model.width) + " x " + std::to_string(model.height) + " px takes " +
@@ -214,11 +211,19 @@ void PatientSimulator::updateHook() {
 void PatientSimulator::stepImage(std::int64_t now_ns) noexcept {
   if (!imager_ || !have_probe_) return;
   if (next_column_ < 0) {
+    // image_rate is read here, so that a configuration may turn the images on and off while the
+    // patient runs (0: none start; an image being rendered is finished).
+    const double rate = image_rate_();
+    if (rate <= 0.0) {
+      next_image_ns_ = -1;  // turned on again: the first image at once
+      return;
+    }
     if (next_image_ns_ >= 0 && now_ns < next_image_ns_) return;
-    // Images start image_interval_ns_ apart on a fixed schedule; one that could not start when due
-    // (its predecessor's bands ran late) is skipped, not caught up.
-    next_image_ns_ = (next_image_ns_ < 0 ? now_ns : next_image_ns_) + image_interval_ns_;
-    if (next_image_ns_ <= now_ns) next_image_ns_ = now_ns + image_interval_ns_;
+    // Images start 1 / rate apart on a fixed schedule; one that could not start when due (its
+    // predecessor's bands ran late) is skipped, not caught up.
+    const auto interval = static_cast<std::int64_t>(std::llround(1e9 / rate));
+    next_image_ns_ = (next_image_ns_ < 0 ? now_ns : next_image_ns_) + interval;
+    if (next_image_ns_ <= now_ns) next_image_ns_ = now_ns + interval;
     image_probe_ = probe_;
     image_tip_ = needle_tip_;
     image_has_tip_ = have_needle_;

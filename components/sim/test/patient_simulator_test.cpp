@@ -297,6 +297,17 @@ TEST(PatientSimulator, TheUltrasoundImageComesAtItsRateOfThePosesItsBandsStarted
   }
   EXPECT_EQ(published, (std::vector<int>{15, 115, 215, 315, 415, 515, 615, 715, 815, 915}));
 
+  // Turned off and on again while running (a configuration's property values), at another rate.
+  world.patient.setProperty("image_rate", 0.0);
+  published.clear();
+  for (int ms = 1000; ms < 1300; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) published.push_back(ms);
+  EXPECT_EQ(published, std::vector<int>{});
+  world.patient.setProperty("image_rate", 20.0);
+  for (int ms = 1300; ms < 1500; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) published.push_back(ms);
+  EXPECT_EQ(published, (std::vector<int>{1315, 1365, 1415, 1465}));
+
   // The whole image in one update (0), another rate, none at 0 Hz.
   for (const auto& [rate, pixels, expected] :
        std::vector<std::tuple<double, int, std::vector<int>>>{{25.0, 0, {0, 40, 80, 120, 160}},

@@ -57,7 +57,10 @@ namespace cobra::components {
 /// columns, which hold the most tissue; bench/sim_bench.cpp), and the image is published with its
 /// last band: 16 updates for 128 x 128. A band of columns renders exactly
 /// what the whole image would (sim::UltrasoundImager::renderColumns). Configure refuses a rate the
-/// bands cannot keep at the activity's period. No probe pose yet: no image.
+/// bands cannot keep at the activity's period; a rate set while running is not checked, and an
+/// image due while the previous one is still being rendered is skipped. `image_rate` may change
+/// while the patient runs (a configuration turns the images on and off); the image's size, seed
+/// and bands are fixed at configure. No probe pose yet: no image.
 /// Read-only properties, set at configure from the phantom scenario (what cobra studio draws):
 /// `tumour` (vector<double>, m: the tumour's centre x y z in the world, then its radius) and
 /// `layer_depths` (vector<double>, m: each layer's top and bottom depth below the skin along -z of
@@ -105,15 +108,19 @@ class PatientSimulator : public core::Component {
 
   // The rendered image (usImage); its field of view is the imager's (a convex probe's sector),
   // distinct from image_depth / image_half_width above, which decide the needle's visibility.
-  core::Property<double> image_rate_{"image_rate", 10.0, "Hz", "usImage images per second, 0..1000 (0: none)"};
-  core::Property<int> image_seed_{"image_seed", 1, "1", "seed of the image's speckle (same seed and poses, same image)"};
-  core::Property<int> image_width_{"image_width", 128, "px", "usImage columns, along the probe's array, 1..256"};
-  core::Property<int> image_height_{"image_height", 128, "px", "usImage rows, along the beam (depth), 1..256"};
+  core::Property<double> image_rate_{"image_rate", 10.0, "Hz",
+                                     "usImage images per second, 0..1000 (0: none); may change while running"};
+  core::Property<int> image_seed_{"image_seed", 1, "1",
+                                  "seed of the image's speckle (same seed and poses, same image; fixed at configure)"};
+  core::Property<int> image_width_{"image_width", 128, "px",
+                                   "usImage columns, along the probe's array, 1..256 (fixed at configure)"};
+  core::Property<int> image_height_{"image_height", 128, "px",
+                                    "usImage rows, along the beam (depth), 1..256 (fixed at configure)"};
   core::Property<double> image_spacing_{"image_spacing", 0.0008, "m/px",
-                                        "usImage pixel size along the array and the beam, 1e-6..0.01"};
-  core::Property<int> image_pixels_per_step_{
-      "image_pixels_per_step", 1024, "px",
-      "most pixels rendered in one update (whole columns, at least one), 0..65536; 0: the whole image at once"};
+                                        "usImage pixel size along the array and the beam, 1e-6..0.01 (fixed at configure)"};
+  core::Property<int> image_pixels_per_step_{"image_pixels_per_step", 1024, "px",
+                                             "most pixels rendered in one update (whole columns, at least one), "
+                                             "0..65536; 0: the whole image at once (fixed at configure)"};
 
   core::Property<std::vector<double>> tumour_{"tumour", {}, "m",
                                               "set at configure: the tumour's centre (x y z, world) and radius"};
@@ -153,7 +160,6 @@ class PatientSimulator : public core::Component {
   std::optional<sim::UltrasoundImager> imager_;
   std::unique_ptr<sim::UltrasoundImage> rendering_ = std::make_unique<sim::UltrasoundImage>();
   std::unique_ptr<types::GrayImage> published_ = std::make_unique<types::GrayImage>();
-  std::int64_t image_interval_ns_ = 0;  // 0: no image
   int image_columns_per_step_ = 0;      // columns rendered per update
   std::int64_t next_image_ns_ = -1;     // when the next image starts (-1: at the first probe pose)
   int next_column_ = -1;                // next column of the image being rendered (-1: none)
