@@ -240,8 +240,11 @@ void PatientSimulator::stepImage(std::int64_t now_ns) noexcept {
   out.height = done.height;
   out.spacing_x = done.spacing_x;
   out.spacing_y = done.spacing_y;
-  // Frame I from P to W by the inverse of the map the probe's pose came through.
-  out.pose = kinematics::frameProduct(world_to_phantom_.Inverse(), done.pose);
+  // GrayImage's pose is pixel (0, 0)'s centre (gray_image.hpp; OpenIGTLink's IMAGE places voxel
+  // centres), sim's frame I its outer corner: half a pixel along both axes, then from P to W by the
+  // inverse of the map the probe's pose came through.
+  const KDL::Frame centre(done.pose.M, done.pose * KDL::Vector(0.5 * done.spacing_x, 0.5 * done.spacing_y, 0.0));
+  out.pose = kinematics::frameProduct(world_to_phantom_.Inverse(), centre);
   std::copy_n(done.pixels.begin(), std::size_t{done.width} * done.height, out.pixels.begin());
   us_image_.write(out);
 }

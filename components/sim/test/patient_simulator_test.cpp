@@ -241,14 +241,15 @@ TEST(PatientSimulator, TheUltrasoundImageShowsTheTumourWhereTheProbeSeesIt) {
   EXPECT_EQ(image.spacing_x, 0.0008);
   EXPECT_EQ(image.spacing_y, 0.0008);
 
-  // The imager's own image of these poses, bit for bit, its frame I carried from P into W.
+  // The imager's own image of these poses, bit for bit; its frame I (pixel (0, 0)'s outer corner)
+  // carried from P into W and half a pixel on, to pixel (0, 0)'s centre, as GrayImage places pixels.
   sim::UltrasoundImageModel model;
   const sim::UltrasoundImager imager(model, sim::loadScenario(world.scenario), 1);
   auto expected = std::make_unique<sim::UltrasoundImage>();
   const KDL::Frame probe = world.asThePatientSeesIt(world.probeInP()), tip = world.asThePatientSeesIt(world.tipInP());
   imager.render(probe, &tip, *expected);
   EXPECT_TRUE(std::equal(expected->pixels.begin(), expected->pixels.begin() + 128 * 128, image.pixels.begin()));
-  EXPECT_LT((image.pose.p - world.phantom * expected->pose.p).Norm(), 1e-12);
+  EXPECT_LT((image.pose.p - world.phantom * (expected->pose * KDL::Vector(0.0004, 0.0004, 0.0))).Norm(), 1e-12);
   EXPECT_LT((image.pose.M.UnitX() - world.phantom.M * expected->pose.M.UnitX()).Norm(), 1e-12);
   EXPECT_LT((image.pose.M.UnitY() - world.phantom.M * expected->pose.M.UnitY()).Norm(), 1e-12);
 
@@ -262,8 +263,8 @@ TEST(PatientSimulator, TheUltrasoundImageShowsTheTumourWhereTheProbeSeesIt) {
   int inside_count = 0, around_count = 0;
   for (std::size_t r = 0; r < image.height; ++r) {
     for (std::size_t c = 0; c < image.width; ++c) {
-      const double distance = std::hypot((static_cast<double>(c) + 0.5) * image.spacing_x - centre.x(),
-                                          (static_cast<double>(r) + 0.5) * image.spacing_y - centre.y());
+      const double distance = std::hypot(static_cast<double>(c) * image.spacing_x - centre.x(),
+                                          static_cast<double>(r) * image.spacing_y - centre.y());
       if (distance < 0.7 * radius) {
         inside += image.at(c, r);
         ++inside_count;
@@ -290,10 +291,11 @@ TEST(PatientSimulator, TheUltrasoundImageComesAtItsRateOfThePosesItsBandsStarted
     if (!world.step(sent.back(), world.tipInP())) continue;
     published.push_back(ms);
     // 1024 px per update of a 128-row image: 8 columns, 16 updates; the image is of the probe at
-    // the first of them, carried into W.
+    // the first of them, carried into W: pixel (0, 0)'s centre 63.5 px to the array's -x side of
+    // the probe's face and half a pixel deep.
     const KDL::Frame first = world.asThePatientSeesIt(sent[static_cast<std::size_t>(ms - 15)]);
-    EXPECT_LT((world.got->pose.p - world.phantom * (first.p - first.M.UnitX() * (64 * 0.0008))).Norm(), 1e-12)
-        << "image at step " << ms;
+    const KDL::Vector corner_centre = first.p - first.M.UnitX() * (63.5 * 0.0008) + first.M.UnitZ() * 0.0004;
+    EXPECT_LT((world.got->pose.p - world.phantom * corner_centre).Norm(), 1e-12) << "image at step " << ms;
   }
   EXPECT_EQ(published, (std::vector<int>{15, 115, 215, 315, 415, 515, 615, 715, 815, 915}));
 

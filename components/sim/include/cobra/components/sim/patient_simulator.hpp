@@ -32,7 +32,7 @@ namespace cobra::components {
 /// not stepped and its outputs stay zero. `freezeCommand` (1: freeze, 0: thaw; from the
 /// cryoablation console, CryoConsole): each new sample starts a freeze (> 0.5) or a thaw, as the
 /// operations below do.
-/// Outputs each update (all pure data):
+/// Outputs (all pure data), each update but the image:
 ///  - `needleWrench`: force of the tissue on the needle, W orientation, at the tip (N; torque 0):
 ///    wire it to the needle robot's contactWrench.
 ///  - `probeWrench`: force of the skin on the probe, W orientation, at the face centre (N):
@@ -46,7 +46,8 @@ namespace cobra::components {
 ///  - `iceballRadius` (m).
 ///  - `usImage` (Imaging.GrayImage): the probe's B-mode image (sim::UltrasoundImager: layers,
 ///    tumour, vessels, ribs, the needle where it lies in the beam, speckle), `image_rate` times per
-///    s; its `pose` is pixel (0, 0) in the world (m), spacing `image_spacing` (m per pixel). It is
+///    s; its `pose` is the centre of pixel (0, 0) in the world (m; x along the array, y along the
+///    beam, as types::GrayImage places pixels), spacing `image_spacing` (m per pixel). It is
 ///    of the probe and needle poses this component reads (`probePose`, `needleTipPose`, as for
 ///    the other ultrasound outputs) at the update its rendering starts, and is published when its
 ///    last band of columns is done (see "The image's cost").
@@ -66,8 +67,8 @@ namespace cobra::components {
 /// `layer_depths` (vector<double>, m: each layer's top and bottom depth below the skin along -z of
 /// phantom_pose, skin first).
 /// Operations: `startFreeze()` starts a freeze cycle around the tip (thawing by itself after
-/// `freeze_duration` s when that is > 0), `startThaw()` stops it. updateHook allocates nothing (the image's buffers are allocated at
-/// construction, the imager at configure).
+/// `freeze_duration` s when that is > 0), `startThaw()` stops it. updateHook allocates nothing
+/// (the image's buffers are allocated at construction, the imager at configure).
 class PatientSimulator : public core::Component {
  public:
   explicit PatientSimulator(std::string name);
@@ -144,7 +145,7 @@ class PatientSimulator : public core::Component {
   core::OutputPort<double> probe_contact_force_{"probeContactForce", "probe force on the skin", "N"};
   core::OutputPort<double> iceball_radius_{"iceballRadius", "iceball radius", "m"};
   core::OutputPort<types::GrayImage> us_image_{
-      "usImage", "the probe's B-mode image, image_rate per s; pose: pixel (0, 0) in the world", "m"};
+      "usImage", "the probe's B-mode image, image_rate per s; pose: pixel (0, 0)'s centre in the world", "m"};
 
   std::optional<sim::NeedleTissueModel> tissue_;
   sim::UltrasoundProbeModel probe_model_;
