@@ -20,8 +20,8 @@
 //    256 x 256 pixels. The time column is per image (target for 128 x 128: a few ms).
 //  - PatientUpdate: one update of the PatientSimulator alone at 1 kHz (the ComponentWorld's probe
 //    and needle poses, usImage connected), by what the update does with the image: nothing
-//    (image_rate 0), one band of 2048 px (the default image_pixels_per_step; image_rate 125 Hz makes
-//    every update render a band of a 128 x 128 image, and every 8th publish it), the whole
+//    (image_rate 0), one band of 1024 px (the default image_pixels_per_step; image_rate 62.5 Hz makes
+//    every update render a band of a 128 x 128 image, and every 16th publish it), the whole
 //    128 x 128 image in one update (image_pixels_per_step 0, image_rate 1000 Hz: the peer, what an
 //    unbanded image costs the update it falls in). The time column is per update; `worst_step_us`
 //    is the longest single update's thread CPU time (us; each timed with CLOCK_THREAD_CPUTIME_ID,
@@ -291,7 +291,7 @@ std::int64_t threadCpuNs() {
 
 /// The PatientSimulator alone at 1 kHz (the ComponentWorld's geometry: the probe 20 mm beside the
 /// needle's entry, 2 mm into the skin, the needle 20 mm in, in the imaging plane).
-/// state.range(0): 0 no image, 1 a band of 2048 px in every update, 2 the whole image in every update.
+/// state.range(0): 0 no image, 1 a band of 1024 px in every update, 2 the whole image in every update.
 void BM_PatientUpdate(benchmark::State& state) {
   const KDL::Frame phantom(KDL::Rotation::RotX(std::numbers::pi), KDL::Vector(0.0, 0.0, 0.1));
   const KDL::Frame probe = phantom * KDL::Frame(KDL::Rotation(0, 1, 0, 1, 0, 0, 0, 0, -1), KDL::Vector(0.0, 0.02, -0.002));
