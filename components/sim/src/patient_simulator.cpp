@@ -212,10 +212,11 @@ void PatientSimulator::stepImage(std::int64_t now_ns) noexcept {
   if (!imager_ || !have_probe_) return;
   if (next_column_ < 0) {
     // image_rate is read here, so that a configuration may turn the images on and off while the
-    // patient runs (0: none start; an image being rendered is finished).
+    // patient runs (0: none start; an image being rendered is finished). Nor does one start while
+    // nobody reads usImage: the images would be most of a lockstep world's CPU time for nothing.
     const double rate = image_rate_();
-    if (rate <= 0.0) {
-      next_image_ns_ = -1;  // turned on again: the first image at once
+    if (rate <= 0.0 || !us_image_.hasReaders()) {
+      next_image_ns_ = -1;  // turned on again, or connected: the first image at once
       return;
     }
     if (next_image_ns_ >= 0 && now_ns < next_image_ns_) return;

@@ -327,6 +327,21 @@ TEST(PatientSimulator, TheUltrasoundImageComesAtItsRateOfThePosesItsBandsStarted
   }
 }
 
+TEST(PatientSimulator, NoUltrasoundImageIsRenderedWhileNobodyReadsIt) {
+  ImagingPatient world;
+  world.image.disconnect();
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  for (int ms = 0; ms < 1030; ++ms) world.step(world.probeInP(), world.tipInP());
+  // Connected at 1030 ms: had the images gone on unread every 100 ms since the first probe pose
+  // (0 ms), the next would start at 1100 ms; none was being rendered, so the first starts now.
+  core::connectPorts(world.patient.port("usImage"), world.image);
+  std::vector<int> at;
+  for (int ms = 1030; ms < 1200; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) at.push_back(ms);
+  EXPECT_EQ(at, (std::vector<int>{1045, 1145}));
+}
+
 TEST(PatientSimulator, TheUltrasoundImagesSizeIsItsPropertiesAndARateItsBandsCannotKeepIsRefused) {
   ImagingPatient world;
   world.patient.setProperty("image_width", 64);

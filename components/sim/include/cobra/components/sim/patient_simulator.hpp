@@ -54,14 +54,16 @@ namespace cobra::components {
 /// The image's cost: a 128 x 128 image costs about 1.4 ms of CPU (sim/README.md), more than a
 /// 1 ms tick of the real-time executor holds (every component of a deployment steps in one tick).
 /// So each update renders one band of whole columns (scan lines) of at most
-/// `image_pixels_per_step` pixels (default 1024: 0.09 ms, about 0.16 ms for the central columns,
+/// `image_pixels_per_step` pixels (default 1024: 0.09 ms, about 0.17 ms for the central columns,
 /// which hold the most tissue; bench/sim_bench.cpp, group PatientUpdate), and the image is
 /// published with its last band: 16 updates for 128 x 128. A band of columns renders exactly
 /// what the whole image would (sim::UltrasoundImager::renderColumns). Configure refuses a rate the
 /// bands cannot keep at the activity's period; a rate set while running is not checked, and an
 /// image due while the previous one is still being rendered is skipped. `image_rate` may change
 /// while the patient runs (a configuration turns the images on and off); the image's size, seed
-/// and bands are fixed at configure. No probe pose yet: no image.
+/// and bands are fixed at configure. No probe pose yet, or no connection reading usImage: no image
+/// (rendering one nobody reads would cost a lockstep world most of its CPU time); the first
+/// starts in the update that has both.
 /// Read-only properties, set at configure from the phantom scenario (what cobra studio draws):
 /// `tumour` (vector<double>, m: the tumour's centre x y z in the world, then its radius) and
 /// `layer_depths` (vector<double>, m: each layer's top and bottom depth below the skin along -z of
