@@ -12,15 +12,27 @@
 //    cobra_sim): SimulatedISURRobot inserting and withdrawing the needle (IK every step),
 //    SimulatedUR5Robot holding the probe (IK every step), PatientSimulator, NeedleInsertionMonitor,
 //    UltrasoundMonitor and SimulatedOmniPhantom, wired by ports and stepped by the LockstepClock at
-//    1 kHz. Same counters; the PuncturingWorld group above is its library-level peer.
+//    1 kHz. Same counters; the PuncturingWorld group above is its library-level peer. The patient
+//    renders its ultrasound image only while usImage is read: `us_image_read` is the same world
+//    with a reader on it (10 images per s, the default, in bands), the other renders none.
 //  - UltrasoundImage: one B-mode-like image of the default abdomen (UltrasoundImager::render) with
 //    the probe 45 mm beyond a needle's tip, beam on the tumour, the needle in plane; 128 x 128 and
 //    256 x 256 pixels. The time column is per image (target for 128 x 128: a few ms).
+//  - PatientUpdate: one update of the PatientSimulator alone at 1 kHz (the ComponentWorld's probe
+//    and needle poses, usImage connected), by what the update does with the image: nothing
+//    (image_rate 0), one band of 1024 px (the default image_pixels_per_step; image_rate 62.5 Hz makes
+//    every update render a band of a 128 x 128 image, and every 16th publish it), the whole
+//    128 x 128 image in one update (image_pixels_per_step 0, image_rate 1000 Hz: the peer, what an
+//    unbanded image costs the update it falls in). The time column is per update; `worst_step_us`
+//    is the longest single update's thread CPU time (us; each timed with CLOCK_THREAD_CPUTIME_ID,
+//    whose two calls the time column includes). Target for a band: <= 0.2 ms, a fifth of the 1 ms
+//    tick that every component of a deployment shares.
 //  - Sensor: one ForceTorqueSensor step (noise, saturation, quantisation, filter) against a
 //    naive version of the same model that builds vectors and a distribution on every call, as
 //    straightforward code does; the time column is per step.
 
 #include <benchmark/benchmark.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cmath>
@@ -151,7 +163,7 @@ BENCHMARK(BM_PuncturingWorld)->Name("PuncturingWorld/1s_at_1kHz/two_ur5_phantom_
 /// The component-level puncturing world on the lockstep clock (see the file comment).
 class ComponentWorld {
  public:
-  ComponentWorld() {
+  explicit ComponentWorld(bool read_image) {
     using cobra::core::connectPorts;
     cobra::kinematics::IsurPuncturingSolver isur_solver;
     KDL::JntArray q(8);
@@ -182,6 +194,7 @@ class ComponentWorld {
     connectPorts(patient_.port("needlePlaneDistance"), us_monitor_.port("needlePlaneDistance"));
     connectPorts(patient_.port("needleInImage"), us_monitor_.port("needleInImage"));
     connectPorts(patient_.port("probeContactForce"), us_monitor_.port("probeContactForce"));
+    if (read_image) connectPorts(patient_.port("usImage"), image_);
     connectPorts(isur_.port("measWrench"), omni_.port("desWrench"));
     connectPorts(needle_monitor_.port("events"), events_, cobra::core::ConnPolicy::buffer(64));
     connectPorts(us_monitor_.port("events"), events_, cobra::core::ConnPolicy::buffer(64));
@@ -217,6 +230,7 @@ class ComponentWorld {
   cobra::core::OutputPort<KDL::Frame> needle_command_{"needleCommand", "", "m"};
   cobra::core::OutputPort<KDL::Frame> probe_command_{"probeCommand", "", "m"};
   cobra::core::InputPort<cobra::core::Event> events_{"events", "", ""};
+  cobra::core::InputPort<cobra::types::GrayImage> image_{"image", "", "m"};  // as the OpenIGTLink bridge's
   KDL::Frame needle_start_, probe_;
   KDL::Vector axis_;
   double time_ = 0.0;
@@ -224,7 +238,7 @@ class ComponentWorld {
 };
 
 void BM_ComponentWorld(benchmark::State& state) {
-  ComponentWorld world;
+  ComponentWorld world(state.range(0) != 0);
   constexpr int kStepsPerIteration = 1000;
   for (auto _ : state) {
     for (int i = 0; i < kStepsPerIteration; ++i) world.step();
@@ -234,6 +248,12 @@ void BM_ComponentWorld(benchmark::State& state) {
   state.counters["events"] = static_cast<double>(world.events());
 }
 BENCHMARK(BM_ComponentWorld)->Name("ComponentWorld/1s_at_1kHz/isur_ur5_patient_two_monitors_omni_lockstep")
+    ->Arg(0)
+    ->Apply(configure)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ComponentWorld)->Name("ComponentWorld/1s_at_1kHz/isur_ur5_patient_two_monitors_omni_lockstep/us_image_read")
+    ->Arg(1)
     ->Apply(configure)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
@@ -262,6 +282,48 @@ void BM_UltrasoundImage(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_UltrasoundImage)->Name("UltrasoundImage/render")->Arg(128)->Arg(256)->Apply(configure)->Unit(benchmark::kMillisecond);
+
+/// Thread CPU time, ns.
+std::int64_t threadCpuNs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<std::int64_t>(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
+/// The PatientSimulator alone at 1 kHz (the ComponentWorld's geometry: the probe 20 mm beside the
+/// needle's entry, 2 mm into the skin, the needle 20 mm in, in the imaging plane).
+/// state.range(0): 0 no image, 1 a band of 1024 px in every update, 2 the whole image in every update.
+void BM_PatientUpdate(benchmark::State& state) {
+  const KDL::Frame phantom(KDL::Rotation::RotX(std::numbers::pi), KDL::Vector(0.0, 0.0, 0.1));
+  const KDL::Frame probe = phantom * KDL::Frame(KDL::Rotation(0, 1, 0, 1, 0, 0, 0, 0, -1), KDL::Vector(0.0, 0.02, -0.002));
+  const KDL::Frame tip = phantom * KDL::Frame(KDL::Rotation(0, 1, 0, 1, 0, 0, 0, 0, -1), KDL::Vector(0.0, 0.0, -0.02));
+  cobra::core::LockstepClock clock;
+  cobra::components::PatientSimulator patient("patient");
+  patient.setProperty("phantom_pose", phantom);
+  patient.setProperty("tip_to_needle", KDL::Frame::Identity());
+  const double rates[] = {0.0, 62.5, 1000.0};
+  patient.setProperty("image_rate", rates[state.range(0)]);
+  patient.setProperty("image_pixels_per_step", state.range(0) == 2 ? 0 : 1024);
+  clock.add(patient, std::chrono::milliseconds(1));
+  cobra::core::OutputPort<KDL::Frame> probe_pose{"probePose", "", "m"}, tip_pose{"tipPose", "", "m"};
+  cobra::core::InputPort<cobra::types::GrayImage> image{"image", "", "m"};
+  cobra::core::connectPorts(probe_pose, patient.port("probePose"));
+  cobra::core::connectPorts(tip_pose, patient.port("needleTipPose"));
+  cobra::core::connectPorts(patient.port("usImage"), image);
+  if (!patient.configure() || !patient.start()) throw std::runtime_error("patient: " + patient.lastError());
+  std::int64_t worst = 0;
+  for (auto _ : state) {
+    probe_pose.write(probe);
+    tip_pose.write(tip);
+    const std::int64_t before = threadCpuNs();
+    clock.advance(std::chrono::milliseconds(1));
+    worst = std::max(worst, threadCpuNs() - before);
+  }
+  state.counters["worst_step_us"] = static_cast<double>(worst) * 1e-3;
+}
+BENCHMARK(BM_PatientUpdate)->Name("PatientUpdate/no_image")->Arg(0)->Apply(configure)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PatientUpdate)->Name("PatientUpdate/image_band_1024px")->Arg(1)->Apply(configure)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PatientUpdate)->Name("PatientUpdate/whole_image_128x128")->Arg(2)->Apply(configure)->Unit(benchmark::kMicrosecond);
 
 void BM_SensorCobra(benchmark::State& state) {
   cobra::sim::ForceTorqueSensorModel model = cobra::sim::atiNano17();

@@ -365,6 +365,20 @@ TEST(Port, DisconnectRemovesEveryConnectionOfAPort) {
   EXPECT_EQ(out.write(1), WriteStatus::NotConnected);
 }
 
+TEST(Port, HasReadersFollowsTheConnections) {
+  OutputPort<int> out{"out", "", "1"};
+  InputPort<int> a{"a", "", "1"};
+  InputPort<int> b{"b", "", "1"};
+  EXPECT_FALSE(out.hasReaders());
+  connect(out, a);
+  connect(out, b);
+  EXPECT_TRUE(out.hasReaders());
+  EXPECT_TRUE(disconnectPorts(out, a));
+  EXPECT_TRUE(out.hasReaders()) << "b still reads";
+  b.disconnect();
+  EXPECT_FALSE(out.hasReaders());
+}
+
 TEST(Port, DestroyingAPortDisconnectsItsPeers) {
   InputPort<int> in{"in", "", "1"};
   {

@@ -140,7 +140,14 @@ double UltrasoundImager::speckle(const KDL::Vector& p) const noexcept {
 }
 
 void UltrasoundImager::render(const KDL::Frame& probe, const KDL::Frame* needle_tip, UltrasoundImage& image) const noexcept {
+  renderColumns(probe, needle_tip, image, 0, model_.width);
+}
+
+void UltrasoundImager::renderColumns(const KDL::Frame& probe, const KDL::Frame* needle_tip, UltrasoundImage& image,
+                                     int first_column, int end_column) const noexcept {
   const UltrasoundImageModel& m = model_;
+  first_column = std::clamp(first_column, 0, m.width);
+  end_column = std::clamp(end_column, first_column, m.width);
   image.width = static_cast<std::uint16_t>(m.width);
   image.height = static_cast<std::uint16_t>(m.height);
   image.spacing_x = m.spacing_x;
@@ -186,13 +193,16 @@ void UltrasoundImager::render(const KDL::Frame& probe, const KDL::Frame* needle_
   // Coupling through the face's centre (a convex face touches the skin there first): lifted off
   // the skin, the probe sees nothing.
   if (probe.p.z() > 0.0) {
-    std::fill_n(image.pixels.begin(), static_cast<std::size_t>(m.width) * m.height, std::uint8_t{0});
+    for (int r = 0; r < m.height; ++r) {
+      const auto row = image.pixels.begin() + static_cast<std::ptrdiff_t>(r) * m.width;
+      std::fill(row + first_column, row + end_column, std::uint8_t{0});
+    }
     return;
   }
   std::array<double, 256> row_gain{};  // depth attenuation per row
   for (int r = 0; r < m.height; ++r) row_gain[static_cast<std::size_t>(r)] = std::exp(-m.attenuation * (r + 0.5) * m.spacing_y);
 
-  for (int c = 0; c < m.width; ++c) {
+  for (int c = first_column; c < end_column; ++c) {
     const double x = (c + 0.5 - 0.5 * m.width) * m.spacing_x;
     double bone_depth = -1.0;     // m along the beam where the scan line entered bone (< 0: not yet)
     for (int r = 0; r < m.height; ++r) {

@@ -1,6 +1,7 @@
 // The simulated B-mode image: the tumour's section where the plane cuts it, layer interfaces at the
 // phantom's depths, the needle's line in plane and not when the plane is turned, ribs and vessels,
-// nothing above the skin or outside the field of view, reproducible speckle, no allocation.
+// nothing above the skin or outside the field of view, reproducible speckle, no allocation, the
+// image rendered in bands of columns the same as whole.
 // COBRA_US_IMAGE_PGM=<path> makes the needle test write its image there (a PGM file).
 
 #include "cobra/sim/ultrasound_image.hpp"
@@ -410,6 +411,45 @@ TEST(UltrasoundImage, RenderingAllocatesNothingAndFillsTheGeometry) {
   EXPECT_LT((image->pose.M.UnitX() - probe.M.UnitX()).Norm(), 1e-12);
   EXPECT_LT((image->pose.M.UnitY() - probe.M.UnitZ()).Norm(), 1e-12);
   EXPECT_LT((image->pose.p - (probe.p - probe.M.UnitX() * 0.04)).Norm(), 1e-12);
+}
+
+TEST(UltrasoundImage, BandsOfColumnsMakeTheWholeImageBitForBit) {
+  const auto phantom = cobra::sim::loadScenario(kPhantom);
+  const Needle needle;
+  const KDL::Frame tip = needle.tip();
+  const UltrasoundImager imager(UltrasoundImageModel{}, phantom, 5);
+  auto whole = std::make_unique<UltrasoundImage>(), banded = std::make_unique<UltrasoundImage>();
+  // The needle in plane, and across the rib (its shadow runs down each column).
+  for (const KDL::Frame& probe : {needle.probe(), probeLookingAt({0.0, 0.03, -0.0005}, {0.0, 0.03, -0.1}, {0, 1, 0})}) {
+    imager.render(probe, &tip, *whole);
+    banded->pixels.fill(17);
+    // Bands of uneven widths, the last one past the image's edge (clamped).
+    int first = 0;
+    for (const int band : {1, 16, 5, 60, 100}) {
+      EXPECT_EQ(cobra::test_support::allocationsDuring([&] { imager.renderColumns(probe, &tip, *banded, first, first + band); }),
+                0);
+      first += band;
+    }
+    const auto pixels = static_cast<std::ptrdiff_t>(whole->width) * whole->height;
+    EXPECT_TRUE(std::equal(whole->pixels.begin(), whole->pixels.begin() + pixels, banded->pixels.begin()));
+    EXPECT_EQ(banded->pose, whole->pose);
+    EXPECT_EQ(banded->width, whole->width);
+  }
+  // A band leaves the other columns as they were, lifted off the skin too (its columns black).
+  const auto onlyTheBand = [&](const KDL::Frame& probe) {
+    imager.render(probe, &tip, *whole);
+    banded->pixels.fill(17);
+    imager.renderColumns(probe, &tip, *banded, 60, 70);
+    for (int r = 0; r < banded->height; ++r) {
+      for (int c = 0; c < banded->width; ++c) {
+        if (banded->at(c, r) != (c < 60 || c >= 70 ? 17 : whole->at(c, r)))
+          return ::testing::AssertionFailure() << "pixel " << c << ", " << r;
+      }
+    }
+    return ::testing::AssertionSuccess();
+  };
+  EXPECT_TRUE(onlyTheBand(needle.probe()));
+  EXPECT_TRUE(onlyTheBand(KDL::Frame(KDL::Vector(0, 0, 0.01))));
 }
 
 TEST(UltrasoundImage, ParametersOutOfRangeAreRefusedByName) {

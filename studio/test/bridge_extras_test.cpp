@@ -183,7 +183,8 @@ TEST(VisualizerBridgeExtras, AWrongFixedShapeNamesTheAppFileLineThePropertyAndWh
                                           "did you mean 'tumour'? known properties: scenario_file, phantom_pose, tip_to_needle, "
                                           "iceball_max_radius, freeze_time_constant, thaw_time_constant, release_radius, hold_stiffness, "
                                           "freeze_duration, probe_contact_stiffness, probe_min_contact_force, plane_tolerance, "
-                                          "image_depth, image_half_width, needle_visible_length, tumour, layer_depths");
+                                          "image_depth, image_half_width, needle_visible_length, image_rate, image_seed, "
+                                          "image_width, image_height, image_spacing, image_pixels_per_step, tumour, layer_depths");
   EXPECT_EQ(shapeError("type"), file + ":7: run.studio.extras.tumour_b: property Patient.iceball_max_radius is a double; "
                                        "expected vector<double>, 4 per sphere (centre x y z, radius; m, world)");
   EXPECT_EQ(shapeError("count"), file + ":8: run.studio.extras.regions_c: property NeedleMonitor.forbidden_regions has 14 "

@@ -3,6 +3,8 @@
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "cobra/types/gray_image.hpp"
+#include "cobra/types/point_list.hpp"
 #include "motion_types.hpp"
 
 // cobra::types is built without the dds headers: the `cobra` tool links it, and must link neither
@@ -19,6 +21,12 @@ void registerBuiltins() {
   // (TGL.MultiAxisPath has no DDS wire, no DdsCodec: a package that registers it with DDS present
   // would not compile; here there is no DDS side.)
   registerType<trajectory::MultiAxisPath>();
+  // Geometry.PointList (point_list.cpp): a navigation program's plan, every capability here.
+  registerPointList();
+  // Imaging.GrayImage: a port type only, known to core (its name for lint, the editor's palette and
+  // `cobra new component`) and to nothing else: a 64 KiB value has no Lua table, CSV cell or
+  // property form worth having (gray_image.hpp), and the image ports read and write it in C++.
+  (void)core::typeInfo<GrayImage>();
 }
 
 bool hasEveryCapability(const core::TypeInfo& type) {

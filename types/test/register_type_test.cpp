@@ -1,5 +1,6 @@
 // registerType<T>(): one call reaches every capability registry (core, Lua, CSV); cobra's own
-// types have every capability; a registered record travels through Lua and into CSV columns.
+// types have every capability (the image a port type only); a registered record travels through
+// Lua and into CSV columns.
 
 #include "cobra/types/register_type.hpp"
 
@@ -13,6 +14,8 @@
 #include "cobra/core/record.hpp"
 #include "cobra/script/lua_state.hpp"
 #include "cobra/test_support/counting_new.hpp"
+#include "cobra/types/gray_image.hpp"
+#include "cobra/types/point_list.hpp"
 
 namespace {
 struct Needle {
@@ -94,6 +97,28 @@ TEST(RegisterType, TheBuiltinsIncludeTheMotionPlannersPathWithALuaForm) {
   }
   lua_settop(lua.get(), 0);
   ASSERT_EQ(components::findCsvType(*path)->columns("m", 0).size(), 1u);  // its text form
+}
+
+TEST(RegisterType, TheBuiltinsIncludeThePointListWithEveryCapabilityAndTheImageAsAPortTypeOnly) {
+  registerBuiltins();
+  // Nothing else in this program registers either: registerBuiltins() does.
+  const core::TypeInfo* points = core::TypeRegistry::find("Geometry.PointList");
+  ASSERT_NE(points, nullptr);
+  EXPECT_TRUE(hasEveryCapability(*points));
+  EXPECT_EQ(points->unit, "m");
+  const script::Conversion* conversion = script::findConversion(*points);
+  EXPECT_EQ(conversion->lua_form.rfind("an array of at most 32 points", 0), 0u) << conversion->lua_form;
+  EXPECT_EQ(components::findCsvType(*points)->columns("plan", 0).size(), 1u);  // its text form
+  registerPointList();  // what the cobra_bridges package calls: harmless beside registerBuiltins()
+  EXPECT_EQ(script::findConversion(*points), conversion);
+
+  // The image is a port type: its name and kind, no Lua value, no CSV column (gray_image.hpp).
+  const core::TypeInfo* image = core::TypeRegistry::find("Imaging.GrayImage");
+  ASSERT_NE(image, nullptr);
+  EXPECT_EQ(image->kind, core::DataKind::Pure);
+  EXPECT_EQ(image->cpp, "cobra::types::GrayImage");
+  EXPECT_EQ(script::findConversion(*image), nullptr);
+  EXPECT_EQ(components::findCsvType(*image), nullptr);
 }
 
 TEST(RegisterType, ARegisteredRecordIsALuaValueOnAPort) {

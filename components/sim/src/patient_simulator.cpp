@@ -1,5 +1,6 @@
 #include "cobra/components/sim/patient_simulator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -28,6 +29,12 @@ PatientSimulator::PatientSimulator(std::string name)
   addProperty(image_depth_);
   addProperty(image_half_width_);
   addProperty(needle_visible_length_);
+  addProperty(image_rate_.range(0.0, 1000.0));
+  addProperty(image_seed_);
+  addProperty(image_width_.range(1, 256));
+  addProperty(image_height_.range(1, 256));
+  addProperty(image_spacing_.range(1e-6, 0.01));
+  addProperty(image_pixels_per_step_.range(0, 65536));
   addProperty(tumour_.readOnly());
   addProperty(layer_depths_.readOnly());
   addPort(needle_tip_pose_);
@@ -43,6 +50,7 @@ PatientSimulator::PatientSimulator(std::string name)
   addPort(tumour_visible_);
   addPort(probe_contact_force_);
   addPort(iceball_radius_);
+  addPort(us_image_);
   addOperation("startFreeze", &PatientSimulator::startFreeze, this,
                "starts a cryoablation freeze cycle around the needle tip (thaws after freeze_duration s when > 0)");
   addOperation("startThaw", &PatientSimulator::startThaw, this, "stops freezing: the iceball thaws");
@@ -88,15 +96,49 @@ bool PatientSimulator::configureHook() {
   have_needle_ = have_probe_ = false;
   freeze_requested_ = thaw_requested_ = false;
   thaw_at_ns_ = -1;
+  return configureImage();
+}
+
+bool PatientSimulator::configureImage() {
+  imager_.reset();
+  sim::UltrasoundImageModel model;
+  model.width = image_width_();
+  model.height = image_height_();
+  model.spacing_x = model.spacing_y = image_spacing_();
+  try {
+    imager_.emplace(model, tissue_->scenario(), static_cast<std::uint64_t>(image_seed_()));
+  } catch (const std::invalid_argument& e) {  // a phantom beyond the imager's tables (16 layers, 16 regions)
+    return refuse(std::string("usImage: ") + e.what());
+  }
+  const int pixels = image_pixels_per_step_();
+  image_columns_per_step_ = pixels == 0 ? model.width : std::max(1, pixels / model.height);
+  // Each update renders one band: an image takes `steps` updates, which must fit in its interval
+  // (a periodic activity; an event-driven one renders when it is triggered). A rate set later,
+  // while running, is not checked: a due image that cannot start is skipped (stepImage).
+  const int steps = (model.width + image_columns_per_step_ - 1) / image_columns_per_step_;
+  const std::int64_t period_ns = activity().period().count();
+  if (image_rate_() > 0.0 && period_ns > 0 && static_cast<double>(steps * period_ns) > 1e9 / image_rate_()) {
+    const double period = static_cast<double>(period_ns) * 1e-9;
+    return refuse("property image_rate is " + core::printValue(image_rate_()) + " Hz, but an image of " +
+                  std::to_string(model.width) + " x " + std::to_string(model.height) + " px takes " +
+                  std::to_string(steps) + " updates of " + core::printValue(period) + " s (image_pixels_per_step = " +
+                  std::to_string(pixels) + " px); expected image_rate <= " +
+                  core::printValue(1.0 / (steps * period)) + " Hz, or more image_pixels_per_step");
+  }
   return true;
 }
 
 bool PatientSimulator::startHook() {
   last_update_ns_ = -1;
+  next_image_ns_ = -1;  // the first image at the first update with a probe pose
+  next_column_ = -1;    // an image stopped half-rendered is dropped
   return true;
 }
 
-void PatientSimulator::cleanupHook() { tissue_.reset(); }
+void PatientSimulator::cleanupHook() {
+  tissue_.reset();
+  imager_.reset();
+}
 
 void PatientSimulator::startFreeze() {
   freeze_requested_ = true;
@@ -163,6 +205,49 @@ void PatientSimulator::updateHook() {
       needle_visible_.write(view.needle_visible ? 1.0 : 0.0);
     }
   }
+  stepImage(now_ns);
+}
+
+void PatientSimulator::stepImage(std::int64_t now_ns) noexcept {
+  if (!imager_ || !have_probe_) return;
+  if (next_column_ < 0) {
+    // image_rate is read here, so that a configuration may turn the images on and off while the
+    // patient runs (0: none start; an image being rendered is finished). Nor does one start while
+    // nobody reads usImage: the images would be most of a lockstep world's CPU time for nothing.
+    const double rate = image_rate_();
+    if (rate <= 0.0 || !us_image_.hasReaders()) {
+      next_image_ns_ = -1;  // turned on again, or connected: the first image at once
+      return;
+    }
+    if (next_image_ns_ >= 0 && now_ns < next_image_ns_) return;
+    // Images start 1 / rate apart on a fixed schedule; one that could not start when due (its
+    // predecessor's bands ran late) is skipped, not caught up.
+    const auto interval = static_cast<std::int64_t>(std::llround(1e9 / rate));
+    next_image_ns_ = (next_image_ns_ < 0 ? now_ns : next_image_ns_) + interval;
+    if (next_image_ns_ <= now_ns) next_image_ns_ = now_ns + interval;
+    image_probe_ = probe_;
+    image_tip_ = needle_tip_;
+    image_has_tip_ = have_needle_;
+    next_column_ = 0;
+  }
+  const int end = next_column_ + image_columns_per_step_;
+  imager_->renderColumns(image_probe_, image_has_tip_ ? &image_tip_ : nullptr, *rendering_, next_column_, end);
+  next_column_ = end;
+  if (next_column_ < rendering_->width) return;
+  next_column_ = -1;
+  const sim::UltrasoundImage& done = *rendering_;
+  types::GrayImage& out = *published_;
+  out.width = done.width;
+  out.height = done.height;
+  out.spacing_x = done.spacing_x;
+  out.spacing_y = done.spacing_y;
+  // GrayImage's pose is pixel (0, 0)'s centre (gray_image.hpp; OpenIGTLink's IMAGE places voxel
+  // centres), sim's frame I its outer corner: half a pixel along both axes, then from P to W by the
+  // inverse of the map the probe's pose came through.
+  const KDL::Frame centre(done.pose.M, done.pose * KDL::Vector(0.5 * done.spacing_x, 0.5 * done.spacing_y, 0.0));
+  out.pose = kinematics::frameProduct(world_to_phantom_.Inverse(), centre);
+  std::copy_n(done.pixels.begin(), std::size_t{done.width} * done.height, out.pixels.begin());
+  us_image_.write(out);
 }
 
 }  // namespace cobra::components

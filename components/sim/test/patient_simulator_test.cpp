@@ -1,12 +1,18 @@
 // PatientSimulator through the components on the lockstep clock: a needle driven by the
-// simulated I-SUR into the phantom, the wrench fed back to the robot's sensor, the monitor's events.
+// simulated I-SUR into the phantom, the wrench fed back to the robot's sensor, the monitor's events;
+// the ultrasound image port: the tumour where the probe sees it, the image's rate and bands, no
+// allocation.
 #include "cobra/components/sim/patient_simulator.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <fstream>
+#include <memory>
 
+#include "cobra/kinematics/frame_product.hpp"
+#include "cobra/sim/ultrasound_image.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "puncturing_world.hpp"
 
@@ -167,6 +173,217 @@ TEST(PatientSimulator, BadScenarioFilesAreRefusedNamingTheFileAndLine) {
   r = negative.configure();
   EXPECT_FALSE(r);
   EXPECT_CONTAINS(r.message, "freeze_duration");
+}
+
+// The image's set-up, as sim/test/ultrasound_image_test.cpp has it: the two_needles phantom (tumour
+// of 12 mm at (0, 0, -0.06) in P), the probe on the skin 35 mm aside looking at the tumour's
+// centre with its array along -x, the scenario's first needle (entry to target, crossing the
+// plane). The phantom is placed off the world's axes, so that the image's pose is mapped.
+struct ImagingPatient {
+  const std::string scenario = std::string(COBRA_SOURCE_DIR) + "/apps/puncturing/scenarios/two_needles/phantom.txt";
+  const KDL::Frame phantom{KDL::Rotation::RPY(0.1, -0.2, 0.3), KDL::Vector(0.3, -0.1, 0.1)};  // W_T_P
+  core::LockstepClock clock;
+  PatientSimulator patient{"patient"};
+  core::OutputPort<KDL::Frame> probe_pose{"probePose", "", "m"};
+  core::OutputPort<KDL::Frame> tip_pose{"tipPose", "", "m"};
+  core::InputPort<types::GrayImage> image{"image", "", "m"};
+  std::unique_ptr<types::GrayImage> got = std::make_unique<types::GrayImage>();
+
+  ImagingPatient() {
+    patient.setProperty("scenario_file", scenario);
+    patient.setProperty("phantom_pose", phantom);
+    patient.setProperty("tip_to_needle", KDL::Frame::Identity());
+    clock.add(patient, 1ms);
+    core::connectPorts(probe_pose, patient.port("probePose"));
+    core::connectPorts(tip_pose, patient.port("needleTipPose"));
+    core::connectPorts(patient.port("usImage"), image);
+  }
+
+  /// The probe looking from the skin at `target` (P), its array along `array` (made orthogonal).
+  static KDL::Frame probeLookingAt(const KDL::Vector& face, const KDL::Vector& target, const KDL::Vector& array) {
+    KDL::Vector z = target - face;
+    z.Normalize();
+    KDL::Vector x = array - z * KDL::dot(array, z);
+    x.Normalize();
+    return {KDL::Rotation(x, z * x, z), face};
+  }
+  KDL::Frame probeInP(double shift = 0.0) const {
+    return probeLookingAt({0.035 + shift, 0.0, -0.001}, {shift, 0.0, -0.06}, {-1, 0, 0});
+  }
+  KDL::Frame tipInP() const { return probeLookingAt({-0.02, -0.006, 0.0}, {-0.005, 0.0, -0.058}, {1, 0, 0}); }
+
+  /// One 1 ms step with the probe and the needle tip at these poses (P, sent in W); true when an
+  /// image arrived (then in *got).
+  bool step(const KDL::Frame& probe, const KDL::Frame& tip) {
+    probe_pose.write(phantom * probe);
+    tip_pose.write(phantom * tip);
+    clock.advance(1ms);
+    return image.readNew(*got) == core::FlowStatus::NewData;
+  }
+
+  /// A pose the patient received in W, back in P exactly as the patient maps it.
+  KDL::Frame asThePatientSeesIt(const KDL::Frame& in_p) const {
+    return kinematics::frameProduct(phantom.Inverse(), phantom * in_p);
+  }
+};
+
+TEST(PatientSimulator, TheUltrasoundImageShowsTheTumourWhereTheProbeSeesIt) {
+  ImagingPatient world;
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  int steps = 0;
+  while (!world.step(world.probeInP(), world.tipInP()) && ++steps < 50) {
+  }
+  ASSERT_LT(steps, 50) << "no image";
+  const types::GrayImage& image = *world.got;
+  EXPECT_EQ(image.width, 128u);
+  EXPECT_EQ(image.height, 128u);
+  EXPECT_EQ(image.spacing_x, 0.0008);
+  EXPECT_EQ(image.spacing_y, 0.0008);
+
+  // The imager's own image of these poses, bit for bit; its frame I (pixel (0, 0)'s outer corner)
+  // carried from P into W and half a pixel on, to pixel (0, 0)'s centre, as GrayImage places pixels.
+  sim::UltrasoundImageModel model;
+  const sim::UltrasoundImager imager(model, sim::loadScenario(world.scenario), 1);
+  auto expected = std::make_unique<sim::UltrasoundImage>();
+  const KDL::Frame probe = world.asThePatientSeesIt(world.probeInP()), tip = world.asThePatientSeesIt(world.tipInP());
+  imager.render(probe, &tip, *expected);
+  EXPECT_TRUE(std::equal(expected->pixels.begin(), expected->pixels.begin() + 128 * 128, image.pixels.begin()));
+  EXPECT_LT((image.pose.p - world.phantom * (expected->pose * KDL::Vector(0.0004, 0.0004, 0.0))).Norm(), 1e-12);
+  EXPECT_LT((image.pose.M.UnitX() - world.phantom.M * expected->pose.M.UnitX()).Norm(), 1e-12);
+  EXPECT_LT((image.pose.M.UnitY() - world.phantom.M * expected->pose.M.UnitY()).Norm(), 1e-12);
+
+  // The tumour (the patient's `tumour`: centre in W, radius) lies in the image's plane, and the
+  // image is dark there: its hypoechoic disc against the tissue round it.
+  const std::vector<double> tumour = world.patient.getProperty<std::vector<double>>("tumour");
+  const KDL::Vector centre = image.pose.Inverse(KDL::Vector(tumour[0], tumour[1], tumour[2]));  // frame I, m
+  EXPECT_NEAR(centre.z(), 0.0, 1e-9);
+  const double radius = tumour[3];
+  double inside = 0.0, around = 0.0;
+  int inside_count = 0, around_count = 0;
+  for (std::size_t r = 0; r < image.height; ++r) {
+    for (std::size_t c = 0; c < image.width; ++c) {
+      const double distance = std::hypot(static_cast<double>(c) * image.spacing_x - centre.x(),
+                                          static_cast<double>(r) * image.spacing_y - centre.y());
+      if (distance < 0.7 * radius) {
+        inside += image.at(c, r);
+        ++inside_count;
+      } else if (distance > radius + 0.002 && distance < radius + 0.008 && image.at(c, r) > 0) {
+        around += image.at(c, r);  // the tissue round the tumour within the field of view
+        ++around_count;
+      }
+    }
+  }
+  ASSERT_GT(inside_count, 100);
+  ASSERT_GT(around_count, 100);
+  EXPECT_LT(inside / inside_count, 0.5 * around / around_count);
+}
+
+TEST(PatientSimulator, TheUltrasoundImageComesAtItsRateOfThePosesItsBandsStartedAt) {
+  ImagingPatient world;
+  world.patient.setProperty("image_rate", 10.0);  // Hz: every 100 updates at 1 kHz
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  std::vector<int> published;
+  std::vector<KDL::Frame> sent;  // the probe of each step (P)
+  for (int ms = 0; ms < 1000; ++ms) {
+    sent.push_back(world.probeInP(1e-5 * ms));  // sliding 10 mm/s along x
+    if (!world.step(sent.back(), world.tipInP())) continue;
+    published.push_back(ms);
+    // 1024 px per update of a 128-row image: 8 columns, 16 updates; the image is of the probe at
+    // the first of them, carried into W: pixel (0, 0)'s centre 63.5 px to the array's -x side of
+    // the probe's face and half a pixel deep.
+    const KDL::Frame first = world.asThePatientSeesIt(sent[static_cast<std::size_t>(ms - 15)]);
+    const KDL::Vector corner_centre = first.p - first.M.UnitX() * (63.5 * 0.0008) + first.M.UnitZ() * 0.0004;
+    EXPECT_LT((world.got->pose.p - world.phantom * corner_centre).Norm(), 1e-12) << "image at step " << ms;
+  }
+  EXPECT_EQ(published, (std::vector<int>{15, 115, 215, 315, 415, 515, 615, 715, 815, 915}));
+
+  // Turned off and on again while running (a configuration's property values), at another rate.
+  world.patient.setProperty("image_rate", 0.0);
+  published.clear();
+  for (int ms = 1000; ms < 1300; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) published.push_back(ms);
+  EXPECT_EQ(published, std::vector<int>{});
+  world.patient.setProperty("image_rate", 20.0);
+  for (int ms = 1300; ms < 1500; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) published.push_back(ms);
+  EXPECT_EQ(published, (std::vector<int>{1315, 1365, 1415, 1465}));
+
+  // The whole image in one update (0), another rate, none at 0 Hz.
+  for (const auto& [rate, pixels, expected] :
+       std::vector<std::tuple<double, int, std::vector<int>>>{{25.0, 0, {0, 40, 80, 120, 160}},
+                                                              {25.0, 8192, {1, 41, 81, 121, 161}},
+                                                              {0.0, 1024, {}}}) {
+    ImagingPatient other;
+    other.patient.setProperty("image_rate", rate);
+    other.patient.setProperty("image_pixels_per_step", pixels);
+    ASSERT_TRUE(other.patient.configure());
+    ASSERT_TRUE(other.patient.start());
+    std::vector<int> at;
+    for (int ms = 0; ms < 200; ++ms)
+      if (other.step(other.probeInP(), other.tipInP())) at.push_back(ms);
+    EXPECT_EQ(at, expected) << rate << " Hz, " << pixels << " px per update";
+  }
+}
+
+TEST(PatientSimulator, NoUltrasoundImageIsRenderedWhileNobodyReadsIt) {
+  ImagingPatient world;
+  world.image.disconnect();
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  for (int ms = 0; ms < 1030; ++ms) world.step(world.probeInP(), world.tipInP());
+  // Connected at 1030 ms: had the images gone on unread every 100 ms since the first probe pose
+  // (0 ms), the next would start at 1100 ms; none was being rendered, so the first starts now.
+  core::connectPorts(world.patient.port("usImage"), world.image);
+  std::vector<int> at;
+  for (int ms = 1030; ms < 1200; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) at.push_back(ms);
+  EXPECT_EQ(at, (std::vector<int>{1045, 1145}));
+}
+
+TEST(PatientSimulator, TheUltrasoundImagesSizeIsItsPropertiesAndARateItsBandsCannotKeepIsRefused) {
+  ImagingPatient world;
+  world.patient.setProperty("image_width", 64);
+  world.patient.setProperty("image_height", 200);
+  world.patient.setProperty("image_spacing", 0.0005);
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  std::vector<int> at;
+  for (int ms = 0; ms < 120; ++ms)
+    if (world.step(world.probeInP(), world.tipInP())) at.push_back(ms);
+  EXPECT_EQ(at, (std::vector<int>{12, 112}));  // 1024 / 200 = 5 columns per update: 13 updates
+  EXPECT_EQ(world.got->width, 64u);
+  EXPECT_EQ(world.got->height, 200u);
+  EXPECT_EQ(world.got->spacing_x, 0.0005);
+
+  EXPECT_EQ(test_support::messageOf([&] { world.patient.setProperty("image_width", 300); }),
+            "component 'patient': property 'image_width' = 300 is out of range [1, 256] (px)");
+  EXPECT_EQ(test_support::messageOf([&] { world.patient.setProperty("image_rate", -1.0); }),
+            "component 'patient': property 'image_rate' = -1 is out of range [0, 1000] (Hz)");
+  ImagingPatient fast;
+  fast.patient.setProperty("image_rate", 100.0);  // 10 ms apart; 128 x 128 in bands of 1024 px takes 16 ms
+  core::Result r = fast.patient.configure();
+  EXPECT_FALSE(r);
+  EXPECT_EQ(r.message,
+            "component 'patient': property image_rate is 100 Hz, but an image of 128 x 128 px takes 16 updates of 0.001 "
+            "s (image_pixels_per_step = 1024 px); expected image_rate <= 62.5 Hz, or more image_pixels_per_step");
+  fast.patient.setProperty("image_pixels_per_step", 2048);
+  EXPECT_TRUE(fast.patient.configure());
+}
+
+TEST(PatientSimulator, TheUltrasoundImagesUpdatesAllocateNothing) {
+  ImagingPatient world;
+  world.patient.setProperty("image_rate", 50.0);
+  ASSERT_TRUE(world.patient.configure());
+  ASSERT_TRUE(world.patient.start());
+  for (int ms = 0; ms < 100; ++ms) world.step(world.probeInP(), world.tipInP());  // every port has carried data
+  int images = 0;
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int ms = 0; ms < 200; ++ms) images += world.step(world.probeInP(1e-5 * ms), world.tipInP()) ? 1 : 0;
+            }),
+            0);
+  EXPECT_EQ(images, 10);
 }
 
 }  // namespace

@@ -187,6 +187,11 @@ class OutputPort final : public OutputPortBase {
   /// the data (e.g. a 6-element vector) so that writes never allocate.
   void setDataSample(const T& sample) { sample_ = sample; }
 
+  /// True while some connection reads this port. Real-time safe (lock-free, unlike connected()):
+  /// for the owner's update, as write(), since connections change only between its steps. A
+  /// writer whose samples are costly to make (a rendered image) makes them only while read.
+  bool hasReaders() const noexcept { return channels_.size() != 0; }
+
   WriteStatus write(const T& value) {
     if (channels_.size() == 0) return WriteStatus::NotConnected;
     WriteStatus status = WriteStatus::Written;

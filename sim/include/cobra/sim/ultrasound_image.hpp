@@ -99,6 +99,15 @@ class UltrasoundImager {
   /// null, the needle's tip frame (z along the needle, as in NeedleTissueModel); both in P (m).
   void render(const KDL::Frame& probe, const KDL::Frame* needle_tip, UltrasoundImage& image) const noexcept;
 
+  /// render() of the columns [first_column, end_column) only (clamped to the image's width): the
+  /// size, spacing and pose, and those columns' pixels, exactly as render() writes them; the other
+  /// pixels are left as they are. The columns are the scan lines and each is computed on its own
+  /// (a bone's shadow runs down its column), so rendering the image in bands of columns with the
+  /// same poses gives render()'s image bit for bit: a real-time caller spreads the image over
+  /// several steps this way. noexcept, allocation-free.
+  void renderColumns(const KDL::Frame& probe, const KDL::Frame* needle_tip, UltrasoundImage& image, int first_column,
+                     int end_column) const noexcept;
+
   /// Frame I in P for a probe pose (what render() writes into image.pose).
   KDL::Frame imagePose(const KDL::Frame& probe) const noexcept;
 

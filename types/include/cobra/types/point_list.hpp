@@ -9,8 +9,10 @@
 /// Text form: `[{name = "entry", group = "plan", position = [0.1, 0, 0.05]}, ...]` (position in m).
 /// Lua form: an array of tables `{name = "entry", group = "plan", position = {x, y, z}}` (its Lua
 /// value, the "position" a KDL.Vector's Lua form). CSV: one text column (the text form; a list has
-/// no fixed number of numeric columns). Register it with `registerPointList()` (core registry, Lua,
-/// CSV) at start-up, as a package's entry point does: the cobra_bridges package does it.
+/// no fixed number of numeric columns). It is one of cobra's own types: `registerBuiltins()`
+/// registers it (core registry, Lua, CSV) with the others at start-up; `registerPointList()` does
+/// the same for this type alone (the cobra_bridges package calls it, harmless beside
+/// registerBuiltins(): registering is idempotent).
 /// DDS (where the dds headers are, in a target that uses cobra::dds): the record
 /// `PointListWire` below, ROS 2 type `Geometry/msg/PointList`; a package that sends plans over DDS
 /// calls `cobra::dds::registerDdsType<cobra::types::PointList>()` beside registerPointList().
@@ -72,7 +74,8 @@ struct PointList {
 };
 
 /// Registers Geometry.PointList with the core registry, Lua and CSV (idempotent; at start-up,
-/// not on a real-time thread). Defined in cobra::types (the codecs live there).
+/// not on a real-time thread; registerBuiltins() calls it too). Defined in cobra::types (the
+/// codecs live there).
 void registerPointList();
 
 }  // namespace cobra::types

@@ -70,7 +70,9 @@ void registerType() {
 
 /// Registers cobra's own data types with the capabilities of every process (core, Lua, CSV):
 /// core::BuiltinDataTypes (which the capability registries also add at their first use) and the
-/// types defined above core (TGL.MultiAxisPath), which only this call registers. The `cobra` tool
+/// types defined above core, which only this call registers: TGL.MultiAxisPath and
+/// Geometry.PointList with every capability, Imaging.GrayImage with core only (a port type: no
+/// Lua or CSV form, see gray_image.hpp). The `cobra` tool
 /// calls it at start-up, before a deployment is loaded (its run, studio and editor included); a
 /// program of one's own that loads deployments calls it too. It registers nothing for DDS: the dds
 /// transport seeds cobra's own types with their ROS 2 wires itself (dds::registerBuiltinWires,
