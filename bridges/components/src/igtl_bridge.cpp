@@ -95,6 +95,7 @@ IgtlBridge::IgtlBridge(std::string name)
   addProperty(plan_device_);
   addProperty(requests_);
   addProperty(images_);
+  addProperty(send_strings_);
   addProperty(received_messages_.readOnly());
   addProperty(sent_messages_.readOnly());
   addProperty(dropped_messages_.readOnly());
@@ -117,6 +118,8 @@ void IgtlBridge::removeMappedPorts() {
   for (auto& s : send_) removePort(*s.port);
   for (auto& r : receive_) removePort(*r.port);
   for (auto& i : image_ports_) removePort(*i.port);
+  for (auto& t : strings_) removePort(*t.port);
+  strings_.clear();
   send_.clear();
   receive_.clear();
   image_ports_.clear();
@@ -151,6 +154,13 @@ bool IgtlBridge::parseMappings() {
                                                     std::string(e.value), "image sent as IMAGE " + std::string(e.key), "m")});
     addPort(*image_ports_.back().port);
   }
+  for (const Entry& e : splitMapping("send_strings", send_strings_(), kMappingForm, false)) {
+    fresh("send_strings", e, "string in-port");
+    strings_.push_back({std::string(e.key), std::make_unique<core::InputPort<std::string>>(
+                                                std::string(e.value), "line sent as STRING " + std::string(e.key), "")});
+    addPort(*strings_.back().port);
+  }
+  line_.reserve(kLineCapacity);
   for (const Entry& e : splitMapping("requests", requests_(), kRequestForm, true))
     requests_map_.push_back({std::string(e.key), std::string(e.value)});
   if (!plan_device_().empty() && !isDeviceName(plan_device_()))
@@ -317,6 +327,11 @@ void IgtlBridge::updateHook() {
   core::Event event;
   while (input_events_.readNew(event) == core::FlowStatus::NewData) {
     out.size = static_cast<std::uint32_t>(igtl::encodeString("Event", event.name.view(), stamp, out.bytes));
+    queue(out);
+  }
+  for (SendString& s : strings_) {
+    if (s.port->readNew(line_) != core::FlowStatus::NewData) continue;
+    out.size = static_cast<std::uint32_t>(igtl::encodeString(s.device, line_, stamp, out.bytes));
     queue(out);
   }
   const std::int64_t t = now().count();
