@@ -1,6 +1,7 @@
 #include "cobra/bridges/igtl_bridge.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include "cobra/core/error.hpp"
 
@@ -102,6 +103,11 @@ IgtlBridge::IgtlBridge(std::string name)
   addProperty(dropped_reason_.readOnly());
   addOperation("localPort", &IgtlBridge::localPort, this,
                "the TCP port of a configured bridge (a server's bound port: the ephemeral one when port is 0)",
+               core::ExecutionThread::Client);
+  addOperation("pendingMessages",
+               std::function<int()>([this] { return link_ ? static_cast<int>(link_->outgoing.size()) : 0; }),
+               "messages the update queued that the link thread has not written to the peer yet (a lockstep run "
+               "that must not outpace its peer waits for 0)",
                core::ExecutionThread::Client);
 }
 

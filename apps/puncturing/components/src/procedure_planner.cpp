@@ -5,6 +5,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/puncturing/procedure.hpp"
 #include "cobra/task/planned_walk.hpp"
 
@@ -14,6 +15,9 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
   for (core::Property<std::string>* file : {&preoperative_file_, &cryo_plan_file_, &probe_plan_file_, &table_file_})
     addProperty(*file);
   addProperty(arm_);
+  addProperty(plan_source_);
+  addPort(plan_in_);
+  addPort(refusal_);
   addProperty(other_max_vel_.range(1e-6, 10.0));
   addProperty(other_max_ang_vel_.range(1e-6, 100.0));
   addPort(abdomen_frame_);
@@ -35,18 +39,30 @@ bool PuncturingMotionPlanner::configureHook() {
   const std::pair<const core::Property<std::string>*, const char*> files[] = {
       {&preoperative_file_, "preoperative_info_file"}, {&cryo_plan_file_, "cryo_plan_file"},
       {&probe_plan_file_, "US_pose_plan_file"}, {&table_file_, "state_table_file"}};
+  const bool navigated = plan_source_() == "navigation";
+  if (!navigated && plan_source_() != "files")
+    return refuse("property plan_source is '" + plan_source_() + "'; expected files or navigation");
   for (const auto& [file, name] : files) {
-    if ((*file)().empty()) return refuse(std::string("property ") + name + " is empty; give the path of its file");
+    if ((*file)().empty() && (!navigated || file == &preoperative_file_ || file == &table_file_))
+      return refuse(std::string("property ") + name + " is empty; give the path of its file");
   }
+  plan_.reset();
+  table_.reset();
+  preoperative_.reset();
+  have_points_ = have_registration_ = false;
   try {
-    plan_ = puncturing::loadPlan(preoperative_file_(), cryo_plan_file_(), probe_plan_file_());
+    if (navigated)
+      preoperative_ = puncturing::parsePreoperative(puncturing::readText(preoperative_file_()), preoperative_file_());
+    else
+      plan_ = puncturing::loadPlan(preoperative_file_(), cryo_plan_file_(), probe_plan_file_());
     table_ = puncturing::parseStateTable(puncturing::readText(table_file_()), table_file_());
   } catch (const std::invalid_argument& e) {
     plan_.reset();
     table_.reset();
+    preoperative_.reset();
     return refuse(e.what());
   }
-  abdomen_ = plan_->preoperative.abdomen_in_task;
+  abdomen_ = navigated ? preoperative_->abdomen_in_task : plan_->preoperative.abdomen_in_task;
   last_refusal_.clear();
   last_verification_.clear();
   return true;
@@ -113,14 +129,41 @@ bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const
 
 void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
   last_refusal_ = line;
+  refusal_.write(line);
   last_verification_ = "refused: " + line;
   std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s\n", name().c_str(), line.c_str());
   emitEvent("e_procedure_refused");
 }
 
-void PuncturingMotionPlanner::verify() {
+bool PuncturingMotionPlanner::takeNavigatedPlan() {
+  if (plan_) return true;  // taken once: the procedure is verified for it
   KDL::Frame sample;
-  if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
+  if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) {
+    have_registration_ = true;
+    abdomen_ = sample;
+  }
+  if (plan_in_.readNew(points_) == core::FlowStatus::NewData) have_points_ = true;
+  if (!have_points_ || !have_registration_) return false;  // asked before they came: waits for them
+  verify_pending_ = false;
+  puncturing::PuncturingPlan plan;
+  const std::string refusal = puncturing_navigation::buildPlan(points_, abdomen_, *preoperative_, plan);
+  if (!refusal.empty()) {
+    refuseProcedure("navigation refused: " + refusal);
+    return false;
+  }
+  plan_ = std::move(plan);
+  abdomen_ = plan_->preoperative.abdomen_in_task;
+  verify_pending_ = true;
+  return true;
+}
+
+void PuncturingMotionPlanner::verify() {
+  if (preoperative_) {
+    if (!takeNavigatedPlan()) return;
+  } else {
+    KDL::Frame sample;
+    if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
+  }
   planning::JointState joints;
   std::string why;
   // Asked before the robots' first joints arrived (the probe's chart asks at its start): the
