@@ -16,11 +16,12 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
     addProperty(*file);
   addProperty(arm_);
   addProperty(plan_source_);
-  addPort(plan_in_);
-  addPort(refusal_);
   addProperty(other_max_vel_.range(1e-6, 10.0));
   addProperty(other_max_ang_vel_.range(1e-6, 100.0));
-  addPort(abdomen_frame_);
+  // Event ports: a registration or a plan arriving wakes a verification waiting for it.
+  addEventPort(abdomen_frame_);
+  addEventPort(plan_in_);
+  addPort(refusal_);
   addOperation("verifyProcedure", std::function<void()>([this] { verify_request_.ask(activity()); }),
                "verifies every motion of the procedure for the plan and the registration in this component's next "
                "step, before anything moves; answers e_procedure_verified or e_procedure_refused (why: lastRefusal)",
