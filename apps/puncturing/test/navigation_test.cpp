@@ -53,6 +53,9 @@ struct PeerScript {
   /// connection); the peer connects again, then leaves for good at `leave_in_state`.
   std::string misbehave_in_state;
   std::string leave_in_state;
+  /// On the first task state containing this, the peer sends the request `request` (STRING "Request").
+  std::string request_in_state;
+  std::string request;
 };
 
 /// two_needles' cryo_plan.txt as navigation points (mm, frame A).
@@ -152,7 +155,7 @@ class NavigationPeer {
       sent_ = true;
     }
     sent_cv_.notify_all();
-    bool misbehaved = false;
+    bool misbehaved = false, requested = false;
     while (!stopping_ && socket) {
       std::string type, device;
       const std::vector<std::uint8_t> bytes = bridges::test::receiveMessage(socket.GetPointer(), type, device);
@@ -175,6 +178,10 @@ class NavigationPeer {
         if (!m) continue;
         states.emplace_back(m->GetStatusString());
         const std::string& state = states.back();
+        if (!script_.request_in_state.empty() && !requested && state.find(script_.request_in_state) != std::string::npos) {
+          requested = true;
+          send(socket.GetPointer(), bridges::test::stringBytes("Request", script_.request));
+        }
         if (!script_.misbehave_in_state.empty() && !misbehaved && state.find(script_.misbehave_in_state) != std::string::npos) {
           misbehaved = true;
           misbehave(socket.GetPointer());
@@ -187,7 +194,7 @@ class NavigationPeer {
         auto m = bridges::test::unpack<::igtl::StringMessage>(bytes);
         if (m) strings.emplace_back(device, m->GetString());
       } else if (type == "IMAGE") {
-        ++images;
+        if (device == "USImage") ++images;
       }
     }
     if (socket) socket->CloseSocket();
@@ -212,6 +219,7 @@ class Watch : public RunObserver {
   explicit Watch(NavigationPeer& peer) : peer_(peer) {}
   void attach(const RunContext& run) override {
     navigation_ = &run.registry.get("Navigation");
+    has_image_ = run.registry.get("Patient").findPort("usImage") != nullptr;
     core::connectPorts(run.registry.get("ISUR").port("measCartPose"), needle_in_);
     core::connectPorts(run.registry.get("UR5").port("measCartPose"), probe_in_);
     peer_.start(navigation_->call<int>("localPort"));
@@ -269,6 +277,7 @@ class Watch : public RunObserver {
   }
 
   bool sent_ = false;
+  bool has_image_ = false;  // the Patient has its usImage port: the bridge sends it as IMAGE
   int received_ = -1, dropped_ = -1;
 
  private:
@@ -336,6 +345,30 @@ TEST(NavigatedPuncturing, ThePlanAndRegistrationFromTheNavigationPlaceBothNeedle
   EXPECT_EQ(countStrings(peer, "Event", "e_needle_task_done"), 1u);
   for (const auto& [device, text] : peer.strings) EXPECT_NE(device, "Refusal") << text;
   EXPECT_EQ(peer.connections, 1);
+  // The ultrasound image, where the simulated patient makes one.
+  if (watch.has_image_)
+    EXPECT_GT(peer.images, 0);
+  else
+    EXPECT_EQ(peer.images, 0);
+}
+
+// The peer's ABORT (declared: e_navigation_abort) stops both charts where they are; a request the
+// application does not declare is dropped (the misbehaving peer's HELLO, below).
+TEST(NavigatedPuncturing, ThePeersAbortRequestStopsTheProcedureSafely) {
+  PeerScript script = sending(twoNeedles());
+  script.request_in_state = "root.WaitUSPositioning";
+  script.request = "ABORT";
+  NavigationPeer peer(script);
+  Watch watch(peer);
+  const RunResult r = runApp(navigated(watch));
+  peer.stop();
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.WaitUSPositioning: Navigation: e_navigation_abort at");
+  expectInOrder(r, {"needle > root.WaitUSPositioning", "Navigation: e_navigation_abort", "needle > root.SafeStop",
+                    "us > root.SafeStop"});
+  EXPECT_EQ(count(r, "needle > root.InsertingNeedles.MoveToSkin.Approach"), 0u);
+  ASSERT_FALSE(peer.states.empty());
+  EXPECT_EQ(peer.states.back(), "root.SafeStop");
 }
 
 // Bad messages mid-procedure are dropped and counted; garbage loses the connection, the peer
