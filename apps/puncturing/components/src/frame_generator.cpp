@@ -57,7 +57,8 @@ bool PuncturingFrameGenerator::configureTask() {
     return refuse("property plan_source is '" + plan_source_() + "'; expected files or navigation");
   plan_.reset();
   preoperative_.reset();
-  have_points_ = have_registration_ = awaiting_ = navigation_refused_ = false;
+  navigation_ = {};
+  awaiting_ = navigation_refused_ = false;
   navigation_request_.clear();
   navigation_status_.clear();
   needle_ = 0;
@@ -105,38 +106,28 @@ void PuncturingFrameGenerator::stepNavigation() {
     if (awaiting_) answerNavigation("e_navigation_received", "plan and registration from the files");
     return;
   }
-  if (!plan_ && !navigation_refused_) {
-    KDL::Frame registration;
-    if (abdomen_frame_.read(registration) != core::FlowStatus::NoData) {
-      have_registration_ = true;
-      abdomen_ = registration;
-    }
-    if (plan_in_.readNew(points_) == core::FlowStatus::NewData) have_points_ = true;
-    if (have_points_ && have_registration_) {
-      // Taken once (allocates: the plan's needles, probe poses and messages).
-      puncturing::PuncturingPlan plan;
-      std::string refusal = puncturing_navigation::buildPlan(points_, abdomen_, *preoperative_, plan);
-      if (refusal.empty()) {
-        plan_ = std::move(plan);
-        abdomen_ = plan_->preoperative.abdomen_in_task;
-        navigation_status_ = "navigation: " + puncturing_navigation::describe(*plan_);
-      } else {
-        navigation_refused_ = true;
-        navigation_status_ = "navigation refused: " + refusal;
-      }
+  if (!plan_ && !navigation_refused_ && navigation_.read(plan_in_, abdomen_frame_)) {
+    // Taken once (allocates: the plan's needles, probe poses and messages).
+    puncturing::PuncturingPlan plan;
+    const std::string refusal =
+        puncturing_navigation::buildPlan(navigation_.points, navigation_.registration, *preoperative_, plan);
+    if (refusal.empty()) {
+      plan_ = std::move(plan);
+      abdomen_ = plan_->preoperative.abdomen_in_task;
+      navigation_status_ = "navigation: " + puncturing_navigation::describe(*plan_);
+    } else {
+      navigation_refused_ = true;
+      navigation_status_ = "navigation refused: " + refusal;
     }
   }
   if (!awaiting_) return;
   if (plan_) return answerNavigation("e_navigation_received", navigation_status_);
   if (navigation_refused_) return answerNavigation("e_navigation_refused", navigation_status_);
   if (static_cast<double>(now().count() - awaiting_since_ns_) * 1e-9 >= navigation_timeout_()) {
-    std::string missing = !have_points_ && !have_registration_ ? "no plan (POINT) and no registration (TRANSFORM)"
-                          : !have_points_                      ? "no plan (POINT)"
-                                                               : "no registration (TRANSFORM)";
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%g", navigation_timeout_());
-    answerNavigation("e_navigation_timeout",
-                     "navigation timed out: " + missing + " from the navigation within " + seconds + " s");
+    answerNavigation("e_navigation_timeout", "navigation timed out: " + std::string(navigation_.missing()) +
+                                                 " from the navigation within " + seconds + " s");
   }
 }
 

@@ -50,7 +50,7 @@ bool PuncturingMotionPlanner::configureHook() {
   plan_.reset();
   table_.reset();
   preoperative_.reset();
-  have_points_ = have_registration_ = false;
+  navigation_ = {};
   try {
     if (navigated)
       preoperative_ = puncturing::parsePreoperative(puncturing::readText(preoperative_file_()), preoperative_file_());
@@ -138,23 +138,18 @@ void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
 
 bool PuncturingMotionPlanner::takeNavigatedPlan() {
   if (plan_) return true;  // taken once: the procedure is verified for it
-  KDL::Frame sample;
-  if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) {
-    have_registration_ = true;
-    abdomen_ = sample;
-  }
-  if (plan_in_.readNew(points_) == core::FlowStatus::NewData) have_points_ = true;
-  if (!have_points_ || !have_registration_) return false;  // asked before they came: waits for them
-  verify_pending_ = false;
+  // Asked before they came: waits for them (their arrival wakes this component: event ports).
+  if (!navigation_.read(plan_in_, abdomen_frame_)) return false;
   puncturing::PuncturingPlan plan;
-  const std::string refusal = puncturing_navigation::buildPlan(points_, abdomen_, *preoperative_, plan);
+  const std::string refusal =
+      puncturing_navigation::buildPlan(navigation_.points, navigation_.registration, *preoperative_, plan);
   if (!refusal.empty()) {
+    verify_pending_ = false;  // answered: refused
     refuseProcedure("navigation refused: " + refusal);
     return false;
   }
   plan_ = std::move(plan);
   abdomen_ = plan_->preoperative.abdomen_in_task;
-  verify_pending_ = true;
   return true;
 }
 

@@ -11,6 +11,7 @@
 
 #include <kdl/frames.hpp>
 
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/components/task/state_table_frame_generator.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
@@ -105,8 +106,7 @@ class PuncturingFrameGenerator : public StateTableFrameGenerator {
   bool awaiting_ = false;                     // awaitNavigation asked, not answered yet
   std::int64_t awaiting_since_ns_ = 0;
   std::optional<puncturing::PreoperativeInfo> preoperative_;  // navigation: read at configure
-  types::PointList points_;                   // navigation: the plan's points, once they came
-  bool have_points_ = false, have_registration_ = false;
+  puncturing_navigation::NavigationInputs navigation_;  // until the plan is taken
   std::string navigation_status_;             // what was taken, or why not ("" before)
   bool navigation_refused_ = false;
 };

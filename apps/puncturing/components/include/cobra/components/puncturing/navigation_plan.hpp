@@ -11,6 +11,7 @@
 
 #include <kdl/frames.hpp>
 
+#include "cobra/core/port.hpp"
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/types/point_list.hpp"
 
@@ -26,6 +27,29 @@ inline constexpr double kRegistrationAngleTolerance = 0.0175;
 
 /// Where a navigated plan's errors point: "POINT 'Plan':K" (K the needle's first point, 1-based).
 inline constexpr const char* kPlanSource = "navigation plan";
+
+/// What a component reads from the navigation until it takes the plan: the plan's points (the
+/// latest list) and the registration (the latest). Fixed size: reading allocates nothing.
+struct NavigationInputs {
+  types::PointList points;
+  KDL::Frame registration = KDL::Frame::Identity();
+  bool have_points = false, have_registration = false;
+
+  /// Reads both ports (a real-time step may); true once both have come.
+  bool read(core::InputPort<types::PointList>& plan, core::InputPort<KDL::Frame>& abdomen) {
+    if (abdomen.read(registration) != core::FlowStatus::NoData) have_registration = true;
+    if (plan.readNew(points) == core::FlowStatus::NewData) have_points = true;
+    return have_points && have_registration;
+  }
+  /// What has not come: "no plan (POINT) and no registration (TRANSFORM)", "no plan (POINT)",
+  /// "no registration (TRANSFORM)", or "" when both have.
+  const char* missing() const {
+    return !have_points && !have_registration ? "no plan (POINT) and no registration (TRANSFORM)"
+           : !have_points                     ? "no plan (POINT)"
+           : !have_registration               ? "no registration (TRANSFORM)"
+                                              : "";
+  }
+};
 
 /// Builds `plan` from the navigation's points (frame A, m: `<needle>.entry` and
 /// `<needle>.target`, the needles in the order their first point comes, roll 0), the registered

@@ -13,6 +13,7 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/components/planning/motion_planner_component.hpp"
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/task/planned_walk.hpp"
@@ -95,8 +96,7 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   std::optional<puncturing::PuncturingPlan> plan_;
   std::optional<task::StateTable> table_;
   std::optional<puncturing::PreoperativeInfo> preoperative_;  // navigation: read at configure
-  types::PointList points_;                                   // navigation: the plan's points
-  bool have_points_ = false, have_registration_ = false;
+  puncturing_navigation::NavigationInputs navigation_;       // until the plan is taken
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   core::PendingRequest verify_request_;
   bool verify_pending_ = false;  // asked, waiting for the robots' measured joints
