@@ -487,6 +487,41 @@ TEST(PuncturingFrameGenerator, NavigatedARefusedPlanOrNoneInTimeAnswersTheWaitWi
   }
 }
 
+TEST(PuncturingFrameGenerator, NavigatedWaitingForThePlanAndAnsweringGoalsAfterAllocateNothing) {
+  NavigatedBench b;
+  ASSERT_TRUE(b.up());
+  b.generator.call<void>("awaitNavigation");
+  b.abdomen.write(b.plan.preoperative.abdomen_in_task);
+  b.clock.advance(10ms);
+  // Waiting: the registration read every step, no plan yet.
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int i = 0; i < 20; ++i) {
+                b.abdomen.write(b.plan.preoperative.abdomen_in_task);
+                b.clock.advance(10ms);
+              }
+            }),
+            0);
+  b.plan_out.write(b.points());  // taken in the next step (allocates, once)
+  b.clock.advance(10ms);
+  ASSERT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_received"});
+  const char* state = "root.InsertingNeedles.MoveToTumor.AskingGoal";
+  for (int warm = 0; warm < 4; ++warm) {
+    b.state.write(core::TaskState{state});
+    b.generator.askCurrentGoal();
+    b.clock.advance(10ms);
+  }
+  b.takeEvents();
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int i = 0; i < 5; ++i) {
+                b.plan_out.write(b.points());  // later plans and registrations change nothing
+                b.state.write(core::TaskState{state});
+                b.generator.askCurrentGoal();
+                b.clock.advance(10ms);
+              }
+            }),
+            0);
+}
+
 }  // namespace navigated
 
 }  // namespace
