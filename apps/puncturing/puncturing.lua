@@ -27,7 +27,9 @@ needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)
 -- between them go over DDS. Without --host this table is ignored: one process runs everything.
 placement = {
   hosts = {
-    needle = { "ISUR", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo", "Needle*" },
+    -- Navigation: the navigated run's OpenIGTLink bridge, beside the needle chart (a split
+    -- navigated run is not tested: its plan and registration would cross to host probe over DDS).
+    needle = { "ISUR", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo", "Needle*", "Navigation" },
     probe = { "UR5", "Probe*" },
   },
   everywhere = { "Link" },  -- each process's DDS link: its participant, the lockstep meeting, liveliness

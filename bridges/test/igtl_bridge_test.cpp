@@ -309,6 +309,28 @@ TEST(IgtlBridge, EachNewLineOfAStringPortIsSentOnceAsAStringOfItsDevice) {
   EXPECT_EQ(rig.count("sent_messages"), 2);
 }
 
+TEST(IgtlBridge, PendingMessagesIsWhatTheLinkHasNotWrittenYetAndAStopStillWritesIt) {
+  Rig rig;
+  EXPECT_EQ(rig.bridge->call<int>("pendingMessages"), 0);  // not configured: no link
+  rig.up();
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  for (int i = 0; i < 12; ++i) {
+    core::Event event;
+    event.name.assign("e_line_" + std::to_string(i));
+    rig.nav_events.write(event);
+  }
+  rig.clock.advance(1ms);  // 12 STRING messages queued in one update (the connection buffers 16)
+  EXPECT_LE(rig.bridge->call<int>("pendingMessages"), 12);
+  ASSERT_TRUE(rig.bridge->stop());
+  EXPECT_EQ(rig.bridge->call<int>("pendingMessages"), 0);
+  for (int i = 0; i < 12; ++i) {
+    auto event = test::unpack<::igtl::StringMessage>(peer.next("STRING"));
+    ASSERT_TRUE(event) << i;
+    EXPECT_EQ(std::string(event->GetString()), "e_line_" + std::to_string(i));
+  }
+}
+
 TEST(IgtlBridge, ANewPeerGetsTheCurrentTaskStateAtOnce) {
   Rig rig;
   rig.up();
