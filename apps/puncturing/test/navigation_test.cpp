@@ -26,6 +26,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "cobra/core/component.hpp"
 #include "cobra/core/introspection.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -308,7 +310,11 @@ TEST(NavigatedPuncturing, ThePlanAndRegistrationFromTheNavigationPlaceBothNeedle
 
   NavigationPeer peer(sending(twoNeedles()));
   Watch watch(peer);
-  const RunResult r = runApp(navigated(watch));
+  RunOptions o = navigated(watch);
+  o.report_folder =  // per process: other checkouts may run the same test at the same time
+      std::filesystem::temp_directory_path() / ("cobra_puncturing_navigated_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(o.report_folder);
+  const RunResult r = runApp(o);
   peer.stop();
   ASSERT_TRUE(watch.sent_);
   ASSERT_TRUE(r.completed()) << r.reason;
@@ -320,6 +326,7 @@ TEST(NavigatedPuncturing, ThePlanAndRegistrationFromTheNavigationPlaceBothNeedle
     EXPECT_NEAR(placed.values[i], from_files.values[i], 0.05) << "needle " << i + 1 << " (mm)";
   expectNoCommandJump(r);
   expectFaithful(r);
+  expectTanksHeld(o.report_folder);
   // The chart waited for the navigation, said what it took, then verified the whole procedure.
   expectInOrder(r, {"needle > root.WaitIceballConfig", "Surgeon: e_iceball_configured", "needle > root.WaitNavigation",
                     "NeedleFrames: e_navigation_received", "NeedlePlanner: e_procedure_verified",
