@@ -21,7 +21,7 @@ Navigation.send_transforms = "NeedleTip=needleTip, Probe=probePose"
 Navigation.receive_transforms = "Registration=registration"
 -- Points `<needle>.entry`, `<needle>.target` in frame A (mm on the wire, m on the port).
 Navigation.plan_device = "Plan"
--- The peer's requests that the application declares: ABORT stops the procedure (both charts' safe stop).
+-- The peer's requests that the application declares: ABORT stops the procedure (the charts' safe stop).
 Navigation.requests = "ABORT=e_navigation_abort"
 -- Why the plan, its registration or the procedure was refused: a STRING of device "Refusal".
 Navigation.send_strings = "Refusal=refusal"
@@ -43,10 +43,10 @@ local connections = {
   { output = "NeedleTaskSup.outputEvents", input = "Navigation.inputEvents", conn_policy = buffered },
   { output = "NeedleFrames.refusal", input = "Navigation.refusal", conn_policy = { type = "buffer", size = 4 } },
   { output = "NeedlePlanner.refusal", input = "Navigation.refusal", conn_policy = { type = "buffer", size = 4 } },
-  -- e_navigation_abort for both charts; e_igtl_connected and e_igtl_peer_lost are in the log, and
-  -- no chart reacts to them (the procedure goes on with the plan it verified).
+  -- e_navigation_abort: the needle chart's safe stop (the ultrasound chart follows it, as it
+  -- follows every safe stop of the needle chart); e_igtl_connected and e_igtl_peer_lost are in the
+  -- log, and no chart reacts to them (the procedure goes on with the plan it verified).
   { output = "Navigation.events", input = "NeedleTaskSup.inputEvents", conn_policy = buffered },
-  { output = "Navigation.events", input = "ProbeTaskSup.inputEvents", conn_policy = buffered },
 }
 for _, name in ipairs({ "NeedleFrames", "ProbeFrames", "NeedlePlanner", "ProbePlanner" }) do
   connections[#connections + 1] = { output = "Navigation.registration", input = name .. ".abdomenFrame" }
