@@ -29,6 +29,8 @@ Navigation.send_strings = "Refusal=refusal"
 local has_image = pcall(function() return Patient.usImage end)
 if has_image then Navigation.images = "USImage=usImage" end
 configureComponents({ "Navigation" })
+-- Where the navigation program connects (the ephemeral port when port is 0).
+io.stderr:write(("[cobra] 'Navigation': OpenIGTLink server on port %d\n"):format(Navigation:localPort()))
 
 -- The plan comes from the navigation, read by both Frame Generators and both planners alike.
 for _, name in ipairs({ "NeedleFrames", "ProbeFrames", "NeedlePlanner", "ProbePlanner" }) do
