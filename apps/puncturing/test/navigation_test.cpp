@@ -428,6 +428,34 @@ TEST(NavigatedPuncturing, APlanWithATargetOutsideThePhantomIsRefusedBeforeAnyMot
   EXPECT_EQ(countStrings(peer, "Refusal", line), 1u);
 }
 
+// A plan that passes the plan's checks but that the robots cannot carry out: n2 leans the other
+// way (toward -x), and the whole procedure's verification refuses it before anything moves; the
+// needle planner's refusal line (its first 255 characters, a STRING's) reaches the peer.
+TEST(NavigatedPuncturing, APlanTheVerificationRefusesStopsBeforeAnyMotionAndThePeerIsToldWhy) {
+  std::vector<PeerPoint> plan = twoNeedles();
+  plan[2] = {"n2.entry", "plan", 30, 0, 0};
+  plan[3] = {"n2.target", "plan", -5, 0, -60};
+  NavigationPeer peer(sending(plan));
+  Watch watch(peer);
+  const RunResult r = runApp(navigated(watch));
+  peer.stop();
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_CONTAINS(r.reason, "needle chart stopped safely in root.VerifyingProcedure: NeedlePlanner: e_procedure_refused");
+  const std::string start = "needle n2 (2 of 2), task state 'root.InsertingNeedles.MoveToSkin.Approach' (";
+  EXPECT_CONTAINS(r.reason, "NeedlePlanner.lastRefusal(): " + start);
+  // (The log may give an event before the state entry of the same step.)
+  expectInOrder(r, {"NeedleFrames: e_navigation_received", "NeedlePlanner: e_procedure_refused",
+                    "needle > root.VerifyingProcedure", "needle > root.SafeStop", "us > root.SafeStop"});
+  EXPECT_EQ(count(r, "needle > root.MakeRoomForProbe"), 0u);
+  std::vector<std::string> refusals;
+  for (const auto& [device, text] : peer.strings)
+    if (device == "Refusal") refusals.push_back(text);
+  ASSERT_EQ(refusals.size(), 1u);
+  EXPECT_EQ(refusals[0].rfind(start, 0), 0u) << refusals[0];
+  EXPECT_EQ(refusals[0].size(), 255u) << "a longer line: its first 255 characters";
+  EXPECT_CONTAINS(r.reason, refusals[0]);
+}
+
 // A registration the controllers cannot take: 3 cm off the one the planning scene, the monitors
 // and the patient were set up with.
 TEST(NavigatedPuncturing, ARegistrationFarFromThePlanningScenesIsRefusedNamingHowFar) {
