@@ -3,7 +3,9 @@
 -- coordinated only through events. Run it with `cobra run apps/puncturing` (what `./do demo` does;
 -- the `run` table at the end says what ends the run and what to observe, run/README.md), or
 -- browse it: cobra console apps/puncturing/puncturing.lua --sim.
--- `scenario` may be set before this file runs; default: scenarios/two_needles.
+-- `scenario` may be set before this file runs; default: scenarios/two_needles. `navigation` (a
+-- table, deployment/navigation.lua), or the environment's COBRA_NAVIGATION_PORT: the plan and the
+-- registration come from a navigation program over OpenIGTLink (README.md "Navigated puncturing").
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 scenario = scenario or (here .. "scenarios/two_needles")
 local G = dofile(here .. "deployment/geometry.lua")
@@ -25,7 +27,9 @@ needle_tool_frame = G.frame(0, 0, 0, 0, math.pi / 2, 0)
 -- between them go over DDS. Without --host this table is ignored: one process runs everything.
 placement = {
   hosts = {
-    needle = { "ISUR", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo", "Needle*" },
+    -- Navigation: the navigated run's OpenIGTLink bridge, beside the needle chart (a split
+    -- navigated run is not tested: its plan and registration would cross to host probe over DDS).
+    needle = { "ISUR", "Patient", "NeedleMonitor", "USMonitor", "Surgeon", "Cryo", "Needle*", "Navigation" },
     probe = { "UR5", "Probe*" },
   },
   everywhere = { "Link" },  -- each process's DDS link: its participant, the lockstep meeting, liveliness
@@ -77,6 +81,12 @@ end
 dofile(here .. "deployment/world.lua")
 dofile(here .. "deployment/needle_robot.lua")
 dofile(here .. "deployment/probe_robot.lua")
+-- Navigated (README.md "Navigated puncturing"): the global `navigation`, or from the command line
+-- COBRA_NAVIGATION_PORT=18944 cobra run apps/puncturing (the bridge's port; 0: an ephemeral one).
+if navigation == nil and os.getenv("COBRA_NAVIGATION_PORT") then
+  navigation = { port = tonumber(os.getenv("COBRA_NAVIGATION_PORT")) }
+end
+if navigation then dofile(here .. "deployment/navigation.lua") end
 -- On the wall clock (cobra run --realtime) the real-time executor runs this deployment's schedule
 -- every 1 ms on one SCHED_FIFO thread, memory locked; a missed period is an event in the log, and
 -- 50 in a row (50 ms without the controllers keeping time) end the run in a safe stop.
@@ -105,7 +115,9 @@ local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_faile
                    "e_reaction_timeout", "e_iceball_config_timeout", "e_needle_change_timeout", "e_cryo_timeout",
                    "e_peer_chart_timeout",
                    -- the whole procedure refused before any motion (NeedlePlanner.verifyProcedure)
-                   "e_procedure_refused" }
+                   "e_procedure_refused",
+                   -- navigated: the plan or registration refused, or not come; the peer's ABORT
+                   "e_navigation_refused", "e_navigation_timeout", "e_navigation_abort" }
 local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
 run = {
   title = "Puncturing procedure",
@@ -118,7 +130,8 @@ run = {
   -- A motion's internal steps are folded into the motion in the log and the timeline.
   fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived", "Paused" },
   failures = failures,
-  explain = { e_plan_failed = "lastPlanResult", e_procedure_refused = "lastRefusal" },
+  explain = { e_plan_failed = "lastPlanResult", e_procedure_refused = "lastRefusal",
+              e_navigation_refused = "navigationStatus", e_navigation_timeout = "navigationStatus" },
   safe_stop_reason = "the same failure again after the reaction to the first, no answer in time (charts/waits.lua), "
     .. "or the procedure refused before any motion (VerifyingProcedure)",
   record = { period = 0.01, ports = { "ISUR.measCartPose", "NeedleAdmittance.admPose", "Patient.needleAxialForce",

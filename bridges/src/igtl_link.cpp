@@ -205,6 +205,9 @@ void IgtlLink::serve(FileDescriptor fd) noexcept {
     if (!send(fd.get())) break;
     if (timeout > 0 && steadyNanoseconds() - last_heard > timeout) break;
   }
+  // Stopped rather than lost: what the update queued before the stop still goes out, so that the
+  // peer hears the last state, event or refusal of a run that ends (bounded by the send timeout).
+  if (!running_.load(std::memory_order_relaxed)) (void)send(fd.get());
   connected_.store(false);
   losses_.fetch_add(1);
 }

@@ -32,6 +32,7 @@ TEST(IgtlAllocations, UpdateAllocatesNothingWhileEveryPathFlows) {
   bridge.setProperty("plan_device", "Plan");
   bridge.setProperty("requests", "START=e_nav_start");
   bridge.setProperty("images", "USImage=usImage");
+  bridge.setProperty("send_strings", "Refusal=refusal");
   ASSERT_TRUE(bridge.configure());
   core::OutputPort<KDL::Frame> needle{"needle", "", "m"};
   core::InputPort<KDL::Frame> abdomen{"abdomen", "", "m"};
@@ -45,7 +46,12 @@ TEST(IgtlAllocations, UpdateAllocatesNothingWhileEveryPathFlows) {
   core::connectPorts(task, bridge.port("taskState"));
   core::connectPorts(nav_events, bridge.port("inputEvents"), core::ConnPolicy::buffer(16));
   core::connectPorts(us, bridge.port("usImage"));
+  core::OutputPort<std::string> refusal{"refusal_out", "", ""};
+  core::connectPorts(refusal, bridge.port("refusal"), core::ConnPolicy::buffer(4));
   ASSERT_TRUE(bridge.start());
+  // A line longer than a short string's inline storage (the bridge reads into reserved storage).
+  const std::string line = "navigation refused: navigation plan:3: needle 'n2': target is 30.0 mm from the tumour "
+                           "centre, outside its radius 12.0 mm";
 
   int error = 0;
   FileDescriptor peer = connectTcp(resolve("127.0.0.1", static_cast<std::uint16_t>(bridge.call<int>("localPort"))), 1000, error);
@@ -80,6 +86,7 @@ TEST(IgtlAllocations, UpdateAllocatesNothingWhileEveryPathFlows) {
     needle.write(KDL::Frame(KDL::Vector(0.001 * i, 0, 0)));
     if (i % 10 == 0) task.write(states[(i / 10) % 2]);
     if (i % 7 == 0) nav_events.write(event);
+    if (i % 30 == 0) refusal.write(line);
     if (i % 20 == 0) {
       image->pixels[0] = static_cast<std::uint8_t>(i);
       us.write(*image);

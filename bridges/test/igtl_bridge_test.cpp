@@ -53,6 +53,7 @@ struct Rig {
   core::OutputPort<core::TaskState> task{"task", "", ""};
   core::OutputPort<core::Event> nav_events{"nav_events", "", ""};
   core::OutputPort<types::GrayImage> us{"us", "", "m"};
+  core::OutputPort<std::string> refusal{"refusal_out", "", ""};
 
   explicit Rig(double send_period = 0.01, int max_message_bytes = 4096) {
     clock.add(*bridge, 1ms);
@@ -64,6 +65,7 @@ struct Rig {
     bridge->setProperty("plan_device", "Plan");
     bridge->setProperty("requests", "START=e_nav_start, ABORT=e_nav_abort");
     bridge->setProperty("images", "USImage=usImage");
+    bridge->setProperty("send_strings", "Refusal=refusal");
   }
   void up() {
     const core::Result configured = bridge->configure();
@@ -75,6 +77,7 @@ struct Rig {
     core::connectPorts(task, bridge->port("taskState"));
     core::connectPorts(nav_events, bridge->port("inputEvents"), core::ConnPolicy::buffer(16));
     core::connectPorts(us, bridge->port("usImage"));
+    core::connectPorts(refusal, bridge->port("refusal"), core::ConnPolicy::buffer(4));
     ASSERT_TRUE(bridge->start());
   }
   ~Rig() { (void)bridge->stop(); }
@@ -281,6 +284,51 @@ TEST(IgtlBridge, SendsTheTaskStateAsStatusOnChangeAndEventsAsStrings) {
   ASSERT_TRUE(event);
   EXPECT_EQ(device, "Event");
   EXPECT_STREQ(event->GetString(), "e_skin_punctured");
+}
+
+TEST(IgtlBridge, EachNewLineOfAStringPortIsSentOnceAsAStringOfItsDevice) {
+  Rig rig;
+  rig.up();
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  rig.refusal.write("needle n2 (2 of 2): target outside the tumour");
+  rig.clock.advance(1ms);
+  rig.clock.advance(1ms);  // no new line: nothing more
+  rig.refusal.write(std::string(300, 'x'));  // longer than a STRING keeps: its first 255 characters
+  rig.clock.advance(1ms);
+  std::string device;
+  auto first = test::unpack<::igtl::StringMessage>(peer.next("STRING", &device));
+  ASSERT_TRUE(first);
+  EXPECT_EQ(device, "Refusal");
+  EXPECT_STREQ(first->GetString(), "needle n2 (2 of 2): target outside the tumour");
+  auto second = test::unpack<::igtl::StringMessage>(peer.next("STRING", &device));
+  ASSERT_TRUE(second);
+  EXPECT_EQ(device, "Refusal");
+  EXPECT_EQ(std::string(second->GetString()), std::string(255, 'x'));
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.count("sent_messages") >= 2; }));
+  EXPECT_EQ(rig.count("sent_messages"), 2);
+}
+
+TEST(IgtlBridge, PendingMessagesIsWhatTheLinkHasNotWrittenYetAndAStopStillWritesIt) {
+  Rig rig;
+  EXPECT_EQ(rig.bridge->call<int>("pendingMessages"), 0);  // not configured: no link
+  rig.up();
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  for (int i = 0; i < 12; ++i) {
+    core::Event event;
+    event.name.assign("e_line_" + std::to_string(i));
+    rig.nav_events.write(event);
+  }
+  rig.clock.advance(1ms);  // 12 STRING messages queued in one update (the connection buffers 16)
+  EXPECT_LE(rig.bridge->call<int>("pendingMessages"), 12);
+  ASSERT_TRUE(rig.bridge->stop());
+  EXPECT_EQ(rig.bridge->call<int>("pendingMessages"), 0);
+  for (int i = 0; i < 12; ++i) {
+    auto event = test::unpack<::igtl::StringMessage>(peer.next("STRING"));
+    ASSERT_TRUE(event) << i;
+    EXPECT_EQ(std::string(event->GetString()), "e_line_" + std::to_string(i));
+  }
 }
 
 TEST(IgtlBridge, ANewPeerGetsTheCurrentTaskStateAtOnce) {

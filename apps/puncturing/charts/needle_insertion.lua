@@ -45,6 +45,12 @@ local insertion_faults = { 'e_force_over_threshold', table.unpack(faults) }
 
 local chart = {
   WaitIceballConfig = waiting("root.WaitIceballConfig", D.planning, C.free),
+  -- The plan and the registration, from the files or from the navigation peer over OpenIGTLink
+  -- (the Frame Generator's plan_source; README.md "Navigated puncturing"): its awaitNavigation
+  -- answers e_navigation_received once it has taken both (at once with files), or
+  -- e_navigation_refused (a plan validate() refuses, a registration it cannot take) or
+  -- e_navigation_timeout (what did not come), each named by its navigationStatus().
+  WaitNavigation = rfsm.state { entry = function() call("frames", "awaitNavigation") end },
   -- The whole procedure verified before anything moves (the planner's verifyProcedure: every
   -- motion state of both charts for the plan and the registration, in their order, README.md
   -- "Verified whole"): e_procedure_verified, or e_procedure_refused naming the needle, the state,
@@ -123,7 +129,9 @@ local chart = {
   Done = rfsm.state { entry = function() emit("e_needle_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
-  rfsm.trans { src = 'WaitIceballConfig', tgt = 'VerifyingProcedure', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'WaitIceballConfig', tgt = 'WaitNavigation', events = { 'e_iceball_configured' } },
+  rfsm.trans { src = 'WaitNavigation', tgt = 'VerifyingProcedure', events = { 'e_navigation_received' } },
+  rfsm.trans { src = 'WaitNavigation', tgt = 'Refused', events = { 'e_navigation_refused', 'e_navigation_timeout' } },
   rfsm.trans { src = 'VerifyingProcedure', tgt = 'MakeRoomForProbe', events = { 'e_procedure_verified' } },
   rfsm.trans { src = 'VerifyingProcedure', tgt = 'Refused', events = { 'e_procedure_refused' } },
   rfsm.trans { src = 'Refused', tgt = 'SafeStop' },
@@ -150,10 +158,15 @@ for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles'
   for _, t in ipairs({ steps.reactions(reaction[1], reaction[2]) }) do chart[#chart + 1] = t end
 end
 -- The ultrasound chart stopped safely, or its host was lost (the run split over two hosts, the
--- DDS link's e_peer_lost): this one stops too, from wherever it is.
-for _, state in ipairs({ 'WaitIceballConfig', 'VerifyingProcedure', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+-- DDS link's e_peer_lost), or the navigation peer asked to abort: this one stops too, from
+-- wherever it is. The navigation peer lost (e_igtl_peer_lost) is no reason to stop: the plan and
+-- registration were taken and verified before the first motion, and the procedure goes on with
+-- them (README.md "Navigated puncturing"); until they came, WaitNavigation's timeout bounds the wait.
+for _, state in ipairs({ 'WaitIceballConfig', 'WaitNavigation', 'VerifyingProcedure', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
+  -- The navigation peer's ABORT request (its IgtlBridge's `requests`): the same stop.
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_navigation_abort' }, pn = 20 }
 end
 
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that

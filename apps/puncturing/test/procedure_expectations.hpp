@@ -10,6 +10,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -126,6 +128,48 @@ inline void expectInOrder(const RunResult& r, const std::vector<std::string>& li
 
 inline std::size_t count(const RunResult& r, const std::string& line) {
   return static_cast<std::size_t>(std::count(r.log.begin(), r.log.end(), line));
+}
+
+/// The rows of a run folder's signals.csv from t >= `from` s, and the index of the first column
+/// whose header starts with `column` (-1: none).
+inline std::vector<std::vector<double>> signalRows(const std::filesystem::path& signals, const std::string& column,
+                                                   double from, int& index) {
+  std::ifstream in(signals);
+  std::string header;
+  std::getline(in, header);
+  index = -1;
+  int i = 0;
+  std::istringstream cells(header);
+  for (std::string cell; std::getline(cells, cell, ','); ++i)
+    if (index < 0 && cell.rfind(column, 0) == 0) index = i;
+  std::vector<std::vector<double>> rows;
+  for (std::string row; std::getline(in, row);) {
+    std::vector<double> v;
+    std::istringstream values(row);
+    for (std::string cell; std::getline(values, cell, ',');)
+      v.push_back(cell.empty() ? std::numeric_limits<double>::quiet_NaN() : std::stod(cell));
+    if (!v.empty() && v[0] >= from && index >= 0 && static_cast<int>(v.size()) > index + 2) rows.push_back(std::move(v));
+  }
+  return rows;
+}
+
+/// The smallest value of `column` (e.g. "NeedleAdmittance.tankEnergy") in signals.csv; NaN when
+/// there is no such column.
+inline double columnMinimum(const std::filesystem::path& signals, const std::string& column) {
+  int index = -1;
+  const auto rows = signalRows(signals, column + " ", 0.0, index);
+  if (index < 0) return std::numeric_limits<double>::quiet_NaN();
+  double minimum = std::numeric_limits<double>::infinity();
+  for (const auto& v : rows)
+    if (!std::isnan(v[index])) minimum = std::min(minimum, v[index]);
+  return minimum;
+}
+
+/// The energy tanks of both variable admittances never emptied (passivity kept all along), from a
+/// run folder's signals.csv.
+inline void expectTanksHeld(const std::filesystem::path& report_folder) {
+  EXPECT_GT(columnMinimum(report_folder / "signals.csv", "NeedleAdmittance.tankEnergy"), 0.0);
+  EXPECT_GT(columnMinimum(report_folder / "signals.csv", "ProbeAdmittance.tankEnergy"), 0.0);
 }
 
 }  // namespace cobra::run::testing

@@ -260,29 +260,6 @@ inline bool loggedStart(const HostResult& r, const std::string& start) {
   return std::any_of(r.log.begin(), r.log.end(), [&](const std::string& l) { return l.rfind(start, 0) == 0; });
 }
 
-/// The rows of a run folder's signals.csv from t >= `from` s, and the index of the first column
-/// whose header starts with `column` (-1: none).
-inline std::vector<std::vector<double>> signalRows(const std::filesystem::path& signals, const std::string& column,
-                                                   double from, int& index) {
-  std::ifstream in(signals);
-  std::string header;
-  std::getline(in, header);
-  index = -1;
-  int i = 0;
-  std::istringstream cells(header);
-  for (std::string cell; std::getline(cells, cell, ','); ++i)
-    if (index < 0 && cell.rfind(column, 0) == 0) index = i;
-  std::vector<std::vector<double>> rows;
-  for (std::string row; std::getline(in, row);) {
-    std::vector<double> v;
-    std::istringstream values(row);
-    for (std::string cell; std::getline(values, cell, ',');)
-      v.push_back(cell.empty() ? std::numeric_limits<double>::quiet_NaN() : std::stod(cell));
-    if (!v.empty() && v[0] >= from && index >= 0 && static_cast<int>(v.size()) > index + 2) rows.push_back(std::move(v));
-  }
-  return rows;
-}
-
 /// The rows of signals.csv before `until` s, as text (for comparing two runs exactly).
 inline std::vector<std::string> signalLinesBefore(const std::filesystem::path& signals, double until) {
   std::ifstream in(signals);
@@ -292,18 +269,6 @@ inline std::vector<std::string> signalLinesBefore(const std::filesystem::path& s
     lines.push_back(line);
   }
   return lines;
-}
-
-/// The smallest value of `column` (e.g. "NeedleAdmittance.tankEnergy") in signals.csv; NaN when
-/// there is no such column.
-inline double columnMinimum(const std::filesystem::path& signals, const std::string& column) {
-  int index = -1;
-  const auto rows = signalRows(signals, column + " ", 0.0, index);
-  if (index < 0) return std::numeric_limits<double>::quiet_NaN();
-  double minimum = std::numeric_limits<double>::infinity();
-  for (const auto& v : rows)
-    if (!std::isnan(v[index])) minimum = std::min(minimum, v[index]);
-  return minimum;
 }
 
 /// The largest distance [m] between the position of a Frame column ("ISUR.measCartPose": its

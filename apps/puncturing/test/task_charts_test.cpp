@@ -87,6 +87,8 @@ class Procedure {
   }
   /// The planner refuses the whole procedure when asked to verify it.
   void refuseProcedure() { refuse_procedure_ = true; }
+  /// The Frame Generator's answer to awaitNavigation ("e_navigation_refused", "e_navigation_timeout").
+  void navigationAnswer(std::string event) { navigation_answer_ = std::move(event); }
   /// The next `times` plans chart `chart` asks for fail.
   void failPlan(ChartRun& chart, int times = 1) {
     fail_plan_ = &chart;
@@ -208,6 +210,8 @@ class Procedure {
       }
       reply("e_goal_ready");
       if (c.deployment.ends_with("_autonomous_primitives")) reply("e_path_ready", 0.03);  // desiredPoses is the path
+    } else if (line.ends_with("Frames:awaitNavigation")) {
+      reply(navigation_answer_);  // by default the plan and registration from the files
     } else if (line.ends_with("Planner:verifyProcedure")) {
       reply(refuse_procedure_ ? "e_procedure_refused" : "e_procedure_verified", 1.0);
     } else if (line.ends_with("Planner:askPlan")) {
@@ -269,6 +273,7 @@ class Procedure {
   ChartRun* fail_plan_ = nullptr;
   int fail_plans_ = 0;
   bool refuse_procedure_ = false;
+  std::string navigation_answer_ = "e_navigation_received";
 };
 
 /// The scenarios of the tests below: a scenario folder, its needle count and the faults injected.
@@ -302,6 +307,9 @@ const Scenario kPlanFailureAgain{"two_needles", 2, [](Procedure& p) { p.failPlan
 const Scenario kNoRoomForProbe{"two_needles", 2, [](Procedure& p) { p.failPlan(p.needle(), 2); }};
 // The whole procedure cannot be made (the planner's verifyProcedure refuses it): nothing moves.
 const Scenario kRefused{"two_needles", 2, [](Procedure& p) { p.refuseProcedure(); }};
+// The navigated plan refused, or not come in time (the Frame Generator's awaitNavigation): nothing moves.
+const Scenario kNavigationRefused{"two_needles", 2, [](Procedure& p) { p.navigationAnswer("e_navigation_refused"); }};
+const Scenario kNavigationTimeout{"two_needles", 2, [](Procedure& p) { p.navigationAnswer("e_navigation_timeout"); }};
 const Scenario kThreeNeedles{"three_needles", 3};
 const Scenario kMissedGoals{"three_needles", 3, [](Procedure& p) {
                               p.fault("root.InsertingNeedles.PenetratingSkin", "e_motion_done");  // no puncture
@@ -514,13 +522,32 @@ TEST(PuncturingCharts, ARefusedProcedureStopsBeforeAnyMotion) {
   ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
   ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
   // (A state's entry actions come before the line saying it was entered.)
-  expectInOrder(p, {"needle <- e_iceball_configured", "needle: NeedlePlanner:verifyProcedure",
+  expectInOrder(p, {"needle <- e_iceball_configured", "needle: NeedleFrames:awaitNavigation",
+                    "needle > root.WaitNavigation", "needle <- e_navigation_received",
+                    "needle: NeedlePlanner:verifyProcedure",
                     "needle > root.VerifyingProcedure", "needle <- e_procedure_refused",
                     "needle: emit:e_needle_procedure_refused", "needle > root.Refused", "needle > root.SafeStop",
                     "us <- e_needle_safe_stop", "us > root.SafeStop"});
   for (const char* request : {"needle: NeedlePlanner:askPlan", "us: ProbePlanner:askPlan",
                               "needle: NeedleTrajGen:askStartMove", "us: ProbeTrajGen:askStartMove"})
     EXPECT_EQ(p.count(request), 0u) << request;
+}
+
+TEST(PuncturingCharts, ANavigatedPlanRefusedOrNotComeStopsBeforeTheVerificationAndAnyMotion) {
+  for (const Scenario* scenario : {&kNavigationRefused, &kNavigationTimeout}) {
+    const auto run_ = run(*scenario);
+    Procedure& p = *run_;
+    ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+    ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+    const std::string answer = scenario == &kNavigationRefused ? "e_navigation_refused" : "e_navigation_timeout";
+    expectInOrder(p, {"needle <- e_iceball_configured", "needle: NeedleFrames:awaitNavigation",
+                      "needle > root.WaitNavigation", "needle <- " + answer, "needle > root.Refused",
+                      "needle > root.SafeStop", "us <- e_needle_safe_stop", "us > root.SafeStop"});
+    for (const char* request : {"needle: NeedlePlanner:verifyProcedure", "needle: NeedlePlanner:askPlan",
+                                "us: ProbePlanner:askPlan", "needle: NeedleTrajGen:askStartMove",
+                                "us: ProbeTrajGen:askStartMove"})
+      EXPECT_EQ(p.count(request), 0u) << answer << ": " << request;
+  }
 }
 
 /// Each chart's motion states in the order it ran them, with the needle it was at: what
@@ -564,7 +591,7 @@ TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTes
   std::map<std::string, std::set<std::string>> entered;
   for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
                                    &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain,
-                                   &kNoRoomForProbe, &kRefused}) {
+                                   &kNoRoomForProbe, &kRefused, &kNavigationRefused}) {
     const auto p = run(*scenario);
     for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
   }

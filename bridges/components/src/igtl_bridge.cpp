@@ -1,6 +1,7 @@
 #include "cobra/bridges/igtl_bridge.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include "cobra/core/error.hpp"
 
@@ -95,12 +96,18 @@ IgtlBridge::IgtlBridge(std::string name)
   addProperty(plan_device_);
   addProperty(requests_);
   addProperty(images_);
+  addProperty(send_strings_);
   addProperty(received_messages_.readOnly());
   addProperty(sent_messages_.readOnly());
   addProperty(dropped_messages_.readOnly());
   addProperty(dropped_reason_.readOnly());
   addOperation("localPort", &IgtlBridge::localPort, this,
                "the TCP port of a configured bridge (a server's bound port: the ephemeral one when port is 0)",
+               core::ExecutionThread::Client);
+  addOperation("pendingMessages",
+               std::function<int()>([this] { return link_ ? static_cast<int>(link_->outgoing.size()) : 0; }),
+               "messages the update queued that the link thread has not written to the peer yet (a lockstep run "
+               "that must not outpace its peer waits for 0)",
                core::ExecutionThread::Client);
 }
 
@@ -117,6 +124,8 @@ void IgtlBridge::removeMappedPorts() {
   for (auto& s : send_) removePort(*s.port);
   for (auto& r : receive_) removePort(*r.port);
   for (auto& i : image_ports_) removePort(*i.port);
+  for (auto& t : strings_) removePort(*t.port);
+  strings_.clear();
   send_.clear();
   receive_.clear();
   image_ports_.clear();
@@ -151,6 +160,13 @@ bool IgtlBridge::parseMappings() {
                                                     std::string(e.value), "image sent as IMAGE " + std::string(e.key), "m")});
     addPort(*image_ports_.back().port);
   }
+  for (const Entry& e : splitMapping("send_strings", send_strings_(), kMappingForm, false)) {
+    fresh("send_strings", e, "string in-port");
+    strings_.push_back({std::string(e.key), std::make_unique<core::InputPort<std::string>>(
+                                                std::string(e.value), "line sent as STRING " + std::string(e.key), "")});
+    addPort(*strings_.back().port);
+  }
+  line_.reserve(kLineCapacity);
   for (const Entry& e : splitMapping("requests", requests_(), kRequestForm, true))
     requests_map_.push_back({std::string(e.key), std::string(e.value)});
   if (!plan_device_().empty() && !isDeviceName(plan_device_()))
@@ -317,6 +333,11 @@ void IgtlBridge::updateHook() {
   core::Event event;
   while (input_events_.readNew(event) == core::FlowStatus::NewData) {
     out.size = static_cast<std::uint32_t>(igtl::encodeString("Event", event.name.view(), stamp, out.bytes));
+    queue(out);
+  }
+  for (SendString& s : strings_) {
+    if (s.port->readNew(line_) != core::FlowStatus::NewData) continue;
+    out.size = static_cast<std::uint32_t>(igtl::encodeString(s.device, line_, stamp, out.bytes));
     queue(out);
   }
   const std::int64_t t = now().count();

@@ -5,6 +5,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/puncturing/procedure.hpp"
 #include "cobra/task/planned_walk.hpp"
 
@@ -14,9 +15,13 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
   for (core::Property<std::string>* file : {&preoperative_file_, &cryo_plan_file_, &probe_plan_file_, &table_file_})
     addProperty(*file);
   addProperty(arm_);
+  addProperty(plan_source_);
   addProperty(other_max_vel_.range(1e-6, 10.0));
   addProperty(other_max_ang_vel_.range(1e-6, 100.0));
-  addPort(abdomen_frame_);
+  // Event ports: a registration or a plan arriving wakes a verification waiting for it.
+  addEventPort(abdomen_frame_);
+  addEventPort(plan_in_);
+  addPort(refusal_);
   addOperation("verifyProcedure", std::function<void()>([this] { verify_request_.ask(activity()); }),
                "verifies every motion of the procedure for the plan and the registration in this component's next "
                "step, before anything moves; answers e_procedure_verified or e_procedure_refused (why: lastRefusal)",
@@ -35,18 +40,30 @@ bool PuncturingMotionPlanner::configureHook() {
   const std::pair<const core::Property<std::string>*, const char*> files[] = {
       {&preoperative_file_, "preoperative_info_file"}, {&cryo_plan_file_, "cryo_plan_file"},
       {&probe_plan_file_, "US_pose_plan_file"}, {&table_file_, "state_table_file"}};
+  const bool navigated = plan_source_() == "navigation";
+  if (!navigated && plan_source_() != "files")
+    return refuse("property plan_source is '" + plan_source_() + "'; expected files or navigation");
   for (const auto& [file, name] : files) {
-    if ((*file)().empty()) return refuse(std::string("property ") + name + " is empty; give the path of its file");
+    if ((*file)().empty() && (!navigated || file == &preoperative_file_ || file == &table_file_))
+      return refuse(std::string("property ") + name + " is empty; give the path of its file");
   }
+  plan_.reset();
+  table_.reset();
+  preoperative_.reset();
+  navigation_ = {};
   try {
-    plan_ = puncturing::loadPlan(preoperative_file_(), cryo_plan_file_(), probe_plan_file_());
+    if (navigated)
+      preoperative_ = puncturing::parsePreoperative(puncturing::readText(preoperative_file_()), preoperative_file_());
+    else
+      plan_ = puncturing::loadPlan(preoperative_file_(), cryo_plan_file_(), probe_plan_file_());
     table_ = puncturing::parseStateTable(puncturing::readText(table_file_()), table_file_());
   } catch (const std::invalid_argument& e) {
     plan_.reset();
     table_.reset();
+    preoperative_.reset();
     return refuse(e.what());
   }
-  abdomen_ = plan_->preoperative.abdomen_in_task;
+  abdomen_ = navigated ? preoperative_->abdomen_in_task : plan_->preoperative.abdomen_in_task;
   last_refusal_.clear();
   last_verification_.clear();
   return true;
@@ -113,14 +130,36 @@ bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const
 
 void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
   last_refusal_ = line;
+  refusal_.write(line);
   last_verification_ = "refused: " + line;
   std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s\n", name().c_str(), line.c_str());
   emitEvent("e_procedure_refused");
 }
 
+bool PuncturingMotionPlanner::takeNavigatedPlan() {
+  if (plan_) return true;  // taken once: the procedure is verified for it
+  // Asked before they came: waits for them (their arrival wakes this component: event ports).
+  if (!navigation_.read(plan_in_, abdomen_frame_)) return false;
+  puncturing::PuncturingPlan plan;
+  const std::string refusal =
+      puncturing_navigation::buildPlan(navigation_.points, navigation_.registration, *preoperative_, plan);
+  if (!refusal.empty()) {
+    verify_pending_ = false;  // answered: refused
+    refuseProcedure("navigation refused: " + refusal);
+    return false;
+  }
+  plan_ = std::move(plan);
+  abdomen_ = plan_->preoperative.abdomen_in_task;
+  return true;
+}
+
 void PuncturingMotionPlanner::verify() {
-  KDL::Frame sample;
-  if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
+  if (preoperative_) {
+    if (!takeNavigatedPlan()) return;
+  } else {
+    KDL::Frame sample;
+    if (abdomen_frame_.read(sample) != core::FlowStatus::NoData) abdomen_ = sample;
+  }
   planning::JointState joints;
   std::string why;
   // Asked before the robots' first joints arrived (the probe's chart asks at its start): the

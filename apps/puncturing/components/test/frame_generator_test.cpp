@@ -378,5 +378,151 @@ TEST(PuncturingFrameGenerator, AnsweringAskCurrentGoalAllocatesNothingOnceWarm) 
   EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_goal_ready", "e_goal_ready", "e_goal_ready"}));
 }
 
+namespace navigated {
+
+/// A Frame Generator with plan_source = navigation (its cryo and probe plan files left empty),
+/// a navigation's plan and refusal ports connected.
+struct NavigatedBench : Bench {
+  core::OutputPort<types::PointList> plan_out{"plan_out", "test navigation", "m"};
+  core::InputPort<std::string> refusal{"refusal_in", "test navigation", ""};
+  NavigatedBench() {
+    generator.setProperty("plan_source", "navigation");
+    generator.setProperty("cryo_plan_file", "");
+    generator.setProperty("US_pose_plan_file", "");
+  }
+  bool up() {
+    if (!configure()) return false;
+    core::connectPorts(plan_out, generator.port("plan"));
+    core::connectPorts(generator.port("refusal"), refusal, core::ConnPolicy::buffer(4));
+    needle_meas.write(kNeedleMeas);
+    us_meas.write(kUsMeas);
+    return true;
+  }
+  /// two_needles' plan as points, frame A (m).
+  types::PointList points() const {
+    types::PointList list;
+    for (const pp::PlannedNeedle& n : plan.needles) {
+      list.add(n.name + ".entry", "plan", n.entry);
+      list.add(n.name + ".target", "plan", n.target);
+    }
+    return list;
+  }
+  std::string status() { return generator.call<std::string>("navigationStatus"); }
+};
+
+TEST(PuncturingFrameGenerator, NavigatedItTakesThePlanAndRegistrationOnceBothCameAndAnswersTheWait) {
+  NavigatedBench b;
+  ASSERT_TRUE(b.up());
+  b.generator.call<void>("awaitNavigation");
+  b.clock.advance(10ms);
+  const KDL::Frame registered(KDL::Rotation::RotZ(0.01), b.plan.preoperative.abdomen_in_task.p + KDL::Vector(0.001, 0, 0));
+  b.abdomen.write(registered);
+  b.clock.advance(10ms);
+  EXPECT_TRUE(b.takeEvents().empty()) << "no plan yet";
+  EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_no_data"});
+  b.plan_out.write(b.points());
+  b.clock.advance(10ms);
+  EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_received"});
+  EXPECT_CONTAINS(b.status(), "navigation: registration (1.0, 0.0, 100.0 mm; 0.00, -0.00, 0.57 deg), plan of 2 needles: "
+                              "n1 entry (-20.0, -6.0, 0.0 mm) target (-5.0, 0.0, -58.0 mm)");
+  ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
+  EXPECT_TRUE(KDL::Equal(b.goalPair()[0], registered * pp::needleTargetPose(b.plan.needles[0]), 1e-12));
+  // The probe plan is probePlan()'s (the shipped us_plan.txt to its 6 decimals).
+  ASSERT_EQ(b.ask("root.MoveToSkin.Approach.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
+  EXPECT_TRUE(KDL::Equal(b.goalPair()[1], registered * pp::alongZ(b.plan.probes[0].pose, -0.03), 1e-5));
+  // Taken once: a later registration or plan changes nothing (the procedure was verified for these).
+  b.abdomen.write(frame(0.1, 0.1, 0.1, 0, 0, 1));
+  types::PointList other = b.points();
+  other.points[1].position = KDL::Vector(0, 0, -0.06);
+  b.plan_out.write(other);
+  ASSERT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_goal_ready"});
+  EXPECT_TRUE(KDL::Equal(b.goalPair()[0], registered * pp::needleTargetPose(b.plan.needles[0]), 1e-12));
+  EXPECT_TRUE(KDL::Equal(b.generator.call<KDL::Frame>("plannedTarget", 1),
+                         registered * pp::needleTargetPose(b.plan.needles[1]), 1e-12));
+  std::string line;
+  EXPECT_EQ(b.refusal.read(line), core::FlowStatus::NoData);
+}
+
+TEST(PuncturingFrameGenerator, NavigatedARefusedPlanOrNoneInTimeAnswersTheWaitWithWhyOnTheRefusalPort) {
+  {
+    NavigatedBench b;
+    ASSERT_TRUE(b.up());
+    types::PointList outside = b.points();
+    outside.points[3].position = KDL::Vector(0.005, 0, -0.19);
+    b.plan_out.write(outside);
+    b.abdomen.write(b.plan.preoperative.abdomen_in_task);
+    b.generator.call<void>("awaitNavigation");
+    b.clock.advance(10ms);
+    EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_refused"});
+    const std::string why = "navigation refused: navigation plan:3: needle 'n2': target is 130.1 mm from the tumour "
+                            "centre, outside its radius 12.0 mm";
+    EXPECT_EQ(b.status(), why);
+    std::string line;
+    ASSERT_EQ(b.refusal.read(line), core::FlowStatus::NewData);
+    EXPECT_EQ(line, why);
+    EXPECT_EQ(b.ask("root.InsertingNeedles.MoveToTumor.AskingGoal"), std::vector<std::string>{"e_no_data"});
+  }
+  {
+    NavigatedBench b;
+    b.generator.setProperty("navigation_timeout", 0.05);
+    ASSERT_TRUE(b.up());
+    b.generator.call<void>("awaitNavigation");
+    for (int i = 0; i < 5; ++i) b.clock.advance(10ms);
+    EXPECT_TRUE(b.takeEvents().empty());
+    b.clock.advance(10ms);
+    EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_timeout"});
+    const std::string why = "navigation timed out: no plan (POINT) and no registration (TRANSFORM) from the navigation "
+                            "within 0.05 s";
+    EXPECT_EQ(b.status(), why);
+    std::string line;
+    ASSERT_EQ(b.refusal.read(line), core::FlowStatus::NewData);
+    EXPECT_EQ(line, why);
+  }
+  {  // With files the plan is there: the wait is answered at once.
+    Bench b;
+    ASSERT_TRUE(b.configure());
+    b.generator.call<void>("awaitNavigation");
+    b.clock.advance(10ms);
+    EXPECT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_received"});
+  }
+}
+
+TEST(PuncturingFrameGenerator, NavigatedWaitingForThePlanAndAnsweringGoalsAfterAllocateNothing) {
+  NavigatedBench b;
+  ASSERT_TRUE(b.up());
+  b.generator.call<void>("awaitNavigation");
+  b.abdomen.write(b.plan.preoperative.abdomen_in_task);
+  b.clock.advance(10ms);
+  // Waiting: the registration read every step, no plan yet.
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int i = 0; i < 20; ++i) {
+                b.abdomen.write(b.plan.preoperative.abdomen_in_task);
+                b.clock.advance(10ms);
+              }
+            }),
+            0);
+  b.plan_out.write(b.points());  // taken in the next step (allocates, once)
+  b.clock.advance(10ms);
+  ASSERT_EQ(b.takeEvents(), std::vector<std::string>{"e_navigation_received"});
+  const char* state = "root.InsertingNeedles.MoveToTumor.AskingGoal";
+  for (int warm = 0; warm < 4; ++warm) {
+    b.state.write(core::TaskState{state});
+    b.generator.askCurrentGoal();
+    b.clock.advance(10ms);
+  }
+  b.takeEvents();
+  EXPECT_EQ(test_support::allocationsDuring([&] {
+              for (int i = 0; i < 5; ++i) {
+                b.plan_out.write(b.points());  // later plans and registrations change nothing
+                b.state.write(core::TaskState{state});
+                b.generator.askCurrentGoal();
+                b.clock.advance(10ms);
+              }
+            }),
+            0);
+}
+
+}  // namespace navigated
+
 }  // namespace
 }  // namespace cobra::components

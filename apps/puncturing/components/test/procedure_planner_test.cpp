@@ -1,6 +1,7 @@
 // The puncturing planner's configuration (PuncturingMotionPlanner): the plan it verifies is read
 // and checked at configure, and a bad plan or property is refused naming the component, the file,
-// the line, the needle and what is wrong. (Its walk of the whole procedure runs in the procedure
+// the line, the needle and what is wrong; with the plan from a navigation (plan_source), the
+// verification waits for it and refuses a plan the navigation checks refuse. (Its walk of the whole procedure runs in the procedure
 // tests: test/registration_sweep_test.cpp, test/procedure_test.cpp.)
 #include "cobra/components/puncturing/procedure_planner.hpp"
 
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "cobra/core/core.hpp"
+#include "cobra/puncturing/plan.hpp"
 #include "cobra/test_support/test_support.hpp"
 
 namespace cobra::components {
@@ -69,6 +71,61 @@ TEST(PuncturingMotionPlanner, BadPropertiesAreRefusedNamingThem) {
                   "component 'NeedlePlanner': property arm is 'scalpel'; expected needle or probe");
   EXPECT_CONTAINS(configure([](core::Component& c) { c.setProperty("state_table_file", std::string()); }).message,
                   "component 'NeedlePlanner': property state_table_file is empty; give the path of its file");
+}
+
+TEST(PuncturingMotionPlanner, NavigatedTheVerificationWaitsForThePlanAndRefusesOneTheNavigationChecksRefuse) {
+  using namespace std::chrono_literals;
+  EXPECT_CONTAINS(configure([](core::Component& c) { c.setProperty("plan_source", std::string("dicom")); }).message,
+                  "component 'NeedlePlanner': property plan_source is 'dicom'; expected files or navigation");
+  PuncturingMotionPlanner planner("NeedlePlanner");
+  planner.setProperty("scene_file", kApp + "deployment/puncturing.scene");
+  planner.setProperty("preoperative_info_file", kScenario + "preoperative.txt");
+  planner.setProperty("state_table_file", kApp + "state_table.txt");
+  planner.setProperty("plan_source", std::string("navigation"));  // no cryo or probe plan file needed
+  const core::Result configured = planner.configure();
+  ASSERT_TRUE(configured) << configured.message;
+  core::LockstepClock clock;
+  clock.add(planner, 0ms);  // event-driven, as MotionPlanner runs: its requests and event ports wake it
+  core::OutputPort<types::PointList> plan{"plan_out", "test navigation", "m"};
+  core::OutputPort<KDL::Frame> abdomen{"abdomen", "test navigation", "m"};
+  core::InputPort<std::string> refusal{"refusal_in", "test navigation", ""};
+  core::InputPort<core::Event> events{"events_in", "test supervisor", ""};
+  core::connectPorts(plan, planner.port("plan"));
+  core::connectPorts(abdomen, planner.port("abdomenFrame"));
+  core::connectPorts(planner.port("refusal"), refusal, core::ConnPolicy::buffer(4));
+  core::connectPorts(planner.port("events"), events, core::ConnPolicy::buffer(16));
+  const core::Result started = planner.start();
+  ASSERT_TRUE(started) << started.message;
+  const auto names = [&] {
+    std::vector<std::string> all;
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData) all.push_back(e.name.str());
+    return all;
+  };
+  planner.call<void>("verifyProcedure");
+  clock.advance(10ms);
+  EXPECT_TRUE(names().empty()) << "waits for the plan and the registration";
+  const puncturing::PuncturingPlan files = puncturing::loadPlan(
+      kScenario + "preoperative.txt", kScenario + "cryo_plan.txt", kScenario + "us_plan.txt");
+  types::PointList points;
+  for (const puncturing::PlannedNeedle& n : files.needles) {
+    points.add(n.name + ".entry", "plan", n.entry);
+    points.add(n.name + ".target", "plan", n.target);
+  }
+  points.points[3].position = KDL::Vector(0.005, 0, -0.19);  // n2's target under the phantom
+  plan.write(points);
+  clock.advance(10ms);
+  EXPECT_TRUE(names().empty()) << "waits for the registration";
+  abdomen.write(files.preoperative.abdomen_in_task);
+  clock.advance(10ms);
+  EXPECT_EQ(names(), std::vector<std::string>{"e_procedure_refused"});
+  const std::string why = "navigation refused: navigation plan:3: needle 'n2': target is 130.1 mm from the tumour "
+                          "centre, outside its radius 12.0 mm";
+  EXPECT_EQ(planner.call<std::string>("lastRefusal"), why);
+  std::string line;
+  ASSERT_EQ(refusal.read(line), core::FlowStatus::NewData);
+  EXPECT_EQ(line, why);
+  ASSERT_TRUE(planner.stop());
 }
 
 }  // namespace

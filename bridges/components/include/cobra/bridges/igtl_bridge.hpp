@@ -12,6 +12,8 @@
 ///                      is a key -> that event
 ///   images             "USImage=usImage"                        Imaging.GrayImage in-ports -> IMAGE, each
 ///                      new image at most once per send_period
+///   send_strings       "Refusal=refusal"                        string in-ports -> STRING of the device, each
+///                      new line once (its first 255 characters)
 /// and always: in-port `taskState` (a change, and each new peer -> STATUS of device "TaskState",
 /// the path as status string), event in-port `inputEvents` (each event -> STRING of device "Event", its name; not
 /// `events`, which is every component's own out-port).
@@ -61,10 +63,18 @@ class IgtlBridge : public core::Component {
     std::string key;
     std::string event;
   };
+  struct SendString {
+    std::string device;
+    std::unique_ptr<core::InputPort<std::string>> port;
+  };
   struct Image {
     std::string device;
     std::unique_ptr<core::InputPort<types::GrayImage>> port;
   };
+
+  /// Characters of a string in-port's line read without allocating (reserved at configure); a
+  /// longer line is read whole (one allocation) and its first 255 characters sent.
+  static constexpr std::size_t kLineCapacity = 4096;
 
   int localPort();
   bool parseMappings();
@@ -91,6 +101,8 @@ class IgtlBridge : public core::Component {
   core::Property<std::string> plan_device_{"plan_device", "", "", "device whose POINT messages go to `plan` (\"\": none)"};
   core::Property<std::string> requests_{"requests", "", "", "KEY=event, ...: STRING of device Request whose text is KEY emits the event"};
   core::Property<std::string> images_{"images", "", "", "DEVICE=port, ...: Imaging.GrayImage in-ports sent as IMAGE"};
+  core::Property<std::string> send_strings_{"send_strings", "", "",
+                                            "DEVICE=port, ...: string in-ports, each new line sent as STRING"};
   core::Property<int> received_messages_{"received_messages", 0, "1", "messages received and used"};
   core::Property<int> sent_messages_{"sent_messages", 0, "1", "messages written to a peer"};
   core::Property<int> dropped_messages_{"dropped_messages", 0, "1", "messages dropped (received or to send)"};
@@ -100,6 +112,8 @@ class IgtlBridge : public core::Component {
   std::vector<ReceiveTransform> receive_;
   std::vector<Request> requests_map_;
   std::vector<Image> image_ports_;
+  std::vector<SendString> strings_;
+  std::string line_;  // a received line; capacity reserved at configure (kLineCapacity)
   std::unique_ptr<IgtlLink> link_;
   std::unique_ptr<igtl::Message> scratch_;   // the received message being dispatched
   std::int64_t next_send_ns_ = 0;

@@ -11,9 +11,11 @@
 
 #include <kdl/frames.hpp>
 
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/components/task/state_table_frame_generator.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
+#include "cobra/types/point_list.hpp"
 
 namespace cobra::components {
 
@@ -40,7 +42,22 @@ namespace cobra::components {
 /// one, which a room_for_* leaves out after the last needle), then moved `offset` m along the
 /// tool's own z axis; `hold` and the table's poses as every table.
 ///
-/// Real time: as StateTableFrameGenerator's; nextNeedle allocates nothing.
+/// Navigation (`plan_source` = "navigation"; "files", the default, reads the three files): the
+/// cryoablation plan comes from in-port `plan` (Geometry.PointList, m, frame A: points
+/// `<needle>.entry`, `<needle>.target`, from the IgtlBridge) and the registration from
+/// `abdomenFrame`; only `preoperative_info_file` is read (the cryo and probe plan files are not).
+/// The first plan with the registration then is taken once both have come (later ones change
+/// nothing: the procedure is verified for these): the probe plan is computed (probePlan()), the
+/// whole validated and the registration checked against the preoperative one
+/// (navigation_plan.hpp). Operation `awaitNavigation()` (a request answered in a later step):
+/// `e_navigation_received` once the plan is taken (its description on stderr and in
+/// `navigationStatus()`), `e_navigation_refused` (why: `navigationStatus()`, also written on
+/// out-port `refusal`, string, for the navigation peer), or `e_navigation_timeout` after
+/// `navigation_timeout` s without them (naming what did not come). With files it answers
+/// e_navigation_received at once.
+///
+/// Real time: as StateTableFrameGenerator's; nextNeedle allocates nothing. Taking a navigated
+/// plan allocates, once (its needles, probe poses, messages).
 class PuncturingFrameGenerator : public StateTableFrameGenerator {
  public:
   explicit PuncturingFrameGenerator(std::string name);
@@ -58,22 +75,40 @@ class PuncturingFrameGenerator : public StateTableFrameGenerator {
   /// The request nextNeedle: on to the next planned needle (e_all_needles_done after the last).
   void advanceNeedle();
   KDL::Frame plannedTarget(int index);
-  /// Reads abdomenFrame (keeps the last sample, or the nominal pose) and returns it.
+  /// Reads abdomenFrame (keeps the last sample, or the nominal pose) and returns it; with a
+  /// navigated plan, the registration it was taken with.
   const KDL::Frame& abdomen();
+  bool navigated() const { return plan_source_() == "navigation"; }
+  /// Navigation: takes the plan once it and the registration have come; answers awaitNavigation.
+  void stepNavigation();
+  void answerNavigation(const char* event, std::string status);
 
   core::Property<std::string> preoperative_file_{"preoperative_info_file", "", "",
                                                  "preoperative information (abdomen, tumour, forbidden regions)"};
   core::Property<std::string> cryo_plan_file_{"cryo_plan_file", "", "", "cryoablation plan: the needles, frame A"};
   core::Property<std::string> probe_plan_file_{"US_pose_plan_file", "", "", "probe pose of each needle, frame A"};
   core::Property<std::string> arm_{"arm", "needle", "", "the robot whose chart calls this instance: needle or probe"};
+  core::Property<std::string> plan_source_{"plan_source", "files", "",
+                                           "where the cryoablation plan and registration come from: files or navigation"};
+  core::Property<double> navigation_timeout_{"navigation_timeout", 120.0, "s",
+                                             "awaitNavigation gives up after this long without plan and registration"};
 
   core::InputPort<KDL::Frame> abdomen_frame_{"abdomenFrame", "abdomen frame A in the world frame", "m"};
   core::OutputPort<KDL::Frame> needle_target_{"needleTarget", "the current needle's planned tip pose, world", "m"};
+  core::InputPort<types::PointList> plan_in_{"plan", "navigation: the needles' entry and target points, frame A", "m"};
+  core::OutputPort<std::string> refusal_{"refusal", "navigation: why the plan was refused or did not come, one line", ""};
 
   std::optional<puncturing::PuncturingPlan> plan_;
   int needle_ = 0;
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   core::PendingRequest next_needle_request_;  // answered in the next step
+  core::PendingRequest navigation_request_;   // awaitNavigation
+  bool awaiting_ = false;                     // awaitNavigation asked, not answered yet
+  std::int64_t awaiting_since_ns_ = 0;
+  std::optional<puncturing::PreoperativeInfo> preoperative_;  // navigation: read at configure
+  puncturing_navigation::NavigationInputs navigation_;  // until the plan is taken
+  std::string navigation_status_;             // what was taken, or why not ("" before)
+  bool navigation_refused_ = false;
 };
 
 }  // namespace cobra::components

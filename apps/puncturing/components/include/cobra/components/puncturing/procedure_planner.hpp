@@ -13,9 +13,11 @@
 #include <kdl/frames.hpp>
 
 #include "cobra/components/planning/motion_planner_component.hpp"
+#include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/task/planned_walk.hpp"
+#include "cobra/types/point_list.hpp"
 
 namespace cobra::components {
 
@@ -34,7 +36,14 @@ namespace cobra::components {
 ///   'root.InsertingNeedles.MoveToSkin.Approach' (state_table.txt:38), needle=entry-0.02: invalid
 ///   goal: ..."; "" when the last verification passed or none ran), `lastVerification()` (what
 ///   the last one found: steps, validity checks);
-/// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr).
+/// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr and on out-port
+///   `refusal`, string, for a navigation peer);
+/// - `plan_source` ("files" or "navigation"): with navigation the plan comes from in-port `plan`
+///   (Geometry.PointList, frame A, m) and the registration from `abdomenFrame`, as the Frame
+///   Generator takes them (navigation_plan.hpp: the same plan from the same messages, the first
+///   plan with the registration then); only `preoperative_info_file` and `state_table_file` are
+///   read at configure; verifyProcedure waits for both (and the joints), and refuses what the
+///   Frame Generator refuses (a plan validate() refuses, a registration beyond the tolerance).
 ///
 /// After a verified procedure, a plan asked from (nearly) the joints where the walk started this
 /// arm's next planned step (kReuseTolerance) follows the path the walk verified (from the
@@ -64,6 +73,9 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   /// The walk of the whole procedure from the measured joints; emits its verdict.
   void verify();
   void refuseProcedure(const std::string& line);
+  /// Navigation: reads the plan and registration until both came, then takes the plan (or
+  /// refuses). True when the walk may go on.
+  bool takeNavigatedPlan();
 
   core::Property<std::string> preoperative_file_{"preoperative_info_file", "", "",
                                                  "preoperative information (abdomen, tumour, forbidden regions)"};
@@ -71,14 +83,20 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   core::Property<std::string> probe_plan_file_{"US_pose_plan_file", "", "", "probe pose of each needle, frame A"};
   core::Property<std::string> table_file_{"state_table_file", "", "", "the Frame Generators' state table"};
   core::Property<std::string> arm_{"arm", "needle", "", "the robot whose chart asks this planner: needle or probe"};
+  core::Property<std::string> plan_source_{"plan_source", "files", "",
+                                           "where the cryoablation plan and registration come from: files or navigation"};
   core::Property<double> other_max_vel_{"other_max_vel", 0.05, "m/s",
                                         "max velocity per Cartesian axis of the other robot's trajectory generator"};
   core::Property<double> other_max_ang_vel_{"other_max_ang_vel", 0.5, "rad/s",
                                             "max angular velocity of the other robot's trajectory generator"};
   core::InputPort<KDL::Frame> abdomen_frame_{"abdomenFrame", "abdomen frame A in the world frame", "m"};
+  core::InputPort<types::PointList> plan_in_{"plan", "navigation: the needles' entry and target points, frame A", "m"};
+  core::OutputPort<std::string> refusal_{"refusal", "why the procedure was refused, one line", ""};
 
   std::optional<puncturing::PuncturingPlan> plan_;
   std::optional<task::StateTable> table_;
+  std::optional<puncturing::PreoperativeInfo> preoperative_;  // navigation: read at configure
+  puncturing_navigation::NavigationInputs navigation_;       // until the plan is taken
   KDL::Frame abdomen_ = KDL::Frame::Identity();
   core::PendingRequest verify_request_;
   bool verify_pending_ = false;  // asked, waiting for the robots' measured joints
