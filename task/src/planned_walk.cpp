@@ -69,7 +69,7 @@ StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<co
       outcome.ok = true;
       outcome.chosen = k;
       outcome.reached = c.goal;
-      paths_.push_back({step, joints_, goal, result});
+      paths_.push_back({step, joints_, goal, k, result});
       joints_ = result.joint_waypoints.back();
       return outcome;
     }

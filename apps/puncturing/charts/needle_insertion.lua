@@ -53,6 +53,8 @@ local chart = {
   -- Refused before the first motion: the robots never moved; the procedure ends (the safe stop
   -- holds them where they are, the ultrasound chart follows).
   Refused = rfsm.state { entry = function() emit("e_needle_procedure_refused") end },
+  -- This planner passed it: the probe's planner walks it now (us_positioning.lua); both must pass.
+  WaitProbeVerdict = rfsm.state { entry = function() emit("e_needle_procedure_verified") end },
   MakeRoomForProbe = motion("root.MakeRoomForProbe", D.planning, C.free, { planned = true }),
   WaitUSPositioning = waiting("root.WaitUSPositioning", D.planning, C.free, function() emit("e_needle_wait_us") end),
   InsertingNeedles = rfsm.state {
@@ -124,7 +126,8 @@ local chart = {
 
   rfsm.trans { src = 'initial', tgt = 'WaitIceballConfig' },
   rfsm.trans { src = 'WaitIceballConfig', tgt = 'VerifyingProcedure', events = { 'e_iceball_configured' } },
-  rfsm.trans { src = 'VerifyingProcedure', tgt = 'MakeRoomForProbe', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'WaitProbeVerdict', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'WaitProbeVerdict', tgt = 'MakeRoomForProbe', events = { 'e_us_procedure_verified' } },
   rfsm.trans { src = 'VerifyingProcedure', tgt = 'Refused', events = { 'e_procedure_refused' } },
   rfsm.trans { src = 'Refused', tgt = 'SafeStop' },
   -- At a needle change pose: the probe may move (WaitUSPositioning says so), the needle is mounted there.
@@ -151,7 +154,7 @@ for _, reaction in ipairs({ { 'MakeRoomForProbe', faults }, { 'InsertingNeedles'
 end
 -- The ultrasound chart stopped safely, or its host was lost (the run split over two hosts, the
 -- DDS link's e_peer_lost): this one stops too, from wherever it is.
-for _, state in ipairs({ 'WaitIceballConfig', 'VerifyingProcedure', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+for _, state in ipairs({ 'WaitIceballConfig', 'VerifyingProcedure', 'WaitProbeVerdict', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
 end

@@ -16,6 +16,7 @@
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/task/planned_walk.hpp"
+#include "cobra/task/verified_paths.hpp"
 
 namespace cobra::components {
 
@@ -36,21 +37,22 @@ namespace cobra::components {
 ///   the last one found: steps, validity checks);
 /// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr).
 ///
-/// After a verified procedure, a plan asked from (nearly) the joints where the walk started this
-/// arm's next planned step (kReuseTolerance) follows the path the walk verified (from the
-/// measured poses, the straight way onto it and each waypoint with the other robot where it is
-/// checked again; failing that, it searches) instead of searching again, and refuses another goal
-/// alternative from there:
-/// "verified" then means "this path".
+/// After a verified procedure, the plans of this arm follow the walk's paths, one per planned
+/// step in the walk's order, and never search while one is left (task::VerifiedPaths, with its
+/// default FollowTolerances: start joints within 0.02 m or rad of the walk's, the walk's goal
+/// alternative at its goal within 1e-6 m and 1e-6 rad, every waypoint and edge checked again
+/// with the other robot where it is, else a search that ends where the walk ended). Leaving the
+/// verified procedure fails this plan and every later one (e_plan_failed, lastPlanResult "left
+/// the verified procedure at planned step k of n (task state 'S', needle N): why; verify the
+/// procedure again") until verifyProcedure() passes again. Once every verified path was followed,
+/// plans search as the MotionPlanner does. A refused verification, and configure, forget the
+/// paths: a reconfigured planner follows nothing.
 ///
 /// Runs in updateHook, like planning: a non-real-time activity (MotionPlannerComponent's).
 class PuncturingMotionPlanner : public MotionPlannerComponent {
  public:
-  /// How near a query's start joints (m, rad, each) must be to where the walk started the step for
-  /// the run to follow the walk's path (the way from there onto it checked again), and its goal
-  /// (m; rotation matrix elements) to the walk's for the same alternative: a robot at rest where
-  /// the previous motion ended, or a probe the skin pushed back a few mm, is within it.
-  static constexpr double kReuseTolerance = 0.02;
+  /// The robots of the scene by arm (needle, probe), resolved at configure.
+  static constexpr const char* kRobotNames[2] = {"isur", "ur5"};
 
   explicit PuncturingMotionPlanner(std::string name);
 
@@ -58,12 +60,14 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   bool configureHook() override;
   void updateHook() override;
   bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
-                 const planning::DualPose& goal, planning::PlanResult& result) override;
+                 const planning::DualPose& goal, std::size_t alternative, planning::PlanResult& result) override;
 
  private:
   /// The walk of the whole procedure from the measured joints; emits its verdict.
   void verify();
   void refuseProcedure(const std::string& line);
+  /// Forgets the verified paths (a refusal, a configure).
+  void forgetPaths();
 
   core::Property<std::string> preoperative_file_{"preoperative_info_file", "", "",
                                                  "preoperative information (abdomen, tumour, forbidden regions)"};
@@ -83,9 +87,9 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   core::PendingRequest verify_request_;
   bool verify_pending_ = false;  // asked, waiting for the robots' measured joints
   std::string last_refusal_, last_verification_;
-  std::vector<task::CheckedPath> paths_;  // the verified walk's paths of this arm, not yet followed
-  std::size_t arm_index_ = 0;             // 0 needle, 1 probe
-  std::unique_ptr<planning::MotionPlanner> joiner_;  // checks the way onto a verified path
+  std::size_t arm_index_ = 0;    // 0 needle, 1 probe
+  std::size_t robot_index_ = 0;  // this arm's robot in the scene (kRobotNames)
+  std::unique_ptr<task::VerifiedPaths> follower_;  // the verified walk's paths of this arm
 };
 
 }  // namespace cobra::components

@@ -1,0 +1,87 @@
+#pragma once
+/// @file
+/// The run following a verified procedure (procedure_walk.hpp, planned_walk.hpp): one robot's
+/// planned steps take the paths the walk verified, in the walk's order, instead of searching
+/// again (a search from nearly the same joints may take another way, which was not verified).
+/// Each query must be the walk's: from where the walk started the step, to the goal alternative it
+/// took, at the goal it verified; the path is checked again with the other robot where it really
+/// is. Leaving the verified procedure fails that plan and every later one until it is verified
+/// again. Library code: planning and task, no runtime. Units: m, rad.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cobra/planning/motion_planner.hpp"
+#include "cobra/task/planned_walk.hpp"
+
+namespace cobra::task {
+
+/// How near a run's query must be to the walk's for the walk's path to be followed.
+struct FollowTolerances {
+  /// The moving robot's start joints against where the walk started the step (m or rad, each
+  /// joint). The walk assumes every motion primitive reaches its table goal; the contact-ended
+  /// ones (a descent to the skin, a press, a puncture) end where the contact stops them, and
+  /// tracking leaves the rest: the way from where the robot is onto the path is checked again.
+  double start = 0.02;
+  /// The moving robot's goal against the walk's (m; rad about any axis): the same table row
+  /// resolved with the same registration differs by rounding only; beyond, the goal moved.
+  double goal_position = 1e-6;
+  double goal_angle = 1e-6;
+};
+
+class VerifiedPaths {
+ public:
+  /// `robot`: the scene's robot the paths move (the other's joints are held where they are);
+  /// `arm`: its tool in a DualPose (0: first, 1: second); `options`: that robot's planner's (the
+  /// edges are walked at its verify density and speeds, a search uses its seed). `validator`
+  /// is borrowed and must outlive this.
+  VerifiedPaths(planning::StateValidator& validator, const planning::PlannerOptions& options, std::size_t robot,
+                std::size_t arm, FollowTolerances tolerances = {});
+  VerifiedPaths(const VerifiedPaths&) = delete;
+  VerifiedPaths& operator=(const VerifiedPaths&) = delete;
+
+  /// The walk's paths of this robot in its order, each named for messages ("task state 'S',
+  /// needle n2 (2 of 3)"); `ends_walk`: the last of them is the walk's last step (nothing of
+  /// either robot follows it). Forgets having left.
+  void assign(std::vector<CheckedPath> paths, std::vector<std::string> names, bool ends_walk);
+
+  /// A plan query of this robot from its joints `start` (poses `start_poses`) to `goal`, goal
+  /// alternative `alternative` (0-based). False: no verified path is left (none was assigned, or
+  /// every one was followed): search as without a verification. True with `result`:
+  /// - the walk's path, when the start is within tolerances.start of the walk's, the alternative
+  ///   is the walk's and its goal within the goal tolerances, and every waypoint and edge (walked
+  ///   as MotionPlanner::checkFollowOn does, the first from `start`) passes with the other robot
+  ///   where it is; failing those re-checks, a search from `start` to the goal whose path ends
+  ///   within tolerances.start of the walk's end joints (or anywhere after the walk's last step);
+  /// - NoSolution "not the goal alternative the procedure's verification took from here (it took
+  ///   alternative k)" for another alternative (the verified one may follow);
+  /// - otherwise NoSolution "left the verified procedure at planned step k of n (NAME): why;
+  ///   verify the procedure again", and the same for every later query until assign().
+  bool follow(const planning::JointState& start, const planning::DualPose& start_poses,
+              const planning::DualPose& goal, std::size_t alternative, planning::PlanResult& result);
+
+  std::size_t remaining() const { return paths_.size(); }
+  /// Why the run left the verified procedure ("": it did not).
+  const std::string& left() const { return left_; }
+
+ private:
+  bool leave(const std::string& why, planning::PlanResult& result);
+  /// "" with `path` when the next path passes from `start` with the other robot where it is.
+  std::string recheck(const planning::JointState& start, const planning::DualPose& start_poses,
+                      const planning::DualPose& goal, planning::PlanResult& path);
+  /// The largest difference of this robot's joints between `a` and `b`.
+  double apart(const planning::JointState& a, const planning::JointState& b) const;
+
+  planning::StateValidator& validator_;
+  planning::MotionPlanner checker_;
+  std::size_t robot_, arm_;
+  FollowTolerances tolerances_;
+  std::vector<CheckedPath> paths_;  // not yet followed, the next first
+  std::vector<std::string> names_;
+  std::size_t assigned_ = 0;
+  bool ends_walk_ = false;
+  std::string left_;
+};
+
+}  // namespace cobra::task
