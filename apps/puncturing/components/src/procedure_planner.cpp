@@ -80,11 +80,12 @@ bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const
   return follower_ && follower_->follow(start, start_poses, goal, alternative, result);
 }
 
-void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
+void PuncturingMotionPlanner::refuseProcedure(const std::string& line, double seconds) {
   forgetPaths();
   last_refusal_ = line;
   last_verification_ = "refused: " + line;
-  std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s\n", name().c_str(), line.c_str());
+  std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s (walked in %.3f s of wall time)\n",
+               name().c_str(), line.c_str(), seconds);
   emitEvent("e_procedure_refused");
 }
 
@@ -114,8 +115,8 @@ void PuncturingMotionPlanner::verify() {
   const task::ProcedureVerdict verdict =
       task::walkProcedure(*table_, table_file_(), puncturing::puncturingVocabulary().arms, steps,
                           {tools.first, tools.second}, datums, verifier);
-  if (!verdict.ok) return refuseProcedure(verdict.refusal.text(table_file_()));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!verdict.ok) return refuseProcedure(verdict.refusal.text(table_file_()), seconds);
   last_refusal_.clear();
   // This planner's paths (the other's are its own), to follow in the run.
   std::vector<task::CheckedPath> paths;

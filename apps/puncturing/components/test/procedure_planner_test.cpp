@@ -71,5 +71,15 @@ TEST(PuncturingMotionPlanner, BadPropertiesAreRefusedNamingThem) {
                   "component 'NeedlePlanner': property state_table_file is empty; give the path of its file");
 }
 
+TEST(PuncturingMotionPlanner, ASceneWithoutTheProceduresRobotsIsRefusedNamingTheFileAndTheExpectedRobots) {
+  // The suturing scene: the I-SUR alone.
+  const std::string scene = std::string(COBRA_SOURCE_DIR) + "/apps/suturing/deployment/suturing.scene";
+  const core::Result result = configure([&](core::Component& c) { c.setProperty("scene_file", scene); });
+  EXPECT_FALSE(result);
+  EXPECT_CONTAINS(result.message, "component 'NeedlePlanner': scene_file '" + scene +
+                                      "' has no robot 'ur5'; the procedure's verification expects the needle robot "
+                                      "'isur' and the probe robot 'ur5'");
+}
+
 }  // namespace
 }  // namespace cobra::components

@@ -65,7 +65,8 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
  private:
   /// The walk of the whole procedure from the measured joints; emits its verdict.
   void verify();
-  void refuseProcedure(const std::string& line);
+  /// `seconds`: the walk's wall time (for the line on stderr).
+  void refuseProcedure(const std::string& line, double seconds = 0.0);
   /// Forgets the verified paths (a refusal, a configure).
   void forgetPaths();
 
