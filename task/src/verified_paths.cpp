@@ -4,12 +4,19 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 namespace cobra::task {
 namespace {
 
 KDL::Frame& tool(planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
 const KDL::Frame& tool(const planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
+
+/// How far apart two frames are: m, and rad about any axis.
+std::pair<double, double> apart(const KDL::Frame& a, const KDL::Frame& b) {
+  KDL::Vector axis;
+  return {(a.p - b.p).Norm(), (b.M.Inverse() * a.M).GetRotAngle(axis)};
+}
 
 std::string number(double value) {
   char text[32];
@@ -34,22 +41,14 @@ VerifiedPaths::VerifiedPaths(planning::StateValidator& validator, const planning
                                 " is not one of the scene's");
 }
 
-void VerifiedPaths::assign(std::vector<CheckedPath> paths, std::vector<std::string> names, bool ends_walk) {
+void VerifiedPaths::assign(std::vector<CheckedPath> paths, std::vector<std::string> names) {
   paths_ = std::move(paths);
   std::reverse(paths_.begin(), paths_.end());  // the next at the back
   names_ = std::move(names);
   names_.resize(paths_.size());
   std::reverse(names_.begin(), names_.end());
   assigned_ = paths_.size();
-  ends_walk_ = ends_walk;
   left_.clear();
-}
-
-double VerifiedPaths::apart(const planning::JointState& a, const planning::JointState& b) const {
-  const std::size_t from = validator_.jointOffset(robot_), to = from + validator_.model(robot_).jointCount();
-  double off = 0.0;
-  for (std::size_t j = from; j < to && j < a.size() && j < b.size(); ++j) off = std::max(off, std::abs(a[j] - b[j]));
-  return off;
 }
 
 bool VerifiedPaths::leave(const std::string& why, planning::PlanResult& result) {
@@ -102,10 +101,12 @@ bool VerifiedPaths::follow(const planning::JointState& start, const planning::Du
   if (paths_.empty()) return false;
   const CheckedPath& next = paths_.back();
   if (next.start.size() != start.size()) return leave("the scene's joints changed", result);
-  const double off = apart(start, next.start);
-  if (off > tolerances_.start)
-    return leave("the robot is " + number(off) + " (m or rad) from the joints where the verification started this "
-                 "step (at most " + number(tolerances_.start) + ")", result);
+  const auto [off, off_angle] = apart(tool(start_poses, arm_), tool(next.result.waypoints.front(), arm_));
+  if (off > tolerances_.start_position || off_angle > tolerances_.start_angle)
+    return leave("the tool is " + number(off) + " m and " + number(off_angle) +
+                     " rad from where the verification started this step (at most " +
+                     number(tolerances_.start_position) + " m and " + number(tolerances_.start_angle) + " rad)",
+                 result);
   if (alternative != next.alternative) {
     // Another goal alternative than the walk took from here: the run takes the walk's, whose way
     // was verified (a search may find a way to this one that was not).
@@ -113,36 +114,25 @@ bool VerifiedPaths::follow(const planning::JointState& start, const planning::Du
                      std::to_string(next.alternative + 1) + ")");
     return true;
   }
-  const KDL::Frame& asked = tool(goal, arm_);
-  const KDL::Frame& verified = tool(next.goal, arm_);
-  KDL::Vector axis;
-  const double moved = (asked.p - verified.p).Norm(), turned = (verified.M.Inverse() * asked.M).GetRotAngle(axis);
+  const auto [moved, turned] = apart(tool(goal, arm_), tool(next.goal, arm_));
   if (moved > tolerances_.goal_position || turned > tolerances_.goal_angle)
     return leave("the goal moved since the verification (registration changed?) by " + number(moved) + " m and " +
                  number(turned) + " rad", result);
   planning::PlanResult path;
   const std::string blocked = recheck(start, start_poses, goal, path);
   if (blocked.empty()) {
-    path.message = "the path verified with the procedure (" + path.message + "; start " + number(off) +
-                   " m or rad from the walk's)";
+    path.message = "the path verified with the procedure (" + path.message + "; the tool " + number(off) + " m and " +
+                   number(off_angle) + " rad from the walk's start)";
   } else {
-    // Not from where the robots are (e.g. a redundant robot a few micrometres off the walk's
-    // start resolves its redundancy otherwise near a singular pose, or the other robot is in the
-    // way): a search from here to the walk's goal, verified densely by the planner, which must
-    // end where the walk ended, so that the rest of the walk holds as it does after any step;
-    // after the walk's last step nothing follows (the follow-on is checked as always).
+    // Not from where the robots are (e.g. a redundant robot whose joints differ from the walk's
+    // at the same tool pose, its redundancy resolved otherwise near a singular pose, or the other
+    // robot in the way): a search from here to the walk's goal, verified densely by the planner
+    // from the real state (the next step is checked again from where it ends).
     path = checker_.planPath(start, goal);
     if (!path.solved())
       return leave(blocked + "; a search from where it is: " + planning::toString(path.status) + ": " + path.message,
                    result);
-    const double end = apart(path.joint_waypoints.back(), next.result.joint_waypoints.back());
-    if (end > tolerances_.start && !(ends_walk_ && paths_.size() == 1))
-      return leave(blocked + "; a search from where it is ends " + number(end) +
-                       " (m or rad) from the joints where the walk ended the step (at most " +
-                       number(tolerances_.start) + ")",
-                   result);
-    path.message = "a new path to the verified goal (" + path.message + ", ending " + number(end) +
-                   " m or rad from the walk's end): " + blocked;
+    path.message = "a new path to the verified goal (" + path.message + "): " + blocked;
   }
   result = std::move(path);
   paths_.pop_back();

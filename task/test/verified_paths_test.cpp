@@ -48,9 +48,9 @@ struct Walked {
   }
 
   /// A follower of the probe's walked path.
-  std::unique_ptr<VerifiedPaths> follower(bool ends_walk = false) {
+  std::unique_ptr<VerifiedPaths> follower() {
     auto f = std::make_unique<VerifiedPaths>(validator, options, kProbe, kProbe);
-    f->assign(paths, {"task state 'root.MoveToSkin.Approach', needle n1 (1 of 2)"}, ends_walk);
+    f->assign(paths, {"task state 'root.MoveToSkin.Approach', needle n1 (1 of 2)"});
     return f;
   }
 
@@ -120,17 +120,19 @@ TEST(VerifiedPaths, AGoalBeyondItsToleranceLeavesTheProcedureNamingTheStep) {
 
 TEST(VerifiedPaths, LeavingTheProcedureFailsEveryLaterPlanUntilItIsVerifiedAgain) {
   Walked w;
-  const FollowTolerances bound;
   auto f = w.follower();
-  // The probe's last joint 1.5 times the start tolerance away from the walk's start.
-  JointState away = test::kStart;
-  away[13] += 1.5 * bound.start;
+  // The probe 3 cm to the side of where the walk started the step (beyond 0.02 m).
+  JointState away(test::kStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(w.validator.inverseNear({w.start.first, KDL::Frame(w.start.second.M, w.start.second.p + KDL::Vector(0.03, 0, 0))},
+                                    test::kStart, away, robot),
+            planning::Reachability::Reachable);
   PlanResult r;
   ASSERT_TRUE(f->follow(away, w.poses(away), w.goal, 1, r));
   EXPECT_EQ(r.status, PlanStatus::NoSolution);
   const std::string left = "left the verified procedure at planned step 1 of 1 (task state 'root.MoveToSkin.Approach', "
-                           "needle n1 (1 of 2)): the robot is 0.03 (m or rad) from the joints where the verification "
-                           "started this step (at most 0.02); verify the procedure again";
+                           "needle n1 (1 of 2)): the tool is 0.03 m and 0 rad from where the verification started "
+                           "this step (at most 0.02 m and 0.02 rad); verify the procedure again";
   EXPECT_EQ(r.message, left);
   EXPECT_EQ(f->left(), left);
   // The walk's own query now fails too, and so does any other: no search once left.
@@ -139,20 +141,26 @@ TEST(VerifiedPaths, LeavingTheProcedureFailsEveryLaterPlanUntilItIsVerifiedAgain
   ASSERT_TRUE(f->follow(test::kStart, w.start, w.start, 0, r));
   EXPECT_EQ(r.message, left);
   // Verified again: followed.
-  f->assign(w.paths, {"again"}, false);
+  f->assign(w.paths, {"again"});
   ASSERT_TRUE(f->follow(test::kStart, w.start, w.goal, 1, r));
   EXPECT_TRUE(r.solved()) << r.message;
+  // Turned beyond 0.02 rad about its axis: left too.
+  JointState turned = test::kStart;
+  turned[13] += 0.03;  // the UR5's last joint: the probe's spin about its axis
+  ASSERT_TRUE(w.follower()->follow(turned, w.poses(turned), w.goal, 1, r));
+  EXPECT_CONTAINS(r.message, "the tool is 0 m and 0.03 rad from where the verification started this step");
 }
 
 TEST(VerifiedPaths, AStartWithinTheToleranceJoinsTheVerifiedPathFromWhereTheRobotIs) {
   Walked w;
   JointState near = test::kStart;
-  near[13] += 0.5 * FollowTolerances{}.start;  // the probe's last joint (its spin about the tool axis)
+  near[13] += 0.5 * FollowTolerances{}.start_angle;  // the probe's spin about its axis
   PlanResult r;
   ASSERT_TRUE(w.follower()->follow(near, w.poses(near), w.goal, 1, r));
   ASSERT_TRUE(r.solved()) << r.message;
   EXPECT_EQ(r.joint_waypoints.front(), near);
   EXPECT_TRUE(KDL::Equal(r.waypoints.front().second, w.poses(near).second, 1e-12));
+  EXPECT_CONTAINS(r.message, "the path verified with the procedure (");
 }
 
 TEST(VerifiedPaths, TheOtherRobotInTheWayLeavesTheProcedureWithWhyNotEvenASearchHelps) {
@@ -166,7 +174,7 @@ TEST(VerifiedPaths, TheOtherRobotInTheWayLeavesTheProcedureWithWhyNotEvenASearch
   const StepOutcome outcome = verifier.planned({"root.InsertingNeedles.MoveToSkin.Approach", 0, true, 0}, std::vector{c});
   ASSERT_TRUE(outcome.ok) << outcome.why;
   VerifiedPaths f(w.validator, w.options, 0, 0);
-  f.assign(verifier.paths(), {"task state 'root.InsertingNeedles.MoveToSkin.Approach', needle n1 (1 of 2)"}, false);
+  f.assign(verifier.paths(), {"task state 'root.InsertingNeedles.MoveToSkin.Approach', needle n1 (1 of 2)"});
   // The probe pressed where the needle's goal is: the verified path's last waypoint is too close
   // to it, and a search to that goal has no valid goal state.
   JointState blocking = test::kStart;

@@ -126,10 +126,8 @@ void PuncturingMotionPlanner::verify() {
     paths.push_back(path);
     names.push_back("task state '" + path.step.state + "', " + datums.itemName(path.step.item));
   }
-  const bool ends_walk = !paths.empty() && paths.back().step.state == steps.back().state &&
-                         paths.back().step.item == steps.back().item && steps.back().arm == arm_index_;
   follower_ = std::make_unique<task::VerifiedPaths>(scene, planner()->options(), robot_index_, arm_index_);
-  follower_->assign(std::move(paths), std::move(names), ends_walk);
+  follower_->assign(std::move(paths), std::move(names));
   last_verification_ = "verified: " + std::to_string(steps.size()) + " motions of " +
                        std::to_string(plan_->needles.size()) + " needles, " +
                        std::to_string(verifier.validityChecks()) + " validity checks, " + std::to_string(seconds) +

@@ -19,11 +19,14 @@ namespace cobra::task {
 
 /// How near a run's query must be to the walk's for the walk's path to be followed.
 struct FollowTolerances {
-  /// The moving robot's start joints against where the walk started the step (m or rad, each
-  /// joint). The walk assumes every motion primitive reaches its table goal; the contact-ended
-  /// ones (a descent to the skin, a press, a puncture) end where the contact stops them, and
-  /// tracking leaves the rest: the way from where the robot is onto the path is checked again.
-  double start = 0.02;
+  /// The moving robot's tool at the query's start against where the walk started the step (m; rad
+  /// about any axis). The walk assumes every motion primitive reaches its table goal; the
+  /// contact-ended ones (a descent to the skin, a press, a puncture) end where the contact stops
+  /// them, a few mm off, and tracking leaves the rest. Its joints may differ more: a redundant
+  /// robot tracking its commands every millisecond resolves its redundancy unlike the walk's
+  /// coarser steps; the path is checked again from the robot's real joints.
+  double start_position = 0.02;
+  double start_angle = 0.02;
   /// The moving robot's goal against the walk's (m; rad about any axis): the same table row
   /// resolved with the same registration differs by rounding only; beyond, the goal moved.
   double goal_position = 1e-6;
@@ -42,18 +45,18 @@ class VerifiedPaths {
   VerifiedPaths& operator=(const VerifiedPaths&) = delete;
 
   /// The walk's paths of this robot in its order, each named for messages ("task state 'S',
-  /// needle n2 (2 of 3)"); `ends_walk`: the last of them is the walk's last step (nothing of
-  /// either robot follows it). Forgets having left.
-  void assign(std::vector<CheckedPath> paths, std::vector<std::string> names, bool ends_walk);
+  /// needle n2 (2 of 3)"). Forgets having left.
+  void assign(std::vector<CheckedPath> paths, std::vector<std::string> names);
 
   /// A plan query of this robot from its joints `start` (poses `start_poses`) to `goal`, goal
   /// alternative `alternative` (0-based). False: no verified path is left (none was assigned, or
   /// every one was followed): search as without a verification. True with `result`:
-  /// - the walk's path, when the start is within tolerances.start of the walk's, the alternative
-  ///   is the walk's and its goal within the goal tolerances, and every waypoint and edge (walked
-  ///   as MotionPlanner::checkFollowOn does, the first from `start`) passes with the other robot
-  ///   where it is; failing those re-checks, a search from `start` to the goal whose path ends
-  ///   within tolerances.start of the walk's end joints (or anywhere after the walk's last step);
+  /// - the walk's path, when the tool starts within the start tolerances of the walk's start, the
+  ///   alternative is the walk's and its goal within the goal tolerances, and every waypoint and
+  ///   edge (walked as MotionPlanner::checkFollowOn does, the first from `start`) passes with the
+  ///   robots where they are; failing those re-checks, a search from `start` to that goal (the
+  ///   planner's dense verification from the real state; the next step is checked again from
+  ///   where it ends);
   /// - NoSolution "not the goal alternative the procedure's verification took from here (it took
   ///   alternative k)" for another alternative (the verified one may follow);
   /// - otherwise NoSolution "left the verified procedure at planned step k of n (NAME): why;
@@ -70,8 +73,6 @@ class VerifiedPaths {
   /// "" with `path` when the next path passes from `start` with the other robot where it is.
   std::string recheck(const planning::JointState& start, const planning::DualPose& start_poses,
                       const planning::DualPose& goal, planning::PlanResult& path);
-  /// The largest difference of this robot's joints between `a` and `b`.
-  double apart(const planning::JointState& a, const planning::JointState& b) const;
 
   planning::StateValidator& validator_;
   planning::MotionPlanner checker_;
@@ -80,7 +81,6 @@ class VerifiedPaths {
   std::vector<CheckedPath> paths_;  // not yet followed, the next first
   std::vector<std::string> names_;
   std::size_t assigned_ = 0;
-  bool ends_walk_ = false;
   std::string left_;
 };
 

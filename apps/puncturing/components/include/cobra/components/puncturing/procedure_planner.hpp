@@ -38,10 +38,11 @@ namespace cobra::components {
 /// - events `e_procedure_verified`, `e_procedure_refused` (the line also on stderr).
 ///
 /// After a verified procedure, the plans of this arm follow the walk's paths, one per planned
-/// step in the walk's order, and never search while one is left (task::VerifiedPaths, with its
-/// default FollowTolerances: start joints within 0.02 m or rad of the walk's, the walk's goal
-/// alternative at its goal within 1e-6 m and 1e-6 rad, every waypoint and edge checked again
-/// with the other robot where it is, else a search that ends where the walk ended). Leaving the
+/// step in the walk's order, and never search their own way while one is left
+/// (task::VerifiedPaths, with its default FollowTolerances: the tool within 0.02 m and 0.02 rad
+/// of the walk's start of the step, the walk's goal alternative at its goal within 1e-6 m and
+/// 1e-6 rad, every waypoint and edge checked again from the robots' real joints, else a search
+/// from there to that goal). Leaving the
 /// verified procedure fails this plan and every later one (e_plan_failed, lastPlanResult "left
 /// the verified procedure at planned step k of n (task state 'S', needle N): why; verify the
 /// procedure again") until verifyProcedure() passes again. Once every verified path was followed,
