@@ -110,12 +110,12 @@ TEST(VerifiedPaths, AGoalBeyondItsToleranceLeavesTheProcedureNamingTheStep) {
   ASSERT_TRUE(f->follow(test::kStart, w.start, moved, 1, r));
   EXPECT_EQ(r.status, PlanStatus::NoSolution);
   EXPECT_EQ(r.message, "left the verified procedure at planned step 1 of 1 (task state 'root.MoveToSkin.Approach', "
-                       "needle n1 (1 of 2)): the goal moved since the verification (registration changed?) by 2e-06 m "
+                       "needle n1 (1 of 2)): the goal moved since the verification (registration changed?) by 0.004 m "
                        "and 0 rad; verify the procedure again");
   DualPose turned = w.goal;
   turned.second.M = turned.second.M * KDL::Rotation::RotZ(2.0 * bound.goal_angle);
   ASSERT_TRUE(w.follower()->follow(test::kStart, w.start, turned, 1, r));
-  EXPECT_CONTAINS(r.message, "the goal moved since the verification (registration changed?) by 0 m and 2e-06 rad");
+  EXPECT_CONTAINS(r.message, "the goal moved since the verification (registration changed?) by 0 m and 0.02 rad");
 }
 
 TEST(VerifiedPaths, LeavingTheProcedureFailsEveryLaterPlanUntilItIsVerifiedAgain) {

@@ -19,6 +19,7 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
   addProperty(arm_);
   addProperty(other_max_vel_.range(1e-6, 10.0));
   addProperty(other_max_ang_vel_.range(1e-6, 100.0));
+  addProperty(walk_);
   addPort(abdomen_frame_);
   addOperation("verifyProcedure", std::function<void()>([this] { verify_request_.ask(activity()); }),
                "verifies every motion of the procedure for the plan and the registration in this component's next "
@@ -98,6 +99,14 @@ void PuncturingMotionPlanner::verify() {
   // walk waits for them (a new measured pose triggers this component).
   if (!latestJoints(joints, why)) return;
   verify_pending_ = false;
+  if (!walk_()) {
+    forgetPaths();
+    last_refusal_.clear();
+    last_verification_ = "not walked (verify_walk is false)";
+    std::fprintf(stderr, "[cobra] '%s': procedure NOT verified (verify_walk is false)\n", name().c_str());
+    emitEvent("e_procedure_verified");
+    return;
+  }
   planning::StateValidator& scene = *validator();
   planning::DualPose tools;
   if (!scene.toolPoses(joints, tools)) return refuseProcedure("the measured joints have no tool poses");

@@ -26,7 +26,9 @@ namespace cobra::components {
 ///   file refuses with "FILE:LINE: message"), `arm` ("needle" or "probe": the robot whose chart
 ///   asks this planner, whose planned steps it follows after the walk), `other_max_vel` (m/s per
 ///   Cartesian axis) and `other_max_ang_vel` (rad/s): the other robot's trajectory generator's
-///   limits, with which its steps are checked (this planner's own max_vel is its robot's);
+///   limits, with which its steps are checked (this planner's own max_vel is its robot's),
+///   `verify_walk` (true; false: verifyProcedure answers e_procedure_verified at once without
+///   walking, and plans search as the MotionPlanner's: only to show what the walk prevents);
 /// - input port `abdomenFrame` (KDL.Frame, m: the registered abdomen frame A in the world; until a
 ///   sample arrives, the preoperative nominal pose);
 /// - operations `verifyProcedure()` (void, answered in this component's next step:
@@ -40,8 +42,8 @@ namespace cobra::components {
 /// After a verified procedure, the plans of this arm follow the walk's paths, one per planned
 /// step in the walk's order, and never search their own way while one is left
 /// (task::VerifiedPaths, with its default FollowTolerances: the tool within 0.02 m and 0.02 rad
-/// of the walk's start of the step, the walk's goal alternative at its goal within 1e-6 m and
-/// 1e-6 rad, every waypoint and edge checked again from the robots' real joints, else a search
+/// of the walk's start of the step, the walk's goal alternative at its goal within 2 mm and
+/// 0.01 rad, every waypoint and edge checked again from the robots' real joints, else a search
 /// from there to that goal). Leaving the
 /// verified procedure fails this plan and every later one (e_plan_failed, lastPlanResult "left
 /// the verified procedure at planned step k of n (task state 'S', needle N): why; verify the
@@ -81,6 +83,9 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
                                         "max velocity per Cartesian axis of the other robot's trajectory generator"};
   core::Property<double> other_max_ang_vel_{"other_max_ang_vel", 0.5, "rad/s",
                                             "max angular velocity of the other robot's trajectory generator"};
+  core::Property<bool> walk_{"verify_walk", true, "",
+                             "false: verifyProcedure answers e_procedure_verified without walking and nothing is "
+                             "followed (only to show what the verification prevents)"};
   core::InputPort<KDL::Frame> abdomen_frame_{"abdomenFrame", "abdomen frame A in the world frame", "m"};
 
   std::optional<puncturing::PuncturingPlan> plan_;
