@@ -48,6 +48,7 @@ void VerifiedPaths::assign(std::vector<CheckedPath> paths, std::vector<std::stri
   names_.resize(paths_.size());
   std::reverse(names_.begin(), names_.end());
   assigned_ = paths_.size();
+  current_.reset();
   left_.clear();
 }
 
@@ -56,6 +57,7 @@ bool VerifiedPaths::leave(const std::string& why, planning::PlanResult& result) 
           std::to_string(assigned_) + " (" + names_.back() + "): " + why + "; verify the procedure again";
   paths_.clear();
   names_.clear();
+  current_.reset();
   result = refusal(left_);
   return true;
 }
@@ -98,6 +100,17 @@ bool VerifiedPaths::follow(const planning::JointState& start, const planning::Du
     result = refusal(left_);
     return true;
   }
+  if (current_.has_value() && alternative == current_->alternative) {
+    const auto [moved, turned] = apart(tool(goal, arm_), tool(current_->goal, arm_));
+    if (moved <= tolerances_.goal_position && turned <= tolerances_.goal_angle) {
+      // The step just followed asked again (a retry after a reaction, from wherever the robot
+      // was held): a search from where it is to that verified goal, verified densely by the
+      // planner from the real state; the next step is checked again from where it ends.
+      result = checker_.planPath(start, goal);
+      result.message = "the verified goal of " + current_name_ + " again from where the robot is: " + result.message;
+      return true;
+    }
+  }
   if (paths_.empty()) return false;
   const CheckedPath& next = paths_.back();
   if (next.start.size() != start.size()) return leave("the scene's joints changed", result);
@@ -135,6 +148,8 @@ bool VerifiedPaths::follow(const planning::JointState& start, const planning::Du
     path.message = "a new path to the verified goal (" + path.message + "): " + blocked;
   }
   result = std::move(path);
+  current_ = std::move(paths_.back());
+  current_name_ = std::move(names_.back());
   paths_.pop_back();
   names_.pop_back();
   return true;

@@ -80,6 +80,26 @@ TEST(VerifiedPaths, TheWalksPathIsFollowedFromWhereTheWalkStartedItThenPlansSear
   EXPECT_FALSE(f->follow(w.paths[0].result.joint_waypoints.back(), w.goal, w.start, 0, r));
 }
 
+TEST(VerifiedPaths, TheStepJustFollowedAskedAgainFromElsewhereIsSearchedToItsVerifiedGoal) {
+  Walked w;
+  auto f = w.follower();
+  PlanResult r;
+  ASSERT_TRUE(f->follow(test::kStart, w.start, w.goal, 1, r));
+  ASSERT_TRUE(r.solved()) << r.message;
+  // A retry after a reaction: the probe held 3 cm aside of its start, far from any verified start.
+  JointState held(test::kStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(w.validator.inverseNear({w.start.first, KDL::Frame(w.start.second.M, w.start.second.p + KDL::Vector(0.03, 0, 0))},
+                                    test::kStart, held, robot),
+            planning::Reachability::Reachable);
+  ASSERT_TRUE(f->follow(held, w.poses(held), w.goal, 1, r));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_CONTAINS(r.message, "the verified goal of task state 'root.MoveToSkin.Approach', needle n1 (1 of 2) again "
+                             "from where the robot is: ");
+  EXPECT_EQ(r.joint_waypoints.front(), held);
+  EXPECT_TRUE(f->left().empty());
+}
+
 TEST(VerifiedPaths, AnotherGoalAlternativeIsRefusedAndTheWalksOneIsThenFollowed) {
   Walked w;
   auto f = w.follower();

@@ -9,6 +9,7 @@
 /// again. Library code: planning and task, no runtime. Units: m, rad.
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,8 @@ class VerifiedPaths {
   ///   robots where they are; failing those re-checks, a search from `start` to that goal (the
   ///   planner's dense verification from the real state; the next step is checked again from
   ///   where it ends);
+  /// - the step followed last asked again (its alternative, its goal within the goal tolerances:
+  ///   a retry after a reaction, from wherever the robot was held): a search from `start` to it;
   /// - NoSolution "not the goal alternative the procedure's verification took from here (it took
   ///   alternative k)" for another alternative (the verified one may follow);
   /// - otherwise NoSolution "left the verified procedure at planned step k of n (NAME): why;
@@ -84,6 +87,8 @@ class VerifiedPaths {
   std::vector<CheckedPath> paths_;  // not yet followed, the next first
   std::vector<std::string> names_;
   std::size_t assigned_ = 0;
+  std::optional<CheckedPath> current_;  // the path followed last: its step may be asked again
+  std::string current_name_;
   std::string left_;
 };
 

@@ -44,7 +44,8 @@ namespace cobra::components {
 /// (task::VerifiedPaths, with its default FollowTolerances: the tool within 0.02 m and 0.02 rad
 /// of the walk's start of the step, the walk's goal alternative at its goal within 2 mm and
 /// 0.01 rad, every waypoint and edge checked again from the robots' real joints, else a search
-/// from there to that goal). Leaving the
+/// from there to that goal; the step just followed asked again, a retry after a reaction, is
+/// searched from where the robot is to its verified goal). Leaving the
 /// verified procedure fails this plan and every later one (e_plan_failed, lastPlanResult "left
 /// the verified procedure at planned step k of n (task state 'S', needle N): why; verify the
 /// procedure again") until verifyProcedure() passes again. Once every verified path was followed,
