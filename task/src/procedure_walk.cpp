@@ -108,10 +108,7 @@ ProcedureVerdict walkProcedure(const StateTable& table, std::string_view table_f
     if (step.planned) {
       std::vector<std::vector<double>> waypoints(goalAlternatives(*row));
       for (std::vector<double>& w : waypoints) w.reserve(checkedGoalValues(*row));
-      if (!checkedGoals(*row, arms, datums, waypoints, failure)) {
-        return refuse(verdict, failure);
-        return verdict;
-      }
+      if (!checkedGoals(*row, arms, datums, waypoints, failure)) return refuse(verdict, failure);
       // The alternatives are on one arm at most (the table's rule): name them by that arm's datum.
       const std::size_t named = row->goal(0).size() > 1 ? 0 : row->goal(1).size() > 1 ? 1 : step.arm;
       std::vector<std::string> names;
@@ -122,10 +119,7 @@ ProcedureVerdict walkProcedure(const StateTable& table, std::string_view table_f
       if (outcome.ok) refusal.datum = arms[step.arm] + "=" + candidates[outcome.chosen].datum;
     } else {
       PosePair goal;
-      if (!firstGoal(*row, arms, datums, goal, failure)) {
-        return refuse(verdict, failure);
-        return verdict;
-      }
+      if (!firstGoal(*row, arms, datums, goal, failure)) return refuse(verdict, failure);
       outcome = verifier.straight(step, at, goal);
     }
     if (!outcome.ok) {

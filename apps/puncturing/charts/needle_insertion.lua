@@ -59,6 +59,8 @@ local chart = {
   -- Refused before the first motion: the robots never moved; the procedure ends (the safe stop
   -- holds them where they are, the ultrasound chart follows).
   Refused = rfsm.state { entry = function() emit("e_needle_procedure_refused") end },
+  -- This planner passed it: the probe's planner walks it now (us_positioning.lua); both must pass.
+  WaitProbeVerdict = rfsm.state { entry = function() emit("e_needle_procedure_verified") end },
   MakeRoomForProbe = motion("root.MakeRoomForProbe", D.planning, C.free, { planned = true }),
   WaitUSPositioning = waiting("root.WaitUSPositioning", D.planning, C.free, function() emit("e_needle_wait_us") end),
   InsertingNeedles = rfsm.state {
@@ -132,7 +134,8 @@ local chart = {
   rfsm.trans { src = 'WaitIceballConfig', tgt = 'WaitNavigation', events = { 'e_iceball_configured' } },
   rfsm.trans { src = 'WaitNavigation', tgt = 'VerifyingProcedure', events = { 'e_navigation_received' } },
   rfsm.trans { src = 'WaitNavigation', tgt = 'Refused', events = { 'e_navigation_refused', 'e_navigation_timeout' } },
-  rfsm.trans { src = 'VerifyingProcedure', tgt = 'MakeRoomForProbe', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'WaitProbeVerdict', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'WaitProbeVerdict', tgt = 'MakeRoomForProbe', events = { 'e_us_procedure_verified' } },
   rfsm.trans { src = 'VerifyingProcedure', tgt = 'Refused', events = { 'e_procedure_refused' } },
   rfsm.trans { src = 'Refused', tgt = 'SafeStop' },
   -- At a needle change pose: the probe may move (WaitUSPositioning says so), the needle is mounted there.
@@ -162,7 +165,8 @@ end
 -- wherever it is. The navigation peer lost (e_igtl_peer_lost) is no reason to stop: the plan and
 -- registration were taken and verified before the first motion, and the procedure goes on with
 -- them (README.md "Navigated puncturing"); until they came, WaitNavigation's timeout bounds the wait.
-for _, state in ipairs({ 'WaitIceballConfig', 'WaitNavigation', 'VerifyingProcedure', 'MakeRoomForProbe', 'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
+for _, state in ipairs({ 'WaitIceballConfig', 'WaitNavigation', 'VerifyingProcedure', 'WaitProbeVerdict', 'MakeRoomForProbe',
+                         'WaitUSPositioning', 'InsertingNeedles', 'WaitCryoCycle',
                          'ExtractingNeedle', 'WaitReaction', 'NeedleTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
   -- The navigation peer's ABORT request (its IgtlBridge's `requests`): the same stop.

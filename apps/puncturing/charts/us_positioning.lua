@@ -4,9 +4,11 @@
 -- operations; it advances on their events, on the UltrasoundMonitor's (e_probe_contact,
 -- e_probe_contact_lost, e_needle_visible, e_needle_lost), the surgeon's and the needle chart's.
 -- The two robots are coordinated only through events (README.md):
---   consumed from the needle chart: e_needle_wait_us (the probe may move), e_needle_skin_reached,
+--   consumed from the needle chart: e_needle_procedure_verified (its planner's verdict),
+--                                   e_needle_wait_us (the probe may move), e_needle_skin_reached,
 --                                   e_needle_extracted, e_needle_next
---   emitted for it: e_us_positioned, e_us_needle_tracked, e_us_needle_lost
+--   emitted for it: e_us_procedure_verified, e_us_procedure_refused (this planner's verdict),
+--                   e_us_positioned, e_us_needle_tracked, e_us_needle_lost
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations its deployment and configuration supervisors know.
@@ -27,9 +29,16 @@ for _, c in pairs(C) do faults[#faults + 1] = 'e_configure_failed_' .. c end
 local contact_faults = { 'e_probe_contact_lost', table.unpack(faults) }
 
 local chart = {
-  -- Its planner walks the whole procedure as the needle's does (the same inputs: the same
-  -- verdict, which the needle chart acts on) and keeps the probe's verified paths to follow.
-  Idle = waiting("root.Idle", D.planning, C.free, function() call("planner", "verifyProcedure") end),
+  -- The whole procedure verified by both planners before anything moves (README.md "Verified
+  -- whole"): once the needle's planner passed it (e_needle_procedure_verified, from the needle
+  -- chart's WaitProbeVerdict), this chart's walks it too (the same inputs, the probe's planner's
+  -- own options and seed: its verdict can differ) and keeps the probe's verified paths to follow.
+  -- Its verdict goes to the needle chart, which moves only after both passed:
+  -- e_us_procedure_verified, or e_us_procedure_refused and both charts' safe stops.
+  Idle = waiting("root.Idle", D.planning, C.free),
+  VerifyingProcedure = rfsm.state { entry = function() call("planner", "verifyProcedure") end },
+  Refused = rfsm.state { entry = function() emit("e_us_procedure_refused") end },
+  Verified = waiting("root.Verified", D.planning, C.free, function() emit("e_us_procedure_verified") end),
   -- Above the planned pose, then down along the beam until the probe touches the skin.
   MoveToSkin = rfsm.state {
     Approach = motion("root.MoveToSkin.Approach", D.planning, C.free, { planned = true }),
@@ -63,9 +72,13 @@ local chart = {
   Done = rfsm.state { entry = function() emit("e_us_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'Idle' },
+  rfsm.trans { src = 'Idle', tgt = 'VerifyingProcedure', events = { 'e_needle_procedure_verified' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'Verified', events = { 'e_procedure_verified' } },
+  rfsm.trans { src = 'VerifyingProcedure', tgt = 'Refused', events = { 'e_procedure_refused' } },
+  rfsm.trans { src = 'Refused', tgt = 'SafeStop' },
   -- The needle robot waits where it leaves room for the probe (its MakeRoomForProbe, then
   -- WaitUSPositioning): the probe moves only then.
-  rfsm.trans { src = 'Idle', tgt = 'MoveToSkin', events = { 'e_needle_wait_us' } },
+  rfsm.trans { src = 'Verified', tgt = 'MoveToSkin', events = { 'e_needle_wait_us' } },
   rfsm.trans { src = 'MoveToSkin', tgt = 'WaitNeedleSkinReached', events = { 'e_probe_contact' },
                effect = function() stop() emit("e_us_positioned") end },
   -- Phase H: on to the next needle's probe pose, once the Frame Generator has one; none after the
@@ -83,6 +96,7 @@ local chart = {
   -- Nobody answers (waits.lua): the safe stop, naming what was waited for.
   steps.timeout('WaitReaction', waits.surgeon, 'e_reaction_timeout'),
   steps.timeout('Idle', waits.peer_chart, 'e_peer_chart_timeout'),
+  steps.timeout('Verified', waits.peer_chart, 'e_peer_chart_timeout'),
   steps.timeout('WaitNeedleSkinReached', waits.peer_chart, 'e_peer_chart_timeout'),
   steps.timeout('USPositioned', waits.peer_chart, 'e_peer_chart_timeout'),
 }
@@ -92,7 +106,7 @@ for _, reaction in ipairs({ { 'MoveToSkin', faults }, { 'WaitNeedleSkinReached',
 end
 -- The needle chart stopped safely, or its host was lost (the run split over two hosts, the DDS
 -- link's e_peer_lost): this one stops too, from wherever it is.
-for _, state in ipairs({ 'Idle', 'MoveToSkin', 'WaitNeedleSkinReached', 'NextProbePose', 'USPositioned', 'WaitReaction',
+for _, state in ipairs({ 'Idle', 'VerifyingProcedure', 'Verified', 'MoveToSkin', 'WaitNeedleSkinReached', 'NextProbePose', 'USPositioned', 'WaitReaction',
                          'USTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_needle_safe_stop', 'e_peer_lost' }, pn = 20 }
 end

@@ -74,9 +74,12 @@ return function(c)
     activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
   end
   -- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
-  -- max_age (s): a search ends at the planner's time_limit (1 s); an answer (or a clearance sample)
-  -- twice that late means the planner is stuck: e_handover_stale_<planner> from the executor.
-  activities[#activities + 1] = { peer_name = n("Planner"), period = 0, own_pace = true, max_age = 2.0 }
+  -- max_age (s): an answer (or a clearance sample) that late means the planner is stuck:
+  -- e_handover_stale_<planner> from the executor. A search ends at the planner's time_limit (1 s),
+  -- but verifyProcedure walks the whole procedure in one step: 0.2-0.3 s nominally, 16-33 s in
+  -- the registration sweep's slowest setup (three_needles seed 4: many searches fail before one
+  -- passes), so 60 s.
+  activities[#activities + 1] = { peer_name = n("Planner"), period = 0, own_pace = true, max_age = 60.0 }
   setActivities(activities)
 
   local robot, arm = c.robot, tostring(c.arm)

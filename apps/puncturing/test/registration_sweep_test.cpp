@@ -4,7 +4,9 @@
 // three_needles. Each either completes, every needle within 1 mm of its target and with the
 // fidelity of the procedure acceptance (tracking, clearance, no IK discontinuity), or is refused
 // before anything moves (the needle chart's VerifyingProcedure: NeedlePlanner.verifyProcedure),
-// naming the needle, the task state, the datum and why. Never a stop after a needle is in.
+// naming the needle, the task state, the datum and why. Never a stop after a needle is in. Which
+// seeds are refused is asserted as measured, and one of them is run without the walk: it stops
+// after a motion.
 // One procedure per test case (5-15 s each): CTest label `procedure_slow`, one seed per case so
 // that CTest can run them in parallel slices. Every case prints its outcome.
 
@@ -12,6 +14,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <set>
 #include <random>
 #include <string>
 #include <tuple>
@@ -73,6 +77,14 @@ bool entered(const RunResult& result, const std::string& state) {
   return false;
 }
 
+/// The seeds whose procedure the verification refuses, as measured (README "Verified whole"); every
+/// other seed completes.
+bool refusedSeed(const std::string& scenario, unsigned seed) {
+  static const std::map<std::string, std::set<unsigned>> kRefused{{"two_needles", {3, 12}},
+                                                                   {"three_needles", {1, 9, 12, 13}}};
+  return kRefused.at(scenario).count(seed) > 0;
+}
+
 class RegistrationSweep : public ::testing::TestWithParam<std::tuple<const char*, unsigned>> {};
 
 TEST_P(RegistrationSweep, CompletesWithinAMillimetreOrIsRefusedBeforeAnythingMoves) {
@@ -92,6 +104,11 @@ TEST_P(RegistrationSweep, CompletesWithinAMillimetreOrIsRefusedBeforeAnythingMov
     if (e.state.find("WaitReaction") != std::string::npos || e.event.find("failed") != std::string::npos ||
         e.event.find("missed") != std::string::npos || e.event.find("discontinuity") != std::string::npos)
       std::printf("  %.3f s %s: %s (%s)\n", e.time, e.source.c_str(), e.event.c_str(), e.state.c_str());
+  // The measured outcome: a verifier that refused everything, or nothing, fails here.
+  if (refusedSeed(scenario, r.seed))
+    EXPECT_FALSE(result.completed()) << "expected the verification's refusal";
+  else
+    EXPECT_TRUE(result.completed()) << "expected a complete procedure: " << result.reason;
   if (result.completed()) {
     ASSERT_EQ(placed.values.size(), plannedNeedles(o.scenario)) << placed.text;
     for (std::size_t i = 0; i < placed.values.size(); ++i)
@@ -112,6 +129,21 @@ TEST_P(RegistrationSweep, CompletesWithinAMillimetreOrIsRefusedBeforeAnythingMov
   // The reason names the refusal: the needle, the task state, the datum and why.
   EXPECT_NE(result.reason.find("NeedlePlanner.lastRefusal(): needle "), std::string::npos) << result.reason;
   EXPECT_NE(result.reason.find("task state 'root."), std::string::npos) << result.reason;
+}
+
+// What the verification prevents: a seed it refuses, run without the walk (verify_walk false on
+// both planners), moves, and stops after a motion instead of before the first.
+TEST(RegistrationSweepWithoutTheWalk, ARefusedRegistrationStopsAfterAMotion) {
+  const Registration r = draw(3);
+  ASSERT_TRUE(refusedSeed("two_needles", r.seed));
+  RunOptions o = options(registered("two_needles", "sweep_unverified_3", [&](const KDL::Frame& a) { return r.apply(a); }));
+  o.extra_lua = "NeedlePlanner.verify_walk = false ProbePlanner.verify_walk = false";
+  const RunResult result = runApp(o);
+  std::printf("OUTCOME two_needles seed 3 without the walk: %s at %.1f s; %s\n", toString(result.outcome),
+              result.duration, result.reason.c_str());
+  EXPECT_FALSE(result.completed());
+  EXPECT_TRUE(entered(result, "root.MakeRoomForProbe")) << "nothing moved: " << result.reason;
+  EXPECT_EQ(result.reason.find("e_procedure_refused"), std::string::npos) << result.reason;
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoNeedles, RegistrationSweep,

@@ -85,8 +85,8 @@ class Procedure {
   void onEntry(ChartRun& when, const std::string& state, ChartRun& to, const std::string& event, double delay) {
     triggers_.push_back({&when, state, &to, event, delay, false});
   }
-  /// The planner refuses the whole procedure when asked to verify it.
-  void refuseProcedure() { refuse_procedure_ = true; }
+  /// Chart `chart`'s planner refuses the whole procedure when asked to verify it.
+  void refuseProcedure(ChartRun& chart) { refuse_procedure_ = &chart; }
   /// The Frame Generator's answer to awaitNavigation ("e_navigation_refused", "e_navigation_timeout").
   void navigationAnswer(std::string event) { navigation_answer_ = std::move(event); }
   /// The next `times` plans chart `chart` asks for fail.
@@ -213,7 +213,7 @@ class Procedure {
     } else if (line.ends_with("Frames:awaitNavigation")) {
       reply(navigation_answer_);  // by default the plan and registration from the files
     } else if (line.ends_with("Planner:verifyProcedure")) {
-      reply(refuse_procedure_ ? "e_procedure_refused" : "e_procedure_verified", 1.0);
+      reply(refuse_procedure_ == &c ? "e_procedure_refused" : "e_procedure_verified", 1.0);
     } else if (line.ends_with("Planner:askPlan")) {
       if (fail_plan_ == &c && fail_plans_ > 0) {
         --fail_plans_;
@@ -272,7 +272,7 @@ class Procedure {
   std::map<ChartRun*, std::string> pending_deployment_;
   ChartRun* fail_plan_ = nullptr;
   int fail_plans_ = 0;
-  bool refuse_procedure_ = false;
+  ChartRun* refuse_procedure_ = nullptr;
   std::string navigation_answer_ = "e_navigation_received";
 };
 
@@ -306,7 +306,9 @@ const Scenario kPlanFailureAgain{"two_needles", 2, [](Procedure& p) { p.failPlan
 // needle robot's first motion fails, and again after the reaction; the probe never moves.
 const Scenario kNoRoomForProbe{"two_needles", 2, [](Procedure& p) { p.failPlan(p.needle(), 2); }};
 // The whole procedure cannot be made (the planner's verifyProcedure refuses it): nothing moves.
-const Scenario kRefused{"two_needles", 2, [](Procedure& p) { p.refuseProcedure(); }};
+const Scenario kRefused{"two_needles", 2, [](Procedure& p) { p.refuseProcedure(p.needle()); }};
+// The needle's planner passes it, the probe's refuses it (its own seed): nothing moves either.
+const Scenario kProbeRefused{"two_needles", 2, [](Procedure& p) { p.refuseProcedure(p.us()); }};
 // The navigated plan refused, or not come in time (the Frame Generator's awaitNavigation): nothing moves.
 const Scenario kNavigationRefused{"two_needles", 2, [](Procedure& p) { p.navigationAnswer("e_navigation_refused"); }};
 const Scenario kNavigationTimeout{"two_needles", 2, [](Procedure& p) { p.navigationAnswer("e_navigation_timeout"); }};
@@ -516,11 +518,18 @@ TEST(PuncturingCharts, ANeedleMotionThatEndsShortOfItsEventIsAReactionAndIsRetri
                     "needle <- e_target_reached"});
 }
 
+/// Both charts in their safe stops without having asked for a plan or a motion.
+void expectNothingPlannedOrMoved(Procedure& p) {
+  EXPECT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
+  EXPECT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
+  for (const char* request : {"needle: NeedlePlanner:askPlan", "us: ProbePlanner:askPlan",
+                              "needle: NeedleTrajGen:askStartMove", "us: ProbeTrajGen:askStartMove"})
+    EXPECT_EQ(p.count(request), 0u) << request;
+}
+
 TEST(PuncturingCharts, ARefusedProcedureStopsBeforeAnyMotion) {
   const auto run_ = run(kRefused);
   Procedure& p = *run_;
-  ASSERT_TRUE(Procedure::stopped(p.needle())) << p.needle().machine->activeLeaf();
-  ASSERT_TRUE(Procedure::stopped(p.us())) << p.us().machine->activeLeaf();
   // (A state's entry actions come before the line saying it was entered.)
   expectInOrder(p, {"needle <- e_iceball_configured", "needle: NeedleFrames:awaitNavigation",
                     "needle > root.WaitNavigation", "needle <- e_navigation_received",
@@ -528,9 +537,29 @@ TEST(PuncturingCharts, ARefusedProcedureStopsBeforeAnyMotion) {
                     "needle > root.VerifyingProcedure", "needle <- e_procedure_refused",
                     "needle: emit:e_needle_procedure_refused", "needle > root.Refused", "needle > root.SafeStop",
                     "us <- e_needle_safe_stop", "us > root.SafeStop"});
-  for (const char* request : {"needle: NeedlePlanner:askPlan", "us: ProbePlanner:askPlan",
-                              "needle: NeedleTrajGen:askStartMove", "us: ProbeTrajGen:askStartMove"})
-    EXPECT_EQ(p.count(request), 0u) << request;
+  expectNothingPlannedOrMoved(p);
+}
+
+TEST(PuncturingCharts, AProcedureOnlyTheProbesPlannerRefusesStopsBeforeAnyMotion) {
+  const auto run_ = run(kProbeRefused);
+  Procedure& p = *run_;
+  // The probe's planner walks it only once the needle's passed it, and the needle robot waits
+  // for that verdict before its first motion.
+  expectInOrder(p, {"needle: NeedlePlanner:verifyProcedure", "needle <- e_procedure_verified",
+                    "needle: emit:e_needle_procedure_verified", "needle > root.WaitProbeVerdict",
+                    "us <- e_needle_procedure_verified", "us: ProbePlanner:verifyProcedure",
+                    "us <- e_procedure_refused", "us: emit:e_us_procedure_refused", "us > root.Refused",
+                    "us > root.SafeStop", "needle <- e_us_safe_stop", "needle > root.SafeStop"});
+  EXPECT_EQ(p.count("us: ProbePlanner:verifyProcedure"), 1u);
+  expectNothingPlannedOrMoved(p);
+}
+
+TEST(PuncturingCharts, TheNeedleRobotMovesOnlyOnceBothPlannersPassedTheProcedure) {
+  const auto run_ = run(kNominal);
+  Procedure& p = *run_;
+  expectInOrder(p, {"needle <- e_procedure_verified", "us: ProbePlanner:verifyProcedure", "us <- e_procedure_verified",
+                    "us: emit:e_us_procedure_verified", "needle <- e_us_procedure_verified",
+                    "needle > root.MakeRoomForProbe.Switching"});
 }
 
 TEST(PuncturingCharts, ANavigatedPlanRefusedOrNotComeStopsBeforeTheVerificationAndAnyMotion) {
@@ -591,7 +620,7 @@ TEST(PuncturingCharts, EveryStateOfBothChartsIsEnteredAcrossTheScenariosOfTheTes
   std::map<std::string, std::set<std::string>> entered;
   for (const Scenario* scenario : {&kNominal, &kForbiddenRegion, &kTrapped, &kNeedleLost, &kPlanFailure, &kMissedGoals,
                                    &kShortMotions, &kIkDiscontinuity, &kIkDiscontinuityAgain, &kPlanFailureAgain,
-                                   &kNoRoomForProbe, &kRefused, &kNavigationRefused}) {
+                                   &kNoRoomForProbe, &kRefused, &kProbeRefused, &kNavigationRefused}) {
     const auto p = run(*scenario);
     for (ChartRun* c : {&p->needle(), &p->us()}) entered[c->name].insert(c->entries.begin(), c->entries.end());
   }

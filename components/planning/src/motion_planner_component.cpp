@@ -166,7 +166,7 @@ bool MotionPlannerComponent::measuredJoints() {
 }
 
 bool MotionPlannerComponent::reusePath(const planning::JointState&, const planning::DualPose&,
-                                       const planning::DualPose&, planning::PlanResult&) {
+                                       const planning::DualPose&, std::size_t, planning::PlanResult&) {
   return false;
 }
 
@@ -297,8 +297,8 @@ void MotionPlannerComponent::readGoal(const trajectory::MultiAxisPath& goal) {
   }
 }
 
-planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternative& a, bool from_joints,
-                                                            bool checked_first) {
+planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternative& a, std::size_t index,
+                                                            bool from_joints, bool checked_first) {
   if (checked_first) {
     // The cheap checks before the search: the goal state and the motions it must leave room for.
     planning::PlanResult checked = planner_impl_->checkGoal(joints_, a.goal);
@@ -307,7 +307,7 @@ planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternati
     if (!checked.solved()) return checked;
   }
   planning::PlanResult result;
-  if (!(from_joints && reusePath(joints_, measured_, a.goal, result))) {
+  if (!(from_joints && reusePath(joints_, measured_, a.goal, index, result))) {
     result = from_joints ? planner_impl_->planPath(joints_, a.goal) : planner_impl_->planPath(measured_, a.goal);
     if (from_joints) logQuery(a.goal, result);
   }
@@ -349,7 +349,7 @@ void MotionPlannerComponent::plan() {
   std::size_t chosen = 0;
   for (; chosen < alternatives_.size(); ++chosen) {
     const GoalAlternative& a = alternatives_[chosen];
-    result = planAlternative(a, from_joints, from_joints && (alternatives_.size() > 1 || !a.room.empty()));
+    result = planAlternative(a, chosen, from_joints, from_joints && (alternatives_.size() > 1 || !a.room.empty()));
     if (result.solved()) break;
     const std::string why = std::string(planning::toString(result.status)) + ": " + result.message;
     if (alternatives_.size() == 1) return fail(why + "; from " + describe(measured_) + " to " + describe(a.goal));

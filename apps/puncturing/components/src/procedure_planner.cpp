@@ -1,5 +1,7 @@
 #include "cobra/components/puncturing/procedure_planner.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -8,6 +10,7 @@
 #include "cobra/components/puncturing/navigation_plan.hpp"
 #include "cobra/puncturing/procedure.hpp"
 #include "cobra/task/planned_walk.hpp"
+#include "cobra/task/verified_paths.hpp"
 
 namespace cobra::components {
 
@@ -18,6 +21,7 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
   addProperty(plan_source_);
   addProperty(other_max_vel_.range(1e-6, 10.0));
   addProperty(other_max_ang_vel_.range(1e-6, 100.0));
+  addProperty(walk_);
   // Event ports: a registration or a plan arriving wakes a verification waiting for it.
   addEventPort(abdomen_frame_);
   addEventPort(plan_in_);
@@ -34,9 +38,20 @@ PuncturingMotionPlanner::PuncturingMotionPlanner(std::string name) : MotionPlann
 }
 
 bool PuncturingMotionPlanner::configureHook() {
+  forgetPaths();  // whatever was verified was verified with the old properties
   if (!MotionPlannerComponent::configureHook()) return false;
   if (arm_() != "needle" && arm_() != "probe") return refuse("property arm is '" + arm_() + "'; expected needle or probe");
   arm_index_ = arm_() == "needle" ? 0 : 1;
+  // The robots the walk moves and the run's paths are followed by, by arm.
+  const planning::SceneDescription& scene = validator()->scene();
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    std::size_t r = 0;
+    while (r < scene.robots.size() && scene.robots[r].name != kRobotNames[arm]) ++r;
+    if (r == scene.robots.size())
+      return refuse("scene_file '" + getProperty<std::string>("scene_file") + "' has no robot '" + kRobotNames[arm] +
+                    "'; the procedure's verification expects the needle robot 'isur' and the probe robot 'ur5'");
+    if (arm == arm_index_) robot_index_ = r;
+  }
   const std::pair<const core::Property<std::string>*, const char*> files[] = {
       {&preoperative_file_, "preoperative_info_file"}, {&cryo_plan_file_, "cryo_plan_file"},
       {&probe_plan_file_, "US_pose_plan_file"}, {&table_file_, "state_table_file"}};
@@ -75,64 +90,21 @@ void PuncturingMotionPlanner::updateHook() {
   if (verify_pending_) verify();
 }
 
-namespace {
-/// The pose of arm `arm` (0: needle, 1: probe) in a pair.
-KDL::Frame& tool(planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
-const KDL::Frame& tool(const planning::DualPose& pair, std::size_t arm) { return arm == 0 ? pair.first : pair.second; }
-}  // namespace
+void PuncturingMotionPlanner::forgetPaths() { follower_.reset(); }
 
 bool PuncturingMotionPlanner::reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
-                                        const planning::DualPose& goal, planning::PlanResult& result) {
-  if (paths_.empty()) return false;
-  // The moving robot's joints decide (the other holds its tool where it is, e.g. the UR5 its
-  // probe where the skin pushed it, a few mm from where the walk put it): the verified path is
-  // taken with the other robot where it really is.
-  planning::StateValidator& scene = *validator();
-  const char* moving = arm_index_ == 0 ? "isur" : "ur5";  // the robots of puncturing.scene
-  std::size_t robot = scene.scene().robots.size();
-  for (std::size_t r = 0; r < scene.scene().robots.size(); ++r)
-    if (scene.scene().robots[r].name == moving) robot = r;
-  const task::CheckedPath& next = paths_.front();
-  if (robot == scene.scene().robots.size() || next.start.size() != start.size()) return false;
-  const std::size_t from = scene.jointOffset(robot), to = from + scene.model(robot).jointCount();
-  for (std::size_t j = from; j < to; ++j)
-    if (std::abs(start[j] - next.start[j]) > kReuseTolerance) return false;  // elsewhere: not the walk's query
-  const std::size_t own = arm_index_, other = 1 - arm_index_;
-  if (!KDL::Equal(tool(next.goal, own), tool(goal, own), kReuseTolerance)) {
-    // Another goal alternative than the walk took from here: the run takes the walk's, whose way
-    // was verified (a search may find a way to this one that was not).
-    result = planning::PlanResult{};
-    result.status = planning::PlanStatus::NoSolution;
-    result.message = "not the goal alternative the procedure's verification took from here";
-    return true;
-  }
-  // The verified path of this robot, from where it is to the goal asked, the other held where it
-  // is: each waypoint checked again in that state.
-  planning::PlanResult reused = next.result;
-  reused.waypoints.front() = start_poses;
-  tool(reused.waypoints.back(), own) = tool(goal, own);
-  for (std::size_t k = 0; k < reused.waypoints.size(); ++k) {
-    tool(reused.waypoints[k], other) = tool(start_poses, other);
-    planning::JointState& q = reused.joint_waypoints[k];
-    for (std::size_t j = 0; j < q.size(); ++j)
-      if (j < from || j >= to || k == 0) q[j] = start[j];
-    if (!scene.checkJoints(q).valid()) return false;
-  }
-  // Where the robot is may differ from where the walk put it (a probe pressed on the skin): the
-  // straight way from there onto the verified path is checked as a motion primitive is.
-  if (reused.waypoints.size() > 1 && !joiner_->checkMotion(start, start_poses, reused.waypoints[1]).solved())
-    return false;
-  reused.message = "the path verified with the procedure (" + reused.message + ")";
-  result = std::move(reused);
-  paths_.erase(paths_.begin());
-  return true;
+                                        const planning::DualPose& goal, std::size_t alternative,
+                                        planning::PlanResult& result) {
+  return follower_ && follower_->follow(start, start_poses, goal, alternative, result);
 }
 
-void PuncturingMotionPlanner::refuseProcedure(const std::string& line) {
+void PuncturingMotionPlanner::refuseProcedure(const std::string& line, double seconds) {
+  forgetPaths();
   last_refusal_ = line;
   refusal_.write(line);
   last_verification_ = "refused: " + line;
-  std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s\n", name().c_str(), line.c_str());
+  std::fprintf(stderr, "[cobra] '%s': procedure refused before any motion: %s (walked in %.3f s of wall time)\n",
+               name().c_str(), line.c_str(), seconds);
   emitEvent("e_procedure_refused");
 }
 
@@ -166,6 +138,14 @@ void PuncturingMotionPlanner::verify() {
   // walk waits for them (a new measured pose triggers this component).
   if (!latestJoints(joints, why)) return;
   verify_pending_ = false;
+  if (!walk_()) {
+    forgetPaths();
+    last_refusal_.clear();
+    last_verification_ = "not walked (verify_walk is false)";
+    std::fprintf(stderr, "[cobra] '%s': procedure NOT verified (verify_walk is false)\n", name().c_str());
+    emitEvent("e_procedure_verified");
+    return;
+  }
   planning::StateValidator& scene = *validator();
   planning::DualPose tools;
   if (!scene.toolPoses(joints, tools)) return refuseProcedure("the measured joints have no tool poses");
@@ -175,22 +155,32 @@ void PuncturingMotionPlanner::verify() {
   other_options.max_linear_velocity = other_max_vel_();
   other_options.max_angular_velocity = other_max_ang_vel_();
   planning::MotionPlanner own(scene, planner()->options()), other(scene, other_options);
-  joiner_ = std::make_unique<planning::MotionPlanner>(scene, planner()->options());
   task::PlannerStepVerifier verifier(arm_index_ == 0 ? std::array{&own, &other} : std::array{&other, &own}, scene,
                                      joints);
   puncturing::PlanDatums datums(*plan_, abdomen_);
+  const auto started = std::chrono::steady_clock::now();
   const std::vector<task::ProcedureStep> steps = puncturing::procedureSteps(plan_->needles.size());
   const task::ProcedureVerdict verdict =
       task::walkProcedure(*table_, table_file_(), puncturing::puncturingVocabulary().arms, steps,
                           {tools.first, tools.second}, datums, verifier);
-  if (!verdict.ok) return refuseProcedure(verdict.refusal.text(table_file_()));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!verdict.ok) return refuseProcedure(verdict.refusal.text(table_file_()), seconds);
   last_refusal_.clear();
-  paths_.clear();
-  for (const task::CheckedPath& path : verifier.paths())
-    if (path.step.arm == arm_index_) paths_.push_back(path);  // this planner's; the other's are its own
+  // This planner's paths (the other's are its own), to follow in the run.
+  std::vector<task::CheckedPath> paths;
+  std::vector<std::string> names;
+  for (const task::CheckedPath& path : verifier.paths()) {
+    if (path.step.arm != arm_index_) continue;
+    paths.push_back(path);
+    names.push_back("task state '" + path.step.state + "', " + datums.itemName(path.step.item));
+  }
+  follower_ = std::make_unique<task::VerifiedPaths>(scene, planner()->options(), robot_index_, arm_index_);
+  follower_->assign(std::move(paths), std::move(names));
   last_verification_ = "verified: " + std::to_string(steps.size()) + " motions of " +
                        std::to_string(plan_->needles.size()) + " needles, " +
-                       std::to_string(verifier.validityChecks()) + " validity checks";
+                       std::to_string(verifier.validityChecks()) + " validity checks, " + std::to_string(seconds) +
+                       " s of wall time";
+  std::fprintf(stderr, "[cobra] '%s': procedure %s\n", name().c_str(), last_verification_.c_str());
   emitEvent("e_procedure_verified");
 }
 

@@ -128,5 +128,15 @@ TEST(PuncturingMotionPlanner, NavigatedTheVerificationWaitsForThePlanAndRefusesO
   ASSERT_TRUE(planner.stop());
 }
 
+TEST(PuncturingMotionPlanner, ASceneWithoutTheProceduresRobotsIsRefusedNamingTheFileAndTheExpectedRobots) {
+  // The suturing scene: the I-SUR alone.
+  const std::string scene = std::string(COBRA_SOURCE_DIR) + "/apps/suturing/deployment/suturing.scene";
+  const core::Result result = configure([&](core::Component& c) { c.setProperty("scene_file", scene); });
+  EXPECT_FALSE(result);
+  EXPECT_CONTAINS(result.message, "component 'NeedlePlanner': scene_file '" + scene +
+                                      "' has no robot 'ur5'; the procedure's verification expects the needle robot "
+                                      "'isur' and the probe robot 'ur5'");
+}
+
 }  // namespace
 }  // namespace cobra::components

@@ -23,6 +23,7 @@ struct CheckedPath {
   ProcedureStep step;
   planning::JointState start;
   planning::DualPose goal;
+  std::size_t alternative = 0;  ///< the goal alternative taken (0-based, the table's order)
   planning::PlanResult result;  ///< solved: waypoints and joint_waypoints from start to goal
 };
 

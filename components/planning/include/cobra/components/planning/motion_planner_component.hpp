@@ -96,10 +96,13 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   /// order); false, with `why` saying what the ports gave, when a robot's are missing.
   bool latestJoints(planning::JointState& q, std::string& why);
   /// A path found before for this query (e.g. when the whole procedure was verified): true with
-  /// `result` (a solved path from `start`, whose tool poses are `start_poses`, to `goal`) to take
-  /// it instead of a search; the follow-on check still runs. The base finds none.
+  /// `result` to take instead of a search (a solved path from `start`, whose tool poses are
+  /// `start_poses`, to `goal`: the follow-on check still runs; or a refusal, which fails this
+  /// alternative without a search); false to search. `alternative`: the goal's index among the
+  /// goal alternatives of the query (0-based, the state table's order). Asked only when the start
+  /// is the measured joints. The base finds none.
   virtual bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
-                         const planning::DualPose& goal, planning::PlanResult& result);
+                         const planning::DualPose& goal, std::size_t alternative, planning::PlanResult& result);
 
  private:
   void askPlan();
@@ -115,7 +118,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   /// alternatives_ from a goalPoses sample. @throws std::invalid_argument saying what is wrong.
   void readGoal(const trajectory::MultiAxisPath& goal);
   /// One alternative: (with `checked_first`) its goal and room checks, the search, its follow-on.
-  planning::PlanResult planAlternative(const GoalAlternative& a, bool from_joints, bool checked_first);
+  planning::PlanResult planAlternative(const GoalAlternative& a, std::size_t index, bool from_joints, bool checked_first);
   /// Appends the query and its outcome to query_log (when set).
   void logQuery(const planning::DualPose& goal, const planning::PlanResult& result) const;
   /// Runs one query from the measured poses to the goal; writes the path or says why not.

@@ -17,6 +17,7 @@
 #include "cobra/core/request.hpp"
 #include "cobra/puncturing/plan.hpp"
 #include "cobra/task/planned_walk.hpp"
+#include "cobra/task/verified_paths.hpp"
 #include "cobra/types/point_list.hpp"
 
 namespace cobra::components {
@@ -27,7 +28,9 @@ namespace cobra::components {
 ///   file refuses with "FILE:LINE: message"), `arm` ("needle" or "probe": the robot whose chart
 ///   asks this planner, whose planned steps it follows after the walk), `other_max_vel` (m/s per
 ///   Cartesian axis) and `other_max_ang_vel` (rad/s): the other robot's trajectory generator's
-///   limits, with which its steps are checked (this planner's own max_vel is its robot's);
+///   limits, with which its steps are checked (this planner's own max_vel is its robot's),
+///   `verify_walk` (true; false: verifyProcedure answers e_procedure_verified at once without
+///   walking, and plans search as the MotionPlanner's: only to show what the walk prevents);
 /// - input port `abdomenFrame` (KDL.Frame, m: the registered abdomen frame A in the world; until a
 ///   sample arrives, the preoperative nominal pose);
 /// - operations `verifyProcedure()` (void, answered in this component's next step:
@@ -45,21 +48,24 @@ namespace cobra::components {
 ///   read at configure; verifyProcedure waits for both (and the joints), and refuses what the
 ///   Frame Generator refuses (a plan validate() refuses, a registration beyond the tolerance).
 ///
-/// After a verified procedure, a plan asked from (nearly) the joints where the walk started this
-/// arm's next planned step (kReuseTolerance) follows the path the walk verified (from the
-/// measured poses, the straight way onto it and each waypoint with the other robot where it is
-/// checked again; failing that, it searches) instead of searching again, and refuses another goal
-/// alternative from there:
-/// "verified" then means "this path".
+/// After a verified procedure, the plans of this arm follow the walk's paths, one per planned
+/// step in the walk's order, and never search their own way while one is left
+/// (task::VerifiedPaths, with its default FollowTolerances: the tool within 0.02 m and 0.02 rad
+/// of the walk's start of the step, the walk's goal alternative at its goal within 2 mm and
+/// 0.01 rad, every waypoint and edge checked again from the robots' real joints, else a search
+/// from there to that goal; the step just followed asked again, a retry after a reaction, is
+/// searched from where the robot is to its verified goal). Leaving the
+/// verified procedure fails this plan and every later one (e_plan_failed, lastPlanResult "left
+/// the verified procedure at planned step k of n (task state 'S', needle N): why; verify the
+/// procedure again") until verifyProcedure() passes again. Once every verified path was followed,
+/// plans search as the MotionPlanner does. A refused verification, and configure, forget the
+/// paths: a reconfigured planner follows nothing.
 ///
 /// Runs in updateHook, like planning: a non-real-time activity (MotionPlannerComponent's).
 class PuncturingMotionPlanner : public MotionPlannerComponent {
  public:
-  /// How near a query's start joints (m, rad, each) must be to where the walk started the step for
-  /// the run to follow the walk's path (the way from there onto it checked again), and its goal
-  /// (m; rotation matrix elements) to the walk's for the same alternative: a robot at rest where
-  /// the previous motion ended, or a probe the skin pushed back a few mm, is within it.
-  static constexpr double kReuseTolerance = 0.02;
+  /// The robots of the scene by arm (needle, probe), resolved at configure.
+  static constexpr const char* kRobotNames[2] = {"isur", "ur5"};
 
   explicit PuncturingMotionPlanner(std::string name);
 
@@ -67,12 +73,15 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   bool configureHook() override;
   void updateHook() override;
   bool reusePath(const planning::JointState& start, const planning::DualPose& start_poses,
-                 const planning::DualPose& goal, planning::PlanResult& result) override;
+                 const planning::DualPose& goal, std::size_t alternative, planning::PlanResult& result) override;
 
  private:
   /// The walk of the whole procedure from the measured joints; emits its verdict.
   void verify();
-  void refuseProcedure(const std::string& line);
+  /// `seconds`: the walk's wall time (for the line on stderr).
+  void refuseProcedure(const std::string& line, double seconds = 0.0);
+  /// Forgets the verified paths (a refusal, a configure).
+  void forgetPaths();
   /// Navigation: reads the plan and registration until both came, then takes the plan (or
   /// refuses). True when the walk may go on.
   bool takeNavigatedPlan();
@@ -89,6 +98,9 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
                                         "max velocity per Cartesian axis of the other robot's trajectory generator"};
   core::Property<double> other_max_ang_vel_{"other_max_ang_vel", 0.5, "rad/s",
                                             "max angular velocity of the other robot's trajectory generator"};
+  core::Property<bool> walk_{"verify_walk", true, "",
+                             "false: verifyProcedure answers e_procedure_verified without walking and nothing is "
+                             "followed (only to show what the verification prevents)"};
   core::InputPort<KDL::Frame> abdomen_frame_{"abdomenFrame", "abdomen frame A in the world frame", "m"};
   core::InputPort<types::PointList> plan_in_{"plan", "navigation: the needles' entry and target points, frame A", "m"};
   core::OutputPort<std::string> refusal_{"refusal", "why the procedure was refused, one line", ""};
@@ -101,9 +113,9 @@ class PuncturingMotionPlanner : public MotionPlannerComponent {
   core::PendingRequest verify_request_;
   bool verify_pending_ = false;  // asked, waiting for the robots' measured joints
   std::string last_refusal_, last_verification_;
-  std::vector<task::CheckedPath> paths_;  // the verified walk's paths of this arm, not yet followed
-  std::size_t arm_index_ = 0;             // 0 needle, 1 probe
-  std::unique_ptr<planning::MotionPlanner> joiner_;  // checks the way onto a verified path
+  std::size_t arm_index_ = 0;    // 0 needle, 1 probe
+  std::size_t robot_index_ = 0;  // this arm's robot in the scene (kRobotNames)
+  std::unique_ptr<task::VerifiedPaths> follower_;  // the verified walk's paths of this arm
 };
 
 }  // namespace cobra::components
