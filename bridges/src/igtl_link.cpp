@@ -45,6 +45,7 @@ std::string_view dropReasonName(DropReason reason) noexcept {
     case DropReason::UnknownDevice: return "unknown_device";
     case DropReason::Unmapped: return "unmapped";
     case DropReason::SendFull: return "send_full";
+    case DropReason::PlanTooLong: return "plan_too_long";
   }
   return "";
 }
@@ -105,8 +106,19 @@ void IgtlLink::discardOutgoing() noexcept {
   for (auto& image : images_) image->update();
 }
 
+namespace {
+/// A body size no OpenIGTLink message has (a volume of a few hundred MB is the largest seen): a
+/// header saying more comes from a stream whose message boundaries are lost. Closed, not skipped.
+constexpr std::uint64_t kMaxSkip = std::uint64_t{1} << 30;
+/// Bytes one receive() takes at most before it returns, so that a peer streaming without a pause
+/// does not starve what the link sends (the images, the poses, STATUS).
+constexpr std::size_t kReceiveBudget = 256 * 1024;
+}  // namespace
+
 bool IgtlLink::receive(int fd) noexcept {
+  std::size_t taken = 0;
   for (;;) {
+    if (taken >= kReceiveBudget) return true;  // the rest on the next pass, after the sends
     std::span<std::uint8_t> into;
     std::array<std::uint8_t, 4096> scratch;
     switch (stage_) {
@@ -123,6 +135,7 @@ bool IgtlLink::receive(int fd) noexcept {
       }
       if (got == 0) return true;  // nothing more now
       heard_ = true;
+      taken += got;
     }
     switch (stage_) {
       case Stage::Header:
@@ -131,6 +144,10 @@ bool IgtlLink::receive(int fd) noexcept {
         have_ = 0;
         if (igtl::decodeHeader(header_bytes_, header_) != igtl::IgtlError::Ok) {
           drop(DropReason::BadHeader);  // the message boundaries are lost: close
+          return false;
+        }
+        if (header_.body_size > kMaxSkip) {
+          drop(DropReason::BadHeader);  // no message is that long: the boundaries are lost, close
           return false;
         }
         if (header_.body_size > options_.max_body) {

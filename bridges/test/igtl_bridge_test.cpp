@@ -132,6 +132,20 @@ TEST(IgtlBridge, APointListOfThePlanDeviceBecomesThePlan) {
   EXPECT_EQ(rig.reason(), "unknown_device");
 }
 
+// A plan of more points than a PointList holds is dropped whole, never cut to its first ones.
+TEST(IgtlBridge, APlanOfMorePointsThanAPointListHoldsIsDroppedWhole) {
+  Rig rig(0.01, 1 << 16);  // room for the message: it is the plan's length that is refused
+  rig.up();
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  std::vector<test::PeerPoint> too_many(types::PointList::kCapacity + 1, {"p", "plan", 1, 2, 3});
+  peer.send(test::pointBytes("Plan", too_many));
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.count("dropped_messages") == 1; }));
+  EXPECT_EQ(rig.reason(), "plan_too_long");
+  types::PointList list;
+  EXPECT_EQ(rig.plan.read(list), core::FlowStatus::NoData);
+}
+
 TEST(IgtlBridge, AMappedRequestEmitsItsEventAndAnyOtherTextIsDroppedWithoutEvent) {
   Rig rig;
   rig.up();
@@ -199,6 +213,22 @@ TEST(IgtlBridge, GarbageLosesTheConnectionWhichIsCountedAndANewPeerIsServed) {
   KDL::Frame frame;
   ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.abdomen.read(frame) != core::FlowStatus::NoData; }));
   EXPECT_NEAR(frame.p.x(), 0.004, 1e-9);
+}
+
+// A header whose body size no message has (a desynchronised stream): closed at once, not skipped
+// for ever while the connection looks alive.
+TEST(IgtlBridge, AHeaderWithAnAbsurdBodySizeLosesTheConnection) {
+  Rig rig;
+  rig.up();
+  Peer peer(rig.port());
+  ASSERT_TRUE(rig.connected());
+  auto bytes = test::transformBytes("Registration", 0.0F, 1, 2, 3);
+  // body_size: bytes 42-49 of the header, big-endian; 2^40 bytes.
+  for (std::size_t i = 42; i < 50; ++i) bytes[i] = 0;
+  bytes[44] = 0x01;
+  peer.send(std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + 58));
+  ASSERT_TRUE(pollUntil(rig.clock, [&] { return rig.saw("e_igtl_peer_lost"); }));
+  EXPECT_EQ(rig.reason(), "bad_header");
 }
 
 TEST(IgtlBridge, APeerClosingMidMessageIsLostAndTheNextOneIsServed) {

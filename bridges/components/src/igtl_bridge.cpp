@@ -236,6 +236,12 @@ void IgtlBridge::dispatch(const igtl::Message& m) noexcept {
       break;
     case igtl::MessageType::Point:
       if (!plan_device_().empty() && device == plan_device_()) {
+        // A surgical plan is whole or not at all: one cut to the list's capacity would reach the
+        // chart as if complete.
+        if (m.points.total > m.points.count) {
+          drop(DropReason::PlanTooLong);
+          return;
+        }
         types::PointList list;
         for (std::size_t k = 0; k < m.points.count; ++k) {
           const igtl::Point& p = m.points.points[k];

@@ -288,7 +288,7 @@ test('a new component type is generated from the form and listed as generated', 
   await page.locator('fieldset[data-list="inputs"] .member .member-name').last().fill('path');
   await page.locator('fieldset[data-list="inputs"] .member .member-type').last().fill('TGL.MultiAxisPath');
   await page.locator('#type-generate').click();
-  assert.match(await page.locator('#type-error').textContent(), /^inputs: 'path' has type 'TGL\.MultiAxisPath', which the generator does not know; it knows Event, Geometry\.PointList, KDL\.Frame, /);
+  assert.match(await page.locator('#type-error').textContent(), /^inputs: 'path' has type 'TGL\.MultiAxisPath', which the generator does not know; it knows Event, Geometry\.PointList, Imaging\.GrayImage, KDL\.Frame, /);
   assert.deepEqual(await page.locator('#palette-data-types option').evaluateAll((os) => os.map((o) => o.value)).then((v) => v.includes('KDL.Wrench') && !v.includes('TGL.MultiAxisPath')), true);
   assert.equal(server.generated.length, 1);
 });

@@ -49,7 +49,7 @@ struct IgtlLinkOptions {
 enum class DropReason : std::uint8_t {
   None,
   Truncated,      ///< the peer closed in the middle of a message
-  BadHeader,      ///< not an OpenIGTLink version 1 header: the connection was closed
+  BadHeader,      ///< not an OpenIGTLink version 1 or 2 header: the connection was closed
   Oversized,      ///< above max_message_bytes
   BadCrc,
   UnknownType,    ///< a type the bridge does not take (IMAGE, POSITION, ...)
@@ -58,8 +58,9 @@ enum class DropReason : std::uint8_t {
   UnknownDevice,  ///< (bridge) no mapping for the message's device
   Unmapped,       ///< (bridge) a request STRING whose text is no mapped key
   SendFull,       ///< (bridge) the outgoing queue was full
+  PlanTooLong,    ///< (bridge) a POINT plan of more points than a PointList holds: never cut, dropped
 };
-inline constexpr std::size_t kDropReasons = 11;
+inline constexpr std::size_t kDropReasons = 12;
 std::string_view dropReasonName(DropReason reason) noexcept;
 DropReason toDropReason(igtl::IgtlError error) noexcept;
 
