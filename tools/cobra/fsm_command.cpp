@@ -82,7 +82,7 @@ int runFsm(const std::string& file, const std::string& events) {
 
 namespace {
 
-/// A task chart's world, stubbed (runFsmUntil): its Supervisor's functions and its peers. Every
+/// A task chart's world as stand-ins (runFsmUntil): its Supervisor's functions and its peers. Every
 /// line goes to stdout as "  T s  what", T the simulated time (the global cobra_fsm_now).
 constexpr const char* kTaskWorld = R"lua(
 local function say(what) io.stdout:write(string.format('%9.3f s  %s\n', cobra_fsm_now, what)) end

@@ -16,7 +16,7 @@ namespace cobra::tools {
 int runFsm(const std::string& file, const std::string& events);
 /// Runs task chart `file` as its Supervisor would, on a simulated clock from 0 to `until` s in
 /// steps of `step` s (so e_after(...) transitions fire): `emit`, `raise`, `applyDeployment` and
-/// `applyConfiguration` are defined, every peer (a global named like a component) is a stub that
+/// `applyConfiguration` are defined, every peer (a global named like a component) is a stand-in that
 /// says each call, and the chart's own helpers and cobra's charts (task_steps.lua) are found as a
 /// Supervisor finds them. `events`: "NAME" (sent at 0 s) or "NAME@SECONDS". Prints one line per
 /// state entered, event sent, event emitted and peer called, each with its time. Returns the exit

@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
       "SECONDS > 0");
   CLI::Option* until_option =
       fsm_run->add_option("--until", fsm_until, "s: run a task chart on a simulated clock until then (e_after fires), "
-                                                "with stub peers and emit, printing states, events and calls")
+                                                "with stand-in peers and emit, printing states, events and calls")
           ->check(positive_seconds);
   fsm_run->add_option("--step", fsm_step, "s: the simulated clock's step with --until (default 0.01)")
       ->check(positive_seconds)
