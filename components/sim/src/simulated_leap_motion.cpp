@@ -3,12 +3,18 @@
 #include "cobra/core/activity.hpp"
 
 namespace cobra::components {
+namespace {
+constexpr double kHandTimeConstant = 0.1;  // s: a scripted hand moving to its new pose
+}  // namespace
 
 SimulatedLeapMotion::SimulatedLeapMotion(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "simulated Leap Motion hand tracker (thesis §5.3.3), for LeapMotionDriver device = sim:<name>") {
   addProperty(noise_);
   addProperty(seed_);
+  addProperty(scripted_);
+  addProperty(right_pose_);
+  addProperty(left_pose_);
   addPort(right_);
   addPort(left_);
 }
@@ -30,15 +36,30 @@ bool SimulatedLeapMotion::configureHook() {
 
 bool SimulatedLeapMotion::startHook() {
   interval_.reset();
+  started_ = false;
   return true;
 }
 
 void SimulatedLeapMotion::cleanupHook() { device_.close(); }
 
+void SimulatedLeapMotion::follow(core::InputPort<KDL::Frame>& port, const KDL::Frame& scripted, bool start, double dt,
+                                 Hand& hand) noexcept {
+  if (port.read(hand.truth) != core::FlowStatus::NoData) {
+    hand.present = hand.from_port = true;
+    return;
+  }
+  if (hand.from_port || !scripted_()) return;
+  if (start || !hand.present) hand.scripted.reset(scripted);  // the hand appears where the script puts it
+  hand.scripted.step(scripted, dt, kHandTimeConstant);
+  hand.truth = hand.scripted.pose();
+  hand.present = true;
+}
+
 void SimulatedLeapMotion::updateHook() {
   const double dt = interval_.next(*this);
-  if (right_.read(right_hand_.truth) != core::FlowStatus::NoData) right_hand_.present = true;
-  if (left_.read(left_hand_.truth) != core::FlowStatus::NoData) left_hand_.present = true;
+  follow(right_, right_pose_(), !started_, dt, right_hand_);
+  follow(left_, left_pose_(), !started_, dt, left_hand_);
+  started_ = true;
   device_.get()->step(dt, right_hand_.present, right_hand_.truth, left_hand_.present, left_hand_.truth);
 }
 

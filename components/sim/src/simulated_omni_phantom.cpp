@@ -6,12 +6,16 @@
 #include "cobra/kinematics/kinematics_solver.hpp"
 
 namespace cobra::components {
+namespace {
+constexpr double kWristTimeConstant = 0.05;  // s: the hand turning the stylus toward its target orientation
+}  // namespace
 
 SimulatedOmniPhantom::SimulatedOmniPhantom(std::string name)
     : Component(std::move(name), core::Role::Bridge,
                 "Simulated Phantom Omni (thesis §4.5.9 interface) held by a scripted surgeon's hand") {
   addProperty(origin_pose_offset_);
   addProperty(initial_position_);
+  addProperty(hand_motion_);
   addPort(des_wrench_);
   addPort(hand_target_);
   addPort(hand_buttons_);
@@ -29,6 +33,9 @@ bool SimulatedOmniPhantom::configureHook() {
     return refuse(std::string("property initial_position: ") + e.what());
   }
   device_->setHandTarget(initial_position_());
+  stylus_.reset(KDL::Frame::Identity());
+  target_rotation_ = KDL::Rotation::Identity();
+  hand_target_seen_ = false;
   buttons_ = 0;
   return true;
 }
@@ -47,13 +54,24 @@ void SimulatedOmniPhantom::updateHook() {
   last_update_ns_ = now_ns;
   const KDL::Frame& offset = origin_pose_offset_();
   KDL::Frame target;
-  if (hand_target_.read(target) == core::FlowStatus::NewData) device_->setHandTarget(offset.Inverse(target.p));
+  if (hand_target_.read(target) == core::FlowStatus::NewData) {
+    hand_target_seen_ = true;
+    device_->setHandTarget(offset.Inverse(target.p));
+    target_rotation_ = offset.M.Inverse() * target.M;
+  } else if (!hand_target_seen_) {
+    const KDL::Frame& motion = hand_motion_();
+    device_->setHandTarget(initial_position_() + motion.p);
+    target_rotation_ = motion.M;
+  }
   KDL::Wrench wrench;
   if (des_wrench_.read(wrench) != core::FlowStatus::NoData) device_->setCommandedForce(offset.M.Inverse(wrench.force));
   (void)hand_buttons_.read(buttons_);
   device_->step(dt);
-  meas_cart_pose_.write(KDL::Frame(offset.M, offset * device_->measured()));
-  meas_twist_.write(KDL::Twist(offset.M * device_->velocity(), KDL::Vector::Zero()));
+  const KDL::Rotation before = stylus_.pose().M;
+  stylus_.step(KDL::Frame(target_rotation_), dt, kWristTimeConstant);
+  meas_cart_pose_.write(KDL::Frame(offset.M * stylus_.pose().M, offset * device_->measured()));
+  meas_twist_.write(
+      KDL::Twist(offset.M * device_->velocity(), offset.M * angularVelocity(before, stylus_.pose().M, dt)));
   status_buttons_.write(buttons_);
 }
 

@@ -62,6 +62,51 @@ TEST(SimulatedOmniPhantom, TheHandMovesTheStylusInTheOffsetFrame) {
   EXPECT_EQ(b, 1);
 }
 
+// Six DoF: the passive gimbal measures how the hand turns the stylus; the turn is a motion (the
+// wrist's 0.05 s time constant), reported in the twist's angular part, frame O axes.
+TEST(SimulatedOmniPhantom, TheHandTurnsTheStylusAndTheTwistCarriesTheTurn) {
+  const KDL::Frame offset(KDL::Rotation::RotZ(1.5707963267948966), KDL::Vector(1.0, 2.0, 0.5));
+  Rig rig(offset);
+  rig.clock.advance(1ms);
+  const KDL::Rotation turned = KDL::Rotation::RotX(0.3) * KDL::Rotation::RotY(-0.2);  // frame D
+  rig.hand.write(offset * KDL::Frame(turned, KDL::Vector(0.01, 0, 0)));
+  rig.clock.advance(1ms);
+  KDL::Twist v;
+  ASSERT_NE(rig.twist.read(v), core::FlowStatus::NoData);
+  // The first step turns by 1/50 of the way (1 ms / 0.05 s) about the turn's axis, in O's axes.
+  const KDL::Vector axis = offset.M * turned.GetRot();
+  EXPECT_NEAR(KDL::dot(v.rot, axis) / axis.Norm(), axis.Norm() / 50.0 / 0.001, 0.05 * axis.Norm() / 0.05);
+  EXPECT_GT(KDL::dot(v.rot, axis), 0.0);
+  const KDL::Rotation early = rig.measured().M;
+  EXPECT_GT((offset.M * turned * early.Inverse()).GetRot().Norm(), 0.3);  // not there at once
+  for (int ms = 0; ms < 1000; ++ms) rig.clock.advance(1ms);
+  EXPECT_TRUE(KDL::Equal(rig.measured().M, offset.M * turned, 1e-6));
+  ASSERT_NE(rig.twist.read(v), core::FlowStatus::NoData);
+  EXPECT_LT(v.rot.Norm(), 1e-6);
+}
+
+// A fault script moves and turns the hand through the hand_motion property (frame D, from the
+// initial position) while nothing is connected to handTarget.
+TEST(SimulatedOmniPhantom, TheHandMotionPropertyMovesAndTurnsTheStylus) {
+  const KDL::Frame offset(KDL::Vector(0.1, 0, 0.2));
+  SimulatedOmniPhantom omni("omni");
+  core::LockstepClock clock;
+  core::InputPort<KDL::Frame> pose{"pose", "", "m"};
+  omni.setProperty("origin_pose_offset", offset);
+  omni.setProperty("initial_position", KDL::Vector(0, 0.01, 0));
+  clock.add(omni, 1ms);
+  core::connectPorts(omni.port("measCartPose"), pose);
+  ASSERT_TRUE(omni.configure()) << omni.lastError();
+  ASSERT_TRUE(omni.start());
+  const KDL::Frame motion(KDL::Rotation::RotZ(0.4), KDL::Vector(0.02, 0, -0.01));
+  omni.setProperty("hand_motion", motion);
+  for (int ms = 0; ms < 3000; ++ms) clock.advance(1ms);
+  KDL::Frame at;
+  ASSERT_NE(pose.read(at), core::FlowStatus::NoData);
+  EXPECT_LT((at.p - offset * KDL::Vector(0.02, 0.01, -0.01)).Norm(), 0.001);
+  EXPECT_TRUE(KDL::Equal(at.M, KDL::Rotation::RotZ(0.4), 1e-6));
+}
+
 TEST(SimulatedOmniPhantom, ACommandedForcePushesTheHandBackUpToTheDeviceMaximum) {
   Rig rig(KDL::Frame::Identity());
   // The hand holds the origin (400 N/m); 2 N along x moves it by about 2 / 400 m.
@@ -83,7 +128,7 @@ TEST(SimulatedOmniPhantom, TheUpdateHookAllocatesNothing) {
   rig.clock.advance(1ms);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
               for (int ms = 0; ms < 500; ++ms) {
-                rig.hand.write(KDL::Frame(KDL::Vector(0.12, 0.01 - 1e-5 * ms, 0)));
+                rig.hand.write(KDL::Frame(KDL::Rotation::RotX(1e-3 * ms), KDL::Vector(0.12, 0.01 - 1e-5 * ms, 0)));
                 rig.force.write(KDL::Wrench(KDL::Vector(1.0, 0, 0), KDL::Vector::Zero()));
                 rig.held.write(ms % 4);
                 rig.clock.advance(1ms);
