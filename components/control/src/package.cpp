@@ -1,5 +1,6 @@
 #include "cobra/components/control/package.hpp"
 
+#include "cobra/components/control/link_impairment_component.hpp"
 #include "cobra/components/control/teleoperation_components.hpp"
 #include "cobra/components/control/variable_admittance_component.hpp"
 
@@ -8,7 +9,8 @@ namespace cobra::components {
 void registerControlPackage(deploy::PackageBuilder& package) {
   package.component<VariableAdmittanceController>("VariableAdmittance", "tank-based variable admittance (thesis §4.5.3)")
       .component<TransparencyLayerComponent>("TransparencyLayer", "teleoperation coupling forces (thesis §4.5.4)")
-      .component<PassivityLayerComponent>("PassivityLayer", "teleoperation forces paid by energy tanks (thesis §4.5.4)");
+      .component<PassivityLayerComponent>("PassivityLayer", "teleoperation forces paid by energy tanks (thesis §4.5.4)")
+      .component<LinkImpairmentComponent>("LinkImpairment", "delay, jitter and loss on a teleoperation link (thesis §4.5.4)");
 }
 
 }  // namespace cobra::components
