@@ -13,16 +13,16 @@
 -- and the thread again, which now closes the stitch; then the next stitch, until the plan has none.
 -- The surgeon may take over at any time (e_take_over): TeleoperatedMode stops the motion
 -- (StoppingMotion), switches to the teleoperated deployment with the haptic device
--- (InitHapticDevice) and runs it (TeleoperationActive) until e_teleop_done, which resumes the
--- interrupted state.
+-- (InitHapticDevice) and runs it (TeleoperationActive: the couplings engaged) until e_teleop_done,
+-- which resumes the interrupted state.
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §5.5.1-5.5.2) its deployment and configuration supervisors know.
 local peers = { frames = "SutureFrames", planner = "SuturePlanner", trajectory = "SutureTrajGen",
-                stitches = "Stitches" }
+                stitches = "Stitches", right_coupling = "RightTransparency", left_coupling = "LeftTransparency" }
 local D = { planning = "suturing_autonomous_planning", primitives = "suturing_autonomous_primitives",
             teleoperated = "suturing_teleoperated" }
-local C = { free = "suturing_free_motion", contact = "suturing_contact" }
+local C = { free = "suturing_free_motion", contact = "suturing_contact", teleoperation = "suturing_teleoperation" }
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 local plan_retry = 0.1    -- s between asks while the sensing module has no edges yet
 -- s the chart waits in WaitReaction for the surgeon's decision (e_recover or e_take_over); then it
@@ -97,9 +97,15 @@ local chart = {
     -- Not a task_steps waiting state: the state a teleoperation resumes stays the interrupted one.
     InitHapticDevice = rfsm.state { entry = function()
       emit("e_deploy_" .. D.teleoperated)
-      emit("e_configure_" .. C.free)
+      emit("e_configure_" .. C.teleoperation)
     end },
-    TeleoperationActive = rfsm.state { entry = function() emit("e_teleoperation_active") end },
+    -- The two-layer couplings start (engage: the rest length takes the master-slave offset, which
+    -- then shrinks to nothing, so that nothing jumps) and the surgeon drives both arms.
+    TeleoperationActive = rfsm.state { entry = function()
+      call("right_coupling", "engage")
+      call("left_coupling", "engage")
+      emit("e_teleoperation_active")
+    end },
     rfsm.trans { src = 'initial', tgt = 'StoppingMotion' },
     rfsm.trans { src = 'StoppingMotion', tgt = 'InitHapticDevice', events = { 'e_motion_stopped', 'e_not_moving' } },
     rfsm.trans { src = 'InitHapticDevice', tgt = 'TeleoperationActive',

@@ -1,25 +1,32 @@
 -- The two-armed I-SUR's controller for the suturing task (thesis §5.5.1-5.5.2, Fig. 5.12): the
 -- three deployments (autonomous with motion planning, autonomous with motion primitives,
 -- teleoperated with the State Validator between the admittances and the robot) of scope
--- "suture", the configurations suturing_free_motion and suturing_contact (configurations/), and
--- the task/deployment/configuration supervisors of the puncturing task, reused unchanged. One
--- variable admittance per arm, each with its energy tank.
+-- "suture", the configurations suturing_free_motion, suturing_contact and suturing_teleoperation
+-- (configurations/), and the task/deployment/configuration supervisors of the puncturing task,
+-- reused unchanged. One variable admittance per arm, each with its energy tank.
 -- Needs the globals `right_tool_frame`, `left_tool_frame`, `phantom_pose`, `teleop_device`
--- ("leap" or "omni": which haptic device the teleoperated deployment reads).
+-- ("leap" or "omni": which haptic device the teleoperated deployment reads); optional
+-- `teleop_link` = { delay = s, jitter = s, loss = 0..1, seed = n }: the impairment of the link
+-- between the devices and the controller (each arm's LinkImpairment; default: none).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
   .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local buffered = { type = "buffer", size = 64 }
 
 local devices = {
-  -- Leap Motion (§5.4.4): the simulated device and the driver reading it; both hands.
+  -- Leap Motion (§5.4.4): the simulated device and the driver reading it; both hands (the
+  -- simulator's scripted hands: a fault script moves and turns them, LeapSim.right_hand). No
+  -- twist and no force feedback: the device measures poses only and renders nothing.
   leap = { components = { { peer_name = "LeapSim", component_type = "SimulatedLeapMotion" },
                           { peer_name = "Leap", component_type = "LeapMotionDriver" } },
            right = "Leap.measRightPose", left = "Leap.measLeftPose" },
-  -- Two Phantom Omnis, one per arm.
+  -- Two Phantom Omnis, one per arm: pose and twist (six DoF: the gimbal is measured), and the
+  -- force of the coupling rendered on the hand (desWrench).
   omni = { components = { { peer_name = "RightOmni", component_type = "SimulatedOmniPhantom" },
                           { peer_name = "LeftOmni", component_type = "SimulatedOmniPhantom" } },
-           right = "RightOmni.measCartPose", left = "LeftOmni.measCartPose" },
+           right = "RightOmni.measCartPose", left = "LeftOmni.measCartPose",
+           right_twist = "RightOmni.measTwist", left_twist = "LeftOmni.measTwist",
+           right_feedback = "RightOmni.desWrench", left_feedback = "LeftOmni.desWrench" },
 }
 local device = assert(devices[teleop_device], "teleop_device must be leap or omni, not " .. tostring(teleop_device))
 
@@ -35,6 +42,12 @@ local controller = {
   { peer_name = "Validator", component_type = "StateValidator" },
   { peer_name = "RightClutch", component_type = "TeleoperationClutch" },
   { peer_name = "LeftClutch", component_type = "TeleoperationClutch" },
+  { peer_name = "RightLink", component_type = "LinkImpairment" },
+  { peer_name = "LeftLink", component_type = "LinkImpairment" },
+  { peer_name = "RightTransparency", component_type = "TransparencyLayer" },
+  { peer_name = "LeftTransparency", component_type = "TransparencyLayer" },
+  { peer_name = "RightPassivity", component_type = "PassivityLayer" },
+  { peer_name = "LeftPassivity", component_type = "PassivityLayer" },
   { peer_name = "TaskSup", component_type = "Supervisor" },
   { peer_name = "DepSup", component_type = "Supervisor" },
   { peer_name = "ConfSup", component_type = "Supervisor" },
@@ -96,7 +109,34 @@ TaskSup.fsm_path = here .. "../charts/suturing.lua"
 DepSup.fsm_path = charts .. "deployment_supervisor.lua"
 ConfSup.fsm_path = charts .. "configuration_supervisor.lua"
 if Leap then Leap.device = "sim:LeapSim" end
-addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches" } } })
+if LeapSim then LeapSim.scripted_hands = true end  -- the surgeon's hands above the device (fault scripts move them)
+-- The Leap's 0.5 mm noise per sample: its clutches engage on the mean of 0.2 s of frames (40 at
+-- 200 fps; 0.08 mm), else one sample's error would offset the tool for the whole teleoperation,
+-- and smooth its positions over 0.05 s (about 0.1 mm left), else the jitter would shake the tools.
+if Leap then
+  for _, c in ipairs({ RightClutch, LeftClutch }) do
+    c.engagement_time = 0.5
+    c.smoothing_time = 0.1
+  end
+end
+-- The two-layer coupling (thesis §4.5.4), per arm. N/m, N·s/m: stiffer than the layer's default
+-- (50 N/m) so that the thread's pull (a few N) shows as a few mm between master and slave, not
+-- cm; the slave's admittance (4 kg, 126 N·s/m in free motion) and this spring settle in about
+-- 0.1 s. The Omni renders at most 3.3 N of it.
+for _, t in ipairs({ RightTransparency, LeftTransparency }) do
+  t.stiffness = 1000
+  t.damping = 20
+end
+-- The link between the devices and the controller: none unless `teleop_link` says so.
+local link = teleop_link or {}
+for i, l in ipairs({ RightLink, LeftLink }) do
+  l.delay = link.delay or 0.0
+  l.jitter = link.jitter or 0.0
+  l.loss = link.loss or 0.0
+  l.seed = (link.seed or 1) + 2 * (i - 1)  -- each link draws its own losses (a link uses seed and seed + 1)
+end
+addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches",
+                                                     "RightTransparency", "LeftTransparency" } } })
 
 local always = { "Stitches", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup", "DepSup",
                  "ConfSup" }
@@ -178,23 +218,57 @@ defineDeployment("suturing_autonomous_primitives", {
   components = autonomous,
   connections = with(follow, { { output = "SutureFrames.desiredPoses", input = "SutureTrajGen.plannedPath" } }),
 })
--- Fig. 5.12: the surgeon's hands (the device) drive the admittances, whose set-points reach the
--- robot only through the State Validator (reachable and collision-free, else the last valid pair).
--- The clutches start with the deployment (InitHapticDevice): each tool then follows its device's
--- motion from where both were, so that taking over moves nothing by itself.
-local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator",
-                       "RightClutch", "LeftClutch" }
+-- Fig. 5.12: the surgeon's hands (the device) drive the admittances through the two-layer
+-- coupling, whose set-points reach the robot only through the State Validator (reachable and
+-- collision-free, else the last valid pair). The clutches start with the deployment
+-- (InitHapticDevice): each tool then follows its device's motion from where both were, so that
+-- taking over moves nothing by itself; the chart engages the Transparency layers on entering
+-- TeleoperationActive.
+local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator" }
+for _, side in ipairs({ "Right", "Left" }) do
+  for _, c in ipairs({ "Link", "Clutch", "Transparency", "Passivity" }) do teleoperated[#teleoperated + 1] = side .. c end
+end
 for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.peer_name end
+-- One arm's coupling (Fig. 4.15 with the thesis §5.5 engagement): the device's pose and twist
+-- cross the link to the controller, where the clutch maps the device's motion since the
+-- engagement onto the tool's pose then (the tool's own pose until the first sample arrives), the
+-- Transparency layer computes the coupling wrenches on that and the slave: the tool's
+-- admittance, its output (the pose the robot is commanded; the robot tracks it, and where the
+-- State Validator holds the robot, the coupling still holds the admittance to the device), the
+-- Passivity layer implements them as far as its tanks can pay: on the tool through its
+-- admittance's extWrench, on the device (the Omni's desWrench) back across the link. The
+-- admittance's reference stays where the autonomous motion stopped (nothing writes refPose) and
+-- the configuration suturing_teleoperation has next to no translational stiffness (50 N/m against
+-- the coupling's 1000): next to nothing holds the tool there, the coupling moves it, and the
+-- thread's pull, measured by the tool's sensor, is what the coupling spring holds against: what
+-- the surgeon feels.
+local function coupling(side, arm)
+  local lower = side:lower()
+  local c = {
+    { output = device[lower], input = side .. "Link.masterPose" },
+    { output = side .. "Link.linkedMasterPose", input = side .. "Clutch.masterPose" },
+    { output = "ISUR.meas" .. side .. "CartPose", input = side .. "Clutch.slavePose" },
+    { output = side .. "Clutch.desPose", input = side .. "Transparency.masterPose" },
+    { output = side .. "Link.linkedMasterTwist", input = side .. "Transparency.masterTwist" },
+    { output = arm .. ".admPose", input = side .. "Transparency.slavePose" },
+    { output = arm .. ".admTwist", input = side .. "Transparency.slaveTwist" },
+    { output = side .. "Transparency.masterForceDesired", input = side .. "Passivity.masterForceDesired" },
+    { output = side .. "Transparency.slaveForceDesired", input = side .. "Passivity.slaveForceDesired" },
+    { output = side .. "Link.linkedMasterTwist", input = side .. "Passivity.masterTwist" },
+    { output = arm .. ".admTwist", input = side .. "Passivity.slaveTwist" },
+    { output = side .. "Passivity.slaveForce", input = arm .. ".extWrench" },
+    { output = side .. "Passivity.masterForce", input = side .. "Link.slaveWrench" },
+  }
+  if device[lower .. "_twist"] then c[#c + 1] = { output = device[lower .. "_twist"], input = side .. "Link.masterTwist" } end
+  if device[lower .. "_feedback"] then
+    c[#c + 1] = { output = side .. "Link.linkedSlaveWrench", input = device[lower .. "_feedback"] }
+  end
+  return c
+end
 defineDeployment("suturing_teleoperated", {
   scope = "suture",
   components = teleoperated,
-  connections = {
-    { output = device.right, input = "RightClutch.masterPose" },
-    { output = device.left, input = "LeftClutch.masterPose" },
-    { output = "ISUR.measRightCartPose", input = "RightClutch.slavePose" },
-    { output = "ISUR.measLeftCartPose", input = "LeftClutch.slavePose" },
-    { output = "RightClutch.desPose", input = "RightAdmittance.refPose" },
-    { output = "LeftClutch.desPose", input = "LeftAdmittance.refPose" },
+  connections = with(with(coupling("Right", "RightAdmittance"), coupling("Left", "LeftAdmittance")), {
     { output = "RightAdmittance.admPose", input = "Validator.desPoseIn_1" },
     { output = "LeftAdmittance.admPose", input = "Validator.desPoseIn_2" },
     { output = "Validator.desPoseOut_1", input = "ISUR.desRightCartPose" },
@@ -203,7 +277,7 @@ defineDeployment("suturing_teleoperated", {
     -- on with the surgeon's hands into the refused region.
     { output = "Validator.heldPose_1", input = "RightAdmittance.heldPose" },
     { output = "Validator.heldPose_2", input = "LeftAdmittance.heldPose" },
-  },
+  }),
 })
 configureComponents(always)
 configureComponents({ "SutureTrajGen" })  -- its desCartPose_i ports exist once configured

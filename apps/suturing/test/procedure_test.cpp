@@ -132,9 +132,9 @@ TEST(SuturingProcedure, ATeleoperationSetPointIntoThePhantomIsHeldByTheStateVali
   expectSutured(r, 4);  // the procedure goes on after the teleoperation
   expectInOrder(r, {"suture > root.TeleoperatedMode.TeleoperationActive", "Validator: e_state_invalid",
                     "Validator: e_state_valid", "Surgeon: e_teleop_done", "suture > root.Done"});
-  // The stylus's 13 cm drop in one step: the robot refuses the set-point it cannot follow
-  // continuously, then the State Validator holds the ones inside the phantom.
-  expectInOrder(r, {"ISUR: e_ik_discontinuity", "Validator: e_state_invalid"});
+  // The coupling dragged the Endo Stitch's admittance after the sinking stylus, step by step: the
+  // robot never had to refuse a set-point as a jump.
+  EXPECT_EQ(count(r, "ISUR: e_ik_discontinuity"), 0u);
   // The last valid set-points were kept: the arms never came near the phantom.
   EXPECT_GT(r.clearance.worst, r.clearance.threshold) << r.clearance.worst_at << " s";
   // The validator holding: the Endo Stitch's admittance re-synced to the held set-point, so its
@@ -263,7 +263,7 @@ void expectNoRoleViolation(const std::string& device) {
     const auto violations = deploy::lint(set.deployment(name).connections, configurator.getReferences());
     EXPECT_TRUE(violations.empty()) << name << ":\n" << deploy::toText(violations);
   }
-  EXPECT_EQ(set.configurationNames().size(), 2u);  // §5.5.2: free motion, contact
+  EXPECT_EQ(set.configurationNames().size(), 3u);  // §5.5.2: free motion, contact; and teleoperation
 }
 
 TEST(SuturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentWithEitherDevice) {

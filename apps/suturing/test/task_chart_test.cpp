@@ -25,7 +25,8 @@ constexpr double kActuation = 0.3;  // s: the Endo Stitch's actuation_time
 
 // Fake peers in Lua (test_support/chart_fakes.hpp).
 const std::string kFakes =
-    test_support::fakePeersLua({"SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches"});
+    test_support::fakePeersLua({"SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "RightTransparency",
+                                "LeftTransparency"});
 using Entered = test_support::EntryLogger;
 
 /// The chart, its fake peers and world, on a clock in 10 ms ticks.
@@ -264,13 +265,16 @@ TEST(SuturingChart, ASurgeonTakingOverMidStitchStopsTheMotionThenTeleoperatesAnd
   std::size_t at = take;
   for (const char* line : {": SutureTrajGen:askStopMove", "> root.TeleoperatedMode.StoppingMotion", "<- e_motion_stopped",
                            ": emit:e_deploy_suturing_teleoperated", "> root.TeleoperatedMode.InitHapticDevice",
-                           "<- e_deployed_suturing_teleoperated", "> root.TeleoperatedMode.TeleoperationActive"}) {
+                           "<- e_deployed_suturing_teleoperated", ": RightTransparency:engage",
+                           ": LeftTransparency:engage", "> root.TeleoperatedMode.TeleoperationActive"}) {
     const std::size_t next = p.find(line, at);
     ASSERT_NE(next, std::string::npos) << line;
     at = next;
   }
   const std::size_t active = at;
   EXPECT_EQ(p.count("> root.TeleoperatedMode.StoppingMotion"), 1u);
+  EXPECT_EQ(p.count(": RightTransparency:engage"), 1u);  // the couplings engage once per teleoperation
+  EXPECT_EQ(p.count(": LeftTransparency:engage"), 1u);
   // The interrupted motion starts again from where the arms are.
   EXPECT_NE(p.find("> " + edge, p.find("<- e_teleop_done", active)), std::string::npos);
   EXPECT_EQ(p.count(": emit:e_actuate_endo_stitch"), 4u);
