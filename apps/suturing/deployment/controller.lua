@@ -122,13 +122,18 @@ end
 -- The two-layer coupling (thesis §4.5.4), per arm. N/m, N·s/m: stiffer than the layer's default
 -- (50 N/m) so that the thread's pull (a few N) shows as a few mm between master and slave, not
 -- cm; the slave's admittance (4 kg, 126 N·s/m in free motion) and this spring settle in about
--- 0.1 s. The Omni renders at most 3.3 N of it.
+-- 0.1 s. The Omni renders at most 3.3 N of it. Over a delayed link both layers run on the
+-- controller's side and the master's force crosses the link back: 1000 N/m there keeps the Omni
+-- and the tool oscillating by mm (measured at 100 ms), 300 N/m settles; the stiffness is
+-- 30 N·s/m / (delay + jitter) then, at most 1000 N/m, unless teleop_link.stiffness says.
+local link = teleop_link or {}
+local lag = (link.delay or 0.0) + (link.jitter or 0.0)  -- s
+local coupling_stiffness = link.stiffness or (lag > 0 and math.min(1000, 30 / lag) or 1000)
 for _, t in ipairs({ RightTransparency, LeftTransparency }) do
-  t.stiffness = 1000
+  t.stiffness = coupling_stiffness
   t.damping = 20
 end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
-local link = teleop_link or {}
 for i, l in ipairs({ RightLink, LeftLink }) do
   l.delay = link.delay or 0.0
   l.jitter = link.jitter or 0.0

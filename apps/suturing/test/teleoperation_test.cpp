@@ -150,11 +150,11 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
 }
 
 /// What every take-over while pulling must show; `follow` (m): the Endo Stitch's motion may miss
-/// the device's by at most this.
-void expectCoupled(const Figures& f, double follow) {
-  EXPECT_GT(f.tension, 1.0);            // N: the thread was tensioned while felt
-  EXPECT_GT(f.force_along_pull, 0.5);   // N: the master is pulled the way the thread pulls the tool
-  EXPECT_GT(f.device_motion, 0.009);    // m: the surgeon's 11 mm motion reached the tool's side
+/// the device's by at most this; `felt` (N): the master's least force along the thread's pull.
+void expectCoupled(const Figures& f, double follow, double felt) {
+  EXPECT_GT(f.tension, 0.5);            // N: the thread was tensioned while felt
+  EXPECT_GT(f.force_along_pull, felt);  // N: the master is pulled the way the thread pulls the tool
+  EXPECT_GT(f.device_motion, 0.005);    // m: the surgeon's 8.5 mm motion (the device gives way to the pull) reached the tool's side
   EXPECT_LT(f.follow_error, follow);
   EXPECT_GT(f.lowest_tank, 1.0);        // J: above the tanks' minimum ε
   EXPECT_LT(f.switch_step, 1e-3);       // m
@@ -162,20 +162,21 @@ void expectCoupled(const Figures& f, double follow) {
 }
 
 TEST(SuturingTeleoperation, TheOmniFeelsTheThreadsPullAndTheEndoStitchFollowsIt) {
-  expectCoupled(takeOverWhilePulling("omni", ""), 0.002);
+  expectCoupled(takeOverWhilePulling("omni", ""), 0.003, 0.5);
 }
 
 TEST(SuturingTeleoperation, TheLeapMotionsHandDrivesTheEndoStitchWhileTheCouplingHoldsThePull) {
-  expectCoupled(takeOverWhilePulling("leap", ""), 0.002);
+  expectCoupled(takeOverWhilePulling("leap", ""), 0.003, 0.5);
 }
 
-// 100 ms one way and 10 % of the packets lost on each arm's link, both directions.
+// 100 ms one way and 10 % of the packets lost on each arm's link, both directions: the coupling
+// at 300 N/m (controller.lua), the tool gives more way to the thread, the master feels less.
 TEST(SuturingTeleoperation, WithADelayedLossyLinkTheTakeOverStillCompletes) {
-  expectCoupled(takeOverWhilePulling("omni", "{ delay = 0.1, loss = 0.1, seed = 3 }"), 0.003);
+  expectCoupled(takeOverWhilePulling("omni", "{ delay = 0.1, loss = 0.1, seed = 3 }"), 0.0045, 0.2);
 }
 
 TEST(SuturingTeleoperation, WithADelayedLossyLinkTheLeapTakeOverStillCompletes) {
-  expectCoupled(takeOverWhilePulling("leap", "{ delay = 0.1, loss = 0.1, seed = 3 }"), 0.003);
+  expectCoupled(takeOverWhilePulling("leap", "{ delay = 0.1, loss = 0.1, seed = 3 }"), 0.0045, 0.2);
 }
 
 }  // namespace

@@ -40,23 +40,27 @@ void TeleoperationClutch::updateHook() {
   const core::FlowStatus status = master_.read(master);
   if (!have_slave_) return;
   if (!engaged_) {
-    // Until engaged: the tool's pose (no device sample yet, e.g. behind a link's delay, or the
-    // samples of its first engagement_time being averaged): a coupling reading it sees no offset.
-    // A sample counts when new; the first also when it came before the tool's pose did.
+    // Until engaged: the tool's pose while no device sample came (e.g. behind a link's delay): a
+    // coupling reading it sees no offset; from the first sample, while the samples of
+    // engagement_time are averaged, the tool's pose then (the coupling holds the tool there, e.g.
+    // against the thread's pull). A sample counts when new; the first also when it came before
+    // the tool's pose did.
     if (status == core::FlowStatus::NewData || (status == core::FlowStatus::OldData && averaged_ == 0)) {
-      if (averaged_ == 0) first_sample_ = now();
+      if (averaged_ == 0) {
+        first_sample_ = now();
+        slave0_ = slave_now_;
+      }
       master_sum_ += master.p;
       ++averaged_;
       if (std::chrono::duration<double>(now() - first_sample_).count() >= engagement_time_() - 1e-9) {
         master0_ = KDL::Frame(master.M, master_sum_ / static_cast<double>(averaged_));
-        slave0_ = slave_now_;
         smoothed_ = master0_.p;
         last_sample_ = now();
         engaged_ = true;
       }
     }
     if (!engaged_) {
-      des_.write(slave_now_);
+      des_.write(averaged_ == 0 ? slave_now_ : slave0_);
       return;
     }
   } else if (status != core::FlowStatus::NewData) {

@@ -107,7 +107,9 @@ TEST(TeleoperationClutch, TheEngagementAveragesTheDevicesFirstSamples) {
     b.master.write(KDL::Frame(kDevice.M, kDevice.p + KDL::Vector(noise[k], 0.0, 0.0)));
     b.step();
     ASSERT_EQ(b.read(out), core::FlowStatus::NewData);
-    EXPECT_TRUE(KDL::Equal(out, kTool, 1e-12)) << k;  // averaging, then engaged: the tool's pose
+    // Averaging, then engaged: the tool's pose at the first sample, though it moved since.
+    EXPECT_TRUE(KDL::Equal(out, kTool, 1e-12)) << k;
+    b.slave.write(KDL::Frame(kTool.M, kTool.p + KDL::Vector(0.0, 0.0, 0.001 * (k + 1))));
   }
   b.master.write(kDevice);  // the device at the samples' mean
   b.step();

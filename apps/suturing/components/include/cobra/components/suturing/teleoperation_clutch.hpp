@@ -27,11 +27,11 @@ namespace cobra::components {
 /// - output `desPose` (KDL.Frame: the tool's set-point): with M0 and S0 the first master and slave
 ///   samples after start (the engagement), and M the newest master sample, position
 ///   S0.p + scale·(M̃.p - M0.p) (M̃: M's position filtered by smoothing_time), orientation (M.M·M0.M⁻¹)·S0.M (the device's rotation since the
-///   engagement, in world axes; S0 is the tool's pose when the last engagement sample came).
-///   Nothing is written before slavePose has data; until engaged (a device behind a delayed link
-///   has sent nothing yet, or its first samples are being averaged), desPose is the tool's
-///   measured pose, so that a coupling reading it sees no master-slave offset; a new start
-///   engages again.
+///   engagement, in world axes; S0 is the tool's pose when the first engagement sample came).
+///   Nothing is written before slavePose has data; until the device's first sample (a device
+///   behind a delayed link), desPose is the tool's measured pose, so that a coupling reading it
+///   sees no master-slave offset; while the first samples are averaged, it is S0 (the coupling
+///   holds the tool there); a new start engages again.
 /// Real time: updateHook reads, composes two frames and writes; it allocates nothing.
 class TeleoperationClutch : public core::Component {
  public:
