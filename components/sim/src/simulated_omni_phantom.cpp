@@ -18,6 +18,7 @@ SimulatedOmniPhantom::SimulatedOmniPhantom(std::string name)
   addPort(meas_cart_pose_);
   addPort(meas_twist_);
   addPort(status_buttons_);
+  addPort(dissipated_power_);
 }
 
 bool SimulatedOmniPhantom::configureHook() {
@@ -55,6 +56,7 @@ void SimulatedOmniPhantom::updateHook() {
   meas_cart_pose_.write(KDL::Frame(offset.M, offset * device_->measured()));
   meas_twist_.write(KDL::Twist(offset.M * device_->velocity(), KDL::Vector::Zero()));
   status_buttons_.write(buttons_);
+  dissipated_power_.write(device_->dissipatedPower());
 }
 
 }  // namespace cobra::components
