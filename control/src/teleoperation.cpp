@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -15,26 +16,49 @@ double weight(double value, double low, double high) noexcept {
   return smoothFall((value - low) / (high - low));
 }
 
-void requireLevels(const TankLevels& t, const char* which) {
-  if (!(t.minimum > 0.0 && t.minimum < t.request && t.request < t.available && t.available < t.maximum &&
-        t.initial > t.minimum && t.initial <= t.maximum))
-    throw std::invalid_argument(std::string("PassivityLayer: the ") + which +
-                                " tank needs 0 < minimum < request < available < maximum and minimum < initial <= "
-                                "maximum (J), got " + std::to_string(t.minimum) + ", " + std::to_string(t.request) +
-                                ", " + std::to_string(t.available) + ", " + std::to_string(t.maximum) + ", initial " +
-                                std::to_string(t.initial));
+/// `value` in the shortest decimal form ("-1", "0.5", "2e+04") for messages.
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
 }
 
-/// Eq. 4.20: the tank (energy J) pays F_idᵀ v_i dt for the force it implements and never drops below
-/// `minimum` (ε); a force that takes energy from the robot (negative cost) always fills the tank.
-/// Returns false, leaving `force` zero, when the tank cannot pay.
-bool payForForce(const Vector3& desired, const Vector3& velocity, double dt, double minimum, double& energy,
-                 Vector3& force) noexcept {
-  const double cost = desired.dot(velocity) * dt;
+/// The tank's levels, named as the PassivityLayer component's properties (`which`_minimum, ...).
+void requireLevels(const TankLevels& t, const std::string& which) {
+  auto fail = [&](const char* level, double value, const std::string& rule) {
+    throw std::invalid_argument("PassivityLayer: " + which + "_" + level + " = " + number(value) + " J: must be " +
+                                rule + " (0 < minimum < request < available < maximum, minimum < initial <= maximum)");
+  };
+  if (!(t.minimum > 0.0) || !std::isfinite(t.minimum)) fail("minimum", t.minimum, "> 0");
+  if (!(t.request > t.minimum)) fail("request", t.request, "> " + which + "_minimum = " + number(t.minimum) + " J");
+  if (!(t.available > t.request))
+    fail("available", t.available, "> " + which + "_request = " + number(t.request) + " J");
+  if (!(t.maximum > t.available) || !std::isfinite(t.maximum))
+    fail("maximum", t.maximum, "> " + which + "_available = " + number(t.available) + " J");
+  if (!(t.initial > t.minimum && t.initial <= t.maximum))
+    fail("initial", t.initial,
+         "in (" + which + "_minimum, " + which + "_maximum] = (" + number(t.minimum) + ", " + number(t.maximum) + "] J");
+}
+
+/// Eq. 4.20: the tank (energy J) pays F_idᵀ t_i dt for the wrench it implements (the full power
+/// port: force·v + torque·ω) and never drops below `minimum` (ε); a wrench that takes energy from
+/// the robot (negative cost) always fills the tank. Returns false, leaving `wrench` zero, when
+/// the tank cannot pay.
+bool payForWrench(const Vector6& desired, const Vector6& twist, double dt, double minimum, double& energy,
+                  Vector6& wrench) noexcept {
+  const double cost = desired.dot(twist) * dt;
   if (cost > 0.0 && energy - cost < minimum) return false;
-  force = desired;
+  wrench = desired;
   energy -= cost;
   return true;
+}
+
+Vector3 vector(const KDL::Vector& v) noexcept { return {v.x(), v.y(), v.z()}; }
+
+/// Exp of a rotation vector (rad) as a KDL rotation.
+KDL::Rotation exp(const Vector3& r) noexcept {
+  const double angle = r.norm();
+  return angle < 1e-15 ? KDL::Rotation::Identity() : KDL::Rotation::Rot2(KDL::Vector(r.x(), r.y(), r.z()) / angle, angle);
 }
 
 }  // namespace
@@ -46,59 +70,88 @@ double smoothFall(double s) noexcept {
 }
 
 TransparencyLayer::TransparencyLayer(const TransparencyParameters& p) : p_(p) {
-  auto positive = [](double v, const char* name, const char* unit) {
-    if (!(v > 0.0) || !std::isfinite(v))
-      throw std::invalid_argument(std::string("TransparencyLayer: ") + name + " must be > 0 " + unit + ", got " +
-                                  std::to_string(v));
+  auto fail = [](const char* name, double value, const char* unit, const std::string& rule) {
+    throw std::invalid_argument(std::string("TransparencyLayer: ") + name + " = " + number(value) + " " + unit +
+                                ": must be " + rule);
   };
-  positive(p.stiffness, "stiffness", "(N/m)");
-  positive(p.damping, "damping", "(N·s/m)");
-  positive(p.compensation_time, "compensation_time", "(s)");
-  if (!(p.error_low >= 0.0 && p.error_low < p.error_high))
-    throw std::invalid_argument("TransparencyLayer: error_low < error_high (m) is needed (ē1 < ē2)");
-  if (!(p.rest_low >= 0.0 && p.rest_low < p.rest_high))
-    throw std::invalid_argument("TransparencyLayer: rest_low < rest_high (m) is needed (λ̄1 < λ̄2)");
+  auto positive = [&](double v, const char* name, const char* unit) {
+    if (!(v > 0.0) || !std::isfinite(v)) fail(name, v, unit, "> 0");
+  };
+  auto nonNegative = [&](double v, const char* name, const char* unit) {
+    if (!(v >= 0.0) || !std::isfinite(v)) fail(name, v, unit, ">= 0");
+  };
+  auto band = [&](double low, double high, const char* low_name, const char* high_name, const char* unit) {
+    nonNegative(low, low_name, unit);
+    if (!(high > low) || !std::isfinite(high))
+      fail(high_name, high, unit, std::string("> ") + low_name + " = " + number(low) + " " + unit);
+  };
+  positive(p.stiffness, "stiffness", "N/m");
+  positive(p.damping, "damping", "N·s/m");
+  nonNegative(p.rotational_stiffness, "rotational_stiffness", "N·m/rad");
+  nonNegative(p.rotational_damping, "rotational_damping", "N·m·s/rad");
+  positive(p.compensation_time, "compensation_time", "s");
+  band(p.error_low, p.error_high, "error_low", "error_high", "m");
+  band(p.rest_low, p.rest_high, "rest_low", "rest_high", "m");
+  band(p.rotation_error_low, p.rotation_error_high, "rotation_error_low", "rotation_error_high", "rad");
+  band(p.rotation_rest_low, p.rotation_rest_high, "rotation_rest_low", "rotation_rest_high", "rad");
 }
 
-void TransparencyLayer::engage(double time, const Vector3& master, const Vector3& slave) noexcept {
+void TransparencyLayer::engage(double time, const KDL::Frame& master, const KDL::Frame& slave) noexcept {
   engaged_ = true;
   full_ = false;
   start_ = time;
-  offset_ = master - slave;
+  offset_ = vector(master.p - slave.p);
   rest_ = offset_;
+  // φ_L = log(R_sᵀ R_m), slave axes; without a rotational spring there is nothing to compensate.
+  rotation_offset_ = p_.rotational_stiffness > 0.0 ? vector((slave.M.Inverse() * master.M).GetRot()) : Vector3::Zero();
+  rest_rotation_ = rotation_offset_;
   alpha_ = 0.0;
 }
 
-void TransparencyLayer::compute(double time, const Vector3& master, const Vector3& master_velocity,
-                                const Vector3& slave, const Vector3& slave_velocity, Vector3& master_force,
-                                Vector3& slave_force) noexcept {
+void TransparencyLayer::compute(double time, const KDL::Frame& master, const Vector6& master_twist,
+                                const KDL::Frame& slave, const Vector6& slave_twist, Vector6& master_wrench,
+                                Vector6& slave_wrench) noexcept {
   if (!engaged_) {
-    master_force.setZero();
-    slave_force.setZero();
+    master_wrench.setZero();
+    slave_wrench.setZero();
     return;
   }
-  rest_ = offset_ * smoothFall((time - start_) / p_.compensation_time);  // l(t): L at t_s, 0 from t_s + t_c
+  const double fall = smoothFall((time - start_) / p_.compensation_time);  // 1 at t_s, 0 from t_s + t_c
+  rest_ = offset_ * fall;                                                  // l(t)
+  rest_rotation_ = rotation_offset_ * fall;                                // φ_l(t)
+  const Vector3 error = vector(master.p - slave.p);
+  const bool rotation = p_.rotational_stiffness > 0.0;
+  // e_r: from the slave's rotation carried by the rest rotation to the master's, base axes, rad.
+  const Vector3 rotation_error = rotation ? vector(KDL::diff(slave.M * exp(rest_rotation_), master.M)) : Vector3::Zero();
   if (!full_) {
-    alpha_ = weight((master - slave).norm(), p_.error_low, p_.error_high) *
-             weight(rest_.norm(), p_.rest_low, p_.rest_high);
+    alpha_ = weight(error.norm(), p_.error_low, p_.error_high) * weight(rest_.norm(), p_.rest_low, p_.rest_high);
+    if (rotation)
+      alpha_ *= weight(vector((slave.M.Inverse() * master.M).GetRot()).norm(), p_.rotation_error_low,
+                       p_.rotation_error_high) *
+                weight(rest_rotation_.norm(), p_.rotation_rest_low, p_.rotation_rest_high);
     if (alpha_ >= 1.0) full_ = true;  // t_M: from now on alpha = 1 (eq. 4.16)
   }
   if (full_) alpha_ = 1.0;
-  const Vector3 coupling = p_.stiffness * (master - slave - rest_) + p_.damping * (master_velocity - slave_velocity);
-  master_force = -coupling;
-  slave_force = alpha_ * coupling;
+  const Vector6 relative = master_twist - slave_twist;
+  Vector6 coupling;
+  coupling.head<3>() = p_.stiffness * (error - rest_) + p_.damping * relative.head<3>();
+  coupling.tail<3>() = p_.rotational_stiffness * rotation_error + p_.rotational_damping * relative.tail<3>();
+  master_wrench = -coupling;
+  slave_wrench = alpha_ * coupling;
 }
 
 PassivityLayer::PassivityLayer(const PassivityParameters& p) : p_(p) {
   requireLevels(p.master, "master");
   requireLevels(p.slave, "slave");
-  if (!(p.transfer_power > 0.0)) throw std::invalid_argument("PassivityLayer: transfer_power must be > 0 W");
+  if (!(p.transfer_power > 0.0) || !std::isfinite(p.transfer_power))
+    throw std::invalid_argument("PassivityLayer: transfer_power = " + number(p.transfer_power) +
+                                " W: must be > 0 (P̄, the rate of the exchange between the tanks)");
   master_ = p.master.initial;
   slave_ = p.slave.initial;
 }
 
-PassivityStep PassivityLayer::step(double dt, const Vector3& master_desired, const Vector3& slave_desired,
-                                   const Vector3& master_velocity, const Vector3& slave_velocity,
+PassivityStep PassivityLayer::step(double dt, const Vector6& master_desired, const Vector6& slave_desired,
+                                   const Vector6& master_twist, const Vector6& slave_twist,
                                    double master_dissipation, double slave_dissipation) noexcept {
   PassivityStep out;
   if (!(dt > 0.0)) return out;
@@ -115,8 +168,8 @@ PassivityStep PassivityLayer::step(double dt, const Vector3& master_desired, con
   double master_next = master_ + sigma_m * dm + sigma_m * out_s - out_m;
   double slave_next = slave_ + sigma_s * ds + sigma_s * out_m - out_s;
   spilled_ += (1.0 - sigma_m) * out_s + (1.0 - sigma_s) * out_m;
-  out.master_limited = !payForForce(master_desired, master_velocity, dt, lm.minimum, master_next, out.master_force);
-  out.slave_limited = !payForForce(slave_desired, slave_velocity, dt, ls.minimum, slave_next, out.slave_force);
+  out.master_limited = !payForWrench(master_desired, master_twist, dt, lm.minimum, master_next, out.master_wrench);
+  out.slave_limited = !payForWrench(slave_desired, slave_twist, dt, ls.minimum, slave_next, out.slave_wrench);
   master_ = master_next;
   slave_ = slave_next;
   return out;

@@ -129,6 +129,7 @@ bool VariableAdmittance::allDiagonal() const noexcept {
 void VariableAdmittance::reset() noexcept {
   x_.setZero();
   v_.setZero();
+  dissipated_power_ = 0.0;
   tank_ = parameters_.tank.initial_energy;
   error_jacobian_known_ = false;
   audit_ = EnergyAudit{};
@@ -223,6 +224,7 @@ void VariableAdmittance::resync(const KDL::Frame& held, const KDL::Wrench& wrenc
   audit_.tank = tank_;
   x_ = x;
   v_.setZero();
+  dissipated_power_ = 0.0;
   error_jacobian_known_ = false;
   // Output pose p_ref + x̃_p = p_held and R_ref Exp(x̃_r) = R_held.
   reference.p = held.p - KDL::Vector(x_(0), x_(1), x_(2));
@@ -271,6 +273,7 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   audit_.injected_by_w += w.dot(dx);
   x_ = x_next;
   v_ = v_next;
+  dissipated_power_ = v_.dot(times(parameters_.damping, v_, diagonal_));
   tank_ = tank_next;
   audit_.stored = energy_after;
   audit_.tank = tank_;

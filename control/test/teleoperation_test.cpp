@@ -7,6 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
+#include <string>
+
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "simulated_world.hpp"
@@ -15,6 +19,12 @@ namespace cobra::control {
 namespace {
 
 constexpr double kDt = 1e-3;  // s
+
+KDL::Frame at(const Vector3& p) { return KDL::Frame(KDL::Vector(p.x(), p.y(), p.z())); }
+/// A twist or wrench [linear; angular] with only its linear part.
+Vector6 linear(const Vector3& v) { return (Vector6() << v, Vector3::Zero()).finished(); }
+Vector6 angular(const Vector3& w) { return (Vector6() << Vector3::Zero(), w).finished(); }
+const Vector6 kZero = Vector6::Zero();
 
 using test::HumanHand;
 using test::PointMass;
@@ -37,7 +47,7 @@ struct Scenario {
     master.x = slave.x + Vector3(0.05, 0.0, 0.0);  // 5 cm misalignment at the switch
     hand.position = master.x;
     slave_at_switch = slave.x;
-    transparency.engage(0.0, master.x, slave.x);
+    transparency.engage(0.0, at(master.x), at(slave.x));
   }
   /// Kinetic, elastic (wall and hold spring) and tank energies, J.
   double energy() const {
@@ -47,15 +57,15 @@ struct Scenario {
   }
   void run(double seconds, double& t) {
     for (int i = 0; i < static_cast<int>(seconds / kDt); ++i, t += kDt) {
-      Vector3 fm, fs;
-      transparency.compute(t, master.x, master.v, slave.x, slave.v, fm, fs);
+      Vector6 fm, fs;
+      transparency.compute(t, at(master.x), linear(master.v), at(slave.x), linear(slave.v), fm, fs);
       const Vector3 hold = -hold_stiffness * (slave.x - slave_at_switch);
       const Vector3 wall_force(wall.force(slave.x.x()), 0, 0);
       const PassivityStep implemented =
-          passivity.step(kDt, fm, fs, master.v, slave.v, master.dissipation(), slave.dissipation());
+          passivity.step(kDt, fm, fs, linear(master.v), linear(slave.v), master.dissipation(), slave.dissipation());
       const Vector3 human = hand.force(master.x, master.v);
-      master.step(implemented.master_force + human, kDt);
-      slave.step(implemented.slave_force + wall_force + hold, kDt);
+      master.step(implemented.master_wrench.head<3>() + human, kDt);
+      slave.step(implemented.slave_wrench.head<3>() + wall_force + hold, kDt);
       human_energy += human.dot(master.v) * kDt;
       hand.yield(master.x, kDt);
       lowest_master = std::min(lowest_master, passivity.masterEnergy());
@@ -83,48 +93,151 @@ TEST(Teleoperation, SwitchingWithAFiveCentimetreMisalignmentDoesNotMoveTheSlave)
 
 TEST(Teleoperation, AlphaWeighsTheSlavesForceByErrorAndRestLength) {
   TransparencyLayer layer{TransparencyParameters{}};
-  Vector3 fm, fs;
-  layer.compute(0.0, Vector3(0.05, 0, 0), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), fm, fs);
-  EXPECT_EQ(fm, Vector3::Zero());  // not engaged
-  layer.engage(0.0, Vector3(0.05, 0, 0), Vector3::Zero());
-  layer.compute(0.0, Vector3(0.05, 0, 0), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), fm, fs);
+  Vector6 fm, fs;
+  const KDL::Frame origin = KDL::Frame::Identity();
+  layer.compute(0.0, at(Vector3(0.05, 0, 0)), kZero, origin, kZero, fm, fs);
+  EXPECT_EQ(fm, kZero);  // not engaged
+  layer.engage(0.0, at(Vector3(0.05, 0, 0)), origin);
+  layer.compute(0.0, at(Vector3(0.05, 0, 0)), kZero, origin, kZero, fm, fs);
   EXPECT_NEAR(fm.norm(), 0.0, 1e-12);  // rest length = offset at the switch: no force
   EXPECT_EQ(layer.alpha(), 0.0);
-  layer.compute(1.0, Vector3(0.05, 0, 0), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), fm, fs);
+  layer.compute(1.0, at(Vector3(0.05, 0, 0)), kZero, origin, kZero, fm, fs);
   EXPECT_NEAR(layer.restLength().x(), 0.025, 1e-12);  // half way through t_c = 2 s
   EXPECT_LT(fm.x(), 0.0);                             // the master is pulled towards the slave...
   EXPECT_EQ(fs.norm(), 0.0);                          // ...the slave feels nothing (e = 5 cm > ē2)
-  layer.compute(2.5, Vector3(0.004, 0, 0), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), fm, fs);
+  layer.compute(2.5, at(Vector3(0.004, 0, 0)), kZero, origin, kZero, fm, fs);
   EXPECT_EQ(layer.alpha(), 1.0);  // e = 4 mm < ē1 and l = 0
   EXPECT_NEAR(fs.x(), 50.0 * 0.004, 1e-12);
-  layer.compute(3.0, Vector3(0.05, 0, 0), Vector3::Zero(), Vector3::Zero(), Vector3::Zero(), fm, fs);
+  layer.compute(3.0, at(Vector3(0.05, 0, 0)), kZero, origin, kZero, fm, fs);
   EXPECT_EQ(layer.alpha(), 1.0);  // once reached, alpha stays 1 (eq. 4.16)
 }
 
-TEST(Teleoperation, TanksRefuseForcesTheyCannotPayAndShareEnergyOnRequest) {
+TransparencyParameters rotational() {
+  TransparencyParameters p;
+  p.rotational_stiffness = 2.0;  // N·m/rad
+  p.rotational_damping = 0.1;    // N·m·s/rad
+  return p;
+}
+
+TEST(Teleoperation, TheRotationalRestLengthStartsAtTheOffsetAndVanishesOverTc) {
+  TransparencyLayer layer{rotational()};
+  // Master turned 0.5 rad about z relative to a slave that is itself turned about x.
+  const KDL::Frame slave(KDL::Rotation::RotX(0.3), KDL::Vector(0.1, 0, 0));
+  const KDL::Frame master(slave.M * KDL::Rotation::RotZ(0.5), slave.p);
+  layer.engage(0.0, master, slave);
+  Vector6 fm, fs;
+  layer.compute(0.0, master, kZero, slave, kZero, fm, fs);
+  EXPECT_NEAR(fm.norm(), 0.0, 1e-12) << "no torque jump at engage";
+  EXPECT_NEAR(layer.restRotation().z(), 0.5, 1e-12);  // slave axes: about the slave's own z
+  EXPECT_EQ(layer.alpha(), 0.0);  // 0.5 rad > rotation_rest_high
+  // A common rotation of master and slave keeps the rest rotation (slave axes): still no torque.
+  const KDL::Rotation turn = KDL::Rotation::RPY(0.2, -0.4, 1.0);
+  layer.compute(0.0, KDL::Frame(turn * master.M, master.p), kZero, KDL::Frame(turn * slave.M, slave.p), kZero, fm, fs);
+  EXPECT_NEAR(fm.norm(), 0.0, 1e-12);
+  layer.compute(1.0, master, kZero, slave, kZero, fm, fs);  // half of t_c: half the offset is gone
+  const Vector3 axis_z = Vector3(0, -std::sin(0.3), std::cos(0.3));  // the slave's z in the base frame
+  EXPECT_NEAR(fm.tail<3>().dot(axis_z), -2.0 * 0.25, 1e-9) << "the master is turned back towards the slave";
+  EXPECT_NEAR(fm.tail<3>().cross(axis_z).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(fm.head<3>().norm(), 0.0, 1e-12);
+  layer.compute(2.0, master, kZero, slave, kZero, fm, fs);
+  EXPECT_EQ(layer.restRotation().norm(), 0.0);
+  EXPECT_NEAR(fm.tail<3>().dot(axis_z), -2.0 * 0.5, 1e-9);
+  EXPECT_EQ(fs.norm(), 0.0) << "alpha = 0: the rotation error (0.5 rad) is above rotation_error_high";
+  const KDL::Frame aligned(slave.M * KDL::Rotation::RotZ(0.04), slave.p);  // 0.04 rad < ē_r1
+  const Vector6 spin = angular(Vector3(0.0, 0.0, 1.0));
+  layer.compute(2.1, aligned, spin, slave, kZero, fm, fs);
+  EXPECT_EQ(layer.alpha(), 1.0);
+  EXPECT_NEAR(fs.tail<3>().dot(axis_z), 2.0 * 0.04 + 0.1 * axis_z.z(), 1e-9) << "K_r e_r + B_r (ω_m - ω_s)";
+  EXPECT_NEAR((fs + fm).norm(), 0.0, 1e-12);
+}
+
+TEST(Teleoperation, WithoutRotationalStiffnessTheRotationNeitherCouplesNorWeighsAlpha) {
+  TransparencyLayer layer{TransparencyParameters{}};
+  const KDL::Frame slave(KDL::Rotation::RotY(2.0), KDL::Vector::Zero());
+  layer.engage(0.0, KDL::Frame::Identity(), slave);
+  Vector6 fm, fs;
+  layer.compute(2.0, KDL::Frame::Identity(), angular(Vector3(1, 0, 0)), slave, kZero, fm, fs);
+  EXPECT_EQ(layer.alpha(), 1.0);
+  EXPECT_EQ(fm, kZero);
+  EXPECT_EQ(fs, kZero);
+}
+
+TEST(Teleoperation, TanksRefuseWrenchesTheyCannotPayAndShareEnergyOnRequest) {
   PassivityParameters p;
   p.master.initial = 1.5;  // just above ε
   p.slave.initial = 15.0;  // rich: above T_ava
   PassivityLayer layer(p);
-  const Vector3 v(0.1, 0, 0);
+  const Vector6 v = linear(Vector3(0.1, 0, 0));
   // 6000 N against 0.1 m/s for 1 ms costs 0.6 J; the master tank has 0.5 J above ε: refused.
-  PassivityStep out = layer.step(kDt, Vector3(-6000.0, 0, 0), Vector3::Zero(), -v, Vector3::Zero(), 0.0, 0.0);
+  PassivityStep out = layer.step(kDt, linear(Vector3(-6000.0, 0, 0)), kZero, -v, kZero, 0.0, 0.0);
   EXPECT_TRUE(out.master_limited);
-  EXPECT_EQ(out.master_force, Vector3::Zero());
-  out = layer.step(kDt, Vector3(-600.0, 0, 0), Vector3::Zero(), -v, Vector3::Zero(), 0.0, 0.0);  // 0.06 J: paid
+  EXPECT_EQ(out.master_wrench, kZero);
+  out = layer.step(kDt, linear(Vector3(-600.0, 0, 0)), kZero, -v, kZero, 0.0, 0.0);  // 0.06 J: paid
   EXPECT_FALSE(out.master_limited);
-  EXPECT_EQ(out.master_force, Vector3(-600.0, 0, 0));
+  EXPECT_EQ(out.master_wrench, linear(Vector3(-600.0, 0, 0)));
   double master_before = layer.masterEnergy(), slave_before = layer.slaveEnergy();
-  const Vector3 zero = Vector3::Zero();
-  for (int i = 0; i < 1000; ++i) layer.step(kDt, zero, zero, zero, zero, 0.0, 0.0);
+  for (int i = 0; i < 1000; ++i) layer.step(kDt, kZero, kZero, kZero, kZero, 0.0, 0.0);
   EXPECT_NEAR(layer.masterEnergy() - master_before, 1.0, 1e-9);  // P̄ = 1 W for 1 s, from the slave
   EXPECT_NEAR(slave_before - layer.slaveEnergy(), 1.0, 1e-9);
-  EXPECT_CONTAINS(cobra::test_support::messageOf([] {
-                    PassivityParameters bad;
-                    bad.slave.request = 12.0;
-                    PassivityLayer l(bad);
-                  }),
-                  "PassivityLayer: the slave tank needs 0 < minimum < request < available < maximum");
+}
+
+TEST(Teleoperation, ATankPaysForTheWholePowerPortTorqueTimesAngularVelocityToo) {
+  PassivityLayer layer{PassivityParameters{}};  // both tanks at 10 J: no exchange (neither asks)
+  // 20 N·m with 2 rad/s for 1 ms costs 0.04 J; a force across the motion costs nothing.
+  const Vector6 wrench = (Vector6() << 0.0, 5.0, 0.0, 0.0, 0.0, 20.0).finished();
+  const Vector6 twist = (Vector6() << 0.3, 0.0, 0.0, 0.0, 0.0, 2.0).finished();
+  const PassivityStep out = layer.step(kDt, kZero, wrench, kZero, twist, 0.0, 0.0);
+  EXPECT_EQ(out.slave_wrench, wrench);
+  EXPECT_NEAR(layer.slaveEnergy(), 10.0 - 0.04, 1e-12);
+  // A torque braking the rotation gives its energy to the tank.
+  layer.step(kDt, kZero, -wrench, kZero, twist, 0.0, 0.0);
+  EXPECT_NEAR(layer.slaveEnergy(), 10.0, 1e-12);
+  // 9 J above ε are there, a torque that would cost 10 J is refused whole (its force too).
+  const Vector6 huge = (Vector6() << 1.0, 0.0, 0.0, 0.0, 0.0, 5000.0).finished();
+  const PassivityStep refused = layer.step(kDt, kZero, huge, kZero, twist, 0.0, 0.0);
+  EXPECT_TRUE(refused.slave_limited);
+  EXPECT_EQ(refused.slave_wrench, kZero);
+}
+
+TEST(Teleoperation, BadParametersNameTheParameterAndTheRule) {
+  using test_support::messageOf;
+  auto transparency = [](auto change) {
+    return messageOf([&] {
+      TransparencyParameters p;
+      change(p);
+      TransparencyLayer layer(p);
+    });
+  };
+  auto passivity = [](auto change) {
+    return messageOf([&] {
+      PassivityParameters p;
+      change(p);
+      PassivityLayer layer(p);
+    });
+  };
+  EXPECT_EQ(transparency([](auto& p) { p.stiffness = -1.0; }), "TransparencyLayer: stiffness = -1 N/m: must be > 0");
+  EXPECT_EQ(transparency([](auto& p) { p.rotational_stiffness = -2.0; }),
+            "TransparencyLayer: rotational_stiffness = -2 N·m/rad: must be >= 0");
+  EXPECT_EQ(transparency([](auto& p) { p.rotational_damping = -0.5; }),
+            "TransparencyLayer: rotational_damping = -0.5 N·m·s/rad: must be >= 0");
+  EXPECT_EQ(transparency([](auto& p) { p.rotation_error_high = 0.01; }),
+            "TransparencyLayer: rotation_error_high = 0.01 rad: must be > rotation_error_low = 0.05 rad");
+  EXPECT_EQ(transparency([](auto& p) { p.rest_high = 0.001; }),
+            "TransparencyLayer: rest_high = 0.001 m: must be > rest_low = 0.005 m");
+  const std::string rule = " (0 < minimum < request < available < maximum, minimum < initial <= maximum)";
+  EXPECT_EQ(passivity([](auto& p) { p.slave.request = 12.0; }),
+            "PassivityLayer: slave_available = 10 J: must be > slave_request = 12 J" + rule);
+  EXPECT_EQ(passivity([](auto& p) { p.master.minimum = 0.0; }), "PassivityLayer: master_minimum = 0 J: must be > 0" + rule);
+  EXPECT_EQ(passivity([](auto& p) { p.master.request = 0.5; }),
+            "PassivityLayer: master_request = 0.5 J: must be > master_minimum = 1 J" + rule);
+  EXPECT_EQ(passivity([](auto& p) { p.slave.maximum = 9.0; }),
+            "PassivityLayer: slave_maximum = 9 J: must be > slave_available = 10 J" + rule);
+  EXPECT_EQ(passivity([](auto& p) { p.slave.initial = 25.0; }),
+            "PassivityLayer: slave_initial = 25 J: must be in (slave_minimum, slave_maximum] = (1, 20] J" + rule);
+  EXPECT_EQ(passivity([](auto& p) { p.transfer_power = 0.0; }),
+            "PassivityLayer: transfer_power = 0 W: must be > 0 (P̄, the rate of the exchange between the tanks)");
+  EXPECT_EQ(passivity([](auto& p) { p.transfer_power = -3.0; }),
+            "PassivityLayer: transfer_power = -3 W: must be > 0 (P̄, the rate of the exchange between the tanks)");
 }
 
 TEST(Teleoperation, TheTotalEnergyBalanceHolds) {

@@ -419,6 +419,32 @@ TEST(VariableAdmittance, WithConstantParametersTheDiscreteBalanceHoldsEveryStep)
   EXPECT_GT(a.audit().dissipated, 0.0);
 }
 
+TEST(VariableAdmittance, TheDissipatedPowerIsTheDampingsShareOfTheStepsDissipation) {
+  VariableAdmittance a(baseline());
+  KDL::Frame pose;
+  KDL::Twist twist;
+  EXPECT_EQ(a.dissipatedPower(), 0.0);
+  const Matrix6 damping = baseline().damping;
+  double damped = 0.0;  // J
+  for (int i = 0; i < 5000; ++i) {
+    const double before = a.audit().dissipated, t = i * kDt;
+    // A hand's push: 5 N and 0.5 N·m swinging at 2 Hz.
+    a.step(KDL::Frame::Identity(), KDL::Twist::Zero(),
+           KDL::Wrench(KDL::Vector(5.0 * std::sin(12.6 * t), 0, 5.0 * std::cos(12.6 * t)),
+                       KDL::Vector(0.5 * std::sin(12.6 * t), 0, 0)),
+           kDt, pose, twist);
+    const Vector6& rate = a.errorRate();
+    ASSERT_NEAR(a.dissipatedPower(), rate.dot(damping * rate), 1e-12);  // ẋ̃ᵀ D ẋ̃, W
+    // The step's δ is the damping's energy plus backward Euler's own (numerical) dissipation.
+    ASSERT_LE(a.dissipatedPower() * kDt, a.audit().dissipated - before + 1e-15) << "step " << i;
+    damped += a.dissipatedPower() * kDt;
+  }
+  EXPECT_GT(damped, 0.9 * a.audit().dissipated);  // at 2 Hz, the numerical share is small
+  KDL::Frame reference;
+  a.resync(pose, KDL::Wrench::Zero(), reference);
+  EXPECT_EQ(a.dissipatedPower(), 0.0);  // at rest after a resync
+}
+
 TEST(VariableAdmittance, BadParametersAreRefusedWithTheirName) {
   AdmittanceParameters p = baseline();
   p.damping(3, 3) = -1.0;

@@ -71,6 +71,7 @@ std::uint32_t HapticMaster::step(double dt) noexcept {
   }
   if (rendered_.Norm() > model_.continuous_force) flags |= kOverContinuous;
   const double mass = model_.hand_mass + model_.device_mass;
+  double friction_power = 0.0;
   for (int i = 0; i < 3; ++i) {
     const double friction = model_.backdrive_friction * std::tanh(velocity_(i) / model_.friction_velocity_band);
     const double spring = model_.hand_stiffness * (target_(i) - position_(i));
@@ -85,8 +86,10 @@ std::uint32_t HapticMaster::step(double dt) noexcept {
     }
     position_(i) = p;
     velocity_(i) = v;
+    friction_power += friction * v;
     measured_(i) = quantise(p, model_.position_resolution);
   }
+  dissipated_power_ = std::max(friction_power, 0.0);
   return flags;
 }
 

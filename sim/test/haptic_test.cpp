@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cobra/test_support/counting_new.hpp"
@@ -23,6 +24,24 @@ TEST(HapticMaster, HandSettlesOnTheTargetWithinTheFrictionBand) {
   // Static balance: the hand spring can hold at most the backdrive friction, 0.26 N / 400 N/m.
   EXPECT_LE((master.position() - KDL::Vector(0.03, -0.02, 0.01)).Norm(), 0.26 / 400.0 + 1e-9);
   EXPECT_LT(master.velocity().Norm(), 1e-3);
+}
+
+TEST(HapticMaster, ReportsThePowerItsBackdriveFrictionDissipates) {
+  HapticMaster master(HapticMasterModel{});
+  EXPECT_EQ(master.dissipatedPower(), 0.0);
+  double energy = 0.0, largest = 0.0;  // J, W
+  for (int i = 0; i < 2000; ++i) {
+    // The hand sweeps along x and back at up to 0.1 m/s: far above the friction band (1 mm/s).
+    master.setHandTarget(KDL::Vector(0.03 * std::sin(i * 1e-3 * 3.0), 0.0, 0.0));
+    master.step(1e-3);
+    EXPECT_GE(master.dissipatedPower(), 0.0);
+    // Coulomb friction f = 0.26 N tanh(v / 1 mm/s) against v: at most 0.26 N · |v|.
+    EXPECT_LE(master.dissipatedPower(), 0.26 * master.velocity().Norm() + 1e-12);
+    energy += master.dissipatedPower() * 1e-3;
+    largest = std::max(largest, master.dissipatedPower());
+  }
+  EXPECT_GT(largest, 0.26 * 0.05);  // the sweep reaches more than 5 cm/s
+  EXPECT_GT(energy, 0.26 * 0.05);   // more than 5 cm of travel against 0.26 N
 }
 
 TEST(HapticMaster, RenderedForceSaturatesAtTheOmnisMaximum) {

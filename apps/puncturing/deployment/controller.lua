@@ -155,6 +155,10 @@ return function(c)
       { output = n("Admittance") .. ".admTwist", input = n("Passivity") .. ".slaveTwist" },
       { output = n("Passivity") .. ".masterForce", input = n("Omni") .. ".desWrench" },
       { output = n("Passivity") .. ".slaveForce", input = n("Admittance") .. ".extWrench" },
+      -- The tanks fill with what the robots dissipate (eq. 4.19): the Omni's backdrive friction,
+      -- the admittance's damping (W).
+      { output = n("Omni") .. ".dissipatedPower", input = n("Passivity") .. ".masterDissipation" },
+      { output = n("Admittance") .. ".dissipatedPower", input = n("Passivity") .. ".slaveDissipation" },
     },
   })
   configureComponents(always)

@@ -26,6 +26,7 @@ local devices = {
                           { peer_name = "LeftOmni", component_type = "SimulatedOmniPhantom" } },
            right = "RightOmni.measCartPose", left = "LeftOmni.measCartPose",
            right_twist = "RightOmni.measTwist", left_twist = "LeftOmni.measTwist",
+           right_dissipation = "RightOmni.dissipatedPower", left_dissipation = "LeftOmni.dissipatedPower",
            right_feedback = "RightOmni.desWrench", left_feedback = "LeftOmni.desWrench" },
 }
 local device = assert(devices[teleop_device], "teleop_device must be leap or omni, not " .. tostring(teleop_device))
@@ -132,6 +133,11 @@ local coupling_stiffness = link.stiffness or (lag > 0 and math.min(1000, 30 / la
 for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   t.stiffness = coupling_stiffness
   t.damping = 20
+  -- N·m/rad, N·m·s/rad: the tool's orientation follows the device's through the admittance's
+  -- rotation (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s). Nothing of
+  -- it comes back over the link: neither device renders a torque.
+  t.rotational_stiffness = 20
+  t.rotational_damping = 0.5
 end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
 for i, l in ipairs({ RightLink, LeftLink }) do
@@ -263,7 +269,14 @@ local function coupling(side, arm)
     { output = arm .. ".admTwist", input = side .. "Passivity.slaveTwist" },
     { output = side .. "Passivity.slaveForce", input = arm .. ".extWrench" },
     { output = side .. "Passivity.masterForce", input = side .. "Link.slaveWrench" },
+    -- The tanks fill with what the robots dissipate (eq. 4.19): the slave's admittance damping
+    -- here, the Omni's backdrive friction (the Leap has none); a device's dissipation is reported
+    -- beside the link (a figure for the tank, not a sample of the coupling).
+    { output = arm .. ".dissipatedPower", input = side .. "Passivity.slaveDissipation" },
   }
+  if device[lower .. "_dissipation"] then
+    c[#c + 1] = { output = device[lower .. "_dissipation"], input = side .. "Passivity.masterDissipation" }
+  end
   if device[lower .. "_twist"] then c[#c + 1] = { output = device[lower .. "_twist"], input = side .. "Link.masterTwist" } end
   if device[lower .. "_feedback"] then
     c[#c + 1] = { output = side .. "Link.linkedSlaveWrench", input = device[lower .. "_feedback"] }

@@ -128,9 +128,10 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
                               row[s.column("RightPassivity.slaveTankEnergy")]});
   }
   // The device's motion (mapped onto the tool by the clutch) from just before the hand moved to
-  // just before the hand-back, against the Endo Stitch's measured motion.
+  // just before it turns back (2.9 s into the teleoperation: moved, turned, settled), against the
+  // Endo Stitch's measured motion.
   const auto& start = rowAt(s, moved - 0.02);
-  const auto& end = rowAt(s, done - 0.02);
+  const auto& end = rowAt(s, active + 2.9);
   const KDL::Vector device_motion =
       position(s, end, "RightClutch.desPose") - position(s, start, "RightClutch.desPose");
   const KDL::Vector tool_motion =
@@ -159,6 +160,7 @@ void expectCoupled(const Figures& f, double follow, double felt) {
   EXPECT_GT(f.lowest_tank, 1.0);        // J: above the tanks' minimum ε
   EXPECT_LT(f.switch_step, 1e-3);       // m
   EXPECT_LT(f.switch_turn, M_PI / 180.0);
+  EXPECT_LT(f.orientation_error, M_PI / 180.0);  // the device's 10 degree turn, followed within 1
 }
 
 TEST(SuturingTeleoperation, TheOmniFeelsTheThreadsPullAndTheEndoStitchFollowsIt) {

@@ -8,10 +8,14 @@
 namespace cobra::components {
 namespace {
 
-control::Vector3 position(const KDL::Frame& f) { return {f.p.x(), f.p.y(), f.p.z()}; }
-control::Vector3 velocity(const KDL::Twist& t) { return {t.vel.x(), t.vel.y(), t.vel.z()}; }
-KDL::Wrench force(const control::Vector3& f) { return {KDL::Vector(f.x(), f.y(), f.z()), KDL::Vector::Zero()}; }
-control::Vector3 force(const KDL::Wrench& w) { return {w.force.x(), w.force.y(), w.force.z()}; }
+control::Vector6 twist(const KDL::Twist& t) {
+  return (control::Vector6() << t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z()).finished();
+}
+KDL::Wrench wrench(const control::Vector6& w) { return {KDL::Vector(w(0), w(1), w(2)), KDL::Vector(w(3), w(4), w(5))}; }
+control::Vector6 wrench(const KDL::Wrench& w) {
+  return (control::Vector6() << w.force.x(), w.force.y(), w.force.z(), w.torque.x(), w.torque.y(), w.torque.z())
+      .finished();
+}
 
 core::Property<double> level(const char* tank, const char* which, double value, const char* doc) {
   return core::Property<double>(std::string(tank) + "_" + which, value, "J", doc);
@@ -23,7 +27,9 @@ TransparencyLayerComponent::TransparencyLayerComponent(std::string name)
     : Component(std::move(name), core::Role::Calculation,
                 "Transparency layer (thesis §4.5.4): the coupling forces master and slave should get") {
   for (core::PropertyBase* p : std::initializer_list<core::PropertyBase*>{
-           &stiffness_, &damping_, &compensation_time_, &error_low_, &error_high_, &rest_low_, &rest_high_})
+           &stiffness_, &damping_, &rotational_stiffness_, &rotational_damping_, &compensation_time_, &error_low_,
+           &error_high_, &rest_low_, &rest_high_, &rotation_error_low_, &rotation_error_high_, &rotation_rest_low_,
+           &rotation_rest_high_})
     addProperty(*p);
   for (core::PortBase* p : std::initializer_list<core::PortBase*>{&master_pose_, &master_twist_, &slave_pose_,
                                                                   &slave_twist_, &master_force_, &slave_force_})
@@ -36,8 +42,10 @@ double TransparencyLayerComponent::seconds() const { return std::chrono::duratio
 
 bool TransparencyLayerComponent::configureHook() {
   try {
-    layer_.emplace(control::TransparencyParameters{stiffness_(), damping_(), compensation_time_(), error_low_(),
-                                                   error_high_(), rest_low_(), rest_high_()});
+    layer_.emplace(control::TransparencyParameters{
+        stiffness_(), damping_(), rotational_stiffness_(), rotational_damping_(), compensation_time_(), error_low_(),
+        error_high_(), rest_low_(), rest_high_(), rotation_error_low_(), rotation_error_high_(), rotation_rest_low_(),
+        rotation_rest_high_()});
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
   }
@@ -47,7 +55,7 @@ bool TransparencyLayerComponent::configureHook() {
 void TransparencyLayerComponent::engage() {
   (void)master_pose_.read(master_);
   (void)slave_pose_.read(slave_);
-  layer_->engage(seconds(), position(master_), position(slave_));
+  layer_->engage(seconds(), master_, slave_);
 }
 
 void TransparencyLayerComponent::updateHook() {
@@ -55,11 +63,10 @@ void TransparencyLayerComponent::updateHook() {
   (void)slave_pose_.read(slave_);
   (void)master_twist_.read(master_velocity_);
   (void)slave_twist_.read(slave_velocity_);
-  control::Vector3 fm, fs;
-  layer_->compute(seconds(), position(master_), velocity(master_velocity_), position(slave_), velocity(slave_velocity_),
-                  fm, fs);
-  master_force_.write(force(fm));
-  slave_force_.write(force(fs));
+  control::Vector6 fm, fs;
+  layer_->compute(seconds(), master_, twist(master_velocity_), slave_, twist(slave_velocity_), fm, fs);
+  master_force_.write(wrench(fm));
+  slave_force_.write(wrench(fs));
 }
 
 PassivityLayerComponent::PassivityLayerComponent(std::string name)
@@ -101,15 +108,15 @@ void PassivityLayerComponent::updateHook() {
   (void)master_dissipation_.read(master_power_);
   (void)slave_dissipation_.read(slave_power_);
   const double dt = std::chrono::duration<double>(activity().period()).count();
-  const control::PassivityStep out = layer_->step(dt, force(master_wanted_), force(slave_wanted_),
-                                                  velocity(master_velocity_), velocity(slave_velocity_), master_power_,
+  const control::PassivityStep out = layer_->step(dt, wrench(master_wanted_), wrench(slave_wanted_),
+                                                  twist(master_velocity_), twist(slave_velocity_), master_power_,
                                                   slave_power_);
   if (out.master_limited && !master_limited_) emitEvent("e_master_limited");
   if (out.slave_limited && !slave_limited_) emitEvent("e_slave_limited");
   master_limited_ = out.master_limited;
   slave_limited_ = out.slave_limited;
-  master_force_.write(force(out.master_force));
-  slave_force_.write(force(out.slave_force));
+  master_force_.write(wrench(out.master_wrench));
+  slave_force_.write(wrench(out.slave_wrench));
   master_energy_.write(layer_->masterEnergy());
   slave_energy_.write(layer_->slaveEnergy());
 }

@@ -49,6 +49,7 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
   addPort(adm_pose_);
   addPort(adm_twist_);
   addPort(tank_energy_);
+  addPort(dissipated_power_);
 }
 
 VariableAdmittanceController::~VariableAdmittanceController() = default;
@@ -163,6 +164,7 @@ void VariableAdmittanceController::updateHook() {
     adm_pose_.write(held);
     adm_twist_.write(KDL::Twist::Zero());
     tank_energy_.write(controller_->tankEnergy());
+    dissipated_power_.write(0.0);
     if (!resynced_before) emitEvent("e_resynced");  // once while held step after step
     resynced_ = true;
     return;
@@ -180,6 +182,7 @@ void VariableAdmittanceController::updateHook() {
       emitEvent("e_wrench_lost");
     }
     adm_twist_.write(KDL::Twist::Zero());
+    dissipated_power_.write(0.0);
     return;  // admPose keeps its last sample: the robot holds where it is
   }
   if (stepped_ && referenceJumped(dt)) {
@@ -199,6 +202,7 @@ void VariableAdmittanceController::updateHook() {
   adm_pose_.write(pose);
   adm_twist_.write(twist);
   tank_energy_.write(controller_->tankEnergy());
+  dissipated_power_.write(controller_->dissipatedPower());
 }
 
 }  // namespace cobra::components

@@ -5,7 +5,6 @@
 
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/control/package.hpp"
-#include "cobra/components/control/teleoperation_components.hpp"
 #include "cobra/components/control/variable_admittance_component.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
@@ -241,41 +240,6 @@ TEST(ControlComponents, BadMatricesAreRefusedAtConfigureWithTheirName) {
   b.setProperty("max_reference_speed", 0.0);
   EXPECT_CONTAINS(b.configure().message, "properties max_reference_speed (0.000000 m/s) and "
                                          "max_reference_angular_speed (3.000000 rad/s) must be > 0");
-}
-
-TEST(ControlComponents, TeleoperationLayersCoupleOnlyAfterEngageAndReportTheirTanks) {
-  TransparencyLayerComponent transparency("Transparency");
-  PassivityLayerComponent passivity("Passivity");
-  core::LockstepClock clock;
-  clock.add(transparency, 1ms);
-  clock.add(passivity, 1ms);
-  core::OutputPort<KDL::Frame> master{"master", "", "m"}, slave{"slave", "", "m"};
-  core::InputPort<KDL::Wrench> master_force{"mf", "", "N"};
-  core::InputPort<double> slave_tank{"st", "", "J"};
-  core::connectPorts(master, transparency.port("masterPose"));
-  core::connectPorts(slave, transparency.port("slavePose"));
-  core::connectPorts(transparency.port("masterForceDesired"), passivity.port("masterForceDesired"));
-  core::connectPorts(transparency.port("slaveForceDesired"), passivity.port("slaveForceDesired"));
-  core::connectPorts(passivity.port("masterForce"), master_force);
-  core::connectPorts(passivity.port("slaveTankEnergy"), slave_tank);
-  for (core::Component* c : {static_cast<core::Component*>(&transparency), static_cast<core::Component*>(&passivity)}) {
-    ASSERT_TRUE(c->configure());
-    ASSERT_TRUE(c->start());
-  }
-  master.write(KDL::Frame(KDL::Vector(0.05, 0, 0)));
-  slave.write(KDL::Frame::Identity());
-  clock.advance(2ms);
-  KDL::Wrench f;
-  ASSERT_NE(master_force.read(f), core::FlowStatus::NoData);
-  EXPECT_EQ(f.force.Norm(), 0.0);  // not engaged
-  transparency.call<void>("engage");
-  clock.advance(1000ms);  // half of t_c: the rest length has shrunk, the master is pulled
-  ASSERT_NE(master_force.read(f), core::FlowStatus::NoData);
-  EXPECT_LT(f.force.x(), -0.5);
-  double energy = 0.0;
-  ASSERT_NE(slave_tank.read(energy), core::FlowStatus::NoData);
-  EXPECT_DOUBLE_EQ(energy, 10.0);  // nothing moved: nothing paid
-  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { clock.advance(100ms); }), 0);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ SimulatedOmniPhantom::SimulatedOmniPhantom(std::string name)
   addPort(meas_cart_pose_);
   addPort(meas_twist_);
   addPort(status_buttons_);
+  addPort(dissipated_power_);
 }
 
 bool SimulatedOmniPhantom::configureHook() {
@@ -73,6 +74,7 @@ void SimulatedOmniPhantom::updateHook() {
   meas_twist_.write(
       KDL::Twist(offset.M * device_->velocity(), offset.M * angularVelocity(before, stylus_.pose().M, dt)));
   status_buttons_.write(buttons_);
+  dissipated_power_.write(device_->dissipatedPower());
 }
 
 }  // namespace cobra::components

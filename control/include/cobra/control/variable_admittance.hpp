@@ -122,6 +122,9 @@ class VariableAdmittance {
   const Vector6& error() const noexcept { return x_; }
   const Vector6& errorRate() const noexcept { return v_; }
   double tankEnergy() const noexcept { return tank_; }
+  /// Power the damping D dissipated in the last step, ẋ̃ᵀ D ẋ̃ at its end (W, >= 0; 0 after reset
+  /// and resync): the robot's D_s that feeds a teleoperation tank (eq. 4.19).
+  double dissipatedPower() const noexcept { return dissipated_power_; }
   const EnergyAudit& audit() const noexcept { return audit_; }
 
  private:
@@ -162,6 +165,7 @@ class VariableAdmittance {
   Vector6 x_ = Vector6::Zero();
   Vector6 v_ = Vector6::Zero();
   double tank_ = 0.0;
+  double dissipated_power_ = 0.0;  // W
   EnergyAudit audit_;
 };
 

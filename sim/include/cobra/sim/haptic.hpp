@@ -60,10 +60,15 @@ class HapticMaster {
   const KDL::Vector& velocity() const noexcept { return velocity_; }  ///< m/s
   const KDL::Vector& measured() const noexcept { return measured_; }  ///< m, quantised reading
   const KDL::Vector& renderedForce() const noexcept { return rendered_; }  ///< N, after saturation
+  /// Power the device's backdrive friction dissipated over the last step, Σ f_i v_i (W, >= 0: a
+  /// velocity that reversed within the step counts 0): the master's own dissipation D_m of a
+  /// teleoperation tank (eq. 4.19). The hand's damping is the surgeon's, not counted.
+  double dissipatedPower() const noexcept { return dissipated_power_; }
 
  private:
   HapticMasterModel model_;
   KDL::Vector target_, commanded_, position_, velocity_, measured_, rendered_;
+  double dissipated_power_ = 0.0;  // W
 };
 
 }  // namespace cobra::sim

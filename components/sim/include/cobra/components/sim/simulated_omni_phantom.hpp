@@ -27,7 +27,9 @@ namespace cobra::components {
 /// he turns it; `handButtons` (int; simulation only): the buttons the surgeon holds.
 /// Outputs each update: `measCartPose` (KDL::Frame, m, frame O, position quantised at the device's
 /// 0.055 mm), `measTwist` (KDL::Twist, m/s and rad/s, frame O orientation), `statusButtons`
-/// (int bitmask: bit 0 = the first (dark grey) stylus button, bit 1 = the second (light grey)).
+/// (int bitmask: bit 0 = the first (dark grey) stylus button, bit 1 = the second (light grey)),
+/// `dissipatedPower` (double, W: what the device's backdrive friction dissipated over the step,
+/// the master's D_m for the teleoperation's PassivityLayer.masterDissipation).
 /// Properties: `origin_pose_offset` (Frame, m), `initial_position` (Vector, m, frame D),
 /// `hand_motion` (Frame, m, frame D; simulation only: the scripted hand's displacement from
 /// initial_position and the stylus's orientation in D, for a fault script to set while
@@ -60,6 +62,7 @@ class SimulatedOmniPhantom : public core::Component {
   core::OutputPort<KDL::Frame> meas_cart_pose_{"measCartPose", "measured stylus pose", "m"};
   core::OutputPort<KDL::Twist> meas_twist_{"measTwist", "measured stylus twist", "m/s, rad/s"};
   core::OutputPort<int> status_buttons_{"statusButtons", "button bitmask: bit 0 first, bit 1 second button", "1"};
+  core::OutputPort<double> dissipated_power_{"dissipatedPower", "power the device's friction dissipated", "W"};
 
   std::optional<sim::HapticMaster> device_;
   std::int64_t last_update_ns_ = -1;
