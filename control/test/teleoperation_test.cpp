@@ -254,6 +254,20 @@ TEST(Teleoperation, LayersAllocateNothing) {
   Scenario s;
   double t = 0.0;
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { s.run(0.5, t); }), 0);
+  // The SE(3) path: rotation error, rest rotation, 6-D power port.
+  TransparencyLayer layer{rotational()};
+  PassivityLayer passivity{PassivityParameters{}};
+  const KDL::Frame slave(KDL::Rotation::RotY(0.2), KDL::Vector(0.1, 0, 0));
+  layer.engage(0.0, KDL::Frame(KDL::Rotation::RotZ(0.3), KDL::Vector::Zero()), slave);
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] {
+              for (int i = 0; i < 3000; ++i) {
+                Vector6 fm, fs;
+                const KDL::Frame master(KDL::Rotation::RotZ(0.3 - 1e-4 * i), KDL::Vector(1e-5 * i, 0, 0));
+                layer.compute(i * kDt, master, angular(Vector3(0, 0, -0.1)), slave, kZero, fm, fs);
+                passivity.step(kDt, fm, fs, angular(Vector3(0, 0, -0.1)), kZero, 0.0, 0.0);
+              }
+            }),
+            0);
 }
 
 }  // namespace
