@@ -273,7 +273,10 @@ AdmittanceStatus VariableAdmittance::step(const KDL::Frame& reference, const KDL
   audit_.injected_by_w += w.dot(dx);
   x_ = x_next;
   v_ = v_next;
-  dissipated_power_ = v_.dot(times(parameters_.damping, v_, diagonal_));
+  // What leaves the controller as dissipation (W): the share of δ its own tank does not store
+  // (all of it while the tank is full, σ = 0, or without a tank). Routing all of ẋ̃ᵀDẋ̃ to a
+  // teleoperation tank too would count the energy the admittance's tank already stored twice.
+  dissipated_power_ = (parameters_.use_tank ? 1.0 - sigma : 1.0) * std::max(delta, 0.0) / dt;
   tank_ = tank_next;
   audit_.stored = energy_after;
   audit_.tank = tank_;

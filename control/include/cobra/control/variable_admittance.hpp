@@ -122,8 +122,10 @@ class VariableAdmittance {
   const Vector6& error() const noexcept { return x_; }
   const Vector6& errorRate() const noexcept { return v_; }
   double tankEnergy() const noexcept { return tank_; }
-  /// Power the damping D dissipated in the last step, ẋ̃ᵀ D ẋ̃ at its end (W, >= 0; 0 after reset
-  /// and resync): the robot's D_s that feeds a teleoperation tank (eq. 4.19).
+  /// Power the last step dissipated that the admittance's own tank did not store (W, >= 0; 0 after
+  /// reset and resync): δ/dt while the tank is full (σ = 0) or unused, else 0. It is the robot's
+  /// D_s that feeds a teleoperation tank (eq. 4.19): the energy goes to one tank only, so the
+  /// two tanks together never claim the same dissipated energy twice.
   double dissipatedPower() const noexcept { return dissipated_power_; }
   const EnergyAudit& audit() const noexcept { return audit_; }
 
