@@ -47,9 +47,12 @@ function layout(palette, project, component) {
   return { inputs, outputs, height: HEADER + Math.max(inputs.length, outputs.length, 1) * ROW + 8 };
 }
 
-/** The height of a component's block in px (its type's ports from the palette). */
-export function blockHeight(palette, component) {
-  return layout(palette, { connections: [], deployments: [] }, component).height;
+/**
+ * The height of a component's block in px: its type's ports from the palette and, given the
+ * project, the ports its connections name that the palette's instance lacks (drawn too).
+ */
+export function blockHeight(palette, component, project = { connections: [], deployments: [] }) {
+  return layout(palette, project, component).height;
 }
 
 /** Where a port's handle is, in canvas px, or null when the component or port is unknown. */
@@ -159,7 +162,7 @@ export function createCanvas(svg, view, on) {
     svg.replaceChildren();
     // Room for every block and as much again to grow into.
     const right = Math.max(0, ...state.project.components.map((c) => c.x + BLOCK_WIDTH));
-    const bottom = Math.max(0, ...state.project.components.map((c) => c.y + blockHeight(state.palette, c)));
+    const bottom = Math.max(0, ...state.project.components.map((c) => c.y + blockHeight(state.palette, c, state.project)));
     svg.setAttribute('width', Math.max(2400, right + 600));
     svg.setAttribute('height', Math.max(1600, bottom + 600));
     const wires = el('g', { class: 'wires' }, svg);
