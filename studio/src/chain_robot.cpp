@@ -76,8 +76,8 @@ kinematics::SerialChainModel kinematicsChain(const core::ComponentRegistry& regi
 }
 
 std::vector<planning::ObjectDescription> chainShapes(const std::string& robot, const kinematics::SerialChainModel& chain) {
-  // Drawn sizes, not the robot's: 3.5 % of its reach (a Puma 260: 22 mm), the housings 1.5 times thicker.
-  const double radius = std::clamp(0.035 * chain.reachBound(), 0.005, 0.06), housing = 1.5 * radius;
+  // Drawn sizes, not the robot's: 2.5 % of its reach, the housings 1.4 times thicker.
+  const double radius = std::clamp(0.025 * chain.reachBound(), 0.005, 0.05), housing = 1.4 * radius;
   std::vector<planning::ObjectDescription> shapes;
   const auto add = [&](planning::ObjectDescription o) {
     if (o.shape.dimensions[1] >= kShortestLeg) shapes.push_back(std::move(o));
