@@ -14,8 +14,11 @@ export function emptyProject() {
   return { packages: [], components: [], peers: [], connections: [], deployments: [], configurations: [], configure: [], start: [], apply: [] };
 }
 
-/** Where blocks without a position go (px): the first column's left, the gap between columns and between blocks. */
-export const LAYOUT = { left: 40, top: 40, columnGap: 90, rowGap: 30 };
+/**
+ * Where blocks without a position go (px): the first column's left, the gap between columns and
+ * between blocks, and the columns of a band (deeper layers wrap into the next band below).
+ */
+export const LAYOUT = { left: 40, top: 40, columnGap: 90, rowGap: 30, columns: 6 };
 
 /**
  * Each component's layer: 0 for one that reads from no other, else one more than the deepest
@@ -58,8 +61,9 @@ export function layersOf(project) {
  * The project as the page keeps it: every list present, deployment components as names (an entry
  * given as an object is reduced to its name), every component with a position. Those without one
  * (a project opened without a layout sidecar) are laid out in layers (layersOf: a column per
- * layer, BLOCK_WIDTH + columnGap apart) below the placed ones, each column's blocks stacked
- * `rowGap` apart by their heights, so no two blocks overlap. `heightOf(component, project)`: a
+ * layer, BLOCK_WIDTH + columnGap apart, at most LAYOUT.columns side by side, deeper ones in bands
+ * below) below the placed ones, each column's blocks stacked `rowGap` apart by their heights, so
+ * no two blocks overlap. `heightOf(component, project)`: a
  * block's height in px, `width`: its width.
  */
 export function normalizeProject(input, heightOf = () => 160, width = 210) {
@@ -71,16 +75,24 @@ export function normalizeProject(input, heightOf = () => 160, width = 210) {
   }
   for (const c of project.configurations) c.values ??= {};
   const placed = (c) => Number.isFinite(c.x) && Number.isFinite(c.y);
-  const top = Math.max(LAYOUT.top, ...project.components.filter(placed).map((c) => c.y + heightOf(c, project) + LAYOUT.rowGap));
+  let top = Math.max(LAYOUT.top, ...project.components.filter(placed).map((c) => c.y + heightOf(c, project) + LAYOUT.rowGap));
   const layers = layersOf(project);
-  const bottoms = new Map(); // per layer: the y of its next block
-  for (const c of project.components) {
-    c.properties ??= {};
-    if (placed(c)) continue;
-    const layer = layers.get(c.name);
-    c.x = LAYOUT.left + layer * (width + LAYOUT.columnGap);
-    c.y = bottoms.get(layer) ?? top;
-    bottoms.set(layer, c.y + heightOf(c, project) + LAYOUT.rowGap);
+  const unplaced = project.components.filter((c) => !placed(c));
+  for (const c of project.components) c.properties ??= {};
+  // Layers beyond `columns` wrap into bands below, each band as tall as its tallest column.
+  const deepest = Math.max(-1, ...unplaced.map((c) => layers.get(c.name)));
+  for (let band = 0; band * LAYOUT.columns <= deepest; band += 1) {
+    let bottom = top;
+    for (let column = 0; column < LAYOUT.columns; column += 1) {
+      let y = top;
+      for (const c of unplaced.filter((k) => layers.get(k.name) === band * LAYOUT.columns + column)) {
+        c.x = LAYOUT.left + column * (width + LAYOUT.columnGap);
+        c.y = y;
+        y += heightOf(c, project) + LAYOUT.rowGap;
+      }
+      bottom = Math.max(bottom, y);
+    }
+    top = bottom + LAYOUT.rowGap;
   }
   return project;
 }

@@ -4,7 +4,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   BASE_TAB, addComponent, addConfiguration, createHistory, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType, generatorTypes,
-  inTab, instanceNameError, kindOf, layersOf, normalizeProject, overlappingBlocks, orderEnds, paletteGroups, parseActivity, parsePolicy, peersOf,
+  inTab, instanceNameError, kindOf, LAYOUT, layersOf, normalizeProject, overlappingBlocks, orderEnds, paletteGroups, parseActivity, parsePolicy, peersOf,
   removeComponent, removeConnection, setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from '../src/editor_model.js';
 import { loadPalette } from './editor_fixture_server.mjs';
@@ -147,6 +147,15 @@ test('blocks without a position are laid out in layers along the connections, no
   assert.deepEqual(project.components.map((c) => [c.name, c.x, c.y]),
     [['S', 40, 40], ['G', 330, 40], ['D', 620, 40], ['Q', 40, 370], ['E', 910, 40]]);
   assert.deepEqual(overlappingBlocks(project, (c) => (c.name === 'S' ? 300 : 100), 200), []);
+  // Layers deeper than LAYOUT.columns wrap into a band below the tallest column of the first.
+  const chain = Array.from({ length: LAYOUT.columns + 2 }, (_, i) => `C${i}`);
+  const wrapped = normalizeProject({
+    components: chain.map((name) => ({ name, type: 'Gain' })),
+    connections: chain.slice(1).map((name, i) => ({ output: `${chain[i]}.out`, input: `${name}.in` })),
+  }, (c) => (c.name === 'C1' ? 300 : 100), 200);
+  assert.deepEqual(wrapped.components.map((c) => [c.x, c.y]),
+    [...chain.slice(0, LAYOUT.columns).map((_, i) => [40 + i * 290, 40]), [40, 40 + 300 + 30 + 30], [330, 400]]);
+  assert.deepEqual(overlappingBlocks(wrapped, (c) => (c.name === 'C1' ? 300 : 100), 200), []);
   // Blocks placed over each other are found (and new ones go below every placed one).
   const placed = normalizeProject({ components: [{ name: 'A', x: 0, y: 0 }, { name: 'B', x: 100, y: 50 }, { name: 'C' }] }, () => 100, 200);
   assert.deepEqual(overlappingBlocks(placed, () => 100, 200), [['A', 'B']]);
