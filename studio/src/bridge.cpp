@@ -250,6 +250,9 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
         throw std::runtime_error(at + ": " + use + ": the scene of " + run.spec.studio.scene + " has no robot '" + r.name +
                                  "'; its robots: " + names);
       }
+      if (!r.kinematics.empty())
+        throw std::runtime_error(at + ": " + use + ": kinematics = \"" + r.kinematics + "\" draws a robot no scene models; " +
+                                 r.name + " is a robot of the scene of " + run.spec.studio.scene + " (drawn from its model)");
       view.model = models.at(r.name);
       view.base = scene->robots[index].base_in_world;
       view.joints = view.model->jointCount();

@@ -145,5 +145,19 @@ TEST(ChainRobot, AKinematicsEntryThatIsNoSolverIsOneLineWithTheAppsFileAndLine) 
   EXPECT_EQ(kinematicsError("Puma").rfind(at + "component 'Puma' has no property 'robot'", 0), 0u) << kinematicsError("Puma");
 }
 
+TEST(ChainRobot, ARobotOfTheSceneIsDrawnFromItsModelNotFromAKinematicsEntry) {
+  VisualizerBridge bridge;
+  run::RunOptions options;
+  options.app = kSource + "/apps/puncturing";
+  options.time_limit = 0.1;  // s
+  options.extra_lua = "run.studio.robots.ur5 = { 'UR5.measJointPosition', kinematics = 'NeedleFrames' }";
+  options.observer = &bridge;
+  const std::string message = test_support::messageOf([&] { run::runApp(options); });
+  EXPECT_NE(message.find(": run.studio.robots.ur5: kinematics = \"NeedleFrames\" draws a robot no scene models; ur5 is a "
+                         "robot of the scene of NeedlePlanner (drawn from its model)"),
+            std::string::npos)
+      << message;
+}
+
 }  // namespace
 }  // namespace cobra::studio
