@@ -25,6 +25,13 @@ function text(parent, x, y, content, cls, anchor = 'start') {
   return t;
 }
 
+/** Squeezes `label` into `room` px when it is longer (its text stays whole: tests and titles read it). */
+function fit(label, room) {
+  if (label.getComputedTextLength() <= room) return;
+  label.setAttribute('textLength', room);
+  label.setAttribute('lengthAdjust', 'spacingAndGlyphs');
+}
+
 /**
  * The rows of a block: inputs and outputs each from the top, in the palette's order, then the
  * ports the project's connections name that the palette's fresh instance does not have (made when
@@ -121,6 +128,9 @@ export function createCanvas(svg, view, on) {
     el('title', {}, handle).textContent =
       `${full}: ${port.direction === 'in' ? (port.event ? 'event input' : 'input') : 'output'} ${port.type}${port.unit ? ` [${port.unit}]` : ''}${port.doc ? ` — ${port.doc}` : ''}`;
     label.setAttribute('pointer-events', 'none');
+    // A name longer than half the block is squeezed into its half, so an input's and an output's
+    // on one row never run into each other.
+    fit(label, BLOCK_WIDTH / 2 - 12);
     handle.addEventListener('click', (e) => {
       e.stopPropagation();
       on.port({ name: full, direction: port.direction });
@@ -140,8 +150,8 @@ export function createCanvas(svg, view, on) {
     }, layer);
     el('rect', { width: BLOCK_WIDTH, height, rx: 5, class: 'body' }, g);
     el('rect', { width: BLOCK_WIDTH, height: HEADER - 4, rx: 5, class: 'header' }, g);
-    text(g, 8, 15, component.name, 'block-name');
-    text(g, 8, 29, `${component.type} · ${role}`, 'block-type');
+    fit(text(g, 8, 15, component.name, 'block-name'), BLOCK_WIDTH - 16);
+    fit(text(g, 8, 29, `${component.type} · ${role}`, 'block-type'), BLOCK_WIDTH - 16);
     inputs.forEach((p, i) => drawPort(g, state, component, p, 0, HEADER + i * ROW + ROW / 2));
     outputs.forEach((p, i) => drawPort(g, state, component, p, BLOCK_WIDTH, HEADER + i * ROW + ROW / 2));
     g.addEventListener('pointerdown', (e) => {

@@ -169,6 +169,21 @@ test('apps/puncturing without a layout: no two blocks overlap on any tab, the fi
     }
   }
   await page.locator('#tabs .tab.deployment[data-tab=""]').click();
+  // Within each block no input's name runs into an output's (a planner's allowedContactDistance).
+  const crossing = await page.locator('#canvas g.block').evaluateAll((gs) => gs.flatMap((g) => {
+    const labels = (side) => [...g.querySelectorAll(`.port.${side} .port-label`)].map((l) => ({ name: l.textContent, box: l.getBoundingClientRect() }));
+    const ins = labels('in');
+    return labels('out').flatMap((o) => ins.filter((i) => i.box.right > o.box.left && o.box.right > i.box.left
+      && i.box.bottom > o.box.top && o.box.bottom > i.box.top).map((i) => `${g.dataset.name}: ${i.name} / ${o.name}`));
+  }));
+  assert.deepEqual(crossing, []);
+  // And every text of a block stays inside it (a long type name in the header).
+  const outside = await page.locator('#canvas g.block').evaluateAll((gs) => gs.flatMap((g) => {
+    const body = g.querySelector('rect.body').getBoundingClientRect();
+    return [...g.querySelectorAll('.block-name, .block-type')].filter((l) => l.getBoundingClientRect().right > body.right + 0.5)
+      .map((l) => `${g.dataset.name}: ${l.textContent}`);
+  }));
+  assert.deepEqual(outside, []);
   // The file view: its title, then the text; no text of its own besides (a stray "null" before).
   const view = await page.locator('#file-view').evaluate((section) => ({
     title: section.querySelector('h2').textContent,
