@@ -63,9 +63,10 @@ run = {
       max_velocity = { 2, 2, 2, 2, 2, 2 }, chart = "puma", counts_while = { deployments = { "compliant_control" } } },
   },
   -- cobra studio (studio/README.md): no planning scene (no Puma 260 robot model in the planner): the
-  -- joints, the tool's commanded and measured points, and the contact surface of the world that
-  -- has one (deployment/world.lua: the MuJoCo world's cylinder, base frame).
-  studio = { robots = { puma = { "Puma.measJointPosition", joints = 6 } },
+  -- arm drawn from the kinematics solver's DH chain (Kin: base frame, the Puma 260's DH table, the
+  -- tool frame) at the measured joints, the tool's commanded and measured points, and the contact
+  -- surface of the world that has one (deployment/world.lua: the MuJoCo world's cylinder, base frame).
+  studio = { robots = { puma = { "Puma.measJointPosition", kinematics = "Kin" } },
              extras = { nominal = { points = "TrajGen.desCartPose_1" }, tool = { points = "Kin.cartPose" },
                         surface = world.surface and { cylinders = world.surface } } },
 }

@@ -146,10 +146,12 @@ RemoteEntries dropRemoteEntries(RunSpec& spec, const RemoteHostOf& remote_host) 
       studio.robots,
       [&](const StudioSpec::Robot& r) {
         const std::string host = remote_host(componentOfPath(r.joints));
+        // A robot drawn from a kinematics solver's chain goes with the solver when its joints are here.
+        if (!r.kinematics.empty()) return host.empty() ? remote_host(r.kinematics) : host;
         return host.empty() && r.count == 0 ? scene_host : host;
       },
       [&](const StudioSpec::Robot& r) {
-        const bool for_scene = remote_host(componentOfPath(r.joints)).empty();
+        const bool for_scene = remote_host(componentOfPath(r.joints)).empty() && r.kinematics.empty();
         return quoted("run.studio.robots", r.name) + (for_scene ? " (its model is the scene's)" : "");
       });
   d.filter(

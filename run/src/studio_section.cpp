@@ -97,15 +97,16 @@ void readStudio(const Reader& s, StudioSpec& studio) {
     studio.scene = s.string("scene", false);
     studio.scene_where = {s.where().file, studio.scene.empty() ? s.line() : s.lineOf(studio.scene)};
     s.entries("robots", [&](const std::string& name, const Reader& entry) {
-      const char* what = "the robot's measured joints, KDL.JntArray; or { \"Comp.port\", joints = N }";
+      const char* what = "the robot's measured joints, KDL.JntArray; or { \"Comp.port\", joints = N } or { \"Comp.port\", kinematics = \"Comp\" }";
       if (!lua_istable(L, -1)) {
-        studio.robots.push_back({name, portName(entry, what), 0, entry.where()});
+        studio.robots.push_back({name, portName(entry, what), 0, {}, entry.where()});
         return;
       }
       lua_rawgeti(L, -1, 1);
       const std::string port = portName(entry, what);
       lua_pop(L, 1);
-      studio.robots.push_back({name, port, wholeCount(entry, "joints", 0.0, kMaxJoints, "joints"), entry.where()});
+      studio.robots.push_back({name, port, wholeCount(entry, "joints", 0.0, kMaxJoints, "joints"), entry.string("kinematics", false),
+                               entry.where()});
     });
     s.entries("extras", [&](const std::string& name, const Reader& entry) { studio.extras.push_back(readExtra(name, entry)); });
     for (const std::string& signal : s.strings("signals")) studio.signals.emplace_back(signal, Where{s.where().file, s.lineOf(signal)});

@@ -58,7 +58,7 @@ RunSpec twoRobots() {
   spec.clearance.contacts = {{"probe", "BPlanner.contact"}, {"tissue", "APlanner.contact"}};
   spec.studio.scene = "BPlanner";
   // "a" has its joints here but its model from the scene, another host's: it goes with it.
-  spec.studio.robots = {{"a", "ARobot.joints", 0, {}}, {"b", "BRobot.joints", 0, {}}, {"a6", "ARobot.joints", 6, {}}};
+  spec.studio.robots = {{"a", "ARobot.joints", 0, {}, {}}, {"b", "BRobot.joints", 0, {}, {}}, {"a6", "ARobot.joints", 6, {}, {}}};
   spec.studio.signals = {{"ARobot.force", {}}, {"BRobot.force", {}}};
   ActionSpec call_b;
   call_b.kind = ActionSpec::Kind::Call;

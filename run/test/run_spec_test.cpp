@@ -215,7 +215,8 @@ run = {
   studio = {
     scene = "Planner",
     robots = { zeta = "Z.q",
-               alpha = { "A.q", joints = 6 } },
+               alpha = { "A.q", joints = 6 },
+               puma = { "P.q", kinematics = "Kin" } },
     extras = { ball = { sphere = "B.pose", radius = "B.r" },
                image = { plane = "U.pose", size = { 0.06, 0.1 } } },
     signals = { "C.out", "D.pose.z" },
@@ -227,11 +228,15 @@ run = {
   const StudioSpec& s = spec.studio;
   ASSERT_TRUE(s.declared);
   EXPECT_EQ(s.scene, "Planner");
-  ASSERT_EQ(s.robots.size(), 2u);
+  ASSERT_EQ(s.robots.size(), 3u);
   EXPECT_EQ(s.robots[0].name, "zeta");  // the order of the lines, not of Lua's table
   EXPECT_EQ(s.robots[0].where.line, 6);
   EXPECT_EQ(s.robots[1].joints, "A.q");
   EXPECT_EQ(s.robots[1].count, 6);
+  EXPECT_EQ(s.robots[1].kinematics, "");
+  EXPECT_EQ(s.robots[2].joints, "P.q");
+  EXPECT_EQ(s.robots[2].kinematics, "Kin");  // drawn from that solver's chain
+  EXPECT_EQ(s.robots[2].where.line, 8);
   ASSERT_EQ(s.extras.size(), 2u);
   EXPECT_EQ(s.extras[0].kind, "sphere");
   EXPECT_EQ(s.extras[0].radius, "B.r");
@@ -246,7 +251,7 @@ run = {
   EXPECT_EQ(s.inputs[0].event, "e_needle_mounted");  // default: the first argument
   EXPECT_EQ(s.inputs[1].label, "Recover now");
   EXPECT_EQ(s.inputs[1].event, "e_recover_now");
-  EXPECT_EQ(s.inputs[1].where.line, 12);
+  EXPECT_EQ(s.inputs[1].where.line, 13);
   EXPECT_FALSE(read("run = { charts = { { name = 'a', supervisor = 'S', done = 'd' } } }").studio.declared);
 }
 

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -22,6 +23,7 @@
 #include "cobra/run/run_spec.hpp"
 #include "cobra/statechart/description.hpp"
 #include "cobra/studio/json.hpp"
+#include "chain_robot.hpp"
 #include "extras.hpp"
 
 namespace cobra::studio {
@@ -43,7 +45,10 @@ struct Snapshot {
 struct RobotView {
   std::string name;
   std::size_t joints = 0, links = 0, tools = 0;
-  std::shared_ptr<planning::RobotModel> model;  // nullptr: no scene (joints only)
+  std::shared_ptr<planning::RobotModel> model;  // nullptr: no scene (the chain, or joints only)
+  // Without a scene: the DH chain of the kinematics solver the studio table names (link frames in
+  // the world: its base frame included); nullptr: joints only.
+  std::unique_ptr<kinematics::SerialChainModel> chain;
   KDL::Frame base = KDL::Frame::Identity();
   std::unique_ptr<run::Tap<KDL::JntArray>> tap;
   KDL::JntArray q;                  // the last sample (sized once: reading it allocates nothing)
@@ -116,6 +121,7 @@ struct VisualizerBridge::Impl {
   std::vector<std::string> charts, scopes, input_names;
   std::vector<std::pair<std::string, std::filesystem::path>> meshes;  // scene object -> its mesh file
   std::vector<RobotView> robots;
+  std::vector<planning::ObjectDescription> chain_shapes;  // the shapes drawn on the chains' links (model objects)
   Extras extras;  // what is drawn beside the robots (extras.hpp)
   std::vector<SignalView> signals;
   std::size_t width = 0;
@@ -135,6 +141,18 @@ struct VisualizerBridge::Impl {
   std::string end_message;
   bool ended = false;
 
+  // A late page's history (studio/PROTOCOL.md, "History"): the frames and event messages the
+  // server's thread took last, kept by that thread (never the run's), at most the options'
+  // history_frames and history_events; the oldest go first.
+  std::mutex history_mutex;
+  std::deque<std::string> history_frames, history_events;
+  template <class Text>
+  void remember(std::deque<std::string>& kept, std::size_t bound, Text&& message) {
+    const std::lock_guard<std::mutex> lock(history_mutex);
+    kept.emplace_back(std::forward<Text>(message));
+    if (kept.size() > bound) kept.pop_front();
+  }
+
   core::SpscRing<EventItem> event_queue{1024};
   core::SpscRing<std::size_t> input_queue{64};
   std::atomic<long> published{0}, recorded_count{0}, events_dropped{0};
@@ -144,6 +162,8 @@ struct VisualizerBridge::Impl {
   void attachExtras(const run::RunContext& run, const planning::SceneDescription* scene);
   void attachSignals(const run::RunContext& run);
   void buildModel(const planning::SceneDescription* scene, const run::RunContext& run);
+  // One entry of the model's objects (a mesh's file is served: `meshes`).
+  void appendObject(std::string& out, const planning::ObjectDescription& o, bool& first);
   // The model's charts: each one's scope, states and the transitions leaving them (run.charts order).
   std::vector<std::string> chart_json;
   void fill(Snapshot& s, const run::StepView& now);
@@ -230,6 +250,9 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
         throw std::runtime_error(at + ": " + use + ": the scene of " + run.spec.studio.scene + " has no robot '" + r.name +
                                  "'; its robots: " + names);
       }
+      if (!r.kinematics.empty())
+        throw std::runtime_error(at + ": " + use + ": kinematics = \"" + r.kinematics + "\" draws a robot no scene models; " +
+                                 r.name + " is a robot of the scene of " + run.spec.studio.scene + " (drawn from its model)");
       view.model = models.at(r.name);
       view.base = scene->robots[index].base_in_world;
       view.joints = view.model->jointCount();
@@ -237,11 +260,23 @@ void VisualizerBridge::Impl::attachRobots(const run::RunContext& run, const plan
       view.tools = view.model->toolCount();
       view.frames.assign(view.links, KDL::Frame::Identity());
     }
-    if (scene == nullptr) {
+    if (scene == nullptr && !r.kinematics.empty()) {
+      view.chain = std::make_unique<kinematics::SerialChainModel>(kinematicsChain(run.registry, r.kinematics, at, use));
+      view.joints = view.chain->jointCount();
+      if (r.count != 0 && static_cast<std::size_t>(r.count) != view.joints)
+        throw std::runtime_error(at + ": " + use + ": joints = " + std::to_string(r.count) + " but the chain of " +
+                                 r.kinematics + " has " + std::to_string(view.joints) + " joints");
+      view.links = view.chain->linkCount();
+      view.tools = 1;
+      view.frames.assign(view.links, KDL::Frame::Identity());
+      const std::vector<planning::ObjectDescription> shapes = chainShapes(r.name, *view.chain);
+      chain_shapes.insert(chain_shapes.end(), shapes.begin(), shapes.end());
+    } else if (scene == nullptr) {
       view.joints = static_cast<std::size_t>(r.count);
       if (view.joints == 0)
         throw std::runtime_error(at + ": " + use + ": without run.studio.scene no robot model gives the joints; write " +
-                                 r.name + " = { \"" + r.joints + "\", joints = N }");
+                                 r.name + " = { \"" + r.joints + "\", joints = N } or { \"" + r.joints +
+                                 "\", kinematics = \"KinematicsSolver component\" }");
     }
     view.q.resize(static_cast<unsigned>(view.joints));
     view.frames_q.assign(view.joints, kNaN);
@@ -301,43 +336,10 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
     out += "],\"links\":" + std::to_string(r.links) + ",\"tools\":" + std::to_string(r.tools) + "}";
   }
   out += "],\"objects\":[";
-  if (scene != nullptr) {
-    bool first = true;
-    for (const planning::ObjectDescription& o : scene->objects) {
-      out += std::string(first ? "" : ",") + "{\"name\":" + json::quoted(o.name) + ",\"group\":" + json::quoted(o.group) +
-             ",\"robot\":" + json::quoted(o.attached_to.robot_name) + ",\"link\":" +
-             (o.attached_to.isWorld() ? std::string("-1") : std::to_string(o.attached_to.link_index)) +
-             ",\"shape\":{\"type\":\"" + planning::toString(o.shape.kind) + "\"";
-      first = false;
-      const auto& d = o.shape.dimensions;
-      switch (o.shape.kind) {
-        case planning::ShapeKind::Box: out += ",\"size\":["; break;
-        case planning::ShapeKind::Cylinder:
-        case planning::ShapeKind::Capsule: out += ",\"size\":["; break;
-        case planning::ShapeKind::Sphere: out += ",\"size\":["; break;
-        case planning::ShapeKind::Mesh:
-          out += ",\"file\":" + json::quoted("/api/mesh/" + o.name);
-          meshes.emplace_back(o.name, o.shape.mesh_path);
-          break;
-      }
-      const int n = o.shape.kind == planning::ShapeKind::Box ? 3 : (o.shape.kind == planning::ShapeKind::Sphere ? 1 : 2);
-      if (o.shape.kind != planning::ShapeKind::Mesh) {
-        for (int k = 0; k < n; ++k) {
-          if (k) out += ',';
-          json::appendNumber(out, d[static_cast<std::size_t>(k)]);
-        }
-        out += ']';
-      } else {
-        out += ",\"scale\":";
-        json::appendNumber(out, o.shape.mesh_scale);
-      }
-      double pose[7];
-      writePose(o.offset, pose);
-      out += "},\"pose\":";
-      appendPose(out, pose);
-      out += '}';
-    }
-  }
+  bool first = true;
+  if (scene != nullptr)
+    for (const planning::ObjectDescription& o : scene->objects) appendObject(out, o, first);
+  for (const planning::ObjectDescription& o : chain_shapes) appendObject(out, o, first);
   out += "],\"scopes\":[";
   for (std::size_t i = 0; i < scopes.size(); ++i) out += (i ? "," : "") + json::quoted(scopes[i]);
   out += "],\"failures\":[";  // run.failures: the events the console names as what led to a choice
@@ -357,9 +359,39 @@ void VisualizerBridge::Impl::buildModel(const planning::SceneDescription* scene,
   out += "]}";
 }
 
+void VisualizerBridge::Impl::appendObject(std::string& out, const planning::ObjectDescription& o, bool& first) {
+  out += std::string(first ? "" : ",") + "{\"name\":" + json::quoted(o.name) + ",\"group\":" + json::quoted(o.group) +
+         ",\"robot\":" + json::quoted(o.attached_to.robot_name) + ",\"link\":" +
+         (o.attached_to.isWorld() ? std::string("-1") : std::to_string(o.attached_to.link_index)) +
+         ",\"shape\":{\"type\":\"" + planning::toString(o.shape.kind) + "\"";
+  first = false;
+  if (o.shape.kind == planning::ShapeKind::Mesh) {
+    out += ",\"file\":" + json::quoted("/api/mesh/" + o.name) + ",\"scale\":";
+    meshes.emplace_back(o.name, o.shape.mesh_path);
+    json::appendNumber(out, o.shape.mesh_scale);
+  } else {
+    // Box: x, y, z lengths; cylinder and capsule: radius, length; sphere: radius (m).
+    const int n = o.shape.kind == planning::ShapeKind::Box ? 3 : (o.shape.kind == planning::ShapeKind::Sphere ? 1 : 2);
+    out += ",\"size\":[";
+    for (int k = 0; k < n; ++k) {
+      if (k) out += ',';
+      json::appendNumber(out, o.shape.dimensions[static_cast<std::size_t>(k)]);
+    }
+    out += ']';
+  }
+  double pose[7];
+  writePose(o.offset, pose);
+  out += "},\"pose\":";
+  appendPose(out, pose);
+  out += '}';
+}
+
 std::string VisualizerBridge::Impl::modelJson(const char* mode, double duration,
                                               const std::map<std::string, std::vector<std::string>>& states) const {
   std::string out = std::string("{\"protocol\":1,\"mode\":\"") + mode + "\"";
+  // Whether a person gives the surgeon's inputs (cobra run --interactive): the console offers the
+  // charts' choices only then (a replay never).
+  out += std::string(",\"interactive\":") + (options.interactive && std::string(mode) == "live" ? "true" : "false");
   if (duration >= 0.0) {
     out += ",\"duration\":";
     json::appendNumber(out, duration);
@@ -396,7 +428,8 @@ void VisualizerBridge::Impl::fill(Snapshot& s, const run::StepView& now) {
       std::copy(r.frames_world.begin(), r.frames_world.end(), links);
       continue;
     }
-    r.have_frames = r.model && r.model->linkFramesAt(std::span<const double>(r.q.data.data(), r.joints), r.frames);
+    const std::span<const double> joints(r.q.data.data(), r.joints);
+    r.have_frames = r.model ? r.model->linkFramesAt(joints, r.frames) : r.chain && r.chain->linkFrames(joints, r.frames);
     if (r.have_frames) {
       for (std::size_t l = 0; l < r.links; ++l) writePose(r.base * r.frames[l], links + 7 * l);
       std::copy(q, q + r.joints, r.frames_q.begin());
@@ -554,8 +587,13 @@ std::string VisualizerBridge::model(int& status) {
 }
 
 std::string VisualizerBridge::recording() {
-  const std::lock_guard<std::mutex> lock(impl_->shared_mutex);
-  return "{\"frames\":" + impl_->framesJson() + "}";
+  Impl& m = *impl_;
+  const std::lock_guard<std::mutex> lock(m.history_mutex);
+  std::string out = "{\"frames\":[";
+  for (std::size_t i = 0; i < m.history_frames.size(); ++i) (out += i ? "," : "") += m.history_frames[i];
+  out += "],\"events\":[";
+  for (std::size_t i = 0; i < m.history_events.size(); ++i) (out += i ? "," : "") += m.history_events[i];
+  return out + "]}";
 }
 
 bool VisualizerBridge::latestFrame(std::uint64_t& seq, std::string& message) {
@@ -567,6 +605,7 @@ bool VisualizerBridge::latestFrame(std::uint64_t& seq, std::string& message) {
   seq = s.seq;
   message.clear();
   m.appendFrame(message, s);
+  m.remember(m.history_frames, m.options.history_frames, message);
   return true;
 }
 
@@ -577,6 +616,7 @@ void VisualizerBridge::takeMessages(std::vector<std::string>& messages) {
     std::string out = "{\"type\":\"event\",\"t\":";
     json::appendNumber(out, item.t);
     out += ",\"source\":" + json::quoted(item.source.view()) + ",\"name\":" + json::quoted(item.name.view()) + "}";
+    m.remember(m.history_events, m.options.history_events, out);
     messages.push_back(std::move(out));
   }
   const std::lock_guard<std::mutex> lock(m.shared_mutex);

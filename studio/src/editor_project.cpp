@@ -147,12 +147,12 @@ std::string projectJson(const deploy::DeploymentDescription& d, const Layout& la
   std::string out = "{\"packages\":" + stringArray(d.packages) + ",\"components\":[";
   for (std::size_t i = 0; i < d.components.size(); ++i) {
     const deploy::ComponentSpec& c = d.components[i];
-    const auto at = layout.find(c.peer_name);
-    // Without a layout: a grid of 4 columns, 220 x 140 px.
-    const double x = at != layout.end() ? at->second.first : 40.0 + 220.0 * static_cast<double>(i % 4);
-    const double y = at != layout.end() ? at->second.second : 40.0 + 140.0 * static_cast<double>(i / 4);
-    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(c.peer_name) + ",\"type\":" + json::quoted(c.component_type) +
-           ",\"x\":" + number(x) + ",\"y\":" + number(y) + ",\"properties\":{";
+    out += std::string(i ? "," : "") + "{\"name\":" + json::quoted(c.peer_name) + ",\"type\":" + json::quoted(c.component_type);
+    // Without a position in the layout: none, the page lays the block out (it knows each block's
+    // height from its ports, so no two overlap).
+    if (const auto at = layout.find(c.peer_name); at != layout.end())
+      out += ",\"x\":" + number(at->second.first) + ",\"y\":" + number(at->second.second);
+    out += ",\"properties\":{";
     bool first = true;
     for (const deploy::PropertyValueDescription& p : d.properties) {
       if (p.component != c.peer_name) continue;

@@ -325,3 +325,89 @@ TEST(VisualizerBridge, SuturingWoundEdgesAreTwoLinesOfAVectorPortAndTheStepAlloc
 
 }  // namespace
 }  // namespace cobra::studio
+
+namespace cobra::studio {
+namespace {
+
+// Forwards to the bridge and, after each step, takes the newest frame and the events as the
+// server's thread does every 1/30 s (here on the run's thread: the bridge cannot tell).
+class ServerTick final : public run::RunObserver {
+ public:
+  explicit ServerTick(VisualizerBridge& bridge) : bridge_(bridge) {}
+  void attach(const run::RunContext& run) override { bridge_.attach(run); }
+  void step(const run::StepView& now) override {
+    bridge_.step(now);
+    std::string frame;
+    if (bridge_.latestFrame(seq_, frame)) frames.push_back(frame);
+    std::vector<std::string> messages;
+    bridge_.takeMessages(messages);
+    events.insert(events.end(), messages.begin(), messages.end());
+  }
+  void event(double t, const std::string& source, const std::string& name) override { bridge_.event(t, source, name); }
+  bool nextInput(std::size_t& index) override { return bridge_.nextInput(index); }
+  std::vector<std::string> finished(const run::RunResult& result) override { return bridge_.finished(result); }
+
+  std::vector<std::string> frames, events;  // what the server's thread took, in order
+
+ private:
+  VisualizerBridge& bridge_;
+  std::uint64_t seq_ = 0;
+};
+
+// GET /api/recording of a live run: {"frames":[...],"events":[...]} as the list of each's texts.
+std::vector<std::string> historyOf(const std::string& recording, const char* key) {
+  std::vector<std::string> out;
+  const json::Json whole = json::parse(recording);
+  for (const json::Json& item : whole.at(key)) out.push_back(item.dump());
+  return out;
+}
+
+std::vector<std::string> dumped(const std::vector<std::string>& texts) {
+  std::vector<std::string> out;
+  for (const std::string& t : texts) out.push_back(json::parse(t).dump());
+  return out;
+}
+
+TEST(VisualizerBridge, ALatePageGetsTheNewestFramesAndEventsTheServerTookBounded) {
+  for (const std::size_t bound : {std::size_t{9000}, std::size_t{10}}) {
+    BridgeOptions o;  // a live run without recording: the history is the server's thread's
+    o.history_frames = bound;
+    o.history_events = bound == 10 ? 3 : 4096;
+    VisualizerBridge bridge(o);
+    ServerTick server(bridge);
+    run::RunOptions options;
+    options.app = kApps + "threshold_studio.lua";
+    options.observer = &server;
+    ASSERT_TRUE(run::runApp(options).completed());
+    ASSERT_GT(server.frames.size(), 10u);
+    ASSERT_GT(server.events.size(), 3u);
+    const std::string recording = bridge.recording();
+    const auto newest = [](const std::vector<std::string>& all, std::size_t n) {
+      return dumped(std::vector<std::string>(all.end() - static_cast<long>(std::min(n, all.size())), all.end()));
+    };
+    EXPECT_EQ(historyOf(recording, "frames"), newest(server.frames, o.history_frames)) << "bound " << bound;
+    EXPECT_EQ(historyOf(recording, "events"), newest(server.events, o.history_events)) << "bound " << bound;
+  }
+}
+
+TEST(VisualizerBridge, TheModelSaysWhetherAPersonIsAskedLiveOnlyWhenTheRunIsInteractive) {
+  for (const bool interactive : {false, true}) {
+    BridgeOptions o;
+    o.interactive = interactive;
+    VisualizerBridge bridge(o);
+    run::RunOptions options;
+    options.app = kApps + "threshold_studio.lua";
+    options.observer = &bridge;
+    const std::filesystem::path report = std::filesystem::temp_directory_path() / "cobra_bridge_interactive";
+    options.report_folder = report;
+    ASSERT_TRUE(run::runApp(options).completed());
+    int status = 0;
+    EXPECT_EQ(json::parse(bridge.model(status))["interactive"], interactive);
+    // The replay asks no one, whatever the run was.
+    EXPECT_EQ(json::parse(readFile(report / "studio" / "recording.json"))["model"]["interactive"], false);
+    std::filesystem::remove_all(report);
+  }
+}
+
+}  // namespace
+}  // namespace cobra::studio

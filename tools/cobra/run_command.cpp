@@ -69,7 +69,7 @@ int runApplication(run::RunOptions options, bool quiet, const StudioCommandOptio
   run::entryFile(options.app);  // a missing entry file is the only line printed
   options.interrupt = &interrupted;
   studio::BridgeOptions bridge_options;
-  bridge_options.record = studio.live;
+  bridge_options.interactive = options.interactive;  // the console offers the charts' choices only then
   bridge_options.web_folder = studio::findWebFolder(studio.executable);
   studio::VisualizerBridge bridge(bridge_options);
   // The editor (GET /api/editor/running: this run described) comes with the live studio; its

@@ -5,7 +5,7 @@
 // Lua tables by the server (studio/PROTOCOL.md "The editor (v1)").
 import './editor.css';
 import { api } from './editor_api.js';
-import { blockHeight, createCanvas } from './editor_canvas.js';
+import { BLOCK_WIDTH, blockHeight, createCanvas } from './editor_canvas.js';
 import { setUpTypeDialog, showFile } from './editor_files.js';
 import {
   BASE_TAB, addComponent, createHistory, addConfiguration, addConnection, addDeployment, connectionsOf, emptyProject, instanceNameError,
@@ -320,7 +320,7 @@ function undo() {
 /** Shows an answer of /project, /open or /running: the project, or the file that did not load. */
 function loaded(answer, source) {
   // /running may answer the Project itself rather than { path, text, project }.
-  state.project = normalizeProject(answer.project ?? answer, (c) => blockHeight(state.palette, c));
+  state.project = normalizeProject(answer.project ?? answer, (c, project) => blockHeight(state.palette, c, project), BLOCK_WIDTH);
   state.path = answer.path ?? '';
   state.savable = true;
   history.clear();

@@ -25,6 +25,13 @@ function text(parent, x, y, content, cls, anchor = 'start') {
   return t;
 }
 
+/** Squeezes `label` into `room` px when it is longer (its text stays whole: tests and titles read it). */
+function fit(label, room) {
+  if (label.getComputedTextLength() <= room) return;
+  label.setAttribute('textLength', room);
+  label.setAttribute('lengthAdjust', 'spacingAndGlyphs');
+}
+
 /**
  * The rows of a block: inputs and outputs each from the top, in the palette's order, then the
  * ports the project's connections name that the palette's fresh instance does not have (made when
@@ -47,9 +54,12 @@ function layout(palette, project, component) {
   return { inputs, outputs, height: HEADER + Math.max(inputs.length, outputs.length, 1) * ROW + 8 };
 }
 
-/** The height of a component's block in px (its type's ports from the palette). */
-export function blockHeight(palette, component) {
-  return layout(palette, { connections: [], deployments: [] }, component).height;
+/**
+ * The height of a component's block in px: its type's ports from the palette and, given the
+ * project, the ports its connections name that the palette's instance lacks (drawn too).
+ */
+export function blockHeight(palette, component, project = { connections: [], deployments: [] }) {
+  return layout(palette, project, component).height;
 }
 
 /** Where a port's handle is, in canvas px, or null when the component or port is unknown. */
@@ -118,6 +128,9 @@ export function createCanvas(svg, view, on) {
     el('title', {}, handle).textContent =
       `${full}: ${port.direction === 'in' ? (port.event ? 'event input' : 'input') : 'output'} ${port.type}${port.unit ? ` [${port.unit}]` : ''}${port.doc ? ` — ${port.doc}` : ''}`;
     label.setAttribute('pointer-events', 'none');
+    // A name longer than half the block is squeezed into its half, so an input's and an output's
+    // on one row never run into each other.
+    fit(label, BLOCK_WIDTH / 2 - 12);
     handle.addEventListener('click', (e) => {
       e.stopPropagation();
       on.port({ name: full, direction: port.direction });
@@ -137,8 +150,8 @@ export function createCanvas(svg, view, on) {
     }, layer);
     el('rect', { width: BLOCK_WIDTH, height, rx: 5, class: 'body' }, g);
     el('rect', { width: BLOCK_WIDTH, height: HEADER - 4, rx: 5, class: 'header' }, g);
-    text(g, 8, 15, component.name, 'block-name');
-    text(g, 8, 29, `${component.type} · ${role}`, 'block-type');
+    fit(text(g, 8, 15, component.name, 'block-name'), BLOCK_WIDTH - 16);
+    fit(text(g, 8, 29, `${component.type} · ${role}`, 'block-type'), BLOCK_WIDTH - 16);
     inputs.forEach((p, i) => drawPort(g, state, component, p, 0, HEADER + i * ROW + ROW / 2));
     outputs.forEach((p, i) => drawPort(g, state, component, p, BLOCK_WIDTH, HEADER + i * ROW + ROW / 2));
     g.addEventListener('pointerdown', (e) => {
@@ -159,7 +172,7 @@ export function createCanvas(svg, view, on) {
     svg.replaceChildren();
     // Room for every block and as much again to grow into.
     const right = Math.max(0, ...state.project.components.map((c) => c.x + BLOCK_WIDTH));
-    const bottom = Math.max(0, ...state.project.components.map((c) => c.y + blockHeight(state.palette, c)));
+    const bottom = Math.max(0, ...state.project.components.map((c) => c.y + blockHeight(state.palette, c, state.project)));
     svg.setAttribute('width', Math.max(2400, right + 600));
     svg.setAttribute('height', Math.max(1600, bottom + 600));
     const wires = el('g', { class: 'wires' }, svg);

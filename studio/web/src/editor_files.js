@@ -10,13 +10,14 @@ export function showFile(section, { title, text, errorLine = null, error = null 
   if (text == null) return;
   const lines = text.split('\n');
   if (lines.at(-1) === '') lines.pop();
-  section.replaceChildren(
+  // replaceChildren would write a null as the text "null": only the parts there are.
+  section.replaceChildren(...[
     h('h2', {}, title),
     error ? h('p', { class: 'file-error', role: 'alert' }, error) : null,
     h('pre', { id: 'file-text', class: 'file-text' }, lines.map((line, i) => h('span', {
       class: `line${i + 1 === errorLine ? ' error-line' : ''}`, 'data-line': i + 1,
     }, h('span', { class: 'line-number' }, String(i + 1).padStart(4)), ` ${line}\n`))),
-  );
+  ].filter((part) => part !== null));
   section.querySelector('.error-line')?.scrollIntoView({ block: 'center' });
 }
 

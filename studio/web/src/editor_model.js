@@ -15,37 +15,98 @@ export function emptyProject() {
 }
 
 /**
- * The project as the page keeps it: every list present, deployment components as names (an entry
- * given as an object is reduced to its name), every component with a position (rows for those
- * without one, as a project opened without a layout sidecar has; `heightOf(component)`: its
- * block's height in px).
+ * Where blocks without a position go (px): the first column's left, the gap between columns and
+ * between blocks, and the columns of a band (deeper layers wrap into the next band below).
  */
-export function normalizeProject(input, heightOf = () => 160) {
+export const LAYOUT = { left: 40, top: 40, columnGap: 90, rowGap: 30, columns: 6 };
+
+/**
+ * Each component's layer: 0 for one that reads from no other, else one more than the deepest
+ * component it reads from (the connections of the base deployment and of every named one), so
+ * data flows left to right. A cycle is cut at the connection that closes it in a walk along the
+ * data from the components that read from none (then the rest), in the project's order.
+ */
+export function layersOf(project) {
+  const names = project.components.map((c) => c.name);
+  const writesTo = new Map(names.map((n) => [n, []]));
+  for (const c of [...project.connections, ...project.deployments.flatMap((d) => d.connections ?? [])]) {
+    const from = String(c.output).split('.')[0];
+    const to = String(c.input).split('.')[0];
+    if (writesTo.has(from) && writesTo.has(to) && from !== to && !writesTo.get(from).includes(to)) writesTo.get(from).push(to);
+  }
+  // The walk keeps the connections that do not lead back to a component on its path.
+  const readsFrom = new Map(names.map((n) => [n, []]));
+  const state = new Map(); // 1: on the walk's path, 2: done
+  const walk = (name) => {
+    state.set(name, 1);
+    for (const to of writesTo.get(name)) {
+      if (state.get(to) === 1) continue;
+      readsFrom.get(to).push(name);
+      if (!state.has(to)) walk(to);
+    }
+    state.set(name, 2);
+  };
+  const sources = names.filter((n) => ![...writesTo.values()].some((list) => list.includes(n)));
+  for (const n of [...sources, ...names]) if (!state.has(n)) walk(n);
+  const layer = new Map();
+  const depth = (name) => {
+    if (!layer.has(name)) layer.set(name, Math.max(-1, ...readsFrom.get(name).map(depth)) + 1);
+    return layer.get(name);
+  };
+  for (const n of names) depth(n);
+  return layer;
+}
+
+/**
+ * The project as the page keeps it: every list present, deployment components as names (an entry
+ * given as an object is reduced to its name), every component with a position. Those without one
+ * (a project opened without a layout sidecar) are laid out in layers (layersOf: a column per
+ * layer, BLOCK_WIDTH + columnGap apart, at most LAYOUT.columns side by side, deeper ones in bands
+ * below) below the placed ones, each column's blocks stacked `rowGap` apart by their heights, so
+ * no two blocks overlap. `heightOf(component, project)`: a
+ * block's height in px, `width`: its width.
+ */
+export function normalizeProject(input, heightOf = () => 160, width = 210) {
   const project = { ...emptyProject(), ...structuredClone(input ?? {}) };
   for (const key of Object.keys(emptyProject())) if (!Array.isArray(project[key])) project[key] = [];
-  // Those without a position go in rows of four below the placed ones, each row as tall as its tallest block.
-  let top = Math.max(40, ...project.components.filter((c) => Number.isFinite(c.y)).map((c) => c.y + heightOf(c) + 40));
-  let column = 0;
-  let rowHeight = 0;
-  for (const c of project.components) {
-    c.properties ??= {};
-    if (Number.isFinite(c.x) && Number.isFinite(c.y)) continue;
-    c.x = 40 + column * 260;
-    c.y = top;
-    rowHeight = Math.max(rowHeight, heightOf(c));
-    column += 1;
-    if (column === 4) {
-      top += rowHeight + 40;
-      column = 0;
-      rowHeight = 0;
-    }
-  }
   for (const d of project.deployments) {
     d.components = (d.components ?? []).map((c) => (typeof c === 'string' ? c : c.name));
     d.connections ??= [];
   }
   for (const c of project.configurations) c.values ??= {};
+  const placed = (c) => Number.isFinite(c.x) && Number.isFinite(c.y);
+  let top = Math.max(LAYOUT.top, ...project.components.filter(placed).map((c) => c.y + heightOf(c, project) + LAYOUT.rowGap));
+  const layers = layersOf(project);
+  const unplaced = project.components.filter((c) => !placed(c));
+  for (const c of project.components) c.properties ??= {};
+  // Layers beyond `columns` wrap into bands below, each band as tall as its tallest column.
+  const deepest = Math.max(-1, ...unplaced.map((c) => layers.get(c.name)));
+  for (let band = 0; band * LAYOUT.columns <= deepest; band += 1) {
+    let bottom = top;
+    for (let column = 0; column < LAYOUT.columns; column += 1) {
+      let y = top;
+      for (const c of unplaced.filter((k) => layers.get(k.name) === band * LAYOUT.columns + column)) {
+        c.x = LAYOUT.left + column * (width + LAYOUT.columnGap);
+        c.y = y;
+        y += heightOf(c, project) + LAYOUT.rowGap;
+      }
+      bottom = Math.max(bottom, y);
+    }
+    top = bottom + LAYOUT.rowGap;
+  }
   return project;
+}
+
+/** The pairs of components whose blocks (x, y, width, heightOf) intersect: [] when none overlap. */
+export function overlappingBlocks(project, heightOf, width = 210) {
+  const boxes = project.components.map((c) => ({ name: c.name, x: c.x, y: c.y, right: c.x + width, bottom: c.y + heightOf(c, project) }));
+  const pairs = [];
+  for (const [i, a] of boxes.entries()) {
+    for (const b of boxes.slice(i + 1)) {
+      if (a.x < b.right && b.x < a.right && a.y < b.bottom && b.y < a.bottom) pairs.push([a.name, b.name]);
+    }
+  }
+  return pairs;
 }
 
 /** True for a Lua identifier (what a component instance is named by in a deployment file). */

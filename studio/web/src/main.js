@@ -3,7 +3,7 @@
 // timeline (replay). Exposes window.cobraStudio for tests.
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { loadSession, connectLive, pageToken, postInput } from './source.js';
+import { loadSession, loadHistory, connectLive, pageToken, postInput } from './source.js';
 import { StudioView } from './scene.js';
 import { Panel } from './panel.js';
 import { Plots } from './plots.js';
@@ -140,21 +140,46 @@ function startLive(view, panel, plots, trails, state, model) {
       showError(err.message);
     }
   };
-  connectLive({
-    frame(msg) {
-      for (const [name, e] of Object.entries(entries)) {
-        if (msg.charts?.[name] === e.state) continue;
-        Object.assign(e, { state: msg.charts?.[name], before: e.at, at: msg.t });
-      }
-      if (newest === null) requestAnimationFrame(show);
-      newest = msg;
-      plots.addFrame(msg);
-      trails.addFrame(msg);
-    },
+  const frame = (msg) => {
+    for (const [name, e] of Object.entries(entries)) {
+      if (msg.charts?.[name] === e.state) continue;
+      Object.assign(e, { state: msg.charts?.[name], before: e.at, at: msg.t });
+    }
+    if (newest === null) requestAnimationFrame(show);
+    newest = msg;
+    plots.addFrame(msg);
+    trails.addFrame(msg);
+  };
+  const handlers = {
+    frame,
     event: (msg) => panel.addEvent(msg),
     end: (msg) => panel.addEvent(msg),
     error: (msg) => showError(`/ws: ${msg.error}`),
     closed: showError,
+  };
+  // A page that comes mid-run first takes the run's history (the events so far, the plots' and
+  // trails' frames): the socket opens at once and what it brings meanwhile waits, then only what
+  // the history does not hold is applied (frames after its last, events it lacks).
+  let waiting = [];
+  connectLive(Object.fromEntries(Object.entries(handlers).map(([type, handle]) => [type, (msg) => {
+    if (waiting) waiting.push([handle, msg]);
+    else handle(msg);
+  }])));
+  const replayWaiting = (history) => {
+    const lastT = history.frames.at(-1)?.t ?? -Infinity;
+    const seen = new Set(history.events.map((e) => JSON.stringify(e)));
+    for (const f of history.frames) frame(f);
+    for (const e of history.events) panel.addEvent(e);
+    for (const [handle, msg] of waiting.splice(0)) {
+      if (msg.type === 'frame' && msg.t <= lastT) continue;
+      if (msg.type === 'event' && seen.has(JSON.stringify(msg))) continue;
+      handle(msg);
+    }
+    waiting = null;
+  };
+  loadHistory().then(replayWaiting, (err) => {
+    showError(`${err.message}: the run's history is not shown`);
+    replayWaiting({ frames: [], events: [] });
   });
 }
 
@@ -196,6 +221,8 @@ async function main() {
       setCamera: (position, target) => view.setCamera(position, target),
       /** Replay: the recording's events (the log's source); live: []. */
       events: replay?.events ?? [],
+      /** The times [s] of the frames the plots hold (live: the history, then the stream). */
+      plotTimes: () => [...plots.times],
       /** Replay: how the run ended (the recording's end), else null. */
       end: replay?.end ?? null,
     };

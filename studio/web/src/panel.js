@@ -125,7 +125,10 @@ export class Panel {
     this.failureKey = failureKey;
     const box = this.doc.getElementById('choices');
     box.replaceChildren();
-    for (const [chart, inputs] of Object.entries(offers)) {
+    // Only a person is asked: a live run given --interactive (the model's `interactive`); in
+    // another run the application's own script answers the charts, and a replay asks no one.
+    const asked = this.model.mode === 'live' && this.model.interactive === true;
+    for (const [chart, inputs] of asked ? Object.entries(offers) : []) {
       const row = this.doc.createElement('div');
       row.className = 'choice-row';
       row.dataset.chart = chart;

@@ -96,6 +96,15 @@ export async function loadSession() {
 }
 
 /**
+ * A live run's history (GET api/recording): { frames, events }, the newest frames and events the
+ * server streamed before this page came (bounded: studio/PROTOCOL.md, "History").
+ */
+export async function loadHistory() {
+  const history = await getJson('api/recording');
+  return { frames: Array.isArray(history.frames) ? history.frames : [], events: Array.isArray(history.events) ? history.events : [] };
+}
+
+/**
  * The live connection: calls handlers.frame(msg), .event(msg), .end(msg), .error(msg) per server
  * message (by its type) and handlers.closed(reason) once when the socket closes before the run's
  * end. Inputs go by POST (postInput), whose answer carries the server's error text.

@@ -145,6 +145,63 @@ test('apps/puncturing opens with every component and connection cobra describe l
   for (const [output, input] of want.connections) assert.ok(drawn.has(`${output}->${input}`), `connection ${output} -> ${input} is not drawn`);
 });
 
+test('apps/puncturing without a layout: no two blocks overlap on any tab, the file view without stray text', { skip, timeout: 240000 }, async (t) => {
+  const app = join(COBRA_SOURCE_DIR, 'apps', 'puncturing');
+  assert.ok(!existsSync(join(app, 'puncturing.lua.layout.json')), 'the test needs the application without a layout sidecar');
+  const page = await editor(t, [app]);
+  await page.waitForFunction(() => window.cobraEditor.state.project.components.length > 0);
+  await settled(page);
+  const tabs = await page.locator('#tabs .tab.deployment').evaluateAll((bs) => bs.map((b) => b.dataset.tab));
+  for (const tab of tabs) {
+    await page.locator(`#tabs .tab.deployment[data-tab="${tab}"]`).click();
+    // Each block's rectangle as drawn (its body's box in the canvas), then every pair compared.
+    const boxes = await page.locator('#canvas g.block').evaluateAll((gs) => gs.map((g) => {
+      const box = g.querySelector('rect.body').getBBox();
+      const m = g.getCTM();
+      return { name: g.dataset.name, x: m.e + box.x, y: m.f + box.y, w: box.width, h: box.height };
+    }));
+    assert.ok(boxes.length > 20, `${boxes.length} blocks on tab '${tab}'`);
+    for (const [i, a] of boxes.entries()) {
+      for (const b of boxes.slice(i + 1)) {
+        const apart = a.x + a.w <= b.x || b.x + b.w <= a.x || a.y + a.h <= b.y || b.y + b.h <= a.y;
+        assert.ok(apart, `tab '${tab}': ${a.name} ${JSON.stringify(a)} overlaps ${b.name} ${JSON.stringify(b)}`);
+      }
+    }
+  }
+  await page.locator('#tabs .tab.deployment[data-tab=""]').click();
+  // Within each block no input's name runs into an output's (a planner's allowedContactDistance).
+  const crossing = await page.locator('#canvas g.block').evaluateAll((gs) => gs.flatMap((g) => {
+    const labels = (side) => [...g.querySelectorAll(`.port.${side} .port-label`)].map((l) => ({ name: l.textContent, box: l.getBoundingClientRect() }));
+    const ins = labels('in');
+    return labels('out').flatMap((o) => ins.filter((i) => i.box.right > o.box.left && o.box.right > i.box.left
+      && i.box.bottom > o.box.top && o.box.bottom > i.box.top).map((i) => `${g.dataset.name}: ${i.name} / ${o.name}`));
+  }));
+  assert.deepEqual(crossing, []);
+  // And every text of a block stays inside it (a long type name in the header).
+  const outside = await page.locator('#canvas g.block').evaluateAll((gs) => gs.flatMap((g) => {
+    const body = g.querySelector('rect.body').getBoundingClientRect();
+    return [...g.querySelectorAll('.block-name, .block-type')].filter((l) => l.getBoundingClientRect().right > body.right + 0.5)
+      .map((l) => `${g.dataset.name}: ${l.textContent}`);
+  }));
+  assert.deepEqual(outside, []);
+  // The file view: its title, then the text; no text of its own besides (a stray "null" before).
+  const view = await page.locator('#file-view').evaluate((section) => ({
+    title: section.querySelector('h2').textContent,
+    loose: [...section.childNodes].filter((n) => n.nodeType === Node.TEXT_NODE).map((n) => n.textContent),
+    children: [...section.children].map((c) => c.tagName),
+  }));
+  assert.equal(view.title, `${join(app, 'puncturing.lua')} (as opened)`);
+  assert.deepEqual(view.loose, []);
+  assert.deepEqual(view.children, ['H2', 'PRE']);
+  const shots = COBRA_EDITOR_SHOTS ?? mkdtempSync(join(tmpdir(), 'cobra-editor-shots-'));
+  mkdirSync(shots, { recursive: true });
+  // The whole canvas in one picture: a viewport as large as the drawn blocks.
+  const extent = await page.locator('#canvas').evaluate((svg) => [Number(svg.getAttribute('width')), Number(svg.getAttribute('height'))]);
+  await page.setViewportSize({ width: Math.min(extent[0] + 700, 4000), height: Math.min(extent[1] + 300, 3000) });
+  await page.screenshot({ path: join(shots, 'puncturing.png'), fullPage: true });
+  assert.ok(statSync(join(shots, 'puncturing.png')).size > 10000);
+});
+
 test('a file that does not parse opens read-only at its line and is never saved over', { skip, timeout: 120000 }, async (t) => {
   const folder = mkdtempSync(join(tmpdir(), 'cobra-editor-'));
   const file = join(folder, 'broken.lua');

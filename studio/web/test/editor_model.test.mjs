@@ -4,7 +4,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   BASE_TAB, addComponent, addConfiguration, createHistory, addConnection, addDeployment, connectionsOf, emptyProject, findPort, generatedType, generatorTypes,
-  inTab, instanceNameError, kindOf, normalizeProject, orderEnds, paletteGroups, parseActivity, parsePolicy, peersOf,
+  inTab, instanceNameError, kindOf, LAYOUT, layersOf, normalizeProject, overlappingBlocks, orderEnds, paletteGroups, parseActivity, parsePolicy, peersOf,
   removeComponent, removeConnection, setConfigurationValue, setInDeployment, setPeers, setProperty, suggestName, typeOf,
 } from '../src/editor_model.js';
 import { loadPalette } from './editor_fixture_server.mjs';
@@ -128,13 +128,38 @@ test('a project from the server is completed: lists, deployment members as names
   });
   assert.deepEqual(p.deployments[0], { name: 'd', components: ['A', 'B'], connections: [] });
   assert.deepEqual(p.configurations[0].values, {});
-  // B goes below A (placed, 160 px tall by default) with a 40 px gap.
-  assert.deepEqual([p.components[0].x, p.components[0].y, p.components[1].x, p.components[1].y], [5, 6, 40, 206]);
-  const rows = normalizeProject({ components: ['A', 'B', 'C', 'D', 'E'].map((name) => ({ name, type: 'Gain' })) },
-    (c) => (c.name === 'B' ? 300 : 100));
-  assert.deepEqual(rows.components.map((c) => [c.x, c.y]), [[40, 40], [300, 40], [560, 40], [820, 40], [40, 380]]);
+  // B goes below A (placed, 160 px tall by default) with a 30 px gap.
+  assert.deepEqual([p.components[0].x, p.components[0].y, p.components[1].x, p.components[1].y], [5, 6, 40, 196]);
   assert.deepEqual(p.peers, []);
   assert.deepEqual(normalizeProject(null), emptyProject());
+});
+
+test('blocks without a position are laid out in layers along the connections, none over another', () => {
+  // S -> G -> D, S -> D, D -> G (a cycle, cut where met), Q apart; E only in a deployment's connection.
+  const project = normalizeProject({
+    components: ['S', 'G', 'D', 'Q', 'E'].map((name) => ({ name, type: 'Gain' })),
+    connections: [{ output: 'S.out', input: 'G.in' }, { output: 'G.out', input: 'D.in' }, { output: 'S.out', input: 'D.in' },
+      { output: 'D.out', input: 'G.in' }],
+    deployments: [{ name: 'd', components: ['E'], connections: [{ output: 'D.out', input: 'E.in' }] }],
+  }, (c) => (c.name === 'S' ? 300 : 100), 200);
+  assert.deepEqual(Object.fromEntries(layersOf(project)), { S: 0, G: 1, D: 2, Q: 0, E: 3 });
+  // Columns 200 + 90 px apart; S (300 px tall) and Q share column 0, Q below S with a 30 px gap.
+  assert.deepEqual(project.components.map((c) => [c.name, c.x, c.y]),
+    [['S', 40, 40], ['G', 330, 40], ['D', 620, 40], ['Q', 40, 370], ['E', 910, 40]]);
+  assert.deepEqual(overlappingBlocks(project, (c) => (c.name === 'S' ? 300 : 100), 200), []);
+  // Layers deeper than LAYOUT.columns wrap into a band below the tallest column of the first.
+  const chain = Array.from({ length: LAYOUT.columns + 2 }, (_, i) => `C${i}`);
+  const wrapped = normalizeProject({
+    components: chain.map((name) => ({ name, type: 'Gain' })),
+    connections: chain.slice(1).map((name, i) => ({ output: `${chain[i]}.out`, input: `${name}.in` })),
+  }, (c) => (c.name === 'C1' ? 300 : 100), 200);
+  assert.deepEqual(wrapped.components.map((c) => [c.x, c.y]),
+    [...chain.slice(0, LAYOUT.columns).map((_, i) => [40 + i * 290, 40]), [40, 40 + 300 + 30 + 30], [330, 400]]);
+  assert.deepEqual(overlappingBlocks(wrapped, (c) => (c.name === 'C1' ? 300 : 100), 200), []);
+  // Blocks placed over each other are found (and new ones go below every placed one).
+  const placed = normalizeProject({ components: [{ name: 'A', x: 0, y: 0 }, { name: 'B', x: 100, y: 50 }, { name: 'C' }] }, () => 100, 200);
+  assert.deepEqual(overlappingBlocks(placed, () => 100, 200), [['A', 'B']]);
+  assert.deepEqual([placed.components[2].x, placed.components[2].y], [40, 180]);
 });
 
 test('the palette grouped by package and searched by every word; its data types; a generated entry', () => {

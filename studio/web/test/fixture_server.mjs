@@ -3,7 +3,8 @@
 // server, answers inputs and streams the recording's frames over /ws at 30 Hz.
 //   mode 'live':   /api/model is fixtures/model.json, /ws streams frames (looping); the input
 //                  'needle_mounted' switches the 'needle' chart to 'Mounted' and sends an event.
-//   mode 'replay': /api/model is the recording's model, /api/recording its frames and events.
+//   mode 'replay': /api/model is the recording's model, /api/recording its frames and events
+//                  (live modes: an empty history).
 //   mode 'error':  /api/model answers 500 { error }.
 //   mode 'drop':   like live, but the server closes every WebSocket after its first frame.
 //   mode 'wserror': like live, but the server also sends a WebSocket { type: 'error' } message.
@@ -76,7 +77,10 @@ export async function startFixtureServer(mode = 'live') {
       res.writeHead(200, { 'Content-Type': 'application/octet-stream' });
       return res.end(readFileSync(file));
     }
-    if (url.pathname === '/api/recording') return json(res, 200, { frames: recording.frames, events: recording.events });
+    if (url.pathname === '/api/recording') {
+      // A live server's history (what it streamed before the page came): none here, the stream starts with the page.
+      return json(res, 200, mode === 'replay' ? { frames: recording.frames, events: recording.events } : { frames: [], events: [] });
+    }
     if (url.pathname === '/api/input' && req.method === 'POST') {
       let body = '';
       req.on('data', (chunk) => { body += chunk; });

@@ -23,12 +23,21 @@
 namespace cobra::studio {
 
 struct BridgeOptions {
-  /// Keep frames and events for /api/recording and, when the run has a report folder, write
-  /// DIR/studio (recording.json, recording.js, the web page). A run with a report folder always records.
+  /// Keep every frame and event for the replay (DIR/studio: recording.json, recording.js, the web
+  /// page, written when the run has a report folder). A run with a report folder always records;
+  /// a live page's history does not need it (history_frames).
   bool record = false;
   /// Frames per simulated second published and recorded; a live run also publishes at this rate
   /// of wall-clock time when its simulation runs slower [Hz].
   double frame_rate = 30.0;
+  /// cobra run --interactive: a person gives the surgeon's inputs, so the console offers the
+  /// charts' choices ("interactive" in the model; a replay's is false).
+  bool interactive = false;
+  /// A late page's history (GET /api/recording of a live run): at most this many of the newest
+  /// frames and event messages the server's thread took, kept by that thread (the run's thread
+  /// does nothing for it). 9000 frames: 5 min at 30 frames per s.
+  std::size_t history_frames = 9000;
+  std::size_t history_events = 4096;
   /// The built web front end (index.html, assets/) copied into DIR/studio; "" = none (only the
   /// recording files are written).
   std::filesystem::path web_folder;
