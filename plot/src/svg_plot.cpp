@@ -99,9 +99,13 @@ void drawMarker(std::ostringstream& svg, int shape, double x, double y, const ch
       << "' stroke='" << (cross ? colour : "white") << "' stroke-width='" << (cross ? 2 : 0.8) << "'/>\n";
 }
 
-std::string dashOf(const Series& s, std::size_t k) {
-  if (s.dashed) return "6,4";
-  return kDashes[k % std::size(kDashes)];
+// A reference series is dashed '6,4'; the others take the patterns in turn, the first solid
+// (counting only them: a measured path beside a dashed nominal one stays solid).
+std::string dashOf(const Panel& panel, std::size_t k) {
+  if (panel.series[k].dashed) return "6,4";
+  const auto drawn = std::count_if(panel.series.begin(), panel.series.begin() + static_cast<std::ptrdiff_t>(k),
+                                   [](const Series& s) { return !s.dashed; });
+  return kDashes[static_cast<std::size_t>(drawn) % std::size(kDashes)];
 }
 
 // Writes `lines` (already wrapped) from baseline y, `gap` px apart.
@@ -152,8 +156,12 @@ double drawPanel(std::ostringstream& svg, const Panel& panel, const std::string&
   const bool equal = panel.aspect == Aspect::Equal || (panel.aspect == Aspect::Auto && equalAxes(panel));
   xr.settle(equal);
   yr.settle(true);
-  const double plot_w = width - kLeft - kRight, plot_h = std::max(60, height - kPlotTop - kAxisBelow - 24);
-  if (equal) equalise(xr.low, xr.high, yr.low, yr.high, plot_w, plot_h);
+  const double plot_w = width - kLeft - kRight;
+  double plot_h = std::max(60, height - kPlotTop - kAxisBelow - 24);
+  if (equal) {  // a tall path gets a taller box (up to 2.5 times the panel's), then the same m/px
+    plot_h = std::clamp(plot_w * (yr.high - yr.low) / (xr.high - xr.low), plot_h, 2.5 * plot_h);
+    equalise(xr.low, xr.high, yr.low, yr.high, plot_w, plot_h);
+  }
 
   std::vector<std::string> title;
   if (panel.title != figure_title) title = wrapText(panel.title, kTitlePx, width - kLeft - kRight, true);
@@ -186,7 +194,7 @@ double drawPanel(std::ostringstream& svg, const Panel& panel, const std::string&
   for (std::size_t k = 0; k < n; ++k) {
     const Series& s = panel.series[k];
     const char* colour = kColours[k % std::size(kColours)];
-    const std::string dash = dashOf(s, k);
+    const std::string dash = dashOf(panel, k);
     const int shape = static_cast<int>(k % kShapes);
     svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='1.6'"
         << (dash.empty() ? "" : " stroke-dasharray='" + dash + "'") << " points='";

@@ -150,6 +150,10 @@ TEST(SvgPlot, GivesCoincidingSeriesDistinctDashesAndMarkers) {
   const std::size_t squares = countOf(svg, "h6.4v6.4h-6.4z");
   EXPECT_EQ(circles, squares) << "as many markers of each, the legend's one included";
   EXPECT_GE(squares, 2U);
+  // Beside a dashed reference, the first other series is solid.
+  Figure paths{"", {{"y-z", "y [m]", "z [m]", {{"nominal", {0, 1}, {0, 0}, true}, {"actual", {0, 1}, {0, 0.1}}}}}};
+  const std::string drawn = toSvg(paths);
+  EXPECT_EQ(countOf(drawn, "<polyline fill='none' stroke='#D55E00' stroke-width='1.6' points="), 1U) << drawn;
   // The first marker of each series at a different point of the (same) line.
   const auto first = svg.find("class='marker' d='M"), second = svg.find("h6.4v6.4h-6.4z");
   EXPECT_NE(std::stod(svg.substr(first + 19)) + 3.6, std::stod(svg.substr(svg.rfind("d='M", second) + 4)) + 3.2);

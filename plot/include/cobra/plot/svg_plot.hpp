@@ -28,7 +28,8 @@ struct Series {
 
 /// How a panel scales its axes: Equal gives x and y the same metres per pixel (a path in a plane
 /// keeps its shape); Auto is Equal when both axis labels end in the same length unit ("[m]",
-/// "[mm]" or "[cm]": x and y are positions), else Free (each axis fits its own range).
+/// "[mm]" or "[cm]": x and y are positions), else Free (each axis fits its own range). An Equal
+/// panel whose path is taller than wide gets a taller plot (up to 2.5 times the figure's).
 enum class Aspect { Auto, Free, Equal };
 
 /// One panel: its axes fit all series (with a margin); titles and axis labels with units. A
