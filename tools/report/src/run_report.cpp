@@ -22,6 +22,14 @@ constexpr double kFontPx = 11;
 
 std::string escape(const std::string& text) { return plot::escapeXml(text); }
 
+/// `state` escaped, with a line break allowed after each dot: a long dotted state path wraps at
+/// its parts instead of widening the events table beyond the page.
+std::string breakable(const std::string& state) {
+  std::string out;
+  for (const char c : escape(state)) out += c == '.' ? std::string(".<wbr>") : std::string(1, c);
+  return out;
+}
+
 std::string number(double v, const char* format = "%.6g") {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, format, v);
@@ -123,7 +131,7 @@ std::string toHtml(const RunReport& report) {
   html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << escape(report.title) << "</title>\n"
        << "<style>body{font-family:sans-serif;margin:2em;max-width:960px}table{border-collapse:collapse}"
           "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}th{background:#eee}"
-          ".events{max-height:420px;overflow-y:scroll}</style></head><body>\n"
+          ".events{max-height:420px;overflow:auto}.events td:first-child{white-space:nowrap}</style></head><body>\n"
        << "<h1>" << escape(report.title) << "</h1>\n<h2>Summary</h2>\n<table>\n";
   for (const auto& [key, value] : report.summary)
     html << "<tr><th>" << escape(key) << "</th><td>" << escape(value) << "</td></tr>\n";
@@ -148,7 +156,7 @@ std::string toHtml(const RunReport& report) {
           "after</th></tr>\n";
   for (const EventRecord& e : report.events)
     html << "<tr><td>" << number(e.time, "%.3f") << "</td><td>" << escape(e.source) << "</td><td>" << escape(e.event)
-         << "</td><td>" << escape(e.state) << "</td></tr>\n";
+         << "</td><td>" << breakable(e.state) << "</td></tr>\n";
   html << "</table></div>\n</body></html>\n";
   return html.str();
 }

@@ -128,6 +128,7 @@ TEST(RunFolder, HoldsTheEventLogAndASelfContainedPage) {
   EXPECT_THAT(html, HasSubstr("<h2>Needle force</h2>"));
   EXPECT_THAT(html, HasSubstr("<a href=\"signals.csv\">signals.csv</a>"));
   EXPECT_THAT(html, HasSubstr("<td>e_needle_mounted</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>root.<wbr>MoveToSkin</td>")) << "a long state path wraps at its dots";
   EXPECT_THAT(html, Not(HasSubstr("<script"))) << "self-contained, nothing to run or download";
   EXPECT_TRUE(std::filesystem::exists(folder / "events.csv"));
   std::filesystem::remove_all(folder);
