@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -83,6 +84,72 @@ StateValidator::StateValidator(SceneDescription scene, RobotModels robots) : wor
     seeds_.emplace_back(model.jointCount());
     placed_joints_.emplace_back(model.jointCount());
     placed_known_.push_back(false);
+  }
+  findMovingPairs();
+}
+
+void StateValidator::findMovingPairs() {
+  const SceneDescription& description = world_.scene();
+  auto declared = [&](const std::string& a, const std::string& b) {
+    for (const auto* contacts : {&description.allowed_contacts, &description.primitive_contacts})
+      for (const auto& [first, second] : *contacts)
+        if ((first == a && second == b) || (first == b && second == a)) return true;
+    return false;
+  };
+  // The candidate object pairs of each checked group pair, and the range of each one's distance
+  // over the robots' seeds and 32 seeded random joint states within the limits (those with forward
+  // kinematics): a pair whose distance never changes is static (two objects no joint moves, or a
+  // robot's base cylinder turning about its own axis above the table).
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> candidates;
+  for (const GroupPair& pair : description.checks) {
+    candidates.emplace_back();
+    for (std::size_t a = 0; a < description.objects.size(); ++a)
+      for (std::size_t b = 0; b < description.objects.size(); ++b)
+        if (description.objects[a].group == description.groups[pair.first] &&
+            description.objects[b].group == description.groups[pair.second] &&
+            !declared(description.objects[a].name, description.objects[b].name))
+          candidates.back().emplace_back(a, b);
+  }
+  // GJK's distances of curved shapes (FCL's default solver) vary by up to about a micrometre with
+  // the objects' poses: a pair is static when its distance stays within 10 um.
+  constexpr double kStaticTolerance = 1e-5;  // m
+  std::vector<std::vector<std::pair<double, double>>> ranges;  // per candidate: lowest, highest [m]
+  for (const auto& objects : candidates)
+    ranges.emplace_back(objects.size(), std::pair{std::numeric_limits<double>::infinity(), -1.0});
+  int sampled = 0;
+  if (joint_space_) {
+    std::vector<double> q(jointCount()), lower(jointCount()), upper(jointCount()), velocity(jointCount());
+    for (std::size_t r = 0; r < models_.size(); ++r) {
+      const std::span<double> seed(q.data() + joint_offsets_[r], joint_offsets_[r + 1] - joint_offsets_[r]);
+      models_[r]->seedJoints(seed);
+      const std::span<double> low(lower.data() + joint_offsets_[r], seed.size()), high(upper.data() + joint_offsets_[r], seed.size());
+      for (std::size_t j = 0; j < seed.size(); ++j) low[j] = seed[j] - 0.5, high[j] = seed[j] + 0.5;
+      models_[r]->jointLimits(low, high, std::span(velocity.data() + joint_offsets_[r], seed.size()));
+      for (std::size_t j = 0; j < seed.size(); ++j)  // unlimited joints: a turn about the seed
+        if (!(low[j] < high[j]) || !std::isfinite(high[j] - low[j])) low[j] = seed[j] - 3.2, high[j] = seed[j] + 3.2;
+    }
+    std::mt19937 rng(1);
+    for (int state = 0; state <= 32; ++state) {
+      if (state > 0)
+        for (std::size_t j = 0; j < q.size(); ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
+      if (!placeRobotsAt(q).valid()) continue;
+      ++sampled;
+      for (std::size_t p = 0; p < candidates.size(); ++p)
+        for (std::size_t k = 0; k < candidates[p].size(); ++k) {
+          const double d = world_.objectDistance(candidates[p][k].first, candidates[p][k].second);
+          ranges[p][k] = {std::min(ranges[p][k].first, d), std::max(ranges[p][k].second, d)};
+        }
+    }
+    std::fill(placed_known_.begin(), placed_known_.end(), false);
+  }
+  for (std::size_t p = 0; p < candidates.size(); ++p) {
+    std::vector<std::pair<std::size_t, std::size_t>> moving;
+    for (std::size_t k = 0; k < candidates[p].size(); ++k)
+      if (sampled < 2 || ranges[p][k].second - ranges[p][k].first > kStaticTolerance) moving.push_back(candidates[p][k]);
+    if (moving.empty()) continue;
+    const GroupPair& pair = description.checks[p];
+    pair_names_.push_back(description.groups[pair.first] + "/" + description.groups[pair.second]);
+    pair_objects_.push_back(std::move(moving));
   }
 }
 
@@ -227,6 +294,32 @@ StateValidator::Distances StateValidator::placedDistances() {
     closest_ = {d.first_index, d.second_index};
   }
   return distances;
+}
+
+bool StateValidator::pairDistancesAt(std::span<const double> q, std::span<double> out) {
+  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) {
+    std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
+    return false;
+  }
+  placedPairDistances(out);
+  return true;
+}
+
+bool StateValidator::pairDistancesAt(const DualPose& q, std::span<double> out) {
+  if (!placeRobots(q).valid()) {
+    std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
+    return false;
+  }
+  placedPairDistances(out);
+  return true;
+}
+
+void StateValidator::placedPairDistances(std::span<double> out) const {
+  for (std::size_t p = 0; p < pair_objects_.size() && p < out.size(); ++p) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const auto& [a, b] : pair_objects_[p]) smallest = std::min(smallest, world_.objectDistance(a, b));
+    out[p] = smallest;
+  }
 }
 
 ValidityResult StateValidator::check(const DualPose& q, bool exact_distances) {

@@ -6,9 +6,12 @@
 #include <cmath>
 #include <limits>
 
+#include "cobra/planning/robot_adapters.hpp"
 #include "cobra/planning/state_validator.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "planning_fixture.hpp"
+#include "puncturing_tools.hpp"
 
 namespace cobra::planning {
 namespace {
@@ -152,6 +155,54 @@ TEST(StateValidator, ConfigurationErrorsExplainTheFix) {
   const SceneDescription scene = test::twoRobotScene("object extra ur5 ur5.3 sphere 0.01 at 0 0 0 0 0 0\n");
   EXPECT_CONTAINS(messageOf([&] { StateValidator v(scene, test::twoRobotModels()); }),
                   "attaches objects to link 3 of robot 'ur5' but its model has 1 links");
+}
+
+// The clearance per pair of groups on the puncturing scene with the real robot models: every
+// checked pair whose distance the joints change, each the minimum over its object pairs that move,
+// the declared contacts and the pairs no joint moves (the UR5 base's fixed 20 mm gap to the table)
+// left out; a pair of two fixed groups is left out whole.
+TEST(StateValidator, GivesTheClearanceOfEachPairOfGroupsThatMoves) {
+  const std::string text = test::readText(test::scenes() / "puncturing.scene") +
+                           "group stand\nobject stand stand world box 0.1 0.1 0.1 at 0.6 0.4 0.1 0 0 0\n"
+                           "check stand environment\n";
+  StateValidator validator(parseScene(text, "puncturing.scene", test::scenes()),
+                           {{"isur", std::make_shared<IsurPuncturingModel>()}, {"ur5", std::make_shared<Ur5Model>()}});
+  EXPECT_EQ(validator.clearancePairs(), (std::vector<std::string>{"macro/micro", "macro/ur5", "micro/ur5",
+                                                                  "micro/environment", "ur5/environment"}));
+  const SceneDescription& scene = validator.scene();
+  std::vector<double> q(validator.jointCount());
+  std::size_t failed = 0;
+  ASSERT_EQ(validator.inverseNear({test::needleDown(0.0, 0.0, 0.2), test::probeDown(-0.1, 0.0, 0.12)}, {}, q, failed),
+            Reachability::Reachable);
+  std::vector<double> pairs(5);
+  ASSERT_TRUE(validator.pairDistancesAt(q, pairs));
+  const StateValidator::Distances all = validator.distancesAt(q);
+  auto between = [&](const char* a, const char* b) {
+    return validator.world().objectDistance(scene.objectIndex(a), scene.objectIndex(b));
+  };
+  EXPECT_NEAR(between("ur5_base", "table"), 0.02, 1e-9) << "the fixed gap the minimum over all pairs shows";
+  EXPECT_NEAR(all.clearance, 0.02, 1e-9);
+  // ur5/environment: the UR5's moving links and the probe to the table and the phantom, neither
+  // the base (fixed) nor the probe on the phantom (an allowed contact).
+  double expected = INFINITY;
+  for (const char* link : {"ur5_shoulder", "ur5_upper_arm", "ur5_forearm", "ur5_wrist_1", "ur5_wrist_2", "ur5_wrist_3"})
+    for (const char* world : {"table", "phantom"}) expected = std::min(expected, between(link, world));
+  expected = std::min(expected, between("us_probe", "table"));
+  EXPECT_DOUBLE_EQ(pairs[4], expected);
+  EXPECT_GT(pairs[4], 0.02);
+  for (double d : pairs) EXPECT_GE(d, all.clearance);
+  // Moving the UR5 only changes the pairs it is in.
+  std::vector<double> moved = q, after(5);
+  moved[validator.jointOffset(1) + 1] += 0.05;
+  ASSERT_TRUE(validator.pairDistancesAt(moved, after));
+  EXPECT_EQ(after[0], pairs[0]);
+  EXPECT_EQ(after[3], pairs[3]);
+  EXPECT_NE(after[2], pairs[2]);
+  // The measured state's query runs in the planner component's step: it allocates nothing.
+  EXPECT_EQ(cobra::test_support::allocationsDuring([&] { validator.pairDistancesAt(q, pairs); }), 0);
+  moved[validator.jointOffset(1)] = 100.0;  // outside the UR5's limits: no forward kinematics
+  EXPECT_FALSE(validator.pairDistancesAt(moved, after));
+  EXPECT_TRUE(std::isnan(after[2]));
 }
 
 }  // namespace

@@ -52,6 +52,7 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
   addPort(ur5_joints_);
   addPort(allowed_distance_);
   addPort(primitive_distance_);
+  addPort(pair_distances_);
   addPort(goal_);
   addPort(path_out_);
   addPort(min_distance_);
@@ -70,6 +71,14 @@ MotionPlannerComponent::MotionPlannerComponent(std::string name)
                                    : std::numeric_limits<double>::quiet_NaN();
                }),
                "m: the clearance every planned state keeps outside the allowed contacts (NaN before configure)");
+  addOperation("clearancePairs", std::function<std::string()>([this] {
+                 std::string names;
+                 if (validator_)
+                   for (const std::string& pair : validator_->clearancePairs()) names += (names.empty() ? "" : ",") + pair;
+                 return names;
+               }),
+               "the pairs of groups pairDistances gives, in its order, comma-separated (\"macro/ur5,ur5/environment\"; "
+               "empty before configure)");
 }
 
 MotionPlannerComponent::~MotionPlannerComponent() = default;
@@ -102,6 +111,8 @@ bool MotionPlannerComponent::configureHook() {
   joints_.assign(validator_->hasJointSpace() ? validator_->jointCount() : 0, 0.0);
   clearance_joints_.clear();
   clearance_joints_.reserve(joints_.size());  // updateHook copies joints_ here without allocating
+  pair_values_.assign(validator_->clearancePairs().size(), std::numeric_limits<double>::quiet_NaN());
+  pair_distances_.setDataSample(pair_values_);  // a write of that size allocates nothing
   have_isur_ = have_ur5_ = have_goal_ = have_isur_joints_ = have_ur5_joints_ = false;
   last_result_.clear();
   return true;
@@ -222,7 +233,8 @@ void MotionPlannerComponent::updateHook() {
   // Whether a port of it is connected is asked (a lock per port) once per clearance_period too:
   // a planner nobody reads the clearance of (the probe's) would otherwise ask every step.
   const bool clearance_wanted =
-      clearance_due && (min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected());
+      clearance_due && (min_distance_.connected() || allowed_distance_.connected() || primitive_distance_.connected() ||
+                        pair_distances_.connected());
   if (clearance_due && !clearance_wanted) last_clearance_ns_ = now_ns;
   // The measured pose ports trigger this component at the robots' rate; their latest samples
   // are read only when a measurement or a plan uses them (the connections keep the latest).
@@ -243,11 +255,14 @@ void MotionPlannerComponent::updateHook() {
     if (measuredJoints()) {
       if (joints_ != clearance_joints_) {  // the same joints: the same distances, not measured again
         clearance_ = validator_->distancesAt(joints_);
+        validator_->pairDistancesAt(joints_, pair_values_);
         clearance_joints_ = joints_;
       }
     } else {
       clearance_ = validator_->distancesAt(measured_);
+      validator_->pairDistancesAt(measured_, pair_values_);
     }
+    pair_distances_.write(pair_values_);
     min_distance_.write(clearance_.clearance);
     allowed_distance_.write(clearance_.allowed_contact);
     primitive_distance_.write(clearance_.primitive_contact);

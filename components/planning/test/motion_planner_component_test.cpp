@@ -155,6 +155,8 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   core::connectPorts(ur5_joints, b.planner.port("UR5MeasJoints"));
   core::connectPorts(b.planner.port("allowedContactDistance"), allowed);
   core::connectPorts(b.planner.port("primitiveContactDistance"), primitive);
+  core::InputPort<std::vector<double>> pairs{"pairs", "", "m"};
+  core::connectPorts(b.planner.port("pairDistances"), pairs);
   // The I-SUR at the simulated robot's start (apps/puncturing/deployment/world.lua), the UR5 on
   // that start's branch with the probe pressed onto the phantom.
   KDL::JntArray isur(8), ur5(6);
@@ -189,6 +191,15 @@ TEST(MotionPlannerComponent, PlansFromTheMeasuredJointsAndReportsAllowedContacts
   EXPECT_NEAR(contact, 0.16, 0.002);
   EXPECT_GT(clearance, b.planner.call<double>("clearanceThreshold"));  // nothing else is near
   EXPECT_EQ(b.planner.call<double>("clearanceThreshold"), 0.005);      // the scene's
+  // Per pair of groups: the same state's distances, each at least the overall clearance, the
+  // probe on the skin left out of ur5/environment like the UR5 base's fixed gap to the table.
+  EXPECT_EQ(b.planner.call<std::string>("clearancePairs"),
+            "macro/micro,macro/ur5,micro/ur5,micro/environment,ur5/environment");
+  std::vector<double> per_pair;
+  ASSERT_EQ(pairs.read(per_pair), core::FlowStatus::NewData);
+  ASSERT_EQ(per_pair.size(), 5U);
+  for (double d : per_pair) EXPECT_GE(d, clearance);
+  EXPECT_GT(per_pair[4], 0.0) << "the probe touching the phantom is not this pair's distance";
 
   // The probe lifts 5 cm from where the joints say it is: planned from the joints.
   b.goal.write(encodeCartesianPath({{needle_pose, probeDown(0.1, -0.05, 0.148)}}));

@@ -65,7 +65,48 @@ TEST(TimelineSvg, DrawsOneLanePerChartAndLabelsBoxesThatFit) {
   EXPECT_THAT(svg, HasSubstr(">probe</text>"));
   EXPECT_THAT(svg, HasSubstr(">MoveToTumor</text>")) << "the leaf name labels a wide box";
   EXPECT_THAT(svg, HasSubstr("<title>root.Tiny: 9 s to 9.001 s</title>")) << "a narrow box keeps its tooltip";
-  EXPECT_THAT(svg, Not(HasSubstr(">Tiny</text>"))) << "but no label that would overflow it";
+  const auto tiny = svg.find("<title>root.Tiny");
+  EXPECT_THAT(svg.substr(tiny, svg.find("</g>", tiny) - tiny), Not(HasSubstr("<text")))
+      << "but no label that would overflow it";
+}
+
+// The timeline's legend names every state of every lane beside its colour, and a lane's states
+// take distinct colours (a state's box and its swatch the same).
+TEST(TimelineSvg, HasALegendOfEachLanesStatesInTheirColours) {
+  const std::string svg = timelineSvg({{"needle", "root.A", 0.0, 1.0},
+                                       {"needle", "root.B.Tiny", 1.0, 1.001},
+                                       {"needle", "root.C", 1.001, 3.0},
+                                       {"probe configuration", "probe_contact", 0.0, 3.0}});
+  auto swatch = [&](const std::string& state) {
+    const auto label = svg.find(">" + state + "</text>", svg.find("class=\"swatch\""));
+    EXPECT_NE(label, std::string::npos) << state << " is in the legend";
+    const auto fill = svg.rfind("fill=\"", label);
+    return svg.substr(fill + 6, 7);
+  };
+  EXPECT_EQ(swatch("Tiny"), "#D55E00") << "the second state of the lane";
+  EXPECT_NE(swatch("A"), swatch("C"));
+  EXPECT_EQ(swatch("probe_contact"), "#0072B2") << "each lane's states take the colours from the first";
+  EXPECT_THAT(svg, HasSubstr("<title>root.B.Tiny: 1 s to 1.001 s</title><rect x=\"393.333\" y=\"4\" width=\"1\" "
+                             "height=\"26\" fill=\"#D55E00\""));
+}
+
+// A figure's title is the heading of its section: the page shows it once, not again in the SVG or
+// as the title of a panel that repeats it; a panel with its own title keeps it.
+TEST(RunReportHtml, ShowsEachFigureTitleOnce) {
+  RunReport report;
+  report.title = "run";
+  report.figures = {{"Needle force", {{"Needle force", "depth [m]", "force [N]", {{"fz", {0.0, 0.01}, {0.0, 1.5}}}}}},
+                    {"Tracking", {{"position error", "t [s]", "[mm]", {{"e", {0.0, 1.0}, {0.0, 0.5}}}}}}};
+  const std::string html = toHtml(report);
+  auto count = [&](const std::string& text) {
+    std::size_t n = 0;
+    for (auto at = html.find(text); at != std::string::npos; at = html.find(text, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("Needle force"), 1U);
+  EXPECT_THAT(html, HasSubstr("<h2>Needle force</h2>"));
+  EXPECT_EQ(count("Tracking"), 1U);
+  EXPECT_EQ(count(">position error</text>"), 1U);
 }
 
 TEST(RunFolder, HoldsTheEventLogAndASelfContainedPage) {
@@ -87,6 +128,7 @@ TEST(RunFolder, HoldsTheEventLogAndASelfContainedPage) {
   EXPECT_THAT(html, HasSubstr("<h2>Needle force</h2>"));
   EXPECT_THAT(html, HasSubstr("<a href=\"signals.csv\">signals.csv</a>"));
   EXPECT_THAT(html, HasSubstr("<td>e_needle_mounted</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>root.<wbr>MoveToSkin</td>")) << "a long state path wraps at its dots";
   EXPECT_THAT(html, Not(HasSubstr("<script"))) << "self-contained, nothing to run or download";
   EXPECT_TRUE(std::filesystem::exists(folder / "events.csv"));
   std::filesystem::remove_all(folder);

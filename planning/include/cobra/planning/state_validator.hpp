@@ -130,6 +130,21 @@ class StateValidator {
   /// unreachable or invalid.
   Distances distancesAt(const DualPose& q);
 
+  /// The clearance per pair of groups, each robot against each other and against the patient:
+  /// the scene's checked group pairs whose distance the robots' joints change, named
+  /// "first/second" (scene().checks order). An object pair whose distance no joint changes (a
+  /// robot base's fixed gap to the table) is left out, as are the declared contacts (allowed and
+  /// primitive); a group pair with nothing left is left out whole. Found at construction: the
+  /// distance of each object pair at the robots' seeds and at 32 seeded random joint states within
+  /// their limits; a pair whose distance stays the same in all of them is static.
+  const std::vector<std::string>& clearancePairs() const { return pair_names_; }
+  /// Per clearancePairs() entry, the smallest distance [m] of its moving object pairs in joint
+  /// state q into `out` (at least clearancePairs().size() values); false and NaNs when q has no
+  /// forward kinematics. No exception; no allocation on primitive scenes (as check()).
+  bool pairDistancesAt(std::span<const double> q, std::span<double> out);
+  /// The same for tool poses q (each robot's IK from its configured seed).
+  bool pairDistancesAt(const DualPose& q, std::span<double> out);
+
   const SceneDescription& scene() const { return world_.scene(); }
   const CollisionWorld& world() const { return world_; }
 
@@ -140,6 +155,10 @@ class StateValidator {
   ValidityResult placeRobotsAt(std::span<const double> q);
   /// distancesAt() of the placed robots.
   Distances placedDistances();
+  /// pairDistancesAt() of the placed robots.
+  void placedPairDistances(std::span<double> out) const;
+  /// clearancePairs() and their moving object pairs (at construction).
+  void findMovingPairs();
   /// The distance queries of check() on the placed robots.
   ValidityResult checkDistances(ValidityResult result, bool exact_distances, bool primitive_contacts_apart = false);
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
@@ -160,6 +179,9 @@ class StateValidator {
   std::vector<bool> placed_known_;
   std::vector<std::size_t> joint_offsets_{0};       // per robot, then the total
   bool joint_space_ = true;
+  std::vector<std::string> pair_names_;  // clearancePairs()
+  /// Per clearancePairs() entry: its object pairs (indices in scene().objects) that move apart.
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> pair_objects_;
   static constexpr std::size_t kNoObject = static_cast<std::size_t>(-1);
   std::pair<std::size_t, std::size_t> closest_{kNoObject, kNoObject};  // distancesAt's last closest objects
 };

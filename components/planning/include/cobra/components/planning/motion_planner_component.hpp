@@ -174,6 +174,9 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   core::OutputPort<double> primitive_distance_{
       "primitiveContactDistance",
       "distance of the scene's primitive contacts (made by the motion primitives) in the measured state", "m"};
+  core::OutputPort<std::vector<double>> pair_distances_{
+      "pairDistances", "clearance of the measured state per pair of groups (operation clearancePairs names them): "
+      "its moving object pairs outside the declared contacts (NaN: unreachable)", "m"};
 
   std::unique_ptr<planning::StateValidator> validator_;
   std::int64_t last_clearance_ns_ = -1;  // when minDistance was last measured (component clock), -1: never
@@ -181,6 +184,7 @@ class MotionPlannerComponent : public PlanningSceneComponent {
   // encoders unchanged) is not measured again.
   planning::JointState clearance_joints_;
   planning::StateValidator::Distances clearance_;
+  std::vector<double> pair_values_;  // pairDistances' sample, sized at configure
   std::unique_ptr<planning::MotionPlanner> planner_impl_;
   core::PendingRequest plan_request_;
   bool have_isur_ = false;
