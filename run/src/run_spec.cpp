@@ -49,10 +49,16 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
   a.after = entry.number("after", 0.0);
   if (a.after < 0.0) entry.fail("`after` must be >= 0 s");
   a.repeat = entry.boolean("repeat", repeat_default);
-  const int kinds = entry.has("call") + entry.has("write") + entry.has("set") + entry.has("lua");
+  const int kinds = entry.has("call") + entry.has("write") + entry.has("set") + entry.has("lua") + entry.has("throw");
   if (kinds != 1) entry.fail("give exactly one of call = \"Comp.operation\", write = { port = , value = }, "
-                             "set = { property = , value = }, lua = \"deployer code\"");
-  if (entry.has("call")) {
+                             "set = { property = , value = }, lua = \"deployer code\", throw = \"Comp\"");
+  if (entry.has("throw")) {
+    // The component's next updateHook throws (core/fault_injection.hpp): it goes to Exception.
+    a.kind = ActionSpec::Kind::Throw;
+    a.component = entry.string("throw", true);
+    entry.setLine(entry.lineOf(a.component));
+    a.text = "throw in " + a.component + ".updateHook";
+  } else if (entry.has("call")) {
     a.kind = ActionSpec::Kind::Call;
     const std::string target = entry.string("call", true);
     entry.setLine(entry.lineOf(target));
@@ -80,7 +86,7 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
 
 // The identifying string of an action entry, for its line.
 void placeAction(Reader& entry) {
-  for (const char* key : {"call", "lua"})
+  for (const char* key : {"call", "lua", "throw"})
     if (entry.has(key)) entry.setLine(entry.lineOf(entry.string(key, false)));
 }
 
