@@ -42,7 +42,7 @@ FaultsCommands::FaultsCommands(CLI::App& app) {
   matrix_->add_option("--cells", only_, "only the cells whose id (fault/task/moment) starts with one of these")->delimiter(',');
   matrix_->add_option("--jobs", jobs_, "cells run at a time, each in its own process (default 2)")->check(CLI::PositiveNumber);
   matrix_->add_option("--cell-time", cell_time_, "s of wall time after which a cell's process counts as hung and is killed "
-                                                 "(default 120)")->check(CLI::PositiveNumber);
+                                                 "(default 600)")->check(CLI::PositiveNumber);
   matrix_->add_option("--doc", doc_, "write the table (Markdown) there, e.g. docs/fault_matrix.md");
   matrix_->add_option("--check-doc", check_doc_, "fail when this committed table differs from the results (durations apart)");
   matrix_->footer("example: cobra faults matrix --jobs 2 --doc docs/fault_matrix.md\n"

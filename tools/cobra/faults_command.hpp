@@ -30,7 +30,7 @@ class FaultsCommands {
   std::string table_ = "test/fault_matrix/matrix.lua", root_ = ".";
   std::vector<std::string> tasks_, only_;
   int jobs_ = 2;
-  double cell_time_ = 120.0;
+  double cell_time_ = 600.0;
   std::string doc_, check_doc_;
   double duration_ = 60.0;
   unsigned long long seed_ = 1;

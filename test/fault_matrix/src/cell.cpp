@@ -110,6 +110,13 @@ class Watch final : public run::RunObserver {
   std::string last_failure_;
 };
 
+// `text` with every `prefix` removed (a temporary folder's path: the table is the same from run to run).
+std::string without(std::string text, const std::string& prefix) {
+  if (prefix.empty()) return text;
+  for (std::size_t at = text.find(prefix); at != std::string::npos; at = text.find(prefix, at)) text.erase(at, prefix.size());
+  return text;
+}
+
 CellResult runWith(const Task& task, std::string id, run::RunOptions o) {
   CellResult r;
   r.id = std::move(id);
@@ -122,7 +129,9 @@ CellResult runWith(const Task& task, std::string id, run::RunOptions o) {
   try {
     const run::RunResult result = run::runApp(o);
     r.outcome = run::toString(result.outcome);
-    r.reason = result.reason;
+    // The generated faults file is named by its name alone (its folder is temporary).
+    const std::string folder = o.faults_file.empty() ? std::string() : o.faults_file.parent_path().string() + "/";
+    r.reason = without(result.reason, folder);
     for (const auto& [chart, state] : result.final_states) r.end_state += (r.end_state.empty() ? "" : ", ") + chart + " " + state;
     r.duration = result.duration;
     r.hold_mm = watch.holdMm(result.duration);
@@ -140,7 +149,7 @@ CellResult runWith(const Task& task, std::string id, run::RunOptions o) {
     if (r.nan_commands > 0) r.failures.push_back(std::to_string(r.nan_commands) + " steps with a non-finite robot command");
   } catch (const std::exception& e) {
     r.outcome = "error";
-    r.reason = e.what();
+    r.reason = without(e.what(), o.faults_file.empty() ? std::string() : o.faults_file.parent_path().string() + "/");
     r.failures.push_back(std::string("the run did not start: ") + e.what());
   }
   r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -281,8 +290,9 @@ std::vector<CellResult> runCells(const Table& table, const std::vector<Cell>& ce
 std::string unexpected(const Cell& cell, const CellResult& result) {
   std::string failures;
   for (const std::string& f : result.failures) failures += (failures.empty() ? "" : "; ") + f;
-  if (cell.what->gap.empty()) return result.passed() ? "" : "fails: " + failures;
-  return result.passed() ? "passes although the table declares a gap (" + cell.what->gap + "): remove the gap" : "";
+  const std::string gap = cell.gap();
+  if (gap.empty()) return result.passed() ? "" : "fails: " + failures;
+  return result.passed() ? "passes although the table declares a gap (" + gap + "): remove the gap" : "";
 }
 
 }  // namespace cobra::fault_matrix

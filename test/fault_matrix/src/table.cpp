@@ -218,14 +218,26 @@ FaultForTask readFaultForTask(const Reader& r, const Fault& f, const Task& task,
   if (!lua_istable(L, -1)) r.fail(line, what + ": give a list of faults-file entries { { call = ... }, ... } or na \"why\"");
   r.allowOnly({"na", "gap", "before", "moments"}, line, what);
   out.na = r.string("na", line, what);
-  out.gap = r.string("gap", line, what);
+  lua_getfield(L, -1, "gap");
+  const bool per_moment = lua_istable(L, -1);
+  lua_pop(L, 1);
+  if (!per_moment) {
+    if (std::string gap = r.string("gap", line, what); !gap.empty()) out.gaps.emplace_back("", gap);
+  } else {
+    lua_getfield(L, -1, "gap");
+    for (const std::string& m : r.keys()) out.gaps.emplace_back(m, r.string(m.c_str(), r.lineOf(line, "gap"), what + ", gap"));
+    lua_pop(L, 1);
+  }
   out.before_lua = r.string("before", line, what);
   out.moments = r.strings("moments", line, what);
-  for (const std::string& m : out.moments) {
+  std::vector<std::string> named = out.moments;
+  for (const auto& [m, why] : out.gaps)
+    if (!m.empty()) named.push_back(m);
+  for (const std::string& m : named) {
     std::vector<std::string> known;
     for (const Moment& each : task.moments) known.push_back(each.name);
     if (std::find(known.begin(), known.end(), m) == known.end())
-      r.fail(r.lineOf(line, "\"" + m + "\""), what + ": unknown moment '" + m + "'" + deploy::suggestionText(m, known, "moments"));
+      r.fail(r.lineOf(line, m), what + ": unknown moment '" + m + "'" + deploy::suggestionText(m, known, "moments"));
   }
   const lua_Integer n = luaL_len(L, -1);
   if (out.na.empty() && n == 0) r.fail(line, what + ": no entry: give the faults-file entries to play, or na \"why it does not apply\"");
@@ -319,6 +331,12 @@ Table readTable(const std::filesystem::path& file, const std::filesystem::path& 
 }
 
 std::string Cell::id() const { return fault->name + "/" + task->name + "/" + moment->name; }
+
+std::string Cell::gap() const {
+  for (const auto& [m, why] : what->gaps)
+    if (m.empty() || m == moment->name) return why;
+  return "";
+}
 
 std::vector<Cell> cells(const Table& table, const std::vector<std::string>& tasks) {
   for (const std::string& t : tasks) (void)table.task(t);  // throws for an unknown name

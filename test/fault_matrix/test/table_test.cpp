@@ -127,6 +127,11 @@ TEST(FaultMatrixTable, AMomentWithoutAChartStateAndATaskWithoutMomentsAreRefused
   EXPECT_EQ(errorOf("task \"door\" { app = \"apps/door\", moments = {} }\n"), "FILE:1: task 'door': needs at least one moment");
 }
 
+TEST(FaultMatrixTable, AGapOfAnUnknownMomentIsRefused) {
+  EXPECT_EQ(errorOf(std::string(kTask) + "fault \"f\" {\n  text = \"t\",\n  door = { { throw = \"Door\" }, gap = { trun = \"x\" } },\n}\n"),
+            "FILE:10: fault 'f', task 'door': unknown moment 'trun'; did you mean 'turn'? known moments: turn");
+}
+
 TEST(FaultMatrixTable, AFaultWithNeitherEntriesNorNaAndOneWithBothAreRefused) {
   EXPECT_EQ(errorOf(std::string(kTask) + "fault \"f\" {\n  text = \"t\",\n  door = {},\n}\n"),
             "FILE:10: fault 'f', task 'door': no entry: give the faults-file entries to play, or na \"why it does not apply\"");
@@ -148,13 +153,18 @@ TEST(FaultMatrixDoc, TheDocHasARowPerCellTheNotApplicableWithWhyAndTheGapsAndIgn
     results[i].reason = "a | b";
     results[i].duration = 12.5;
   }
-  results[0].failures.push_back("the robots moved 3.00 mm in the last second (< 0.5 mm expected)");
+  const auto gap = std::find_if(all.begin(), all.end(), [](const Cell& c) { return c.id() == "update_exception/puncturing/approach"; });
+  ASSERT_NE(gap, all.end());
+  results[static_cast<std::size_t>(gap - all.begin())].failures.push_back(
+      "the robots moved 3.00 mm in the last second (< 0.5 mm expected)");
   const std::string doc = docText(table, all, results);
   EXPECT_CONTAINS(doc, "| update_exception | puncturing | approach | gap: the robots moved 3.00 mm in the last second (< 0.5 mm "
                        "expected) | safe stop | - | - | a \\| b | 0.000 | 12.500 s |\n");
   EXPECT_CONTAINS(doc, "| drive_fault | door | the simulated door has no drives |\n");
   EXPECT_CONTAINS(doc, "| a lost peer host | n/a | n/a | n/a | n/a |\n");
+  EXPECT_CONTAINS(doc, "| none | puncturing | approach | ok | safe stop | - | - | a \\| b | 0.000 | 12.500 s |\n");
   EXPECT_CONTAINS(doc, "- update_exception / puncturing: the charts have no transition on e_exception@<component>");
+  EXPECT_CONTAINS(doc, "- ik_discontinuity / puma260 / surface: stopped in contact with the surface");
   results[1].duration = 99.0;
   EXPECT_NE(docText(table, all, results), doc);
   EXPECT_EQ(withoutTimings(docText(table, all, results)), withoutTimings(doc));

@@ -51,7 +51,8 @@ struct Entry {
 struct FaultForTask {
   std::string task;
   std::string na;       ///< non-empty: the fault does not apply, and why
-  std::string gap;      ///< non-empty: a known gap (the cell is expected to fail, and why)
+  /// Known gaps: the cells expected to fail, and why; by moment ("" for every moment).
+  std::vector<std::pair<std::string, std::string>> gaps;
   std::vector<Entry> entries;
   std::string before_lua;            ///< run before the entry file (e.g. a silent surgeon's script)
   std::vector<std::string> moments;  ///< the moments it is played at (empty: every moment of the task)
@@ -84,6 +85,8 @@ struct Cell {
   const FaultForTask* what = nullptr;
   const Moment* moment = nullptr;
   std::string id() const;  ///< "fault/task/moment"
+  /// Why the table expects this cell to fail ("": it must pass).
+  std::string gap() const;
 };
 
 /// The cells of the table (fault-major, in the table's order), of the tasks named (all when empty).
