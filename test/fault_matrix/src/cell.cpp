@@ -46,7 +46,11 @@ class Watch final : public run::RunObserver {
       if (task_.commands.empty()) commands.push_back(t.commanded);
     }
     const std::string where = "fault matrix, task '" + task_.name + "'";
-    for (const std::string& port : hold) held_.push_back(Held{std::make_unique<run::NumericTap>(run.registry, port, where, "hold"), port, {}});
+    for (const std::string& port : hold) {
+      held_.push_back(Held{std::make_unique<run::NumericTap>(run.registry, port, where, "hold"), port, {}});
+      // The window's samples (every 10 ms) and one before: stepping then allocates nothing.
+      held_.back().samples.reserve(static_cast<std::size_t>(kHoldWindow / 0.01) + 16);
+    }
     for (const std::string& port : commands)
       commands_.push_back(std::make_unique<run::NumericTap>(run.registry, port, where, "commands"));
   }
@@ -211,12 +215,6 @@ CellResult runCell(const Table& table, const Cell& cell, const std::filesystem::
   o.faults_file = faults;
   o.before_lua = cell.what->before_lua;
   return runWith(*cell.task, cell.id(), o);
-}
-
-CellResult runNominal(const Task& task, const std::filesystem::path& scenario) {
-  run::RunOptions o;
-  o.scenario = scenario.empty() ? task.scenarios.front() : scenario;
-  return runWith(task, "nominal/" + task.name, o);
 }
 
 std::vector<CellResult> runCells(const Table& table, const std::vector<Cell>& cells, int jobs, double wall_limit,

@@ -48,13 +48,15 @@ SoakSummary soak(const Table& table, const SoakOptions& options) {
   while (s.runs == 0 || elapsed() < options.duration) {
     const Task& task = *tasks[random() % tasks.size()];
     const std::filesystem::path scenario = task.scenarios[random() % task.scenarios.size()];
-    std::vector<const Cell*> of_task;
+    std::vector<const Cell*> of_task, baseline;
     for (const Cell& c : all)
-      if (c.task == &task) of_task.push_back(&c);
-    // One run in four without a fault; the others a random cell of the task's.
-    const std::size_t pick = random() % (of_task.size() + of_task.size() / 3 + 1);
-    const CellResult r = pick < of_task.size() ? runCell(table, *of_task[pick], faults, scenario) : runNominal(task, scenario);
-    const bool as_expected = pick < of_task.size() ? unexpected(*of_task[pick], r).empty() : r.passed();
+      if (c.task == &task) (c.fault->name == kBaseline ? baseline : of_task).push_back(&c);
+    // One run in four is the task's baseline (no fault) when the table has one; the others a
+    // random cell of the task's.
+    const bool nominal = !baseline.empty() && (of_task.empty() || random() % 4 == 0);
+    const Cell& cell = nominal ? *baseline[random() % baseline.size()] : *of_task[random() % of_task.size()];
+    const CellResult r = runCell(table, cell, faults, scenario);
+    const bool as_expected = unexpected(cell, r).empty();
     ++s.runs;
     s.passed += as_expected;
     ++outcomes[r.outcome];

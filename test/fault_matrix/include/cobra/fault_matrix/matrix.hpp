@@ -66,6 +66,9 @@ struct Fault {
   int line = 0;
 };
 
+/// The fault whose cells play nothing: each task's procedure as it runs without a fault.
+inline constexpr const char* kBaseline = "none";
+
 struct Table {
   std::filesystem::path file;
   std::filesystem::path root;  ///< the repository (paths in the table are relative to it)
@@ -119,8 +122,6 @@ constexpr double kHoldWindow = 1.0;
 /// Runs one cell in this process (the soak's way). `faults_folder` receives the generated file.
 CellResult runCell(const Table& table, const Cell& cell, const std::filesystem::path& faults_folder,
                    const std::filesystem::path& scenario = {});
-/// A run without a fault (the soak's nominal runs); `scenario` "" is the task's first.
-CellResult runNominal(const Task& task, const std::filesystem::path& scenario);
 
 /// Runs the cells in `jobs` child processes at a time; a child that outlives `wall_limit` s is
 /// killed (outcome "hang"), one that dies by a signal is a "crash". `done` is told of each result.
@@ -155,7 +156,8 @@ struct SoakSummary {
   int fds_first = 0, fds_last = 0, fds_max = 0;
   std::string line;  ///< "soak: ..."
 };
-/// Repeats random runs (a task, a scenario, no fault or a random cell of the matrix) until the
+/// Repeats random runs (a task, one of its scenarios, its baseline cell one time in four, else a
+/// random cell of the task's) until the
 /// duration has passed, writing a CSV row per run (outcome, resident memory, open descriptors).
 SoakSummary soak(const Table& table, const SoakOptions& options);
 
