@@ -1,7 +1,8 @@
 // Faults files (run_spec.hpp: readFaults; runner.hpp: RunOptions::faults_file) on the test
 // application: a fault on a time, a state entry and an event, each once; a fault the task does
 // not recover from ends the run as "fault unhandled"; a fault naming an unknown component or
-// operation is one line with faults.lua:line, the name and what exists.
+// operation is one line with faults.lua:line, the name and what exists; a throw makes the named
+// component's next update throw (its Exception ends the run).
 
 #include "cobra/run/runner.hpp"
 
@@ -90,6 +91,22 @@ TEST(Faults, AnUnknownComponentIsOneLineWithFileLineTheNameAndTheComponentsThere
   const std::string message = messageOf([] { runApp(options("unknown_component.lua")); });
   EXPECT_EQ(message, (kFaults / "unknown_component.lua").string() +
                          ":5: unknown component 'Gian' in set Gian.k; did you mean 'Gain'? known components: "
+                         "Sine, Gain, Detector, Recorder, TaskSup");
+}
+
+TEST(Faults, AThrowMakesTheComponentsNextUpdateThrowAndTheRunEndsWithItsComponentError) {
+  const RunResult r = runApp(options("throw_in_gain.lua"));
+  EXPECT_EQ(r.outcome, Outcome::ComponentError);
+  const std::string where = (kFaults / "throw_in_gain.lua").string() + ":4";
+  EXPECT_EQ(r.reason, "component 'Gain' is in Exception: component 'Gain': updateHook threw: injected fault (" + where + ")");
+  EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "fault " + where), 1);
+  EXPECT_NEAR(r.duration, 0.05, 0.0015);  // the next step after the fault
+}
+
+TEST(Faults, AThrowNamingAnUnknownComponentIsOneLine) {
+  const std::string message = messageOf([] { runApp(options("throw_in_gian.lua")); });
+  EXPECT_EQ(message, (kFaults / "throw_in_gian.lua").string() +
+                         ":3: unknown component 'Gian' in throw in Gian.updateHook; did you mean 'Gain'? known components: "
                          "Sine, Gain, Detector, Recorder, TaskSup");
 }
 
