@@ -49,6 +49,14 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
   a.after = entry.number("after", 0.0);
   if (a.after < 0.0) entry.fail("`after` must be >= 0 s");
   a.repeat = entry.boolean("repeat", repeat_default);
+  a.every = entry.number("every", 0.0);
+  if (!(a.every >= 0.0)) entry.fail("`every` must be >= 0 s (0: once per trigger)");
+  a.chance = entry.number("chance", 1.0);
+  if (!(a.chance >= 0.0 && a.chance <= 1.0)) entry.fail("`chance` must be a probability, 0 to 1");
+  if (a.chance < 1.0 && a.every <= 0.0) entry.fail("`chance` needs `every` (s): each period's play happens with that probability");
+  const double seed = entry.number("seed", 1.0);
+  if (!(seed >= 0.0 && seed <= 4294967295.0) || seed != std::floor(seed)) entry.fail("`seed` must be an integer, 0 to 2^32 - 1");
+  a.seed = static_cast<unsigned>(seed);
   const int kinds = entry.has("call") + entry.has("write") + entry.has("set") + entry.has("lua") + entry.has("throw");
   if (kinds != 1) entry.fail("give exactly one of call = \"Comp.operation\", write = { port = , value = }, "
                              "set = { property = , value = }, lua = \"deployer code\", throw = \"Comp\"");

@@ -246,6 +246,11 @@ RunResult Session::run() {
     advance();
   } while (!ended());
   result_.duration = t_;
+  // A lasting fault (every) was logged at its first play: how often it played in all.
+  for (const Armed& a : armed_)
+    if (a.spec.every > 0.0 && a.fired > 0)
+      result_.log.push_back(std::string(a.fault ? "fault " : "action ") + a.spec.where.text() + " played " +
+                            std::to_string(a.fired) + " times");
   noteExecutorFigures();
   for (const Chart& c : charts_) {
     result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
@@ -417,8 +422,13 @@ void Session::playActions() {
       }
     }
     if (a.due < 0.0 || t_ + 1e-9 < a.due) continue;
-    a.due = -1.0;
-    ++a.fired;
+    // Played again every `every` s (a fault that lasts); once per trigger otherwise.
+    a.due = a.spec.every > 0.0 ? a.due + a.spec.every : -1.0;
+    if (a.spec.chance < 1.0 && std::uniform_real_distribution<double>(0.0, 1.0)(a.random) >= a.spec.chance) continue;
+    if (++a.fired > 1 && a.spec.every > 0.0) {
+      play(a.spec);  // logged at its first play only
+      continue;
+    }
     const std::string label = std::string(a.fault ? "fault " : "action ") + a.spec.where.text();
     say("  " + label + " (on " + a.spec.on.text() + "): " + a.spec.text);
     result_.log.push_back(label);

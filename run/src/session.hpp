@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +50,7 @@ struct Armed {
   bool fault = false;
   double due = -1.0;  // s; < 0: not triggered yet
   int fired = 0;
+  std::mt19937 random{spec.seed};  // draws spec.chance
 };
 
 // Hears every component's lifecycle state changes (core::StateListener): a change to Exception

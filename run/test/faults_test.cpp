@@ -103,6 +103,30 @@ TEST(Faults, AThrowMakesTheComponentsNextUpdateThrowAndTheRunEndsWithItsComponen
   EXPECT_NEAR(r.duration, 0.05, 0.0015);  // the next step after the fault
 }
 
+TEST(Faults, AnEntryPlayedEveryPeriodWithAChancePlaysTheSameRandomPeriodsInEveryRun) {
+  const std::string where = (kFaults / "clear_at_random.lua").string() + ":4";
+  const auto plays = [&](const RunResult& r) {
+    for (const std::string& line : r.log)
+      if (line.rfind("fault " + where + " played ", 0) == 0) return std::stoi(line.substr(line.rfind("played ") + 7));
+    return 0;
+  };
+  const RunResult first = runApp(options("clear_at_random.lua"));
+  ASSERT_TRUE(first.completed()) << first.reason;
+  EXPECT_EQ(std::count(first.log.begin(), first.log.end(), "fault " + where), 1);  // logged once
+  // Every 10 ms from 0.05 s to the end (about 30 periods), about one in five played.
+  const int periods = static_cast<int>((first.duration - 0.05) / 0.01) + 1;
+  EXPECT_GT(periods, 20);
+  EXPECT_GT(plays(first), 0);
+  EXPECT_LT(plays(first), periods);
+  EXPECT_EQ(plays(runApp(options("clear_at_random.lua"))), plays(first));  // seeded
+}
+
+TEST(Faults, AChanceWithoutEveryIsRefused) {
+  const std::string message = messageOf([] { runApp(options("chance_without_every.lua")); });
+  EXPECT_EQ(message, (kFaults / "chance_without_every.lua").string() +
+                         ":3: fault 1: `chance` needs `every` (s): each period's play happens with that probability");
+}
+
 TEST(Faults, AThrowNamingAnUnknownComponentIsOneLine) {
   const std::string message = messageOf([] { runApp(options("throw_in_gian.lua")); });
   EXPECT_EQ(message, (kFaults / "throw_in_gian.lua").string() +

@@ -129,10 +129,11 @@ fault "sensor_silent" {
 }
 
 fault "link_loss" {
-  text = "lost frames on a device link (the EtherCAT bus: 5 cycles with a wrong working counter)",
+  text = "20 % packet loss on a device link (each 1 ms EtherCAT cycle comes back with a wrong working counter "
+    .. "with a 20 % chance, seeded)",
   puncturing = na "one process, no bridge: the robots' simulations are components of the run",
   suturing = na "one process, no bridge: the robots' simulations are components of the run",
-  puma260 = { { call = "World.injectWorkingCounterFault", args = { 5 } } },
+  puma260 = { { every = 0.001, chance = 0.2, seed = 1, call = "World.injectWorkingCounterFault", args = { 1 } } },
   door = na "the simulated door is a component of the run: no bridge",
 }
 

@@ -49,6 +49,13 @@ struct ActionSpec {
   Trigger on;
   double after = 0.0;  ///< s
   bool repeat = false;
+  /// s: > 0 plays it again every `every` s after its first play, until the run ends (e.g. a
+  /// bus frame lost at random every cycle); logged once, at its first play.
+  double every = 0.0;
+  /// With `every`: each period's play happens with this probability (0..1), drawn from a
+  /// generator seeded with `seed` (a run is reproduced exactly); 1: always.
+  double chance = 1.0;
+  unsigned seed = 1;
   enum class Kind { Call, Write, Set, Lua, Throw } kind = Kind::Call;
   std::string component;  ///< Call/Write/Set/Throw
   std::string member;     ///< operation, port or property
