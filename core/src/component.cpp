@@ -3,12 +3,47 @@
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <stdexcept>
+#include <vector>
 #include <thread>
 #include <utility>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/core/fault_injection.hpp"
 
 namespace cobra::core {
+
+namespace {
+
+// Injected update exceptions (fault_injection.hpp): few, rare, set off the real-time path. The
+// count is read by every step without the lock; the list is looked at only when it is not zero.
+std::atomic<int> g_injected{0};
+std::mutex g_injected_mutex;
+std::vector<std::pair<const Component*, std::string>> g_injections;
+
+// Throws the injection of `component` when there is one (removing it).
+void throwIfInjected(const Component* component) {
+  std::string what;
+  {
+    std::lock_guard lock(g_injected_mutex);
+    const auto it = std::find_if(g_injections.begin(), g_injections.end(), [&](const auto& i) { return i.first == component; });
+    if (it == g_injections.end()) return;
+    what = std::move(it->second);
+    g_injections.erase(it);
+    g_injected.fetch_sub(1, std::memory_order_relaxed);
+  }
+  throw std::runtime_error(what);
+}
+
+}  // namespace
+
+void injectUpdateException(const Component& component, std::string what) {
+  std::lock_guard lock(g_injected_mutex);
+  g_injections.emplace_back(&component, std::move(what));
+  g_injected.fetch_add(1, std::memory_order_relaxed);
+}
+
+int pendingUpdateExceptions() { return g_injected.load(std::memory_order_relaxed); }
 
 /// A change queued for the activity thread; lives on the waiting caller's stack, so the
 /// activity thread neither allocates nor frees anything to run it.
@@ -50,6 +85,13 @@ Component::Component(std::string name, Role role, std::string doc)
 }
 
 Component::~Component() {
+  // An injection it never threw dies with it (another component may get its address).
+  if (g_injected.load(std::memory_order_relaxed) != 0) {
+    std::lock_guard lock(g_injected_mutex);
+    const auto gone = std::remove_if(g_injections.begin(), g_injections.end(), [&](const auto& i) { return i.first == this; });
+    g_injected.fetch_sub(static_cast<int>(g_injections.end() - gone), std::memory_order_relaxed);
+    g_injections.erase(gone, g_injections.end());
+  }
   // By now the subclass's members are gone; an update running on another thread would touch
   // freed memory. Stop components before destroying them (ComponentRegistry does).
   if (state() == State::Running && activity_->hasRunningThread())
@@ -321,6 +363,7 @@ void Component::step() noexcept {
   if (has_pending_.load(std::memory_order_acquire)) applyPendingChanges();
   if (state() != State::Running) return;
   try {
+    if (g_injected.load(std::memory_order_relaxed) != 0) [[unlikely]] throwIfInjected(this);
     updateHook();
     // Only the stepping thread writes it: a plain increment, not a locked read-modify-write.
     update_count_.store(update_count_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);

@@ -114,6 +114,7 @@ void checkAction(const ActionSpec& a, const core::ComponentRegistry& refs, const
     throw std::runtime_error(at + "unknown component '" + a.component + "' in " + a.text +
                              deploy::suggestionText(a.component, names, "components"));
   }
+  if (a.kind == ActionSpec::Kind::Throw) return;  // any component has an updateHook
   std::vector<std::string> known;
   std::string one = "operation", many = "operations";
   if (a.kind == ActionSpec::Kind::Call) {

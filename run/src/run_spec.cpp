@@ -49,10 +49,24 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
   a.after = entry.number("after", 0.0);
   if (a.after < 0.0) entry.fail("`after` must be >= 0 s");
   a.repeat = entry.boolean("repeat", repeat_default);
-  const int kinds = entry.has("call") + entry.has("write") + entry.has("set") + entry.has("lua");
+  a.every = entry.number("every", 0.0);
+  if (!(a.every >= 0.0)) entry.fail("`every` must be >= 0 s (0: once per trigger)");
+  a.chance = entry.number("chance", 1.0);
+  if (!(a.chance >= 0.0 && a.chance <= 1.0)) entry.fail("`chance` must be a probability, 0 to 1");
+  if (a.chance < 1.0 && a.every <= 0.0) entry.fail("`chance` needs `every` (s): each period's play happens with that probability");
+  const double seed = entry.number("seed", 1.0);
+  if (!(seed >= 0.0 && seed <= 4294967295.0) || seed != std::floor(seed)) entry.fail("`seed` must be an integer, 0 to 2^32 - 1");
+  a.seed = static_cast<unsigned>(seed);
+  const int kinds = entry.has("call") + entry.has("write") + entry.has("set") + entry.has("lua") + entry.has("throw");
   if (kinds != 1) entry.fail("give exactly one of call = \"Comp.operation\", write = { port = , value = }, "
-                             "set = { property = , value = }, lua = \"deployer code\"");
-  if (entry.has("call")) {
+                             "set = { property = , value = }, lua = \"deployer code\", throw = \"Comp\"");
+  if (entry.has("throw")) {
+    // The component's next updateHook throws (core/fault_injection.hpp): it goes to Exception.
+    a.kind = ActionSpec::Kind::Throw;
+    a.component = entry.string("throw", true);
+    entry.setLine(entry.lineOf(a.component));
+    a.text = "throw in " + a.component + ".updateHook";
+  } else if (entry.has("call")) {
     a.kind = ActionSpec::Kind::Call;
     const std::string target = entry.string("call", true);
     entry.setLine(entry.lineOf(target));
@@ -80,7 +94,7 @@ ActionSpec readAction(Reader& entry, bool repeat_default) {
 
 // The identifying string of an action entry, for its line.
 void placeAction(Reader& entry) {
-  for (const char* key : {"call", "lua"})
+  for (const char* key : {"call", "lua", "throw"})
     if (entry.has(key)) entry.setLine(entry.lineOf(entry.string(key, false)));
 }
 

@@ -14,6 +14,7 @@
 #include <sys/mman.h>
 
 #include "cobra/components/builtin_packages.hpp"
+#include "cobra/core/fault_injection.hpp"
 #include "cobra/components/coordination/supervisor.hpp"
 #include "action_check.hpp"
 #include "cobra/deploy/suggest.hpp"
@@ -245,6 +246,11 @@ RunResult Session::run() {
     advance();
   } while (!ended());
   result_.duration = t_;
+  // A lasting fault (every) was logged at its first play: how often it played in all.
+  for (const Armed& a : armed_)
+    if (a.spec.every > 0.0 && a.fired > 0)
+      result_.log.push_back(std::string(a.fault ? "fault " : "action ") + a.spec.where.text() + " played " +
+                            std::to_string(a.fired) + " times");
   noteExecutorFigures();
   for (const Chart& c : charts_) {
     result_.states_entered[c.spec->name] = timeline_.statesEntered(c.spec->name + " chart");
@@ -416,8 +422,13 @@ void Session::playActions() {
       }
     }
     if (a.due < 0.0 || t_ + 1e-9 < a.due) continue;
-    a.due = -1.0;
-    ++a.fired;
+    // Played again every `every` s (a fault that lasts); once per trigger otherwise.
+    a.due = a.spec.every > 0.0 ? a.due + a.spec.every : -1.0;
+    if (a.spec.chance < 1.0 && std::uniform_real_distribution<double>(0.0, 1.0)(a.random) >= a.spec.chance) continue;
+    if (++a.fired > 1 && a.spec.every > 0.0) {
+      play(a.spec);  // logged at its first play only
+      continue;
+    }
     const std::string label = std::string(a.fault ? "fault " : "action ") + a.spec.where.text();
     say("  " + label + " (on " + a.spec.on.text() + "): " + a.spec.text);
     result_.log.push_back(label);
@@ -499,6 +510,10 @@ void Session::play(const ActionSpec& action) {
 }
 
 void Session::playNow(const ActionSpec& action) {
+  if (action.kind == ActionSpec::Kind::Throw) {
+    core::injectUpdateException(*refs_.find(action.component), "injected fault (" + action.where.text() + ")");
+    return;
+  }
   lua_State* L = lua_.get();
   lua_getglobal(L, "cobra_run_play");
   lua_rawgeti(L, LUA_REGISTRYINDEX, action.lua_ref);
@@ -560,6 +575,20 @@ bool Session::isFailure(const std::string& event) const {
 }
 
 bool Session::ended() {
+  if (decided_at_ >= 0.0) {
+    const bool interrupted = options_.interrupt != nullptr && options_.interrupt->load(std::memory_order_relaxed);
+    return interrupted || t_ - decided_at_ >= options_.watch_after_end - 1e-9;
+  }
+  if (!decide()) return false;
+  if (options_.watch_after_end <= 0.0 || result_.outcome == Outcome::Interrupted) return true;
+  // The outcome stands; the run steps on so that the robots are watched (and recorded) after it.
+  decided_at_ = t_;
+  result_.log.push_back("run decided: " + std::string(toString(result_.outcome)));
+  say("run decided: " + std::string(toString(result_.outcome)) + "; watching for" + seconds(options_.watch_after_end));
+  return false;
+}
+
+bool Session::decide() {
   if (executor_ && executor_->safeStopAsked() && result_.outcome != Outcome::SafeStop) {
     result_.outcome = Outcome::SafeStop;
     safe_stop_at_ = t_;

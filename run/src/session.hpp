@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +50,7 @@ struct Armed {
   bool fault = false;
   double due = -1.0;  // s; < 0: not triggered yet
   int fired = 0;
+  std::mt19937 random{spec.seed};  // draws spec.chance
 };
 
 // Hears every component's lifecycle state changes (core::StateListener): a change to Exception
@@ -137,8 +139,10 @@ class Session {
   // Wall clock: runs the executor and observes from this thread every run step until the end.
   void runOnTheWallClock(std::chrono::nanoseconds step);
   void noteExecutorFigures();
-  // True when the run ends after this step (sets the outcome and reason).
+  // True when the run ends after this step: decided, and watched for RunOptions::watch_after_end.
   bool ended();
+  // True when the run's outcome is decided by this step (sets the outcome and reason).
+  bool decide();
   void noteSafeStop(const Chart& chart);
   // An event that may be a safe stop's reason: the run table's `failures`, and every refused
   // switch (e_configure_failed_*, e_deploy_failed_*).
@@ -210,6 +214,7 @@ class Session {
   long record_every_ = 1;
   double next_progress_ = 0.0;
   double safe_stop_at_ = -1.0;
+  double decided_at_ = -1.0;  // s; < 0: the outcome is not decided yet
   // Split over hosts.
   RemoteHostOf remote_host_;  // empty without a placement
   RemoteEntries remote_entries_;

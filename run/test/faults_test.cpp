@@ -1,7 +1,8 @@
 // Faults files (run_spec.hpp: readFaults; runner.hpp: RunOptions::faults_file) on the test
 // application: a fault on a time, a state entry and an event, each once; a fault the task does
 // not recover from ends the run as "fault unhandled"; a fault naming an unknown component or
-// operation is one line with faults.lua:line, the name and what exists.
+// operation is one line with faults.lua:line, the name and what exists; a throw makes the named
+// component's next update throw (its Exception ends the run).
 
 #include "cobra/run/runner.hpp"
 
@@ -90,6 +91,46 @@ TEST(Faults, AnUnknownComponentIsOneLineWithFileLineTheNameAndTheComponentsThere
   const std::string message = messageOf([] { runApp(options("unknown_component.lua")); });
   EXPECT_EQ(message, (kFaults / "unknown_component.lua").string() +
                          ":5: unknown component 'Gian' in set Gian.k; did you mean 'Gain'? known components: "
+                         "Sine, Gain, Detector, Recorder, TaskSup");
+}
+
+TEST(Faults, AThrowMakesTheComponentsNextUpdateThrowAndTheRunEndsWithItsComponentError) {
+  const RunResult r = runApp(options("throw_in_gain.lua"));
+  EXPECT_EQ(r.outcome, Outcome::ComponentError);
+  const std::string where = (kFaults / "throw_in_gain.lua").string() + ":4";
+  EXPECT_EQ(r.reason, "component 'Gain' is in Exception: component 'Gain': updateHook threw: injected fault (" + where + ")");
+  EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "fault " + where), 1);
+  EXPECT_NEAR(r.duration, 0.05, 0.0015);  // the next step after the fault
+}
+
+TEST(Faults, AnEntryPlayedEveryPeriodWithAChancePlaysTheSameRandomPeriodsInEveryRun) {
+  const std::string where = (kFaults / "clear_at_random.lua").string() + ":4";
+  const auto plays = [&](const RunResult& r) {
+    for (const std::string& line : r.log)
+      if (line.rfind("fault " + where + " played ", 0) == 0) return std::stoi(line.substr(line.rfind("played ") + 7));
+    return 0;
+  };
+  const RunResult first = runApp(options("clear_at_random.lua"));
+  ASSERT_TRUE(first.completed()) << first.reason;
+  EXPECT_EQ(std::count(first.log.begin(), first.log.end(), "fault " + where), 1);  // logged once
+  // Every 10 ms from 0.05 s to the end (about 30 periods), about one in five played.
+  const int periods = static_cast<int>((first.duration - 0.05) / 0.01) + 1;
+  EXPECT_GT(periods, 20);
+  EXPECT_GT(plays(first), 0);
+  EXPECT_LT(plays(first), periods);
+  EXPECT_EQ(plays(runApp(options("clear_at_random.lua"))), plays(first));  // seeded
+}
+
+TEST(Faults, AChanceWithoutEveryIsRefused) {
+  const std::string message = messageOf([] { runApp(options("chance_without_every.lua")); });
+  EXPECT_EQ(message, (kFaults / "chance_without_every.lua").string() +
+                         ":3: fault 1: `chance` needs `every` (s): each period's play happens with that probability");
+}
+
+TEST(Faults, AThrowNamingAnUnknownComponentIsOneLine) {
+  const std::string message = messageOf([] { runApp(options("throw_in_gian.lua")); });
+  EXPECT_EQ(message, (kFaults / "throw_in_gian.lua").string() +
+                         ":3: unknown component 'Gian' in throw in Gian.updateHook; did you mean 'Gain'? known components: "
                          "Sine, Gain, Detector, Recorder, TaskSup");
 }
 

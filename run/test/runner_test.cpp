@@ -89,6 +89,20 @@ TEST(Runner, TheTestApplicationCompletesWhenItsChartIsDoneAndWritesTheRunFolder)
 
 // The folder is written at the end: one that cannot be written is refused before the run
 // (here a path through a regular file, which no user, root included, can make a folder of).
+TEST(Runner, WatchedAfterItsEndTheRunStepsOnWithItsOutcomeAndReasonUnchanged) {
+  RunOptions o;
+  o.app = kApp;
+  o.time_limit = 5.0;
+  const RunResult at_once = runApp(o);
+  ASSERT_TRUE(at_once.completed()) << at_once.reason;
+  o.watch_after_end = 0.5;
+  const RunResult watched = runApp(o);
+  ASSERT_TRUE(watched.completed()) << watched.reason;
+  EXPECT_EQ(watched.reason, "");
+  EXPECT_NEAR(watched.duration, at_once.duration + 0.5, 0.0015);
+  EXPECT_EQ(std::count(watched.log.begin(), watched.log.end(), "run decided: completed"), 1);
+}
+
 TEST(Runner, AReportFolderThatCannotBeWrittenIsRefusedBeforeTheRun) {
   const std::filesystem::path file = ::cobra::test_support::scratchPath("cobra_run_report_is_a_file");
   std::filesystem::remove_all(file);

@@ -9,6 +9,8 @@
 //   cobra describe FILE [-o out.lua]
 //   cobra console [FILE] [--sim] [--strict]
 //   cobra fsm run FILE [--events "e1 e2 -"] | cobra fsm check FILE | cobra fsm graph FILE -o fsm.svg
+//   cobra faults matrix [--tasks T,...] [--cells ID,...] [--jobs N] [--doc FILE] [--check-doc FILE]
+//   cobra soak --duration S [--seed N] --report FILE [--tasks T,...]
 //   cobra new component NAME --role R --package P [-o DIR] [--in n:T[:unit]] [--out ...] [--prop ...]
 
 #include <CLI/CLI.hpp>
@@ -30,6 +32,7 @@
 #include "console_terminal.hpp"
 #include "describe.hpp"
 #include "edit_command.hpp"
+#include "faults_command.hpp"
 #include "fsm_command.hpp"
 #include "run_command.hpp"
 #include "cobra/types/register_type.hpp"
@@ -256,6 +259,8 @@ int main(int argc, char** argv) {
                   "exit status 0 when the task charts reach their done states; 3 when a peer host was lost; else 1 and one "
                   "line saying why");
 
+  const tools::FaultsCommands faults_commands(app);  // cobra faults matrix, cobra soak
+
   std::string studio_folder;
   tools::StudioCommandOptions replay_options;
   replay_options.executable = argv[0];
@@ -375,6 +380,7 @@ int main(int argc, char** argv) {
       run_options.pace = pace >= 0.0 ? pace : (studio_options.live && !run_options.realtime ? 1.0 : 0.0);
       return tools::runApplication(run_options, run_quiet, studio_options, g_interrupted);
     }
+    if (faults_commands.chosen()) return faults_commands.run();
     if (*studio_cmd) return tools::serveRecording(studio_folder, replay_options, g_interrupted);
     if (*edit_cmd) return tools::editDeployment(edit_path, edit_options, g_interrupted);
     if (*lint_cmd) return runLint(lint_file);

@@ -43,13 +43,21 @@ struct Trigger {
 };
 
 /// One action of `run.actions` or one fault of a faults file: `after` s after its trigger, call
-/// an operation, write a port, set a property or run deployer Lua; once unless `repeat`.
+/// an operation, write a port, set a property, run deployer Lua or make a component's next
+/// updateHook throw (`throw = "Comp"`, core/fault_injection.hpp); once unless `repeat`.
 struct ActionSpec {
   Trigger on;
   double after = 0.0;  ///< s
   bool repeat = false;
-  enum class Kind { Call, Write, Set, Lua } kind = Kind::Call;
-  std::string component;  ///< Call/Write/Set
+  /// s: > 0 plays it again every `every` s after its first play, until the run ends (e.g. a
+  /// bus frame lost at random every cycle); logged once, at its first play.
+  double every = 0.0;
+  /// With `every`: each period's play happens with this probability (0..1), drawn from a
+  /// generator seeded with `seed` (a run is reproduced exactly); 1: always.
+  double chance = 1.0;
+  unsigned seed = 1;
+  enum class Kind { Call, Write, Set, Lua, Throw } kind = Kind::Call;
+  std::string component;  ///< Call/Write/Set/Throw
   std::string member;     ///< operation, port or property
   std::string text;       ///< "call Patient.startFreeze", for logs
   int lua_ref = -1;       ///< the entry's table in the Lua registry (value, args, code)

@@ -123,6 +123,10 @@ struct RunOptions {
   RunObserver* observer = nullptr;
   /// When set and true, the run ends after the current step (Ctrl-C): Outcome::Interrupted.
   const std::atomic<bool>* interrupt = nullptr;
+  /// s the run steps on after its outcome is decided (completed, safe stop, component error,
+  /// time limit; not after an interrupt), the outcome and reason unchanged: the robots are watched
+  /// (observers, recording, RunObserver) holding after it (cobra faults matrix). 0: it ends at once.
+  double watch_after_end = 0.0;
   /// This process's host in the application's `placement` (deploy/placement.hpp): only that
   /// host's components run here, the connections to the others' go over the placement's
   /// transport, and the run table's entries naming other hosts' components are left to them.
