@@ -296,23 +296,12 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
       std::copy_n(start.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)), validator_.model(r).jointCount(),
                   goal_joints.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
     any = any || moving[r];
-    // A robot that moves must start where the control path's IK would put it for its tool poses
-    // (the I-SUR's redundancy rule): from anywhere else, the first Cartesian command of any path
-    // jumps its joints to the rule, which the continuity rule refuses. Measured joints (encoder
-    // counts) are off it by far less than the verification's first step allows a joint (its
-    // velocity limit with the margin over a blend_time segment's first point), which it walks
-    // from the measured start.
-    const double first_step = options_.joint_velocity_margin * options_.blend_time /
-                              static_cast<double>(std::max<std::size_t>(options_.verify_points_per_segment, 1));
-    const std::ptrdiff_t joint = moving[r] ? offRule(validator_, r, start, start, first_step) : -1;
-    if (joint >= 0)
-      return detail::finished(std::move(result), PlanStatus::InvalidStart,
-                              "start joints of robot '" + validator_.scene().robots[r].name + "' (joint " +
-                                  std::to_string(joint + 1) +
-                                  ") are not where its inverse kinematics resolves its redundancy for the start "
-                                  "pose: the first Cartesian command of any path would jump them",
-                              started);
   }
+  // A start off the I-SUR's redundancy rule is planned from as it is: the robots' controllers keep
+  // continuity (kinematics::ContinuousIk), so after a straight motion near the wrist lock they end
+  // off the rule a fresh solve gives (by ~0.03-0.04 rad in the elbow), and the next path's first
+  // command continues from there; the dense verification walks the path from that start with the
+  // same continuity-keeping IK. Refusing such starts refused procedures the robots can follow.
   result.rejected = validator_.checkJoints(goal_joints, true);
   if (!result.rejected.valid())
     return detail::finished(std::move(result), PlanStatus::InvalidGoal, "goal state is not valid: " + describe(result.rejected),
