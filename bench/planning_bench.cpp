@@ -24,19 +24,25 @@
 //    a loaded machine gives to other processes), `success_rate` (e_plan_done over requests); the
 //    slowest request's planner and simulated time go to stderr. The count of requests is checked
 //    against the events in the run's log.
-//  - RandomQueries/<planner>: 1,000 seeded random feasible queries on the puncturing scene (start
-//    and goal joint states sampled valid inside the planner's bounds, the goal given as its tool
-//    poses; a third moves the needle, a third the probe, a third both; kept only when the planner
-//    accepts the query: MotionPlanner::checkGoal), work limit 10,000 checks or iterations;
-//    `success_rate`, `no_path`, `path_invalid`, `refused` (queries), `median_ms`, `p95_ms`,
-//    `max_ms` and `cpu_median_ms` (process CPU time:
-//    wall-clock times include waiting for a shared core). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1
-//    and BIT* side by side on the same queries.
+//  - RandomQueries/<planner>, RandomQueriesSuturing/<planner>: 1,000 seeded random feasible
+//    queries on the puncturing scene and on the suturing application's scene
+//    (planning/test/random_queries.hpp: start and goal joint states sampled valid inside the
+//    planner's bounds and on each robot's redundancy rule, the goal given as its tool poses; a
+//    third moves tool 0, a third tool 1, a third both; kept when the planner accepts the query,
+//    MotionPlanner::checkGoal, and no UR5 joint must turn the long way round), each scene's
+//    planner as its deployment configures it (puncturing: work limit 10,000 checks or
+//    iterations; suturing: 20,000); `success_rate`, `no_path`, `path_invalid`, `refused`
+//    (queries), `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock
+//    times include waiting for a shared core), `searches_per_query`, `re_searched` (queries
+//    re-searched after a failed verification), `sampled_refused` (samples dropped, by cause on
+//    stderr, with each failure's message by count). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1 and
+//    BIT* side by side on the same queries.
 // Validity checks run 10 repetitions (median and max reported); planning runs once.
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -51,6 +57,7 @@
 
 #include <time.h>
 
+#include "../planning/test/random_queries.hpp"
 #include "../planning/test/stand_in_robots.hpp"
 #include "../test_support/include/cobra/test_support/counting_new.hpp"
 #include "cobra/core/core.hpp"
@@ -61,9 +68,10 @@
 namespace {
 
 using namespace cobra::planning;
+using namespace cobra::planning::test;
 
 constexpr int kRepetitions = 10;
-constexpr int kRandomQueries = 1000;
+constexpr std::size_t kRandomQueries = 1000;
 constexpr int kScenarioRuns = 5;
 constexpr double kPi = 3.141592653589793;
 
@@ -80,30 +88,9 @@ SceneDescription standInScene() {
   return parseScene(text.str(), "two_robots.scene + wall", dir);
 }
 
-/// The puncturing scene as the deployment configures it: the needle frames have z along the
-/// needle (apps/puncturing/puncturing.lua), the phantom at `phantom` (identity: as in the file).
-SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
-  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/test/scenes/puncturing.scene");
-  for (RobotPlacement& robot : scene.robots)
-    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
-  for (ObjectDescription& object : scene.objects)
-    if (object.name == "phantom") object.offset = phantom * object.offset;
-  return scene;
-}
-
 StateValidator makeValidator(SceneDescription scene) {
   RobotModels models = makeRobotModels(scene);
   return StateValidator(std::move(scene), std::move(models));
-}
-
-/// The MotionPlanner component's default bounds (components/planning), as the deployment uses them.
-PlannerOptions deploymentOptions(const std::string& planner) {
-  PlannerOptions o;
-  o.planner = planner;
-  o.first_bounds = {{-0.3, -0.3, 0.0}, {0.3, 0.3, 0.5}};
-  o.second_bounds = {{-0.4, -0.5, 0.0}, {0.4, 0.4, 0.6}};
-  o.tool_names = {"needle", "probe"};
-  return o;
 }
 
 KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
@@ -115,34 +102,6 @@ KDL::Frame randomPose(std::mt19937& rng, const PositionBounds& bounds) {
   double x = normal(rng), y = normal(rng), z = normal(rng), w = normal(rng);
   const double n = std::sqrt(x * x + y * y + z * z + w * w);
   return KDL::Frame(KDL::Rotation::Quaternion(x / n, y / n, z / n, w / n), p);
-}
-
-/// A valid joint state inside the planner's tool bounds, sampled uniformly in the joint limits
-/// (the UR5 within ±π of `near`'s joints when given, so that it stays on one IK branch family).
-JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const PlannerOptions& o,
-                             const JointState* near = nullptr) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  JointState q(validator.jointCount());
-  DualPose tools;
-  for (;;) {
-    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
-      RobotModel& model = validator.model(r);
-      const std::size_t n = model.jointCount(), offset = validator.jointOffset(r);
-      std::vector<double> lower(n), upper(n), velocity(n);
-      model.jointLimits(lower, upper, velocity);
-      for (std::size_t j = 0; j < n; ++j) {
-        double lo = lower[j], hi = upper[j];
-        if (near != nullptr && validator.scene().robots[r].name == "ur5") {
-          lo = std::max(lo, (*near)[offset + j] - kPi);
-          hi = std::min(hi, (*near)[offset + j] + kPi);
-        }
-        q[offset + j] = lo + unit(rng) * (hi - lo);
-      }
-    }
-    if (validator.checkJoints(q).valid() && validator.toolPoses(q, tools) && o.first_bounds.contains(tools.first.p) &&
-        o.second_bounds.contains(tools.second.p))
-      return q;
-  }
 }
 
 void runChecks(benchmark::State& state, const std::function<bool(std::size_t)>& check, std::size_t count) {
@@ -182,7 +141,7 @@ ValidStates validStates(StateValidator& validator) {
   std::mt19937 rng(11);
   ValidStates states;
   while (states.joints.size() < 4096) {
-    states.joints.push_back(randomValidJoints(rng, validator, o));
+    states.joints.push_back(randomValidJoints(rng, validator, o, nullptr, false));
     states.poses.emplace_back();
     validator.toolPoses(states.joints.back(), states.poses.back());
   }
@@ -230,57 +189,35 @@ BENCHMARK_CAPTURE(BM_AppPlanningRequests, vertical_needle,
                   cobra::bench::AppTask{"apps/puncturing", "apps/puncturing/scenarios/vertical_needle"}, kScenarioRuns)
     ->Name("ScenarioQueries/vertical_needle")->Iterations(1)->Unit(benchmark::kMillisecond);
 
-/// One planning query: start joints, goal tool poses.
-struct Query {
-  JointState start;
-  DualPose goal;
-  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
-  double max_angular_velocity = 0.5;   // rad/s
-};
-
-/// kRandomQueries seeded feasible queries (the same for every planner).
-std::vector<Query> randomQueries(StateValidator& validator) {
-  const PlannerOptions o = deploymentOptions("RRTConnect");
-  MotionPlanner acceptance(validator, o);
-  std::mt19937 rng(2026);
-  std::vector<Query> queries;
-  while (queries.size() < static_cast<std::size_t>(kRandomQueries)) {
-    Query query;
-    query.start = randomValidJoints(rng, validator, o);
-    JointState goal = randomValidJoints(rng, validator, o, &query.start);
-    // Which robots move: the needle, the probe, or both (one in three each).
-    const int moving = static_cast<int>(queries.size() % 3);
-    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
-      const bool isur = validator.scene().robots[r].name == "isur";
-      if ((moving == 0 && !isur) || (moving == 1 && isur))
-        std::copy_n(query.start.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)),
-                    validator.model(r).jointCount(), goal.begin() + static_cast<std::ptrdiff_t>(validator.jointOffset(r)));
+/// `message` with every number replaced by '#': failures of one kind count together.
+std::string reasonOf(const std::string& message) {
+  std::string reason;
+  for (std::size_t i = 0; i < message.size(); ++i) {
+    const bool digit = std::isdigit(static_cast<unsigned char>(message[i])) != 0;
+    if (!digit && !(message[i] == '.' && i > 0 && std::isdigit(static_cast<unsigned char>(message[i - 1])) != 0) &&
+        !(message[i] == '-' && i + 1 < message.size() && std::isdigit(static_cast<unsigned char>(message[i + 1])) != 0)) {
+      reason += message[i];
+    } else if (reason.empty() || reason.back() != '#') {
+      reason += '#';
     }
-    validator.toolPoses(goal, query.goal);
-    // Feasible: the planner accepts the query (its own goal check: the goal IK from the start on
-    // the start's branch and redundancy rule, a valid goal state), so a failure is the search's.
-    if (!acceptance.checkGoal(query.start, query.goal).solved()) continue;
-    const bool needle_moves = moving != 1;
-    query.max_linear_velocity = needle_moves ? 0.04 : 0.08;
-    query.max_angular_velocity = needle_moves ? 0.15 : 0.5;
-    queries.push_back(query);
   }
-  return queries;
+  return reason;
 }
 
-void BM_Random(benchmark::State& state, const std::string& planner) {
-  StateValidator validator = makeValidator(puncturingScene());
-  const std::vector<Query> queries = randomQueries(validator);
+void BM_Random(benchmark::State& state, const std::string& scene_name, const RandomScene& setup) {
+  StateValidator validator = makeValidator(setup.scene());
+  std::map<std::string, int> refused;
+  const std::vector<Query> queries = randomQueries(validator, setup, kRandomQueries, refused);
   std::vector<double> times_ms, cpu_ms;
   std::map<PlanStatus, int> outcomes;
+  std::map<std::string, int> reasons;
+  std::size_t searches = 0, researched = 0;
   for (auto _ : state) {
     std::uint32_t seed = 1;
     for (const Query& query : queries) {
-      PlannerOptions o = deploymentOptions(planner);
-      o.max_validity_checks = 10000;
+      PlannerOptions o = setup.options;
       o.seed = seed++;
-      // The trajectory generator's speeds of the planner that would ask (needle_robot.lua and
-      // probe_robot.lua): the needle's when the needle moves.
+      // The trajectory generator's speeds of the planner that would ask.
       o.max_linear_velocity = query.max_linear_velocity;
       o.max_angular_velocity = query.max_angular_velocity;
       MotionPlanner motion_planner(validator, o);
@@ -289,6 +226,9 @@ void BM_Random(benchmark::State& state, const std::string& planner) {
       cpu_ms.push_back(1e3 * (processCpuSeconds() - cpu_before));
       times_ms.push_back(1e3 * result.planning_time);
       ++outcomes[result.status];
+      searches += result.searches;
+      researched += result.searches > 1 ? 1 : 0;
+      if (!result.solved()) ++reasons[reasonOf(result.message)];
     }
   }
   state.counters["median_ms"] = quantile(times_ms, 0.5);
@@ -302,17 +242,36 @@ void BM_Random(benchmark::State& state, const std::string& planner) {
   state.counters["path_invalid"] = outcomes[PlanStatus::PathInvalid];
   state.counters["refused"] = static_cast<double>(queries.size()) - outcomes[PlanStatus::Solved] -
                               outcomes[PlanStatus::NoSolution] - outcomes[PlanStatus::PathInvalid];
+  // How much of the work went into re-runs after a path failed the verification.
+  state.counters["searches_per_query"] = static_cast<double>(searches) / static_cast<double>(queries.size());
+  state.counters["re_searched"] = static_cast<double>(researched);
+  // Sampled queries the planner's own goal check refused (not counted in the rate), by cause.
+  int sampled_refused = 0;
+  std::string refusals;
+  for (const auto& [why, count] : refused) {
+    sampled_refused += count;
+    refusals += std::string(refusals.empty() ? "" : ", ") + std::to_string(count) + " " + why;
+  }
+  state.counters["sampled_refused"] = sampled_refused;
+  // The failures' causes (numbers as '#'), most frequent first, to stderr.
+  std::vector<std::pair<int, std::string>> causes;
+  for (const auto& [reason, count] : reasons) causes.emplace_back(count, reason);
+  std::sort(causes.rbegin(), causes.rend());
+  std::fprintf(stderr, "RandomQueries %s/%s: %zu queries (%d sampled ones dropped: %s)\n",
+               scene_name.c_str(), setup.options.planner.c_str(), queries.size(), sampled_refused, refusals.c_str());
+  for (const auto& [count, reason] : causes) std::fprintf(stderr, "  %4d x %s\n", count, reason.c_str());
 }
-BENCHMARK_CAPTURE(BM_Random, RRTConnect, std::string("RRTConnect"))->Name("RandomQueries/RRTConnect")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, BiTRRT, std::string("BiTRRT"))->Name("RandomQueries/BiTRRT")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, LazyPRM, std::string("LazyPRM"))->Name("RandomQueries/LazyPRM")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, LBKPIECE1, std::string("LBKPIECE1"))->Name("RandomQueries/LBKPIECE1")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Random, BITstar, std::string("BITstar"))->Name("RandomQueries/BITstar")->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
+
+#define COBRA_RANDOM_QUERIES(PLANNER)                                                                        \
+  BENCHMARK_CAPTURE(BM_Random, PLANNER, std::string("puncturing"), puncturingRandom(#PLANNER))               \
+      ->Name("RandomQueries/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond);                       \
+  BENCHMARK_CAPTURE(BM_Random, suturing_##PLANNER, std::string("suturing"), suturingRandom(#PLANNER))        \
+      ->Name("RandomQueriesSuturing/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond)
+COBRA_RANDOM_QUERIES(RRTConnect);
+COBRA_RANDOM_QUERIES(BiTRRT);
+COBRA_RANDOM_QUERIES(LazyPRM);
+COBRA_RANDOM_QUERIES(LBKPIECE1);
+COBRA_RANDOM_QUERIES(BITstar);
 
 }  // namespace
 

@@ -96,6 +96,23 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
   return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
 }
 
+/// The first joint (0-based, in the robot) at which robot `r`'s joints in `q` differ from the
+/// configuration its planning coordinates stand for (RobotModel::jointsOf of coordinatesOf(q), the
+/// redundancy resolved by the rule of the control path's IK from `start`), or -1 when none does.
+/// `step` > 0: a joint may differ by `step` × its velocity limit [s] instead of 1e-6 (m, rad).
+std::ptrdiff_t offRule(StateValidator& validator, std::size_t r, const JointState& q, const JointState& start,
+                       double step = 0.0) {
+  RobotModel& model = validator.model(r);
+  const std::size_t offset = validator.jointOffset(r), n = model.jointCount();
+  std::vector<double> coordinates(model.coordinateCount()), check(n), lower(n), upper(n), velocity(n);
+  model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
+  model.jointsOf(coordinates, std::span<const double>(start).subspan(offset, n), check);
+  model.jointLimits(lower, upper, velocity);
+  for (std::size_t j = 0; j < n; ++j)
+    if (std::abs(check[j] - q[offset + j]) > (step > 0.0 ? step * velocity[j] : 1e-6)) return static_cast<std::ptrdiff_t>(j);
+  return -1;
+}
+
 bool samePose(const KDL::Frame& a, const KDL::Frame& b) {
   KDL::Vector axis;
   return (a.p - b.p).Norm() < 1e-6 && (a.M.Inverse() * b.M).GetRotAngle(axis) < 1e-6;
@@ -126,6 +143,15 @@ struct MotionPlanner::Layout {
                                         std::span<const double>(start).subspan(b.joint_offset, b.joint_count),
                                         std::span<double>(q).subspan(b.joint_offset, b.joint_count));
     }
+  }
+  /// Whether every robot that moves keeps the IK branch of the query (RobotModel::keepsBranch).
+  bool keepsBranches(StateValidator& validator, const JointState& q, const JointState& start,
+                     const JointState& goal) const {
+    for (const Block& b : blocks) {
+      const auto robot = [&](const JointState& x) { return std::span<const double>(x).subspan(b.joint_offset, b.joint_count); };
+      if (!validator.model(b.robot).keepsBranch(robot(q), robot(start), robot(goal))) return false;
+    }
+    return true;
   }
   /// OMPL values of joint state `q`.
   void values(StateValidator& validator, const JointState& q, double* values) {
@@ -239,21 +265,13 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
   }
   // The goal must lie where the control path's IK leads from the start (the redundancy resolved
   // by the same rule): otherwise the robot would arrive in another configuration than planned.
-  JointState check(start.size());
   for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
-    RobotModel& model = validator_.model(r);
-    const std::size_t offset = validator_.jointOffset(r), n = model.jointCount();
-    std::vector<double> coordinates(model.coordinateCount());
-    model.coordinatesOf(std::span<const double>(goal_joints).subspan(offset, n), coordinates);
-    model.jointsOf(coordinates, std::span<const double>(start).subspan(offset, n),
-                   std::span<double>(check).subspan(offset, n));
-    for (std::size_t j = offset; j < offset + n; ++j) {
-      if (std::abs(check[j] - goal_joints[j]) > 1e-6) {
-        result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
-                         "' to resolve its redundancy differently from the start (joint " + std::to_string(j - offset + 1) +
-                         " at a limit of its share): no path of its IK is known to reach it";
-        return result;
-      }
+    const std::ptrdiff_t joint = offRule(validator_, r, goal_joints, start);
+    if (joint >= 0) {
+      result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
+                       "' to resolve its redundancy differently from the start (joint " + std::to_string(joint + 1) +
+                       " at a limit of its share): no path of its IK is known to reach it";
+      return result;
     }
   }
   result.status = PlanStatus::Solved;
@@ -279,6 +297,11 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
                   goal_joints.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
     any = any || moving[r];
   }
+  // A start off the I-SUR's redundancy rule is planned from as it is: the robots' controllers keep
+  // continuity (kinematics::ContinuousIk), so after a straight motion near the wrist lock they end
+  // off the rule a fresh solve gives (by ~0.03-0.04 rad in the elbow), and the next path's first
+  // command continues from there; the dense verification walks the path from that start with the
+  // same continuity-keeping IK. Refusing such starts refused procedures the robots can follow.
   result.rejected = validator_.checkJoints(goal_joints, true);
   if (!result.rejected.valid())
     return detail::finished(std::move(result), PlanStatus::InvalidGoal, "goal state is not valid: " + describe(result.rejected),
@@ -292,8 +315,9 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
   std::uint32_t seed = options_.seed;
-  for (;;) {
-    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed);
+  for (std::size_t searches = 1;; ++searches) {
+    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, searches);
+    attempt.searches = searches;
     if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
     ++seed;
   }
@@ -301,7 +325,8 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
 
 PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                                        const DualPose& goal_poses, const std::vector<bool>& moving,
-                                       std::chrono::steady_clock::time_point started, std::uint32_t seed) {
+                                       std::chrono::steady_clock::time_point started, std::uint32_t seed,
+                                       std::size_t search) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return detail::finished(std::move(result), status, std::move(message), started);
@@ -346,9 +371,15 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
   JointState sample = start;
   setup.setStateValidityChecker([&](const ob::State* state) {
     layout.joints(validator_, state->as<ob::RealVectorStateSpace::StateType>()->values, start, sample);
-    return checkState(sample).valid();
+    if (layout.keepsBranches(validator_, sample, start, goal)) return checkState(sample).valid();
+    checks_.fetch_add(1, std::memory_order_relaxed);  // a state refused: one check of the work limit
+    return false;
   });
-  setup.getSpaceInformation()->setStateValidityCheckingResolution(options_.edge_resolution);
+  // A path that failed the verification may have passed OMPL's edge checks between two of their
+  // points (a thin obstacle) and be found again by the next seed (e.g. the straight segment):
+  // each re-run checks edges twice as finely, down to an eighth of edge_resolution.
+  setup.getSpaceInformation()->setStateValidityCheckingResolution(
+      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(search - 1, 3)));
   ob::ScopedState<> start_state(space), goal_state(space);
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
   layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);

@@ -45,6 +45,13 @@ bool near(const KDL::Frame& a, const KDL::Frame& b) {
   return (a.p - b.p).Norm() < kWarmStartDistance && (a.M.Inverse() * b.M).GetRotAngle(axis) < kWarmStartAngle;
 }
 
+/// One singular set's side: `at` (the signed distance of a state to it) on the side of `start`'s
+/// and at least `margin` from it, or half the start's or goal's distance when that is smaller.
+bool sameSide(double at, double start, double goal, double margin) {
+  const double needed = std::min({margin, 0.5 * std::abs(start), 0.5 * std::abs(goal)});
+  return (start >= 0.0 ? at : -at) >= needed;
+}
+
 }  // namespace
 
 template <std::size_t Tools>
@@ -147,9 +154,36 @@ bool Ur5Model::linkFramesAt(std::span<const double> q, std::span<KDL::Frame> lin
 
 Reachability Ur5Model::inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                                    std::span<double> q) {
+  // Exactly the control path's rule (kinematics::ContinuousIk): the solution nearest the seed on
+  // the seed's branch as Ur5Solver::branch defines it (shoulder: the wrist point's side of the
+  // base axis, elbow: sign of sin q3, wrist: sign of sin q5).
   for (unsigned j = 0; j < 6; ++j) seed_(j) = seed[j];
-  if (solver_.allInverse(tools_in_base[0], seed_, solutions_) != IkStatus::Ok) return Reachability::Unreachable;
-  return pickBranch(seed, seed, q);
+  switch (solver_.inverseOnBranch(tools_in_base[0], seed_, solver_.branch(seed), q_)) {
+    case IkStatus::Ok:
+      for (unsigned j = 0; j < 6; ++j) q[j] = q_(j);
+      return Reachability::Reachable;
+    case IkStatus::Discontinuous:
+      return Reachability::OtherBranch;
+    default:
+      return Reachability::Unreachable;
+  }
+}
+
+namespace {
+
+/// Ur5Solver::branch's shoulder quantity: the wrist point's coordinate along x1 [m].
+double ur5Lateral(const kinematics::Ur5Parameters& p, std::span<const double> q) {
+  return p.a2 * std::cos(q[1]) + p.a3 * std::cos(q[1] + q[2]) + p.d5 * std::sin(q[1] + q[2] + q[3]);
+}
+
+}  // namespace
+
+bool Ur5Model::keepsBranch(std::span<const double> q, std::span<const double> start,
+                           std::span<const double> goal) const {
+  const kinematics::Ur5Parameters& p = solver_.parameters();
+  return sameSide(std::sin(q[2]), std::sin(start[2]), std::sin(goal[2]), kElbowMargin) &&
+         sameSide(std::sin(q[4]), std::sin(start[4]), std::sin(goal[4]), kWristMargin) &&
+         sameSide(ur5Lateral(p, q), ur5Lateral(p, start), ur5Lateral(p, goal), kShoulderMargin);
 }
 
 void Ur5Model::seedJoints(std::span<double> q) const {

@@ -157,6 +157,23 @@ TEST(JointSpace, BadGoalsAreRefusedNamingTheToolAndWhyBeforeAnySearch) {
   EXPECT_CONTAINS(result.message, "start joints of robot 'isur' are outside its joint limits");
 }
 
+// A moving robot off its IK's redundancy rule, as the continuity-keeping controller leaves the
+// I-SUR after a straight motion near its wrist lock (~0.04 rad in the elbow): the path is planned
+// from where the joints are, and its verification walks it from there with the same IK.
+TEST(JointSpace, AStartOffTheRedundancyRuleIsPlannedFromWhereTheJointsAre) {
+  StateValidator validator = puncturingValidator();
+  MotionPlanner planner(validator, options());
+  DualPose start;
+  JointState elbow = kStart;  // the elbow q6 - q7 at 0.38 rad, the rule's is 0.3: the same pitch
+  elbow[5] += 0.04;
+  elbow[6] -= 0.04;
+  ASSERT_TRUE(validator.toolPoses(elbow, start));
+  const PlanResult result = planner.planPath(elbow, {needle(KDL::Vector(-0.06, 0.05, 0.25), 0.17, 0.0), start.second});
+  ASSERT_TRUE(result.solved()) << result.message;
+  ASSERT_FALSE(result.joint_waypoints.empty());
+  for (std::size_t j = 0; j < elbow.size(); ++j) EXPECT_DOUBLE_EQ(result.joint_waypoints.front()[j], elbow[j]) << j;
+}
+
 TEST(JointSpace, CheckGoalGivesThePlannersOwnVerdictWithoutSearching) {
   StateValidator validator = puncturingValidator();
   MotionPlanner planner(validator, options());

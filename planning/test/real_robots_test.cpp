@@ -399,3 +399,61 @@ TEST(SuturingScene, OneSolverForBothToolsChecksBothArms) {
 
 }  // namespace
 }  // namespace cobra::planning
+
+namespace cobra::planning {
+namespace {
+
+// The UR5's continuity-keeping IK is the controller's (kinematics::ContinuousIk: Ur5Solver's
+// branch, where the elbow is the sign of sin q3): from any configuration, its own tool pose solves
+// back to itself, also for |q3| > π (the sign of q3 itself, the rule before, flipped the elbow of
+// those); and keepsBranch tells the start's branch apart from the others.
+TEST(Ur5Joints, TheToolPoseOfAConfigurationSolvesBackToItselfOnTheControllersBranch) {
+  Ur5Model ur5;
+  std::mt19937 rng(5);  // 200 seeded configurations within the ±2π limits
+  std::uniform_real_distribution<double> joint(-2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
+  std::array<KDL::Frame, 8> links{};
+  std::vector<double> q(6), solved(6);
+  int beyond_pi = 0;
+  for (int i = 0; i < 200; ++i) {
+    for (double& v : q) v = joint(rng);
+    // Away from the singular sets, where the branch is well defined.
+    if (!ur5.keepsBranch(q, q, q)) continue;
+    beyond_pi += std::abs(q[2]) > std::numbers::pi ? 1 : 0;
+    ASSERT_TRUE(ur5.linkFramesAt(q, links));
+    const std::array<KDL::Frame, 1> tool{links[ur5.toolLink(0)]};
+    ASSERT_EQ(ur5.inverseNear(tool, q, solved), Reachability::Reachable) << "configuration " << i;
+    for (std::size_t j = 0; j < 6; ++j) EXPECT_NEAR(solved[j], q[j], 1e-7) << "configuration " << i << " joint " << j;
+  }
+  EXPECT_GT(beyond_pi, 20);
+}
+
+TEST(Ur5Joints, KeepsBranchRefusesTheOtherElbowWristAndShoulderAndTheMarginsNearThem) {
+  Ur5Model ur5;
+  const std::vector<double> start{0.5, -1.9, -1.7, 2.0, -1.5708, 0.0};  // elbow sin q3 < 0, wrist sin q5 < 0
+  EXPECT_TRUE(ur5.keepsBranch(start, start, start));
+  std::vector<double> q = start;
+  q[2] = 1.7;  // the other elbow
+  EXPECT_FALSE(ur5.keepsBranch(q, start, start));
+  q = start;
+  q[2] = -1.7 + 2.0 * std::numbers::pi;  // sin q3 < 0 again: the start's elbow, one turn on
+  EXPECT_TRUE(ur5.keepsBranch(q, start, start));
+  q = start;
+  q[4] = -0.05;  // the start's wrist side, but within kWristMargin (0.1) of the aligned wrist
+  EXPECT_FALSE(ur5.keepsBranch(q, start, start));
+  q[4] = 1.0;  // the other wrist
+  EXPECT_FALSE(ur5.keepsBranch(q, start, start));
+  q = start;
+  q[1] = -1.9 + std::numbers::pi;  // the upper arm turned over: the wrist point behind the base axis
+  EXPECT_FALSE(ur5.keepsBranch(q, start, start));
+  // A goal closer to the singular set than the margin lowers it to half the goal's distance.
+  std::vector<double> goal = start;
+  goal[4] = -0.04;
+  q = start;
+  q[4] = -0.03;
+  EXPECT_TRUE(ur5.keepsBranch(q, start, goal));
+  q[4] = -0.01;
+  EXPECT_FALSE(ur5.keepsBranch(q, start, goal));
+}
+
+}  // namespace
+}  // namespace cobra::planning

@@ -64,7 +64,8 @@ struct PlannerOptions {
   /// resolution, whose own default is 0.01); smaller finds fewer paths that the dense verification
   /// then rejects, and is slower. 0.004 halves the planning time of the puncturing benchmark
   /// against 0.002 at the same success rate (bench/planning_bench.cpp): the returned path is
-  /// guaranteed by the verification below, not by this step.
+  /// guaranteed by the verification below, not by this step. A search re-run after a path failed
+  /// the verification checks edges twice as finely as the one before (down to 1/8 of this).
   double edge_resolution = 0.004;
   /// Shorten and smooth the found path (OMPL's PathSimplifier, bounded by `simplify_steps`).
   bool simplify = true;
@@ -125,6 +126,9 @@ struct PlanResult {
   double planning_time = 0.0;
   /// State validity checks of the searches (all seeds tried), the unit of max_validity_checks.
   std::size_t validity_checks = 0;
+  /// Searches run (joint-space planning: one per seed tried; more than one when a found path
+  /// failed the dense verification and the search was re-run with the next seed) [1].
+  std::size_t searches = 0;
   /// Joint-space planning, Solved: the joints the control path's IK reaches at each waypoint
   /// (tracked along the verified Cartesian path from the start), one JointState per waypoint.
   std::vector<JointState> joint_waypoints;
@@ -189,11 +193,12 @@ class MotionPlanner {
   /// while a found path fails the verification.
   PlanResult planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
                         std::chrono::steady_clock::time_point started);
-  /// One joint-space search from `start` to `goal` moving the robots flagged in `moving`, then the
-  /// Cartesian waypoints and their verification; may throw ompl::Exception.
+  /// One joint-space search (the query's `search`-th, from 1) from `start` to `goal` moving the
+  /// robots flagged in `moving`, then the Cartesian waypoints and their verification; may throw
+  /// ompl::Exception.
   PlanResult searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                           const DualPose& goal_poses, const std::vector<bool>& moving,
-                          std::chrono::steady_clock::time_point started, std::uint32_t seed);
+                          std::chrono::steady_clock::time_point started, std::uint32_t seed, std::size_t search);
   /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
   PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
   /// Validity of a joint state for the search and the verification (counted; the tool bounds too).

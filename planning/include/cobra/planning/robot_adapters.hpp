@@ -66,7 +66,7 @@ class WarmStart {
 
 /// UR5 + probe. Links (base frame of the UR5): 0 base, 1..6 the DH frames after joints 1..6,
 /// 7 the probe tip (probe axis = z of the flange).
-/// Of the (up to 8) closed-form solutions it keeps the branch of the configured seed (shoulder,
+/// Of the (up to 8) closed-form solutions solve() keeps the branch of the configured seed (shoulder,
 /// elbow, wrist), so a state's validity does not depend on the states checked before it (the
 /// nearest-to-the-previous-solution rule would switch branches between far-apart planner samples
 /// and let a path's arm jump); the warm start picks each joint's 2π representative and θ6 at the
@@ -104,10 +104,23 @@ class Ur5Model final : public RobotModel {
   bool linkFramesAt(std::span<const double> q, std::span<KDL::Frame> links_in_base) override;
   std::size_t toolLink(std::size_t) const override { return 7; }
   void seedJoints(std::span<double> q) const override;
-  /// The branch of `seed` (elbow: sign of q3, wrist: sign of q5, shoulder: the q1 solution nearest
-  /// the seed's), each joint's 2π representative nearest the seed.
+  /// kinematics::Ur5Solver::inverseOnBranch on the branch of `seed` (Ur5Solver::branch: shoulder,
+  /// the wrist point's side of the base axis; elbow, the sign of sin q3; wrist, the sign of sin q5),
+  /// the solution nearest the seed: exactly what the control path's kinematics::ContinuousIk
+  /// solves, so a path verified with it is one the robot follows without a branch change.
   Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                            std::span<double> q) override;
+  /// On the start's branch as kinematics::Ur5Solver::branch defines it (the rule of the control
+  /// path's IK): the wrist point on the start's side of the base axis, at least kShoulderMargin from
+  /// it (the lateral distance a2 c2 + a3 c23 + d5 s234, m: near it q1 turns fast for a small
+  /// Cartesian step); sin q3 and sin q5 of the start's signs, at least kElbowMargin and kWristMargin
+  /// from 0 (the stretched elbow, the aligned wrist). Each margin shrinks to half the start's or the
+  /// goal's own distance when that is smaller.
+  bool keepsBranch(std::span<const double> q, std::span<const double> start,
+                   std::span<const double> goal) const override;
+  static constexpr double kShoulderMargin = 0.05;  // m
+  static constexpr double kElbowMargin = 0.1;      // sin q3 [1]
+  static constexpr double kWristMargin = 0.1;      // sin q5 [1]
   /// The joint limits intersected with start ± π: a path never turns a joint more than half a turn
   /// from where it starts (the limits allow ±2π, which only adds detours to the search).
   void coordinateBounds(std::span<const double> start, std::span<const double> goal, std::span<double> lower,

@@ -88,6 +88,17 @@ class RobotModel {
     (void)a, (void)b, (void)before, (void)after;
     return false;
   }
+  /// Whether joints `q` may be a state of a path from joints `start` to joints `goal` (both on one
+  /// IK branch: the goal IK keeps the start's): on that branch of the control path's IK, which never
+  /// changes branch, and far enough from the singular sets that bound it that a Cartesian path
+  /// through `q` needs no joint speed beyond the limits (each model documents its margins; closer
+  /// than the start or the goal themselves is allowed up to half their distance). The planner's
+  /// search keeps every state on it. Default: no branches (true). No allocation.
+  virtual bool keepsBranch(std::span<const double> q, std::span<const double> start,
+                           std::span<const double> goal) const {
+    (void)q, (void)start, (void)goal;
+    return true;
+  }
   /// The configured warm-start seed (jointCount() values): the joints a start given as tool poses
   /// is solved from.
   virtual void seedJoints(std::span<double> q) const { (void)q; }

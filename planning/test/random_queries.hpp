@@ -1,0 +1,189 @@
+#pragma once
+// Seeded random planning queries on the puncturing and suturing scenes, each configured as its
+// deployment configures its planner: shared by planning/test/random_queries_test.cpp (a small
+// sample, every path cross-checked) and bench/planning_bench.cpp (RandomQueries*/<planner>:
+// 1,000 queries per scene, success and times per planner). The queries are the same for both:
+// one generator seeded with 2026.
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cobra/planning/motion_planner.hpp"
+#include "cobra/planning/robot_adapters.hpp"
+
+namespace cobra::planning::test {
+
+inline constexpr double kQueryPi = std::numbers::pi;
+
+/// The puncturing scene as the deployment configures it: the needle frames have z along the
+/// needle (apps/puncturing/puncturing.lua), the phantom at `phantom` (identity: as in the file).
+inline SceneDescription puncturingScene(const KDL::Frame& phantom = KDL::Frame::Identity()) {
+  SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/planning/test/scenes/puncturing.scene");
+  for (RobotPlacement& robot : scene.robots)
+    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kQueryPi / 2, 0.0)));
+  for (ObjectDescription& object : scene.objects)
+    if (object.name == "phantom") object.offset = phantom * object.offset;
+  return scene;
+}
+
+/// The MotionPlanner component's default bounds (components/planning), as the deployment uses them.
+inline PlannerOptions deploymentOptions(const std::string& planner) {
+  PlannerOptions o;
+  o.planner = planner;
+  o.first_bounds = {{-0.3, -0.3, 0.0}, {0.3, 0.3, 0.5}};
+  o.second_bounds = {{-0.4, -0.5, 0.0}, {0.4, 0.4, 0.6}};
+  o.tool_names = {"needle", "probe"};
+  return o;
+}
+
+/// A valid joint state inside the planner's tool bounds, sampled uniformly in the joint limits
+/// (the UR5 within ±π of `near`'s joints when given, so that it stays on one IK branch family).
+inline JointState randomValidJoints(std::mt19937& rng, StateValidator& validator, const PlannerOptions& o,
+                             const JointState* near = nullptr, bool on_rule = true) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  JointState q(validator.jointCount());
+  DualPose tools;
+  for (;;) {
+    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+      RobotModel& model = validator.model(r);
+      const std::size_t n = model.jointCount(), offset = validator.jointOffset(r);
+      std::vector<double> lower(n), upper(n), velocity(n);
+      model.jointLimits(lower, upper, velocity);
+      for (std::size_t j = 0; j < n; ++j) {
+        double lo = lower[j], hi = upper[j];
+        if (near != nullptr && validator.scene().robots[r].name == "ur5") {
+          lo = std::max(lo, (*near)[offset + j] - kQueryPi);
+          hi = std::min(hi, (*near)[offset + j] + kQueryPi);
+        }
+        q[offset + j] = lo + unit(rng) * (hi - lo);
+      }
+      // Where the robot can be under Cartesian control: its redundancy resolved as its IK
+      // resolves it (the I-SUR's base and elbow rule; the identity for the UR5).
+      if (!on_rule) continue;
+      std::vector<double> coordinates(model.coordinateCount()), projected(n);
+      model.coordinatesOf(std::span<const double>(q).subspan(offset, n), coordinates);
+      model.jointsOf(coordinates, std::span<const double>(q).subspan(offset, n), projected);
+      std::copy(projected.begin(), projected.end(), q.begin() + static_cast<std::ptrdiff_t>(offset));
+    }
+    if (validator.checkJoints(q).valid() && validator.toolPoses(q, tools) && o.first_bounds.contains(tools.first.p) &&
+        o.second_bounds.contains(tools.second.p))
+      return q;
+  }
+}
+
+/// One planning query: start joints, goal tool poses.
+struct Query {
+  JointState start;
+  DualPose goal;
+  double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
+  double max_angular_velocity = 0.5;   // rad/s
+};
+
+/// A scene the random queries are drawn on, configured as its deployment configures its planner.
+struct RandomScene {
+  std::function<SceneDescription()> scene;
+  PlannerOptions options;  // bounds, tool names, work limit (the planner name is the benchmark's)
+  /// The trajectory generator's speeds [m/s, rad/s] for a query moving tool 0 (needle, Endo
+  /// Stitch) or only tool 1 (probe, stick).
+  double first_linear = 0.05, first_angular = 0.5, second_linear = 0.05, second_angular = 0.5;
+};
+
+/// The puncturing scene as puncturingScene() and deploymentOptions() give it, work limit 10,000;
+/// the needle robot's generator (needle_robot.lua) when the needle moves, the probe robot's
+/// (probe_robot.lua) otherwise.
+inline RandomScene puncturingRandom(const std::string& planner) {
+  RandomScene r{[] { return puncturingScene(); }, deploymentOptions(planner), 0.04, 0.15, 0.08, 0.5};
+  r.options.max_validity_checks = 10000;
+  return r;
+}
+
+/// The suturing application's scene (apps/suturing/deployment/suturing.scene, phantom as in the
+/// file) and its planner as apps/suturing/deployment/controller.lua configures it: the tool frames
+/// of apps/suturing/frames.lua, the tips' bounds over the phantom, work limit 20,000 checks, the
+/// generator's 0.02 m/s and 0.3 rad/s.
+inline RandomScene suturingRandom(const std::string& planner) {
+  RandomScene r;
+  r.scene = [] {
+    SceneDescription scene = loadScene(std::string(COBRA_SOURCE_DIR) + "/apps/suturing/deployment/suturing.scene");
+    constexpr double kLean = 0.6, kTurn = -0.6;  // frames.lua: the stick's datum in the gripper frame
+    for (RobotPlacement& robot : scene.robots) {
+      robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(kQueryPi, -1.2, 0.0)));
+      robot.setToolFrame(1, KDL::Frame(KDL::Rotation::RotY(-kLean) * KDL::Rotation::RotZ(kTurn), KDL::Vector(0, 0, 0.15)));
+    }
+    return scene;
+  };
+  r.options.planner = planner;
+  r.options.first_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
+  r.options.second_bounds = {{0.05, -0.12, 0.05}, {0.3, 0.12, 0.3}};
+  r.options.tool_names = {"Endo Stitch", "stick"};
+  r.options.max_validity_checks = 20000;
+  r.first_linear = r.second_linear = 0.02;
+  r.first_angular = r.second_angular = 0.3;
+  return r;
+}
+
+/// kRandomQueries seeded feasible queries (the same for every planner): start and goal joint
+/// states sampled valid in the planner's bounds, on each robot's redundancy rule; a third moves
+/// tool 0 only, a third tool 1 only, a third both (the other tool's goal is its start pose);
+/// kept when the planner accepts the query (MotionPlanner::checkGoal) and no joint must turn the
+/// long way round (below). `refused` counts the sampled queries dropped, by cause.
+inline std::vector<Query> randomQueries(StateValidator& validator, const RandomScene& setup, std::size_t count,
+                                        std::map<std::string, int>& refused) {
+  const PlannerOptions& o = setup.options;
+  MotionPlanner acceptance(validator, o);
+  std::mt19937 rng(2026);
+  std::vector<Query> queries;
+  while (queries.size() < count) {
+    Query query;
+    query.start = randomValidJoints(rng, validator, o);
+    const JointState goal = randomValidJoints(rng, validator, o, &query.start);
+    DualPose start_poses;
+    validator.toolPoses(query.start, start_poses);
+    validator.toolPoses(goal, query.goal);
+    // Which tools move: the first, the second, or both (one in three each).
+    const int moving = static_cast<int>(queries.size() % 3);
+    if (moving == 1) query.goal.first = start_poses.first;
+    if (moving == 0) query.goal.second = start_poses.second;
+    // Feasible: the planner accepts the query (its own goal check: the goal IK from the start on
+    // the start's branch and redundancy rule, a valid goal state), so a failure is the search's.
+    const PlanResult accepted = acceptance.checkGoal(query.start, query.goal);
+    if (!accepted.solved()) {
+      ++refused[std::string("checkGoal: ") + toString(accepted.status)];
+      continue;
+    }
+    // And no joint of the goal IK is more than half a turn from the start in a joint that spans
+    // two turns (the UR5's ±2π): its nearest representative lies past the joint's limit, so
+    // the joint would have to turn the long way round, outside the planner's search bounds
+    // (start ± π: Ur5Model::coordinateBounds) and for the shoulder lift through the table.
+    JointState goal_joints(goal.size()), lower(goal.size()), upper(goal.size()), velocity(goal.size());
+    std::size_t robot = 0;
+    validator.inverseGoal(query.goal, query.start, goal_joints, robot);
+    bool long_way = false;
+    for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+      const std::size_t offset = validator.jointOffset(r), n = validator.model(r).jointCount();
+      validator.model(r).jointLimits(std::span(lower).subspan(offset, n), std::span(upper).subspan(offset, n),
+                                     std::span(velocity).subspan(offset, n));
+    }
+    for (std::size_t j = 0; j < goal.size(); ++j)
+      long_way = long_way || (upper[j] - lower[j] > 3.0 * kQueryPi && std::abs(goal_joints[j] - query.start[j]) > kQueryPi);
+    if (long_way) {
+      ++refused["a joint would turn the long way round"];
+      continue;
+    }
+    const bool first_moves = moving != 1;
+    query.max_linear_velocity = first_moves ? setup.first_linear : setup.second_linear;
+    query.max_angular_velocity = first_moves ? setup.first_angular : setup.second_angular;
+    queries.push_back(query);
+  }
+  return queries;
+}
+
+}  // namespace cobra::planning::test
