@@ -60,7 +60,7 @@ key() { openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:prime256v1 -out
 make_ca() {
   key "$1"
   openssl req -new -x509 -key "$1.key" -out "$1.crt" -days 3650 -subj "$2" \
-    -addext "basicConstraints=critical,CA:TRUE" -addext "keyUsage=critical,keyCertSign,cRLSign" \
+    -addext "basicConstraints=critical,CA:TRUE" -addext "keyUsage=critical,digitalSignature,keyCertSign,cRLSign" \
     -addext "subjectKeyIdentifier=hash"
 }
 
@@ -112,7 +112,8 @@ openssl ca -batch -config "$tmp/ca.cnf" -cert ca.crt -keyfile ca.key -in "$tmp/e
   -out expired.crt -startdate 20200101000000Z -enddate 20210101000000Z -extensions identity \
   -notext 2>/dev/null
 
-# The DDS Security documents, S/MIME-signed by the test CA (the permissions CA is the test CA).
+# The DDS Security documents, S/MIME-signed by the test CA (the permissions CA is the test CA;
+# its digitalSignature key usage lets it sign them: S/MIME verification checks it).
 subject() { openssl x509 -in "$1.crt" -noout -subject -nameopt RFC2253 | sed 's/^subject=//'; }
 sign() {  # sign <template> <output name> <subject of the grant> (the template's @SUBJECT@)
   sed "s|@SUBJECT@|$3|" "$templates/$1.xml" >"$tmp/$2.xml"
