@@ -5,7 +5,7 @@
 #   host_b.{crt,key}
 #   noperm.{crt,key}            an identity signed by the test CA that no permissions file grants
 #   rogue_ca.{crt,key}          ANOTHER certificate authority, and
-#   rogue.{crt,key}             an identity it signed (CN=cobra host_a: the same name, wrong CA)
+#   rogue.{crt,key}             an identity it signed (CN=cobra host_b: the same name, wrong CA)
 #   server.{crt,key}            a TLS server certificate for CN=localhost
 #                               (subjectAltName DNS:localhost, IP:127.0.0.1), signed by the test CA
 #   expired.{crt,key}           an identity of the test CA whose validity ended in 2021
@@ -14,7 +14,12 @@
 #   governance.p7s                 encrypt everything, refuse unauthenticated participants
 #   permissions_host_a.p7s         what host_a may publish and subscribe (its own topics only)
 #   permissions_host_b.p7s         the same for host_b
-#   permissions_noperm.p7s         a grant for noperm's subject that allows no topic at all
+#   permissions_noperm.p7s         a grant for noperm's subject that allows no topic of a run
+#   rogue_governance.p7s           the governance, and host_b's permissions for rogue's subject
+#   rogue_permissions.p7s          (CN=cobra host_b), signed by the rogue CA: a complete setup
+#                                  that the test CA's participants must refuse
+#   forged_permissions.p7s         host_b's grants for noperm's subject, signed by the rogue CA
+#                                  (noperm's self-made permissions, with rogue_governance.p7s)
 # Idempotent: does nothing when every file exists and every certificate but expired.crt is valid
 # for at least another day (a test can call it each time). Keys are unencrypted: test use only.
 # Usage: tools/make_test_pki.sh OUTDIR
@@ -31,7 +36,8 @@ flock 9
 
 CERTS=(ca host_a host_b noperm rogue_ca rogue server)
 SIGNED=()
-[ -d "$templates" ] && SIGNED=(governance permissions_host_a permissions_host_b permissions_noperm)
+[ -d "$templates" ] && SIGNED=(governance permissions_host_a permissions_host_b permissions_noperm rogue_governance rogue_permissions
+          forged_permissions)
 
 # True when everything is present and the certificates stay valid for a day (86400 s).
 current() {
@@ -79,7 +85,7 @@ make_identity host_a "/C=CH/O=cobra lab/CN=cobra host_a" ca
 make_identity host_b "/C=CH/O=cobra lab/CN=cobra host_b" ca
 make_identity noperm "/C=CH/O=cobra lab/CN=cobra noperm" ca
 make_ca rogue_ca "/C=CH/O=rogue lab/CN=rogue CA"
-make_identity rogue "/C=CH/O=cobra lab/CN=cobra host_a" rogue_ca
+make_identity rogue "/C=CH/O=cobra lab/CN=cobra host_b" rogue_ca
 make_identity server "/C=CH/O=cobra lab/CN=localhost" ca \
   "$(printf 'subjectAltName=DNS:localhost,IP:127.0.0.1\nextendedKeyUsage=serverAuth')"
 
@@ -115,14 +121,18 @@ openssl ca -batch -config "$tmp/ca.cnf" -cert ca.crt -keyfile ca.key -in "$tmp/e
 # The DDS Security documents, S/MIME-signed by the test CA (the permissions CA is the test CA;
 # its digitalSignature key usage lets it sign them: S/MIME verification checks it).
 subject() { openssl x509 -in "$1.crt" -noout -subject -nameopt RFC2253 | sed 's/^subject=//'; }
-sign() {  # sign <template> <output name> <subject of the grant> (the template's @SUBJECT@)
+sign() {  # sign <template> <output name> <subject of the grant> [<signing CA>] (@SUBJECT@ in the template)
+  local signer=${4:-ca}
   sed "s|@SUBJECT@|$3|" "$templates/$1.xml" >"$tmp/$2.xml"
-  openssl smime -sign -in "$tmp/$2.xml" -text -out "$2.p7s" -signer ca.crt -inkey ca.key
+  openssl smime -sign -in "$tmp/$2.xml" -text -out "$2.p7s" -signer "$signer.crt" -inkey "$signer.key"
 }
 if [ ${#SIGNED[@]} -gt 0 ]; then
   sign governance governance ""
   sign permissions_host_a permissions_host_a "$(subject host_a)"
   sign permissions_host_b permissions_host_b "$(subject host_b)"
   sign permissions_none permissions_noperm "$(subject noperm)"
+  sign governance rogue_governance "" rogue_ca
+  sign permissions_host_b rogue_permissions "$(subject rogue)" rogue_ca
+  sign permissions_host_b forged_permissions "$(subject noperm)" rogue_ca
 fi
 chmod 644 ./*.crt ./*.p7s 2>/dev/null || true
