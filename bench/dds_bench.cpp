@@ -319,13 +319,17 @@ FarEcho& netnsEcho() {
   return echo;
 }
 
-void BM_PingPong_DdsTwoProcesses(benchmark::State& state) {
-  FarEcho& far = sameHostEcho();
+/// Ping-pong with a far echo once it matched (`unmatched`: the skip message otherwise).
+void farPingPong(benchmark::State& state, FarEcho& far, const char* unmatched) {
   if (!far.matched()) {
-    state.SkipWithError("the echo process did not match within 10 s");
+    state.SkipWithError(unmatched);
     return;
   }
   pingPong(state, far.ping.out, far.pong.in);
+}
+
+void BM_PingPong_DdsTwoProcesses(benchmark::State& state) {
+  farPingPong(state, sameHostEcho(), "the echo process did not match within 10 s");
 }
 
 void BM_PingPong_DdsSecured(benchmark::State& state) {
@@ -333,12 +337,7 @@ void BM_PingPong_DdsSecured(benchmark::State& state) {
     state.SkipWithError("skipped: tools/make_test_pki.sh could not make the test PKI (openssl missing?)");
     return;
   }
-  FarEcho& far = securedEcho();
-  if (!far.matched()) {
-    state.SkipWithError("the secured echo process did not match within 10 s");
-    return;
-  }
-  pingPong(state, far.ping.out, far.pong.in);
+  farPingPong(state, securedEcho(), "the secured echo process did not match within 10 s");
 }
 
 void BM_PingPong_DdsNetns(benchmark::State& state) {
@@ -346,12 +345,7 @@ void BM_PingPong_DdsNetns(benchmark::State& state) {
     state.SkipWithError("skipped: needs root to make two network namespaces joined by a veth pair (ip netns)");
     return;
   }
-  FarEcho& far = netnsEcho();
-  if (!far.matched()) {
-    state.SkipWithError("the echo process in the other namespace did not match within 10 s");
-    return;
-  }
-  pingPong(state, far.ping.out, far.pong.in);
+  farPingPong(state, netnsEcho(), "the echo process in the other namespace did not match within 10 s");
 }
 
 /// Batches of kThroughputBatch frames into `stream`, each timed until `count` says all arrived.
