@@ -18,6 +18,7 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <string_view>
 
 #include "cobra/core/error.hpp"
 
@@ -256,16 +257,19 @@ struct Watchers {
   int next = 0;
   std::map<int, RefusalWatcher> all;
 };
+/// Never destroyed: Fast DDS's logging thread may consume an entry while the process's statics
+/// are being destroyed.
 Watchers& watchers() {
-  static Watchers w;
-  return w;
+  static Watchers* const w = new Watchers;
+  return *w;
 }
 
 /// Picks the remote participants' permission refusals out of Fast DDS's log.
 class RefusalConsumer final : public eprosima::fastdds::dds::LogConsumer {
  public:
   void Consume(const eprosima::fastdds::dds::Log::Entry& entry) override {
-    static const std::string head = "Error validating remote permissions for ";
+    // No static object here: the logging thread may consume an entry while statics are destroyed.
+    constexpr std::string_view head = "Error validating remote permissions for ";
     const std::string& m = entry.message;
     if (m.rfind(head, 0) != 0) return;
     const std::size_t guid_end = m.find(' ', head.size());

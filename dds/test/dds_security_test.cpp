@@ -182,6 +182,7 @@ struct RogueCase {
   int domain;
   std::string reported;  ///< host_a's report after the rogue's GUID prefix
 };
+void PrintTo(const RogueCase& c, std::ostream* out) { *out << c.role; }
 class Rogue : public ::testing::TestWithParam<RogueCase> {};
 
 TEST_P(Rogue, CannotCommandNorReadAPoseAndIsReportedOnce) {
