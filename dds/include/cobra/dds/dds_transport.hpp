@@ -113,8 +113,9 @@ class DdsTransport final : public core::Transport {
   void makeWriterEnd(core::OutputPortBase& output, const core::ConnPolicy& policy, core::PortBase* peer) override;
   void makeReaderEnd(core::InputPortBase& input, const core::ConnPolicy& policy, core::PortBase* peer) override;
 
-  /// Problem events (`e_dds_type_mismatch`, `e_dds_incompatible_qos`); connect it like any
-  /// output port, e.g. to a supervisor's inputEvents with a buffer policy.
+  /// Problem events (`e_dds_type_mismatch`, `e_dds_incompatible_qos`, source: the topic; with
+  /// DDS Security `e_dds_participant_refused`, source: the refused participant's GUID prefix);
+  /// connect it like any output port, e.g. to a supervisor's inputEvents with a buffer policy.
   core::OutputPort<core::Event>& events();
   /// Every problem reported so far, as its full message.
   std::vector<std::string> problems() const;
