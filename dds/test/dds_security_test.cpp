@@ -4,7 +4,7 @@
 // participants (no security, another CA, a valid identity without permission, permissions signed
 // by another CA) neither command host_a nor read its pose, and host_a reports each once; bad
 // files are refused naming the file and what is wrong. The certificates are the lab's test PKI
-// (tools/make_test_pki.sh, made in the build tree). DDS domains 146..151, this test's own.
+// (tools/make_test_pki.sh, made in the build tree). DDS domains 110 and 146..151, this test's own.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,6 +17,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "cobra/core/activity.hpp"
 #include "cobra/core/port.hpp"
 #include "cobra/dds/dds_link.hpp"
 #include "cobra/test_support/test_support.hpp"
@@ -309,12 +310,13 @@ TEST(DdsSecurity, BadFilesAreRefusedNamingTheFileAndWhatIsWrong) {
                         "(security_permissions_ca: security_ca when not given), or none of them");
 }
 
-// DdsLink's properties: relative paths from security_folder, checked at configure.
-TEST(DdsSecurity, ALinksRelativeFilesComeFromItsSecurityFolderAndABadOneRefusesTheConfigure) {
+// DdsLink's properties: relative paths from security_folder, checked at configure; a refused
+// participant comes on the link's events port, once, from the link's own step (domain 110).
+TEST(DdsSecurity, ALinksRelativeFilesComeFromItsSecurityFolderAndARefusedPeerIsItsEvent) {
   makePki();
   DdsLink link("Link");
   const auto set = [&](const std::string& name, const std::string& value) { link.property(name).setFromText(value); };
-  set("domain", "146");
+  set("domain", "110");
   set("participant", "needle");
   set("security_folder", kPki);
   set("security_ca", "ca.crt");
@@ -329,6 +331,22 @@ TEST(DdsSecurity, ALinksRelativeFilesComeFromItsSecurityFolderAndABadOneRefusesT
                 "use the permissions of this certificate's subject");
   set("security_permissions", "permissions_host_a.p7s");
   ASSERT_TRUE(link.configure()) << link.configure().message;
+  core::InputPort<core::Event> events("events", "", "");
+  core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
+  ASSERT_TRUE(link.start());
+  Peer rogue(110, "unsecured", 3.0);
+  std::vector<std::string> refused;  // their sources
+  test::pollUntil([&] {
+    static_cast<core::SlaveActivity&>(link.activity()).step();  // the test's thread is the link's
+    core::Event e;
+    while (events.read(e) == core::FlowStatus::NewData)
+      if (e.name == "e_dds_participant_refused") refused.push_back(e.source.str());
+    return false;
+  }, 5s);
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_EQ(refused[0].size(), 35u) << refused[0] << ": a GUID prefix, 01.0f.78.fd.e1.70.99.80.00.00.00.00";
+  EXPECT_EQ(rogue.wait(5s), 0);
+  EXPECT_TRUE(link.stop());
   EXPECT_TRUE(link.cleanup());
 }
 
