@@ -20,7 +20,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen nlohmann-json3-dev libopenigtlink-dev)
+PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen nlohmann-json3-dev libopenigtlink-dev openssl libssl-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 # executor_bench's peer (cyclictest) and its load (stress-ng --cpu).
 BENCH_PACKAGES=(rt-tests stress-ng)
@@ -68,6 +68,12 @@ run_fuzzer() {
   "./build/fuzz/fuzz/$f" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="build/fuzz/$f-" \
     "build/fuzz/corpus/$f" "build/fuzz/seeds/$f" >"build/fuzz/$f.log" 2>&1
 }
+
+# The lab's test certificates (tools/make_test_pki.sh: a test CA, host identities, a TLS server
+# certificate, signed DDS Security documents) in build/pki, made before the tests and the demos.
+# Idempotent and quick when they are current.
+TEST_PKI=build/pki
+make_test_pki() { setup; tools/make_test_pki.sh "$TEST_PKI"; }
 
 say() { printf '\033[1m[do]\033[0m %s\n' "$*"; }
 
@@ -168,8 +174,9 @@ case "${1:-help}" in
   setup) setup ;;
   build)
     if [ $# -gt 2 ]; then build "$2" --target "${@:3}"; else build "${2:-release}"; fi ;;
-  test) shift; run_tests "${1:-}" ;;
+  test) shift; make_test_pki; run_tests "${1:-}" ;;
   demo)
+    make_test_pki
     if [ "${2:-}" = basics ]; then
       say "building the basic demos (first time: installs packages and compiles, a few minutes)"
       build release --target cobra example_04_trajectory example_05_variable_admittance

@@ -7,6 +7,9 @@
 //    a dds connection to a process in another network namespace joined to this one's by a veth
 //    pair (UDPv4, unicast discovery; as root only: the bench makes the namespaces cobra_bench_a,
 //    cobra_bench_b and removes them at its end; the row is skipped with a message otherwise).
+//    The same to a second process with DDS Security on both participants (PKI-DH, access
+//    control, everything encrypted with AES-GCM-GMAC; the lab's test PKI, host_a here and host_b
+//    there, tools/make_test_pki.sh, made in the build tree), otherwise as the row before.
 //    The time column is the mean one-way latency. Each round trip has a 1 s deadline; a lost
 //    sample is written again (counted in `resent`).
 //  - Throughput: KDL::Frame samples per second through a buffer(1024) connection (reliable,
@@ -53,6 +56,7 @@ using namespace std::chrono_literals;
 constexpr int kDomainInProcess = 201;
 constexpr int kDomainTwoProcesses = 202;
 constexpr int kDomainNetns = 203;
+constexpr int kDomainSecured = 204;
 constexpr const char* kNetnsHere = "cobra_bench_a";  // this process and the same-host echo
 constexpr const char* kNetnsFar = "cobra_bench_b";   // the far echo
 constexpr const char* kAddressHere = "10.201.0.1";
@@ -198,6 +202,7 @@ void BM_PingPong_DdsInProcess(benchmark::State& state) {
 
 pid_t echo_process = -1;
 pid_t netns_echo_process = -1;
+pid_t secured_echo_process = -1;  // -1: the test PKI could not be made
 bool netns_ready = false;  // the namespaces exist and this process is in kNetnsHere
 
 /// Enters the network namespace `name` (made by `ip netns add`). False when it cannot.
@@ -232,45 +237,73 @@ void removeNetns() {
   std::system((std::string("ip netns del ") + kNetnsHere + " 2>/dev/null; ip netns del " + kNetnsFar + " 2>/dev/null").c_str());
 }
 
-/// A forked echo process: its own participant, echoing <prefix>ping to <prefix>pong and counting
-/// <prefix>stream into <prefix>count until the bench (its parent) ends.
-[[noreturn]] void runEchoProcess(cobra::dds::DdsTransport::Options options, const std::string& prefix) {
+/// The topics of a far echo: <there>ping and <there>stream go to it, <back>pong and <back>count
+/// come back (two prefixes: with DDS Security each process may publish only its own topics).
+struct EchoTopics {
+  std::string there, back;
+};
+
+/// The DDS Security of the lab's test identity `id` (host_a, host_b), from the build's test PKI.
+cobra::dds::DdsTransport::Security testIdentity(const std::string& id) {
+  const std::string pki = std::string(COBRA_TEST_PKI) + "/";
+  return {pki + "ca.crt", pki + id + ".crt", pki + id + ".key", pki + "governance.p7s",
+          pki + "permissions_" + id + ".p7s", ""};
+}
+
+/// A forked echo process: its own participant, echoing <there>ping to <back>pong and counting
+/// <there>stream into <back>count until the bench (its parent) ends.
+[[noreturn]] void runEchoProcess(cobra::dds::DdsTransport::Options options, const EchoTopics& topics) {
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   cobra::dds::registerDdsTransport(std::move(options), "dds");
   Link ping, pong;
   Counter counter;
-  cobra::core::connectToTransport(ping.in, ddsPolicy("dds", prefix + "ping"));
-  cobra::core::connectToTransport(pong.out, ddsPolicy("dds", prefix + "pong"));
-  cobra::core::connectToTransport(counter.stream, streamPolicy("dds", prefix + "stream"));
-  cobra::core::connectToTransport(counter.count, ddsPolicy("dds", prefix + "count"));
+  cobra::core::connectToTransport(ping.in, ddsPolicy("dds", topics.there + "ping"));
+  cobra::core::connectToTransport(pong.out, ddsPolicy("dds", topics.back + "pong"));
+  cobra::core::connectToTransport(counter.stream, streamPolicy("dds", topics.there + "stream"));
+  cobra::core::connectToTransport(counter.count, ddsPolicy("dds", topics.back + "count"));
   std::atomic<bool> stop{false};
   echo(ping.in, pong.out, stop, &counter);
   std::_Exit(0);
 }
 
-/// This process's end of a far echo process's topics (`prefix`), on `transport`.
+/// This process's end of a far echo process's `topics`, on `transport`.
 struct FarEcho {
-  FarEcho(const std::shared_ptr<cobra::dds::DdsTransport>& t, const std::string& transport_name, const std::string& p)
-      : transport(t), prefix(p) {
-    cobra::core::connectToTransport(ping.out, ddsPolicy(transport_name, prefix + "ping"));
-    cobra::core::connectToTransport(pong.in, ddsPolicy(transport_name, prefix + "pong"));
-    cobra::core::connectToTransport(stream, streamPolicy(transport_name, prefix + "stream"));
-    cobra::core::connectToTransport(count, ddsPolicy(transport_name, prefix + "count"));
+  FarEcho(const std::shared_ptr<cobra::dds::DdsTransport>& t, const std::string& transport_name, EchoTopics echo_topics)
+      : transport(t), topics(std::move(echo_topics)) {
+    cobra::core::connectToTransport(ping.out, ddsPolicy(transport_name, topics.there + "ping"));
+    cobra::core::connectToTransport(pong.in, ddsPolicy(transport_name, topics.back + "pong"));
+    cobra::core::connectToTransport(stream, streamPolicy(transport_name, topics.there + "stream"));
+    cobra::core::connectToTransport(count, ddsPolicy(transport_name, topics.back + "count"));
   }
   bool matched() const {
-    for (const char* topic : {"ping", "pong", "stream", "count"})
-      if (!transport->waitForMatch(prefix + topic, 10s)) return false;
+    for (const std::string& topic : {topics.there + "ping", topics.back + "pong", topics.there + "stream", topics.back + "count"})
+      if (!transport->waitForMatch(topic, 10s)) return false;
     return true;
   }
   std::shared_ptr<cobra::dds::DdsTransport> transport;
-  std::string prefix;
+  EchoTopics topics;
   Link ping, pong;
   cobra::core::OutputPort<KDL::Frame> stream{"stream", "", "m"};
   cobra::core::InputPort<double> count{"count", "", "1"};
 };
 
 FarEcho& sameHostEcho() {
-  static FarEcho echo(cobra::dds::registerDdsTransport({kDomainTwoProcesses, "bench", true}, "dds"), "dds", "bench/p2_");
+  static FarEcho echo(cobra::dds::registerDdsTransport({kDomainTwoProcesses, "bench", true}, "dds"), "dds",
+                      {"bench/p2_", "bench/p2_"});
+  return echo;
+}
+
+/// host_a (this process) publishes rt/ISUR/*, host_b (the echo) rt/UR5/*: their permissions.
+const EchoTopics kSecuredTopics{"ISUR/bench_", "UR5/bench_"};
+
+FarEcho& securedEcho() {
+  static FarEcho echo(
+      [] {
+        cobra::dds::DdsTransport::Options options{kDomainSecured, "bench_secured", true};
+        options.security = testIdentity("host_a");
+        return cobra::dds::registerDdsTransport(options, "dds_secured");
+      }(),
+      "dds_secured", kSecuredTopics);
   return echo;
 }
 
@@ -282,17 +315,29 @@ FarEcho& netnsEcho() {
         options.udp_only = true;
         return cobra::dds::registerDdsTransport(options, "dds_netns");
       }(),
-      "dds_netns", "bench/ns_");
+      "dds_netns", {"bench/ns_", "bench/ns_"});
   return echo;
 }
 
-void BM_PingPong_DdsTwoProcesses(benchmark::State& state) {
-  FarEcho& far = sameHostEcho();
+/// Ping-pong with a far echo once it matched (`unmatched`: the skip message otherwise).
+void farPingPong(benchmark::State& state, FarEcho& far, const char* unmatched) {
   if (!far.matched()) {
-    state.SkipWithError("the echo process did not match within 10 s");
+    state.SkipWithError(unmatched);
     return;
   }
   pingPong(state, far.ping.out, far.pong.in);
+}
+
+void BM_PingPong_DdsTwoProcesses(benchmark::State& state) {
+  farPingPong(state, sameHostEcho(), "the echo process did not match within 10 s");
+}
+
+void BM_PingPong_DdsSecured(benchmark::State& state) {
+  if (secured_echo_process <= 0) {
+    state.SkipWithError("skipped: tools/make_test_pki.sh could not make the test PKI (openssl missing?)");
+    return;
+  }
+  farPingPong(state, securedEcho(), "the secured echo process did not match within 10 s");
 }
 
 void BM_PingPong_DdsNetns(benchmark::State& state) {
@@ -300,12 +345,7 @@ void BM_PingPong_DdsNetns(benchmark::State& state) {
     state.SkipWithError("skipped: needs root to make two network namespaces joined by a veth pair (ip netns)");
     return;
   }
-  FarEcho& far = netnsEcho();
-  if (!far.matched()) {
-    state.SkipWithError("the echo process in the other namespace did not match within 10 s");
-    return;
-  }
-  pingPong(state, far.ping.out, far.pong.in);
+  farPingPong(state, netnsEcho(), "the echo process in the other namespace did not match within 10 s");
 }
 
 /// Batches of kThroughputBatch frames into `stream`, each timed until `count` says all arrived.
@@ -379,6 +419,8 @@ BENCHMARK(BM_PingPong_DdsInProcess)->Name("BM_PingPong/dds_two_participants_fram
     ->Apply(configure);
 BENCHMARK(BM_PingPong_DdsTwoProcesses)->Name("BM_PingPong/dds_two_processes_frame")->UseManualTime()->Iterations(2000)
     ->Apply(configure);
+BENCHMARK(BM_PingPong_DdsSecured)->Name("BM_PingPong/dds_two_processes_secured_frame")->UseManualTime()->Iterations(2000)
+    ->Apply(configure);
 BENCHMARK(BM_PingPong_DdsNetns)->Name("BM_PingPong/dds_two_netns_veth_frame")->UseManualTime()->Iterations(2000)
     ->Apply(configure);
 BENCHMARK(BM_Throughput_Local)->Name("BM_Throughput/local_buffer_frame")->UseManualTime()->Iterations(20)
@@ -421,7 +463,16 @@ int main(int argc, char** argv) {
   // far processes while no DDS thread exists in this one.
   netns_ready = makeNetns() && enterNetns(kNetnsHere);
   echo_process = fork();
-  if (echo_process == 0) runEchoProcess({kDomainTwoProcesses, "bench_echo", true}, "bench/p2_");
+  if (echo_process == 0) runEchoProcess({kDomainTwoProcesses, "bench_echo", true}, {"bench/p2_", "bench/p2_"});
+  // The secured echo: the lab's test PKI first (idempotent), then host_b's participant.
+  if (std::system(COBRA_MAKE_TEST_PKI " " COBRA_TEST_PKI) == 0) {
+    secured_echo_process = fork();
+    if (secured_echo_process == 0) {
+      cobra::dds::DdsTransport::Options options{kDomainSecured, "bench_secured_echo", true};
+      options.security = testIdentity("host_b");
+      runEchoProcess(options, kSecuredTopics);
+    }
+  }
   if (netns_ready) {
     netns_echo_process = fork();
     if (netns_echo_process == 0) {
@@ -429,14 +480,14 @@ int main(int argc, char** argv) {
       cobra::dds::DdsTransport::Options options{kDomainNetns, "bench_netns_echo", true};
       options.initial_peers = {kAddressHere};
       options.udp_only = true;
-      runEchoProcess(options, "bench/ns_");
+      runEchoProcess(options, {"bench/ns_", "bench/ns_"});
     }
   }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  for (const pid_t far : {echo_process, netns_echo_process}) {
+  for (const pid_t far : {echo_process, netns_echo_process, secured_echo_process}) {
     if (far <= 0) continue;
     kill(far, SIGTERM);
     waitpid(far, nullptr, 0);

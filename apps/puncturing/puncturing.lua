@@ -68,6 +68,22 @@ if host then
   Link.meeting_period = 0.005
   Link.initial_peers = dds_initial_peers or os.getenv("COBRA_DDS_INITIAL_PEERS") or ""
   Link.drop_share = dds_drop_share or tonumber(os.getenv("COBRA_DDS_DROP_SHARE") or "0")  -- 1: tests only
+  -- DDS Security (dds/README.md "Security"): `dds_security` or COBRA_DDS_SECURITY names a folder
+  -- of the lab's certificates and signed documents (tools/make_test_pki.sh makes test ones; ./do
+  -- makes them in build/pki). Host needle is the identity host_a, host probe host_b; each may
+  -- publish only its own components' topics (dds/security/permissions_host_*.xml), everything on
+  -- the wire is encrypted and a participant without a certificate of the CA is refused. Unset:
+  -- no security.
+  local pki = dds_security or os.getenv("COBRA_DDS_SECURITY") or ""
+  if pki ~= "" then
+    local id = host == "needle" and "host_a" or "host_b"
+    Link.security_folder = pki
+    Link.security_ca = "ca.crt"
+    Link.security_certificate = id .. ".crt"
+    Link.security_key = id .. ".key"
+    Link.security_governance = "governance.p7s"
+    Link.security_permissions = "permissions_" .. id .. ".p7s"
+  end
   -- s: its events reach the charts within a step. Its own pace on the wall clock: there the hosts
   -- do not meet, and on the executor's lockstep schedule the link would put the transport in
   -- lockstep (samples held for meetings that never come); its work is on Fast DDS's threads and

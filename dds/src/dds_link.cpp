@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -519,6 +520,9 @@ DdsLink::DdsLink(std::string name)
   addProperty(priority_.range(0, 99));
   addProperty(udp_only_);
   addProperty(lapse_grace_.range(0.0, 3600.0));
+  for (core::Property<std::string>* p : {&security_folder_, &security_ca_, &security_certificate_, &security_key_,
+                                         &security_governance_, &security_permissions_, &security_permissions_ca_})
+    addProperty(*p);
   addOperation(
       "lostPeers",
       std::function<std::string()>([this] {
@@ -559,6 +563,13 @@ bool DdsLink::configureHook() {
   options.poll = poll_.get();
   options.priority = priority_.get();
   options.udp_only = udp_only_.get();
+  // Relative paths from the deployment's folder (security_folder), absolute ones as they are.
+  const auto path = [&](const core::Property<std::string>& p) {
+    if (p.get().empty() || security_folder_.get().empty()) return p.get();
+    return (std::filesystem::path(security_folder_.get()) / p.get()).lexically_normal().string();
+  };
+  options.security = {path(security_ca_), path(security_certificate_), path(security_key_),
+                      path(security_governance_), path(security_permissions_), path(security_permissions_ca_)};
   try {
     transport_ = std::make_shared<DdsTransport>(options);
     transport_->participant_->setEventSink([this](const core::Event& e) { emit(e.name.str(), e.source.str()); });

@@ -3,6 +3,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/rtps/builtin/data/ParticipantProxyData.h>
 #include <fastdds/rtps/builtin/data/ReaderProxyData.h>
 #include <fastdds/rtps/builtin/data/WriterProxyData.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
@@ -26,6 +27,7 @@
 
 #include "cobra/core/error.hpp"
 #include "cobra/text/number.hpp"
+#include "security.hpp"
 
 namespace cobra::dds::detail {
 namespace fdds = eprosima::fastdds::dds;
@@ -173,17 +175,31 @@ Participant::Participant(const DdsTransport::Options& options)
     // Port 0: Fast DDS tries the well-known discovery ports of the first participants there.
     qos.wire_protocol().builtin.initialPeersList.push_back(locator);
   }
-  if (options.udp_only && options.drop_share == 0.0) {
+  const bool test_transport = options.drop_share > 0.0 || options.wire_tap;
+  if (options.udp_only && !test_transport) {
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
   }
-  if (options.drop_share > 0.0) {
+  if (test_transport) {
     auto lossy = std::make_shared<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor>();
     const auto percent = static_cast<std::uint8_t>(std::lround(options.drop_share * 100.0));
     lossy->dropDataMessagesPercentage = percent;
     lossy->dropDataFragMessagesPercentage = percent;
+    if (options.wire_tap)
+      lossy->messages_filter_ = [tap = options.wire_tap](rtps::CDRMessage_t& message) {
+        tap(message.buffer, message.length);
+        return false;  // dropped by the percentages only
+      };
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(lossy);
+  }
+  if (options.security.enabled()) {
+    // Checked here, naming the file and what is wrong: Fast DDS only says that it could not
+    // create the participant.
+    const CheckedSecurity checked = checkSecurity(options.security, name);
+    subject_ = checked.subject;
+    permissions_ = checked.files.permissions;
+    for (auto& [property, value] : securityProperties(checked)) qos.properties().properties().emplace_back(property, value);
   }
   // Only the QoS statuses: with data_on_readers in the mask, Fast DDS would call this listener
   // instead of each reader's on_data_available. Discovery callbacks come whatever the mask.
@@ -193,7 +209,10 @@ Participant::Participant(const DdsTransport::Options& options)
   participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos, this, mask);
   if (participant_ == nullptr)
     throw core::Error("dds: cannot create the domain participant '" + name + "' on domain " + std::to_string(domain) +
-                      " (domain ids are 0..232)");
+                      (subject_.empty() ? std::string(" (domain ids are 0..232)")
+                                        : " (domain ids are 0..232; with DDS Security: does the governance cover "
+                                          "this domain, and do the permissions '" + permissions_ +
+                                          "' grant '" + subject_ + "' this domain?)"));
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (publisher_ == nullptr || subscriber_ == nullptr) {
@@ -216,6 +235,18 @@ Participant::Participant(const DdsTransport::Options& options)
     reader_qos.data_sharing().off();
     subscriber_->set_default_datareader_qos(reader_qos);
   }
+  if (!subject_.empty()) {
+    // Refusals by access control come only in Fast DDS's log; a participant this one discovered
+    // is this one's to report.
+    refusal_watch_ = watchRefusals([this](const std::string& prefix, const std::string& why) {
+      bool discovered = false;
+      {
+        std::lock_guard lock(mutex_);
+        discovered = participant_names_.count(prefix) > 0;
+      }
+      if (discovered) refused(prefix, "its permissions were refused (" + why + ")");
+    });
+  }
 }
 
 void Participant::raiseThisThread() const noexcept {
@@ -223,6 +254,7 @@ void Participant::raiseThisThread() const noexcept {
 }
 
 Participant::~Participant() {
+  if (refusal_watch_ >= 0) unwatchRefusals(refusal_watch_);
   participant_->set_listener(nullptr);
   participant_->delete_contained_entities();
   fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -281,7 +313,8 @@ fdds::DataWriter* Participant::createWriter(const EndpointInfo& wanted, const fd
   fdds::DataWriter* writer = publisher_->create_datawriter(topic, qos, nullptr, fdds::StatusMask::none());
   if (writer == nullptr) {
     releaseTopic(info.topic);
-    throw core::Error("dds: Fast DDS refused the writer of topic '" + info.topic + "' with QoS " + info.qos.describe());
+    throw core::Error("dds: Fast DDS refused the writer of topic '" + info.topic + "' with QoS " + info.qos.describe() +
+                      refusalHint("publish", info.topic));
   }
   addLocal(info, writer);
   return writer;
@@ -297,7 +330,8 @@ fdds::DataReader* Participant::createReader(const EndpointInfo& wanted, const fd
   fdds::DataReader* reader = subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::data_available());
   if (reader == nullptr) {
     releaseTopic(info.topic);
-    throw core::Error("dds: Fast DDS refused the reader of topic '" + info.topic + "' with QoS " + info.qos.describe());
+    throw core::Error("dds: Fast DDS refused the reader of topic '" + info.topic + "' with QoS " + info.qos.describe() +
+                      refusalHint("subscribe", info.topic));
   }
   addLocal(info, reader);
   return reader;
@@ -365,9 +399,40 @@ void Participant::remoteDiscovered(const std::string& guid, Remote remote) {
   deliver(reports);
 }
 
+std::string Participant::refusalHint(const char* action, const std::string& topic) const {
+  if (subject_.empty()) return "";
+  return ": with DDS Security, participant '" + name_ + "' ('" + subject_ + "') may " + action + " only what its permissions '" +
+         permissions_ + "' grant, and they do not grant " + action + " on '" + topic + "'";
+}
+
 void Participant::on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) {
   std::lock_guard lock(mutex_);
-  participant_names_[text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
+  const std::string prefix = text(info.info.m_guid.guidPrefix);
+  participant_names_[prefix] = info.info.m_participantName.to_string();
+  // A secured participant's identity token names its certificate's subject (PKI-DH: dds.cert.sn).
+  if (const std::string* subject = rtps::DataHolderHelper::find_property_value(info.info.identity_token_, "dds.cert.sn"))
+    participant_subjects_[prefix] = *subject;
+}
+
+void Participant::onParticipantAuthentication(fdds::DomainParticipant*, rtps::ParticipantAuthenticationInfo&& info) {
+  if (info.status != rtps::ParticipantAuthenticationInfo::UNAUTHORIZED_PARTICIPANT) return;
+  refused(text(info.guid.guidPrefix),
+          "it failed DDS Security's authentication (no certificate of this participant's identity CA, or none at "
+          "all)");
+}
+
+void Participant::refused(const std::string& prefix, const std::string& why) {
+  std::string who = "participant " + prefix;
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = participant_names_.find(prefix); it != participant_names_.end()) who += " '" + it->second + "'";
+    if (auto it = participant_subjects_.find(prefix); it != participant_subjects_.end())
+      who += " (certificate '" + it->second + "')";
+  }
+  deliver({Report{"e_dds_participant_refused", "refused|" + prefix,
+                  "dds participant '" + name_ + "' refused " + who + ": " + why +
+                      "; nothing it sends is read, nothing is sent to it",
+                  prefix}});
 }
 
 void Participant::on_subscriber_discovery(fdds::DomainParticipant*, rtps::ReaderDiscoveryInfo&& info) {
@@ -453,7 +518,7 @@ void Participant::deliver(const std::vector<Report>& reports) {
     core::Event event;
     event.name = r.event;
     const std::string topic = r.message.substr(r.message.find('\'') + 1);
-    event.source.assign(topic.substr(0, topic.find('\'')));
+    event.source.assign(r.source.empty() ? topic.substr(0, topic.find('\'')) : r.source);
     event.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch());
     std::lock_guard lock(events_mutex_);
     events_.write(event);

@@ -32,50 +32,17 @@ namespace {
 using namespace std::chrono_literals;
 
 /// A child process running dds_link_peer with `args`; killed and reaped unless waited for.
-class Peer {
+class Peer : public test::ChildProcess {
  public:
   /// `output`: a file for the child's stdout and stderr ("": the test's own).
-  explicit Peer(std::vector<std::string> args, const std::string& output = "") {
-    args.insert(args.begin(), COBRA_DDS_LINK_PEER);
-    pid_ = fork();
-    if (pid_ == 0) {
-      if (!output.empty()) {
-        const int fd = open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(fd, 1);
-        dup2(fd, 2);
-      }
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(COBRA_DDS_LINK_PEER, argv.data());
-      _exit(127);
-    }
-  }
-  ~Peer() {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  Peer(const Peer&) = delete;
-  Peer& operator=(const Peer&) = delete;
-  void killHard() { kill(pid_, SIGKILL); }
-  /// Stalls the process for `pause` (SIGSTOP, then SIGCONT): none of its threads runs meanwhile.
-  void stall(std::chrono::milliseconds pause) {
-    kill(pid_, SIGSTOP);
-    std::this_thread::sleep_for(pause);
-    kill(pid_, SIGCONT);
-  }
-  /// The exit status, or -1 when it did not exit within `timeout`.
-  int wait(std::chrono::milliseconds timeout) {
-    int status = 0;
-    if (!test::pollUntil([&] { return waitpid(pid_, &status, WNOHANG) == pid_; }, timeout)) return -1;
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
+  explicit Peer(std::vector<std::string> args, const std::string& output = "")
+      : ChildProcess(withProgram(std::move(args)), output) {}
 
  private:
-  pid_t pid_ = -1;
+  static std::vector<std::string> withProgram(std::vector<std::string> args) {
+    args.insert(args.begin(), COBRA_DDS_LINK_PEER);
+    return args;
+  }
 };
 
 void set(core::Component& c, const std::string& property, const std::string& value) {

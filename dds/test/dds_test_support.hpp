@@ -1,11 +1,17 @@
 #pragma once
 // Helpers of the dds tests: a transport registered for one test, an event, and polling with a deadline.
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
@@ -53,5 +59,52 @@ inline bool pollUntil(const std::function<bool()>& done, std::chrono::millisecon
   }
   return true;
 }
+
+/// A child process running `args` (args[0]: the program's path); killed and reaped unless
+/// waited for.
+class ChildProcess {
+ public:
+  /// `output`: a file for the child's stdout and stderr ("": the test's own).
+  explicit ChildProcess(std::vector<std::string> args, const std::string& output = "") {
+    pid_ = fork();
+    if (pid_ == 0) {
+      if (!output.empty()) {
+        const int fd = open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(fd, 1);
+        dup2(fd, 2);
+      }
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+  }
+  ~ChildProcess() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  void killHard() { kill(pid_, SIGKILL); }
+  /// Stalls the process for `pause` (SIGSTOP, then SIGCONT): none of its threads runs meanwhile.
+  void stall(std::chrono::milliseconds pause) {
+    kill(pid_, SIGSTOP);
+    std::this_thread::sleep_for(pause);
+    kill(pid_, SIGCONT);
+  }
+  /// The exit status, or -1 when it did not exit within `timeout`.
+  int wait(std::chrono::milliseconds timeout) {
+    int status = 0;
+    if (!pollUntil([&] { return waitpid(pid_, &status, WNOHANG) == pid_; }, timeout)) return -1;
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
 
 }  // namespace cobra::dds::test

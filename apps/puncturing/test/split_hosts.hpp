@@ -44,6 +44,9 @@ struct HostSetup {
   double time_limit = 400.0;      ///< s simulated (of wall time when `realtime`)
   bool realtime = false;          ///< on the wall clock (the real-time executor), as `cobra run --realtime`
   std::filesystem::path faults_file;  ///< played by this host (`cobra run --faults`); "" = none
+  /// DDS Security: the folder of the lab's PKI (tools/make_test_pki.sh; puncturing.lua's
+  /// `dds_security`); "" = none.
+  std::string dds_security;
 };
 
 /// What a host's run came to, read back from its files.
@@ -213,7 +216,8 @@ class HostProcess {
       std::ostringstream lua;
       lua.precision(17);
       lua << "dds_domain = " << setup_.domain << "\ndds_drop_share = " << setup_.drop_share
-          << "\ndds_initial_peers = \"" << setup_.initial_peers << "\"\n";
+          << "\ndds_initial_peers = \"" << setup_.initial_peers << "\"\ndds_security = \"" << setup_.dds_security
+          << "\"\n";
       o.before_lua = lua.str();
       auto progress = std::make_shared<std::ofstream>(setup_.folder / "progress.txt");
       o.progress = [progress](const std::string& line) { *progress << wallNs() << " " << line << std::endl; };

@@ -47,7 +47,19 @@
 ///   that are multiples of it, so a sample crosses at the first such instant after it was
 ///   written: up to one period of delay between processes (as a network adds), in exchange for
 ///   fewer meetings (each costs a round trip between the processes). Every process of a run must
-///   have the same; a peer with another is lost at once, the message naming both periods.
+///   have the same; a peer with another is lost at once, the message naming both periods;
+/// - DDS Security (dds/README.md "Security"; DdsTransport::Security; all file paths, all empty
+///   by default: no security; a path relative to `security_folder`, which a deployment file sets
+///   to its own folder, e.g. `Link.security_folder = here`, else to the working directory):
+///   `security_ca` (identity CA certificate, PEM), `security_certificate` (this process's
+///   identity, issued by it), `security_key` (its private key), `security_governance` (the
+///   signed governance document), `security_permissions` (this process's signed permissions),
+///   `security_permissions_ca` (the CA that signed both documents; "" = security_ca). Checked at
+///   configure: a missing file, an expired certificate, a key that is not the certificate's,
+///   permissions that do not grant the certificate's subject refuse the configure, naming the
+///   file and what is wrong. A peer refused by authentication or access control is reported once
+///   (stderr, `DdsTransport::problems()`, the event `e_dds_participant_refused`, source: its GUID
+///   prefix).
 ///
 /// Output port `events` (every component's; Event, source: the peer's participant name, or the
 /// topic; stamped in run time): `e_peer_joined`, `e_peer_lost` (once per peer; never for a peer
@@ -147,6 +159,18 @@ class DdsLink final : public core::Component, public core::ClockSync {
   core::Property<double> meeting_period_{
       "meeting_period", 0.0, "s",
       "lockstep: meet at the instants that are multiples of it (samples cross then); 0: at every instant"};
+  core::Property<std::string> security_folder_{
+      "security_folder", std::string(), "", "folder of relative security_* paths (the deployment file's); \"\": the working directory"};
+  core::Property<std::string> security_ca_{"security_ca", std::string(), "", "DDS Security: identity CA certificate (PEM)"};
+  core::Property<std::string> security_certificate_{"security_certificate", std::string(), "",
+                                                    "DDS Security: this process's identity certificate (PEM)"};
+  core::Property<std::string> security_key_{"security_key", std::string(), "", "DDS Security: its private key (PEM)"};
+  core::Property<std::string> security_governance_{"security_governance", std::string(), "",
+                                                   "DDS Security: governance document, S/MIME-signed by the permissions CA"};
+  core::Property<std::string> security_permissions_{"security_permissions", std::string(), "",
+                                                    "DDS Security: this process's permissions, S/MIME-signed by the permissions CA"};
+  core::Property<std::string> security_permissions_ca_{"security_permissions_ca", std::string(), "",
+                                                       "DDS Security: the CA that signed governance and permissions; \"\": security_ca"};
   std::unique_ptr<ForeignEvents> foreign_events_;  // made with the link: events may come until it goes
   std::unique_ptr<Meeting> meeting_;
   std::shared_ptr<DdsTransport> transport_;

@@ -32,6 +32,8 @@
 /// naming the topic and both ends' types or QoS.
 
 #include <chrono>
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +50,28 @@ class Participant;
 /// One DDS domain participant and the connections it carries. Thread-safe.
 class DdsTransport final : public core::Transport {
  public:
+  /// DDS Security (OMG DDS-Security 1.1, Fast DDS's built-in plugins): PKI-DH authentication,
+  /// Access-Permissions access control, AES-GCM-GMAC encryption. Files are PEM certificates and
+  /// keys and S/MIME-signed XML documents (dds/README.md "Security"; tools/make_test_pki.sh makes a
+  /// lab's). All empty: no security. Otherwise every file but `permissions_ca` must be given;
+  /// each is checked when the participant is made (readable, parsed, the certificate valid now
+  /// and issued by `ca`, the key the certificate's, both documents signed by `permissions_ca`,
+  /// the permissions granting the certificate's subject): a problem throws core::Error naming the
+  /// file and what is wrong.
+  struct Security {
+    std::string ca;              ///< identity CA certificate (PEM): the peers' certificates must be issued by it
+    std::string certificate;     ///< this participant's identity certificate (PEM), issued by `ca`
+    std::string key;             ///< its private key (PEM, unencrypted)
+    std::string governance;      ///< the domain governance document, signed (S/MIME) by `permissions_ca`
+    std::string permissions;     ///< this participant's permissions document, signed by `permissions_ca`
+    std::string permissions_ca;  ///< the CA that signed the two documents; "" = `ca`
+    /// True when any file is given.
+    bool enabled() const {
+      return !ca.empty() || !certificate.empty() || !key.empty() || !governance.empty() || !permissions.empty() ||
+             !permissions_ca.empty();
+    }
+  };
+
   struct Options {
     int domain = 0;                    ///< DDS domain id (0..232), as ROS_DOMAIN_ID
     std::string participant = "cobra";  ///< the participant's name, seen by discovery tools
@@ -72,6 +96,12 @@ class DdsTransport final : public core::Transport {
     /// a loaded machine delays time-sharing threads past the lease. When refused (no
     /// CAP_SYS_NICE), the threads run time-sharing and stderr says so.
     int priority = 0;
+    /// DDS Security; default: none (see Security).
+    Security security = {};
+    /// Tests only: called with every RTPS message this participant sends over UDPv4 (as it goes
+    /// on the wire: encrypted with security), on Fast DDS's sending threads. Set, the participant
+    /// uses UDPv4 only (Fast DDS's test transport, which drops nothing unless `drop_share`).
+    std::function<void(const unsigned char* data, std::size_t size)> wire_tap = {};
   };
 
   explicit DdsTransport(Options options);
@@ -83,8 +113,9 @@ class DdsTransport final : public core::Transport {
   void makeWriterEnd(core::OutputPortBase& output, const core::ConnPolicy& policy, core::PortBase* peer) override;
   void makeReaderEnd(core::InputPortBase& input, const core::ConnPolicy& policy, core::PortBase* peer) override;
 
-  /// Problem events (`e_dds_type_mismatch`, `e_dds_incompatible_qos`); connect it like any
-  /// output port, e.g. to a supervisor's inputEvents with a buffer policy.
+  /// Problem events (`e_dds_type_mismatch`, `e_dds_incompatible_qos`, source: the topic; with
+  /// DDS Security `e_dds_participant_refused`, source: the refused participant's GUID prefix);
+  /// connect it like any output port, e.g. to a supervisor's inputEvents with a buffer policy.
   core::OutputPort<core::Event>& events();
   /// Every problem reported so far, as its full message.
   std::vector<std::string> problems() const;

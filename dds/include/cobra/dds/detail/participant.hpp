@@ -147,6 +147,13 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
                                    const eprosima::fastdds::dds::OfferedIncompatibleQosStatus& status) override;
   void on_requested_incompatible_qos(eprosima::fastdds::dds::DataReader* reader,
                                      const eprosima::fastdds::dds::RequestedIncompatibleQosStatus& status) override;
+  /// DDS Security: a remote participant refused (authentication or access control) is reported
+  /// once (`e_dds_participant_refused`, source: its GUID prefix), naming what discovery said of
+  /// it (its name, its certificate's subject).
+  void onParticipantAuthentication(eprosima::fastdds::dds::DomainParticipant* participant,
+                                   eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override;
+  /// This participant's certificate subject (RFC 2253); "" without DDS Security.
+  const std::string& subject() const { return subject_; }
 
  private:
   struct Remote {
@@ -172,6 +179,7 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
     const char* event;
     std::string key;  ///< a problem is reported once per key
     std::string message;
+    std::string source = {};  ///< the event's source; "" = the first name quoted in the message (the topic)
   };
   void remoteDiscovered(const std::string& guid, Remote remote);
   /// The report of a type mismatch between `local` and `remote`, if they are two sides of one
@@ -182,11 +190,18 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   Report qosReportLocked(const Local& local, std::uint32_t policy) const;
   /// Keeps, logs and sends the reports not seen before. Called without the lock held.
   void deliver(const std::vector<Report>& reports);
+  /// Reports the refused remote participant `prefix` once (`why`: what failed).
+  void refused(const std::string& prefix, const std::string& why);
+  /// For a refused writer or reader: what the permissions say ("" without DDS Security).
+  std::string refusalHint(const char* action, const std::string& topic) const;
 
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   std::chrono::nanoseconds poll_;
   int priority_;  // SCHED_FIFO 1..99 of its threads; 0: as their creator's
   std::string name_;
+  std::string subject_;      // DDS Security: the certificate's subject; "" without
+  std::string permissions_;  // DDS Security: the permissions file (for messages); "" without
+  int refusal_watch_ = -1;   // DDS Security: the id of its watch of Fast DDS's log (security.hpp)
   std::atomic<bool> lockstep_{false};
   mutable std::mutex released_mutex_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::int64_t> released_;  // under released_mutex_
@@ -202,6 +217,7 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   std::vector<Local> locals_;
   std::map<std::string, Remote> remotes_;                 // by GUID text
   std::map<std::string, std::string> participant_names_;  // by GUID prefix text
+  std::map<std::string, std::string> participant_subjects_;  // by GUID prefix: its identity token's certificate subject
   std::vector<std::string> problems_;
   std::vector<std::string> reported_;  // keys of problems reported once
   std::vector<std::pair<eprosima::fastdds::dds::DomainEntity*, std::uint32_t>> unclaimed_qos_;  // see incompatibleQos
