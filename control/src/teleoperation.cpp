@@ -43,10 +43,12 @@ void requireLevels(const TankLevels& t, const std::string& which) {
 /// Eq. 4.20: the tank (energy J) pays F_idᵀ t_i dt for the wrench it implements (the full power
 /// port: force·v + torque·ω) and never drops below `minimum` (ε); a wrench that takes energy from
 /// the robot (negative cost) always fills the tank. Returns false, leaving `wrench` zero, when
-/// the tank cannot pay.
+/// the tank cannot pay, or when the wrench or the twist is not finite (a NaN would otherwise pass
+/// and turn the tank into NaN, after which no comparison limits anything again).
 bool payForWrench(const Vector6& desired, const Vector6& twist, double dt, double minimum, double& energy,
                   Vector6& wrench) noexcept {
   const double cost = desired.dot(twist) * dt;
+  if (!std::isfinite(cost) || !desired.allFinite()) return false;
   if (cost > 0.0 && energy - cost < minimum) return false;
   wrench = desired;
   energy -= cost;
@@ -159,12 +161,18 @@ PassivityStep PassivityLayer::step(double dt, const Vector6& master_desired, con
   const TankLevels& ls = p_.slave;
   const double sigma_m = master_ <= lm.maximum ? 1.0 : 0.0;  // eq. 4.7 per tank
   const double sigma_s = slave_ <= ls.maximum ? 1.0 : 0.0;
-  const double dm = std::max(master_dissipation, 0.0) * dt, ds = std::max(slave_dissipation, 0.0) * dt;
-  // Eq. 4.21-4.23: a full tank passes its dissipation on; a rich tank feeds one that asks, at P̄.
+  // A dissipation that is not a finite power >= 0 (a NaN from a sensor) adds nothing.
+  const auto power = [](double w) { return std::isfinite(w) && w > 0.0 ? w : 0.0; };
+  const double dm = power(master_dissipation) * dt, ds = power(slave_dissipation) * dt;
+  if (!std::isfinite(dm) || !std::isfinite(ds)) return out;  // dt = inf: nothing is paid or moved
+  // Eq. 4.21-4.23: a full tank passes its dissipation on; a rich tank feeds one that asks, at P̄,
+  // never below its own ε (a long period could otherwise move more than T_ava - ε).
   const double request_m = master_ < lm.request ? 1.0 : 0.0, request_s = slave_ < ls.request ? 1.0 : 0.0;
   const double give_m = master_ >= lm.available ? 1.0 : 0.0, give_s = slave_ >= ls.available ? 1.0 : 0.0;
-  const double out_m = (1.0 - sigma_m) * dm + request_s * give_m * p_.transfer_power * dt;
-  const double out_s = (1.0 - sigma_s) * ds + request_m * give_s * p_.transfer_power * dt;
+  const double transfer_m = std::min(p_.transfer_power * dt, std::max(master_ - lm.minimum, 0.0));
+  const double transfer_s = std::min(p_.transfer_power * dt, std::max(slave_ - ls.minimum, 0.0));
+  const double out_m = (1.0 - sigma_m) * dm + request_s * give_m * transfer_m;
+  const double out_s = (1.0 - sigma_s) * ds + request_m * give_s * transfer_s;
   double master_next = master_ + sigma_m * dm + sigma_m * out_s - out_m;
   double slave_next = slave_ + sigma_s * ds + sigma_s * out_m - out_s;
   spilled_ += (1.0 - sigma_m) * out_s + (1.0 - sigma_s) * out_m;

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <string>
@@ -197,6 +199,39 @@ TEST(Teleoperation, ATankPaysForTheWholePowerPortTorqueTimesAngularVelocityToo) 
   const PassivityStep refused = layer.step(kDt, kZero, huge, kZero, twist, 0.0, 0.0);
   EXPECT_TRUE(refused.slave_limited);
   EXPECT_EQ(refused.slave_wrench, kZero);
+}
+
+// A NaN (a sensor's, a bad twist) is refused, never paid: the tanks stay finite and go on
+// limiting afterwards; a NaN or negative dissipation adds nothing.
+TEST(Teleoperation, ANonFiniteWrenchTwistOrDissipationNeverReachesATank) {
+  PassivityLayer layer{PassivityParameters{}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Vector6 v = linear(Vector3(0.1, 0, 0));
+  PassivityStep out = layer.step(kDt, linear(Vector3(nan, 0, 0)), kZero, v, kZero, 0.0, 0.0);
+  EXPECT_TRUE(out.master_limited);
+  EXPECT_EQ(out.master_wrench, kZero);
+  out = layer.step(kDt, kZero, linear(Vector3(1.0, 0, 0)), kZero, linear(Vector3(nan, 0, 0)), 0.0, 0.0);
+  EXPECT_TRUE(out.slave_limited);
+  EXPECT_EQ(out.slave_wrench, kZero);
+  layer.step(kDt, kZero, kZero, kZero, kZero, nan, -5.0);
+  layer.step(kDt, kZero, kZero, kZero, kZero, std::numeric_limits<double>::infinity(), 0.0);
+  EXPECT_DOUBLE_EQ(layer.masterEnergy(), 10.0);
+  EXPECT_DOUBLE_EQ(layer.slaveEnergy(), 10.0);
+  // Still limiting: 9 J above ε, a wrench costing 10 J is refused.
+  out = layer.step(kDt, linear(Vector3(1e5, 0, 0)), kZero, v, kZero, 0.0, 0.0);
+  EXPECT_TRUE(out.master_limited);
+}
+
+// A rich tank feeds one that asks at P̄, but never below its own ε, however long the period.
+TEST(Teleoperation, ATankThatGivesNeverGoesBelowItsMinimum) {
+  PassivityParameters p;
+  p.master.initial = 2.0;   // asks (below T_req = 5 J)
+  p.slave.initial = 10.0;   // gives (at T_ava = 10 J)
+  p.transfer_power = 1.0;
+  PassivityLayer layer(p);
+  layer.step(100.0, kZero, kZero, kZero, kZero, 0.0, 0.0);  // P̄·dt = 100 J > T_s - ε = 9 J
+  EXPECT_DOUBLE_EQ(layer.slaveEnergy(), p.slave.minimum);
+  EXPECT_DOUBLE_EQ(layer.masterEnergy(), 11.0);
 }
 
 TEST(Teleoperation, BadParametersNameTheParameterAndTheRule) {

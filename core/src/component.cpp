@@ -15,32 +15,65 @@ namespace cobra::core {
 
 namespace {
 
-// Injected update exceptions (fault_injection.hpp): few, rare, set off the real-time path. The
-// count is read by every step without the lock; the list is looked at only when it is not zero.
+// Injected update exceptions (fault_injection.hpp): few, rare, set off the real-time path, held
+// in a fixed table of slots without a lock, so that a component's step never waits for another
+// thread: the count is read by every step; the slots are scanned only when it is not zero. A slot
+// is Free, Writing (an injection fills it), Armed (its target may take it) or Taking (its target
+// or the target's destructor empties it); only the thread that moved it out of Armed touches its
+// text.
+constexpr std::size_t kInjectionSlots = 16;
+enum SlotState : int { kFree, kWriting, kArmed, kTaking };
+struct InjectionSlot {
+  std::atomic<int> state{kFree};
+  std::atomic<const Component*> target{nullptr};  // read before the state decides: atomic
+  std::string what;
+};
 std::atomic<int> g_injected{0};
-std::mutex g_injected_mutex;
-std::vector<std::pair<const Component*, std::string>> g_injections;
+InjectionSlot g_injections[kInjectionSlots];
+
+// Empties the Armed slot of `component`, if any, into `what`; true when there was one.
+bool takeInjection(const Component* component, std::string* what) {
+  for (InjectionSlot& slot : g_injections) {
+    int armed = kArmed;
+    if (slot.state.load(std::memory_order_acquire) != kArmed || slot.target.load(std::memory_order_relaxed) != component)
+      continue;
+    if (!slot.state.compare_exchange_strong(armed, kTaking, std::memory_order_acquire)) continue;
+    if (what != nullptr) *what = std::move(slot.what);
+    slot.what.clear();
+    slot.target.store(nullptr, std::memory_order_relaxed);
+    slot.state.store(kFree, std::memory_order_release);
+    g_injected.fetch_sub(1, std::memory_order_relaxed);
+    return true;
+  }
+  return false;
+}
 
 // Throws the injection of `component` when there is one (removing it).
 void throwIfInjected(const Component* component) {
   std::string what;
-  {
-    std::lock_guard lock(g_injected_mutex);
-    const auto it = std::find_if(g_injections.begin(), g_injections.end(), [&](const auto& i) { return i.first == component; });
-    if (it == g_injections.end()) return;
-    what = std::move(it->second);
-    g_injections.erase(it);
-    g_injected.fetch_sub(1, std::memory_order_relaxed);
-  }
-  throw std::runtime_error(what);
+  if (takeInjection(component, &what)) throw std::runtime_error(what);
 }
 
 }  // namespace
 
 void injectUpdateException(const Component& component, std::string what) {
-  std::lock_guard lock(g_injected_mutex);
-  g_injections.emplace_back(&component, std::move(what));
-  g_injected.fetch_add(1, std::memory_order_relaxed);
+  // One pending injection per component: a fault replayed every period while the component is
+  // not stepping (stopped, in Exception) would otherwise fill the table.
+  for (InjectionSlot& slot : g_injections)
+    if (slot.state.load(std::memory_order_acquire) == kArmed && slot.target.load(std::memory_order_relaxed) == &component)
+      return;
+  for (InjectionSlot& slot : g_injections) {
+    int free = kFree;
+    if (!slot.state.compare_exchange_strong(free, kWriting, std::memory_order_acquire)) continue;
+    slot.target.store(&component, std::memory_order_relaxed);
+    slot.what = std::move(what);
+    g_injected.fetch_add(1, std::memory_order_relaxed);
+    slot.state.store(kArmed, std::memory_order_release);
+    return;
+  }
+  throw std::runtime_error("fault injection: " + std::to_string(kInjectionSlots) +
+                           " update exceptions are pending already (components that do not step take none): "
+                           "inject into running components");
 }
 
 int pendingUpdateExceptions() { return g_injected.load(std::memory_order_relaxed); }
@@ -86,11 +119,7 @@ Component::Component(std::string name, Role role, std::string doc)
 
 Component::~Component() {
   // An injection it never threw dies with it (another component may get its address).
-  if (g_injected.load(std::memory_order_relaxed) != 0) {
-    std::lock_guard lock(g_injected_mutex);
-    const auto gone = std::remove_if(g_injections.begin(), g_injections.end(), [&](const auto& i) { return i.first == this; });
-    g_injected.fetch_sub(static_cast<int>(g_injections.end() - gone), std::memory_order_relaxed);
-    g_injections.erase(gone, g_injections.end());
+  while (g_injected.load(std::memory_order_relaxed) != 0 && takeInjection(this, nullptr)) {
   }
   // By now the subclass's members are gone; an update running on another thread would touch
   // freed memory. Stop components before destroying them (ComponentRegistry does).

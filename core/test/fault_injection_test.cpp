@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cobra/core/activity.hpp"
 #include "cobra/core/component.hpp"
@@ -73,6 +75,35 @@ TEST(FaultInjection, AnInjectionTheComponentNeverThrewDiesWithIt) {
   step(*next);
   EXPECT_EQ(next->state(), State::Running);
   EXPECT_EQ(next->updates, 1);
+}
+
+// A fault replayed every period into a component that does not step (stopped) stays one pending
+// injection, not one per period; the table's bound is said when reached.
+TEST(FaultInjection, RepeatedInjectionsIntoAComponentThatDoesNotStepStayOneAndTheTableIsBounded) {
+  const auto stopped = running("Stopped");
+  ASSERT_TRUE(stopped->stop());
+  for (int period = 0; period < 100; ++period) injectUpdateException(*stopped, "replayed");
+  EXPECT_EQ(pendingUpdateExceptions(), 1);
+  std::vector<std::unique_ptr<Counting>> others;
+  for (int i = 0; i < 15; ++i) {
+    others.push_back(running("Other" + std::to_string(i)));
+    injectUpdateException(*others.back(), "pending");
+  }
+  EXPECT_EQ(pendingUpdateExceptions(), 16);
+  const auto one_more = running("OneMore");
+  try {
+    injectUpdateException(*one_more, "no room");
+    ADD_FAILURE() << "a 17th pending injection was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "fault injection: 16 update exceptions are pending already (components that do not step "
+                           "take none): inject into running components");
+  }
+  for (const auto& c : others) step(*c);  // each throws its own, freeing its slot
+  EXPECT_EQ(pendingUpdateExceptions(), 1);
+  injectUpdateException(*one_more, "now there is room");
+  step(*one_more);
+  EXPECT_EQ(one_more->state(), State::Exception);
+  EXPECT_EQ(one_more->updates, 0);
 }
 
 }  // namespace

@@ -13,7 +13,8 @@ namespace cobra::core {
 class Component;
 
 /// The next step of `component` that runs its updateHook throws std::runtime_error(`what`) in
-/// its place (once). Any thread; not on a real-time path (it takes a lock and allocates).
+/// its place (once; a second injection before it is taken is ignored). Any thread; not on a
+/// real-time path (it allocates the text). At most 16 are pending at once: throws beyond.
 void injectUpdateException(const Component& component, std::string what);
 
 /// Injections not yet thrown (a component that never steps again keeps its own).
