@@ -152,7 +152,8 @@ TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutAComm
   expectPlaced(r, 2);
   expectInOrder(r, {"NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
                     fault("forbidden_region.lua", 6), "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
-                    "needle > root.NeedleTeleoperation", "needle deployment > needle_teleoperated",
+                    "needle > root.NeedleTeleoperation.InitHapticDevice", "needle deployment > needle_teleoperated",
+                    "needle > root.NeedleTeleoperation.TeleoperationActive",
                     fault("forbidden_region.lua", 8), "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
                     "needle deployment > needle_autonomous_primitives", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
