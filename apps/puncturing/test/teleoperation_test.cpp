@@ -1,12 +1,12 @@
 // The puncturing task's take-over through the two-layer coupling (thesis §4.5.4 in the
 // deployments of §4.6), end to end in simulation (the runner's API, lockstep clock): the needle
 // near a forbidden region in the tissue, the surgeon takes it over with the Phantom Omni or the
-// Leap Motion, without and with an impaired link (100 ms delay, 10 % loss), draws it back 2 mm
-// and turns it 10 degrees, and gives it back. Asserted on the recorded signals: nothing jumps at
-// the switches, the master feels the tissue's force on the needle, the needle follows the
-// master's motion and turn, the coupling's tanks stay above their minimum, the clearance and
-// the autonomous tracking hold; and the procedure goes on to the end. Also the configuration
-// errors of a master the coupling cannot use.
+// Leap Motion, without and with an impaired link (100 ms delay, 10 % loss), pushes it 2 mm
+// deeper and turns it 10 degrees, and gives it back; the probe likewise on the skin. Asserted on
+// the recorded signals: nothing jumps at the switches, the master feels the contact's force on
+// the tool, the tool follows the master's motion and turn, the coupling's tanks stay above their
+// minimum, the clearance and the autonomous tracking hold; and the procedure goes on to the end.
+// Also the configuration errors of a master the coupling cannot use.
 
 #include <gtest/gtest.h>
 
@@ -86,119 +86,141 @@ double timeOf(const RunResult& r, const std::string& source, const std::string& 
 }
 
 struct Figures {
-  double force_along_tissue = 0.0;  // N: the master's force along the tissue's force on the needle, mean
-  double tissue_force = 0.0;        // N: the tissue's force on the needle meanwhile, mean magnitude
-  double follow_error = 0.0;        // m: the needle's motion minus the master's (mapped) motion
+  double force_along_contact = 0.0;  // N: the master's force along the contact's force on the tool, mean
+  double contact_force = 0.0;        // N: the contact's force on the tool meanwhile, mean magnitude
+  double follow_error = 0.0;         // m: the tool's motion minus the master's (mapped) motion
   double master_motion = 0.0;       // m
   double lowest_tank = 1e9;         // J: either coupling tank, over the teleoperation
   double switch_step = 0.0;         // m: the commanded pose's largest change across a switch
   double switch_turn = 0.0;         // rad
-  double orientation_error = 0.0;   // rad: the needle's against the master's (mapped), turned and settled
+  double orientation_error = 0.0;   // rad: the tool's against the master's (mapped), turned and settled
   double master_turn = 0.0;         // rad: the master's turn since the engagement, then
 };
 
-/// The take-over in the tissue (take_over_needle_<device>.lua), with `link` the Lua table of the
-/// coupling's link impairment ("" = none).
-Figures takeOverInTissue(const std::string& device, const std::string& link) {
+/// The robot a take-over takes: its controller's prefix, its chart's log lines, its measured
+/// pose and the contact wrench on its tool (world axes).
+struct Robot {
+  const char* prefix;        // "Needle", "Probe"
+  const char* faults;        // test/faults/take_over_<faults>_<device>.lua
+  const char* surgeon;       // test/faults/<surgeon>.txt
+  const char* measured;      // the tool's measured pose port
+  const char* contact;       // the contact's wrench on the tool
+  std::size_t tracked;       // its index in run.tracking
+  std::vector<std::string> log;  // the take-over's lines, in order
+};
+
+const Robot kNeedleRobot{
+    "Needle", "needle", "take_over_surgeon", "ISUR.measCartPose", "Patient.needleWrench", kNeedle,
+    {"needle > root.InsertingNeedles.MoveToTumor", "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction",
+     "Surgeon: e_take_over", "needle > root.NeedleTeleoperation.InitHapticDevice",
+     "needle deployment > needle_teleoperated", "needle > root.NeedleTeleoperation.TeleoperationActive",
+     "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor", "NeedleMonitor: e_target_reached",
+     "needle > root.WaitCryoCycle"}};
+const Robot kProbeRobot{
+    "Probe", "probe", "take_over_probe_surgeon", "UR5.measCartPose", "Patient.probeWrench", kProbe,
+    {"us > root.USPositioned.NeedleTracked", "USMonitor: e_probe_contact_lost", "us > root.WaitReaction",
+     "Surgeon: e_take_over", "us > root.USTeleoperation.InitHapticDevice", "probe deployment > probe_teleoperated",
+     "us > root.USTeleoperation.TeleoperationActive", "Surgeon: e_teleop_done", "us > root.USPositioned.NeedleTracked"}};
+
+/// The take-over of `robot` (take_over_<robot.faults>_<device>.lua), with `link` the Lua table of
+/// the coupling's link impairment ("" = none).
+Figures takeOver(const Robot& robot, const std::string& device, const std::string& link) {
+  const std::string P = robot.prefix;
   RunOptions o = options("two_needles");
-  o.faults_file = kFaults / ("take_over_needle_" + device + ".lua");
-  o.before_lua = "surgeon_file = [[" + (kFaults / "take_over_surgeon.txt").string() + "]]\nteleop_device = '" +
-                 device + "'";
+  o.faults_file = kFaults / ("take_over_" + std::string(robot.faults) + "_" + device + ".lua");
+  o.before_lua = "surgeon_file = [[" + (kFaults / (std::string(robot.surgeon) + ".txt")).string() +
+                 "]]\nteleop_device = '" + device + "'";
   if (!link.empty()) o.before_lua += "\nteleop_link = " + link;
-  // Recorded beside the application's ports: the master's motion mapped onto the needle (the
-  // clutch's output), the force the coupling gives the master, its tanks, the tissue's force on
-  // the needle. (Last: a port without data yet is one empty cell, whatever its width.)
-  o.extra_lua = "for _, p in ipairs({ 'Patient.needleWrench', 'NeedlePassivity.masterTankEnergy', "
-                "'NeedlePassivity.slaveTankEnergy', 'NeedlePassivity.masterForce', 'NeedleClutch.desPose' }) do "
-                "run.record.ports[#run.record.ports + 1] = p end";
+  // Recorded beside the application's ports: the master's motion mapped onto the tool (the
+  // clutch's output), the force the coupling gives the master, its tanks, the contact's force on
+  // the tool, the tool's pose. (Last: a port without data yet is one empty cell, whatever its width.)
+  o.extra_lua = "for _, p in ipairs({ '" + std::string(robot.contact) + "', '" + P + "Passivity.masterTankEnergy', '" + P +
+                "Passivity.slaveTankEnergy', '" + P + "Passivity.masterForce', '" + P + "Clutch.desPose', '" + P +
+                "Admittance.admPose', '" + robot.measured + "' }) do run.record.ports[#run.record.ports + 1] = p end";
   o.report_folder = std::filesystem::temp_directory_path() /
-                    ("cobra_puncturing_take_over_" + device + (link.empty() ? "" : "_link") + "_" +
-                     std::to_string(::getpid()));
+                    ("cobra_puncturing_take_over_" + std::string(robot.faults) + "_" + device +
+                     (link.empty() ? "" : "_link") + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(o.report_folder);
   const RunResult r = runApp(o);
   Figures f;
   EXPECT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
   if (::testing::Test::HasFailure()) return f;
-  expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", "NeedleMonitor: e_forbidden_region",
-                    "needle > root.WaitReaction", "Surgeon: e_take_over",
-                    "needle > root.NeedleTeleoperation.InitHapticDevice", "needle deployment > needle_teleoperated",
-                    "needle > root.NeedleTeleoperation.TeleoperationActive", "Surgeon: e_teleop_done",
-                    "needle > root.InsertingNeedles.MoveToTumor", "NeedleMonitor: e_target_reached",
-                    "needle > root.WaitCryoCycle"});
+  expectInOrder(r, robot.log);
   // The autonomous motions tracked, no IK discontinuity, the clearance above its threshold
-  // outside the declared contacts, the whole run long; the needle's command never jumped.
+  // outside the declared contacts, the whole run long; the robot's command never jumped.
   expectFaithful(r);
-  expectNoCommandJump(r);
+  EXPECT_LT(r.tracking[robot.tracked].max_command_step, 1e-3) << "at " << r.tracking[robot.tracked].max_command_step_at;
 
-  const double active = timeOf(r, "NeedleTaskSup", "e_teleoperation_active");
+  const double active = timeOf(r, P + "TaskSup", "e_teleoperation_active");
   const double done = timeOf(r, "Surgeon", "e_teleop_done");
   const double moved = active + 1.0;  // the fault file moves the hand 1 s into the teleoperation
   EXPECT_FALSE(std::isnan(active) || std::isnan(done));
   const Recording s(o.report_folder);
-  // The switches: the commanded pose (the needle's admittance) across each, one recorded period
+  // The switches: the commanded pose (the tool's admittance) across each, one recorded period
   // (10 ms) either side.
   for (const double t : {active, done}) {
     const auto& before = s.at(t - 0.011);
     const auto& after = s.at(t + 0.011);
-    f.switch_step = std::max(f.switch_step, (s.position(after, "NeedleAdmittance.admPose") -
-                                             s.position(before, "NeedleAdmittance.admPose")).Norm());
-    f.switch_turn = std::max(f.switch_turn, (s.orientation(after, "NeedleAdmittance.admPose") *
-                                             s.orientation(before, "NeedleAdmittance.admPose").Inverse()).GetRot().Norm());
+    f.switch_step = std::max(f.switch_step, (s.position(after, P + "Admittance.admPose") -
+                                             s.position(before, P + "Admittance.admPose")).Norm());
+    f.switch_turn = std::max(f.switch_turn, (s.orientation(after, P + "Admittance.admPose") *
+                                             s.orientation(before, P + "Admittance.admPose").Inverse()).GetRot().Norm());
   }
-  // The tissue, felt: from 0.3 s into the teleoperation (the link's delay, the coupling settled)
-  // to its end, the force the coupling gives the master along the tissue's force on the needle.
+  // The contact, felt: from 0.3 s into the teleoperation (the link's delay, the coupling settled)
+  // to its end, the force the coupling gives the master along the contact's force on the tool.
   int n = 0;
   for (const auto& row : s.rows) {
     if (row[0] < active + 0.3 || row[0] >= done) continue;
-    const KDL::Vector tissue = s.force(row, "Patient.needleWrench"), felt = s.force(row, "NeedlePassivity.masterForce");
-    if (!(tissue.Norm() > 0.05)) continue;  // N: no tissue force to feel (NaN: none recorded yet)
-    f.force_along_tissue += KDL::dot(felt, tissue / tissue.Norm());
-    f.tissue_force += tissue.Norm();
+    const KDL::Vector contact = s.force(row, robot.contact), felt = s.force(row, P + "Passivity.masterForce");
+    if (!(contact.Norm() > 0.05)) continue;  // N: no contact force to feel (NaN: none recorded yet)
+    f.force_along_contact += KDL::dot(felt, contact / contact.Norm());
+    f.contact_force += contact.Norm();
     ++n;
   }
   EXPECT_GT(n, 20);
   if (n > 0) {
-    f.force_along_tissue /= n;
-    f.tissue_force /= n;
+    f.force_along_contact /= n;
+    f.contact_force /= n;
   }
   for (const auto& row : s.rows) {
     if (row[0] < active || row[0] > done) continue;
-    f.lowest_tank = std::min({f.lowest_tank, row[s.column("NeedlePassivity.masterTankEnergy")],
-                              row[s.column("NeedlePassivity.slaveTankEnergy")]});
+    f.lowest_tank = std::min({f.lowest_tank, row[s.column(P + "Passivity.masterTankEnergy")],
+                              row[s.column(P + "Passivity.slaveTankEnergy")]});
   }
-  // The master's motion (mapped onto the needle by the clutch) from just before the hand moved to
+  // The master's motion (mapped onto the tool by the clutch) from just before the hand moved to
   // 2.9 s into the teleoperation (drawn back, turned, settled: the rest length gone 2 s after the
-  // engagement), against the needle's measured motion; the orientations then.
+  // engagement), against the tool's measured motion; the orientations then.
   const auto& start = s.at(moved - 0.02);
   const auto& end = s.at(active + 2.9);
-  const KDL::Vector master_motion = s.position(end, "NeedleClutch.desPose") - s.position(start, "NeedleClutch.desPose");
-  const KDL::Vector needle_motion = s.position(end, "ISUR.measCartPose") - s.position(start, "ISUR.measCartPose");
+  const KDL::Vector master_motion = s.position(end, P + "Clutch.desPose") - s.position(start, P + "Clutch.desPose");
+  const KDL::Vector needle_motion = s.position(end, robot.measured) - s.position(start, robot.measured);
   f.master_motion = master_motion.Norm();
   f.follow_error = (needle_motion - master_motion).Norm();
-  f.master_turn = (s.orientation(end, "NeedleClutch.desPose") * s.orientation(start, "NeedleClutch.desPose").Inverse())
+  f.master_turn = (s.orientation(end, P + "Clutch.desPose") * s.orientation(start, P + "Clutch.desPose").Inverse())
                       .GetRot()
                       .Norm();
   f.orientation_error =
-      (s.orientation(end, "NeedleClutch.desPose") * s.orientation(end, "ISUR.measCartPose").Inverse()).GetRot().Norm();
-  std::printf("%s%s: master force along the tissue's %.2f N (tissue %.2f N); master moved %.2f mm, the needle %.2f mm "
-              "off that; lowest tank %.2f J; at the switches %.3f mm, %.3f deg; master turned %.2f deg, the needle "
+      (s.orientation(end, P + "Clutch.desPose") * s.orientation(end, robot.measured).Inverse()).GetRot().Norm();
+  std::printf("%s, %s%s: master force along the contact's %.2f N (contact %.2f N); master moved %.2f mm, the tool %.2f mm "
+              "off that; lowest tank %.2f J; at the switches %.3f mm, %.3f deg; master turned %.2f deg, the tool "
               "%.2f deg off it\n",
-              device.c_str(), link.empty() ? "" : " (impaired link)", f.force_along_tissue, f.tissue_force,
+              P.c_str(), device.c_str(), link.empty() ? "" : " (impaired link)", f.force_along_contact, f.contact_force,
               1000.0 * f.master_motion, 1000.0 * f.follow_error, f.lowest_tank, 1000.0 * f.switch_step,
               f.switch_turn * 180.0 / M_PI, f.master_turn * 180.0 / M_PI, f.orientation_error * 180.0 / M_PI);
   std::filesystem::remove_all(o.report_folder);
   return f;
 }
 
-/// What every take-over in the tissue must show; `follow` (m): the needle's motion may miss the
-/// master's by at most this; `felt` (N): the master's least mean force along the tissue's.
+/// What every take-over must show; `follow` (m): the tool's motion may miss the master's by at
+/// most this; `felt` (N): the master's least mean force along the contact's.
 void expectCoupled(const Figures& f, double follow, double felt) {
-  EXPECT_GT(f.tissue_force, 0.2);         // N: the tissue held the needle while felt
-  EXPECT_GT(f.force_along_tissue, felt);  // N: the master is pushed the way the tissue pushes the needle
-  // m: of the hand's 2 mm, what reached the needle's side (the Omni's stylus gives way to the
-  // tissue's force rendered on the hand: about half of it; the Leap's hand does not)
-  EXPECT_GT(f.master_motion, 0.0008);
+  EXPECT_GT(f.contact_force, 0.2);         // N: the tissue or the skin held the tool while felt
+  EXPECT_GT(f.force_along_contact, felt);  // N: the master is pushed the way the contact pushes the tool
+  // m: of the hand's 2 mm, what reached the tool's side (the Omni's stylus gives way to the
+  // contact's force rendered on the hand: about half of it in the tissue, more against the skin;
+  // the Leap's hand does not)
+  EXPECT_GT(f.master_motion, 0.0005);
   EXPECT_LT(f.follow_error, follow);
   EXPECT_GT(f.lowest_tank, 1.0);          // J: above the tanks' minimum ε
   EXPECT_LT(f.switch_step, 1e-3);         // m
@@ -207,9 +229,10 @@ void expectCoupled(const Figures& f, double follow, double felt) {
   EXPECT_LT(f.orientation_error, M_PI / 180.0);                         // followed within 1
 }
 
-/// One take-over: the device, the link ("" = none), and the bounds of expectCoupled.
+/// One take-over: the robot, the device, the link ("" = none), and the bounds of expectCoupled.
 struct TakeOver {
   const char* name;
+  const Robot* robot;
   const char* device;
   const char* link;
   double follow;  // m
@@ -218,19 +241,22 @@ struct TakeOver {
 
 class PuncturingTeleoperation : public ::testing::TestWithParam<TakeOver> {};
 
-TEST_P(PuncturingTeleoperation, TheMasterFeelsTheTissueAndTheNeedleFollowsItsMotionAndTurn) {
+TEST_P(PuncturingTeleoperation, TheMasterFeelsTheContactAndTheToolFollowsItsMotionAndTurn) {
   const TakeOver& t = GetParam();
-  expectCoupled(takeOverInTissue(t.device, t.link), t.follow, t.felt);
+  expectCoupled(takeOver(*t.robot, t.device, t.link), t.follow, t.felt);
 }
 
-// 100 ms one way and 10 % of the packets lost each way: the coupling at 300 N/m (controller.lua),
-// the needle gives way to the tissue by about 1 mm (0.3 N / 300 N/m).
+// The needle in the tissue with each device, without and with 100 ms one way and 10 % of the
+// packets lost each way (the coupling at 300 N/m, controller.lua: the needle gives way to the
+// tissue by about 1 mm, 0.3 N / 300 N/m); the probe on the skin with its Omni.
+const char* const kImpaired = "{ delay = 0.1, loss = 0.1, seed = 3 }";
 INSTANTIATE_TEST_SUITE_P(
     Devices, PuncturingTeleoperation,
-    ::testing::Values(TakeOver{"Omni", "omni", "", 0.001, 0.2}, TakeOver{"LeapMotion", "leap", "", 0.001, 0.2},
-                      TakeOver{"OmniOverADelayedLossyLink", "omni", "{ delay = 0.1, loss = 0.1, seed = 3 }", 0.002, 0.15},
-                      TakeOver{"LeapMotionOverADelayedLossyLink", "leap", "{ delay = 0.1, loss = 0.1, seed = 3 }", 0.002,
-                               0.15}),
+    ::testing::Values(TakeOver{"NeedleOmni", &kNeedleRobot, "omni", "", 0.001, 0.2},
+                      TakeOver{"NeedleLeapMotion", &kNeedleRobot, "leap", "", 0.001, 0.2},
+                      TakeOver{"NeedleOmniOverADelayedLossyLink", &kNeedleRobot, "omni", kImpaired, 0.002, 0.15},
+                      TakeOver{"NeedleLeapMotionOverADelayedLossyLink", &kNeedleRobot, "leap", kImpaired, 0.002, 0.15},
+                      TakeOver{"ProbeOmni", &kProbeRobot, "omni", "", 0.001, 0.2}),
     [](const ::testing::TestParamInfo<TakeOver>& take_over) { return std::string(take_over.param.name); });
 
 /// The message of the error a run of the task with `settings` (Lua) throws while loading.
