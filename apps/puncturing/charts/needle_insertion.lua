@@ -19,10 +19,11 @@
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §4.6-4.7) its deployment and configuration supervisors know.
 local peers = { frames = "NeedleFrames", planner = "NeedlePlanner", trajectory = "NeedleTrajGen",
-                monitor = "NeedleMonitor" }
+                monitor = "NeedleMonitor", coupling = "NeedleTransparency" }
 local D = { planning = "needle_autonomous_planning", primitives = "needle_autonomous_primitives",
             teleoperated = "needle_teleoperated" }
-local C = { free = "needle_free_motion", penetration = "needle_penetration", insertion = "needle_insertion" }
+local C = { free = "needle_free_motion", penetration = "needle_penetration", insertion = "needle_insertion",
+            teleoperation = "needle_teleoperation" }
 local defrost_check = 10  -- s in WaitDefreezing before pulling again
 local arrival_grace = 1   -- s after a motion ends for the event that should have ended it
 
@@ -32,7 +33,6 @@ local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps
 
 local needle_on_tool = false  -- a needle is mounted on the robot (new or used)
 local at_change = false       -- the robot is at the needle change pose
-local in_tissue = false       -- the needle is in the patient
 
 
 -- e_ik_discontinuity: the robot refused a command it could not follow continuously (another IK
@@ -96,7 +96,7 @@ local chart = {
     rfsm.trans { src = 'MoveToSkin', tgt = 'PenetratingSkin', events = { 'e_skin_touched' },
                  effect = function() stop() emit("e_needle_skin_reached") end },
     rfsm.trans { src = 'PenetratingSkin', tgt = 'MoveToTumor', events = { 'e_skin_penetrated' },
-                 effect = function() stop() in_tissue = true end },
+                 effect = stop },
     rfsm.trans { src = 'MoveToTumor', tgt = 'root.WaitCryoCycle', events = { 'e_target_reached' },
                  effect = function() emit("e_needle_placed") end },
   },
@@ -117,14 +117,15 @@ local chart = {
                  events = { 'e_needle_free', 'e_after(' .. defrost_check .. ')' } },
     rfsm.trans { src = 'MoveToExtractionPoint', tgt = 'WaitDefreezing', events = { 'e_needle_trapped' }, effect = stop },
     rfsm.trans { src = 'MoveToExtractionPoint', tgt = 'root.InsertingNeedles', events = { 'e_motion_done' },
-                 effect = function() in_tissue = false emit("e_needle_extracted") end },
+                 effect = function() emit("e_needle_extracted") end },
   },
   -- Something unexpected: the robot stops and the surgeon chooses (thesis §4.4.1).
   WaitReaction = rfsm.state { entry = function() stop() emit("e_needle_reaction_needed") end },
-  NeedleTeleoperation = rfsm.state { entry = function()
-    emit("e_deploy_" .. D.teleoperated)
-    emit("e_configure_" .. (in_tissue and C.insertion or C.free))
-  end },
+  -- The surgeon takes over (the robot stopped in WaitReaction): InitHapticDevice (the teleoperated
+  -- deployment and configuration), then TeleoperationActive (the two-layer coupling engaged:
+  -- task_steps.teleoperation); e_teleop_done resumes the interrupted state.
+  NeedleTeleoperation = rfsm.state(steps.teleoperation(D.teleoperated, C.teleoperation, { "coupling" })),
+
   -- The same failure again after a reaction (task_steps.lua), the ultrasound chart stopped, or its host lost:
   -- the motion stops, the admittance holds the needle where it is, and the procedure ends here.
   SafeStop = rfsm.state { entry = function() stop() emit("e_needle_safe_stop") end },

@@ -12,10 +12,11 @@
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations its deployment and configuration supervisors know.
-local peers = { frames = "ProbeFrames", planner = "ProbePlanner", trajectory = "ProbeTrajGen" }
+local peers = { frames = "ProbeFrames", planner = "ProbePlanner", trajectory = "ProbeTrajGen",
+                coupling = "ProbeTransparency" }
 local D = { planning = "probe_autonomous_planning", primitives = "probe_autonomous_primitives",
             teleoperated = "probe_teleoperated" }
-local C = { free = "probe_free_motion", contact = "probe_contact" }
+local C = { free = "probe_free_motion", contact = "probe_contact", teleoperation = "probe_teleoperation" }
 local search_timeout = 60  -- s in SearchingNeedle before the surgeon is asked to react
 local arrival_grace = 1    -- s after the descent ends for the contact that should have ended it
 
@@ -62,10 +63,9 @@ local chart = {
                  effect = function() emit("e_us_needle_not_found") end },
   },
   WaitReaction = rfsm.state { entry = function() stop() emit("e_us_reaction_needed") end },
-  USTeleoperation = rfsm.state { entry = function()
-    emit("e_deploy_" .. D.teleoperated)
-    emit("e_configure_" .. C.contact)
-  end },
+  -- The surgeon takes over the probe: InitHapticDevice, then TeleoperationActive (task_steps.teleoperation).
+  USTeleoperation = rfsm.state(steps.teleoperation(D.teleoperated, C.teleoperation, { "coupling" })),
+
   -- The same failure again after a reaction (task_steps.lua), the needle chart stopped or its host lost: the
   -- motion stops, the admittance holds the probe where it is, and the procedure ends here.
   SafeStop = rfsm.state { entry = function() stop() emit("e_us_safe_stop") end },

@@ -5,29 +5,66 @@
 -- Its only links to the other robot are ports carrying events and measured poses.
 --   local controller = dofile(here .. "controller.lua")
 --   controller{ prefix = "Needle", scope = "needle", robot = "ISUR", arm = 1, chart = ..., ... }
+-- Optional globals: `teleop_device`, the surgeon's master in the teleoperated deployment: "omni"
+-- (the default: one Phantom Omni per robot, <prefix>Omni), "leap" (one Leap Motion: the right hand
+-- drives the needle robot, the left the probe robot; it renders no force), or a table by scope
+-- { needle = master, probe = master } of ports of components created before (teleoperation_coupling.lua
+-- in cobra's charts: `pose` of six DoF, `twist`, `feedback`, `dissipation`; a scope without one
+-- keeps its Omni); `teleop_link` = { delay = s, jitter = s, loss = 0..1, seed = n, stiffness = N/m }:
+-- the impairment of the link between the device and the controller (default: none).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
   .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local buffered = { type = "buffer", size = 64 }
+local coupling = dofile(charts .. "teleoperation_coupling.lua")
+
+-- The surgeon's master for robot `scope` (prefix P; `hand` "Right" or "Left": its Leap hand): the
+-- components to create, the master's ports, the setting's name, and whether the components run
+-- always (the Leap, which both robots share) rather than in the teleoperated deployment (an Omni).
+local function master(scope, P, hand)
+  local setting = teleop_device or "omni"
+  if type(setting) == "table" then
+    if setting[scope] then return {}, setting[scope], "teleop_device." .. scope end
+    setting = "omni"
+  end
+  if setting == "omni" then
+    return { { peer_name = P .. "Omni", component_type = "SimulatedOmniPhantom" } },
+           { pose = P .. "Omni.measCartPose", twist = P .. "Omni.measTwist", feedback = P .. "Omni.desWrench",
+             dissipation = P .. "Omni.dissipatedPower" }, "teleop_device"
+  elseif setting == "leap" then
+    -- One device for both robots: created by the first controller that needs it.
+    local components = rawget(_G, "Leap") and {} or { { peer_name = "LeapSim", component_type = "SimulatedLeapMotion" },
+                                                       { peer_name = "Leap", component_type = "LeapMotionDriver" } }
+    return components, { pose = "Leap.meas" .. hand .. "Pose", twist = "Leap.meas" .. hand .. "Twist" }, "teleop_device",
+           true
+  end
+  error("teleop_device must be omni, leap or a table { needle = master, probe = master }, not " .. tostring(setting), 0)
+end
 
 return function(c)
   local P = c.prefix
   local function n(role) return P .. role end
-  initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim",
-                     "cobra_puncturing" }, {
+  local device, master_ports, setting, device_always = master(c.scope, P, c.arm == 1 and "Right" or "Left")
+  local components = {
     { peer_name = n("Frames"), component_type = "PuncturingFrameGenerator" },
     { peer_name = n("Planner"), component_type = c.planner_type or "MotionPlanner" },
     { peer_name = n("TrajGen"), component_type = "CartesianTrajectoryGenerator" },
     { peer_name = n("Wrench"), component_type = "EquivalentWrench" },
     { peer_name = n("Admittance"), component_type = "VariableAdmittance" },
-    { peer_name = n("Omni"), component_type = "SimulatedOmniPhantom" },
+    { peer_name = n("Link"), component_type = "LinkImpairment" },
+    { peer_name = n("Clutch"), component_type = "TeleoperationClutch" },
     { peer_name = n("Transparency"), component_type = "TransparencyLayer" },
     { peer_name = n("Passivity"), component_type = "PassivityLayer" },
     { peer_name = n("TaskSup"), component_type = "Supervisor" },
     { peer_name = n("DepSup"), component_type = "Supervisor" },
     { peer_name = n("ConfSup"), component_type = "Supervisor" },
-  }, c.configurations)
+  }
+  for _, d in ipairs(device) do components[#components + 1] = d end
+  -- cobra_suturing: the TeleoperationClutch; cobra_drivers: the Leap Motion's driver.
+  initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim",
+                     "cobra_drivers", "cobra_suturing", "cobra_puncturing" }, components, c.configurations)
   getReferences()
+  coupling.check(master_ports, n("Link"), setting)
   local frames, planner, trajgen = _G[n("Frames")], _G[n("Planner")], _G[n("TrajGen")]
   frames.arm = c.arm == 1 and "needle" or "probe"
   frames.preoperative_info_file = scenario .. "/preoperative.txt"
@@ -64,15 +101,46 @@ return function(c)
   _G[n("TaskSup")].fsm_path = c.chart
   _G[n("DepSup")].fsm_path = charts .. "deployment_supervisor.lua"
   _G[n("ConfSup")].fsm_path = charts .. "configuration_supervisor.lua"
-  addPeers({ { peer_name = n("TaskSup"),
-                peers_to_add = { n("Frames"), n("Planner"), n("TrajGen"), table.unpack(c.chart_peers or {}) } } })
+  addPeers({ { peer_name = n("TaskSup"), peers_to_add = { n("Frames"), n("Planner"), n("TrajGen"), n("Transparency"),
+                                                         table.unpack(c.chart_peers or {}) } } })
+  if rawget(_G, "LeapSim") then
+    Leap.device = "sim:LeapSim"
+    LeapSim.scripted_hands = true  -- the surgeon's hands above the device (fault scripts move them)
+  end
+  -- The two-layer coupling (thesis §4.5.4). N/m, N·s/m: the needle's admittance in teleoperation
+  -- (configurations: 50 N/m, 4 kg, 126 N·s/m) follows 1000 / 1050 of the master's motion and
+  -- settles in about 0.1 s; over a delayed link both layers run on the controller's side and the
+  -- master's force crosses the link back: the stiffness is 30 N·s/m / (delay + jitter) then, at
+  -- most 1000 N/m (suturing's measured rule: 1000 N/m oscillated by mm at 100 ms), unless
+  -- teleop_link.stiffness says. N·m/rad, N·m·s/rad: the tool's orientation follows the master's
+  -- (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s); no device renders a torque.
+  local lag = coupling.lag(teleop_link)
+  local transparency = _G[n("Transparency")]
+  transparency.stiffness = (teleop_link and teleop_link.stiffness) or (lag > 0 and math.min(1000, 30 / lag) or 1000)
+  transparency.damping = 20
+  transparency.rotational_stiffness = 20
+  transparency.rotational_damping = 0.5
+  coupling.impair({ n("Link") }, teleop_link and {
+    delay = teleop_link.delay, jitter = teleop_link.jitter, loss = teleop_link.loss,
+    seed = (teleop_link.seed or 1) + 4 * (c.arm - 1) })  -- each robot's link draws its own losses
+  -- The Leap's 0.5 mm noise per sample: the clutch engages on the mean of 0.5 s of frames, and
+  -- smooths the positions over 0.1 s, else one sample's error would offset the tool and the
+  -- jitter shake it (as the suturing task measured).
+  if master_ports.pose:match("^Leap%.") then
+    _G[n("Clutch")].engagement_time = 0.5
+    _G[n("Clutch")].smoothing_time = 0.1
+  end
 
   local always = { n("Wrench"), n("Admittance"), n("TaskSup"), n("DepSup"), n("ConfSup") }
+  if device_always then
+    for _, d in ipairs(device) do always[#always + 1] = d.peer_name end
+  end
   local activities = {}
-  for _, name in ipairs({ n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"),
-                          n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
+  for _, name in ipairs({ n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance"), n("Link"), n("Clutch"),
+                          n("Transparency"), n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
     activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
   end
+  for _, d in ipairs(device) do activities[#activities + 1] = { peer_name = d.peer_name, period = 0.001 } end
   -- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
   -- max_age (s): an answer (or a clearance sample) that late means the planner is stuck:
   -- e_handover_stale_<planner> from the executor. A search ends at the planner's time_limit (1 s),
@@ -141,24 +209,27 @@ return function(c)
     components = { n("Frames"), n("Planner"), n("TrajGen"), n("Wrench"), n("Admittance") },
     connections = with(follow, { { output = n("Frames") .. ".desiredPoses", input = n("TrajGen") .. ".plannedPath" } }),
   })
+  -- The surgeon's master drives the admittance through the two-layer coupling (Fig. 4.15,
+  -- teleoperation_coupling.lua): the device's pose and twist cross the link to the controller, the
+  -- clutch maps the device's motion since the deployment started onto the tool's pose then (the
+  -- tool's own pose until the first sample arrives), the Transparency layer (engaged by the chart
+  -- once deployed) computes the coupling on that and the admittance's output, the Passivity layer
+  -- implements it as far as its tanks can pay: on the tool through the admittance's extWrench,
+  -- on the device (the Omni's desWrench) back across the link. The admittance's reference stays
+  -- where the motion stopped (nothing writes refPose) and the teleoperation configuration has
+  -- next to no stiffness: the coupling moves the tool, and what resists it (the tissue on the
+  -- needle, the skin on the probe), measured by the tool's sensor, is what the surgeon feels.
+  local teleoperated = { n("Planner"), n("Wrench"), n("Admittance"), n("Link"), n("Clutch"), n("Transparency"),
+                         n("Passivity") }
+  if not device_always then
+    for _, d in ipairs(device) do teleoperated[#teleoperated + 1] = d.peer_name end
+  end
   defineDeployment(c.scope .. "_teleoperated", {
     scope = c.scope,
-    components = { n("Planner"), n("Wrench"), n("Admittance"), n("Omni"), n("Transparency"), n("Passivity") },
-    connections = {
-      { output = n("Omni") .. ".measCartPose", input = n("Transparency") .. ".masterPose" },
-      { output = n("Omni") .. ".measTwist", input = n("Transparency") .. ".masterTwist" },
-      { output = robot .. ".measCartPose", input = n("Transparency") .. ".slavePose" },
-      { output = n("Admittance") .. ".admTwist", input = n("Transparency") .. ".slaveTwist" },
-      { output = n("Transparency") .. ".masterForceDesired", input = n("Passivity") .. ".masterForceDesired" },
-      { output = n("Transparency") .. ".slaveForceDesired", input = n("Passivity") .. ".slaveForceDesired" },
-      { output = n("Omni") .. ".measTwist", input = n("Passivity") .. ".masterTwist" },
-      { output = n("Admittance") .. ".admTwist", input = n("Passivity") .. ".slaveTwist" },
-      { output = n("Passivity") .. ".masterForce", input = n("Omni") .. ".desWrench" },
-      { output = n("Passivity") .. ".slaveForce", input = n("Admittance") .. ".extWrench" },
-      -- The tanks fill with what the robots dissipate (eq. 4.19): the Omni's backdrive friction,
-      -- the admittance's damping (W).
-      { output = n("Omni") .. ".dissipatedPower", input = n("Passivity") .. ".masterDissipation" },
-      { output = n("Admittance") .. ".dissipatedPower", input = n("Passivity") .. ".slaveDissipation" },
+    components = teleoperated,
+    connections = coupling.connections {
+      link = n("Link"), clutch = n("Clutch"), transparency = n("Transparency"), passivity = n("Passivity"),
+      admittance = n("Admittance"), slave_pose = robot .. ".measCartPose", master = master_ports,
     },
   })
   configureComponents(always)

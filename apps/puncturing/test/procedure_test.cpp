@@ -152,7 +152,8 @@ TEST(PuncturingProcedure, AForbiddenRegionIsTakenOverInTeleoperationWithoutAComm
   expectPlaced(r, 2);
   expectInOrder(r, {"NeedleMonitor: e_skin_penetrated", "needle > root.InsertingNeedles.MoveToTumor",
                     fault("forbidden_region.lua", 6), "NeedleMonitor: e_forbidden_region", "needle > root.WaitReaction", "Surgeon: e_take_over",
-                    "needle > root.NeedleTeleoperation", "needle deployment > needle_teleoperated",
+                    "needle > root.NeedleTeleoperation.InitHapticDevice", "needle deployment > needle_teleoperated",
+                    "needle > root.NeedleTeleoperation.TeleoperationActive",
                     fault("forbidden_region.lua", 8), "Surgeon: e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor",
                     "needle deployment > needle_autonomous_primitives", "NeedleMonitor: e_target_reached",
                     "needle > root.WaitCryoCycle"});
@@ -314,22 +315,28 @@ TEST(PuncturingProcedure, ARefusedCommandMidMotionReSyncsTheCommandChainToTheHel
 }
 
 TEST(PuncturingProcedure, TheRoleLinterFindsNoViolationInAnyDeploymentOfTheApp) {
-  deploy::ConfiguratorOptions strict;
-  strict.strict_roles = true;  // the connections made at load are refused if they break a rule
-  deploy::Configurator configurator(strict);
-  components::addBuiltinPackages(configurator.packages());
-  script::LuaState lua;
-  deploy::LuaDeployer deployer(configurator, lua);
-  deployer.run("scenario = [[" + (kApp / "scenarios" / "two_needles").string() + "]]", "=scenario");
-  ASSERT_NO_THROW(deployer.runFile((kApp / "puncturing.lua").string()));
-  EXPECT_TRUE(configurator.warnings().empty());
-  const deploy::DeploymentSet& set = configurator.deploymentSet();
-  ASSERT_EQ(set.deploymentNames().size(), 6u);  // three per robot
-  for (const std::string& name : set.deploymentNames()) {
-    const auto violations = deploy::lint(set.deployment(name).connections, configurator.getReferences());
-    EXPECT_TRUE(violations.empty()) << name << ":\n" << deploy::toText(violations);
+  for (const char* device : {"omni", "leap"}) {  // the teleoperation's master: each robot's Omni, the shared Leap
+    SCOPED_TRACE(device);
+    deploy::ConfiguratorOptions strict;
+    strict.strict_roles = true;  // the connections made at load are refused if they break a rule
+    deploy::Configurator configurator(strict);
+    components::addBuiltinPackages(configurator.packages());
+    script::LuaState lua;
+    deploy::LuaDeployer deployer(configurator, lua);
+    deployer.run("scenario = [[" + (kApp / "scenarios" / "two_needles").string() + "]]\nteleop_device = '" + device +
+                     "'",
+                 "=scenario");
+    ASSERT_NO_THROW(deployer.runFile((kApp / "puncturing.lua").string()));
+    EXPECT_TRUE(configurator.warnings().empty());
+    const deploy::DeploymentSet& set = configurator.deploymentSet();
+    ASSERT_EQ(set.deploymentNames().size(), 6u);  // three per robot
+    for (const std::string& name : set.deploymentNames()) {
+      const auto violations = deploy::lint(set.deployment(name).connections, configurator.getReferences());
+      EXPECT_TRUE(violations.empty()) << name << ":\n" << deploy::toText(violations);
+    }
+    // needle: 3 (§4.7) and teleoperation; probe: free motion, contact and teleoperation
+    EXPECT_EQ(set.configurationNames().size(), 7u);
   }
-  EXPECT_EQ(set.configurationNames().size(), 5u);  // needle: 3 (§4.7); probe: free motion, contact
 }
 
 }  // namespace

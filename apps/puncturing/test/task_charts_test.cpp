@@ -27,7 +27,8 @@ constexpr double kCryoCycle = 20.0;  // s from the console's e_cryo_start to its
 
 /// Fake peers in Lua (test_support/chart_fakes.hpp).
 const std::string kFakes = test_support::fakePeersLua(
-    {"NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "NeedleMonitor", "ProbeFrames", "ProbePlanner", "ProbeTrajGen"});
+    {"NeedleFrames", "NeedlePlanner", "NeedleTrajGen", "NeedleMonitor", "NeedleTransparency", "ProbeFrames", "ProbePlanner",
+     "ProbeTrajGen", "ProbeTransparency"});
 using Entered = test_support::EntryLogger;
 
 /// One chart with its own Lua state, as its own Supervisor would run it.
@@ -400,7 +401,8 @@ TEST(PuncturingCharts, AForbiddenRegionDuringMoveToTumorIsHandedToTheSurgeonWhoT
   ASSERT_TRUE(Procedure::done(p.needle())) << p.needle().machine->activeLeaf();
   expectInOrder(p, {"needle <- e_forbidden_region", "needle: NeedleTrajGen:askStopMove", "needle > root.WaitReaction",
                     "needle <- e_take_over", "needle: emit:e_deploy_needle_teleoperated",
-                    "needle: emit:e_configure_needle_insertion", "needle > root.NeedleTeleoperation",
+                    "needle: emit:e_configure_needle_teleoperation", "needle > root.NeedleTeleoperation.InitHapticDevice",
+                    "needle: NeedleTransparency:engage", "needle > root.NeedleTeleoperation.TeleoperationActive",
                     "needle <- e_teleop_done", "needle > root.InsertingNeedles.MoveToTumor.Switching",
                     "needle <- e_target_reached", "needle > root.WaitCryoCycle"});
   EXPECT_EQ(p.count("needle <- e_target_reached"), 3u);

@@ -1,7 +1,8 @@
 // LeapMotionDriver on the lockstep clock, on the simulated tracker of a SimulatedLeapMotion
 // component found through its `device` property: 200 fps frames, positions clamped to the
 // interaction box, then scaled, then expressed through the workspace offset; hands lost and found
-// with events and the last valid pose kept; no allocation; messages of bad properties.
+// with events and the last valid pose kept; each hand's twist, differenced and filtered; no
+// allocation; messages of bad properties.
 
 #include "cobra/components/drivers/leap_motion_driver.hpp"
 
@@ -11,6 +12,9 @@
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
+
+#include <cmath>
+#include <cstdio>
 
 namespace cobra::components {
 namespace {
@@ -26,8 +30,12 @@ struct Bench {
   core::InputPort<KDL::Frame> right_pose{"rp", "", "m"}, left_pose{"lp", "", "m"};
   core::InputPort<KDL::Frame> right_frames{"rf", "", "m"};
 
-  explicit Bench(double scale = 1.0, const KDL::Frame& offset = KDL::Frame::Identity()) {
-    tracker.setProperty("noise", 0.0);
+  core::InputPort<KDL::Twist> right_twist{"rt", "", "m/s, rad/s"}, left_twist{"lt", "", "m/s, rad/s"};
+
+  explicit Bench(double scale = 1.0, const KDL::Frame& offset = KDL::Frame::Identity(), double noise = 0.0,
+                 double filter_time = 0.05) {
+    tracker.setProperty("noise", noise);
+    leap.setProperty("twist_filter_time", filter_time);
     leap.setProperty("device", "sim:LeapSim");
     leap.setProperty("workspace_scale", scale);
     leap.setProperty("workspace_offset", offset);
@@ -40,6 +48,8 @@ struct Bench {
     core::connectPorts(leap.port("measRightPose"), right_pose);
     core::connectPorts(leap.port("measLeftPose"), left_pose);
     core::connectPorts(leap.port("measRightPose"), right_frames, core::ConnPolicy::buffer(1024));
+    core::connectPorts(leap.port("measRightTwist"), right_twist);
+    core::connectPorts(leap.port("measLeftTwist"), left_twist);
     EXPECT_TRUE(tracker.configure());
     EXPECT_TRUE(leap.configure());
     EXPECT_TRUE(tracker.start());
@@ -51,8 +61,9 @@ struct Bench {
     while (events.read(e) == core::FlowStatus::NewData) names.push_back(e.name.str());
     return names;
   }
-  KDL::Frame read(core::InputPort<KDL::Frame>& port) {
-    KDL::Frame f;
+  template <class T>
+  T read(core::InputPort<T>& port) {
+    T f;
     EXPECT_NE(port.read(f), core::FlowStatus::NoData);
     return f;
   }
@@ -114,6 +125,61 @@ TEST(LeapMotionDriver, LostHandsKeepTheLastValidPoseAndRaiseEvents) {
             0);
 }
 
+// The hand moves at 0.1 m/s along x and 0.1 m/s down while it turns at 0.5 rad/s about z, for
+// 0.4 s (8 filter time constants): the twist is the hand's, in the published frame.
+TEST(LeapMotionDriver, TheTwistIsTheHandsVelocityInThePublishedFrame) {
+  const KDL::Frame offset(KDL::Rotation::RotX(M_PI / 2), KDL::Vector(0.3, 0.0, 0.0));
+  Bench b(2.0, offset);
+  KDL::Twist t;
+  bool first_seen = false;
+  for (int i = 0; i <= 400; ++i) {
+    const double s = 0.001 * i;
+    b.right.write(KDL::Frame(KDL::Rotation::RotZ(0.5 * s), KDL::Vector(-0.02 + 0.1 * s, 0.0, 0.25 - 0.1 * s)));
+    b.clock.advance(1ms);
+    if (!first_seen && b.right_twist.read(t) == core::FlowStatus::NewData) {
+      first_seen = true;
+      EXPECT_TRUE(KDL::Equal(t, KDL::Twist::Zero(), 1e-12));  // its first frame: no previous pose
+    }
+  }
+  EXPECT_TRUE(first_seen);
+  t = b.read(b.right_twist);
+  // In the published frame: scaled by 2, then turned by the offset's 90 degrees about x (device
+  // z -> published -y, device y -> published z).
+  const KDL::Twist expected = offset.M * KDL::Twist(KDL::Vector(0.2, 0.0, -0.2), KDL::Vector(0.0, 0.0, 0.5));
+  EXPECT_TRUE(KDL::Equal(t, expected, 1e-3)) << t.vel.x() << " " << t.vel.y() << " " << t.vel.z() << " / " << t.rot.x()
+                                             << " " << t.rot.y() << " " << t.rot.z();
+  // Lost (out of the field of view): zero at once, the last pose kept.
+  b.right.write(KDL::Frame(KDL::Vector(0.0, 0.0, 0.8)));
+  b.clock.advance(10ms);
+  EXPECT_TRUE(KDL::Equal(b.read(b.right_twist), KDL::Twist::Zero(), 1e-12));
+  EXPECT_EQ(b.left_twist.read(t), core::FlowStatus::NoData);  // no left hand
+}
+
+/// The root mean square (m/s) of a still right hand's linear twist over 2 s, sampled every 5 ms.
+double stillHandTwistRms(double filter_time) {
+  Bench b(1.0, KDL::Frame::Identity(), 5e-4, filter_time);
+  b.right.write(KDL::Frame(KDL::Vector(0.0, 0.0, 0.2)));
+  b.clock.advance(500ms);
+  double sum = 0.0;
+  int n = 0;
+  for (int i = 0; i < 400; ++i) {
+    b.clock.advance(5ms);
+    const KDL::Twist t = b.read(b.right_twist);
+    sum += KDL::dot(t.vel, t.vel);
+    ++n;
+  }
+  return std::sqrt(sum / n);
+}
+
+// The tracker's 0.5 mm noise per axis differenced over its 5 ms frames is over 0.1 m/s; the
+// default filter (0.05 s) leaves less than a tenth of it.
+TEST(LeapMotionDriver, TheTwistFilterTamesTheTrackersNoise) {
+  const double raw = stillHandTwistRms(0.0), filtered = stillHandTwistRms(0.05);
+  EXPECT_GT(raw, 0.1);
+  EXPECT_LT(filtered, raw / 10.0);
+  std::printf("still hand's twist rms: %.3f m/s unfiltered, %.3f m/s filtered (0.05 s)\n", raw, filtered);
+}
+
 TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
   SimulatedLeapMotion tracker("LeapSim");
   LeapMotionDriver l("Leap");
@@ -140,6 +206,9 @@ TEST(LeapMotionDriver, BadPropertiesAreRefusedWithTheirName) {
                   "component 'Leap': property device = 'sim:Leap': no hand tracker backend 'sim:Leap'; backends that "
                   "exist: 'sim:LeapSim' (simulated Leap Motion of component 'LeapSim')");
   l.setProperty("device", "sim:LeapSim");
+  l.setProperty("twist_filter_time", -0.01);
+  EXPECT_CONTAINS(l.configure().message, "component 'Leap': property twist_filter_time = -0.010000 s; expected >= 0");
+  l.setProperty("twist_filter_time", 0.05);
   EXPECT_TRUE(l.configure());
 }
 

@@ -64,6 +64,28 @@ return function(c)
 
   function steps.stop() steps.call("trajectory", "askStopMove") end
 
+  -- The states of a take-over by the surgeon (thesis §4.6, §5.5: InitHapticDevice, then
+  -- TeleoperationActive), the contents of an rfsm.state: the teleoperated deployment `deployment`
+  -- with the configuration `configuration` (the clutch engages as the deployment starts: the tool
+  -- follows the device's motion from where both are, so taking over moves nothing by itself),
+  -- then the Transparency layers of the peers playing `couplings` (roles) engaged (the rest
+  -- length takes the master-slave offset, which then shrinks to nothing: nothing jumps), and
+  -- e_teleoperation_active.
+  function steps.teleoperation(deployment, configuration, couplings)
+    return {
+      InitHapticDevice = rfsm.state { entry = function()
+        emit("e_deploy_" .. deployment)
+        emit("e_configure_" .. configuration)
+      end },
+      TeleoperationActive = rfsm.state { entry = function()
+        for _, role in ipairs(couplings) do steps.call(role, "engage") end
+        emit("e_teleoperation_active")
+      end },
+      rfsm.trans { src = 'initial', tgt = 'InitHapticDevice' },
+      rfsm.trans { src = 'InitHapticDevice', tgt = 'TeleoperationActive', events = { 'e_deployed_' .. deployment } },
+    }
+  end
+
   -- The transition that ends a wait on an outside party (the surgeon, the cryoablation console,
   -- the other robot's chart) after `seconds` in `src` without its answer: root.SafeStop (the
   -- motion stopped, the admittance holding the robot), emitting `event`, which names what was
