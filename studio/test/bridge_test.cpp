@@ -251,7 +251,7 @@ TEST(VisualizerBridge, PuncturingLinksAreTheSceneModelsForwardKinematicsAtTheirB
   EXPECT_NE(model.find("\"charts\":[{\"name\":\"needle\",\"scope\":\"needle\",\"states\":[\"root\","), std::string::npos) << model;
   EXPECT_NE(model.find("{\"name\":\"us\",\"scope\":\"probe\",\"states\":[\"root\","), std::string::npos) << model;
   EXPECT_NE(model.find("\"root.InsertingNeedles.WaitNeedleMounted\""), std::string::npos) << model;
-  EXPECT_NE(model.find("{\"src\":\"root.WaitReaction\",\"tgt\":\"root.NeedleTeleoperation\",\"events\":[\"e_take_over\"],"
+  EXPECT_NE(model.find("{\"src\":\"root.WaitReaction\",\"tgt\":\"root.NeedleTeleoperation.initial\",\"events\":[\"e_take_over\"],"
                        "\"guarded\":false}"), std::string::npos) << model;
   EXPECT_EQ(model.find("\"entered\""), std::string::npos) << model;
   EXPECT_NE(model.find("\"target\":\"Surgeon.say\",\"event\":\"e_take_over\"}"), std::string::npos) << model;

@@ -56,11 +56,11 @@ test('after a fault the console offers the charts\' reactions as choices and a t
   assert.equal(await cell(page, 'deployments', 'deployment needle').innerText(), 'needle_autonomous_planning');
 
   await choices.getByRole('button', { name: 'Take over (teleoperation)' }).click();
-  await waitForCell(page, 'charts', 'needle', 'root.NeedleTeleoperation', 30000);
+  await waitForCell(page, 'charts', 'needle', 'root.NeedleTeleoperation.TeleoperationActive', 30000);
   await waitForCell(page, 'deployments', 'deployment needle', 'needle_teleoperated', 30000);
   assert.deepEqual(await enabled(page), ['Teleoperation done']);
   assert.deepEqual(await page.locator('#states details[data-chart="needle"] li.active').evaluateAll((l) => l.map((e) => e.dataset.path)),
-    ['root', 'root.NeedleTeleoperation']);
+    ['root', 'root.NeedleTeleoperation', 'root.NeedleTeleoperation.TeleoperationActive']);
   // The probe's scope keeps its own deployment and configuration.
   assert.match(await cell(page, 'deployments', 'deployment probe').innerText(), /^probe_autonomous_/);
   assert.match(await cell(page, 'deployments', 'configuration probe').innerText(), /^probe_/);
