@@ -145,6 +145,12 @@ void TransparencyLayer::compute(double time, const KDL::Frame& master, const Vec
 PassivityLayer::PassivityLayer(const PassivityParameters& p) : p_(p) {
   requireLevels(p.master, "master");
   requireLevels(p.slave, "slave");
+  if (!(p.master_max_force >= 0.0))
+    throw std::invalid_argument("PassivityLayer: master_max_force = " + number(p.master_max_force) +
+                                " N: must be >= 0 (the force the master device renders)");
+  if (!(p.master_max_torque >= 0.0))
+    throw std::invalid_argument("PassivityLayer: master_max_torque = " + number(p.master_max_torque) +
+                                " N·m: must be >= 0 (the torque the master device renders)");
   if (!(p.transfer_power > 0.0) || !std::isfinite(p.transfer_power))
     throw std::invalid_argument("PassivityLayer: transfer_power = " + number(p.transfer_power) +
                                 " W: must be > 0 (P̄, the rate of the exchange between the tanks)");
@@ -176,7 +182,16 @@ PassivityStep PassivityLayer::step(double dt, const Vector6& master_desired, con
   double master_next = master_ + sigma_m * dm + sigma_m * out_s - out_m;
   double slave_next = slave_ + sigma_s * ds + sigma_s * out_m - out_s;
   spilled_ += (1.0 - sigma_m) * out_s + (1.0 - sigma_s) * out_m;
-  out.master_limited = !payForWrench(master_desired, master_twist, dt, lm.minimum, master_next, out.master_wrench);
+  // The master wrench the device can render: force and torque each cut to their limit, keeping
+  // their direction (a limit of 0 renders none).
+  Vector6 rendered = master_desired;
+  const auto cut = [](auto part, double limit) {
+    const double norm = part.norm();
+    if (norm > limit) part *= limit > 0.0 ? limit / norm : 0.0;
+  };
+  cut(rendered.head<3>(), p_.master_max_force);
+  cut(rendered.tail<3>(), p_.master_max_torque);
+  out.master_limited = !payForWrench(rendered, master_twist, dt, lm.minimum, master_next, out.master_wrench);
   out.slave_limited = !payForWrench(slave_desired, slave_twist, dt, ls.minimum, slave_next, out.slave_wrench);
   master_ = master_next;
   slave_ = slave_next;

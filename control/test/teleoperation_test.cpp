@@ -234,6 +234,33 @@ TEST(Teleoperation, ATankThatGivesNeverGoesBelowItsMinimum) {
   EXPECT_DOUBLE_EQ(layer.masterEnergy(), 11.0);
 }
 
+// The master's tank pays for the wrench the device renders: a Phantom Omni's 3.3 N and no torque.
+TEST(Teleoperation, TheMasterTankPaysForWhatTheDeviceRendersOnly) {
+  PassivityParameters p;
+  p.master_max_force = 3.3;
+  p.master_max_torque = 0.0;
+  PassivityLayer layer(p);
+  const Vector6 desired = (Vector6() << 10.0, 0.0, 0.0, 0.0, 0.0, 2.0).finished();  // N, N·m
+  const Vector6 twist = (Vector6() << 0.1, 0.0, 0.0, 0.0, 0.0, 1.0).finished();     // m/s, rad/s
+  const PassivityStep out = layer.step(kDt, desired, kZero, twist, kZero, 0.0, 0.0);
+  EXPECT_FALSE(out.master_limited);
+  EXPECT_NEAR(out.master_wrench(0), 3.3, 1e-12);
+  EXPECT_EQ(out.master_wrench(5), 0.0);
+  EXPECT_NEAR(layer.masterEnergy(), 10.0 - 3.3 * 0.1 * kDt, 1e-12);  // not 10 N·0.1 m/s + 2 N·m·1 rad/s
+  p.master_max_torque = -1.0;
+  EXPECT_THROW(
+      {
+        try {
+          PassivityLayer bad(p);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_STREQ(e.what(), "PassivityLayer: master_max_torque = -1 N·m: must be >= 0 (the torque the master "
+                                 "device renders)");
+          throw;
+        }
+      },
+      std::invalid_argument);
+}
+
 TEST(Teleoperation, BadParametersNameTheParameterAndTheRule) {
   using test_support::messageOf;
   auto transparency = [](auto change) {

@@ -30,7 +30,7 @@ local function master(scope, P, hand)
   if setting == "omni" then
     return { { peer_name = P .. "Omni", component_type = "SimulatedOmniPhantom" } },
            { pose = P .. "Omni.measCartPose", twist = P .. "Omni.measTwist", feedback = P .. "Omni.desWrench",
-             dissipation = P .. "Omni.dissipatedPower" }, "teleop_device"
+             dissipation = P .. "Omni.dissipatedPower", max_force = 3.3, max_torque = 0.0 }, "teleop_device"
   elseif setting == "leap" then
     -- One device for both robots: created by the first controller that needs it.
     local components = rawget(_G, "Leap") and {} or { { peer_name = "LeapSim", component_type = "SimulatedLeapMotion" },
@@ -120,6 +120,7 @@ return function(c)
   transparency.damping = 20
   transparency.rotational_stiffness = 20
   transparency.rotational_damping = 0.5
+  coupling.render(n("Passivity"), master_ports)
   coupling.impair({ n("Link") }, teleop_link and {
     delay = teleop_link.delay, jitter = teleop_link.jitter, loss = teleop_link.loss,
     seed = (teleop_link.seed or 1) + 4 * (c.arm - 1) })  -- each robot's link draws its own losses

@@ -27,7 +27,9 @@ local devices = {
            right = "RightOmni.measCartPose", left = "LeftOmni.measCartPose",
            right_twist = "RightOmni.measTwist", left_twist = "LeftOmni.measTwist",
            right_dissipation = "RightOmni.dissipatedPower", left_dissipation = "LeftOmni.dissipatedPower",
-           right_feedback = "RightOmni.desWrench", left_feedback = "LeftOmni.desWrench" },
+           right_feedback = "RightOmni.desWrench", left_feedback = "LeftOmni.desWrench",
+           -- What the Omni renders (N, N·m): its saturation, and no wrist torque.
+           max_force = 3.3, max_torque = 0.0 },
 }
 local device = assert(devices[teleop_device], "teleop_device must be leap or omni, not " .. tostring(teleop_device))
 
@@ -138,6 +140,12 @@ for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   -- it comes back over the link: neither device renders a torque.
   t.rotational_stiffness = 20
   t.rotational_damping = 0.5
+end
+-- The master tanks pay for the wrench the device renders, not for one it cannot exert (a device
+-- that declares no limit: any wrench).
+for _, p in ipairs({ RightPassivity, LeftPassivity }) do
+  if device.max_force then p.master_max_force = device.max_force end
+  if device.max_torque then p.master_max_torque = device.max_torque end
 end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
 for i, l in ipairs({ RightLink, LeftLink }) do

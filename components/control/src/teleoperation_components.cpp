@@ -1,6 +1,7 @@
 #include "cobra/components/control/teleoperation_components.hpp"
 
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
@@ -83,6 +84,8 @@ PassivityLayerComponent::PassivityLayerComponent(std::string name)
   for (auto& p : master_levels_) addProperty(p);
   for (auto& p : slave_levels_) addProperty(p);
   addProperty(transfer_power_);
+  addProperty(master_max_force_);
+  addProperty(master_max_torque_);
   for (core::PortBase* p : std::initializer_list<core::PortBase*>{
            &master_desired_, &slave_desired_, &master_twist_, &slave_twist_, &master_dissipation_, &slave_dissipation_,
            &master_force_, &slave_force_, &master_energy_, &slave_energy_})
@@ -93,7 +96,9 @@ bool PassivityLayerComponent::configureHook() {
   if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the control period");
   auto levels = [](const core::Property<double>* l) { return control::TankLevels{l[0](), l[1](), l[2](), l[3](), l[4]()}; };
   try {
-    layer_.emplace(control::PassivityParameters{levels(master_levels_), levels(slave_levels_), transfer_power_()});
+    const auto limit = [](double value) { return value < 0.0 ? std::numeric_limits<double>::infinity() : value; };
+    layer_.emplace(control::PassivityParameters{levels(master_levels_), levels(slave_levels_), transfer_power_(),
+                                                limit(master_max_force_()), limit(master_max_torque_())});
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
   }

@@ -13,7 +13,8 @@
 --   coupling.impair({ "Link" }, teleop_link)             -- the link's delay, jitter, loss, seed
 -- A master is a table of port names: `pose` (a KDL.Frame port: six DoF), and when the device has
 -- them `twist` (KDL.Twist, m/s and rad/s), `feedback` (the KDL.Wrench input it renders, N and
--- N·m), `dissipation` (W: what its backdrive friction dissipates; fills the master's tank).
+-- N·m), `dissipation` (W: what its backdrive friction dissipates; fills the master's tank),
+-- `max_force` and `max_torque` (N, N·m: what it renders; see M.render).
 local M = {}
 
 -- The type a port of `name` ("Component.port") has, from the component's Lua reference.
@@ -94,6 +95,14 @@ function M.impair(links, link)
     l.loss = link.loss or 0.0
     l.seed = (link.seed or 1) + 2 * (i - 1)
   end
+end
+
+-- The master's tank pays for the wrench the device renders: `master.max_force` (N, its
+-- saturation) and `master.max_torque` (N·m; 0: no actuated wrist) when the master declares them.
+function M.render(passivity, master)
+  local p = _G[passivity]
+  if master.max_force then p.master_max_force = master.max_force end
+  if master.max_torque then p.master_max_torque = master.max_torque end
 end
 
 -- s: the link's worst one-way lag (delay + jitter), 0 without a link setting.

@@ -10,6 +10,7 @@
 /// torque·ω). Energies J; powers W.
 
 #include <Eigen/Core>
+#include <limits>
 #include <kdl/frames.hpp>
 
 namespace cobra::control {
@@ -95,6 +96,12 @@ struct PassivityParameters {
   TankLevels master;
   TankLevels slave;
   double transfer_power = 1.0;  ///< P̄: rate of the energy exchange between tanks, W
+  /// What the master device renders (N, N·m; infinity: all): a desired master wrench is cut to
+  /// it before its tank pays, so the tank pays for the wrench the device exerts, not for one it
+  /// cannot (a Phantom Omni saturates at 3.3 N and actuates no wrist: torque 0). Paying for, or
+  /// being credited with, work nobody does would make the tank's bound a fiction.
+  double master_max_force = std::numeric_limits<double>::infinity();
+  double master_max_torque = std::numeric_limits<double>::infinity();
 };
 
 /// What one Passivity layer step did.

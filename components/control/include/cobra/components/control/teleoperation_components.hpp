@@ -77,6 +77,12 @@ class PassivityLayerComponent : public core::Component {
   core::Property<double> master_levels_[5];
   core::Property<double> slave_levels_[5];
   core::Property<double> transfer_power_{"transfer_power", 1.0, "W", "P̄: rate of the exchange between tanks"};
+  core::Property<double> master_max_force_{"master_max_force", -1.0, "N",
+                                           "the force the master device renders (its saturation): the master "
+                                           "tank pays for the force cut to it; < 0: any force"};
+  core::Property<double> master_max_torque_{"master_max_torque", -1.0, "N·m",
+                                            "the torque the master device renders (0: a device without "
+                                            "actuated wrist); < 0: any torque"};
   core::InputPort<KDL::Wrench> master_desired_{"masterForceDesired", "F_md, base frame", "N, N·m"};
   core::InputPort<KDL::Wrench> slave_desired_{"slaveForceDesired", "F_sd, base frame", "N, N·m"};
   core::InputPort<KDL::Twist> master_twist_{"masterTwist", "master twist, base frame", "m/s, rad/s"};
