@@ -96,6 +96,10 @@ KDL::Frame interpolate(const KDL::Frame& a, const KDL::Frame& b, double s) {
   return KDL::Frame(angle > 0.0 ? a.M * KDL::Rotation::Rot2(axis, s * angle) : a.M, a.p + (b.p - a.p) * s);
 }
 
+/// s: how far off its redundancy rule a moving robot's start may be, as the time its joints take to
+/// cover it at their velocity limits (the continuity-keeping controllers leave ~0.04 rad).
+constexpr double kStartRuleSlack = 0.25;
+
 /// The first joint (0-based, in the robot) at which robot `r`'s joints in `q` differ from the
 /// configuration its planning coordinates stand for (RobotModel::jointsOf of coordinatesOf(q), the
 /// redundancy resolved by the rule of the control path's IK from `start`), or -1 when none does.
@@ -297,11 +301,25 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
                   goal_joints.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
     any = any || moving[r];
   }
-  // A start off the I-SUR's redundancy rule is planned from as it is: the robots' controllers keep
-  // continuity (kinematics::ContinuousIk), so after a straight motion near the wrist lock they end
-  // off the rule a fresh solve gives (by ~0.03-0.04 rad in the elbow), and the next path's first
-  // command continues from there; the dense verification walks the path from that start with the
-  // same continuity-keeping IK. Refusing such starts refused procedures the robots can follow.
+  // A start a little off the I-SUR's redundancy rule is planned from as it is: the robots'
+  // controllers keep continuity (kinematics::ContinuousIk), so after a straight motion near the
+  // wrist lock they end off the rule a fresh solve gives (by ~0.03-0.04 rad in the elbow), and the
+  // next path's first command continues from there; the dense verification walks the path from
+  // that start with the same continuity-keeping IK. Refusing those refused procedures the robots
+  // follow. Further off than a joint moves in kStartRuleSlack at its velocity limit, the start is
+  // not where Cartesian control leaves a robot: refused at once, naming the joint, rather than
+  // searched for in vain.
+  for (std::size_t r = 0; r < moving.size(); ++r) {
+    const std::ptrdiff_t joint = moving[r] ? offRule(validator_, r, start, start, kStartRuleSlack) : -1;
+    if (joint >= 0)
+      return detail::finished(std::move(result), PlanStatus::InvalidStart,
+                              "start joints of robot '" + validator_.scene().robots[r].name + "' (joint " +
+                                  std::to_string(joint + 1) + ") are further from where its inverse kinematics "
+                                  "resolves its redundancy for the start pose than the joint moves in " +
+                                  std::to_string(kStartRuleSlack).substr(0, 4) +
+                                  " s: the first Cartesian command of any path would jump them",
+                              started);
+  }
   result.rejected = validator_.checkJoints(goal_joints, true);
   if (!result.rejected.valid())
     return detail::finished(std::move(result), PlanStatus::InvalidGoal, "goal state is not valid: " + describe(result.rejected),

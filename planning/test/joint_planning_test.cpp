@@ -172,6 +172,18 @@ TEST(JointSpace, AStartOffTheRedundancyRuleIsPlannedFromWhereTheJointsAre) {
   ASSERT_TRUE(result.solved()) << result.message;
   ASSERT_FALSE(result.joint_waypoints.empty());
   for (std::size_t j = 0; j < elbow.size(); ++j) EXPECT_DOUBLE_EQ(result.joint_waypoints.front()[j], elbow[j]) << j;
+  // Half a radian off: not where Cartesian control leaves the robot; refused before any search.
+  JointState far = kStart;
+  far[5] += 0.5;
+  far[6] -= 0.5;
+  DualPose far_poses;
+  ASSERT_TRUE(validator.toolPoses(far, far_poses));
+  const PlanResult refused = planner.planPath(far, {needle(KDL::Vector(-0.06, 0.05, 0.25), 0.17, 0.0), far_poses.second});
+  EXPECT_EQ(refused.status, PlanStatus::InvalidStart);
+  EXPECT_EQ(refused.validity_checks, 0u);
+  EXPECT_CONTAINS(refused.message, "start joints of robot 'isur' (joint 6) are further from where its inverse "
+                                   "kinematics resolves its redundancy for the start pose than the joint moves in "
+                                   "0.25 s: the first Cartesian command of any path would jump them");
 }
 
 TEST(JointSpace, CheckGoalGivesThePlannersOwnVerdictWithoutSearching) {

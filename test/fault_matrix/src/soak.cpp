@@ -53,6 +53,8 @@ SoakSummary soak(const Table& table, const SoakOptions& options) {
       if (c.task == &task) (c.fault->name == kBaseline ? baseline : of_task).push_back(&c);
     // One run in four is the task's baseline (no fault) when the table has one; the others a
     // random cell of the task's.
+    if (baseline.empty() && of_task.empty())
+      throw std::runtime_error("cobra soak: task '" + task.name + "' has no cell to run (every fault n/a and no baseline)");
     const bool nominal = !baseline.empty() && (of_task.empty() || random() % 4 == 0);
     const Cell& cell = nominal ? *baseline[random() % baseline.size()] : *of_task[random() % of_task.size()];
     const CellResult r = runCell(table, cell, faults, scenario);

@@ -21,7 +21,8 @@ class StudioSource {
   virtual ~StudioSource() = default;
   /// GET /api/model: the model JSON; `status` 500 with {"error": ...} when the run cannot be shown.
   virtual std::string model(int& status) = 0;
-  /// GET /api/recording: {"frames":[...]} (a live run: what is recorded so far).
+  /// GET /api/recording: {"frames":[...]} (a live run: its bounded history, the newest frames and
+  /// events the server's thread kept: BridgeOptions; a long run's start is dropped).
   virtual std::string recording() = 0;
   /// The newest frame message when it is newer than `seq` (which it then updates); false otherwise.
   virtual bool latestFrame(std::uint64_t& seq, std::string& message) = 0;

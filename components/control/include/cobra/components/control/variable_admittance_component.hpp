@@ -20,8 +20,9 @@ namespace cobra::components {
 /// implemented, fixed at configure), and the tank's `tank_initial`, `tank_max`, `tank_min` (J).
 /// Ports: `refPose`, `refTwist` (the trajectory's set-point), `measWrench` (base frame, N, N·m)
 /// and `extWrench` (added to it while connected: a teleoperation coupling force) in; `admPose`, `admTwist`, `tankEnergy` (J) out;
-/// `dissipatedPower` (W) out: the power the damping D dissipated in the step (ẋ̃ᵀ D ẋ̃; 0 while held
-/// or blind), the slave's D_s for the teleoperation's PassivityLayer.slaveDissipation. Needs a periodic activity: dt is its period.
+/// `dissipatedPower` (W) out: the power the step dissipated that the admittance's own tank did not
+/// store (all of it while that tank is full, else 0; 0 while held or blind): the slave's D_s for the
+/// teleoperation's PassivityLayer.slaveDissipation, so no dissipated energy fills two tanks. Needs a periodic activity: dt is its period.
 /// Events: e_tank_empty when the variable parts stop being implemented, e_tank_refilled when they
 /// are again, e_bad_parameters when a configuration's matrices are refused (the old ones stay),
 /// e_reference_jump when refPose moved between two steps faster than `max_reference_speed` (m/s)
@@ -103,7 +104,7 @@ class VariableAdmittanceController : public core::Component {
   core::OutputPort<KDL::Frame> adm_pose_{"admPose", "the admittance's pose", "m"};
   core::OutputPort<KDL::Twist> adm_twist_{"admTwist", "the admittance's twist", "m/s, rad/s"};
   core::OutputPort<double> tank_energy_{"tankEnergy", "energy in the tank", "J"};
-  core::OutputPort<double> dissipated_power_{"dissipatedPower", "power the damping dissipated in the step", "W"};
+  core::OutputPort<double> dissipated_power_{"dissipatedPower", "dissipated power its own tank did not store", "W"};
 
   std::unique_ptr<control::VariableAdmittance> controller_;
   std::vector<double> applied_inertia_, applied_damping_, applied_stiffness_;  // what the controller has
