@@ -331,6 +331,13 @@ const char* kMakeAPair =
     "; make a self-signed pair with: openssl req -x509 -newkey rsa:2048 -nodes -days 365 -subj /CN=HOST "
     "-addext subjectAltName=DNS:HOST -keyout studio.key -out studio.crt (HOST: the name clients use)";
 
+// OpenSSL's reason ("no start line") rather than asio's "asio.ssl error".
+std::string why(const beast::error_code& error) {
+  if (error.category() == asio::error::get_ssl_category())
+    if (const char* reason = ERR_reason_error_string(static_cast<unsigned long>(error.value()))) return reason;
+  return error.message();
+}
+
 // The TLS context of a server beyond loopback: TLS 1.2 or newer, the certificate chain and key in
 // PEM; each refusal names the file and the option.
 void loadTls(ssl::context& context, const ServerOptions& options, const std::string& where) {
@@ -339,19 +346,25 @@ void loadTls(ssl::context& context, const ServerOptions& options, const std::str
     throw std::runtime_error("studio: listening on " + where + (options.require_tls ? " (TLS required)" : " (beyond loopback)") +
                              " serves HTTPS only and needs a TLS certificate and key: missing " +
                              (!cert && !key ? "--tls-cert FILE and --tls-key FILE" : !cert ? "--tls-cert FILE" : "--tls-key FILE") +
-                             " (ServerOptions tls_cert, tls_key)" + kMakeAPair);
+                             " (cobra run: --studio-tls-cert, --studio-tls-key; ServerOptions tls_cert, tls_key)" + kMakeAPair);
   context.set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
                       ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 | ssl::context::single_dh_use);
+  for (const auto& [file, option] : {std::pair{options.tls_cert, "--tls-cert"}, std::pair{options.tls_key, "--tls-key"}})
+    if (!std::filesystem::is_regular_file(file))
+      throw std::runtime_error("studio: the TLS " + std::string(option == std::string("--tls-cert") ? "certificate" : "key") +
+                               " '" + file.string() + "' (" + option + ") is not a file" + kMakeAPair);
   beast::error_code error;
   context.use_certificate_chain_file(options.tls_cert.string(), error);
   if (error)
     throw std::runtime_error("studio: the TLS certificate '" + options.tls_cert.string() + "' (--tls-cert) does not load: " +
-                             error.message() + "; expected a PEM certificate" + kMakeAPair);
+                             why(error) + "; expected a PEM certificate" + kMakeAPair);
   context.use_private_key_file(options.tls_key.string(), ssl::context::pem, error);
-  if (error)
+  const bool mismatch = error && error.category() == asio::error::get_ssl_category() &&
+                        ERR_GET_REASON(static_cast<unsigned long>(error.value())) == X509_R_KEY_VALUES_MISMATCH;
+  if (error && !mismatch)
     throw std::runtime_error("studio: the TLS key '" + options.tls_key.string() + "' (--tls-key) does not load: " +
-                             error.message() + "; expected a PEM private key without a passphrase" + kMakeAPair);
-  if (SSL_CTX_check_private_key(context.native_handle()) != 1)
+                             why(error) + "; expected a PEM private key without a passphrase" + kMakeAPair);
+  if (mismatch || SSL_CTX_check_private_key(context.native_handle()) != 1)
     throw std::runtime_error("studio: the TLS key '" + options.tls_key.string() + "' does not match the certificate '" +
                              options.tls_cert.string() + "'" + kMakeAPair);
 }
