@@ -97,7 +97,7 @@ TEST(StudioServerTls, RefusesToStartBeyondLoopbackWithoutACertificateAndKeyNamin
   EXPECT_EQ(startError(o), "studio: listening on 127.0.0.1:0 (TLS required) serves HTTPS only and needs a TLS certificate "
                            "and key: missing --tls-cert FILE (cobra run: --studio-tls-cert, --studio-tls-key; ServerOptions tls_cert, tls_key)" + kHowToMake);
   // Files that are not what they should be.
-  const auto junk = ::cobra::test_support::scratchPath("studio_tls_junk.pem");
+  const auto junk = pki / "junk.pem";
   std::ofstream(junk) << "not a certificate\n";
   o.tls_cert = junk;
   EXPECT_EQ(startError(o), "studio: the TLS certificate '" + junk.string() + "' (--tls-cert) does not load: no start line; "

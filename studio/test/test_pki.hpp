@@ -2,7 +2,7 @@
 // A test certificate authority and a TLS server certificate for the studio server's tests:
 // ca.{crt,key} and server.{crt,key} (CN=localhost, subjectAltName DNS:localhost, IP:127.0.0.1,
 // signed by the CA) in a scratch folder. tools/make_test_pki.sh makes them when the repository has
-// it; else the same two with the openssl command line here.
+// it; else the same two with the openssl command line here. The folder goes when the process ends.
 
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +17,14 @@ inline std::filesystem::path makeTestPki() {
   const std::filesystem::path dir = ::cobra::test_support::scratchPath("studio_pki");
   if (std::filesystem::is_regular_file(dir / "server.key")) return dir;
   std::filesystem::create_directories(dir);
+  // Removed when the test process ends (the folder is this process's: scratchPath has its pid).
+  static const struct Remove {
+    std::filesystem::path dir;
+    ~Remove() {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  } remove{dir};
   const std::string d = "'" + dir.string() + "'";
   const std::filesystem::path script = std::filesystem::path(COBRA_SOURCE_DIR) / "tools" / "make_test_pki.sh";
   std::string command;
