@@ -39,6 +39,7 @@ fuzz_seeds() {
     planning_scene_fuzz) echo apps/*/deployment/*.scene planning/test/scenes/*.scene planning/test/data/*.scene ;;
     puncturing_plan_fuzz) echo apps/puncturing/scenarios/*/*.txt apps/puncturing/state_table.txt ;;
     studio_json_fuzz) echo studio/test/fuzz_seeds/*.json ;;
+    studio_http_fuzz) echo studio/test/fuzz_seeds/*.http studio/test/fuzz_seeds/input.json ;;
     igtl_message_fuzz) echo bridges/test/igtl_seeds/*.igtl ;;
   esac
 }

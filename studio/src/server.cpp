@@ -3,106 +3,121 @@
 #include <atomic>
 #include <cstdlib>
 #include <deque>
-#include <fstream>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 
 #include "cobra/studio/editor.hpp"
 #include "cobra/studio/json.hpp"
+#include "http_internal.hpp"
 
 namespace cobra::studio {
 namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
+namespace ssl = asio::ssl;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 namespace {
 
-const char* kForbidden = "{\"error\":\"missing or wrong token\"}";
+// A WebSocket client as the tick sees it (plain or TLS).
+class WsClient {
+ public:
+  virtual ~WsClient() = default;
+  virtual void offerFrame(const std::shared_ptr<const std::string>& frame) = 0;
+  virtual void offerMessage(const std::shared_ptr<const std::string>& message) = 0;
+  virtual bool open() const = 0;
+};
 
-std::string contentType(const std::filesystem::path& file) {
-  const std::string ext = file.extension().string();
-  if (ext == ".html") return "text/html; charset=utf-8";
-  if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
-  if (ext == ".css") return "text/css; charset=utf-8";
-  if (ext == ".json" || ext == ".map") return "application/json";
-  if (ext == ".svg") return "image/svg+xml";
-  if (ext == ".png") return "image/png";
-  if (ext == ".wasm") return "application/wasm";
-  if (ext == ".woff2") return "font/woff2";
-  return "application/octet-stream";
-}
+// One open connection counted against max_connections while its session (HTTP, then WebSocket)
+// holds it.
+struct ConnectionSlot {
+  explicit ConnectionSlot(std::atomic<long>& count) : count_(count) { count_.fetch_add(1); }
+  ~ConnectionSlot() { count_.fetch_sub(1); }
+  ConnectionSlot(const ConnectionSlot&) = delete;
+  ConnectionSlot& operator=(const ConnectionSlot&) = delete;
 
-// The value of `key` in a query string or a Cookie header ("a=1&b=2", "a=1; b=2").
-std::string valueIn(std::string_view text, std::string_view key, char separator) {
-  std::size_t i = 0;
-  while (i < text.size()) {
-    while (i < text.size() && text[i] == ' ') ++i;
-    std::size_t end = text.find(separator, i);
-    if (end == std::string_view::npos) end = text.size();
-    const std::string_view pair = text.substr(i, end - i);
-    const auto eq = pair.find('=');
-    if (eq != std::string_view::npos && pair.substr(0, eq) == key) return std::string(pair.substr(eq + 1));
-    i = end + 1;
+ private:
+  std::atomic<long>& count_;
+};
+
+// Closes a connection after its last answer: a TCP half-close (the client reads to the end), or
+// TLS's close_notify first.
+template <class Stream, class Keep>
+void finish(Stream& stream, Keep keep) {
+  if constexpr (std::is_same_v<Stream, TlsStream>) {
+    beast::get_lowest_layer(stream).expires_after(std::chrono::seconds(5));
+    stream.async_shutdown([keep](beast::error_code) {});
+  } else {
+    beast::error_code ignored;
+    stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
   }
-  return {};
 }
 
 }  // namespace
 
-class WsSession;
-
 // Owned by the Server, which joins the io thread before destroying it: the sessions keep a plain
-// pointer to it (the io_context's destructor then releases the sessions its handlers hold).
+// pointer to it (the io_context's destructor then releases the sessions its handlers hold, so the
+// members they touch then, the counters and the TLS context, are declared before it).
 struct Server::Impl {
   Impl(StudioSource& s, ServerOptions o) : source(s), options(std::move(o)), acceptor(io), timer(io) {}
 
   StudioSource& source;
   ServerOptions options;
+  Routes routes;
+  std::atomic<long> clients{0}, frames_sent{0}, frames_coalesced{0}, messages_dropped{0}, forbidden{0};
+  std::atomic<long> connections{0}, connections_refused{0}, requests_refused{0}, timed_out{0}, tls_refused{0};
+  std::optional<ssl::context> tls;  // set: TLS only
   asio::io_context io;
   tcp::acceptor acceptor;
   asio::steady_timer timer;
   std::thread thread;
   unsigned short port = 0;
-  std::vector<std::weak_ptr<WsSession>> sessions;  // the io thread's only
+  std::vector<std::weak_ptr<WsClient>> sessions;  // the io thread's only
   std::uint64_t frame_seq = 0;
   asio::steady_timer::time_point next_tick{};
   std::shared_ptr<const std::string> last_frame, end_message;
   std::string frame_text;
   std::vector<std::string> messages;
-  std::atomic<long> clients{0}, frames_sent{0}, frames_coalesced{0}, messages_dropped{0}, forbidden{0};
 
+  std::chrono::steady_clock::duration requestTimeout() const {
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(options.limits.request_timeout));
+  }
   void accept();
   void tick();
-  bool authorised(const http::request<http::string_body>& request) const;
-  http::response<http::string_body> respond(const http::request<http::string_body>& request);
 };
 
-// One WebSocket client: at most one frame waiting (the newest) and a bounded message queue.
-class WsSession : public std::enable_shared_from_this<WsSession> {
- public:
-  WsSession(tcp::socket socket, Server::Impl* server)
-      : ws_(std::move(socket)), server_(server) {}
+namespace {
 
-  void start(http::request<http::string_body> request) {
+// One WebSocket client: at most one frame waiting (the newest) and a bounded message queue.
+template <class Stream>
+class WsSession final : public WsClient, public std::enable_shared_from_this<WsSession<Stream>> {
+ public:
+  WsSession(Stream&& stream, Server::Impl* server, std::shared_ptr<ConnectionSlot> slot)
+      : ws_(std::move(stream)), server_(server), slot_(std::move(slot)) {}
+
+  void start(detail::Request request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.read_message_max(json::kMaxMessageBytes);  // a client's messages are a few bytes; HTTP bodies: Beast's 1 MiB
+    ws_.read_message_max(server_->options.limits.max_ws_message_bytes);  // over it: closed with 1009
     if (server_->options.send_buffer > 0) {
       beast::error_code ignored;
       beast::get_lowest_layer(ws_).socket().set_option(asio::socket_base::send_buffer_size(server_->options.send_buffer), ignored);
     }
-    ws_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
+    ws_.async_accept(request, [self = this->shared_from_this()](beast::error_code error) {
       if (error) return;
       self->open_ = true;
       self->server_->clients.fetch_add(1);
@@ -114,12 +129,12 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     });
   }
 
-  void offerFrame(const std::shared_ptr<const std::string>& frame) {
+  void offerFrame(const std::shared_ptr<const std::string>& frame) override {
     if (frame_) server_->frames_coalesced.fetch_add(1);
     frame_ = frame;
     flush();
   }
-  void offerMessage(const std::shared_ptr<const std::string>& message) {
+  void offerMessage(const std::shared_ptr<const std::string>& message) override {
     if (messages_.size() >= server_->options.max_messages) {
       messages_.pop_front();
       server_->messages_dropped.fetch_add(1);
@@ -127,19 +142,18 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     messages_.push_back(message);
     flush();
   }
-  bool open() const { return open_ && !closed_; }
+  bool open() const override { return open_ && !closed_; }
 
  private:
   void read() {
-    ws_.async_read(in_, [self = shared_from_this()](beast::error_code error, std::size_t) {
+    ws_.async_read(in_, [self = this->shared_from_this()](beast::error_code error, std::size_t) {
+      // Over max_ws_message_bytes Beast has sent the close frame 1009 (too big) and the read
+      // ends with message_too_big: the connection goes.
       if (error) return self->close();
       const std::string text = beast::buffers_to_string(self->in_.data());
       self->in_.consume(self->in_.size());
-      if (const std::optional<std::string> name = json::inputRequest(text, true)) {
-        const InputAnswer answer = self->server_->source.input(*name);
-        if (answer.status != 200)
-          self->offerMessage(std::make_shared<const std::string>("{\"type\":\"error\",\"error\":" + json::quoted(answer.error) + "}"));
-      }
+      if (std::optional<std::string> answer = answerWsMessage(self->server_->source, text))
+        self->offerMessage(std::make_shared<const std::string>(std::move(*answer)));
       self->read();
     });
   }
@@ -158,7 +172,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     }
     writing_ = true;
     ws_.text(true);
-    ws_.async_write(asio::buffer(*out_), [self = shared_from_this()](beast::error_code error, std::size_t) {
+    ws_.async_write(asio::buffer(*out_), [self = this->shared_from_this()](beast::error_code error, std::size_t) {
       self->writing_ = false;
       self->out_.reset();
       if (error) return self->close();
@@ -174,134 +188,109 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     beast::get_lowest_layer(ws_).socket().close(ignored);
   }
 
-  websocket::stream<beast::tcp_stream> ws_;
+  websocket::stream<Stream> ws_;
   Server::Impl* server_;
+  std::shared_ptr<ConnectionSlot> slot_;
   beast::flat_buffer in_;
   std::shared_ptr<const std::string> frame_, out_;
   std::deque<std::shared_ptr<const std::string>> messages_;
   bool open_ = false, closed_ = false, writing_ = false;
 };
 
-// One HTTP connection: requests answered in turn, or upgraded to a WebSocket at /ws.
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// One HTTP connection (plain or TLS): requests read under the limits and answered in turn, or
+// upgraded to a WebSocket at /ws.
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(tcp::socket socket, Server::Impl* server) : stream_(std::move(socket)), server_(server) {}
+  HttpSession(Stream&& stream, Server::Impl* server, std::shared_ptr<ConnectionSlot> slot)
+      : stream_(std::move(stream)), server_(server), slot_(std::move(slot)) {}
 
-  void read() {
-    request_ = {};
-    stream_.expires_after(std::chrono::seconds(60));
-    http::async_read(stream_, buffer_, request_, [self = shared_from_this()](beast::error_code error, std::size_t) {
-      if (error) return;
-      self->handle();
-    });
+  // TLS: the handshake first, within the request timeout; one that fails (a client speaking plain
+  // HTTP, a wrong version, no shared cipher) closes the connection without a byte of HTTP.
+  void start() {
+    if constexpr (std::is_same_v<Stream, TlsStream>) {
+      beast::get_lowest_layer(stream_).expires_after(server_->requestTimeout());
+      stream_.async_handshake(ssl::stream_base::server, [self = this->shared_from_this()](beast::error_code error) {
+        if (error) {
+          (error == beast::error::timeout ? self->server_->timed_out : self->server_->tls_refused).fetch_add(1);
+          beast::error_code ignored;
+          beast::get_lowest_layer(self->stream_).socket().close(ignored);
+          return;
+        }
+        self->read();
+      });
+    } else {
+      read();
+    }
   }
 
  private:
-  void handle() {
-    const std::string target(request_.target());
-    const std::string path = target.substr(0, target.find('?'));
-    if (websocket::is_upgrade(request_) && path == "/ws" && server_->authorised(request_)) {
-      stream_.expires_never();
-      auto ws = std::make_shared<WsSession>(stream_.release_socket(), server_);
+  void read() {
+    parser_.emplace();
+    detail::limitParser(*parser_, server_->options.limits);
+    // One deadline for the whole request: bytes trickling in do not extend it (slowloris).
+    beast::get_lowest_layer(stream_).expires_after(server_->requestTimeout());
+    http::async_read(stream_, buffer_, *parser_, [self = this->shared_from_this()](beast::error_code error, std::size_t) {
+      if (error == beast::error::timeout) self->server_->timed_out.fetch_add(1);
+      std::string why;
+      const int status = detail::refusal(error, *self->parser_, self->server_->options.limits, why);
+      if (status < 0) return;  // the session ends: its socket closes
+      if (status > 0) {
+        self->server_->requests_refused.fetch_add(1);
+        return self->write(detail::refusalResponse(status, why, self->parser_->get().version()));
+      }
+      self->handle(self->parser_->release());
+    });
+  }
+
+  void handle(detail::Request request) {
+    if (detail::acceptsUpgrade(request, server_->routes)) {
+      beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream keeps its own timeouts
+      auto ws = std::make_shared<WsSession<Stream>>(std::move(stream_), server_, std::move(slot_));
       server_->sessions.push_back(ws);
-      ws->start(std::move(request_));
+      ws->start(std::move(request));
       return;
     }
-    auto response = std::make_shared<http::response<http::string_body>>(server_->respond(request_));
-    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code error, std::size_t) {
-      if (error || response->need_eof()) {
-        beast::error_code ignored;
-        self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
-        return;
-      }
+    bool forbidden = false;
+    detail::Response response = detail::route(server_->source, server_->routes, request, forbidden);
+    if (forbidden) server_->forbidden.fetch_add(1);
+    write(std::move(response));
+  }
+
+  void write(detail::Response answer) {
+    auto response = std::make_shared<detail::Response>(std::move(answer));
+    http::async_write(stream_, *response, [self = this->shared_from_this(), response](beast::error_code error, std::size_t) {
+      if (error) return;
+      if (response->need_eof()) return finish(self->stream_, self);
       self->read();
     });
   }
 
-  beast::tcp_stream stream_;
-  beast::flat_buffer buffer_;
-  http::request<http::string_body> request_;
+  Stream stream_;
   Server::Impl* server_;
+  std::shared_ptr<ConnectionSlot> slot_;
+  beast::flat_buffer buffer_;
+  std::optional<detail::RequestParser> parser_;
 };
 
-bool Server::Impl::authorised(const http::request<http::string_body>& request) const {
-  const std::string target(request.target());
-  const auto q = target.find('?');
-  if (q != std::string::npos && valueIn(std::string_view(target).substr(q + 1), "token", '&') == options.token) return true;
-  const auto header = request.find("X-Cobra-Token");
-  if (header != request.end() && header->value() == options.token) return true;
-  const auto cookie = request.find(http::field::cookie);
-  return cookie != request.end() && valueIn(std::string_view(cookie->value().data(), cookie->value().size()), "cobra_token", ';') == options.token;
-}
+}  // namespace
 
-http::response<http::string_body> Server::Impl::respond(const http::request<http::string_body>& request) {
-  http::response<http::string_body> response{http::status::ok, request.version()};
-  response.keep_alive(request.keep_alive());
-  response.set(http::field::cache_control, "no-store");
-  const auto reply = [&](int status, std::string body, const std::string& type = "application/json") {
-    response.result(static_cast<http::status>(status));
-    response.set(http::field::content_type, type);
-    response.body() = std::move(body);
-    response.prepare_payload();
-    return response;
-  };
-  if (!authorised(request)) {
-    forbidden.fetch_add(1);
-    return reply(403, kForbidden);
-  }
-  const std::string target(request.target());
-  const std::string path = target.substr(0, target.find('?'));
-  const bool get = request.method() == http::verb::get || request.method() == http::verb::head;
-  if (path.rfind("/api/editor/", 0) == 0) {
-    if (options.editor == nullptr)
-      return reply(404, "{\"error\":\"the deployment editor is not served here (cobra edit, cobra run APP --studio)\"}");
-    const EditorAnswer answer = options.editor->handle(std::string(request.method_string()), path.substr(12), request.body());
-    return reply(answer.status, answer.body);
-  }
-  if (path == "/api/model" && get) {
-    int status = 200;
-    std::string body = source.model(status);
-    return reply(status, std::move(body));
-  }
-  if (path == "/api/recording" && get) return reply(200, source.recording());
-  if (path == "/api/input") {
-    if (request.method() != http::verb::post) return reply(405, "{\"error\":\"POST /api/input {\\\"name\\\": \\\"INPUT\\\"}\"}");
-    const std::optional<std::string> name = json::inputRequest(request.body(), false);
-    if (!name) return reply(400, "{\"error\":\"expected a body {\\\"name\\\": \\\"INPUT\\\"}\"}");
-    const InputAnswer answer = source.input(*name);
-    if (answer.status == 200) return reply(200, "{\"ok\":true}");
-    return reply(answer.status, json::errorBody(answer.error));
-  }
-  if (!get) return reply(405, "{\"error\":\"method not allowed\"}");
-  if (path.rfind("/api/mesh/", 0) == 0) {
-    const std::filesystem::path file = source.mesh(path.substr(10));
-    std::ifstream in(file, std::ios::binary);
-    if (file.empty() || !in) return reply(404, json::errorBody("no mesh for object '" + path.substr(10) + "'"));
-    std::stringstream body;
-    body << in.rdbuf();
-    return reply(200, body.str(), file.extension() == ".obj" || file.extension() == ".OBJ" ? "model/obj" : "model/stl");
-  }
-  if (path.rfind("/api/", 0) == 0) return reply(404, json::errorBody("no such resource: " + path));
-  // The web front end's files.
-  const std::string relative = path == "/" ? "index.html" : path.substr(1);
-  if (relative.find("..") != std::string::npos || relative.find('\\') != std::string::npos)
-    return reply(400, "{\"error\":\"bad path\"}");
-  if (options.web_folder.empty() || !std::filesystem::is_regular_file(options.web_folder / "index.html"))
-    return reply(404, "{\"error\":\"the studio web front end is not built (studio/web/dist, or set COBRA_STUDIO_WEB)\"}");
-  const std::filesystem::path file = options.web_folder / relative;
-  std::ifstream in(file, std::ios::binary);
-  if (!std::filesystem::is_regular_file(file) || !in) return reply(404, json::errorBody("not found: " + path));
-  std::stringstream body;
-  body << in.rdbuf();
-  if (path == "/" || path == "/editor.html")
-    response.set(http::field::set_cookie, "cobra_token=" + options.token + "; HttpOnly; SameSite=Strict; Path=/");
-  return reply(200, body.str(), contentType(file));
-}
-
+// Over max_connections a new connection is closed at once, before a byte is read: a client cannot
+// hold more of the server than that, and those it holds time out unless they finish requests.
 void Server::Impl::accept() {
   acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
     if (error) return;  // closed: the server stops
-    std::make_shared<HttpSession>(std::move(socket), this)->read();
+    if (connections.load() >= static_cast<long>(options.limits.max_connections)) {
+      connections_refused.fetch_add(1);
+      beast::error_code ignored;
+      socket.close(ignored);
+    } else {
+      auto slot = std::make_shared<ConnectionSlot>(connections);
+      if (tls)
+        std::make_shared<HttpSession<TlsStream>>(TlsStream(std::move(socket), *tls), this, std::move(slot))->start();
+      else
+        std::make_shared<HttpSession<beast::tcp_stream>>(beast::tcp_stream(std::move(socket)), this, std::move(slot))->start();
+    }
     accept();
   });
 }
@@ -316,7 +305,7 @@ void Server::Impl::tick() {
   timer.async_wait([this](beast::error_code error) {
     Impl* self = this;
     if (error) return;
-    std::erase_if(self->sessions, [](const std::weak_ptr<WsSession>& s) { return s.expired(); });
+    std::erase_if(self->sessions, [](const std::weak_ptr<WsClient>& s) { return s.expired(); });
     self->messages.clear();
     self->source.takeMessages(self->messages);
     std::shared_ptr<const std::string> frame;
@@ -336,13 +325,69 @@ void Server::Impl::tick() {
   });
 }
 
+namespace {
+
+const char* kMakeAPair =
+    "; make a self-signed pair with: openssl req -x509 -newkey rsa:2048 -nodes -days 365 -subj /CN=HOST "
+    "-addext subjectAltName=DNS:HOST -keyout studio.key -out studio.crt (HOST: the name clients use)";
+
+// OpenSSL's reason ("no start line") rather than asio's "asio.ssl error".
+std::string why(const beast::error_code& error) {
+  if (error.category() == asio::error::get_ssl_category())
+    if (const char* reason = ERR_reason_error_string(static_cast<unsigned long>(error.value()))) return reason;
+  return error.message();
+}
+
+// The TLS context of a server beyond loopback: TLS 1.2 or newer, the certificate chain and key in
+// PEM; each refusal names the file and the option.
+void loadTls(ssl::context& context, const ServerOptions& options, const std::string& where) {
+  const bool cert = !options.tls_cert.empty(), key = !options.tls_key.empty();
+  if (!cert || !key)
+    throw std::runtime_error("studio: listening on " + where + (options.require_tls ? " (TLS required)" : " (beyond loopback)") +
+                             " serves HTTPS only and needs a TLS certificate and key: missing " +
+                             (!cert && !key ? "--tls-cert FILE and --tls-key FILE" : !cert ? "--tls-cert FILE" : "--tls-key FILE") +
+                             " (cobra run: --studio-tls-cert, --studio-tls-key; ServerOptions tls_cert, tls_key)" + kMakeAPair);
+  context.set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
+                      ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 | ssl::context::single_dh_use);
+  for (const auto& [file, option] : {std::pair{options.tls_cert, "--tls-cert"}, std::pair{options.tls_key, "--tls-key"}})
+    if (!std::filesystem::is_regular_file(file))
+      throw std::runtime_error("studio: the TLS " + std::string(option == std::string("--tls-cert") ? "certificate" : "key") +
+                               " '" + file.string() + "' (" + option + ") is not a file" + kMakeAPair);
+  beast::error_code error;
+  context.use_certificate_chain_file(options.tls_cert.string(), error);
+  if (error)
+    throw std::runtime_error("studio: the TLS certificate '" + options.tls_cert.string() + "' (--tls-cert) does not load: " +
+                             why(error) + "; expected a PEM certificate" + kMakeAPair);
+  context.use_private_key_file(options.tls_key.string(), ssl::context::pem, error);
+  const bool mismatch = error && error.category() == asio::error::get_ssl_category() &&
+                        ERR_GET_REASON(static_cast<unsigned long>(error.value())) == X509_R_KEY_VALUES_MISMATCH;
+  if (error && !mismatch)
+    throw std::runtime_error("studio: the TLS key '" + options.tls_key.string() + "' (--tls-key) does not load: " +
+                             why(error) + "; expected a PEM private key without a passphrase" + kMakeAPair);
+  if (mismatch || SSL_CTX_check_private_key(context.native_handle()) != 1)
+    throw std::runtime_error("studio: the TLS key '" + options.tls_key.string() + "' does not match the certificate '" +
+                             options.tls_cert.string() + "'" + kMakeAPair);
+}
+
+}  // namespace
+
 Server::Server(StudioSource& source, ServerOptions options) : impl_(std::make_unique<Impl>(source, std::move(options))) {
   Impl& m = *impl_;
   if (m.options.token.empty()) m.options.token = randomToken();
+  m.routes.token = m.options.token;
+  m.routes.web_folder = m.options.web_folder;
+  if (Editor* editor = m.options.editor)
+    m.routes.editor = [editor](std::string_view method, std::string_view route, std::string_view body) {
+      EditorAnswer answer = editor->handle(method, route, body);
+      return std::pair<int, std::string>(answer.status, std::move(answer.body));
+    };
   beast::error_code error;
   const auto address = asio::ip::make_address(m.options.bind, error);
   const std::string where = m.options.bind + ":" + std::to_string(m.options.port);
   if (error) throw std::runtime_error("studio: cannot listen on " + where + ": not an IP address");
+  // Beyond loopback the token would cross the network in clear text: TLS, or no server.
+  if (m.options.require_tls || !isLoopback(m.options.bind) || !m.options.tls_cert.empty() || !m.options.tls_key.empty())
+    loadTls(m.tls.emplace(ssl::context::tls_server), m.options, where);
   const tcp::endpoint endpoint(address, m.options.port);
   m.acceptor.open(endpoint.protocol(), error);
   if (!error) m.acceptor.set_option(asio::socket_base::reuse_address(true), error);
@@ -363,7 +408,7 @@ Server::~Server() {
 unsigned short Server::port() const { return impl_->port; }
 const std::string& Server::token() const { return impl_->options.token; }
 std::string Server::url() const {
-  return "http://" + impl_->options.bind + ":" + std::to_string(impl_->port) + "/?token=" + impl_->options.token;
+  return (impl_->tls ? "https://" : "http://") + impl_->options.bind + ":" + std::to_string(impl_->port) + "/?token=" + impl_->options.token;
 }
 std::string editorUrl(const Server& server) {
   std::string url = server.url();
@@ -371,8 +416,10 @@ std::string editorUrl(const Server& server) {
 }
 ServerStats Server::stats() const {
   const Impl& m = *impl_;
-  return {m.clients.load(), m.frames_sent.load(), m.frames_coalesced.load(), m.messages_dropped.load(), m.forbidden.load()};
+  return {m.clients.load(), m.frames_sent.load(), m.frames_coalesced.load(), m.messages_dropped.load(), m.forbidden.load(),
+          m.connections.load(), m.connections_refused.load(), m.requests_refused.load(), m.timed_out.load(), m.tls_refused.load()};
 }
+bool Server::tls() const { return impl_->tls.has_value(); }
 
 std::string randomToken() {
   std::random_device random;

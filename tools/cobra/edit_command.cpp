@@ -19,11 +19,13 @@ int editDeployment(const std::string& path, const StudioCommandOptions& options,
   studio::ServerOptions server_options;
   server_options.bind = options.bind;
   server_options.port = options.port;
+  server_options.tls_cert = options.tls_cert;
+  server_options.tls_key = options.tls_key;
   server_options.web_folder = studio::findWebFolder(options.executable);
   server_options.editor = &editor;
   studio::Server server(no_run, server_options);
-  if (options.bind != "127.0.0.1")
-    std::printf("editor: warning: listening on %s: whoever reaches it with the token can read and write files\n",
+  if (!studio::isLoopback(options.bind))
+    std::printf("editor: warning: listening on %s (TLS): whoever reaches it with the token can read and write files\n",
                 options.bind.c_str());
   if (server_options.web_folder.empty())
     std::printf("editor: warning: no web front end found (studio/web/dist, or set COBRA_STUDIO_WEB); /api/editor works\n");

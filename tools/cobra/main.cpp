@@ -247,7 +247,10 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--studio", studio_options.live, "serve the run to cobra studio in the browser while it runs "
                                                     "(prints the URL; the lockstep clock is paced to real time)");
   run_cmd->add_option("--studio-port", studio_options.port, "studio's port (default 0: any free port)");
-  run_cmd->add_option("--studio-bind", studio_options.bind, "address studio listens on (default 127.0.0.1)");
+  run_cmd->add_option("--studio-bind", studio_options.bind, "address studio listens on (default 127.0.0.1; "
+                                                            "beyond loopback: HTTPS only, with --studio-tls-cert/-key)");
+  run_cmd->add_option("--studio-tls-cert", studio_options.tls_cert, "PEM certificate: studio serves HTTPS and WSS only");
+  run_cmd->add_option("--studio-tls-key", studio_options.tls_key, "PEM private key of --studio-tls-cert");
   run_cmd->add_option("--studio-linger", studio_options.linger, "s studio stays after the run (default: until Ctrl-C)");
   run_cmd->add_option("--pace", pace, "simulated s per wall s on the lockstep clock (0 = as fast as possible; "
                                       "default 1 with --studio, else 0)")
@@ -267,7 +270,10 @@ int main(int argc, char** argv) {
   CLI::App* studio_cmd = app.add_subcommand("studio", "replay a recorded run in the browser (cobra studio)");
   studio_cmd->add_option("RUN_DIR", studio_folder, "run folder written by cobra run APP --report RUN_DIR")->required();
   studio_cmd->add_option("--port", replay_options.port, "port (default 0: any free port)");
-  studio_cmd->add_option("--bind", replay_options.bind, "address to listen on (default 127.0.0.1)");
+  studio_cmd->add_option("--bind", replay_options.bind, "address to listen on (default 127.0.0.1; beyond loopback: HTTPS only, "
+                                                 "with --tls-cert and --tls-key)");
+  studio_cmd->add_option("--tls-cert", replay_options.tls_cert, "PEM certificate: serve HTTPS and WSS only");
+  studio_cmd->add_option("--tls-key", replay_options.tls_key, "PEM private key of --tls-cert");
   studio_cmd->footer("example: cobra run apps/puncturing --report build/demo-report && cobra studio build/demo-report\n"
                      "prints the URL to open; serves until Ctrl-C");
 
@@ -277,7 +283,10 @@ int main(int argc, char** argv) {
   CLI::App* edit_cmd = app.add_subcommand("edit", "edit deployments in the browser: cobra studio's deployment editor");
   edit_cmd->add_option("FILE", edit_path, "Lua deployment file or application folder to open (default: a new project)");
   edit_cmd->add_option("--port", edit_options.port, "port (default 0: any free port)");
-  edit_cmd->add_option("--bind", edit_options.bind, "address to listen on (default 127.0.0.1)");
+  edit_cmd->add_option("--bind", edit_options.bind, "address to listen on (default 127.0.0.1; beyond loopback: HTTPS only, "
+                                                 "with --tls-cert and --tls-key)");
+  edit_cmd->add_option("--tls-cert", edit_options.tls_cert, "PEM certificate: serve HTTPS and WSS only");
+  edit_cmd->add_option("--tls-key", edit_options.tls_key, "PEM private key of --tls-cert");
   edit_cmd->footer("example: cobra edit apps/puncturing\n"
                    "prints \"editor: http://127.0.0.1:PORT/editor.html?token=TOKEN\" to open; serves until Ctrl-C;\n"
                    "a file that does not load is still served (the page shows its error line and never saves over it)");

@@ -36,11 +36,13 @@ std::unique_ptr<studio::Server> startServer(studio::StudioSource& source, const 
   server.editor = editor;
   server.bind = options.bind;
   server.port = options.port;
+  server.tls_cert = options.tls_cert;
+  server.tls_key = options.tls_key;
   server.web_folder = studio::findWebFolder(options.executable);
   if (server.web_folder.empty() && std::filesystem::is_regular_file(fallback_web / "index.html")) server.web_folder = fallback_web;
   auto started = std::make_unique<studio::Server>(source, server);
-  if (options.bind != "127.0.0.1")
-    std::printf("studio: warning: listening on %s: whoever reaches it with the token can see and drive the run\n",
+  if (!studio::isLoopback(options.bind))
+    std::printf("studio: warning: listening on %s (TLS): whoever reaches it with the token can see and drive the run\n",
                 options.bind.c_str());
   if (server.web_folder.empty())
     std::printf("studio: warning: no web front end found (studio/web/dist, or set COBRA_STUDIO_WEB); /api and /ws work\n");

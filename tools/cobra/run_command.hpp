@@ -15,6 +15,8 @@ struct StudioCommandOptions {
   bool live = false;               ///< cobra run --studio: serve the run while it runs
   unsigned short port = 0;         ///< 0: any free port
   std::string bind = "127.0.0.1";
+  /// PEM certificate and key: TLS (HTTPS, WSS); required for a bind address beyond loopback.
+  std::filesystem::path tls_cert, tls_key;
   double linger = -1.0;            ///< s the server stays after the run; < 0: until Ctrl-C
   std::filesystem::path executable;  ///< argv[0], to find the web front end
 };

@@ -92,7 +92,10 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
   const double active = timeOf(r, "TaskSup", "e_teleoperation_active");
   const double done = timeOf(r, "Surgeon", "e_teleop_done");
   const double moved = active + 1.0;  // the fault file moves the hand 1 s into the teleoperation
-  ASSERT_FALSE(std::isnan(active) || std::isnan(done)) << "the teleoperation never became active or never ended";
+  if (std::isnan(active) || std::isnan(done)) {
+    ADD_FAILURE() << "the teleoperation never became active or never ended";
+    return {};
+  }
   const Signals s(o.report_folder);
   // The switches: the commanded pose (the Endo Stitch's admittance) across each, one recorded
   // period (10 ms) either side.
