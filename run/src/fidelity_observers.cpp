@@ -277,15 +277,12 @@ class ClearanceObserver final : public Observer {
     std::string paused;
     for (const ClearancePause& pause : spec.pauses) paused += (paused.empty() ? "" : ", ") + pause.name;
     if (!paused.empty()) report.summary.push_back({"clearance not counted while", paused});
-    if (!c.pairs.empty()) {
-      std::string per_pair;
-      for (const ClearanceFigures::Pair& pair : c.pairs)
-        per_pair += (per_pair.empty() ? "" : ", ") + pair.name + " " +
-                    (std::isinf(pair.worst) ? std::string("-")
-                                            : millimetres(pair.worst) + " at" + seconds(pair.worst_at) + " (" +
-                                                  pair.worst_state + ")");
-      report.summary.push_back({"clearance per pair of groups (the smallest of each)", per_pair});
-    }
+    // Each pair of groups on its own row: which two came closest, when and where.
+    for (const ClearanceFigures::Pair& pair : c.pairs)
+      report.summary.push_back({"clearance of the pair " + pair.name + " (its smallest)",
+                                std::isinf(pair.worst) ? std::string("-")
+                                                       : millimetres(pair.worst) + " at" + seconds(pair.worst_at) +
+                                                             " (" + pair.worst_state + ")"});
     std::vector<std::pair<std::string, std::string>> contacts;
     for (const auto& [name, port] : spec.contacts) contacts.emplace_back("contact." + name, name);
     report.figures.push_back({"Minimum collision distance of the measured state (" + spec.port + ")",

@@ -85,7 +85,7 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_EQ(r.clearance.pairs[2].name, "micro/ur5");
   for (const ClearanceFigures::Pair& pair : r.clearance.pairs) EXPECT_GT(pair.worst, r.clearance.threshold) << pair.name;
   EXPECT_CONTAINS(html, "Clearance per pair of groups (NeedlePlanner.pairDistances)");
-  EXPECT_CONTAINS(html, "clearance per pair of groups (the smallest of each)");
+  EXPECT_CONTAINS(html, "clearance of the pair micro/ur5 (its smallest)");
   // One configuration row per scope in the timeline, no row mixing both robots' configurations.
   EXPECT_CONTAINS(html, ">needle configuration</text>");
   EXPECT_CONTAINS(html, ">probe configuration</text>");
