@@ -175,7 +175,7 @@ struct StudioSpec {
     std::string name, joints;
     int count = 0;  ///< joints, when no scene gives the robot's model (`{ "Comp.port", joints = 6 }`)
     /// A KinematicsSolver component whose DH chain draws the robot when no scene models it
-    /// (`{ "Comp.port", kinematics = "Kin" }`: its links and joint count); "" none.
+    /// (`{ "Comp.port", kinematics = "Comp" }`: its links and joint count); "" none.
     std::string kinematics;
     Where where;
   };
