@@ -17,6 +17,7 @@
 #                    rt-tests and stress-ng for the executor's bench beside cyclictest)
 #   fuzz [seconds]   build the libFuzzer targets (clang) and run each for [60] seconds, two at a time
 #   fuzz-seeds       check that every fuzzer's seed files (the repo's real inputs) exist
+#   screenshots      build cobra and the studio page, render docs/screenshots/*.png (tools/screenshots.sh)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -217,6 +218,7 @@ case "${1:-help}" in
       say "$b"
       "$b" --benchmark_counters_tabular=true
     done ;;
+  screenshots) build release --target cobra studio_web && tools/screenshots.sh ;;
   fuzz-seeds) check_fuzz_seeds ;;
   fuzz)
     seconds="${2:-60}"

@@ -108,6 +108,7 @@ CLAIMS = [
     ("README.md", "tracking under 0.5 mm for the needle and 1.2 mm for the probe", "puncturing",
      lambda s: all_of(s, worst_tracking_under("I-SUR needle", 0.5), worst_tracking_under("UR5 probe", 1.2))),
     ("README.md", "the clearance above its 5 mm threshold", "puncturing", clearance_above_threshold),
+    ("README.md", "faults detected (0 on the nominal run", "puncturing", figure("faults detected", "0")),
     ("apps/suturing/README.md", "66.5 s simulated", "suturing", figure("duration", "66.5")),
     ("apps/suturing/README.md", "8 half-stitches, 4 stitches", "suturing",
      lambda s: all_of(s, figure("half-stitches applied", "8"), figure("stitches completed", "4"))),

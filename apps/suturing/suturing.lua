@@ -91,9 +91,10 @@ run = {
   },
   -- The measured state's clearance as the planner measures it (apps/suturing/deployment/suturing.scene),
   -- the whole run long; the Endo Stitch in the wound (a contact only the motion primitives make,
-  -- `primitive_contact`) is left out of it and reported apart.
+  -- `primitive_contact`) is left out of it and reported apart; per pair of groups too.
   clearance = {
     port = "SuturePlanner.minDistance", threshold = "SuturePlanner.clearanceThreshold",
+    pairs = "SuturePlanner.pairDistances", pair_names = "SuturePlanner.clearancePairs",
     contacts = { { name = "Endo Stitch in the wound", port = "SuturePlanner.primitiveContactDistance" } },
   },
   -- cobra studio (studio/README.md): the planner's scene with the two-armed I-SUR's measured joints,

@@ -213,6 +213,7 @@ class ClearanceObserver final : public Observer {
     }
     column_ = run.recording.addDerived("clearance", "m");
     threshold_column_ = run.recording.addDerived("clearance.threshold", "m");
+    if (!spec.pairs.empty()) attachPairs(run, spec, figures);
   }
 
   void step(const Moment& now) override {
@@ -245,6 +246,7 @@ class ClearanceObserver final : public Observer {
         }
       }
     }
+    if (pairs_ != nullptr) stepPairs(now, counts);
     for (std::size_t k = 0; k < contacts_.size(); ++k) {
       double contact = NAN;
       if (!contacts_[k]->read(contact) || std::isnan(contact)) continue;
@@ -254,6 +256,7 @@ class ClearanceObserver final : public Observer {
     if (now.records) {
       run_->recording.set(column_, figures.last);
       run_->recording.set(threshold_column_, figures.threshold);
+      for (std::size_t k = 0; k < pair_columns_.size(); ++k) run_->recording.set(pair_columns_[k], pair_last_[k]);
     }
   }
 
@@ -274,15 +277,76 @@ class ClearanceObserver final : public Observer {
     std::string paused;
     for (const ClearancePause& pause : spec.pauses) paused += (paused.empty() ? "" : ", ") + pause.name;
     if (!paused.empty()) report.summary.push_back({"clearance not counted while", paused});
+    // Each pair of groups on its own row: which two came closest, when and where.
+    for (const ClearanceFigures::Pair& pair : c.pairs)
+      report.summary.push_back({"clearance of the pair " + pair.name + " (its smallest)",
+                                std::isinf(pair.worst) ? std::string("-")
+                                                       : millimetres(pair.worst) + " at" + seconds(pair.worst_at) +
+                                                             " (" + pair.worst_state + ")"});
     std::vector<std::pair<std::string, std::string>> contacts;
     for (const auto& [name, port] : spec.contacts) contacts.emplace_back("contact." + name, name);
     report.figures.push_back({"Minimum collision distance of the measured state (" + spec.port + ")",
                               {panel(recording, "clearance against its threshold", "t [s]", "distance [m]",
                                      {{"clearance", "clearance"}, {"clearance.threshold", "clearance threshold"}}, true),
                                panel(recording, "allowed contacts (0: touching or inside)", "t [s]", "distance [m]", contacts)}});
+    if (!c.pairs.empty()) {
+      std::vector<std::pair<std::string, std::string>> pairs;
+      for (const ClearanceFigures::Pair& pair : c.pairs) pairs.emplace_back("clearance." + pair.name, pair.name);
+      pairs.emplace_back("clearance.threshold", "clearance threshold");
+      report.figures.push_back({"Clearance per pair of groups (" + spec.pairs + ")",
+                                {panel(recording, "each pair's clearance against the threshold", "t [s]", "distance [m]",
+                                       pairs, true)}});
+    }
   }
 
  private:
+  // `pairs`: the names from the `pair_names` operation (comma-separated), one derived column
+  // "clearance.NAME" each; the port's sample and the worst states sized here, not per step.
+  void attachPairs(ObserverContext& run, const ClearanceSpec& spec, ClearanceFigures& figures) {
+    const std::string at = spec.pairs_where.text();
+    pairs_ = std::make_unique<Tap<std::vector<double>>>(run.components, spec.pairs, at, "run.clearance pairs",
+                                                        "vector<double> (m per pair)");
+    core::Component* owner = ownerOf(run.components, spec.pair_names, true);
+    if (owner == nullptr)
+      throw std::runtime_error(at + ": run.clearance: pair_names '" + spec.pair_names +
+                               "' is not an operation Comp.name (returning the pairs' names, comma-separated)");
+    const std::string names = owner->call<std::string>(memberOf(spec.pair_names));
+    for (std::size_t from = 0; from < names.size();) {
+      const std::size_t comma = std::min(names.find(',', from), names.size());
+      if (comma > from) figures.pairs.emplace_back().name = names.substr(from, comma - from);
+      from = comma + 1;
+    }
+    if (figures.pairs.empty())
+      throw std::runtime_error(at + ": run.clearance: pair_names '" + spec.pair_names + "' names no pair");
+    for (ClearanceFigures::Pair& pair : figures.pairs) {
+      pair_columns_.push_back(run.recording.addDerived("clearance." + pair.name, "m"));
+      pair.worst_state.reserve(kStateReserve);
+    }
+    pair_values_.reserve(figures.pairs.size());
+    pair_last_.assign(figures.pairs.size(), NAN);
+  }
+
+  // Each pair's newest clearance, its worst while the clearance counts (no allocation: the
+  // sample's and the states' room was made at attach; a longer state text than that grows once).
+  void stepPairs(const Moment& now, bool counts) {
+    std::vector<ClearanceFigures::Pair>& pairs = run_->result.clearance.pairs;
+    std::fill(pair_last_.begin(), pair_last_.end(), NAN);
+    if (!counts || !pairs_->read(pair_values_)) return;
+    for (std::size_t k = 0; k < pairs.size() && k < pair_values_.size(); ++k) {
+      const double d = pair_values_[k];
+      pair_last_[k] = d;
+      if (std::isnan(d) || d >= pairs[k].worst) continue;
+      pairs[k].worst = d, pairs[k].worst_at = now.t;
+      std::string& state = pairs[k].worst_state;
+      state.clear();
+      for (const ChartState* c : run_->charts) {
+        if (!state.empty()) state += ", ";
+        state.append(c->spec->name).append(" ").append(c->state);
+      }
+    }
+  }
+
+  static constexpr std::size_t kStateReserve = 256;  // characters of "needle root.X, us root.Y"
   ObserverContext* run_ = nullptr;
   std::unique_ptr<Tap<double>> clearance_;
   std::vector<std::unique_ptr<Tap<double>>> contacts_;
@@ -290,6 +354,9 @@ class ClearanceObserver final : public Observer {
   std::vector<const ChartState*> pause_charts_;  // per pause: its chart
   std::size_t column_ = 0, threshold_column_ = 0;
   std::vector<std::size_t> contact_columns_;
+  std::unique_ptr<Tap<std::vector<double>>> pairs_;  // nullptr: no `pairs`
+  std::vector<double> pair_values_, pair_last_;     // m per pair: the port's sample, the recorded value
+  std::vector<std::size_t> pair_columns_;
 };
 
 }  // namespace
@@ -353,6 +420,13 @@ ObserverRegistry::Kind clearanceObserver() {
             c.list("contacts", [&](Reader& contact) {
               clearance.contacts.emplace_back(contact.string("name", true), contact.string("port", true));
             });
+            clearance.pairs = c.string("pairs", false);
+            clearance.pair_names = c.string("pair_names", false);
+            clearance.pairs_where = {c.where().file, c.lineOf(clearance.pairs.empty() ? clearance.pair_names : clearance.pairs)};
+            if (clearance.pairs.empty() != clearance.pair_names.empty())
+              throw std::runtime_error(clearance.pairs_where.text() + ": " + c.path() +
+                                       ": `pairs` (a vector<double> port, m per pair) and `pair_names` "
+                                       "(\"Comp.operation\" naming them) go together");
             c.list("pauses", [&](Reader& pause) {
               clearance.pauses.push_back(
                   {pause.string("name", true), pause.string("chart", true), pause.strings("from"), pause.strings("to")});

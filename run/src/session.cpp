@@ -132,6 +132,7 @@ Session::Session(const RunOptions& options, std::filesystem::path entry)
     if (std::find(scopes_.begin(), scopes_.end(), c.scope) == scopes_.end()) scopes_.push_back(c.scope);
   shown_deployment_.resize(scopes_.size());
   scope_configuration_.resize(scopes_.size());
+  timeline_configuration_.resize(scopes_.size());
   if (!options_.realtime)
     for (const core::Component* c : refs_.components())
       if (const auto* supervisor = dynamic_cast<const components::Supervisor*>(c)) switchers_.emplace_back(supervisor, "");
@@ -385,10 +386,16 @@ void Session::observeSwitches() {
   if (configurator_.currentConfiguration() != shown_configuration_) {
     shown_configuration_ = configurator_.currentConfiguration();
     assignConfiguration(shown_configuration_);
-    timeline_.observe(t_, "configuration", shown_configuration_);
     result_.switches.push_back(seconds(t_) + " configuration " + shown_configuration_);
     result_.log.push_back("configuration > " + shown_configuration_);
     say("  configuration -> " + shown_configuration_);
+  }
+  // One timeline row per scope: the configuration in force over that scope's components.
+  for (std::size_t s = 0; s < scopes_.size(); ++s) {
+    if (scope_configuration_[s] == timeline_configuration_[s]) continue;
+    timeline_configuration_[s] = scope_configuration_[s];
+    timeline_.observe(t_, (scopes_[s].empty() ? std::string() : scopes_[s] + " ") + "configuration",
+                      scope_configuration_[s].empty() ? "(none)" : scope_configuration_[s]);
   }
   if (switched) {  // a deployment may bring its own components
     components_ = refs_.components();

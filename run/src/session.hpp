@@ -193,6 +193,7 @@ class Session {
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;
   std::vector<std::string> scope_configuration_;  // per scope: the configuration in force (StepView)
+  std::vector<std::string> timeline_configuration_;  // per scope: what its "configuration" row shows
   // Lockstep clock: every Supervisor with the configuration it last had applied, as last seen
   // (two applied in one step are both seen; Configurator::currentConfiguration keeps the last only).
   std::vector<std::pair<const components::Supervisor*, std::string>> switchers_;

@@ -34,15 +34,27 @@ class SummaryObserver final : public Observer {
         e.chart = run.chart(s.chart);
         if (e.chart == nullptr) throw std::runtime_error(at + ": " + use + ": unknown chart '" + s.chart + "'");
       }
+      for (const SummarySpec::Expected& expected : s.expected) {
+        e.expected_charts.push_back(run.chart(expected.chart));
+        if (e.expected_charts.back() == nullptr)
+          throw std::runtime_error(at + ": " + use + ": expected '" + expected.event + "': unknown chart '" +
+                                   expected.chart + "'");
+      }
+      e.expected_events.reserve(kExpectedReserve);
       e.index = run.result.summary.size();
-      entries_.push_back(std::move(e));
       run.result.summary.push_back({s.name, s.unit, {}, {}, {}});
+      if (!s.expected.empty()) {
+        e.expected_index = run.result.summary.size();
+        run.result.summary.push_back({"expected task events", "", {}, {}, {}});
+      }
+      entries_.push_back(std::move(e));
     }
   }
 
   // On a chart's entry into (or exit from) the state; in every catch-up round too (the wall
   // clock's states between two observations), since it follows chart states only.
   void step(const Moment& now) override {
+    if (now.full) markExpected();
     for (Entry& e : entries_) {
       const SummarySpec& s = *e.spec;
       if (s.kind == SummarySpec::Kind::Count || !e.chart->changed) continue;
@@ -68,10 +80,7 @@ class SummaryObserver final : public Observer {
       SummaryValue& v = result.summary[e.index];
       const SummarySpec& s = *e.spec;
       if (s.kind == SummarySpec::Kind::Count) {
-        for (const EventRecord& event : result.events)
-          if (std::find(s.events.begin(), s.events.end(), event.event.substr(0, event.event.find(' '))) != s.events.end())
-            v.values.push_back(1.0), v.times.push_back(event.time);
-        v.text = std::to_string(v.values.size());
+        countEvents(e, result);
         continue;
       }
       char number[32];
@@ -88,13 +97,70 @@ class SummaryObserver final : public Observer {
  private:
   struct Entry {
     const SummarySpec* spec = nullptr;
+    std::vector<const ChartState*> expected_charts;  // per SummarySpec::expected
+    std::vector<std::size_t> expected_events;        // indices in RunResult::events heard where expected
+    std::size_t expected_index = 0;                  // its row in RunResult::summary (with `expected`)
     std::vector<std::unique_ptr<Tap<KDL::Frame>>> frames;  // Distance
     std::unique_ptr<Tap<double>> value;                    // Port
     const ChartState* chart = nullptr;                     // not Count
     std::size_t index = 0;                                 // in RunResult::summary
   };
+  // The events heard since the last full step that are expected where the charts are now (or
+  // were, for a chart that left the state in this step: the event may be what moved it).
+  void markExpected() {
+    const std::vector<EventRecord>& events = run_->result.events;
+    for (; events_seen_ < events.size(); ++events_seen_) {
+      const std::string& text = events[events_seen_].event;
+      for (Entry& e : entries_) {
+        const std::vector<SummarySpec::Expected>& expected = e.spec->expected;
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+          const ChartState& chart = *e.expected_charts[k];
+          if (isEvent(text, expected[k].event) &&
+              (startsWith(chart.state, expected[k].state) || (chart.changed && startsWith(chart.previous, expected[k].state)))) {
+            e.expected_events.push_back(events_seen_);
+            break;
+          }
+        }
+      }
+    }
+  }
+
+  // A Count entry: its events, those heard where expected on their own row ("e_x x2, e_y x1").
+  static void countEvents(const Entry& e, RunResult& result) {
+    const SummarySpec& s = *e.spec;
+    SummaryValue& v = result.summary[e.index];
+    std::vector<std::pair<std::string, int>> expected;  // event, times heard where expected
+    for (std::size_t i = 0; i < result.events.size(); ++i) {
+      const EventRecord& event = result.events[i];
+      const std::string name = event.event.substr(0, event.event.find(' '));
+      if (std::find(s.events.begin(), s.events.end(), name) == s.events.end()) continue;
+      if (!std::binary_search(e.expected_events.begin(), e.expected_events.end(), i)) {
+        v.values.push_back(1.0), v.times.push_back(event.time);
+        continue;
+      }
+      SummaryValue& x = result.summary[e.expected_index];
+      x.values.push_back(1.0), x.times.push_back(event.time);
+      auto seen = std::find_if(expected.begin(), expected.end(), [&](const auto& p) { return p.first == name; });
+      if (seen == expected.end()) expected.emplace_back(name, 1);
+      else ++seen->second;
+    }
+    v.text = std::to_string(v.values.size());
+    if (s.expected.empty()) return;
+    std::string& text = result.summary[e.expected_index].text;
+    for (const auto& [name, times] : expected)
+      text += (text.empty() ? "" : ", ") + name + " x" + std::to_string(times);
+    if (text.empty()) text = "none";
+  }
+
+  // "e_x" or "e_x payload" is the event e_x.
+  static bool isEvent(const std::string& text, const std::string& name) {
+    return text.compare(0, name.size(), name) == 0 && (text.size() == name.size() || text[name.size()] == ' ');
+  }
+
+  static constexpr std::size_t kExpectedReserve = 64;  // expected events per run before the list grows
   ObserverContext* run_ = nullptr;
   std::vector<Entry> entries_;
+  std::size_t events_seen_ = 0;  // RunResult::events looked at by markExpected
 };
 
 }  // namespace
@@ -113,6 +179,14 @@ ObserverRegistry::Kind summaryObserver() {
               if (s.has("count")) {
                 value.kind = SummarySpec::Kind::Count;
                 value.events = s.strings("count");
+                s.list("expected", [&](Reader& x) {
+                  SummarySpec::Expected expected;
+                  expected.event = x.string("event", true);
+                  std::tie(expected.chart, expected.state) = detail::chartState(x, x.string("during", true));
+                  if (std::find(value.events.begin(), value.events.end(), expected.event) == value.events.end())
+                    x.fail("event '" + expected.event + "' is not one of `count`");
+                  value.expected.push_back(std::move(expected));
+                }, "event");
               } else {
                 value.kind = s.has("distance") ? SummarySpec::Kind::Distance : SummarySpec::Kind::Port;
                 value.ports = s.strings(s.has("distance") ? "distance" : "port");

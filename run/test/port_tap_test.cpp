@@ -3,6 +3,7 @@
 // its type (cobra::types::registerType<T>()), is tapped and recorded by its fields with their
 // units; its text field is left out; reading allocates nothing after the first value; a port of a
 // type without a CSV codec or without numeric columns is refused naming the types that are tapped.
+// A Tap of a vector port read into a vector with room (the clearance per pair) allocates nothing.
 
 #include "cobra/run/port_tap.hpp"
 
@@ -188,6 +189,24 @@ TEST(NumericTap, ReadingAllocatesNothingAfterTheFirstValue) {
   joints.read(row);
   EXPECT_EQ(row.size(), 6u);
   EXPECT_EQ(row[0], 100.0);
+}
+
+// The clearance observer reads a planner's pairDistances (vector<double>, one value per pair)
+// every step into a vector it gave room for at attach: reading allocates nothing then.
+TEST(Tap, AVectorPortReadIntoAVectorWithRoomAllocatesNothing) {
+  core::ComponentRegistry registry;
+  auto& probe = registry.make<Probe>("P");
+  Tap<std::vector<double>> pairs(registry, "P.values", "f.lua:1", "run.clearance pairs", "vector<double> (m per pair)");
+  std::vector<double> written(5, 0.0), read;
+  read.reserve(written.size());  // as at attach: room for one value per pair
+  long allocations = 0;
+  for (int i = 1; i <= 100; ++i) {
+    written[static_cast<std::size_t>(i % 5)] = i;
+    probe.values.write(written);
+    allocations += test_support::allocationsDuring([&] { EXPECT_TRUE(pairs.read(read)); });
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(read, (std::vector<double>{100.0, 96.0, 97.0, 98.0, 99.0}));
 }
 
 TEST(NumericTap, APortWithoutNumericCsvColumnsIsRefusedNamingTheTypesThatAreTapped) {

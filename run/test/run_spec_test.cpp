@@ -92,6 +92,46 @@ run = {
   EXPECT_EQ(spec.clearance.pauses[0].to, (std::vector<std::string>{"Out"}));
 }
 
+TEST(RunSpec, ReadsTheClearancePerPairAndTheExpectedEventsOfACount) {
+  const RunSpec spec = read(R"(
+run = {
+  charts = { { name = "a", supervisor = "ASup", done = "root.Done" } },
+  summary = { { name = "faults", count = { "e_x", "e_lost" },
+                expected = { { event = "e_lost", during = "a:root.Removing" } } } },
+  clearance = { port = "E.d", threshold = 0.005,
+                pairs = "E.pairDistances", pair_names = "E.clearancePairs" },
+}
+)");
+  ASSERT_EQ(spec.summary[0].expected.size(), 1u);
+  EXPECT_EQ(spec.summary[0].expected[0].event, "e_lost");
+  EXPECT_EQ(spec.summary[0].expected[0].chart, "a");
+  EXPECT_EQ(spec.summary[0].expected[0].state, "root.Removing");
+  EXPECT_EQ(spec.clearance.pairs, "E.pairDistances");
+  EXPECT_EQ(spec.clearance.pair_names, "E.clearancePairs");
+  EXPECT_EQ(spec.clearance.pairs_where.line, 7);
+}
+
+TEST(RunSpec, ABadClearancePairOrExpectedEventIsOneLineWithFileLineAndWhatIsExpected) {
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  clearance = { port = 'E.d', threshold = 0.005, pairs = 'E.p' },\n}\n");
+                  }),
+                  "entry.lua:3: run.clearance: `pairs` (a vector<double> port, m per pair) and `pair_names` "
+                  "(\"Comp.operation\" naming them) go together");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  summary = { { name = 'f', count = { 'e_x' },\n"
+                         "                expected = { { event = 'e_y', during = 'a:root.R' } } } },\n}\n");
+                  }),
+                  "entry.lua:4: run.summary[1].expected[1]: event 'e_y' is not one of `count`");
+  EXPECT_CONTAINS(messageOf([] {
+                    read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
+                         "  summary = { { name = 'f', count = { 'e_x' },\n"
+                         "                expected = { { event = 'e_x', during = 'root.R' } } } },\n}\n");
+                  }),
+                  "state 'root.R' must be written chart:state path");
+}
+
 TEST(RunSpec, JointVelocityLimitsAreAPropertyOrTheLimitsThemselves) {
   const RunSpec spec = read("run = {\n  charts = { { name = 'a', supervisor = 'S', done = 'd' } },\n"
                             "  tracking = { { name = 't', commanded = 'C.c', measured = 'C.m', joints = 'C.q',\n"

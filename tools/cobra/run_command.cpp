@@ -24,6 +24,13 @@ void printResult(const run::RunResult& result) {
     std::printf("worst clearance %.2f mm (threshold %.2f mm) at %.3f s; %.3f s at or under it; %d unmeasurable\n",
                 1000.0 * result.clearance.worst, 1000.0 * result.clearance.threshold, result.clearance.worst_at,
                 result.clearance.seconds_below, result.clearance.unreachable);
+  if (!result.clearance.pairs.empty()) {
+    std::printf("clearance per pair:");
+    for (std::size_t k = 0; k < result.clearance.pairs.size(); ++k)
+      std::printf("%s %s %.2f mm", k == 0 ? "" : ",", result.clearance.pairs[k].name.c_str(),
+                  1000.0 * result.clearance.pairs[k].worst);
+    std::printf("\n");
+  }
   if (result.executor.ran) std::printf("%s\n", run::executorLine(result.executor).c_str());
   if (!result.report.empty()) std::printf("report: %s\n", result.report.c_str());
 }

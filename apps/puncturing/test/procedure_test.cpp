@@ -77,7 +77,23 @@ TEST(PuncturingProcedure, TheNominalTwoNeedleProcedureCompletesThroughThePhasesA
   EXPECT_CONTAINS(html, "Energy tanks of the variable admittances");
   EXPECT_CONTAINS(signals, ",tracking.I-SUR needle.mm [mm],tracking.I-SUR needle.deg [deg],tracking.UR5 probe.mm [mm],"
                            "tracking.UR5 probe.deg [deg],");
-  EXPECT_CONTAINS(signals, ",contact.probe on skin [m],contact.needle in tissue [m],clearance [m],clearance.threshold [m]\n");
+  EXPECT_CONTAINS(signals, ",contact.probe on skin [m],contact.needle in tissue [m],clearance [m],clearance.threshold [m],"
+                           "clearance.macro/micro [m],clearance.macro/ur5 [m],clearance.micro/ur5 [m],"
+                           "clearance.micro/environment [m],clearance.ur5/environment [m]\n");
+  // The clearance per pair of groups (the planner's pairDistances): each above the threshold.
+  ASSERT_EQ(r.clearance.pairs.size(), 5u);
+  EXPECT_EQ(r.clearance.pairs[2].name, "micro/ur5");
+  for (const ClearanceFigures::Pair& pair : r.clearance.pairs) EXPECT_GT(pair.worst, r.clearance.threshold) << pair.name;
+  EXPECT_CONTAINS(html, "Clearance per pair of groups (NeedlePlanner.pairDistances)");
+  EXPECT_CONTAINS(html, "clearance of the pair micro/ur5 (its smallest)");
+  // One configuration row per scope in the timeline, no row mixing both robots' configurations.
+  EXPECT_CONTAINS(html, ">needle configuration</text>");
+  EXPECT_CONTAINS(html, ">probe configuration</text>");
+  EXPECT_EQ(html.find(">configuration</text>"), std::string::npos);
+  // The nominal procedure's own events (the needle pulled out of the image, the probe leaving the
+  // skin for the next needle) are expected task events, not faults.
+  EXPECT_EQ(r.value("faults detected").text, "0");
+  EXPECT_EQ(r.value("expected task events").text, "e_needle_lost x2, e_probe_contact_lost x1");
   expectInOrder(r, {
       // A: both robots at their initial poses; the surgeon configures the iceballs. The I-SUR
       // robot's initial pose is the first needle change pose, which leaves room for the probe.
@@ -183,6 +199,9 @@ TEST(PuncturingProcedure, TheUltrasoundLosingTheNeedlePausesTheInsertionUntilItI
   const RunResult r = runApp(withFaults("needle_lost.lua"));
   ASSERT_TRUE(r.completed()) << r.reason;
   expectPlaced(r, 2);
+  // Lost mid-insertion, it is a fault; as each needle is pulled out, an expected task event.
+  EXPECT_EQ(r.value("faults detected").text, "1");
+  EXPECT_EQ(r.value("expected task events").text, "e_needle_lost x2, e_probe_contact_lost x1");
   expectInOrder(r, {"needle > root.InsertingNeedles.MoveToTumor", fault("needle_lost.lua", 5),
                     fault("needle_lost.lua", 7), "USMonitor: e_needle_lost", "us > root.USPositioned.SearchingNeedle",
                     fault("needle_lost.lua", 9), fault("needle_lost.lua", 11), "USMonitor: e_needle_visible",

@@ -110,6 +110,14 @@ struct SummarySpec {
   enum class Kind { Distance, Port, Count } kind = Kind::Count;
   std::vector<std::string> ports;   ///< Distance: two Frame ports; Port: one double port
   std::vector<std::string> events;  ///< Count
+  /// Count: an event of `events` the task causes itself where it is expected (the ultrasound
+  /// losing the needle while the needle chart takes it out): heard while `chart` is in `state`
+  /// (a prefix of its state path), it is counted on a row of its own ("expected task events"),
+  /// not as one of `events`.
+  struct Expected {
+    std::string event, chart, state;
+  };
+  std::vector<Expected> expected;
   std::string chart, state;         ///< when: the chart enters (`leave` false) or leaves a state
   bool leave = false;
   std::string of;  ///< "Comp.operation" returning how many samples are expected (int): "2 of 2"
@@ -147,7 +155,11 @@ struct ClearanceSpec {
   std::string threshold_operation;  ///< "Comp.operation" returning it, when given as a name
   std::vector<std::pair<std::string, std::string>> contacts;  ///< name, double port [m]
   std::vector<ClearancePause> pauses;
-  Where where;
+  /// Per pair of groups (optional, both or neither): a vector<double> port of one clearance per
+  /// pair [m] (NaN: not measurable) and the "Comp.operation" naming them, comma-separated in the
+  /// port's order ("macro/micro,micro/ur5"; a MotionPlanner's pairDistances and clearancePairs).
+  std::string pairs, pair_names;
+  Where where, pairs_where;
 };
 
 /// `run.studio`: what cobra studio shows of the run and the surgeon's inputs it offers
@@ -163,7 +175,7 @@ struct StudioSpec {
     std::string name, joints;
     int count = 0;  ///< joints, when no scene gives the robot's model (`{ "Comp.port", joints = 6 }`)
     /// A KinematicsSolver component whose DH chain draws the robot when no scene models it
-    /// (`{ "Comp.port", kinematics = "Kin" }`: its links and joint count); "" none.
+    /// (`{ "Comp.port", kinematics = "Comp" }`: its links and joint count); "" none.
     std::string kinematics;
     Where where;
   };

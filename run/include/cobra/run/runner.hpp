@@ -167,6 +167,15 @@ struct ClearanceFigures {
   /// Per declared contact: its name and smallest distance [m] (0: touching or inside).
   std::vector<std::pair<std::string, double>> contacts;
   double last = std::numeric_limits<double>::quiet_NaN();  ///< m, the last sample (NaN: none, or paused)
+  /// Per pair of groups of `run.clearance.pairs`: its smallest clearance over the samples that
+  /// count (m; +inf before any), when and every chart's state then.
+  struct Pair {
+    std::string name;  ///< "micro/ur5"
+    double worst = std::numeric_limits<double>::infinity();
+    double worst_at = 0.0;  ///< s
+    std::string worst_state;
+  };
+  std::vector<Pair> pairs;
 };
 
 /// How the real-time executor kept time (a run on the wall clock with the executor).
