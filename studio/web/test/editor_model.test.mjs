@@ -167,7 +167,7 @@ test('the palette grouped by package and searched by every word; its data types;
   assert.deepEqual(all.map((g) => g.package), [...palette.packages]);
   assert.equal(all.reduce((n, g) => n + g.types.length, 0), palette.types.length);
   // "wrench" in a name, doc or port name, and the role Calculation (groups in the packages' order).
-  assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['VariableAdmittance', 'EquivalentWrench']);
+  assert.deepEqual(paletteGroups(palette, 'WRENCH calculation').flatMap((g) => g.types.map((t) => t.type)), ['LinkImpairment', 'VariableAdmittance', 'EquivalentWrench']);
   assert.deepEqual(paletteGroups(palette, 'supervision').map((g) => g.package), ['cobra_coordination', 'fixture_types']);
   // The generator's types: the data types flagged generate, a package's too, in the palette's order.
   const known = generatorTypes(palette);
