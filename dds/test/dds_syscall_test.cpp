@@ -52,6 +52,13 @@ TEST(DdsSystemCalls, WritingIntoTheWritersEndMakesNoSystemCall) {
 #if !defined(__x86_64__)
   GTEST_SKIP() << "reads the system call number from x86-64's registers";
 #endif
+#if defined(__SANITIZE_THREAD__)
+  // ThreadSanitizer's runtime guards its own bookkeeping of each atomic with locks of its own,
+  // which wait in futex when Fast DDS's thread touches the same channel at that moment (1 of 1000
+  // writes, in about one run in four): its system calls, not the product's. The release build
+  // (and the ASan one) count the writing thread's calls.
+  GTEST_SKIP() << "under ThreadSanitizer its runtime's own locks make system calls";
+#endif
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) writer();
