@@ -268,15 +268,21 @@ bool StateValidator::toolPoses(std::span<const double> q, DualPose& tools) {
   return true;
 }
 
-StateValidator::Distances StateValidator::distancesAt(std::span<const double> q) {
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if (!joint_space_ || q.size() != jointCount() || !placeRobotsAt(q).valid()) return {kNaN, kNaN, kNaN};
-  return placedDistances();
+StateValidator::Distances StateValidator::distancesAt(std::span<const double> q, std::span<double> pairs) {
+  return placedDistances(joint_space_ && q.size() == jointCount() && placeRobotsAt(q).valid(), pairs);
 }
 
-StateValidator::Distances StateValidator::distancesAt(const DualPose& q) {
+StateValidator::Distances StateValidator::distancesAt(const DualPose& q, std::span<double> pairs) {
+  return placedDistances(placeRobots(q).valid(), pairs);
+}
+
+StateValidator::Distances StateValidator::placedDistances(bool placed, std::span<double> pairs) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if (!placeRobots(q).valid()) return {kNaN, kNaN, kNaN};
+  if (!placed) {
+    std::fill(pairs.begin(), pairs.end(), kNaN);
+    return {kNaN, kNaN, kNaN};
+  }
+  placedPairDistances(pairs);
   return placedDistances();
 }
 

@@ -254,13 +254,11 @@ void MotionPlannerComponent::updateHook() {
     last_clearance_ns_ = now_ns;
     if (measuredJoints()) {
       if (joints_ != clearance_joints_) {  // the same joints: the same distances, not measured again
-        clearance_ = validator_->distancesAt(joints_);
-        validator_->pairDistancesAt(joints_, pair_values_);
+        clearance_ = validator_->distancesAt(joints_, pair_values_);  // one FK for both
         clearance_joints_ = joints_;
       }
     } else {
-      clearance_ = validator_->distancesAt(measured_);
-      validator_->pairDistancesAt(measured_, pair_values_);
+      clearance_ = validator_->distancesAt(measured_, pair_values_);
     }
     pair_distances_.write(pair_values_);
     min_distance_.write(clearance_.clearance);

@@ -125,10 +125,12 @@ class StateValidator {
     double allowed_contact = 0.0;
     double primitive_contact = 0.0;
   };
-  Distances distancesAt(std::span<const double> q);
+  /// `pairs`, when not empty: pairDistancesAt()'s values of the same placement as well (one FK
+  /// or IK of the robots for both; NaNs with the rest).
+  Distances distancesAt(std::span<const double> q, std::span<double> pairs = {});
   /// The same for tool poses q (each robot's IK from its configured seed); all NaN when q is
   /// unreachable or invalid.
-  Distances distancesAt(const DualPose& q);
+  Distances distancesAt(const DualPose& q, std::span<double> pairs = {});
 
   /// The clearance per pair of groups, each robot against each other and against the patient:
   /// the scene's checked group pairs whose distance the robots' joints change, named
@@ -155,6 +157,8 @@ class StateValidator {
   ValidityResult placeRobotsAt(std::span<const double> q);
   /// distancesAt() of the placed robots.
   Distances placedDistances();
+  /// The same when `placed` (and the pair distances into `pairs`), all NaN otherwise.
+  Distances placedDistances(bool placed, std::span<double> pairs);
   /// pairDistancesAt() of the placed robots.
   void placedPairDistances(std::span<double> out) const;
   /// clearancePairs() and their moving object pairs (at construction).
