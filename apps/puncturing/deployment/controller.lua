@@ -114,9 +114,8 @@ return function(c)
   -- most 1000 N/m (suturing's measured rule: 1000 N/m oscillated by mm at 100 ms), unless
   -- teleop_link.stiffness says. N·m/rad, N·m·s/rad: the tool's orientation follows the master's
   -- (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s); no device renders a torque.
-  local lag = coupling.lag(teleop_link)
   local transparency = _G[n("Transparency")]
-  transparency.stiffness = (teleop_link and teleop_link.stiffness) or (lag > 0 and math.min(1000, 30 / lag) or 1000)
+  transparency.stiffness = coupling.stiffness(teleop_link)
   transparency.damping = 20
   transparency.rotational_stiffness = 20
   transparency.rotational_damping = 0.5

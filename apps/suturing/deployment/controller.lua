@@ -12,6 +12,7 @@ local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
 local charts = assert(COBRA_CHARTS, "cobra's charts folder is not found (COBRA_CHARTS): run with the cobra tool, or set "
   .. "COBRA_DATA_DIR to its share/cobra folder")  -- the deployment and configuration supervisors
 local buffered = { type = "buffer", size = 64 }
+local couplings = dofile(charts .. "teleoperation_coupling.lua")  -- the two-layer coupling's wiring
 
 local devices = {
   -- Leap Motion (§5.4.4): the simulated device and the driver reading it; both hands (the
@@ -130,8 +131,7 @@ end
 -- and the tool oscillating by mm (measured at 100 ms), 300 N/m settles; the stiffness is
 -- 30 N·s/m / (delay + jitter) then, at most 1000 N/m, unless teleop_link.stiffness says.
 local link = teleop_link or {}
-local lag = (link.delay or 0.0) + (link.jitter or 0.0)  -- s
-local coupling_stiffness = link.stiffness or (lag > 0 and math.min(1000, 30 / lag) or 1000)
+local coupling_stiffness = couplings.stiffness(teleop_link)
 for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   t.stiffness = coupling_stiffness
   t.damping = 20
@@ -143,17 +143,9 @@ for _, t in ipairs({ RightTransparency, LeftTransparency }) do
 end
 -- The master tanks pay for the wrench the device renders, not for one it cannot exert (a device
 -- that declares no limit: any wrench).
-for _, p in ipairs({ RightPassivity, LeftPassivity }) do
-  if device.max_force then p.master_max_force = device.max_force end
-  if device.max_torque then p.master_max_torque = device.max_torque end
-end
+for _, p in ipairs({ "RightPassivity", "LeftPassivity" }) do couplings.render(p, device) end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
-for i, l in ipairs({ RightLink, LeftLink }) do
-  l.delay = link.delay or 0.0
-  l.jitter = link.jitter or 0.0
-  l.loss = link.loss or 0.0
-  l.seed = (link.seed or 1) + 2 * (i - 1)  -- each link draws its own losses (a link uses seed and seed + 1)
-end
+couplings.impair({ "RightLink", "LeftLink" }, teleop_link)  -- each link draws its own losses
 addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches",
                                                      "RightTransparency", "LeftTransparency" } } })
 
@@ -263,33 +255,12 @@ for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.pee
 -- the surgeon feels.
 local function coupling(side, arm)
   local lower = side:lower()
-  local c = {
-    { output = device[lower], input = side .. "Link.masterPose" },
-    { output = side .. "Link.linkedMasterPose", input = side .. "Clutch.masterPose" },
-    { output = "ISUR.meas" .. side .. "CartPose", input = side .. "Clutch.slavePose" },
-    { output = side .. "Clutch.desPose", input = side .. "Transparency.masterPose" },
-    { output = side .. "Link.linkedMasterTwist", input = side .. "Transparency.masterTwist" },
-    { output = arm .. ".admPose", input = side .. "Transparency.slavePose" },
-    { output = arm .. ".admTwist", input = side .. "Transparency.slaveTwist" },
-    { output = side .. "Transparency.masterForceDesired", input = side .. "Passivity.masterForceDesired" },
-    { output = side .. "Transparency.slaveForceDesired", input = side .. "Passivity.slaveForceDesired" },
-    { output = side .. "Link.linkedMasterTwist", input = side .. "Passivity.masterTwist" },
-    { output = arm .. ".admTwist", input = side .. "Passivity.slaveTwist" },
-    { output = side .. "Passivity.slaveForce", input = arm .. ".extWrench" },
-    { output = side .. "Passivity.masterForce", input = side .. "Link.slaveWrench" },
-    -- The tanks fill with what the robots dissipate (eq. 4.19): the slave's admittance damping
-    -- here, the Omni's backdrive friction (the Leap has none); a device's dissipation is reported
-    -- beside the link (a figure for the tank, not a sample of the coupling).
-    { output = arm .. ".dissipatedPower", input = side .. "Passivity.slaveDissipation" },
+  return couplings.connections {
+    link = side .. "Link", clutch = side .. "Clutch", transparency = side .. "Transparency",
+    passivity = side .. "Passivity", admittance = arm, slave_pose = "ISUR.meas" .. side .. "CartPose",
+    master = { pose = device[lower], twist = device[lower .. "_twist"], feedback = device[lower .. "_feedback"],
+               dissipation = device[lower .. "_dissipation"] },
   }
-  if device[lower .. "_dissipation"] then
-    c[#c + 1] = { output = device[lower .. "_dissipation"], input = side .. "Passivity.masterDissipation" }
-  end
-  if device[lower .. "_twist"] then c[#c + 1] = { output = device[lower .. "_twist"], input = side .. "Link.masterTwist" } end
-  if device[lower .. "_feedback"] then
-    c[#c + 1] = { output = side .. "Link.linkedSlaveWrench", input = device[lower .. "_feedback"] }
-  end
-  return c
 end
 defineDeployment("suturing_teleoperated", {
   scope = "suture",
