@@ -5,18 +5,13 @@
 #include <stdexcept>
 
 #include "cobra/core/activity.hpp"
+#include "cobra/kinematics/geometry.hpp"
 
 namespace cobra::components {
 namespace {
 
-control::Vector6 twist(const KDL::Twist& t) {
-  return (control::Vector6() << t.vel.x(), t.vel.y(), t.vel.z(), t.rot.x(), t.rot.y(), t.rot.z()).finished();
-}
-KDL::Wrench wrench(const control::Vector6& w) { return {KDL::Vector(w(0), w(1), w(2)), KDL::Vector(w(3), w(4), w(5))}; }
-control::Vector6 wrench(const KDL::Wrench& w) {
-  return (control::Vector6() << w.force.x(), w.force.y(), w.force.z(), w.torque.x(), w.torque.y(), w.torque.z())
-      .finished();
-}
+using kinematics::toEigen;  // [linear; angular], as the layers take them
+using kinematics::toKdlWrench;
 
 core::Property<double> level(const char* tank, const char* which, double value, const char* doc) {
   return core::Property<double>(std::string(tank) + "_" + which, value, "J", doc);
@@ -65,9 +60,9 @@ void TransparencyLayerComponent::updateHook() {
   (void)master_twist_.read(master_velocity_);
   (void)slave_twist_.read(slave_velocity_);
   control::Vector6 fm, fs;
-  layer_->compute(seconds(), master_, twist(master_velocity_), slave_, twist(slave_velocity_), fm, fs);
-  master_force_.write(wrench(fm));
-  slave_force_.write(wrench(fs));
+  layer_->compute(seconds(), master_, toEigen(master_velocity_), slave_, toEigen(slave_velocity_), fm, fs);
+  master_force_.write(toKdlWrench(fm));
+  slave_force_.write(toKdlWrench(fs));
 }
 
 PassivityLayerComponent::PassivityLayerComponent(std::string name)
@@ -113,15 +108,15 @@ void PassivityLayerComponent::updateHook() {
   (void)master_dissipation_.read(master_power_);
   (void)slave_dissipation_.read(slave_power_);
   const double dt = std::chrono::duration<double>(activity().period()).count();
-  const control::PassivityStep out = layer_->step(dt, wrench(master_wanted_), wrench(slave_wanted_),
-                                                  twist(master_velocity_), twist(slave_velocity_), master_power_,
+  const control::PassivityStep out = layer_->step(dt, toEigen(master_wanted_), toEigen(slave_wanted_),
+                                                  toEigen(master_velocity_), toEigen(slave_velocity_), master_power_,
                                                   slave_power_);
   if (out.master_limited && !master_limited_) emitEvent("e_master_limited");
   if (out.slave_limited && !slave_limited_) emitEvent("e_slave_limited");
   master_limited_ = out.master_limited;
   slave_limited_ = out.slave_limited;
-  master_force_.write(wrench(out.master_wrench));
-  slave_force_.write(wrench(out.slave_wrench));
+  master_force_.write(toKdlWrench(out.master_wrench));
+  slave_force_.write(toKdlWrench(out.slave_wrench));
   master_energy_.write(layer_->masterEnergy());
   slave_energy_.write(layer_->slaveEnergy());
 }
