@@ -3,9 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "cobra/core/port.hpp"
 #include "cobra/deploy/configurator.hpp"
-#include "source.hpp"
 
 namespace cobra::components {
 
@@ -22,25 +20,13 @@ bool PeerReporter::configureHook() {
       // its type does not give (a vector) cannot be given columns here: it is left out and said
       // once, with how to record it.
       for (const std::string& peer : peers) {
-        core::Component& component = configurator->getReferences().get(peer);
         std::string left_out;
-        std::size_t chosen = 0;
-        for (core::PortBase* port : component.ports()) {
-          if (port->direction() != core::PortDirection::Output || port == &component.events()) continue;
-          if (reporting_detail::needsLength(port->type())) {
-            left_out += (left_out.empty() ? "" : ", ") + peer + "." + port->name() + " (" +
-                        std::string(port->type().name) + ")";
-            continue;
-          }
-          reportPort(*port);
-          ++chosen;
-        }
+        reportComponent(configurator->getReferences().get(peer), false, &left_out);
         if (!left_out.empty())
           std::fprintf(stderr,
                        "[cobra] Reporter '%s': not recorded: %s: its length is not part of its type; record it with "
                        "reportPort(port, number of elements)\n",
                        name().c_str(), left_out.c_str());
-        if (chosen == 0) reportComponent(component);  // says why nothing of it can be recorded
       }
     } catch (const core::Error& e) {
       return core::Component::refuse(e.what());

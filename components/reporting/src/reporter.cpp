@@ -83,7 +83,7 @@ void Reporter::reportPort(const core::ComponentRegistry& registry, std::string_v
   reportPort(component.port(path.substr(dot + 1)), elements);
 }
 
-void Reporter::reportComponent(core::Component& component, bool include_events) {
+void Reporter::reportComponent(core::Component& component, bool include_events, std::string* left_out) {
   const std::string what = "cannot report component '" + component.name() + "'";
   if (state() != core::State::PreOperational)
     throw core::Error(where() + ": " + what + ": " + notPreOperational());
@@ -96,12 +96,14 @@ void Reporter::reportComponent(core::Component& component, bool include_events) 
                                       [&](const auto& source) { return &source->output() == port; });
     if (reported) continue;
     if (reporting_detail::needsLength(port->type())) {
-      need_length += (need_length.empty() ? "" : ", ") + port->name() + " (" + std::string(port->type().name) + ")";
+      need_length += (need_length.empty() ? "" : ", ") + (left_out != nullptr ? component.name() + "." : "") +
+                     port->name() + " (" + std::string(port->type().name) + ")";
       continue;
     }
     chosen.push_back(port);
   }
-  if (!need_length.empty())
+  if (left_out != nullptr) *left_out = need_length;
+  if (!need_length.empty() && left_out == nullptr)
     throw core::Error(where() + ": " + what + ": the length of " + need_length +
                       " is not part of its type; report it first with reportPort(port, number of elements)");
   if (chosen.empty())

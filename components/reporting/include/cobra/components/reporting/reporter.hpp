@@ -98,9 +98,11 @@ class Reporter : public core::Component {
   /// Records every output port of `component` not reported yet, in declaration order; its
   /// `events` port only when `include_events`. Report its `vector<double>`/`KDL.JntArray` ports
   /// first with `reportPort(port, n)`: they need a length, and are refused here otherwise.
-  /// @throws core::Error (before reporting anything) when a port needs a length, or when nothing
-  ///         is left to report.
-  void reportComponent(core::Component& component, bool include_events = false);
+  /// `left_out` given: such ports are left out instead, named there ("Comp.port (type)", comma
+  /// separated), as a component's peers are recorded wholesale (PeerReporter).
+  /// @throws core::Error (before reporting anything) when a port needs a length (without
+  ///         `left_out`), or when nothing is left to report.
+  void reportComponent(core::Component& component, bool include_events = false, std::string* left_out = nullptr);
 
   /// The CSV header cells, in file order: "time [s]", then one per column.
   std::vector<std::string> columns() const;
