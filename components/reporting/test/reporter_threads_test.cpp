@@ -76,15 +76,18 @@ TEST(ReporterThreads, DestroyingARunningReporterStopsItAndCompletesTheFile) {
   reporter->setActivity(std::make_unique<core::PeriodicActivity>(2ms, 50, core::Scheduler::Other));
   ASSERT_TRUE(sine.configure() && sine.start());
   ASSERT_TRUE(reporter->configure() && reporter->start());
+  // A sample written after the reporter started, then updates of the reporter after it: it has
+  // queued a row for it, whatever the scheduler did (an update writes a row only on new data, so
+  // a count of rows per update depends on how often the loaded machine ran the sine between two).
+  EXPECT_TRUE(updatesFurther(sine, 1));
   EXPECT_TRUE(updatesFurther(*reporter, 5));
-  const std::uint64_t rows = reporter->updateCount();
   reporter.reset();  // while Running: stops, drains, joins, disconnects
   EXPECT_FALSE(sine.port("out").connected());
   EXPECT_TRUE(updatesFurther(sine, 5));
   ASSERT_TRUE(sine.stop());
   const std::string text = test::readFile(dir.file("destroyed.csv"));
   EXPECT_EQ(text.back(), '\n');
-  EXPECT_GE(test::readLines(dir.file("destroyed.csv")).size(), 1u + rows / 2);
+  EXPECT_GE(test::readLines(dir.file("destroyed.csv")).size(), 2u);  // the header and the queued rows
 }
 
 /// Writes a wide vector every update, so a few rows fill a pipe.
