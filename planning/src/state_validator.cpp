@@ -123,6 +123,8 @@ void StateValidator::findMovingPairs() {
       const std::span<double> seed(q.data() + joint_offsets_[r], joint_offsets_[r + 1] - joint_offsets_[r]);
       models_[r]->seedJoints(seed);
       const std::span<double> low(lower.data() + joint_offsets_[r], seed.size()), high(upper.data() + joint_offsets_[r], seed.size());
+      // Half a radian (metre) about the seed for a model that declares no limits (RobotModel's
+      // default jointLimits leaves the spans as they are).
       for (std::size_t j = 0; j < seed.size(); ++j) low[j] = seed[j] - 0.5, high[j] = seed[j] + 0.5;
       models_[r]->jointLimits(low, high, std::span(velocity.data() + joint_offsets_[r], seed.size()));
       for (std::size_t j = 0; j < seed.size(); ++j)  // unlimited joints: a turn about the seed
