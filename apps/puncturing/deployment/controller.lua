@@ -60,9 +60,9 @@ return function(c)
     { peer_name = n("ConfSup"), component_type = "Supervisor" },
   }
   for _, d in ipairs(device) do components[#components + 1] = d end
-  -- cobra_suturing: the TeleoperationClutch; cobra_drivers: the Leap Motion's driver.
+  -- cobra_drivers: the Leap Motion's driver.
   initConfigurator({ "cobra_motion", "cobra_control", "cobra_coordination", "cobra_planning", "cobra_sim",
-                     "cobra_drivers", "cobra_suturing", "cobra_puncturing" }, components, c.configurations)
+                     "cobra_drivers", "cobra_puncturing" }, components, c.configurations)
   getReferences()
   coupling.check(master_ports, n("Link"), setting)
   local frames, planner, trajgen = _G[n("Frames")], _G[n("Planner")], _G[n("TrajGen")]

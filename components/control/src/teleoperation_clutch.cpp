@@ -1,4 +1,4 @@
-#include "cobra/components/suturing/teleoperation_clutch.hpp"
+#include "cobra/components/control/teleoperation_clutch.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -3,7 +3,7 @@
 // engagement the set-point is the tool's pose (no jump), then the device's motion since then
 // (translation scaled, rotation in world axes); a restart engages again; a bad scale is refused
 // naming it; updates allocate nothing.
-#include "cobra/components/suturing/teleoperation_clutch.hpp"
+#include "cobra/components/control/teleoperation_clutch.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 -- §5.5), for the applications' deployment files: one master (a haptic device or a hand tracker)
 -- driving one slave (a tool's variable admittance) through
 --   Link (LinkImpairment: the delay, jitter and loss between the device and the controller)
---   -> Clutch (TeleoperationClutch, package cobra_suturing: the device's motion since the
+--   -> Clutch (TeleoperationClutch, package cobra_control: the device's motion since the
 --      engagement, mapped onto the tool's pose then: taking over moves nothing by itself)
 --   -> Transparency (TransparencyLayer: the coupling wrenches; the task chart engages it)
 --   -> Passivity (PassivityLayer: as far as its tanks can pay) -> the admittance's extWrench,
