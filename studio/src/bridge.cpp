@@ -146,6 +146,13 @@ struct VisualizerBridge::Impl {
   // history_frames and history_events; the oldest go first.
   std::mutex history_mutex;
   std::deque<std::string> history_frames, history_events;
+  // The run's first frame, kept apart: the server's thread takes the latest frame on its own wall
+  // clock (server.hpp, frame_rate), so its first take can fall a few frames into the run; the
+  // history starts with this one all the same. Written once by the run's thread (a copy into a
+  // snapshot sized in attach(): no allocation), then only read.
+  Snapshot first;
+  std::atomic<bool> first_ready{false};
+  bool first_remembered = false;  // the server's thread's
   template <class Text>
   void remember(std::deque<std::string>& kept, std::size_t bound, Text&& message) {
     const std::lock_guard<std::mutex> lock(history_mutex);
@@ -207,6 +214,7 @@ void VisualizerBridge::attach(const run::RunContext& run) {
   initial.states.resize(m.charts.size());
   initial.deployments.resize(m.scopes.size());
   initial.configurations.resize(m.scopes.size());
+  m.first = initial;
   m.snapshots = std::make_unique<core::TripleBuffer<Snapshot>>(initial);
   m.next_wall = std::chrono::steady_clock::now();
   m.attached.store(true, std::memory_order_release);
@@ -501,6 +509,10 @@ void VisualizerBridge::step(const run::StepView& now) {
   if (!sim_tick && wall < m.next_wall) return;
   Snapshot& s = m.snapshots->back();
   m.fill(s, now);
+  if (s.seq == 1) {
+    m.first = s;
+    m.first_ready.store(true, std::memory_order_release);
+  }
   const auto period = std::chrono::duration<double>(1.0 / m.options.frame_rate);
   m.next_wall = wall + std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
   if (sim_tick) {
@@ -603,6 +615,14 @@ bool VisualizerBridge::latestFrame(std::uint64_t& seq, std::string& message) {
   const Snapshot& s = m.snapshots->front();
   if (s.seq == 0 || s.seq == seq) return false;
   seq = s.seq;
+  if (!m.first_remembered && m.first_ready.load(std::memory_order_acquire)) {
+    m.first_remembered = true;
+    if (m.first.seq != s.seq) {
+      message.clear();
+      m.appendFrame(message, m.first);
+      m.remember(m.history_frames, m.options.history_frames, message);
+    }
+  }
   message.clear();
   m.appendFrame(message, s);
   m.remember(m.history_frames, m.options.history_frames, message);
