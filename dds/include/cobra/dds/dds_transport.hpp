@@ -133,7 +133,8 @@ class DdsTransport final : public core::Transport {
     };
     std::string guid_prefix;  ///< "01.0f.78.fd.e1.70.99.80.00.00.00.00", as the reports name it
     std::string name;         ///< its participant name ("" until discovery said it)
-    std::string subject;      ///< its certificate's subject (RFC 2253), from its identity token; "" without
+    /// Its certificate's subject as its identity token says it ("/C=CH/O=lab/CN=x"); "" without.
+    std::string subject;
     Status status = Status::Discovered;
   };
   /// Every remote participant announced since this one was made (one that left stays, with its
