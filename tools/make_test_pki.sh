@@ -20,6 +20,8 @@
 #                                  that the test CA's participants must refuse
 #   forged_permissions.p7s         host_b's grants for noperm's subject, signed by the rogue CA
 #                                  (noperm's self-made permissions, with rogue_governance.p7s)
+#   broken_governance.p7s          a governance whose XML does not parse (line 4's <domain_rule>
+#                                  closed by line 6's </domain_access_rules>), signed by the test CA
 # Idempotent: does nothing when every file exists and every certificate but expired.crt is valid
 # for at least another day (a test can call it each time). Keys are unencrypted: test use only.
 # Usage: tools/make_test_pki.sh OUTDIR
@@ -37,7 +39,7 @@ flock 9
 CERTS=(ca host_a host_b noperm rogue_ca rogue server)
 SIGNED=()
 [ -d "$templates" ] && SIGNED=(governance permissions_host_a permissions_host_b permissions_noperm rogue_governance rogue_permissions
-          forged_permissions)
+          forged_permissions broken_governance)
 
 # True when everything is present and the certificates stay valid for a day (86400 s).
 current() {
@@ -134,5 +136,15 @@ if [ ${#SIGNED[@]} -gt 0 ]; then
   sign governance rogue_governance "" rogue_ca
   sign permissions_host_b rogue_permissions "$(subject rogue)" rogue_ca
   sign permissions_host_b forged_permissions "$(subject noperm)" rogue_ca
+  cat >"$tmp/broken_governance.xml" <<'XML'
+<?xml version="1.0" encoding="UTF-8"?>
+<dds>
+  <domain_access_rules>
+    <domain_rule>
+      <domains><id_range><min>0</min><max>232</max></id_range></domains>
+  </domain_access_rules>
+</dds>
+XML
+  openssl smime -sign -in "$tmp/broken_governance.xml" -text -out broken_governance.p7s -signer ca.crt -inkey ca.key
 fi
 chmod 644 ./*.crt ./*.p7s 2>/dev/null || true

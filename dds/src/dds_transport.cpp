@@ -119,6 +119,15 @@ bool DdsTransport::waitForMatch(const std::string& topic, std::chrono::milliseco
   return true;
 }
 
+std::vector<DdsTransport::RemoteParticipant> DdsTransport::participants() const { return participant_->participants(); }
+
+std::optional<DdsTransport::RemoteParticipant> DdsTransport::waitForParticipant(const std::string& name,
+                                                                                std::chrono::milliseconds timeout) const {
+  return participant_->waitForParticipant(name, timeout);
+}
+
+std::string DdsTransport::guidPrefix() const { return participant_->guidPrefix(); }
+
 std::shared_ptr<DdsTransport> registerDdsTransport(DdsTransport::Options options, const std::string& name) {
   const std::string doc = "Fast DDS, domain " + std::to_string(options.domain);
   auto transport = std::make_shared<DdsTransport>(std::move(options));

@@ -412,19 +412,74 @@ void Participant::on_participant_discovery(fdds::DomainParticipant*, rtps::Parti
   // A secured participant's identity token names its certificate's subject (PKI-DH: dds.cert.sn).
   if (const std::string* subject = rtps::DataHolderHelper::find_property_value(info.info.identity_token_, "dds.cert.sn"))
     participant_subjects_[prefix] = *subject;
+  // Without DDS Security, discovery is the meeting; with it, the authentication's outcome is
+  // (onParticipantAuthentication, refused), which may also come first.
+  setStatusLocked(prefix, subject_.empty() ? DdsTransport::RemoteParticipant::Status::Admitted
+                                           : DdsTransport::RemoteParticipant::Status::Discovered);
 }
 
 void Participant::onParticipantAuthentication(fdds::DomainParticipant*, rtps::ParticipantAuthenticationInfo&& info) {
+  if (info.status == rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT) {
+    // Fast DDS says so once its access control granted the participant the domain.
+    std::lock_guard lock(mutex_);
+    setStatusLocked(text(info.guid.guidPrefix), DdsTransport::RemoteParticipant::Status::Admitted);
+    return;
+  }
   if (info.status != rtps::ParticipantAuthenticationInfo::UNAUTHORIZED_PARTICIPANT) return;
   refused(text(info.guid.guidPrefix),
           "it failed DDS Security's authentication (no certificate of this participant's identity CA, or none at "
           "all)");
 }
 
+void Participant::setStatusLocked(const std::string& prefix, DdsTransport::RemoteParticipant::Status status) {
+  using Status = DdsTransport::RemoteParticipant::Status;
+  auto [it, added] = participant_status_.emplace(prefix, status);
+  // A refusal is final; discovery (again: a changed QoS) does not undo an outcome.
+  if (!added && it->second != Status::Refused && status != Status::Discovered) it->second = status;
+  participants_changed_.notify_all();  // also for a name discovery just told
+}
+
+DdsTransport::RemoteParticipant Participant::remoteParticipantLocked(const std::string& prefix) const {
+  DdsTransport::RemoteParticipant out;
+  out.guid_prefix = prefix;
+  if (auto it = participant_names_.find(prefix); it != participant_names_.end()) out.name = it->second;
+  if (auto it = participant_subjects_.find(prefix); it != participant_subjects_.end()) out.subject = it->second;
+  if (auto it = participant_status_.find(prefix); it != participant_status_.end()) out.status = it->second;
+  return out;
+}
+
+std::vector<DdsTransport::RemoteParticipant> Participant::participants() const {
+  std::lock_guard lock(mutex_);
+  std::vector<DdsTransport::RemoteParticipant> out;
+  for (const auto& [prefix, status] : participant_status_) out.push_back(remoteParticipantLocked(prefix));
+  return out;
+}
+
+std::optional<DdsTransport::RemoteParticipant> Participant::waitForParticipant(const std::string& name,
+                                                                               std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(mutex_);
+  std::optional<DdsTransport::RemoteParticipant> found;
+  participants_changed_.wait_for(lock, timeout, [&] {
+    for (const auto& [prefix, status] : participant_status_) {
+      const auto named = participant_names_.find(prefix);
+      if (status == DdsTransport::RemoteParticipant::Status::Discovered || named == participant_names_.end() ||
+          named->second != name)
+        continue;
+      found = remoteParticipantLocked(prefix);
+      return true;
+    }
+    return false;
+  });
+  return found;
+}
+
+std::string Participant::guidPrefix() const { return text(participant_->guid().guidPrefix); }
+
 void Participant::refused(const std::string& prefix, const std::string& why) {
   std::string who = "participant " + prefix;
   {
     std::lock_guard lock(mutex_);
+    setStatusLocked(prefix, DdsTransport::RemoteParticipant::Status::Refused);
     if (auto it = participant_names_.find(prefix); it != participant_names_.end()) who += " '" + it->second + "'";
     if (auto it = participant_subjects_.find(prefix); it != participant_subjects_.end())
       who += " (certificate '" + it->second + "')";

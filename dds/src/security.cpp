@@ -7,6 +7,7 @@
 #include <openssl/pkcs7.h>
 #include <openssl/x509.h>
 #include <openssl/x509_vfy.h>
+#include <tinyxml2.h>  // Fast DDS's own XML parser (its CMake package links it)
 
 #include <algorithm>
 #include <cerrno>
@@ -124,6 +125,19 @@ std::string signedDocument(const File& f, X509* signer_ca, const std::string& ca
   return std::string(data, static_cast<std::size_t>(size));
 }
 
+/// Fast DDS parses the signed documents with tinyxml2 and, when one does not parse, only fails to
+/// create the participant. @throws naming the file, the line and tinyxml2's error.
+void requireWellFormed(const File& f, const std::string& xml) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(xml.data(), xml.size()) == tinyxml2::XML_SUCCESS) return;
+  // ErrorStr(): "Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=15 (0xf) Line number=4: XMLElement name=x"
+  std::string detail = document.ErrorStr();
+  const std::size_t colon = detail.find(": ");
+  detail = colon == std::string::npos ? "" : ", " + detail.substr(colon + 2);
+  f.fail("is signed but is not well-formed XML (line " + std::to_string(document.ErrorLineNum()) + ": " +
+         document.ErrorName() + detail + "): correct the XML document and sign it again");
+}
+
 /// The text of every <tag>...</tag> in `xml`, trimmed.
 std::vector<std::string> elements(const std::string& xml, const std::string& tag) {
   std::vector<std::string> out;
@@ -220,10 +234,12 @@ CheckedSecurity checkSecurity(const DdsTransport::Security& security, const std:
       files.permissions_ca == files.ca ? X509Ptr(X509_dup(ca.get())) : certificate(file("permissions_ca", files.permissions_ca));
   const File governance_file = file("governance", files.governance);
   const std::string governance = signedDocument(governance_file, permissions_ca.get(), files.permissions_ca);
+  requireWellFormed(governance_file, governance);
   if (governance.find("<domain_access_rules>") == std::string::npos)
     governance_file.fail("is signed but is no governance document (no <domain_access_rules>)");
   const File permissions_file = file("permissions", files.permissions);
   const std::string permissions = signedDocument(permissions_file, permissions_ca.get(), files.permissions_ca);
+  requireWellFormed(permissions_file, permissions);
   const std::vector<std::string> subjects = elements(permissions, "subject_name");
   if (subjects.empty()) permissions_file.fail("is signed but grants no one (no <subject_name>)");
   if (std::none_of(subjects.begin(), subjects.end(),

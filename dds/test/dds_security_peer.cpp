@@ -9,12 +9,16 @@
 //   unsecured, other_ca, no_permission, forged_permissions
 //                      a rogue (no security; a complete setup of the rogue CA; a test CA identity
 //                      whose permissions grant no topic of a run; that identity with permissions
-//                      granting host_b's topics, signed by the rogue CA): for SECONDS it reads
-//                      "ISUR/measCartPose" (a measured pose) and writes the event "e_rogue_command"
-//                      on "ProbeTaskSup/outputEvents" (a command to the needle chart) every 10 ms.
-// It writes to OUT "reader <ok or the error>", "writer <ok or the error>" and "read <n>" (the
-// poses it read).
+//                      granting host_b's topics, signed by the rogue CA): until SIGTERM (then exit
+//                      0), or for SECONDS, it reads "ISUR/measCartPose" (a measured pose) and
+//                      writes the event "e_rogue_command" on "ProbeTaskSup/outputEvents" (a command
+//                      to the needle chart) every 10 ms.
+// It writes to OUT, each line flushed as it is known: "guid <its participant's GUID prefix>",
+// "reader <ok or the error>", "writer <ok or the error>", then at the end "wrote <n>" (a rogue's
+// commands written), "read <n>" (the poses it read) and (a rogue) "end terminated" (by SIGTERM)
+// or "end after SECONDS".
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -57,6 +61,10 @@ std::string connect(Port& port, const std::string& topic, core::ConnPolicy polic
   }
 }
 
+/// Set by SIGTERM: the test ends a rogue once it watched it long enough.
+volatile std::sig_atomic_t terminated = 0;
+void onTerm(int) { terminated = 1; }
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,7 +78,9 @@ int main(int argc, char** argv) {
   dds::DdsTransport::Options options{std::atoi(argv[1]), "cobra_" + role, true};
   options.udp_only = true;
   options.security = securityOf(argv[2], role);
-  dds::registerDdsTransport(options);
+  std::signal(SIGTERM, onTerm);  // may run on any thread of the process (Fast DDS's too): it only sets the flag
+  const auto transport = dds::registerDdsTransport(options);
+  out << "guid " << transport->guidPrefix() << std::endl;
   core::ConnPolicy events = core::ConnPolicy::buffer(16);
   events.options = {{"reliability", "reliable"}, {"depth", "16"}};
 
@@ -79,7 +89,7 @@ int main(int argc, char** argv) {
   out << "reader " << connect(pose_in, "ISUR/measCartPose", core::ConnPolicy::data()) << std::endl;
   out << "writer " << connect(events_out, "ProbeTaskSup/outputEvents", events) << std::endl;
   const auto deadline = std::chrono::steady_clock::now() + seconds;
-  int read = 0;
+  int read = 0, wrote = 0;
   if (role == "host_b" || role == "plain_b") {
     core::OutputPort<KDL::Frame> pose_out("pose_out", "", "m");
     core::InputPort<core::Event> events_in("events_in", "", "");
@@ -111,12 +121,15 @@ int main(int argc, char** argv) {
   core::Event command;
   command.name = "e_rogue_command";
   command.source.assign(role);
-  while (std::chrono::steady_clock::now() < deadline) {
+  while (terminated == 0 && std::chrono::steady_clock::now() < deadline) {
     KDL::Frame frame;
     if (pose_in.read(frame) == core::FlowStatus::NewData) ++read;
     events_out.write(command);
+    ++wrote;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  out << "wrote " << wrote << std::endl;
   out << "read " << read << std::endl;
+  out << "end " << (terminated != 0 ? "terminated" : "after SECONDS") << std::endl;
   return 0;
 }

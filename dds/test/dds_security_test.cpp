@@ -2,9 +2,12 @@
 // identity and one with host_b's (dds_security_peer) exchange a pose and events with nothing of
 // them in clear on the wire, where the same exchange without security shows them; rogue
 // participants (no security, another CA, a valid identity without permission, permissions signed
-// by another CA) neither command host_a nor read its pose, and host_a reports each once; bad
+// by another CA) meet host_a first (host_a admits or refuses the participant the rogue says it
+// made), then neither command host_a nor read its pose for a watch after the meeting in which the
+// same rogue code commands and reads a host without security, and host_a reports each once; bad
 // files are refused naming the file and what is wrong. The certificates are the lab's test PKI
-// (tools/make_test_pki.sh, made in the build tree). DDS domains 110 and 146..151, this test's own.
+// (tools/make_test_pki.sh, made in the build tree). DDS domains 109, 110 and 146..151, this
+// test's own.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,7 +18,9 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "cobra/core/activity.hpp"
 #include "cobra/core/port.hpp"
@@ -55,7 +60,7 @@ class Peer : public test::ChildProcess {
       : ChildProcess({COBRA_DDS_SECURITY_PEER, std::to_string(domain), kPki, role, outputOf(role).string(),
                       std::to_string(seconds)}),
         out_(outputOf(role)) {}
-  /// The value of its output line `key` ("reader", "writer", "read").
+  /// The value of its output line `key` ("guid", "reader", "writer", "wrote", "read", "end").
   std::string said(const std::string& key) const {
     std::ifstream in(out_);
     for (std::string line; std::getline(in, line);)
@@ -168,48 +173,126 @@ TEST(DdsSecurity, WithoutSecurityTheSameExchangeIsInClearOnTheWire) {
   EXPECT_GT(wire.containing("ISUR/measCartPose"), 0);
 }
 
-/// The problems of `dds` that contain `text`.
-std::vector<std::string> problemsWith(const DdsTransport& dds, const std::string& text) {
-  std::vector<std::string> out;
-  for (const std::string& p : dds.problems())
-    if (p.find(text) != std::string::npos) out.push_back(p);
-  return out;
+/// How long a rogue is watched once host_a met it (admitted or refused its participant): the
+/// same rogue against a host without security gets a command through and reads a pose within it
+/// (TheSameRogueCommandsAndReadsAnUnsecuredHostWithinTheWatch), so silence this long after the
+/// meeting is a refusal, not a match still to come.
+constexpr auto kWatch = 2s;
+
+std::string statusText(DdsTransport::RemoteParticipant::Status status) {
+  using Status = DdsTransport::RemoteParticipant::Status;
+  return status == Status::Admitted ? "admitted" : status == Status::Refused ? "refused" : "discovered";
 }
 
-// host_a publishes its measured pose and listens to host probe's chart commands, while a rogue
-// tries to read the one and write the other for 4 s.
-struct RogueCase {
-  std::string role;
-  int domain;
-  std::string reported;  ///< host_a's report after the rogue's GUID prefix
+/// What became of a rogue (dds_security_peer `role`) beside host_a.
+struct RogueRun {
+  /// host_a's view of the rogue's participant once admitted or refused; none: they never met.
+  std::optional<DdsTransport::RemoteParticipant> met;
+  std::string rogue_guid;  ///< the GUID prefix the rogue says its participant has
+  int commanded = 0;       ///< the rogue's commands host_a read, from its start to the watch's end
+  double first_command = -1.0;  ///< s after the meeting; -1: none
+  int exit_status = -1;         ///< the rogue's, after SIGTERM at the watch's end
+  std::vector<std::string> problems;  ///< host_a's
 };
-void PrintTo(const RogueCase& c, std::ostream* out) { *out << c.role; }
-class Rogue : public ::testing::TestWithParam<RogueCase> {};
 
-TEST_P(Rogue, CannotCommandNorReadAPoseAndIsReportedOnce) {
-  makePki();
-  const RogueCase& c = GetParam();
-  DdsTransport::Options options{c.domain, "cobra_host_a", false};
-  options.security = hostA();
+/// host_a (`security`; none: without) publishes its measured pose and listens to host probe's
+/// chart commands, while the rogue, started beside it, reads the one and writes the other every
+/// 10 ms. Once host_a met the rogue's participant (waitForParticipant: discovery's and
+/// authentication's callbacks), host_a keeps publishing and listening for kWatch; then the rogue
+/// is ended (SIGTERM: it was reading and writing until then).
+RogueRun runRogue(int domain, const std::string& role, Peer& rogue, const Security& security) {
+  DdsTransport::Options options{domain, "cobra_host_a", false};
+  options.security = security;
   Registered dds(options);
   core::OutputPort<KDL::Frame> pose_out("pose_out", "", "m");
   core::InputPort<core::Event> commands("commands", "", "");
   core::connectToTransport(pose_out, dds.policy("ISUR/measCartPose"));
   core::connectToTransport(commands, dds.policy("ProbeTaskSup/outputEvents", eventPolicy()));
-  Peer rogue(c.domain, c.role, 4.0);
-  int commanded = 0;
-  const auto end = std::chrono::steady_clock::now() + 6s;
-  while (std::chrono::steady_clock::now() < end) {
-    pose_out.write(KDL::Frame(KDL::Vector(0.1, 0.2, 0.3)));
+  RogueRun run;
+  const auto start = std::chrono::steady_clock::now();
+  const auto read_commands = [&](std::chrono::steady_clock::time_point met_at) {
     core::Event e;
-    while (commands.read(e) == core::FlowStatus::NewData) ++commanded;
-    std::this_thread::sleep_for(10ms);
+    while (commands.read(e) == core::FlowStatus::NewData) {
+      if (e.name != "e_rogue_command") continue;
+      if (run.commanded++ == 0)
+        run.first_command = std::chrono::duration<double>(std::chrono::steady_clock::now() - met_at).count();
+    }
+  };
+  run.met = dds.transport->waitForParticipant("cobra_" + role, 20s);
+  if (run.met) {
+    const auto met_at = std::chrono::steady_clock::now();
+    std::printf("[%s] host_a met the rogue %.3f s after host_a was made: %s\n", role.c_str(),
+                std::chrono::duration<double>(met_at - start).count(), statusText(run.met->status).c_str());
+    // Its first line, written as soon as its participant exists (it may be met a moment before).
+    test::pollUntil([&] { return rogue.said("guid").rfind("(no line", 0) != 0; }, 5s);
+    run.rogue_guid = rogue.said("guid");
+    while (std::chrono::steady_clock::now() < met_at + kWatch) {
+      pose_out.write(KDL::Frame(KDL::Vector(0.1, 0.2, 0.3)));
+      read_commands(met_at);
+      std::this_thread::sleep_for(10ms);  // the rogue's own pace
+    }
+    read_commands(met_at);
   }
-  ASSERT_EQ(rogue.wait(5s), 0) << c.role;
-  EXPECT_EQ(commanded, 0) << c.role;
+  rogue.terminate();
+  run.exit_status = rogue.wait(10s);
+  run.problems = dds.transport->problems();
+  for (const std::string& p : run.problems) std::printf("[%s] %s\n", role.c_str(), p.c_str());
+  return run;
+}
+
+// The control: the same rogue against a host without security (domain 109) commands it and reads
+// its pose within kWatch of their meeting. The rogue tests' silence is the security's doing, not
+// a rogue that cannot talk or a watch too short to see it.
+TEST(DdsSecurity, TheSameRogueCommandsAndReadsAnUnsecuredHostWithinTheWatch) {
+  makePki();
+  Peer rogue(109, "unsecured", 60.0);  // until runRogue ends it
+  const RogueRun run = runRogue(109, "unsecured", rogue, {});
+  ASSERT_TRUE(run.met) << "host_a never met the rogue";
+  EXPECT_EQ(statusText(run.met->status), "admitted");
+  EXPECT_EQ(run.met->guid_prefix, run.rogue_guid);
+  EXPECT_EQ(run.met->subject, "") << "no certificate";
+  EXPECT_EQ(run.exit_status, 0);
+  EXPECT_EQ(rogue.said("end"), "terminated") << "it was reading and writing all through the watch";
+  EXPECT_GT(run.commanded, 0);
+  EXPECT_GT(std::atoi(rogue.said("read").c_str()), 0) << rogue.said("read");
+  std::printf("[unsecured host] first command %.3f s after the meeting; %d commands, %s poses read\n",
+              run.first_command, run.commanded, rogue.said("read").c_str());
+  EXPECT_EQ(run.problems, std::vector<std::string>{});
+}
+
+// host_a with its identity; each rogue meets it first (host_a admits or refuses the participant
+// the rogue made, named by its GUID prefix), then neither commands it nor reads its pose for
+// kWatch, and host_a reports it once.
+struct RogueCase {
+  std::string role;
+  int domain;
+  std::string reported;  ///< host_a's report after the rogue's GUID prefix; "": admitted, none
+};
+void PrintTo(const RogueCase& c, std::ostream* out) { *out << c.role; }
+class Rogue : public ::testing::TestWithParam<RogueCase> {};
+
+TEST_P(Rogue, MeetsTheHostThenNeitherCommandsNorReadsAPoseAndIsReportedOnce) {
+  makePki();
+  const RogueCase& c = GetParam();
+  Peer rogue(c.domain, c.role, 60.0);  // until runRogue ends it
+  const RogueRun run = runRogue(c.domain, c.role, rogue, hostA());
+  ASSERT_TRUE(run.met) << c.role << ": host_a never met the rogue: its silence would prove nothing";
+  ASSERT_EQ(run.met->guid_prefix, run.rogue_guid) << c.role << ": host_a met another participant than the rogue's";
+  EXPECT_EQ(run.exit_status, 0) << c.role;
+  EXPECT_EQ(rogue.said("end"), "terminated") << c.role << ": it was reading and writing all through the watch";
+  EXPECT_GE(std::atoi(rogue.said("wrote").c_str()), 1) << c.role;
+  EXPECT_EQ(run.commanded, 0) << c.role;
   EXPECT_EQ(rogue.said("read"), "0") << c.role;
+  const std::string head = "dds participant 'cobra_host_a' refused participant ";
+  std::vector<std::string> refused;
+  for (const std::string& p : run.problems)
+    if (p.find("refused participant") != std::string::npos) refused.push_back(p);
   if (c.role == "no_permission") {
-    // Its own participant refuses the endpoints its permissions do not grant.
+    // Authenticated (a certificate of host_a's CA) and granted the domain: admitted. Its own
+    // participant refuses the endpoints its permissions do not grant: nothing of it reaches host_a.
+    EXPECT_EQ(statusText(run.met->status), "admitted");
+    EXPECT_EQ(run.met->subject, "/C=CH/O=cobra lab/CN=cobra noperm") << "its identity token's";
+    EXPECT_EQ(refused, std::vector<std::string>{});
     EXPECT_EQ(rogue.said("writer"),
               "cannot connect events_out (Event) to dds topic 'ProbeTaskSup/outputEvents': dds: Fast DDS refused the writer of topic 'rt/ProbeTaskSup/outputEvents' with QoS reliable, volatile, "
               "depth 16, lease infinite: with DDS Security, participant 'cobra_no_permission' "
@@ -220,19 +303,14 @@ TEST_P(Rogue, CannotCommandNorReadAPoseAndIsReportedOnce) {
               "lease infinite: with DDS Security, participant 'cobra_no_permission' ('CN=cobra noperm,O=cobra lab,C=CH') "
               "may subscribe only what its permissions '" + pki("permissions_noperm.p7s") +
               "' grant, and they do not grant subscribe on 'rt/ISUR/measCartPose'");
-  } else {
-    EXPECT_EQ(rogue.said("writer"), "ok") << c.role;
-    EXPECT_EQ(rogue.said("reader"), "ok") << c.role;
+    return;
   }
-  const std::vector<std::string> refused = problemsWith(*dds.transport, "refused participant");
-  for (const std::string& p : dds.transport->problems()) std::printf("[%s] %s\n", c.role.c_str(), p.c_str());
-  if (c.role == "no_permission") return;  // refused by its own participant: host_a never sees its endpoints
-  // Once, naming it: "dds participant 'cobra_host_a' refused participant <GUID prefix> ..."
+  EXPECT_EQ(statusText(run.met->status), "refused") << c.role;
+  EXPECT_EQ(rogue.said("writer"), "ok") << c.role;
+  EXPECT_EQ(rogue.said("reader"), "ok") << c.role;
+  // Once, naming it: its GUID prefix, its name and (secured) its certificate, and why.
   ASSERT_EQ(refused.size(), 1u) << c.role;
-  const std::string head = "dds participant 'cobra_host_a' refused participant ";
-  const std::size_t prefix_size = 35;  // "01.0f.78.fd.e1.70.99.80.00.00.00.00"
-  ASSERT_EQ(refused[0].rfind(head, 0), 0u) << refused[0];
-  EXPECT_EQ(refused[0].substr(head.size() + prefix_size), c.reported) << refused[0];
+  EXPECT_EQ(refused[0], head + run.rogue_guid + c.reported);
 }
 
 INSTANTIATE_TEST_SUITE_P(DdsSecurity, Rogue,
@@ -304,6 +382,19 @@ TEST(DdsSecurity, BadFilesAreRefusedNamingTheFileAndWhatIsWrong) {
             0u)
       << refusal(s);
   s = hostA();
+  s.governance = pki("broken_governance.p7s");
+  EXPECT_EQ(refusal(s), "dds participant 'needle': security_governance '" + pki("broken_governance.p7s") +
+                            "': is signed but is not well-formed XML (line 4: XML_ERROR_MISMATCHED_ELEMENT, XMLElement "
+                            "name=domain_rule): correct the XML document and sign it again");
+  s = hostA();
+  s.governance = pki("permissions_host_a.p7s");
+  EXPECT_EQ(refusal(s), "dds participant 'needle': security_governance '" + pki("permissions_host_a.p7s") +
+                            "': is signed but is no governance document (no <domain_access_rules>)");
+  s = hostA();
+  s.governance = pki("missing_governance.p7s");
+  EXPECT_EQ(refusal(s), "dds participant 'needle': security_governance '" + pki("missing_governance.p7s") +
+                            "': no such file");
+  s = hostA();
   s.key.clear();
   EXPECT_EQ(refusal(s), "dds participant 'needle': security_key is not given: DDS Security needs security_ca, "
                         "security_certificate, security_key, security_governance and security_permissions "
@@ -311,7 +402,8 @@ TEST(DdsSecurity, BadFilesAreRefusedNamingTheFileAndWhatIsWrong) {
 }
 
 // DdsLink's properties: relative paths from security_folder, checked at configure; a refused
-// participant comes on the link's events port, once, from the link's own step (domain 110).
+// participant comes on the link's events port, from the link's own step, once while the rogue
+// keeps on for kWatch after (domain 110).
 TEST(DdsSecurity, ALinksRelativeFilesComeFromItsSecurityFolderAndARefusedPeerIsItsEvent) {
   makePki();
   DdsLink link("Link");
@@ -334,18 +426,35 @@ TEST(DdsSecurity, ALinksRelativeFilesComeFromItsSecurityFolderAndARefusedPeerIsI
   core::InputPort<core::Event> events("events", "", "");
   core::connectPorts(link.events(), events, core::ConnPolicy::buffer(16));
   ASSERT_TRUE(link.start());
-  Peer rogue(110, "unsecured", 3.0);
+  Peer rogue(110, "unsecured", 60.0);  // until terminated below
   std::vector<std::string> refused;  // their sources
-  test::pollUntil([&] {
+  const auto step = [&] {
     static_cast<core::SlaveActivity&>(link.activity()).step();  // the test's thread is the link's
     core::Event e;
     while (events.read(e) == core::FlowStatus::NewData)
       if (e.name == "e_dds_participant_refused") refused.push_back(e.source.str());
-    return false;
-  }, 5s);
+  };
+  // The meeting: the link's event, from its step, once its participant refused the rogue's.
+  ASSERT_TRUE(test::pollUntil([&] {
+    step();
+    return !refused.empty();
+  }, 20s)) << "the link never met the rogue";
+  // Then once only, while the rogue keeps writing for kWatch.
+  const auto met_at = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() < met_at + kWatch) {
+    step();
+    std::this_thread::sleep_for(1ms);
+  }
   ASSERT_EQ(refused.size(), 1u);
-  EXPECT_EQ(refused[0].size(), 35u) << refused[0] << ": a GUID prefix, 01.0f.78.fd.e1.70.99.80.00.00.00.00";
+  EXPECT_EQ(refused[0], rogue.said("guid")) << "the source: the refused participant's GUID prefix";
+  const auto met = link.transport()->waitForParticipant("cobra_unsecured", 0s);
+  ASSERT_TRUE(met);
+  EXPECT_EQ(statusText(met->status), "refused");
+  EXPECT_EQ(met->guid_prefix, refused[0]);
+  rogue.terminate();
   EXPECT_EQ(rogue.wait(5s), 0);
+  EXPECT_EQ(rogue.said("end"), "terminated") << "it was writing all through the watch";
+  EXPECT_EQ(rogue.said("read"), "0");
   EXPECT_TRUE(link.stop());
   EXPECT_TRUE(link.cleanup());
 }

@@ -89,6 +89,8 @@ class ChildProcess {
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
   void killHard() { kill(pid_, SIGKILL); }
+  /// Asks it to end (SIGTERM); wait() for its status.
+  void terminate() { kill(pid_, SIGTERM); }
   /// Stalls the process for `pause` (SIGSTOP, then SIGCONT): none of its threads runs meanwhile.
   void stall(std::chrono::milliseconds pause) {
     kill(pid_, SIGSTOP);

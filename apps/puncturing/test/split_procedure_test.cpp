@@ -14,8 +14,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "split_hosts.hpp"
 
@@ -74,6 +77,31 @@ std::string joined(const std::vector<double>& values) {
   return text;
 }
 
+std::vector<std::string> cellsOf(const std::string& row) {
+  std::vector<std::string> cells;
+  std::size_t begin = 0;
+  for (std::size_t comma = row.find(','); comma != std::string::npos; comma = row.find(',', begin)) {
+    cells.push_back(row.substr(begin, comma - begin));
+    begin = comma + 1;
+  }
+  cells.push_back(row.substr(begin));
+  return cells;
+}
+
+/// The columns where two rows of signals.csv differ, "name: a vs b" (at most `most`).
+std::string differences(const std::string& header, const std::string& a, const std::string& b, std::size_t most = 8) {
+  const std::vector<std::string> names = cellsOf(header), x = cellsOf(a), y = cellsOf(b);
+  std::string out;
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < std::max(x.size(), y.size()); ++i) {
+    const std::string u = i < x.size() ? x[i] : "(none)", v = i < y.size() ? y[i] : "(none)";
+    if (u == v) continue;
+    if (++found <= most)
+      out += (out.empty() ? "" : "; ") + (i < names.size() ? names[i] : "column " + std::to_string(i)) + ": " + u + " vs " + v;
+  }
+  return out + (found > most ? " (" + std::to_string(found) + " columns differ)" : "");
+}
+
 }  // namespace
 
 TEST(SplitProcedure, TwoHostsCompleteTheProcedureAndPlaceTheNeedleAsOneProcessDoes) {
@@ -123,7 +151,8 @@ TEST(SplitProcedure, TwoDistributedRunsRecordTheSameSignals) {
     const auto again = signalLinesBefore(b->setup().folder / "report" / "signals.csv", kUntil - 0.1);
     EXPECT_GT(before.size(), 3000u);
     ASSERT_EQ(before.size(), again.size()) << a->setup().host;
-    for (std::size_t i = 0; i < before.size(); ++i) ASSERT_EQ(before[i], again[i]) << a->setup().host << " row " << i;
+    for (std::size_t i = 0; i < before.size(); ++i)
+      ASSERT_EQ(before[i], again[i]) << a->setup().host << " row " << i << ": " << differences(before[0], before[i], again[i]);
   }
 }
 

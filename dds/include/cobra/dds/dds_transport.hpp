@@ -35,6 +35,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -122,6 +123,29 @@ class DdsTransport final : public core::Transport {
   /// Waits until every end on `topic` (the ROS 2 name, as in the policy) in this participant is
   /// matched with at least one end of the other side; false after `timeout`.
   bool waitForMatch(const std::string& topic, std::chrono::milliseconds timeout) const;
+
+  /// A remote participant that discovery announced to this one.
+  struct RemoteParticipant {
+    enum class Status {
+      Discovered,  ///< announced; with DDS Security, its authentication is not over yet
+      Admitted,    ///< met: without DDS Security, at discovery; with it, authenticated and granted the domain
+      Refused,     ///< with DDS Security: refused (e_dds_participant_refused); nothing crosses
+    };
+    std::string guid_prefix;  ///< "01.0f.78.fd.e1.70.99.80.00.00.00.00", as the reports name it
+    std::string name;         ///< its participant name ("" until discovery said it)
+    /// Its certificate's subject as its identity token says it ("/C=CH/O=lab/CN=x"); "" without.
+    std::string subject;
+    Status status = Status::Discovered;
+  };
+  /// Every remote participant announced since this one was made (one that left stays, with its
+  /// last status): that two hosts did find each other, and what became of a stranger.
+  std::vector<RemoteParticipant> participants() const;
+  /// Waits (on discovery's and authentication's callbacks, no polling) until a remote participant
+  /// named `name` is admitted or refused, and returns it; nothing after `timeout`.
+  std::optional<RemoteParticipant> waitForParticipant(const std::string& name, std::chrono::milliseconds timeout) const;
+  /// This participant's GUID prefix ("01.0f.78.fd.e1.70.99.80.00.00.00.00"), as its peers' reports
+  /// and participants() name it.
+  std::string guidPrefix() const;
   /// The DDS topic of a connection's `topic`: "rt/needle/pose" for "needle/pose" or "/needle/pose".
   static std::string ddsTopic(const std::string& topic);
 

@@ -15,6 +15,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -115,6 +116,12 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   bool mayMatchRemoteWriter(const std::string& guid, const EndpointInfo& reader) const;
   /// The name of the participant with this GUID prefix, as discovery told it ("" if unknown).
   std::string participantName(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
+  /// This participant's GUID prefix as text ("01.0f.78.fd.e1.70.99.80.00.00.00.00").
+  std::string guidPrefix() const;
+  /// DdsTransport::participants() and waitForParticipant().
+  std::vector<DdsTransport::RemoteParticipant> participants() const;
+  std::optional<DdsTransport::RemoteParticipant> waitForParticipant(const std::string& name,
+                                                                    std::chrono::milliseconds timeout) const;
   /// Also sends each problem event to `sink` (DdsLink forwards them on its events port);
   /// nullptr: none.
   void setEventSink(std::function<void(const core::Event&)> sink);
@@ -192,6 +199,10 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   void deliver(const std::vector<Report>& reports);
   /// Reports the refused remote participant `prefix` once (`why`: what failed).
   void refused(const std::string& prefix, const std::string& why);
+  /// Sets the outcome of the remote participant `prefix` (never back from Refused) and wakes
+  /// waitForParticipant. Called with mutex_ held.
+  void setStatusLocked(const std::string& prefix, DdsTransport::RemoteParticipant::Status status);
+  DdsTransport::RemoteParticipant remoteParticipantLocked(const std::string& prefix) const;
   /// For a refused writer or reader: what the permissions say ("" without DDS Security).
   std::string refusalHint(const char* action, const std::string& topic) const;
 
@@ -218,6 +229,8 @@ class Participant final : public eprosima::fastdds::dds::DomainParticipantListen
   std::map<std::string, Remote> remotes_;                 // by GUID text
   std::map<std::string, std::string> participant_names_;  // by GUID prefix text
   std::map<std::string, std::string> participant_subjects_;  // by GUID prefix: its identity token's certificate subject
+  std::map<std::string, DdsTransport::RemoteParticipant::Status> participant_status_;  // by GUID prefix
+  mutable std::condition_variable participants_changed_;  // with mutex_: a participant's status changed
   std::vector<std::string> problems_;
   std::vector<std::string> reported_;  // keys of problems reported once
   std::vector<std::pair<eprosima::fastdds::dds::DomainEntity*, std::uint32_t>> unclaimed_qos_;  // see incompatibleQos
