@@ -174,11 +174,12 @@ void PassivitySide::receive(const EnergyPacket& packet) noexcept {
 PassivitySideStep PassivitySide::step(double dt, const Vector6& desired, const Vector6& twist,
                                       double dissipation) noexcept {
   PassivitySideStep out;
-  if (!(dt > 0.0)) return out;
+  out.packet.request = requesting();
+  if (!(dt > 0.0) || !std::isfinite(dt)) return out;  // nothing is paid or moved
   const TankLevels& l = p_.tank;
   // A dissipation that is not a finite power >= 0 (a NaN from a sensor) adds nothing.
   const double d = std::isfinite(dissipation) && dissipation > 0.0 ? dissipation * dt : 0.0;
-  if (!std::isfinite(d)) return out;  // dt = inf: nothing is paid or moved
+  if (!std::isfinite(d)) return out;  // a finite power over a finite period that overflows
   // Settle the last period: its wrench did F·t_end·dt if the robot's step moved with the twist at
   // its end; the tank paid F·t_start·dt. The excess (never a refund: an explicit step did the
   // latter) is paid now. A twist that is not finite settles nothing (there is no measurement).

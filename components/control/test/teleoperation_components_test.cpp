@@ -34,13 +34,13 @@ TEST(TeleoperationComponents, TeleoperationLayersCoupleOnlyAfterEngageAndReportT
   clock.add(passivity, 1ms);
   core::OutputPort<KDL::Frame> master{"master", "", "m"}, slave{"slave", "", "m"};
   core::InputPort<KDL::Wrench> master_force{"mf", "", "N"};
-  core::InputPort<double> slave_tank{"st", "", "J"};
+  core::InputPort<double> tank{"st", "", "J"};
   core::connectPorts(master, transparency.port("masterPose"));
   core::connectPorts(slave, transparency.port("slavePose"));
   // The master's side's layer (no twist wired: the master does not move, so it pays nothing).
   core::connectPorts(transparency.port("masterForceDesired"), passivity.port("forceDesired"));
   core::connectPorts(passivity.port("force"), master_force);
-  core::connectPorts(passivity.port("tankEnergy"), slave_tank);
+  core::connectPorts(passivity.port("tankEnergy"), tank);
   for (core::Component* c : {static_cast<core::Component*>(&transparency), static_cast<core::Component*>(&passivity)}) {
     ASSERT_TRUE(c->configure());
     ASSERT_TRUE(c->start());
@@ -56,7 +56,7 @@ TEST(TeleoperationComponents, TeleoperationLayersCoupleOnlyAfterEngageAndReportT
   ASSERT_NE(master_force.read(f), core::FlowStatus::NoData);
   EXPECT_LT(f.force.x(), -0.5);
   double energy = 0.0;
-  ASSERT_NE(slave_tank.read(energy), core::FlowStatus::NoData);
+  ASSERT_NE(tank.read(energy), core::FlowStatus::NoData);
   EXPECT_DOUBLE_EQ(energy, 10.0);  // nothing moved: nothing paid
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { clock.advance(100ms); }), 0);
 }
