@@ -183,7 +183,7 @@ PassivitySideStep PassivitySide::step(double dt, const Vector6& desired, const V
   // Settle the last period: its wrench did F·t_end·dt if the robot's step moved with the twist at
   // its end; the tank paid F·t_start·dt. The excess (never a refund: an explicit step did the
   // latter) is paid now. A twist that is not finite settles nothing (there is no measurement).
-  const double excess = last_wrench_.dot(twist - last_twist_) * last_dt_;
+  const double excess = p_.settle ? last_wrench_.dot(twist - last_twist_) * last_dt_ : 0.0;
   if (std::isfinite(excess) && excess > 0.0) {
     energy_ -= excess;
     paid_ += excess;
@@ -217,7 +217,10 @@ PassivitySideStep PassivitySide::step(double dt, const Vector6& desired, const V
   cut(rendered.head<3>(), p_.max_force);
   cut(rendered.tail<3>(), p_.max_torque);
   const double before = energy_;
-  out.limited = !payForWrench(rendered, twist, dt, l.minimum, energy_, out.wrench);
+  // A tank a settlement took below ε implements nothing, not even a wrench that would pay it
+  // (its own settlement could take more): the undershoot stays one period's excess.
+  out.limited = energy_ < l.minimum ? !rendered.isZero(0.0)
+                                    : !payForWrench(rendered, twist, dt, l.minimum, energy_, out.wrench);
   paid_ += before - energy_;
   if (!out.limited) {
     last_wrench_ = out.wrench;

@@ -103,6 +103,11 @@ struct PassivitySideParameters {
   /// and 0). Paying for, or being credited with, work nobody does would make the bound a fiction.
   double max_force = std::numeric_limits<double>::infinity();
   double max_torque = std::numeric_limits<double>::infinity();
+  /// Pay, at the next period, the excess work of a robot step that moved with the twist at the
+  /// period's end (an implicit step, as the VariableAdmittance's). True: the tank has paid at least
+  /// the work done whichever step the robot takes (the safe default); false for a robot known to
+  /// move with the twist at the period's start (explicit Euler), where the excess is no work.
+  bool settle = true;
 };
 
 /// What crosses the link from one side's tank to the other's, once per period, with the side's
