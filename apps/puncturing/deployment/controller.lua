@@ -110,8 +110,9 @@ return function(c)
   end
   -- The two-layer coupling (thesis §4.5.4). N/m, N·s/m: the needle's admittance in teleoperation
   -- (configurations: 50 N/m, 4 kg, 126 N·s/m) follows 1000 / 1050 of the master's motion and
-  -- settles in about 0.1 s (teleop_link.stiffness may set another; teleoperation_coupling.lua,
-  -- M.stiffness, on the delayed link). N·m/rad, N·m·s/rad: the tool's orientation follows the
+  -- settles in about 0.1 s; over a delayed link 30 N·s/m / (delay + jitter), at most 1000 N/m,
+  -- unless teleop_link.stiffness says (teleoperation_coupling.lua, M.stiffness: the master's wrench
+  -- comes a round trip late). N·m/rad, N·m·s/rad: the tool's orientation follows the
   -- master's (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s); no device
   -- renders a torque.
   local transparency = _G[n("Transparency")]

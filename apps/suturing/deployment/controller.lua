@@ -128,8 +128,10 @@ end
 -- The two-layer coupling (thesis §4.5.4), per arm. N/m, N·s/m: stiffer than the layer's default
 -- (50 N/m) so that the thread's pull (a few N) shows as a few mm between master and slave, not
 -- cm; the slave's admittance (4 kg, 126 N·s/m in free motion) and this spring settle in about
--- 0.1 s. The Omni renders at most 3.3 N of it. teleop_link.stiffness may set another
--- (teleoperation_coupling.lua, M.stiffness, on the delayed link).
+-- 0.1 s. The Omni renders at most 3.3 N of it. Over a delayed link 30 N·s/m / (delay + jitter),
+-- at most 1000 N/m, unless teleop_link.stiffness says (teleoperation_coupling.lua, M.stiffness:
+-- the master's wrench comes a round trip late; 1000 N/m kept the device and the tool swinging by
+-- mm at 100 ms, 300 N/m settles).
 local coupling_stiffness = couplings.stiffness(teleop_link)
 for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   t.stiffness = coupling_stiffness

@@ -142,10 +142,17 @@ function M.render(passivity, master)
   if master.max_torque then p.max_torque = master.max_torque end
 end
 
--- N/m: the Transparency layer's stiffness over `link`: link.stiffness when given, else 1000.
--- STIFFNESS_RULE
+-- N/m: the Transparency layer's stiffness over `link`: link.stiffness when given, else 1000 without
+-- a lag and 30 N·s/m / (delay + jitter) with one, at most 1000. A bound on performance, not on
+-- passivity: the per-side layers keep the loop passive at any stiffness (their tanks pay every
+-- joule), but the master's wrench acts a round trip after the motion it answers, and a spring K
+-- seen late by 2d behaves like K with a negative damping of about 2dK; the device, the hand and B
+-- must out-damp it, else master and tool swing within what the tanks, refilled by that very
+-- motion's dissipation, can pay (measured on the puncturing take-over at 100 ms + 10 % loss with
+-- the per-side layers: 1000 N/m left the tool 5 mm off the master, 300 N/m within 2 mm).
 function M.stiffness(link)
-  return (link and link.stiffness) or 1000
+  local lag = M.lag(link)
+  return (link and link.stiffness) or (lag > 0 and math.min(1000, 30 / lag) or 1000)
 end
 
 -- s: the link's worst one-way lag (delay + jitter), 0 without a link setting.
