@@ -4,7 +4,10 @@
 // master such as the Phantom Omni takes. Each call takes the next of 4096 seeded random
 // master/slave pose and twist pairs (master within 2 cm and 0.1 rad of the slave), at 1 kHz time
 // steps after an engage with a 3 cm, 0.3 rad offset, so the rest lengths are shrinking over the
-// first 2 s and zero after. 10 repetitions; median and max ("max": the worst repetition's mean).
+// first 2 s and zero after. TeleoperationPerSideStep: the step as deployed, one Passivity layer
+// per side (PassivitySide: the master's and the slave's, each paying with its robot's twist, and
+// each taking the other's packet), on SE(3). 10 repetitions; median and max ("max": the worst
+// repetition's mean).
 
 #include <benchmark/benchmark.h>
 
@@ -66,11 +69,43 @@ void run(benchmark::State& state, double rotational_stiffness, double rotational
   }
 }
 
+/// The deployed step: the Transparency layer (the slave's side) and one PassivitySide per side,
+/// each taking the packet the other sent the step before (the link's part is not timed here).
+void TeleoperationPerSideStep(benchmark::State& state) {
+  TransparencyParameters coupling;
+  coupling.rotational_stiffness = 2.0;
+  coupling.rotational_damping = 0.1;
+  TransparencyLayer transparency(coupling);
+  PassivitySide master_side(PassivitySideParameters{}, "master"), slave_side(PassivitySideParameters{}, "slave");
+  const std::vector<Sample> samples = workload();
+  const KDL::Frame slave = samples[0].slave;
+  transparency.engage(0.0, KDL::Frame(slave.M * KDL::Rotation::RotZ(0.3), slave.p + KDL::Vector(0.03, 0, 0)), slave);
+  std::size_t i = 0;
+  double t = 0.0;
+  EnergyPacket to_master, to_slave;
+  for (auto _ : state) {
+    const Sample& s = samples[i];
+    i = (i + 1) % samples.size();
+    t += 1e-3;
+    master_side.receive(to_master);
+    slave_side.receive(to_slave);
+    Vector6 fm, fs;
+    transparency.compute(t, s.master, s.master_twist, s.slave, s.slave_twist, fm, fs);
+    const PassivitySideStep m = master_side.step(1e-3, fm, s.master_twist, 0.01);
+    const PassivitySideStep sl = slave_side.step(1e-3, fs, s.slave_twist, 0.05);
+    to_slave = m.packet;
+    to_master = sl.packet;
+    benchmark::DoNotOptimize(m);
+    benchmark::DoNotOptimize(sl);
+  }
+}
+
 void TeleoperationStepSE3(benchmark::State& state) { run(state, 2.0, 0.1); }
 void TeleoperationStepTranslationOnly(benchmark::State& state) { run(state, 0.0, 0.0); }
 
 BENCHMARK(TeleoperationStepSE3)->Apply(configure);
 BENCHMARK(TeleoperationStepTranslationOnly)->Apply(configure);
+BENCHMARK(TeleoperationPerSideStep)->Apply(configure);
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -23,21 +24,22 @@ std::string number(double value) {
   return text;
 }
 
-/// The tank's levels, named as the PassivityLayer component's properties (`which`_minimum, ...).
-void requireLevels(const TankLevels& t, const std::string& which) {
+/// The tank's levels, named as the PassivityLayer component's properties: `prefix` + minimum, ...
+/// (prefix "master_" for the co-located layer's master tank, "" for one side's component).
+void requireLevels(const TankLevels& t, const std::string& prefix) {
   auto fail = [&](const char* level, double value, const std::string& rule) {
-    throw std::invalid_argument("PassivityLayer: " + which + "_" + level + " = " + number(value) + " J: must be " +
-                                rule + " (0 < minimum < request < available < maximum, minimum < initial <= maximum)");
+    throw std::invalid_argument("PassivityLayer: " + prefix + level + " = " + number(value) + " J: must be " + rule +
+                                " (0 < minimum < request < available < maximum, minimum < initial <= maximum)");
   };
   if (!(t.minimum > 0.0) || !std::isfinite(t.minimum)) fail("minimum", t.minimum, "> 0");
-  if (!(t.request > t.minimum)) fail("request", t.request, "> " + which + "_minimum = " + number(t.minimum) + " J");
+  if (!(t.request > t.minimum)) fail("request", t.request, "> " + prefix + "minimum = " + number(t.minimum) + " J");
   if (!(t.available > t.request))
-    fail("available", t.available, "> " + which + "_request = " + number(t.request) + " J");
+    fail("available", t.available, "> " + prefix + "request = " + number(t.request) + " J");
   if (!(t.maximum > t.available) || !std::isfinite(t.maximum))
-    fail("maximum", t.maximum, "> " + which + "_available = " + number(t.available) + " J");
+    fail("maximum", t.maximum, "> " + prefix + "available = " + number(t.available) + " J");
   if (!(t.initial > t.minimum && t.initial <= t.maximum))
     fail("initial", t.initial,
-         "in (" + which + "_minimum, " + which + "_maximum] = (" + number(t.minimum) + ", " + number(t.maximum) + "] J");
+         "in (" + prefix + "minimum, " + prefix + "maximum] = (" + number(t.minimum) + ", " + number(t.maximum) + "] J");
 }
 
 /// Eq. 4.20: the tank (energy J) pays F_idᵀ t_i dt for the wrench it implements (the full power
@@ -142,59 +144,121 @@ void TransparencyLayer::compute(double time, const KDL::Frame& master, const Vec
   slave_wrench = alpha_ * coupling;
 }
 
-PassivityLayer::PassivityLayer(const PassivityParameters& p) : p_(p) {
-  requireLevels(p.master, "master");
-  requireLevels(p.slave, "slave");
-  if (!(p.master_max_force >= 0.0))
-    throw std::invalid_argument("PassivityLayer: master_max_force = " + number(p.master_max_force) +
-                                " N: must be >= 0 (the force the master device renders)");
-  if (!(p.master_max_torque >= 0.0))
-    throw std::invalid_argument("PassivityLayer: master_max_torque = " + number(p.master_max_torque) +
-                                " N·m: must be >= 0 (the torque the master device renders)");
+PassivitySide::PassivitySide(const PassivitySideParameters& p, const std::string& name) : p_(p) {
+  const std::string prefix = name.empty() ? "" : name + "_";
+  const std::string device = name.empty() ? "its robot" : "the " + name + " device";
+  requireLevels(p.tank, prefix);
+  if (!(p.max_force >= 0.0))
+    throw std::invalid_argument("PassivityLayer: " + prefix + "max_force = " + number(p.max_force) +
+                                " N: must be >= 0 (the force " + device + " renders)");
+  if (!(p.max_torque >= 0.0))
+    throw std::invalid_argument("PassivityLayer: " + prefix + "max_torque = " + number(p.max_torque) +
+                                " N·m: must be >= 0 (the torque " + device + " renders)");
   if (!(p.transfer_power > 0.0) || !std::isfinite(p.transfer_power))
     throw std::invalid_argument("PassivityLayer: transfer_power = " + number(p.transfer_power) +
                                 " W: must be > 0 (P̄, the rate of the exchange between the tanks)");
-  master_ = p.master.initial;
-  slave_ = p.slave.initial;
+  energy_ = p.tank.initial;
+}
+
+void PassivitySide::receive(const EnergyPacket& packet) noexcept {
+  peer_request_ = packet.request;
+  if (!(packet.energy > 0.0) || !std::isfinite(packet.energy)) return;
+  received_ += packet.energy;
+  if (energy_ <= p_.tank.maximum) {
+    energy_ += packet.energy;  // eq. 4.7: σ = 1
+  } else {
+    spilled_ += packet.energy;
+  }
+}
+
+PassivitySideStep PassivitySide::step(double dt, const Vector6& desired, const Vector6& twist,
+                                      double dissipation) noexcept {
+  PassivitySideStep out;
+  out.packet.request = requesting();
+  if (!(dt > 0.0) || !std::isfinite(dt)) return out;  // nothing is paid or moved
+  const TankLevels& l = p_.tank;
+  // A dissipation that is not a finite power >= 0 (a NaN from a sensor) adds nothing.
+  const double d = std::isfinite(dissipation) && dissipation > 0.0 ? dissipation * dt : 0.0;
+  if (!std::isfinite(d)) return out;  // a finite power over a finite period that overflows
+  // Settle the last period: its wrench did F·t_end·dt if the robot's step moved with the twist at
+  // its end; the tank paid F·t_start·dt. The excess (never a refund: an explicit step did the
+  // latter) is paid now. A twist that is not finite settles nothing (there is no measurement).
+  const double excess = p_.settle ? last_wrench_.dot(twist - last_twist_) * last_dt_ : 0.0;
+  if (std::isfinite(excess) && excess > 0.0) {
+    energy_ -= excess;
+    paid_ += excess;
+  }
+  last_wrench_.setZero();
+  last_dt_ = 0.0;
+  // Eq. 4.19: the tank stores the robot's dissipation while at most T̄ (σ = 1), else passes it on.
+  credited_ += d;
+  double packet = 0.0;
+  if (energy_ <= l.maximum) {
+    energy_ += d;
+  } else {
+    packet += d;
+  }
+  // Eq. 4.21-4.23: a rich tank feeds one that asks, at P̄, never below its own ε (a long period
+  // could otherwise move more than T_ava - ε).
+  if (peer_request_ && energy_ >= l.available) {
+    const double give = std::min(p_.transfer_power * dt, std::max(energy_ - l.minimum, 0.0));
+    energy_ -= give;
+    packet += give;
+  }
+  sent_ += packet;
+  out.packet.energy = packet;
+  // The wrench the robot can render: force and torque each cut to their limit, keeping their
+  // direction (a limit of 0 renders none).
+  Vector6 rendered = desired;
+  const auto cut = [](auto part, double limit) {
+    const double norm = part.norm();
+    if (norm > limit) part *= limit > 0.0 ? limit / norm : 0.0;
+  };
+  cut(rendered.head<3>(), p_.max_force);
+  cut(rendered.tail<3>(), p_.max_torque);
+  const double before = energy_;
+  // A tank a settlement took below ε implements nothing, not even a wrench that would pay it
+  // (its own settlement could take more): the undershoot stays one period's excess.
+  out.limited = energy_ < l.minimum ? !rendered.isZero(0.0)
+                                    : !payForWrench(rendered, twist, dt, l.minimum, energy_, out.wrench);
+  paid_ += before - energy_;
+  if (!out.limited) {
+    last_wrench_ = out.wrench;
+    last_twist_ = twist;
+    last_dt_ = dt;
+  }
+  out.packet.request = requesting();
+  return out;
+}
+
+namespace {
+PassivitySideParameters side(const TankLevels& tank, double transfer_power, double max_force, double max_torque) {
+  return PassivitySideParameters{tank, transfer_power, max_force, max_torque};
+}
+}  // namespace
+
+PassivityLayer::PassivityLayer(const PassivityParameters& p)
+    : master_(side(p.master, p.transfer_power, p.master_max_force, p.master_max_torque), "master"),
+      slave_(side(p.slave, p.transfer_power, std::numeric_limits<double>::infinity(),
+                  std::numeric_limits<double>::infinity()),
+             "slave") {
+  // Each knows from the start whether the other asks, as the next packets will tell.
+  master_.receive(EnergyPacket{0.0, slave_.requesting()});
+  slave_.receive(EnergyPacket{0.0, master_.requesting()});
 }
 
 PassivityStep PassivityLayer::step(double dt, const Vector6& master_desired, const Vector6& slave_desired,
                                    const Vector6& master_twist, const Vector6& slave_twist,
                                    double master_dissipation, double slave_dissipation) noexcept {
+  const PassivitySideStep m = master_.step(dt, master_desired, master_twist, master_dissipation);
+  const PassivitySideStep s = slave_.step(dt, slave_desired, slave_twist, slave_dissipation);
+  master_.receive(s.packet);  // no link: the packets arrive in the same step
+  slave_.receive(m.packet);
   PassivityStep out;
-  if (!(dt > 0.0)) return out;
-  const TankLevels& lm = p_.master;
-  const TankLevels& ls = p_.slave;
-  const double sigma_m = master_ <= lm.maximum ? 1.0 : 0.0;  // eq. 4.7 per tank
-  const double sigma_s = slave_ <= ls.maximum ? 1.0 : 0.0;
-  // A dissipation that is not a finite power >= 0 (a NaN from a sensor) adds nothing.
-  const auto power = [](double w) { return std::isfinite(w) && w > 0.0 ? w : 0.0; };
-  const double dm = power(master_dissipation) * dt, ds = power(slave_dissipation) * dt;
-  if (!std::isfinite(dm) || !std::isfinite(ds)) return out;  // dt = inf: nothing is paid or moved
-  // Eq. 4.21-4.23: a full tank passes its dissipation on; a rich tank feeds one that asks, at P̄,
-  // never below its own ε (a long period could otherwise move more than T_ava - ε).
-  const double request_m = master_ < lm.request ? 1.0 : 0.0, request_s = slave_ < ls.request ? 1.0 : 0.0;
-  const double give_m = master_ >= lm.available ? 1.0 : 0.0, give_s = slave_ >= ls.available ? 1.0 : 0.0;
-  const double transfer_m = std::min(p_.transfer_power * dt, std::max(master_ - lm.minimum, 0.0));
-  const double transfer_s = std::min(p_.transfer_power * dt, std::max(slave_ - ls.minimum, 0.0));
-  const double out_m = (1.0 - sigma_m) * dm + request_s * give_m * transfer_m;
-  const double out_s = (1.0 - sigma_s) * ds + request_m * give_s * transfer_s;
-  double master_next = master_ + sigma_m * dm + sigma_m * out_s - out_m;
-  double slave_next = slave_ + sigma_s * ds + sigma_s * out_m - out_s;
-  spilled_ += (1.0 - sigma_m) * out_s + (1.0 - sigma_s) * out_m;
-  // The master wrench the device can render: force and torque each cut to their limit, keeping
-  // their direction (a limit of 0 renders none).
-  Vector6 rendered = master_desired;
-  const auto cut = [](auto part, double limit) {
-    const double norm = part.norm();
-    if (norm > limit) part *= limit > 0.0 ? limit / norm : 0.0;
-  };
-  cut(rendered.head<3>(), p_.master_max_force);
-  cut(rendered.tail<3>(), p_.master_max_torque);
-  out.master_limited = !payForWrench(rendered, master_twist, dt, lm.minimum, master_next, out.master_wrench);
-  out.slave_limited = !payForWrench(slave_desired, slave_twist, dt, ls.minimum, slave_next, out.slave_wrench);
-  master_ = master_next;
-  slave_ = slave_next;
+  out.master_wrench = m.wrench;
+  out.slave_wrench = s.wrench;
+  out.master_limited = m.limited;
+  out.slave_limited = s.limited;
   return out;
 }
 

@@ -302,6 +302,110 @@ TEST(Teleoperation, BadParametersNameTheParameterAndTheRule) {
             "PassivityLayer: transfer_power = -3 W: must be > 0 (P̄, the rate of the exchange between the tanks)");
 }
 
+// One side's layer (as deployed, one per side): the tanks trade energy only in packets; what a
+// packet carries left the sender when sent, and a packet lost on the way takes it along.
+TEST(Teleoperation, PassivitySidesTradeEnergyOnlyInPacketsAndALostPacketsEnergyIsGone) {
+  PassivitySideParameters poor, rich;
+  poor.tank.initial = 2.0;   // J: below T_req = 5 J: asks
+  rich.tank.initial = 15.0;  // J: above T_ava = 10 J: gives, to one that asks
+  PassivitySide master(poor, "master"), slave(rich, "slave");
+  PassivitySideStep m = master.step(kDt, kZero, kZero, 0.0);
+  EXPECT_TRUE(m.packet.request);
+  EXPECT_EQ(m.packet.energy, 0.0);
+  PassivitySideStep s = slave.step(kDt, kZero, kZero, 0.0);
+  EXPECT_EQ(s.packet.energy, 0.0) << "the request has not arrived";
+  EXPECT_FALSE(s.packet.request);
+  slave.receive(m.packet);
+  s = slave.step(kDt, kZero, kZero, 0.0);
+  EXPECT_DOUBLE_EQ(s.packet.energy, 1e-3);  // P̄ = 1 W for 1 ms
+  EXPECT_DOUBLE_EQ(slave.energy(), 15.0 - 1e-3) << "sent: gone from the sender at once";
+  // That packet is lost; the next arrives.
+  s = slave.step(kDt, kZero, kZero, 0.0);
+  master.receive(s.packet);
+  EXPECT_DOUBLE_EQ(master.energy(), 2.0 + 1e-3);
+  EXPECT_DOUBLE_EQ(master.received(), 1e-3);
+  EXPECT_DOUBLE_EQ(slave.sent(), 2e-3);
+  EXPECT_NEAR(master.energy() + slave.energy(), 17.0 - 1e-3, 1e-12) << "the lost packet's energy is gone";
+  // A packet's energy that is not finite and >= 0 adds nothing; its request still counts.
+  master.receive(EnergyPacket{std::numeric_limits<double>::quiet_NaN(), false});
+  master.receive(EnergyPacket{-4.0, false});
+  EXPECT_DOUBLE_EQ(master.energy(), 2.0 + 1e-3);
+  slave.receive(EnergyPacket{0.0, false});
+  EXPECT_EQ(slave.step(kDt, kZero, kZero, 0.0).packet.energy, 0.0) << "the request ended";
+}
+
+// A tank above T̄ stores nothing: what arrives is spilled, what its robot dissipates goes on to
+// the other side in its packet.
+TEST(Teleoperation, AFullSideSpillsWhatArrivesAndPassesItsDissipationOn) {
+  PassivitySideParameters p;
+  p.tank.initial = 20.0;
+  PassivitySide side(p, "slave");
+  side.receive(EnergyPacket{0.5, false});  // 20 J <= T̄: stored
+  EXPECT_DOUBLE_EQ(side.energy(), 20.5);
+  side.receive(EnergyPacket{0.25, false});  // above T̄: spilled
+  EXPECT_DOUBLE_EQ(side.energy(), 20.5);
+  EXPECT_DOUBLE_EQ(side.spilled(), 0.25);
+  const PassivitySideStep out = side.step(kDt, kZero, kZero, 30.0);  // 30 W for 1 ms
+  EXPECT_DOUBLE_EQ(out.packet.energy, 0.03);
+  EXPECT_DOUBLE_EQ(side.energy(), 20.5);
+}
+
+// The tank pays F·t·dt with the twist at the period's start; a robot whose step moved with the
+// twist at its end (the admittance's implicit step) did F·t_end·dt: the excess is paid at the
+// next step, a shortfall is not refunded (an explicit step did the former).
+TEST(Teleoperation, ASidePaysTheExcessOfAStepThatMovedWithItsEndTwist) {
+  PassivitySide side(PassivitySideParameters{}, "slave");
+  const Vector6 push = linear(Vector3(10.0, 0, 0));
+  side.step(kDt, push, linear(Vector3(0.1, 0, 0)), 0.0);
+  EXPECT_NEAR(side.energy(), 10.0 - 10.0 * 0.1 * kDt, 1e-12);
+  side.step(kDt, kZero, linear(Vector3(0.3, 0, 0)), 0.0);  // it moved at 0.3 m/s: 2 mJ more
+  EXPECT_NEAR(side.energy(), 10.0 - 10.0 * 0.3 * kDt, 1e-12);
+  EXPECT_NEAR(side.paid(), 10.0 * 0.3 * kDt, 1e-12);
+  side.step(kDt, kZero, linear(Vector3(-1.0, 0, 0)), 0.0);  // no wrench last period: nothing
+  EXPECT_NEAR(side.energy(), 10.0 - 10.0 * 0.3 * kDt, 1e-12);
+  side.step(kDt, push, linear(Vector3(0.2, 0, 0)), 0.0);
+  side.step(kDt, kZero, linear(Vector3(0.1, 0, 0)), 0.0);  // slower than paid for: no refund
+  EXPECT_NEAR(side.energy(), 10.0 - 10.0 * 0.5 * kDt, 1e-12);
+}
+
+// A master that renders nothing (a hand tracker: max_force = max_torque = 0) implements no
+// wrench and pays nothing, however large the desired one; its tank still trades energy.
+TEST(Teleoperation, AMasterThatRendersNothingPaysNothing) {
+  PassivitySideParameters p;
+  p.max_force = 0.0;
+  p.max_torque = 0.0;
+  PassivitySide side(p, "master");
+  const Vector6 desired = (Vector6() << 30.0, -5.0, 2.0, 0.0, 1.0, 0.0).finished();
+  const Vector6 twist = (Vector6() << 0.2, -0.1, 0.0, 0.0, 1.0, 0.0).finished();
+  for (int i = 0; i < 100; ++i) {
+    const PassivitySideStep out = side.step(kDt, desired, twist, 0.0);
+    EXPECT_FALSE(out.limited);
+    EXPECT_EQ(out.wrench, kZero);
+  }
+  EXPECT_DOUBLE_EQ(side.energy(), 10.0);
+  EXPECT_DOUBLE_EQ(side.paid(), 0.0);
+}
+
+// One side's component names its own properties (minimum, ...: no master_/slave_ prefix).
+TEST(Teleoperation, ASidesBadParametersNameItsOwnPropertiesAndTheRule) {
+  using test_support::messageOf;
+  auto side = [](auto change) {
+    return messageOf([&] {
+      PassivitySideParameters p;
+      change(p);
+      PassivitySide layer(p, "");
+    });
+  };
+  const std::string rule = " (0 < minimum < request < available < maximum, minimum < initial <= maximum)";
+  EXPECT_EQ(side([](auto& p) { p.tank.request = 0.5; }), "PassivityLayer: request = 0.5 J: must be > minimum = 1 J" + rule);
+  EXPECT_EQ(side([](auto& p) { p.tank.initial = 0.5; }),
+            "PassivityLayer: initial = 0.5 J: must be in (minimum, maximum] = (1, 20] J" + rule);
+  EXPECT_EQ(side([](auto& p) { p.max_force = -2.0; }),
+            "PassivityLayer: max_force = -2 N: must be >= 0 (the force its robot renders)");
+  EXPECT_EQ(side([](auto& p) { p.transfer_power = 0.0; }),
+            "PassivityLayer: transfer_power = 0 W: must be > 0 (P̄, the rate of the exchange between the tanks)");
+}
+
 TEST(Teleoperation, TheTotalEnergyBalanceHolds) {
   Scenario s;
   const double before = s.energy();

@@ -54,7 +54,8 @@ return function(c)
     { peer_name = n("Link"), component_type = "LinkImpairment" },
     { peer_name = n("Clutch"), component_type = "TeleoperationClutch" },
     { peer_name = n("Transparency"), component_type = "TransparencyLayer" },
-    { peer_name = n("Passivity"), component_type = "PassivityLayer" },
+    { peer_name = n("MasterPassivity"), component_type = "PassivityLayer" },  -- the master's side
+    { peer_name = n("SlavePassivity"), component_type = "PassivityLayer" },   -- the tool's side
     { peer_name = n("TaskSup"), component_type = "Supervisor" },
     { peer_name = n("DepSup"), component_type = "Supervisor" },
     { peer_name = n("ConfSup"), component_type = "Supervisor" },
@@ -109,17 +110,17 @@ return function(c)
   end
   -- The two-layer coupling (thesis §4.5.4). N/m, N·s/m: the needle's admittance in teleoperation
   -- (configurations: 50 N/m, 4 kg, 126 N·s/m) follows 1000 / 1050 of the master's motion and
-  -- settles in about 0.1 s; over a delayed link both layers run on the controller's side and the
-  -- master's force crosses the link back: the stiffness is 30 N·s/m / (delay + jitter) then, at
-  -- most 1000 N/m (suturing's measured rule: 1000 N/m oscillated by mm at 100 ms), unless
-  -- teleop_link.stiffness says. N·m/rad, N·m·s/rad: the tool's orientation follows the master's
-  -- (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s); no device renders a torque.
+  -- settles in about 0.1 s; over a delayed link 30 N·s/m / (delay + jitter), at most 1000 N/m,
+  -- unless teleop_link.stiffness says (teleoperation_coupling.lua, M.stiffness: the master's wrench
+  -- comes a round trip late). N·m/rad, N·m·s/rad: the tool's orientation follows the
+  -- master's (0.2 kg·m², 4 N·m·s/rad: critically damped at 20 N·m/rad, about 0.2 s); no device
+  -- renders a torque.
   local transparency = _G[n("Transparency")]
   transparency.stiffness = coupling.stiffness(teleop_link)
   transparency.damping = 20
   transparency.rotational_stiffness = 20
   transparency.rotational_damping = 0.5
-  coupling.render(n("Passivity"), master_ports)
+  coupling.render(n("MasterPassivity"), master_ports)  -- what the device renders; the Leap: nothing
   coupling.impair({ n("Link") }, teleop_link and {
     delay = teleop_link.delay, jitter = teleop_link.jitter, loss = teleop_link.loss,
     seed = (teleop_link.seed or 1) + 4 * (c.arm - 1) })  -- each robot's link draws its own losses
@@ -137,7 +138,8 @@ return function(c)
   end
   local activities = {}
   for _, name in ipairs({ n("Frames"), n("TrajGen"), n("Wrench"), n("Admittance"), n("Link"), n("Clutch"),
-                          n("Transparency"), n("Passivity"), n("TaskSup"), n("DepSup"), n("ConfSup") }) do
+                          n("Transparency"), n("MasterPassivity"), n("SlavePassivity"), n("TaskSup"), n("DepSup"),
+                          n("ConfSup") }) do
     activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: 1 kHz control and coordination
   end
   for _, d in ipairs(device) do activities[#activities + 1] = { peer_name = d.peer_name, period = 0.001 } end
@@ -213,14 +215,16 @@ return function(c)
   -- teleoperation_coupling.lua): the device's pose and twist cross the link to the controller, the
   -- clutch maps the device's motion since the deployment started onto the tool's pose then (the
   -- tool's own pose until the first sample arrives), the Transparency layer (engaged by the chart
-  -- once deployed) computes the coupling on that and the admittance's output, the Passivity layer
-  -- implements it as far as its tanks can pay: on the tool through the admittance's extWrench,
-  -- on the device (the Omni's desWrench) back across the link. The admittance's reference stays
+  -- once deployed) computes the coupling on that and the admittance's output; one Passivity layer
+  -- per side implements it as far as its side's tank can pay: the slave's on the tool through the
+  -- admittance's extWrench, the master's on the device (the Omni's desWrench) with the master's
+  -- wrench as it arrives back across the link; the tanks trade energy in the link's packets. The
+  -- admittance's reference stays
   -- where the motion stopped (nothing writes refPose) and the teleoperation configuration has
   -- next to no stiffness: the coupling moves the tool, and what resists it (the tissue on the
   -- needle, the skin on the probe), measured by the tool's sensor, is what the surgeon feels.
   local teleoperated = { n("Planner"), n("Wrench"), n("Admittance"), n("Link"), n("Clutch"), n("Transparency"),
-                         n("Passivity") }
+                         n("MasterPassivity"), n("SlavePassivity") }
   if not device_always then
     for _, d in ipairs(device) do teleoperated[#teleoperated + 1] = d.peer_name end
   end
@@ -228,8 +232,9 @@ return function(c)
     scope = c.scope,
     components = teleoperated,
     connections = coupling.connections {
-      link = n("Link"), clutch = n("Clutch"), transparency = n("Transparency"), passivity = n("Passivity"),
-      admittance = n("Admittance"), slave_pose = robot .. ".measCartPose", master = master_ports,
+      link = n("Link"), clutch = n("Clutch"), transparency = n("Transparency"),
+      master_passivity = n("MasterPassivity"), slave_passivity = n("SlavePassivity"), admittance = n("Admittance"),
+      slave_pose = robot .. ".measCartPose", master = master_ports,
     },
   })
   configureComponents(always)

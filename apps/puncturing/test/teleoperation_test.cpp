@@ -132,10 +132,13 @@ Figures takeOver(const Robot& robot, const std::string& device, const std::strin
                  "]]\nteleop_device = '" + device + "'";
   if (!link.empty()) o.before_lua += "\nteleop_link = " + link;
   // Recorded beside the application's ports: the master's motion mapped onto the tool (the
-  // clutch's output), the force the coupling gives the master, its tanks, the contact's force on
-  // the tool, the tool's pose. (Last: a port without data yet is one empty cell, whatever its width.)
-  o.extra_lua = "for _, p in ipairs({ '" + std::string(robot.contact) + "', '" + P + "Passivity.masterTankEnergy', '" + P +
-                "Passivity.slaveTankEnergy', '" + P + "Passivity.masterForce', '" + P + "Clutch.desPose', '" + P +
+  // clutch's output), the force the master feels (the Omni: what its side's Passivity layer
+  // renders; the Leap renders none: the master's wrench as it arrives over the link, what a
+  // haptic device would be given), the two sides' tanks, the contact's force on the tool, the
+  // tool's pose. (Last: a port without data yet is one empty cell, whatever its width.)
+  const std::string felt_port = device == "leap" ? P + "Link.linkedSlaveWrench" : P + "MasterPassivity.force";
+  o.extra_lua = "for _, p in ipairs({ '" + std::string(robot.contact) + "', '" + P + "MasterPassivity.tankEnergy', '" +
+                P + "SlavePassivity.tankEnergy', '" + felt_port + "', '" + P + "Clutch.desPose', '" + P +
                 "Admittance.admPose', '" + robot.measured + "' }) do run.record.ports[#run.record.ports + 1] = p end";
   o.report_folder = std::filesystem::temp_directory_path() /
                     ("cobra_puncturing_take_over_" + std::string(robot.faults) + "_" + device +
@@ -172,7 +175,7 @@ Figures takeOver(const Robot& robot, const std::string& device, const std::strin
   int n = 0;
   for (const auto& row : s.rows) {
     if (row[0] < active + 0.3 || row[0] >= done) continue;
-    const KDL::Vector contact = s.force(row, robot.contact), felt = s.force(row, P + "Passivity.masterForce");
+    const KDL::Vector contact = s.force(row, robot.contact), felt = s.force(row, felt_port);
     if (!(contact.Norm() > 0.05)) continue;  // N: no contact force to feel (NaN: none recorded yet)
     f.force_along_contact += KDL::dot(felt, contact / contact.Norm());
     f.contact_force += contact.Norm();
@@ -185,8 +188,8 @@ Figures takeOver(const Robot& robot, const std::string& device, const std::strin
   }
   for (const auto& row : s.rows) {
     if (row[0] < active || row[0] > done) continue;
-    f.lowest_tank = std::min({f.lowest_tank, row[s.column(P + "Passivity.masterTankEnergy")],
-                              row[s.column(P + "Passivity.slaveTankEnergy")]});
+    f.lowest_tank = std::min({f.lowest_tank, row[s.column(P + "MasterPassivity.tankEnergy")],
+                              row[s.column(P + "SlavePassivity.tankEnergy")]});
   }
   // The master's motion (mapped onto the tool by the clutch) from just before the hand moved to
   // 2.9 s into the teleoperation (drawn back, turned, settled: the rest length gone 2 s after the

@@ -50,8 +50,10 @@ local controller = {
   { peer_name = "LeftLink", component_type = "LinkImpairment" },
   { peer_name = "RightTransparency", component_type = "TransparencyLayer" },
   { peer_name = "LeftTransparency", component_type = "TransparencyLayer" },
-  { peer_name = "RightPassivity", component_type = "PassivityLayer" },
-  { peer_name = "LeftPassivity", component_type = "PassivityLayer" },
+  { peer_name = "RightMasterPassivity", component_type = "PassivityLayer" },  -- beside each device
+  { peer_name = "LeftMasterPassivity", component_type = "PassivityLayer" },
+  { peer_name = "RightSlavePassivity", component_type = "PassivityLayer" },   -- beside each admittance
+  { peer_name = "LeftSlavePassivity", component_type = "PassivityLayer" },
   { peer_name = "TaskSup", component_type = "Supervisor" },
   { peer_name = "DepSup", component_type = "Supervisor" },
   { peer_name = "ConfSup", component_type = "Supervisor" },
@@ -126,11 +128,10 @@ end
 -- The two-layer coupling (thesis §4.5.4), per arm. N/m, N·s/m: stiffer than the layer's default
 -- (50 N/m) so that the thread's pull (a few N) shows as a few mm between master and slave, not
 -- cm; the slave's admittance (4 kg, 126 N·s/m in free motion) and this spring settle in about
--- 0.1 s. The Omni renders at most 3.3 N of it. Over a delayed link both layers run on the
--- controller's side and the master's force crosses the link back: 1000 N/m there keeps the Omni
--- and the tool oscillating by mm (measured at 100 ms), 300 N/m settles; the stiffness is
--- 30 N·s/m / (delay + jitter) then, at most 1000 N/m, unless teleop_link.stiffness says.
-local link = teleop_link or {}
+-- 0.1 s. The Omni renders at most 3.3 N of it. Over a delayed link 30 N·s/m / (delay + jitter),
+-- at most 1000 N/m, unless teleop_link.stiffness says (teleoperation_coupling.lua, M.stiffness:
+-- the master's wrench comes a round trip late; 1000 N/m kept the device and the tool swinging by
+-- mm at 100 ms, 300 N/m settles).
 local coupling_stiffness = couplings.stiffness(teleop_link)
 for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   t.stiffness = coupling_stiffness
@@ -142,8 +143,11 @@ for _, t in ipairs({ RightTransparency, LeftTransparency }) do
   t.rotational_damping = 0.5
 end
 -- The master tanks pay for the wrench the device renders, not for one it cannot exert (a device
--- that declares no limit: any wrench).
-for _, p in ipairs({ "RightPassivity", "LeftPassivity" }) do couplings.render(p, device) end
+-- that declares no limit: any wrench; the Leap, without feedback: none).
+for _, side in ipairs({ "right", "left" }) do
+  couplings.render((side == "right" and "Right" or "Left") .. "MasterPassivity",
+                   { feedback = device[side .. "_feedback"], max_force = device.max_force, max_torque = device.max_torque })
+end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
 couplings.impair({ "RightLink", "LeftLink" }, teleop_link)  -- each link draws its own losses
 addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches",
@@ -237,7 +241,9 @@ defineDeployment("suturing_autonomous_primitives", {
 -- TeleoperationActive.
 local teleoperated = { "SuturePlanner", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "Validator" }
 for _, side in ipairs({ "Right", "Left" }) do
-  for _, c in ipairs({ "Link", "Clutch", "Transparency", "Passivity" }) do teleoperated[#teleoperated + 1] = side .. c end
+  for _, c in ipairs({ "Link", "Clutch", "Transparency", "MasterPassivity", "SlavePassivity" }) do
+    teleoperated[#teleoperated + 1] = side .. c
+  end
 end
 for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.peer_name end
 -- One arm's coupling (Fig. 4.15 with the thesis §5.5 engagement): the device's pose and twist
@@ -246,8 +252,10 @@ for _, c in ipairs(device.components) do teleoperated[#teleoperated + 1] = c.pee
 -- Transparency layer computes the coupling wrenches on that and the slave: the tool's
 -- admittance, its output (the pose the robot is commanded; the robot tracks it, and where the
 -- State Validator holds the robot, the coupling still holds the admittance to the device), the
--- Passivity layer implements them as far as its tanks can pay: on the tool through its
--- admittance's extWrench, on the device (the Omni's desWrench) back across the link. The
+-- Passivity layer of each side implements its wrench as far as its side's tank can pay: the
+-- slave's on the tool through its admittance's extWrench, the master's on the device (the Omni's
+-- desWrench) with the master's wrench as it arrives back across the link; the tanks trade energy
+-- in the link's packets. The
 -- admittance's reference stays where the autonomous motion stopped (nothing writes refPose) and
 -- the configuration suturing_teleoperation has next to no translational stiffness (50 N/m against
 -- the coupling's 1000): next to nothing holds the tool there, the coupling moves it, and the
@@ -257,7 +265,8 @@ local function coupling(side, arm)
   local lower = side:lower()
   return couplings.connections {
     link = side .. "Link", clutch = side .. "Clutch", transparency = side .. "Transparency",
-    passivity = side .. "Passivity", admittance = arm, slave_pose = "ISUR.meas" .. side .. "CartPose",
+    master_passivity = side .. "MasterPassivity", slave_passivity = side .. "SlavePassivity", admittance = arm,
+    slave_pose = "ISUR.meas" .. side .. "CartPose",
     master = { pose = device[lower], twist = device[lower .. "_twist"], feedback = device[lower .. "_feedback"],
                dissipation = device[lower .. "_dissipation"] },
   }

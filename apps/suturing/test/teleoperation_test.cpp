@@ -69,10 +69,13 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
   RunOptions o = withFaults("take_over_pulling_" + device + ".lua", device);
   if (!link.empty()) o.before_lua += "\nteleop_link = " + link;
   // Recorded beside the application's ports: the device's motion mapped onto the tool (the
-  // master), the force the coupling gives the master, its tanks, the thread's wrench on the tool.
-  // (Last: a port without data yet is one empty cell, whatever its width.)
-  o.extra_lua = "for _, p in ipairs({ 'Patient.toolWrench', 'RightPassivity.masterTankEnergy', "
-                "'RightPassivity.slaveTankEnergy', 'RightPassivity.masterForce', 'RightClutch.desPose' }) do "
+  // master), the force the master feels (the Omni: what its side's Passivity layer renders; the
+  // Leap renders none: the master's wrench as it arrives over the link, what a haptic device would
+  // be given), the two sides' tanks, the thread's wrench on the tool. (Last: a port without data
+  // yet is one empty cell, whatever its width.)
+  const std::string felt_port = device == "leap" ? "RightLink.linkedSlaveWrench" : "RightMasterPassivity.force";
+  o.extra_lua = "for _, p in ipairs({ 'Patient.toolWrench', 'RightMasterPassivity.tankEnergy', "
+                "'RightSlavePassivity.tankEnergy', '" + felt_port + "', 'RightClutch.desPose' }) do "
                 "run.record.ports[#run.record.ports + 1] = p end";
   o.report_folder = std::filesystem::temp_directory_path() /
                     ("cobra_suturing_pull_" + device + (link.empty() ? "" : "_link") + "_" + std::to_string(::getpid()));
@@ -113,7 +116,7 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
   int n = 0;
   for (const auto& row : s.rows) {
     if (row[0] < active + 0.3 || row[0] >= moved) continue;
-    const std::size_t w = s.column("Patient.toolWrench.fx"), m = s.column("RightPassivity.masterForce.fx");
+    const std::size_t w = s.column("Patient.toolWrench.fx"), m = s.column(felt_port + ".fx");
     const KDL::Vector pull(row[w], row[w + 1], row[w + 2]), felt(row[m], row[m + 1], row[m + 2]);
     if (pull.Norm() < 1e-9) continue;
     f.force_along_pull += KDL::dot(felt, pull / pull.Norm());
@@ -127,8 +130,8 @@ Figures takeOverWhilePulling(const std::string& device, const std::string& link)
   }
   for (const auto& row : s.rows) {
     if (row[0] < active || row[0] > done) continue;
-    f.lowest_tank = std::min({f.lowest_tank, row[s.column("RightPassivity.masterTankEnergy")],
-                              row[s.column("RightPassivity.slaveTankEnergy")]});
+    f.lowest_tank = std::min({f.lowest_tank, row[s.column("RightMasterPassivity.tankEnergy")],
+                              row[s.column("RightSlavePassivity.tankEnergy")]});
   }
   // The device's motion (mapped onto the tool by the clutch) from just before the hand moved to
   // just before it turns back (2.9 s into the teleoperation: moved, turned, settled), against the

@@ -23,6 +23,8 @@ LinkImpairmentComponent::LinkImpairmentComponent(std::string name)
     addProperty(*p);
   for (core::PortBase* p : std::initializer_list<core::PortBase*>{
            &master_pose_, &master_twist_, &slave_wrench_, &linked_pose_, &linked_twist_, &linked_wrench_,
+           &master_energy_, &master_request_, &slave_energy_, &slave_request_, &linked_master_energy_,
+           &linked_master_request_, &linked_slave_energy_, &linked_slave_request_,
            &lost_forward_, &lost_backward_, &late_forward_, &late_backward_, &refused_forward_, &refused_backward_})
     addPort(*p);
 }
@@ -44,8 +46,7 @@ bool LinkImpairmentComponent::configureHook() {
     return refuse(e.what());  // names the property and its rule
   }
   master_ = arrived_master_ = MasterSample{};
-  wrench_ = arrived_wrench_ = KDL::Wrench::Zero();
-  have_master_ = have_wrench_ = false;
+  slave_ = arrived_slave_ = SlaveSample{};
   return true;
 }
 
@@ -56,16 +57,31 @@ void LinkImpairmentComponent::cleanupHook() {
 
 void LinkImpairmentComponent::updateHook() {
   const double time = std::chrono::duration<double>(now()).count();
-  if (master_pose_.read(master_.pose) != core::FlowStatus::NoData) have_master_ = true;
+  if (master_pose_.read(master_.pose) != core::FlowStatus::NoData) master_.has_pose = true;
   (void)master_twist_.read(master_.twist);
-  if (slave_wrench_.read(wrench_) != core::FlowStatus::NoData) have_wrench_ = true;
-  if (have_master_) (void)forward_->send(time, master_);
-  if (have_wrench_) (void)backward_->send(time, wrench_);
+  if (slave_wrench_.read(slave_.wrench) != core::FlowStatus::NoData) slave_.has_wrench = true;
+  // An energy sample goes out once: not new now, the packet carries 0 J (never twice the same).
+  if (master_energy_.readNew(master_.energy) != core::FlowStatus::NewData) master_.energy = 0.0;
+  if (slave_energy_.readNew(slave_.energy) != core::FlowStatus::NewData) slave_.energy = 0.0;
+  // A wired tank's packets travel every period, before the first pose or wrench too (the
+  // exchange needs no pose; a request that ended must be told as well).
+  const bool master_energy = master_request_.read(master_.request) != core::FlowStatus::NoData || master_.energy > 0.0;
+  const bool slave_energy = slave_request_.read(slave_.request) != core::FlowStatus::NoData || slave_.energy > 0.0;
+  if (master_.has_pose || master_energy) (void)forward_->send(time, master_);
+  if (slave_.has_wrench || slave_energy) (void)backward_->send(time, slave_);
   if (forward_->receive(time, arrived_master_)) {
-    linked_pose_.write(arrived_master_.pose);
-    linked_twist_.write(arrived_master_.twist);
+    if (arrived_master_.has_pose) {
+      linked_pose_.write(arrived_master_.pose);
+      linked_twist_.write(arrived_master_.twist);
+    }
+    linked_master_energy_.write(arrived_master_.energy);
+    linked_master_request_.write(arrived_master_.request);
   }
-  if (backward_->receive(time, arrived_wrench_)) linked_wrench_.write(arrived_wrench_);
+  if (backward_->receive(time, arrived_slave_)) {
+    if (arrived_slave_.has_wrench) linked_wrench_.write(arrived_slave_.wrench);
+    linked_slave_energy_.write(arrived_slave_.energy);
+    linked_slave_request_.write(arrived_slave_.request);
+  }
   lost_forward_.write(clamped(forward_->lost()));
   lost_backward_.write(clamped(backward_->lost()));
   late_forward_.write(clamped(forward_->discardedLate()));

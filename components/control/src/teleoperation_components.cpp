@@ -13,10 +13,6 @@ namespace {
 using kinematics::toEigen;  // [linear; angular], as the layers take them
 using kinematics::toKdlWrench;
 
-core::Property<double> level(const char* tank, const char* which, double value, const char* doc) {
-  return core::Property<double>(std::string(tank) + "_" + which, value, "J", doc);
-}
-
 }  // namespace
 
 TransparencyLayerComponent::TransparencyLayerComponent(std::string name)
@@ -67,58 +63,58 @@ void TransparencyLayerComponent::updateHook() {
 
 PassivityLayerComponent::PassivityLayerComponent(std::string name)
     : Component(std::move(name), core::Role::Calculation,
-                "Passivity layer (thesis §4.5.4): implements the coupling forces as far as two energy tanks can pay"),
-      master_levels_{level("master", "minimum", 1.0, "ε: nothing is taken out below it"),
-                     level("master", "request", 5.0, "T_req: below it energy is requested"),
-                     level("master", "available", 10.0, "T_ava: above it energy is given"),
-                     level("master", "maximum", 20.0, "T̄: nothing is stored above it"),
-                     level("master", "initial", 10.0, "energy at configure")},
-      slave_levels_{level("slave", "minimum", 1.0, "ε"), level("slave", "request", 5.0, "T_req"),
-                    level("slave", "available", 10.0, "T_ava"), level("slave", "maximum", 20.0, "T̄"),
-                    level("slave", "initial", 10.0, "energy at configure")} {
-  for (auto& p : master_levels_) addProperty(p);
-  for (auto& p : slave_levels_) addProperty(p);
+                "one side's Passivity layer (thesis §4.5.4): implements its robot's coupling force as far as its "
+                "energy tank can pay; the tanks exchange energy in packets over the link"),
+      levels_{core::Property<double>("minimum", 1.0, "J", "ε: nothing is taken out below it"),
+              core::Property<double>("request", 5.0, "J", "T_req: below it energy is requested"),
+              core::Property<double>("available", 10.0, "J", "T_ava: above it energy is given"),
+              core::Property<double>("maximum", 20.0, "J", "T̄: nothing is stored above it"),
+              core::Property<double>("initial", 10.0, "J", "energy at configure")} {
+  for (auto& p : levels_) addProperty(p);
   addProperty(transfer_power_);
-  addProperty(master_max_force_);
-  addProperty(master_max_torque_);
-  for (core::PortBase* p : std::initializer_list<core::PortBase*>{
-           &master_desired_, &slave_desired_, &master_twist_, &slave_twist_, &master_dissipation_, &slave_dissipation_,
-           &master_force_, &slave_force_, &master_energy_, &slave_energy_})
+  addProperty(max_force_);
+  addProperty(max_torque_);
+  for (core::PortBase* p : std::initializer_list<core::PortBase*>{&desired_, &twist_, &dissipation_, &energy_in_,
+                                                                  &peer_request_, &force_, &energy_out_, &request_,
+                                                                  &tank_energy_})
     addPort(*p);
 }
 
 bool PassivityLayerComponent::configureHook() {
   if (activity().period().count() <= 0) return refuse("needs a periodic activity: its period is the control period");
-  auto levels = [](const core::Property<double>* l) { return control::TankLevels{l[0](), l[1](), l[2](), l[3](), l[4]()}; };
   try {
     const auto limit = [](double value) { return value < 0.0 ? std::numeric_limits<double>::infinity() : value; };
-    layer_.emplace(control::PassivityParameters{levels(master_levels_), levels(slave_levels_), transfer_power_(),
-                                                limit(master_max_force_()), limit(master_max_torque_())});
+    layer_.emplace(control::PassivitySideParameters{
+                       control::TankLevels{levels_[0](), levels_[1](), levels_[2](), levels_[3](), levels_[4]()},
+                       transfer_power_(), limit(max_force_()), limit(max_torque_())},
+                   "");
   } catch (const std::invalid_argument& e) {
     return refuse(e.what());
   }
+  limited_ = false;
   return true;
 }
 
 void PassivityLayerComponent::updateHook() {
-  (void)master_desired_.read(master_wanted_);
-  (void)slave_desired_.read(slave_wanted_);
-  (void)master_twist_.read(master_velocity_);
-  (void)slave_twist_.read(slave_velocity_);
-  (void)master_dissipation_.read(master_power_);
-  (void)slave_dissipation_.read(slave_power_);
+  // The other side's packets: each sample written on energyIn is one packet, taken once (readNew:
+  // a sample read again would count its energy twice).
+  while (energy_in_.readNew(arrived_) == core::FlowStatus::NewData) {
+    (void)peer_request_.read(peer_asks_);
+    layer_->receive(control::EnergyPacket{arrived_, peer_asks_});
+  }
+  if (peer_request_.readNew(peer_asks_) == core::FlowStatus::NewData)
+    layer_->receive(control::EnergyPacket{0.0, peer_asks_});
+  (void)desired_.read(wanted_);
+  (void)twist_.read(velocity_);
+  (void)dissipation_.read(power_);
   const double dt = std::chrono::duration<double>(activity().period()).count();
-  const control::PassivityStep out = layer_->step(dt, toEigen(master_wanted_), toEigen(slave_wanted_),
-                                                  toEigen(master_velocity_), toEigen(slave_velocity_), master_power_,
-                                                  slave_power_);
-  if (out.master_limited && !master_limited_) emitEvent("e_master_limited");
-  if (out.slave_limited && !slave_limited_) emitEvent("e_slave_limited");
-  master_limited_ = out.master_limited;
-  slave_limited_ = out.slave_limited;
-  master_force_.write(toKdlWrench(out.master_wrench));
-  slave_force_.write(toKdlWrench(out.slave_wrench));
-  master_energy_.write(layer_->masterEnergy());
-  slave_energy_.write(layer_->slaveEnergy());
+  const control::PassivitySideStep out = layer_->step(dt, toEigen(wanted_), toEigen(velocity_), power_);
+  if (out.limited && !limited_) emitEvent("e_force_limited");
+  limited_ = out.limited;
+  force_.write(toKdlWrench(out.wrench));
+  energy_out_.write(out.packet.energy);
+  request_.write(out.packet.request);
+  tank_energy_.write(layer_->energy());
 }
 
 }  // namespace cobra::components

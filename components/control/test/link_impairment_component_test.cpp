@@ -2,7 +2,9 @@
 // impairment the outputs are the inputs of the same update; a delay shifts both directions by it;
 // a seeded loss drops its share of the packets (counted) and the receiver keeps the previous
 // sample; jitter never lets an older packet follow a newer one; the component is found in the
-// cobra_control package; bad properties are refused naming them; the update allocates nothing.
+// cobra_control package; the Passivity layers' energy packets cross it once each (a sample not
+// new sends 0 J), delayed, and are lost with their packet; bad properties are refused naming them;
+// the update allocates nothing.
 #include "cobra/components/control/link_impairment_component.hpp"
 
 #include <gtest/gtest.h>
@@ -135,6 +137,55 @@ TEST(LinkImpairmentComponent, AFullBufferRefusesSendsAndCountsThem) {
   Link l(0.1, 0.0, 0.0, 50);  // 100 packets in flight needed, 50 held
   for (int k = 1; k <= 300; ++k) l.step(0.001 * k);
   EXPECT_GT(l.counter(l.refused), 0);
+}
+
+// The tanks' energy rides the packets: a sample written once is sent once (the next updates send
+// 0 J: energy is never duplicated), arrives after the delay, once; the request is told every
+// period. With loss, the energy that arrives is what the delivered packets carried: never more
+// than was sent.
+TEST(LinkImpairmentComponent, TheTanksEnergyCrossesOnceDelayedAndIsLostWithItsPacket) {
+  for (const double loss : {0.0, 0.3}) {
+    LinkImpairmentComponent link{"Link"};
+    core::LockstepClock clock;
+    core::OutputPort<double> energy{"energy", "", "J"};
+    core::OutputPort<bool> request{"request", "", "1"};
+    core::InputPort<double> linked_energy{"le", "", "J"};
+    core::InputPort<bool> linked_request{"lr", "", "1"};
+    link.setProperty("delay", 0.005);
+    link.setProperty("loss", loss);
+    clock.add(link, 1ms);
+    core::connectPorts(energy, link.port("slaveEnergy"));
+    core::connectPorts(request, link.port("slaveRequest"));
+    core::connectPorts(link.port("linkedSlaveEnergy"), linked_energy);
+    core::connectPorts(link.port("linkedSlaveRequest"), linked_request);
+    ASSERT_TRUE(link.configure()) << link.lastError();
+    ASSERT_TRUE(link.start());
+    double sent = 0.0, arrived = 0.0;
+    int first_arrival = -1;
+    for (int k = 0; k < 400; ++k) {
+      if (k % 2 == 0) {  // a packet of 1 mJ every other period; nothing new in between
+        energy.write(1e-3);
+        sent += 1e-3;
+      }
+      request.write(k < 200);
+      clock.advance(1ms);
+      double e = 0.0;
+      if (linked_energy.readNew(e) == core::FlowStatus::NewData) {
+        arrived += e;
+        if (e > 0.0 && first_arrival < 0) first_arrival = k;
+      }
+    }
+    bool asks = true;
+    ASSERT_NE(linked_request.read(asks), core::FlowStatus::NoData);
+    EXPECT_FALSE(asks) << "the request's end crossed too";
+    if (loss == 0.0) {
+      EXPECT_EQ(first_arrival, 5) << "after the 5 ms delay";
+      EXPECT_NEAR(arrived, sent - 2e-3, 1e-12) << "all but the two packets of the last 5 ms in flight, each once";
+    } else {
+      EXPECT_LT(arrived, 0.85 * sent) << "the lost packets' energy is gone";
+      EXPECT_GT(arrived, 0.55 * sent);
+    }
+  }
 }
 
 TEST(LinkImpairmentComponent, IsInTheControlPackage) {

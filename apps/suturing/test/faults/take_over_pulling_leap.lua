@@ -2,8 +2,8 @@
 -- device (the simulator's scripted hand, LeapSim.right_hand), moves 8 mm along -y and 3 mm down
 -- 1 s into the teleoperation, then turns 10 degrees about z, a degree every 0.1 s, and from 3 s
 -- back; the arms are given back at 4.5 s. The Leap
--- renders no force: the force the coupling computes for the master (RightPassivity.masterForce)
--- is what a haptic device would render.
+-- renders no force (its side's Passivity layer renders and pays nothing): the master's wrench as it
+-- arrives over the link (RightLink.linkedSlaveWrench) is what a haptic device would be given.
 local active = "suture:root.TeleoperatedMode.TeleoperationActive"
 local faults = {
   { on = { state = "suture:root.AutonomousMode.PullThread.Moving" }, after = 1.3,

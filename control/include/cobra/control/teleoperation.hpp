@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <string>
 #include <kdl/frames.hpp>
 
 namespace cobra::control {
@@ -92,14 +93,91 @@ struct TankLevels {
   double initial = 10.0;    ///< T(0)
 };
 
+/// One side's Passivity layer (Franken et al. 2011): its tank and what its robot renders.
+struct PassivitySideParameters {
+  TankLevels tank;
+  double transfer_power = 1.0;  ///< P̄: the most this tank sends the other per second, W
+  /// What the robot renders (N, N·m; infinity: all): a desired wrench is cut to it before the
+  /// tank pays, so the tank pays for the wrench the robot exerts, not for one it cannot (a Phantom
+  /// Omni saturates at 3.3 N and actuates no wrist: torque 0; a hand tracker renders nothing: 0
+  /// and 0). Paying for, or being credited with, work nobody does would make the bound a fiction.
+  double max_force = std::numeric_limits<double>::infinity();
+  double max_torque = std::numeric_limits<double>::infinity();
+  /// Pay, at the next period, the excess work of a robot step that moved with the twist at the
+  /// period's end (an implicit step, as the VariableAdmittance's). True: the tank has paid at least
+  /// the work done whichever step the robot takes (the safe default); false for a robot known to
+  /// move with the twist at the period's start (explicit Euler), where the excess is no work.
+  bool settle = true;
+};
+
+/// What crosses the link from one side's tank to the other's, once per period, with the side's
+/// other data (Franken et al. 2011, "energy exchange"): the energy the sender took out of its tank
+/// for the receiver (it left the sender when sent, reaches the receiver delayed, and is gone when
+/// the packet is lost: energy is never created) and whether the sender's tank asks for energy.
+struct EnergyPacket {
+  double energy = 0.0;   ///< J, >= 0
+  bool request = false;  ///< the sender's tank is below its T_req
+};
+
+/// What one step of one side's Passivity layer did.
+struct PassivitySideStep {
+  Vector6 wrench = Vector6::Zero();  ///< implemented wrench on this side's robot, [N; N·m]
+  bool limited = false;              ///< the desired wrench could not be paid for (wrench = 0)
+  EnergyPacket packet;               ///< to send to the other side this period
+};
+
+/// One side's Passivity layer (thesis eq. 4.19-4.23 split per side as Franken et al. 2011 do
+/// it: a layer next to each robot, with that robot's tank, paying with that robot's own,
+/// undelayed twist). Per period: the tank stores what its robot dissipated (D·dt, while at most
+/// T̄; a full tank passes it on to the other), pays F·t·dt for the wrench it implements (force·v +
+/// torque·ω, with t the robot's twist at the period's start) and refuses the whole wrench when that
+/// would take it below ε; a robot whose step moves with the twist at the period's end (an
+/// implicit integration such as the admittance's) did F·t_end·dt instead: the next step pays the
+/// excess (settle), so the tank has paid at least the work done for both kinds of step. A tank
+/// at or above T_ava sends the other, while that one asks (its last packet said so), P̄·dt per
+/// period, never below its own ε. Packets are taken by receive(), in any number per period.
+/// noexcept and allocation-free after construction.
+class PassivitySide {
+ public:
+  /// `name` prefixes the levels in messages ("master" -> master_minimum; "": minimum, the
+  /// PassivityLayer component's own properties). @throws std::invalid_argument when the levels are
+  /// not 0 < ε < T_req < T_ava < T̄ with ε < T(0) <= T̄, P̄ <= 0 or a limit < 0: the message names
+  /// the level or parameter and the rule it breaks.
+  PassivitySide(const PassivitySideParameters& parameters, const std::string& name);
+
+  /// A packet from the other side arrived: its energy fills the tank (spilled when the tank is
+  /// above T̄; a packet energy that is not finite and >= 0 adds nothing), its request is the other
+  /// side's state until the next packet.
+  void receive(const EnergyPacket& packet) noexcept;
+
+  /// One period `dt` (s): `desired` the Transparency layer's wrench for this robot, `twist` the
+  /// robot's twist now ([m/s; rad/s], the wrench's frame), `dissipation` the power its damping
+  /// dissipated over the last period (W, >= 0; else nothing is stored).
+  PassivitySideStep step(double dt, const Vector6& desired, const Vector6& twist, double dissipation) noexcept;
+
+  double energy() const noexcept { return energy_; }      ///< the tank, J
+  bool requesting() const noexcept { return energy_ < p_.tank.request; }
+  double sent() const noexcept { return sent_; }          ///< J sent in packets since construction
+  double received() const noexcept { return received_; }  ///< J received (stored or spilled)
+  double spilled() const noexcept { return spilled_; }    ///< J let go while above T̄
+  double paid() const noexcept { return paid_; }          ///< J paid for wrenches (net)
+  double credited() const noexcept { return credited_; }  ///< J of dissipation stored or passed on
+
+ private:
+  PassivitySideParameters p_;
+  double energy_ = 0.0;
+  bool peer_request_ = false;
+  Vector6 last_wrench_ = Vector6::Zero();  // implemented last period, [N; N·m]
+  Vector6 last_twist_ = Vector6::Zero();   // the twist it was paid with
+  double last_dt_ = 0.0;                   // s
+  double sent_ = 0.0, received_ = 0.0, spilled_ = 0.0, paid_ = 0.0, credited_ = 0.0;
+};
+
 struct PassivityParameters {
   TankLevels master;
   TankLevels slave;
-  double transfer_power = 1.0;  ///< P̄: rate of the energy exchange between tanks, W
-  /// What the master device renders (N, N·m; infinity: all): a desired master wrench is cut to
-  /// it before its tank pays, so the tank pays for the wrench the device exerts, not for one it
-  /// cannot (a Phantom Omni saturates at 3.3 N and actuates no wrist: torque 0). Paying for, or
-  /// being credited with, work nobody does would make the tank's bound a fiction.
+  double transfer_power = 1.0;  ///< P̄: rate of the exchange between tanks, W
+  /// What the master device renders (N, N·m; infinity: all), as PassivitySideParameters::max_force.
   double master_max_force = std::numeric_limits<double>::infinity();
   double master_max_torque = std::numeric_limits<double>::infinity();
 };
@@ -112,37 +190,29 @@ struct PassivityStep {
   bool slave_limited = false;
 };
 
-/// The Passivity layer (eq. 4.19-4.23): two tanks, filled by the robots' dissipation and by each
-/// other, emptied by the coupling wrenches they implement: a tank pays the wrench's full power
-/// port, F_idᵀ t_i dt with t_i the 6-D twist (force·v + torque·ω), and refuses the whole wrench
-/// when that would take it below ε. The exchange between the tanks is immediate (both tanks live
-/// here); it conserves energy, so a delayed exchange would change how fast a tank refills, not
-/// the bound. noexcept and allocation-free.
+/// Both sides' Passivity layers where master and slave run in one loop with no link between
+/// them (a simulation, a bench): the two PassivitySides with their packets handed over in the
+/// same step. A deployment whose master and slave are apart over a link runs one PassivitySide
+/// on each side instead (component PassivityLayer; the exchange then crosses the link).
 class PassivityLayer {
  public:
-  /// @throws std::invalid_argument when the levels are not 0 < ε < T_req < T_ava < T̄ with
-  /// ε < T(0) <= T̄, or P̄ <= 0; the message names the level as the component's property
-  /// (master_request, ...) and the rule it breaks.
+  /// @throws std::invalid_argument as PassivitySide, naming the level as master_request, ...
   explicit PassivityLayer(const PassivityParameters& parameters);
 
   /// One period `dt` (s): `master_dissipation` and `slave_dissipation` are the robots' dissipated
   /// powers D_i (W, ≥ 0, e.g. tᵀR t); the twists ([m/s; rad/s], base frame, as the wrenches) are
-  /// those the wrenches act on over the period (the work paid is F·t·dt: exact when the robot's
-  /// displacement over the period is t·dt).
+  /// the robots' now.
   PassivityStep step(double dt, const Vector6& master_desired, const Vector6& slave_desired,
                      const Vector6& master_twist, const Vector6& slave_twist, double master_dissipation,
                      double slave_dissipation) noexcept;
 
-  double masterEnergy() const noexcept { return master_; }
-  double slaveEnergy() const noexcept { return slave_; }
-  /// Energy the tanks let go (stored while full, σ = 0), J: the layer's own dissipation.
-  double spilled() const noexcept { return spilled_; }
+  double masterEnergy() const noexcept { return master_.energy(); }
+  double slaveEnergy() const noexcept { return slave_.energy(); }
+  /// Energy the tanks let go (stored while full), J: the layer's own dissipation.
+  double spilled() const noexcept { return master_.spilled() + slave_.spilled(); }
 
  private:
-  PassivityParameters p_;
-  double master_ = 0.0;
-  double slave_ = 0.0;
-  double spilled_ = 0.0;
+  PassivitySide master_, slave_;
 };
 
 }  // namespace cobra::control

@@ -24,6 +24,14 @@ namespace cobra::components {
 /// out `linkedSlaveWrench`. Each output holds its last arrived sample until a newer one arrives
 /// (a lost or late packet leaves the receiver with the previous one).
 ///
+/// The Passivity layers' energy exchange (Franken et al. 2011) rides in the same packets: in
+/// `masterEnergy` (J, the master side's layer's energyOut) and `masterRequest` (bool), out
+/// `linkedMasterEnergy`, `linkedMasterRequest` on the slave's side; in `slaveEnergy`,
+/// `slaveRequest`, out `linkedSlaveEnergy`, `linkedSlaveRequest` on the master's side. An energy
+/// sample is sent once (a sample not new at an update sends 0 J: energy is never duplicated) and
+/// written once when its packet arrives; a packet lost or overtaken loses its energy, which left
+/// the sender's tank when sent: energy is destroyed, never created.
+///
 /// Properties: `delay` (s, >= 0, constant one-way delay, both directions), `jitter` (s, >= 0:
 /// extra delay drawn uniformly in [0, jitter] per packet), `loss` (1, in [0, 1]: share of the
 /// packets lost, per direction), `seed` (the draws; the backward link uses seed + 1),
@@ -47,6 +55,15 @@ class LinkImpairmentComponent : public core::Component {
   struct MasterSample {
     KDL::Frame pose;
     KDL::Twist twist;
+    double energy = 0.0;  // J
+    bool request = false;
+    bool has_pose = false;  // the pose port had data when sent
+  };
+  struct SlaveSample {
+    KDL::Wrench wrench = KDL::Wrench::Zero();
+    double energy = 0.0;  // J
+    bool request = false;
+    bool has_wrench = false;  // the wrench port had data when sent
   };
 
   core::Property<double> delay_{"delay", 0.0, "s", "constant one-way delay of each direction"};
@@ -63,6 +80,18 @@ class LinkImpairmentComponent : public core::Component {
                                              "m/s, rad/s"};
   core::OutputPort<KDL::Wrench> linked_wrench_{"linkedSlaveWrench", "the wrench as the master side receives it",
                                                "N, N·m"};
+  core::InputPort<double> master_energy_{"masterEnergy", "energy the master side's tank sends, master side", "J"};
+  core::InputPort<bool> master_request_{"masterRequest", "the master side's tank asks for energy, master side", "1"};
+  core::InputPort<double> slave_energy_{"slaveEnergy", "energy the slave side's tank sends, slave side", "J"};
+  core::InputPort<bool> slave_request_{"slaveRequest", "the slave side's tank asks for energy, slave side", "1"};
+  core::OutputPort<double> linked_master_energy_{"linkedMasterEnergy",
+                                                 "a packet's energy from the master side's tank, as it arrives", "J"};
+  core::OutputPort<bool> linked_master_request_{"linkedMasterRequest",
+                                                "the master side's tank asks, as the slave side receives it", "1"};
+  core::OutputPort<double> linked_slave_energy_{"linkedSlaveEnergy",
+                                                "a packet's energy from the slave side's tank, as it arrives", "J"};
+  core::OutputPort<bool> linked_slave_request_{"linkedSlaveRequest",
+                                               "the slave side's tank asks, as the master side receives it", "1"};
   core::OutputPort<int> lost_forward_{"lostForward", "master -> slave packets lost", "1"};
   core::OutputPort<int> lost_backward_{"lostBackward", "slave -> master packets lost", "1"};
   core::OutputPort<int> late_forward_{"lateForward", "master -> slave packets overtaken and discarded", "1"};
@@ -71,10 +100,9 @@ class LinkImpairmentComponent : public core::Component {
   core::OutputPort<int> refused_backward_{"refusedBackward", "slave -> master packets refused: buffer full", "1"};
 
   std::optional<control::LinkImpairment<MasterSample>> forward_;
-  std::optional<control::LinkImpairment<KDL::Wrench>> backward_;
+  std::optional<control::LinkImpairment<SlaveSample>> backward_;
   MasterSample master_, arrived_master_;
-  KDL::Wrench wrench_ = KDL::Wrench::Zero(), arrived_wrench_ = KDL::Wrench::Zero();
-  bool have_master_ = false, have_wrench_ = false;
+  SlaveSample slave_, arrived_slave_;
 };
 
 }  // namespace cobra::components

@@ -58,13 +58,23 @@ class TransparencyLayerComponent : public core::Component {
   KDL::Twist master_velocity_, slave_velocity_;
 };
 
-/// Calculation. In: `masterForceDesired`, `slaveForceDesired` (wrenches), `masterTwist`,
-/// `slaveTwist`, `masterDissipation`, `slaveDissipation` (W; 0 until written: wire the master's
-/// and the slave's `dissipatedPower`). Out: `masterForce`, `slaveForce` (implemented wrenches: a
-/// tank pays force·v + torque·ω), `masterTankEnergy`, `slaveTankEnergy` (J). Properties per tank
-/// (`master_`/`slave_` + `minimum`, `request`, `available`, `maximum`, `initial`, J) and
-/// `transfer_power` (P̄, W). Needs a periodic activity. Events: e_master_limited /
-/// e_slave_limited when a tank first refuses a force.
+/// Calculation: one side's Passivity layer (Franken et al. 2011), next to its robot: on the
+/// master's side beside the haptic device, on the slave's beside the tool's admittance; the two
+/// exchange energy only by packets across the link (LinkImpairment's energy ports).
+/// In: `forceDesired` (wrench, N, N·m: the Transparency layer's for this robot; on the master's
+/// side as it arrives over the link), `twist` (the robot's own, undelayed, m/s, rad/s: what the
+/// wrench acts on; zero until written, so a side that renders a force needs it wired),
+/// `dissipation` (W: what the robot's damping dissipated; 0 until written), `energyIn` (J: a
+/// packet's energy from the other side, taken once per sample written), `peerRequest` (bool: the
+/// other side's tank asks, as its last packet said). Out: `force` (the implemented wrench: the
+/// tank pays force·v + torque·ω), `energyOut` (J: this period's packet to the other side, written
+/// every period, 0 when nothing is sent; energy lost on the way is gone, never made up),
+/// `request` (bool: this tank is below T_req), `tankEnergy` (J).
+/// Properties: `minimum`, `request`, `available`, `maximum`, `initial` (ε < T_req < T_ava < T̄,
+/// T(0), J), `transfer_power` (P̄, W: the most sent per second), `max_force` (N) and `max_torque`
+/// (N·m): what the robot renders (< 0: any; 0 and 0: a master that renders nothing, such as a
+/// hand tracker: its tank then pays for nothing). Needs a periodic activity. Event:
+/// e_force_limited when the tank first refuses a force.
 class PassivityLayerComponent : public core::Component {
  public:
   explicit PassivityLayerComponent(std::string name);
@@ -74,30 +84,30 @@ class PassivityLayerComponent : public core::Component {
   void updateHook() override;
 
  private:
-  core::Property<double> master_levels_[5];
-  core::Property<double> slave_levels_[5];
-  core::Property<double> transfer_power_{"transfer_power", 1.0, "W", "P̄: rate of the exchange between tanks"};
-  core::Property<double> master_max_force_{"master_max_force", -1.0, "N",
-                                           "the force the master device renders (its saturation): the master "
-                                           "tank pays for the force cut to it; < 0: any force"};
-  core::Property<double> master_max_torque_{"master_max_torque", -1.0, "N·m",
-                                            "the torque the master device renders (0: a device without "
-                                            "actuated wrist); < 0: any torque"};
-  core::InputPort<KDL::Wrench> master_desired_{"masterForceDesired", "F_md, base frame", "N, N·m"};
-  core::InputPort<KDL::Wrench> slave_desired_{"slaveForceDesired", "F_sd, base frame", "N, N·m"};
-  core::InputPort<KDL::Twist> master_twist_{"masterTwist", "master twist, base frame", "m/s, rad/s"};
-  core::InputPort<KDL::Twist> slave_twist_{"slaveTwist", "slave twist, base frame", "m/s, rad/s"};
-  core::InputPort<double> master_dissipation_{"masterDissipation", "power the master's damping dissipates", "W"};
-  core::InputPort<double> slave_dissipation_{"slaveDissipation", "power the slave's damping dissipates", "W"};
-  core::OutputPort<KDL::Wrench> master_force_{"masterForce", "implemented wrench on the master", "N, N·m"};
-  core::OutputPort<KDL::Wrench> slave_force_{"slaveForce", "implemented wrench on the slave", "N, N·m"};
-  core::OutputPort<double> master_energy_{"masterTankEnergy", "master tank", "J"};
-  core::OutputPort<double> slave_energy_{"slaveTankEnergy", "slave tank", "J"};
-  std::optional<control::PassivityLayer> layer_;
-  KDL::Wrench master_wanted_, slave_wanted_;
-  KDL::Twist master_velocity_, slave_velocity_;
-  double master_power_ = 0.0, slave_power_ = 0.0;
-  bool master_limited_ = false, slave_limited_ = false;
+  core::Property<double> levels_[5];
+  core::Property<double> transfer_power_{"transfer_power", 1.0, "W",
+                                         "P̄: the most energy per second this tank sends the other side's"};
+  core::Property<double> max_force_{"max_force", -1.0, "N",
+                                    "the force the robot renders (its saturation): the tank pays for the force cut "
+                                    "to it; < 0: any force"};
+  core::Property<double> max_torque_{"max_torque", -1.0, "N·m",
+                                     "the torque the robot renders (0: a device without actuated wrist); < 0: any "
+                                     "torque"};
+  core::InputPort<KDL::Wrench> desired_{"forceDesired", "the Transparency layer's wrench for this robot, base frame",
+                                        "N, N·m"};
+  core::InputPort<KDL::Twist> twist_{"twist", "this robot's own twist, base frame", "m/s, rad/s"};
+  core::InputPort<double> dissipation_{"dissipation", "power this robot's damping dissipates", "W"};
+  core::InputPort<double> energy_in_{"energyIn", "energy of a packet from the other side's tank", "J"};
+  core::InputPort<bool> peer_request_{"peerRequest", "the other side's tank asks for energy", "1"};
+  core::OutputPort<KDL::Wrench> force_{"force", "implemented wrench on this robot, base frame", "N, N·m"};
+  core::OutputPort<double> energy_out_{"energyOut", "energy sent to the other side's tank this period", "J"};
+  core::OutputPort<bool> request_{"request", "this tank asks for energy (below T_req)", "1"};
+  core::OutputPort<double> tank_energy_{"tankEnergy", "this side's tank", "J"};
+  std::optional<control::PassivitySide> layer_;
+  KDL::Wrench wanted_;
+  KDL::Twist velocity_;
+  double power_ = 0.0, arrived_ = 0.0;
+  bool peer_asks_ = false, limited_ = false;
 };
 
 }  // namespace cobra::components

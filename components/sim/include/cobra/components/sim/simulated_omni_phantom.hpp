@@ -29,7 +29,7 @@ namespace cobra::components {
 /// 0.055 mm), `measTwist` (KDL::Twist, m/s and rad/s, frame O orientation), `statusButtons`
 /// (int bitmask: bit 0 = the first (dark grey) stylus button, bit 1 = the second (light grey)),
 /// `dissipatedPower` (double, W: what the device's backdrive friction dissipated over the step,
-/// the master's D_m for the teleoperation's PassivityLayer.masterDissipation).
+/// the master's D_m for the master side's PassivityLayer.dissipation).
 /// Properties: `origin_pose_offset` (Frame, m), `initial_position` (Vector, m, frame D),
 /// `hand_motion` (Frame, m, frame D; simulation only: the scripted hand's displacement from
 /// initial_position and the stylus's orientation in D, for a fault script to set while
