@@ -562,9 +562,8 @@ void Session::noteSafeStop(const Chart& c) {
     // (the simulated robots': the refused pose and why), when it has one.
     const auto why = spec_.explain.find(event);
     const std::string operation = why == spec_.explain.end() ? "lastFailure" : why->second;
-    // A component error: its own text (the component's lastError) says why.
+    // A component error: its own text (the component's lastError) says why (below).
     core::Component* owner = event == kComponentErrorEvent ? nullptr : ownerOf(refs_, source + "." + operation, true);
-    if (event == kComponentErrorEvent && !component_error_.empty()) result_.reason += "; " + component_error_;
     if (owner != nullptr) {
       try {
         result_.reason += "; " + source + "." + operation + "(): " + owner->call<std::string>(operation);
@@ -583,6 +582,8 @@ void Session::noteSafeStop(const Chart& c) {
         if (!why.empty()) result_.reason += "; " + why;
       }
   }
+  // A component in error before the safe stop is named whichever failure the chart heard last.
+  if (!component_error_.empty()) result_.reason += "; " + component_error_;
   say("SAFE STOP: " + result_.reason);
 }
 
