@@ -65,6 +65,7 @@ connectPorts({
   { output = "Gripped.events", input = "TaskSup.inputEvents", conn_policy = buffered },
   { output = "Unlatched.events", input = "TaskSup.inputEvents", conn_policy = buffered },
   { output = "DoorOpen.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "Door.events", input = "TaskSup.inputEvents", conn_policy = buffered },  -- e_command_not_finite
   { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
   { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
   { output = "DepSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },
