@@ -65,6 +65,7 @@ connectPorts({
   { output = "Gripped.events", input = "TaskSup.inputEvents", conn_policy = buffered },
   { output = "Unlatched.events", input = "TaskSup.inputEvents", conn_policy = buffered },
   { output = "DoorOpen.events", input = "TaskSup.inputEvents", conn_policy = buffered },
+  { output = "Door.events", input = "TaskSup.inputEvents", conn_policy = buffered },  -- e_command_not_finite
   { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
   { output = "TaskSup.outputEvents", input = "ConfSup.inputEvents", conn_policy = buffered },
   { output = "DepSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },
@@ -98,6 +99,9 @@ run = {
   charts = {
     { name = "door", supervisor = "TaskSup", done = "root.done", safe_stop = "root.failed" },
   },
+  -- What ends the task in root.failed (door_task.lua): a component in Exception (the runner's
+  -- e_component_error), a non-finite set-point the door refused; the last one is the reason.
+  failures = { "e_component_error", "e_command_not_finite" },
   record = { period = 0.01, ports = { "Door.armPosition", "Door.gripped", "Door.handleAngle", "Door.doorAngle" } },
   plots = {
     { title = "arm and door", unit = "m, rad",

@@ -38,4 +38,8 @@ return rfsm.state {
   -- Outer transitions win over inner ones: a failed switch ends the task wherever it is.
   rfsm.trans { src = 'opening', tgt = 'failed', events = { 'e_deploy_failed_approach', 'e_deploy_failed_grasp',
                                                           'e_deploy_failed_turn', 'e_deploy_failed_pull' } },
+  -- A component in Exception (the runner's e_component_error) or a non-finite set-point the door
+  -- refused (e_command_not_finite): the task ends in its safe stop.
+  rfsm.trans { src = 'opening', tgt = 'failed', events = { 'e_component_error', 'e_command_not_finite' } },
+  rfsm.trans { src = 'release', tgt = 'failed', events = { 'e_component_error', 'e_command_not_finite' } },
 }

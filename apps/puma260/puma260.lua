@@ -24,7 +24,8 @@ local phases = { { "A", "puma:root.A_Nest" }, { "B", "puma:root.B_Ready" }, { "C
                  { "H", "puma:root.H_FinalPose" } }
 local failures = { "e_drive_fault", "e_bus_error", "e_bus_fault", "e_force_over_limit", "e_ik_failed", "e_ik_discontinuity",
                    "e_traj_failed", "e_tank_empty", "e_request_refused", "e_no_data", "e_comm_timeout",
-                   "e_drives_timeout", "e_sensor_timeout" }  -- a device did not answer (charts/puma260_task.lua)
+                   "e_drives_timeout", "e_sensor_timeout",  -- a device did not answer (charts/puma260_task.lua)
+                   "e_component_error", "e_input_not_finite", "e_command_not_finite" }
 run = {
   title = "Retrofitted Puma 260: a linear path across an unexpected surface (thesis §6.3-6.4)",
   charts = { { name = "puma", supervisor = "TaskSup", done = "root.H_FinalPose", safe_stop = "root.SafeStop" } },

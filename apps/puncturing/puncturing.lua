@@ -133,7 +133,9 @@ local failures = { "e_forbidden_region", "e_force_over_threshold", "e_plan_faile
                    -- the whole procedure refused before any motion (NeedlePlanner.verifyProcedure)
                    "e_procedure_refused",
                    -- navigated: the plan or registration refused, or not come; the peer's ABORT
-                   "e_navigation_refused", "e_navigation_timeout", "e_navigation_abort" }
+                   "e_navigation_refused", "e_navigation_timeout", "e_navigation_abort",
+                   -- a component in Exception (the runner's), a non-finite input or command refused
+                   "e_component_error", "e_input_not_finite", "e_command_not_finite" }
 local detected = { "e_needle_trapped", "e_needle_lost", table.unpack(failures) }
 run = {
   title = "Puncturing procedure",

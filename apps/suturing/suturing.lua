@@ -32,7 +32,9 @@ applyDeployment("suturing_autonomous_planning")
 -- What `cobra run` needs from this application (run/README.md).
 local failures = { "e_plan_failed", "e_traj_failed", "e_no_data", "e_comm_timeout", "e_ik_discontinuity", "e_ik_failed",
                    "e_no_wound_data", "e_stitch_missed", "e_endo_stitch_busy", "e_thread_broken",
-                   "e_reaction_timeout" }  -- the surgeon did not react in time (charts/suturing.lua)
+                   "e_reaction_timeout",  -- the surgeon did not react in time (charts/suturing.lua)
+                   -- a component in Exception (the runner's), a non-finite input or command refused
+                   "e_component_error", "e_input_not_finite", "e_command_not_finite" }
 run = {
   title = "Suturing procedure",
   charts = {

@@ -193,6 +193,15 @@ void Session::attachCharts() {
     chart.lane = c.name + " chart";
     charts_.push_back(std::move(chart));
   }
+  // A component in Exception or FatalError is a failure the charts react to (noteComponentError):
+  // the runner writes e_component_error into each chart's inputEvents, when one has a safe stop.
+  if (std::none_of(spec_.charts.begin(), spec_.charts.end(), [](const ChartSpec& c) { return !c.safe_stop.empty(); }))
+    return;
+  component_error_events_ = std::make_unique<core::OutputPort<core::Event>>(
+      "cobra_run_component_errors", "a component in Exception or FatalError (source: the component)", "");
+  for (const ChartSpec& c : spec_.charts)
+    if (core::PortBase* input = refs_.find(c.supervisor)->findPort("inputEvents"))
+      core::connectPorts(*component_error_events_, *input, core::ConnPolicy::buffer(16));
 }
 
 void Session::armActions() {
@@ -553,7 +562,8 @@ void Session::noteSafeStop(const Chart& c) {
     // (the simulated robots': the refused pose and why), when it has one.
     const auto why = spec_.explain.find(event);
     const std::string operation = why == spec_.explain.end() ? "lastFailure" : why->second;
-    core::Component* owner = ownerOf(refs_, source + "." + operation, true);
+    // A component error: its own text (the component's lastError) says why (below).
+    core::Component* owner = event == kComponentErrorEvent ? nullptr : ownerOf(refs_, source + "." + operation, true);
     if (owner != nullptr) {
       try {
         result_.reason += "; " + source + "." + operation + "(): " + owner->call<std::string>(operation);
@@ -572,10 +582,42 @@ void Session::noteSafeStop(const Chart& c) {
         if (!why.empty()) result_.reason += "; " + why;
       }
   }
+  // A component in error before the safe stop is named whichever failure the chart heard last.
+  if (!component_error_.empty()) result_.reason += "; " + component_error_;
   say("SAFE STOP: " + result_.reason);
 }
 
+bool Session::noteComponentError(const core::Component& component, const std::string& text) {
+  result_.log.push_back(text);
+  if (component_error_events_ == nullptr || result_.outcome == Outcome::SafeStop) {
+    // No chart can stop safely (or one already has): the error ends the run as it is.
+    if (result_.outcome == Outcome::SafeStop) return false;
+    result_.outcome = Outcome::ComponentError;
+    result_.reason = text;
+    return true;
+  }
+  if (component_error_at_ < 0.0) component_error_at_ = t_, component_error_ = text;
+  say("COMPONENT ERROR: " + text + "; the charts are told (" + kComponentErrorEvent + ")");
+  // As an event of the component: the charts' failure transitions take it, the log and the
+  // observers see it, and a safe stop names it (noteSafeStop quotes `text`).
+  core::Event event;
+  event.name.assign(kComponentErrorEvent);
+  event.source.assign(component.name());
+  event.stamp = std::chrono::duration_cast<std::chrono::nanoseconds>(configurator_.clock().now());
+  component_error_events_->write(event);
+  for (Chart& c : charts_) {
+    c.last_failure = component.name() + ": " + kComponentErrorEvent + " at" + seconds(t_);
+    c.stall.heard(kComponentErrorEvent, component.name(), t_);
+  }
+  Chart& chart = chartForSource(component.name());
+  result_.events.push_back({t_, component.name(), kComponentErrorEvent, chart.state});
+  result_.log.push_back(component.name() + ": " + kComponentErrorEvent);
+  if (options_.observer != nullptr) options_.observer->event(t_, component.name(), kComponentErrorEvent);
+  return false;
+}
+
 bool Session::isFailure(const std::string& event) const {
+  if (event == kComponentErrorEvent) return true;
   for (const auto& [prefix, kind] : kSwitchFailures)
     if (startsWith(event, prefix)) return true;
   return std::find(spec_.failures.begin(), spec_.failures.end(), event) != spec_.failures.end();
@@ -616,16 +658,30 @@ bool Session::decide() {
     if (!c.spec->safe_stop.empty() && c.state == c.spec->safe_stop && c.previous != c.spec->safe_stop) noteSafeStop(c);
   // The components' states are looked at only after one was announced to enter Exception or
   // FatalError (and once at the start): no polling of every component every step.
+  // Each component found in error is noted once (errors_noted_): the count read first, a change
+  // after the look shows at the next step.
   if (const std::uint64_t errors = component_errors_.count(); errors != component_errors_seen_) {
     component_errors_seen_ = errors;
     for (const core::Component* c : components_) {
       const core::State s = c->state();
       if (s != core::State::Exception && s != core::State::FatalError) continue;
-      component_errors_seen_ = UINT64_MAX;  // look again next time: it is still there
-      result_.outcome = Outcome::ComponentError;
-      result_.reason = "component '" + c->name() + "' is in " + std::string(core::toString(s)) + ": " + c->lastError();
-      return true;
+      if (std::find(errors_noted_.begin(), errors_noted_.end(), c) != errors_noted_.end()) continue;
+      errors_noted_.push_back(c);
+      if (noteComponentError(*c, "component '" + c->name() + "' is in " + std::string(core::toString(s)) + ": " +
+                                     c->lastError()))
+        return true;
     }
+  }
+  // Told to the charts, the component error stands unless one of them reached its safe stop in
+  // time: a chart that cannot react must not hide it.
+  if (component_error_at_ >= 0.0 && result_.outcome != Outcome::SafeStop &&
+      t_ - component_error_at_ >= spec_.safe_stop_linger - 1e-9) {
+    char within[128];
+    std::snprintf(within, sizeof within, "; no chart reached its safe stop within %.3f s of %s (told at %.3f s): ",
+                  spec_.safe_stop_linger, kComponentErrorEvent, component_error_at_);
+    result_.outcome = Outcome::ComponentError;
+    result_.reason = component_error_ + within + statesText();
+    return true;
   }
   notePeerLoss();
   if (steps_ % 100 == 1) notePeerJoins();

@@ -144,6 +144,10 @@ class Session {
   // True when the run's outcome is decided by this step (sets the outcome and reason).
   bool decide();
   void noteSafeStop(const Chart& chart);
+  // A component newly in Exception or FatalError (`text`: "component 'X' is in Exception: ...").
+  // True when the run ends with it at once: no chart has a safe stop to react with. Otherwise the
+  // charts are told (e_component_error, kComponentError) and the run waits for their safe stop.
+  bool noteComponentError(const core::Component& component, const std::string& text);
   // An event that may be a safe stop's reason: the run table's `failures`, and every refused
   // switch (e_configure_failed_*, e_deploy_failed_*).
   bool isFailure(const std::string& event) const;
@@ -190,6 +194,13 @@ class Session {
   // After configurator_: destroyed before it, it leaves the components before they are stopped.
   ComponentErrors component_errors_{refs_};
   std::uint64_t component_errors_seen_ = UINT64_MAX;  // component_errors_.count() when last looked (max: look)
+  // The components already found in Exception / FatalError (each is told to the charts once).
+  std::vector<const core::Component*> errors_noted_;
+  // Writes e_component_error (its source: the component in error) into every chart's supervisor's
+  // inputEvents; nullptr when no chart of run.charts has a safe stop (the run then ends at once).
+  std::unique_ptr<core::OutputPort<core::Event>> component_error_events_;
+  double component_error_at_ = -1.0;  // s; < 0: no component error told to the charts
+  std::string component_error_;       // the first one: "component 'X' is in Exception: ..."
   std::vector<std::string> scopes_, shown_deployment_;
   std::string shown_configuration_;
   std::vector<std::string> scope_configuration_;  // per scope: the configuration in force (StepView)

@@ -294,6 +294,52 @@ TEST(Runner, AComponentInExceptionEndsTheRunWithItsNameAndError) {
   EXPECT_CONTAINS(r.reason, "overheated");
 }
 
+// With a chart that has a safe stop, a component in Exception is a failure like any other: the
+// runner tells the charts (e_component_error, its source the component) and the run ends in the
+// chart's safe stop, its reason naming the component and its error; the event is in the log.
+TEST(Runner, AComponentErrorIsToldToTheChartsWhoseSafeStopNamesTheComponentAndItsError) {
+  RunOptions o = options(kApp / "faulty_safe_stop.lua");
+  o.add_packages = [](deploy::PackageRegistry& packages) {
+    packages.addBuiltin("run_test", [](deploy::PackageBuilder& package) {
+      package.component<Overheating>("Overheating", "fails at 50 ms");
+    });
+  };
+  const RunResult r = runApp(o);
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  EXPECT_EQ(r.reason.rfind("task chart stopped safely in root.working: Heater: e_component_error at", 0), 0u) << r.reason;
+  EXPECT_CONTAINS(r.reason, "; component 'Heater' is in Exception: component 'Heater': updateHook threw: overheated");
+  EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "Heater: e_component_error"), 1);  // told once
+  ASSERT_EQ(r.final_states.size(), 1u);
+  EXPECT_EQ(r.final_states[0].second, "root.stopped");
+  // Told at the first step after the exception, taken at the chart's next update (10 ms period).
+  const auto told = std::find_if(r.events.begin(), r.events.end(),
+                                 [](const EventRecord& e) { return e.source == "Heater" && e.event == "e_component_error"; });
+  ASSERT_NE(told, r.events.end());
+  EXPECT_NEAR(told->time, 0.05, 0.0015);
+  EXPECT_LT(r.duration, 0.05 + 0.03);
+}
+
+// A chart that cannot react must not hide the error: when no chart reaches its safe stop within
+// safe_stop_linger (2 s) of being told, the run ends with the component error, saying so.
+TEST(Runner, AComponentErrorNoChartStopsSafelyForEndsTheRunAfterTheLingerAsAComponentError) {
+  RunOptions o = options(kApp / "faulty_safe_stop.lua");
+  o.before_lua = "deaf = true";
+  o.add_packages = [](deploy::PackageRegistry& packages) {
+    packages.addBuiltin("run_test", [](deploy::PackageBuilder& package) {
+      package.component<Overheating>("Overheating", "fails at 50 ms");
+    });
+  };
+  const RunResult r = runApp(o);
+  ASSERT_EQ(r.outcome, Outcome::ComponentError) << r.reason;
+  EXPECT_EQ(r.reason.rfind("component 'Heater' is in Exception: component 'Heater': updateHook threw: overheated; no "
+                           "chart reached its safe stop within 2.000 s of e_component_error (told at 0.05",
+                           0),
+            0u)
+      << r.reason;
+  EXPECT_CONTAINS(r.reason, "): task root.working");
+  EXPECT_NEAR(r.duration, 0.05 + 2.0, 0.0015);
+}
+
 TEST(Runner, ARecordedPortOfAnotherTypeIsOneLineWithFileLinePortTypeAndWhatIsAccepted) {
   const std::string message = messageOf([] { runApp(options(kApp / "bad_record.lua")); });
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;

@@ -46,7 +46,9 @@ end
 
 local failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_force_over_limit', 'e_ik_failed', 'e_ik_discontinuity',
                    'e_traj_failed', 'e_tank_empty', 'e_request_refused', 'e_no_data',
-                   'e_deploy_failed_position_control', 'e_deploy_failed_compliant_control' }
+                   'e_deploy_failed_position_control', 'e_deploy_failed_compliant_control',
+                   -- a component in Exception (the runner's), a non-finite input or command refused
+                   'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }
 local done = 'e_motion_done@TrajGen'
 
 local chart = {

@@ -172,6 +172,10 @@ for _, state in ipairs({ 'WaitIceballConfig', 'WaitNavigation', 'VerifyingProced
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_us_safe_stop', 'e_peer_lost' }, pn = 20 }
   -- The navigation peer's ABORT request (its IgtlBridge's `requests`): the same stop.
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_navigation_abort' }, pn = 20 }
+  -- A component in Exception (the runner's e_component_error), a non-finite input or command
+  -- refused: no reaction can mend a broken component; the safe stop, at once.
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop',
+                                   events = { 'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }, pn = 20 }
 end
 
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that

@@ -109,6 +109,9 @@ end
 for _, state in ipairs({ 'Idle', 'VerifyingProcedure', 'Verified', 'MoveToSkin', 'WaitNeedleSkinReached', 'NextProbePose', 'USPositioned', 'WaitReaction',
                          'USTeleoperation' }) do
   chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop', events = { 'e_needle_safe_stop', 'e_peer_lost' }, pn = 20 }
+  -- A component in Exception (the runner's e_component_error), a non-finite input or command refused.
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop',
+                                   events = { 'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }, pn = 20 }
 end
 
 local resumable = { "root.MoveToSkin.Approach", "root.MoveToSkin.Descend", "root.WaitNeedleSkinReached",

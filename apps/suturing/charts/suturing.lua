@@ -133,6 +133,12 @@ local chart = {
   steps.timeout('WaitReaction', reaction_timeout, 'e_reaction_timeout'),
 }
 for _, t in ipairs({ steps.reactions('AutonomousMode', faults) }) do chart[#chart + 1] = t end
+-- A component in Exception (the runner's e_component_error), a non-finite input or command
+-- refused: no reaction can mend a broken component; the safe stop, at once.
+for _, state in ipairs({ 'WaitStitchesPlan', 'RetryStitchesPlan', 'AutonomousMode', 'TeleoperatedMode', 'WaitReaction' }) do
+  chart[#chart + 1] = rfsm.trans { src = state, tgt = 'SafeStop',
+                                   events = { 'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }, pn = 10 }
+end
 
 -- Recovery (e_recover) and the end of a teleoperation (e_teleop_done) return to the state that
 -- was interrupted; a motion starts again from where the arms are.

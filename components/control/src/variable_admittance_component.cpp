@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <numbers>
 #include <stdexcept>
 
@@ -24,6 +26,12 @@ bool matrixFromProperty(const std::vector<double>& values, control::Matrix6& out
 }
 
 namespace {
+
+bool finiteWrench(const KDL::Wrench& w) noexcept {
+  for (int i = 0; i < 6; ++i)
+    if (!std::isfinite(w(i))) return false;
+  return true;
+}
 
 bool finitePose(const KDL::Frame& f) noexcept {
   for (double v : f.M.data)
@@ -50,6 +58,18 @@ VariableAdmittanceController::VariableAdmittanceController(std::string name)
   addPort(adm_twist_);
   addPort(tank_energy_);
   addPort(dissipated_power_);
+  addOperation("lastFailure", std::function<std::string()>([this] { return lastFailure(); }),
+               "the last non-finite input refused: when and on which port (the admittance then holds)",
+               core::ExecutionThread::Client);
+}
+
+std::string VariableAdmittanceController::lastFailure() const {
+  const char* port = refused_port_.load(std::memory_order_acquire);
+  if (port == nullptr) return "no non-finite input refused";
+  char at[48];
+  std::snprintf(at, sizeof at, "at %.3f s ", std::chrono::duration<double>(std::chrono::nanoseconds(
+                                                 refused_at_.load(std::memory_order_relaxed))).count());
+  return at + name() + " refused a non-finite " + port + " sample; it holds its last admPose";
 }
 
 VariableAdmittanceController::~VariableAdmittanceController() = default;
@@ -92,6 +112,7 @@ bool VariableAdmittanceController::startHook() {
   tank_empty_ = false;
   following_held_ = resynced_ = false;
   blind_ = false;
+  not_finite_ = false;
   last_wrench_ = now();
   return true;
 }
@@ -150,6 +171,20 @@ void VariableAdmittanceController::updateHook() {
     }
   }
   if (ext_wrench_.read(ext_wrench_value_) == core::FlowStatus::NoData) ext_wrench_value_ = KDL::Wrench::Zero();
+  // A non-finite wrench is refused before anything uses it (the step, a re-sync): the output holds.
+  const char* refused = !finiteWrench(wrench_) ? "measWrench" : !finiteWrench(ext_wrench_value_) ? "extWrench" : nullptr;
+  if (refused != nullptr) {
+    if (!not_finite_) {
+      not_finite_ = true;
+      refused_at_.store(now().count(), std::memory_order_relaxed);
+      refused_port_.store(refused, std::memory_order_release);
+      emitEvent("e_input_not_finite");
+    }
+    adm_twist_.write(KDL::Twist::Zero());
+    dissipated_power_.write(0.0);
+    return;  // admPose keeps its last sample: the robot holds where it is
+  }
+  not_finite_ = false;
   if (!have_reference_) return;
   KDL::Frame held;
   const bool resynced_before = resynced_;

@@ -3,6 +3,8 @@
 // applications' admittance configurations as they were when the applications took them over).
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/control/variable_admittance_component.hpp"
@@ -150,6 +152,45 @@ TEST(ControlComponents, ABlindAdmittanceHoldsItsPoseUntilTheWrenchReturns) {
   EXPECT_TRUE(a.cleanup());
   EXPECT_EQ(a.configure().message,
             "component 'Admittance': property wrench_timeout is -1.000000 s; expected >= 0 s (0: never hold)");
+}
+
+// A broken sensor chain writes NaN, then inf: the admittance refuses the sample (it would carry
+// into the controller's state and the robot's command), holds its last pose, says so once per
+// episode, allocates nothing doing it, and resumes continuously on the next finite sample.
+TEST(ControlComponents, ANonFiniteWrenchIsRefusedTheOutputHoldsAndTheEventIsEmittedOnce) {
+  Deployed d("puncturing");
+  core::Component& a = d.configurator.getReferences().get("Admittance");
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::connectPorts(a.port("events"), events, core::ConnPolicy::buffer(16));
+  EXPECT_EQ(a.call<std::string>("lastFailure"), "no non-finite input refused");
+  d.deployer.run("applyConfiguration('free_motion')", "task.lua");
+  const KDL::Wrench push(KDL::Vector(0, 0, 6.0), KDL::Vector::Zero());
+  const KDL::Frame before = d.run(20ms, push);  // moving: far from its 6 mm equilibrium
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    const KDL::Wrench broken(KDL::Vector(0, 0, bad), KDL::Vector::Zero());
+    KDL::Frame held;
+    (void)d.pose.read(held);
+    long allocations = 0;
+    for (int i = 0; i < 200; ++i) {
+      allocations += cobra::test_support::allocationsDuring([&] { d.run(1ms, broken); });
+      KDL::Frame p;
+      (void)d.pose.read(p);
+      ASSERT_EQ(p, held) << i;  // not a micrometre, and finite
+    }
+    EXPECT_EQ(allocations, 0);
+    core::Event e;
+    ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+    EXPECT_EQ(e.name.str(), "e_input_not_finite");
+    EXPECT_NE(events.read(e), core::FlowStatus::NewData) << e.name.str();  // once per episode
+    EXPECT_EQ(a.state(), core::State::Running);  // refused, not thrown
+    const KDL::Frame resumed = d.run(1ms, push);
+    EXPECT_LT((resumed.p - held.p).Norm(), 1e-4);  // continuous from the held state
+    EXPECT_GT((resumed.p - before.p).Norm(), 0.0);
+  }
+  EXPECT_EQ(a.call<std::string>("lastFailure"),
+            "at 0.221 s Admittance refused a non-finite measWrench sample; it holds its last admPose");
+  const KDL::Frame settled = d.run(3000ms, push);
+  EXPECT_NEAR(settled.p.z(), 6.0 / 1000.0, 1e-5);  // the controller's state was not poisoned
 }
 
 // The robot refused the admittance's commands and holds 3 mm behind its output: the output

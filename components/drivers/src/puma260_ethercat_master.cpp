@@ -135,19 +135,30 @@ constexpr double kStillTime = 0.1;
 
 void Puma260EtherCATMaster::updateHook() {
   // A sample with another size than 6 is ignored (restoring the buffer's size is the only allocation,
-  // and only on such bad input).
-  const auto take = [this](core::InputPort<KDL::JntArray>& port, fieldbus::JointVector& into, bool& valid) {
+  // and only on such bad input). A non-finite one never reaches the drives: the last finite command
+  // holds, and e_command_not_finite is told once per episode.
+  bool refused = false, finite_taken = false;
+  const auto take = [&](core::InputPort<KDL::JntArray>& port, fieldbus::JointVector& into, bool& valid) {
     if (port.read(scratch_) != core::FlowStatus::NewData) return;
-    if (scratch_.rows() == 6) {
-      for (unsigned i = 0; i < 6; ++i) into[i] = scratch_(i);
-      valid = true;
-    } else {
+    if (scratch_.rows() != 6) {
       scratch_.resize(6);
+      return;
     }
+    for (unsigned i = 0; i < 6; ++i)
+      if (!std::isfinite(scratch_(i))) {
+        refused = true;
+        return;
+      }
+    for (unsigned i = 0; i < 6; ++i) into[i] = scratch_(i);
+    valid = true;
+    finite_taken = true;
   };
   take(des_position_, commands_.position, commands_.position_valid);
   take(des_velocity_, commands_.velocity, commands_.velocity_valid);
   take(des_torque_, commands_.torque, commands_.torque_valid);
+  if (refused && !refusing_non_finite_) emitEvent("e_command_not_finite");
+  if (refused) refusing_non_finite_ = true;
+  else if (finite_taken) refusing_non_finite_ = false;
   const double dt = std::chrono::duration<double>(activity().period()).count();
   const std::uint32_t events = master_->step(dt, commands_);
   namespace ev = fieldbus::master_event;

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "cobra/components/sim/simulated_puma260.hpp"
 #include "cobra/core/lockstep_clock.hpp"
 #include "cobra/test_support/counting_new.hpp"
@@ -181,6 +184,44 @@ TEST(Puma260EtherCATMaster, PositionCommandsAreTrackedWithoutAllocating) {
   EXPECT_NEAR(b.read(b.position)(0), q(0), 0.01);
   EXPECT_NEAR(b.read(b.position)(0), start(0) + 0.1, 0.01);
   EXPECT_EQ(cobra::test_support::allocationsDuring([&] { follow(200); }), 0);
+}
+
+// A broken command chain writes NaN, then inf joints: the master refuses them (the drives keep the
+// last finite set-point: the arm holds), tells e_command_not_finite once per episode, allocates
+// nothing, and follows the next finite command again.
+TEST(Puma260EtherCATMaster, ANonFiniteCommandNeverReachesTheDrivesTheArmHoldsAndTheEventIsToldOnce) {
+  Bench b;
+  b.operative();
+  KDL::JntArray q = b.read(b.position);
+  for (int k = 0; k < 300; ++k) {  // moving joint 0 at 0.2 rad/s
+    q(0) += 2e-4;
+    b.des_position.write(q);
+    b.clock.advance(1ms);
+  }
+  b.takeEvents();
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    KDL::JntArray broken = q;
+    broken(0) = bad;
+    long allocations = 0;
+    for (int k = 0; k < 500; ++k)
+      allocations += cobra::test_support::allocationsDuring([&] {
+        b.des_position.write(broken);
+        b.clock.advance(1ms);
+      });
+    EXPECT_EQ(allocations, 0);
+    const KDL::JntArray held = b.read(b.position);
+    EXPECT_NEAR(held(0), q(0), 2e-3);  // at the last finite command, not beyond it
+    for (unsigned i = 0; i < 6; ++i) EXPECT_TRUE(std::isfinite(held(i))) << i;
+    EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_command_not_finite"}));  // once
+    EXPECT_EQ(b.states.back(), "Operative");
+    for (int k = 0; k < 200; ++k) {  // finite commands again, moving on from the held set-point: followed
+      if (k < 50) q(0) += 2e-4;
+      b.des_position.write(q);
+      b.clock.advance(1ms);
+    }
+    EXPECT_NEAR(b.read(b.position)(0), q(0), 2e-3);
+    EXPECT_TRUE(b.takeEvents().empty());
+  }
 }
 
 TEST(Puma260EtherCATMaster, VelocityAndTorqueModesActOnTheirPorts) {

@@ -165,8 +165,13 @@ bool SimulatedServoRobotBase::configureHook() {
   }
   measured_fk_.reset(joints);
   true_fk_.reset(joints);
-  refusing_ = told_failed_ = told_discontinuity_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = told_not_finite_ = false;
   return true;
+}
+
+void SimulatedServoRobotBase::refuseNotFinite() noexcept {
+  if (!told_not_finite_) emitEvent("e_command_not_finite");
+  told_not_finite_ = true;
 }
 
 bool SimulatedServoRobotBase::startHook() {
@@ -233,7 +238,7 @@ void SimulatedServoRobotBase::commandCartesian(double dt) noexcept {
     return;
   }
   if (refusing_) emitEvent("e_ik_solved");
-  refusing_ = told_failed_ = told_discontinuity_ = false;
+  refusing_ = told_failed_ = told_discontinuity_ = told_not_finite_ = false;
   for (std::size_t i = 0; i < tools_.size(); ++i) tools_[i]->commanded = targets_[i];
 }
 
@@ -285,10 +290,13 @@ void SimulatedServoRobotBase::updateHook() {
     Tool& tool = *tools_[i];
     targets_[i] = tool.commanded;
     KDL::Frame pose;
-    if (tool.des_cart_pose.read(pose) == core::FlowStatus::NewData && kinematics::validFrame(pose)) {
-      targets_[i] = pose;
-      cartesian = true;
+    if (tool.des_cart_pose.read(pose) != core::FlowStatus::NewData) continue;
+    if (!kinematics::validFrame(pose)) {
+      refuseNotFinite();
+      continue;
     }
+    targets_[i] = pose;
+    cartesian = true;
   }
   if (cartesian) {
     twist_until_ns_ = -1;
@@ -302,13 +310,29 @@ void SimulatedServoRobotBase::updateHook() {
     last_pose_command_ns_ = now_ns;
     commandCartesian(std::max({dt, default_dt_, std::min(since, kMaxCommandGap * default_dt_)}));
   }
-  if (des_joint_position_.read(joint_command_) == core::FlowStatus::NewData && robot_->command(joint_command_)) {
-    twist_until_ns_ = -1;
-    commandedFromJoints();
+  if (des_joint_position_.read(joint_command_) == core::FlowStatus::NewData) {
+    bool finite = true;
+    for (unsigned j = 0; j < joint_command_.rows(); ++j) finite = finite && std::isfinite(joint_command_(j));
+    if (!finite) {
+      refuseNotFinite();
+    } else if (robot_->command(joint_command_)) {
+      twist_until_ns_ = -1;
+      told_not_finite_ = false;
+      commandedFromJoints();
+    }
   }
   if (defaults_.twist_ports) {
-    if (des_twist_.read(twist_command_) == core::FlowStatus::NewData)
-      twist_until_ns_ = now_ns + static_cast<std::int64_t>(twist_timeout_() * 1e9);
+    KDL::Twist twist;
+    if (des_twist_.read(twist) == core::FlowStatus::NewData) {
+      bool finite = true;
+      for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(twist(k));
+      if (finite) {
+        twist_command_ = twist;
+        twist_until_ns_ = now_ns + static_cast<std::int64_t>(twist_timeout_() * 1e9);
+      } else {
+        refuseNotFinite();
+      }
+    }
     if (now_ns <= twist_until_ns_ && dt > 0.0) {
       for (std::size_t i = 0; i < tools_.size(); ++i) targets_[i] = tools_[i]->commanded;
       targets_[0] = KDL::addDelta(tools_[0]->commanded, twist_command_, dt);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -157,6 +158,50 @@ TEST(SimulatedISURRobot, AnUnreachablePoseHoldsTheLastCommandAndSaysSo) {
   rig.clock.advance(std::chrono::milliseconds(1));
   ASSERT_EQ(rig.events.read(e), core::FlowStatus::NewData);
   EXPECT_EQ(e.name.str(), "e_ik_solved");
+}
+
+// A broken command chain writes NaN and inf poses and joints: none reaches the servo, the robot
+// holds its last valid command, e_command_not_finite is told once per episode (not per sample),
+// nothing is allocated, and the next valid command is followed.
+TEST(SimulatedISURRobot, ANonFiniteCommandNeverReachesTheServoAndIsToldOncePerEpisode) {
+  Rig<SimulatedISURRobot> rig;
+  rig.start();
+  const KDL::Frame start = rig.measuredPose();
+  KDL::Frame target = start;
+  for (int ms = 1; ms <= 50; ++ms) {  // moving at 0.02 m/s
+    target.p += KDL::Vector(2e-5, 0.0, 0.0);
+    rig.pose_command.write(target);
+    rig.clock.advance(std::chrono::milliseconds(1));
+  }
+  (void)rig.takeEvents();
+  const KDL::JntArray last_joints = rig.measuredJoints();
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    KDL::Frame broken = target;
+    broken.p.z(bad);
+    KDL::JntArray broken_joints = last_joints;
+    broken_joints(2) = bad;
+    long allocations = 0;
+    for (int ms = 0; ms < 200; ++ms) {
+      // Counted once the test's own joint port has sized its connection's slots (its first writes).
+      const long during = cobra::test_support::allocationsDuring([&] {
+        if (ms % 2 == 0) rig.pose_command.write(broken);
+        else rig.joint_command.write(broken_joints);
+        rig.clock.advance(std::chrono::milliseconds(1));
+      });
+      if (ms >= 10) allocations += during;
+    }
+    EXPECT_EQ(allocations, 0);
+    const KDL::Frame held = rig.measuredPose();
+    EXPECT_LT((held.p - target.p).Norm(), 2e-5);  // at the last valid command (the lag has settled)
+    EXPECT_EQ(rig.takeEvents(), (std::vector<std::string>{"e_command_not_finite"}));
+    target.p += KDL::Vector(2e-5, 0.0, 0.0);  // a valid command again: followed, the episode over
+    for (int ms = 0; ms < 100; ++ms) {
+      rig.pose_command.write(target);
+      rig.clock.advance(std::chrono::milliseconds(1));
+    }
+    EXPECT_LT((rig.measuredPose().p - target.p).Norm(), 2e-5);
+    EXPECT_TRUE(rig.takeEvents().empty());
+  }
 }
 
 // The sensor reads the world-frame contact wrench in the tool frame (Nano17 noise ~3 mN).

@@ -9,7 +9,9 @@ DoorSim::DoorSim(std::string name)
     : Component(std::move(name), core::Role::Bridge, "Simulated arm, handle and door of the door example") {
   for (core::PortBase* port : std::initializer_list<core::PortBase*>{&arm_target_, &grip_command_, &handle_torque_,
                                                                      &pull_force_, &arm_position_, &gripped_,
-                                                                     &handle_angle_, &door_angle_})
+                                                                     &handle_angle_, &door_angle_,
+                                                                     &applied_arm_target_, &applied_grip_,
+                                                                     &applied_torque_, &applied_force_})
     addPort(*port);
   addProperty(handle_position_.range(0.0, 10.0));
   addProperty(arm_time_constant_.range(1e-3, 10.0));
@@ -29,11 +31,27 @@ bool DoorSim::startHook() {
   arm_ = handle_ = door_ = door_rate_ = 0.0;
   arm_target_value_ = grip_value_ = torque_value_ = force_value_ = 0.0;
   gripped_state_ = false;
+  arm_refused_ = grip_refused_ = torque_refused_ = force_refused_ = false;
   return true;
 }
 
-double DoorSim::freshCommand(core::InputPort<double>& port, double& value, std::chrono::nanoseconds& stamp) {
-  if (port.read(value) == core::FlowStatus::NewData) stamp = now();
+bool DoorSim::takeFinite(core::InputPort<double>& port, double& value, bool& refused) noexcept {
+  double sample = 0.0;
+  // Only a new sample counts: an old one is the value taken, or the non-finite one refused.
+  if (port.read(sample) != core::FlowStatus::NewData) return false;
+  if (std::isfinite(sample)) {
+    value = sample;
+    refused = false;
+    return true;
+  }
+  if (!refused) emitEvent("e_command_not_finite");  // once per episode
+  refused = true;
+  return false;
+}
+
+double DoorSim::freshCommand(core::InputPort<double>& port, double& value, std::chrono::nanoseconds& stamp,
+                             bool& refused) {
+  if (takeFinite(port, value, refused)) stamp = now();
   const bool stale = std::chrono::duration<double>(now() - stamp).count() > command_timeout_();
   return stale ? 0.0 : value;
 }
@@ -41,10 +59,14 @@ double DoorSim::freshCommand(core::InputPort<double>& port, double& value, std::
 void DoorSim::updateHook() {
   const double dt = std::chrono::duration<double>(now() - last_step_).count();
   last_step_ = now();
-  (void)arm_target_.read(arm_target_value_);  // a position target holds until changed
-  const double grip = freshCommand(grip_command_, grip_value_, grip_stamp_);
-  const double torque = freshCommand(handle_torque_, torque_value_, torque_stamp_);
-  const double force = freshCommand(pull_force_, force_value_, force_stamp_);
+  (void)takeFinite(arm_target_, arm_target_value_, arm_refused_);  // a position target holds until changed
+  const double grip = freshCommand(grip_command_, grip_value_, grip_stamp_, grip_refused_);
+  const double torque = freshCommand(handle_torque_, torque_value_, torque_stamp_, torque_refused_);
+  const double force = freshCommand(pull_force_, force_value_, force_stamp_, force_refused_);
+  applied_arm_target_.write(arm_target_value_);
+  applied_grip_.write(grip);
+  applied_torque_.write(torque);
+  applied_force_.write(force);
 
   // Exact discretisation of the arm's first-order lag; once grasped the arm moves with the handle.
   if (!gripped_state_) arm_ += (arm_target_value_ - arm_) * (1.0 - std::exp(-dt / arm_time_constant_()));

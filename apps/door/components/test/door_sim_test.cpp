@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "cobra/core/core.hpp"
 #include "cobra/test_support/counting_new.hpp"
 
@@ -73,6 +76,43 @@ TEST(DoorSim, CommandsThatStopComingCountAsZero) {
   ASSERT_EQ(w.value(w.gripped), 1.0);
   w.clock.advance(100ms);  // nobody sends the grip command: the watchdog (50 ms) opens the gripper
   EXPECT_EQ(w.value(w.gripped), 0.0);
+}
+
+// A broken set-point source writes NaN, then inf: the door refuses the sample, turns the handle on
+// with the last finite torque (timed out after 50 ms like any silent command), says so once per
+// episode, and applies the next finite torque again; nothing non-finite reaches its state.
+TEST(DoorSim, ANonFiniteCommandIsRefusedTheLastFiniteOneHoldsAndTheEventIsEmittedOnce) {
+  World w;
+  core::InputPort<core::Event> events{"events", "", ""};
+  core::connectPorts(w.door.port("events"), events, core::ConnPolicy::buffer(16));
+  core::InputPort<double> applied{"applied", "", "N·m"};
+  core::connectPorts(w.door.port("appliedHandleTorque"), applied);
+  w.arm.write(0.5);
+  w.run(1.0, 1.0, 0.0, 0.0);
+  w.run(1.0, 1.0, 1.2, 0.0);  // grasped, turning: 0.6 rad at rest
+  ASSERT_EQ(w.value(w.gripped), 1.0);
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    const double turned = w.value(w.handle);
+    long allocations = 0;
+    for (int i = 0; i < 30; ++i) {  // within command_timeout: the last finite torque holds
+      allocations += test_support::allocationsDuring([&] { w.run(0.001, 1.0, bad, 0.0); });
+      ASSERT_EQ(w.value(applied), 1.2) << i;
+      ASSERT_TRUE(std::isfinite(w.value(w.handle))) << i;
+    }
+    EXPECT_EQ(allocations, 0);
+    EXPECT_NEAR(w.value(w.handle), turned, 0.01);  // held, not driven by the refused value
+    w.run(0.1, 1.0, bad, 0.0);                      // past command_timeout: the stale torque counts as 0
+    EXPECT_EQ(w.value(applied), 0.0);
+    EXPECT_LT(w.value(w.handle), turned);           // the spring turns the handle back
+    core::Event e;
+    ASSERT_EQ(events.read(e), core::FlowStatus::NewData);
+    EXPECT_EQ(e.name.str(), "e_command_not_finite");
+    EXPECT_NE(events.read(e), core::FlowStatus::NewData) << e.name.str();  // once per episode
+    EXPECT_EQ(w.door.state(), core::State::Running);
+    w.run(1.0, 1.0, 1.2, 0.0);  // a finite torque again: applied, the episode over
+    EXPECT_EQ(w.value(applied), 1.2);
+    EXPECT_NEAR(w.value(w.handle), 0.6, 0.01);
+  }
 }
 
 TEST(DoorSim, ItsStepsAllocateNothing) {

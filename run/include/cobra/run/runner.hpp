@@ -134,10 +134,18 @@ struct RunOptions {
   std::string host;
 };
 
+/// The event the runner writes into the inputEvents of every chart of `run.charts` (when one has a
+/// safe stop) as soon as a component enters Exception or FatalError, its source that component:
+/// a chart lists it among its failures (as `e_component_error`, or `e_component_error@Comp`) and
+/// goes to its safe stop; the run's reason then names the component and its lastError.
+inline constexpr const char* kComponentErrorEvent = "e_component_error";
+
 enum class Outcome {
   Completed,       ///< every task chart reached its done state
   TimeLimit,       ///< the time limit came first
-  ComponentError,  ///< a component went to Exception or FatalError
+  /// A component went to Exception or FatalError, and no chart with a safe stop reached it within
+  /// `safe_stop_linger` after kComponentErrorEvent (at once when no chart has a safe stop).
+  ComponentError,
   UnhandledFault,  ///< a fault was injected and the task did not complete before the time limit
   SafeStop,        ///< a task chart entered its safe-stop state
   Interrupted,     ///< RunOptions::interrupt was set (Ctrl-C)

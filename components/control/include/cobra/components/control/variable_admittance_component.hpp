@@ -4,7 +4,10 @@
 /// cobra::control::VariableAdmittance.
 
 #include <kdl/frames.hpp>
+#include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -51,12 +54,20 @@ namespace cobra::components {
 /// zero, the controller is not stepped (it would push on with a stale force), and e_wrench_lost is
 /// emitted once; the next sample resumes it from the held state (e_wrench_restored). 0 (default):
 /// the last sample is used however old it is.
+/// Non-finite input: a measWrench or extWrench sample with a NaN or infinite component (a broken
+/// sensor chain) is refused: the controller is not stepped and not re-synced (either would carry
+/// the value into its state), admPose keeps its last sample (the robot holds), admTwist is zero,
+/// and e_input_not_finite is emitted once per episode (again after a finite sample of both). The
+/// operation `lastFailure` (for `cobra run`'s safe stop) says when and on which port.
 class VariableAdmittanceController : public core::Component {
  public:
   explicit VariableAdmittanceController(std::string name);
   ~VariableAdmittanceController() override;
   /// The controller (nullptr before configure): for tests and plots.
   const control::VariableAdmittance* controller() const { return controller_.get(); }
+  /// "at 31.816 s Admittance refused a non-finite measWrench sample; it holds its last admPose"
+  /// (the last refusal), or "no non-finite input refused". Any thread.
+  std::string lastFailure() const;
 
  protected:
   bool configureHook() override;
@@ -120,6 +131,11 @@ class VariableAdmittanceController : public core::Component {
   bool resynced_ = false;        // the last step re-synced (e_resynced is told once while held step after step)
   std::chrono::nanoseconds last_wrench_{0};  // when measWrench last brought a sample
   bool blind_ = false;                       // holding: measWrench silent for wrench_timeout
+  bool not_finite_ = false;                  // holding: a wrench input is not finite (told once)
+  // The last refusal, for lastFailure() from any thread: the port's name (a string literal) and
+  // when (ns on this component's clock).
+  std::atomic<const char*> refused_port_{nullptr};
+  std::atomic<std::int64_t> refused_at_{0};
 };
 
 /// A 6×6 matrix from 6 numbers (its diagonal) or 36 (row-major); false for any other count.

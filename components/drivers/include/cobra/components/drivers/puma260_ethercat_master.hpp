@@ -41,7 +41,9 @@ namespace cobra::components {
 /// Events: e_initialized, e_ready_reached, e_nest_reached, e_operative, e_drive_fault,
 /// e_bus_error (link down), e_bus_fault (a cycle came back with a wrong working counter: every
 /// cycle it lasts; the master goes to Fault and quick-stops the drives, see `busFault()`),
-/// e_fault_reset, e_command_clamped, e_request_refused.
+/// e_fault_reset, e_command_clamped, e_request_refused, e_command_not_finite (a command sample
+/// with a NaN or infinite joint: refused, the last finite command of that port stays the drives'
+/// set-point; once per episode, again after a finite sample).
 class Puma260EtherCATMaster : public core::Component {
  public:
   explicit Puma260EtherCATMaster(std::string name);
@@ -88,6 +90,7 @@ class Puma260EtherCATMaster : public core::Component {
   KDL::JntArray scratch_{6}, out_{6};
   fieldbus::JointVector rest_position_{};  // rad: in Fault, where the joints have stayed for still_time_
   double still_time_ = 0.0;                // s
+  bool refusing_non_finite_ = false;       // a command sample was not finite; e_command_not_finite told
 };
 
 }  // namespace cobra::components

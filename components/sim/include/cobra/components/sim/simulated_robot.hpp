@@ -82,8 +82,10 @@ class SimulatedRobotKinematics {
 ///
 /// Inputs: `desJointPosition` (KDL::JntArray, rad / m) and `desCartPose` of each tool (KDL::Frame,
 /// m): a new joint command or a new Cartesian command of any tool becomes the servo command (both
-/// new in one step: the joint command wins; a joint command of the wrong size or with a non-finite
-/// value is ignored). A Cartesian command solves every tool together: the tools with a new command
+/// new in one step: the joint command wins; a joint command of the wrong size is ignored). A
+/// command with a non-finite value (a joint, a pose that is not a finite rigid frame, a twist) never
+/// reaches the servo: the last valid command holds, and `e_command_not_finite` is emitted once per
+/// episode (again after a valid command). A Cartesian command solves every tool together: the tools with a new command
 /// go to it, the others keep their current commanded pose (the last accepted Cartesian command, or
 /// the pose of the last joint command). It is turned into joints with the continuity rule of
 /// kinematics::ContinuousIk, from the robot's current joint command (its set point): the solution
@@ -226,6 +228,9 @@ class SimulatedServoRobotBase : public core::Component {
   bool refusing_ = false;             // the last Cartesian command was refused
   bool told_failed_ = false;          // e_ik_failed emitted in this refusal episode
   bool told_discontinuity_ = false;   // e_ik_discontinuity emitted in this refusal episode
+  bool told_not_finite_ = false;      // e_command_not_finite emitted in this episode
+  /// Emits e_command_not_finite once per episode (refused: a command sample was not finite).
+  void refuseNotFinite() noexcept;
   /// The first refused command of the last refusal episode, published by the update (a copy
   /// into a triple buffer: no allocation, no lock) for lastFailure(), which words it on the
   /// caller's thread.
