@@ -59,12 +59,6 @@ task "door" {
 local no_peer = "one process: no peer to lose (the DDS link exists only when the puncturing task is split over "
   .. "hosts; apps/puncturing/test/split_procedure_test.cpp loses one)"
 -- Known gaps seen in more than one cell.
-local suturing_ends_moving = "the suturing chart reaches root.Done while an arm still moves (more than 0.5 mm in the "
-  .. "next second), also without a fault (the cell none/suturing)"
-local door_ends_moving = "the door task reaches root.done with the arm still moving (more than 0.5 mm in the next "
-  .. "second), also without a fault (the cell none/door)"
-local puma_stops_moving = "stopped in contact with the surface, the Puma 260's tool moves more than 0.5 mm in the "
-  .. "second after the safe stop"
 local no_reaction = "the charts have no transition on e_exception@<component>: the run ends at once in "
   .. "'component error' instead of the task's safe stop"
 
@@ -85,9 +79,9 @@ local function nothing(moment) return { { lua = "-- the baseline: nothing is pla
 fault "none" {
   text = "no fault (the baseline: each procedure as it runs without one)",
   puncturing = nothing("approach"),
-  suturing = { { lua = "-- the baseline: nothing is played" }, moments = { "over_wound" }, gap = suturing_ends_moving },
+  suturing = nothing("over_wound"),
   puma260 = nothing("path"),
-  door = { { lua = "-- the baseline: nothing is played" }, moments = { "turn" }, gap = door_ends_moving },
+  door = nothing("turn"),
 }
 
 fault "update_exception" {
@@ -111,21 +105,20 @@ local function nonFinite(name, what, value, puma_gap)
     text = what .. " on a pure-data input port (the admittance's measured wrench; the door's handle torque)",
     puncturing = { wrench("NeedleWrench", value) },
     suturing = { wrench("RightWrench", value) },
-    puma260 = { wrench("TipToBase", value), gap = { surface = puma_gap } },
+    puma260 = { wrench("TipToBase", value), gap = puma_gap and { surface = puma_gap } or nil },
     door = { { lua = "stopComponents({'TorqueCmd'}) TorqueCmd.out:write(" .. value .. ")" }, moments = { "turn" },
              gap = "nothing guards the door's set-points: the " .. what .. " torque reaches the simulated door" },
   }
 end
 nonFinite("nan_input", "NaN", "0/0", "a NaN wrench in contact is detected by nothing: the chart never ends (time limit)")
-nonFinite("inf_input", "inf", "math.huge", puma_stops_moving)
+nonFinite("inf_input", "inf", "math.huge")
 
 fault "sensor_silent" {
   text = "a sensor that stops publishing (the force/torque chain; the door's handle angle)",
   puncturing = { { lua = "stopComponents({'NeedleWrench'})" } },
-  suturing = { { lua = "stopComponents({'RightWrench'})" }, gap = suturing_ends_moving },
-  puma260 = { { call = "FTSensSim.setSilent", args = { true } }, gap = { surface = puma_stops_moving } },
-  door = { { lua = "stopComponents({'Unlatched'})" }, moments = { "turn" },
-           gap = "the door chart has no timeout on its detectors: it waits for the handle for ever" },
+  suturing = { { lua = "stopComponents({'RightWrench'})" } },
+  puma260 = { { call = "FTSensSim.setSilent", args = { true } } },
+  door = { { lua = "stopComponents({'Unlatched'})" }, moments = { "turn" } },
 }
 
 fault "link_loss" {
@@ -150,8 +143,8 @@ fault "planner_failure" {
 fault "tank_drained" {
   text = "an energy tank drained to epsilon (the admittance restarted with 1.001 tank_min in its tank)",
   puncturing = { drained("NeedleAdmittance") },
-  suturing = { drained("RightAdmittance"), gap = suturing_ends_moving },
-  puma260 = { drained("Admittance"), gap = { surface = puma_stops_moving } },
+  suturing = { drained("RightAdmittance") },
+  puma260 = { drained("Admittance") },
   door = na "the door task has no admittance, hence no energy tank",
 }
 
@@ -159,7 +152,7 @@ fault "ik_discontinuity" {
   text = "an IK discontinuity (the robot slowed to 0.2 % of its joint speeds: the next command is out of reach)",
   puncturing = { { set = { property = "ISUR.speed_scaling", value = 0.002 } } },
   suturing = { { set = { property = "ISUR.speed_scaling", value = 0.002 } } },
-  puma260 = { { set = { property = "Kin.speed_scaling", value = 0.002 } }, gap = { surface = puma_stops_moving } },
+  puma260 = { { set = { property = "Kin.speed_scaling", value = 0.002 } } },
   door = na "the door task's arm is a set-point of the simulated door: no inverse kinematics",
 }
 
