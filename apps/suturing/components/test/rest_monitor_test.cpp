@@ -68,16 +68,17 @@ TEST(RestMonitor, ToolsAtRestAreAnsweredAtOnce) {
 // it returns 4 mm. Asked as it is let go, the answer comes once it moves slower than 0.5 mm/s,
 // and it moves less than the tolerance (0.1 mm) from then on.
 TEST(RestMonitor, ASpringingToolIsAtRestOnlyOnceItHasSlowedDown) {
-  Bench b;
-  b.start();
-  for (int i = 0; i < 300; ++i) b.step(kRight, kLeft);
-  b.monitor.call<void>("askAtRest");
-  const double omega = std::sqrt(1000.0 / 4.0), x0 = 0.004, asked = b.t();
-  auto left = [&](double s) {  // the stick s seconds after the release
+  const double omega = std::sqrt(1000.0 / 4.0), x0 = 0.004;
+  auto left = [&](double s) {  // the stick s seconds after the release (held 4 mm off before it)
     KDL::Frame f = kLeft;
     f.p.y(f.p.y() + x0 * (1.0 + omega * s) * std::exp(-omega * s));
     return f;
   };
+  Bench b;
+  b.start();
+  for (int i = 0; i < 300; ++i) b.step(kRight, left(0.0));  // pulled by the thread, still
+  b.monitor.call<void>("askAtRest");
+  const double asked = b.t();
   double answered_at = -1.0, y_then = 0.0;
   for (int i = 1; i <= 2000; ++i) {
     const KDL::Frame l = left(i * 1e-3);
@@ -103,7 +104,8 @@ TEST(RestMonitor, ATurningToolIsNotAtRest) {
     b.step(r, kLeft);
   }
   EXPECT_TRUE(b.answers.empty());
-  for (int i = 0; i < 250; ++i) b.step(kRight * KDL::Frame(KDL::Rotation::RotZ(0.02)), kLeft);  // stopped
+  const KDL::Frame stopped(KDL::Rotation::RotZ(0.02) * kRight.M, kRight.p);  // where the turn ended
+  for (int i = 0; i < 250; ++i) b.step(stopped, kLeft);
   EXPECT_EQ(b.answers.size(), 1u);
 }
 
@@ -129,7 +131,7 @@ TEST(RestMonitor, BadPropertiesAreRefusedNamingThem) {
   EXPECT_EQ(b.monitor.configure().message,
             "component 'Rest': property angle_tolerance is -1.000000 rad; expected a finite value > 0 rad");
   b.monitor.setProperty("angle_tolerance", 2e-3);
-  b.monitor.setProperty("window", NAN);
+  b.monitor.setProperty("window", std::nan(""));
   EXPECT_EQ(b.monitor.configure().message, "component 'Rest': property window is nan s; expected a finite value > 0 s");
 }
 
