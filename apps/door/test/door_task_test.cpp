@@ -129,7 +129,7 @@ TEST(DoorTask, ASilentDetectorEndsInTheSafeStopAfterItsTimeout) {
   const double turn = r.seconds();
   r.lua.run("stopComponents({'Unlatched'})");
   ASSERT_EQ(r.run(60s), "root.failed");
-  expectInOrder(r.log, {"state root.opening.turn", "configuration firm", "state root.opening.turn_firmly", "state root.failed"});
+  expectInOrder(r.log, {"state root.opening.turn", "state root.opening.turn_firmly", "configuration firm", "state root.failed"});
   // 2 s gently, then 5 s firmly (the supervisor's 10 ms period and this loop's 10 ms apart).
   EXPECT_NEAR(r.seconds() - turn, 7.0, 0.05);
   EXPECT_GT(DoorRun::value(*handle), 0.7);  // rad: the handle did give (past the latch): only the detector was silent

@@ -1,5 +1,6 @@
 #include "cobra/components/suturing/rest_monitor.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -50,13 +51,19 @@ void RestMonitor::watch(core::InputPort<KDL::Frame>& port, Tool& tool) noexcept 
 }
 
 bool RestMonitor::still(const Tool& tool) const noexcept {
-  return tool.seen && std::chrono::duration<double>(now() - tool.since).count() >= window_() - 1e-9;
+  // Still since the ask at least: a tool that is only beginning to move as it is asked (the stick
+  // let go of the thread a step before) has moved past the tolerance within the window.
+  const auto since = std::max(tool.since, asked_at_);
+  return tool.seen && std::chrono::duration<double>(now() - since).count() >= window_() - 1e-9;
 }
 
 void RestMonitor::updateHook() {
   watch(right_, right_tool_);
   watch(left_, left_tool_);
-  if (ask_.take()) asked_ = true;
+  if (ask_.take() && !asked_) {
+    asked_ = true;
+    asked_at_ = now();
+  }
   if (asked_ && still(right_tool_) && still(left_tool_)) {
     asked_ = false;
     emitEvent("e_at_rest");

@@ -22,9 +22,12 @@ namespace cobra::components {
 ///   at rest once its measured pose has stayed within `tolerance` and `angle_tolerance` of where it
 ///   was `window` s ago, i.e. moved slower than tolerance / window (default 0.1 mm in 0.2 s: 0.5
 ///   mm/s); both tools at rest is the answer;
-/// - operation `askAtRest()` (void request): answered with `e_at_rest` in the first step, at or
-///   after the ask, in which both tools are at rest (at once when they already are); never
-///   answered while a tool moves (the chart bounds the wait) or before both poses have arrived.
+/// - operation `askAtRest()` (void request): answered with `e_at_rest` once both tools have been at
+///   rest for `window` s since the ask (not at once for tools that were still before it: a tool
+///   only beginning to move as it is asked, the stick let go of the thread a step before, has
+///   moved past the tolerance within the window); never answered while a tool moves (the chart
+///   bounds the wait) or before both poses have arrived. A pose port that brings no new sample
+///   counts as still.
 /// Needs a periodic activity (the window is measured on its clock). updateHook allocates nothing.
 class RestMonitor : public core::Component {
  public:
@@ -57,6 +60,7 @@ class RestMonitor : public core::Component {
 
   core::PendingRequest ask_;
   bool asked_ = false;  // an askAtRest not answered yet
+  std::chrono::nanoseconds asked_at_{0};  // when it was asked
   Tool right_tool_, left_tool_;
 };
 
