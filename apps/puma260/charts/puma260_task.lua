@@ -14,8 +14,7 @@
 --   H  at the final pose, back on the nominal path (e_on_path, e_motion_done): done
 -- Faults: a drive fault or bus error (the master has quick-stopped the drives), the contact force
 -- over its limit, an IK or trajectory failure, the tank empty: root.Stopping (the trajectory's stop
--- motion, the admittance holding) then root.SafeStop once the trajectory is at rest, where the
--- robot holds its last commanded joints (the deployment `holding`: nothing commands it). The FTSens
+-- motion, the admittance holding) then root.SafeStop once the trajectory is at rest. The FTSens
 -- silent (e_comm_timeout): root.Holding, the motion stopped, until the sensor is back (the nominal
 -- path resumes) or `sensor_hold` s have passed (SafeStop).
 local sensor_hold = 1.0  -- s
@@ -87,15 +86,7 @@ local chart = {
   Holding = rfsm.state { entry = function() call("TrajGen", "askStopMove") emit("e_puma_holding") end },
   Resuming = motion("NominalPath"),
   Stopping = rfsm.state { entry = function() call("TrajGen", "askStopMove") end },
-  -- Hold the last commanded joints, whatever the fault: the tool may be in contact with the surface
-  -- (tissue, on a surgical robot), and what a surgeon expects of a stopped robot is that it stays
-  -- exactly where it is: no further push, and no retreat that a failed sensor, drive or kinematics
-  -- could not be trusted to carry out (README.md: SafeStop stops, it does not retreat). The
-  -- admittance, still stepping in contact, kept answering the measured force and moved the tool.
-  SafeStop = rfsm.state { entry = function()
-    emit("e_deploy_holding")
-    emit("e_puma_safe_stop")
-  end },
+  SafeStop = rfsm.state { entry = function() emit("e_puma_safe_stop") end },
 
   rfsm.trans { src = 'initial', tgt = 'A_Nest' },
   rfsm.trans { src = 'A_Nest', tgt = 'B_Ready', events = { 'e_ready_reached@Puma' } },

@@ -1,12 +1,10 @@
 -- The controller of the Puma 260 task (thesis §6.3, Fig. 6.5): the EtherCAT master of the six
 -- drives, the FTSens driver, the equivalent wrench (the measured wrench to the tool tip, eq. 6.1),
 -- the kinematics solver, the Cartesian trajectory generator fed by three fixed paths, the variable
--- admittance, a contact monitor and the task and deployment supervisors. Three deployments, one
+-- admittance, a contact monitor and the task and deployment supervisors. Two deployments, one
 -- configuration (configurations/puma260_task.lua):
 --   position_control   the trajectory's set-point goes straight to the inverse kinematics (B -> C)
 --   compliant_control  through the variable admittance, with the measured wrench (C -> H)
---   holding            the chart's SafeStop: nothing commands the robot, which holds its last
---                      commanded joints
 -- Needs the globals `world` (deployment/world.lua) and `kinematics_solver` (the kinematics solver's
 -- `solver`: the scenario's kinematics.lua).
 local here = debug.getinfo(1, "S").source:match("^@(.*/)") or "./"
@@ -125,12 +123,6 @@ defineDeployment("compliant_control", {
     { output = "TrajGen.desCartPose_1", input = "Contact.nominalPose" },
   },
 })
--- The safe stop (charts/puma260_task.lua, SafeStop): the trajectory, the admittance and the monitor
--- stopped, so the inverse kinematics gets no new pose and the drives keep the last joints it
--- commanded. In contact the admittance would otherwise go on answering the measured force (its
--- noise, the contact's own dynamics, a slowed or refusing kinematics letting part of it through)
--- and the tool crept by up to 2 mm a second on the surface after the stop.
-defineDeployment("holding", { components = {}, connections = {} })
 applyConfiguration("puma260_task")
 startComponents(always)
 applyDeployment("position_control")

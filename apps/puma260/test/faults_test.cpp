@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 
 #include "puma260_run.hpp"
 
@@ -23,36 +21,6 @@ RunOptions withFaults(const std::string& name) {
   return o;
 }
 
-/// The task with test/faults/`name`.lua, watched (and recorded) for 1 s after its outcome.
-RunOptions watchedWithFaults(const std::string& name) {
-  RunOptions o = withFaults(name);
-  o.watch_after_end = 1.0;  // s
-  return o;
-}
-
-/// The safe stop holds the tool: over the second after the chart entered root.SafeStop (the run
-/// watched on), the measured tool tip (Kin.cartPose) moves less than 0.2 mm from where it was
-/// then (the fault matrix holds a task to 0.5 mm), in contact with the surface too; and nothing
-/// commands the robot any more (the deployment `holding`).
-void expectHeldAfterTheSafeStop(const RunOptions& o, const RunResult& r) {
-  const double stop = began(r, "root.SafeStop");
-  ASSERT_LT(stop, INFINITY);
-  expectInOrder(r, {"puma > root.SafeStop", "deployment > holding"});
-  const Signals s(o.report_folder / "signals.csv");
-  double worst = 0.0, last = 0.0, x0 = NAN, y0 = NAN, z0 = NAN;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s.time(i) < stop - 1e-9) continue;
-    const double x = s(i, "Kin.cartPose.x"), y = s(i, "Kin.cartPose.y"), z = s(i, "Kin.cartPose.z");
-    if (std::isnan(x0)) x0 = x, y0 = y, z0 = z;
-    worst = std::max(worst, std::hypot(x - x0, y - y0, z - z0));
-    last = s.time(i);
-  }
-  EXPECT_GT(last - stop, 0.95) << "the second after the safe stop was not recorded";
-  EXPECT_LT(worst * 1000.0, 0.2) << "mm the tool moved in the second after the safe stop";
-  std::printf("%s: the tool moved %.3f mm in the %.2f s after the safe stop\n", o.faults_file.filename().c_str(),
-              worst * 1000.0, last - stop);
-}
-
 /// The drives' measured joint speeds (rad/s) at the end of the run (the chart's SafeStop, once the
 /// trajectory's stop motion has ended): all at rest.
 void expectDrivesStopped(const RunOptions& o) {
@@ -63,7 +31,7 @@ void expectDrivesStopped(const RunOptions& o) {
 }
 
 TEST(Puma260Faults, ADriveFaultMidMotionQuickStopsTheOthersAndTheChartStopsSafely) {
-  const RunOptions o = watchedWithFaults("drive_fault");
+  const RunOptions o = withFaults("drive_fault");
   const RunResult r = runApp(o);
   EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
   EXPECT_NE(r.reason.find("e_drive_fault"), std::string::npos) << r.reason;
@@ -76,7 +44,6 @@ TEST(Puma260Faults, ADriveFaultMidMotionQuickStopsTheOthersAndTheChartStopsSafel
   EXPECT_EQ(std::count(fault, r.log.end(), "TrajGen: e_motion_done"), 0) << "the motion did not run on to its end";
   EXPECT_EQ(count(r, "puma > root.H_FinalPose"), 0u);
   expectDrivesStopped(o);
-  expectHeldAfterTheSafeStop(o, r);
 }
 
 TEST(Puma260Faults, AWorkingCounterMismatchPutsTheMasterInFaultAndTheChartStopsSafely) {
@@ -90,16 +57,13 @@ TEST(Puma260Faults, AWorkingCounterMismatchPutsTheMasterInFaultAndTheChartStopsS
 }
 
 TEST(Puma260Faults, ASilentSensorMakesTheChartHoldThenStop) {
-  const RunOptions o = watchedWithFaults("ftsens_silent");
-  const RunResult r = runApp(o);
+  const RunResult r = runApp(withFaults("ftsens_silent"));
   EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
   EXPECT_NE(r.reason.find("FTSens: e_comm_timeout"), std::string::npos) << r.reason;
   expectInOrder(r, {"puma > root.F_FollowingSurface", "FTSens: e_comm_timeout", "puma > root.Holding",
                     "TaskSup: e_sensor_lost", "puma > root.SafeStop"});
   // Held for the hold time (1 s), then stopped.
   EXPECT_NEAR(began(r, "root.SafeStop") - began(r, "root.Holding"), 1.0, 0.01);
-  // In contact with the surface (F), the tool holds.
-  expectHeldAfterTheSafeStop(o, r);
 }
 
 TEST(Puma260Faults, ASensorBackWithinTheHoldTimeResumesTheNominalPathToH) {
@@ -122,16 +86,16 @@ TEST(Puma260Faults, ASensorSilentFromTheStartIsASafeStopAfterTheDeviceTimeoutNam
 }
 
 TEST(Puma260Faults, AContactForceAboveTheLimitStopsTheTask) {
-  const RunOptions o = watchedWithFaults("force_over_limit");
+  const RunOptions o = withFaults("force_over_limit");
   const RunResult r = runApp(o);
   EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
   EXPECT_NE(r.reason.find("e_force_over_limit"), std::string::npos) << r.reason;
   expectInOrder(r, {"puma > root.F_FollowingSurface", "fault " + (kFaults / "force_over_limit.lua").string(),
                     "Contact: e_force_over_limit", "puma > root.Stopping", "puma > root.SafeStop"});
   // The force did pass the limit (10 N) in the world, and the monitor said so within 20 ms (the
-  // sensor's noise and the equivalent wrench's 1 ms steps). The stop ends the motion; the robot
-  // then holds its last commanded joints, so the misconfigured stiffness's push stays (SafeStop is
-  // a stop, not a retreat: README.md), and the tool does not move.
+  // sensor's noise and the equivalent wrench's 1 ms steps). The stop ends the motion; the
+  // admittance holds where it is, so the misconfigured stiffness keeps pressing (SafeStop is a
+  // stop, not a retreat: README.md).
   const Signals s(o.report_folder / "signals.csv");
   double crossed = INFINITY;
   for (std::size_t i = 0; i < s.size() && std::isinf(crossed); ++i)
@@ -140,7 +104,6 @@ TEST(Puma260Faults, AContactForceAboveTheLimitStopsTheTask) {
   ASSERT_LT(crossed, INFINITY);
   EXPECT_LT(detected - crossed, 0.02) << "crossed at " << crossed << " s, detected at " << detected << " s";
   EXPECT_GT(detected - crossed, -0.02) << "crossed at " << crossed << " s, detected at " << detected << " s";
-  expectHeldAfterTheSafeStop(o, r);
 }
 
 }  // namespace
