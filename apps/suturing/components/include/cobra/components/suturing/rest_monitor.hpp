@@ -2,9 +2,9 @@
 /// @file
 /// RestMonitor: whether the suturing task's two tools are at rest, asked by the task chart before
 /// it calls the procedure done (charts/suturing.lua, root.Finishing): the motions' ends (the
-/// trajectory's e_motion_done) say where the references stopped, not that the arms did — the
-/// stick, let go of the thread that pulled it a few mm off its admittance's reference, springs
-/// back after the last push.
+/// trajectory's e_motion_done) say where the references stopped, not that the arms did — let go
+/// of the thread's pull after the last push, the stick and the Endo Stitch spring back a few mm
+/// onto their admittances' references.
 
 #include <chrono>
 
