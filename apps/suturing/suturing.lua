@@ -33,6 +33,7 @@ applyDeployment("suturing_autonomous_planning")
 local failures = { "e_plan_failed", "e_traj_failed", "e_no_data", "e_comm_timeout", "e_ik_discontinuity", "e_ik_failed",
                    "e_no_wound_data", "e_stitch_missed", "e_endo_stitch_busy", "e_thread_broken",
                    "e_reaction_timeout",  -- the surgeon did not react in time (charts/suturing.lua)
+                   "e_not_at_rest",       -- the tools did not come to rest at the end (charts/suturing.lua)
                    -- a component in Exception (the runner's), a non-finite input or command refused
                    "e_component_error", "e_input_not_finite", "e_command_not_finite" }
 run = {
@@ -43,7 +44,8 @@ run = {
   fold = { "Switching", "AskingGoal", "Planning", "Generating", "Moving", "Arrived" },
   failures = failures,
   explain = { e_plan_failed = "lastPlanResult" },
-  safe_stop_reason = "the same failure again after the reaction to the first, the thread broke, or no reaction in time",
+  safe_stop_reason = "the same failure again after the reaction to the first, the thread broke, no reaction in time, or "
+    .. "the tools not at rest at the end",
   record = { period = 0.01, ports = { "ISUR.measRightCartPose", "ISUR.measLeftCartPose", "RightAdmittance.admPose",
                                       "Patient.threadTension", "Patient.maxStitchGap", "Patient.maxGap",
                                       "RightAdmittance.tankEnergy", "LeftAdmittance.tankEnergy",

@@ -4,7 +4,9 @@
 // simulated door must really be open then. What `cobra run apps/door` runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,11 +32,13 @@ struct DoorRun {
 
   DoorRun() { components::addBuiltinPackages(configurator.packages()); }
 
-  /// Runs until the task chart is in root.done or root.failed, or `limit` of simulated time.
-  std::string run(std::chrono::nanoseconds limit) {
+  /// Runs until the task chart is in root.done or root.failed (or in `until`, when given), or
+  /// `limit` of simulated time.
+  std::string run(std::chrono::nanoseconds limit, const std::string& until = "") {
     const auto& task = dynamic_cast<const components::Supervisor&>(configurator.getReferences().get("TaskSup"));
     std::string state, deployment, configuration;
-    while (configurator.clock().now() < limit && state != "root.done" && state != "root.failed") {
+    while (configurator.clock().now() < limit && state != "root.done" && state != "root.failed" &&
+           (until.empty() || state != until)) {
       configurator.clock().advance(10ms);
       if (task.activeState() != state) log.push_back("state " + (state = task.activeState()));
       if (configurator.currentDeployment() != deployment) log.push_back("deployment " + (deployment = configurator.currentDeployment()));
@@ -43,12 +47,31 @@ struct DoorRun {
     }
     return state;
   }
-  /// A reader of the door's opening angle (rad), connected as a scope would be.
-  std::unique_ptr<core::InputPortBase> doorAngle() {
-    auto& out = static_cast<core::OutputPortBase&>(configurator.getReferences().get("Door").port("doorAngle"));
-    auto reader = out.makeReader("doorAngle", "the door's opening");
+  double seconds() { return std::chrono::duration<double>(configurator.clock().now()).count(); }
+  /// A reader of one of the door's outputs, connected as a scope would be.
+  std::unique_ptr<core::InputPortBase> door(const std::string& port) {
+    auto& out = static_cast<core::OutputPortBase&>(configurator.getReferences().get("Door").port(port));
+    auto reader = out.makeReader(port, "the door's " + port);
     out.connectTo(*reader, core::ConnPolicy::data());
     return reader;
+  }
+  std::unique_ptr<core::InputPortBase> doorAngle() { return door("doorAngle"); }
+  /// The last sample of `reader` (a double port).
+  static double value(core::InputPortBase& reader) {
+    std::string text;
+    EXPECT_NE(reader.readText(text), core::FlowStatus::NoData);
+    return text.empty() ? 0.0 : std::stod(text);
+  }
+  /// How far the arm moves over the next `watch` of simulated time, m: the largest distance of
+  /// Door.armPosition (sampled every 10 ms) from where it is now. The chart stays where it is.
+  double armTravel(core::InputPortBase& arm, std::chrono::nanoseconds watch) {
+    const double start = value(arm);
+    double worst = 0.0;
+    for (auto t = 0ns; t < watch; t += 10ms) {
+      configurator.clock().advance(10ms);
+      worst = std::max(worst, std::abs(value(arm) - start));
+    }
+    return worst;
   }
 };
 
@@ -79,8 +102,41 @@ TEST(DoorTask, TheThreeSupervisorsOpenTheDoorThroughItsDeploymentsAndConfigurati
   std::string text;
   ASSERT_NE(angle->readText(text), core::FlowStatus::NoData);
   EXPECT_GT(std::stod(text), 1.2);
-  const double seconds = std::chrono::duration<double>(r.configurator.clock().now()).count();
-  EXPECT_LT(seconds, 15.0);
+  EXPECT_LT(r.seconds(), 15.0);
+}
+
+// Done means at rest: the gripper closed on an arm at rest at the handle (door.lua's AtHandle),
+// so the arm, which the handle held wherever the gripper closed, does not move on once released.
+TEST(DoorTask, TheArmHoldsStillOnceTheTaskIsDone) {
+  DoorRun r;
+  r.deployer.runFile(kDoor + "door.lua");
+  const auto arm = r.door("armPosition");
+  ASSERT_EQ(r.run(30s), "root.done");
+  EXPECT_NEAR(DoorRun::value(*arm), 0.5, 2e-4);  // m: at the handle (Door.handle_position), at rest
+  EXPECT_LT(r.armTravel(*arm, 1s), 2e-4);         // m over the second after done (the fault matrix: < 0.5 mm)
+}
+
+// A detector that stays silent (Unlatched stopped while the handle is turned) ends the wait: the
+// handle is turned firmly after 2 s, then after the chart's detector_timeout (5 s) the chart goes
+// to root.failed with e_detector_timeout, the gripper still on the handle and the arm holding.
+TEST(DoorTask, ASilentDetectorEndsInTheSafeStopAfterItsTimeout) {
+  DoorRun r;
+  r.deployer.runFile(kDoor + "door.lua");
+  const auto arm = r.door("armPosition");
+  const auto gripped = r.door("gripped");
+  const auto handle = r.door("handleAngle");
+  ASSERT_EQ(r.run(30s, "root.opening.turn"), "root.opening.turn");
+  const double turn = r.seconds();
+  r.lua.run("stopComponents({'Unlatched'})");
+  ASSERT_EQ(r.run(60s), "root.failed");
+  expectInOrder(r.log, {"state root.opening.turn", "state root.opening.turn_firmly", "configuration firm", "state root.failed"});
+  // 2 s gently, then 5 s firmly (the supervisor's 10 ms period and this loop's 10 ms apart).
+  EXPECT_NEAR(r.seconds() - turn, 7.0, 0.05);
+  EXPECT_GT(DoorRun::value(*handle), 0.7);  // rad: the handle did give (past the latch): only the detector was silent
+  EXPECT_EQ(DoorRun::value(*gripped), 1.0);
+  EXPECT_LT(r.armTravel(*arm, 1s), 1e-6);   // m: gripped, the arm holds
+  const auto& task = dynamic_cast<const components::Supervisor&>(r.configurator.getReferences().get("TaskSup"));
+  EXPECT_EQ(task.activeState(), "root.failed");
 }
 
 TEST(DoorTask, TheEntryFileDeclaresItsRunTable) {

@@ -15,11 +15,17 @@
 -- (StoppingMotion), switches to the teleoperated deployment with the haptic device
 -- (InitHapticDevice) and runs it (TeleoperationActive: the couplings engaged) until e_teleop_done,
 -- which resumes the interrupted state.
+-- The end (e_stitches_done): Finishing waits for both tools to be at rest (the RestMonitor's
+-- e_at_rest) before Done: the last push's e_motion_done says where the references stopped, and the
+-- arms, let go of the thread's pull (the stick releases it), spring back onto their admittances'
+-- references meanwhile (the stick 3.4 mm, the Endo Stitch 2.2 mm in the 0.75 s after the last push). Not at rest within `rest_timeout` s:
+-- root.SafeStop with e_not_at_rest.
 
 -- What the lead wires: the Supervisor's peers by role, and the names of the deployments and
 -- configurations (thesis §5.5.1-5.5.2) its deployment and configuration supervisors know.
 local peers = { frames = "SutureFrames", planner = "SuturePlanner", trajectory = "SutureTrajGen",
-                stitches = "Stitches", right_coupling = "RightTransparency", left_coupling = "LeftTransparency" }
+                stitches = "Stitches", right_coupling = "RightTransparency", left_coupling = "LeftTransparency",
+                rest = "ArmsRest" }
 local D = { planning = "suturing_autonomous_planning", primitives = "suturing_autonomous_primitives",
             teleoperated = "suturing_teleoperated" }
 local C = { free = "suturing_free_motion", contact = "suturing_contact", teleoperation = "suturing_teleoperation" }
@@ -28,6 +34,9 @@ local plan_retry = 0.1    -- s between asks while the sensing module has no edge
 -- s the chart waits in WaitReaction for the surgeon's decision (e_recover or e_take_over); then it
 -- stops safely, emitting e_reaction_timeout (the run's safe stop names it).
 local reaction_timeout = 120
+-- s Finishing waits for both tools at rest (a critically damped admittance let go of a few N settles
+-- within 1 s: free motion's 15.8 rad/s); then root.SafeStop with e_not_at_rest.
+local rest_timeout = 5
 
 local steps = require("task_steps") { chart = "suturing", peers = peers, goal_missed = "e_suture_goal_missed" }
 local call, stop, waiting, motion = steps.call, steps.stop, steps.waiting, steps.motion
@@ -116,6 +125,8 @@ local chart = {
   -- The same failure again after a reaction, or the thread broke: the motion stops, the
   -- admittances hold both arms where they are, and the procedure ends here.
   SafeStop = rfsm.state { entry = function() stop() emit("e_suture_safe_stop") end },
+  -- Every stitch done: both tools come to rest before the procedure is.
+  Finishing = rfsm.state { entry = function() call("rest", "askAtRest") end },
   Done = rfsm.state { entry = function() emit("e_suture_task_done") end },
 
   rfsm.trans { src = 'initial', tgt = 'WaitStitchesPlan' },
@@ -123,8 +134,10 @@ local chart = {
                effect = function() half = "right" end },
   rfsm.trans { src = 'WaitStitchesPlan', tgt = 'RetryStitchesPlan', events = { 'e_no_wound_data' } },
   rfsm.trans { src = 'RetryStitchesPlan', tgt = 'WaitStitchesPlan', events = { 'e_after(' .. plan_retry .. ')' } },
-  rfsm.trans { src = 'WaitStitchesPlan', tgt = 'Done', events = { 'e_stitches_done' } },
-  rfsm.trans { src = 'AutonomousMode.GetStitchTargetPose', tgt = 'Done', events = { 'e_stitches_done' } },
+  rfsm.trans { src = 'WaitStitchesPlan', tgt = 'Finishing', events = { 'e_stitches_done' } },
+  rfsm.trans { src = 'AutonomousMode.GetStitchTargetPose', tgt = 'Finishing', events = { 'e_stitches_done' } },
+  rfsm.trans { src = 'Finishing', tgt = 'Done', events = { 'e_at_rest' } },
+  steps.timeout('Finishing', rest_timeout, 'e_not_at_rest'),
   rfsm.trans { src = 'AutonomousMode', tgt = 'TeleoperatedMode', events = { 'e_take_over' }, pn = 5 },
   rfsm.trans { src = 'WaitReaction', tgt = 'TeleoperatedMode', events = { 'e_take_over' } },
   rfsm.trans { src = 'AutonomousMode', tgt = 'SafeStop', events = { 'e_thread_broken' }, pn = 10 },

@@ -36,6 +36,7 @@ local device = assert(devices[teleop_device], "teleop_device must be leap or omn
 
 local controller = {
   { peer_name = "Stitches", component_type = "StitchPlanner" },
+  { peer_name = "ArmsRest", component_type = "RestMonitor" },  -- the chart's Finishing: both tools at rest
   { peer_name = "SutureFrames", component_type = "SuturingFrameGenerator" },
   { peer_name = "SuturePlanner", component_type = "MotionPlanner" },
   { peer_name = "SutureTrajGen", component_type = "CartesianTrajectoryGenerator" },
@@ -151,10 +152,10 @@ end
 -- The link between the devices and the controller: none unless `teleop_link` says so.
 couplings.impair({ "RightLink", "LeftLink" }, teleop_link)  -- each link draws its own losses
 addPeers({ { peer_name = "TaskSup", peers_to_add = { "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches",
-                                                     "RightTransparency", "LeftTransparency" } } })
+                                                     "RightTransparency", "LeftTransparency", "ArmsRest" } } })
 
-local always = { "Stitches", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup", "DepSup",
-                 "ConfSup" }
+local always = { "Stitches", "ArmsRest", "RightWrench", "LeftWrench", "RightAdmittance", "LeftAdmittance", "TaskSup",
+                 "DepSup", "ConfSup" }
 -- Event-driven, and on the wall clock on a thread of its own: a search takes longer than a period.
 -- max_age (s): a search ends at the planner's time_limit (1 s) or its validity-check budget; an
 -- answer twice that late means the planner is stuck: e_handover_stale_SuturePlanner from the executor.
@@ -170,6 +171,8 @@ local connections = {
   { output = "Stitches.leftStitchPose", input = "SutureFrames.leftStitchPose" },
   { output = "ISUR.measRightCartPose", input = "SutureFrames.rightMeasPose" },
   { output = "ISUR.measLeftCartPose", input = "SutureFrames.leftMeasPose" },
+  { output = "ISUR.measRightCartPose", input = "ArmsRest.rightMeasPose" },
+  { output = "ISUR.measLeftCartPose", input = "ArmsRest.leftMeasPose" },
   { output = "TaskSup.taskState", input = "SutureFrames.currentTaskState" },
   { output = "ISUR.measRightCartPose", input = "SuturePlanner.isurMeasPose" },  -- the planner's first and
   { output = "ISUR.measLeftCartPose", input = "SuturePlanner.UR5MeasPose" },    -- second tool: right, left
@@ -191,7 +194,7 @@ local connections = {
   { output = "TaskSup.outputEvents", input = "ISUR.inputEvents", conn_policy = buffered },     -- the Endo Stitch
   { output = "TaskSup.outputEvents", input = "Patient.inputEvents", conn_policy = buffered },  -- the stick lets go
 }
-for _, source in ipairs({ "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "RightAdmittance",
+for _, source in ipairs({ "SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "ArmsRest", "RightAdmittance",
                           "LeftAdmittance", "ISUR", "Patient", "Validator", "Surgeon", "DepSup", "ConfSup" }) do
   local port = (source == "DepSup" or source == "ConfSup") and ".outputEvents" or ".events"
   connections[#connections + 1] = { output = source .. port, input = "TaskSup.inputEvents", conn_policy = buffered }

@@ -35,8 +35,38 @@ namespace {
 
 using namespace suturing_testing;
 
+/// Done means at rest: over the second after the chart entered root.Done (the run watched on, see
+/// RunOptions::watch_after_end), neither tool's measured tip moves more than 0.25 mm from where it
+/// was then (the fault matrix holds a task to 0.5 mm; the RestMonitor answers at 0.5 mm/s). Without
+/// Finishing the stick and the Endo Stitch, let go of the thread's pull, moved 3.4 and 2.2 mm.
+void expectAtRestOnceDone(const RunResult& r, const Signals& signals) {
+  double done = -1.0;
+  for (const report::EventRecord& e : r.events)
+    if (e.state == "root.Done") {
+      done = e.time;
+      break;
+    }
+  ASSERT_GE(done, 0.0) << "the chart never entered root.Done";
+  const std::size_t t = signals.column("time");
+  for (const std::string tool : {"ISUR.measRightCartPose", "ISUR.measLeftCartPose"}) {
+    const std::size_t x = signals.column(tool + ".x");
+    const std::vector<double>* start = nullptr;
+    double worst = 0.0, last = 0.0;
+    for (const auto& row : signals.rows) {
+      if (row[t] < done - 1e-9) continue;
+      if (start == nullptr) start = &row;
+      worst = std::max(worst, std::hypot(row[x] - (*start)[x], row[x + 1] - (*start)[x + 1], row[x + 2] - (*start)[x + 2]));
+      last = row[t];
+    }
+    EXPECT_GT(last - done, 0.95) << tool << ": the second after Done was not recorded";
+    EXPECT_LT(worst * 1000.0, 0.25) << tool << " moved after Done (mm)";
+    std::printf("%s: %.3f mm in the %.2f s after Done\n", tool.c_str(), worst * 1000.0, last - done);
+  }
+}
+
 TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAToH) {
   RunOptions o = options("straight_cut");
+  o.watch_after_end = 1.0;  // s: the run steps on after Done, recorded (the tools must hold)
   o.report_folder = std::filesystem::temp_directory_path() / ("cobra_suturing_" + std::to_string(::getpid()));
   std::filesystem::remove_all(o.report_folder);
   const RunResult r = runApp(o);
@@ -51,7 +81,8 @@ TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAT
                     s + "ApplyRightStitch.DisengageNeedle", s + "PullThread", "configuration > suturing_contact",
                     s + "HookThread", "Patient: e_thread_hooked", s + "PushThread",
                     s + "ApplyLeftStitch.MoveOverWound", s + "ApplyLeftStitch.ApplyStitch", "Patient: e_stitch_applied",
-                    s + "PullThread", s + "GetStitchTargetPose", "suture > root.Done"});
+                    s + "PullThread", s + "GetStitchTargetPose", "suture > root.Finishing", "ArmsRest: e_at_rest",
+                    "suture > root.Done"});
   EXPECT_EQ(count(r, "Patient: e_thread_hooked"), 8u);
   expectCaughtOnlyByTheHookingMotion(r);
   EXPECT_EQ(count(r, "Patient: e_thread_broken"), 0u);
@@ -77,6 +108,7 @@ TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAT
   const Signals signals(o.report_folder);
   expectTheThreadsPullOnTheStick(r, signals);
   expectTheTanksHoldTheWorkAgainstTheThread(r, signals);
+  expectAtRestOnceDone(r, signals);
   std::filesystem::remove_all(o.report_folder);
 }
 

@@ -2,10 +2,11 @@
 // on the statechart engine, its peers fakes that record the operations called and answer as the
 // real components do: the deployment and configuration supervisors, the StitchPlanner (a plan of
 // N stitches), the Frame Generator, the planner, the trajectory generator, the robot's Endo Stitch
-// (e_actuate_endo_stitch answered after its 0.3 s actuation). Faults are played into it: the
+// (e_actuate_endo_stitch answered after its 0.3 s actuation), the RestMonitor (the tools at rest
+// 0.3 s after the ask). Faults are played into it: the
 // surgeon taking over mid-stitch, a planner failure (once: recovered; twice: safe stop; never
 // answered: safe stop after the reaction timeout), the thread breaking, a sensing module without
-// edges at first.
+// edges at first, tools that never come to rest at the end.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,7 +27,7 @@ constexpr double kActuation = 0.3;  // s: the Endo Stitch's actuation_time
 // Fake peers in Lua (test_support/chart_fakes.hpp).
 const std::string kFakes =
     test_support::fakePeersLua({"SutureFrames", "SuturePlanner", "SutureTrajGen", "Stitches", "RightTransparency",
-                                "LeftTransparency"});
+                                "LeftTransparency", "ArmsRest"});
 using Entered = test_support::EntryLogger;
 
 /// The chart, its fake peers and world, on a clock in 10 ms ticks.
@@ -52,6 +53,8 @@ class Procedure {
   }
   void failPlans(int times) { fail_plans_ = times; }
   void noEdgesFirst(int times) { no_edges_ = times; }
+  /// The RestMonitor never answers: the tools keep moving.
+  void neverAtRest() { never_at_rest_ = true; }
 
   void run(double limit = 600.0) {
     step();
@@ -161,6 +164,8 @@ class Procedure {
       } else {
         reply(stitch_ < stitches_ ? "e_stitch_planned" : "e_stitches_done");
       }
+    } else if (line == "ArmsRest:askAtRest") {
+      if (!never_at_rest_) reply("e_at_rest", 0.3);
     } else if (line == "Stitches:nextStitch") {
       ++stitch_;
     } else if (line == "SutureFrames:askCurrentGoal") {
@@ -202,6 +207,7 @@ class Procedure {
   int stitches_, stitch_ = 0;
   int motion_ = 0, motions_ = 0;
   int fail_plans_ = 0, no_edges_ = 0;
+  bool never_at_rest_ = false;
   std::string deployment_;
   std::vector<Pending> pending_;
   std::vector<std::string> timeline_;
@@ -234,8 +240,12 @@ TEST(SuturingChart, AppliesBothHalvesOfEveryPlannedStitchInThePhasesOrderThenIsD
     expected.insert(expected.end(), one.begin(), one.end());
     expected.push_back(kAuto + "GetStitchTargetPose");
   }
+  expected.push_back("root.Finishing");  // the tools come to rest before the procedure is done
   expected.push_back("root.Done");
   EXPECT_EQ(p.states(), expected);
+  EXPECT_EQ(p.count(": ArmsRest:askAtRest"), 1u);
+  EXPECT_LT(p.find("<- e_stitches_done"), p.find(": ArmsRest:askAtRest"));
+  EXPECT_LT(p.find("<- e_at_rest"), p.find(": emit:e_suture_task_done"));
   EXPECT_EQ(p.count(": emit:e_actuate_endo_stitch"), 8u);
   EXPECT_EQ(p.count(": emit:e_half_stitch_right"), 4u);
   EXPECT_EQ(p.count(": emit:e_half_stitch_left"), 4u);
@@ -344,6 +354,19 @@ TEST(SuturingChart, AMissedStitchIsAReaction) {
   const std::size_t reaction = p.find("> root.WaitReaction");
   ASSERT_NE(reaction, std::string::npos);
   EXPECT_EQ(p.find("<- e_stitch_missed") < reaction, true);
+}
+
+TEST(SuturingChart, ToolsThatDoNotComeToRestAtTheEndAreASafeStopAfterTheRestTimeoutNamingIt) {
+  Procedure p(1);
+  p.neverAtRest();
+  p.run();
+  EXPECT_EQ(p.leaf(), "root.SafeStop");
+  const std::size_t finishing = p.find("> root.Finishing");
+  ASSERT_NE(finishing, std::string::npos);
+  const std::size_t timeout = p.find(": emit:e_not_at_rest", finishing);
+  ASSERT_NE(timeout, std::string::npos);
+  EXPECT_NE(p.find(": emit:e_suture_safe_stop", timeout), std::string::npos);
+  EXPECT_EQ(p.count(": emit:e_suture_task_done"), 0u);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // libcobra_suturing.so, beside the tool's packages.
 #include <cstdint>
 
+#include "cobra/components/suturing/rest_monitor.hpp"
 #include "cobra/components/suturing/stitch_planner.hpp"
 #include "cobra/components/suturing/suturing_frame_generator.hpp"
 #include "cobra/deploy/package_registry.hpp"
@@ -14,4 +15,6 @@ extern "C" void cobra_register_package(cobra::deploy::PackageBuilder& package) {
       "StitchPlanner", "the next stitch's right and left targets from the wound's current edges (thesis §5.2.1)");
   package.component<SuturingFrameGenerator>(
       "SuturingFrameGenerator", "the goal poses of the Endo Stitch and the stick for the task state (thesis §5.5)");
+  package.component<RestMonitor>("RestMonitor",
+                                 "whether the Endo Stitch and the stick are at rest (the chart's end of the procedure)");
 }
