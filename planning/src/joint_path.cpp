@@ -267,17 +267,14 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
                      "' would have to flip its arm (shoulder, elbow or wrist), which no planned path does";
     return result;
   }
-  // The goal must lie where the control path's IK leads from the start (the redundancy resolved
-  // by the same rule): otherwise the robot would arrive in another configuration than planned.
-  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
-    const std::ptrdiff_t joint = offRule(validator_, r, goal_joints, start);
-    if (joint >= 0) {
-      result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
-                       "' to resolve its redundancy differently from the start (joint " + std::to_string(joint + 1) +
-                       " at a limit of its share): no path of its IK is known to reach it";
-      return result;
-    }
-  }
+  // The goal joints are what the control path's IK answers for the goal from the start
+  // (RobotModel::inverseGoal): on the start's redundancy rule where the rule reaches the goal,
+  // otherwise the continuity-keeping IK's own resolution, e.g. the I-SUR's elbow q6 - q7 moved off
+  // its preferred value where the delta is at the end of its stroke (IsurPuncturingSolver's split
+  // search), where the controllers take the robot too. Such a goal is not refused: the search
+  // heads for its projection on the rule (RobotModel::jointsOf of its coordinates: the same
+  // sliders, yaw, pitch and roll), and the path's last Cartesian segment, into the goal itself, is
+  // verified with that IK like every other segment.
   result.status = PlanStatus::Solved;
   return result;
 }
@@ -492,31 +489,64 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
 
 bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
                          bool primitive_contacts_apart) {
-  const std::size_t steps = options_.verify_points_per_segment;
+  // The generator takes at least `duration` s over the segment, uniformly in s on its linear part:
+  // each joint's change over a step of the walk must fit its velocity limit (with the margin) over
+  // the step's share of that time. The density follows the joint speeds: every step is solved at
+  // its midpoint too, and a step in which a joint's speed changes by more than kSpeedChange of its
+  // allowed speed between the two halves (a peak the step would average away: near a singular
+  // set, e.g. the UR5's shoulder where the wrist point passes near the base axis, a joint turns
+  // fast over a few milliseconds) or exceeds it is walked again in halves, down to steps of
+  // kFinestStep s, the controllers' period; it grows back to 1/verify_points_per_segment after.
+  constexpr double kSpeedChange = 0.5;  // [1] of the allowed speed
+  constexpr double kFinestStep = 1e-3;  // s: the robots' control period (1 kHz)
+  const double coarsest = 1.0 / static_cast<double>(options_.verify_points_per_segment);
   const double duration = segmentDuration(a, b);
-  JointState next(q.size());
-  for (std::size_t k = 1; k <= steps; ++k) {
-    const double s = static_cast<double>(k) / static_cast<double>(steps);
+  JointState middle(q.size()), next(q.size());
+  const auto solve = [&](double s, const JointState& from, JointState& to) {
     const DualPose pose{interpolate(a.first, b.first, s), interpolate(a.second, b.second, s)};
     std::size_t robot = 0;
-    const Reachability reached = validator_.inverseNear(pose, q, next, robot);
-    if (reached != Reachability::Reachable) {
-      failure = "robot '" + validator_.scene().robots[robot].name + "' " +
-                (reached == Reachability::OtherBranch ? "would change its IK branch" : "has no IK solution") +
-                " at " + std::to_string(s) + " of a segment";
+    const Reachability reached = validator_.inverseNear(pose, from, to, robot);
+    if (reached == Reachability::Reachable) return true;
+    failure = "robot '" + validator_.scene().robots[robot].name + "' " +
+              (reached == Reachability::OtherBranch ? "would change its IK branch" : "has no IK solution") + " at " +
+              std::to_string(s) + " of a segment";
+    return false;
+  };
+  double s = 0.0, h = coarsest;
+  while (s < 1.0) {
+    const double s1 = 1.0 - s <= h * (1.0 + 1e-9) ? 1.0 : s + h;
+    const double half = 0.5 * (s1 - s);
+    if (!solve(s + half, q, middle) || !solve(s1, middle, next)) return false;
+    const bool finest = (s1 - s) * duration <= kFinestStep;
+    std::size_t worst = 0;
+    double worst_ratio = 0.0, worst_change = 0.0;
+    for (std::size_t j = 0; j < q.size(); ++j) {
+      const double allowed = options_.joint_velocity_margin * max_velocity_[j] * duration * half;
+      const double first = middle[j] - q[j], second = next[j] - middle[j];
+      const double ratio = std::max(std::abs(first), std::abs(second)) / allowed;
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = j;
+      }
+      worst_change = std::max(worst_change, std::abs(second - first) / allowed);
+    }
+    if (!finest && (worst_ratio > 1.0 || worst_change > kSpeedChange)) {
+      h = half;  // walk this step again in halves
+      continue;
+    }
+    if (worst_ratio > 1.0) {
+      const double allowed = options_.joint_velocity_margin * max_velocity_[worst] * duration * half;
+      const double step = std::abs(middle[worst] - q[worst]) > std::abs(next[worst] - middle[worst])
+                              ? middle[worst] - q[worst]
+                              : next[worst] - middle[worst];
+      failure = "joint " + std::to_string(worst) + " steps " + std::to_string(step) + " where " +
+                std::to_string(allowed) + " is allowed at " + std::to_string(s1) +
+                " of a segment (IK discontinuity)";
       return false;
     }
-    // The generator takes at least `duration` s over the segment, uniformly in s on its linear
-    // part: each joint's step over 1/steps of it must fit its velocity limit (with the margin).
-    for (std::size_t j = 0; j < q.size(); ++j) {
-      const double allowed = options_.joint_velocity_margin * max_velocity_[j] * duration / static_cast<double>(steps);
-      if (std::abs(next[j] - q[j]) > allowed) {
-        failure = "joint " + std::to_string(j) + " steps " + std::to_string(next[j] - q[j]) + " where " +
-                  std::to_string(allowed) + " is allowed at " + std::to_string(s) + " of a segment (IK discontinuity)";
-        return false;
-      }
-    }
     q.swap(next);
+    s = s1;
+    if (worst_change < 0.5 * kSpeedChange && worst_ratio < 0.5) h = std::min(coarsest, 2.0 * h);
     const ValidityResult validity = checkState(q, primitive_contacts_apart);
     if (!validity.valid()) {
       failure = describe(validity) + " at " + std::to_string(s) + " of a segment";

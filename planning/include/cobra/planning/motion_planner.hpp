@@ -69,9 +69,12 @@ struct PlannerOptions {
   double edge_resolution = 0.004;
   /// Shorten and smooth the found path (OMPL's PathSimplifier, bounded by `simplify_steps`).
   bool simplify = true;
-  /// Number of vertices checked per segment when the final path is verified [1]. A path that fails
-  /// the verification is discarded and the search re-run with seed + 1, + 2, ... while time_limit
-  /// allows (PathInvalid when none passes).
+  /// Number of vertices checked per segment when the final path is verified, at least [1]: the
+  /// verification walks each segment in this many steps where the joints' speeds are steady, and
+  /// in finer steps (down to 1 ms of the generator's time, the robots' control period) where a
+  /// joint's speed changes within a step or nears its limit (near a singular set). A path that
+  /// fails the verification is discarded and the search re-run with seed + 1, + 2, ... while
+  /// time_limit allows (PathInvalid when none passes).
   std::size_t verify_points_per_segment = 100;
   /// Range of one RRT/RRT-Connect extension in the state-space metric (SE(3): position [m] plus
   /// rotation angle [rad]; joint space: s at the joints' velocity limits); 0 lets OMPL choose.
@@ -157,8 +160,9 @@ class MotionPlanner {
   PlanResult planPath(const DualPose& start, const DualPose& goal);
 
   /// Whether planPath(start, goal) would accept the query and search: the planner's own input,
-  /// start, bounds and goal checks (goal IK nearest the start on its branch, the redundancy rule,
-  /// the goal state's validity with the robots whose tools stay put held at the start), without
+  /// start, bounds and goal checks (the goal IK of the control path from the start, on its branch:
+  /// RobotModel::inverseGoal; the goal state's validity with the robots whose tools stay put held
+  /// at the start), without
   /// the search. Solved when accepted (then joint_waypoints is empty and the message says so),
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
   PlanResult checkGoal(const JointState& start, const DualPose& goal);
