@@ -208,10 +208,13 @@ inline constexpr int kWalkTries = 24;
 inline KDL::Frame walkStep(std::mt19937& rng, const KDL::Frame& pose) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal;
-  KDL::Vector direction(normal(rng), normal(rng), normal(rng)), axis(normal(rng), normal(rng), normal(rng));
+  // Braces: the draws in order (a function call's arguments are evaluated in no fixed order).
+  KDL::Vector direction{normal(rng), normal(rng), normal(rng)};
+  KDL::Vector axis{normal(rng), normal(rng), normal(rng)};
   direction.Normalize();
   axis.Normalize();
-  const double reach = kWalkReach * std::cbrt(unit(rng)), turn = kWalkTurn * unit(rng);
+  const double reach = kWalkReach * std::cbrt(unit(rng));
+  const double turn = kWalkTurn * unit(rng);
   return KDL::Frame(pose.M * KDL::Rotation::Rot2(axis, turn), pose.p + reach * direction);
 }
 
