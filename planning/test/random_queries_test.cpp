@@ -72,8 +72,7 @@ std::size_t acceptedGoals(const RandomScene& setup, std::size_t count) {
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const PlanResult result = planner.checkGoal(queries[i].start, queries[i].goal);
     if (result.solved()) ++accepted;
-    else std::printf("query %zu refused: %s
-", i, result.message.c_str());
+    else std::printf("query %zu refused: %s\n", i, result.message.c_str());
   }
   return accepted;
 }
