@@ -252,7 +252,7 @@ inline bool followSegment(StateValidator& validator, Controllers& controllers, c
       why = "the controllers refuse a step (" + why + ")";
       return false;
     }
-    const ValidityResult state = validator.checkJoints(q, true);
+    const ValidityResult state = validator.checkJoints(q);
     if (!state.valid()) {
       why = std::string("a state is not valid (") + toString(state.validity) + ")";
       return false;
