@@ -150,7 +150,7 @@ struct VisualizerBridge::Impl {
   // clock (server.hpp, frame_rate), so its first take can fall a few frames into the run; the
   // history starts with this one all the same. Written once by the run's thread (a copy into a
   // snapshot sized in attach(): no allocation), then only read.
-  Snapshot first;
+  Snapshot first_frame;
   std::atomic<bool> first_ready{false};
   bool first_remembered = false;  // the server's thread's
   template <class Text>
@@ -214,7 +214,7 @@ void VisualizerBridge::attach(const run::RunContext& run) {
   initial.states.resize(m.charts.size());
   initial.deployments.resize(m.scopes.size());
   initial.configurations.resize(m.scopes.size());
-  m.first = initial;
+  m.first_frame = initial;
   m.snapshots = std::make_unique<core::TripleBuffer<Snapshot>>(initial);
   m.next_wall = std::chrono::steady_clock::now();
   m.attached.store(true, std::memory_order_release);
@@ -510,7 +510,7 @@ void VisualizerBridge::step(const run::StepView& now) {
   Snapshot& s = m.snapshots->back();
   m.fill(s, now);
   if (s.seq == 1) {
-    m.first = s;
+    m.first_frame = s;
     m.first_ready.store(true, std::memory_order_release);
   }
   const auto period = std::chrono::duration<double>(1.0 / m.options.frame_rate);
@@ -617,9 +617,9 @@ bool VisualizerBridge::latestFrame(std::uint64_t& seq, std::string& message) {
   seq = s.seq;
   if (!m.first_remembered && m.first_ready.load(std::memory_order_acquire)) {
     m.first_remembered = true;
-    if (m.first.seq != s.seq) {
+    if (m.first_frame.seq != s.seq) {
       message.clear();
-      m.appendFrame(message, m.first);
+      m.appendFrame(message, m.first_frame);
       m.remember(m.history_frames, m.options.history_frames, message);
     }
   }
