@@ -329,11 +329,24 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   setVelocityLimits();
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
+  // The first search looks in the box around the start and the goal (local_search_share of the
+  // budget); when it finds no path there, the whole space is searched with the rest.
   std::uint32_t seed = options_.seed;
+  std::size_t refinement = 0;
+  bool local = options_.local_search_share > 0.0;
   for (std::size_t searches = 1;; ++searches) {
-    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, searches);
+    PlanResult attempt =
+        searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, refinement, local);
     attempt.searches = searches;
-    if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
+    if (spent(started) || seed == UINT32_MAX) return attempt;
+    if (local && attempt.status == PlanStatus::NoSolution) {
+      local = false;
+    } else if (attempt.status == PlanStatus::PathInvalid) {
+      local = false;
+      ++refinement;
+    } else {
+      return attempt;
+    }
     ++seed;
   }
 }
@@ -341,7 +354,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
 PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                                        const DualPose& goal_poses, const std::vector<bool>& moving,
                                        std::chrono::steady_clock::time_point started, std::uint32_t seed,
-                                       std::size_t search) {
+                                       std::size_t refinement, bool local) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return detail::finished(std::move(result), status, std::move(message), started);
@@ -372,6 +385,11 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     model.coordinatesOf(std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), at_goal);
     for (std::size_t i = 0; i < b.coordinate_count; ++i) {
       const double scale = layout.scale[b.coordinate_offset + i];
+      if (local) {  // the box around start and goal (PlannerOptions::local_search_share)
+        const double widen = 0.5 * std::abs(at_goal[i] - at_start[i]) + kLocalMargin * scale;
+        lower[i] = std::max(lower[i], std::min(at_start[i], at_goal[i]) - widen);
+        upper[i] = std::min(upper[i], std::max(at_start[i], at_goal[i]) + widen);
+      }
       // The start and goal are inside by construction, up to rounding.
       bounds.setLow(static_cast<unsigned>(b.coordinate_offset + i),
                     std::min({lower[i], at_start[i], at_goal[i]}) / scale);
@@ -394,13 +412,22 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
   // points (a thin obstacle) and be found again by the next seed (e.g. the straight segment):
   // each re-run checks edges twice as finely, down to an eighth of edge_resolution.
   setup.getSpaceInformation()->setStateValidityCheckingResolution(
-      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(search - 1, 3)));
+      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(refinement, 3)));
   ob::ScopedState<> start_state(space), goal_state(space);
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
   layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
   setup.setStartAndGoalStates(start_state, goal_state);
-  const std::optional<og::PathGeometric> found =
-      detail::solve(setup, options_, ob::PlannerTerminationCondition([&] { return spent(started); }));
+  // The local search stops when its share of the budget is spent (checks, else time).
+  const std::size_t local_checks =
+      static_cast<std::size_t>(options_.local_search_share * static_cast<double>(options_.max_validity_checks));
+  const auto local_spent = [&] {
+    if (!local) return false;
+    if (options_.max_validity_checks > 0) return checks_.load(std::memory_order_relaxed) >= local_checks;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >=
+           options_.local_search_share * options_.time_limit;
+  };
+  const std::optional<og::PathGeometric> found = detail::solve(
+      setup, options_, ob::PlannerTerminationCondition([&] { return spent(started) || local_spent(); }));
   if (!found) return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
   const og::PathGeometric& path = *found;
   std::vector<JointState> planned;

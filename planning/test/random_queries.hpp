@@ -265,6 +265,37 @@ inline bool followSegment(StateValidator& validator, Controllers& controllers, c
   return true;
 }
 
+/// Control steps the controllers may take holding the goal until their joints settle: the
+/// I-SUR's IK returns a joint left off its redundancy rule (the elbow, after the delta's stroke
+/// or a pitch limit moved it) by at most 5e-4 rad per solve (kinematics/isur.cpp), 2.5 rad here.
+inline constexpr std::size_t kSettleSteps = 5000;
+
+/// The controllers hold the tool poses `goal` from joints `q` (updated) until no joint moves
+/// (1e-12 m, rad) over a step: where the robots come to rest at the end of a motion, which the
+/// planner's goal joints must be (a joint on its way back to the rule is not where the robot
+/// stays). False with `why` when a step is refused, a state is not valid or they do not settle.
+inline bool settle(StateValidator& validator, Controllers& controllers, const DualPose& goal, JointState& q,
+                   std::string& why) {
+  JointState before;
+  for (std::size_t i = 0; i < kSettleSteps; ++i) {
+    before = q;
+    if (!controllers.step(goal, q, why)) {
+      why = "the controllers refuse a step holding the goal (" + why + ")";
+      return false;
+    }
+    const ValidityResult state = validator.checkJoints(q);
+    if (!state.valid()) {
+      why = std::string("a state is not valid where the controllers settle at the goal (") + toString(state.validity) + ")";
+      return false;
+    }
+    double moved = 0.0;
+    for (std::size_t j = 0; j < q.size(); ++j) moved = std::max(moved, std::abs(q[j] - before[j]));
+    if (moved < 1e-12) return true;
+  }
+  why = "the controllers do not settle at the goal";
+  return false;
+}
+
 /// `count` seeded queries feasible by construction (the same for every planner): the start as
 /// independentQueries() samples it (valid, inside the planner's tool bounds, on each robot's
 /// redundancy rule); the goal the end of a random walk from it (kWalkSegments segments drawn
@@ -272,8 +303,10 @@ inline bool followSegment(StateValidator& validator, Controllers& controllers, c
 /// the previous one ended and its end lies inside the planner's tool bounds, else drawn again,
 /// kWalkTries draws at most); a third of the queries move tool 0 only, a third tool 1 only, a
 /// third both (the other tool's goal is its start pose exactly). A start from which no segment is
-/// followed is drawn again. The controllers followed the walk, so a path the controllers follow
-/// exists; the planner's goal check is not consulted (a refusal is the planner's failure).
+/// followed is drawn again, and so is one where the controllers, holding the walk's end, do not
+/// come to rest in valid states (settle()). The controllers followed the walk, so a path the
+/// controllers follow exists; the planner's goal check is not consulted (a refusal is the
+/// planner's failure).
 /// `refused` counts the refused segments and starts, by cause.
 inline std::vector<Query> walkedQueries(StateValidator& validator, const RandomScene& setup, std::size_t count,
                                         std::map<std::string, int>& refused) {
@@ -312,6 +345,11 @@ inline std::vector<Query> walkedQueries(StateValidator& validator, const RandomS
     }
     if (segments == 0) {
       ++refused["start: no walk segment followed from it"];
+      continue;
+    }
+    std::string why;
+    if (!settle(validator, controllers, at, q, why)) {
+      ++refused["walk: " + why];
       continue;
     }
     query.goal = at;

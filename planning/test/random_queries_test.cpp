@@ -109,8 +109,8 @@ std::size_t planAndCrossCheck(const RandomScene& setup, std::size_t count) {
 // along valid, branch-keeping states) is accepted. Before, the check refused goals where the
 // delta's stroke moved the I-SUR's elbow off its redundancy rule, though the controllers reach them.
 TEST(RandomQueries, ThePlannerAcceptsEveryGoalTheControllersReach) {
-  EXPECT_EQ(acceptedGoals(test::puncturingRandom("RRTConnect"), 150), 150u);
-  EXPECT_EQ(acceptedGoals(test::suturingRandom("RRTConnect"), 60), 60u);
+  EXPECT_EQ(acceptedGoals(test::puncturingRandom("RRTConnect"), 100), 100u);
+  EXPECT_EQ(acceptedGoals(test::suturingRandom("RRTConnect"), 40), 40u);
 }
 
 // The target is 99 %; FLOOR_PUNCTURING
