@@ -26,17 +26,23 @@
 //    against the events in the run's log.
 //  - RandomQueries/<planner>, RandomQueriesSuturing/<planner>: 1,000 seeded random feasible
 //    queries on the puncturing scene and on the suturing application's scene
-//    (planning/test/random_queries.hpp: start and goal joint states sampled valid inside the
-//    planner's bounds and on each robot's redundancy rule, the goal given as its tool poses; a
-//    third moves tool 0, a third tool 1, a third both; kept when the planner accepts the query,
-//    MotionPlanner::checkGoal, and no UR5 joint must turn the long way round), each scene's
-//    planner as its deployment configures it (puncturing: work limit 10,000 checks or
-//    iterations; suturing: 20,000); `success_rate`, `no_path`, `path_invalid`, `refused`
-//    (queries), `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock
-//    times include waiting for a shared core), `searches_per_query`, `re_searched` (queries
-//    re-searched after a failed verification), `sampled_refused` (samples dropped, by cause on
-//    stderr, with each failure's message by count). RRTConnect, BiTRRT, LazyPRM, LBKPIECE1 and
-//    BIT* side by side on the same queries.
+//    (planning/test/random_queries.hpp, walkedQueries: feasible by construction, the goal the end
+//    of a random walk of the tools from a valid start on the robots' redundancy rule, every step
+//    followed by the controllers' continuity-keeping IK, every state valid, on the start's IK
+//    branch and inside the planner's search bounds; a third moves tool 0, a third tool 1, a third
+//    both), each scene's planner as its deployment configures it (puncturing: work limit 10,000
+//    checks or iterations; suturing: 20,000); `success_rate` (over every query: a goal the
+//    planner refuses is a failure), `no_path`, `path_invalid`, `refused` (queries),
+//    `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock times
+//    include waiting for a shared core), `searches_per_query`, `re_searched` (queries
+//    re-searched after a failed verification), `sampled_refused` (walk segments and starts
+//    drawn again, by cause on stderr, with each failure's message by count). RRTConnect, BiTRRT,
+//    LazyPRM, LBKPIECE1 and BIT* side by side on the same queries; after the run a table of
+//    success, median, p95 and worst per planner and draw goes to stdout.
+//  - RandomQueriesIndependent/RRTConnect, RandomQueriesSuturingIndependent/RRTConnect: the
+//    default planner on the independent draw (independentQueries: start and goal sampled apart,
+//    kept when the planner's goal check accepts the goal; a path need not exist), the second,
+//    reported figure.
 // Validity checks run 10 repetitions (median and max reported); planning runs once.
 
 #include <benchmark/benchmark.h>
@@ -204,10 +210,41 @@ std::string reasonOf(const std::string& message) {
   return reason;
 }
 
-void BM_Random(benchmark::State& state, const std::string& scene_name, const RandomScene& setup) {
+/// One row of the summary table printed after the run.
+struct RandomRow {
+  std::string name;
+  double success = 0.0, median = 0.0, p95 = 0.0, worst = 0.0;
+  std::size_t queries = 0;
+};
+std::vector<RandomRow>& randomRows() {
+  static std::vector<RandomRow> rows;
+  return rows;
+}
+
+/// The queries of one scene and draw, drawn once for every planner (they do not depend on it).
+const std::vector<Query>& drawnQueries(const std::string& scene_name, bool walked, StateValidator& validator,
+                                       const RandomScene& setup, std::map<std::string, int>& refused) {
+  struct Drawn {
+    std::vector<Query> queries;
+    std::map<std::string, int> refused;
+  };
+  static std::map<std::string, Drawn> cache;
+  const std::string key = scene_name + (walked ? "/walked" : "/independent");
+  auto found = cache.find(key);
+  if (found == cache.end()) {
+    Drawn drawn;
+    drawn.queries = walked ? walkedQueries(validator, setup, kRandomQueries, drawn.refused)
+                           : independentQueries(validator, setup, kRandomQueries, drawn.refused);
+    found = cache.emplace(key, std::move(drawn)).first;
+  }
+  refused = found->second.refused;
+  return found->second.queries;
+}
+
+void BM_Random(benchmark::State& state, const std::string& scene_name, bool walked, const RandomScene& setup) {
   StateValidator validator = makeValidator(setup.scene());
   std::map<std::string, int> refused;
-  const std::vector<Query> queries = randomQueries(validator, setup, kRandomQueries, refused);
+  const std::vector<Query>& queries = drawnQueries(scene_name, walked, validator, setup, refused);
   std::vector<double> times_ms, cpu_ms;
   std::map<PlanStatus, int> outcomes;
   std::map<std::string, int> reasons;
@@ -228,16 +265,20 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, const Ran
       ++outcomes[result.status];
       searches += result.searches;
       researched += result.searches > 1 ? 1 : 0;
-      if (!result.solved()) ++reasons[reasonOf(result.message)];
+      if (!result.solved()) ++reasons[std::string(toString(result.status)) + ": " + reasonOf(result.message)];
     }
   }
+  const double success = static_cast<double>(outcomes[PlanStatus::Solved]) / static_cast<double>(queries.size());
   state.counters["median_ms"] = quantile(times_ms, 0.5);
   state.counters["p95_ms"] = quantile(times_ms, 0.95);
   state.counters["max_ms"] = maxOf(times_ms);
   state.counters["cpu_median_ms"] = quantile(cpu_ms, 0.5);
-  state.counters["success_rate"] = static_cast<double>(outcomes[PlanStatus::Solved]) / static_cast<double>(queries.size());
+  state.counters["success_rate"] = success;
+  randomRows().push_back({(walked ? "walked " : "independent ") + scene_name + " / " + setup.options.planner, success,
+                          quantile(times_ms, 0.5), quantile(times_ms, 0.95), maxOf(times_ms), queries.size()});
   // Why the others failed: no path within the work limit, or every path found failed the dense
-  // verification; anything else (a refusal at plan time) means the filter above missed a check.
+  // verification; anything else is the planner refusing the query at plan time (its goal check:
+  // on the walked draw a goal the controllers reached).
   state.counters["no_path"] = outcomes[PlanStatus::NoSolution];
   state.counters["path_invalid"] = outcomes[PlanStatus::PathInvalid];
   state.counters["refused"] = static_cast<double>(queries.size()) - outcomes[PlanStatus::Solved] -
@@ -245,7 +286,7 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, const Ran
   // How much of the work went into re-runs after a path failed the verification.
   state.counters["searches_per_query"] = static_cast<double>(searches) / static_cast<double>(queries.size());
   state.counters["re_searched"] = static_cast<double>(researched);
-  // Sampled queries the planner's own goal check refused (not counted in the rate), by cause.
+  // Samples drawn again (walk segments and starts, or refused independent goals), by cause.
   int sampled_refused = 0;
   std::string refusals;
   for (const auto& [why, count] : refused) {
@@ -257,22 +298,41 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, const Ran
   std::vector<std::pair<int, std::string>> causes;
   for (const auto& [reason, count] : reasons) causes.emplace_back(count, reason);
   std::sort(causes.rbegin(), causes.rend());
-  std::fprintf(stderr, "RandomQueries %s/%s: %zu queries (%d sampled ones dropped: %s)\n",
-               scene_name.c_str(), setup.options.planner.c_str(), queries.size(), sampled_refused, refusals.c_str());
+  std::fprintf(stderr, "RandomQueries %s %s/%s: %zu queries (%d samples drawn again: %s)\n",
+               walked ? "walked" : "independent", scene_name.c_str(), setup.options.planner.c_str(), queries.size(),
+               sampled_refused, refusals.c_str());
   for (const auto& [count, reason] : causes) std::fprintf(stderr, "  %4d x %s\n", count, reason.c_str());
 }
 
 #define COBRA_RANDOM_QUERIES(PLANNER)                                                                        \
-  BENCHMARK_CAPTURE(BM_Random, PLANNER, std::string("puncturing"), puncturingRandom(#PLANNER))               \
+  BENCHMARK_CAPTURE(BM_Random, PLANNER, std::string("puncturing"), true, puncturingRandom(#PLANNER))         \
       ->Name("RandomQueries/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond);                       \
-  BENCHMARK_CAPTURE(BM_Random, suturing_##PLANNER, std::string("suturing"), suturingRandom(#PLANNER))        \
+  BENCHMARK_CAPTURE(BM_Random, suturing_##PLANNER, std::string("suturing"), true, suturingRandom(#PLANNER))  \
       ->Name("RandomQueriesSuturing/" #PLANNER)->Iterations(1)->Unit(benchmark::kMillisecond)
 COBRA_RANDOM_QUERIES(RRTConnect);
 COBRA_RANDOM_QUERIES(BiTRRT);
 COBRA_RANDOM_QUERIES(LazyPRM);
 COBRA_RANDOM_QUERIES(LBKPIECE1);
 COBRA_RANDOM_QUERIES(BITstar);
+BENCHMARK_CAPTURE(BM_Random, independent, std::string("puncturing"), false, puncturingRandom("RRTConnect"))
+    ->Name("RandomQueriesIndependent/RRTConnect")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Random, suturing_independent, std::string("suturing"), false, suturingRandom("RRTConnect"))
+    ->Name("RandomQueriesSuturingIndependent/RRTConnect")->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// BENCHMARK_MAIN, then the random queries' figures side by side (when any ran).
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  if (randomRows().empty()) return 0;
+  std::printf("\n%-44s %8s %9s %10s %10s %10s\n", "random queries: draw scene / planner", "queries", "success",
+              "median ms", "p95 ms", "worst ms");
+  for (const RandomRow& row : randomRows())
+    std::printf("%-44s %8zu %8.1f%% %10.1f %10.1f %10.1f\n", row.name.c_str(), row.queries, 100.0 * row.success,
+                row.median, row.p95, row.worst);
+  return 0;
+}
+

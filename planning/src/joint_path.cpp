@@ -267,17 +267,14 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
                      "' would have to flip its arm (shoulder, elbow or wrist), which no planned path does";
     return result;
   }
-  // The goal must lie where the control path's IK leads from the start (the redundancy resolved
-  // by the same rule): otherwise the robot would arrive in another configuration than planned.
-  for (std::size_t r = 0; r < validator_.scene().robots.size(); ++r) {
-    const std::ptrdiff_t joint = offRule(validator_, r, goal_joints, start);
-    if (joint >= 0) {
-      result.message = goal_of(r) + "needs robot '" + validator_.scene().robots[r].name +
-                       "' to resolve its redundancy differently from the start (joint " + std::to_string(joint + 1) +
-                       " at a limit of its share): no path of its IK is known to reach it";
-      return result;
-    }
-  }
+  // The goal joints are what the control path's IK answers for the goal from the start
+  // (RobotModel::inverseGoal): on the start's redundancy rule where the rule reaches the goal,
+  // otherwise the continuity-keeping IK's own resolution, e.g. the I-SUR's elbow q6 - q7 moved off
+  // its preferred value where the delta is at the end of its stroke (IsurPuncturingSolver's split
+  // search), where the controllers take the robot too. Such a goal is not refused: the search
+  // heads for its projection on the rule (RobotModel::jointsOf of its coordinates: the same
+  // sliders, yaw, pitch and roll), and the path's last Cartesian segment, into the goal itself, is
+  // verified with that IK like every other segment.
   result.status = PlanStatus::Solved;
   return result;
 }
@@ -332,11 +329,24 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   setVelocityLimits();
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
+  // The first search looks in the box around the start and the goal (local_search_share of the
+  // budget); when it finds no path there, the whole space is searched with the rest.
   std::uint32_t seed = options_.seed;
+  std::size_t refinement = 0;
+  bool local = options_.local_search_share > 0.0;
   for (std::size_t searches = 1;; ++searches) {
-    PlanResult attempt = searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, searches);
+    PlanResult attempt =
+        searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, refinement, local);
     attempt.searches = searches;
-    if (attempt.status != PlanStatus::PathInvalid || spent(started) || seed == UINT32_MAX) return attempt;
+    if (spent(started) || seed == UINT32_MAX) return attempt;
+    if (local && attempt.status == PlanStatus::NoSolution) {
+      local = false;
+    } else if (attempt.status == PlanStatus::PathInvalid) {
+      local = false;
+      ++refinement;
+    } else {
+      return attempt;
+    }
     ++seed;
   }
 }
@@ -344,7 +354,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
 PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                                        const DualPose& goal_poses, const std::vector<bool>& moving,
                                        std::chrono::steady_clock::time_point started, std::uint32_t seed,
-                                       std::size_t search) {
+                                       std::size_t refinement, bool local) {
   PlanResult result;
   const auto finish = [&](PlanStatus status, std::string message) {
     return detail::finished(std::move(result), status, std::move(message), started);
@@ -375,6 +385,11 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     model.coordinatesOf(std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), at_goal);
     for (std::size_t i = 0; i < b.coordinate_count; ++i) {
       const double scale = layout.scale[b.coordinate_offset + i];
+      if (local) {  // the box around start and goal (PlannerOptions::local_search_share)
+        const double widen = 0.5 * std::abs(at_goal[i] - at_start[i]) + kLocalMargin * scale;
+        lower[i] = std::max(lower[i], std::min(at_start[i], at_goal[i]) - widen);
+        upper[i] = std::min(upper[i], std::max(at_start[i], at_goal[i]) + widen);
+      }
       // The start and goal are inside by construction, up to rounding.
       bounds.setLow(static_cast<unsigned>(b.coordinate_offset + i),
                     std::min({lower[i], at_start[i], at_goal[i]}) / scale);
@@ -397,13 +412,22 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
   // points (a thin obstacle) and be found again by the next seed (e.g. the straight segment):
   // each re-run checks edges twice as finely, down to an eighth of edge_resolution.
   setup.getSpaceInformation()->setStateValidityCheckingResolution(
-      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(search - 1, 3)));
+      options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(refinement, 3)));
   ob::ScopedState<> start_state(space), goal_state(space);
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
   layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
   setup.setStartAndGoalStates(start_state, goal_state);
-  const std::optional<og::PathGeometric> found =
-      detail::solve(setup, options_, ob::PlannerTerminationCondition([&] { return spent(started); }));
+  // The local search stops when its share of the budget is spent (checks, else time).
+  const std::size_t local_checks =
+      static_cast<std::size_t>(options_.local_search_share * static_cast<double>(options_.max_validity_checks));
+  const auto local_spent = [&] {
+    if (!local) return false;
+    if (options_.max_validity_checks > 0) return checks_.load(std::memory_order_relaxed) >= local_checks;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >=
+           options_.local_search_share * options_.time_limit;
+  };
+  const std::optional<og::PathGeometric> found = detail::solve(
+      setup, options_, ob::PlannerTerminationCondition([&] { return spent(started) || local_spent(); }));
   if (!found) return finish(PlanStatus::NoSolution, "no path found by " + options_.planner + " within " + budget());
   const og::PathGeometric& path = *found;
   std::vector<JointState> planned;
@@ -492,31 +516,64 @@ PlanResult MotionPlanner::checkFollowOn(const JointState& joints, const DualPose
 
 bool MotionPlanner::walk(const DualPose& a, const DualPose& b, JointState& q, std::string& failure,
                          bool primitive_contacts_apart) {
-  const std::size_t steps = options_.verify_points_per_segment;
+  // The generator takes at least `duration` s over the segment, uniformly in s on its linear part:
+  // each joint's change over a step of the walk must fit its velocity limit (with the margin) over
+  // the step's share of that time. The density follows the joint speeds: every step is solved at
+  // its midpoint too, and a step in which a joint's speed changes by more than kSpeedChange of its
+  // allowed speed between the two halves (a peak the step would average away: near a singular
+  // set, e.g. the UR5's shoulder where the wrist point passes near the base axis, a joint turns
+  // fast over a few milliseconds) or exceeds it is walked again in halves, down to steps of
+  // kFinestStep s, the controllers' period; it grows back to 1/verify_points_per_segment after.
+  constexpr double kSpeedChange = 0.5;  // [1] of the allowed speed
+  constexpr double kFinestStep = 1e-3;  // s: the robots' control period (1 kHz)
+  const double coarsest = 1.0 / static_cast<double>(options_.verify_points_per_segment);
   const double duration = segmentDuration(a, b);
-  JointState next(q.size());
-  for (std::size_t k = 1; k <= steps; ++k) {
-    const double s = static_cast<double>(k) / static_cast<double>(steps);
+  JointState middle(q.size()), next(q.size());
+  const auto solve = [&](double s, const JointState& from, JointState& to) {
     const DualPose pose{interpolate(a.first, b.first, s), interpolate(a.second, b.second, s)};
     std::size_t robot = 0;
-    const Reachability reached = validator_.inverseNear(pose, q, next, robot);
-    if (reached != Reachability::Reachable) {
-      failure = "robot '" + validator_.scene().robots[robot].name + "' " +
-                (reached == Reachability::OtherBranch ? "would change its IK branch" : "has no IK solution") +
-                " at " + std::to_string(s) + " of a segment";
+    const Reachability reached = validator_.inverseNear(pose, from, to, robot);
+    if (reached == Reachability::Reachable) return true;
+    failure = "robot '" + validator_.scene().robots[robot].name + "' " +
+              (reached == Reachability::OtherBranch ? "would change its IK branch" : "has no IK solution") + " at " +
+              std::to_string(s) + " of a segment";
+    return false;
+  };
+  double s = 0.0, h = coarsest;
+  while (s < 1.0) {
+    const double s1 = 1.0 - s <= h * (1.0 + 1e-9) ? 1.0 : s + h;
+    const double half = 0.5 * (s1 - s);
+    if (!solve(s + half, q, middle) || !solve(s1, middle, next)) return false;
+    const bool finest = (s1 - s) * duration <= kFinestStep;
+    std::size_t worst = 0;
+    double worst_ratio = 0.0, worst_change = 0.0;
+    for (std::size_t j = 0; j < q.size(); ++j) {
+      const double allowed = options_.joint_velocity_margin * max_velocity_[j] * duration * half;
+      const double first = middle[j] - q[j], second = next[j] - middle[j];
+      const double ratio = std::max(std::abs(first), std::abs(second)) / allowed;
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = j;
+      }
+      worst_change = std::max(worst_change, std::abs(second - first) / allowed);
+    }
+    if (!finest && (worst_ratio > 1.0 || worst_change > kSpeedChange)) {
+      h = half;  // walk this step again in halves
+      continue;
+    }
+    if (worst_ratio > 1.0) {
+      const double allowed = options_.joint_velocity_margin * max_velocity_[worst] * duration * half;
+      const double step = std::abs(middle[worst] - q[worst]) > std::abs(next[worst] - middle[worst])
+                              ? middle[worst] - q[worst]
+                              : next[worst] - middle[worst];
+      failure = "joint " + std::to_string(worst) + " steps " + std::to_string(step) + " where " +
+                std::to_string(allowed) + " is allowed at " + std::to_string(s1) +
+                " of a segment (IK discontinuity)";
       return false;
     }
-    // The generator takes at least `duration` s over the segment, uniformly in s on its linear
-    // part: each joint's step over 1/steps of it must fit its velocity limit (with the margin).
-    for (std::size_t j = 0; j < q.size(); ++j) {
-      const double allowed = options_.joint_velocity_margin * max_velocity_[j] * duration / static_cast<double>(steps);
-      if (std::abs(next[j] - q[j]) > allowed) {
-        failure = "joint " + std::to_string(j) + " steps " + std::to_string(next[j] - q[j]) + " where " +
-                  std::to_string(allowed) + " is allowed at " + std::to_string(s) + " of a segment (IK discontinuity)";
-        return false;
-      }
-    }
     q.swap(next);
+    s = s1;
+    if (worst_change < 0.5 * kSpeedChange && worst_ratio < 0.5) h = std::min(coarsest, 2.0 * h);
     const ValidityResult validity = checkState(q, primitive_contacts_apart);
     if (!validity.valid()) {
       failure = describe(validity) + " at " + std::to_string(s) + " of a segment";

@@ -109,6 +109,8 @@ MotionPlanner::MotionPlanner(StateValidator& validator, PlannerOptions options)
       throw std::invalid_argument(std::string("motion planner: ") + what + " must be a positive number");
   if (options_.verify_points_per_segment == 0)
     throw std::invalid_argument("motion planner: verify_points_per_segment must be >= 1");
+  if (!(options_.local_search_share >= 0.0 && options_.local_search_share < 1.0))
+    throw std::invalid_argument("motion planner: local_search_share must be in [0, 1) (a share of the budget)");
   if (!(options_.range >= 0.0) || !std::isfinite(options_.range))
     throw std::invalid_argument("motion planner: range must be >= 0 (0 = OMPL's default)");
   checkBounds(options_.first_bounds, "first tool");

@@ -370,9 +370,10 @@ void IsurPuncturingModel::coordinateBounds(std::span<const double> start, std::s
     upper[4] = l.upper[4];
   }
   if (std::isfinite(g.pitch_difference)) {
-    // q6 = (pitch + d) / 2 and q7 = (pitch - d) / 2 within their limits.
-    lower[5] = std::max(2.0 * l.lower[5] - g.pitch_difference, 2.0 * l.lower[6] + g.pitch_difference);
-    upper[5] = std::min(2.0 * l.upper[5] - g.pitch_difference, 2.0 * l.upper[6] + g.pitch_difference);
+    // Every pitch the two joints reach: where (pitch ± d) / 2 would leave a joint's limits the
+    // split is clamped (jointsOf), as the solver clamps it.
+    lower[5] = l.lower[5] + l.lower[6];
+    upper[5] = l.upper[5] + l.upper[6];
   } else {
     sumBounds(start[5], start[6], g.pitch_share, l.lower[5], l.upper[5], l.lower[6], l.upper[6], lower[5], upper[5]);
   }
@@ -391,8 +392,15 @@ void IsurPuncturingModel::jointsOf(std::span<const double> c, std::span<const do
     q[3] = solver_.baseOnRule(yaw);
     q[4] = yaw - q[3];
   }
-  q[5] = std::isfinite(g.pitch_difference) ? 0.5 * (c[5] + g.pitch_difference)
-                                            : start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
+  if (std::isfinite(g.pitch_difference)) {
+    // The elbow q6 - q7 at pitch_difference, the split clamped where a joint would leave its
+    // limits (the pitch within a share's reach of a limit: IsurPuncturingSolver clamps it so too).
+    const kinematics::JointLimits& l = solver_.limits();
+    const double lo = std::max(l.lower[5], c[5] - l.upper[6]), hi = std::min(l.upper[5], c[5] - l.lower[6]);
+    q[5] = std::clamp(0.5 * (c[5] + g.pitch_difference), lo, std::max(lo, hi));
+  } else {
+    q[5] = start[5] + g.pitch_share * (c[5] - start[5] - start[6]);
+  }
   q[6] = c[5] - q[5];
   q[7] = c[6];
 }

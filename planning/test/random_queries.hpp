@@ -3,7 +3,15 @@
 // deployment configures its planner: shared by planning/test/random_queries_test.cpp (a small
 // sample, every path cross-checked) and bench/planning_bench.cpp (RandomQueries*/<planner>:
 // 1,000 queries per scene, success and times per planner). The queries are the same for both:
-// one generator seeded with 2026.
+// one generator seeded with 2026 per draw. Two draws:
+//  - walkedQueries(): feasible by construction, the acceptance's "random feasible queries": the
+//    goal is where the robots' controllers (controllers.hpp) take the tools from the start along
+//    a random walk of straight Cartesian segments, every control step accepted by the
+//    continuity-keeping IK and every state valid (full clearance), on the start's IK branch with
+//    the planner's margins and inside its search bounds;
+//  - independentQueries(): start and goal sampled independently (the goal kept when the
+//    planner's goal check accepts it): nothing guarantees that a path exists between them (in the
+//    suturing scene's 25 cm box many are likely not connected), a second, reported figure.
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +26,7 @@
 
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
+#include "controllers.hpp"
 
 namespace cobra::planning::test {
 
@@ -130,12 +139,13 @@ inline RandomScene suturingRandom(const std::string& planner) {
   return r;
 }
 
-/// kRandomQueries seeded feasible queries (the same for every planner): start and goal joint
+/// `count` seeded independent queries (the same for every planner): start and goal joint
 /// states sampled valid in the planner's bounds, on each robot's redundancy rule; a third moves
 /// tool 0 only, a third tool 1 only, a third both (the other tool's goal is its start pose);
 /// kept when the planner accepts the query (MotionPlanner::checkGoal) and no joint must turn the
-/// long way round (below). `refused` counts the sampled queries dropped, by cause.
-inline std::vector<Query> randomQueries(StateValidator& validator, const RandomScene& setup, std::size_t count,
+/// long way round (below). `refused` counts the sampled queries dropped, by cause. Nothing makes
+/// the goal reachable from the start (see the file comment).
+inline std::vector<Query> independentQueries(StateValidator& validator, const RandomScene& setup, std::size_t count,
                                         std::map<std::string, int>& refused) {
   const PlannerOptions& o = setup.options;
   MotionPlanner acceptance(validator, o);
@@ -181,6 +191,171 @@ inline std::vector<Query> randomQueries(StateValidator& validator, const RandomS
     const bool first_moves = moving != 1;
     query.max_linear_velocity = first_moves ? setup.first_linear : setup.second_linear;
     query.max_angular_velocity = first_moves ? setup.first_angular : setup.second_angular;
+    queries.push_back(query);
+  }
+  return queries;
+}
+
+/// The random walk of walkedQueries(): at most kWalkSegments straight segments, each moving
+/// every moving tool by up to kWalkReach (uniform in the ball) and turning it by up to kWalkTurn
+/// (a uniform axis, in the tool frame); kWalkTries segments drawn at most per query.
+inline constexpr std::size_t kWalkSegments = 4;
+inline constexpr double kWalkReach = 0.06;  // m
+inline constexpr double kWalkTurn = 0.6;    // rad
+inline constexpr int kWalkTries = 24;
+
+/// `pose` moved by a random step of the walk (kWalkReach, kWalkTurn).
+inline KDL::Frame walkStep(std::mt19937& rng, const KDL::Frame& pose) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  // Braces: the draws in order (a function call's arguments are evaluated in no fixed order).
+  KDL::Vector direction{normal(rng), normal(rng), normal(rng)};
+  KDL::Vector axis{normal(rng), normal(rng), normal(rng)};
+  direction.Normalize();
+  axis.Normalize();
+  const double reach = kWalkReach * std::cbrt(unit(rng));
+  const double turn = kWalkTurn * unit(rng);
+  return KDL::Frame(pose.M * KDL::Rotation::Rot2(axis, turn), pose.p + reach * direction);
+}
+
+/// Whether joints `q` may be a state of the walk from `start`: for every robot on the start's IK
+/// branch with the planner's margins (RobotModel::keepsBranch with the start as both ends) and
+/// inside the planner's search bounds for a query from the start to q (RobotModel::
+/// coordinateBounds: the UR5 within start ± π, the gripper arm on its elbow and wrist branch).
+inline bool walkable(StateValidator& validator, const JointState& q, const JointState& start) {
+  for (std::size_t r = 0; r < validator.scene().robots.size(); ++r) {
+    RobotModel& model = validator.model(r);
+    const std::size_t offset = validator.jointOffset(r), n = model.jointCount(), m = model.coordinateCount();
+    const auto robot = [&](const JointState& x) { return std::span<const double>(x).subspan(offset, n); };
+    if (!model.keepsBranch(robot(q), robot(start), robot(start))) return false;
+    std::vector<double> lower(m), upper(m), at(m);
+    model.coordinateBounds(robot(start), robot(q), lower, upper);
+    model.coordinatesOf(robot(q), at);
+    for (std::size_t i = 0; i < m; ++i)
+      if (at[i] < lower[i] - 1e-9 || at[i] > upper[i] + 1e-9) return false;
+  }
+  return true;
+}
+
+/// The controllers follow the Cartesian segment a → b from joints `q` (updated) at the
+/// generator's speeds (`query`'s, blend 0.2 s), one kControlPeriod step at a time: false with
+/// `why` (no numbers: refusals count by cause) at the first step the controllers refuse, the
+/// first invalid state (full clearance) or the first state walkable() refuses.
+inline bool followSegment(StateValidator& validator, Controllers& controllers, const Query& query, const DualPose& a,
+                          const DualPose& b, const JointState& start, JointState& q, std::string& why) {
+  const double duration =
+      generatorDuration(query.max_linear_velocity, query.max_angular_velocity, PlannerOptions{}.blend_time, a, b);
+  const auto steps = static_cast<std::size_t>(std::ceil(duration / kControlPeriod));
+  for (std::size_t i = 1; i <= steps; ++i) {
+    const double s = static_cast<double>(i) / static_cast<double>(steps);
+    if (!controllers.step({cartesianPoint(a.first, b.first, s), cartesianPoint(a.second, b.second, s)}, q, why)) {
+      why = "the controllers refuse a step (" + why + ")";
+      return false;
+    }
+    const ValidityResult state = validator.checkJoints(q);
+    if (!state.valid()) {
+      why = std::string("a state is not valid (") + toString(state.validity) + ")";
+      return false;
+    }
+    if (!walkable(validator, q, start)) {
+      why = "a state leaves the start's IK branch margins or the planner's search bounds";
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Control steps the controllers may take holding the goal until their joints settle: the
+/// I-SUR's IK returns a joint left off its redundancy rule (the elbow, after the delta's stroke
+/// or a pitch limit moved it) by at most 5e-4 rad per solve (kinematics/isur.cpp), 2.5 rad here.
+inline constexpr std::size_t kSettleSteps = 5000;
+
+/// The controllers hold the tool poses `goal` from joints `q` (updated) until no joint moves
+/// more than 1e-5 (m, rad) over a step (far below the rule's return of 5e-4 per solve; above the
+/// 2.4e-6 rad to which the I-SUR's search of the elbow split at the delta's stroke resolves, whose
+/// answer may jitter by that much from one solve to the next): where the robots come to rest at
+/// the end of a motion, which the
+/// planner's goal joints must be (a joint on its way back to the rule is not where the robot
+/// stays). False with `why` when a step is refused, a state is not valid or they do not settle.
+inline bool settle(StateValidator& validator, Controllers& controllers, const DualPose& goal, JointState& q,
+                   std::string& why) {
+  JointState before;
+  for (std::size_t i = 0; i < kSettleSteps; ++i) {
+    before = q;
+    if (!controllers.step(goal, q, why)) {
+      why = "the controllers refuse a step holding the goal (" + why + ")";
+      return false;
+    }
+    const ValidityResult state = validator.checkJoints(q);
+    if (!state.valid()) {
+      why = std::string("a state is not valid where the controllers settle at the goal (") + toString(state.validity) + ")";
+      return false;
+    }
+    double moved = 0.0;
+    for (std::size_t j = 0; j < q.size(); ++j) moved = std::max(moved, std::abs(q[j] - before[j]));
+    if (moved < 1e-5) return true;
+  }
+  why = "the controllers do not settle at the goal";
+  return false;
+}
+
+/// `count` seeded queries feasible by construction (the same for every planner): the start as
+/// independentQueries() samples it (valid, inside the planner's tool bounds, on each robot's
+/// redundancy rule); the goal the end of a random walk from it (kWalkSegments segments drawn
+/// by walkStep() for the tools that move, each kept when followSegment() follows it from where
+/// the previous one ended and its end lies inside the planner's tool bounds, else drawn again,
+/// kWalkTries draws at most); a third of the queries move tool 0 only, a third tool 1 only, a
+/// third both (the other tool's goal is its start pose exactly). A start from which no segment is
+/// followed is drawn again, and so is one where the controllers, holding the walk's end, do not
+/// come to rest in valid states (settle()). The controllers followed the walk, so a path the
+/// controllers follow exists; the planner's goal check is not consulted (a refusal is the
+/// planner's failure).
+/// `refused` counts the refused segments and starts, by cause.
+inline std::vector<Query> walkedQueries(StateValidator& validator, const RandomScene& setup, std::size_t count,
+                                        std::map<std::string, int>& refused) {
+  const PlannerOptions& o = setup.options;
+  Controllers controllers(validator);
+  std::mt19937 rng(2026);
+  std::vector<Query> queries;
+  while (queries.size() < count) {
+    Query query;
+    const int moving = static_cast<int>(queries.size() % 3);  // 0: tool 0, 1: tool 1, 2: both
+    const bool first_moves = moving != 1;
+    query.max_linear_velocity = first_moves ? setup.first_linear : setup.second_linear;
+    query.max_angular_velocity = first_moves ? setup.first_angular : setup.second_angular;
+    query.start = randomValidJoints(rng, validator, o);
+    DualPose at;
+    validator.toolPoses(query.start, at);
+    JointState q = query.start;
+    std::size_t segments = 0;
+    for (int draw = 0; draw < kWalkTries && segments < kWalkSegments; ++draw) {
+      DualPose target = at;
+      if (moving != 1) target.first = walkStep(rng, at.first);
+      if (moving != 0) target.second = walkStep(rng, at.second);
+      if (!o.first_bounds.contains(target.first.p) || !o.second_bounds.contains(target.second.p)) {
+        ++refused["walk segment: its end outside the planner's tool bounds"];
+        continue;
+      }
+      JointState walked = q;
+      std::string why;
+      if (!followSegment(validator, controllers, query, at, target, query.start, walked, why)) {
+        ++refused["walk segment: " + why];
+        continue;
+      }
+      q = walked;
+      at = target;
+      ++segments;
+    }
+    if (segments == 0) {
+      ++refused["start: no walk segment followed from it"];
+      continue;
+    }
+    std::string why;
+    if (!settle(validator, controllers, at, q, why)) {
+      ++refused["walk: " + why];
+      continue;
+    }
+    query.goal = at;
     queries.push_back(query);
   }
   return queries;

@@ -1,6 +1,8 @@
-// Seeded random feasible queries (planning/test/random_queries.hpp: the first of the queries
-// bench/planning_bench.cpp's RandomQueries* draw, with the deployments' planner settings) on the
-// puncturing and the suturing scene: the success rate, and every returned path followed as the
+// Seeded random feasible queries (planning/test/random_queries.hpp's walkedQueries: the first of
+// the queries bench/planning_bench.cpp's RandomQueries* draw, goals the robots' controllers reach
+// from the start, with the deployments' planner settings) on the puncturing and the suturing
+// scene: the planner's goal check accepts every goal the controllers reached, the success rate,
+// and every returned path followed as the
 // robots' controllers follow it, checked independently of the planner's own verifier: the
 // Cartesian interpolation stepped at the trajectory generator's speed through
 // kinematics::ContinuousIk / ContinuousIsurSuturingIk (the solvers and the continuity rule the
@@ -18,12 +20,7 @@
 #include <string>
 #include <vector>
 
-#include <kdl/jntarray.hpp>
-
-#include "cobra/kinematics/continuity.hpp"
-#include "cobra/kinematics/isur.hpp"
-#include "cobra/kinematics/isur_continuity.hpp"
-#include "cobra/kinematics/ur5.hpp"
+#include "controllers.hpp"
 #include "joint_path_checks.hpp"
 #include "random_queries.hpp"
 
@@ -33,81 +30,8 @@ namespace {
 using test::Query;
 using test::RandomScene;
 
-/// Period of the controllers' continuity rule here [s]: the simulated robots step at 1 ms; 10 ms
-/// steps along the same trajectory bound the same joint velocities (max_velocity · dt) with a
-/// tenth of the work.
-constexpr double kPeriod = 0.01;
-
-/// How long the Cartesian trajectory generator takes over segment a → b [s] (its speeds in `o`).
-double generatorDuration(const PlannerOptions& o, const DualPose& a, const DualPose& b) {
-  double duration = o.blend_time;
-  for (const auto& [from, to] : {std::pair{&a.first, &b.first}, std::pair{&a.second, &b.second}}) {
-    for (int i = 0; i < 3; ++i) duration = std::max(duration, std::abs(to->p(i) - from->p(i)) / o.max_linear_velocity);
-    KDL::Vector axis;
-    duration = std::max(duration, (from->M.Inverse() * to->M).GetRotAngle(axis) / o.max_angular_velocity);
-  }
-  return duration;
-}
-
-/// The controllers of a scene's robots: one continuity-keeping IK per robot, fed the tool poses
-/// of q in its base frame and model tool frame.
-class Controllers {
- public:
-  explicit Controllers(StateValidator& validator) : validator_(validator) {
-    for (const RobotPlacement& robot : validator.scene().robots) {
-      if (robot.name == "ur5") {
-        auto solver = std::make_unique<kinematics::Ur5Solver>(kinematics::Ur5Parameters{}, kinematics::Ur5Solver::defaultLimits(),
-                                                              KDL::Frame::Identity(), Ur5Model::defaultProbe());
-        single_.push_back(std::make_unique<kinematics::ContinuousIk>(
-            *solver, std::vector<double>(6, Ur5Model::kMaxJointVelocity), kPeriod));
-        solvers_.push_back(std::move(solver));
-      } else if (robot.tool_indices.size() == 1) {
-        auto solver = std::make_unique<kinematics::IsurPuncturingSolver>();
-        std::vector<double> velocity(8, IsurPuncturingModel::kMaxRevoluteVelocity);
-        std::fill_n(velocity.begin(), 3, IsurPuncturingModel::kMaxSliderVelocity);
-        single_.push_back(std::make_unique<kinematics::ContinuousIk>(*solver, velocity, kPeriod));
-        solvers_.push_back(std::move(solver));
-      } else {
-        suturing_ = std::make_unique<kinematics::IsurSuturingSolver>();
-        std::vector<double> velocity(14, IsurPuncturingModel::kMaxRevoluteVelocity);
-        std::fill_n(velocity.begin(), 3, IsurPuncturingModel::kMaxSliderVelocity);
-        two_tools_ = std::make_unique<kinematics::ContinuousIsurSuturingIk>(*suturing_, velocity, kPeriod);
-        single_.push_back(nullptr);
-      }
-    }
-  }
-
-  /// One control step to the tool poses `tools` from joints `q` (updated): false with `why`
-  /// when a robot's continuity-keeping IK refuses it.
-  bool step(const DualPose& tools, JointState& q, std::string& why) {
-    const SceneDescription& scene = validator_.scene();
-    for (std::size_t r = 0; r < scene.robots.size(); ++r) {
-      const RobotPlacement& robot = scene.robots[r];
-      const std::size_t offset = validator_.jointOffset(r), n = validator_.model(r).jointCount();
-      KDL::Frame targets[2];
-      for (std::size_t t = 0; t < robot.tool_indices.size(); ++t)
-        targets[t] = robot.base_in_world.Inverse() * (robot.tool_indices[t] == 0 ? tools.first : tools.second) *
-                     robot.toolFrame(t).Inverse();
-      KDL::JntArray current(static_cast<unsigned>(n)), next(static_cast<unsigned>(n));
-      for (std::size_t j = 0; j < n; ++j) current(static_cast<unsigned>(j)) = q[offset + j];
-      const kinematics::IkStatus status = single_[r] ? single_[r]->solve(targets[0], current, next)
-                                                     : two_tools_->solve(targets[0], targets[1], current, next);
-      if (status != kinematics::IkStatus::Ok) {
-        why = "robot '" + robot.name + "': " + std::string(kinematics::toString(status));
-        return false;
-      }
-      for (std::size_t j = 0; j < n; ++j) q[offset + j] = next(static_cast<unsigned>(j));
-    }
-    return true;
-  }
-
- private:
-  StateValidator& validator_;
-  std::vector<std::unique_ptr<kinematics::KinematicsSolver>> solvers_;
-  std::vector<std::unique_ptr<kinematics::ContinuousIk>> single_;
-  std::unique_ptr<kinematics::IsurSuturingSolver> suturing_;
-  std::unique_ptr<kinematics::ContinuousIsurSuturingIk> two_tools_;
-};
+using test::Controllers;
+using test::kControlPeriod;
 
 /// The controllers follow the solved path from the query's start at the generator's speeds: every
 /// step accepted, and every tracked state collision-free with at least half the scene's clearance
@@ -122,7 +46,8 @@ void expectControllersFollow(StateValidator& validator, const PlannerOptions& o,
   for (std::size_t k = 0; k + 1 < result.waypoints.size(); ++k) {
     const DualPose& a = result.waypoints[k];
     const DualPose& b = result.waypoints[k + 1];
-    const auto steps = static_cast<std::size_t>(std::ceil(generatorDuration(o, a, b) / kPeriod));
+    const auto steps = static_cast<std::size_t>(std::ceil(
+        test::generatorDuration(o.max_linear_velocity, o.max_angular_velocity, o.blend_time, a, b) / kControlPeriod));
     for (std::size_t i = 1; i <= steps; ++i) {
       const double s = static_cast<double>(i) / static_cast<double>(steps);
       ASSERT_TRUE(controllers.step({interpolate(a.first, b.first, s), interpolate(a.second, b.second, s)}, q, why))
@@ -134,6 +59,24 @@ void expectControllersFollow(StateValidator& validator, const PlannerOptions& o,
   }
 }
 
+/// How many of the first `count` walked queries of `setup` the planner's goal check
+/// (MotionPlanner::checkGoal) accepts; each refusal is printed.
+std::size_t acceptedGoals(const RandomScene& setup, std::size_t count) {
+  SceneDescription scene = setup.scene();
+  RobotModels models = makeRobotModels(scene);
+  StateValidator validator(std::move(scene), std::move(models));
+  std::map<std::string, int> dropped;
+  const std::vector<Query> queries = test::walkedQueries(validator, setup, count, dropped);
+  MotionPlanner planner(validator, setup.options);
+  std::size_t accepted = 0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const PlanResult result = planner.checkGoal(queries[i].start, queries[i].goal);
+    if (result.solved()) ++accepted;
+    else std::printf("query %zu refused: %s\n", i, result.message.c_str());
+  }
+  return accepted;
+}
+
 /// Plans the first `count` queries of `setup` (the bench's, its work limit and speeds); every
 /// solved path is cross-checked. Returns the number solved.
 std::size_t planAndCrossCheck(const RandomScene& setup, std::size_t count) {
@@ -141,7 +84,7 @@ std::size_t planAndCrossCheck(const RandomScene& setup, std::size_t count) {
   RobotModels models = makeRobotModels(scene);
   StateValidator validator(std::move(scene), std::move(models));
   std::map<std::string, int> dropped;
-  const std::vector<Query> queries = test::randomQueries(validator, setup, count, dropped);
+  const std::vector<Query> queries = test::walkedQueries(validator, setup, count, dropped);
   std::size_t solved = 0;
   for (std::size_t i = 0; i < queries.size(); ++i) {
     PlannerOptions o = setup.options;
@@ -162,17 +105,27 @@ std::size_t planAndCrossCheck(const RandomScene& setup, std::size_t count) {
   return solved;
 }
 
-// The target is 99 % (all 50); measured, 48 of the 50 (the bench: 979 of its 1,000 queries): the
-// two others find no path within the 10,000-check work limit. The floor makes a regression fail.
-TEST(RandomQueries, PuncturingQueriesAreSolvedAndTheControllersFollowEveryPath) {
-  EXPECT_GE(planAndCrossCheck(test::puncturingRandom("RRTConnect"), 50), 48u);
+// The goal check agrees with the controllers: the goals they reached from the start (walked
+// along valid, branch-keeping states, and settled there) are accepted; the check used to refuse
+// goals whose I-SUR elbow the delta's stroke or a pitch joint's limit moved off the redundancy
+// rule. Measured: all 100 puncturing goals, 39 of the 40 suturing goals. The one refused (query
+// 29) is a known gap: where the delta's stroke moves the elbow, the planner's goal IK searches
+// the split nearest the rule from the start, while the controllers keep the split their path
+// led to; there the two differ and the planner's puts the two arms in contact (0 m).
+TEST(RandomQueries, ThePlannerAcceptsEveryGoalTheControllersReach) {
+  EXPECT_EQ(acceptedGoals(test::puncturingRandom("RRTConnect"), 100), 100u);
+  EXPECT_GE(acceptedGoals(test::suturingRandom("RRTConnect"), 40), 39u);
 }
 
-// The suturing scene's queries are harder (the tips kept inside the deployment's 25 cm box over
-// the phantom, the 20,000-check work limit): measured, 12 of the first 20 are solved (the bench:
-// see planning/README.md), the floor; every solved path is followed by the robot's controller.
-TEST(RandomQueries, SuturingPathsAreFollowedByTheTwoArmedRobotsController) {
-  EXPECT_GE(planAndCrossCheck(test::suturingRandom("RRTConnect"), 20), 12u);
+// The target is 99 %: measured, all 50 (the bench's first 50 walked queries).
+TEST(RandomQueries, PuncturingQueriesAreSolvedAndTheControllersFollowEveryPath) {
+  EXPECT_GE(planAndCrossCheck(test::puncturingRandom("RRTConnect"), 50), 50u);
+}
+
+// The suturing scene's first 20 walked queries: measured, all 20 solved, every path followed by
+// the two-armed robot's controller.
+TEST(RandomQueries, SuturingQueriesAreSolvedAndTheTwoArmedRobotsControllerFollowsEveryPath) {
+  EXPECT_GE(planAndCrossCheck(test::suturingRandom("RRTConnect"), 20), 20u);
 }
 
 }  // namespace

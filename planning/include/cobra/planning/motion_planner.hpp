@@ -69,9 +69,12 @@ struct PlannerOptions {
   double edge_resolution = 0.004;
   /// Shorten and smooth the found path (OMPL's PathSimplifier, bounded by `simplify_steps`).
   bool simplify = true;
-  /// Number of vertices checked per segment when the final path is verified [1]. A path that fails
-  /// the verification is discarded and the search re-run with seed + 1, + 2, ... while time_limit
-  /// allows (PathInvalid when none passes).
+  /// Number of vertices checked per segment when the final path is verified, at least [1]: the
+  /// verification walks each segment in this many steps where the joints' speeds are steady, and
+  /// in finer steps (down to 1 ms of the generator's time, the robots' control period) where a
+  /// joint's speed changes within a step or nears its limit (near a singular set). A path that
+  /// fails the verification is discarded and the search re-run with seed + 1, + 2, ... while
+  /// time_limit allows (PathInvalid when none passes).
   std::size_t verify_points_per_segment = 100;
   /// Range of one RRT/RRT-Connect extension in the state-space metric (SE(3): position [m] plus
   /// rotation angle [rad]; joint space: s at the joints' velocity limits); 0 lets OMPL choose.
@@ -90,6 +93,13 @@ struct PlannerOptions {
   /// limits above [1] (its blends pass from one segment's speed to the next monotonically, so a
   /// segment's mean speed bounds them; the rest is for the servo's lag).
   double joint_velocity_margin = 0.8;
+  /// Share of the budget (max_validity_checks, else time_limit) the first search spends in a box
+  /// around the start and the goal before the whole space is searched [1] (0: the whole space
+  /// at once). The box holds, per planning coordinate, the interval between the start's and the
+  /// goal's values widened on each side by half its length plus kLocalMargin s at the joint's
+  /// velocity limit (within the coordinate's bounds): most queries are solved near the straight
+  /// line, where the search's samples land only a small fraction of the time in the whole space.
+  double local_search_share = 0.25;
   /// How often a segment that fails the dense verification may be halved (in joint space) [1].
   std::size_t max_subdivisions = 8;
   /// Names of the two tools in messages (the component: "needle", "probe").
@@ -157,8 +167,9 @@ class MotionPlanner {
   PlanResult planPath(const DualPose& start, const DualPose& goal);
 
   /// Whether planPath(start, goal) would accept the query and search: the planner's own input,
-  /// start, bounds and goal checks (goal IK nearest the start on its branch, the redundancy rule,
-  /// the goal state's validity with the robots whose tools stay put held at the start), without
+  /// start, bounds and goal checks (the goal IK of the control path from the start, on its branch:
+  /// RobotModel::inverseGoal; the goal state's validity with the robots whose tools stay put held
+  /// at the start), without
   /// the search. Solved when accepted (then joint_waypoints is empty and the message says so),
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
   PlanResult checkGoal(const JointState& start, const DualPose& goal);
@@ -193,12 +204,17 @@ class MotionPlanner {
   /// while a found path fails the verification.
   PlanResult planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
                         std::chrono::steady_clock::time_point started);
-  /// One joint-space search (the query's `search`-th, from 1) from `start` to `goal` moving the
-  /// robots flagged in `moving`, then the Cartesian waypoints and their verification; may throw
-  /// ompl::Exception.
+  /// One joint-space search from `start` to `goal` moving the robots flagged in `moving`, then the
+  /// Cartesian waypoints and their verification; `refinement`: how many found paths failed the
+  /// verification before (each halves the edge resolution, down to an eighth); `local`: in the
+  /// box around start and goal (local_search_share), until that share of the budget is spent. May
+  /// throw ompl::Exception.
   PlanResult searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
                           const DualPose& goal_poses, const std::vector<bool>& moving,
-                          std::chrono::steady_clock::time_point started, std::uint32_t seed, std::size_t search);
+                          std::chrono::steady_clock::time_point started, std::uint32_t seed, std::size_t refinement,
+                          bool local);
+  /// Half-width added on each side of the local search's box, in s at the velocity limit.
+  static constexpr double kLocalMargin = 0.5;
   /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
   PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
   /// Validity of a joint state for the search and the verification (counted; the tool bounds too).
