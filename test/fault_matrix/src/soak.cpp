@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -43,6 +44,7 @@ SoakSummary soak(const Table& table, const SoakOptions& options) {
   std::mt19937_64 random(options.seed);
   SoakSummary s;
   std::map<std::string, int> outcomes;
+  std::set<const Task*> ran;  // the tasks run so far, until every one has
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   while (s.runs == 0 || elapsed() < options.duration) {
@@ -68,6 +70,9 @@ SoakSummary soak(const Table& table, const SoakOptions& options) {
     s.rss_last_kb = rss, s.fds_last = fds;
     s.rss_max_kb = std::max(s.rss_max_kb, rss);
     s.fds_max = std::max(s.fds_max, fds);
+    if (s.warm_run == 0 && ran.insert(&task).second && ran.size() == tasks.size())
+      s.warm_run = s.runs, s.rss_warm_kb = rss;
+    if (s.warm_run != 0) s.rss_max_after_warm_kb = std::max(s.rss_max_after_warm_kb, rss);
     char wall[32];
     std::snprintf(wall, sizeof wall, "%.3f", elapsed());
     csv << wall << "," << s.runs << "," << task.name << "," << scenario.filename().string() << "," << r.id << "," << r.outcome
@@ -81,13 +86,19 @@ SoakSummary soak(const Table& table, const SoakOptions& options) {
   std::filesystem::remove_all(faults, ignored);
   std::string text;
   for (const auto& [outcome, n] : outcomes) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + outcome;
-  char line[512];
+  // The memory trend that means something: from the run after which every task had run once.
+  char warm[192] = "";
+  if (s.warm_run != 0 && s.rss_warm_kb > 0)
+    std::snprintf(warm, sizeof warm, ", %lld kB once every task had run (run %d), at most %lld kB after it (%+.1f %%)",
+                  static_cast<long long>(s.rss_warm_kb), s.warm_run, static_cast<long long>(s.rss_max_after_warm_kb),
+                  100.0 * static_cast<double>(s.rss_max_after_warm_kb - s.rss_warm_kb) / static_cast<double>(s.rss_warm_kb));
+  char line[768];
   std::snprintf(line, sizeof line,
                 "soak: %d runs in %.1f s (%s), %d as expected; VmRSS %lld kB after the first run, %lld kB after the last "
-                "(max %lld kB); open file descriptors %d after the first run, %d after the last (max %d)%s",
+                "(max %lld kB)%s; open file descriptors %d after the first run, %d after the last (max %d)%s",
                 s.runs, elapsed(), text.c_str(), s.passed, static_cast<long long>(s.rss_first_kb),
-                static_cast<long long>(s.rss_last_kb), static_cast<long long>(s.rss_max_kb), s.fds_first, s.fds_last, s.fds_max,
-                s.fds_first == s.fds_last && s.fds_max == s.fds_first ? ": constant" : ": CHANGED");
+                static_cast<long long>(s.rss_last_kb), static_cast<long long>(s.rss_max_kb), warm, s.fds_first, s.fds_last,
+                s.fds_max, s.fds_first == s.fds_last && s.fds_max == s.fds_first ? ": constant" : ": CHANGED");
   s.line = line;
   return s;
 }

@@ -154,6 +154,10 @@ struct SoakSummary {
   int passed = 0;
   std::int64_t rss_first_kb = 0, rss_last_kb = 0, rss_max_kb = 0;
   int fds_first = 0, fds_last = 0, fds_max = 0;
+  /// Once every task has run (each loads its models once, so the memory after the first run says
+  /// little): the run it happened at (0: never), VmRSS then and the most after it, kB.
+  int warm_run = 0;
+  std::int64_t rss_warm_kb = 0, rss_max_after_warm_kb = 0;
   std::string line;  ///< "soak: ..."
 };
 /// Repeats random runs (a task, one of its scenarios, its baseline cell one time in four, else a
