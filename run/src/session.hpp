@@ -30,6 +30,10 @@ class Supervisor;
 
 namespace cobra::run {
 
+// `state` without its last component when that is one of `fold` (the run table's `fold`: leaves
+// such as Moving shown as their parent).
+std::string foldState(const std::string& state, const std::vector<std::string>& fold);
+
 // A chart of `run.charts`: on the lockstep clock its supervisor's active state, read between two
 // instants; in real time its taskState port (the supervisor's thread writes it; the state before
 // the runner connected shows once the chart changes state).
