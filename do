@@ -21,7 +21,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(cmake ninja-build ccache g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen nlohmann-json3-dev libopenigtlink-dev openssl libssl-dev)
+PACKAGES=(cmake ninja-build ccache mold g++ libgtest-dev libbenchmark-dev liborocos-kdl-dev libeigen3-dev liblua5.4-dev libcli11-dev libgmock-dev graphviz libedit-dev libboost-dev libompl-dev libfcl-dev libassimp-dev libmujoco-dev chromium libfastrtps-dev fastddsgen nlohmann-json3-dev libopenigtlink-dev openssl libssl-dev)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 # executor_bench's peer (cyclictest) and its load (stress-ng --cpu).
 BENCH_PACKAGES=(rt-tests stress-ng)
