@@ -63,9 +63,9 @@ local failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_force_over_
                    'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }
 local done = 'e_motion_done@TrajGen'
 -- What the retreat needs that may fail on the way: the drives, the IK, the trajectory, the switches.
-local retreat_failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_ik_failed', 'e_ik_discontinuity',
-                           'e_traj_failed', 'e_request_refused', 'e_no_data', 'e_command_not_finite',
-                           'e_deploy_failed_position_control', 'e_configuration_failed@puma260_retreat' }
+local ik_failures = { 'e_ik_failed', 'e_ik_discontinuity', 'e_traj_failed', 'e_no_data',
+                      'e_deploy_failed_position_control', 'e_configuration_failed@puma260_retreat' }
+local retreat_failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_request_refused', 'e_command_not_finite' }
 -- The drives quick-stopped by the master (Fault): nothing can move the tool off the surface.
 local drives_stopped = { e_drive_fault = true, e_bus_error = true, e_bus_fault = true }
 local in_contact = false  -- the tool on the surface: from E (e_contact) to G (e_contact_lost)
@@ -117,6 +117,7 @@ local chart = {
   Resuming = motion("NominalPath"),
   Stopping = rfsm.state { entry = function() call("TrajGen", "askStopMove") end },
   -- Off the surface: the trajectory straight to the IK, slow, then 3 mm up from where the tool is.
+  ToReady = rfsm.state { entry = function() call("Puma", "askReady") end },
   Retreating = rfsm.state {
     Switching = rfsm.state { entry = function() emit("e_deploy_position_control") end },
     Slowing = rfsm.state { entry = function() applyConfiguration("puma260_retreat") end },
@@ -156,7 +157,13 @@ local chart = {
   rfsm.trans { src = 'Stopping', tgt = 'Retreating', guard = function() return retreat end,
                events = { 'e_motion_stopped@TrajGen', 'e_not_moving@TrajGen', 'e_after(' .. stop_wait .. ')' } },
   rfsm.trans { src = 'Retreating', tgt = 'SafeStop', events = { done } },
+  -- The IK refused the retreat (or a switch was refused): the master's own joint-space move to the
+  -- ready position instead (no IK, no admittance, no FTSens); the drives down: nothing moves.
+  rfsm.trans { src = 'Retreating', tgt = 'ToReady', events = ik_failures, pn = 10 },
   rfsm.trans { src = 'Retreating', tgt = 'SafeStop', events = retreat_failures, pn = 10 },
+  rfsm.trans { src = 'ToReady', tgt = 'SafeStop',
+               events = { 'e_ready_reached@Puma', 'e_request_refused@Puma', 'e_drive_fault', 'e_bus_error', 'e_bus_fault',
+                          'e_after(' .. retreat_wait .. ')' } },
   rfsm.trans { src = 'Retreating', tgt = 'SafeStop', events = { 'e_after(' .. retreat_wait .. ')' } },
 }
 local active = { 'A_Nest', 'B_Ready', 'C_TaskPose', 'D_StartPose', 'E_Contact', 'F_FollowingSurface', 'G_BackToPath',
