@@ -24,10 +24,12 @@
 -- about 2 mrad at 1.4 Hz, 0.3-0.8 mm at the tip). So the tool retreats first, along base z (back
 -- along the tool axis, off the convex surface below it), slowly, on a path that needs none of the
 -- components that may have failed: position_control (the trajectory straight to the IK: neither
--- the admittance nor the FTSens), the configuration puma260_retreat (slow enough for an IK held to
--- 0.2 % of its joint speeds), the path Retreat (controller.lua: relative to the measured pose).
--- Off the surface the drives hold a set-point they reach. A failure of the retreat itself (the IK
--- refusing it, the drives, the switch) or `retreat_wait` s: SafeStop where the tool is.
+-- the admittance nor the FTSens), the configuration puma260_retreat (0.5 mm/s), the path Retreat
+-- (controller.lua: relative to the measured pose). Off the surface the drives hold a set-point
+-- they reach. The IK refusing the retreat (it is what failed: held to 0.2 % of its joint speeds it
+-- refuses the first step while the wrist hunts), or a switch refused: root.ToReady, the master's
+-- own joint-space move to the ready position (no IK; it lifts the tool straight off first). The
+-- drives failing, or `retreat_wait` s: SafeStop where the tool is.
 local sensor_hold = 1.0    -- s
 local stop_wait = 0.5      -- s: longer than the trajectory generator's stop_time
 local retreat_wait = 20.0  -- s: the retreat (controller.lua, configurations/puma260_retreat.lua) takes about 7 s
