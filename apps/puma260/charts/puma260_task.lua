@@ -64,7 +64,8 @@ local failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_force_over_
                    -- a component in Exception (the runner's), a non-finite input or command refused
                    'e_component_error', 'e_input_not_finite', 'e_command_not_finite' }
 local done = 'e_motion_done@TrajGen'
--- What the retreat needs that may fail on the way: the drives, the IK, the trajectory, the switches.
+-- The retreat refused on the way by the IK (what may have failed), its path or trajectory, or a
+-- switch: the joint-space move to ready instead. The drives or the master failing: SafeStop.
 local ik_failures = { 'e_ik_failed', 'e_ik_discontinuity', 'e_traj_failed', 'e_no_data',
                       'e_deploy_failed_position_control', 'e_configuration_failed@puma260_retreat' }
 local retreat_failures = { 'e_drive_fault', 'e_bus_error', 'e_bus_fault', 'e_request_refused', 'e_command_not_finite' }
@@ -118,8 +119,9 @@ local chart = {
   Holding = rfsm.state { entry = function() call("TrajGen", "askStopMove") emit("e_puma_holding") end },
   Resuming = motion("NominalPath"),
   Stopping = rfsm.state { entry = function() call("TrajGen", "askStopMove") end },
-  -- Off the surface: the trajectory straight to the IK, slow, then 3 mm up from where the tool is.
+  -- Off the surface when the IK refused the retreat: the master's own joint-space move (no IK).
   ToReady = rfsm.state { entry = function() call("Puma", "askReady") end },
+  -- Off the surface: the trajectory straight to the IK, slow, then 3 mm up from where the tool is.
   Retreating = rfsm.state {
     Switching = rfsm.state { entry = function() emit("e_deploy_position_control") end },
     Slowing = rfsm.state { entry = function() applyConfiguration("puma260_retreat") end },
@@ -160,7 +162,8 @@ local chart = {
                events = { 'e_motion_stopped@TrajGen', 'e_not_moving@TrajGen', 'e_after(' .. stop_wait .. ')' } },
   rfsm.trans { src = 'Retreating', tgt = 'SafeStop', events = { done } },
   -- The IK refused the retreat (or a switch was refused): the master's own joint-space move to the
-  -- ready position instead (no IK, no admittance, no FTSens); the drives down: nothing moves.
+  -- ready position instead (no IK, no admittance, no FTSens); the drives down: nothing moves. At
+  -- ready (or refused, or the drives down, or `retreat_wait` s): SafeStop.
   rfsm.trans { src = 'Retreating', tgt = 'ToReady', events = ik_failures, pn = 10 },
   rfsm.trans { src = 'Retreating', tgt = 'SafeStop', events = retreat_failures, pn = 10 },
   rfsm.trans { src = 'ToReady', tgt = 'SafeStop',
