@@ -106,8 +106,10 @@ TEST(WaypointPath, BadWaypointsAreRefusedNamingThePose) {
   }
 }
 
-TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
+// Answering askPath() with `relative` waypoints or not: no allocation once the buffers are sized.
+void expectAnsweringAllocatesNothing(bool relative) {
   Bench b;
+  b.source.setProperty("relative", relative);
   ASSERT_TRUE(b.source.configure());
   ASSERT_TRUE(b.source.start());
   b.measured.write(KDL::Frame(KDL::Vector(0.3, 0.0, 0.3)));
@@ -126,6 +128,14 @@ TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
   }
   EXPECT_EQ(allocations, 0);
   EXPECT_EQ(b.takeEvents().size(), 10u);
+}
+
+// Both ways: waypoints as poses, and as offsets from the measured pose (relative).
+TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
+  for (const bool relative : {false, true}) {
+    SCOPED_TRACE(relative ? "relative" : "poses");
+    expectAnsweringAllocatesNothing(relative);
+  }
 }
 
 TEST(WaypointPath, TheTrajectoryGeneratorFollowsThePathItSends) {
