@@ -31,6 +31,9 @@ run = {
   charts = { { name = "puma", supervisor = "TaskSup", done = "root.H_FinalPose", safe_stop = "root.SafeStop" } },
   fold = { "AskingPath", "Generating", "Moving" },
   failures = failures,
+  -- s a component in error has to end in the chart's safe stop: stopped in contact, the chart
+  -- retreats first (charts/puma260_task.lua: at most its retreat_wait, 20 s, after the stop).
+  safe_stop_linger = 25,
   record = { period = 0.01, ports = { "TrajGen.desCartPose_1", "Admittance.admPose", "Kin.cartPose", "TipToBase.outWrench",
                                       "Admittance.tankEnergy", "Puma.measJointVelocity", table.unpack(world.record) } },
   plots = {

@@ -60,9 +60,6 @@ task "door" {
 local no_peer = "one process: no peer to lose (the DDS link exists only when the puncturing task is split over "
   .. "hosts; apps/puncturing/test/split_procedure_test.cpp loses one)"
 -- Known gaps seen in more than one cell.
-local puma_stops_moving = "stopped in contact with the surface, the Puma 260's tool moves more than 0.5 mm in the "
-  .. "second after the safe stop (a frozen command does not hold it: the drives against the contact make it jitter "
-  .. "by about 0.5 mm along the path, the contact force between 4.5 and 5.1 N; it needs a retreat off the surface)"
 local suturing_stops_early = "stopped 0.3 s into the first motion (the admittance's failure: the safe stop at once), an "
   .. "arm still moves about 2 mm in the second after the safe stop (not yet understood)"
 
@@ -92,7 +89,7 @@ fault "update_exception" {
   text = "an exception in an update hook (the admittance's; the door's torque set-point)",
   puncturing = { { throw = "NeedleAdmittance" } },
   suturing = { { throw = "RightAdmittance" }, gap = { over_wound = suturing_stops_early } },
-  puma260 = { { throw = "Admittance" }, gap = { surface = puma_stops_moving } },
+  puma260 = { { throw = "Admittance" } },
   door = { { throw = "TorqueCmd" }, moments = { "turn" } },
 }
 
@@ -109,7 +106,7 @@ local function nonFinite(name, what, value)
     text = what .. " on a pure-data input port (the admittance's measured wrench; the door's handle torque)",
     puncturing = { wrench("NeedleWrench", value) },
     suturing = { wrench("RightWrench", value), gap = { over_wound = suturing_stops_early } },
-    puma260 = { wrench("TipToBase", value), gap = { surface = puma_stops_moving } },
+    puma260 = { wrench("TipToBase", value) },
     door = { { lua = "stopComponents({'TorqueCmd'}) TorqueCmd.out:write(" .. value .. ")" }, moments = { "turn" } },
   }
 end
@@ -120,7 +117,7 @@ fault "sensor_silent" {
   text = "a sensor that stops publishing (the force/torque chain; the door's handle angle)",
   puncturing = { { lua = "stopComponents({'NeedleWrench'})" } },
   suturing = { { lua = "stopComponents({'RightWrench'})" } },
-  puma260 = { { call = "FTSensSim.setSilent", args = { true } }, gap = { surface = puma_stops_moving } },
+  puma260 = { { call = "FTSensSim.setSilent", args = { true } } },
   door = { { lua = "stopComponents({'Unlatched'})" }, moments = { "turn" } },
 }
 
@@ -147,7 +144,7 @@ fault "tank_drained" {
   text = "an energy tank drained to epsilon (the admittance restarted with 1.001 tank_min in its tank)",
   puncturing = { drained("NeedleAdmittance") },
   suturing = { drained("RightAdmittance") },
-  puma260 = { drained("Admittance"), gap = { surface = puma_stops_moving } },
+  puma260 = { drained("Admittance") },
   door = na "the door task has no admittance, hence no energy tank",
 }
 
@@ -155,7 +152,7 @@ fault "ik_discontinuity" {
   text = "an IK discontinuity (the robot slowed to 0.2 % of its joint speeds: the next command is out of reach)",
   puncturing = { { set = { property = "ISUR.speed_scaling", value = 0.002 } } },
   suturing = { { set = { property = "ISUR.speed_scaling", value = 0.002 } } },
-  puma260 = { { set = { property = "Kin.speed_scaling", value = 0.002 } }, gap = { surface = puma_stops_moving } },
+  puma260 = { { set = { property = "Kin.speed_scaling", value = 0.002 } } },
   door = na "the door task's arm is a set-point of the simulated door: no inverse kinematics",
 }
 

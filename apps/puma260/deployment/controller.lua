@@ -1,6 +1,7 @@
 -- The controller of the Puma 260 task (thesis §6.3, Fig. 6.5): the EtherCAT master of the six
 -- drives, the FTSens driver, the equivalent wrench (the measured wrench to the tool tip, eq. 6.1),
--- the kinematics solver, the Cartesian trajectory generator fed by three fixed paths, the variable
+-- the kinematics solver, the Cartesian trajectory generator fed by three fixed paths (and the
+-- retreat off the surface after a safe stop in contact, relative to the tool's pose), the variable
 -- admittance, a contact monitor and the task and deployment supervisors. Two deployments, one
 -- configuration (configurations/puma260_task.lua):
 --   position_control   the trajectory's set-point goes straight to the inverse kinematics (B -> C)
@@ -22,6 +23,7 @@ initConfigurator({ "cobra_drivers", "cobra_motion", "cobra_control", "cobra_moni
   { peer_name = "ToTaskPose", component_type = "WaypointPath" },
   { peer_name = "ToStartPose", component_type = "WaypointPath" },
   { peer_name = "NominalPath", component_type = "WaypointPath" },
+  { peer_name = "Retreat", component_type = "WaypointPath" },
   { peer_name = "TrajGen", component_type = "CartesianTrajectoryGenerator" },
   { peer_name = "Admittance", component_type = "VariableAdmittance" },
   { peer_name = "Contact", component_type = "ContactMonitor" },
@@ -50,6 +52,10 @@ Kin.max_joint_velocity = { 2, 2, 2, 2, 2, 2 }  -- rad/s: the master's max_veloci
 ToTaskPose.waypoints = T.task_pose
 ToStartPose.waypoints = T.start_pose
 NominalPath.waypoints = T.final_pose
+-- Stopped in contact (charts/puma260_task.lua, Retreating): T.retreat m up from wherever the tool
+-- is, its orientation kept, at the speed of configurations/puma260_retreat.lua.
+Retreat.relative = true
+Retreat.waypoints = { 0, 0, T.retreat, 0, 0, 0, 1 }
 TrajGen.arms_num = 1
 -- The smallest inertia and stiffness the admittance ever implements (fixed at configure; the
 -- configuration's are above them, the tank pays the difference) and its tank, J.
@@ -64,11 +70,11 @@ Admittance.wrench_timeout = 0.005
 TaskSup.fsm_path = here .. "../charts/puma260_task.lua"
 DepSup.fsm_path = charts .. "deployment_supervisor.lua"
 addPeers({ { peer_name = "TaskSup",
-             peers_to_add = { "Puma", "FTSens", "ToTaskPose", "ToStartPose", "NominalPath", "TrajGen" } } })
+             peers_to_add = { "Puma", "FTSens", "ToTaskPose", "ToStartPose", "NominalPath", "Retreat", "TrajGen" } } })
 
 local activities = {}
 for _, name in ipairs({ "Puma", "FTSens", "SensorToTip", "TipToBase", "Kin", "ToTaskPose", "ToStartPose", "NominalPath",
-                        "TrajGen", "Admittance", "Contact", "TaskSup", "DepSup" }) do
+                        "Retreat", "TrajGen", "Admittance", "Contact", "TaskSup", "DepSup" }) do
   activities[#activities + 1] = { peer_name = name, period = 0.001 }  -- s: the 1 kHz bus cycle
 end
 setActivities(activities)
@@ -88,18 +94,19 @@ local connections = {
   { output = "TaskSup.outputEvents", input = "DepSup.inputEvents", conn_policy = buffered },
   { output = "DepSup.outputEvents", input = "TaskSup.inputEvents", conn_policy = buffered },
 }
-for _, path in ipairs({ "ToTaskPose", "ToStartPose", "NominalPath" }) do
+for _, path in ipairs({ "ToTaskPose", "ToStartPose", "NominalPath", "Retreat" }) do
   connections[#connections + 1] = { output = "Kin.cartPose", input = path .. ".measPose" }
   connections[#connections + 1] = { output = path .. ".path", input = "TrajGen.plannedPath", conn_policy = buffered }
 end
-for _, source in ipairs({ "Puma", "FTSens", "Kin", "ToTaskPose", "ToStartPose", "NominalPath", "TrajGen", "Admittance",
+for _, source in ipairs({ "Puma", "FTSens", "Kin", "ToTaskPose", "ToStartPose", "NominalPath", "Retreat", "TrajGen", "Admittance",
                           "Contact" }) do
   connections[#connections + 1] = { output = source .. ".events", input = "TaskSup.inputEvents",
                                     conn_policy = buffered }
 end
 connectPorts(connections)
 
-local paths = { "ToTaskPose", "ToStartPose", "NominalPath", "TrajGen" }
+-- The retreat runs in position_control only: the admittance and the FTSens may be what failed.
+local paths = { "ToTaskPose", "ToStartPose", "NominalPath", "Retreat", "TrajGen" }
 defineDeployment("position_control", {
   components = paths,
   connections = {

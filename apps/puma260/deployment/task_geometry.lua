@@ -16,6 +16,10 @@ return {
   -- The ready position (Fig. 6.4): the tool down at (0.28, 0, 0.25) m, on the IK branch the task
   -- keeps (shoulder and elbow as at D-H, wrist not flipped), rad.
   ready_joints = { 0.4677, 1.2117, -3.2805, 0.0, -1.0727, -2.6740 },
+  -- After a safe stop with the tool on the surface: this far up (base z) from where it stopped, m.
+  -- The surface is convex and below the tool, so straight up leaves it; 3 mm clear the 0.1-0.2 mm
+  -- the ball sinks in and the 0.6 mm a tare's offset can make, within the joints' reach at D-H.
+  retreat = 0.003,
   -- The surface the path meets, unknown to the controller: a cylinder with its axis along base x,
   -- radius 0.08 m, axis at (y, z) = (0, 0.035) m: its top is 15 mm above the path over about 9 cm.
   surface = { radius = 0.08, axis_y = 0.0, axis_z = 0.035 },

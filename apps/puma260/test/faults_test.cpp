@@ -61,9 +61,11 @@ TEST(Puma260Faults, ASilentSensorMakesTheChartHoldThenStop) {
   EXPECT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
   EXPECT_NE(r.reason.find("FTSens: e_comm_timeout"), std::string::npos) << r.reason;
   expectInOrder(r, {"puma > root.F_FollowingSurface", "FTSens: e_comm_timeout", "puma > root.Holding",
-                    "TaskSup: e_sensor_lost", "puma > root.SafeStop"});
-  // Held for the hold time (1 s), then stopped.
-  EXPECT_NEAR(began(r, "root.SafeStop") - began(r, "root.Holding"), 1.0, 0.01);
+                    "TaskSup: e_sensor_lost", "puma > root.Retreating", "puma > root.SafeStop"});
+  // Held for the hold time (1 s), then stopped: in contact, after the retreat off the surface
+  // (hold_test.cpp checks it).
+  EXPECT_NEAR(raised(r, "TaskSup", "e_sensor_lost") - began(r, "root.Holding"), 1.0, 0.01);
+  EXPECT_NEAR(began(r, "root.Retreating") - began(r, "root.Holding"), 1.0, 0.01);
 }
 
 TEST(Puma260Faults, ASensorBackWithinTheHoldTimeResumesTheNominalPathToH) {
@@ -93,10 +95,12 @@ TEST(Puma260Faults, AContactForceAboveTheLimitStopsTheTask) {
   expectInOrder(r, {"puma > root.F_FollowingSurface", "fault " + (kFaults / "force_over_limit.lua").string(),
                     "Contact: e_force_over_limit", "puma > root.Stopping", "puma > root.SafeStop"});
   // The force did pass the limit (10 N) in the world, and the monitor said so within 20 ms (the
-  // sensor's noise and the equivalent wrench's 1 ms steps). The stop ends the motion; the
-  // admittance holds where it is, so the misconfigured stiffness keeps pressing (SafeStop is a
-  // stop, not a retreat: README.md).
+  // sensor's noise and the equivalent wrench's 1 ms steps). The stop ends the motion, then the tool
+  // retreats off the surface without the misconfigured admittance (position_control): no force at
+  // the safe stop.
+  expectInOrder(r, {"Contact: e_force_over_limit", "puma > root.Retreating", "puma > root.SafeStop"});
   const Signals s(o.report_folder / "signals.csv");
+  EXPECT_EQ(s(s.size() - 1, "World.contactForce"), 0.0);
   double crossed = INFINITY;
   for (std::size_t i = 0; i < s.size() && std::isinf(crossed); ++i)
     if (s(i, "World.contactForce") > 10.0) crossed = s.time(i);

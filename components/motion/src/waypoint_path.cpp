@@ -8,6 +8,7 @@ WaypointPath::WaypointPath(std::string name)
     : Component(std::move(name), core::Role::Calculation,
                 "a fixed Cartesian path (property waypoints) sent from the tool's measured pose on askPath()") {
   addProperty(waypoints_);
+  addProperty(relative_);
   addPort(meas_pose_);
   addPort(path_);
   addOperation("askPath", &WaypointPath::askPath, this,
@@ -24,6 +25,7 @@ bool WaypointPath::configureHook() {
     return refuse("property waypoints has " + std::to_string(values.size()) +
                   " values; expected 7 per pose (x y z [m] qx qy qz qw), at least one pose");
   std::vector<std::vector<double>> waypoints(1, std::vector<double>(kValuesPerArm, 0.0));
+  offsets_.clear();
   for (std::size_t k = 0; k < values.size(); k += kValuesPerArm) {
     const std::vector<double> pose(values.begin() + static_cast<std::ptrdiff_t>(k),
                                    values.begin() + static_cast<std::ptrdiff_t>(k + kValuesPerArm));
@@ -37,6 +39,9 @@ bool WaypointPath::configureHook() {
       return refuse("property waypoints: pose " + std::to_string(k / kValuesPerArm + 1) +
                     " needs finite values and a non-zero quaternion");
     waypoints.push_back(pose);
+    const double n = std::sqrt(norm);  // KDL's Quaternion expects a unit quaternion
+    offsets_.emplace_back(KDL::Rotation::Quaternion(pose[3] / n, pose[4] / n, pose[5] / n, pose[6] / n),
+                          KDL::Vector(pose[0], pose[1], pose[2]));
   }
   path_data_ = trajectory::MultiAxisPath(std::move(waypoints));
   path_.setDataSample(path_data_);
@@ -51,6 +56,18 @@ bool WaypointPath::startHook() {
 
 void WaypointPath::askPath() { ask_path_.ask(activity()); }
 
+void WaypointPath::fill(std::vector<double>& values, const KDL::Frame& pose) noexcept {
+  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
+  pose.M.GetQuaternion(qx, qy, qz, qw);
+  values[0] = pose.p.x();
+  values[1] = pose.p.y();
+  values[2] = pose.p.z();
+  values[3] = qx;
+  values[4] = qy;
+  values[5] = qz;
+  values[6] = qw;
+}
+
 void WaypointPath::updateHook() {
   if (meas_pose_.read(measured_) != core::FlowStatus::NoData) have_measured_ = true;
   if (!ask_path_.take()) return;
@@ -58,16 +75,10 @@ void WaypointPath::updateHook() {
     emitEvent("e_no_data");
     return;
   }
-  std::vector<double>& start = path_data_.waypoint(0);
-  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
-  measured_.M.GetQuaternion(qx, qy, qz, qw);
-  start[0] = measured_.p.x();
-  start[1] = measured_.p.y();
-  start[2] = measured_.p.z();
-  start[3] = qx;
-  start[4] = qy;
-  start[5] = qz;
-  start[6] = qw;
+  fill(path_data_.waypoint(0), measured_);
+  if (relative_())
+    for (std::size_t k = 0; k < offsets_.size(); ++k)
+      fill(path_data_.waypoint(k + 1), KDL::Frame(offsets_[k].M * measured_.M, measured_.p + offsets_[k].p));
   path_.write(path_data_);
   emitEvent("e_path_sent");
 }

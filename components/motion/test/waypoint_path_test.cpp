@@ -38,6 +38,15 @@ struct Bench {
     for (core::Event e; events.read(e) == core::FlowStatus::NewData;) out.push_back(e.name.str());
     return out;
   }
+  /// askPath() answered in the next step: the path it sent, one frame per pose (empty: none sent).
+  std::vector<std::vector<KDL::Frame>> askedPath() {
+    source.call<void>("askPath");
+    clock.advance(1ms);
+    EXPECT_EQ(takeEvents(), (std::vector<std::string>{"e_path_sent"}));
+    trajectory::MultiAxisPath sent;
+    if (path.read(sent) != core::FlowStatus::NewData) return {};
+    return decodeCartesianPath(sent, 1);
+  }
 };
 
 TEST(WaypointPath, APathStartsAtTheMeasuredPoseAndGoesThroughTheWaypoints) {
@@ -53,16 +62,32 @@ TEST(WaypointPath, APathStartsAtTheMeasuredPoseAndGoesThroughTheWaypoints) {
   b.measured.write(start);
   b.clock.advance(1ms);
   EXPECT_TRUE(b.takeEvents().empty());  // a request is answered once
-  b.source.call<void>("askPath");
-  b.clock.advance(1ms);
-  EXPECT_EQ(b.takeEvents(), (std::vector<std::string>{"e_path_sent"}));
-  trajectory::MultiAxisPath sent;
-  ASSERT_EQ(b.path.read(sent), core::FlowStatus::NewData);
-  const auto frames = decodeCartesianPath(sent, 1);
+  const auto frames = b.askedPath();
   ASSERT_EQ(frames.size(), 3u);
   EXPECT_TRUE(KDL::Equal(frames[0][0], start, 1e-9));
   EXPECT_TRUE(KDL::Equal(frames[1][0], KDL::Frame(KDL::Rotation::RotX(M_PI), KDL::Vector(0.4, 0.0, 0.3)), 1e-9));
   EXPECT_TRUE(KDL::Equal(frames[2][0].p, KDL::Vector(0.4, 0.1, 0.3), 1e-9));
+}
+
+// relative = true: the waypoints are offsets from wherever the tool is when the path is asked for
+// (a retreat of 2 mm up, then 1 mm along x turned 90 degrees about base z), from two poses.
+TEST(WaypointPath, RelativeWaypointsAreOffsetsFromTheMeasuredPose) {
+  Bench b;
+  b.source.setProperty("waypoints", std::vector<double>{0.0, 0.0, 0.002, 0.0, 0.0, 0.0, 1.0,  //
+                                                        0.001, 0.0, 0.002, 0.0, 0.0, 0.70710678, 0.70710678});
+  b.source.setProperty("relative", true);
+  ASSERT_TRUE(b.source.configure());
+  ASSERT_TRUE(b.source.start());
+  for (const KDL::Frame& start : {KDL::Frame(KDL::Rotation::RPY(M_PI, 0.0, 0.2), KDL::Vector(0.35, -0.03, 0.109)),
+                                  KDL::Frame(KDL::Rotation::RotX(M_PI), KDL::Vector(0.2, 0.1, 0.05))}) {
+    b.measured.write(start);
+    const auto frames = b.askedPath();
+    ASSERT_EQ(frames.size(), 3u);
+    EXPECT_TRUE(KDL::Equal(frames[0][0], start, 1e-9));
+    EXPECT_TRUE(KDL::Equal(frames[1][0], KDL::Frame(start.M, start.p + KDL::Vector(0.0, 0.0, 0.002)), 1e-9));
+    EXPECT_TRUE(KDL::Equal(frames[2][0], KDL::Frame(KDL::Rotation::RotZ(M_PI / 2) * start.M,
+                                                    start.p + KDL::Vector(0.001, 0.0, 0.002)), 1e-6));
+  }
 }
 
 TEST(WaypointPath, BadWaypointsAreRefusedNamingThePose) {
@@ -81,8 +106,10 @@ TEST(WaypointPath, BadWaypointsAreRefusedNamingThePose) {
   }
 }
 
-TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
+// Answering askPath() with `relative` waypoints or not: no allocation once the buffers are sized.
+void expectAnsweringAllocatesNothing(bool relative) {
   Bench b;
+  b.source.setProperty("relative", relative);
   ASSERT_TRUE(b.source.configure());
   ASSERT_TRUE(b.source.start());
   b.measured.write(KDL::Frame(KDL::Vector(0.3, 0.0, 0.3)));
@@ -101,6 +128,14 @@ TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
   }
   EXPECT_EQ(allocations, 0);
   EXPECT_EQ(b.takeEvents().size(), 10u);
+}
+
+// Both ways: waypoints as poses, and as offsets from the measured pose (relative).
+TEST(WaypointPath, AnsweringARequestAllocatesNothing) {
+  for (const bool relative : {false, true}) {
+    SCOPED_TRACE(relative ? "relative" : "poses");
+    expectAnsweringAllocatesNothing(relative);
+  }
 }
 
 TEST(WaypointPath, TheTrajectoryGeneratorFollowsThePathItSends) {

@@ -19,6 +19,11 @@ namespace cobra::components {
 ///   qy, qz, qw of the tool's orientation; in the frame of `measPose`, the robot's base frame;
 ///   checked at configure: a bad length, a non-finite value or a zero quaternion refuses with the
 ///   pose's index);
+/// - property `relative` (bool, default false): the waypoints are offsets from the measured pose
+///   at askPath() instead of poses: each waypoint's position is added to the measured position
+///   (base axes, m) and its rotation applied after the measured orientation in base axes (the
+///   identity quaternion 0 0 0 1 keeps it). A move relative to wherever the tool is, e.g. a
+///   retreat of a few mm along base z whatever the pose the tool stopped at;
 /// - in `measPose` (KDL.Frame, m: the tool's measured pose, where every path starts);
 /// - out `path` (TGL.MultiAxisPath, one arm, path_type.hpp's encoding: [measured pose, waypoint 1,
 ///   ..., waypoint n]; the CartesianTrajectoryGenerator's `plannedPath`);
@@ -37,14 +42,19 @@ class WaypointPath : public core::Component {
 
  private:
   void askPath();
+  /// `values` (7: x y z [m] qx qy qz qw) from `pose`.
+  static void fill(std::vector<double>& values, const KDL::Frame& pose) noexcept;
 
   core::Property<std::vector<double>> waypoints_{
       "waypoints", {}, "m, 1", "poses of the path after the measured one: x y z [m] qx qy qz qw, 7 values each"};
+  core::Property<bool> relative_{"relative", false, "",
+                                 "true: each waypoint is an offset from the measured pose (position added, base axes)"};
   core::InputPort<KDL::Frame> meas_pose_{"measPose", "the tool's measured pose: where the path starts", "m"};
   core::OutputPort<trajectory::MultiAxisPath> path_{"path", "[measured pose, waypoints...], 7 values per pose", "m, 1"};
 
   core::PendingRequest ask_path_;
   trajectory::MultiAxisPath path_data_;
+  std::vector<KDL::Frame> offsets_;  // relative: the waypoints as frames, made at configure
   KDL::Frame measured_;
   bool have_measured_ = false;
 };
