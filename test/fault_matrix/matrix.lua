@@ -63,8 +63,6 @@ local no_peer = "one process: no peer to lose (the DDS link exists only when the
 local puma_stops_moving = "stopped in contact with the surface, the Puma 260's tool moves more than 0.5 mm in the "
   .. "second after the safe stop (a frozen command does not hold it: the drives against the contact make it jitter "
   .. "by about 0.5 mm along the path, the contact force between 4.5 and 5.1 N; it needs a retreat off the surface)"
-local suturing_stops_early = "stopped 0.3 s into the first motion (the admittance's failure: the safe stop at once), an "
-  .. "arm still moves about 2 mm in the second after the safe stop (not yet understood)"
 
 -- Deployer code reconfiguring a component through its lifecycle with one property changed (a
 -- property read at configure): `value` is Lua source.
@@ -91,7 +89,7 @@ fault "none" {
 fault "update_exception" {
   text = "an exception in an update hook (the admittance's; the door's torque set-point)",
   puncturing = { { throw = "NeedleAdmittance" } },
-  suturing = { { throw = "RightAdmittance" }, gap = { over_wound = suturing_stops_early } },
+  suturing = { { throw = "RightAdmittance" } },
   puma260 = { { throw = "Admittance" }, gap = { surface = puma_stops_moving } },
   door = { { throw = "TorqueCmd" }, moments = { "turn" } },
 }
@@ -108,7 +106,7 @@ local function nonFinite(name, what, value)
   fault(name) {
     text = what .. " on a pure-data input port (the admittance's measured wrench; the door's handle torque)",
     puncturing = { wrench("NeedleWrench", value) },
-    suturing = { wrench("RightWrench", value), gap = { over_wound = suturing_stops_early } },
+    suturing = { wrench("RightWrench", value) },
     puma260 = { wrench("TipToBase", value), gap = { surface = puma_stops_moving } },
     door = { { lua = "stopComponents({'TorqueCmd'}) TorqueCmd.out:write(" .. value .. ")" }, moments = { "turn" } },
   }
