@@ -59,9 +59,6 @@ task "door" {
 
 local no_peer = "one process: no peer to lose (the DDS link exists only when the puncturing task is split over "
   .. "hosts; apps/puncturing/test/split_procedure_test.cpp loses one)"
--- Known gaps seen in more than one cell.
-local suturing_stops_early = "stopped 0.3 s into the first motion (the admittance's failure: the safe stop at once), an "
-  .. "arm still moves about 2 mm in the second after the safe stop (not yet understood)"
 
 -- Deployer code reconfiguring a component through its lifecycle with one property changed (a
 -- property read at configure): `value` is Lua source.
@@ -88,7 +85,7 @@ fault "none" {
 fault "update_exception" {
   text = "an exception in an update hook (the admittance's; the door's torque set-point)",
   puncturing = { { throw = "NeedleAdmittance" } },
-  suturing = { { throw = "RightAdmittance" }, gap = { over_wound = suturing_stops_early } },
+  suturing = { { throw = "RightAdmittance" } },
   puma260 = { { throw = "Admittance" } },
   door = { { throw = "TorqueCmd" }, moments = { "turn" } },
 }
@@ -105,7 +102,7 @@ local function nonFinite(name, what, value)
   fault(name) {
     text = what .. " on a pure-data input port (the admittance's measured wrench; the door's handle torque)",
     puncturing = { wrench("NeedleWrench", value) },
-    suturing = { wrench("RightWrench", value), gap = { over_wound = suturing_stops_early } },
+    suturing = { wrench("RightWrench", value) },
     puma260 = { wrench("TipToBase", value) },
     door = { { lua = "stopComponents({'TorqueCmd'}) TorqueCmd.out:write(" .. value .. ")" }, moments = { "turn" } },
   }

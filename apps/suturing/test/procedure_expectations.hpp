@@ -108,6 +108,18 @@ struct Signals {
   }
 };
 
+/// Both arms followed their commands during the autonomous motions (sampled over more than
+/// `seconds` s each): within the procedure's acceptance, no joint jump.
+inline void expectTracked(const RunResult& r, double seconds) {
+  ASSERT_EQ(r.tracking.size(), 2u);
+  for (const TrackingFigures& arm : r.tracking) {
+    EXPECT_GT(arm.seconds_sampled, seconds) << arm.robot;
+    EXPECT_LE(arm.position_mm.value, kMaxTrackingMm) << arm.robot << " at " << arm.position_mm.at << " s";
+    EXPECT_LE(arm.orientation_deg.value, kMaxTrackingDeg) << arm.robot;
+    EXPECT_EQ(arm.joint_jumps, 0) << arm.robot << ":\n" << arm.joint_jump_log;
+  }
+}
+
 /// Every planned stitch applied (both halves) and closed; the robot followed its commands.
 inline void expectSutured(const RunResult& r, std::size_t stitches) {
   ASSERT_TRUE(r.completed()) << r.reason;
@@ -116,13 +128,7 @@ inline void expectSutured(const RunResult& r, std::size_t stitches) {
   const SummaryValue& gaps = r.value("gap at the stitches after each stitch");
   ASSERT_EQ(gaps.values.size(), stitches) << gaps.text;
   for (std::size_t i = 0; i < gaps.values.size(); ++i) EXPECT_LT(gaps.values[i], kClosedGapMm) << "stitch " << i + 1;
-  ASSERT_EQ(r.tracking.size(), 2u);
-  for (const TrackingFigures& arm : r.tracking) {
-    EXPECT_GT(arm.seconds_sampled, 10.0) << arm.robot;
-    EXPECT_LE(arm.position_mm.value, kMaxTrackingMm) << arm.robot << " at " << arm.position_mm.at << " s";
-    EXPECT_LE(arm.orientation_deg.value, kMaxTrackingDeg) << arm.robot;
-    EXPECT_EQ(arm.joint_jumps, 0) << arm.robot << ":\n" << arm.joint_jump_log;
-  }
+  expectTracked(r, 10.0);
   // No IK refusal during the autonomous motions (in a teleoperation, the robot refusing a sudden
   // jump of the surgeon's set-point is its continuity rule at work).
   for (const report::EventRecord& e : r.events) {

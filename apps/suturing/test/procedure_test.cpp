@@ -35,34 +35,48 @@ namespace {
 
 using namespace suturing_testing;
 
-/// Done means at rest: over the second after the chart entered root.Done (the run watched on, see
-/// RunOptions::watch_after_end), neither tool's measured tip moves more than 0.25 mm from where it
-/// was then (the fault matrix holds a task to 0.5 mm; the RestMonitor answers at 0.5 mm/s). Without
-/// Finishing the stick and the Endo Stitch, let go of the thread's pull, moved 3.4 and 2.2 mm.
-void expectAtRestOnceDone(const RunResult& r, const Signals& signals) {
-  double done = -1.0;
+/// When the chart first entered `state` (s), -1 when it never did.
+double entered(const RunResult& r, const std::string& state) {
   for (const report::EventRecord& e : r.events)
-    if (e.state == "root.Done") {
-      done = e.time;
-      break;
-    }
-  ASSERT_GE(done, 0.0) << "the chart never entered root.Done";
+    if (e.state == state) return e.time;
+  return -1.0;
+}
+
+/// How far `port`'s position (a KDL.Frame column of signals.csv) moves from its first record at or
+/// after `from` (s) over the records after it [mm]; `seconds` is the span recorded from `from` (s).
+double movedSince(const Signals& signals, const std::string& port, double from, double& seconds) {
   const std::size_t t = signals.column("time");
+  const std::size_t x = signals.column(port + ".x");
+  const std::vector<double>* start = nullptr;
+  double worst = 0.0;
+  seconds = 0.0;
+  for (const auto& row : signals.rows) {
+    if (row[t] < from - 1e-9) continue;
+    if (start == nullptr) start = &row;
+    worst = std::max(worst, std::hypot(row[x] - (*start)[x], row[x + 1] - (*start)[x + 1], row[x + 2] - (*start)[x + 2]));
+    seconds = row[t] - from;
+  }
+  return worst * 1000.0;
+}
+
+/// Both tools hold over the second after the chart entered `state` (the run watched on, see
+/// RunOptions::watch_after_end): neither measured tip moves more than 0.25 mm from where it was
+/// then (the fault matrix holds a task to 0.5 mm; the RestMonitor answers at 0.5 mm/s).
+void expectBothToolsHoldAfter(const RunResult& r, const Signals& signals, const std::string& state) {
+  const double from = entered(r, state);
+  ASSERT_GE(from, 0.0) << "the chart never entered " << state;
   for (const std::string tool : {"ISUR.measRightCartPose", "ISUR.measLeftCartPose"}) {
-    const std::size_t x = signals.column(tool + ".x");
-    const std::vector<double>* start = nullptr;
-    double worst = 0.0, last = 0.0;
-    for (const auto& row : signals.rows) {
-      if (row[t] < done - 1e-9) continue;
-      if (start == nullptr) start = &row;
-      worst = std::max(worst, std::hypot(row[x] - (*start)[x], row[x + 1] - (*start)[x + 1], row[x + 2] - (*start)[x + 2]));
-      last = row[t];
-    }
-    EXPECT_GT(last - done, 0.95) << tool << ": the second after Done was not recorded";
-    EXPECT_LT(worst * 1000.0, 0.25) << tool << " moved after Done (mm)";
-    std::printf("%s: %.3f mm in the %.2f s after Done\n", tool.c_str(), worst * 1000.0, last - done);
+    double seconds = 0.0;
+    const double moved = movedSince(signals, tool, from, seconds);
+    EXPECT_GT(seconds, 0.95) << tool << ": the second after " << state << " was not recorded";
+    EXPECT_LT(moved, 0.25) << tool << " moved after " << state << " (mm)";
+    std::printf("%s: %.3f mm in the %.2f s after %s at %.3f s\n", tool.c_str(), moved, seconds, state.c_str(), from);
   }
 }
+
+/// Done means at rest (expectBothToolsHoldAfter root.Done). Without Finishing the stick and the
+/// Endo Stitch, let go of the thread's pull, moved 3.4 and 2.2 mm.
+void expectAtRestOnceDone(const RunResult& r, const Signals& signals) { expectBothToolsHoldAfter(r, signals, "root.Done"); }
 
 TEST(SuturingProcedure, TheStraightCutIsClosedWithFourStitchesThroughThePhasesAToH) {
   RunOptions o = options("straight_cut");
@@ -212,6 +226,41 @@ TEST(SuturingProcedure, ASurgeonWhoNeverReactsEndsTheProcedureInTheSafeStopNamin
   expectInOrder(r, {"SuturePlanner: e_plan_failed", "suture > root.WaitReaction", "TaskSup: e_reaction_timeout",
                     "suture > root.SafeStop"});
   EXPECT_EQ(count(r, "Surgeon: e_recover"), 0u);
+}
+
+/// A safe stop early in the first motion: the Endo Stitch's admittance fails 0.3 s into
+/// ApplyRightStitch.MoveOverWound (`faults`: as the fault matrix's over_wound cells), with both
+/// arms moving at about 19 mm/s along the planned pair of paths; the chart stops safely at once.
+/// The failed admittance holds the Endo Stitch (its admPose frozen) and tells the trajectory
+/// generator (heldRefPose), which holds the stick too: both tools hold over the second after the
+/// safe stop (before, the stick ran on through the generator's 0.2 s stop motion, 2.0 mm), and the
+/// arms tracked their commands until then.
+void expectBothArmsHoldAfterAnEarlySafeStop(const std::string& faults, const std::string& event) {
+  RunOptions o = withFaults(faults);
+  o.watch_after_end = 1.0;  // s: the run steps on after the safe stop, recorded (the tools must hold)
+  o.report_folder = std::filesystem::temp_directory_path() / ("cobra_suturing_stop_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(o.report_folder);
+  const RunResult r = runApp(o);
+  ASSERT_EQ(r.outcome, Outcome::SafeStop) << r.reason;
+  expectInOrder(r, {"suture > root.AutonomousMode.ApplyRightStitch.MoveOverWound", event, "suture > root.SafeStop",
+                    "suture safe stop"});
+  const double stopped = entered(r, "root.SafeStop");
+  EXPECT_NEAR(stopped, 0.3, 0.01) << "s: the safe stop early in the first motion";
+  expectTracked(r, 0.25);  // s: the first motion's 0.3 s at least
+  const Signals signals(o.report_folder);
+  // The stick was moving when it stopped (the hold below is not a robot that never moved).
+  double seconds = 0.0;
+  EXPECT_GT(movedSince(signals, "ISUR.measLeftCartPose", stopped - 0.1, seconds), 1.0) << "mm in the 0.1 s before";
+  expectBothToolsHoldAfter(r, signals, "root.SafeStop");
+  std::filesystem::remove_all(o.report_folder);
+}
+
+TEST(SuturingProcedure, TheAdmittanceFailingEarlyInTheFirstMotionStopsSafelyAndBothArmsHold) {
+  expectBothArmsHoldAfterAnEarlySafeStop("admittance_fails_over_wound.lua", "RightAdmittance: e_component_error");
+}
+
+TEST(SuturingProcedure, ANonFiniteWrenchEarlyInTheFirstMotionStopsSafelyAndBothArmsHold) {
+  expectBothArmsHoldAfterAnEarlySafeStop("nan_wrench_over_wound.lua", "RightAdmittance: e_input_not_finite");
 }
 
 /// The suturing application loaded as `cobra run` loads it, on the lockstep clock, with its task

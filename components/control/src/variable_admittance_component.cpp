@@ -182,6 +182,7 @@ void VariableAdmittanceController::updateHook() {
     }
     adm_twist_.write(KDL::Twist::Zero());
     dissipated_power_.write(0.0);
+    holdProducer();
     return;  // admPose keeps its last sample: the robot holds where it is
   }
   not_finite_ = false;
@@ -238,6 +239,19 @@ void VariableAdmittanceController::updateHook() {
   adm_twist_.write(twist);
   tank_energy_.write(controller_->tankEnergy());
   dissipated_power_.write(controller_->dissipatedPower());
+}
+
+void VariableAdmittanceController::holdProducer() noexcept {
+  // The reference the last output was stepped about (reference_ may have moved on since): the
+  // producer's set-point goes back to it, so a resumed step continues from admPose without a jump.
+  if (stepped_) held_ref_pose_.write(previous_reference_);
+}
+
+void VariableAdmittanceController::exceptionHook() {
+  // Nothing steps any more: admPose keeps its last sample (the robot holds there), and the
+  // producer of refPose is told, so that the other arms of its motion stop with this one.
+  adm_twist_.write(KDL::Twist::Zero());
+  holdProducer();
 }
 
 }  // namespace cobra::components

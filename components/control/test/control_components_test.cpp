@@ -8,6 +8,7 @@
 #include "cobra/components/builtin_packages.hpp"
 #include "cobra/components/control/package.hpp"
 #include "cobra/components/control/variable_admittance_component.hpp"
+#include "cobra/core/fault_injection.hpp"
 #include "cobra/deploy/deploy.hpp"
 #include "cobra/deploy/lua_deployer.hpp"
 #include "cobra/test_support/counting_new.hpp"
@@ -259,6 +260,46 @@ TEST(ControlComponents, AHeldPoseReSyncsTheOutputWhichStaysThereUntilANewReferen
     before = p;
   }
   EXPECT_GT(p.p.y() - held.p.y(), 0.005);  // m: it moved on with the reference
+}
+
+// The admittance holding on a failure (a non-finite wrench refused; a hook that threw) tells the
+// producer of its reference (heldRefPose, the trajectory generator's heldPose_i) where the
+// reference of its last output was, so that the producer's motion, all of its arms, ends there
+// with this arm: each step of a non-finite episode, and once on entering Exception.
+TEST(ControlComponents, AnAdmittanceHoldingOnAFailureTellsItsReferencesProducerWhereItHolds) {
+  Deployed d("puncturing");
+  core::Component& a = d.configurator.getReferences().get("Admittance");
+  core::InputPort<KDL::Frame> held_reference{"heldReference", "", "m"};
+  core::connectPorts(a.port("heldRefPose"), held_reference);
+  d.deployer.run("applyConfiguration('free_motion')", "task.lua");
+  const KDL::Wrench none = KDL::Wrench::Zero();
+  KDL::Frame ref = KDL::Frame::Identity();
+  const auto move = [&](int steps, const KDL::Wrench& w) {  // along x at 0.04 m/s
+    for (int i = 0; i < steps; ++i) {
+      ref.p.x(ref.p.x() + 4e-5);
+      d.run(1ms, w, ref);
+    }
+  };
+  move(100, none);
+  KDL::Frame told;
+  EXPECT_EQ(held_reference.read(told), core::FlowStatus::NoData);  // nothing held yet
+  const KDL::Frame last_stepped = ref;
+  const KDL::Wrench broken(KDL::Vector(std::numeric_limits<double>::quiet_NaN(), 0, 0), KDL::Vector::Zero());
+  for (int i = 0; i < 5; ++i) {
+    move(1, broken);  // the reference moves on; the output holds
+    ASSERT_EQ(held_reference.read(told), core::FlowStatus::NewData) << "step " << i << " of the episode";
+    EXPECT_TRUE(KDL::Equal(told, last_stepped, 1e-12)) << "the reference of the last output, not the moved-on one";
+  }
+  move(50, none);  // resumed
+  EXPECT_EQ(held_reference.read(told), core::FlowStatus::OldData);  // not held any more: nothing new
+  const KDL::Frame before_throw = ref;
+  core::injectUpdateException(a, "a bug in the admittance");
+  move(1, none);
+  ASSERT_EQ(a.state(), core::State::Exception);
+  ASSERT_EQ(held_reference.read(told), core::FlowStatus::NewData);
+  EXPECT_TRUE(KDL::Equal(told, before_throw, 1e-12));
+  move(10, none);
+  EXPECT_EQ(held_reference.read(told), core::FlowStatus::OldData);  // told once: nothing steps any more
 }
 
 TEST(ControlComponents, SuturingConfigurationsLoadAndApply) {

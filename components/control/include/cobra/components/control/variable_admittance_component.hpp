@@ -59,6 +59,13 @@ namespace cobra::components {
 /// the value into its state), admPose keeps its last sample (the robot holds), admTwist is zero,
 /// and e_input_not_finite is emitted once per episode (again after a finite sample of both). The
 /// operation `lastFailure` (for `cobra run`'s safe stop) says when and on which port.
+/// Holding on a non-finite input (each step of the episode) and on entering Exception (a hook
+/// threw: nothing steps any more), the controller writes `heldRefPose` too, with the reference its
+/// last output was stepped about: the producer of refPose (CartesianTrajectoryGenerator's
+/// heldPose_i) ends its motion there at once and holds every arm it drives at its current
+/// set-point, so the other arms of a coordinated motion stop with this one instead of running
+/// on through a stop motion (one arm frozen, the other decelerating along the pair's path).
+/// Nothing is written before the controller has commanded anything.
 class VariableAdmittanceController : public core::Component {
  public:
   explicit VariableAdmittanceController(std::string name);
@@ -73,8 +80,11 @@ class VariableAdmittanceController : public core::Component {
   bool configureHook() override;
   bool startHook() override;
   void updateHook() override;
+  void exceptionHook() override;
 
  private:
+  /// Writes heldRefPose (the reference of the last step) once the controller has stepped.
+  void holdProducer() noexcept;
   /// True when the reference moved or turned faster than max_reference_speed /
   /// max_reference_angular_speed over `dt` s since the last step (a jump to rebase on).
   bool referenceJumped(double dt) const noexcept;
@@ -109,8 +119,8 @@ class VariableAdmittanceController : public core::Component {
                                          "m"};
   core::OutputPort<KDL::Frame> held_ref_pose_{
       "heldRefPose",
-      "written at each re-sync: the reference whose output is the held pose (base frame); the held pose for whatever "
-      "produces refPose",
+      "written at each re-sync, and while holding on a non-finite input or in Exception: the reference whose output "
+      "is the held pose (base frame); the held pose for whatever produces refPose",
       "m"};
   core::OutputPort<KDL::Frame> adm_pose_{"admPose", "the admittance's pose", "m"};
   core::OutputPort<KDL::Twist> adm_twist_{"admTwist", "the admittance's twist", "m/s, rad/s"};
