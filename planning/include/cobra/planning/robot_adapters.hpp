@@ -178,9 +178,11 @@ class IsurPuncturingModel final : public RobotModel {
   Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                            std::span<double> q) override;
   /// Of the two representations of the wrist angles (pitch θ and π - θ), the one nearest `start`
-  /// whose joints follow the start's redundancy rule without any clamping (q4 where the yaw share
-  /// leaves it, q6 - q7 the start's): the goal of a path that does not turn the base turntable.
-  /// When neither is reachable so, inverseNear(). (The solver alone picks the representation
+  /// (joints q4..q8): each as its joints follow the start's redundancy rule without any clamping
+  /// (q4 where the yaw share leaves it, q6 - q7 the start's), or, where the rule does not reach it
+  /// on that representation (the delta at the end of its stroke), as the solver reaches it on that
+  /// representation (the elbow at the nearest split the delta reaches, as the controllers take
+  /// it). When neither is reachable, inverseNear(). (The solver alone picks the representation
   /// nearest over all joints, which may need the turntable where a half turn of the roll q8 would
   /// do.)
   Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
