@@ -516,7 +516,7 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
   // controllers would follow it.
   planned.back() = goal;
   std::string failure;
-  if (!verify(planned, start_poses, goal_poses, layout, start, result, failure))
+  if (!verify(planned, start_poses, goal_poses, search_goal, layout, start, result, failure))
     return finish(PlanStatus::PathInvalid, "the path cannot be followed: " + failure);
   return finish(PlanStatus::Solved, "solved by " + options_.planner + " with " +
                                         std::to_string(result.waypoints.size()) + " waypoints");
@@ -702,6 +702,7 @@ bool MotionPlanner::insertCrossing(std::vector<JointState>& planned, std::vector
 }
 
 bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
+                           const JointState& search_goal,
                            Layout& layout, const JointState& start, PlanResult& result, std::string& failure) {
   // Cartesian waypoints: the tool poses of the planned joints, exactly the start and goal at the ends.
   std::vector<DualPose> poses(planned.size());
@@ -733,11 +734,18 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
       failure += " (after " + std::to_string(options_.max_subdivisions) + " subdivisions)";
       return false;
     }
-    layout.values(validator_, planned[k], a.data());
-    layout.values(validator_, planned[k + 1], b.data());
-    for (std::size_t i = 0; i < mid.size(); ++i) mid[i] = 0.5 * (a[i] + b[i]);
     JointState middle = start;
-    layout.joints(validator_, mid.data(), start, middle);
+    if (k + 2 == planned.size() && planned[k] != search_goal && planned[k + 1] != search_goal) {
+      // The segment into a goal off the redundancy rule: its joint-space midpoint would be halfway
+      // to the goal's projection on the rule (searchGoal: often not valid); the search's goal,
+      // on the rule next to the goal, splits it instead.
+      middle = search_goal;
+    } else {
+      layout.values(validator_, planned[k], a.data());
+      layout.values(validator_, planned[k + 1], b.data());
+      for (std::size_t i = 0; i < mid.size(); ++i) mid[i] = 0.5 * (a[i] + b[i]);
+      layout.joints(validator_, mid.data(), start, middle);
+    }
     DualPose middle_poses;
     if (!validator_.toolPoses(middle, middle_poses) || !checkState(middle).valid()) {
       failure += " (the planned midpoint is not valid)";

@@ -243,9 +243,10 @@ class MotionPlanner {
   bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,
                       std::vector<char>& crossing, std::size_t k, std::size_t level);
   /// The dense verification of the planned joints' Cartesian path, halving failing segments in
-  /// joint space; fills result.waypoints and joint_waypoints, or returns false with `failure`.
+  /// joint space (the segment into the goal first at `search_goal`, searchGoal's, when that is not
+  /// the goal); fills result.waypoints and joint_waypoints, or returns false with `failure`.
   bool verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
-              Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
+              const JointState& search_goal, Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
   /// True when the query's time or work budget is spent. The planners poll it once per iteration
   /// (OMPL's termination condition): each call for the query that began at `started` counts one
   /// iteration of max_validity_checks.
