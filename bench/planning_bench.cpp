@@ -36,7 +36,8 @@
 //    `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock times
 //    include waiting for a shared core), `searches_per_query`, `re_searched` (queries
 //    re-searched after a failed verification), `sampled_refused` (walk segments and starts
-//    drawn again, by cause on stderr, with each failure's message by count). RRTConnect, BiTRRT,
+//    drawn again, by cause on stderr, with each failure's message by count and the failed queries'
+//    indices: query i is planned with seed i + 1). RRTConnect, BiTRRT,
 //    LazyPRM, LBKPIECE1 and BIT* side by side on the same queries; after the run a table of
 //    success, median, p95 and worst per planner and draw goes to stdout.
 //  - RandomQueriesIndependent/RRTConnect, RandomQueriesSuturingIndependent/RRTConnect: the

@@ -734,20 +734,21 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
       failure += " (after " + std::to_string(options_.max_subdivisions) + " subdivisions)";
       return false;
     }
+    layout.values(validator_, planned[k], a.data());
+    layout.values(validator_, planned[k + 1], b.data());
+    for (std::size_t i = 0; i < mid.size(); ++i) mid[i] = 0.5 * (a[i] + b[i]);
     JointState middle = start;
-    if (k + 2 == planned.size() && planned[k] != search_goal && planned[k + 1] != search_goal) {
-      // The segment into a goal off the redundancy rule: its joint-space midpoint would be halfway
-      // to the goal's projection on the rule (searchGoal: often not valid); the search's goal,
-      // on the rule next to the goal, splits it instead.
-      middle = search_goal;
-    } else {
-      layout.values(validator_, planned[k], a.data());
-      layout.values(validator_, planned[k + 1], b.data());
-      for (std::size_t i = 0; i < mid.size(); ++i) mid[i] = 0.5 * (a[i] + b[i]);
-      layout.joints(validator_, mid.data(), start, middle);
-    }
+    layout.joints(validator_, mid.data(), start, middle);
     DualPose middle_poses;
-    if (!validator_.toolPoses(middle, middle_poses) || !checkState(middle).valid()) {
+    bool valid = validator_.toolPoses(middle, middle_poses) && checkState(middle).valid();
+    if (!valid && k + 2 == planned.size() && planned[k] != search_goal && planned[k + 1] != search_goal) {
+      // The segment into a goal off the redundancy rule: its joint-space midpoint lies halfway to
+      // the goal's projection on the rule (searchGoal), often not a valid state; the search's
+      // goal, on the rule next to the goal, splits it instead.
+      middle = search_goal;
+      valid = validator_.toolPoses(middle, middle_poses) && checkState(middle).valid();
+    }
+    if (!valid) {
       failure += " (the planned midpoint is not valid)";
       return false;
     }
