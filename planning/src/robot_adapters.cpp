@@ -305,27 +305,32 @@ Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_
   const double roll = std::atan2(r(2, 1), r(2, 2));
   double best_distance = std::numeric_limits<double>::infinity();
   std::array<double, kJoints> candidate{};
-  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = start[j];
   for (const auto& [y, p, ro] : {std::array<double, 3>{yaw, pitch, roll},
                                   std::array<double, 3>{yaw + std::numbers::pi, std::numbers::pi - pitch,
                                                         roll + std::numbers::pi}}) {
-    if (!onRule(tools_in_base[0], y, p, ro, start, candidate)) {
-      // Off the rule on this representation (the delta at the end of its stroke for the rule's
-      // elbow, or a joint's limit): the control path's IK on it, which moves the elbow to the
-      // nearest split the delta reaches, competes too. Without it the other representation, on
-      // the rule only with the base turntable turned and the wrist flipped (yaw + π), was taken
-      // though the controllers reach this one from the start without either: a goal half a turn
-      // away, often in contact with the other arm.
-      if (solver_.inverseOnBranch(tools_in_base[0], seed_, kinematics::IsurPuncturingSolver::pitchBranch(p), q_) !=
-          IkStatus::Ok)
-        continue;
-      for (unsigned j = 0; j < kJoints; ++j) candidate[j] = q_(j);
-    }
+    if (!onRule(tools_in_base[0], y, p, ro, start, candidate)) continue;
     double distance = 0.0;
     for (unsigned j = 3; j < kJoints; ++j) distance += (candidate[j] - start[j]) * (candidate[j] - start[j]);
     if (distance < best_distance) {
       best_distance = distance;
       std::copy(candidate.begin(), candidate.end(), q.begin());
+    }
+  }
+  const kinematics::IkBranch start_branch = solver_.branch(start);
+  if (std::isfinite(best_distance) && start_branch.compatibleWith(solver_.branch(std::span<const double>(q.data(), kJoints))))
+    return Reachability::Reachable;
+  // The rule reaches the goal only on the other wrist representation than the start's (the
+  // needle's pitch across ±90°, the yaw turned half a turn: suturing query 29 of the random
+  // queries, the base turntable turned 2.3 rad and the arms in contact) or not at all: the
+  // control path's IK on the start's representation competes, which moves the elbow off the rule
+  // to the nearest split the delta reaches (at the end of its stroke), as the controllers do.
+  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = start[j];
+  if (solver_.inverseOnBranch(tools_in_base[0], seed_, start_branch, q_) == IkStatus::Ok) {
+    double distance = 0.0;
+    for (unsigned j = 3; j < kJoints; ++j) distance += (q_(j) - start[j]) * (q_(j) - start[j]);
+    if (distance < best_distance) {
+      for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+      return Reachability::Reachable;
     }
   }
   return std::isfinite(best_distance) ? Reachability::Reachable : inverseNear(tools_in_base, start, q);
