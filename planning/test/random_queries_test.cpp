@@ -117,15 +117,20 @@ TEST(RandomQueries, ThePlannerAcceptsEveryGoalTheControllersReach) {
   EXPECT_EQ(acceptedGoals(test::suturingRandom("RRTConnect"), 40), 40u);
 }
 
-// The target is 99 %: measured, all 50 (the bench's first 50 walked queries).
+// The target is 99 % (the bench's 1,000): here the bench's first 120 walked queries, every one
+// solved (measured). They hold goals where the delta's stroke moves the I-SUR's elbow off its
+// rule and the goal's projection on the rule lies outside the planner's tool bounds (queries 71
+// and 116), which failed before the search headed for a valid configuration on the rule next to
+// the goal (MotionPlanner::searchGoal).
 TEST(RandomQueries, PuncturingQueriesAreSolvedAndTheControllersFollowEveryPath) {
-  EXPECT_GE(planAndCrossCheck(test::puncturingRandom("RRTConnect"), 50), 50u);
+  EXPECT_EQ(planAndCrossCheck(test::puncturingRandom("RRTConnect"), 120), 120u);
 }
 
-// The suturing scene's first 20 walked queries: measured, all 20 solved, every path followed by
-// the two-armed robot's controller.
+// The suturing scene's first 70 walked queries: measured, all 70 solved, every path followed by
+// the two-armed robot's controller. Queries 11, 29, 54, 62 and 63 failed before (their goals off
+// the Endo Stitch arm's rule: the goal IK flipped the wrist, or the search's goal was not valid).
 TEST(RandomQueries, SuturingQueriesAreSolvedAndTheTwoArmedRobotsControllerFollowsEveryPath) {
-  EXPECT_GE(planAndCrossCheck(test::suturingRandom("RRTConnect"), 20), 20u);
+  EXPECT_EQ(planAndCrossCheck(test::suturingRandom("RRTConnect"), 70), 70u);
 }
 
 }  // namespace
