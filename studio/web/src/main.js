@@ -140,7 +140,12 @@ function startLive(view, panel, plots, trails, state, model) {
       showError(err.message);
     }
   };
+  // The run's time only goes forward: a frame at or before the newest one applied (the history's,
+  // then the socket's) is a copy or stale, and would fold the plots back on themselves.
+  let newestT = -Infinity;
   const frame = (msg) => {
+    if (!(msg.t > newestT)) return;
+    newestT = msg.t;
     for (const [name, e] of Object.entries(entries)) {
       if (msg.charts?.[name] === e.state) continue;
       Object.assign(e, { state: msg.charts?.[name], before: e.at, at: msg.t });
