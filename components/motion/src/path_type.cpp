@@ -41,15 +41,26 @@ bool DataTypeTraits<trajectory::MultiAxisPath>::parse(std::string_view text, tra
 
 namespace cobra::components {
 
+void encodeCartesianPose(const KDL::Frame& pose, double* values) noexcept {
+  double qx = 0, qy = 0, qz = 0, qw = 1;
+  pose.M.GetQuaternion(qx, qy, qz, qw);
+  values[0] = pose.p.x();
+  values[1] = pose.p.y();
+  values[2] = pose.p.z();
+  values[3] = qx;
+  values[4] = qy;
+  values[5] = qz;
+  values[6] = qw;
+}
+
 trajectory::MultiAxisPath encodeCartesianPath(const std::vector<std::vector<KDL::Frame>>& waypoints) {
   trajectory::MultiAxisPath path;
   for (const auto& poses : waypoints) {
     std::vector<double> values;
     values.reserve(poses.size() * kValuesPerArm);
     for (const KDL::Frame& pose : poses) {
-      double qx = 0, qy = 0, qz = 0, qw = 1;
-      pose.M.GetQuaternion(qx, qy, qz, qw);
-      values.insert(values.end(), {pose.p.x(), pose.p.y(), pose.p.z(), qx, qy, qz, qw});
+      values.resize(values.size() + kValuesPerArm);
+      encodeCartesianPose(pose, values.data() + values.size() - kValuesPerArm);
     }
     path.addWaypoint(std::move(values));
   }

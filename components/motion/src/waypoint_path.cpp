@@ -56,18 +56,6 @@ bool WaypointPath::startHook() {
 
 void WaypointPath::askPath() { ask_path_.ask(activity()); }
 
-void WaypointPath::fill(std::vector<double>& values, const KDL::Frame& pose) noexcept {
-  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
-  pose.M.GetQuaternion(qx, qy, qz, qw);
-  values[0] = pose.p.x();
-  values[1] = pose.p.y();
-  values[2] = pose.p.z();
-  values[3] = qx;
-  values[4] = qy;
-  values[5] = qz;
-  values[6] = qw;
-}
-
 void WaypointPath::updateHook() {
   if (meas_pose_.read(measured_) != core::FlowStatus::NoData) have_measured_ = true;
   if (!ask_path_.take()) return;
@@ -75,10 +63,11 @@ void WaypointPath::updateHook() {
     emitEvent("e_no_data");
     return;
   }
-  fill(path_data_.waypoint(0), measured_);
+  encodeCartesianPose(measured_, path_data_.waypoint(0).data());
   if (relative_())
     for (std::size_t k = 0; k < offsets_.size(); ++k)
-      fill(path_data_.waypoint(k + 1), KDL::Frame(offsets_[k].M * measured_.M, measured_.p + offsets_[k].p));
+      encodeCartesianPose(KDL::Frame(offsets_[k].M * measured_.M, measured_.p + offsets_[k].p),
+                          path_data_.waypoint(k + 1).data());
   path_.write(path_data_);
   emitEvent("e_path_sent");
 }

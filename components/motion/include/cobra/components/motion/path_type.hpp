@@ -34,6 +34,10 @@ namespace cobra::components {
 /// Values per arm in a Cartesian path waypoint (x, y, z, qx, qy, qz, qw).
 inline constexpr std::size_t kValuesPerArm = 7;
 
+/// Writes `pose` as one arm's 7 values (x, y, z [m], qx, qy, qz, qw) at `values[0..6]`, in place:
+/// allocates nothing (a real-time path refilled each time it is sent). `values` holds at least 7.
+void encodeCartesianPose(const KDL::Frame& pose, double* values) noexcept;
+
 /// `waypoints[k][arm]` in the encoding above.
 trajectory::MultiAxisPath encodeCartesianPath(const std::vector<std::vector<KDL::Frame>>& waypoints);
 

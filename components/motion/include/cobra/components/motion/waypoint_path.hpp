@@ -42,8 +42,6 @@ class WaypointPath : public core::Component {
 
  private:
   void askPath();
-  /// `values` (7: x y z [m] qx qy qz qw) from `pose`.
-  static void fill(std::vector<double>& values, const KDL::Frame& pose) noexcept;
 
   core::Property<std::vector<double>> waypoints_{
       "waypoints", {}, "m, 1", "poses of the path after the measured one: x y z [m] qx qy qz qw, 7 values each"};
