@@ -164,19 +164,18 @@ function startLive(view, panel, plots, trails, state, model) {
   };
   // A page that comes mid-run first takes the run's history (the events so far, the plots' and
   // trails' frames): the socket opens at once and what it brings meanwhile waits, then only what
-  // the history does not hold is applied (frames after its last, events it lacks).
+  // the history does not hold is applied (frames after its last: frame() drops the others; events
+  // it lacks).
   let waiting = [];
   connectLive(Object.fromEntries(Object.entries(handlers).map(([type, handle]) => [type, (msg) => {
     if (waiting) waiting.push([handle, msg]);
     else handle(msg);
   }])));
   const replayWaiting = (history) => {
-    const lastT = history.frames.at(-1)?.t ?? -Infinity;
     const seen = new Set(history.events.map((e) => JSON.stringify(e)));
     for (const f of history.frames) frame(f);
     for (const e of history.events) panel.addEvent(e);
     for (const [handle, msg] of waiting.splice(0)) {
-      if (msg.type === 'frame' && msg.t <= lastT) continue;
       if (msg.type === 'event' && seen.has(JSON.stringify(msg))) continue;
       handle(msg);
     }
