@@ -36,7 +36,8 @@
 //    `median_ms`, `p95_ms`, `max_ms` and `cpu_median_ms` (process CPU time: wall-clock times
 //    include waiting for a shared core), `searches_per_query`, `re_searched` (queries
 //    re-searched after a failed verification), `sampled_refused` (walk segments and starts
-//    drawn again, by cause on stderr, with each failure's message by count). RRTConnect, BiTRRT,
+//    drawn again, by cause on stderr, with each failure's message by count and the failed queries'
+//    indices: query i is planned with seed i + 1). RRTConnect, BiTRRT,
 //    LazyPRM, LBKPIECE1 and BIT* side by side on the same queries; after the run a table of
 //    success, median, p95 and worst per planner and draw goes to stdout.
 //  - RandomQueriesIndependent/RRTConnect, RandomQueriesSuturingIndependent/RRTConnect: the
@@ -247,11 +248,12 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, bool walk
   const std::vector<Query>& queries = drawnQueries(scene_name, walked, validator, setup, refused);
   std::vector<double> times_ms, cpu_ms;
   std::map<PlanStatus, int> outcomes;
-  std::map<std::string, int> reasons;
+  std::map<std::string, std::vector<std::size_t>> reasons;  // failure cause -> the queries' indices
   std::size_t searches = 0, researched = 0;
   for (auto _ : state) {
     std::uint32_t seed = 1;
-    for (const Query& query : queries) {
+    for (std::size_t index = 0; index < queries.size(); ++index) {
+      const Query& query = queries[index];
       PlannerOptions o = setup.options;
       o.seed = seed++;
       // The trajectory generator's speeds of the planner that would ask.
@@ -265,7 +267,7 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, bool walk
       ++outcomes[result.status];
       searches += result.searches;
       researched += result.searches > 1 ? 1 : 0;
-      if (!result.solved()) ++reasons[std::string(toString(result.status)) + ": " + reasonOf(result.message)];
+      if (!result.solved()) reasons[std::string(toString(result.status)) + ": " + reasonOf(result.message)].push_back(index);
     }
   }
   const double success = static_cast<double>(outcomes[PlanStatus::Solved]) / static_cast<double>(queries.size());
@@ -294,9 +296,15 @@ void BM_Random(benchmark::State& state, const std::string& scene_name, bool walk
     refusals += std::string(refusals.empty() ? "" : ", ") + std::to_string(count) + " " + why;
   }
   state.counters["sampled_refused"] = sampled_refused;
-  // The failures' causes (numbers as '#'), most frequent first, to stderr.
+  // The failures' causes (numbers as '#'), most frequent first, each with its first queries'
+  // indices (a query's seed is its index + 1: random_queries_test.cpp replays it), to stderr.
   std::vector<std::pair<int, std::string>> causes;
-  for (const auto& [reason, count] : reasons) causes.emplace_back(count, reason);
+  for (const auto& [reason, indices] : reasons) {
+    std::string listed;
+    for (std::size_t i = 0; i < indices.size() && i < 20; ++i) listed += (i == 0 ? "" : " ") + std::to_string(indices[i]);
+    if (indices.size() > 20) listed += " ...";
+    causes.emplace_back(static_cast<int>(indices.size()), reason + " [queries " + listed + "]");
+  }
   std::sort(causes.rbegin(), causes.rend());
   std::fprintf(stderr, "RandomQueries %s %s/%s: %zu queries (%d samples drawn again: %s)\n",
                walked ? "walked" : "independent", scene_name.c_str(), setup.options.planner.c_str(), queries.size(),

@@ -272,9 +272,8 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
   // otherwise the continuity-keeping IK's own resolution, e.g. the I-SUR's elbow q6 - q7 moved off
   // its preferred value where the delta is at the end of its stroke (IsurPuncturingSolver's split
   // search), where the controllers take the robot too. Such a goal is not refused: the search
-  // heads for its projection on the rule (RobotModel::jointsOf of its coordinates: the same
-  // sliders, yaw, pitch and roll), and the path's last Cartesian segment, into the goal itself, is
-  // verified with that IK like every other segment.
+  // heads for the configuration on the rule nearest it (searchGoal), and the path's last
+  // Cartesian segment, into the goal itself, is verified with that IK like every other segment.
   result.status = PlanStatus::Solved;
   return result;
 }
@@ -327,6 +326,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
     return detail::finished(std::move(result), PlanStatus::Solved, "solved: the tools are at the goal already", started);
   }
   setVelocityLimits();
+  const JointState search_goal = searchGoal(start, start_poses, goal, goal_joints, moving);
   // A path the dense verification rejects is discarded and the search re-run with the next seed
   // while the budget lasts: the sequence of seeds is fixed, so the outcome stays reproducible.
   // The first search looks in the box around the start and the goal (local_search_share of the
@@ -336,7 +336,7 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   bool local = options_.local_search_share > 0.0;
   for (std::size_t searches = 1;; ++searches) {
     PlanResult attempt =
-        searchJoints(start, start_poses, goal_joints, goal, moving, started, seed, refinement, local);
+        searchJoints(start, start_poses, goal_joints, goal, search_goal, moving, started, seed, refinement, local);
     attempt.searches = searches;
     if (spent(started) || seed == UINT32_MAX) return attempt;
     if (local && attempt.status == PlanStatus::NoSolution) {
@@ -351,8 +351,73 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
   }
 }
 
+JointState MotionPlanner::searchGoal(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                                     const JointState& goal_joints, const std::vector<bool>& moving) {
+  // Where the control path's IK takes a robot off its redundancy rule at the goal (the I-SUR's
+  // elbow moved because the delta is at the end of its stroke), the goal has no planning
+  // coordinates: theirs stand for the configuration on the rule with the same sliders and wrist
+  // angles (the projection), whose tool lies elsewhere, by up to the upper arm's length times the
+  // elbow's move. The search heads for the projection when it is a valid state; otherwise (its
+  // tool outside the planner's bounds or in contact) for the configuration on the rule nearest
+  // the goal on the straight Cartesian segment from the goal towards the projection's tools, else
+  // towards the start's (inside the bounds: both ends are), found by bisection: the nearest pose
+  // from which the rule is reachable. The path's last segment then ends in the goal itself,
+  // verified like every other: along it the controllers move the elbow off the rule as the delta
+  // reaches its stroke, as they did on the way to the goal.
+  constexpr int kBisections = 24;  // 2^-24 of the segment: well under a micrometre
+  const auto onRule = [&](const JointState& q) {
+    for (std::size_t r = 0; r < moving.size(); ++r)
+      if (moving[r] && offRule(validator_, r, q, start) >= 0) return false;
+    return true;
+  };
+  if (onRule(goal_joints)) return goal_joints;
+  const auto valid = [&](const JointState& q) {
+    for (std::size_t r = 0; r < moving.size(); ++r) {
+      const std::size_t offset = validator_.jointOffset(r), n = validator_.model(r).jointCount();
+      const auto robot = [&](const JointState& x) { return std::span<const double>(x).subspan(offset, n); };
+      if (moving[r] && !validator_.model(r).keepsBranch(robot(q), robot(start), robot(goal_joints))) return false;
+    }
+    return checkState(q).valid();
+  };
+  JointState projection = goal_joints;
+  for (std::size_t r = 0; r < moving.size(); ++r) {
+    if (!moving[r]) continue;
+    RobotModel& model = validator_.model(r);
+    const std::size_t offset = validator_.jointOffset(r), n = model.jointCount();
+    std::vector<double> coordinates(model.coordinateCount());
+    model.coordinatesOf(std::span<const double>(goal_joints).subspan(offset, n), coordinates);
+    model.jointsOf(coordinates, std::span<const double>(start).subspan(offset, n),
+                   std::span<double>(projection).subspan(offset, n));
+  }
+  DualPose projection_poses;
+  if (!validator_.toolPoses(projection, projection_poses) || valid(projection)) return projection;
+  JointState q(goal_joints.size()), boundary;
+  for (const DualPose* far : {static_cast<const DualPose*>(&projection_poses), &start_poses}) {
+    const auto onRuleAt = [&](double s) {
+      const DualPose pose{interpolate(goal.first, far->first, s), interpolate(goal.second, far->second, s)};
+      std::size_t robot = 0;
+      return validator_.inverseGoal(pose, start, q, robot) == Reachability::Reachable && onRule(q);
+    };
+    if (!onRuleAt(1.0)) continue;
+    boundary = q;
+    double off = 0.0, on = 1.0;
+    for (int i = 0; i < kBisections; ++i) {
+      const double middle = 0.5 * (off + on);
+      if (onRuleAt(middle)) {
+        on = middle;
+        boundary = q;
+      } else {
+        off = middle;
+      }
+    }
+    if (valid(boundary)) return boundary;
+  }
+  return projection;  // not valid: the search reports it
+}
+
 PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
-                                       const DualPose& goal_poses, const std::vector<bool>& moving,
+                                       const DualPose& goal_poses, const JointState& search_goal,
+                                       const std::vector<bool>& moving,
                                        std::chrono::steady_clock::time_point started, std::uint32_t seed,
                                        std::size_t refinement, bool local) {
   PlanResult result;
@@ -378,11 +443,11 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     const std::span<const double> robot_start = std::span<const double>(start).subspan(b.joint_offset, b.joint_count);
     std::vector<double> lower(b.coordinate_count), upper(b.coordinate_count), at_start(b.coordinate_count),
         at_goal(b.coordinate_count);
-    model.coordinateBounds(robot_start, std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), lower,
-                           upper);
+    const std::span<const double> robot_goal = std::span<const double>(search_goal).subspan(b.joint_offset, b.joint_count);
+    model.coordinateBounds(robot_start, robot_goal, lower, upper);
     model.coordinateScales(std::span<double>(layout.scale).subspan(b.coordinate_offset, b.coordinate_count));
     model.coordinatesOf(robot_start, at_start);
-    model.coordinatesOf(std::span<const double>(goal).subspan(b.joint_offset, b.joint_count), at_goal);
+    model.coordinatesOf(robot_goal, at_goal);
     for (std::size_t i = 0; i < b.coordinate_count; ++i) {
       const double scale = layout.scale[b.coordinate_offset + i];
       if (local) {  // the box around start and goal (PlannerOptions::local_search_share)
@@ -415,8 +480,18 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
       options_.edge_resolution / static_cast<double>(std::size_t{1} << std::min<std::size_t>(refinement, 3)));
   ob::ScopedState<> start_state(space), goal_state(space);
   layout.values(validator_, start, start_state->as<ob::RealVectorStateSpace::StateType>()->values);
-  layout.values(validator_, goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
+  layout.values(validator_, search_goal, goal_state->as<ob::RealVectorStateSpace::StateType>()->values);
   setup.setStartAndGoalStates(start_state, goal_state);
+  // The goal as the search holds it (searchGoal: on every robot's redundancy rule). OMPL's
+  // planners wait for a valid goal state, sleeping 10 ms per poll of the termination condition
+  // until the budget is spent (PlannerInputStates::nextGoal: 100 s for a work limit of 10,000),
+  // so an invalid one is answered here, at once.
+  layout.joints(validator_, goal_state->as<ob::RealVectorStateSpace::StateType>()->values, start, sample);
+  if (!layout.keepsBranches(validator_, sample, start, goal))
+    return finish(PlanStatus::NoSolution, "the goal's configuration on the redundancy rule leaves the start's IK branch");
+  if (const ValidityResult searched_goal = checkState(sample); !searched_goal.valid())
+    return finish(PlanStatus::NoSolution,
+                  "the goal's configuration on the redundancy rule is not valid: " + describe(searched_goal));
   // The local search stops when its share of the budget is spent (checks, else time).
   const std::size_t local_checks =
       static_cast<std::size_t>(options_.local_search_share * static_cast<double>(options_.max_validity_checks));
@@ -436,9 +511,12 @@ PlanResult MotionPlanner::searchJoints(const JointState& start, const DualPose& 
     planned.push_back(sample);
   }
   planned.front() = start;
+  // The last segment ends at the goal itself: where searchGoal left the rule it was the search's
+  // stand-in for it (near it, on the rule), and the segment into the goal is verified as the
+  // controllers would follow it.
   planned.back() = goal;
   std::string failure;
-  if (!verify(planned, start_poses, goal_poses, layout, start, result, failure))
+  if (!verify(planned, start_poses, goal_poses, search_goal, layout, start, result, failure))
     return finish(PlanStatus::PathInvalid, "the path cannot be followed: " + failure);
   return finish(PlanStatus::Solved, "solved by " + options_.planner + " with " +
                                         std::to_string(result.waypoints.size()) + " waypoints");
@@ -624,6 +702,7 @@ bool MotionPlanner::insertCrossing(std::vector<JointState>& planned, std::vector
 }
 
 bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
+                           const JointState& search_goal,
                            Layout& layout, const JointState& start, PlanResult& result, std::string& failure) {
   // Cartesian waypoints: the tool poses of the planned joints, exactly the start and goal at the ends.
   std::vector<DualPose> poses(planned.size());
@@ -661,7 +740,15 @@ bool MotionPlanner::verify(std::vector<JointState>& planned, const DualPose& sta
     JointState middle = start;
     layout.joints(validator_, mid.data(), start, middle);
     DualPose middle_poses;
-    if (!validator_.toolPoses(middle, middle_poses) || !checkState(middle).valid()) {
+    bool valid = validator_.toolPoses(middle, middle_poses) && checkState(middle).valid();
+    if (!valid && k + 2 == planned.size() && planned[k] != search_goal && planned[k + 1] != search_goal) {
+      // The segment into a goal off the redundancy rule: its joint-space midpoint lies halfway to
+      // the goal's projection on the rule (searchGoal), often not a valid state; the search's
+      // goal, on the rule next to the goal, splits it instead.
+      middle = search_goal;
+      valid = validator_.toolPoses(middle, middle_poses) && checkState(middle).valid();
+    }
+    if (!valid) {
       failure += " (the planned midpoint is not valid)";
       return false;
     }

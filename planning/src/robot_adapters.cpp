@@ -316,6 +316,23 @@ Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_
       std::copy(candidate.begin(), candidate.end(), q.begin());
     }
   }
+  const kinematics::IkBranch start_branch = solver_.branch(start);
+  if (std::isfinite(best_distance) && start_branch.compatibleWith(solver_.branch(std::span<const double>(q.data(), kJoints))))
+    return Reachability::Reachable;
+  // The rule reaches the goal only on the other wrist representation than the start's (the
+  // needle's pitch across ±90°, the yaw turned half a turn: suturing query 29 of the random
+  // queries, the base turntable turned 2.3 rad and the arms in contact) or not at all: the
+  // control path's IK on the start's representation competes, which moves the elbow off the rule
+  // to the nearest split the delta reaches (at the end of its stroke), as the controllers do.
+  for (unsigned j = 0; j < kJoints; ++j) seed_(j) = start[j];
+  if (solver_.inverseOnBranch(tools_in_base[0], seed_, start_branch, q_) == IkStatus::Ok) {
+    double distance = 0.0;
+    for (unsigned j = 3; j < kJoints; ++j) distance += (q_(j) - start[j]) * (q_(j) - start[j]);
+    if (distance < best_distance) {
+      for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+      return Reachability::Reachable;
+    }
+  }
   return std::isfinite(best_distance) ? Reachability::Reachable : inverseNear(tools_in_base, start, q);
 }
 

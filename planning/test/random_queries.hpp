@@ -94,6 +94,9 @@ struct Query {
   DualPose goal;
   double max_linear_velocity = 0.05;   // m/s: the trajectory generator of the planner that asks
   double max_angular_velocity = 0.5;   // rad/s
+  /// walkedQueries(): the joints at which the controllers came to rest holding the goal (the
+  /// planner's goal joints may differ where the I-SUR's elbow left its rule); empty otherwise.
+  JointState walked_goal;
 };
 
 /// A scene the random queries are drawn on, configured as its deployment configures its planner.
@@ -356,6 +359,7 @@ inline std::vector<Query> walkedQueries(StateValidator& validator, const RandomS
       continue;
     }
     query.goal = at;
+    query.walked_goal = q;
     queries.push_back(query);
   }
   return queries;

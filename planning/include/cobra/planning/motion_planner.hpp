@@ -210,9 +210,15 @@ class MotionPlanner {
   /// box around start and goal (local_search_share), until that share of the budget is spent. May
   /// throw ompl::Exception.
   PlanResult searchJoints(const JointState& start, const DualPose& start_poses, const JointState& goal,
-                          const DualPose& goal_poses, const std::vector<bool>& moving,
+                          const DualPose& goal_poses, const JointState& search_goal, const std::vector<bool>& moving,
                           std::chrono::steady_clock::time_point started, std::uint32_t seed, std::size_t refinement,
                           bool local);
+  /// The joints the search heads for: `goal_joints` when every robot that moves is on its
+  /// redundancy rule there (RobotModel::jointsOf of its coordinates), otherwise a valid
+  /// configuration on the rule near the goal (the path's last segment then leaves the rule into
+  /// the goal, as the controllers do), or the goal's projection on the rule when none is found.
+  JointState searchGoal(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                        const JointState& goal_joints, const std::vector<bool>& moving);
   /// Half-width added on each side of the local search's box, in s at the velocity limit.
   static constexpr double kLocalMargin = 0.5;
   /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
@@ -237,9 +243,10 @@ class MotionPlanner {
   bool insertCrossing(std::vector<JointState>& planned, std::vector<DualPose>& poses, std::vector<std::size_t>& depth,
                       std::vector<char>& crossing, std::size_t k, std::size_t level);
   /// The dense verification of the planned joints' Cartesian path, halving failing segments in
-  /// joint space; fills result.waypoints and joint_waypoints, or returns false with `failure`.
+  /// joint space (the segment into the goal first at `search_goal`, searchGoal's, when that is not
+  /// the goal); fills result.waypoints and joint_waypoints, or returns false with `failure`.
   bool verify(std::vector<JointState>& planned, const DualPose& start_poses, const DualPose& goal_poses,
-              Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
+              const JointState& search_goal, Layout& layout, const JointState& start, PlanResult& result, std::string& failure);
   /// True when the query's time or work budget is spent. The planners poll it once per iteration
   /// (OMPL's termination condition): each call for the query that began at `started` counts one
   /// iteration of max_validity_checks.

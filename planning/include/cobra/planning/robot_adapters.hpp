@@ -178,11 +178,13 @@ class IsurPuncturingModel final : public RobotModel {
   Reachability inverseNear(std::span<const KDL::Frame> tools_in_base, std::span<const double> seed,
                            std::span<double> q) override;
   /// Of the two representations of the wrist angles (pitch θ and π - θ), the one nearest `start`
-  /// whose joints follow the start's redundancy rule without any clamping (q4 where the yaw share
-  /// leaves it, q6 - q7 the start's): the goal of a path that does not turn the base turntable.
-  /// When neither is reachable so, inverseNear(). (The solver alone picks the representation
-  /// nearest over all joints, which may need the turntable where a half turn of the roll q8 would
-  /// do.)
+  /// (joints q4..q8) whose joints follow the start's redundancy rule without any clamping (q4
+  /// where the yaw share leaves it, q6 - q7 the start's): the goal of a path that does not turn
+  /// the base turntable. When that one is on the other pitch branch than the start's
+  /// (IsurPuncturingSolver::branch) or there is none, the solver's answer on the start's branch
+  /// (the elbow at the nearest split the delta reaches, as the controllers take it) when nearer;
+  /// else inverseNear(). (The solver alone picks the representation nearest over all joints,
+  /// which may need the turntable where a half turn of the roll q8 would do.)
   Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                            std::span<double> q) override;
   /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)], the redundancy
