@@ -194,7 +194,8 @@ std::string MotionPlanner::toolsOf(std::size_t robot) const {
   return names;
 }
 
-PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal) {
+PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal,
+                                   const std::optional<DualPose>& follow_on) {
   const auto started = std::chrono::steady_clock::now();
   checks_.store(0, std::memory_order_relaxed);
   PlanResult result;
@@ -219,6 +220,9 @@ PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal
       return finish(PlanStatus::InvalidInput, "start joints: value " + std::to_string(j) + " is not finite");
   if (!isFinitePose(goal))
     return finish(PlanStatus::InvalidInput, "goal pose has a NaN/infinite value or a non-orthonormal rotation");
+  if (follow_on && !isFinitePose(*follow_on))
+    return finish(PlanStatus::InvalidInput,
+                  "the pose the motion after the goal ends at has a NaN/infinite value or a non-orthonormal rotation");
   DualPose start_poses;
   result.rejected = validator_.checkJoints(start, true);
   if (!validator_.toolPoses(start, start_poses) || !result.rejected.valid())
@@ -235,7 +239,7 @@ PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal
                                                  position(poses->second) + " is outside the planner's bounds");
   }
   try {
-    PlanResult planned = planJoints(start, start_poses, goal, started);
+    PlanResult planned = planJoints(start, start_poses, goal, follow_on, started);
     planned.validity_checks = checks_.load(std::memory_order_relaxed);
     planned.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return planned;
@@ -244,12 +248,26 @@ PlanResult MotionPlanner::planPath(const JointState& start, const DualPose& goal
   }
 }
 
-PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints) {
+PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints,
+                                     bool& alternative_taken) {
+  alternative_taken = false;
   PlanResult result;
   result.status = PlanStatus::InvalidGoal;
   goal_joints.assign(start.size(), 0.0);
   std::size_t robot = 0;
   const Reachability reached = validator_.inverseGoal(goal, start, goal_joints, robot);
+  if (reached != Reachability::Reachable) {
+    // A robot's second goal (RobotModel::inverseGoalAlternative) may be reachable where its first
+    // is not: the I-SUR's suturing arm on the start's branch from the Endo Stitch's other goal.
+    JointState alternative(start.size());
+    std::size_t failed = 0;
+    if (validator_.inverseGoalAlternative(goal, start, alternative, failed) == Reachability::Reachable) {
+      goal_joints.swap(alternative);
+      alternative_taken = true;
+      result.status = PlanStatus::Solved;
+      return result;
+    }
+  }
   const auto goal_of = [&](std::size_t r) {
     const RobotPlacement& placement = validator_.scene().robots[r];
     std::string text = toolsOf(r) + " goal ";
@@ -279,10 +297,15 @@ PlanResult MotionPlanner::goalJoints(const JointState& start, const DualPose& go
 }
 
 PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                                     const std::optional<DualPose>& follow_on,
                                      std::chrono::steady_clock::time_point started) {
   JointState goal_joints;
-  PlanResult result = goalJoints(start, goal, goal_joints);
-  if (result.status != PlanStatus::Solved) return detail::finished(std::move(result), result.status, result.message, started);
+  bool alternative_taken = false;
+  PlanResult result = goalJoints(start, goal, goal_joints, alternative_taken);
+  if (result.status != PlanStatus::Solved) {
+    std::string message = result.message;
+    return detail::finished(std::move(result), PlanStatus::InvalidGoal, std::move(message), started);
+  }
   // Robots whose tools stay where they are do not move at all (no detour of the probe pressed on
   // the skin while the needle moves): the search leaves their joints at the start's.
   std::vector<bool> moving(validator_.scene().robots.size(), false);
@@ -292,11 +315,15 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
       const bool first = tool == 0;
       if (!samePose(first ? start_poses.first : start_poses.second, first ? goal.first : goal.second)) moving[r] = true;
     }
-    if (!moving[r])
-      std::copy_n(start.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)), validator_.model(r).jointCount(),
-                  goal_joints.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
     any = any || moving[r];
   }
+  const auto holdStill = [&](JointState& q) {
+    for (std::size_t r = 0; r < moving.size(); ++r)
+      if (!moving[r])
+        std::copy_n(start.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)),
+                    validator_.model(r).jointCount(), q.begin() + static_cast<std::ptrdiff_t>(validator_.jointOffset(r)));
+  };
+  holdStill(goal_joints);
   // A start a little off the I-SUR's redundancy rule is planned from as it is: the robots'
   // controllers keep continuity (kinematics::ContinuousIk), so after a straight motion near the
   // wrist lock they end off the rule a fresh solve gives (by ~0.03-0.04 rad in the elbow), and the
@@ -316,10 +343,52 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
                                   " s: the first Cartesian command of any path would jump them",
                               started);
   }
-  result.rejected = validator_.checkJoints(goal_joints, true);
-  if (!result.rejected.valid())
-    return detail::finished(std::move(result), PlanStatus::InvalidGoal, "goal state is not valid: " + describe(result.rejected),
-                            started);
+  // The goal is taken when its state is valid and the straight motion after it (when the query
+  // names one) can be made from it, both from the goal joints and from where the found path ends
+  // them; otherwise the robot models' second goal for the same tools (RobotModel::
+  // inverseGoalAlternative: of the I-SUR's goal on its redundancy rule with the wrist on the other
+  // pitch branch and the solver's on the start's branch, the one inverseGoal did not prefer). A
+  // search that found no path is not repeated for the second goal (the budget is spent). When
+  // neither goal can be taken, the first's failure is reported.
+  const auto refusal = [&](const JointState& q, ValidityResult& rejected) {
+    rejected = validator_.checkJoints(q, true);
+    if (!rejected.valid()) return "goal state is not valid: " + describe(rejected);
+    if (!follow_on) return std::string();
+    const PlanResult next = checkFollowOn(q, goal, *follow_on);
+    return next.solved() ? std::string() : next.message;
+  };
+  PlanResult first;
+  for (int choice = 0; choice < 2; ++choice) {
+    if (choice == 1) {
+      JointState alternative(goal_joints.size());
+      std::size_t robot = 0;
+      if (alternative_taken || validator_.inverseGoalAlternative(goal, start, alternative, robot) != Reachability::Reachable)
+        break;
+      holdStill(alternative);
+      goal_joints.swap(alternative);
+    }
+    PlanResult attempt;
+    const std::string refused = refusal(goal_joints, attempt.rejected);
+    if (!refused.empty()) {
+      attempt.status = PlanStatus::InvalidGoal;
+      attempt.message = refused;
+    } else {
+      attempt = reachGoal(start, start_poses, goal, goal_joints, moving, any, follow_on, started);
+    }
+    if (attempt.solved()) return attempt;
+    if (choice == 0) first = std::move(attempt);
+    if (first.status != PlanStatus::InvalidGoal) break;
+  }
+  const PlanStatus status = first.status;
+  std::string message = first.message;
+  return detail::finished(std::move(first), status, std::move(message), started);
+}
+
+PlanResult MotionPlanner::reachGoal(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                                    const JointState& goal_joints, const std::vector<bool>& moving, bool any,
+                                    const std::optional<DualPose>& follow_on,
+                                    std::chrono::steady_clock::time_point started) {
+  PlanResult result;
   if (!any) {
     result.waypoints = {start_poses, goal};
     result.joint_waypoints = {start, goal_joints};
@@ -338,13 +407,22 @@ PlanResult MotionPlanner::planJoints(const JointState& start, const DualPose& st
     PlanResult attempt =
         searchJoints(start, start_poses, goal_joints, goal, search_goal, moving, started, seed, refinement, local);
     attempt.searches = searches;
-    if (spent(started) || seed == UINT32_MAX) return attempt;
-    if (local && attempt.status == PlanStatus::NoSolution) {
+    const bool last = spent(started) || seed == UINT32_MAX;
+    if (!last && local && attempt.status == PlanStatus::NoSolution) {
       local = false;
-    } else if (attempt.status == PlanStatus::PathInvalid) {
+    } else if (!last && attempt.status == PlanStatus::PathInvalid) {
       local = false;
       ++refinement;
     } else {
+      if (attempt.solved() && follow_on && !attempt.joint_waypoints.empty()) {
+        // The path may leave the robots elsewhere at the goal than goal_joints (the continuity-
+        // keeping IK tracked along it): the motion after it is checked from there too.
+        const PlanResult next = checkFollowOn(attempt.joint_waypoints.back(), attempt.waypoints.back(), *follow_on);
+        if (!next.solved()) {
+          attempt.status = PlanStatus::InvalidGoal;
+          attempt.message = next.message + " (from where the found path ends)";
+        }
+      }
       return attempt;
     }
     ++seed;
@@ -552,23 +630,35 @@ PlanResult MotionPlanner::checkMotion(const JointState& near, const DualPose& fr
   }
   const std::string what = "the straight motion from " + position(from.first) + " and " + position(from.second) +
                            " to " + position(to.first) + " and " + position(to.second);
+  // Its start joints as planPath takes a goal with a motion after it: the goal IK's first goal,
+  // or its alternative when the first's state is not valid or the motion cannot be made from it.
   JointState q;
-  result = goalJoints(near, from, q);
+  bool alternative_taken = false;
+  result = goalJoints(near, from, q, alternative_taken);
   if (!result.solved()) {
     result.message = what + " cannot start: " + result.message;
     return result;
   }
-  result.rejected = checkState(q, true);
-  if (!result.rejected.valid()) {
-    result.status = PlanStatus::InvalidGoal;
-    result.message = what + " cannot start: " + describe(result.rejected);
-    return result;
-  }
   setVelocityLimits();
-  std::string failure;
-  if (!walk(from, to, q, failure, true)) {
+  const auto refusal = [&](JointState& start, ValidityResult& rejected) {
+    rejected = checkState(start, true);
+    if (!rejected.valid()) return what + " cannot start: " + describe(rejected);
+    std::string failure;
+    return walk(from, to, start, failure, true) ? std::string() : what + " cannot be made: " + failure;
+  };
+  JointState walked = q;
+  std::string refused = refusal(walked, result.rejected);
+  if (!refused.empty() && !alternative_taken) {
+    JointState alternative(q.size());
+    std::size_t robot = 0;
+    ValidityResult rejected;
+    if (validator_.inverseGoalAlternative(from, near, alternative, robot) == Reachability::Reachable &&
+        refusal(alternative, rejected).empty())
+      refused.clear();
+  }
+  if (!refused.empty()) {
     result.status = PlanStatus::InvalidGoal;
-    result.message = what + " cannot be made: " + failure;
+    result.message = refused;
   }
   return result;
 }

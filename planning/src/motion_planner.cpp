@@ -145,13 +145,14 @@ std::string MotionPlanner::budget() const {
   return std::to_string(options_.time_limit) + " s";
 }
 
-PlanResult MotionPlanner::checkGoal(const JointState& start, const DualPose& goal) {
+PlanResult MotionPlanner::checkGoal(const JointState& start, const DualPose& goal,
+                                    const std::optional<DualPose>& follow_on) {
   // planPath itself with a search that stops before its first iteration: the checks are the
   // planner's own by construction, not a copy that could drift from them.
   search_disabled_ = true;
   PlanResult result;
   try {
-    result = planPath(start, goal);
+    result = planPath(start, goal, follow_on);
   } catch (...) {
     search_disabled_ = false;
     throw;

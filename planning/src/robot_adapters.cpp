@@ -295,15 +295,17 @@ bool IsurPuncturingModel::onRule(const KDL::Frame& target, double yaw, double pi
                                          std::span<double, 3>(q.data(), 3)) == IkStatus::Ok;
 }
 
-Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
-                                              std::span<double> q) {
+Reachability IsurPuncturingModel::goalChoices(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                              std::span<double> preferred, std::span<double> alternative,
+                                              bool& has_alternative) {
   constexpr unsigned kJoints = kinematics::IsurPuncturingSolver::kJoints;
+  has_alternative = false;
   const KDL::Rotation& r = tools_in_base[0].M;
   const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
-  if (cos_pitch < kinematics::IsurPuncturingSolver::kWristBand) return verticalGoal(tools_in_base, start, q);
+  if (cos_pitch < kinematics::IsurPuncturingSolver::kWristBand) return verticalGoal(tools_in_base, start, preferred);
   const double yaw = std::atan2(r(1, 0), r(0, 0)), pitch = std::atan2(-r(2, 0), cos_pitch);
   const double roll = std::atan2(r(2, 1), r(2, 2));
-  double best_distance = std::numeric_limits<double>::infinity();
+  double rule_distance = std::numeric_limits<double>::infinity();
   std::array<double, kJoints> candidate{};
   for (const auto& [y, p, ro] : {std::array<double, 3>{yaw, pitch, roll},
                                   std::array<double, 3>{yaw + std::numbers::pi, std::numbers::pi - pitch,
@@ -311,29 +313,52 @@ Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_
     if (!onRule(tools_in_base[0], y, p, ro, start, candidate)) continue;
     double distance = 0.0;
     for (unsigned j = 3; j < kJoints; ++j) distance += (candidate[j] - start[j]) * (candidate[j] - start[j]);
-    if (distance < best_distance) {
-      best_distance = distance;
-      std::copy(candidate.begin(), candidate.end(), q.begin());
+    if (distance < rule_distance) {
+      rule_distance = distance;
+      std::copy(candidate.begin(), candidate.end(), preferred.begin());
     }
   }
   const kinematics::IkBranch start_branch = solver_.branch(start);
-  if (std::isfinite(best_distance) && start_branch.compatibleWith(solver_.branch(std::span<const double>(q.data(), kJoints))))
+  const bool on_rule = std::isfinite(rule_distance);
+  if (on_rule && start_branch.compatibleWith(solver_.branch(std::span<const double>(preferred.data(), kJoints))))
     return Reachability::Reachable;
   // The rule reaches the goal only on the other wrist representation than the start's (the
   // needle's pitch across ±90°, the yaw turned half a turn: suturing query 29 of the random
   // queries, the base turntable turned 2.3 rad and the arms in contact) or not at all: the
   // control path's IK on the start's representation competes, which moves the elbow off the rule
-  // to the nearest split the delta reaches (at the end of its stroke), as the controllers do.
+  // to the nearest split the delta reaches (at the end of its stroke), as the controllers do. The
+  // farther of the two is the alternative.
   for (unsigned j = 0; j < kJoints; ++j) seed_(j) = start[j];
   if (solver_.inverseOnBranch(tools_in_base[0], seed_, start_branch, q_) == IkStatus::Ok) {
     double distance = 0.0;
     for (unsigned j = 3; j < kJoints; ++j) distance += (q_(j) - start[j]) * (q_(j) - start[j]);
-    if (distance < best_distance) {
-      for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+    if (!on_rule) {
+      for (unsigned j = 0; j < kJoints; ++j) preferred[j] = q_(j);
       return Reachability::Reachable;
     }
+    has_alternative = true;
+    if (distance < rule_distance) {
+      std::copy_n(preferred.begin(), kJoints, alternative.begin());
+      for (unsigned j = 0; j < kJoints; ++j) preferred[j] = q_(j);
+    } else {
+      for (unsigned j = 0; j < kJoints; ++j) alternative[j] = q_(j);
+    }
+    return Reachability::Reachable;
   }
-  return std::isfinite(best_distance) ? Reachability::Reachable : inverseNear(tools_in_base, start, q);
+  return on_rule ? Reachability::Reachable : inverseNear(tools_in_base, start, preferred);
+}
+
+Reachability IsurPuncturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                              std::span<double> q) {
+  bool has_alternative = false;
+  return goalChoices(tools_in_base, start, q, alternative_, has_alternative);
+}
+
+Reachability IsurPuncturingModel::inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base,
+                                                         std::span<const double> start, std::span<double> q) {
+  bool has_alternative = false;
+  const Reachability reached = goalChoices(tools_in_base, start, preferred_, q, has_alternative);
+  return reached == Reachability::Reachable && has_alternative ? Reachability::Reachable : Reachability::Unreachable;
 }
 
 namespace {
@@ -560,6 +585,20 @@ Reachability IsurSuturingModel::inverseGoal(std::span<const KDL::Frame> tools_in
   constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
   const Reachability right = right_.inverseGoal(tools_in_base.first(1), start.first(kRightJoints),
                                                 std::span<double>(seed_.data.data(), kRightJoints));
+  if (right != Reachability::Reachable) return right;
+  for (unsigned j = kRightJoints; j < kJoints; ++j) seed_(j) = start[j];
+  const IkStatus status = solver_.inverseGripperArm(
+      tools_in_base[1], seed_, kinematics::IsurSuturingSolver::leftBranch(solver_.branch(start)), q_);
+  if (status != IkStatus::Ok) return reachability(status);
+  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
+  return Reachability::Reachable;
+}
+
+Reachability IsurSuturingModel::inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base,
+                                                       std::span<const double> start, std::span<double> q) {
+  constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
+  const Reachability right = right_.inverseGoalAlternative(tools_in_base.first(1), start.first(kRightJoints),
+                                                           std::span<double>(seed_.data.data(), kRightJoints));
   if (right != Reachability::Reachable) return right;
   for (unsigned j = kRightJoints; j < kJoints; ++j) seed_(j) = start[j];
   const IkStatus status = solver_.inverseGripperArm(

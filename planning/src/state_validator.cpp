@@ -157,16 +157,22 @@ void StateValidator::findMovingPairs() {
 
 Reachability StateValidator::inverseNear(const DualPose& q, std::span<const double> seed, std::span<double> joints,
                                          std::size_t& failed_robot) {
-  return inverse(q, seed, joints, failed_robot, false);
+  return inverse(q, seed, joints, failed_robot, Solve::Near);
 }
 
 Reachability StateValidator::inverseGoal(const DualPose& q, std::span<const double> start, std::span<double> joints,
                                          std::size_t& failed_robot) {
-  return inverse(q, start, joints, failed_robot, true);
+  return inverse(q, start, joints, failed_robot, Solve::Goal);
+}
+
+Reachability StateValidator::inverseGoalAlternative(const DualPose& q, std::span<const double> start,
+                                                    std::span<double> joints, std::size_t& failed_robot) {
+  return inverse(q, start, joints, failed_robot, Solve::GoalAlternative);
 }
 
 Reachability StateValidator::inverse(const DualPose& q, std::span<const double> seed, std::span<double> joints,
-                                     std::size_t& failed_robot, bool goal) {
+                                     std::size_t& failed_robot, Solve solve) {
+  bool alternative = false;
   const SceneDescription& description = world_.scene();
   for (std::size_t r = 0; r < models_.size(); ++r) {
     const RobotPlacement& placement = description.robots[r];
@@ -182,12 +188,23 @@ Reachability StateValidator::inverse(const DualPose& q, std::span<const double> 
       robot_seed = seed.subspan(joint_offsets_[r], n);
     }
     const std::span<double> out = joints.subspan(joint_offsets_[r], n);
-    const Reachability reached = goal ? models_[r]->inverseGoal(tools_[r], robot_seed, out)
-                                      : models_[r]->inverseNear(tools_[r], robot_seed, out);
+    Reachability reached = Reachability::Unreachable;
+    if (solve == Solve::GoalAlternative &&
+        models_[r]->inverseGoalAlternative(tools_[r], robot_seed, out) == Reachability::Reachable) {
+      reached = Reachability::Reachable;
+      alternative = true;
+    } else {
+      reached = solve == Solve::Near ? models_[r]->inverseNear(tools_[r], robot_seed, out)
+                                     : models_[r]->inverseGoal(tools_[r], robot_seed, out);
+    }
     if (reached != Reachability::Reachable) {
       failed_robot = r;
       return reached;
     }
+  }
+  if (solve == Solve::GoalAlternative && !alternative) {
+    failed_robot = models_.size();
+    return Reachability::Unreachable;
   }
   return Reachability::Reachable;
 }

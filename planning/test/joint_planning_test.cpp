@@ -14,6 +14,7 @@
 
 #include "cobra/planning/motion_planner.hpp"
 #include "cobra/planning/robot_adapters.hpp"
+#include "cobra/test_support/counting_new.hpp"
 #include "cobra/test_support/test_support.hpp"
 #include "joint_path_checks.hpp"
 #include "planning_fixture.hpp"
@@ -21,6 +22,7 @@
 namespace cobra::planning {
 namespace {
 
+using cobra::test_support::allocationsDuring;
 constexpr double kPi = std::numbers::pi;
 
 /// The joints apps/puncturing/deployment/world.lua starts the robots at: the needle 10° from
@@ -115,6 +117,105 @@ TEST(JointSpace, AVerticalNeedleGoalIsReachedWithoutTurningTheArmAboutTheVertica
   // And back from the vertical (the start at the lock) to the tilted change pose.
   const PlanResult back = planner.planPath(end, start);
   expectFollowable(validator, o, back, end);
+}
+
+/// The registration sweep's two_needles seed 1 before the second needle's approach: the robots'
+/// joints (m, rad), the needle's approach 8.6 cm above its entry and its insertion (the probe
+/// holding on the skin).
+const JointState kSecondNeedleStart{0.0022418675641719399, 0.0032706053407631774, 0.20446081533657973, 0,
+                                    -2.0032456918514996e-09, 0.85000016339744844, 0.55000016339744839,
+                                    -2.3783362966895218e-09, 0.42626579944586696, -1.9979455840184659,
+                                    -1.724076869225712, 2.9040335284704675, -2.0320886793127442, -1.8303906801875494};
+KDL::Frame secondNeedleAt(const KDL::Vector& tip) {
+  return KDL::Frame(KDL::Rotation::Quaternion(0.99527511183648287, -0.064069847081349829, -0.018496705081426978,
+                                              0.070571795747166349),
+                    tip);
+}
+KDL::Frame secondNeedleProbe() {
+  return KDL::Frame(KDL::Rotation::Quaternion(0.85415667357355229, -0.31171128522376651, -0.41051596139694141,
+                                              -0.068768430927690694),
+                    KDL::Vector(0.086320042510758269, 0.016749001959914484, 0.063956214885181342));
+}
+DualPose secondNeedleApproach() {
+  return {secondNeedleAt(KDL::Vector(0.042378306990500422, 0.055502346440470023, 0.099897490135253536)),
+          secondNeedleProbe()};
+}
+DualPose secondNeedleInserted() {
+  return {secondNeedleAt(KDL::Vector(0.038512699729566113, 0.043861565267038174, 0.016506328734012983)),
+          secondNeedleProbe()};
+}
+
+TEST(JointSpace, TheIsursTwoGoalChoicesReachTheSameToolsOneOnTheStartsWristBranch) {
+  // The rule's goal lies on the other pitch branch than the start's: inverseGoal weighs it against
+  // the solver's answer on the start's branch and offers the one it did not take as the second.
+  StateValidator validator = puncturingValidator();
+  const DualPose goal = secondNeedleApproach();
+  JointState first(kSecondNeedleStart.size()), second(kSecondNeedleStart.size());
+  std::size_t robot = 0;
+  ASSERT_EQ(validator.inverseGoal(goal, kSecondNeedleStart, first, robot), Reachability::Reachable);
+  EXPECT_EQ(allocationsDuring([&] {
+              EXPECT_EQ(validator.inverseGoalAlternative(goal, kSecondNeedleStart, second, robot),
+                        Reachability::Reachable);
+            }),
+            0);
+  double difference = 0.0;
+  for (std::size_t j = 0; j < 8; ++j) difference = std::max(difference, std::abs(first[j] - second[j]));
+  EXPECT_GT(difference, 0.1);  // two configurations, not one solved twice
+  for (const JointState* q : {&first, &second}) {
+    DualPose tools;
+    ASSERT_TRUE(validator.toolPoses(*q, tools));
+    EXPECT_TRUE(KDL::Equal(tools.first, goal.first, 1e-9));
+    EXPECT_TRUE(KDL::Equal(tools.second, goal.second, 1e-9));
+  }
+  // Exactly one keeps the pitch q6 + q7 on the start's side of the vertical (±90°).
+  const auto side = [](const JointState& q) { return std::abs(q[5] + q[6]) < kPi / 2; };
+  EXPECT_NE(side(first), side(second));
+  EXPECT_TRUE(side(first) == side(kSecondNeedleStart) || side(second) == side(kSecondNeedleStart));
+  // A robot without a second goal (the UR5) keeps inverseGoal's; a goal on the start's branch
+  // by the rule has no second.
+  for (std::size_t j = 8; j < 14; ++j) EXPECT_NEAR(first[j], second[j], 1e-9);
+  DualPose start;
+  ASSERT_TRUE(validator.toolPoses(kStart, start));
+  EXPECT_EQ(validator.inverseGoalAlternative(start, kStart, second, robot), Reachability::Unreachable);
+}
+
+TEST(JointSpace, TheGoalIsChosenSoThatTheStraightMotionAfterItCanBeMade) {
+  // A second needle's approach 8.6 cm above its entry, then its insertion (the registration
+  // sweep's two_needles seed 1): the I-SUR's preferred goal keeps its wrist on the start's pitch
+  // branch with the elbow off its redundancy rule; the path into it ends with the roll where the
+  // insertion that follows would turn it half a turn. The rule's goal, on the other pitch branch,
+  // is the alternative that makes the insertion possible.
+  // The kinematic question only: the phantom, registered elsewhere in that setup, is left out
+  // (the probe rests where the test scene's phantom is).
+  SceneDescription scene = loadScene(std::filesystem::path(COBRA_SOURCE_DIR) / "planning/test/scenes/puncturing.scene");
+  for (RobotPlacement& robot : scene.robots)
+    if (robot.name == "isur") robot.setToolFrame(0, KDL::Frame(KDL::Rotation::RPY(0.0, kPi / 2, 0.0)));
+  std::erase_if(scene.objects, [](const ObjectDescription& object) { return object.name == "phantom"; });
+  for (auto* pairs : {&scene.allowed_contacts, &scene.primitive_contacts})
+    std::erase_if(*pairs, [](const auto& pair) { return pair.first == "phantom" || pair.second == "phantom"; });
+  RobotModels models = makeRobotModels(scene);
+  StateValidator validator(std::move(scene), std::move(models));
+  PlannerOptions o = options();
+  o.max_validity_checks = 600000;
+  MotionPlanner planner(validator, o);
+  const JointState& start = kSecondNeedleStart;
+  const DualPose approach = secondNeedleApproach(), inserted = secondNeedleInserted();
+  // Without the motion after it the planner takes its preferred goal, from which the insertion
+  // cannot be made (the test would pass without the alternative otherwise).
+  const PlanResult alone = planner.planPath(start, approach);
+  ASSERT_TRUE(alone.solved()) << toString(alone.status) << ": " << alone.message;
+  const PlanResult refused = planner.checkFollowOn(alone.joint_waypoints.back(), alone.waypoints.back(), inserted);
+  EXPECT_EQ(refused.status, PlanStatus::InvalidGoal);
+  EXPECT_CONTAINS(refused.message, "the straight motion after the goal, to (0.0385, 0.0439, 0.0165) m");
+  EXPECT_CONTAINS(refused.message, "IK discontinuity");
+  // With the motion after it named, the goal from which it can be made.
+  const PlanResult planned = planner.planPath(start, approach, inserted);
+  ASSERT_TRUE(planned.solved()) << planned.message;
+  expectFollowable(validator, o, planned, start);
+  const PlanResult insertion = planner.checkFollowOn(planned.joint_waypoints.back(), planned.waypoints.back(), inserted);
+  EXPECT_TRUE(insertion.solved()) << insertion.message;
+  // The same goal checked before a search gives the same verdict.
+  EXPECT_TRUE(planner.checkGoal(start, approach, inserted).solved());
 }
 
 TEST(JointSpace, ASameSeedGivesTheSamePathUnderAWorkLimit) {

@@ -47,13 +47,15 @@ StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<co
     result.status = planning::PlanStatus::Solved;
     // As the MotionPlanner component: the goal and room checks first when there is a choice or a
     // room to leave, then the search, then the motion primitive that follows.
+    const std::optional<planning::DualPose> then =
+        c.has_then ? std::optional<planning::DualPose>(dual(c.then)) : std::nullopt;
     if (candidates.size() > 1 || !c.rooms.empty()) {
-      result = planner.checkGoal(joints_, goal);
+      result = planner.checkGoal(joints_, goal, then);
       for (std::size_t r = 0; r < c.rooms.size() && result.solved(); ++r)
         result = planner.checkMotion(joints_, dual(c.rooms[r].first), dual(c.rooms[r].second));
     }
     if (result.solved()) {
-      result = planner.planPath(joints_, goal);
+      result = planner.planPath(joints_, goal, then);
       checks_ += result.validity_checks;
       if (!result.solved()) {
         // The component explores with the next seed after a failed search: so does the walk.

@@ -312,16 +312,19 @@ void MotionPlannerComponent::readGoal(const trajectory::MultiAxisPath& goal) {
 
 planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternative& a, std::size_t index,
                                                             bool from_joints, bool checked_first) {
+  // The motion primitive after the goal, which the goal joints must allow (MotionPlanner::planPath).
+  const std::optional<planning::DualPose> follow_on =
+      a.has_follow_on ? std::optional<planning::DualPose>(a.follow_on) : std::nullopt;
   if (checked_first) {
     // The cheap checks before the search: the goal state and the motions it must leave room for.
-    planning::PlanResult checked = planner_impl_->checkGoal(joints_, a.goal);
+    planning::PlanResult checked = planner_impl_->checkGoal(joints_, a.goal, follow_on);
     for (std::size_t k = 0; k < a.room.size() && checked.solved(); ++k)
       checked = planner_impl_->checkMotion(joints_, a.room[k].first, a.room[k].second);
     if (!checked.solved()) return checked;
   }
   planning::PlanResult result;
   if (!(from_joints && reusePath(joints_, measured_, a.goal, index, result))) {
-    result = from_joints ? planner_impl_->planPath(joints_, a.goal) : planner_impl_->planPath(measured_, a.goal);
+    result = from_joints ? planner_impl_->planPath(joints_, a.goal, follow_on) : planner_impl_->planPath(measured_, a.goal);
     if (from_joints) logQuery(a.goal, result);
   }
   if (!result.solved()) {

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -161,7 +162,12 @@ class MotionPlanner {
   /// Never throws for bad input: the status and message name the cause; a goal that is
   /// unreachable, or reachable only on another IK branch than the start's, is InvalidGoal naming
   /// the tool (PlannerOptions::tool_names) and why, before any search.
-  PlanResult planPath(const JointState& start, const DualPose& goal);
+  /// `follow_on`: where the straight motion that follows the goal ends (a motion primitive, see
+  /// checkFollowOn), when the query has one: the goal joints are chosen so that it can be made
+  /// (RobotModel::inverseGoalAlternative when inverseGoal's cannot make it); the result's last
+  /// joints are still to be checked with checkFollowOn, as the path may end them elsewhere.
+  PlanResult planPath(const JointState& start, const DualPose& goal,
+                      const std::optional<DualPose>& follow_on = std::nullopt);
   /// From tool poses: in joint space the start joints are the IK of `start` from each robot
   /// model's configured seed (on its branch); scenes without joint space plan on SE(3)×SE(3).
   PlanResult planPath(const DualPose& start, const DualPose& goal);
@@ -172,7 +178,8 @@ class MotionPlanner {
   /// at the start), without
   /// the search. Solved when accepted (then joint_waypoints is empty and the message says so),
   /// otherwise the status and message planPath would return. Not thread-safe, like planPath.
-  PlanResult checkGoal(const JointState& start, const DualPose& goal);
+  PlanResult checkGoal(const JointState& start, const DualPose& goal,
+                       const std::optional<DualPose>& follow_on = std::nullopt);
   /// The straight motion that follows a planned path (a motion primitive: e.g. the probe
   /// descending from its approach pose onto the skin, the needle's insertion from above its entry
   /// to its target; the scene's primitive contacts are allowed along it), checked as a returned
@@ -203,7 +210,7 @@ class MotionPlanner {
   /// planPath(JointState) after its input checks: the goal joints, the search with the next seeds
   /// while a found path fails the verification.
   PlanResult planJoints(const JointState& start, const DualPose& start_poses, const DualPose& goal,
-                        std::chrono::steady_clock::time_point started);
+                        const std::optional<DualPose>& follow_on, std::chrono::steady_clock::time_point started);
   /// One joint-space search from `start` to `goal` moving the robots flagged in `moving`, then the
   /// Cartesian waypoints and their verification; `refinement`: how many found paths failed the
   /// verification before (each halves the edge resolution, down to an eighth); `local`: in the
@@ -219,10 +226,19 @@ class MotionPlanner {
   /// the goal, as the controllers do), or the goal's projection on the rule when none is found.
   JointState searchGoal(const JointState& start, const DualPose& start_poses, const DualPose& goal,
                         const JointState& goal_joints, const std::vector<bool>& moving);
+  /// planJoints for one choice of goal joints (valid, the motion after them checked): the
+  /// searches, then the motion after the goal from where the found path ends (InvalidGoal when
+  /// it cannot be made). `any`: whether a robot moves at all.
+  PlanResult reachGoal(const JointState& start, const DualPose& start_poses, const DualPose& goal,
+                       const JointState& goal_joints, const std::vector<bool>& moving, bool any,
+                       const std::optional<DualPose>& follow_on, std::chrono::steady_clock::time_point started);
   /// Half-width added on each side of the local search's box, in s at the velocity limit.
   static constexpr double kLocalMargin = 0.5;
-  /// The goal joints nearest `start` (status InvalidGoal with the message when there are none).
-  PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints);
+  /// The goal joints nearest `start` (status InvalidGoal with the message when there are none):
+  /// StateValidator::inverseGoal's, or its alternative's (`alternative_taken`) when a robot's first
+  /// goal is not reachable.
+  PlanResult goalJoints(const JointState& start, const DualPose& goal, JointState& goal_joints,
+                        bool& alternative_taken);
   /// Validity of a joint state for the search and the verification (counted; the tool bounds too).
   /// `primitive_contacts_apart`: a state of a motion primitive (checkFollowOn, checkMotion), where
   /// the scene's primitive contacts (the needle in the tissue) are allowed.

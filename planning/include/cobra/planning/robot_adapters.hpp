@@ -187,6 +187,10 @@ class IsurPuncturingModel final : public RobotModel {
   /// which may need the turntable where a half turn of the roll q8 would do.)
   Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                            std::span<double> q) override;
+  /// Where inverseGoal chose between the rule's goal on the other pitch branch and the solver's
+  /// on the start's: the one it did not choose. Otherwise Unreachable.
+  Reachability inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                      std::span<double> q) override;
   /// Seven coordinates [q1, q2, q3 (m), q4, q5, pitch = q6 + q7, roll = q8 (rad)], the redundancy
   /// resolved as the IK of the control path resolves it: with the geometry's base_angle, c[3] is
   /// that angle and the yaw c[3] + c[4] splits between q4 and q5 by the solver's rule; with its
@@ -221,12 +225,16 @@ class IsurPuncturingModel final : public RobotModel {
   /// roll then lies within kRollMargin of a limit.
   Reachability verticalGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                             std::span<double> q);
+  /// inverseGoal's goal in `preferred` and, when it chose between two, the other in `alternative`.
+  Reachability goalChoices(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                           std::span<double> preferred, std::span<double> alternative, bool& has_alternative);
   static constexpr double kRollMargin = 0.2;  // rad
 
   kinematics::IsurPuncturingSolver solver_;
   WarmStart<1> warm_;
   KDL::JntArray q_;
   KDL::JntArray seed_;
+  std::array<double, kinematics::IsurPuncturingSolver::kJoints> preferred_{}, alternative_{};  // goalChoices' scratch
 };
 
 /// Two-armed I-SUR (14 DOF), one solver for both tools: tool 0 = Endo Stitch (4-DOF arm), tool 1
@@ -283,6 +291,10 @@ class IsurSuturingModel final : public RobotModel {
   /// the start), then the 6-DOF arm from that platform on the start's branch, nearest the start.
   Reachability inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                            std::span<double> q) override;
+  /// The Endo Stitch sub-structure by IsurPuncturingModel::inverseGoalAlternative, then the 6-DOF
+  /// arm as inverseGoal places it; Unreachable when the sub-structure has no alternative.
+  Reachability inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                      std::span<double> q) override;
   /// IsurPuncturingModel::singularCrossing of q1..q8; the 6-DOF arm's joints on the segment at the
   /// same fraction as the pitch q6 + q7 of each of the two configurations.
   bool singularCrossing(std::span<const double> a, std::span<const double> b, std::span<double> before,

@@ -78,6 +78,15 @@ class RobotModel {
                                    std::span<double> q) {
     return inverseNear(tools_in_base, start, q);
   }
+  /// A second goal the control path's IK reaches from `start`, for a planner to take when
+  /// inverseGoal's cannot be taken (its state not valid, or the straight motion that follows the
+  /// goal cannot be made from it): Reachable with its joints in `q`, or Unreachable when the model
+  /// has none (the default). Must not throw or allocate.
+  virtual Reachability inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
+                                              std::span<double> q) {
+    (void)tools_in_base, (void)start, (void)q;
+    return Reachability::Unreachable;
+  }
   /// Where the straight joint-space segment a → b crosses a singular set of the robot's Cartesian
   /// control (the I-SUR: the needle vertical, its wrist's gimbal lock, where a Cartesian path that
   /// misses the singular pose by any distance turns the yaw half a turn): two configurations

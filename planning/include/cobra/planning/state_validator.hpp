@@ -112,6 +112,11 @@ class StateValidator {
   /// The same with RobotModel::inverseGoal (seed = the start's joints).
   Reachability inverseGoal(const DualPose& tools, std::span<const double> start, std::span<double> q,
                            std::size_t& failed_robot);
+  /// The goal with RobotModel::inverseGoalAlternative for every robot that has one and
+  /// inverseGoal for the others; Unreachable (failed_robot = the robot count) when no robot has
+  /// an alternative. No allocation.
+  Reachability inverseGoalAlternative(const DualPose& tools, std::span<const double> start, std::span<double> q,
+                                      std::size_t& failed_robot);
   /// Distances of a (measured) joint state [m]: `clearance` = the minimum over the checked pairs
   /// with the declared contacts left out (allowed and primitive: what the planner keeps above
   /// min_collision_distance along its paths, measured through the primitives too),
@@ -165,8 +170,9 @@ class StateValidator {
   void findMovingPairs();
   /// The distance queries of check() on the placed robots.
   ValidityResult checkDistances(ValidityResult result, bool exact_distances, bool primitive_contacts_apart = false);
+  enum class Solve { Near, Goal, GoalAlternative };
   Reachability inverse(const DualPose& tools, std::span<const double> seed, std::span<double> q,
-                       std::size_t& failed_robot, bool goal);
+                       std::size_t& failed_robot, Solve solve);
 
   CollisionWorld world_;
   std::vector<std::shared_ptr<RobotModel>> models_;  // in scene().robots order
