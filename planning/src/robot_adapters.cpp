@@ -582,23 +582,21 @@ Reachability IsurSuturingModel::inverseNear(std::span<const KDL::Frame> tools_in
 
 Reachability IsurSuturingModel::inverseGoal(std::span<const KDL::Frame> tools_in_base, std::span<const double> start,
                                             std::span<double> q) {
-  constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
-  const Reachability right = right_.inverseGoal(tools_in_base.first(1), start.first(kRightJoints),
-                                                std::span<double>(seed_.data.data(), kRightJoints));
-  if (right != Reachability::Reachable) return right;
-  for (unsigned j = kRightJoints; j < kJoints; ++j) seed_(j) = start[j];
-  const IkStatus status = solver_.inverseGripperArm(
-      tools_in_base[1], seed_, kinematics::IsurSuturingSolver::leftBranch(solver_.branch(start)), q_);
-  if (status != IkStatus::Ok) return reachability(status);
-  for (unsigned j = 0; j < kJoints; ++j) q[j] = q_(j);
-  return Reachability::Reachable;
+  return withGripperArm(right_.inverseGoal(tools_in_base.first(1), start.first(kRightJoints),
+                                           std::span<double>(seed_.data.data(), kRightJoints)),
+                        tools_in_base, start, q);
 }
 
 Reachability IsurSuturingModel::inverseGoalAlternative(std::span<const KDL::Frame> tools_in_base,
                                                        std::span<const double> start, std::span<double> q) {
+  return withGripperArm(right_.inverseGoalAlternative(tools_in_base.first(1), start.first(kRightJoints),
+                                                      std::span<double>(seed_.data.data(), kRightJoints)),
+                        tools_in_base, start, q);
+}
+
+Reachability IsurSuturingModel::withGripperArm(Reachability right, std::span<const KDL::Frame> tools_in_base,
+                                               std::span<const double> start, std::span<double> q) {
   constexpr unsigned kJoints = kinematics::IsurSuturingSolver::kJoints;
-  const Reachability right = right_.inverseGoalAlternative(tools_in_base.first(1), start.first(kRightJoints),
-                                                           std::span<double>(seed_.data.data(), kRightJoints));
   if (right != Reachability::Reachable) return right;
   for (unsigned j = kRightJoints; j < kJoints; ++j) seed_(j) = start[j];
   const IkStatus status = solver_.inverseGripperArm(

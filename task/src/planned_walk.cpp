@@ -46,7 +46,8 @@ StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<co
     planning::PlanResult result;
     result.status = planning::PlanStatus::Solved;
     // As the MotionPlanner component: the goal and room checks first when there is a choice or a
-    // room to leave, then the search, then the motion primitive that follows.
+    // room to leave, then the search, which checks the motion primitive that follows from where
+    // its path ends (MotionPlanner::planPath with `then`).
     const std::optional<planning::DualPose> then =
         c.has_then ? std::optional<planning::DualPose>(dual(c.then)) : std::nullopt;
     if (candidates.size() > 1 || !c.rooms.empty()) {
@@ -61,10 +62,6 @@ StepOutcome PlannerStepVerifier::planned(const ProcedureStep& step, std::span<co
         // The component explores with the next seed after a failed search: so does the walk.
         const std::uint32_t seed = planner.options().seed;
         planner.setSeed(seed == UINT32_MAX ? 1 : seed + 1);
-      } else if (c.has_then) {
-        const planning::PlanResult next =
-            planner.checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), dual(c.then));
-        if (!next.solved()) result = next;
       }
     }
     if (result.solved()) {

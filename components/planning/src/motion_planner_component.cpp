@@ -323,8 +323,10 @@ planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternati
     if (!checked.solved()) return checked;
   }
   planning::PlanResult result;
+  bool follow_on_checked = false;  // planPath from joints checked it from where its path ends
   if (!(from_joints && reusePath(joints_, measured_, a.goal, index, result))) {
     result = from_joints ? planner_impl_->planPath(joints_, a.goal, follow_on) : planner_impl_->planPath(measured_, a.goal);
+    follow_on_checked = from_joints;
     if (from_joints) logQuery(a.goal, result);
   }
   if (!result.solved()) {
@@ -333,9 +335,9 @@ planning::PlanResult MotionPlannerComponent::planAlternative(const GoalAlternati
     planner_impl_->setSeed(seed == UINT32_MAX ? 1 : seed + 1);
     return result;
   }
-  if (a.has_follow_on) {
-    // The motion primitive that follows this goal: a goal whose next motion cannot be made fails
-    // now, before anything moves.
+  if (a.has_follow_on && !follow_on_checked) {
+    // The motion primitive that follows this goal (a reused verified path, or one planned from
+    // the tool poses): a goal whose next motion cannot be made fails now, before anything moves.
     const planning::PlanResult next =
         planner_impl_->checkFollowOn(result.joint_waypoints.back(), result.waypoints.back(), a.follow_on);
     if (!next.solved()) return next;

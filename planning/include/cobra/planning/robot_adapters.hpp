@@ -310,6 +310,11 @@ class IsurSuturingModel final : public RobotModel {
   void coordinatesOf(std::span<const double> q, std::span<double> c) const override;
 
  private:
+  /// `right`: how the Endo Stitch sub-structure's goal joints (in seed_, q1..q8) were reached; when
+  /// Reachable, the 6-DOF arm from that platform on the start's branch, nearest the start, and all
+  /// 14 joints into `q`.
+  Reachability withGripperArm(Reachability right, std::span<const KDL::Frame> tools_in_base,
+                              std::span<const double> start, std::span<double> q);
   Reachability reachability(kinematics::IkStatus status) const;
 
   kinematics::IsurSuturingSolver solver_;
