@@ -231,7 +231,9 @@ TEST(RealtimeExecutor, DeadlineMissesAreCountedEmittedAndEndInASafeStop) {
 TEST(RealtimeExecutor, AnOwnPaceHandOverOlderThanItsBoundIsEmittedOncePerEpisode) {
   Rig rig;
   // A searcher on a thread of its own beside the executor, answering the producer's pulses (every
-  // 5 ms); while each answer takes 40 ms, the pulses wait longer than its 15 ms bound.
+  // 5 ms); while each answer takes 150 ms, the pulses wait longer than its 50 ms bound. (The bound
+  // is far above what a busy machine may keep a SCHED_OTHER thread waiting, so that no episode
+  // comes from the machine: a sanitizer build on CI's two cores, other tests beside it.)
   Recorder searcher{"Searcher", true};
   connect(rig.producer.pulse, searcher.in, ConnPolicy::buffer(4));
   searcher.setActivity(std::make_unique<EventActivity>(1, Scheduler::Other));
@@ -246,11 +248,11 @@ TEST(RealtimeExecutor, AnOwnPaceHandOverOlderThanItsBoundIsEmittedOncePerEpisode
     emitted.fetch_add(1);
   };
   RealtimeExecutor executor(rig.clock, o);
-  executor.watchHandover(searcher, 15ms);
+  executor.watchHandover(searcher, 50ms);
   executor.start();
   ASSERT_TRUE(eventually([&] { return searcher.steps.load() >= 20; }));
   EXPECT_EQ(emitted.load(), 0) << "answered within a few ms: never stale";
-  searcher.stall_ns.store(std::chrono::nanoseconds(40ms).count());
+  searcher.stall_ns.store(std::chrono::nanoseconds(150ms).count());
   ASSERT_TRUE(eventually([&] { return emitted.load() >= 1; }));
   searcher.stall_ns.store(0);
   const long steps = searcher.steps.load();
@@ -266,8 +268,8 @@ TEST(RealtimeExecutor, AnOwnPaceHandOverOlderThanItsBoundIsEmittedOncePerEpisode
   const auto figures = executor.handoverFigures();
   ASSERT_EQ(figures.size(), 1u);
   EXPECT_EQ(figures[0].component, "Searcher");
-  EXPECT_DOUBLE_EQ(figures[0].max_age, 0.015);
-  EXPECT_GE(figures[0].worst_age, 0.015);
+  EXPECT_DOUBLE_EQ(figures[0].max_age, 0.05);
+  EXPECT_GE(figures[0].worst_age, 0.05);
   EXPECT_EQ(figures[0].stale, static_cast<std::uint64_t>(episodes));
   // Once stopped its hand-over has no age: a component stopped by a switch is not stale.
   EXPECT_EQ(searcher.activity().handoverAge(std::chrono::nanoseconds(std::chrono::steady_clock::now().time_since_epoch())), 0ns);
