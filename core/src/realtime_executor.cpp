@@ -281,17 +281,20 @@ void RealtimeExecutor::loop() {
     ++consecutive;
     if (consecutive > worst_consecutive_.load(std::memory_order_relaxed))
       worst_consecutive_.store(consecutive, std::memory_order_relaxed);
-    if (consecutive == 1 && options_.policy.emit_event && options_.on_event) options_.on_event("e_deadline_missed");
-    if (options_.policy.safe_stop_after > 0 && consecutive == static_cast<std::uint64_t>(options_.policy.safe_stop_after)) {
-      safe_stop_.store(true, std::memory_order_release);
-      if (options_.on_event) options_.on_event("e_deadline_safe_stop");
-    }
     const auto behind = done - deadline;
     if (behind > options_.max_catch_up_ticks * period) {
       const auto slip = (behind / period) * period;
       deadline += slip;
       slipped_ns_.fetch_add(slip.count(), std::memory_order_relaxed);
       setRunEpoch(runEpoch() + slip);
+    }
+    // The events after the slip: their stamps (run time read beside the clock) then stay within
+    // max_catch_up_ticks of the clock's time, as every other event's (a stamp taken before a
+    // slip was the stall's length ahead of the instant the run observed the event at).
+    if (consecutive == 1 && options_.policy.emit_event && options_.on_event) options_.on_event("e_deadline_missed");
+    if (options_.policy.safe_stop_after > 0 && consecutive == static_cast<std::uint64_t>(options_.policy.safe_stop_after)) {
+      safe_stop_.store(true, std::memory_order_release);
+      if (options_.on_event) options_.on_event("e_deadline_safe_stop");
     }
   }
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -226,6 +227,40 @@ TEST(RealtimeExecutor, DeadlineMissesAreCountedEmittedAndEndInASafeStop) {
   EXPECT_EQ(timings[1].component, "Slow");
   EXPECT_GE(timings[1].compute.worst, 0.1);
   EXPECT_LT(timings[0].compute.worst, timings[1].compute.worst);
+}
+
+TEST(RealtimeExecutor, AMissEventAfterALongStallIsStampedWithTheRunTimeTheClockResumesAt) {
+  // A stall far longer than max_catch_up_ticks: the executor slips its deadlines and the run's
+  // epoch. The miss event is emitted after the slip, so run time read beside the clock (what an
+  // event's stamp is) agrees with the clock's time within the catch-up bound, not the stall. Every
+  // miss event is checked (the machine may add short misses of its own, caught up, not slipped).
+  Rig rig;
+  ExecutorOptions o = quickOptions();
+  o.max_catch_up_ticks = 5;
+  o.policy.emit_event = true;
+  constexpr std::size_t kMost = 64;
+  std::array<std::int64_t, kMost> clock_at{}, beside_at{};
+  std::atomic<std::size_t> seen{0};
+  o.on_event = [&](const char* e) {  // on the executor's thread, after the tick's advance
+    const std::size_t i = seen.load();
+    if (std::string_view(e) != "e_deadline_missed" || i >= kMost) return;
+    clock_at[i] = rig.clock.now().count();
+    beside_at[i] = SlaveActivity().now().count();
+    seen.store(i + 1);
+  };
+  RealtimeExecutor executor(rig.clock, o);
+  executor.start();
+  ASSERT_TRUE(eventually([&] { return rig.slow.steps.load() >= 5; }));
+  rig.slow.stall_ns.store(std::chrono::nanoseconds(200ms).count());
+  ASSERT_TRUE(eventually([&] { return executor.slipped() >= 150ms; }));
+  rig.slow.stall_ns.store(0);
+  const long steps = rig.slow.steps.load();
+  ASSERT_TRUE(eventually([&] { return rig.slow.steps.load() >= steps + 5; }));
+  executor.stop();
+  ASSERT_GE(seen.load(), 1u);
+  for (std::size_t i = 0; i < seen.load(); ++i)
+    EXPECT_LT(std::abs(beside_at[i] - clock_at[i]), std::chrono::nanoseconds(10ms).count())
+        << "miss " << i << ": run time beside the clock " << beside_at[i] << " ns, on it " << clock_at[i] << " ns";
 }
 
 TEST(RealtimeExecutor, AnOwnPaceHandOverOlderThanItsBoundIsEmittedOncePerEpisode) {
