@@ -331,29 +331,48 @@ void Session::readEvents() {
   // readText formats it too). One sample for all taps: making one zeroes 150 bytes.
   core::Event event_sample;
   const bool new_events = new_events_.exchange(false, std::memory_order_acquire);
+  const auto take = [&](const std::string& source, const std::string& text) {
+    Chart& chart = chartForSource(source);
+    result_.events.push_back({t_, source, text, chart.state});
+    const std::string event = text.substr(0, text.find(' '));
+    result_.log.push_back(source + ": " + event);
+    if (options_.observer != nullptr) options_.observer->event(t_, source, event);
+    if (isFailure(event)) chart.last_failure = source + ": " + event + " at" + seconds(t_);
+    chart.stall.heard(event, source, t_);
+    for (Armed& a : armed_)
+      if (a.due < 0.0 && (a.spec.repeat || a.fired == 0) && a.spec.on.kind == Trigger::Kind::Event &&
+          a.spec.on.event == event && (a.spec.on.source.empty() || a.spec.on.source == source))
+        a.due = t_ + a.spec.after;
+  };
+  // On the wall clock one observation may take events of several components at once (the
+  // observer runs beside the executor, and late when the machine is busy): they are taken in the
+  // order of their stamps, not of the taps, so that an answer never comes before what asked for
+  // it. A tap without stamps (a text event port) keeps its place after the event before it.
+  // Lockstep observes every instant, in the clock's order: taps in order, as before.
+  struct Taken {
+    std::int64_t stamp;
+    const std::string* source;
+    std::string text;
+  };
+  std::vector<Taken> taken;
   for (auto& [source, reader, typed] : event_taps_) {
     if (typed != nullptr && !new_events) continue;
     std::string text;
+    std::int64_t stamp = taken.empty() ? std::numeric_limits<std::int64_t>::min() : taken.back().stamp;
     const auto next = [&] {
       if (typed == nullptr) return reader->readText(text) == core::FlowStatus::NewData;
       if (typed->readNew(event_sample) != core::FlowStatus::NewData) return false;
       text = core::DataTypeTraits<core::Event>::print(event_sample);
+      stamp = event_sample.stamp.count();
       return true;
     };
     while (next()) {
-      Chart& chart = chartForSource(source);
-      result_.events.push_back({t_, source, text, chart.state});
-      const std::string event = text.substr(0, text.find(' '));
-      result_.log.push_back(source + ": " + event);
-      if (options_.observer != nullptr) options_.observer->event(t_, source, event);
-      if (isFailure(event)) chart.last_failure = source + ": " + event + " at" + seconds(t_);
-      chart.stall.heard(event, source, t_);
-      for (Armed& a : armed_)
-        if (a.due < 0.0 && (a.spec.repeat || a.fired == 0) && a.spec.on.kind == Trigger::Kind::Event &&
-            a.spec.on.event == event && (a.spec.on.source.empty() || a.spec.on.source == source))
-          a.due = t_ + a.spec.after;
+      if (options_.realtime) taken.push_back({stamp, &source, std::move(text)});
+      else take(source, text);
     }
   }
+  std::stable_sort(taken.begin(), taken.end(), [](const Taken& a, const Taken& b) { return a.stamp < b.stamp; });
+  for (const Taken& t : taken) take(*t.source, t.text);
   for (Chart& c : charts_) {
     if (!c.changed) continue;  // the timeline keeps an unchanged state's interval open
     c.stall.entered(t_);
